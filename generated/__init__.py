@@ -1,0 +1,1 @@
+"""Generated, versioned artefacts (data only). See MANIFEST.json; load through runtime.artefacts."""

@@ -1,0 +1,616 @@
+"""Exact real conics and their canonical (Euclidean) frames.
+
+A conic site is the zero set of ``a x² + b xy + c y² + d x + e y + f`` (thesis §3.1 and
+§5.1: the sites of the Voronoi diagram are real algebraic curves, here non-degenerate real
+conics).  The coefficients are stored *exactly* as :class:`fractions.Fraction`; every
+decision (kind, degeneracy, reality, orientation of the canonical frame) is taken with
+exact rational arithmetic.  Floating point numbers are produced only for the canonical frame
+(:attr:`Conic.frame`), which is computed from the exact data with a correctly enclosing
+ball arithmetic (python-flint ``arb``) and rounded once.
+
+Canonical frame convention (also that of ``shared/data/validation_cases.json``)::
+
+    (X, Y) = (cos (x − tx) + sin (y − ty),  −sin (x − tx) + cos (y − ty))
+    ellipse   X²/A2 + Y²/B2 = 1      (this module puts the major axis on X: A2 ≥ B2)
+    hyperbola X²/A2 − Y²/B2 = 1      (opens along X)
+    parabola  Y² = 2 p X,  p > 0     (opens towards +X, vertex at (tx, ty))
+    circle    X² + Y² = r2           (cos = 1, sin = 0)
+
+Classification (thesis §3.1; classical invariants of the 3×3 matrix M of the conic):
+``disc = b² − 4ac`` (< 0 ellipse, = 0 parabola, > 0 hyperbola), ``det M = 0`` degenerate,
+an ellipse is real iff ``(a + c)·det M < 0``.
+"""
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass, field
+from decimal import Decimal
+from fractions import Fraction
+from functools import cached_property
+from typing import Any, Callable, Iterable
+
+import flint
+
+from .result import InvalidConicError
+
+__all__ = ["Conic", "CanonicalFrame", "KINDS", "to_fraction", "fraction_sqrt"]
+
+KINDS = ("ellipse", "circle", "hyperbola", "parabola")
+_PARAM_NAMES = {"ellipse": ("A2", "B2"), "hyperbola": ("A2", "B2"), "parabola": ("p",), "circle": ("r2",)}
+
+#: working precision (bits) of the ball computation from which the float frame is rounded
+_FRAME_PREC = 128
+
+
+# --------------------------------------------------------------------------- exact helpers
+
+def to_fraction(v: Any, name: str = "value") -> Fraction:
+    """Exact conversion of ``v`` to a Fraction.
+
+    Accepts int, Fraction, rational strings ("3/5", "-2", "1.25", "1e-3"), floats and numpy
+    scalars (taken at their exact binary value), Decimal, flint fmpz/fmpq.  Raises
+    :class:`InvalidConicError` for NaN/inf, bools and anything else.
+    """
+    if isinstance(v, bool):
+        raise InvalidConicError(f"{name}: bool {v!r} is not a number")
+    if isinstance(v, Fraction):
+        return v
+    if isinstance(v, numbers.Integral):
+        return Fraction(int(v))
+    if isinstance(v, (float, numbers.Real)) and not isinstance(v, numbers.Rational) and not isinstance(v, Decimal):
+        fv = float(v)
+        if not math.isfinite(fv):
+            raise InvalidConicError(f"{name} is not finite ({v!r}): NaN/inf is not accepted")
+        return Fraction(fv)
+    if isinstance(v, numbers.Rational):
+        return Fraction(int(v.numerator), int(v.denominator))
+    if isinstance(v, Decimal):
+        if not v.is_finite():
+            raise InvalidConicError(f"{name} is not finite ({v!r}): NaN/inf is not accepted")
+        return Fraction(v)
+    if isinstance(v, flint.fmpz):
+        return Fraction(int(v))
+    if isinstance(v, flint.fmpq):
+        return Fraction(int(v.p), int(v.q))
+    if isinstance(v, str):
+        s = v.strip()
+        try:
+            return Fraction(s)
+        except (ValueError, ZeroDivisionError) as exc:
+            raise InvalidConicError(f"{name}: cannot read {v!r} as an exact rational number ({exc})") from None
+    raise InvalidConicError(f"{name}: unsupported type {type(v).__name__} ({v!r})")
+
+
+def _isqrt_exact(n: int) -> int | None:
+    if n < 0:
+        return None
+    r = math.isqrt(n)
+    return r if r * r == n else None
+
+
+def fraction_sqrt(q: Fraction) -> Fraction | None:
+    """The exact square root of ``q`` if it is a rational square, else None."""
+    q = Fraction(q)
+    if q < 0:
+        return None
+    rn = _isqrt_exact(q.numerator)
+    rd = _isqrt_exact(q.denominator)
+    if rn is None or rd is None:
+        return None
+    return Fraction(rn, rd)
+
+
+def _fmpq(q: Fraction) -> flint.fmpq:
+    return flint.fmpq(q.numerator, q.denominator)
+
+
+def _arb(q: Fraction) -> flint.arb:
+    return flint.arb(_fmpq(q))
+
+
+def _sign(q: Fraction) -> int:
+    return (q > 0) - (q < 0)
+
+
+# --------------------------------------------------------------------------- frame
+
+@dataclass(frozen=True)
+class CanonicalFrame:
+    """Rigid motion to the canonical form (see the module docstring for the convention).
+
+    Fields are floats (:attr:`Conic.frame`), Fractions (:attr:`Conic.exact_frame`),
+    mpmath mpf (:meth:`Conic.frame_mp`) or flint arb balls (:meth:`Conic.frame_arb`).
+    """
+
+    cos: Any
+    sin: Any
+    tx: Any
+    ty: Any
+    kind: str
+    params: dict = field(default_factory=dict)
+
+    def to_canonical(self, x, y):
+        """World (x, y) -> canonical (X, Y)."""
+        dx, dy = x - self.tx, y - self.ty
+        return self.cos * dx + self.sin * dy, -self.sin * dx + self.cos * dy
+
+    def from_canonical(self, X, Y):
+        """Canonical (X, Y) -> world (x, y)."""
+        return self.tx + self.cos * X - self.sin * Y, self.ty + self.sin * X + self.cos * Y
+
+    def normalized(self) -> "CanonicalFrame":
+        """Representative modulo the symmetry group of the canonical form.
+
+        Ellipse: major axis on X (swap A2/B2 and turn by 90° if needed), then
+        (cos > 0) or (cos == 0 and sin > 0); hyperbola: the same sign rule; circle:
+        cos = 1, sin = 0; parabola: unchanged (no symmetry besides Y -> −Y, which does not
+        change the frame).  Two frames describe the same curve iff their normalized forms
+        are equal (exactly for exact frames).
+        """
+        c, s, prm = self.cos, self.sin, dict(self.params)
+        if self.kind == "circle":
+            one = c * c + s * s  # 1 in the right number type
+            return CanonicalFrame(one, s - s, self.tx, self.ty, "circle", prm)
+        if self.kind == "ellipse" and prm["A2"] < prm["B2"]:
+            prm = {"A2": prm["B2"], "B2": prm["A2"]}
+            c, s = -s, c
+        if self.kind in ("ellipse", "hyperbola"):
+            if c < 0 or (c == 0 and s < 0):
+                c, s = -c, -s
+        return CanonicalFrame(c, s, self.tx, self.ty, self.kind, prm)
+
+    def as_dict(self) -> dict:
+        d = {"type": self.kind, "cos": self.cos, "sin": self.sin, "tx": self.tx, "ty": self.ty}
+        d.update(self.params)
+        return d
+
+
+def _frame_generic(coeffs: tuple[Fraction, ...], kind: str, num: Callable[[Fraction], Any],
+                   sqrt_: Callable[[Fraction], Any]) -> CanonicalFrame:
+    """Canonical frame from exact coefficients in any number system.
+
+    ``num`` converts an exact Fraction to the number system, ``sqrt_`` returns the square
+    root of a non-negative Fraction in it.  Every branch decision uses exact rationals; the
+    only irrational operations are the square roots (the rotation may be irrational).
+    """
+    a, b, c, d, e, f = coeffs
+    if kind == "parabola":
+        lam = a + c
+        nraw = (a, b / 2) if abs(a) >= abs(c) else (b / 2, c)
+        uraw = (-nraw[1], nraw[0])
+        Dn = d * nraw[0] + e * nraw[1]
+        Du = d * uraw[0] + e * uraw[1]
+        if -Du / lam < 0:  # orient the axis so that the parabola opens towards +X
+            uraw = (-uraw[0], -uraw[1])
+            Du = -Du
+        N2 = nraw[0] ** 2 + nraw[1] ** 2
+        vx = -Dn * nraw[0] / (2 * lam * N2) + (Dn * Dn / (4 * lam * N2) - f) * uraw[0] / Du
+        vy = -Dn * nraw[1] / (2 * lam * N2) + (Dn * Dn / (4 * lam * N2) - f) * uraw[1] / Du
+        N = sqrt_(N2)
+        cos_, sin_ = num(uraw[0]) / N, num(uraw[1]) / N
+        p = num(abs(Du) / (2 * abs(lam))) / N
+        return CanonicalFrame(cos_, sin_, num(vx), num(vy), kind, {"p": p})
+
+    detQ = a * c - b * b / 4
+    # centre: Q t = -(d/2, e/2)
+    tx = (b * e / 4 - c * d / 2) / detQ
+    ty = (b * d / 4 - a * e / 2) / detQ
+    fc = f + (d * tx + e * ty) / 2  # value of the form at the centre = det M / det Q
+    if kind == "circle":
+        return CanonicalFrame(num(Fraction(1)), num(Fraction(0)), num(tx), num(ty), kind, {"r2": num(-fc / a)})
+    h, k = (a - c) / 2, b / 2
+    r2 = h * h + k * k  # > 0 (not a circle)
+    r = sqrt_(r2)
+    s_ = a + c
+    # eigenvector of lambda_+ = (a+c)/2 + r, chosen without cancellation
+    if h >= 0:
+        vplus = (num(h) + r, num(k))
+        n2p = num(2 * r2) + num(2 * h) * r  # |vplus|² = 2r(r+h)
+        plus_first_sign = 1
+    else:
+        vplus = (num(k), r - num(h))
+        n2p = num(2 * r2) - num(2 * h) * r
+        plus_first_sign = _sign(k)
+    lam_plus_big = s_ >= 0  # |lambda_+| >= |lambda_-|
+    big = num(s_ / 2) + r if lam_plus_big else num(s_ / 2) - r
+    small = num(detQ) / big
+    lam_plus = big if lam_plus_big else small
+    lam_minus = small if lam_plus_big else big
+    if kind == "ellipse":
+        use_plus = not lam_plus_big  # X axis = eigenvector of the eigenvalue of smaller modulus
+    else:  # hyperbola: -fc / lambda_X > 0
+        use_plus = fc < 0
+    if use_plus:
+        vec, first_sign = vplus, plus_first_sign
+        lx, ly = lam_plus, lam_minus
+    else:
+        vec = (-vplus[1], vplus[0])
+        # first component: -k (h >= 0) or h - r < 0 (h < 0)
+        first_sign = -_sign(k) if h >= 0 else -1
+        lx, ly = lam_minus, lam_plus
+    if first_sign < 0:
+        vec = (-vec[0], -vec[1])
+    norm = sqrt_(n2p) if isinstance(n2p, Fraction) else n2p.sqrt()
+    cos_, sin_ = vec[0] / norm, vec[1] / norm
+    nfc = num(fc)
+    if kind == "ellipse":
+        params = {"A2": -nfc / lx, "B2": -nfc / ly}
+    else:
+        params = {"A2": -nfc / lx, "B2": nfc / ly}
+    return CanonicalFrame(cos_, sin_, num(tx), num(ty), kind, params)
+
+
+class _ExactField:
+    """Adapter so that _frame_generic can run in exact arithmetic when all roots are rational."""
+
+    class NotRational(Exception):
+        pass
+
+    @staticmethod
+    def num(q: Fraction) -> Fraction:
+        return Fraction(q)
+
+    @staticmethod
+    def sqrt(q: Fraction) -> Fraction:
+        r = fraction_sqrt(q)
+        if r is None:
+            raise _ExactField.NotRational
+        return r
+
+
+# --------------------------------------------------------------------------- conic
+
+class Conic:
+    """A non-degenerate real conic ``a x² + b xy + c y² + d x + e y + f = 0`` with exact coefficients.
+
+    Build with :meth:`from_coefficients` or the geometric constructors; see the module
+    docstring for the canonical frame convention.  Instances are immutable and hashable;
+    two conics compare equal iff their coefficient vectors are proportional (same curve).
+    """
+
+    __slots__ = ("_coefficients", "_kind", "_det", "__dict__")
+
+    # ---------------------------------------------------------------- construction
+    def __init__(self, coefficients: tuple[Fraction, ...], kind: str, det: Fraction):
+        self._coefficients = coefficients
+        self._kind = kind
+        self._det = det
+
+    @classmethod
+    def from_coefficients(cls, a, b, c, d, e, f) -> "Conic":
+        """Validate and classify ``a x² + b xy + c y² + d x + e y + f = 0``.
+
+        Raises :class:`InvalidConicError` (a ValueError) naming the reason: non-finite or
+        unreadable input, not a conic (a = b = c = 0), degenerate (det M = 0: line pair,
+        double line, single point), imaginary ellipse (no real point), or a canonical frame
+        outside the float range (overflow/underflow of centre, axes or parameter).
+        """
+        names = "abcdef"
+        co = tuple(to_fraction(v, f"coefficient {names[i]}") for i, v in enumerate((a, b, c, d, e, f)))
+        a, b, c, d, e, f = co
+        if a == 0 and b == 0 and c == 0:
+            raise InvalidConicError("not a conic: the quadratic part a x² + b xy + c y² is zero (a line or nothing)")
+        det = (a * c * f + (b * e * d) / 4 - (a * e * e + c * d * d + f * b * b) / 4)
+        disc = b * b - 4 * a * c
+        if det == 0:
+            if disc < 0:
+                what = "a single real point (or two conjugate imaginary lines)"
+            elif disc > 0:
+                what = "a pair of intersecting lines"
+            else:
+                what = "a pair of parallel lines, a double line or nothing real"
+            raise InvalidConicError(f"degenerate conic (det of the 3x3 matrix is 0): {what}")
+        if disc < 0:
+            if (a + c) * det > 0:
+                raise InvalidConicError("imaginary ellipse: the equation has no real point")
+            kind = "circle" if (a == c and b == 0) else "ellipse"
+        elif disc == 0:
+            kind = "parabola"
+        else:
+            kind = "hyperbola"
+        obj = cls(co, kind, det)
+        obj._check_float_range()
+        return obj
+
+    @classmethod
+    def from_canonical(cls, kind: str, cos=1, sin=0, tx=0, ty=0, **params) -> "Conic":
+        """Conic with canonical frame (cos, sin, tx, ty) and parameters A2, B2 / p / r2.
+
+        Exact inputs (int, Fraction, rational strings) give exact, primitive integer
+        coefficients, a positive multiple of the canonical equation.  The rotation must then
+        satisfy cos² + sin² = 1 exactly.  Float cos/sin are accepted when
+        |cos² + sin² − 1| ≤ 1e-12 and are used at their exact binary value (the conic is then
+        the image of the canonical one under that almost-orthogonal matrix; its kind is
+        preserved exactly).
+        """
+        if kind not in KINDS:
+            raise InvalidConicError(f"unknown conic kind {kind!r} (expected one of {KINDS})")
+        need = set(_PARAM_NAMES[kind])
+        if set(params) != need:
+            raise InvalidConicError(f"{kind} needs parameters {sorted(need)}, got {sorted(params)}")
+        cs, sn = cls._rotation(cos, sin)
+        txq, tyq = to_fraction(tx, "tx"), to_fraction(ty, "ty")
+        prm = {k: to_fraction(v, k) for k, v in params.items()}
+        for k, v in prm.items():
+            if v <= 0:
+                raise InvalidConicError(f"{kind} parameter {k} must be > 0, got {v}")
+        g = -(cs * txq + sn * tyq)
+        h = sn * txq - cs * tyq
+        LX = (cs, sn, g)      # X = cs x + sn y + g
+        LY = (-sn, cs, h)     # Y = -sn x + cs y + h
+        if kind == "ellipse":
+            terms = [(prm["B2"], LX), (prm["A2"], LY)]
+            lin, const = None, -prm["A2"] * prm["B2"]
+        elif kind == "hyperbola":
+            terms = [(prm["B2"], LX), (-prm["A2"], LY)]
+            lin, const = None, -prm["A2"] * prm["B2"]
+        elif kind == "parabola":
+            terms = [(Fraction(1), LY)]
+            lin, const = (-2 * prm["p"], LX), Fraction(0)
+        else:
+            terms = [(Fraction(1), LX), (Fraction(1), LY)]
+            lin, const = None, -prm["r2"]
+        co = [Fraction(0)] * 6
+        for w, (p_, q_, r_) in terms:
+            co[0] += w * p_ * p_
+            co[1] += w * 2 * p_ * q_
+            co[2] += w * q_ * q_
+            co[3] += w * 2 * p_ * r_
+            co[4] += w * 2 * q_ * r_
+            co[5] += w * r_ * r_
+        if lin is not None:
+            w, (p_, q_, r_) = lin
+            co[3] += w * p_
+            co[4] += w * q_
+            co[5] += w * r_
+        co[5] += const
+        return cls.from_coefficients(*_primitive(co))
+
+    @staticmethod
+    def _rotation(cos, sin) -> tuple[Fraction, Fraction]:
+        is_float = any(isinstance(v, float) or (isinstance(v, numbers.Real) and not isinstance(v, (numbers.Rational, Decimal)))
+                       for v in (cos, sin))
+        cs, sn = to_fraction(cos, "cos"), to_fraction(sin, "sin")
+        n = cs * cs + sn * sn
+        if is_float:
+            if abs(float(n) - 1.0) > 1e-12:
+                raise InvalidConicError(f"rotation (cos, sin) = ({cos!r}, {sin!r}) is not a unit vector")
+        elif n != 1:
+            raise InvalidConicError(
+                f"rotation (cos, sin) = ({cos}, {sin}) is not exactly a unit vector (cos²+sin² = {n}); "
+                "use a rational point of the unit circle (Pythagorean triple) or a float angle")
+        return cs, sn
+
+    @classmethod
+    def _rotation_arg(cls, rotation) -> tuple[Any, Any]:
+        if rotation is None:
+            return 1, 0
+        if isinstance(rotation, (tuple, list)):
+            if len(rotation) != 2:
+                raise InvalidConicError("rotation must be (cos, sin) or an angle in radians")
+            return rotation[0], rotation[1]
+        if isinstance(rotation, numbers.Real) and not isinstance(rotation, bool):
+            th = float(rotation)
+            if not math.isfinite(th):
+                raise InvalidConicError(f"rotation angle {rotation!r} is not finite")
+            return math.cos(th), math.sin(th)
+        raise InvalidConicError(f"rotation must be (cos, sin) or an angle in radians, got {rotation!r}")
+
+    @classmethod
+    def ellipse(cls, centre=(0, 0), axes=(1, 1), rotation=None) -> "Conic":
+        """Ellipse with semi-axes ``axes = (A, B)`` (A along the rotated X axis)."""
+        A, B = (to_fraction(v, "semi-axis") for v in axes)
+        if A <= 0 or B <= 0:
+            raise InvalidConicError(f"semi-axes must be > 0, got {axes!r}")
+        cs, sn = cls._rotation_arg(rotation)
+        kind = "circle" if A == B else "ellipse"
+        if kind == "circle":
+            return cls.from_canonical("circle", 1, 0, centre[0], centre[1], r2=A * A)
+        return cls.from_canonical("ellipse", cs, sn, centre[0], centre[1], A2=A * A, B2=B * B)
+
+    @classmethod
+    def hyperbola(cls, centre=(0, 0), axes=(1, 1), rotation=None) -> "Conic":
+        """Hyperbola X²/A² − Y²/B² = 1 with ``axes = (A, B)``."""
+        A, B = (to_fraction(v, "semi-axis") for v in axes)
+        if A <= 0 or B <= 0:
+            raise InvalidConicError(f"semi-axes must be > 0, got {axes!r}")
+        cs, sn = cls._rotation_arg(rotation)
+        return cls.from_canonical("hyperbola", cs, sn, centre[0], centre[1], A2=A * A, B2=B * B)
+
+    @classmethod
+    def parabola(cls, vertex=(0, 0), p=1, rotation=None) -> "Conic":
+        """Parabola Y² = 2pX (opening along the rotated +X axis) with vertex ``vertex``."""
+        cs, sn = cls._rotation_arg(rotation)
+        return cls.from_canonical("parabola", cs, sn, vertex[0], vertex[1], p=p)
+
+    @classmethod
+    def circle(cls, centre=(0, 0), radius=None, r2=None) -> "Conic":
+        """Circle of centre ``centre`` and radius ``radius`` (or squared radius ``r2``)."""
+        if (radius is None) == (r2 is None):
+            raise InvalidConicError("give exactly one of radius= or r2=")
+        if radius is not None:
+            rq = to_fraction(radius, "radius")
+            if rq <= 0:
+                raise InvalidConicError(f"radius must be > 0, got {radius!r}")
+            r2 = rq * rq
+        return cls.from_canonical("circle", 1, 0, centre[0], centre[1], r2=r2)
+
+    # ---------------------------------------------------------------- properties
+    @property
+    def coefficients(self) -> tuple[Fraction, ...]:
+        """(a, b, c, d, e, f) exactly as given (not normalised)."""
+        return self._coefficients
+
+    @property
+    def kind(self) -> str:
+        return self._kind
+
+    @property
+    def determinant(self) -> Fraction:
+        """det of the 3×3 symmetric matrix of the conic (non-zero)."""
+        return self._det
+
+    @property
+    def discriminant(self) -> Fraction:
+        a, b, c = self._coefficients[:3]
+        return b * b - 4 * a * c
+
+    @cached_property
+    def matrix(self) -> tuple[tuple[Fraction, ...], ...]:
+        a, b, c, d, e, f = self._coefficients
+        return ((a, b / 2, d / 2), (b / 2, c, e / 2), (d / 2, e / 2, f))
+
+    @cached_property
+    def primitive_coefficients(self) -> tuple[int, ...]:
+        """Coefficients scaled to coprime integers, first non-zero coefficient positive
+        (a canonical representative of the curve; used for equality and hashing)."""
+        co = _primitive(self._coefficients)
+        first = next(v for v in co if v != 0)
+        return tuple(-v for v in co) if first < 0 else tuple(co)
+
+    @cached_property
+    def normalized_coefficients(self) -> tuple[Fraction, ...]:
+        """Coefficients scaled by a power of two so that max |coefficient| lies in [1, 2)
+        (exact; safe to convert to float for coefficients of any size)."""
+        m = max(abs(v) for v in self._coefficients)
+        k = _floor_log2(m)
+        s = Fraction(1, 2 ** k) if k >= 0 else Fraction(2 ** (-k))
+        return tuple(v * s for v in self._coefficients)
+
+    @cached_property
+    def exact_frame(self) -> CanonicalFrame | None:
+        """Canonical frame with Fraction fields when the rotation (hence every field) is rational, else None."""
+        try:
+            return _frame_generic(self._coefficients, self._kind, _ExactField.num, _ExactField.sqrt)
+        except _ExactField.NotRational:
+            return None
+
+    def frame_arb(self, prec: int = 128) -> CanonicalFrame:
+        """Canonical frame as rigorous flint ``arb`` balls computed at ``prec`` bits."""
+        with flint.ctx.workprec(prec):
+            ex = self.exact_frame
+            if ex is not None:
+                return CanonicalFrame(_arb(ex.cos), _arb(ex.sin), _arb(ex.tx), _arb(ex.ty), ex.kind,
+                                      {k: _arb(v) for k, v in ex.params.items()})
+            return _frame_generic(self._coefficients, self._kind, _arb, lambda q: _arb(q).sqrt())
+
+    def frame_mp(self, dps: int = 30) -> CanonicalFrame:
+        """Canonical frame with mpmath ``mpf`` fields accurate to about ``dps`` digits
+        (mpf values created in the current mpmath context)."""
+        import mpmath
+
+        prec = int(dps * 3.33) + 64
+        fr = self.frame_arb(prec)
+
+        def conv(x: flint.arb):
+            m, e = x.mid().man_exp()
+            return mpmath.ldexp(mpmath.mpf(int(m)), int(e))
+
+        return CanonicalFrame(conv(fr.cos), conv(fr.sin), conv(fr.tx), conv(fr.ty), fr.kind,
+                              {k: conv(v) for k, v in fr.params.items()})
+
+    @cached_property
+    def frame(self) -> CanonicalFrame:
+        """Canonical frame with float fields (rounded once from a 128-bit ball computation)."""
+        fr = self.frame_arb(_FRAME_PREC)
+
+        def conv(x: flint.arb) -> float:
+            return float(x.mid())
+
+        return CanonicalFrame(conv(fr.cos), conv(fr.sin), conv(fr.tx), conv(fr.ty), fr.kind,
+                              {k: conv(v) for k, v in fr.params.items()})
+
+    def _check_float_range(self) -> None:
+        fr = self.frame
+        for name, v in (("tx", fr.tx), ("ty", fr.ty), *fr.params.items()):
+            if not math.isfinite(v):
+                raise InvalidConicError(f"{self._kind}: canonical {name} overflows the float range")
+        for name, v in fr.params.items():
+            if not (v > 0) or v < 1e-300:
+                raise InvalidConicError(f"{self._kind}: canonical parameter {name} underflows the float range")
+            if v > 1e300:
+                raise InvalidConicError(f"{self._kind}: canonical parameter {name} overflows the float range")
+
+    # ---------------------------------------------------------------- evaluation
+    def __call__(self, x, y):
+        """Value of the quadratic form at (x, y): exact for int/Fraction inputs, float otherwise."""
+        a, b, c, d, e, f = self._coefficients
+        if isinstance(x, (int, Fraction)) and isinstance(y, (int, Fraction)) and not isinstance(x, bool):
+            return a * x * x + b * x * y + c * y * y + d * x + e * y + f
+        a, b, c, d, e, f = (float(v) for v in self._coefficients)
+        return a * x * x + b * x * y + c * y * y + d * x + e * y + f
+
+    def sample(self, n: int, extent: float | None = None) -> "list[tuple[float, float]]":
+        """``n`` points on the curve (floats), evenly spread in a natural parameter.
+
+        Hyperbolas: both branches (n//2 each), parameter |Y| ≤ ``extent`` (default 4·max(√A2, √B2)).
+        Parabolas: |Y| ≤ ``extent`` (default 8p).
+        """
+        import numpy as np
+
+        if n <= 0:
+            return []
+        fr = self.frame
+        if fr.kind in ("ellipse", "circle"):
+            A = math.sqrt(fr.params["A2"] if fr.kind == "ellipse" else fr.params["r2"])
+            B = math.sqrt(fr.params["B2"] if fr.kind == "ellipse" else fr.params["r2"])
+            th = np.linspace(0, 2 * np.pi, n, endpoint=False)
+            X, Y = A * np.cos(th), B * np.sin(th)
+        elif fr.kind == "hyperbola":
+            A, B = math.sqrt(fr.params["A2"]), math.sqrt(fr.params["B2"])
+            L = extent if extent is not None else 4 * max(A, B)
+            tmax = math.asinh(L / B)
+            n1 = n // 2
+            t = np.linspace(-tmax, tmax, max(n1, 1))
+            t2 = np.linspace(-tmax, tmax, n - n1) if n - n1 > 0 else np.array([])
+            X = np.concatenate([A * np.cosh(t), -A * np.cosh(t2)])[:n]
+            Y = np.concatenate([B * np.sinh(t), B * np.sinh(t2)])[:n]
+        else:
+            p = fr.params["p"]
+            L = extent if extent is not None else 8 * p
+            Y = np.linspace(-L, L, n)
+            X = Y * Y / (2 * p)
+        x, y = fr.from_canonical(X, Y)
+        return list(zip(map(float, x), map(float, y)))
+
+    # ---------------------------------------------------------------- misc
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Conic):
+            return NotImplemented
+        return self.primitive_coefficients == other.primitive_coefficients
+
+    def __hash__(self) -> int:
+        return hash(self.primitive_coefficients)
+
+    def __repr__(self) -> str:
+        co = ", ".join(str(v) for v in self._coefficients)
+        return f"Conic({self._kind}: {co})"
+
+    def to_dict(self) -> dict:
+        """JSON-friendly description: exact coefficient strings, kind, float frame."""
+        fr = self.frame
+        return {"coefficients": [str(v) for v in self._coefficients], "kind": self._kind,
+                "frame": fr.as_dict()}
+
+
+def _floor_log2(q: Fraction) -> int:
+    """floor(log2(q)) for q > 0, exactly."""
+    k = q.numerator.bit_length() - q.denominator.bit_length()
+    if Fraction(2) ** k > q:
+        k -= 1
+    elif Fraction(2) ** (k + 1) <= q:
+        k += 1
+    return k
+
+
+def _primitive(co: Iterable[Fraction]) -> list[int]:
+    co = [Fraction(v) for v in co]
+    den = 1
+    for v in co:
+        den = den * v.denominator // math.gcd(den, v.denominator)
+    ints = [int(v * den) for v in co]
+    g = 0
+    for v in ints:
+        g = math.gcd(g, v)
+    return [v // g for v in ints] if g else ints

@@ -1,0 +1,82 @@
+"""Loader of validation-case files (format of ``shared/data/validation_cases.json``).
+
+Each case gives four conics C1..C4 (exact integer coefficients and their exact canonical
+construction) and, for every true Voronoi vertex of (C1, C2, C3) (thesis §5.2,
+Def. 5.2.1), the expected radius, distance to C4 and conflict flag (thesis Thm 5.2.2).
+The loader turns the conics into :class:`runtime.conic.Conic` objects and keeps the
+expected values both as exact decimals (Fraction) and floats.
+"""
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass, field
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+from .conic import Conic
+
+__all__ = ["ValidationCase", "ExpectedVertex", "load_cases", "default_cases_path", "canonical_of"]
+
+_ENV = "CURVEDVORONOI_VALIDATION_CASES"
+
+
+@dataclass
+class ExpectedVertex:
+    x: Fraction
+    y: Fraction
+    radius: Fraction
+    distance_to_fourth: Fraction
+    margin: Fraction
+    in_conflict: bool
+    tangent: bool
+    raw: dict = field(repr=False, default_factory=dict)
+
+    def as_floats(self) -> dict[str, float]:
+        return {k: float(getattr(self, k)) for k in ("x", "y", "radius", "distance_to_fourth", "margin")}
+
+
+@dataclass
+class ValidationCase:
+    name: str
+    group: str
+    conics: list[Conic]
+    canonical: list[dict[str, Any]]       # exact: {"type", "cos", "sin", "tx", "ty", params...} (Fractions)
+    conflict: bool
+    vertices: list[ExpectedVertex]
+    raw: dict = field(repr=False, default_factory=dict)
+
+
+def canonical_of(entry: dict) -> dict[str, Any]:
+    """The exact canonical construction of a conic entry (values as Fractions, 'type' kept)."""
+    can = entry["canonical"]
+    return {k: (v if k == "type" else Fraction(v)) for k, v in can.items()}
+
+
+def default_cases_path(start: str | os.PathLike | None = None) -> Path | None:
+    """``$CURVEDVORONOI_VALIDATION_CASES`` if set, else ``<repo root>/../shared/data/validation_cases.json``
+    if it exists (repo root = parent of the ``runtime`` package, or ``start``), else None."""
+    env = os.environ.get(_ENV)
+    if env and Path(env).is_file():
+        return Path(env)
+    root = Path(start) if start is not None else Path(__file__).resolve().parent.parent
+    cand = root.parent / "shared" / "data" / "validation_cases.json"
+    return cand if cand.is_file() else None
+
+
+def load_cases(path: str | os.PathLike) -> list[ValidationCase]:
+    """Load every case of a validation file; conics are validated with Conic.from_coefficients."""
+    with open(path, encoding="utf-8") as fh:
+        data = json.load(fh)
+    cases = data["cases"] if isinstance(data, dict) else data
+    out = []
+    for c in cases:
+        conics = [Conic.from_coefficients(*e["coefficients"]) for e in c["conics"]]
+        verts = [ExpectedVertex(Fraction(v["x"]), Fraction(v["y"]), Fraction(v["radius"]),
+                                Fraction(v["distance_to_fourth"]), Fraction(v["margin"]),
+                                bool(v["in_conflict"]), bool(v.get("tangent", False)), v)
+                 for v in c["vertices"]]
+        out.append(ValidationCase(c["name"], c.get("group", ""), conics,
+                                  [canonical_of(e) for e in c["conics"]], bool(c["conflict"]), verts, c))
+    return out
