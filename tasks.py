@@ -1,0 +1,80 @@
+"""Project tasks (invoke): ``invoke --list``.
+
+* ``invoke regenerate``       -- rebuild every artefact in generated/ (progress + timings shown)
+* ``invoke check-generated``  -- rebuild into a temporary folder and byte-compare with generated/
+* ``invoke test``             -- the test suite
+* ``invoke bench``            -- every benchmark in bench/ (results appended to bench/results/*.md)
+* ``invoke demo``             -- the locator demo
+"""
+from __future__ import annotations
+
+import filecmp
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from invoke import task, Exit
+
+ROOT = Path(__file__).resolve().parent
+GENERATED = ROOT / "generated"
+
+
+@task(help={"jobs": "parallel worker processes (default 2)", "no_systems": "offsets only"})
+def regenerate(c, jobs=2, no_systems=False):
+    """Regenerate all artefacts into generated/ (deterministic) and rewrite the manifest."""
+    from precompute.pipeline import regenerate as run
+
+    t0 = time.perf_counter()
+    timings = run(GENERATED, jobs=int(jobs), with_systems=not no_systems)
+    print(f"regenerate: {time.perf_counter() - t0:.1f} s wall")
+    for k, v in timings.items():
+        print(f"  {k:<28} {v:8.2f} s")
+
+
+def _tree(root: Path) -> set[str]:
+    return {p.relative_to(root).as_posix() for p in root.rglob("*")
+            if p.is_file() and "__pycache__" not in p.parts and p.name != "__init__.py"}
+
+
+@task(help={"jobs": "parallel worker processes (default 2)"})
+def check_generated(c, jobs=2):
+    """Regenerate into a temporary folder and byte-compare with generated/ (golden-file check)."""
+    from precompute.pipeline import regenerate as run
+
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "generated"
+        run(out, jobs=int(jobs))
+        ours, fresh = _tree(GENERATED), _tree(out)
+        problems = [f"only in generated/: {p}" for p in sorted(ours - fresh)]
+        problems += [f"missing from generated/: {p}" for p in sorted(fresh - ours)]
+        problems += [f"differs: generated/{p}" for p in sorted(ours & fresh)
+                     if not filecmp.cmp(GENERATED / p, out / p, shallow=False)]
+    if problems:
+        print("check-generated FAILED: the committed artefacts are not what the generator produces:")
+        for p in problems:
+            print("  " + p)
+        print("run `invoke regenerate` and commit generated/, or find what made the output change")
+        raise Exit(code=1)
+    print(f"check-generated: OK ({len(ours)} files byte-identical)")
+
+
+@task
+def test(c, quick=False):
+    """Run the test suite (pytest)."""
+    c.run(f"{sys.executable} -m pytest -q" + (" -x" if quick else ""), pty=False)
+
+
+@task(help={"only": "substring of the benchmark file name"})
+def bench(c, only=""):
+    """Run the benchmarks in bench/ (each writes its table to bench/results/)."""
+    scripts = sorted(p for p in (ROOT / "bench").glob("bench_*.py") if only in p.name)
+    for script in scripts:
+        print(f"== {script.name}")
+        c.run(f"{sys.executable} {script}", pty=False)
+
+
+@task
+def demo(c):
+    """Run the conflict locator on the built-in four-ellipse example."""
+    c.run(f"{sys.executable} -m runtime demo", pty=False)
