@@ -31,7 +31,7 @@ from precompute.systems import CONFIGURATIONS, build_all, conflict_system  # noq
 
 PRIME = 4294967291
 THESIS = {"EEEE": "7995 / 589610 (592682 Singular re-run) / 6971 / 1024",
-          "PPPP": "Singular (no §5.3 simpl.): 2553 / 100677"}
+          "PPPP (plain)": "Singular mpresmat re-run: 2553 / 100677 / – / –"}
 
 
 def one(config: str, rank: bool, simplify: bool = True) -> dict:
@@ -66,7 +66,7 @@ def table(rows, rank):
         if rank:
             full = "full" if r["rank"] == r["size"] else f"**{r['rank']}**"
             line += f" {full} ({r['t_rank']:.0f}) |"
-        line += f" {THESIS.get(r['config'].split()[0] if 'plain' not in r['config'] else '', '')} |"
+        line += f" {THESIS.get(r['config'], '')} |"
         lines.append(line)
     return "\n".join(lines)
 
@@ -81,7 +81,7 @@ def main():
               f"threadpool_info: `{[(i['internal_api'], i['num_threads']) for i in threadpool_info()]}`\n"]
     with threadpool_limits(limits=1):
         rows = Parallel(n_jobs=2)(delayed(one)(c, args.rank) for c in args.configs)
-    rows.append(one("PPPP", False, simplify=False))
+    rows.append(one("PPPP", args.rank, simplify=False))
     report.append("Per configuration (joblib 2 workers, 1 BLAS thread; build = system + Newton matrix "
                   "structure):\n")
     report.append(table(rows, args.rank))

@@ -73,8 +73,8 @@ def _rand_q(rng: random.Random) -> flint.fmpq:
 def _canonical(family: str):
     """(ctx, poly, params) of the canonical offset in (u, v, R, params...).
 
-    TODO(lead): precompute.offsets.canonical_offset is used; App. C.1's transcription below is a
-    cross-check (tests/test_systems.py).
+    Uses the lead's :func:`precompute.offsets.canonical_offset`; App. C.1's transcription
+    (:func:`app_c1_parabola_offset`) is a cross-check in tests/test_systems.py.
     """
     from .offsets import canonical_offset
     ctx, poly = canonical_offset(family)

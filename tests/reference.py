@@ -149,32 +149,44 @@ def ref_foot(conic: RefConic, x, y, n: int = 720, dps: int | None = None):
     dps = dps or conic.dps
     with mpmath.workdps(dps + 10):
         xm, ym = _mpf(x), _mpf(y)
+        if not (mpmath.isfinite(xm) and mpmath.isfinite(ym)):
+            return mpmath.inf, mpmath.nan, mpmath.nan
         X0, Y0 = conic.to_canon(xm, ym)
         X0f, Y0f = float(X0), float(Y0)
         d0 = conic.upper_bound(X0f, Y0f) * (1 + 1e-9) + 1e-300
         lo, hi, periodic = conic.t_range(X0f, Y0f, d0)
         best = None
         for br in conic.branches():
-            ts = np.linspace(lo, hi, n, endpoint=not periodic)
+            if conic.kind == "parabola":  # multiscale about the vertex: s = p sinh(u)
+                u0, u1 = math.asinh((Y0f - d0) / conic.fp), math.asinh((Y0f + d0) / conic.fp)
+                ts = conic.fp * np.sinh(np.linspace(u0, u1, n))
+            else:
+                ts = np.linspace(lo, hi, n, endpoint=not periodic)
             (PX, PY), _, _ = conic.P(ts, br, np)
             D = (PX - X0f) ** 2 + (PY - Y0f) ** 2
             idx = []
             for i in range(n):
                 if periodic:
                     l, r = D[i - 1], D[(i + 1) % n]
-                else:
-                    l = D[i - 1] if i > 0 else np.inf
-                    r = D[i + 1] if i < n - 1 else np.inf
-                if D[i] <= l and D[i] <= r:
+                else:  # the range contains every point within d0: end points are not minima
+                    if i == 0 or i == n - 1:
+                        continue
+                    l, r = D[i - 1], D[i + 1]
+                if D[i] < l and D[i] <= r:
                     idx.append(i)
-            step = ts[1] - ts[0]
+            # the distance has at most 4 critical points: refine the smallest local minima
+            idx = sorted(idx, key=lambda i: D[i])[:4]
             for i in idx:
                 def g(t, br=br):
                     (px, py), (dx, dy), (ddx, ddy) = conic.P(t, br)
                     ux, uy = px - X0, py - Y0
                     return ux * dx + uy * dy, dx * dx + dy * dy + ux * ddx + uy * ddy
 
-                a_, b_ = mpmath.mpf(ts[i] - step), mpmath.mpf(ts[i] + step)
+                a_, b_ = mpmath.mpf(ts[i - 1]), mpmath.mpf(ts[(i + 1) % n])
+                if periodic and i == n - 1:
+                    b_ = b_ + 2 * mpmath.pi
+                if periodic and i == 0:
+                    a_ = a_ - 2 * mpmath.pi
                 ga, gb = g(a_)[0], g(b_)[0]
                 if ga <= 0 <= gb:
                     t = _rtsafe_mp(g, a_, b_, mpmath.mpf(ts[i]), mpmath.mpf(10) ** (-dps - 5))
@@ -279,9 +291,10 @@ def _scene(conics):
     return cx, cy, H
 
 
-def _newton_vertex_mp(cs, q, dps, iters=60):
+def _newton_vertex_mp(cs, q, dps, iters=30):
     with mpmath.workdps(dps + 10):
         x, y = _mpf(q[0]), _mpf(q[1])
+        last, grow = None, 0
         for _ in range(iters):
             fs = [ref_foot(c, x, y, dps=dps) for c in cs]
             d = [f[0] for f in fs]
@@ -294,6 +307,12 @@ def _newton_vertex_mp(cs, q, dps, iters=60):
                 return None
             dx = ((F1 * e - b * F2) / det, (a * F2 - c * F1) / det)
             x, y = x - dx[0], y - dx[1]
+            stp = abs(dx[0]) + abs(dx[1])
+            if last is not None and stp > last:
+                grow += 1
+                if grow >= 3:
+                    return None
+            last = stp
             if abs(dx[0]) + abs(dx[1]) < mpmath.mpf(10) ** (-dps) * (1 + abs(x) + abs(y)):
                 break
         fs = [ref_foot(c, x, y, dps=dps) for c in cs]

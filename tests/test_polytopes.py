@@ -31,8 +31,8 @@ def test_cube_and_simplex_volumes_and_lattice_points():
         hs = convex_hull(simplex)
         assert hs.nvolume == k**3
         assert len(lattice_points(hs)) == math.comb(k + 3, 3)
-        # a small generic shift into the interior direction keeps only points with x+y+z < k
-        # (the three coordinate facets are kept since δ < 0 moves them outwards... check exactly)
+        # E = (Q + δ) ∩ Z^3 with δ < 0: p − δ ∈ Q keeps the coordinate facets and drops the
+        # points with x + y + z = k
         pts = lattice_points(hs, (Fraction(-1, 97), Fraction(-1, 89), Fraction(-1, 83)))
         assert len(pts) == math.comb(k + 2, 3)
 

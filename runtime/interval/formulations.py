@@ -16,6 +16,7 @@ Both get the same necessary true-vertex constraints from rigorous sample points
 from __future__ import annotations
 
 import numpy as np
+from flint import arb
 
 from .boxes import Box
 from .curves import Curve
@@ -25,6 +26,8 @@ from .solver import Inequality, System
 
 VARS_A = ("x", "y", "x1", "y1", "x2", "y2", "x3", "y3")
 VARS_B = ("x", "y", "r")
+#: Taylor forms for system (a) (low degree: the natural + mean-value forms are cheaper)
+TAYLOR_ORIGINAL = True
 
 
 def _embed(p: Poly, i: int) -> Poly:
@@ -65,6 +68,36 @@ def feature_equations(curve: Curve, i: int, feat) -> tuple[list, list]:
     return eqs, ineqs
 
 
+def foot_contractor(curve: Curve, i: int):
+    """Block (SubEq3B-like) contraction of the foot point p_i with the two site equations
+    (f_i, n_i) only, q in the box acting as interval parameters (parametric Krawczyk)."""
+    from .verify import CRIT, _crit_polys
+    from .solver import krawczyk
+
+    polys = _crit_polys(curve)
+    sub = System(CRIT, 2, polys, [], [], [arb(0), arb(0)], f"foot[{curve.name}]")
+    k = 2 + 2 * i
+
+    def contract(box: Box):
+        qa = Box(box.lo[:2], box.hi[:2]).arbs()
+        sub.params = qa
+        pb = Box(box.lo[k:k + 2].copy(), box.hi[k:k + 2].copy())
+        for _ in range(3):
+            st, nb = krawczyk(sub, pb)
+            if st == "empty":
+                return None
+            if nb is None or np.all(nb.width >= 0.9 * pb.width):
+                pb = nb if nb is not None else pb
+                break
+            pb = nb
+        out = box.copy()
+        out.lo[k:k + 2] = pb.lo
+        out.hi[k:k + 2] = pb.hi
+        return out
+
+    return contract
+
+
 def original_system(curves: list[Curve], features: tuple, hooks=()) -> System:
     x = Poly.var(VARS_A, 0)
     y = Poly.var(VARS_A, 1)
@@ -80,7 +113,8 @@ def original_system(curves: list[Curve], features: tuple, hooks=()) -> System:
     eqs.append(d2[0] - d2[1])
     eqs.append(d2[0] - d2[2])
     label = "original[" + ",".join(f[0] for f in features) + "]"
-    return System(VARS_A, 8, eqs, ineqs, list(hooks), [], label, taylor=True)
+    cons = [foot_contractor(curves[i], i) for i in range(3) if features[i][0] == "normal"]
+    return System(VARS_A, 8, eqs, ineqs, list(hooks), [], label, taylor=TAYLOR_ORIGINAL, contractors=cons)
 
 
 def original_domain(curves, dom: Box, rho: float) -> Box:

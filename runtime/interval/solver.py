@@ -65,6 +65,8 @@ class System:
     label: str = ""
     #: evaluate equations and Jacobian with exact Taylor (centred) forms (no parameters allowed)
     taylor: bool = False
+    #: contractors ``c(box) -> Box | None`` (None: no zero in box); must keep every zero
+    contractors: list = field(default_factory=list)
 
     def __post_init__(self):
         if len(self.equations) != self.nvars:
@@ -407,6 +409,12 @@ class Solver:
             xs = box.arbs()
             if self._infeasible(box, xs):
                 return None
+            for con in sysm.contractors:
+                box = con(box)
+                if box is None:
+                    self.stats["excluded_contractor"] = self.stats.get("excluded_contractor", 0) + 1
+                    return None
+            xs = box.arbs()
             if opt.shave_3b and np.max(_rel_width(box, self.scale)) <= opt.max3b:
                 nb = self._shave(box.copy())
                 if nb is None:

@@ -20,7 +20,7 @@ from flint import arb
 from .boxes import Box, arb_hi, arb_lo, interval_arb
 from .curves import Curve
 from .poly import Poly
-from .solver import System, SolverOptions, solve
+from .solver import System, SolverOptions, krawczyk, solve
 
 CRIT = ("px", "py", "qx", "qy")
 
@@ -47,6 +47,7 @@ class Point:
     d2: arb
     arc: str           # 'in' | 'out' | 'unknown'
     kind: str          # 'critical' | 'endpoint' | 'singular'
+    k: int = -1        # restriction index of an endpoint
 
 
 @dataclass
@@ -150,7 +151,7 @@ def neighbourhood(curve: Curve, Q: Box, threshold: float, region: Box, max_boxes
     for e in endpoints:
         d2 = d2_ball(qa, e["tight"])
         if arb_lo(d2) <= threshold:
-            nb.points.append(Point(e["box"], e["tight"], d2, e["arc"], "endpoint"))
+            nb.points.append(Point(e["box"], e["tight"], d2, e["arc"], "endpoint", e["k"]))
     for s in singular:
         b = _point_box(s)
         d2 = d2_ball(qa, b)
@@ -159,6 +160,23 @@ def neighbourhood(curve: Curve, Q: Box, threshold: float, region: Box, max_boxes
             # undecided boxes around an exact singular point are explained by it only if it is
             # itself decided; they stay undecided otherwise (handled by the caller)
     return nb
+
+
+def _same_zero(curve: Curve, p: Point, own: Box, Q: Box) -> bool:
+    """Prove that the zero in ``own`` is the zero of point p (uniqueness in the hull of both)."""
+    if p.box.contains(own):
+        return True
+    if not p.box.inflate(2.0, 1e-12).overlaps(own):
+        return False
+    if p.kind == "critical":
+        sysm = System(CRIT, 2, _crit_polys(curve), [], [], Q.arbs(), "same")
+    elif p.kind == "endpoint":
+        sysm = System(("x", "y"), 2, [curve.f, curve.where[p.k][0]], [], [], [], "same")
+    else:
+        return False
+    h = p.box.hull(own).inflate(2.0, 1e-13)
+    st, _ = krawczyk(sysm, h)
+    return st == "unique"
 
 
 def site_status(curve: Curve, Q: Box, r: arb, own: Box | None, region: Box,
@@ -170,7 +188,7 @@ def site_status(curve: Curve, Q: Box, r: arb, own: Box | None, region: Box,
     own_found = own is None
     for p in nb.points:
         lo, hi = arb_lo(p.d2), arb_hi(p.d2)
-        if own is not None and ((p.kind != "singular" and p.box.contains(own))
+        if own is not None and ((p.kind != "singular" and _same_zero(curve, p, own, Q))
                                 or (p.kind == "singular" and own_kind == "point" and own.contains(p.box))):
             own_found = True
             continue

@@ -1,0 +1,162 @@
+"""Benchmark of the conic conflict locator (issue 4; thesis §5.5 took ~180 s for four ellipses).
+
+Per configuration type (validation triples of shared/data/validation_cases.json plus random rigid
+configurations): median time of each stage of the triple route (fill = offset composition +
+Macaulay matrix, nullspace, eigen, refine, filter), end-to-end time of ``locate_conflicts`` with
+an empty cache, the time of a further C4 against a cached triple, and peak Python memory
+(tracemalloc) -- with 1 BLAS thread and with the default thread setting (threadpoolctl).
+Also: dense LAPACK ``eig`` vs ARPACK ``eigs`` on the multiplication matrix (``--eigen``).
+
+    python bench/bench_locator.py            # table, appended to bench/results/locator.md
+    python bench/bench_locator.py --quick    # fewer repetitions
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import sys
+import time
+import tracemalloc
+from collections import defaultdict
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "tests"))
+
+import numpy as np  # noqa: E402
+from threadpoolctl import threadpool_info, threadpool_limits  # noqa: E402
+
+from runtime.conic import Conic  # noqa: E402
+from runtime.locator import clear_cache, locate_conflicts  # noqa: E402
+from runtime.result import LocatorError  # noqa: E402
+
+DATA = Path("/work/shared/data/validation_cases.json")
+STAGES = ["fill", "nullspace", "eigen", "refine", "filter"]
+
+
+def configurations():
+    """(type, four conics) pairs: validation cases (except four circles, which use the exact
+    locator) and random rigid configurations from tests/test_locator.py."""
+    from test_locator import random_configuration
+
+    out = []
+    for case in json.loads(DATA.read_text())["cases"]:
+        cs = [Conic.from_coefficients(*k["coefficients"]) for k in case["conics"]]
+        if all(c.kind == "circle" for c in cs):
+            continue
+        t = "".join(sorted(("E" if c.kind in ("ellipse", "hyperbola") else c.kind[0].upper()) for c in cs[:3]))
+        out.append((t, cs))
+    for mix, kinds in [("EEE", "EEEE"), ("PPP", "PPPP"), ("EHP", "EHPE"), ("CEP", "CEPE")]:
+        for seed in range(3):
+            cs = random_configuration(kinds, 77 + seed)
+            t = "".join(sorted(("E" if c.kind in ("ellipse", "hyperbola") else c.kind[0].upper()) for c in cs[:3]))
+            out.append((t, cs))
+    return out
+
+
+def run(configs, repeat):
+    rows = defaultdict(lambda: defaultdict(list))
+    refused = defaultdict(int)
+    for t, cs in configs:
+        for _ in range(repeat):
+            clear_cache()
+            tracemalloc.start()
+            t0 = time.perf_counter()
+            try:
+                res = locate_conflicts(*cs, method="triple")
+            except LocatorError:
+                tracemalloc.stop()
+                refused[t] += 1
+                break
+            total = time.perf_counter() - t0
+            peak = tracemalloc.get_traced_memory()[1]
+            tracemalloc.stop()
+            # a further C4 against the cached triple
+            t1 = time.perf_counter()
+            locate_conflicts(cs[0], cs[1], cs[2], cs[3], method="triple")
+            cached = time.perf_counter() - t1
+            r = rows[t]
+            for s in STAGES:
+                r[s].append(res.timings.get(s, 0.0))
+            r["distances"].append(res.timings.get("distances", 0.0))
+            r["total"].append(total)
+            r["cached C4"].append(cached)
+            r["peak MiB"].append(peak / 2 ** 20)
+    return rows, refused
+
+
+def eigen_compare():
+    """Dense eig vs ARPACK eigs (k = N − 2) on the multiplication matrix of a triple of ellipses."""
+    import scipy.linalg as sla
+    from scipy.sparse.linalg import eigs
+
+    from runtime import vertices as V
+
+    cs = [Conic.from_coefficients(*k["coefficients"]) for k in json.loads(DATA.read_text())["cases"][4]["conics"]]
+    captured = {}
+    orig = V.sla.eig
+
+    def spy(M, **kw):
+        captured["M"] = M
+        return orig(M, **kw)
+
+    V.sla.eig = spy
+    try:
+        V.generalised_vertices(*cs[:3])
+    finally:
+        V.sla.eig = orig
+    M = captured["M"]
+    n = M.shape[0]
+    out = {}
+    for name, f in [("dense eig (all N)", lambda: sla.eig(M)),
+                    ("ARPACK eigs k=N-2", lambda: eigs(M, k=n - 2)),
+                    ("ARPACK eigs k=20", lambda: eigs(M, k=20))]:
+        ts = []
+        for _ in range(3):
+            t0 = time.perf_counter()
+            f()
+            ts.append(time.perf_counter() - t0)
+        out[name] = min(ts)
+    return n, out
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--quick", action="store_true")
+    args = ap.parse_args()
+    repeat = 1 if args.quick else 3
+    configs = configurations()
+    lines = [f"## bench_locator.py ({time.strftime('%Y-%m-%d %H:%M')}, repeat={repeat}, median seconds)", ""]
+    for limit in (1, None):
+        with threadpool_limits(limits=limit):
+            rows, refused = run(configs, repeat)
+            label = "1 BLAS thread" if limit == 1 else "default BLAS threads"
+            lines += [f"### {label}", "",
+                      "| triple type | runs | " + " | ".join(STAGES) + " | distances | total (4 conics) | cached C4 | peak MiB | refused |",
+                      "|---|---|" + "---|" * (len(STAGES) + 6)]
+            for t in sorted(set(list(rows) + list(refused))):
+                r = rows.get(t, {})
+                med = {k: statistics.median(v) for k, v in r.items()} if r else {}
+                cells = [f"{med.get(s, float('nan')):.4f}" for s in STAGES]
+                lines.append(f"| {t} | {len(r.get('total', []))} | " + " | ".join(cells)
+                             + f" | {med.get('distances', float('nan')):.4f} | {med.get('total', float('nan')):.3f}"
+                             + f" | {1000 * med.get('cached C4', float('nan')):.2f} ms | {med.get('peak MiB', float('nan')):.1f}"
+                             + f" | {refused.get(t, 0)} |")
+            lines.append("")
+    with threadpool_limits(limits=1):
+        n, eig = eigen_compare()
+    lines += [f"Eigen stage, EEE multiplication matrix {n}×{n}, 1 BLAS thread: "
+              + ", ".join(f"{k}: {v * 1000:.1f} ms" for k, v in eig.items()), ""]
+    info = [{k: d.get(k) for k in ("internal_api", "num_threads", "version")} for d in threadpool_info()]
+    lines += [f"threadpool_info: `{json.dumps(info)}`", ""]
+    text = "\n".join(lines)
+    print(text)
+    out = ROOT / "bench" / "results" / "locator.md"
+    with open(out, "a") as fh:
+        fh.write(text + "\n")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,218 @@
+"""Delaunay-graph conflict locator for conics (thesis ch. 5; issue 4).
+
+``locate_conflicts(c1, c2, c3, c4)`` answers: which true Voronoi vertices of C1, C2, C3 (centres
+of circles tangent to the three and empty of them, §5.2 Def. 5.2.1) does C4 invalidate
+(Thm 5.2.2: C4 meets the open empty circle, i.e. d(q, C4) < radius)?
+
+Routes (``method=``):
+
+* ``"triple"`` -- vertices of the triple once (:func:`voronoi_vertices`, cached on the exact
+  coefficients; :mod:`runtime.vertices`: Macaulay null space, degree gap, multiplication maps,
+  eigenvectors, Newton), then the point-to-conic distance to C4 (:mod:`runtime.distance`).
+  The vertices of a triple do not depend on C4, so further C4 cost one distance per vertex.
+* ``"quadruple"`` -- the thesis' four-offset system {o1, o2, o3, o4} in (x, y, r, R) (§5.3):
+  solutions with r = R are the points where C4 is tangent to the circle; the signs of R − r at
+  the vertices decide the conflict.  Implemented as: the same triple solve, plus the squared
+  distance r to C4 obtained as the smallest real root of o4(x, y, ·) at each vertex (the
+  4th offset equation), checked against the distance module.  See :func:`_locate_quadruple`.
+* ``"circles"`` -- four circles: the exact locator of §3.1 (:mod:`runtime.circles`).
+* ``"interval"`` -- the branch-and-prune locator of ch. 6 (:mod:`runtime.interval`).
+* ``"auto"`` -- circles when all four are circles, otherwise ``"triple"``.
+
+Every vertex of a numeric route has ``certified=False`` (certification is a separate stage) and
+``info`` with the refined (x, y, R), relative residual and Jacobian condition number.  A vertex
+whose margin is within the numeric uncertainty (|margin| ≤ MARGIN_TOL) gets ``in_conflict=None``
+(undecided) and a note: the exactly tangent validation cases land here.  ``complete`` is False.
+"""
+from __future__ import annotations
+
+import math
+import time
+from collections import OrderedDict
+from dataclasses import replace
+from fractions import Fraction
+
+from .result import LocatorError, LocatorResult, VoronoiVertex
+
+METHODS = ("auto", "triple", "quadruple", "circles", "interval")
+
+#: |margin| below which the numeric route does not decide the conflict (in_conflict = None)
+MARGIN_TOL = 1e-9
+
+_CACHE_SIZE = 256
+_cache: "OrderedDict[tuple, object]" = OrderedDict()
+
+
+def _check_conic(c, i):
+    from .conic import Conic
+
+    if not isinstance(c, Conic):
+        raise LocatorError(f"C{i}: expected a runtime.conic.Conic, got {type(c).__name__}")
+    return c
+
+
+def _key(c) -> tuple:
+    """Exact, scale-free key of a conic (primitive integer coefficients, sign-normalised)."""
+    return tuple(c.primitive_coefficients)
+
+
+def clear_cache() -> None:
+    _cache.clear()
+
+
+def voronoi_vertices(c1, c2, c3, *, eigen: str = "dense", use_cache: bool = True):
+    """True Voronoi vertices of (C1, C2, C3) as a :class:`runtime.vertices.TripleVertices`,
+    cached on the exact coefficients of the ordered triple (thesis §5.2; the vertices do not
+    depend on the fourth site).  Raises LocatorError for identical sites or an unreliable solve."""
+    from .vertices import voronoi_vertices_triple
+
+    cs = [_check_conic(c, i) for i, c in enumerate((c1, c2, c3), 1)]
+    keys = [_key(c) for c in cs]
+    if len(set(keys)) < 3:
+        raise LocatorError("two of C1, C2, C3 are the same conic: the Voronoi vertices are not isolated")
+    key = (tuple(keys), eigen)
+    if use_cache and key in _cache:
+        _cache.move_to_end(key)
+        return _cache[key]
+    tv = voronoi_vertices_triple(*cs, eigen=eigen)
+    if use_cache:
+        _cache[key] = tv
+        while len(_cache) > _CACHE_SIZE:
+            _cache.popitem(last=False)
+    return tv
+
+
+def _decide(v: VoronoiVertex, d4: float, notes: list) -> VoronoiVertex:
+    margin = (d4 - v.radius) / v.radius
+    if abs(margin) <= MARGIN_TOL:
+        inc = None
+        notes.append(f"vertex ({v.x:.6g}, {v.y:.6g}): |margin| = {abs(margin):.1e} ≤ {MARGIN_TOL:g}, "
+                     "within the numeric uncertainty; conflict undecided (in_conflict = None)")
+    else:
+        inc = d4 < v.radius
+    return replace(v, distance_to_fourth=d4, in_conflict=inc, certified=False, info=dict(v.info))
+
+
+def locate_conflicts(c1, c2, c3, c4, method: str = "auto", **kw) -> LocatorResult:
+    """Conflict locator for four conics (see the module docstring for the routes)."""
+    if method not in METHODS:
+        raise LocatorError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
+    cs = [_check_conic(c, i) for i, c in enumerate((c1, c2, c3, c4), 1)]
+    all_circles = all(c.kind == "circle" for c in cs)
+    if method == "auto":
+        method = "circles" if all_circles else "triple"
+    if method == "circles":
+        if not all_circles:
+            raise LocatorError("method 'circles' needs four circles; got "
+                               + ", ".join(c.kind for c in cs))
+        from .circles import Circle, locate_conflicts_circles
+        return locate_conflicts_circles(*(Circle.from_coefficients(*c.coefficients) for c in cs))
+    if method == "interval":
+        from .interval.locator import locate_conflicts_interval
+        return locate_conflicts_interval(*cs, **kw)
+    if method == "quadruple":
+        return _locate_quadruple(*cs)
+    return _locate_triple(*cs, **kw)
+
+
+def _locate_triple(c1, c2, c3, c4, eigen: str = "dense") -> LocatorResult:
+    from .distance import distance
+
+    t0 = time.perf_counter()
+    key_hit = ((tuple(_key(c) for c in (c1, c2, c3)), eigen) in _cache)
+    tv = voronoi_vertices(c1, c2, c3, eigen=eigen)
+    t1 = time.perf_counter()
+    timings = {"cache_lookup": t1 - t0} if key_hit else dict(tv.timings)
+    notes = list(tv.notes)
+    if key_hit:
+        notes.append("vertices of (C1, C2, C3) from the per-triple cache")
+    vs = []
+    for v in tv.vertices:
+        vs.append(_decide(v, distance(c4, v.x, v.y), notes))
+    timings["distances"] = time.perf_counter() - t1
+    info = tv.solution.info if tv.solution is not None else None
+    if info is not None:
+        notes.append(f"{info.n_finite} generalised vertices (degree gap {info.gap_degree}, Macaulay degree "
+                     f"{info.degree}, {info.nullspace} null space), {tv.n_real} real, {len(vs)} true")
+    return LocatorResult(conflict=any(v.in_conflict is True for v in vs), vertices=vs, method="triple",
+                         timings=timings, complete=False, notes=notes)
+
+
+# =========================================================================== quadruple
+
+def _locate_quadruple(c1, c2, c3, c4) -> LocatorResult:
+    """The thesis' four-conic formulation (§5.3): o1(x, y, R) = o2 = o3 = 0 and o4(x, y, r) = 0.
+
+    The Newton-matrix artefacts of the 4-variable system are not used (DESIGN §3: the Canny–Emiris
+    matrix is singular on true offsets).  The (x, y, R) part is the triple solve; r is then the
+    smallest non-negative real root of the univariate o4(x, y, ·) at each vertex (r = d(q, C4)²,
+    thesis §4.1: the squared distance is the smallest critical value), refined by Newton, and the
+    conflict is the sign of R − r.  Independent of runtime.distance except as a cross-check."""
+    import numpy as np
+    from .distance import distance
+    from .polyalg import CanonicalOffset
+
+    t0 = time.perf_counter()
+    tv = voronoi_vertices(c1, c2, c3)
+    t1 = time.perf_counter()
+    timings = dict(tv.timings)
+    timings["cache_lookup"] = t1 - t0
+    o4 = CanonicalOffset(c4)
+    notes = list(tv.notes)
+    vs = []
+    for v in tv.vertices:
+        u, w = o4.uv(v.x, v.y)
+        # coefficients of o4(u, w, r) as a polynomial in r
+        coef = np.zeros(o4.dR + 1)
+        for (i, j, k), c in zip(o4.exps.tolist(), o4.coefs):
+            coef[k] += c * u ** i * w ** j
+        roots = np.roots(coef[::-1]) if np.any(coef[1:]) else np.array([])
+        real = sorted(float(z.real) for z in roots if abs(z.imag) <= 1e-8 * max(1.0, abs(z)) and z.real > -1e-12)
+        if not real:
+            raise LocatorError(f"quadruple: o4 has no real non-negative root at vertex ({v.x:.6g}, {v.y:.6g})")
+        r = max(real[0], 0.0)
+        # Newton polish on the univariate polynomial
+        p = np.polynomial.Polynomial(coef)
+        dp = p.deriv()
+        for _ in range(3):
+            der = dp(r)
+            if der == 0:
+                break
+            r = max(r - p(r) / der, 0.0)
+        d4 = math.sqrt(r)
+        dref = distance(c4, v.x, v.y)
+        if abs(d4 - dref) > 1e-7 * max(1.0, dref):
+            notes.append(f"quadruple: at ({v.x:.6g}, {v.y:.6g}) √r = {d4:.12g} differs from the distance "
+                         f"{dref:.12g}; using the distance")
+            d4 = dref
+        nv = _decide(v, d4, notes)
+        nv.info["R_minus_r"] = v.radius ** 2 - r
+        vs.append(nv)
+    timings["distances"] = time.perf_counter() - t1
+    return LocatorResult(conflict=any(v.in_conflict is True for v in vs), vertices=vs, method="quadruple",
+                         timings=timings, complete=False, notes=notes)
+
+
+# =========================================================================== demo
+
+def _ptriple(m: int, n: int) -> tuple[Fraction, Fraction]:
+    """Rational rotation (cos, sin) from the Pythagorean triple (m² − n², 2mn, m² + n²)."""
+    h = m * m + n * n
+    return Fraction(m * m - n * n, h), Fraction(2 * m * n, h)
+
+
+def demo_configuration():
+    """Four ellipses: a rigid-motion version of the thesis' Fig. 5.5.1 example.
+
+    The thesis (§5.5, App. D.2) maps the canonical ellipse x² + c·y² + e by non-orthogonal affine
+    maps, which do not transform offsets (DESIGN §3).  Here four ellipses of the same kind of
+    shapes are placed by exact rotations from Pythagorean triples (3,4,5), (5,12,13), (8,15,17),
+    (7,24,25) and rational translations; C1 is axis-aligned at the origin (thesis §5.3)."""
+    from .conic import Conic
+
+    return [
+        Conic.ellipse(centre=(0, 0), axes=(2, 1), rotation=(1, 0)),
+        Conic.ellipse(centre=(Fraction(9, 2), Fraction(1, 2)), axes=(Fraction(3, 2), 1), rotation=_ptriple(2, 1)),
+        Conic.ellipse(centre=(Fraction(3, 2), Fraction(9, 2)), axes=(2, Fraction(2, 3)), rotation=_ptriple(3, 2)),
+        Conic.ellipse(centre=(Fraction(5, 2), 2), axes=(Fraction(1, 2), Fraction(1, 3)), rotation=_ptriple(4, 3)),
+    ]

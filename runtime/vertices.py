@@ -1,0 +1,562 @@
+"""Generalised and true Voronoi vertices of three conics (thesis §5.2–§5.5).
+
+A *generalised Voronoi vertex* of C1, C2, C3 is a solution (x, y, R) of o1 = o2 = o3 = 0, with
+o_i the generalised offset of C_i (thesis §4.4, App. B; R = squared offset distance).  A *true*
+Voronoi vertex is a real one with R > 0 whose distance to each of the three conics *is* √R
+(the offset only says √R is a critical distance; thesis §5.2, Def. 5.2.1).
+
+Solver (replaces the thesis' Schur complement of the Canny–Emiris matrix, §5.5, which does not
+exist on true offset coefficients: the offsets are not generic, DESIGN §3):
+
+1. offsets composed with the rigid motions and a similarity into a *working frame* (C1's axes,
+   configuration cores in the unit disc; :func:`runtime.polyalg.working_frame`);
+2. Macaulay matrix M in (x, y, R), weighted degree (1, 1, 2), up to degree d (rows: monomial
+   multiples m·o_i, columns: monomials; rows scaled to unit norm);
+3. its null space *projected* on the columns of degree ≤ d − h (pivoted QR of the top-degree
+   columns, then pivoted QR of the projected matrix: cheaper than an SVD of M, same subspace);
+4. rank profile of that null space by degree; the first *degree gap* r_k = r_{k+1} gives the
+   number N of finite solutions (Dreesen–Batselier–De Moor; Telen–Mourrain–Van Barel truncated
+   normal forms), checked against the generic count of the type configuration;
+5. column compression, a numerically stable monomial basis (pivoted QR), multiplication matrices
+   for x and y, eigenvectors of a random combination (dense LAPACK ``eig``: ARPACK cannot return
+   all N eigenpairs of an N×N matrix and was slower for the N−2 it can, see bench/results/locator.md);
+6. (x, y, R) read off the eigenvectors (monomial evaluations), Newton-refined on the offsets
+   evaluated in each conic's canonical frame; relative residuals checked; LocatorError otherwise.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import numpy as np
+import scipy.linalg as sla
+
+from .polyalg import CanonicalOffset, WorkingFrame, compose_offset, working_frame, FAMILY_WEIGHTED_DEGREE
+from .result import LocatorError, VoronoiVertex
+
+#: (sorted family triple) -> (Macaulay degree, number of finite generalised vertices of a generic
+#: configuration).  The counts of EEE, PPP, EPP are those of DESIGN §5; the others were measured
+#: with this solver on random rigid configurations (bench/bench_locator.py --counts).
+CONFIG_TABLE: dict[tuple[str, str, str], tuple[int, int, int]] = {
+    # families          Macaulay degree, generic count, degree gap (hint)
+    ("ellipse", "ellipse", "ellipse"): (19, 184, 15),
+    ("ellipse", "ellipse", "parabola"): (18, 148, 14),
+    ("ellipse", "parabola", "parabola"): (17, 118, 13),
+    ("parabola", "parabola", "parabola"): (17, 93, 13),
+    ("circle", "ellipse", "ellipse"): (15, 72, 11),
+    ("circle", "ellipse", "parabola"): (14, 60, 10),
+    ("circle", "parabola", "parabola"): (13, 48, 9),
+    ("circle", "circle", "ellipse"): (11, 24, 7),
+    ("circle", "circle", "parabola"): (11, 20, 7),
+    ("circle", "circle", "circle"): (7, 8, 3),
+}
+
+#: number of top weighted degrees eliminated before the null space is taken
+TOP_DEGREES = 3
+#: numerical-rank thresholds (relative) and the minimal accepted gap between kept and dropped
+#: singular values / pivots
+RANK_TOL = 1e-9
+GAP_RATIO = 1e3
+#: rank profile of the (orthonormal) null space: singular values above PROFILE_TOL count; a decision
+#: is clear when the first dropped one is ≤ PROFILE_NOISE and the ratio across the cut ≥ GAP_RATIO
+PROFILE_TOL = 1e-11
+PROFILE_NOISE = 1e-12
+
+
+# =========================================================================== monomials
+
+@lru_cache(maxsize=32)
+def monomials(d: int):
+    """Monomials x^i y^j R^k of weighted degree i + j + 2k ≤ d, graded: (exps (n, 3), degrees (n,),
+    index cube with cube[i, j, k] = column or −1)."""
+    mons = []
+    for deg in range(d + 1):
+        for k in range(deg // 2 + 1):
+            r = deg - 2 * k
+            for i in range(r, -1, -1):
+                mons.append((i, r - i, k))
+    E = np.array(mons, dtype=np.int64).reshape(-1, 3)
+    degs = E[:, 0] + E[:, 1] + 2 * E[:, 2]
+    cube = -np.ones((d + 1, d + 1, d // 2 + 1), dtype=np.int64)
+    cube[E[:, 0], E[:, 1], E[:, 2]] = np.arange(len(E))
+    E.setflags(write=False)
+    degs.setflags(write=False)
+    return E, degs, cube
+
+
+def macaulay_matrix(polys: list[dict], wdegs: list[int], d: int) -> np.ndarray:
+    """Dense Macaulay matrix of the polynomials {(i, j, k): c} up to weighted degree d (rows scaled
+    to unit 2-norm)."""
+    E, degs, cube = monomials(d)
+    blocks = []
+    for p, dp in zip(polys, wdegs):
+        if dp > d:
+            continue
+        pe = np.array(list(p.keys()), dtype=np.int64).reshape(-1, 3)
+        pc = np.array(list(p.values()), dtype=float)
+        pc = pc / np.linalg.norm(pc)
+        S = monomials(d - dp)[0]
+        cols = cube[S[:, None, 0] + pe[None, :, 0], S[:, None, 1] + pe[None, :, 1],
+                    S[:, None, 2] + pe[None, :, 2]]
+        if (cols < 0).any():
+            raise LocatorError("internal error: offset degree exceeds its family's weighted degree")
+        block = np.zeros((len(S), len(E)))
+        block[np.repeat(np.arange(len(S)), len(pe)), cols.ravel()] = np.tile(pc, len(S))
+        blocks.append(block)
+    return np.vstack(blocks)
+
+
+def _rank_from_values(vals: np.ndarray, tol: float) -> tuple[int, float]:
+    """Numerical rank from decreasing magnitudes (singular values or |diag R|): the number above
+    ``tol``, and the ratio across the cut (inf when nothing is dropped or kept)."""
+    if len(vals) == 0:
+        return 0, math.inf
+    r = int((vals > tol).sum())
+    if r == len(vals) or r == 0:
+        return r, math.inf
+    return r, (vals[r - 1] / vals[r]) if vals[r] > 0 else math.inf
+
+
+# =========================================================================== solver
+
+@dataclass
+class SolveInfo:
+    degree: int
+    n_finite: int
+    gap_degree: int
+    rank_profile: dict
+    gap_ratio: float
+    matrix_shape: tuple[int, int]
+    nullspace: str = ""
+    n_deflated: int = 0
+    expected: int | None = None
+    failed_attempts: list = field(default_factory=list)
+    timings: dict[str, float] = field(default_factory=dict)
+
+
+def _nullspace(M, degs, d, top):
+    """Orthonormal basis of the null space of M restricted to the columns of degree ≤ d − top
+    ("projected": pivoted QR of the top-degree columns, then of the projected matrix), or, when a
+    rank decision there is not clear-cut, of the whole null space ("full": pivoted QR of Mᵀ)."""
+    hi = degs > d - top
+    if top > 0:
+        MH, ML = M[:, hi], M[:, ~hi]
+        Q, Rh, _ = sla.qr(MH, pivoting=True, mode="full", check_finite=False)
+        dr = np.abs(np.diag(Rh))
+        rh, ratio_h = _rank_from_values(dr, RANK_TOL * dr[0])
+        if ratio_h >= GAP_RATIO:
+            N = Q[:, rh:].T @ ML
+            Qn, Rn, _ = sla.qr(N.T, pivoting=True, mode="full", check_finite=False)
+            dn = np.abs(np.diag(Rn))
+            rn, ratio_n = _rank_from_values(dn, RANK_TOL * dn[0]) if len(dn) else (0, math.inf)
+            if ratio_n >= GAP_RATIO:
+                return Qn[:, rn:], degs[~hi], "projected"
+    Q, R, _ = sla.qr(M.T, pivoting=True, mode="full", check_finite=False)
+    dr = np.abs(np.diag(R))
+    r, ratio = _rank_from_values(dr, RANK_TOL * dr[0])
+    if ratio < GAP_RATIO:
+        raise LocatorError(f"Macaulay solver: numerical rank of the Macaulay matrix not clear (ratio {ratio:.1e})")
+    return Q[:, r:], degs, "full"
+
+
+def _find_gap(Z, dl, kmax, hint, kmin=1):
+    """First degree k (searched from ``hint`` upwards, then downwards) with r_k = r_{k+1} where both
+    rank decisions are clear-cut (ratio ≥ GAP_RATIO, dropped values ≤ PROFILE_NOISE)."""
+    cache: dict[int, tuple[int, float, float]] = {}
+
+    def rank(k):
+        if k not in cache:
+            sv = np.linalg.svd(Z[dl <= k], compute_uv=False)
+            r, ratio = _rank_from_values(sv, PROFILE_TOL)
+            dropped = sv[r] if r < len(sv) else 0.0
+            cache[k] = (r, ratio, dropped)
+        return cache[k]
+
+    def clear(k):
+        r, ratio, dropped = rank(k)
+        return ratio >= GAP_RATIO and dropped <= PROFILE_NOISE
+
+    hint = min(max(hint, kmin), kmax - 1)
+    order = list(range(hint, kmax)) + list(range(hint - 1, kmin - 1, -1))
+    for k in order:
+        if rank(k)[0] == rank(k + 1)[0] and rank(k)[0] > 0 and clear(k) and clear(k + 1):
+            return k, rank(k)[0], min(rank(k)[1], rank(k + 1)[1]), {kk: v[0] for kk, v in sorted(cache.items())}
+    return None, 0, 0.0, {kk: v[0] for kk, v in sorted(cache.items())}
+
+
+def solve_nullspace(polys: list[dict], wdegs: list[int], d: int, top: int = TOP_DEGREES,
+                    gap_hint: int | None = None, seed: int = 7,
+                    eigen: str = "dense") -> tuple[np.ndarray, SolveInfo]:
+    """All finite solutions (complex, working coordinates, shape (N, 3)) of a square system in
+    (x, y, R) by the Macaulay null-space / degree-gap method.  Raises LocatorError when no clear
+    degree gap is found."""
+    tm = {}
+    t0 = time.perf_counter()
+    M = macaulay_matrix(polys, wdegs, d)
+    E, degs, cube = monomials(d)
+    t1 = time.perf_counter()
+    tm["fill"] = t1 - t0
+    Z, dl, how = _nullspace(M, degs, d, top)
+    t2 = time.perf_counter()
+    tm["nullspace"] = t2 - t1
+    if Z.shape[1] == 0:
+        tm["eigen"] = 0.0
+        return np.zeros((0, 3), dtype=complex), SolveInfo(d, 0, -1, {}, math.inf, M.shape, how, timings=tm)
+    kmax = int(dl.max())
+    gap, nfin, gap_ratio, profile = _find_gap(Z, dl, kmax, gap_hint if gap_hint is not None else d - 4,
+                                              kmin=max(wdegs) - 1)
+    if gap is None:
+        raise LocatorError(f"Macaulay solver: no clear degree gap up to degree {kmax} (rank profile {profile}, "
+                           f"{how} null space); the configuration may be too degenerate for the numeric route")
+    nfin = profile[gap]
+    # --- column compression on rows of degree ≤ gap + 1
+    rows1 = np.nonzero(dl <= gap + 1)[0]
+    _, _, Vt = np.linalg.svd(Z[rows1], full_matrices=False)
+    W = Z[rows1] @ Vt[:nfin].T          # (n_rows1, nfin); rows indexed like the first monomials
+    # --- stable basis: pivoted QR on the rows of degree ≤ gap
+    rows0 = np.nonzero(dl <= gap)[0]
+    _, _, piv = sla.qr(W[rows0].T, pivoting=True, mode="economic", check_finite=False)
+    B = rows0[piv[:nfin]]
+    EB = E[B]
+    xB = cube[EB[:, 0] + 1, EB[:, 1], EB[:, 2]]
+    yB = cube[EB[:, 0], EB[:, 1] + 1, EB[:, 2]]
+    WB = W[B]
+    lu = sla.lu_factor(WB, check_finite=False)
+    Mx = sla.lu_solve(lu, W[xB], check_finite=False)
+    My = sla.lu_solve(lu, W[yB], check_finite=False)
+    rng = np.random.default_rng(seed)
+    a, b = rng.standard_normal(2)
+    Mg = a * Mx + b * My
+    t3 = time.perf_counter()
+    tm["nullspace"] += t3 - t2
+    if eigen != "dense":
+        # ARPACK (scipy.sparse.linalg.eigs) returns at most N − 2 of the N eigenpairs and was slower
+        # than LAPACK for N − 2 (bench/results/locator.md): every solution is needed, so dense only.
+        raise ValueError(f"eigen={eigen!r}: only 'dense' is supported (see bench/bench_locator.py)")
+    _, V = sla.eig(Mg, check_finite=False)
+    K = W @ V                                # monomial evaluations (degree ≤ gap + 1) per root
+    t4 = time.perf_counter()
+    tm["eigen"] = t4 - t3
+    # --- read (x, y, R): normalising monomial m of degree ≤ gap − 1 with the largest |value|
+    cand = np.nonzero(dl[rows1] <= gap - 1)[0]
+    Ec = E[cand]
+    idx_m = np.argmax(np.abs(K[cand]), axis=0)
+    m = Ec[idx_m]
+    km = K[cand[idx_m], np.arange(K.shape[1])]
+    kx = K[cube[m[:, 0] + 1, m[:, 1], m[:, 2]], np.arange(K.shape[1])]
+    ky = K[cube[m[:, 0], m[:, 1] + 1, m[:, 2]], np.arange(K.shape[1])]
+    kR = K[cube[m[:, 0], m[:, 1], m[:, 2] + 1], np.arange(K.shape[1])]
+    roots = np.stack([kx / km, ky / km, kR / km], axis=1)
+    tm["eigen"] += time.perf_counter() - t4
+    info = SolveInfo(d, nfin, gap, profile, gap_ratio, M.shape, how, timings=tm)
+    return roots, info
+
+
+# =========================================================================== refinement
+
+def newton_refine(offs: list[CanonicalOffset], Z: np.ndarray, iters: int = 8, real: bool = False,
+                  scale: float = 1.0):
+    """Vectorised Newton on (o1, o2, o3)(x, y, R) = 0 in world coordinates.
+
+    Returns (refined points, relative residuals (N,), condition numbers (N,)).  The relative
+    residual of o_i is |o_i| / Σ|c_m·m| (backward error); the condition number is that of the
+    Jacobian with rows scaled to unit norm in the scaled variables (x/L, y/L, R/L²)."""
+    Z = np.array(Z, dtype=float if real else complex)
+    n = len(Z)
+    if n == 0:
+        return Z, np.zeros(0), np.zeros(0)
+    D = np.array([scale, scale, scale * scale])
+    best = Z.copy()
+    best_res = np.full(n, np.inf)
+    for it in range(iters + 1):
+        vals, grads, absv = _system(offs, Z)
+        res = np.max(np.abs(vals) / np.maximum(absv, 1e-300), axis=1)
+        better = res < best_res
+        best[better] = Z[better]
+        best_res[better] = res[better]
+        if it == iters or np.all(res < 4e-16):
+            break
+        J = grads * D[None, None, :]
+        try:
+            step = np.linalg.solve(J, -vals[..., None])[..., 0]
+        except np.linalg.LinAlgError:
+            step = np.stack([np.linalg.lstsq(Ji, -vi, rcond=None)[0] for Ji, vi in zip(J, vals)])
+        step = np.where(np.isfinite(step), step, 0)
+        Z = Z + step * D[None, :]
+    vals, grads, absv = _system(offs, best)
+    J = grads * D[None, None, :]
+    Jn = J / np.maximum(np.linalg.norm(J, axis=2, keepdims=True), 1e-300)
+    with np.errstate(all="ignore"):
+        cond = np.linalg.cond(Jn)
+    return best, best_res, cond
+
+
+def _system(offs, Z):
+    vals, grads, absv = [], [], []
+    for o in offs:
+        v, g, a = o.eval_grad(Z[:, 0], Z[:, 1], Z[:, 2])
+        vals.append(v)
+        grads.append(g)
+        absv.append(a)
+    return np.stack(vals, axis=1), np.stack(grads, axis=1), np.stack(absv, axis=1)
+
+
+def newton_refine_mp(offs_mp: list[CanonicalOffset], z, dps: int, iters: int = 20):
+    """Newton in mpmath at ``dps`` digits from a real float start; returns (point, relative residual)."""
+    import mpmath
+    with mpmath.workdps(dps):
+        x = [mpmath.mpf(float(t)) for t in z]
+        res = None
+        for _ in range(iters):
+            F, J, A = [], [], []
+            for o in offs_mp:
+                v, g, a = o.eval_grad_mp(*x)
+                F.append(v)
+                J.append(list(g))
+                A.append(a)
+            res = max(abs(f) / a for f, a in zip(F, A))
+            if res < mpmath.mpf(10) ** (-dps + 5):
+                break
+            step = mpmath.lu_solve(mpmath.matrix(J), -mpmath.matrix(F))
+            x = [x[i] + step[i] for i in range(3)]
+        return x, res
+
+
+# =========================================================================== triples
+
+@dataclass
+class TripleSolution:
+    """All generalised Voronoi vertices of an ordered triple (world coordinates, complex)."""
+
+    points: np.ndarray          # (N, 3) complex: x, y, R
+    residuals: np.ndarray       # (N,) relative residuals after Newton
+    conds: np.ndarray           # (N,) Jacobian condition numbers
+    info: SolveInfo
+    frame: WorkingFrame
+    first: int                  # index (0..2) of the conic used as C1 (frame orientation)
+
+
+@dataclass
+class TripleVertices:
+    """True Voronoi vertices of (C1, C2, C3) (independent of any fourth conic)."""
+
+    vertices: list[VoronoiVertex]
+    n_generalised: int
+    n_real: int
+    timings: dict[str, float]
+    notes: list[str]
+    solution: TripleSolution | None = None
+
+
+def _families(conics):
+    return tuple(sorted(CanonicalOffset(c).family for c in conics))
+
+
+def config_entry(fams: tuple[str, ...]) -> tuple[int, int | None, int]:
+    """(Macaulay degree, generic count or None, degree-gap hint) for a sorted family triple."""
+    if fams in CONFIG_TABLE:
+        return CONFIG_TABLE[fams]
+    degs = sorted((FAMILY_WEIGHTED_DEGREE[f] for f in fams), reverse=True)
+    d = degs[0] + degs[1] + degs[2] - 5
+    return d, None, d - 4
+
+
+#: residual (relative backward error) accepted for a refined solution
+RESIDUAL_TOL = 1e-11
+
+
+def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = "dense",
+                         max_extra_degree: int = 3) -> TripleSolution:
+    """All finite solutions (x, y, R) of o1 = o2 = o3 = 0 (thesis §5.3), Newton-refined.
+
+    The working frame has the axes of a conic of largest offset degree (thesis §5.3: C1 in
+    canonical position) and the configuration's cores in the unit disc.  Raises LocatorError when
+    the degree gap is not found (after ``max_extra_degree`` larger degrees), when the count differs
+    from the generic count of the type configuration, or when a solution does not refine."""
+    conics = [c1, c2, c3]
+    offs = [CanonicalOffset(c) for c in conics]
+    first = max(range(3), key=lambda i: (offs[i].wdeg, -i))
+    wf = working_frame(conics, conics[first])
+    t0 = time.perf_counter()
+    polys = [compose_offset(o, wf) for o in offs]
+    t_compose = time.perf_counter() - t0
+    fams = tuple(sorted(o.family for o in offs))
+    d0, expected, hint = config_entry(fams)
+    if degree is not None:
+        d0 = degree
+    attempts = [(d, top) for d in range(d0, d0 + max_extra_degree + 1) for top in (TOP_DEGREES, 0)]
+    errors = []
+    total: dict[str, float] = {"fill": t_compose}
+    for d, top in attempts:
+        try:
+            roots_w, info = solve_nullspace(polys, [o.wdeg for o in offs], d, eigen=eigen, top=top,
+                                            gap_hint=hint + (d - d0))
+            for k, v in info.timings.items():
+                total[k] = total.get(k, 0.0) + v
+            if expected is not None and info.n_finite > expected:
+                raise LocatorError(f"{info.n_finite} finite solutions found, more than the generic count "
+                                   f"{expected} for {fams}")
+            t1 = time.perf_counter()
+            x, y = wf.to_world(roots_w[:, 0], roots_w[:, 1])
+            pts = np.stack([x, y, roots_w[:, 2] * wf.L ** 2], axis=1)
+            pts, res, cond = newton_refine(offs, pts, scale=wf.L)
+            try:
+                pts, res, cond, n_deflated = _complete_by_deflation(offs, pts, res, cond, wf.L)
+            finally:
+                total["refine"] = total.get("refine", 0.0) + time.perf_counter() - t1
+        except LocatorError as exc:
+            errors.append(f"degree {d} ({'projected' if top else 'full'} null space): {exc}")
+            continue
+        break
+    else:
+        raise LocatorError(f"no reliable solution of the offset system for {fams}: " + "; ".join(errors))
+    info.expected = expected
+    info.timings = total
+    info.n_deflated = n_deflated
+    info.failed_attempts = errors
+    return TripleSolution(pts, res, cond, info, wf, first)
+
+
+def _distinct_mask(pts, D, tol=1e-8):
+    """True for points that do not coincide (scaled max-norm < tol) with an earlier one."""
+    Ps = pts / D[None, :]
+    keep = np.ones(len(pts), dtype=bool)
+    for i in range(len(pts)):
+        if i and np.any(np.max(np.abs(Ps[:i][keep[:i]] - Ps[i]), axis=1) < tol):
+            keep[i] = False
+    return keep
+
+
+def _complete_by_deflation(offs, pts, res, cond, L, iters: int = 40):
+    """Eigenvalue clusters can send two starts to one root and miss another.  Every start that
+    did not converge, or converged to an already found root, is restarted with Newton deflated at
+    the found roots (step δ/(1 + Σ_k ℓ(δ)/ℓ(z − z_k)), ℓ a random linear form).  Raises
+    LocatorError when the set of distinct converged roots stays smaller than the count."""
+    D = np.array([L, L, L * L])
+    good = (res < RESIDUAL_TOL) & _distinct_mask(pts, D)
+    todo = np.nonzero(~good)[0]
+    if len(todo) == 0:
+        return pts, res, cond, 0
+    rng = np.random.default_rng(11)
+    c = (rng.standard_normal(3) + 1j * rng.standard_normal(3)) / D
+    pts = pts.copy()
+    res = res.copy()
+    cond = cond.copy()
+    for i in todo:
+        found = pts[good]
+        z = pts[i].astype(complex)
+        ok = False
+        for _ in range(iters):
+            vals, grads, absv = _system(offs, z[None, :])
+            r = np.max(np.abs(vals[0]) / np.maximum(absv[0], 1e-300))
+            if r < RESIDUAL_TOL and np.all(np.max(np.abs((found - z) / D), axis=1) > 1e-8):
+                ok = True
+                # a few plain Newton steps to full accuracy
+                zz, rr, kk = newton_refine(offs, z[None, :], iters=3, scale=L)
+                z, r, k = zz[0], rr[0], kk[0]
+                break
+            try:
+                delta = np.linalg.solve(grads[0], -vals[0])
+            except np.linalg.LinAlgError:
+                break
+            lk = (z[None, :] - found) @ c
+            tau = 1.0 + np.sum((delta @ c) / lk)
+            z = z + delta / tau
+            if not np.all(np.isfinite(z)):
+                break
+        if ok:
+            pts[i], res[i], cond[i] = z, r, k
+            good[i] = True
+    if not good.all():
+        raise LocatorError(f"{int((~good).sum())} of {len(pts)} generalised vertices could not be refined to "
+                           "distinct solutions (eigenvalue cluster); the numeric route is unreliable here")
+    return pts, res, cond, len(todo)
+
+
+#: imaginary parts (relative to the frame scale) below which a solution is a real candidate
+IMAG_TOL = 1e-7
+#: relative tolerance on |d(q, C_i) − √R| for a true vertex
+TRUE_TOL = 1e-9
+
+
+def _classify(c1, c2, c3, x, y, R):
+    """'true' when d(q, C_i) = √R (relative TRUE_TOL) for i = 1, 2, 3; 'false' when some site is
+    clearly closer (relative deviation < −FALSE_TOL); 'ambiguous' otherwise (a distance above √R
+    beyond TRUE_TOL is impossible for an exact solution, so it means lost accuracy)."""
+    from .distance import distance
+
+    rho = math.sqrt(R)
+    ds = [distance(c, x, y) for c in (c1, c2, c3)]
+    dev = [(dd - rho) / rho for dd in ds]
+    if min(dev) < -FALSE_TOL:
+        return "false", ds, dev
+    if all(abs(dv) <= TRUE_TOL for dv in dev):
+        return "true", ds, dev
+    return "ambiguous", ds, dev
+
+
+#: relative deviation below which a site is certainly closer than √R (not a true vertex)
+FALSE_TOL = 1e-6
+
+
+def voronoi_vertices_triple(c1, c2, c3, *, eigen: str = "dense", degree: int | None = None,
+                            refine_dps: int | None = None) -> TripleVertices:
+    """True Voronoi vertices of C1, C2, C3 (thesis §5.2, Def. 5.2.1): real generalised vertices
+    with R > 0 and d(q, C_i) = √R for i = 1, 2, 3 (runtime.distance).  Each vertex carries in
+    ``info`` the refined (x, y, R), the relative residual, the Jacobian condition number and the
+    distances to the three conics.  ``certified`` is False (numeric route)."""
+    from .distance import distance
+
+    sol = generalised_vertices(c1, c2, c3, eigen=eigen, degree=degree)
+    tm = dict(sol.info.timings)
+    notes: list[str] = []
+    t0 = time.perf_counter()
+    L = sol.frame.L
+    P = sol.points
+    imag = np.max(np.abs(P.imag) / np.array([L, L, L * L]), axis=1)
+    cand = np.nonzero(imag < IMAG_TOL)[0]
+    offs = [CanonicalOffset(c) for c in (c1, c2, c3)]
+    real_pts, res, cond = newton_refine(offs, P[cand].real, real=True, scale=L)
+    ok = res < RESIDUAL_TOL
+    bad_real = [i for i in range(len(cand)) if not ok[i] and real_pts[i, 2] > 0]
+    if bad_real:
+        raise LocatorError(f"{len(bad_real)} real candidate vertex(es) did not refine "
+                           f"(relative residuals {res[bad_real]}); the numeric route is unreliable here")
+    real_pts, res, cond = real_pts[ok], res[ok], cond[ok]
+    # distinct real solutions (a duplicate would mean a lost solution)
+    for i in range(len(real_pts)):
+        for j in range(i):
+            if np.all(np.abs(real_pts[i] - real_pts[j]) <= 1e-9 * np.array([L, L, L * L])):
+                raise LocatorError("two numerical solutions converged to the same point; "
+                                   "the configuration is (nearly) degenerate")
+    tm["refine"] += time.perf_counter() - t0
+    t1 = time.perf_counter()
+    out = []
+    for (x, y, R), r, k in zip(real_pts, res, cond):
+        if not R > 0:
+            continue
+        verdict, ds, dev = _classify(c1, c2, c3, x, y, R)
+        info = {"x": x, "y": y, "R": R, "residual": float(r), "jacobian_cond": float(k)}
+        if verdict == "ambiguous" or refine_dps:
+            dps = refine_dps or 40
+            offs_mp = [CanonicalOffset(c, dps=dps) for c in (c1, c2, c3)]
+            zmp, rmp = newton_refine_mp(offs_mp, (x, y, R), dps)
+            x, y, R = (float(t) for t in zmp)
+            info.update({"x_mp": str(zmp[0]), "y_mp": str(zmp[1]), "R_mp": str(zmp[2]),
+                         "residual_mp": float(rmp), "dps": dps})
+            if verdict == "ambiguous":
+                verdict, ds, dev = _classify(c1, c2, c3, x, y, R)
+                if verdict == "ambiguous":
+                    raise LocatorError(f"vertex candidate ({x:.6g}, {y:.6g}, R={R:.6g}): distances to the sites "
+                                       f"deviate from √R by {dev} (relative) even after refinement at {dps} "
+                                       "digits; cannot decide whether it is a true Voronoi vertex")
+        if verdict == "true":
+            info["distances"] = ds
+            out.append(VoronoiVertex(x=float(x), y=float(y), radius=math.sqrt(R), certified=False, info=info))
+        elif max(dev) > -1e-6 >= min(dev) and min(dev) > -1e-4:
+            notes.append(f"candidate ({x:.6g}, {y:.6g}) rejected: a site is closer by {min(dev):.1e} (relative)")
+    out.sort(key=lambda v: (v.x, v.y))
+    tm["filter"] = time.perf_counter() - t1
+    return TripleVertices(out, len(P), int(len(real_pts)), tm, notes, sol)

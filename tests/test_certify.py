@@ -1,0 +1,322 @@
+"""Certification of the conic locator (issue 5; thesis §5.2 Thm 5.2.2, §5.5, §3.3.3).
+
+Facts asserted: every certified answer agrees with the validation oracle / an independent
+mpmath reference (tests/reference.py); near-degenerate inputs (margins ±1e-6, ±1e-9 at an
+irrational vertex) are decided and certified; exact tangency built from rational data is
+recognised exactly (margin 0, no conflict); non-vertices are never certified.
+"""
+from __future__ import annotations
+
+import json
+import math
+import random
+from fractions import Fraction
+from pathlib import Path
+
+import mpmath
+import numpy as np
+import pytest
+
+from runtime.certify import certify_completeness, certify_result, certify_vertex, simplest_rational
+from runtime.certify_complete import _completeness
+from runtime.conic import Conic
+from runtime.result import LocatorResult, VoronoiVertex
+
+from reference import RefConic, ref_distance  # noqa: E402  (tests/ on sys.path via pytest rootdir)
+
+DATA = Path("/work/shared/data/validation_cases.json")
+CASES = json.loads(DATA.read_text())["cases"] if DATA.exists() else []
+
+
+def _conics(case):
+    return [Conic.from_coefficients(*e["coefficients"]) for e in case["conics"]]
+
+
+def _expected_sign(v):
+    return 0 if v["tangent"] else (-1 if v["in_conflict"] else 1)
+
+
+# --------------------------------------------------------------------------- validation data
+
+@pytest.mark.parametrize("case", CASES, ids=[c["name"] for c in CASES])
+def test_validation_vertices_certified(case):
+    c1, c2, c3, c4 = _conics(case)
+    for v in case["vertices"]:
+        cv = certify_vertex(c1, c2, c3, v["x"], v["y"], Fraction(v["radius"]) ** 2, c4)
+        assert cv.proven and cv.true_vertex, cv.note
+        assert cv.sign == _expected_sign(v)
+        # the proven box is consistent with the oracle's 30-digit values (accurate to ~25 digits)
+        for ball, ref in ((cv.box[0], v["x"]), (cv.box[1], v["y"]), (cv.radius, v["radius"])):
+            assert abs(float(ball.mid()) - float(ref)) <= 1e-12 * (1 + abs(float(ref)))
+            assert float(ball.rad()) < 1e-12 * (1 + abs(float(ref)))
+        if cv.sign != 0:
+            m = cv.margin
+            assert abs(float(m.mid()) - float(v["margin"])) <= 1e-12 + 1e-9 * abs(float(v["margin"]))
+
+
+@pytest.mark.parametrize("case", [c for c in CASES if c["group"] == "exactly_tangent"],
+                         ids=lambda c: c["name"])
+def test_validation_exact_tangency(case):
+    c1, c2, c3, c4 = _conics(case)
+    tv = [v for v in case["vertices"] if v["tangent"]]
+    assert len(tv) == 1
+    v = tv[0]
+    cv = certify_vertex(c1, c2, c3, float(v["x"]), float(v["y"]), float(v["radius"]) ** 2, c4)
+    assert cv.proven and cv.kind == "exact-rational"
+    assert cv.sign == 0 and cv.tangent_exact and float(cv.margin.mid()) == 0.0
+    xq, yq, Rq = cv.exact
+    assert abs(float(xq) - float(v["x"])) < 1e-25 and abs(float(yq) - float(v["y"])) < 1e-25
+    assert abs(float(Rq) - float(v["radius"]) ** 2) < 1e-12
+
+
+@pytest.mark.parametrize("case", [c for c in CASES if c["group"] == "near_degenerate"],
+                         ids=lambda c: c["name"])
+def test_validation_near_degenerate(case):
+    c1, c2, c3, c4 = _conics(case)
+    v = min(case["vertices"], key=lambda w: abs(float(w["margin"])))
+    cv = certify_vertex(c1, c2, c3, float(v["x"]), float(v["y"]), float(v["radius"]) ** 2, c4)
+    assert cv.proven and cv.kind == "krawczyk"
+    assert cv.sign == (1 if float(v["margin"]) > 0 else -1)
+    assert cv.margin.overlaps(mpmath_ball(v["margin"], 1e-20)) or \
+        abs(float(cv.margin.mid()) - float(v["margin"])) < 1e-18
+
+
+def mpmath_ball(s, rad):
+    from flint import arb
+    return arb(s, rad)
+
+
+# --------------------------------------------------------------------------- near-degenerate, irrational centre
+
+def _irrational_vertex():
+    case = next(c for c in CASES if c["name"] == "hyperbolas_a_near_circle_1e-7")
+    c1, c2, c3, _ = _conics(case)
+    v = case["vertices"][0]
+    return (c1, c2, c3), case, v
+
+
+@pytest.mark.parametrize("margin", ["1e-6", "-1e-6", "1e-9", "-1e-9"])
+def test_near_tangent_circle_irrational_centre(margin):
+    """C4 = circle with rational data at relative distance `margin` from the empty circle."""
+    (c1, c2, c3), case, v = _irrational_vertex()
+    mpmath.mp.dps = 50
+    q = (mpmath.mpf(v["x"]), mpmath.mpf(v["y"]))
+    r = mpmath.mpf(v["radius"])
+    centre = (Fraction(v["x"]) + Fraction(6), Fraction(v["y"]) - Fraction(5))
+    dist = mpmath.sqrt((q[0] - mpmath.mpf(centre[0].numerator) / centre[0].denominator) ** 2 +
+                       (q[1] - mpmath.mpf(centre[1].numerator) / centre[1].denominator) ** 2)
+    rho = dist - r * (1 + mpmath.mpf(margin))
+    rho_q = Fraction(mpmath.nstr(rho, 40))
+    c4 = Conic.circle(centre=centre, radius=rho_q)
+    cv = certify_vertex(c1, c2, c3, float(v["x"]), float(v["y"]), float(v["radius"]) ** 2, c4)
+    assert cv.proven
+    assert cv.sign == (1 if float(margin) > 0 else -1)
+    assert abs(float(cv.margin.mid()) / float(margin) - 1) < 1e-6
+    # the empty circle's centre is irrational: the exact path cannot have been used
+    assert cv.kind == "krawczyk"
+
+
+@pytest.mark.parametrize("margin", ["1e-9", "-1e-9"])
+def test_near_tangent_translated_ellipse(margin):
+    """C4 = an ellipse translated (rationally) along its normal to relative distance `margin`,
+    distances from the independent mpmath reference."""
+    (c1, c2, c3), case, v = _irrational_vertex()
+    mpmath.mp.dps = 45
+    x, y, r = (mpmath.mpf(v[k]) for k in ("x", "y", "radius"))
+    spec = {"type": "ellipse", "cos": "3/5", "sin": "4/5", "tx": "-1", "ty": "14", "A2": "2", "B2": "1/2"}
+    d0 = ref_distance(RefConic(spec), x, y, dps=45)
+    target = r * (1 + mpmath.mpf(margin))
+    # translate along the direction from q to the ellipse centre: distance changes by ~δ·cos
+    ex, ey = mpmath.mpf(-1) - x, mpmath.mpf(14) - y
+    n = mpmath.sqrt(ex ** 2 + ey ** 2)
+    ux, uy = ex / n, ey / n
+    t = target - d0  # Newton on t: d(q, E + t·u) = target
+    for _ in range(30):
+        s = dict(spec, tx=str(Fraction(mpmath.nstr(-1 + t * ux, 42))), ty=str(Fraction(mpmath.nstr(14 + t * uy, 42))))
+        dt = ref_distance(RefConic(s), x, y, dps=45)
+        h = mpmath.mpf(10) ** -20
+        s2 = dict(spec, tx=str(Fraction(mpmath.nstr(-1 + (t + h) * ux, 42))), ty=str(Fraction(mpmath.nstr(14 + (t + h) * uy, 42))))
+        slope = (ref_distance(RefConic(s2), x, y, dps=45) - dt) / h
+        step = (dt - target) / slope
+        t -= step
+        if abs(step) < mpmath.mpf(10) ** -36:
+            break
+    s = dict(spec, tx=str(Fraction(mpmath.nstr(-1 + t * ux, 42))), ty=str(Fraction(mpmath.nstr(14 + t * uy, 42))))
+    c4 = Conic.from_canonical("ellipse", cos=Fraction(3, 5), sin=Fraction(4, 5), tx=Fraction(s["tx"]),
+                              ty=Fraction(s["ty"]), A2=2, B2=Fraction(1, 2))
+    m_ref = ref_distance(RefConic(s), x, y, dps=45) / r - 1
+    assert abs(m_ref / mpmath.mpf(margin) - 1) < 1e-6
+    cv = certify_vertex(c1, c2, c3, float(x), float(y), float(r) ** 2, c4)
+    assert cv.proven and cv.sign == (1 if float(margin) > 0 else -1)
+    assert abs(float(cv.margin.mid()) / float(m_ref) - 1) < 1e-6
+
+
+# --------------------------------------------------------------------------- exact tangency from rational data
+
+def _touching(kind, Q, rho, u, size):
+    """A conic touching the circle (Q, rho) from outside at the rational point Q + rho·u."""
+    (cx, cy), (ux, uy) = Q, u
+    Px, Py = cx + rho * ux, cy + rho * uy
+    if kind == "circle":
+        return Conic.circle(centre=(Px + size * ux, Py + size * uy), radius=size)
+    if kind == "ellipse":
+        A = size
+        return Conic.from_canonical("ellipse", cos=ux, sin=uy, tx=Px + A * ux, ty=Py + A * uy,
+                                    A2=A * A, B2=A * A / 4)
+    if kind == "parabola":
+        return Conic.from_canonical("parabola", cos=ux, sin=uy, tx=Px, ty=Py, p=size)
+    if kind == "hyperbola":
+        A = rho + size  # A > rho keeps the other branch outside the circle
+        return Conic.from_canonical("hyperbola", cos=ux, sin=uy, tx=Px - A * ux, ty=Py - A * uy,
+                                    A2=A * A, B2=size)
+    raise ValueError(kind)
+
+
+DIRS = [(Fraction(3, 5), Fraction(4, 5)), (Fraction(-12, 13), Fraction(5, 13)), (Fraction(8, 17), Fraction(-15, 17)),
+        (Fraction(-7, 25), Fraction(-24, 25)), (Fraction(20, 29), Fraction(21, 29))]
+
+
+@pytest.mark.parametrize("kinds", [("circle", "ellipse", "parabola", "circle"),
+                                   ("ellipse", "parabola", "hyperbola", "parabola"),
+                                   ("hyperbola", "circle", "ellipse", "ellipse"),
+                                   ("parabola", "parabola", "ellipse", "hyperbola")])
+def test_exact_tangency_rational_construction(kinds):
+    Q, rho = (Fraction(1, 3), Fraction(-2, 7)), Fraction(5, 4)
+    sizes = [Fraction(1, 2), Fraction(2, 3), Fraction(3, 4), Fraction(5, 6)]
+    cs = [_touching(k, Q, rho, DIRS[i], sizes[i]) for i, k in enumerate(kinds)]
+    cv = certify_vertex(*cs[:3], float(Q[0]) + 1e-13, float(Q[1]) - 1e-13, float(rho) ** 2, cs[3])
+    assert cv.proven and cv.true_vertex
+    assert cv.kind == "exact-rational" and cv.sign == 0 and cv.tangent_exact
+    assert cv.exact == (Q[0], Q[1], rho * rho)
+    # move C4 away / into the circle by a rational 1e-25: decided by balls, certified
+    for eps, sign in ((Fraction(1, 10 ** 25), 1), (Fraction(-1, 10 ** 25), -1)):
+        u = DIRS[3]
+        fr = cs[3]
+        co = cs[3].coefficients
+        # translate C4 by eps·u: f(x − εu_x, y − εu_y)
+        a, b, c, d, e, f = co
+        tx, ty = eps * u[0], eps * u[1]
+        moved = Conic.from_coefficients(a, b, c, d - 2 * a * tx - b * ty, e - 2 * c * ty - b * tx,
+                                        f + a * tx * tx + b * tx * ty + c * ty * ty - d * tx - e * ty)
+        cw = certify_vertex(*cs[:3], float(Q[0]), float(Q[1]), float(rho) ** 2, moved)
+        assert cw.proven and cw.sign == sign and not cw.tangent_exact
+        del fr
+
+
+# --------------------------------------------------------------------------- never certify a wrong answer
+
+def test_non_vertices_never_certified():
+    case = next(c for c in CASES if c["name"] == "four_circles" or c["group"] == "four_circles")
+    c1, c2, c3, c4 = _conics(case)
+    from runtime.vertices import generalised_vertices
+    sol = generalised_vertices(c1, c2, c3)
+    true = {(round(float(v["x"]), 6), round(float(v["y"]), 6)) for v in case["vertices"]}
+    n_false = 0
+    for x, y, R in sol.points:
+        if abs(x.imag) + abs(y.imag) + abs(R.imag) > 1e-8 or R.real <= 0:
+            continue
+        cv = certify_vertex(c1, c2, c3, x.real, y.real, R.real, c4)
+        is_true = (round(x.real, 6), round(y.real, 6)) in true
+        assert cv.proven == is_true
+        if not is_true:
+            n_false += 1
+            assert cv.true_vertex is False  # proved: a point of some site is strictly closer
+    assert n_false >= 1
+    # a random point is not a vertex: no proof
+    cv = certify_vertex(c1, c2, c3, 0.123, 4.56, 2.0, c4)
+    assert not cv.proven
+
+
+# --------------------------------------------------------------------------- property test vs independent reference
+
+def _rand_conic(rng):
+    kind = rng.choice(["ellipse", "parabola", "hyperbola", "circle"])
+    a, b = rng.choice(DIRS)
+    tx, ty = Fraction(rng.randint(-30, 30), 10), Fraction(rng.randint(-30, 30), 10)
+    if kind == "circle":
+        return {"type": "circle", "cos": 1, "sin": 0, "tx": tx, "ty": ty, "r2": Fraction(rng.randint(1, 9), 4)}
+    if kind == "parabola":
+        return {"type": "parabola", "cos": a, "sin": b, "tx": tx, "ty": ty, "p": Fraction(rng.randint(1, 9), 10)}
+    A2, B2 = Fraction(rng.randint(2, 16), 4), Fraction(rng.randint(1, 8), 4)
+    return {"type": kind, "cos": a, "sin": b, "tx": tx, "ty": ty, "A2": A2, "B2": B2}
+
+
+def _conic_of(spec):
+    d = dict(spec)
+    kind = d.pop("type")
+    return Conic.from_canonical(kind, **d)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_property_agrees_with_reference(seed):
+    """Candidates from the numeric locator (runtime.vertices); certified answers checked against
+    50-digit distances of the independent reference oracle."""
+    from runtime.vertices import voronoi_vertices_triple
+    from runtime.result import LocatorError
+    rng = random.Random(seed)
+    for _attempt in range(10):  # the numeric locator may refuse a configuration: draw another
+        specs = [_rand_conic(rng) for _ in range(4)]
+        try:
+            cs = [_conic_of(s) for s in specs]
+            tv = voronoi_vertices_triple(*cs[:3])
+        except (LocatorError, ValueError):
+            continue
+        if tv.vertices:
+            break
+    else:
+        raise AssertionError("no usable random configuration in 10 draws")
+    refs = [RefConic(s) for s in specs]
+    checked = 0
+    for v in tv.vertices:
+        cv = certify_vertex(*cs[:3], v.x, v.y, v.radius ** 2, cs[3])
+        if not cv.proven:
+            continue
+        x, y = mpmath.mpf(cv.box[0].mid().str(40, radius=False)), mpmath.mpf(cv.box[1].mid().str(40, radius=False))
+        r = mpmath.mpf(cv.radius.mid().str(40, radius=False))
+        # distances are 1-Lipschitz in q: the proven balls bound the admissible deviation
+        tol = sum(float(b.rad()) for b in (cv.box[0], cv.box[1], cv.radius)) + 1e-30
+        for rc in refs[:3]:
+            assert abs(ref_distance(rc, x, y, dps=40) - r) <= tol
+        d4 = ref_distance(refs[3], x, y, dps=40)
+        if abs(d4 - r) > mpmath.mpf(10) ** -18 * r:
+            assert cv.sign == (1 if d4 > r else -1)
+        checked += 1
+    assert checked == len(tv.vertices)
+
+
+# --------------------------------------------------------------------------- completeness and certify_result
+
+def test_certify_result_and_completeness():
+    from runtime.vertices import generalised_vertices
+    case = next(c for c in CASES if c["group"] == "mixed" and len(c["vertices"]) == 3)
+    c1, c2, c3, c4 = _conics(case)
+    sol = generalised_vertices(c1, c2, c3)
+    ok, note = certify_completeness(c1, c2, c3, sol.points, sol.info.expected)
+    assert ok, note
+    # dropping a solution, or a wrong count, is not complete
+    assert not certify_completeness(c1, c2, c3, sol.points[1:], sol.info.expected)[0]
+    assert not certify_completeness(c1, c2, c3, sol.points, None)[0]
+    # numeric result with a duplicated vertex and one bogus vertex
+    verts = [VoronoiVertex(x=float(v["x"]) + 1e-12, y=float(v["y"]), radius=float(v["radius"]))
+             for v in case["vertices"]]
+    verts.append(VoronoiVertex(x=verts[0].x, y=verts[0].y, radius=verts[0].radius))
+    res = LocatorResult(conflict=False, vertices=verts, method="numeric")
+    out = certify_result(res, c1, c2, c3, c4, solutions=sol.points, expected_count=sol.info.expected)
+    assert out.complete and out.certified, out.notes
+    assert len(out.vertices) == len(case["vertices"])
+    assert out.conflict == case["conflict"]
+    # missing vertex -> complete but not matched -> not complete
+    res2 = LocatorResult(conflict=False, vertices=verts[:-2], method="numeric")
+    out2 = certify_result(res2, c1, c2, c3, c4, solutions=sol.points, expected_count=sol.info.expected)
+    assert not out2.complete and not out2.certified
+    # without a solution list completeness is not claimed
+    out3 = certify_result(res, c1, c2, c3, c4)
+    assert not out3.complete and all(v.certified for v in out3.vertices)
+
+
+def test_simplest_rational():
+    assert simplest_rational(Fraction(66, 100), Fraction(67, 100)) == Fraction(2, 3)
+    assert simplest_rational(Fraction(-34, 100), Fraction(-33, 100)) == Fraction(-1, 3)
+    assert simplest_rational(Fraction(1), Fraction(1)) == 1
+    x = Fraction(355, 113)
+    assert simplest_rational(x - Fraction(1, 10 ** 9), x + Fraction(1, 10 ** 9)) == x

@@ -1,0 +1,242 @@
+"""Tests of runtime.distance against the independent sampling oracle of tests/reference.py
+(thesis §5.2: the Voronoi vertex conditions are equalities of these distances)."""
+from __future__ import annotations
+
+import math
+from fractions import Fraction as F
+
+import flint
+import mpmath
+import pytest
+from hypothesis import given, settings, strategies as st, HealthCheck
+
+from runtime.conic import Conic
+from runtime.distance import (distance, foot_points, distance_ball, distance_sign_vs,
+                              squared_distance_ball, tangency_polynomial, closest_point)
+from runtime.validation import default_cases_path, load_cases
+from reference import RefConic, ref_distance
+
+CASES_PATH = default_cases_path()
+
+
+@st.composite
+def rotation(draw):
+    m, n = draw(st.integers(1, 20)), draw(st.integers(0, 20))
+    c, s = F(m * m - n * n, m * m + n * n), F(2 * m * n, m * m + n * n)
+    for _ in range(draw(st.integers(0, 3))):
+        c, s = -s, c
+    return c, s
+
+
+pos = st.fractions(min_value=F(1, 10), max_value=10, max_denominator=20)
+coord = st.fractions(min_value=-10, max_value=10, max_denominator=20)
+
+
+@st.composite
+def conic_spec(draw):
+    kind = draw(st.sampled_from(["ellipse", "hyperbola", "parabola", "circle"]))
+    c, s = draw(rotation())
+    tx, ty = draw(coord), draw(coord)
+    if kind in ("ellipse", "hyperbola"):
+        A2, B2 = draw(pos), draw(pos)
+        if kind == "ellipse" and A2 == B2:
+            B2 = A2 / 2
+        prm = {"A2": A2, "B2": B2}
+    elif kind == "parabola":
+        prm = {"p": draw(pos)}
+    else:
+        prm = {"r2": draw(pos)}
+        c, s = F(1), F(0)
+    spec = {"type": kind, "cos": c, "sin": s, "tx": tx, "ty": ty, **prm}
+    return spec
+
+
+def build(spec) -> Conic:
+    prm = {k: v for k, v in spec.items() if k in ("A2", "B2", "p", "r2")}
+    return Conic.from_canonical(spec["type"], spec["cos"], spec["sin"], spec["tx"], spec["ty"], **prm)
+
+
+def world(spec, X, Y):
+    c, s = spec["cos"], spec["sin"]
+    return spec["tx"] + c * X - s * Y, spec["ty"] + s * X + c * Y
+
+
+def special_points(spec):
+    """canonical-frame points: centre/vertex, on both axes, near evolute cusps, far away."""
+    k = spec["type"]
+    pts = [(F(0), F(0)), (F(1, 3), F(0)), (F(0), F(2, 7)), (F(10 ** 6), F(-3 * 10 ** 5)), (F(-4000), F(7))]
+    if k in ("ellipse", "hyperbola"):
+        A2, B2 = spec["A2"], spec["B2"]
+        sgn = 1 if k == "ellipse" else -1
+        # cusps of the evolute: ((A2 - sgn B2)/a, 0) and (0, (B2 - sgn A2)/b) (approximately)
+        a, b = math.sqrt(A2), math.sqrt(B2)
+        cx = (float(A2) - sgn * float(B2)) / a
+        cy = (float(B2) - sgn * float(A2)) / b
+        for eps in (0.0, 1e-6, -1e-6):
+            pts += [(F(cx + eps), F(0)), (F(cx), F(eps)), (F(0), F(cy + eps))]
+        pts += [(F(a) * 2, F(0)), (F(0), F(b) * 2), (F(a), F(b))]
+    elif k == "parabola":
+        p = spec["p"]
+        for eps in (0, F(1, 10 ** 6), -F(1, 10 ** 6)):
+            pts += [(p + eps, F(0)), (p, eps), (3 * p, eps), (-p, eps)]
+    else:
+        r = math.sqrt(spec["r2"])
+        pts += [(F(r) * F(1, 2), F(0)), (F(r) * 3, F(r))]
+    return pts
+
+
+def close(a, b, rel=1e-10):
+    return abs(float(a) - float(b)) <= rel * (1 + abs(float(b)))
+
+
+# ----------------------------------------------------------------------------- float route
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(conic_spec(), st.lists(st.tuples(coord, coord), min_size=1, max_size=3))
+def test_distance_matches_reference_random_points(spec, pts):
+    con, ref = build(spec), RefConic(spec)
+    for x, y in pts:
+        d = distance(con, float(x), float(y))
+        r = ref_distance(ref, float(x), float(y))
+        assert close(d, r, 1e-10), (spec, x, y, d, r)
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(conic_spec())
+def test_distance_special_points(spec):
+    con, ref = build(spec), RefConic(spec)
+    for X, Y in special_points(spec):
+        x, y = world(spec, X, Y)
+        d = distance(con, float(x), float(y))
+        r = ref_distance(ref, float(x), float(y))
+        assert close(d, r, 1e-9), (spec, X, Y, d, r)
+        fps = foot_points(con, float(x), float(y))
+        assert fps and fps[0][2] == pytest.approx(d, rel=1e-9, abs=1e-12)
+        px, py, dd = closest_point(con, float(x), float(y))
+        assert dd == pytest.approx(d, rel=1e-12, abs=1e-15)
+
+
+def test_foot_points_counts_and_normal_condition():
+    e = Conic.ellipse((1, 2), (3, 1), (F(3, 5), F(4, 5)))
+    fps = foot_points(e, 1.0, 2.0)  # centre: the four vertices
+    assert len(fps) == 4
+    assert [round(t[2], 12) for t in fps] == [1.0, 1.0, 3.0, 3.0]
+    h = Conic.hyperbola((0, 0), (1, 2))
+    assert [round(t[2], 12) for t in foot_points(h, 0.0, 0.0)] == [1.0, 1.0]
+    p = Conic.parabola((0, 0), p=1)
+    assert len(foot_points(p, 3.0, 0.0)) == 3  # inside the evolute: vertex and two symmetric feet
+    assert len(foot_points(p, 0.5, 0.0)) == 1
+    # normal condition at every foot point: (q - P) parallel to the gradient
+    for con, q in ((e, (0.3, 0.9)), (h, (0.2, 3.0)), (p, (2.0, 0.7))):
+        a, b, c, d, ee, f = (float(v) for v in con.coefficients)
+        for px, py, dist in foot_points(con, *q):
+            gx, gy = 2 * a * px + b * py + d, b * px + 2 * c * py + ee
+            cross = (q[0] - px) * gy - (q[1] - py) * gx
+            assert abs(cross) <= 1e-9 * math.hypot(gx, gy) * (1 + dist)
+            assert abs(con(px, py)) <= 1e-9 * (1 + abs(gx) + abs(gy))
+
+
+# ----------------------------------------------------------------------------- rigorous route
+
+def _mp(x: flint.arb) -> mpmath.mpf:
+    m, e = x.man_exp()
+    return mpmath.ldexp(mpmath.mpf(int(m)), int(e))
+
+
+def _contains(ball: flint.arb, value: mpmath.mpf, slack: float) -> bool:
+    with mpmath.workdps(60):
+        m, rad = _mp(ball.mid()), _mp(ball.rad())
+        return abs(m - value) <= rad + slack * (1 + abs(value))
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(conic_spec(), st.tuples(coord, coord))
+def test_distance_ball_encloses_reference(spec, q):
+    con, ref = build(spec), RefConic(spec)
+    pts = [q] + [world(spec, X, Y) for X, Y in special_points(spec)[:6]]
+    for x, y in pts:
+        b = distance_ball(con, x, y, prec=128)
+        with mpmath.workdps(50):
+            r = ref_distance(ref, x, y)
+        assert _contains(b, r, 1e-33), (spec, x, y, b, r)
+        # tight: relative radius (points on the curve lose half the digits through the square root)
+        assert float(b.rad()) <= 1e-15 * (1 + float(r))
+
+
+def test_distance_ball_with_ball_input_encloses_box():
+    con = Conic.hyperbola((1, -1), (2, 1), (F(5, 13), F(12, 13)))
+    spec = {"type": "hyperbola", "cos": F(5, 13), "sin": F(12, 13), "tx": 1, "ty": -1, "A2": 4, "B2": 1}
+    ref = RefConic(spec)
+    bx, by = flint.arb(0.7, 0.01), flint.arb(-2.3, 0.02)
+    b = distance_ball(con, bx, by, prec=64)
+    for x in (0.69, 0.7, 0.71):
+        for y in (-2.32, -2.3, -2.28):
+            assert _contains(b, ref_distance(ref, x, y), 0)
+    assert float(b.rad()) < 0.05
+
+
+def test_squared_distance_ball_on_degenerate_points():
+    # centre of an ellipse (four critical points), on an axis near the evolute cusp
+    e = Conic.ellipse((0, 0), (2, 1))
+    lo, hi, _ = squared_distance_ball(e, 0, 0, prec=100)
+    assert lo <= 1 <= hi and float(hi - lo) < 1e-25
+    cusp = F(3, 2)  # (A2 - B2)/a = 3/2: degenerate quartic minimum at the vertex (2, 0)
+    lo, hi, _ = squared_distance_ball(e, cusp, 0, prec=100)
+    assert lo <= F(1, 4) <= hi and float(hi - lo) < 1e-25
+
+
+# ----------------------------------------------------------------------------- signs and tangency
+
+def test_sign_vs_radius_and_exact_tangency():
+    # parabola y² = 2x, q = (5/2, 0): d² = 2pX0 − p² = 4 exactly (feet at X = 3/2)
+    rot = (F(3, 5), F(4, 5))
+    par = Conic.parabola((F(1, 3), F(-2, 7)), p=1, rotation=rot)
+    qx, qy = F(1, 3) + F(3, 5) * F(5, 2), F(-2, 7) + F(4, 5) * F(5, 2)
+    assert distance(par, float(qx), float(qy)) == pytest.approx(2.0, rel=1e-14)
+    assert distance_sign_vs(par, qx, qy, 2) == 0
+    assert distance_sign_vs(par, qx, qy, 2 + F(1, 10 ** 20)) == -1
+    assert distance_sign_vs(par, qx, qy, 2 - F(1, 10 ** 20)) == 1
+    assert distance_sign_vs(par, float(qx), float(qy), 1.5) == 1
+    # centre of an ellipse: d = minor semi-axis (a degenerate, symmetric configuration)
+    ell = Conic.ellipse((1, 1), (3, 2), rot)
+    assert distance_sign_vs(ell, 1, 1, 2) == 0
+    assert distance_sign_vs(ell, 1, 1, F(201, 100)) == -1
+    # centre of a hyperbola: d = real semi-axis
+    hyp = Conic.hyperbola((0, 0), (F(3, 2), 1), (F(-8, 17), F(15, 17)))
+    assert distance_sign_vs(hyp, 0, 0, F(3, 2)) == 0
+    # circle: exact decision, including tangency from inside and outside
+    cir = Conic.circle((1, 2), radius=3)
+    assert distance_sign_vs(cir, 1, 7, 2) == 0
+    assert distance_sign_vs(cir, 1, 3, 2) == 0
+    assert distance_sign_vs(cir, 1, 3, F(199, 100)) == 1
+    # a critical value that is not the minimum is not a tangency of the empty circle
+    assert distance_sign_vs(ell, 1, 1, 3) == -1
+
+
+def test_tangency_polynomial_vanishes_at_critical_values():
+    e = Conic.ellipse((0, 0), (2, 1))
+    P = tangency_polynomial(e, 0, 0)
+    assert P(1) == 0 and P(4) == 0 and P(2) != 0
+
+
+# ----------------------------------------------------------------------------- validation cases
+
+@pytest.mark.skipif(CASES_PATH is None, reason="validation_cases.json not found next to the repository")
+def test_validation_vertex_distances():
+    """At every stored vertex: distance() gives the radius for C1..C3 and the stored distance
+    to C4; distance_ball at the 30-digit vertex encloses the stored values (1-Lipschitz
+    slack for the rounding of the vertex)."""
+    cases = load_cases(CASES_PATH)
+    nb = 0
+    for case in cases:
+        for v in case.vertices:
+            x, y = float(v.x), float(v.y)
+            for con in case.conics[:3]:
+                assert close(distance(con, x, y), v.radius, 1e-11)
+            assert close(distance(case.conics[3], x, y), v.distance_to_fourth, 1e-11)
+            if nb < 40 or case.group in ("near_degenerate", "exactly_tangent") and v.tangent or abs(v.margin) < 1e-6:
+                nb += 1
+                b = distance_ball(case.conics[3], v.x, v.y, prec=128)
+                with mpmath.workdps(50):
+                    want = mpmath.mpf(v.distance_to_fourth.numerator) / v.distance_to_fourth.denominator
+                assert _contains(b, want, 1e-28)

@@ -1,0 +1,186 @@
+"""Tests of runtime.polyalg and runtime.vertices (thesis §4.4, §5.2–§5.5).
+
+* composed offsets vanish on points built from the conic (point ± √R · unit normal), in any
+  working frame (covariance under rigid motions and similarities, DESIGN §3);
+* the Macaulay null-space solver finds the generic number of generalised vertices (DESIGN §5:
+  EEE 184, PPP 93, EPP 118) with tiny residuals;
+* true Voronoi vertices of every distinct validation triple equal the validation data
+  (count exact, x, y, radius to 1e-8 relative) -- or the solver refuses with LocatorError
+  (never a wrong answer); the refusal is allowed only for triples with vertices far outside
+  the scene (documented limitation).
+"""
+from __future__ import annotations
+
+import json
+import math
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from runtime.conic import Conic
+from runtime.polyalg import CanonicalOffset, WorkingFrame, compose_offset, eval_dict, working_frame
+from runtime.result import LocatorError
+from runtime.vertices import (CONFIG_TABLE, generalised_vertices, monomials, macaulay_matrix,
+                              voronoi_vertices_triple)
+
+DATA = Path("/work/shared/data/validation_cases.json")
+if not DATA.exists():  # pragma: no cover - layout with shared/ beside the clone
+    DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "validation_cases.json"
+CASES = json.loads(DATA.read_text())["cases"]
+
+
+def conics_of(case):
+    return [Conic.from_coefficients(*k["coefficients"]) for k in case["conics"]]
+
+
+def _offset_point(conic: Conic, t: float, rho: float):
+    """A point at distance ρ along the normal of the conic at parameter t (world coords)."""
+    fr = conic.frame
+    prm = fr.params
+    if fr.kind == "ellipse":
+        a, b = math.sqrt(prm["A2"]), math.sqrt(prm["B2"])
+        X, Y, nX, nY = a * math.cos(t), b * math.sin(t), b * math.cos(t), a * math.sin(t)
+    elif fr.kind == "hyperbola":
+        a, b = math.sqrt(prm["A2"]), math.sqrt(prm["B2"])
+        X, Y, nX, nY = a * math.cosh(t), b * math.sinh(t), b * math.cosh(t), -a * math.sinh(t)
+    elif fr.kind == "parabola":
+        p = prm["p"]
+        X, Y, nX, nY = t * t / (2 * p), t, -1.0, t / p
+    else:
+        r = math.sqrt(prm["r2"])
+        X, Y, nX, nY = r * math.cos(t), r * math.sin(t), math.cos(t), math.sin(t)
+    n = math.hypot(nX, nY)
+    X, Y = X + rho * nX / n, Y + rho * nY / n
+    return fr.from_canonical(X, Y)
+
+
+SHAPES = [
+    Conic.ellipse(centre=(Fraction(1, 3), -2), axes=(2, Fraction(3, 4)), rotation=(Fraction(3, 5), Fraction(4, 5))),
+    Conic.hyperbola(centre=(1, 1), axes=(Fraction(1, 2), 1), rotation=(Fraction(5, 13), Fraction(-12, 13))),
+    Conic.parabola(vertex=(-1, Fraction(1, 2)), p=Fraction(3, 4), rotation=(Fraction(8, 17), Fraction(15, 17))),
+    Conic.circle(centre=(2, -1), radius=Fraction(3, 2)),
+]
+
+
+@pytest.mark.parametrize("conic", SHAPES, ids=lambda c: c.kind)
+def test_offset_vanishes_on_offset_points(conic):
+    off = CanonicalOffset(conic)
+    wf = WorkingFrame(0.28, 0.96, 0.5, -0.25, 3.7)   # an arbitrary similarity
+    poly = compose_offset(off, wf)
+    for t, rho in [(0.3, 0.7), (1.1, 2.5), (-0.8, 0.05)]:
+        x, y = _offset_point(conic, t, rho)
+        val, grad, absval = off.eval_grad(np.array([x]), np.array([y]), np.array([rho * rho]))
+        assert abs(val[0]) <= 1e-12 * absval[0]
+        wx, wy = wf.to_work(x, y)
+        terms = sum(abs(c) * abs(wx) ** i * abs(wy) ** j * (rho * rho / wf.L ** 2) ** k
+                    for (i, j, k), c in poly.items())
+        assert abs(eval_dict(poly, wx, wy, rho * rho / wf.L ** 2)) <= 1e-12 * terms
+        # a point not on the offset gives a clearly non-zero value
+        val2, _, abs2 = off.eval_grad(np.array([x]), np.array([y]), np.array([rho * rho * 1.3]))
+        assert abs(val2[0]) > 1e-6 * abs2[0]
+
+
+def test_gradient_matches_finite_differences():
+    off = CanonicalOffset(SHAPES[0])
+    z = np.array([0.4, -0.3, 1.7])
+    _, g, _ = off.eval_grad(z[:1], z[1:2], z[2:])
+    h = 1e-6
+    for i in range(3):
+        zp, zm = z.copy(), z.copy()
+        zp[i] += h
+        zm[i] -= h
+        fd = (off.eval_grad(zp[:1], zp[1:2], zp[2:])[0] - off.eval_grad(zm[:1], zm[1:2], zm[2:])[0]) / (2 * h)
+        assert abs(fd[0] - g[0, i]) <= 1e-6 * max(1.0, abs(g[0, i]))
+
+
+def test_monomials_and_macaulay_shape():
+    E, degs, cube = monomials(19)
+    assert len(E) == 825                        # DESIGN §5: 609 x 825 at weighted degree 19
+    off = CanonicalOffset(SHAPES[0])
+    poly = compose_offset(off, working_frame([SHAPES[0]], SHAPES[0]))
+    M = macaulay_matrix([poly] * 3, [8, 8, 8], 19)
+    assert M.shape == (609, 825)
+    assert np.allclose(np.linalg.norm(M, axis=1), 1.0)
+
+
+def _rigid_triple(kinds, seed):
+    rng = np.random.default_rng(seed)
+    rots = [(3, 4, 5), (5, 12, 13), (8, 15, 17), (7, 24, 25), (20, 21, 29), (12, 35, 37)]
+    out = []
+    for i, k in enumerate(kinds):
+        a, b, h = rots[(seed + 2 * i) % len(rots)]
+        rot = (Fraction(a, h), Fraction(b, h)) if rng.random() < 0.5 else (Fraction(-b, h), Fraction(a, h))
+        c = (Fraction(int(rng.integers(-30, 30)), 10), Fraction(int(rng.integers(-30, 30)), 10))
+        ax = (Fraction(int(rng.integers(8, 25)), 10), Fraction(int(rng.integers(3, 8)), 10))
+        if k == "E":
+            out.append(Conic.ellipse(centre=c, axes=ax, rotation=rot))
+        elif k == "H":
+            out.append(Conic.hyperbola(centre=c, axes=ax, rotation=rot))
+        else:
+            out.append(Conic.parabola(vertex=c, p=ax[1], rotation=rot))
+    return out
+
+
+@pytest.mark.parametrize("kinds,count", [("EEE", 184), ("PPP", 93), ("EPP", 118), ("EEP", 148)])
+def test_generic_counts(kinds, count):
+    """Number of generalised Voronoi vertices of generic triples (DESIGN §5; EEP measured here)."""
+    s = generalised_vertices(*_rigid_triple(kinds, 3))
+    assert s.info.n_finite == count
+    assert len(s.points) == count
+    assert np.max(s.residuals) < 1e-11
+    # distinct solutions
+    P = s.points / np.array([s.frame.L, s.frame.L, s.frame.L ** 2])
+    dists = np.abs(P[:, None, :] - P[None, :, :]).max(axis=2) + np.eye(len(P))
+    assert dists.min() > 1e-8
+
+
+def test_config_table_counts_match_design():
+    assert CONFIG_TABLE[("ellipse", "ellipse", "ellipse")][1] == 184
+    assert CONFIG_TABLE[("parabola", "parabola", "parabola")][1] == 93
+    assert CONFIG_TABLE[("ellipse", "parabola", "parabola")][1] == 118
+
+
+def _distinct_triples():
+    seen, out = set(), []
+    for case in CASES:
+        key = tuple(tuple(k["coefficients"]) for k in case["conics"][:3])
+        if key not in seen:
+            seen.add(key)
+            out.append(case)
+    return out
+
+
+TRIPLES = _distinct_triples()
+
+
+def _far(case) -> bool:
+    """Some vertex far outside the scene (radius > 20× the largest core size)."""
+    return any(float(v["radius"]) > 20 for v in case["vertices"])
+
+
+@pytest.mark.parametrize("case", TRIPLES, ids=lambda c: c["name"])
+def test_validation_triples(case):
+    cs = conics_of(case)
+    try:
+        tv = voronoi_vertices_triple(*cs[:3])
+    except LocatorError:
+        # refusing is honest, but only accepted where the documented limitation applies
+        assert _far(case), "the solver refused a triple without far-away vertices"
+        return
+    exp = sorted(case["vertices"], key=lambda v: (float(v["x"]), float(v["y"])))
+    got = tv.vertices
+    assert len(got) == len(exp)
+    for g, e in zip(got, exp):
+        for a, b in ((g.x, e["x"]), (g.y, e["y"]), (g.radius, e["radius"])):
+            assert abs(a - float(b)) <= 1e-8 * max(1.0, abs(float(b)))
+        assert g.certified is False
+        assert g.info["residual"] < 1e-11
+
+
+def test_no_vertex_triple():
+    case = next(c for c in CASES if c["name"] == "mixed_ECP_nested_no_vertex")
+    tv = voronoi_vertices_triple(*conics_of(case)[:3])
+    assert tv.vertices == []
+    assert tv.n_generalised > 0          # there are generalised vertices, none is a true one
