@@ -62,7 +62,7 @@ import json
 import math
 import sys
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any, Iterable, Sequence
 
@@ -372,12 +372,20 @@ class DelaunayGraph:
         them for every conflict test (only to measure the speed-up; circles only).
     rays : int
         Number of sample points per site for the numeric search of vertex-less edges.
+    on_triple_error : "raise" (default) or "skip"
+        What to do when the general conic locator cannot solve a triple: raise its
+        LocatorError, or treat the triple as having no vertex and record the skip in
+        :meth:`uncertified` (the diagram is then uncertified and may miss vertices).
     progress : bool
         Print a progress bar for insertions on stderr (used by :func:`run_diagram`).
     """
 
     def __init__(self, sites: Iterable | None = None, *, candidates: str = "edges", cache: bool = True,
-                 rays: int = 256, progress: bool = False, order: Sequence[int] | None = None):
+                 rays: int = 256, progress: bool = False, order: Sequence[int] | None = None,
+                 on_triple_error: str = "raise"):
+        if on_triple_error not in ("raise", "skip"):
+            raise ValueError('on_triple_error must be "raise" or "skip"')
+        self.on_triple_error = on_triple_error
         if candidates not in ("edges", "all"):
             raise ValueError('candidates must be "edges" or "all"')
         self.candidates = candidates
@@ -434,7 +442,13 @@ class DelaunayGraph:
                 tv = _TripleVerts(ids, [float(v.x) for v in vs], [float(v.y) for v in vs],
                                   [float(v.radius) for v in vs], [bool(v.certified) for v in vs], complete, None, [])
         except LocatorError as exc:
-            raise LocatorError(f"sites {list(ids)}: {exc}") from exc
+            if self.on_triple_error == "raise" or all(x.is_circle for x in ss):
+                raise LocatorError(f"sites {list(ids)}: {exc}") from exc
+            msg = str(exc)
+            self.uncertified_decisions.append(f"triple {list(ids)} skipped: the conic locator failed "
+                                              f"({msg[:160]}{'...' if len(msg) > 160 else ''})")
+            self.stats["skipped_triples"] = self.stats.get("skipped_triples", 0) + 1
+            tv = _TripleVerts(ids, [], [], [], [], False, None, ["locator failed"])
         if not tv.complete:
             self.uncertified_decisions.append(f"vertex list of triple {list(ids)} not proved complete")
         for k, c in enumerate(tv.certified):

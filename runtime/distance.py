@@ -237,51 +237,143 @@ def _interval(lo: arb, hi: arb) -> arb:
     return lo.union(hi)
 
 
-def _bb_minimise(D, dD, lo: arb, hi: arb, U: arb, prec: int, max_evals: int = 4000):
+def _taylor_enclosure(derivs, m: arb, I: arb, K: int = 4) -> arb:
+    """Enclosure of D over I: sum_{k<K} D^(k)(m) h^k / k! + D^(K)(I) h^K / K!, h = I − m."""
+    dm = derivs(m, K - 1)
+    dI = derivs(I, K)
+    h = I - m
+    acc = dI[K] / math.factorial(K)
+    for k in range(K - 1, -1, -1):
+        acc = acc * h + dm[k] / math.factorial(k)
+    return acc
+
+
+def _bb_minimise(derivs, lo: arb, hi: arb, U: arb, prec: int, max_evals: int = 3000):
     """Rigorous lower bound of min D over [lo, hi] and improved upper bound U.
 
-    D, dD map an arb (point or interval) to an enclosure of D / D' over it.  Returns
-    (lower, U, evals, exhausted).  Points where D is evaluated are exact dyadics inside the
-    interval, so hi(D(m)) is a valid upper bound of min D.
+    ``derivs(t, n)`` returns enclosures of [D(t), D'(t), ..., D^(n)(t)] for an arb t (point
+    or interval).  Best-first branch and bound with an order-4 Taylor form intersected with
+    the natural extension (the Taylor form keeps the enclosures tight at degenerate minima,
+    e.g. at the cusps of the evolute).  Returns (lower, U, evals, exhausted).  Points where D
+    is evaluated are exact dyadics, so hi(D(m)) bounds min D from above.
     """
-    work = [(lo, hi)]
-    lower = None
-    evals = 0
+    import heapq
+
     tol_rel = arb(2) ** (-(prec - 6))
-    exhausted = False
-    while work:
-        a_, b_ = work.pop()
+    floor_abs = arb(2) ** (-2 * prec)
+    heap: list = []
+    counter = 0
+    lower_final = None
+    evals = 0
+
+    def push(a_, b_):
+        nonlocal counter, evals, U
         I = _interval(a_, b_)
         m = ((a_ + b_) / 2).mid()
-        Dm = D(m)
+        Dm = derivs(m, 0)[0]
         evals += 1
-        if Dm.upper() < U.upper():
+        if Dm.upper() < U:
             U = Dm.upper()
-        E_nat = D(I)
-        E_mv = Dm + dD(I) * (I - m)
+        E_nat = derivs(I, 0)[0]
+        E_t = _taylor_enclosure(derivs, m, I)
         Elo = E_nat.lower()
-        if E_mv.lower() > Elo:
-            Elo = E_mv.lower()
-        Ehi = E_nat.upper() if E_nat.upper() < E_mv.upper() else E_mv.upper()
+        if E_t.lower() > Elo:
+            Elo = E_t.lower()
+        Ehi = E_nat.upper() if E_nat.upper() < E_t.upper() else E_t.upper()
+        counter += 1
+        heapq.heappush(heap, (float(Elo.mid()), counter, a_, b_, m, Elo, Ehi))
+
+    push(lo, hi)
+    exhausted = False
+    while heap:
+        _, _, a_, b_, m, Elo, Ehi = heapq.heappop(heap)
         if Elo > U:
             continue
-        small = (Ehi - Elo) <= tol_rel * U.upper() + arb(2) ** (-2 * prec)
+        small = (Ehi - Elo) <= tol_rel * U + floor_abs
         splittable = (m > a_) and (m < b_)
-        if small or not splittable or evals >= max_evals:
-            if evals >= max_evals:
-                exhausted = True
-            lower = Elo if lower is None or Elo < lower else lower
+        if small or not splittable:
+            lower_final = Elo if lower_final is None or Elo < lower_final else lower_final
             continue
-        work.append((a_, m))
-        work.append((m, b_))
-    if lower is None:  # everything pruned: the minimum is attained at an evaluated point
-        lower = U
-    return lower, U, evals, exhausted
+        if evals >= max_evals:
+            exhausted = True
+            lower_final = Elo if lower_final is None or Elo < lower_final else lower_final
+            for item in heap:
+                if not (item[5] > U):
+                    lower_final = item[5] if item[5] < lower_final else lower_final
+            break
+        push(a_, m)
+        push(m, b_)
+    if lower_final is None:  # everything pruned: the minimum is attained at an evaluated point
+        lower_final = U
+    return lower_final, U, evals, exhausted
 
 
-def squared_distance_ball(conic: Conic, x, y, prec: int = 128, seeds: list | None = None):
-    """Rigorous enclosure [lo, hi] (as two exact arb numbers) of d((x, y), C)² for a point
-    (x, y) (exact dyadic arb midpoints or Fractions).  Also returns diagnostics."""
+def _cos_shift(x: arb, n: int) -> arb:
+    """cos(x + nπ/2)."""
+    r = n % 4
+    return (x.cos(), -x.sin(), -x.cos(), x.sin())[r]
+
+
+def _sin_shift(x: arb, n: int) -> arb:
+    r = n % 4
+    return (x.sin(), x.cos(), -x.sin(), -x.cos())[r]
+
+
+def _derivs_factory(kind: str, prm: dict, X0: arb, Y0: arb, sg: int = 1):
+    """Derivatives of the squared distance D along the parametrisation of the canonical conic.
+
+    ellipse  (a cos θ, b sin θ):    D = (A−B)/2 cos 2θ − 2aX0 cos θ − 2bY0 sin θ + (A+B)/2 + |q|²
+    hyperbola (σ a cosh t, b sinh t): D = (A+B)/2 cosh 2t − 2σaX0 cosh t − 2bY0 sinh t + (A−B)/2 + |q|²
+    parabola (s²/2p, s):             D = s⁴/4p² + (1 − X0/p) s² − 2Y0 s + |q|²
+    """
+    q2 = X0 * X0 + Y0 * Y0
+    if kind == "ellipse":
+        A, B = prm["A2"], prm["B2"]
+        al, be, ga, de = (A - B) / 2, -2 * A.sqrt() * X0, -2 * B.sqrt() * Y0, (A + B) / 2 + q2
+
+        def derivs(t, n):
+            t2 = 2 * t
+            out = []
+            for k in range(n + 1):
+                v = al * (2 ** k) * _cos_shift(t2, k) + be * _cos_shift(t, k) + ga * _sin_shift(t, k)
+                out.append(v + de if k == 0 else v)
+            return out
+        return derivs
+    if kind == "hyperbola":
+        A, B = prm["A2"], prm["B2"]
+        al, be, ga, de = (A + B) / 2, -2 * sg * A.sqrt() * X0, -2 * B.sqrt() * Y0, (A - B) / 2 + q2
+
+        def derivs(t, n):
+            ch, sh = t.cosh(), t.sinh()
+            ch2, sh2 = (2 * t).cosh(), (2 * t).sinh()
+            out = []
+            for k in range(n + 1):
+                if k % 2 == 0:
+                    v = al * (2 ** k) * ch2 + be * ch + ga * sh
+                else:
+                    v = al * (2 ** k) * sh2 + be * sh + ga * ch
+                out.append(v + de if k == 0 else v)
+            return out
+        return derivs
+    if kind == "parabola":
+        p = prm["p"]
+        c4, c2, c1 = 1 / (4 * p * p), 1 - X0 / p, -2 * Y0
+
+        def derivs(s, n):
+            s2 = s * s
+            full = [c4 * s2 * s2 + c2 * s2 + c1 * s + q2,
+                    4 * c4 * s2 * s + 2 * c2 * s + c1,
+                    12 * c4 * s2 + 2 * c2,
+                    24 * c4 * s,
+                    24 * c4 + 0 * s]
+            return full[:n + 1] + [0 * s] * max(0, n - 4)
+        return derivs
+    raise InvalidConicError(f"unknown conic kind {kind!r}")
+
+
+def squared_distance_ball(conic: Conic, x, y, prec: int = 128):
+    """Rigorous enclosure [lo, hi] (two exact arb numbers) of d((x, y), C)² for a point
+    (x, y) given exactly (Fraction, int, float, exact arb).  Returns (lo, hi, info)."""
     wp = prec + 32
     with flint.ctx.workprec(wp):
         qx, qy = _as_ball(x, wp), _as_ball(y, wp)
@@ -291,83 +383,49 @@ def squared_distance_ball(conic: Conic, x, y, prec: int = 128, seeds: list | Non
         info = {"evals": 0, "exhausted": False}
         if kind == "circle":
             r = fr.params["r2"].sqrt()
-            d = (X0 * X0 + Y0 * Y0).sqrt() - r
+            d = _sqrt_nonneg(X0 * X0 + Y0 * Y0) - r
             d2 = d * d
             return d2.lower(), d2.upper(), info
-        # float approximations for seeds
         Xf, Yf = float(X0.mid()), float(Y0.mid())
         ffr = conic.frame
         cands = _foot_canonical(kind, ffr.params, Xf, Yf, all_candidates=True)
+        prm = fr.params
         if kind == "ellipse":
-            A, B = fr.params["A2"], fr.params["B2"]
-            a_, b_ = A.sqrt(), B.sqrt()
-
-            def D(t):
-                s, c = t.sin_cos()
-                u, v = a_ * c - X0, b_ * s - Y0
-                return u * u + v * v
-
-            def dD(t):
-                s, c = t.sin_cos()
-                return 2 * ((B - A) * s * c + a_ * X0 * s - b_ * Y0 * c)
-
-            pts = [math.atan2(Y / math.sqrt(ffr.params["B2"]), X / math.sqrt(ffr.params["A2"])) for X, Y, _ in cands]
-            U = None
-            for t in pts:
-                val = D(arb(t)).upper()
-                U = val if U is None or val < U else U
-            lower, U, ev, ex = _bb_minimise(D, dD, arb(-3.2), arb(3.2), U, prec)
-            info.update(evals=ev, exhausted=ex)
-            return lower, U, info
-
-        if kind == "parabola":
-            p = fr.params["p"]
-
-            def D(s):
-                u, v = s * s / (2 * p) - X0, s - Y0
-                return u * u + v * v
-
-            def dD(s):
-                return 2 * ((s * s / (2 * p) - X0) * s / p + (s - Y0))
-
+            derivs = _derivs_factory(kind, prm, X0, Y0)
             U = None
             for X, Y, _ in cands:
-                val = D(arb(Y)).upper()
+                t = math.atan2(Y / math.sqrt(ffr.params["B2"]), X / math.sqrt(ffr.params["A2"]))
+                val = derivs(arb(t), 0)[0].upper()
                 U = val if U is None or val < U else U
-            R = U.sqrt().upper() + 1
-            lo_, hi_ = (Y0.lower() - R).lower(), (Y0.upper() + R).upper()
-            lower, U, ev, ex = _bb_minimise(D, dD, lo_, hi_, U, prec)
+            lower, U, ev, ex = _bb_minimise(derivs, arb(-3.2), arb(3.2), U, prec)
             info.update(evals=ev, exhausted=ex)
             return lower, U, info
-
+        if kind == "parabola":
+            derivs = _derivs_factory(kind, prm, X0, Y0)
+            U = None
+            for X, Y, _ in cands:
+                val = derivs(arb(Y), 0)[0].upper()
+                U = val if U is None or val < U else U
+            R = _sqrt_nonneg(U).upper()
+            lower, U, ev, ex = _bb_minimise(derivs, (Y0 - R).lower(), (Y0 + R).upper(), U, prec)
+            info.update(evals=ev, exhausted=ex)
+            return lower, U, info
         if kind == "hyperbola":
-            A, B = fr.params["A2"], fr.params["B2"]
-            a_ = A.sqrt()
-            best_lower, U = None, None
-            fns = {}
+            b_ = prm["B2"].sqrt()
+            fns = {sg: _derivs_factory(kind, prm, X0, Y0, sg) for sg in (1, -1)}
+            U = None
+            for X, Y, _ in cands:
+                sg = 1 if X >= 0 else -1
+                t = math.asinh(Y / math.sqrt(ffr.params["B2"]))
+                val = fns[sg](arb(t), 0)[0].upper()
+                U = val if U is None or val < U else U
+            best_lower, evs, exh = None, 0, False
             for sg in (1, -1):
-                def D(s, sg=sg):
-                    w = (1 + s * s / B).sqrt()
-                    u, v = sg * a_ * w - X0, s - Y0
-                    return u * u + v * v
-
-                def dD(s, sg=sg):
-                    w = (1 + s * s / B).sqrt()
-                    return 2 * ((sg * a_ * w - X0) * sg * a_ * s / (B * w) + (s - Y0))
-
-                fns[sg] = (D, dD)
-                for X, Y, _ in cands:
-                    if (X >= 0) == (sg > 0):
-                        val = D(arb(Y)).upper()
-                        U = val if U is None or val < U else U
-            if U is None:
-                U = fns[1][0](arb(0)).upper()
-            evs, exh = 0, False
-            for sg in (1, -1):
-                D, dD = fns[sg]
-                R = U.sqrt().upper() + 1
-                lo_, hi_ = (Y0.lower() - R).lower(), (Y0.upper() + R).upper()
-                low, U, ev, ex = _bb_minimise(D, dD, lo_, hi_, U, prec)
+                R = _sqrt_nonneg(U).upper()
+                # every point within sqrt(U) of q has |b sinh t − Y0| <= R
+                tlo = ((Y0 - R) / b_).asinh().lower()
+                thi = ((Y0 + R) / b_).asinh().upper()
+                low, U, ev, ex = _bb_minimise(fns[sg], tlo, thi, U, prec)
                 evs += ev
                 exh = exh or ex
                 best_lower = low if best_lower is None or low < best_lower else best_lower
@@ -376,6 +434,13 @@ def squared_distance_ball(conic: Conic, x, y, prec: int = 128, seeds: list | Non
                 best_lower = U
             return best_lower, U, info
     raise InvalidConicError(f"unknown conic kind {kind!r}")
+
+
+def _sqrt_nonneg(x: arb) -> arb:
+    """sqrt of the non-negative part of a ball (the quantity is known to be >= 0)."""
+    if x.lower() >= 0:
+        return x.sqrt()
+    return _interval(arb(0), x.upper().sqrt().upper())
 
 
 def distance_ball(conic: Conic, x, y, prec: int = 128) -> arb:
