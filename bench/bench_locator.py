@@ -14,7 +14,9 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import statistics
+import subprocess
 import sys
 import time
 import tracemalloc
@@ -122,39 +124,62 @@ def eigen_compare():
     return n, out
 
 
+def table(label, rows, refused):
+    lines = [f"### {label}", "",
+             "| triple type | runs | " + " | ".join(STAGES) + " | distances | total (4 conics) | cached C4 | peak MiB | refused |",
+             "|---|---|" + "---|" * (len(STAGES) + 6)]
+    for t in sorted(set(list(rows) + list(refused))):
+        r = rows.get(t, {})
+        med = {k: statistics.median(v) for k, v in r.items()} if r else {}
+        cells = [f"{med.get(s, float('nan')):.4f}" for s in STAGES]
+        lines.append(f"| {t} | {len(r.get('total', []))} | " + " | ".join(cells)
+                     + f" | {med.get('distances', float('nan')):.4f} | {med.get('total', float('nan')):.3f}"
+                     + f" | {1000 * med.get('cached C4', float('nan')):.2f} ms | {med.get('peak MiB', float('nan')):.1f}"
+                     + f" | {refused.get(t, 0)} |")
+    return lines + [""]
+
+
+def child(repeat: int, limit: int | None) -> str:
+    configs = configurations()
+    with threadpool_limits(limits=limit):
+        rows, refused = run(configs, repeat)
+        info = [{k: d.get(k) for k in ("internal_api", "num_threads", "version")} for d in threadpool_info()]
+    env = os.environ.get("OPENBLAS_NUM_THREADS")
+    label = (f"OPENBLAS_NUM_THREADS={env!s}, threadpool_limits({limit}); threadpool_info "
+             f"`{json.dumps(info)}`")
+    lines = table(label, rows, refused)
+    if limit == 1:
+        with threadpool_limits(limits=1):
+            n, eig = eigen_compare()
+        lines += [f"Eigen stage, EEE multiplication matrix {n}×{n}, 1 BLAS thread: "
+                  + ", ".join(f"{k}: {v * 1000:.1f} ms" for k, v in eig.items()), ""]
+    return "\n".join(lines)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--child", choices=["1", "default"])
     args = ap.parse_args()
     repeat = 1 if args.quick else 3
-    configs = configurations()
-    lines = [f"## bench_locator.py ({time.strftime('%Y-%m-%d %H:%M')}, repeat={repeat}, median seconds)", ""]
-    for limit in (1, None):
-        with threadpool_limits(limits=limit):
-            rows, refused = run(configs, repeat)
-            label = "1 BLAS thread" if limit == 1 else "default BLAS threads"
-            lines += [f"### {label}", "",
-                      "| triple type | runs | " + " | ".join(STAGES) + " | distances | total (4 conics) | cached C4 | peak MiB | refused |",
-                      "|---|---|" + "---|" * (len(STAGES) + 6)]
-            for t in sorted(set(list(rows) + list(refused))):
-                r = rows.get(t, {})
-                med = {k: statistics.median(v) for k, v in r.items()} if r else {}
-                cells = [f"{med.get(s, float('nan')):.4f}" for s in STAGES]
-                lines.append(f"| {t} | {len(r.get('total', []))} | " + " | ".join(cells)
-                             + f" | {med.get('distances', float('nan')):.4f} | {med.get('total', float('nan')):.3f}"
-                             + f" | {1000 * med.get('cached C4', float('nan')):.2f} ms | {med.get('peak MiB', float('nan')):.1f}"
-                             + f" | {refused.get(t, 0)} |")
-            lines.append("")
-    with threadpool_limits(limits=1):
-        n, eig = eigen_compare()
-    lines += [f"Eigen stage, EEE multiplication matrix {n}×{n}, 1 BLAS thread: "
-              + ", ".join(f"{k}: {v * 1000:.1f} ms" for k, v in eig.items()), ""]
-    info = [{k: d.get(k) for k in ("internal_api", "num_threads", "version")} for d in threadpool_info()]
-    lines += [f"threadpool_info: `{json.dumps(info)}`", ""]
-    text = "\n".join(lines)
+    if args.child:
+        print(child(repeat, 1 if args.child == "1" else None))
+        return
+    # each thread setting in a fresh process: OpenBLAS reads OPENBLAS_NUM_THREADS at start-up, and a
+    # runtime threadpool_limits(1) alone did not remove the slowdown of an already threaded OpenBLAS
+    # (measured on the 2-core machine: EEE null space 0.12 s with the variable vs ~4 s without)
+    parts = [f"## bench_locator.py ({time.strftime('%Y-%m-%d %H:%M')}, repeat={repeat}, median seconds)", ""]
+    for mode, env_val in [("1", "1"), ("default", None), ("1", None)]:
+        env = dict(os.environ)
+        env.pop("OPENBLAS_NUM_THREADS", None)
+        if env_val is not None:
+            env["OPENBLAS_NUM_THREADS"] = env_val
+        cmd = [sys.executable, __file__, "--child", mode] + (["--quick"] if args.quick else [])
+        out = subprocess.run(cmd, env=env, capture_output=True, text=True, check=True).stdout
+        parts.append(out)
+    text = "\n".join(parts)
     print(text)
-    out = ROOT / "bench" / "results" / "locator.md"
-    with open(out, "a") as fh:
+    with open(ROOT / "bench" / "results" / "locator.md", "a") as fh:
         fh.write(text + "\n")
 
 

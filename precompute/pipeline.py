@@ -31,39 +31,66 @@ def _offset_job(family: str) -> tuple[str, str, dict, float]:
     return family, text, info, time.perf_counter() - t0
 
 
+def _system_job(config: str, out_dir: str) -> tuple[str, list[str], float]:
+    from .systems import build_one  # imported in the worker
+
+    t0 = time.perf_counter()
+    paths = build_one(config, out_dir, 0, 0)
+    return config, paths, time.perf_counter() - t0
+
+
+def _system_configurations() -> list[str]:
+    try:
+        from .systems import CONFIGURATIONS, TRIPLES
+    except ImportError:  # the polyhedral stage is optional
+        return []
+    # largest first, so that the two workers finish together
+    return sorted(CONFIGURATIONS, key=lambda c: (-c.count("E"), c)) + list(TRIPLES)
+
+
 def regenerate(out_dir: Path, *, jobs: int = 2, families=OFFSET_FAMILIES, with_systems: bool = True,
                progress: Callable[[str], None] | None = None) -> dict[str, float]:
-    """Regenerate all artefacts into ``out_dir``; return the wall-clock seconds per item."""
+    """Regenerate all artefacts into ``out_dir``; return the wall-clock seconds per item.
+
+    Offsets (thesis ch. 4) and Newton-matrix structures (Table 5.1 configurations and the
+    three-conic vertex systems) run in one joblib pool: the generic-conic offset (about a
+    minute) occupies one worker while the other builds the matrices.
+    """
     say = progress or (lambda msg: print(msg, file=sys.stderr, flush=True))
     out_dir = Path(out_dir)
     (out_dir / "offsets").mkdir(parents=True, exist_ok=True)
+    configs = _system_configurations() if with_systems else []
+    if configs:
+        (out_dir / "systems").mkdir(parents=True, exist_ok=True)
     timings: dict[str, float] = {}
     inputs: dict[str, dict] = {}
     t_all = time.perf_counter()
-    say(f"[regenerate] {len(families)} offset families on {jobs} worker(s) -> {out_dir}")
-    results = Parallel(n_jobs=jobs, return_as="generator_unordered")(delayed(_offset_job)(f) for f in families)
+    total = len(families) + len(configs)
+    say(f"[regenerate] {len(families)} offset families + {len(configs)} Newton matrices on {jobs} "
+        f"worker(s) -> {out_dir}")
+    work = [delayed(_offset_job)(f) for f in families[:1]]
+    work += [delayed(_system_job)(c, str(out_dir / "systems")) for c in configs]
+    work += [delayed(_offset_job)(f) for f in families[1:]]
     done = 0
-    for family, text, info, secs in results:
+    for item in Parallel(n_jobs=jobs, return_as="generator_unordered")(work):
         done += 1
-        rel = f"offsets/{family}.json"
-        (out_dir / rel).write_text(text)
-        timings[f"offset:{family}"] = secs
-        inputs[rel] = {"kind": "offset", "family": family, "conic": FAMILIES[family].equation,
-                       "generator_version": GENERATOR_VERSION}
-        say(f"[regenerate] ({done}/{len(families)}) offset {family:<19} {info['terms']:>5} terms, "
-            f"degree {info['degree_uv']} in (u, v)  {secs:7.2f} s")
-    if with_systems:
-        try:
-            from . import systems
-        except ImportError:  # the polyhedral stage is optional until it lands
-            systems = None
-        if systems is not None and hasattr(systems, "build_all"):
-            t0 = time.perf_counter()
-            written = systems.build_all(out_dir / "systems", progress=say)
-            for path in written:
+        if len(item) == 4:      # offset
+            family, text, info, secs = item
+            rel = f"offsets/{family}.json"
+            (out_dir / rel).write_text(text)
+            timings[f"offset:{family}"] = secs
+            inputs[rel] = {"kind": "offset", "family": family, "conic": FAMILIES[family].equation,
+                           "generator_version": GENERATOR_VERSION}
+            say(f"[regenerate] ({done}/{total}) offset {family:<19} {info['terms']:>5} terms, "
+                f"degree {info['degree_uv']} in (u, v)  {secs:7.2f} s")
+        else:                   # Newton matrix structure
+            config, paths, secs = item
+            timings[f"system:{config}"] = secs
+            for path in paths:
                 rel = Path(path).relative_to(out_dir).as_posix()
-                inputs[rel] = {"kind": "newton-matrix", "generator_version": GENERATOR_VERSION}
-            timings["systems"] = time.perf_counter() - t0
+                inputs[rel] = {"kind": "newton-matrix", "configuration": config, "system_seed": 0,
+                               "lifting_seed": 0, "generator_version": GENERATOR_VERSION}
+            say(f"[regenerate] ({done}/{total}) Newton matrix {config:<6} {secs:7.2f} s")
     write_manifest(out_dir, inputs)
     timings["total"] = time.perf_counter() - t_all
     say(f"[regenerate] done in {timings['total']:.1f} s; manifest written")

@@ -227,7 +227,7 @@ def write_artefact(matrix, out_dir: pathlib.Path) -> list[pathlib.Path]:
     return [p_json, p_npz]
 
 
-def _build_one(config: str, out_dir: str, seed: int, lifting_seed: int) -> list[str]:
+def build_one(config: str, out_dir: str, seed: int, lifting_seed: int) -> list[str]:
     from .newton_matrix import newton_matrix
     system = (conflict_system if len(config) == 4 else vertex_system)(config, seed)
     mat = newton_matrix(system.polys, variables=system.variables, name=f"system_{config}",
@@ -252,7 +252,7 @@ def build_all(out_dir: pathlib.Path, progress: Callable[[str], None] | None = No
     out_dir.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     paths: list[pathlib.Path] = []
-    jobs = (delayed(_build_one)(c, str(out_dir), seed, lifting_seed) for c in configs)
+    jobs = (delayed(build_one)(c, str(out_dir), seed, lifting_seed) for c in configs)
     for c, res in zip(configs, Parallel(n_jobs=n_jobs, return_as="generator")(jobs)):
         paths.extend(pathlib.Path(p) for p in res)
         if progress is not None:

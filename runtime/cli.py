@@ -102,6 +102,12 @@ def _demo(args) -> int:
     return 0
 
 
+def _diagram(args) -> int:
+    from .diagram import diagram_main
+
+    return diagram_main(args.rest)
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="python -m runtime",
                                 description="Certified Delaunay-graph conflict locator for conics "
@@ -118,6 +124,10 @@ def build_parser() -> argparse.ArgumentParser:
                         "quadruple (the thesis' four-conic system), circles (exact, circles only), "
                         "interval (branch-and-prune, ch. 6)")
     s.set_defaults(func=_locate)
+    s = sub.add_parser("diagram", help="Delaunay graph / Voronoi diagram of any number of conics (SITES.json)",
+                       add_help=False)
+    s.add_argument("rest", nargs=argparse.REMAINDER)
+    s.set_defaults(func=_diagram)
     s = sub.add_parser("demo", help="run the locator on a built-in four-ellipse configuration")
     s.add_argument("--method", choices=methods, default="auto")
     s.set_defaults(func=_demo)
@@ -125,6 +135,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv[:1] == ["diagram"]:          # its own parser (runtime.diagram), incl. --help
+        from .diagram import diagram_main
+
+        return diagram_main(argv[1:])
     args = build_parser().parse_args(argv)
     try:
         return args.func(args)

@@ -339,8 +339,9 @@ def _newton_vertex_float(cs, sx, sy, iters=40):
         dx, dy = np.where(bad, 0, dx), np.where(bad, 0, dy)
         # damp huge steps
         scale = 1 + np.abs(x) + np.abs(y)
-        big = np.hypot(dx, dy) > scale
-        fac = np.where(big, scale / np.maximum(np.hypot(dx, dy), 1e-300), 1.0)
+        with np.errstate(all="ignore"):
+            big = np.hypot(dx, dy) > scale
+            fac = np.where(big, scale / np.maximum(np.hypot(dx, dy), 1e-300), 1.0)
         x, y = x - fac * dx, y - fac * dy
     fs = [_grid_foot(c, x, y, n=720) for c in cs]
     d = [f[0] for f in fs]

@@ -182,7 +182,7 @@ def test_squared_distance_ball_on_degenerate_points():
     assert lo <= 1 <= hi and float(hi - lo) < 1e-25
     cusp = F(3, 2)  # (A2 - B2)/a = 3/2: degenerate quartic minimum at the vertex (2, 0)
     lo, hi, _ = squared_distance_ball(e, cusp, 0, prec=100)
-    assert lo <= F(1, 4) <= hi and float(hi - lo) < 1e-25
+    assert lo <= flint.arb(0.25) <= hi and float(hi - lo) < 1e-25
 
 
 # ----------------------------------------------------------------------------- signs and tangency
