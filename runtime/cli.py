@@ -86,7 +86,7 @@ def _locate(args) -> int:
 
     conics = read_conics_file(args.file, expected=4)
     result = locator.locate_conflicts(*conics, method=args.method)
-    print(json.dumps(result.to_dict(), indent=2))
+    print(json.dumps(result.to_dict(details=args.details), indent=2))
     return 0
 
 
@@ -98,7 +98,7 @@ def _demo(args) -> int:
     for i, c in enumerate(conics, 1):
         print(f"  C{i}: {c}", file=sys.stderr)
     result = locator.locate_conflicts(*conics, method=args.method)
-    print(json.dumps(result.to_dict(), indent=2))
+    print(json.dumps(result.to_dict(details=args.details), indent=2))
     return 0
 
 
@@ -123,6 +123,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="auto (default: fastest certified route), triple (per-triple vertices + distances), "
                         "quadruple (the thesis' four-conic system), circles (exact, circles only), "
                         "interval (branch-and-prune, ch. 6)")
+    s.add_argument("--details", action="store_true", help="include per-vertex diagnostics and certificates")
     s.set_defaults(func=_locate)
     s = sub.add_parser("diagram", help="Delaunay graph / Voronoi diagram of any number of conics (SITES.json)",
                        add_help=False)
@@ -130,6 +131,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.set_defaults(func=_diagram)
     s = sub.add_parser("demo", help="run the locator on a built-in four-ellipse configuration")
     s.add_argument("--method", choices=methods, default="auto")
+    s.add_argument("--details", action="store_true", help="include per-vertex diagnostics and certificates")
     s.set_defaults(func=_demo)
     return p
 

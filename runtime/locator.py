@@ -58,6 +58,7 @@ def _key(c) -> tuple:
 
 def clear_cache() -> None:
     _cache.clear()
+    _completeness_cache.clear()
 
 
 def voronoi_vertices(c1, c2, c3, *, eigen: str = "dense", use_cache: bool = True):
@@ -93,8 +94,18 @@ def _decide(v: VoronoiVertex, d4: float, notes: list) -> VoronoiVertex:
     return replace(v, distance_to_fourth=d4, in_conflict=inc, certified=False, info=dict(v.info))
 
 
-def locate_conflicts(c1, c2, c3, c4, method: str = "auto", **kw) -> LocatorResult:
-    """Conflict locator for four conics (see the module docstring for the routes)."""
+def locate_conflicts(c1, c2, c3, c4, method: str = "auto", *, certify: bool = True,
+                     completeness: bool = True, **kw) -> LocatorResult:
+    """Conflict locator for four conics (see the module docstring for the routes).
+
+    With ``certify=True`` (default) the numeric routes are followed by the certification stage
+    (:mod:`runtime.certify`): per vertex, Krawczyk existence/uniqueness on the exact foot-point
+    system, rigorous true-vertex and conflict-sign decisions, exact rational fallback for
+    tangencies.  With ``completeness=True`` (default) the triple's full complex solution set is
+    also certified (once per triple, cached): ``complete`` is then True only when every one of
+    the generic number of solutions is proven simple, distinct, real or non-real, and every real
+    one is a certified vertex or proven not to be one.
+    """
     if method not in METHODS:
         raise LocatorError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
     cs = [_check_conic(c, i) for i, c in enumerate((c1, c2, c3, c4), 1)]
@@ -111,8 +122,42 @@ def locate_conflicts(c1, c2, c3, c4, method: str = "auto", **kw) -> LocatorResul
         from .interval.locator import locate_conflicts_interval
         return locate_conflicts_interval(*cs, **kw)
     if method == "quadruple":
-        return _locate_quadruple(*cs)
-    return _locate_triple(*cs, **kw)
+        res = _locate_quadruple(*cs)
+    else:
+        res = _locate_triple(*cs, **kw)
+    return _certified(res, cs, completeness, kw.get("eigen", "dense")) if certify else res
+
+
+_completeness_cache: "OrderedDict[tuple, tuple[bool, str, float]]" = OrderedDict()
+
+
+def _certified(res: LocatorResult, cs, completeness: bool, eigen: str) -> LocatorResult:
+    """Certification stage (issue 5), with the triple's completeness proof cached per triple."""
+    from .certify import certify_result
+
+    c1, c2, c3, c4 = cs
+    key = (tuple(_key(c) for c in (c1, c2, c3)), eigen)
+    tv = voronoi_vertices(c1, c2, c3, eigen=eigen)
+    sol = tv.solution
+    if not completeness or sol is None:
+        out = certify_result(res, c1, c2, c3, c4)
+        if sol is None:
+            out.notes.append("certify: no solution list from the numeric stage; completeness not checked")
+        return out
+    cached = _completeness_cache.get(key)
+    if cached is None:
+        t0 = time.perf_counter()
+        out = certify_result(res, c1, c2, c3, c4, solutions=sol.points, expected_count=sol.info.expected)
+        note = next((n for n in reversed(out.notes) if n.startswith("certify completeness")), "")
+        _completeness_cache[key] = (out.complete, note, time.perf_counter() - t0)
+        while len(_completeness_cache) > _CACHE_SIZE:
+            _completeness_cache.popitem(last=False)
+        return out
+    out = certify_result(res, c1, c2, c3, c4)
+    out.notes = [n for n in out.notes if not n.startswith("certify: completeness not proven")]
+    out.notes.append(cached[1] + " (cached for this triple)")
+    out.complete = cached[0]
+    return out
 
 
 def _locate_triple(c1, c2, c3, c4, eigen: str = "dense") -> LocatorResult:

@@ -40,7 +40,7 @@ class VoronoiVertex:
             return None
         return (self.distance_to_fourth - self.radius) / self.radius
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self, details: bool = True) -> dict[str, Any]:
         d = {
             "x": float(self.x),
             "y": float(self.y),
@@ -51,7 +51,7 @@ class VoronoiVertex:
             "tangent": self.tangent,
             "certified": bool(self.certified),
         }
-        if self.info:
+        if details and self.info:
             d["info"] = _jsonable(self.info)
         return d
 
@@ -76,12 +76,12 @@ class LocatorResult:
     def certified(self) -> bool:
         return self.complete and all(v.certified for v in self.vertices)
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self, details: bool = True) -> dict[str, Any]:
         return {
             "conflict": bool(self.conflict),
             "certified": self.certified,
             "complete": bool(self.complete),
-            "vertices": [v.to_dict() for v in self.vertices],
+            "vertices": [v.to_dict(details) for v in self.vertices],
             "method": self.method,
             "timings": {k: float(t) for k, t in self.timings.items()},
             "notes": list(self.notes),
