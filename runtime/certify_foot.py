@@ -309,8 +309,7 @@ def _subdivide_real_roots(P: arb_poly, lo: arb, hi: arb, zones: list[arb], max_s
             continue
         I = _hull(a, b)
         m = arb(I.mid())
-        dI = dP(I)
-        FI = P(m) + dI * (I - m)
+        FI, dI = _taylor_enclosures(P, m, I)
         if not FI.contains(0):
             continue
         if not dI.contains(0):
@@ -326,6 +325,29 @@ def _subdivide_real_roots(P: arb_poly, lo: arb, hi: arb, zones: list[arb], max_s
         stack.append((a, c))
         stack.append((c, b))
     return [_newton_contract(P, r) for r in out]
+
+
+def _taylor_enclosures(P: arb_poly, m: arb, I: arb) -> tuple[arb, arb]:
+    """Enclosures of P(I) and P'(I) from the Taylor expansion of P at the point m ∈ I:
+    P(m + h) = Σ t_k h^k with t_k = P^(k)(m)/k! and h ∈ I − m.  Unlike Horner's scheme on the
+    interval (whose overestimation is O(|I|·|P|) and does not shrink near a multiple root
+    far from 0) the overestimation is O(|I|·|P''|), so intervals next to a cluster of roots
+    (the zones around singular multipliers) are excluded after O(log) bisections."""
+    t = list(P.coeffs())  # repeated synthetic division by (λ − m): Taylor coefficients at m
+    n = len(t)
+    for k in range(n - 1):
+        for j in range(n - 2, k - 1, -1):
+            t[j] = t[j] + m * t[j + 1]
+    r = (I - m).abs_upper()
+    hk = [arb(1)]
+    for _ in range(n):
+        hk.append(arb(0, hk[-1].rad() * r if len(hk) > 1 else r))
+    val = t[0] if n else arb(0)
+    der = arb(0)
+    for k in range(1, n):
+        val = val + t[k] * hk[k]
+        der = der + k * t[k] * hk[k - 1]
+    return val, der
 
 
 def _root_bound(P: arb_poly) -> arb:
