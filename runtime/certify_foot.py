@@ -283,7 +283,6 @@ def _subdivide_real_roots(P: arb_poly, lo: arb, hi: arb, zones: list[arb], max_s
     """Real roots of the ball polynomial P in [lo, hi] outside the ``zones`` (exclusion intervals):
     bisection with exclusion (0 ∉ P(I), centred form) and monotonicity (0 ∉ P'(I)) tests.
     Returns isolating intervals (one simple root each) or raises FootFailure (cluster)."""
-    dP = P.derivative()
     tiny = (abs(lo) + abs(hi) + 1) * arb(2) ** (-flint.ctx.prec + 12)
     out, stack, steps = [], [(lo, hi)], 0
     while stack:

@@ -36,6 +36,8 @@ import numpy as np
 import flint
 from flint import arb
 
+from .certify_foot import (FootFailure, foot_polynomial, normalised_coefficients, real_feet_ball,
+                           to_arb, working_prec)
 from .conic import Conic, to_fraction
 from .result import InvalidConicError
 
@@ -237,203 +239,181 @@ def _interval(lo: arb, hi: arb) -> arb:
     return lo.union(hi)
 
 
-def _taylor_enclosure(derivs, m: arb, I: arb, K: int = 4) -> arb:
-    """Enclosure of D over I: sum_{k<K} D^(k)(m) h^k / k! + D^(K)(I) h^K / K!, h = I − m."""
-    dm = derivs(m, K - 1)
-    dI = derivs(I, K)
-    h = I - m
-    acc = dI[K] / math.factorial(K)
-    for k in range(K - 1, -1, -1):
-        acc = acc * h + dm[k] / math.factorial(k)
-    return acc
+def _exact_fraction(v) -> Fraction:
+    """Exact rational value of an exact input (Fraction, int, str, float, fmpq, arb of radius 0)."""
+    if isinstance(v, arb):
+        if v.rad() != 0:
+            raise ValueError("expected an exact point (arb of radius 0)")
+        m, e = v.mid().man_exp()
+        m, e = int(m), int(e)
+        return Fraction(m * 2 ** e) if e >= 0 else Fraction(m, 2 ** -e)
+    if isinstance(v, flint.fmpq):
+        return Fraction(int(v.p), int(v.q))
+    return to_fraction(v, "coordinate")
 
 
-def _bb_minimise(derivs, lo: arb, hi: arb, U: arb, prec: int, max_evals: int = 3000):
-    """Rigorous lower bound of min D over [lo, hi] and improved upper bound U.
+def _param_sq_distance(kind: str, prm: dict, X0: arb, Y0: arb, t: arb, sg: int = 1) -> arb:
+    """|q − p(t)|² for the point p(t) of the canonical conic (balls; p(t) is a true curve point):
 
-    ``derivs(t, n)`` returns enclosures of [D(t), D'(t), ..., D^(n)(t)] for an arb t (point
-    or interval).  Best-first branch and bound with an order-4 Taylor form intersected with
-    the natural extension (the Taylor form keeps the enclosures tight at degenerate minima,
-    e.g. at the cusps of the evolute).  Returns (lower, U, evals, exhausted).  Points where D
-    is evaluated are exact dyadics, so hi(D(m)) bounds min D from above.
+    ellipse  (a cos t, b sin t), hyperbola (σ a cosh t, b sinh t), parabola (t²/2p, t).
     """
-    import heapq
-
-    tol_rel = arb(2) ** (-(prec - 6))
-    floor_abs = arb(2) ** (-2 * prec)
-    heap: list = []
-    counter = 0
-    lower_final = None
-    evals = 0
-
-    def push(a_, b_):
-        nonlocal counter, evals, U
-        I = _interval(a_, b_)
-        m = ((a_ + b_) / 2).mid()
-        Dm = derivs(m, 0)[0]
-        evals += 1
-        if Dm.upper() < U:
-            U = Dm.upper()
-        E_nat = derivs(I, 0)[0]
-        E_t = _taylor_enclosure(derivs, m, I)
-        Elo = E_nat.lower()
-        if E_t.lower() > Elo:
-            Elo = E_t.lower()
-        Ehi = E_nat.upper() if E_nat.upper() < E_t.upper() else E_t.upper()
-        counter += 1
-        heapq.heappush(heap, (float(Elo.mid()), counter, a_, b_, m, Elo, Ehi))
-
-    push(lo, hi)
-    exhausted = False
-    while heap:
-        _, _, a_, b_, m, Elo, Ehi = heapq.heappop(heap)
-        if Elo > U:
-            continue
-        small = (Ehi - Elo) <= tol_rel * U + floor_abs
-        splittable = (m > a_) and (m < b_)
-        if small or not splittable:
-            lower_final = Elo if lower_final is None or Elo < lower_final else lower_final
-            continue
-        if evals >= max_evals:
-            exhausted = True
-            lower_final = Elo if lower_final is None or Elo < lower_final else lower_final
-            for item in heap:
-                if not (item[5] > U):
-                    lower_final = item[5] if item[5] < lower_final else lower_final
-            break
-        push(a_, m)
-        push(m, b_)
-    if lower_final is None:  # everything pruned: the minimum is attained at an evaluated point
-        lower_final = U
-    return lower_final, U, evals, exhausted
-
-
-def _cos_shift(x: arb, n: int) -> arb:
-    """cos(x + nπ/2)."""
-    r = n % 4
-    return (x.cos(), -x.sin(), -x.cos(), x.sin())[r]
-
-
-def _sin_shift(x: arb, n: int) -> arb:
-    r = n % 4
-    return (x.sin(), x.cos(), -x.sin(), -x.cos())[r]
-
-
-def _derivs_factory(kind: str, prm: dict, X0: arb, Y0: arb, sg: int = 1):
-    """Derivatives of the squared distance D along the parametrisation of the canonical conic.
-
-    ellipse  (a cos θ, b sin θ):    D = (A−B)/2 cos 2θ − 2aX0 cos θ − 2bY0 sin θ + (A+B)/2 + |q|²
-    hyperbola (σ a cosh t, b sinh t): D = (A+B)/2 cosh 2t − 2σaX0 cosh t − 2bY0 sinh t + (A−B)/2 + |q|²
-    parabola (s²/2p, s):             D = s⁴/4p² + (1 − X0/p) s² − 2Y0 s + |q|²
-    """
-    q2 = X0 * X0 + Y0 * Y0
     if kind == "ellipse":
-        A, B = prm["A2"], prm["B2"]
-        al, be, ga, de = (A - B) / 2, -2 * A.sqrt() * X0, -2 * B.sqrt() * Y0, (A + B) / 2 + q2
-
-        def derivs(t, n):
-            t2 = 2 * t
-            out = []
-            for k in range(n + 1):
-                v = al * (2 ** k) * _cos_shift(t2, k) + be * _cos_shift(t, k) + ga * _sin_shift(t, k)
-                out.append(v + de if k == 0 else v)
-            return out
-        return derivs
-    if kind == "hyperbola":
-        A, B = prm["A2"], prm["B2"]
-        al, be, ga, de = (A + B) / 2, -2 * sg * A.sqrt() * X0, -2 * B.sqrt() * Y0, (A - B) / 2 + q2
-
-        def derivs(t, n):
-            ch, sh = t.cosh(), t.sinh()
-            ch2, sh2 = (2 * t).cosh(), (2 * t).sinh()
-            out = []
-            for k in range(n + 1):
-                if k % 2 == 0:
-                    v = al * (2 ** k) * ch2 + be * ch + ga * sh
-                else:
-                    v = al * (2 ** k) * sh2 + be * sh + ga * ch
-                out.append(v + de if k == 0 else v)
-            return out
-        return derivs
-    if kind == "parabola":
-        p = prm["p"]
-        c4, c2, c1 = 1 / (4 * p * p), 1 - X0 / p, -2 * Y0
-
-        def derivs(s, n):
-            s2 = s * s
-            full = [c4 * s2 * s2 + c2 * s2 + c1 * s + q2,
-                    4 * c4 * s2 * s + 2 * c2 * s + c1,
-                    12 * c4 * s2 + 2 * c2,
-                    24 * c4 * s,
-                    24 * c4 + 0 * s]
-            return full[:n + 1] + [0 * s] * max(0, n - 4)
-        return derivs
-    raise InvalidConicError(f"unknown conic kind {kind!r}")
+        X, Y = prm["A2"].sqrt() * t.cos(), prm["B2"].sqrt() * t.sin()
+    elif kind == "hyperbola":
+        X, Y = sg * prm["A2"].sqrt() * t.cosh(), prm["B2"].sqrt() * t.sinh()
+    elif kind == "parabola":
+        X, Y = t * t / (2 * prm["p"]), t
+    else:
+        raise InvalidConicError(f"unknown conic kind {kind!r}")
+    return (X - X0) ** 2 + (Y - Y0) ** 2
 
 
-def squared_distance_ball(conic: Conic, x, y, prec: int = 128):
-    """Rigorous enclosure [lo, hi] (two exact arb numbers) of d((x, y), C)² for a point
-    (x, y) given exactly (Fraction, int, float, exact arb).  Returns (lo, hi, info)."""
-    wp = prec + 32
-    with flint.ctx.workprec(wp):
-        qx, qy = _as_ball(x, wp), _as_ball(y, wp)
-        fr = conic.frame_arb(wp)
-        X0, Y0 = fr.to_canonical(qx, qy)
-        kind = fr.kind
-        info = {"evals": 0, "exhausted": False}
-        if kind == "circle":
-            r = fr.params["r2"].sqrt()
-            d = _sqrt_nonneg(X0 * X0 + Y0 * Y0) - r
-            d2 = d * d
-            return d2.lower(), d2.upper(), info
-        Xf, Yf = float(X0.mid()), float(Y0.mid())
-        ffr = conic.frame
-        cands = _foot_canonical(kind, ffr.params, Xf, Yf, all_candidates=True)
-        prm = fr.params
+def _curve_upper(conic: Conic, qx: Fraction, qy: Fraction):
+    """Rigorous upper bound of d(q, C)² (an exact arb) from the float closest point: the squared
+    distance to a true point of the curve near it, evaluated in ball arithmetic.  D is stationary
+    at the foot point, so the bound is tight to about the square of the float error."""
+    fr = conic.frame_arb(flint.ctx.prec)
+    X0, Y0 = fr.to_canonical(arb(flint.fmpq(qx.numerator, qx.denominator)),
+                             arb(flint.fmpq(qy.numerator, qy.denominator)))
+    kind, ffr = fr.kind, conic.frame
+    Xf, Yf = float(X0.mid()), float(Y0.mid())
+    if not (math.isfinite(Xf) and math.isfinite(Yf)):
+        return None
+    U = None
+    for X, Y, _ok in _foot_canonical(kind, ffr.params, Xf, Yf, all_candidates=True):
+        sg = 1
         if kind == "ellipse":
-            derivs = _derivs_factory(kind, prm, X0, Y0)
-            U = None
-            for X, Y, _ in cands:
-                t = math.atan2(Y / math.sqrt(ffr.params["B2"]), X / math.sqrt(ffr.params["A2"]))
-                val = derivs(arb(t), 0)[0].upper()
-                U = val if U is None or val < U else U
-            lower, U, ev, ex = _bb_minimise(derivs, arb(-3.2), arb(3.2), U, prec)
-            info.update(evals=ev, exhausted=ex)
-            return lower, U, info
-        if kind == "parabola":
-            derivs = _derivs_factory(kind, prm, X0, Y0)
-            U = None
-            for X, Y, _ in cands:
-                val = derivs(arb(Y), 0)[0].upper()
-                U = val if U is None or val < U else U
-            R = _sqrt_nonneg(U).upper()
-            lower, U, ev, ex = _bb_minimise(derivs, (Y0 - R).lower(), (Y0 + R).upper(), U, prec)
-            info.update(evals=ev, exhausted=ex)
-            return lower, U, info
-        if kind == "hyperbola":
-            b_ = prm["B2"].sqrt()
-            fns = {sg: _derivs_factory(kind, prm, X0, Y0, sg) for sg in (1, -1)}
-            U = None
-            for X, Y, _ in cands:
-                sg = 1 if X >= 0 else -1
-                t = math.asinh(Y / math.sqrt(ffr.params["B2"]))
-                val = fns[sg](arb(t), 0)[0].upper()
-                U = val if U is None or val < U else U
-            best_lower, evs, exh = None, 0, False
-            for sg in (1, -1):
-                R = _sqrt_nonneg(U).upper()
-                # every point within sqrt(U) of q has |b sinh t − Y0| <= R
-                tlo = ((Y0 - R) / b_).asinh().lower()
-                thi = ((Y0 + R) / b_).asinh().upper()
-                low, U, ev, ex = _bb_minimise(fns[sg], tlo, thi, U, prec)
-                evs += ev
-                exh = exh or ex
-                best_lower = low if best_lower is None or low < best_lower else best_lower
-            info.update(evals=evs, exhausted=exh)
-            if U < best_lower:
-                best_lower = U
-            return best_lower, U, info
-    raise InvalidConicError(f"unknown conic kind {kind!r}")
+            t = math.atan2(Y / math.sqrt(ffr.params["B2"]), X / math.sqrt(ffr.params["A2"]))
+        elif kind == "hyperbola":
+            sg = 1 if X >= 0 else -1
+            t = math.asinh(Y / math.sqrt(ffr.params["B2"]))
+        else:
+            t = Y
+        if not math.isfinite(t):
+            continue
+        D = _param_sq_distance(kind, fr.params, X0, Y0, arb(t), sg)
+        if D.is_finite():
+            U = D.upper() if U is None or D.upper() < U else U
+    return U
+
+
+def _real_roots_of(Pz: flint.fmpz_poly) -> list[arb]:
+    """Real parts of the isolating balls of the roots of Pz that may be real (imaginary part
+    containing 0), at the current precision."""
+    return [z.real for z, _m in Pz.complex_roots() if z.imag.contains(0)]
+
+
+def _tight(lo: arb, hi: arb, prec: int) -> bool:
+    return bool((hi - lo) <= arb(2) ** (-prec) * (1 + abs(hi)))
+
+
+def squared_distance_ball(conic: Conic, x, y, prec: int = 128, max_prec: int | None = None):
+    """Rigorous enclosure [lo, hi] (two exact arb numbers) of d((x, y), C)² for a point
+    (x, y) given exactly (Fraction, int, float, rational string, fmpq, arb of radius 0; an arb
+    with a radius gives the enclosure over the box, by the 1-Lipschitz bound).  Returns
+    (lo, hi, info); ``info['tight']`` says whether hi − lo ≤ 2^-prec (1 + hi) was reached.
+
+    Thesis §5.2 (foot points; d² is the smallest critical value of |q − p|² on C):
+
+    1. every real foot point of q is enclosed through the Lagrange polynomial F_q(λ)
+       (:func:`runtime.certify_foot.real_feet_ball`); d² ≥ min of their lower bounds, and
+       d² ≤ the upper bound of any foot proven to exist (or the largest of all bounds: the
+       nearest point *is* one of the enclosed feet);
+    2. d² ≤ |q − p|² for a true curve point p next to the float closest point;
+    3. if [lo, hi] is still wide (degenerate q: on a symmetry axis, at an evolute cusp, where
+       feet are only enclosed in cluster zones), d² is refined as a real root of the exact
+       tangency polynomial P(δ) (:func:`tangency_polynomial`, every critical value is a root):
+       d² lies in the hull of the root balls of P meeting [lo, hi].
+
+    The precision doubles from prec + 32 up to ``max_prec`` (default 4 (prec + 32)); at the
+    cap the narrowest correct enclosure found is returned (never a guess).
+    """
+    if isinstance(x, arb) and x.rad() != 0 or isinstance(y, arb) and y.rad() != 0:
+        return _squared_distance_box(conic, x, y, prec)
+    qx, qy = _exact_fraction(x), _exact_fraction(y)
+    wp = prec + 32
+    cap = max_prec if max_prec is not None else 4 * wp
+    info: dict[str, Any] = {"prec": wp, "method": None, "tight": False, "evals": 0, "exhausted": False}
+    if conic.kind == "circle":
+        with flint.ctx.workprec(wp):
+            fr = conic.frame_arb(wp)
+            X0, Y0 = fr.to_canonical(arb(flint.fmpq(qx.numerator, qx.denominator)),
+                                     arb(flint.fmpq(qy.numerator, qy.denominator)))
+            d = _sqrt_nonneg(X0 * X0 + Y0 * Y0) - fr.params["r2"].sqrt()
+            d2 = d * d
+            info.update(method="circle", tight=_tight(d2.lower(), d2.upper(), prec))
+            return d2.lower(), d2.upper(), info
+    fp = foot_polynomial(normalised_coefficients(conic))
+    with working_prec(wp):
+        U = _curve_upper(conic, qx, qy)
+    Pz = None
+    best = None
+    p = wp
+    while p <= cap:
+        with working_prec(p):
+            info["prec"] = p
+            lo, hi = arb(0), U
+            try:
+                feet = real_feet_ball(fp, to_arb(qx), to_arb(qy))
+            except FootFailure:
+                feet = []
+            if feet:
+                Ds = [f.D for f in feet]
+                flo = Ds[0].lower()
+                for D in Ds[1:]:
+                    if D.lower() < flo:
+                        flo = D.lower()
+                if flo > lo:
+                    lo = flo
+                ups = [D.upper() for D in Ds if D.is_finite()]
+                cand = [f.D.upper() for f in feet if not f.possible and f.D.is_finite()]
+                if len(ups) == len(Ds):
+                    top = ups[0]
+                    for v in ups[1:]:
+                        top = v if v > top else top
+                    cand.append(top)
+                for v in cand:
+                    if hi is None or v < hi:
+                        hi = v
+            if hi is not None and lo > hi:
+                raise RuntimeError(f"inconsistent distance enclosures at q = ({qx}, {qy}): "
+                                   f"lower {lo} > upper {hi}")
+            if hi is not None and best is None or hi is not None and (hi - lo) < (best[1] - best[0]):
+                best = (lo, hi)
+                info["method"] = "feet"
+            if hi is not None and _tight(lo, hi, prec):
+                info.update(tight=True)
+                return lo, hi, info
+            # refinement: d² is a real root of the exact tangency polynomial
+            if Pz is None:
+                P = tangency_polynomial(conic, qx, qy)
+                Pz = False if P == 0 else flint.fmpz_poly([int(c * P.denom()) for c in P.coeffs()])
+            if Pz is not False:
+                rs = [r for r in _real_roots_of(Pz) if r.upper() >= lo and (hi is None or r.lower() <= hi)]
+                if rs:
+                    E = rs[0]
+                    for r in rs[1:]:
+                        E = E.union(r)
+                    elo = E.lower() if E.lower() > lo else lo
+                    ehi = E.upper() if hi is None or E.upper() < hi else hi
+                    if best is None or (ehi - elo) < (best[1] - best[0]):
+                        best = (elo, ehi)
+                        info["method"] = "tangency"
+                    if _tight(elo, ehi, prec):
+                        info.update(tight=True)
+                        return elo, ehi, info
+        p *= 2
+    if best is None:
+        raise ArithmeticError(f"no enclosure of the distance from ({qx}, {qy}) to the conic "
+                              f"up to {cap} bits")
+    return best[0], best[1], info
+
+
+def _squared_distance_box(conic: Conic, x, y, prec: int):
+    """Enclosure of d(q', C)² over the box of ball inputs (d is 1-Lipschitz)."""
+    d = distance_ball(conic, x, y, prec)
+    d2 = d * d
+    return d2.lower(), d2.upper(), {"tight": False, "method": "box"}
 
 
 def _sqrt_nonneg(x: arb) -> arb:
@@ -452,11 +432,15 @@ def distance_ball(conic: Conic, x, y, prec: int = 128) -> arb:
     """
     wp = prec + 32
     with flint.ctx.workprec(wp):
-        bx, by = _as_ball(x, wp), _as_ball(y, wp)
-        mx, my = bx.mid(), by.mid()
-        rx, ry = bx.rad(), by.rad()
+        if isinstance(x, arb) or isinstance(y, arb):
+            bx, by = _as_ball(x, wp), _as_ball(y, wp)
+            mx, my = bx.mid(), by.mid()
+            rx, ry = bx.rad(), by.rad()
+        else:  # exact input: no rounding of the point
+            mx, my = _exact_fraction(x), _exact_fraction(y)
+            rx = ry = arb(0)
         lo, hi, _ = squared_distance_ball(conic, mx, my, prec)
-        if lo < 0 or not (lo >= 0):
+        if not (lo >= 0):
             lo = arb(0)
         dlo, dhi = lo.sqrt().lower(), hi.sqrt().upper()
         infl = (rx * rx + ry * ry).sqrt().upper() if (rx != 0 or ry != 0) else arb(0)

@@ -17,7 +17,9 @@ Routes (``method=``):
   4th offset equation), checked against the distance module.  See :func:`_locate_quadruple`.
 * ``"circles"`` -- four circles: the exact locator of §3.1 (:mod:`runtime.circles`).
 * ``"interval"`` -- the branch-and-prune locator of ch. 6 (:mod:`runtime.interval`).
-* ``"auto"`` -- circles when all four are circles, otherwise ``"triple"``.
+* ``"auto"`` -- circles when all four are circles, otherwise ``"triple"`` followed by the
+  certification stage; if the null-space solve refuses (non-generic configurations, vertices
+  far outside the scene), the interval route answers with ``complete=False``.
 
 Every vertex of a numeric route has ``certified=False`` (certification is a separate stage) and
 ``info`` with the refined (x, y, R), relative residual and Jacobian condition number.  A vertex
@@ -110,7 +112,8 @@ def locate_conflicts(c1, c2, c3, c4, method: str = "auto", *, certify: bool = Tr
         raise LocatorError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
     cs = [_check_conic(c, i) for i, c in enumerate((c1, c2, c3, c4), 1)]
     all_circles = all(c.kind == "circle" for c in cs)
-    if method == "auto":
+    auto = method == "auto"
+    if auto:
         method = "circles" if all_circles else "triple"
     if method == "circles":
         if not all_circles:
@@ -124,8 +127,31 @@ def locate_conflicts(c1, c2, c3, c4, method: str = "auto", *, certify: bool = Tr
     if method == "quadruple":
         res = _locate_quadruple(*cs)
     else:
-        res = _locate_triple(*cs, **kw)
+        try:
+            res = _locate_triple(*cs, **kw)
+        except LocatorError as exc:
+            if not auto:
+                raise
+            return _interval_fallback(cs, exc)
     return _certified(res, cs, completeness, kw.get("eigen", "dense")) if certify else res
+
+
+def _interval_fallback(cs, exc: LocatorError) -> LocatorResult:
+    """``auto`` route when the null-space solve refuses (non-generic or far-away vertices):
+    the certified interval locator (ch. 6).  Its vertices carry their own proofs, but its
+    search box is finite, so ``complete`` is reported False: a vertex outside the box would
+    not be seen (the box is named in the notes)."""
+    from .interval.locator import locate_conflicts_interval
+
+    try:
+        res = locate_conflicts_interval(*cs)
+    except (LocatorError, ValueError) as exc2:
+        raise LocatorError(f"{exc}; interval fallback failed too: {exc2}") from None
+    res.notes.insert(0, f"auto: the null-space route refused ({str(exc)[:200]}...); answered by the "
+                        "interval route, whose completeness is relative to its search box: complete=False")
+    res.complete = False
+    res.method = "auto:" + res.method
+    return res
 
 
 _completeness_cache: "OrderedDict[tuple, tuple[bool, str, float]]" = OrderedDict()
