@@ -151,6 +151,9 @@ def main(argv=None) -> int:
     except RuntimeError as exc:  # e.g. ArtefactError
         print(f"error: {exc}", file=sys.stderr)
         return 1
+    except BrokenPipeError:      # output piped into `head` etc.
+        sys.stderr.close()
+        return 0
 
 
 if __name__ == "__main__":
