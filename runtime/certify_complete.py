@@ -43,10 +43,49 @@ __all__ = ["certify_completeness", "completeness_with_vertices", "OffsetSystem",
 @lru_cache(maxsize=256)
 def _offset_terms(co: tuple[Fraction, ...]):
     o = load_offset("generic")
-    a, b, c, d, e, f = co
-    spec = o.specialise(a=a, b=b, c=c, d=d, e=e, f=f)
+    spec = _specialise_int(o, co)
+    if spec is None:
+        a, b, c, d, e, f = co
+        spec = o.specialise(a=a, b=b, c=c, d=d, e=e, f=f)
     m = max(abs(v) for v in spec.values())
-    return tuple((i, j, k, v / m) for (i, j, k), v in spec.items())
+    return tuple((i, j, k, Fraction(v) / m) for (i, j, k), v in spec.items())
+
+
+def _specialise_int(o, co):
+    """``o.specialise`` up to the positive factor q^D, in integer arithmetic (exact, ~10× faster):
+    with co = (p_1, ..., p_6)/q and integer coefficients homogeneous of degree D in (a..f),
+    q^D · o(co) = Σ coef · Π p_i^{e_i}.  None if the artefact is not of that form."""
+    idx = [o.variables.index(p) for p in o.parameters]
+    if len(idx) != 6 or len(o.variables) != 9 or idx != [3, 4, 5, 6, 7, 8]:
+        return None
+    q = 1
+    for c in co:
+        q = _lcm(q, c.denominator)
+    P = [int(c * q) for c in co]
+    degs, out = set(), {}
+    powc = [[1] for _ in range(6)]
+    for exps, coef in o.terms:
+        if getattr(coef, "denominator", 1) != 1:
+            return None
+        degs.add(sum(exps[3:]))
+        val = int(coef)
+        for t in range(6):
+            e = exps[3 + t]
+            if e:
+                pw = powc[t]
+                while len(pw) <= e:
+                    pw.append(pw[-1] * P[t])
+                val *= pw[e]
+        key = (exps[0], exps[1], exps[2])
+        out[key] = out.get(key, 0) + val
+    if len(degs) != 1:
+        return None
+    return {k: v for k, v in out.items() if v != 0}
+
+
+def _lcm(a: int, b: int) -> int:
+    from math import gcd
+    return a // gcd(a, b) * b
 
 
 class OffsetSystem:
@@ -117,10 +156,243 @@ def _inside(k: acb, m: acb, r: arb) -> bool:
     return bool((abs(d.real).abs_upper() < r) and (abs(d.imag).abs_upper() < r))
 
 
-def certify_solutions(c1, c2, c3, solutions, *, prec: int = 64, iters: int = 4):
-    """Krawczyk boxes for every solution: list of (kind, K) with kind 'real' | 'nonreal' | None."""
+# --------------------------------------------------------------------------- fast batched path
+#
+# Rigorous floating-point Krawczyk test for all N solutions at once (numpy, IEEE binary64,
+# round-to-nearest, no directed rounding).  Proof argument (see also the report / tests):
+#
+# *Disc arithmetic.*  A "disc" is a pair (c, ρ) of a float midpoint c (complex128) and a float
+#  radius ρ ≥ 0 standing for {z : |z − c| ≤ ρ}.  With u = 2^-53, every complex float product
+#  satisfies fl(ab) = ab(1 + δ) + η, |δ| ≤ √2·γ₂ < 3u (no FMA) or √5·u (FMA), |η| ≤ 2^-1072
+#  (underflow); so ε_c := 4u and η_c := 2^-1000 are safe.  Hence for a ∈ (â, ρa), b ∈ (b̂, ρb):
+#       |ab − fl(âb̂)| ≤ |â|ρb + ρa|b̂| + ρaρb + ε_c|â||b̂| + η_c.
+#  Radii are computed in round-to-nearest and then passed through _up(t) = fl(t·(1+2^-40)) + 2^-1000,
+#  which dominates the (≤ 16 relative roundings of size u, and underflow) lost while computing t
+#  from non-negative terms.  |z| is bounded above by _absup(z) = fl(fl(|Re z|+|Im z|)·(1+2^-50)) ≥ |z|.
+#  Overflow produces inf/nan, which makes every test below False (fallback to arb).
+# *Polynomials.*  p = Σ_t c_t x^{α_t} with exact rational c_t; c̃_t = float(c_t) (correctly
+#  rounded) and the exact |c_t − c̃_t| rounded up is its radius.  Monomials are disc products of
+#  disc powers.  The sum Σ c̃_t M̂_t is a real dot product (Re, Im separately) whose error, for any
+#  summation order / FMA use, is ≤ γ_T Σ|c̃_t||Re M̂_t| (same for Im), so ≤ √2·γ_T Σ|c̃_t||M̂_t|.
+# *Krawczyk in norm form* (polydisc X = {|x_i − m_i| ≤ r_i}, Y any float matrix): with
+#  g(x) = x − Y F(x), b ≥ |Y F(m)| and Δ ≥ |I − Y M| (entrywise) for every M whose entries lie in
+#  the discs enclosing ∂F_i/∂x_j over X (convex, so they contain the segment averages of the
+#  mean-value theorem for holomorphic F): if b + Δ r < r then g(X) ⊂ X (Brouwer: a fixed point),
+#  ρ(Δ) < 1 (Perron–Frobenius, Δ ≥ 0, r > 0), so I − Y J(x) has spectral radius < 1, Y and J(x) are
+#  nonsingular on X: the fixed point is a zero of F, it is simple, and it is the only one in X
+#  (two zeros would satisfy |x − x'| ≤ Δ|x − x'| ⇒ x = x').  The zero lies in |x − m| ≤ b + Δr.
+#  If m is real, X is conjugation-symmetric and F has real coefficients: the zero is real.
+
+_U = 2.0 ** -53
+_EPS_C = 4 * _U
+_ETA = 2.0 ** -1000
+_UP = 1 + 2.0 ** -40
+
+
+def _up(t):
+    return t * _UP + _ETA
+
+
+def _absup(z):
+    return (np.abs(z.real) + np.abs(z.imag)) * (1 + 2.0 ** -50)
+
+
+def _gamma(n: int) -> float:
+    return n * _U / (1 - n * _U) * (1 + 2.0 ** -40)
+
+
+def _dmul(am, ar, bm, br):
+    """Disc product (midpoint, radius) of discs (am, ar) and (bm, br); arrays broadcast."""
+    cm = am * bm
+    aa, ab = _absup(am), _absup(bm)
+    return cm, _up(aa * br + ar * ab + ar * br + _EPS_C * aa * ab + _ETA)
+
+
+class _FastSystem:
+    """Monomial structure of (o_i, ∂o_i/∂x_j) as float matrices with rigorous conversion radii."""
+
+    def __init__(self, sys: "OffsetSystem"):
+        polys = []  # 12 polynomials: o_1..o_3, then ∂o_i/∂(x, y, R)
+        for T in sys.terms:
+            polys.append({(i, j, k): v for i, j, k, v in T})
+        for T in sys.terms:
+            for var in range(3):
+                d = {}
+                for i, j, k, v in T:
+                    e = [i, j, k]
+                    if e[var]:
+                        c = v * e[var]
+                        e[var] -= 1
+                        d[tuple(e)] = d.get(tuple(e), 0) + c
+                polys.append(d)
+        monos = sorted({e for p in polys for e in p})
+        self.exps = np.array(monos, dtype=np.int64).reshape(-1, 3)
+        self.deg = int(self.exps.max()) if len(monos) else 0
+        idx = {e: n for n, e in enumerate(monos)}
+        C = np.zeros((len(monos), len(polys)))
+        R = np.zeros((len(monos), len(polys)))
+        for q, p in enumerate(polys):
+            for e, v in p.items():
+                f = float(v)
+                err = abs(Fraction(f) - Fraction(v)) if np.isfinite(f) else None
+                if err is None:
+                    raise OverflowError("coefficient out of float range")
+                C[idx[e], q] = f
+                R[idx[e], q] = _up(float(err))  # float(err) is within u of err; _up dominates
+        self.C, self.R, self.absC = C, R, np.abs(C)
+        self.gT = _gamma(len(monos) + 2)
+
+    def eval(self, mid, rad):
+        """Discs of the 12 polynomials at the polydiscs (mid[n], rad[n]) (shape N×3): (N×12, N×12)."""
+        N = mid.shape[0]
+        D = self.deg
+        pm = np.empty((D + 1, N, 3), dtype=complex)
+        pr = np.empty((D + 1, N, 3))
+        pm[0], pr[0] = 1.0, 0.0
+        for p in range(1, D + 1):
+            pm[p], pr[p] = _dmul(pm[p - 1], pr[p - 1], mid, rad)
+        E = self.exps
+        am, ar = pm[E[:, 0], :, 0].T, pr[E[:, 0], :, 0].T          # N × T
+        am, ar = _dmul(am, ar, pm[E[:, 1], :, 1].T, pr[E[:, 1], :, 1].T)
+        am, ar = _dmul(am, ar, pm[E[:, 2], :, 2].T, pr[E[:, 2], :, 2].T)
+        vm = am.real @ self.C + 1j * (am.imag @ self.C)
+        aa = _absup(am)
+        # the three float dot products of non-negative numbers may round down by ≤ γ_T (relative)
+        vr = _up((np.sqrt(2) * 1.0000001 * self.gT * (aa @ self.absC) + ar @ (self.absC + self.R)
+                  + aa @ self.R + 4 * _ETA * E.shape[0]) * (1 + 2 * self.gT))
+        return vm, vr
+
+
+def _mat3_mul_bound(Y, M):
+    """Float product Y·M of batched complex 3×3 matrices and an entrywise bound on |Y|·|M|."""
+    P = Y[:, :, :, None] * M[:, None, :, :]
+    S = P[:, :, 0] + P[:, :, 1] + P[:, :, 2]
+    A = _absup(Y)[:, :, :, None] * _absup(M)[:, None, :, :]
+    return S, A[:, :, 0] + A[:, :, 1] + A[:, :, 2]
+
+
+def _fast_krawczyk(fs: _FastSystem, m, attempts: int = 6):
+    """Batched rigorous Krawczyk (norm form, module comment above) around float points m (N×3).
+
+    Returns (ok, rad, r): ok[n] True iff certified; then the unique zero in {|x − m| ≤ r} is simple
+    and lies within rad of m (componentwise)."""
+    N = m.shape[0]
+    vm, vr = fs.eval(m, np.zeros((N, 3)))
+    Fm, Fr = vm[:, :3], vr[:, :3]
+    J = vm[:, 3:].reshape(N, 3, 3)
+    ok = np.zeros(N, dtype=bool)
+    rad = np.full((N, 3), np.inf)
+    rr = np.full((N, 3), np.inf)
+    with np.errstate(all="ignore"):
+        good = np.isfinite(J).all(axis=(1, 2)) & (np.abs(np.linalg.det(J)) > 0)
+        Y = np.zeros_like(J)
+        if good.any():
+            Y[good] = np.linalg.inv(J[good])
+        aY = _absup(Y)
+        b = _up((aY * (_absup(Fm) + Fr)[:, None, :]).sum(axis=2))            # ≥ |Y F(m)|
+        scale = np.abs(m).max(axis=1) + 1.0
+        r = np.maximum(4 * b, (np.abs(m) + 1.0) * 2.0 ** -40)
+        active = good & np.isfinite(b).all(axis=1)
+        I3 = np.eye(3)
+        for _ in range(attempts):
+            ids = np.nonzero(active & ~ok)[0]
+            if not len(ids):
+                break
+            vmX, vrX = fs.eval(m[ids], r[ids])
+            JX, JXr = vmX[:, 3:].reshape(-1, 3, 3), vrX[:, 3:].reshape(-1, 3, 3)
+            YJ, aYaJ = _mat3_mul_bound(Y[ids], JX)
+            Cm = I3 - YJ
+            Delta = _up(_absup(Cm) * (1 + 4 * _U) + 8 * _U * aYaJ
+                        + (aY[ids][:, :, :, None] * JXr[:, None, :, :]).sum(axis=2))
+            lhs = _up(b[ids] + (Delta * r[ids][:, None, :]).sum(axis=2))
+            win = (lhs < r[ids]).all(axis=1)
+            ok[ids[win]] = True
+            rad[ids[win]] = lhs[win]
+            rr[ids[win]] = r[ids][win]
+            lose = ids[~win]
+            r[lose] = np.maximum(2 * lhs[~win], 2 * r[lose])
+            active[lose] &= np.isfinite(r[lose]).all(axis=1) & (r[lose].max(axis=1) < 1e-3 * scale[lose])
+    return ok, rad, rr
+
+
+def _newton_np(fs: _FastSystem, S, real, iters: int = 4):
+    """Floating-point Newton steps on all points (not part of the proof: it only picks midpoints)."""
+    m = S.copy()
+    m[real] = m[real].real
+    with np.errstate(all="ignore"):
+        for _ in range(iters):
+            vm, _ = fs.eval(m, np.zeros(m.shape))
+            J = vm[:, 3:].reshape(-1, 3, 3)
+            F = vm[:, :3]
+            fin = np.isfinite(J).all(axis=(1, 2)) & np.isfinite(F).all(axis=1)
+            fin &= np.abs(np.linalg.det(np.where(fin[:, None, None], J, np.eye(3)))) > 0
+            if not fin.any():
+                break
+            step = np.zeros_like(m)
+            step[fin] = np.linalg.solve(J[fin], F[fin][:, :, None])[:, :, 0]
+            new = m - step
+            new[real] = new[real].real
+            upd = fin & np.isfinite(new).all(axis=1)
+            m[upd] = new[upd]
+    return m
+
+
+@lru_cache(maxsize=64)
+def _fast_system(cos) -> _FastSystem:
+    return _FastSystem(OffsetSystem(cos))
+
+
+def _nearly_real(S):
+    scale = np.maximum(1.0, np.abs(S).max(axis=1))
+    return np.abs(S.imag).max(axis=1) < 1e-6 * scale
+
+
+def _certify_fast(c1, c2, c3, S):
+    """Batched fast path of :func:`certify_solutions` (proof in the comment above _U)."""
+    S = np.asarray(S, dtype=complex).reshape(-1, 3)
+    out = [(None, None)] * len(S)
+    if not len(S):
+        return out
+    try:
+        fs = _fast_system(tuple(normalised_coefficients(c) for c in (c1, c2, c3)))
+    except (OverflowError, ValueError):
+        return out
+    real = _nearly_real(S)
+    m = _newton_np(fs, S, real)
+    ok, rad, r = _fast_krawczyk(fs, m)
+    with working_prec(64):
+        for n in np.nonzero(ok)[0]:
+            if real[n]:
+                # m[n] is real: the box is conjugation-symmetric, its unique zero is real
+                out[n] = ("real", [arb(float(m[n, i].real), float(r[n, i])) for i in range(3)])
+                continue
+            K = [acb(arb(float(m[n, i].real), float(rad[n, i])), arb(float(m[n, i].imag), float(rad[n, i])))
+                 for i in range(3)]
+            if any(not k.imag.contains(0) for k in K):
+                out[n] = ("nonreal", K)
+    return out
+
+
+def certify_solutions(c1, c2, c3, solutions, *, prec: int = 64, iters: int = 4, method: str = "auto"):
+    """Krawczyk boxes for every solution: list of (kind, K) with kind 'real' | 'nonreal' | None.
+
+    ``method``: ``"arb"`` -- complex-ball (acb) Krawczyk per solution at ``prec`` bits;
+    ``"fast"`` -- the batched rigorous floating-point Krawczyk test (:func:`_certify_fast`) only;
+    ``"auto"`` (default) -- the fast test, then the arb path (at ≥ 128 bits: what binary64 could not
+    certify rarely succeeds at 64 bits) for the solutions it did not certify."""
+    if method not in ("auto", "fast", "arb"):
+        raise ValueError(f"method must be 'auto', 'fast' or 'arb', got {method!r}")
+    S = np.asarray(solutions, dtype=complex).reshape(-1, 3)
+    if method != "arb":
+        out = _certify_fast(c1, c2, c3, S)
+        failed = [k for k, (kind, _) in enumerate(out) if kind is None]
+        if method == "fast" or not failed:
+            return out
+        again = certify_solutions(c1, c2, c3, S[failed], prec=max(prec, 128), iters=iters, method="arb")
+        for k, b in zip(failed, again):
+            out[k] = b
+        return out
     sys = OffsetSystem((c1, c2, c3))
-    S = np.asarray(solutions, dtype=complex)
     out = []
     with working_prec(prec):
         for s in S:
@@ -156,6 +428,38 @@ def _newton_c(sys, m, real: bool, iters: int = 4):
 
 
 def _disjoint(Ks) -> bool:
+    """Are the boxes pairwise disjoint?  A float prefilter (outward-rounded bounds of the six real
+    coordinate intervals, sort-and-sweep on the first) finds the candidate pairs; only those are
+    decided by ball arithmetic (:func:`_ov`), so the answer is the same as the all-pairs test."""
+    n = len(Ks)
+    if n < 2:
+        return True
+    lo = np.empty((n, 6))
+    hi = np.empty((n, 6))
+    for a, K in enumerate(Ks):
+        for i in range(3):
+            z = K[i] if isinstance(K[i], acb) else acb(K[i])
+            for part, t in enumerate((z.real, z.imag)):
+                c, rr = float(t.mid()), float(t.rad())
+                # float() rounds to nearest: widen by 2^-45·(|c| + rr) (≫ the few roundings) + tiny
+                w = rr + (abs(c) + rr) * 2.0 ** -45 + 2.0 ** -1000
+                lo[a, 2 * i + part], hi[a, 2 * i + part] = c - w, c + w
+    if not (np.isfinite(lo).all() and np.isfinite(hi).all()):
+        return _disjoint_all_pairs(Ks)
+    order = np.argsort(lo[:, 0], kind="stable")
+    lo, hi = lo[order], hi[order]
+    for a in range(n):
+        end = int(np.searchsorted(lo[:, 0], hi[a, 0], side="right"))  # later boxes with lo₀ ≤ hi₀(a)
+        cand = np.arange(a + 1, max(end, a + 1))
+        cand = cand[((lo[cand] <= hi[a]) & (lo[a] <= hi[cand])).all(axis=1)]
+        for b in cand:
+            A, B = Ks[order[a]], Ks[order[b]]
+            if all(_ov(A[i], B[i]) for i in range(3)):
+                return False
+    return True
+
+
+def _disjoint_all_pairs(Ks) -> bool:
     n = len(Ks)
     for a in range(n):
         for b in range(a + 1, n):

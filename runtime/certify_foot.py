@@ -258,13 +258,25 @@ def _acb_real_roots(poly: acb_poly, deg: int) -> list[arb]:
 
 def _newton_contract(P: arb_poly, r: arb, steps: int = 80) -> arb:
     """Interval Newton contraction of the isolating interval r of a simple real root of the
-    ball polynomial (every root of every polynomial in the ball stays enclosed)."""
-    dP = P.derivative()
+    ball polynomial (every root of every polynomial in the ball stays enclosed).  P'(r) comes
+    from the Taylor form at the midpoint; while it still contains 0 (wide isolating interval),
+    the interval is bisected on the sign of P (r holds exactly one root, a simple one, so P
+    changes sign across it)."""
     for _ in range(steps):
-        dI = dP(r)
-        if dI.contains(0):
-            break
         m = arb(r.mid())
+        _, dI = _taylor_enclosures(P, m, r)
+        if dI.contains(0):
+            lo, hi = arb(r.lower()), arb(r.upper())
+            if not (hi > m and m > lo):
+                break
+            fl, fm, fh = P(lo), P(m), P(hi)
+            if (fl < 0 and fm > 0) or (fl > 0 and fm < 0):
+                r = lo.union(m)
+            elif (fm < 0 and fh > 0) or (fm > 0 and fh < 0):
+                r = m.union(hi)
+            else:
+                break
+            continue
         nr = m - P(m) / dI
         if not nr.overlaps(r):
             raise FootFailure("interval Newton excluded an isolated root")

@@ -18,13 +18,13 @@ Roots come from ``numpy.roots``; every root with small imaginary part and the cu
 vertices are polished by Newton's method on the derivative of the squared distance in the
 smooth parameter, so points on the axes, at the centre and near the evolute are handled.
 
-Rigorous route (:func:`distance_ball`): the canonical frame is computed as python-flint
-``arb`` balls from the exact coefficients, q is moved to the canonical frame in ball
-arithmetic and the squared distance D(t) along the same parametrisations is minimised by a
-rigorous branch and bound (mean value form D(m) + D'(I)(I − m) intersected with the natural
-extension).  The curve parameter domain is bounded with an upper bound U of d² (any point
-of the curve): |Y − Y0| ≤ √U.  The result encloses d(q, C); for a ball q it encloses
-d(q', C) for every q' in the box (d is 1-Lipschitz).
+Rigorous route (:func:`squared_distance_ball`, :func:`distance_ball`): every real foot point is
+enclosed through the Lagrange polynomial F_q(λ) of :mod:`runtime.certify_foot` (thesis §4.1,
+exact coefficients), d² ≥ the smallest lower bound; d² ≤ |q − p|² for a true curve point p next
+to the float closest point; at degenerate q (symmetry axes, evolute cusps) the enclosure is
+narrowed to the real roots of the exact tangency polynomial (every critical value of the
+squared distance is a root).  The result encloses d(q, C); for a ball q it encloses d(q', C)
+for every q' in the box (d is 1-Lipschitz).
 """
 from __future__ import annotations
 

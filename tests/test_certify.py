@@ -320,3 +320,96 @@ def test_simplest_rational():
     assert simplest_rational(Fraction(1), Fraction(1)) == 1
     x = Fraction(355, 113)
     assert simplest_rational(x - Fraction(1, 10 ** 9), x + Fraction(1, 10 ** 9)) == x
+
+
+# --------------------------------------------------------------------------- fast (float) completeness path
+
+def _solved_triple(name_group="mixed"):
+    from runtime.vertices import generalised_vertices
+    case = next(c for c in CASES if c["group"] == name_group and len(c["vertices"]) == 3)
+    c1, c2, c3, _ = _conics(case)
+    return c1, c2, c3, generalised_vertices(c1, c2, c3)
+
+
+def test_fast_path_agrees_with_arb_path():
+    """Every box of the rigorous float Krawczyk test has the same kind as the acb path's box and the
+    two enclosures intersect (both contain the unique solution); most solutions are fast-certified."""
+    from runtime.certify_complete import certify_solutions
+    c1, c2, c3, sol = _solved_triple()
+    S = np.asarray(sol.points)
+    fast = certify_solutions(c1, c2, c3, S, method="fast")
+    n_fast = sum(k is not None for k, _ in fast)
+    assert n_fast >= 0.8 * len(S)
+    idx = [k for k, (kind, _) in enumerate(fast) if kind is not None][::7]
+    arbb = certify_solutions(c1, c2, c3, S[idx], method="arb", prec=128, iters=8)
+    for k, (kind_a, Ka) in zip(idx, arbb):
+        kind_f, Kf = fast[k]
+        assert kind_a == kind_f
+        assert all(a.overlaps(f) for a, f in zip(Ka, Kf))
+        if kind_f == "real":  # the real solution is within the float box, compared with mpmath-free arb
+            assert all(abs(float(a.mid()) - float(f.mid())) <= float(f.rad()) + float(a.rad()) for a, f in zip(Ka, Kf))
+    # "auto" certifies everything (fast path + arb fallback) and the completeness proof succeeds
+    auto = certify_solutions(c1, c2, c3, S)
+    assert all(kind is not None for kind, _ in auto)
+    assert _completeness(c1, c2, c3, S, sol.info.expected)[0]
+
+
+def test_fast_path_rejects_bad_solution_lists():
+    c1, c2, c3, sol = _solved_triple()
+    S = np.asarray(sol.points).copy()
+    N = sol.info.expected
+    assert _completeness(c1, c2, c3, S, N)[0]
+    # duplicated solution (replacing another): count right, but two boxes coincide -> not complete
+    D = S.copy()
+    D[1] = D[0]
+    ok, note, _ = _completeness(c1, c2, c3, D, N)
+    assert not ok and "overlap" in note
+    # missing solution (N - 1 given) -> not complete
+    assert not _completeness(c1, c2, c3, S[1:], N)[0]
+    # a perturbed "solution" far from any solution cannot be certified -> not complete
+    P = S.copy()
+    P[0] = P[0] + np.array([0.37 + 0.11j, -0.23 + 0.05j, 1.7 - 0.3j]) * (1 + np.abs(P[0]))
+    ok, note, _ = _completeness(c1, c2, c3, P, N)
+    assert not ok
+    # a slightly perturbed solution converges back onto its solution: still a valid (complete) list
+    Q = S.copy()
+    Q[0] = Q[0] * (1 + 1e-9)
+    assert _completeness(c1, c2, c3, Q, N)[0]
+
+
+def test_fast_path_point_not_near_a_solution_is_not_certified():
+    """The float Krawczyk test never certifies a point with a large residual (random points)."""
+    from runtime.certify_complete import _certify_fast
+    c1, c2, c3, _ = _solved_triple()
+    rng = np.random.default_rng(7)
+    P = rng.normal(size=(50, 3)) + 1j * rng.normal(size=(50, 3))
+    P[:, 2] *= 10
+    out = _certify_fast(c1, c2, c3, P)
+    assert all(kind is None for kind, _ in out)
+
+
+def test_disjoint_sweep_matches_all_pairs():
+    from flint import acb, arb
+    from runtime.certify_complete import _disjoint, _disjoint_all_pairs
+    rng = np.random.default_rng(3)
+    for trial in range(30):
+        n = 25
+        c = rng.integers(0, 4, size=(n, 3)) + 1j * rng.integers(0, 4, size=(n, 3)) * (trial % 2)
+        r = rng.uniform(0.05, 0.6, size=(n, 3))
+        Ks = [[acb(arb(float(c[a, i].real), float(r[a, i])), arb(float(c[a, i].imag), float(r[a, i])))
+               if trial % 3 else arb(float(c[a, i].real), float(r[a, i])) for i in range(3)] for a in range(n)]
+        assert _disjoint(Ks) == _disjoint_all_pairs(Ks)
+
+
+def test_integer_specialisation_equals_artefact_specialise():
+    """_offset_terms' integer-arithmetic specialisation equals OffsetPolynomial.specialise (scaled)."""
+    from runtime.artefacts import load_offset
+    from runtime.certify_complete import _offset_terms
+    from runtime.certify_foot import normalised_coefficients
+    o = load_offset("generic")
+    rnd = random.Random(5)
+    for _ in range(3):
+        co = normalised_coefficients([Fraction(rnd.randint(-40, 40), rnd.randint(1, 30)) for _ in range(6)])
+        spec = o.specialise(**dict(zip("abcdef", co)))
+        m = max(abs(v) for v in spec.values())
+        assert sorted(_offset_terms.__wrapped__(co)) == sorted((i, j, k, v / m) for (i, j, k), v in spec.items())
