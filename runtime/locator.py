@@ -38,6 +38,9 @@ from .result import LocatorError, LocatorResult, VoronoiVertex
 
 METHODS = ("auto", "triple", "quadruple", "circles", "interval")
 
+#: box budget of the interval route when it stands in for a refused null-space solve
+FALLBACK_MAX_BOXES = 20000
+
 #: |margin| below which the numeric route does not decide the conflict (in_conflict = None)
 MARGIN_TOL = 1e-9
 
@@ -97,7 +100,7 @@ def _decide(v: VoronoiVertex, d4: float, notes: list) -> VoronoiVertex:
 
 
 def locate_conflicts(c1, c2, c3, c4, method: str = "auto", *, certify: bool = True,
-                     completeness: bool = True, **kw) -> LocatorResult:
+                     completeness: bool = True, fallback: bool = True, **kw) -> LocatorResult:
     """Conflict locator for four conics (see the module docstring for the routes).
 
     With ``certify=True`` (default) the numeric routes are followed by the certification stage
@@ -130,7 +133,7 @@ def locate_conflicts(c1, c2, c3, c4, method: str = "auto", *, certify: bool = Tr
         try:
             res = _locate_triple(*cs, **kw)
         except LocatorError as exc:
-            if not auto:
+            if not (auto and fallback):
                 raise
             return _interval_fallback(cs, exc)
     return _certified(res, cs, completeness, kw.get("eigen", "dense")) if certify else res
@@ -144,9 +147,12 @@ def _interval_fallback(cs, exc: LocatorError) -> LocatorResult:
     from .interval.locator import locate_conflicts_interval
 
     try:
-        res = locate_conflicts_interval(*cs)
+        res = locate_conflicts_interval(*cs, max_boxes=FALLBACK_MAX_BOXES)
     except (LocatorError, ValueError) as exc2:
         raise LocatorError(f"{exc}; interval fallback failed too: {exc2}") from None
+    if not res.complete:
+        raise LocatorError(f"{exc}; the interval fallback did not finish its search box within "
+                           f"{FALLBACK_MAX_BOXES} boxes (use method='interval' with a larger max_boxes)")
     res.notes.insert(0, f"auto: the null-space route refused ({str(exc)[:200]}...); answered by the "
                         "interval route, whose completeness is relative to its search box: complete=False")
     res.complete = False

@@ -25,8 +25,17 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from runtime.conic import Conic
-from runtime.locator import clear_cache, demo_configuration, locate_conflicts, voronoi_vertices
+from runtime.locator import clear_cache, demo_configuration, voronoi_vertices
+from runtime.locator import locate_conflicts as _locate_conflicts
 from runtime.result import InvalidConicError, LocatorError
+
+
+def locate_conflicts(*args, **kw):
+    """The numeric routes as such (no certification stage, no interval fallback): the
+    certified default route is tested in tests/test_locator_certified.py."""
+    kw.setdefault("certify", False)
+    kw.setdefault("fallback", False)
+    return _locate_conflicts(*args, **kw)
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from reference import reference_locate  # noqa: E402

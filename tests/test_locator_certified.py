@@ -88,3 +88,27 @@ def test_most_validation_answers_are_certified_and_complete():
             continue
         proven += res.certified
     assert proven >= 20
+
+
+def test_non_generic_configuration_falls_back_to_interval_route():
+    """Three conics sharing an axis of symmetry: the null-space solve sees fewer finite solutions
+    than the generic count and refuses; ``auto`` answers with the interval route, whose vertices are
+    proven but whose completeness is only relative to its search box (complete=False)."""
+    from pathlib import Path
+
+    doc = json.loads((Path(__file__).resolve().parents[1] / "examples" / "symmetric_mixed.json").read_text())
+    cs = [Conic.from_coefficients(*(Fraction(str(c)) for c in k["coefficients"])) for k in doc["conics"]]
+    with pytest.raises(LocatorError):
+        locate_conflicts(*cs, fallback=False)
+    res = locate_conflicts(*cs)
+    assert res.method.startswith("auto:interval")
+    assert res.complete is False and res.certified is False
+    assert len(res.vertices) == 2 and all(v.certified for v in res.vertices)
+    # the configuration is symmetric about y = 0: so are its vertices
+    a, b = sorted(res.vertices, key=lambda v: v.y)
+    assert abs(a.x - b.x) < 1e-9 and abs(a.y + b.y) < 1e-9 and abs(a.radius - b.radius) < 1e-9
+    # independent check: each vertex is equidistant from C1, C2, C3
+    from runtime.distance import distance
+    for v in res.vertices:
+        for c in cs[:3]:
+            assert abs(distance(c, v.x, v.y) - v.radius) < 1e-9 * max(1.0, v.radius)
