@@ -13,7 +13,6 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from fractions import Fraction
 
 EXIT_BAD_INPUT = 2
 
@@ -42,40 +41,15 @@ def _offsets_table(args) -> int:
     return 0
 
 
-def _number(x):
-    if isinstance(x, bool) or not isinstance(x, (int, float, str)):
-        raise ValueError(f"coefficient {x!r} is not a number or a rational string")
-    if isinstance(x, str):
-        try:
-            return Fraction(x.strip())
-        except (ValueError, ZeroDivisionError):
-            raise ValueError(f"coefficient {x!r} is not a rational number") from None
-    return x
-
-
 def read_conics_file(path: str, expected: int | None = 4):
     """Parse ``{"conics": [{"coefficients": [a,b,c,d,e,f]}, ...]}`` into Conic objects."""
     from .conic import Conic
+    from .sites_io import read_coefficient_lists
 
-    try:
-        with open(path) as fh:
-            doc = json.load(fh)
-    except OSError as exc:
-        raise ValueError(f"cannot read {path}: {exc.strerror}") from None
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"{path} is not valid JSON: {exc}") from None
-    if not isinstance(doc, dict) or not isinstance(doc.get("conics"), list):
-        raise ValueError(f'{path}: expected an object {{"conics": [...]}}')
-    conics = doc["conics"]
-    if expected is not None and len(conics) != expected:
-        raise ValueError(f"{path}: expected {expected} conics, got {len(conics)}")
     out = []
-    for i, item in enumerate(conics, 1):
-        coeffs = item.get("coefficients") if isinstance(item, dict) else None
-        if not isinstance(coeffs, list) or len(coeffs) != 6:
-            raise ValueError(f"{path}: conic {i} needs \"coefficients\": [a, b, c, d, e, f]")
+    for i, coeffs in enumerate(read_coefficient_lists(path, expected), 1):
         try:
-            out.append(Conic.from_coefficients(*(_number(c) for c in coeffs)))
+            out.append(Conic.from_coefficients(*coeffs))
         except ValueError as exc:
             raise ValueError(f"conic {i}: {exc}") from None
     return out

@@ -787,29 +787,14 @@ def _progress(k: int, n: int, width: int = 30) -> None:
 
 def read_sites(path: str) -> list[Site]:
     """Sites from ``{"conics": [{"coefficients": [a, b, c, d, e, f]}, ...]}`` (any number)."""
-    try:
-        with open(path) as fh:
-            doc = json.load(fh)
-    except OSError as exc:
-        raise ValueError(f"cannot read {path}: {exc.strerror}") from None
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"{path} is not valid JSON: {exc}") from None
-    if not isinstance(doc, dict) or not isinstance(doc.get("conics"), list):
-        raise ValueError(f'{path}: expected an object {{"conics": [...]}}')
+    from .sites_io import read_coefficient_lists
+
     out = []
-    for i, item in enumerate(doc["conics"]):
-        co = item.get("coefficients") if isinstance(item, dict) else None
-        if not isinstance(co, list) or len(co) != 6:
-            raise ValueError(f'{path}: conic {i} needs "coefficients": [a, b, c, d, e, f]')
-        for v in co:
-            if isinstance(v, bool) or not isinstance(v, (int, float, str)):
-                raise ValueError(f"{path}: conic {i}: coefficient {v!r} is not a number or a rational string")
+    for i, co in enumerate(read_coefficient_lists(path)):
         try:
             out.append(as_site(co))
         except (ValueError, ZeroDivisionError) as exc:
             raise ValueError(f"conic {i}: {exc}") from None
-    if len(out) < 1:
-        raise ValueError(f"{path}: no conics")
     return out
 
 
