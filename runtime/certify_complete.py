@@ -496,12 +496,158 @@ def _completeness(c1, c2, c3, solutions, expected_count):
         for k, b in zip(failed, again):
             boxes[k] = b
     failed = [k for k, (kind, _) in enumerate(boxes) if kind is None]
+    diag = []
+    for k in failed[:_MAX_DIAGNOSED]:
+        box, text = _retry_or_diagnose(c1, c2, c3, S[k])
+        if box is not None:
+            boxes[k] = box
+        else:
+            diag.append(f"solution {k}: {text}")
+    failed = [k for k, (kind, _) in enumerate(boxes) if kind is None]
     if failed:
-        return False, f"{len(failed)} of {len(S)} solutions not certified by Krawczyk", []
+        note = f"{len(failed)} of {len(S)} solutions not certified by Krawczyk"
+        if diag:
+            note += " (" + "; ".join(diag) + ")"
+        return False, note, []
     if not _disjoint([K for _, K in boxes]):
         return False, "two solution enclosures overlap (distinctness not proven)", []
     reals = [K for kind, K in boxes if kind == "real"]
     return True, f"{len(S)} distinct simple solutions ({len(reals)} real) = generic count", reals
+
+
+#: at most this many uncertified solutions get the high-precision retry / diagnosis
+_MAX_DIAGNOSED = 4
+#: precisions (bits) of the polished retry
+_RETRY_PRECS = (512, 1024)
+
+
+def _retry_or_diagnose(c1, c2, c3, s):
+    """Last attempt on a solution the 64/128/256-bit tests did not certify, else a diagnosis.
+
+    Newton is run at 512 bits from ``s``.  If it converges (quadratically, to a point within
+    10^-6 relative of ``s``), the polished centre is tested by the complex Krawczyk test at 512 and
+    1024 bits -- the same proof as :func:`certify_solutions`, only with a better midpoint: returns
+    (box, "").  Otherwise returns (None, text), text naming the reason.  *Not a proof*: the
+    diagnosis is numerical.  If Newton does not converge and ``s`` is large, Newton is also run in
+    the weighted chart at infinity, x = 1/w, y = v/w, R = q/w² (or x ↔ y), with the offsets
+    multiplied by w^{deg_w} (weights 1, 1, 2, thesis §4.4); convergence to w → 0 says that ``s``
+    approximates a point at infinity of the offset system -- for a parabola, its offset surface has
+    one in the direction normal to the axis -- and not a finite solution; then the solution list
+    contains fewer than the generic number of finite solutions and completeness by simple-root
+    counting does not apply (either the configuration is non-generic, or a far finite solution
+    was missed by the numeric stage: the two cannot be told apart here)."""
+    sys = OffsetSystem((c1, c2, c3))
+    s = np.asarray(s, dtype=complex)
+    scale = max(1.0, float(np.max(np.abs(s))))
+    nearly_real = float(np.max(np.abs(s.imag))) < 1e-6 * scale
+    with working_prec(_RETRY_PRECS[0]):
+        m0 = [acb(float(t.real), 0.0 if nearly_real else float(t.imag)) for t in s]
+        cond = _cond(sys, m0)
+        m, conv = _newton_track(sys, m0, nearly_real, iters=30)
+        moved = max(abs(complex(m[i].mid()) - s[i]) for i in range(3)) / scale if conv else np.inf
+    if conv and moved < 1e-6:
+        for prec in _RETRY_PRECS:
+            with working_prec(prec):
+                mp = [acb(t) for t in m]
+                mp, _ = _newton_track(sys, mp, nearly_real, iters=3)
+                res = _krawczyk_c(sys, mp, symmetric=nearly_real)
+                if res is None:
+                    continue
+                K, _ = res
+                if nearly_real:
+                    return ("real", [k.real for k in K]), ""
+                if any(not k.imag.contains(0) for k in K):
+                    return ("nonreal", K), ""
+        return None, (f"(x, y, R) ≈ ({_fmt(s[0])}, {_fmt(s[1])}, {_fmt(s[2])}), Jacobian condition ≈ "
+                      f"{cond:.1e}; Newton converges (512 bits) but Krawczyk fails up to "
+                      f"{_RETRY_PRECS[-1]} bits: a numerically multiple (singular) solution, for which "
+                      "completeness by simple-root counting does not apply")
+    text = (f"(x, y, R) ≈ ({_fmt(s[0])}, {_fmt(s[1])}, {_fmt(s[2])}), Jacobian condition ≈ {cond:.1e}; "
+            "Newton from it (512 bits) does not converge to it")
+    if conv and np.isfinite(moved):
+        text += " (it converges to a point at relative distance %.1e)" % moved
+    if scale > 1e3:
+        at_inf = _newton_at_infinity(sys, s)
+        if at_inf is not None:
+            ratio_name, ratio, w0, w1 = at_inf
+            text += (f"; in the weighted chart at infinity Newton converges linearly to 1/{ratio_name[-1]} = 0 "
+                     f"(|w|: {w0:.1e} → {w1:.1e}), direction {ratio_name} ≈ {ratio:.6g}: numerically a "
+                     "singular point at infinity, not a finite solution, so fewer than the generic number "
+                     "of finite solutions are listed and completeness by simple-root counting does not "
+                     "apply (non-generic input, or a far finite solution missed by the numeric stage)")
+    return None, text
+
+
+def _fmt(z: complex) -> str:
+    return f"{z.real:.6g}" if abs(z.imag) <= 1e-12 * max(1.0, abs(z)) else f"{z.real:.6g}{z.imag:+.3g}i"
+
+
+def _cond(sys, m) -> float:
+    _, J = sys.eval(m)
+    A = np.array([[complex(J[i][j].mid()) for j in range(3)] for i in range(3)])
+    with np.errstate(all="ignore"):
+        c = float(np.linalg.cond(A))
+    return c if np.isfinite(c) else float("inf")
+
+
+def _newton_track(sys, m, real: bool, iters: int):
+    """Newton steps at the working precision; (point, converged) -- converged: the last step is
+    below 2^-(prec/2) relative to the point (quadratic convergence reached)."""
+    tol = arb(2) ** (-flint.ctx.prec // 2)
+    for _ in range(iters):
+        vals, J = sys.eval(m)
+        try:
+            step = acb_mat(J).mid().solve(acb_mat([[v.mid()] for v in vals]))
+        except ZeroDivisionError:
+            return m, False
+        m = [(m[i] - step[i, 0]).mid() for i in range(3)]
+        if real:
+            m = [acb(t.real.mid(), 0) for t in m]
+        size = max(abs(t).mid() for t in m) + 1
+        if all(abs(step[i, 0]).mid() < tol * size for i in range(3)):
+            return m, True
+    return m, False
+
+
+def _newton_at_infinity(sys, s, iters: int = 60, prec: int = 256):
+    """Newton in the weighted chart at infinity (see :func:`_retry_or_diagnose`); returns
+    (name, ratio, |w| start, |w| end) if |w| decreases by ≥ 10^6, else None.  Numerical only."""
+    big = 0 if abs(s[0]) >= abs(s[1]) else 1
+    with working_prec(prec):
+        polys = []
+        for T in sys.terms:
+            D = max(i + j + 2 * k for i, j, k, _ in T)
+            polys.append([(D - i - j - 2 * k, (j if big == 0 else i), k, to_arb(c)) for i, j, k, c in T])
+        w = acb(complex(1 / s[big]))
+        v = acb(complex(s[1 - big] / s[big]))
+        q = acb(complex(s[2] / s[big] ** 2))
+        z = [w, v, q]
+        w0 = abs(complex(s[big])) ** -1
+        try:
+            for _ in range(iters):
+                F, J = [], []
+                for P in polys:
+                    f, g0, g1, g2 = acb(0), acb(0), acb(0), acb(0)
+                    for a, b, c, co in P:
+                        f += co * z[0] ** a * z[1] ** b * z[2] ** c
+                        if a:
+                            g0 += co * a * z[0] ** (a - 1) * z[1] ** b * z[2] ** c
+                        if b:
+                            g1 += co * b * z[0] ** a * z[1] ** (b - 1) * z[2] ** c
+                        if c:
+                            g2 += co * c * z[0] ** a * z[1] ** b * z[2] ** (c - 1)
+                    F.append(f)
+                    J.append([g0, g1, g2])
+                st = acb_mat(J).mid().solve(acb_mat([[f.mid()] for f in F]))
+                z = [(z[i] - st[i, 0]).mid() for i in range(3)]
+        except ZeroDivisionError:
+            pass
+        w1 = abs(complex(z[0].mid()))
+        ratio = complex(z[1].mid())
+    if not (np.isfinite(w1) and w1 < 1e-6 * w0):
+        return None
+    name = "y/x" if big == 0 else "x/y"
+    return name, (ratio.real if abs(ratio.imag) < 1e-9 else ratio), w0, w1
 
 
 def _not_a_vertex(fps, K) -> bool:
