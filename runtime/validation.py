@@ -65,6 +65,17 @@ def default_cases_path(start: str | os.PathLike | None = None) -> Path | None:
     return cand if cand.is_file() else None
 
 
+def required_cases_path() -> Path:
+    """:func:`default_cases_path`, or FileNotFoundError naming where the file was looked for
+    (tests use this so that a missing validation file fails loudly instead of running no case)."""
+    path = default_cases_path()
+    if path is None:
+        root = Path(__file__).resolve().parent.parent
+        raise FileNotFoundError(f"validation_cases.json not found: set ${_ENV} or put shared/ beside "
+                                f"the repository ({root.parent / 'shared' / 'data'})")
+    return path
+
+
 def load_cases(path: str | os.PathLike) -> list[ValidationCase]:
     """Load every case of a validation file; conics are validated with Conic.from_coefficients."""
     with open(path, encoding="utf-8") as fh:

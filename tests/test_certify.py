@@ -17,6 +17,7 @@ import mpmath
 import numpy as np
 import pytest
 
+from runtime.validation import required_cases_path as _validation_path
 from runtime.certify import certify_completeness, certify_result, certify_vertex, simplest_rational
 from runtime.certify_complete import _completeness
 from runtime.conic import Conic
@@ -24,8 +25,8 @@ from runtime.result import LocatorResult, VoronoiVertex
 
 from reference import RefConic, ref_distance  # noqa: E402  (tests/ on sys.path via pytest rootdir)
 
-DATA = Path("/work/shared/data/validation_cases.json")
-CASES = json.loads(DATA.read_text())["cases"] if DATA.exists() else []
+DATA = _validation_path()
+CASES = json.loads(DATA.read_text())["cases"]
 
 
 def _conics(case):

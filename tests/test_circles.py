@@ -19,6 +19,7 @@ from flint import arb, ctx, fmpq
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from runtime.validation import required_cases_path as _validation_path
 from runtime.apollonius import aw_vertices, locate_conflicts_aw, multiplication_matrix_aw, solve_system
 from runtime.circles import (
     Circle, locate_conflicts_circles, locate_conflicts_circles_batch, parse_rational,
@@ -28,7 +29,7 @@ from runtime.circles_filter import filter_circles
 from runtime.quadtower import QuadTower
 from runtime.result import InvalidConicError, LocatorError
 
-VALIDATION = Path("/work/shared/data/validation_cases.json")
+VALIDATION = _validation_path()
 
 
 # ======================================================================================

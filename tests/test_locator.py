@@ -24,6 +24,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
+from runtime.validation import required_cases_path as _validation_path
 from runtime.conic import Conic
 from runtime.locator import clear_cache, demo_configuration, voronoi_vertices
 from runtime.locator import locate_conflicts as _locate_conflicts
@@ -40,9 +41,7 @@ def locate_conflicts(*args, **kw):
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from reference import reference_locate  # noqa: E402
 
-DATA = Path("/work/shared/data/validation_cases.json")
-if not DATA.exists():  # pragma: no cover
-    DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "validation_cases.json"
+DATA = _validation_path()
 CASES = json.loads(DATA.read_text())["cases"]
 
 

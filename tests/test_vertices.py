@@ -19,15 +19,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from runtime.validation import required_cases_path as _validation_path
 from runtime.conic import Conic
 from runtime.polyalg import CanonicalOffset, WorkingFrame, compose_offset, eval_dict, working_frame
 from runtime.result import LocatorError
 from runtime.vertices import (CONFIG_TABLE, generalised_vertices, monomials, macaulay_matrix,
                               voronoi_vertices_triple)
 
-DATA = Path("/work/shared/data/validation_cases.json")
-if not DATA.exists():  # pragma: no cover - layout with shared/ beside the clone
-    DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "validation_cases.json"
+DATA = _validation_path()
 CASES = json.loads(DATA.read_text())["cases"]
 
 
