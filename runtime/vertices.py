@@ -143,6 +143,7 @@ class SolveInfo:
     expected: int | None = None
     failed_attempts: list = field(default_factory=list)
     timings: dict[str, float] = field(default_factory=dict)
+    homotopy: dict | None = None
 
 
 def _nullspace(M, degs, d, top):
@@ -382,7 +383,8 @@ RESIDUAL_TOL = 1e-11
 
 
 def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = "dense",
-                         max_extra_degree: int = 2) -> TripleSolution:
+                         max_extra_degree: int = 2, homotopy: bool = True,
+                         solver: str = "auto") -> TripleSolution:
     """All finite solutions (x, y, R) of o1 = o2 = o3 = 0 (thesis §5.3), Newton-refined.
 
     The working frame has the axes of a conic of largest offset degree (thesis §5.3: C1 in
@@ -400,8 +402,12 @@ def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = 
     d0, expected, hint = config_entry(fams)
     if degree is not None:
         d0 = degree
+    if solver not in ("auto", "nullspace", "homotopy"):
+        raise ValueError(f"solver={solver!r}: choose 'auto', 'nullspace' or 'homotopy'")
     attempts = [(sc, d, top) for sc in SCALES for d in range(d0, d0 + max_extra_degree + 1)
-                for top in (TOP_DEGREES, 0)]
+                for top in (TOP_DEGREES, 0)] if solver != "homotopy" else []
+    if solver == "nullspace":
+        homotopy = False
     errors = []
     total: dict[str, float] = {"fill": t_compose}
     wf0 = wf
@@ -434,12 +440,53 @@ def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = 
             continue
         break
     else:
-        raise LocatorError(f"no reliable solution of the offset system for {fams}: " + "; ".join(errors))
+        if not homotopy or expected is None:
+            raise LocatorError(f"no reliable solution of the offset system for {fams}: " + "; ".join(errors))
+        pts, res, cond, info = _homotopy_fallback(offs, wf0, expected, errors, total)
+        n_deflated = 0
     info.expected = expected
     info.timings = total
     info.n_deflated = n_deflated
     info.failed_attempts = errors
     return TripleSolution(pts, res, cond, info, wf, first)
+
+
+def _homotopy_fallback(offs, wf, expected, errors, total):
+    """Second route when the null-space solve refuses: parameter homotopy (runtime.homotopy).
+    Endpoints that do not refine or coincide are dropped, so fewer than ``expected`` solutions
+    may come back; completeness is then not claimed downstream (certify_complete)."""
+    from .homotopy import homotopy_solve
+
+    t0 = time.perf_counter()
+    pts_w, hinfo = homotopy_solve(offs, wf)
+    t1 = time.perf_counter()
+    pts, res, cond = newton_refine(offs, pts_w, scale=wf.L)
+    keep = np.isfinite(res) & (res < RESIDUAL_TOL)
+    pts, res, cond = pts[keep], res[keep], cond[keep]
+    # coincident endpoints (relative to the frame scale or to the point, whichever is larger)
+    D = np.array([wf.L, wf.L, wf.L * wf.L])
+    Sc = np.maximum(D[None, :], np.abs(pts))
+    uniq = np.ones(len(pts), dtype=bool)
+    for i in range(1, len(pts)):
+        d = np.max(np.abs(pts[:i] - pts[i]) / np.maximum(Sc[:i], Sc[i]), axis=1)
+        if np.any(d[uniq[:i]] < 1e-8):
+            uniq[i] = False
+    pts, res, cond = pts[uniq], res[uniq], cond[uniq]
+    total["homotopy_start"] = hinfo.timings.get("start_system", 0.0)
+    total["homotopy_track"] = hinfo.timings.get("track", 0.0)
+    total["refine"] = total.get("refine", 0.0) + time.perf_counter() - t1
+    del t0
+    info = SolveInfo(0, len(pts), -1, {}, math.nan, (0, 0), "homotopy", timings=total)
+    info.failed_attempts = list(errors)
+    info.homotopy = {"paths": hinfo.n_paths, "finite_endpoints": hinfo.n_finite,
+                     "at_infinity": hinfo.n_infinite, "stalled": hinfo.n_failed,
+                     "dropped_unrefined": int((~keep).sum()), "dropped_duplicates": int((~uniq).sum()),
+                     **hinfo.stats}
+    if len(pts) < expected:
+        errors.append(f"homotopy: {len(pts)} finite solutions of the generic {expected} "
+                      f"({hinfo.n_infinite} endpoints at infinity, {hinfo.n_failed} stalled paths): "
+                      "non-generic configuration or lost paths; completeness cannot be claimed")
+    return pts, res, cond, info
 
 
 def _distinct_mask(pts, D, tol=1e-8):
