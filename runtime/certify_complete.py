@@ -669,6 +669,36 @@ def _not_a_vertex(fps, K) -> bool:
     return False
 
 
+def _same_by_krawczyk(sys: "OffsetSystem", K, B, prec: int = 128) -> bool:
+    """Proof that the solution enclosed by the (real) ball vector K and the vertex enclosed by B
+    are the same point: a Krawczyk test succeeds on a box X containing both (the offset system has
+    a unique solution in X; the vertex solves the offset system)."""
+    with working_prec(prec):
+        m = [acb(K[i].mid()) for i in range(3)]
+        r = []
+        for i in range(3):
+            d = abs(K[i].mid() - B[i].mid()) + K[i].rad() + B[i].rad()
+            r.append(arb(2 * d.upper() + 2 * (abs(m[i]).abs_upper() + 1) * arb(2) ** (-prec // 2)))
+        vals, Jm = sys.eval(m)
+        try:
+            Y = acb_mat(Jm).mid().inv().mid()
+        except ZeroDivisionError:
+            return False
+        YF = Y * acb_mat([[v] for v in vals])
+        dX = [acb(arb(0, ri), arb(0, ri)) for ri in r]
+        X = [m[i] + dX[i] for i in range(3)]
+        _, JX = sys.eval(X)
+        I3 = acb_mat(3, 3)
+        for i in range(3):
+            I3[i, i] = acb(1)
+        CdX = (I3 - Y * acb_mat(JX)) * acb_mat([[d] for d in dX])
+        Kr = [m[i] - YF[i, 0] + CdX[i, 0] for i in range(3)]
+        if not all(_inside(Kr[i], m[i], r[i]) for i in range(3)):
+            return False
+        # X ⊇ K and X ⊇ B by construction (radius ≥ 2·(distance of centres + radii))
+        return True
+
+
 def completeness_with_vertices(c1, c2, c3, solutions, expected_count, certs, *, max_prec: int = 256):
     """Completeness of the certified vertex list ``certs`` (CertifiedVertex objects)."""
     ok, note, reals = _completeness(c1, c2, c3, solutions, expected_count)
@@ -685,6 +715,11 @@ def completeness_with_vertices(c1, c2, c3, solutions, expected_count, certs, *, 
                 continue
             if hit:
                 return False, "a real solution matches several vertices"
+            near = [k for k, cv in enumerate(certs) if cv.proven and cv.box is not None
+                    and all(_ov(K[i], cv.box[i]) for i in range(3))]
+            if len(near) == 1 and _same_by_krawczyk(OffsetSystem((c1, c2, c3)), K, certs[near[0]].box):
+                matched.add(near[0])
+                continue
             if not _not_a_vertex(fps, K):
                 return False, (f"real solution ({float(K[0].mid()):.6g}, {float(K[1].mid()):.6g}) neither "
                                "matches a certified vertex nor is proved not to be a true vertex")
