@@ -7,7 +7,9 @@ of the type configuration (e.g. 184 for three ellipses, DESIGN §5).  Completene
 1. every solution s_k is enclosed in a box X_k by a **complex Krawczyk** test on the exact
    offsets o_i (the verified generic offset of :mod:`runtime.artefacts`, App. B.1–B.2,
    specialised at the conic's exact rational coefficients): X_k holds exactly one solution,
-   which is simple (nonsingular Jacobian);
+   which is simple (nonsingular Jacobian).  A far solution, terribly conditioned in (x, y, R),
+   is instead certified in a chart of P³ of circles [A : x̂ : ŷ : T̂] (:mod:`runtime.certify_chart`)
+   and enclosed in (x, y, R) by ball arithmetic;
 2. the enclosures are pairwise disjoint, so the N solutions are distinct;
 3. a candidate with tiny imaginary part is tested on a *conjugation-symmetric* box: as the
    o_i have real coefficients, the unique solution in it is real.  Otherwise some coordinate of
@@ -496,6 +498,17 @@ def _completeness(c1, c2, c3, solutions, expected_count):
         for k, b in zip(failed, again):
             boxes[k] = b
     failed = [k for k, (kind, _) in enumerate(boxes) if kind is None]
+    n_chart = 0
+    if failed and len(failed) <= _MAX_CHART:
+        # far (ill-conditioned in (x, y, R)) solutions: Krawczyk in a circle-space chart of P³,
+        # world enclosure by ball arithmetic (proof in runtime.certify_chart)
+        from .certify_chart import certify_in_chart
+        for k in failed:
+            box = certify_in_chart((c1, c2, c3), S[k])
+            if box is not None:
+                boxes[k] = box
+                n_chart += 1
+        failed = [k for k, (kind, _) in enumerate(boxes) if kind is None]
     diag = []
     for k in failed[:_MAX_DIAGNOSED]:
         box, text = _retry_or_diagnose(c1, c2, c3, S[k])
@@ -512,11 +525,16 @@ def _completeness(c1, c2, c3, solutions, expected_count):
     if not _disjoint([K for _, K in boxes]):
         return False, "two solution enclosures overlap (distinctness not proven)", []
     reals = [K for kind, K in boxes if kind == "real"]
-    return True, f"{len(S)} distinct simple solutions ({len(reals)} real) = generic count", reals
+    note = f"{len(S)} distinct simple solutions ({len(reals)} real) = generic count"
+    if n_chart:
+        note += f" ({n_chart} far solution(s) certified in a circle-space chart)"
+    return True, note, reals
 
 
 #: at most this many uncertified solutions get the high-precision retry / diagnosis
 _MAX_DIAGNOSED = 4
+#: the circle-space chart test is tried when at most this many solutions are uncertified
+_MAX_CHART = 16
 #: precisions (bits) of the polished retry
 _RETRY_PRECS = (512, 1024)
 

@@ -106,7 +106,7 @@ def _pow(z, d):
     return out
 
 
-def _eval_family(family: str, U, V, T, A, Q):
+def _eval_family(family: str, U, V, T, A, Q, need_q: bool = True):
     """Value and partial derivatives (U, V, T, A-explicit, q_1..q_m) of the homogenised family
     offset Σ c·U^i V^j T^k A^(d−i−j−k) q^a at arrays of points (n,); Q has shape (n, m)."""
     E, C, names, d = _family(family)
@@ -119,7 +119,7 @@ def _eval_family(family: str, U, V, T, A, Q):
         mono = mono * f
     val = C @ mono
     grads = []
-    for k in range(len(vars_)):
+    for k in range(len(vars_) if need_q else 4):
         e = ex[:, k]
         if e.max() == 0:
             grads.append(np.zeros_like(val))
@@ -168,7 +168,7 @@ class _System:
     families: tuple[str, str, str]
     chart: np.ndarray                       # (4,) complex
 
-    def eval(self, Z, P):
+    def eval(self, Z, P, need_dP: bool = True):
         """F (n, 4), Jacobian in Z (n, 4, 4) and ∂F/∂P per slot (list of (n, 3 + m)) at points Z
         (n, 4) with per-path parameters P = list of (n, 3 + m) arrays (θ, tx, ty, q...)."""
         A, X, Y, T = Z.T
@@ -183,13 +183,15 @@ class _System:
             U = c * a_ + s * b_
             V = -s * a_ + c * b_
             Ti = T - 2 * (X * tx + Y * ty) + (tx * tx + ty * ty) * A
-            val, g = _eval_family(fam, U, V, Ti, A, P[i][:, 3:])
+            val, g = _eval_family(fam, U, V, Ti, A, P[i][:, 3:], need_q=need_dP)
             oU, oV, oT, oA = g[:4]
             F[:, i] = val
             J[:, i, 0] = oA + oU * (-c * tx - s * ty) + oV * (s * tx - c * ty) + oT * (tx * tx + ty * ty)
             J[:, i, 1] = oU * c - oV * s - 2 * oT * tx
             J[:, i, 2] = oU * s + oV * c - 2 * oT * ty
             J[:, i, 3] = oT
+            if not need_dP:
+                continue
             d = np.empty((n, P[i].shape[1]), dtype=complex)
             d[:, 0] = oU * V - oV * U
             d[:, 1] = -oU * c * A + oV * s * A + oT * (-2 * X + 2 * tx * A)
@@ -232,7 +234,7 @@ class TrackStats:
 
 
 def track(system: _System, Z0: np.ndarray, P0: list[np.ndarray], P1: list[np.ndarray],
-          h_max: float = H_MAX, stats: TrackStats | None = None):
+          h_max: float = H_MAX, stats: TrackStats | None = None, beta: float = BETA):
     """Track the solutions Z0 of the system at parameters P0 (one vector per slot) along the
     straight segment to P1.  Returns (Z at t = 1 (n, 4), ok (n,) bool, t reached (n,))."""
     st = stats if stats is not None else TrackStats()
@@ -241,7 +243,6 @@ def track(system: _System, Z0: np.ndarray, P0: list[np.ndarray], P1: list[np.nda
     Z = np.array(Z0, dtype=complex)
     t = np.zeros(n)
     h = np.full(n, min(H_START, h_max))
-    good_run = np.zeros(n, dtype=int)
     active = np.ones(n, dtype=bool)
     ok = np.zeros(n, dtype=bool)
     dPdt = [p1 - p0 for p0, p1 in zip(P0, P1)]
@@ -275,14 +276,16 @@ def track(system: _System, Z0: np.ndarray, P0: list[np.ndarray], P1: list[np.nda
         accept = np.ones(len(idx), dtype=bool)
         conv = np.zeros(len(idx), dtype=bool)
         prev = None
+        e0 = np.full(len(idx), np.inf)
         for it in range(MAX_CORR):
-            F, J, _ = system.eval(zp, Pt)
+            F, J, _ = system.eval(zp, Pt, need_dP=False)
             st.evals += 1
             D = _solve(J, -F)
             e = _err(D, zp)
             e = np.where(np.isfinite(e), e, np.inf)
             if it == 0:
-                accept &= e < BETA
+                e0 = e
+                accept &= e < beta
             else:
                 stalled = (e < STALL_TOL) & (prev < STALL_TOL)
                 conv |= accept & stalled
@@ -297,12 +300,12 @@ def track(system: _System, Z0: np.ndarray, P0: list[np.ndarray], P1: list[np.nda
         st.rejected += len(r_idx)
         Z[a_idx] = zp[accept]
         t[a_idx] = t1[accept]
-        good_run[a_idx] += 1
-        grow = a_idx[good_run[a_idx] >= 3]
-        h[grow] = np.minimum(h[grow] * 2.0, h_max)
-        good_run[grow] = 0
-        h[r_idx] *= 0.5
-        good_run[r_idx] = 0
+        # step size from the size of the first correction (RK4: error ~ h^5)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            fac = 0.8 * (beta / np.maximum(e0, 1e-300)) ** 0.2
+        fac = np.where(np.isfinite(fac), fac, 0.5)
+        h[a_idx] = np.minimum(h[a_idx] * np.clip(fac[accept], 0.5, 2.0), h_max)
+        h[r_idx] = h[r_idx] * np.clip(fac[~accept], 0.1, 0.5)
         done = a_idx[t[a_idx] >= 1.0]
         ok[done] = True
         active[done] = False
@@ -325,21 +328,23 @@ def _dup_mask(Z, tol: float = 1e-6):
 
 
 def track_segment(system: _System, Z0, P0, P1, h_max: float = H_MAX, stats: TrackStats | None = None,
-                  rounds: int = 3, final: bool = False):
+                  rounds: int = 2, final: bool = False):
     """:func:`track` with repair: paths that failed or ended on the same point as another path
-    (a path jump) are re-tracked with 5× smaller maximal steps, up to ``rounds`` times.  On the
+    (a path jump) are re-tracked with 3× smaller maximal steps and a 10× stricter first-correction
+    bound, up to ``rounds`` times (close but distinct endpoints of the final segment stay; the
+    world-coordinate refinement separates or merges them).  On the
     final segment, paths stalling at t > 0.99 are not re-tracked (endpoint at infinity or
     singular endpoint of a non-generic target)."""
     Z, ok, t = track(system, Z0, P0, P1, h_max=h_max, stats=stats)
-    hm = h_max
+    hm, beta = h_max, BETA
     for _ in range(rounds):
         bad = _dup_mask(Z) | ~ok
         if final:
             bad &= ~(~ok & (t > 0.99))
         if not bad.any():
             break
-        hm /= 5
-        Zb, okb, tb = track(system, Z0[bad], P0, P1, h_max=hm, stats=stats)
+        hm, beta = hm / 3, beta / 10
+        Zb, okb, tb = track(system, Z0[bad], P0, P1, h_max=hm, stats=stats, beta=beta)
         Z[bad], ok[bad], t[bad] = Zb, okb, tb
     return Z, ok, t
 
@@ -482,7 +487,7 @@ def _polish(system: _System, Z, P, iters: int = 6):
     Pn = [np.repeat(p[None, :], len(Z), axis=0) for p in P]
     Z = Z.copy()
     for _ in range(iters):
-        F, J, _ = system.eval(Z, Pn)
+        F, J, _ = system.eval(Z, Pn, need_dP=False)
         D = _solve(J, -F)
         D = np.where(np.isfinite(D), D, 0)
         Z = Z + D

@@ -1,0 +1,212 @@
+"""Certification of far solutions in circle-space charts (runtime.certify_chart; thesis §4.4, §5.3–§5.5).
+
+Facts asserted: the circle-space offsets satisfy Q_i(A, x̂, ŷ, T̂) = c_i·A^{d_i}·o_i(x̂/A, ŷ/A,
+(x̂² + ŷ²)/A² − T̂/A) exactly (random rational points, all charts); the far solution of
+exact_EPC_circle4_tangent (|x| ≈ 4.7e5, Jacobian condition ≈ 10²² in (x, y, R)) is certified in a
+chart and agrees with the independent parameter homotopy (runtime.homotopy), so the locator's
+answer is complete and certified and still equals the validation oracle; ordinary solutions get
+the same kind and overlapping enclosures in a chart as in world coordinates; perturbed far
+solutions are not certified.
+"""
+from __future__ import annotations
+
+import json
+import random
+from fractions import Fraction
+
+import numpy as np
+import pytest
+from flint import acb, arb
+
+from runtime.certify_chart import (ChartSystem, certify_in_chart, chart_polynomials, choose_charts,
+                                   circle_space_polynomial, world_from_chart)
+from runtime.certify_complete import (OffsetSystem, _completeness, _krawczyk_c, _offset_terms,
+                                      certify_solutions)
+from runtime.certify_foot import normalised_coefficients, working_prec
+from runtime.conic import Conic
+from runtime.validation import required_cases_path
+
+CASES = json.loads(required_cases_path().read_text())["cases"]
+
+
+def _case(name):
+    c = next(c for c in CASES if c["name"] == name)
+    return c, [Conic.from_coefficients(*(Fraction(v) for v in k["coefficients"])) for k in c["conics"]]
+
+
+@pytest.fixture(scope="module")
+def epc():
+    from runtime.locator import voronoi_vertices
+    case, cs = _case("exact_EPC_circle4_tangent")
+    sol = voronoi_vertices(*cs[:3]).solution
+    S = np.asarray(sol.points)
+    far = int(np.argmax(np.abs(S).max(axis=1)))
+    return case, cs, S, sol.info.expected, far
+
+
+# --------------------------------------------------------------------------- polynomial identity
+
+def _eval(terms, pt):
+    out = Fraction(0)
+    for *e, c in terms:
+        t = Fraction(c)
+        for v, k in zip(pt, e):
+            t *= v ** k
+        out += t
+    return out
+
+
+def _random_conic(kind, rnd):
+    r = lambda: Fraction(rnd.randint(-60, 60), rnd.randint(1, 9))  # noqa: E731
+    if kind == "circle":
+        a = Fraction(rnd.randint(1, 30), rnd.randint(1, 7))
+        return (a, 0, a, r(), r(), r())
+    if kind == "parabola":
+        p, q = r(), r()
+        return (p * p, 2 * p * q, q * q, r(), r(), r())
+    while True:
+        a, b, c = r(), r(), r()
+        disc = b * b - 4 * a * c
+        if (kind == "ellipse" and disc < 0) or (kind == "hyperbola" and disc > 0):
+            return (a, b, c, r(), r(), r())
+
+
+@pytest.mark.parametrize("kind", ["ellipse", "hyperbola", "parabola", "circle"])
+def test_chart_polynomial_identity(kind):
+    """Q_i(1, x, y, x² + y² − R) = c_i·o_i(x, y, R), and in every chart
+    Q_i(A, x̂, ŷ, T̂) = c_i·A^{d_i}·o_i(x̂/A, ŷ/A, (x̂² + ŷ²)/A² − T̂/A), exactly (seeded random
+    rationals); the chart system's balls contain the exact values."""
+    rnd = random.Random(["ellipse", "hyperbola", "parabola", "circle"].index(kind) + 11)
+    for _ in range(2):
+        co = normalised_coefficients([Fraction(v) for v in _random_conic(kind, rnd)])
+        o = _offset_terms(co)
+        q = circle_space_polynomial(o)
+        ((d, Q, c),) = chart_polynomials((co,))
+        assert d == max(sum(e) for e in q) and all(sum(e) == d for e in Q)
+        assert d < max(i + j + 2 * k for i, j, k, _ in o)        # much lower than weighted degree 8
+        Qt = [(*e, v) for e, v in Q.items()]
+        for _ in range(6):
+            x, y, R = (Fraction(rnd.randint(-99, 99), rnd.randint(1, 13)) for _ in range(3))
+            ov = _eval(o, (x, y, R))
+            assert _eval([(i, j, k, v) for (i, j, k), v in q.items()], (x, y, x * x + y * y - R)) == ov
+            assert _eval(Qt, (1, x, y, x * x + y * y - R)) == c * ov
+            A, xh, yh, Th = (Fraction(rnd.randint(-99, 99) or 1, rnd.randint(1, 13)) for _ in range(4))
+            wx, wy = xh / A, yh / A
+            val = c * A ** d * _eval(o, (wx, wy, wx * wx + wy * wy - Th / A))
+            assert _eval(Qt, (A, xh, yh, Th)) == val
+            for j in range(4):   # chart j: h_j = 1, the homogeneous point scaled by 1/h_j
+                h = [A, xh, yh, Th]
+                u = [h[t] / h[j] for t in range(4) if t != j]
+                with working_prec(128):
+                    (g,), _ = ChartSystem(((d, Q, c),), j).eval([acb(arb(t.numerator) / t.denominator)
+                                                                 for t in u], jac=False)
+                    exact = val / h[j] ** d
+                    assert g.contains(arb(exact.numerator) / exact.denominator)
+
+
+def test_chart_degrees_epc():
+    """Degrees of the circle-space offsets of exact_EPC's conics (ellipse, parabola, circle)."""
+    _, cs = _case("exact_EPC_circle4_tangent")
+    P = chart_polynomials(tuple(normalised_coefficients(c) for c in cs[:3]))
+    assert [d for d, _, _ in P] == [6, 5, 6]
+
+
+# --------------------------------------------------------------------------- exact_EPC far solution
+
+def test_epc_far_solution_certified_in_chart(epc):
+    case, cs, S, N, far = epc
+    s = S[far]
+    assert abs(s[0]) > 1e5
+    # the world-coordinate Krawczyk test fails on it (that is why the chart is needed) ...
+    assert certify_solutions(*cs[:3], S[far:far + 1], prec=256, iters=8)[0][0] is None
+    # ... the chart test certifies a real finite simple solution
+    res = certify_in_chart(cs[:3], s)
+    assert res is not None and res[0] == "real"
+    W = res[1]
+    assert all(isinstance(w, arb) for w in W)
+    assert all(float(w.rad()) < 1e-12 * abs(float(w.mid())) for w in W)
+    # independent reference: the parameter homotopy (tracks in P³ of circles) finds the same point
+    from runtime.vertices import generalised_vertices
+    H = np.asarray(generalised_vertices(*cs[:3], solver="homotopy").points)
+    h = H[int(np.argmin(np.abs(H[:, 0] - float(W[0].mid()))))]
+    for w, ref in zip(W, h):
+        assert abs(float(w.mid()) - ref.real) <= 1e-8 * abs(ref)
+    # necessary condition: the exact offsets, evaluated on the enclosure, contain 0
+    with working_prec(256):
+        vals, _ = OffsetSystem(cs[:3]).eval([acb(w) for w in W], jac=False)
+        assert all(v.contains(0) for v in vals)
+
+
+def test_epc_locator_complete_and_certified():
+    """locate_conflicts on exact_EPC: complete and certified, and the answer equals the oracle."""
+    from runtime.locator import clear_cache, locate_conflicts
+    case, cs = _case("exact_EPC_circle4_tangent")
+    clear_cache()
+    res = locate_conflicts(*cs)
+    assert res.complete, res.notes
+    assert res.certified
+    assert any("circle-space chart" in n for n in res.notes)
+    assert res.conflict is case["conflict"] is False
+    assert len(res.vertices) == len(case["vertices"])
+    for ev in case["vertices"]:
+        ex, ey, er = float(ev["x"]), float(ev["y"]), float(ev["radius"])
+        v = min(res.vertices, key=lambda v: abs(v.x - ex) + abs(v.y - ey))
+        assert abs(v.x - ex) <= 1e-8 and abs(v.y - ey) <= 1e-8 and abs(v.radius - er) <= 1e-8
+        assert v.certified and v.in_conflict is False
+        assert v.tangent is ev["tangent"]
+    assert sum(v.tangent for v in res.vertices) == 1
+
+
+def test_chart_agrees_with_world_on_ordinary_solutions(epc):
+    """On ordinary (well-conditioned) solutions the chart test gives the same kind as the world
+    test, and the two enclosures intersect (both contain the unique solution)."""
+    _, cs, S, _, far = epc
+    idx = [k for k in range(len(S)) if k != far][::6]
+    world = certify_solutions(*cs[:3], S[idx], method="arb", prec=128, iters=8)
+    kinds = set()
+    for k, (kind, K) in zip(idx, world):
+        assert kind is not None
+        res = certify_in_chart(cs[:3], S[k])
+        assert res is not None and res[0] == kind
+        kinds.add(kind)
+        assert all((a if isinstance(a, acb) else acb(a)).overlaps(b if isinstance(b, acb) else acb(b))
+                   for a, b in zip(res[1], K))
+    assert kinds == {"real", "nonreal"}
+
+
+# --------------------------------------------------------------------------- negative controls
+
+@pytest.mark.parametrize("rel", [(1e-3, 1e-3, 0.0), (-1e-3, 0.0, 0.0), (0.0, 0.0, 1e-3), (1e-3, -2e-3, 1e-3)])
+def test_perturbed_far_solution_not_certified(epc, rel):
+    """A far 'solution' moved by 1e-3 relative is not certified: Newton in the chart goes back to
+    the true solution, which is farther than MOVE_TOL from the input, and the Krawczyk test at the
+    perturbed chart point itself fails."""
+    _, cs, S, _, far = epc
+    p = S[far] * (1 + np.array(rel))
+    assert certify_in_chart(cs[:3], p) is None
+    polys = chart_polynomials(tuple(normalised_coefficients(c) for c in cs[:3]))
+    j, u = choose_charts(p)[0]
+    with working_prec(128):
+        assert _krawczyk_c(ChartSystem(polys, j), [acb(float(t.real)) for t in u], symmetric=True) is None
+
+
+def test_perturbed_far_solution_list_not_complete(epc):
+    _, cs, S, N, far = epc
+    assert _completeness(*cs[:3], S, N)[0]
+    P = S.copy()
+    P[far] = P[far] * (1 + np.array([1e-3, 1e-3, 0]))
+    ok, note, _ = _completeness(*cs[:3], P, N)
+    assert not ok and note.startswith("1 of 60 solutions not certified")
+    # duplicating the far solution (replacing another) is caught by distinctness
+    D = S.copy()
+    D[(far + 1) % len(S)] = S[far]
+    ok, note, _ = _completeness(*cs[:3], D, N)
+    assert not ok and "overlap" in note
+
+
+def test_world_from_chart_excludes_infinity():
+    """An A-ball containing 0 (a chart point possibly at infinity) gives no world enclosure."""
+    with working_prec(64):
+        assert world_from_chart(1, [arb(0, 1e-9), arb(0.5), arb(2)]) is None
+        W = world_from_chart(1, [arb(0.25), arb(0.5), arb(2)])
+        assert [float(w.mid()) for w in W] == [4.0, 2.0, 4.0 ** 2 + 2.0 ** 2 - 8.0]
