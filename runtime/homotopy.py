@@ -23,13 +23,17 @@ family is irreducible and its generic number of isolated solutions is the generi
    target in its working frame: C1's axes, scaled into the unit disc).  A generic complex path
    avoids the discriminant (real codimension 2) with probability one, so the N paths are smooth
    for t < 1 and their endpoints contain every isolated nonsingular finite target solution.
-3. Paths are tracked in the weighted projective space P(1, 1, 2, 1) of (X, Y, S, W),
-   x = X/W, y = Y/W, R = S/W², on a random affine chart a·X + b·Y + c·W = 1: a vertex 10⁶ times
-   farther out than the sites is just a point with small W, and a path going to infinity stays
-   bounded.  Vectorised predictor (RK4 on the Davidenko equation) and Newton corrector with
-   per-path step control; a step is accepted only when the corrector contracts quickly (path-jump
-   guard).
-4. Endpoints with W ≠ 0 are mapped back, Newton-refined on the exact-family offsets in world
+3. Paths are tracked in *circle-space* coordinates: the circle of centre (x, y) and squared
+   radius R is A(X² + Y²) − 2xX − 2yY + T = 0, a point [A : x̂ : ŷ : T̂] of P³ with x = x̂/A,
+   y = ŷ/A, T̂/A = x² + y² − R; the offsets become polynomials of degree 6 / 5 / 2 (ellipse and
+   hyperbola / parabola / circle family) in (x, y, T).  A circle 10⁶ times larger than the sites
+   is close to a line (A → 0), an ordinary point of P³.  (Measured first: the weighted projective
+   closure of (x, y, R) has a whole curve of common solutions at infinity, W = 0, x² + y² = R,
+   which far-away paths approach and stall on.)  Random affine chart a·Z = 1; vectorised RK4
+   predictor on the Davidenko equation, Newton corrector, per-path step control from the first
+   correction; a step is accepted only when the corrector contracts quickly; endpoints that
+   coincide (a path jump) are re-tracked with smaller steps and a stricter corrector bound.
+4. Endpoints with A ≠ 0 are mapped back, Newton-refined on the exact-family offsets in world
    coordinates (:func:`runtime.vertices.newton_refine`) and checked (residual, distinctness).
 
 Nothing here is trusted blindly: the solutions go through the same certification as the
@@ -63,7 +67,7 @@ CORR_TOL = 1e-8
 #: a correction this small that stops contracting is at the rounding level: converged
 STALL_TOL = 1e-6
 MAX_CORR = 4
-#: endpoints with |W| / ‖(X, Y, W)‖ below this are taken to be at infinity
+#: endpoints with |A| / max|Z| below this are taken to be at infinity
 INF_TOL = 1e-10
 #: maximum number of predictor-corrector steps per segment (a safety net, not a target)
 MAX_STEPS = 4000

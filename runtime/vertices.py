@@ -27,9 +27,12 @@ exist on true offset coefficients: the offsets are not generic, DESIGN §3):
 Honesty rules: the number of finite solutions must equal the generic count of the type
 configuration (CONFIG_TABLE); otherwise -- solutions far outside the disc lumped with those at
 infinity, or a non-generic configuration such as parallel parabola axes, which this route cannot
-tell apart -- another degree / null-space variant is tried and finally LocatorError is raised.
-Known limitation (measured, bench/results/locator.md): triples with vertices far outside the
-scene (hyperbolas, parabolas) are refused; a second chart would be needed.
+tell apart -- another degree / null-space variant is tried, then the parameter homotopy of
+:mod:`runtime.homotopy` (circle-space coordinates, where far vertices are ordinary points).  The
+homotopy may return fewer than the generic count (paths ending at infinity on a non-generic
+input); completeness is then not claimed downstream.  Measured: the Newton (Canny–Emiris)
+polytope support is no smaller than the weighted-degree support here and 8–19× slower
+(bench/results/newton_support.md), so the Macaulay support is kept.
 """
 from __future__ import annotations
 
@@ -375,7 +378,7 @@ def config_entry(fams: tuple[str, ...]) -> tuple[int, int | None, int]:
 
 #: enlargements of the working frame tried in turn.  Measured: a 16x larger disc does not recover
 #: far-away solutions (the near ones then cluster and the rank decisions blur), so only 1 is used;
-#: far solutions need a second chart (future work).
+#: far solutions are found by the homotopy (runtime.homotopy).
 SCALES = (1,)
 
 #: residual (relative backward error) accepted for a refined solution
