@@ -496,12 +496,3 @@ def _polish(system: _System, Z, P, iters: int = 6):
         D = np.where(np.isfinite(D), D, 0)
         Z = Z + D
     return Z
-
-
-def _all_distinct(pts, L, tol=1e-8):
-    D = np.array([L, L, L * L])
-    Ps = pts / D
-    for i in range(1, len(Ps)):
-        if np.any(np.max(np.abs(Ps[:i] - Ps[i]), axis=1) < tol * np.maximum(1, np.max(np.abs(Ps[i])))):
-            return False
-    return True

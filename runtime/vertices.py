@@ -460,7 +460,6 @@ def _homotopy_fallback(offs, wf, expected, errors, total):
     may come back; completeness is then not claimed downstream (certify_complete)."""
     from .homotopy import homotopy_solve
 
-    t0 = time.perf_counter()
     pts_w, hinfo = homotopy_solve(offs, wf)
     t1 = time.perf_counter()
     pts, res, cond = newton_refine(offs, pts_w, scale=wf.L)
@@ -478,7 +477,6 @@ def _homotopy_fallback(offs, wf, expected, errors, total):
     total["homotopy_start"] = hinfo.timings.get("start_system", 0.0)
     total["homotopy_track"] = hinfo.timings.get("track", 0.0)
     total["refine"] = total.get("refine", 0.0) + time.perf_counter() - t1
-    del t0
     info = SolveInfo(0, len(pts), -1, {}, math.nan, (0, 0), "homotopy", timings=total)
     info.failed_attempts = list(errors)
     info.homotopy = {"paths": hinfo.n_paths, "finite_endpoints": hinfo.n_finite,
