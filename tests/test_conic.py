@@ -9,9 +9,9 @@ from hypothesis import given, settings, strategies as st, HealthCheck
 
 from runtime.conic import Conic, CanonicalFrame, fraction_sqrt
 from runtime.result import InvalidConicError
-from runtime.validation import default_cases_path, load_cases
+from runtime.validation import required_cases_path, load_cases
 
-CASES_PATH = default_cases_path()
+CASES_PATH = required_cases_path()   # a missing file fails loudly, never skips
 
 # ----------------------------------------------------------------------------- strategies
 
@@ -228,7 +228,6 @@ def test_fraction_sqrt():
 
 # ----------------------------------------------------------------------------- validation cases
 
-@pytest.mark.skipif(CASES_PATH is None, reason="validation_cases.json not found next to the repository")
 def test_validation_conics_match_their_canonical_construction():
     cases = load_cases(CASES_PATH)
     assert len(cases) == 30

@@ -13,10 +13,10 @@ from hypothesis import example, given, settings, strategies as st, HealthCheck
 from runtime.conic import Conic
 from runtime.distance import (distance, foot_points, distance_ball, distance_sign_vs,
                               squared_distance_ball, tangency_polynomial, closest_point)
-from runtime.validation import default_cases_path, load_cases
+from runtime.validation import required_cases_path, load_cases
 from reference import RefConic, ref_distance, ref_foot, _dist2, _golden_mp
 
-CASES_PATH = default_cases_path()
+CASES_PATH = required_cases_path()   # a missing file fails loudly, never skips
 
 
 @st.composite
@@ -256,7 +256,6 @@ def test_tangency_polynomial_vanishes_at_critical_values():
 
 # ----------------------------------------------------------------------------- validation cases
 
-@pytest.mark.skipif(CASES_PATH is None, reason="validation_cases.json not found next to the repository")
 def test_validation_vertex_distances():
     """At every stored vertex: distance() gives the radius for C1..C3 and the stored distance
     to C4; distance_ball at the 30-digit vertex encloses the stored values (1-Lipschitz

@@ -23,10 +23,10 @@ if __name__ == "__main__":  # script mode: make the repo root and tests/ importa
 import mpmath
 import pytest
 
-from runtime.validation import default_cases_path, load_cases
+from runtime.validation import required_cases_path, load_cases
 from reference import reference_locate, ref_distance, RefConic
 
-CASES_PATH = default_cases_path()
+CASES_PATH = required_cases_path()   # a missing file fails loudly, never skips
 SUBSET = [
     "ellipses_a_ellipse4_conflict",    # 7 vertices
     "circles_b_circle4_conflict",
@@ -40,8 +40,6 @@ SUBSET = [
 
 
 def _cases():
-    if CASES_PATH is None:
-        return []
     return load_cases(CASES_PATH)
 
 
@@ -62,7 +60,6 @@ def check_case(case, rel=1e-9):
     return got
 
 
-@pytest.mark.skipif(CASES_PATH is None, reason="validation_cases.json not found next to the repository")
 @pytest.mark.parametrize("name", SUBSET)
 def test_reference_reproduces_validation_case(name):
     case = next(c for c in _cases() if c.name == name)
