@@ -23,7 +23,7 @@ GENERATED = ROOT / "generated"
 @task(help={"jobs": "parallel worker processes (default 2)", "no_systems": "offsets only"})
 def regenerate(c, jobs=2, no_systems=False):
     """Regenerate all artefacts into generated/ (deterministic) and rewrite the manifest."""
-    from precompute.pipeline import regenerate as run
+    from curvedvoronoi.precompute.pipeline import regenerate as run
 
     t0 = time.perf_counter()
     timings = run(GENERATED, jobs=int(jobs), with_systems=not no_systems)
@@ -40,7 +40,7 @@ def _tree(root: Path) -> set[str]:
 @task(help={"jobs": "parallel worker processes (default 2)"})
 def check_generated(c, jobs=2):
     """Regenerate into a temporary folder and byte-compare with generated/ (golden-file check)."""
-    from precompute.pipeline import regenerate as run
+    from curvedvoronoi.precompute.pipeline import regenerate as run
 
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "generated"
@@ -77,4 +77,4 @@ def bench(c, only=""):
 @task
 def demo(c):
     """Run the conflict locator on the built-in four-ellipse example."""
-    c.run(f"{sys.executable} -m runtime demo", pty=False)
+    c.run(f"{sys.executable} -m curvedvoronoi demo", pty=False)

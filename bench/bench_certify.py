@@ -24,16 +24,16 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
 
 from threadpoolctl import threadpool_info, threadpool_limits  # noqa: E402
 
-from runtime.certify import certify_result, certify_vertex  # noqa: E402
-from runtime.certify_complete import certify_completeness  # noqa: E402
-from runtime.conic import Conic  # noqa: E402
+from curvedvoronoi.runtime.certify import certify_result, certify_vertex  # noqa: E402
+from curvedvoronoi.runtime.certify_complete import certify_completeness  # noqa: E402
+from curvedvoronoi.runtime.conic import Conic  # noqa: E402
 
-DATA = pathlib.Path("/work/shared/data/validation_cases.json")
+DATA = pathlib.Path("/work/tests/data/validation_cases.json")
 
 
 def run(cases, label):
-    from runtime import locator
-    from runtime.vertices import generalised_vertices
+    from curvedvoronoi.runtime import locator
+    from curvedvoronoi.runtime.vertices import generalised_vertices
     rows = []
     for case in cases:
         cs = [Conic.from_coefficients(*e["coefficients"]) for e in case["conics"]]

@@ -22,9 +22,9 @@ from threadpoolctl import threadpool_info, threadpool_limits
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from runtime.circles import Circle, locate_conflicts_circles, voronoi_vertices_circles  # noqa: E402
-from runtime.circles import _vertices_cached  # noqa: E402
-from runtime.circles_filter import locate_conflicts_circles_batch  # noqa: E402
+from curvedvoronoi.runtime.circles import Circle, locate_conflicts_circles, voronoi_vertices_circles  # noqa: E402
+from curvedvoronoi.runtime.circles import _vertices_cached  # noqa: E402
+from curvedvoronoi.runtime.circles_filter import locate_conflicts_circles_batch  # noqa: E402
 
 
 def random_uniform(n, seed):
@@ -65,7 +65,7 @@ def time_exact(queries):
 
 
 def validation_circles():
-    data = json.loads(Path("/work/shared/data/validation_cases.json").read_text())
+    data = json.loads(Path("/work/tests/data/validation_cases.json").read_text())
     out = []
     for c in data["cases"]:
         if c["group"] == "four_circles":

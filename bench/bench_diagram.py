@@ -31,7 +31,7 @@ def random_circles(seed: int, m: int):
 
 
 def random_ellipses(seed: int, m: int):
-    from runtime.conic import Conic
+    from curvedvoronoi.runtime.conic import Conic
 
     rnd = random.Random(seed)
     rots = [("3/5", "4/5"), ("4/5", "3/5"), (1, 0), (0, 1), ("5/13", "12/13"), ("12/13", "-5/13")]
@@ -47,7 +47,7 @@ def random_ellipses(seed: int, m: int):
 
 
 def run_one(label, sites, **kw):
-    from runtime.diagram import DelaunayGraph
+    from curvedvoronoi.runtime.diagram import DelaunayGraph
 
     t = time.perf_counter()
     G = DelaunayGraph(sites, **kw)
@@ -101,8 +101,8 @@ def main(argv=None) -> int:
 
     from threadpoolctl import threadpool_info
 
-    from runtime.batch import locate_batch
-    from runtime.diagram import conic_locator_available
+    from curvedvoronoi.runtime.batch import locate_batch
+    from curvedvoronoi.runtime.diagram import conic_locator_available
 
     rows = []
     for m in [int(x) for x in a.circles.split(",") if x]:
@@ -129,7 +129,7 @@ def main(argv=None) -> int:
     # batch API: 400 independent circle queries, serial vs joblib (2 processes)
     rnd = random.Random(7)
     qs = [[(rnd.randint(0, 100), rnd.randint(0, 100), rnd.randint(1, 10)) for _ in range(4)] for _ in range(400)]
-    from runtime import circles
+    from curvedvoronoi.runtime import circles
 
     times = {}
     for label, kw in (("serial", {"n_jobs": 1}), ("joblib loky n_jobs=2", {"n_jobs": 2})):

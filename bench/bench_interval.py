@@ -17,9 +17,9 @@ sys.path.insert(0, str(ROOT))
 
 from threadpoolctl import threadpool_info, threadpool_limits  # noqa: E402
 
-from runtime.interval import locate_conflicts_interval  # noqa: E402
+from curvedvoronoi.runtime.interval import locate_conflicts_interval  # noqa: E402
 
-DATA = Path("/work/shared/data/validation_cases.json")
+DATA = Path("/work/tests/data/validation_cases.json")
 CASES = ["ellipses_c_ellipse4_conflict", "hyperbolas_a_hyperbola4_conflict"]
 
 

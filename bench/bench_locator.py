@@ -1,6 +1,6 @@
 """Benchmark of the conic conflict locator (issue 4; thesis §5.5 took ~180 s for four ellipses).
 
-Per configuration type (validation triples of shared/data/validation_cases.json plus random rigid
+Per configuration type (validation triples of tests/data/validation_cases.json plus random rigid
 configurations): median time of each stage of the triple route (fill = offset composition +
 Macaulay matrix, nullspace, eigen, refine, filter), end-to-end time of ``locate_conflicts`` with
 an empty cache, the time of a further C4 against a cached triple, and peak Python memory
@@ -30,11 +30,11 @@ sys.path.insert(0, str(ROOT / "tests"))
 import numpy as np  # noqa: E402
 from threadpoolctl import threadpool_info, threadpool_limits  # noqa: E402
 
-from runtime.conic import Conic  # noqa: E402
-from runtime.locator import clear_cache, locate_conflicts  # noqa: E402
-from runtime.result import LocatorError  # noqa: E402
+from curvedvoronoi.runtime.conic import Conic  # noqa: E402
+from curvedvoronoi.runtime.locator import clear_cache, locate_conflicts  # noqa: E402
+from curvedvoronoi.runtime.result import LocatorError  # noqa: E402
 
-DATA = Path("/work/shared/data/validation_cases.json")
+DATA = Path("/work/tests/data/validation_cases.json")
 STAGES = ["fill", "nullspace", "eigen", "refine", "filter"]
 
 
@@ -94,7 +94,7 @@ def eigen_compare():
     import scipy.linalg as sla
     from scipy.sparse.linalg import eigs
 
-    from runtime import vertices as V
+    from curvedvoronoi.runtime import vertices as V
 
     cs = [Conic.from_coefficients(*k["coefficients"]) for k in json.loads(DATA.read_text())["cases"][4]["conics"]]
     captured = {}

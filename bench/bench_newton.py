@@ -25,9 +25,9 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
 from joblib import Parallel, delayed                      # noqa: E402
 from threadpoolctl import threadpool_info, threadpool_limits  # noqa: E402
 
-from precompute.mixed import mixed_volume                 # noqa: E402
-from precompute.newton_matrix import newton_matrix        # noqa: E402
-from precompute.systems import CONFIGURATIONS, build_all, conflict_system  # noqa: E402
+from curvedvoronoi.precompute.mixed import mixed_volume                 # noqa: E402
+from curvedvoronoi.precompute.newton_matrix import newton_matrix        # noqa: E402
+from curvedvoronoi.precompute.systems import CONFIGURATIONS, build_all, conflict_system  # noqa: E402
 
 PRIME = 4294967291
 THESIS = {"EEEE": "7995 / 589610 (592682 Singular re-run) / 6971 / 1024",

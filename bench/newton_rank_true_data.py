@@ -26,8 +26,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from precompute import systems  # noqa: E402
-from runtime.validation import default_cases_path  # noqa: E402
+from curvedvoronoi.precompute import systems  # noqa: E402
+from curvedvoronoi.runtime.validation import default_cases_path  # noqa: E402
 
 PRIME = 4611686018427388039   # 2^62 + 135, prime
 

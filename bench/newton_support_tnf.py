@@ -54,13 +54,13 @@ sys.path.insert(0, str(ROOT))
 
 from threadpoolctl import threadpool_info, threadpool_limits  # noqa: E402
 
-from runtime.conic import Conic  # noqa: E402
-from runtime.polyalg import CanonicalOffset, WorkingFrame, compose_offset, core_points  # noqa: E402
-from runtime.result import LocatorError  # noqa: E402
-from runtime.vertices import (TOP_DEGREES, _distinct_mask, config_entry, generalised_vertices,  # noqa: E402
+from curvedvoronoi.runtime.conic import Conic  # noqa: E402
+from curvedvoronoi.runtime.polyalg import CanonicalOffset, WorkingFrame, compose_offset, core_points  # noqa: E402
+from curvedvoronoi.runtime.result import LocatorError  # noqa: E402
+from curvedvoronoi.runtime.vertices import (TOP_DEGREES, _distinct_mask, config_entry, generalised_vertices,  # noqa: E402
                               newton_refine, solve_nullspace)
 
-DATA = Path("/work/shared/data/validation_cases.json")
+DATA = Path("/work/tests/data/validation_cases.json")
 COUNTS = {"EEE": 184, "EEP": 148, "PPP": 93}
 VALIDATION = {"EEE": "ellipses_a_ellipse4_conflict", "PPP": "parabolas_a_parabola4_conflict"}
 ROTS = [(3, 4, 5), (5, 12, 13), (8, 15, 17), (7, 24, 25), (20, 21, 29), (12, 35, 37), (9, 40, 41)]
@@ -145,7 +145,7 @@ def structure_variant(conf: str, variant: str):
 def structure_note(conf: str) -> str:
     """How E relates to the weighted-degree (1,1,2) Macaulay support: E − (1,1,1) vs the monomials
     of weighted degree ≤ D."""
-    from runtime.vertices import monomials
+    from curvedvoronoi.runtime.vertices import monomials
     E = load_structure(conf)["E"]
     Q = E - 1
     D = int((Q @ np.array([1, 1, 2])).max())

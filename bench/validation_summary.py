@@ -1,4 +1,4 @@
-"""Summary of the default certified locator on shared/data/validation_cases.json.
+"""Summary of the default certified locator on tests/data/validation_cases.json.
 
 python bench/validation_summary.py  -> Markdown table to stdout and bench/results/validation.md
 """
@@ -14,10 +14,10 @@ from pathlib import Path
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from runtime.conic import Conic  # noqa: E402
-from runtime.locator import locate_conflicts  # noqa: E402
-from runtime.result import LocatorError  # noqa: E402
-from runtime.validation import default_cases_path  # noqa: E402
+from curvedvoronoi.runtime.conic import Conic  # noqa: E402
+from curvedvoronoi.runtime.locator import locate_conflicts  # noqa: E402
+from curvedvoronoi.runtime.result import LocatorError  # noqa: E402
+from curvedvoronoi.runtime.validation import default_cases_path  # noqa: E402
 
 
 def main() -> None:

@@ -31,11 +31,18 @@ class ArtefactError(RuntimeError):
     """A generated artefact is missing, stale or corrupted."""
 
 
+def _generated_package() -> str:
+    """``curvedvoronoi.generated`` when installed (or imported through ``curvedvoronoi``),
+    ``generated`` when ``runtime`` is imported as a top-level package from a source tree."""
+    parent = __package__.rpartition(".")[0]
+    return f"{parent}.generated" if parent else "generated"
+
+
 def generated_dir() -> Path:
     env = os.environ.get("CURVEDVORONOI_GENERATED")
     if env:
         return Path(env)
-    return Path(str(resources.files("generated")))
+    return Path(str(resources.files(_generated_package())))
 
 
 def _fix() -> str:

@@ -116,7 +116,7 @@ class Circle:
 
     @classmethod
     def from_canonical(cls, can: dict) -> "Circle":
-        """From the ``canonical`` record of shared/data/validation_cases.json (type circle)."""
+        """From the ``canonical`` record of tests/data/validation_cases.json (type circle)."""
         if can.get("type") != "circle":
             raise InvalidConicError(f"not a circle: {can.get('type')}")
         return cls(can["tx"], can["ty"], can["r2"])
@@ -128,6 +128,25 @@ class Circle:
     def distance(self, x: float, y: float) -> float:
         """Float distance | |q - c| - ρ | (diagnostics only)."""
         return abs(math.hypot(x - float(self.cx), y - float(self.cy)) - self.rho)
+
+
+class Point(Circle):
+    """A point site (x, y): a circle of radius 0 (thesis §3.1.2, additively weighted points of
+    weight 0).  Every circle routine accepts it."""
+
+    def __init__(self, x, y):
+        super().__init__(x, y, 0)
+
+    @property
+    def x(self) -> fmpq:
+        return self.cx
+
+    @property
+    def y(self) -> fmpq:
+        return self.cy
+
+    def __repr__(self) -> str:
+        return f"Point({self.cx}, {self.cy})"
 
 
 def as_circle(c) -> Circle:

@@ -1,4 +1,4 @@
-"""Command line: ``python -m runtime {offsets,locate,demo,...}``.
+"""Command line: ``python -m curvedvoronoi {offsets,locate,demo,...}``.
 
 * ``offsets``  -- the table of generalised offsets (thesis Table 4.1 and App. B), from the
   verified artefacts.
@@ -83,7 +83,7 @@ def _diagram(args) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="python -m runtime",
+    p = argparse.ArgumentParser(prog="curvedvoronoi",
                                 description="Certified Delaunay-graph conflict locator for conics "
                                             "(F. Anton, Voronoi diagrams of semi-algebraic sets, 2003).")
     sub = p.add_subparsers(dest="command", required=True)

@@ -8,7 +8,7 @@ exact rational arithmetic.  Floating point numbers are produced only for the can
 (:attr:`Conic.frame`), which is computed from the exact data with a correctly enclosing
 ball arithmetic (python-flint ``arb``) and rounded once.
 
-Canonical frame convention (also that of ``shared/data/validation_cases.json``)::
+Canonical frame convention (also that of ``tests/data/validation_cases.json``)::
 
     (X, Y) = (cos (x − tx) + sin (y − ty),  −sin (x − tx) + cos (y − ty))
     ellipse   X²/A2 + Y²/B2 = 1      (this module puts the major axis on X: A2 ≥ B2)

@@ -773,7 +773,7 @@ def build_diagram(sites, **kw) -> DelaunayGraph:
 
 
 # =====================================================================================
-# Command line helpers (wired by runtime/cli.py as ``python -m runtime diagram``)
+# Command line helpers (wired by runtime/cli.py as ``python -m curvedvoronoi diagram``)
 # =====================================================================================
 
 
@@ -813,10 +813,10 @@ def run_diagram(sites_path: str, png: str | None = None, json_out: str | None = 
 
 
 def diagram_main(argv=None) -> int:
-    """``python -m runtime diagram SITES.json [--png out.png] [--json out.json]``."""
+    """``python -m curvedvoronoi diagram SITES.json [--png out.png] [--json out.json]``."""
     import argparse
 
-    p = argparse.ArgumentParser(prog="python -m runtime diagram",
+    p = argparse.ArgumentParser(prog="curvedvoronoi diagram",
                                 description="Delaunay graph and Voronoi diagram of conics (thesis §1.2)")
     p.add_argument("sites", help='JSON {"conics": [{"coefficients": [a,b,c,d,e,f]}, ...]}')
     p.add_argument("--png", help="write a picture (matplotlib, Agg)")

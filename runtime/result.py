@@ -5,7 +5,7 @@ three sites and empty of all three (thesis §5.2, Def. 5.2.1 and Fig. 5.2.2).  T
 locator reports, per true vertex, the distance from q to the fourth site and whether the
 fourth site enters the open empty circle (thesis Thm 5.2.2).
 
-Conventions (also those of ``shared/data/validation_cases.json``):
+Conventions (also those of ``tests/data/validation_cases.json``):
 
 * distances are Euclidean distances (not squared);
 * ``margin = (distance_to_fourth - radius) / radius``;

@@ -46,3 +46,48 @@ def read_coefficient_lists(path: str, expected: int | None = None) -> list[list]
         except ValueError as exc:
             raise ValueError(f"conic {i}: {exc}") from None
     return out
+
+
+def site_to_json(site) -> dict:
+    """The exact JSON record of a site: ``{"point": [x, y]}``, ``{"circle": {"centre": [x, y],
+    "radius_squared": r2}}`` or ``{"coefficients": [a, b, c, d, e, f]}``, numbers as rational strings."""
+    from .circles import Circle
+    from .conic import Conic
+
+    if isinstance(site, Circle):
+        if site.r2 == 0:
+            return {"point": [str(site.cx), str(site.cy)]}
+        return {"circle": {"centre": [str(site.cx), str(site.cy)], "radius_squared": str(site.r2)}}
+    if isinstance(site, Conic):
+        return {"coefficients": [str(v) for v in site.coefficients]}
+    raise TypeError(f"not a site: {site!r}")
+
+
+def parse_site(entry, where: str = "site"):
+    """One site record (the forms of :func:`site_to_json`, and ``{"circle": {"centre": [x, y],
+    "radius": r}}``) as a :class:`runtime.circles.Point`, :class:`runtime.circles.Circle` or
+    :class:`runtime.conic.Conic`.  ValueError naming ``where`` on a malformed record."""
+    from .circles import Circle, Point
+    from .conic import Conic
+
+    if not isinstance(entry, dict):
+        raise ValueError(f"{where}: expected an object, got {entry!r}")
+    if "point" in entry:
+        xy = entry["point"]
+        if not isinstance(xy, list) or len(xy) != 2:
+            raise ValueError(f'{where}: "point" must be [x, y]')
+        return Point(*(parse_number(v) for v in xy))
+    if "circle" in entry:
+        c = entry["circle"]
+        if not isinstance(c, dict) or not isinstance(c.get("centre"), list) or len(c["centre"]) != 2:
+            raise ValueError(f'{where}: "circle" must be {{"centre": [x, y], "radius": r}}')
+        cx, cy = (parse_number(v) for v in c["centre"])
+        if "radius_squared" in c:
+            return Circle(cx, cy, parse_number(c["radius_squared"]))
+        if "radius" not in c:
+            raise ValueError(f'{where}: "circle" needs "radius" (or "radius_squared")')
+        return Circle.from_radius(cx, cy, parse_number(c["radius"]))
+    coeffs = entry.get("coefficients")
+    if not isinstance(coeffs, list) or len(coeffs) != 6:
+        raise ValueError(f'{where}: needs "coefficients": [a, b, c, d, e, f], "point" or "circle"')
+    return Conic.from_coefficients(*(parse_number(v) for v in coeffs))

@@ -1,4 +1,4 @@
-"""Loader of validation-case files (format of ``shared/data/validation_cases.json``).
+"""Loader of validation-case files (``tests/data/validation_cases.json``, described in tests/data/README.md).
 
 Each case gives four conics C1..C4 (exact integer coefficients and their exact canonical
 construction) and, for every true Voronoi vertex of (C1, C2, C3) (thesis §5.2,
@@ -54,14 +54,19 @@ def canonical_of(entry: dict) -> dict[str, Any]:
     return {k: (v if k == "type" else Fraction(v)) for k, v in can.items()}
 
 
+def repository_cases_path() -> Path:
+    """The validation cases shipped with the repository's tests: ``tests/data/validation_cases.json``."""
+    return Path(__file__).resolve().parent.parent / "tests" / "data" / "validation_cases.json"
+
+
 def default_cases_path(start: str | os.PathLike | None = None) -> Path | None:
-    """``$CURVEDVORONOI_VALIDATION_CASES`` if set, else ``<repo root>/../shared/data/validation_cases.json``
-    if it exists (repo root = parent of the ``runtime`` package, or ``start``), else None."""
+    """``$CURVEDVORONOI_VALIDATION_CASES`` if set, else ``tests/data/validation_cases.json`` of the
+    repository (``start`` or the parent of the ``runtime`` folder) if it exists, else None."""
     env = os.environ.get(_ENV)
     if env and Path(env).is_file():
         return Path(env)
-    root = Path(start) if start is not None else Path(__file__).resolve().parent.parent
-    cand = root.parent / "shared" / "data" / "validation_cases.json"
+    cand = (Path(start) / "tests" / "data" / "validation_cases.json" if start is not None
+            else repository_cases_path())
     return cand if cand.is_file() else None
 
 
@@ -70,9 +75,8 @@ def required_cases_path() -> Path:
     (tests use this so that a missing validation file fails loudly instead of running no case)."""
     path = default_cases_path()
     if path is None:
-        root = Path(__file__).resolve().parent.parent
-        raise FileNotFoundError(f"validation_cases.json not found: set ${_ENV} or put shared/ beside "
-                                f"the repository ({root.parent / 'shared' / 'data'})")
+        raise FileNotFoundError(f"validation_cases.json not found at {repository_cases_path()} "
+                                f"(a source checkout ships it) and ${_ENV} is not set")
     return path
 
 

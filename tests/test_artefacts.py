@@ -6,8 +6,8 @@ import shutil
 
 import pytest
 
-from runtime.artefacts import ArtefactError, generated_dir, load_manifest, load_offset, verified_bytes
-from precompute.artefacts import sha256_file
+from curvedvoronoi.runtime.artefacts import ArtefactError, generated_dir, load_manifest, load_offset, verified_bytes
+from curvedvoronoi.precompute.artefacts import sha256_file
 
 
 @pytest.fixture()

@@ -7,9 +7,9 @@ import random
 
 import pytest
 
-from runtime.batch import locate_batch, vertices_batch
-from runtime.circles import locate_conflicts_circles, voronoi_vertices_circles
-from runtime.result import LocatorError
+from curvedvoronoi.runtime.batch import locate_batch, vertices_batch
+from curvedvoronoi.runtime.circles import locate_conflicts_circles, voronoi_vertices_circles
+from curvedvoronoi.runtime.result import LocatorError
 
 
 def _queries(n=24, seed=3):

@@ -18,13 +18,13 @@ import numpy as np
 import pytest
 from flint import acb, arb
 
-from runtime.certify_chart import (ChartSystem, certify_in_chart, chart_polynomials, choose_charts,
+from curvedvoronoi.runtime.certify_chart import (ChartSystem, certify_in_chart, chart_polynomials, choose_charts,
                                    circle_space_polynomial, world_from_chart)
-from runtime.certify_complete import (OffsetSystem, _completeness, _krawczyk_c, _offset_terms,
+from curvedvoronoi.runtime.certify_complete import (OffsetSystem, _completeness, _krawczyk_c, _offset_terms,
                                       certify_solutions)
-from runtime.certify_foot import normalised_coefficients, working_prec
-from runtime.conic import Conic
-from runtime.validation import required_cases_path
+from curvedvoronoi.runtime.certify_foot import normalised_coefficients, working_prec
+from curvedvoronoi.runtime.conic import Conic
+from curvedvoronoi.runtime.validation import required_cases_path
 
 CASES = json.loads(required_cases_path().read_text())["cases"]
 
@@ -36,7 +36,7 @@ def _case(name):
 
 @pytest.fixture(scope="module")
 def epc():
-    from runtime.locator import voronoi_vertices
+    from curvedvoronoi.runtime.locator import voronoi_vertices
     case, cs = _case("exact_EPC_circle4_tangent")
     sol = voronoi_vertices(*cs[:3]).solution
     S = np.asarray(sol.points)
@@ -126,7 +126,7 @@ def test_epc_far_solution_certified_in_chart(epc):
     assert all(isinstance(w, arb) for w in W)
     assert all(float(w.rad()) < 1e-12 * abs(float(w.mid())) for w in W)
     # independent reference: the parameter homotopy (tracks in P³ of circles) finds the same point
-    from runtime.vertices import generalised_vertices
+    from curvedvoronoi.runtime.vertices import generalised_vertices
     H = np.asarray(generalised_vertices(*cs[:3], solver="homotopy").points)
     h = H[int(np.argmin(np.abs(H[:, 0] - float(W[0].mid()))))]
     for w, ref in zip(W, h):
@@ -139,7 +139,7 @@ def test_epc_far_solution_certified_in_chart(epc):
 
 def test_epc_locator_complete_and_certified():
     """locate_conflicts on exact_EPC: complete and certified, and the answer equals the oracle."""
-    from runtime.locator import clear_cache, locate_conflicts
+    from curvedvoronoi.runtime.locator import clear_cache, locate_conflicts
     case, cs = _case("exact_EPC_circle4_tangent")
     clear_cache()
     res = locate_conflicts(*cs)

@@ -2,7 +2,7 @@
 
 References used here are independent of the implementation:
 * a brute-force distance-field search (grid sign changes of d1-d2, d1-d3 + Newton), written below;
-* the `four_circles` group of shared/data/validation_cases.json (50-digit oracle);
+* the `four_circles` group of tests/data/validation_cases.json (50-digit oracle);
 * exact constructions with a rational (or Q(√2)) empty circle, where tangency is known exactly;
 * exact algebraic identities (rigid-motion invariance, permutations, eigenvalues of M_g).
 """
@@ -19,15 +19,15 @@ from flint import arb, ctx, fmpq
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from runtime.validation import required_cases_path as _validation_path
-from runtime.apollonius import aw_vertices, locate_conflicts_aw, multiplication_matrix_aw, solve_system
-from runtime.circles import (
+from curvedvoronoi.runtime.validation import required_cases_path as _validation_path
+from curvedvoronoi.runtime.apollonius import aw_vertices, locate_conflicts_aw, multiplication_matrix_aw, solve_system
+from curvedvoronoi.runtime.circles import (
     Circle, locate_conflicts_circles, locate_conflicts_circles_batch, parse_rational,
     voronoi_vertices_circles,
 )
-from runtime.circles_filter import filter_circles
-from runtime.quadtower import QuadTower
-from runtime.result import InvalidConicError, LocatorError
+from curvedvoronoi.runtime.circles_filter import filter_circles
+from curvedvoronoi.runtime.quadtower import QuadTower
+from curvedvoronoi.runtime.result import InvalidConicError, LocatorError
 
 VALIDATION = _validation_path()
 

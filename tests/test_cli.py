@@ -14,7 +14,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def run(*args, cwd=ROOT):
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
-    return subprocess.run([sys.executable, "-m", "runtime", *args], cwd=cwd, env=env,
+    return subprocess.run([sys.executable, "-m", "curvedvoronoi", *args], cwd=cwd, env=env,
                           capture_output=True, text=True, timeout=300)
 
 

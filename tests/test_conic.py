@@ -7,9 +7,9 @@ from fractions import Fraction as F
 import pytest
 from hypothesis import given, settings, strategies as st, HealthCheck
 
-from runtime.conic import Conic, CanonicalFrame, fraction_sqrt
-from runtime.result import InvalidConicError
-from runtime.validation import required_cases_path, load_cases
+from curvedvoronoi.runtime.conic import Conic, CanonicalFrame, fraction_sqrt
+from curvedvoronoi.runtime.result import InvalidConicError
+from curvedvoronoi.runtime.validation import required_cases_path, load_cases
 
 CASES_PATH = required_cases_path()   # a missing file fails loudly, never skips
 

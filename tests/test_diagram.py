@@ -15,9 +15,9 @@ import random
 import numpy as np
 import pytest
 
-from runtime.circles import Circle, locate_conflicts_circles
-from runtime.diagram import DelaunayGraph, as_site, conic_locator_available, run_diagram
-from runtime.result import LocatorError
+from curvedvoronoi.runtime.circles import Circle, locate_conflicts_circles
+from curvedvoronoi.runtime.diagram import DelaunayGraph, as_site, conic_locator_available, run_diagram
+from curvedvoronoi.runtime.result import LocatorError
 
 AGREEMENT: dict[str, list[int]] = {}
 
@@ -167,7 +167,7 @@ def test_nested_site_prop_1_2_1():
 def test_json_networkx_and_cli(tmp_path):
     import importlib.resources as ir
 
-    ex = ir.files("runtime") / "data" / "example_sites.json"
+    ex = ir.files("curvedvoronoi.runtime") / "data" / "example_sites.json"
     out_json, out_png = tmp_path / "d.json", tmp_path / "d.png"
     pytest.importorskip("matplotlib", reason="matplotlib (extra 'plot') is needed for the picture")
     G = run_diagram(str(ex), png=str(out_png), json_out=str(out_json), progress=False)
@@ -184,7 +184,7 @@ def test_json_networkx_and_cli(tmp_path):
 
 
 def test_cli_errors(tmp_path):
-    from runtime.diagram import diagram_main
+    from curvedvoronoi.runtime.diagram import diagram_main
 
     bad = tmp_path / "bad.json"
     bad.write_text('{"conics": [{"coefficients": [1, 0, 1, 0, 0]}]}')
@@ -207,7 +207,7 @@ def test_bad_input():
 # ------------------------------------------------------------------ conics (general locator)
 
 def _mixed_conics(seed: int, m: int):
-    from runtime.conic import Conic
+    from curvedvoronoi.runtime.conic import Conic
 
     rnd = random.Random(seed)
     out = []
@@ -226,7 +226,7 @@ def _mixed_conics(seed: int, m: int):
 
 
 def test_conic_site_without_locator_is_clear():
-    from runtime.conic import Conic
+    from curvedvoronoi.runtime.conic import Conic
 
     e = Conic.ellipse(centre=(0, 0), axes=(3, 1))
     assert conic_locator_available()     # shipped with the package: conic sites are accepted
@@ -235,7 +235,7 @@ def test_conic_site_without_locator_is_clear():
 
 
 def _mixed_set():
-    from runtime.conic import Conic
+    from curvedvoronoi.runtime.conic import Conic
 
     return [Conic.ellipse(centre=(0, 0), axes=(6, 2), rotation=("3/5", "4/5")),
             Conic.circle(centre=(-15, 10), radius=3),

@@ -10,10 +10,10 @@ import mpmath
 import pytest
 from hypothesis import example, given, settings, strategies as st, HealthCheck
 
-from runtime.conic import Conic
-from runtime.distance import (distance, foot_points, distance_ball, distance_sign_vs,
+from curvedvoronoi.runtime.conic import Conic
+from curvedvoronoi.runtime.distance import (distance, foot_points, distance_ball, distance_sign_vs,
                               squared_distance_ball, tangency_polynomial, closest_point)
-from runtime.validation import required_cases_path, load_cases
+from curvedvoronoi.runtime.validation import required_cases_path, load_cases
 from reference import RefConic, ref_distance, ref_foot, _dist2, _golden_mp
 
 CASES_PATH = required_cases_path()   # a missing file fails loudly, never skips

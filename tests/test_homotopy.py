@@ -23,14 +23,14 @@ from fractions import Fraction
 import numpy as np
 import pytest
 
-from runtime.artefacts import load_offset
-from runtime.conic import Conic
-from runtime.homotopy import _family, _System, _to_chart, homotopy_solve, slot_parameters, start_system
-from runtime.locator import locate_conflicts
-from runtime.polyalg import CanonicalOffset, working_frame
-from runtime.result import LocatorError
-from runtime.validation import required_cases_path
-from runtime.vertices import CONFIG_TABLE, generalised_vertices
+from curvedvoronoi.runtime.artefacts import load_offset
+from curvedvoronoi.runtime.conic import Conic
+from curvedvoronoi.runtime.homotopy import _family, _System, _to_chart, homotopy_solve, slot_parameters, start_system
+from curvedvoronoi.runtime.locator import locate_conflicts
+from curvedvoronoi.runtime.polyalg import CanonicalOffset, working_frame
+from curvedvoronoi.runtime.result import LocatorError
+from curvedvoronoi.runtime.validation import required_cases_path
+from curvedvoronoi.runtime.vertices import CONFIG_TABLE, generalised_vertices
 
 CASES = {c["name"]: c for c in json.loads(required_cases_path().read_text())["cases"]}
 

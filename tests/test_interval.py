@@ -16,12 +16,12 @@ import pytest
 from flint import arb
 from hypothesis import given, settings, strategies as st
 
-from runtime.validation import required_cases_path as _validation_path
-from runtime.interval import locate_conflicts_interval, locate_conflicts_semialgebraic
-from runtime.interval.boxes import Box, arb_hi, arb_lo, interval_arb
-from runtime.interval.offsets import canonical_offset, conic_offset
-from runtime.interval.poly import Poly, taylor_form
-from runtime.interval.solver import System, krawczyk, solve
+from curvedvoronoi.runtime.validation import required_cases_path as _validation_path
+from curvedvoronoi.runtime.interval import locate_conflicts_interval, locate_conflicts_semialgebraic
+from curvedvoronoi.runtime.interval.boxes import Box, arb_hi, arb_lo, interval_arb
+from curvedvoronoi.runtime.interval.offsets import canonical_offset, conic_offset
+from curvedvoronoi.runtime.interval.poly import Poly, taylor_form
+from curvedvoronoi.runtime.interval.solver import System, krawczyk, solve
 
 DATA = _validation_path()
 XY = ("x", "y")

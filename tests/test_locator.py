@@ -1,6 +1,6 @@
 """Tests of runtime.locator (thesis ch. 5; issue 4).
 
-* all 30 validation cases (shared/data/validation_cases.json): vertex counts, x, y, radius,
+* all 30 validation cases (tests/data/validation_cases.json): vertex counts, x, y, radius,
   distance_to_fourth (relative 1e-8), conflict flags; the two exactly tangent cases must come back
   undecided and uncertified; a case may only be refused (LocatorError) under the documented
   limitation (vertices far outside the scene);
@@ -24,11 +24,11 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from runtime.validation import required_cases_path as _validation_path
-from runtime.conic import Conic
-from runtime.locator import clear_cache, demo_configuration, voronoi_vertices
-from runtime.locator import locate_conflicts as _locate_conflicts
-from runtime.result import InvalidConicError, LocatorError
+from curvedvoronoi.runtime.validation import required_cases_path as _validation_path
+from curvedvoronoi.runtime.conic import Conic
+from curvedvoronoi.runtime.locator import clear_cache, demo_configuration, voronoi_vertices
+from curvedvoronoi.runtime.locator import locate_conflicts as _locate_conflicts
+from curvedvoronoi.runtime.result import InvalidConicError, LocatorError
 
 
 def locate_conflicts(*args, **kw):

@@ -1,4 +1,4 @@
-"""The default (certified) conic locator on every validation case (shared/data/validation_cases.json).
+"""The default (certified) conic locator on every validation case (tests/data/validation_cases.json).
 
 The default route of ``locate_conflicts`` is numeric (triple null-space solve) followed by the
 certification stage.  Facts checked against the independently computed answers:
@@ -17,10 +17,10 @@ from fractions import Fraction
 
 import pytest
 
-from runtime.conic import Conic
-from runtime.locator import locate_conflicts
-from runtime.result import LocatorError
-from runtime.validation import default_cases_path
+from curvedvoronoi.runtime.conic import Conic
+from curvedvoronoi.runtime.locator import locate_conflicts
+from curvedvoronoi.runtime.result import LocatorError
+from curvedvoronoi.runtime.validation import default_cases_path
 
 _PATH = default_cases_path()
 CASES = json.loads(_PATH.read_text())["cases"] if _PATH else []
@@ -36,7 +36,7 @@ def _close(a, b, tol=1e-8):
 
 
 def test_validation_file_is_available():
-    assert CASES, "shared/data/validation_cases.json not found (set CURVEDVORONOI_VALIDATION_CASES)"
+    assert CASES, "tests/data/validation_cases.json not found (set CURVEDVORONOI_VALIDATION_CASES)"
     assert len(CASES) == 30
 
 
@@ -103,7 +103,7 @@ def test_non_generic_configuration_falls_back_to_interval_route():
     a, b = sorted(res.vertices, key=lambda v: v.y)
     assert abs(a.x - b.x) < 1e-9 and abs(a.y + b.y) < 1e-9 and abs(a.radius - b.radius) < 1e-9
     # independent check: each vertex is equidistant from C1, C2, C3
-    from runtime.distance import distance
+    from curvedvoronoi.runtime.distance import distance
     for v in res.vertices:
         for c in cs[:3]:
             assert abs(distance(c, v.x, v.y) - v.radius) < 1e-9 * max(1.0, v.radius)

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from precompute.mixed import (MixedSubdivision, mixed_cells, mixed_volume, mixed_volume_ie,
+from curvedvoronoi.precompute.mixed import (MixedSubdivision, mixed_cells, mixed_volume, mixed_volume_ie,
                               random_lifting)
-from precompute.polytopes import as_points, lattice_points, convex_hull, minkowski_sum, support, vertices
+from curvedvoronoi.precompute.polytopes import as_points, lattice_points, convex_hull, minkowski_sum, support, vertices
 
 
 def cyclic(n):

@@ -7,10 +7,10 @@ import flint
 import numpy as np
 import pytest
 
-from precompute.conics import FAMILIES
-from precompute.mixed import mixed_volume
-from precompute.newton_matrix import newton_matrix
-from precompute.offsets import offset_point
+from curvedvoronoi.precompute.conics import FAMILIES
+from curvedvoronoi.precompute.mixed import mixed_volume
+from curvedvoronoi.precompute.newton_matrix import newton_matrix
+from curvedvoronoi.precompute.offsets import offset_point
 
 PRIME = 4294967291  # < 2^32
 

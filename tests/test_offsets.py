@@ -10,9 +10,9 @@ import pytest
 import sympy as sp
 from hypothesis import given, settings, strategies as st
 
-from precompute.conics import FAMILIES
-from precompute.offsets import derive_offset, evaluate_terms, offset_point
-from runtime.artefacts import load_offset
+from curvedvoronoi.precompute.conics import FAMILIES
+from curvedvoronoi.precompute.offsets import derive_offset, evaluate_terms, offset_point
+from curvedvoronoi.runtime.artefacts import load_offset
 
 GOLDEN = Path(__file__).parent / "golden"
 

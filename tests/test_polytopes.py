@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 from scipy.spatial import ConvexHull
 
-from precompute.polytopes import (affine_rank, as_points, convex_hull, in_convex_hull, lattice_points,
+from curvedvoronoi.precompute.polytopes import (affine_rank, as_points, convex_hull, in_convex_hull, lattice_points,
                                   minkowski_sum, normalized_volume, support, vertices)
 
 

@@ -23,7 +23,7 @@ if __name__ == "__main__":  # script mode: make the repo root and tests/ importa
 import mpmath
 import pytest
 
-from runtime.validation import required_cases_path, load_cases
+from curvedvoronoi.runtime.validation import required_cases_path, load_cases
 from reference import reference_locate, ref_distance, RefConic
 
 CASES_PATH = required_cases_path()   # a missing file fails loudly, never skips

@@ -7,10 +7,10 @@ import flint
 import numpy as np
 import pytest
 
-from precompute.mixed import mixed_volume
-from precompute.newton_matrix import newton_matrix
-from precompute.offsets import canonical_offset
-from precompute.systems import (TABLE_5_1_ROWS, TRIPLES, app_c1_parabola_offset, build_all,
+from curvedvoronoi.precompute.mixed import mixed_volume
+from curvedvoronoi.precompute.newton_matrix import newton_matrix
+from curvedvoronoi.precompute.offsets import canonical_offset
+from curvedvoronoi.precompute.systems import (TABLE_5_1_ROWS, TRIPLES, app_c1_parabola_offset, build_all,
                                 conflict_system, simplify_term, vertex_system)
 
 GOLDEN = json.loads((pathlib.Path(__file__).parent / "golden" / "table_5_1.json").read_text())

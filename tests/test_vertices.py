@@ -18,11 +18,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from runtime.validation import required_cases_path as _validation_path
-from runtime.conic import Conic
-from runtime.polyalg import CanonicalOffset, WorkingFrame, compose_offset, eval_dict, working_frame
-from runtime.result import LocatorError
-from runtime.vertices import (CONFIG_TABLE, generalised_vertices, monomials, macaulay_matrix,
+from curvedvoronoi.runtime.validation import required_cases_path as _validation_path
+from curvedvoronoi.runtime.conic import Conic
+from curvedvoronoi.runtime.polyalg import CanonicalOffset, WorkingFrame, compose_offset, eval_dict, working_frame
+from curvedvoronoi.runtime.result import LocatorError
+from curvedvoronoi.runtime.vertices import (CONFIG_TABLE, generalised_vertices, monomials, macaulay_matrix,
                               voronoi_vertices_triple)
 
 DATA = _validation_path()

@@ -2,7 +2,7 @@
 
 Public API::
 
-    from runtime.interval import locate_conflicts_semialgebraic, locate_conflicts_interval
+    from curvedvoronoi.runtime.interval import locate_conflicts_semialgebraic, locate_conflicts_interval
 
 Modules: ``poly`` (exact polynomials, compiled Horner evaluators), ``boxes`` (interval vectors,
 outward rounding), ``solver`` (branch and prune, Moore–Krawczyk, 3B), ``offsets`` (generalised

@@ -218,7 +218,7 @@ def parse_curve(spec, name: str = "") -> Curve:
                 f = conic_frame_poly(conic["kind"], conic["params"], conic["cos"], conic["sin"], conic["tx"], conic["ty"])
             if conic is None:
                 try:
-                    from runtime.conic import Conic  # type: ignore
+                    from ..conic import Conic
 
                     return _from_conic_object(Conic.from_coefficients(*spec["coefficients"]), name)
                 except ImportError:

@@ -14,7 +14,7 @@ import time
 
 import numpy as np
 
-from runtime.result import LocatorError, LocatorResult, VoronoiVertex
+from ..result import LocatorError, LocatorResult, VoronoiVertex
 
 from .boxes import Box, arb_hi, arb_lo
 from .curves import Curve, parse_curve

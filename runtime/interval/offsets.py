@@ -30,7 +30,7 @@ FAMILIES = {
 
 def _from_artefacts(family: str) -> Poly | None:
     try:
-        from runtime import artefacts  # type: ignore
+        from .. import artefacts
     except Exception:  # noqa: BLE001 - artefacts module not landed yet
         return None
     load = getattr(artefacts, "load_offset", None)
