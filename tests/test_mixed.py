@@ -86,13 +86,6 @@ def test_cyclic(n, mv):
     assert mixed_volume(cyclic(n)) == mv
 
 
-@pytest.mark.slow
-def test_cyclic7():
-    t = time.perf_counter()
-    assert mixed_volume(cyclic(7)) == 924
-    assert time.perf_counter() - t < 120
-
-
 def test_cyclic5_independent_of_seed_and_cells_are_exact():
     sup = [vertices(as_points(s)) for s in cyclic(5)]
     for seed in range(4):
