@@ -5,6 +5,8 @@
 * ``invoke test``             -- the test suite
 * ``invoke bench``            -- every benchmark in bench/ (results appended to bench/results/*.md)
 * ``invoke demo``             -- the locator demo
+* ``invoke docs``             -- the user guide's pictures (docs/images/), docs/api.md and the HTML
+  API reference (pdoc, into docs/_build/api/)
 """
 from __future__ import annotations
 
@@ -78,3 +80,22 @@ def bench(c, only=""):
 def demo(c):
     """Run the conflict locator on the built-in four-ellipse example."""
     c.run(f"{sys.executable} -m curvedvoronoi demo", pty=False)
+
+
+@task(help={"no_figures": "skip the pictures (the slowest part)", "no_html": "skip the pdoc HTML reference"})
+def docs(c, no_figures=False, no_html=False):
+    """Build the docs: pictures (docs/make_figures.py), docs/api.md (docs/make_api.py), pdoc HTML."""
+    t0 = time.perf_counter()
+    if not no_figures:
+        c.run(f"{sys.executable} {ROOT / 'docs' / 'make_figures.py'}", pty=False)
+    c.run(f"{sys.executable} {ROOT / 'docs' / 'make_api.py'}", pty=False)
+    if not no_html:
+        try:
+            import pdoc  # noqa: F401
+        except ImportError:
+            print("docs: the HTML reference needs pdoc, which is not installed: pip install 'curvedvoronoi[docs]'")
+            raise Exit(code=1)
+        c.run(f"{sys.executable} -m pdoc -o {ROOT / 'docs' / '_build' / 'api'} curvedvoronoi "
+              "curvedvoronoi.runtime.sites_io curvedvoronoi.runtime.conic curvedvoronoi.runtime.circles "
+              "curvedvoronoi.runtime.locator curvedvoronoi.runtime.result", pty=False)
+    print(f"docs: done in {time.perf_counter() - t0:.1f} s (docs/index.md is the entry point)")

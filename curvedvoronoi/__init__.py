@@ -1,14 +1,74 @@
-"""curvedvoronoi: certified proximity computations on curved sites.
+"""Certified Voronoi diagrams and Delaunay graphs of conics.
 
 After F. Anton, *Voronoi diagrams of semi-algebraic sets*, PhD thesis, University of British
-Columbia, 2003.  One import name re-exports the public API::
+Columbia, 2003.  One import name gives the public API.
 
-    import curvedvoronoi as cv
-    cv.Conic, cv.Circle, cv.Point          # sites
-    cv.locate_conflicts(c1, c2, c3, c4)    # the Delaunay-graph conflict locator (thesis §1.2, ch. 5)
-    cv.voronoi(sites)                      # the Voronoi diagram of many sites (thesis §1.2)
-    cv.load_offset("ellipse")              # generalised offsets (thesis ch. 4, App. B)
+Sites
+-----
+Conic
+    A non-degenerate real conic ``a x² + b xy + c y² + d x + e y + f = 0`` with exact rational
+    coefficients: ``Conic.from_coefficients(a, b, c, d, e, f)``, ``Conic.ellipse(centre, axes,
+    rotation)``, ``Conic.hyperbola(...)``, ``Conic.parabola(vertex, p, rotation)``,
+    ``Conic.circle(centre, radius)``.  ``rotation`` is an exact ``(cos, sin)`` pair or an angle in
+    radians.
+Circle
+    A circle site with exact centre and *squared* radius: build it with
+    ``Circle.from_radius(cx, cy, radius)``; ``Circle(cx, cy, r2)`` takes r2 = radius².
+Point
+    A point site ``Point(x, y)`` (a circle of radius 0, thesis §3.1.2).
 
+Computations
+------------
+locate_conflicts(c1, c2, c3, c4, method="auto")
+    The Delaunay-graph conflict locator (thesis §1.2, ch. 5): the true Voronoi vertices of
+    C1, C2, C3 (centres of empty circles tangent to the three) and whether C4 enters them.
+    Returns a :class:`LocatorResult`; ``certified`` is True only for a proved answer.
+voronoi(sites)
+    The Voronoi diagram / Delaunay graph of any number of sites (thesis §1.2), a ``Diagram``.
+load_offset(family)
+    The generalised offset of a conic family (thesis ch. 4, App. B), from verified artefacts.
+read_sites(path)
+    Sites from a JSON file (schema in ``curvedvoronoi.runtime.sites_io``), validated.
+
+Errors are ``ValueError`` subclasses with one-line messages: :class:`InvalidConicError` (the
+input is not a proper real conic), :class:`LocatorError` (no trustworthy answer).
+
+Examples
+--------
+>>> import curvedvoronoi as cv
+>>> e = cv.Conic.ellipse(centre=(0, 0), axes=(2, 1))
+>>> e
+Conic(ellipse: 1, 0, 4, 0, 0, -4)
+>>> e.kind, e.frame.params
+('ellipse', {'A2': 4.0, 'B2': 1.0})
+>>> cv.Circle.from_radius(0, 0, 3).radius_squared
+9
+>>> cv.Conic.from_coefficients(1, 0, 1, 0, 0, 1)
+Traceback (most recent call last):
+...
+curvedvoronoi.runtime.result.InvalidConicError: imaginary ellipse: the equation has no real point
+
+Four circles: the exact locator of thesis §3.1.3.  The circle of radius 1 centred at (0, 0),
+(4, 0) and (0, 4) has one empty circle tangent to the three; a point at (1, 1) is inside it:
+
+>>> sites = [cv.Circle.from_radius(0, 0, 1), cv.Circle.from_radius(4, 0, 1),
+...          cv.Circle.from_radius(0, 4, 1), cv.Point(1, 1)]
+>>> res = cv.locate_conflicts_circles(*sites)
+>>> res.conflict, res.certified, [(float(v.x), float(v.y)) for v in res.vertices]
+(True, True, [(2.0, 2.0)])
+
+Four ellipses placed like thesis Fig. 5.5.1 (a certified answer in about a second):
+
+>>> from curvedvoronoi.runtime.locator import demo_configuration
+>>> res = cv.locate_conflicts(*demo_configuration())
+>>> res.conflict, res.certified, len(res.vertices)
+(True, True, 1)
+>>> v = res.vertices[0]
+>>> round(v.x, 6), round(v.y, 6), round(v.radius, 6), v.in_conflict
+(2.401431, 1.880629, 1.510415, True)
+
+Package layout
+--------------
 The three halves of the source tree are sub-packages: ``curvedvoronoi.precompute`` (offline,
 exact), ``curvedvoronoi.generated`` (hashed data artefacts) and ``curvedvoronoi.runtime``
 (online, certified).  In the repository they are the top-level folders ``precompute/``,
@@ -41,6 +101,9 @@ _LAZY = {
     "verify": ("runtime.voronoi.verify", "verify"),
     "offset": ("runtime.algebraic_offset", "offset"),
     "locate_conflicts": ("runtime.locator", "locate_conflicts"),
+    "locate_conflicts_circles": ("runtime.circles", "locate_conflicts_circles"),
+    "read_sites": ("runtime.sites_io", "read_sites"),
+    "parse_site": ("runtime.sites_io", "parse_site"),
     "voronoi_vertices": ("runtime.locator", "voronoi_vertices"),
     "LocatorResult": ("runtime.result", "LocatorResult"),
     "VoronoiVertex": ("runtime.result", "VoronoiVertex"),

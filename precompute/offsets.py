@@ -25,7 +25,8 @@ kept factors (each once) is the offset; its degree in (u, v) must equal Table 4.
 ellipse/hyperbola 8, parabola 6, two lines 4) — we raise if it does not.  For a pair of lines the
 offset is reducible (one factor per line) and several factors are kept; each sample point lies
 on one line only, so a factor is kept when it vanishes at *some* samples, and the product must
-vanish at *all* of them.
+vanish at *all* of them.  The selection rule itself is the library's single one,
+:func:`runtime.algebraic_offset.select_factors` (also used for arbitrary curves).
 """
 from __future__ import annotations
 
@@ -36,6 +37,7 @@ from fractions import Fraction
 
 import flint
 
+from ..runtime.algebraic_offset import select_factors
 from .conics import FAMILIES, ConicFamily
 
 #: variables of every serialised offset polynomial, before the family parameters
@@ -126,7 +128,7 @@ def derive_offset(name: str, *, samples: int = 12, seed: int = 20030101) -> Offs
     sample_values = [tuple([u_, v_, R_] + [p[s] for s in family.params]) for p, (u_, v_, R_) in pts]
 
     kept, kept_info, spurious_info = [], [], []
-    covered = [False] * len(pts)
+    candidates, infos = [], []
     for fac, mult in factors:
         fac_out = fac.project_to_context(out_ctx)
         degs = dict(zip(out_names, fac_out.degrees()))
@@ -134,20 +136,26 @@ def derive_offset(name: str, *, samples: int = 12, seed: int = 20030101) -> Offs
                 "degree_uv": int(max((e[0] + e[1] for e in fac_out.to_dict()), default=0))}
         if degs["u"] == 0 and degs["v"] == 0:
             info["kind"] = "parameter content"
-            spurious_info.append(info)
+            infos.append((info, None))
             continue
         terms = [(tuple(int(e) for e in k), int(c)) for k, c in fac_out.to_dict().items()]
-        hits = [evaluate_terms(terms, vals) == 0 for vals in sample_values]
-        # an irreducible offset must vanish at every sample; a line pair's offset has one
-        # factor per line and each sample point lies on one line only
-        if all(hits) or (family.reducible_offset and any(hits)):
-            kept.append(fac_out)
-            kept_info.append(info | {"vanishing_samples": sum(hits)})
-            covered = [c or h for c, h in zip(covered, hits)]
+        infos.append((info, len(candidates)))
+        candidates.append((fac_out, terms))
+    # an irreducible offset must vanish at every sample (one group); a line pair's offset has one
+    # factor per line and each sample point lies on one line only (one group per sample)
+    groups = [[vals] for vals in sample_values] if family.reducible_offset else [sample_values]
+    sel = select_factors([terms for _, terms in candidates], groups,
+                         lambda terms, vals: evaluate_terms(terms, vals) == 0)
+    for info, ci in infos:
+        if ci is None:
+            spurious_info.append(info)
+        elif ci in sel.kept:
+            kept.append(candidates[ci][0])
+            kept_info.append(info | {"vanishing_samples": sum(map(sum, sel.hits[ci]))})
         else:
             info["kind"] = "extraneous"
             spurious_info.append(info)
-    if not kept or not all(covered):
+    if not kept or not sel.covered:
         raise RuntimeError(f"offset of {name}: no product of factors vanishes on all offset samples")
     poly = kept[0]
     for k_ in kept[1:]:

@@ -49,12 +49,14 @@ def _system_configurations() -> list[str]:
 
 
 def regenerate(out_dir: Path, *, jobs: int = 2, families=OFFSET_FAMILIES, with_systems: bool = True,
-               progress: Callable[[str], None] | None = None) -> dict[str, float]:
+               with_counts: bool = True, progress: Callable[[str], None] | None = None) -> dict[str, float]:
     """Regenerate all artefacts into ``out_dir``; return the wall-clock seconds per item.
 
     Offsets (thesis ch. 4) and Newton-matrix structures (Table 5.1 configurations and the
     three-conic vertex systems) run in one joblib pool: the generic-conic offset (about a
-    minute) occupies one worker while the other builds the matrices.
+    minute) occupies one worker while the other builds the matrices.  Then the generic root
+    counts of the triple systems (:mod:`precompute.root_counts`, msolve over F_p, about a second)
+    are derived from the circle/ellipse/parabola offsets just written.
     """
     say = progress or (lambda msg: print(msg, file=sys.stderr, flush=True))
     out_dir = Path(out_dir)
@@ -91,6 +93,18 @@ def regenerate(out_dir: Path, *, jobs: int = 2, families=OFFSET_FAMILIES, with_s
                 inputs[rel] = {"kind": "newton-matrix", "configuration": config, "system_seed": 0,
                                "lifting_seed": 0, "generator_version": GENERATOR_VERSION}
             say(f"[regenerate] ({done}/{total}) Newton matrix {config:<6} {secs:7.2f} s")
+    if with_counts and all((out_dir / f"offsets/{f}.json").is_file() for f in ("circle", "ellipse", "parabola")):
+        from .root_counts import ROOT_COUNTS_FORMAT, SEED, root_counts_document
+
+        t0 = time.perf_counter()
+        (out_dir / "counts").mkdir(parents=True, exist_ok=True)
+        rel = "counts/root_counts.json"
+        (out_dir / rel).write_text(root_counts_document(out_dir / "offsets"))
+        timings["counts"] = time.perf_counter() - t0
+        inputs[rel] = {"kind": "root-counts", "format": ROOT_COUNTS_FORMAT, "seed": SEED,
+                       "offsets": ["offsets/circle.json", "offsets/ellipse.json", "offsets/parabola.json"],
+                       "generator_version": GENERATOR_VERSION}
+        say(f"[regenerate] root counts (msolve over F_p, 10 family triples) {timings['counts']:7.2f} s")
     write_manifest(out_dir, inputs)
     timings["total"] = time.perf_counter() - t_all
     say(f"[regenerate] done in {timings['total']:.1f} s; manifest written")

@@ -165,3 +165,35 @@ def load_offset(family: str, root: Path | None = None) -> OffsetPolynomial:
     hyperbolas), ``parabola`` (y²−2px), ``lines_parallel``, ``lines_intersecting``, ``generic``."""
     root = Path(root) if root is not None else generated_dir()
     return _load_offset_cached(family, str(root))
+
+
+ROOT_COUNTS_FORMAT = "curvedvoronoi.root_counts/1"
+
+
+@lru_cache(maxsize=4)
+def _load_root_counts_cached(root: str) -> dict:
+    rel = "counts/root_counts.json"
+    doc = load_json(rel, Path(root))
+    try:
+        if doc["format"] != ROOT_COUNTS_FORMAT:
+            raise ArtefactError(f"{rel}: unsupported format {doc['format']!r}; {_fix()}")
+        out = {}
+        for key, entry in doc["counts"].items():
+            fams = tuple(entry["families"])
+            if len(fams) != 3 or fams != tuple(sorted(fams)) or ",".join(fams) != key:
+                raise ValueError(f"bad family triple {key!r}")
+            n = entry["count"]
+            if not isinstance(n, int) or n < 0:
+                raise ValueError(f"bad count {n!r} for {key}")
+            out[fams] = n
+        return out
+    except (KeyError, TypeError, ValueError) as exc:
+        raise ArtefactError(f"artefact {rel} is malformed ({exc}); {_fix()}") from None
+
+
+def load_root_counts(root: Path | None = None) -> dict[tuple[str, str, str], int]:
+    """Generic number of finite generalised Voronoi vertices per sorted family triple
+    (``generated/counts/root_counts.json``: msolve parametrisation degrees of random members,
+    :mod:`precompute.root_counts`), verified against the manifest."""
+    root = Path(root) if root is not None else generated_dir()
+    return dict(_load_root_counts_cached(str(root)))

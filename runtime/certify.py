@@ -185,7 +185,8 @@ def _ball_checks(box, fps, fp4) -> _Outcome:
     qx, qy = box[0], box[1]
     R = None
     for i in range(3):
-        Ri = (qx - box[2 + 2 * i]) ** 2 + (qy - box[3 + 2 * i]) ** 2
+        dx, dy = qx - box[2 + 2 * i], qy - box[3 + 2 * i]
+        Ri = dx * dx + dy * dy  # not ** 2: arb's pow is NaN on a ball containing 0
         R = Ri if R is None else R.intersection(Ri)
     out.R = R
     if not R > 0:

@@ -16,9 +16,12 @@ of the type configuration (e.g. 184 for three ellipses, DESIGN §5).  Completene
    the enclosure must exclude the real axis (proved non-real);
 4. if N equals the generic count, these are all the isolated solutions: by the coefficient-
    parameter theorem (Morgan–Sommese) a member of a family has at most the generic number of
-   isolated solutions.  **Caveat**: the generic counts of ``runtime.vertices.CONFIG_TABLE`` were
-   measured numerically (DESIGN §5), not proved; completeness is relative to them.  Solutions on
-   positive-dimensional components are not covered (non-generic input).
+   isolated solutions.  The generic counts (``runtime.vertices.CONFIG_TABLE``) come from the
+   precompute (``generated/counts/root_counts.json``: degrees of msolve's rational
+   parametrisation of random members over F_p), not from the runtime solvers.  Solutions on
+   positive-dimensional components are not covered by counting; when the count does not close,
+   :func:`completeness_exact` decides from msolve's exact real solutions, which also detects a
+   positive-dimensional system.
 5. every proven-real solution either matches a certified vertex (its box contains the vertex's
    box) or is proved *not* to be a true vertex: R < 0, or a real foot point on some C_i strictly
    closer than √R, or no real foot point at distance √R (R is the squared distance to a complex
@@ -39,7 +42,8 @@ from .artefacts import load_offset
 from .certify_foot import (FootFailure, foot_polynomial, normalised_coefficients, real_feet_ball, to_arb,
                            working_prec)
 
-__all__ = ["certify_completeness", "completeness_with_vertices", "OffsetSystem", "certify_solutions"]
+__all__ = ["certify_completeness", "completeness_with_vertices", "completeness_exact", "OffsetSystem",
+           "certify_solutions", "exact_offset_terms"]
 
 
 @lru_cache(maxsize=256)
@@ -51,6 +55,12 @@ def _offset_terms(co: tuple[Fraction, ...]):
         spec = o.specialise(a=a, b=b, c=c, d=d, e=e, f=f)
     m = max(abs(v) for v in spec.values())
     return tuple((i, j, k, Fraction(v) / m) for (i, j, k), v in spec.items())
+
+
+def exact_offset_terms(conic) -> tuple[tuple[int, int, int, Fraction], ...]:
+    """The verified generic offset (App. B.1–B.2) specialised at the exact (normalised) coefficients
+    of ``conic``: terms (i, j, k, c) of c·x^i·y^j·R^k, scaled so that max |c| = 1."""
+    return _offset_terms(normalised_coefficients(conic))
 
 
 def _specialise_int(o, co):
@@ -745,3 +755,118 @@ def completeness_with_vertices(c1, c2, c3, solutions, expected_count, certs, *, 
     if unmatched:
         return False, f"{len(unmatched)} certified vertex(es) not among the solutions"
     return True, note + "; every real solution is a listed vertex or proved not a true vertex"
+
+
+# --------------------------------------------------------------------------- exact completeness
+
+def _interval_ball(lo: Fraction, hi: Fraction) -> arb:
+    """A ball containing the rational interval [lo, hi] (union of the balls of its endpoints)."""
+    a = arb(flint.fmpq(lo.numerator, lo.denominator))
+    b = arb(flint.fmpq(hi.numerator, hi.denominator))
+    return a.union(b)
+
+
+def vertex_box_from_certificate(cert: dict):
+    """(x, y, R) arb balls containing the proven vertex whose ``VoronoiVertex.info['certificate']``
+    is ``cert`` (float mid/rad as written by runtime.certify), widened for the float rounding of
+    mid (≤ 2^-53 relative) and rad; None when the certificate has no box."""
+    out = []
+    for name in ("x", "y", "R"):
+        b = cert.get(name)
+        if not b:
+            return None
+        m, r = float(b["mid"]), float(b["rad"])
+        if not (np.isfinite(m) and np.isfinite(r)):
+            return None
+        out.append(arb(m, r * (1 + 2.0 ** -40) + abs(m) * 2.0 ** -51 + 2.0 ** -1000))
+    return tuple(out)
+
+
+def completeness_exact(c1, c2, c3, boxes, vertex_boxes) -> tuple[bool, str]:
+    """Completeness of a certified vertex list from the exact real solutions of the triple system.
+
+    ``boxes``: msolve's isolating boxes ((x_lo, x_hi), (y_lo, y_hi), (R_lo, R_hi)) of *all* real
+    solutions of the exact offset system (:mod:`runtime.exact_solve`); ``vertex_boxes``: (x, y, R)
+    arb enclosures of the certified true vertices.  Argument: a true Voronoi vertex is a real
+    solution of o1 = o2 = o3 = 0 (thesis §5.2–§5.3: √R is a critical distance to each conic), so it
+    lies in exactly one box.  (i) Each certified vertex box must meet exactly one exact box -- that
+    box's solution is the vertex -- and no two vertices the same box.  (ii) Every other box is
+    proved not to hold a true vertex (R < 0, a real foot point strictly closer than √R, or no real
+    foot point at distance √R: :func:`_not_a_vertex`).  Then the certified vertices are all the
+    true vertices."""
+    fps = [foot_polynomial(normalised_coefficients(c)) for c in (c1, c2, c3)]
+    with working_prec(256):
+        K = [tuple(_interval_ball(lo, hi) for lo, hi in b) for b in boxes]
+        owner: dict[int, int] = {}
+        for v, B in enumerate(vertex_boxes):
+            if B is None:
+                return False, f"certified vertex {v} has no enclosure to match with the exact solutions"
+            hits = [k for k, Kk in enumerate(K) if all(Kk[i].overlaps(B[i]) for i in range(3))]
+            if len(hits) != 1:
+                return False, (f"vertex {v} meets {len(hits)} of the exact real solution boxes "
+                               "(matching not proven)")
+            if hits[0] in owner:
+                return False, "two certified vertices match the same exact real solution"
+            owner[hits[0]] = v
+        rest = [k for k in range(len(K)) if k not in owner]
+        for k in rest:
+            if not _not_a_vertex(fps, K[k]) and not _closer_witness((c1, c2, c3), fps, K[k]):
+                x, y = float(K[k][0].mid()), float(K[k][1].mid())
+                return False, (f"exact real solution ({x:.6g}, {y:.6g}) neither matches a certified vertex "
+                               "nor is proved not to be a true vertex")
+    return True, (f"exact: {len(K)} real solutions of the exact offset system (msolve); {len(owner)} are the "
+                  f"certified vertices, {len(rest)} proved not true vertices")
+
+
+def _conic_points_near(co, fx: float, fy: float):
+    """Balls that each contain a point of the conic a·x² + b·xy + c·y² + d·x + e·y + f = 0 (exact
+    coefficients ``co``) near (fx, fy): fix x = fx and solve the quadratic in y (and vice versa);
+    a root ball of a quadratic with positive discriminant ball contains a true root."""
+    a, b, c, d, e, f = (arb(flint.fmpq(t.numerator, t.denominator)) for t in co)
+    out = []
+    for swap in (False, True):
+        if swap:
+            a, c, d, e = c, a, e, d
+            fx, fy = fy, fx
+        X = arb(fx)
+        A, B, C = c, b * X + e, a * X * X + d * X + f
+        if A.contains(0):
+            if not B.contains(0):
+                out.append((X, -C / B) if not swap else (-C / B, X))
+            continue
+        disc = B * B - 4 * A * C
+        if not disc > 0:
+            continue
+        for sgn in (1, -1):
+            Y = (-B + sgn * disc.sqrt()) / (2 * A)
+            out.append((X, Y) if not swap else (Y, X))
+    return out
+
+
+def _closer_witness(conics, fps, K) -> bool:
+    """Proof that the real solution in K = (x, y, R) is not a true vertex by a *witness*: a ball
+    containing a point of some C_i whose squared distance to every point of (x, y) is < R (then
+    d(q, C_i) < √R, thesis Def. 5.2.1).  Seeds: the (possibly only numerical) foot points of the
+    three sites at the centre of K -- this covers points on a symmetry axis inside the evolute,
+    where the foot enclosures are only "possible"."""
+    x, y, R = K
+    if not R > 0:
+        return False
+    for conic, fp in zip(conics, fps):
+        co = normalised_coefficients(conic)
+        try:
+            feet = real_feet_ball(fp, x, y)
+        except FootFailure:
+            feet = []
+        for ft in feet:
+            if not ft.D < R * 1.0000001 and not ft.possible:
+                continue
+            try:
+                fx, fy = float(ft.px.mid()), float(ft.py.mid())
+            except (ValueError, OverflowError):
+                continue
+            for P in _conic_points_near(co, fx, fy):
+                D = (P[0] - x) ** 2 + (P[1] - y) ** 2
+                if D < R:
+                    return True
+    return False

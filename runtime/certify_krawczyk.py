@@ -52,7 +52,8 @@ class FootSystem:
             fy = b * xi + 2 * c * yi + e
             out.append(a * xi * xi + b * xi * yi + c * yi * yi + d * xi + e * yi + f)
             out.append((x - xi) * fy - (y - yi) * fx)
-            sq.append((x - xi) ** 2 + (y - yi) ** 2)
+            dx, dy = x - xi, y - yi
+            sq.append(dx * dx + dy * dy)  # not ** 2: arb's pow is NaN on a ball containing 0
         out.append(sq[0] - sq[1])
         out.append(sq[0] - sq[2])
         return out

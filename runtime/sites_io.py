@@ -1,56 +1,395 @@
-"""Reading the sites file shared by ``locate`` and ``diagram``:
-``{"conics": [{"coefficients": [a, b, c, d, e, f]}, ...]}`` with JSON numbers or rational strings.
+"""Reading and writing sites: the JSON input schema shared by ``locate`` and ``diagram``.
 
-Every problem is a ValueError with a one-line message naming the file and the conic."""
+A sites file is an object ``{"sites": [SITE, ...]}`` (the older ``{"conics": [...]}`` is read
+the same way).  Sites are numbered from 0 in the order of the list.  A SITE is one of::
+
+    {"point": [x, y]}
+    {"circle": {"centre": [x, y], "radius": r}}              # or "radius_squared": r2
+    {"coefficients": [a, b, c, d, e, f]}                     # a x² + b xy + c y² + d x + e y + f = 0
+    {"ellipse":   {"centre": [x, y], "axes": [A, B], "rotation": ROT}}     # X²/A² + Y²/B² = 1
+    {"hyperbola": {"centre": [x, y], "axes": [A, B], "rotation": ROT}}     # X²/A² − Y²/B² = 1
+    {"parabola":  {"vertex": [x, y], "p": p, "rotation": ROT}}             # Y² = 2 p X
+
+Numbers are JSON numbers (floats are taken at their exact binary value) or rational strings such
+as ``"3/5"``.  ``ROT`` (optional, default 0) turns the canonical axes: an angle in **degrees**
+(multiples of 90 are exact) or an exact rational unit vector ``{"cos": "3/5", "sin": "4/5"}``.
+A site may carry a ``"label"`` string.  The canonical frames are those of thesis §5.3 (the conic
+is the canonical one moved by a rigid motion); ``A``, ``B`` are semi-axes, ``p`` the parameter of
+the parabola.
+
+The document is validated against :data:`SITES_SCHEMA` with the ``jsonschema`` library; every
+problem becomes a :class:`ValueError` with one line naming the offending entry, e.g.
+``sites[3].circle.radius: -1 is less than the minimum of 0``.  After parsing, :func:`read_sites`
+also rejects
+
+* repeated sites (the same curve twice: its Voronoi vertices are not isolated, thesis §5.2), and
+* conics whose scale the numeric locator cannot represent: the offset of the conic's family
+  (thesis App. B), specialised to its canonical parameters, must have finite float coefficients,
+  and the conic's centre and size must lie within ``10^±30`` (:data:`SCALE_LIMIT`), because the
+  offsets of degree up to 8 are evaluated in floating point.
+"""
 from __future__ import annotations
 
 import json
+import math
 from fractions import Fraction
 
+__all__ = ["SITES_SCHEMA", "SCALE_LIMIT", "parse_number", "parse_site", "sites_from_document",
+           "read_sites", "read_coefficient_lists", "check_distinct", "check_scale", "site_key",
+           "site_to_json", "site_label"]
 
-def parse_number(x):
-    """A JSON number stays as it is (floats are taken exactly later); a string must be rational."""
+#: centre coordinates and semi-axes of a conic must lie in [1/SCALE_LIMIT, SCALE_LIMIT] in magnitude
+SCALE_LIMIT = 1e30
+
+_RATIONAL = r"^\s*[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?(\s*/\s*[+-]?\d+)?\s*$"
+
+_NUM = {"type": ["number", "string"], "pattern": _RATIONAL}
+_POS = {"type": ["number", "string"], "pattern": _RATIONAL, "exclusiveMinimum": 0}
+_XY = {"type": "array", "items": {"$ref": "#/$defs/number"}, "minItems": 2, "maxItems": 2}
+_ROT = {"anyOf": [{"type": "number"},
+                  {"type": "object", "required": ["cos", "sin"], "additionalProperties": False,
+                   "properties": {"cos": {"$ref": "#/$defs/number"}, "sin": {"$ref": "#/$defs/number"}}}]}
+
+
+def _kind_schema(shape: dict, required: list[str]) -> dict:
+    return {"type": "object", "properties": shape, "required": required, "additionalProperties": False}
+
+
+_CENTRED = {"centre": {"$ref": "#/$defs/xy"},
+            "axes": {"type": "array", "items": {"$ref": "#/$defs/positive"}, "minItems": 2, "maxItems": 2},
+            "rotation": {"$ref": "#/$defs/rotation"}}
+
+#: JSON Schema (draft 2020-12) of a sites file; see the module docstring.
+SITES_SCHEMA = {
+    "$schema": "https://json-schema.org/draft/2020-12/schema",
+    "title": "curvedvoronoi sites",
+    "type": "object",
+    "properties": {
+        "sites": {"type": "array", "minItems": 1, "items": {"$ref": "#/$defs/site"}},
+        "conics": {"type": "array", "minItems": 1, "items": {"$ref": "#/$defs/site"}},
+        "description": {"type": "string"},
+    },
+    "oneOf": [{"required": ["sites"]}, {"required": ["conics"]}],
+    "$defs": {
+        "number": _NUM,
+        "positive": _POS,
+        "xy": _XY,
+        "rotation": _ROT,
+        "site": {
+            "type": "object",
+            "properties": {
+                "label": {"type": "string"},
+                "point": {"$ref": "#/$defs/xy"},
+                "circle": {
+                    "type": "object",
+                    "properties": {"centre": {"$ref": "#/$defs/xy"},
+                                   "radius": {"type": ["number", "string"], "pattern": _RATIONAL, "minimum": 0},
+                                   "radius_squared": {"type": ["number", "string"], "pattern": _RATIONAL,
+                                                      "minimum": 0}},
+                    "required": ["centre"],
+                    "oneOf": [{"required": ["radius"]}, {"required": ["radius_squared"]}],
+                    "additionalProperties": False},
+                "coefficients": {"type": "array", "items": {"$ref": "#/$defs/number"},
+                                 "minItems": 6, "maxItems": 6},
+                "ellipse": _kind_schema(_CENTRED, ["centre", "axes"]),
+                "hyperbola": _kind_schema(_CENTRED, ["centre", "axes"]),
+                "parabola": _kind_schema({"vertex": {"$ref": "#/$defs/xy"}, "p": {"$ref": "#/$defs/positive"},
+                                          "rotation": {"$ref": "#/$defs/rotation"}}, ["vertex", "p"]),
+            },
+            "additionalProperties": False,
+            "oneOf": [{"required": [k]} for k in ("point", "circle", "coefficients", "ellipse", "hyperbola",
+                                                   "parabola")],
+        },
+    },
+}
+
+_SHAPES = ("point", "circle", "coefficients", "ellipse", "hyperbola", "parabola")
+
+
+# =====================================================================================
+# Validation
+# =====================================================================================
+
+def _where(path) -> str:
+    out = ""
+    for p in path:
+        out += f"[{p}]" if isinstance(p, int) else (f".{p}" if out else str(p))
+    return out or "document"
+
+
+def _message(err) -> str:
+    """One readable line for a jsonschema ValidationError."""
+    where = _where(err.absolute_path)
+    v, inst = err.validator, err.instance
+    if v == "pattern":
+        return f"{where}: {inst!r} is not a rational number (write a JSON number or a string such as \"3/5\")"
+    if v == "oneOf" and isinstance(inst, dict):
+        keys = err.validator_value
+        names = [next(iter(k["required"])) for k in keys if "required" in k]
+        present = [n for n in names if n in inst]
+        if len(present) > 1:
+            return f"{where}: give only one of {', '.join(map(repr, present))}"
+        if where == "document":
+            return 'expected an object {"sites": [...]} (or {"conics": [...]})'
+        return f"{where}: needs one of {', '.join(map(repr, names))}"
+    if v == "anyOf" and where.endswith("rotation"):
+        return f"{where}: rotation must be an angle in degrees or {{\"cos\": c, \"sin\": s}}, got {inst!r}"
+    if v == "type" and err.validator_value == ["number", "string"]:
+        return f"{where}: {inst!r} is not a number or a rational string"
+    if v == "exclusiveMinimum":
+        return f"{where}: {inst!r} must be > 0"
+    if v in ("minItems", "maxItems") and isinstance(inst, list):
+        need = err.schema.get("minItems")
+        if need == 6:
+            return f"{where}: needs 6 coefficients [a, b, c, d, e, f], got {len(inst)}"
+        if need == 1:
+            return f"{where}: the list is empty"
+        return f"{where}: needs {need} numbers, got {len(inst)}"
+    if v == "additionalProperties" and isinstance(inst, dict):
+        allowed = set(err.schema.get("properties", {}))
+        extra = sorted(k for k in inst if k not in allowed)
+        hint = f" (expected {', '.join(map(repr, sorted(allowed)))})" if allowed else ""
+        return f"{where}: unknown key {', '.join(map(repr, extra))}{hint}"
+    return f"{where}: {err.message}"
+
+
+def _validate(doc, source: str) -> None:
+    from .optional import require
+
+    jsonschema = require("jsonschema", "reading a sites file")   # a declared dependency
+    validator = jsonschema.Draft202012Validator(SITES_SCHEMA)
+    errors = list(validator.iter_errors(doc))
+    if not errors:
+        return
+    # the deepest error names the offending entry best (oneOf errors carry their sub-errors)
+    err = jsonschema.exceptions.best_match(errors)
+    while (err.context and err.validator in ("oneOf", "anyOf") and not _is_shape_choice(err)
+           and not _where(err.absolute_path).endswith("rotation")):
+        err = jsonschema.exceptions.best_match(err.context)
+    raise ValueError(f"{source}: {_message(err)}")
+
+
+def _is_shape_choice(err) -> bool:
+    """A oneOf over required keys (a site's shape, circle radius, top-level sites/conics)."""
+    vv = err.validator_value
+    return err.validator == "oneOf" and isinstance(vv, list) and all(set(k) == {"required"} for k in vv)
+
+
+# =====================================================================================
+# Parsing
+# =====================================================================================
+
+def parse_number(x, where: str = "value"):
+    """A JSON number stays as it is (floats are taken exactly later); a string must be rational.
+    NaN and infinities are refused."""
     if isinstance(x, bool) or not isinstance(x, (int, float, str)):
-        raise ValueError(f"coefficient {x!r} is not a number or a rational string")
+        raise ValueError(f"{where}: {x!r} is not a number or a rational string")
     if isinstance(x, str):
         try:
             return Fraction(x.strip())
         except (ValueError, ZeroDivisionError):
-            raise ValueError(f"coefficient {x!r} is not a rational number") from None
+            raise ValueError(f"{where}: {x!r} is not a rational number") from None
+    if isinstance(x, float) and not math.isfinite(x):
+        raise ValueError(f"{where}: {x!r} is not finite")
     return x
 
 
-def read_coefficient_lists(path: str, expected: int | None = None) -> list[list]:
-    """The coefficient lists [a, b, c, d, e, f] of the file's conics, checked for shape and type."""
+def _rotation(rot, where: str):
+    """(cos, sin) from an angle in degrees (exact for multiples of 90) or {"cos", "sin"}."""
+    if rot is None:
+        return (1, 0)
+    if isinstance(rot, dict):
+        return (parse_number(rot["cos"], f"{where}.cos"), parse_number(rot["sin"], f"{where}.sin"))
+    deg = parse_number(rot, where)
+    if isinstance(deg, float) and not math.isfinite(deg):
+        raise ValueError(f"{where}: angle {rot!r} is not finite")
+    q = Fraction(deg)
+    if q.denominator == 1 and q.numerator % 90 == 0:
+        return ((1, 0), (0, 1), (-1, 0), (0, -1))[(q.numerator // 90) % 4]
+    th = math.radians(float(deg))
+    return (math.cos(th), math.sin(th))
+
+
+def parse_site(entry, where: str = "site"):
+    """One site record (see the module docstring) as a :class:`runtime.circles.Point`,
+    :class:`runtime.circles.Circle` or :class:`runtime.conic.Conic`.
+
+    ValueError (InvalidConicError for a degenerate or imaginary conic) naming ``where``.  The
+    record is assumed to have the right shape; :func:`sites_from_document` validates first."""
+    from .circles import Circle, Point
+    from .conic import Conic
+
+    if not isinstance(entry, dict):
+        raise ValueError(f"{where}: expected an object, got {entry!r}")
+    shapes = [k for k in _SHAPES if k in entry]
+    if len(shapes) != 1:
+        raise ValueError(f"{where}: needs exactly one of {', '.join(map(repr, _SHAPES))}")
+    kind = shapes[0]
+    body = entry[kind]
+    try:
+        if kind == "point":
+            return Point(*(parse_number(v, f"{where}.point") for v in body))
+        if kind == "circle":
+            cx, cy = (parse_number(v, f"{where}.circle.centre") for v in body["centre"])
+            if "radius_squared" in body:
+                r2 = parse_number(body["radius_squared"], f"{where}.circle.radius_squared")
+                if Fraction(r2) < 0:
+                    raise ValueError(f"{where}.circle.radius_squared: {body['radius_squared']} is less than "
+                                     "the minimum of 0")
+                return Point(cx, cy) if Fraction(r2) == 0 else Circle(cx, cy, r2)
+            r = parse_number(body["radius"], f"{where}.circle.radius")
+            if Fraction(r) < 0:
+                raise ValueError(f"{where}.circle.radius: {body['radius']} is less than the minimum of 0")
+            return Point(cx, cy) if Fraction(r) == 0 else Circle.from_radius(cx, cy, r)
+        if kind == "coefficients":
+            return Conic.from_coefficients(*(parse_number(v, f"{where}.coefficients") for v in body))
+        rot = _rotation(body.get("rotation"), f"{where}.{kind}.rotation")
+        if kind == "parabola":
+            vx, vy = (parse_number(v, f"{where}.parabola.vertex") for v in body["vertex"])
+            return Conic.parabola(vertex=(vx, vy), p=parse_number(body["p"], f"{where}.parabola.p"), rotation=rot)
+        centre = tuple(parse_number(v, f"{where}.{kind}.centre") for v in body["centre"])
+        axes = tuple(parse_number(v, f"{where}.{kind}.axes") for v in body["axes"])
+        if any(Fraction(a) <= 0 for a in axes):
+            raise ValueError(f"{where}.{kind}.axes: {body['axes']} must be > 0")
+        make = Conic.ellipse if kind == "ellipse" else Conic.hyperbola
+        return make(centre=centre, axes=axes, rotation=rot)
+    except (KeyError, TypeError) as exc:
+        raise ValueError(f"{where}.{kind}: malformed record ({exc})") from None
+    except ValueError as exc:
+        msg = str(exc)
+        if msg.startswith(where):
+            raise
+        raise type(exc)(f"{where}: {msg}") from None
+
+
+def site_label(site, index: int) -> str:
+    """``"site 3 (ellipse)"``: how messages name a site (0-based index)."""
+    kind = getattr(site, "kind", None) or ("point" if getattr(site, "r2", 1) == 0 else "circle")
+    return f"site {index} ({kind})"
+
+
+def site_key(site) -> tuple:
+    """Exact key of the curve a site describes: equal keys iff the same curve.  A circle given by
+    coefficients and the same circle given by centre and radius have the same key."""
+    from .circles import Circle
+    from .conic import Conic
+
+    if isinstance(site, Conic) and site.kind == "circle":
+        site = Circle.from_coefficients(*site.coefficients)
+    if isinstance(site, Circle):
+        return ("circle", str(site.cx), str(site.cy), str(site.r2))
+    if isinstance(site, Conic):
+        return ("conic", tuple(site.primitive_coefficients))
+    raise TypeError(f"not a site: {site!r}")
+
+
+def check_distinct(sites, name: str = "site") -> None:
+    """ValueError naming the first repeated site (0-based): a curve given twice has no isolated
+    Voronoi vertices with the other sites (thesis §5.2)."""
+    seen: dict = {}
+    for i, s in enumerate(sites):
+        k = site_key(s)
+        if k in seen:
+            raise ValueError(f"{name} {i} is the same curve as {name} {seen[k]}: repeated sites have no "
+                             "isolated Voronoi vertices; remove the duplicate")
+        seen[k] = i
+
+
+def check_scale(conic, where: str = "site") -> None:
+    """ValueError when the numeric conic locator cannot represent ``conic`` in floating point:
+    its centre or semi-axes outside ``[1/SCALE_LIMIT, SCALE_LIMIT]``, or its family's offset
+    (thesis App. B) specialised to its canonical parameters has non-finite float coefficients.
+    Circles and points handled by the exact circle locator (§3.1) need no such check."""
+    from .conic import Conic
+
+    if not isinstance(conic, Conic):
+        return
+    fr = conic.frame
+    sizes = [math.sqrt(v) if k != "p" else v for k, v in fr.params.items()]
+    for name, v in (("centre x", fr.tx), ("centre y", fr.ty)):
+        if abs(v) > SCALE_LIMIT:
+            raise ValueError(f"{where}: {conic.kind} {name} = {v:.3g} is outside the supported range "
+                             f"|value| <= {SCALE_LIMIT:g} (rescale the input)")
+    for v in sizes:
+        if not (1 / SCALE_LIMIT <= v <= SCALE_LIMIT):
+            raise ValueError(f"{where}: {conic.kind} size {v:.3g} (semi-axis or parameter) is outside the "
+                             f"supported range [{1 / SCALE_LIMIT:g}, {SCALE_LIMIT:g}] (rescale the input)")
+    from .polyalg import CanonicalOffset
+
+    try:
+        off = CanonicalOffset(conic)
+        ok = bool(all(math.isfinite(float(c)) for c in off.coefs))
+    except (OverflowError, ZeroDivisionError):
+        ok = False
+    if not ok:
+        raise ValueError(f"{where}: the {conic.kind}'s shape is too extreme for floating point (its offset "
+                         "coefficients overflow, e.g. an axis ratio beyond ~1e75); rescale the coefficients")
+
+
+def _check_count(doc, source: str, expected: int | None) -> None:
+    if expected is None or not isinstance(doc, dict):
+        return
+    for key in ("sites", "conics"):
+        if isinstance(doc.get(key), list) and len(doc[key]) != expected:
+            raise ValueError(f"{source}: expected {expected} {key}, got {len(doc[key])}")
+
+
+def sites_from_document(doc, source: str = "sites", *, expected: int | None = None,
+                        distinct: bool = True, scale: bool = True) -> list:
+    """Validate a parsed JSON document against :data:`SITES_SCHEMA` and return its sites
+    (Point, Circle or Conic), checked to be ``expected`` in number, pairwise distinct and within
+    the numeric range (:func:`check_distinct`, :func:`check_scale`).  ValueError with one line."""
+    _check_count(doc, source, expected)
+    _validate(doc, source)
+    key = "sites" if "sites" in doc else "conics"
+    entries = doc[key]
+    sites = [parse_site(e, f"{source}: {key}[{i}]") for i, e in enumerate(entries)]
+    if distinct:
+        try:
+            check_distinct(sites, "site")
+        except ValueError as exc:
+            raise ValueError(f"{source}: {exc}") from None
+    if scale:
+        for i, s in enumerate(sites):
+            check_scale(s, f"{source}: {key}[{i}]")
+    return sites
+
+
+def _load_json(path: str):
     try:
         with open(path) as fh:
-            doc = json.load(fh)
+            return json.load(fh)
     except OSError as exc:
         raise ValueError(f"cannot read {path}: {exc.strerror}") from None
-    except json.JSONDecodeError as exc:
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
         raise ValueError(f"{path} is not valid JSON: {exc}") from None
-    if not isinstance(doc, dict) or not isinstance(doc.get("conics"), list):
-        raise ValueError(f'{path}: expected an object {{"conics": [...]}}')
-    conics = doc["conics"]
-    if expected is not None and len(conics) != expected:
-        raise ValueError(f"{path}: expected {expected} conics, got {len(conics)}")
-    if not conics:
-        raise ValueError(f"{path}: no conics")
+
+
+def read_sites(path: str, expected: int | None = None, *, distinct: bool = True, scale: bool = True) -> list:
+    """The sites of a JSON file (see the module docstring), validated, 0-based messages."""
+    return sites_from_document(_load_json(path), path, expected=expected, distinct=distinct, scale=scale)
+
+
+def read_coefficient_lists(path: str, expected: int | None = None) -> list[list]:
+    """The coefficient lists [a, b, c, d, e, f] of a file whose sites are all given by
+    ``"coefficients"`` (the older format), checked against the schema."""
+    doc = _load_json(path)
+    _check_count(doc, path, expected)
+    _validate(doc, path)
+    key = "sites" if "sites" in doc else "conics"
+    entries = doc[key]
     out = []
-    for i, item in enumerate(conics, 1):
-        coeffs = item.get("coefficients") if isinstance(item, dict) else None
-        if not isinstance(coeffs, list) or len(coeffs) != 6:
-            raise ValueError(f'{path}: conic {i} needs "coefficients": [a, b, c, d, e, f]')
-        try:
-            out.append([parse_number(c) for c in coeffs])
-        except ValueError as exc:
-            raise ValueError(f"conic {i}: {exc}") from None
+    for i, e in enumerate(entries):
+        if "coefficients" not in e:
+            raise ValueError(f"{path}: {key}[{i}]: this command needs \"coefficients\"")
+        out.append([parse_number(c, f"{key}[{i}].coefficients") for c in e["coefficients"]])
     return out
 
 
 def site_to_json(site) -> dict:
     """The exact JSON record of a site: ``{"point": [x, y]}``, ``{"circle": {"centre": [x, y],
-    "radius_squared": r2}}`` or ``{"coefficients": [a, b, c, d, e, f]}``, numbers as rational strings."""
+    "radius_squared": r2}}`` or ``{"coefficients": [a, b, c, d, e, f]}``, numbers as rational strings
+    (read back by :func:`parse_site` to the same site)."""
     from .circles import Circle
     from .conic import Conic
 
@@ -61,33 +400,3 @@ def site_to_json(site) -> dict:
     if isinstance(site, Conic):
         return {"coefficients": [str(v) for v in site.coefficients]}
     raise TypeError(f"not a site: {site!r}")
-
-
-def parse_site(entry, where: str = "site"):
-    """One site record (the forms of :func:`site_to_json`, and ``{"circle": {"centre": [x, y],
-    "radius": r}}``) as a :class:`runtime.circles.Point`, :class:`runtime.circles.Circle` or
-    :class:`runtime.conic.Conic`.  ValueError naming ``where`` on a malformed record."""
-    from .circles import Circle, Point
-    from .conic import Conic
-
-    if not isinstance(entry, dict):
-        raise ValueError(f"{where}: expected an object, got {entry!r}")
-    if "point" in entry:
-        xy = entry["point"]
-        if not isinstance(xy, list) or len(xy) != 2:
-            raise ValueError(f'{where}: "point" must be [x, y]')
-        return Point(*(parse_number(v) for v in xy))
-    if "circle" in entry:
-        c = entry["circle"]
-        if not isinstance(c, dict) or not isinstance(c.get("centre"), list) or len(c["centre"]) != 2:
-            raise ValueError(f'{where}: "circle" must be {{"centre": [x, y], "radius": r}}')
-        cx, cy = (parse_number(v) for v in c["centre"])
-        if "radius_squared" in c:
-            return Circle(cx, cy, parse_number(c["radius_squared"]))
-        if "radius" not in c:
-            raise ValueError(f'{where}: "circle" needs "radius" (or "radius_squared")')
-        return Circle.from_radius(cx, cy, parse_number(c["radius"]))
-    coeffs = entry.get("coefficients")
-    if not isinstance(coeffs, list) or len(coeffs) != 6:
-        raise ValueError(f'{where}: needs "coefficients": [a, b, c, d, e, f], "point" or "circle"')
-    return Conic.from_coefficients(*(parse_number(v) for v in coeffs))

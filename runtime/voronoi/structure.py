@@ -1,0 +1,193 @@
+"""The Voronoi diagram of many sites as data: vertices, curved edges, the Delaunay graph.
+
+Thesis §1.2 (Prop. 1.2.1) and §5.1–5.2: a *Voronoi vertex* of sites (i, j, k) is the centre of a
+circle touching the three sites and empty of all sites; a *Voronoi edge* (i, j) is a connected
+arc of points whose two nearest sites are exactly i and j.  An edge ends at vertices or at
+infinity; an edge around a site nested inside another has no vertex and is a closed curve
+(Prop. 1.2.1).  The Delaunay graph joins i and j when they share an edge.
+
+JSON schema ``curvedvoronoi.diagram/1`` (site indices are 0-based positions in the input list,
+distances are Euclidean distances, not squared)::
+
+    {"format": "curvedvoronoi.diagram/1",
+     "sites": [site_to_json(s), ...],
+     "vertices": [{"id", "sites": [i, j, k], "x", "y", "radius", "certified"}],
+     "edges": [{"id", "sites": [i, j], "ends": [v | null, v | null], "closed",
+                "polyline": [[x, y], ...], "tolerance", "certified"}],
+     "delaunay_edges": [[i, j], ...], "certified", "problems": [...], "stats": {...}}
+
+Public API: :class:`DiagramVertex`, :class:`DiagramEdge`, :class:`Diagram`.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["DiagramVertex", "DiagramEdge", "Diagram", "FORMAT"]
+
+FORMAT = "curvedvoronoi.diagram/1"
+
+
+@dataclass
+class DiagramVertex:
+    """A Voronoi vertex: equidistant (``radius``) from the three ``sites`` (sorted), no site
+    closer.  ``certified`` is True only when existence and emptiness were proved."""
+
+    id: int
+    sites: tuple[int, int, int]
+    x: float
+    y: float
+    radius: float
+    certified: bool = False
+
+    def to_json(self) -> dict:
+        return {"id": self.id, "sites": list(self.sites), "x": self.x, "y": self.y,
+                "radius": self.radius, "certified": self.certified}
+
+
+@dataclass
+class DiagramEdge:
+    """A Voronoi edge between ``sites`` (i < j).
+
+    ``ends`` are vertex ids (None: the edge goes to infinity); ``closed`` marks a vertex-less
+    closed curve (then ``polyline[0] == polyline[-1]``).  ``polyline`` runs from ``ends[0]`` to
+    ``ends[1]``; ``tolerance`` bounds the measured deviation of the polyline from the bisector
+    (see :func:`runtime.voronoi.construction.voronoi` for what it means exactly).
+    """
+
+    id: int
+    sites: tuple[int, int]
+    ends: tuple[int | None, int | None]
+    closed: bool
+    polyline: np.ndarray
+    tolerance: float
+    certified: bool = False
+
+    def to_json(self) -> dict:
+        return {"id": self.id, "sites": list(self.sites), "ends": list(self.ends),
+                "closed": self.closed,
+                "polyline": np.asarray(self.polyline, dtype=float).tolist(),
+                "tolerance": self.tolerance, "certified": self.certified}
+
+
+@dataclass
+class Diagram:
+    """The Voronoi diagram of ``sites`` (exact :class:`runtime.circles.Circle` /
+    :class:`runtime.circles.Point` / :class:`runtime.conic.Conic`).
+
+    ``certified`` is True only when an independent verification proved the whole diagram;
+    ``problems`` lists what is not proved (one line each, naming the sites).
+    """
+
+    sites: list
+    vertices: list[DiagramVertex] = field(default_factory=list)
+    edges: list[DiagramEdge] = field(default_factory=list)
+    certified: bool = False
+    problems: list[str] = field(default_factory=list)
+    stats: dict = field(default_factory=dict)
+
+    # ------------------------------------------------------------------ graph views
+    def delaunay_edges(self) -> list[tuple[int, int]]:
+        """The Delaunay graph: sorted pairs (i, j), i < j, of sites sharing a Voronoi edge."""
+        return sorted({tuple(e.sites) for e in self.edges})
+
+    def to_networkx(self):
+        """A :class:`networkx.MultiGraph`: nodes = site indices (attribute ``site``), one edge per
+        Voronoi edge (attributes ``id``, ``ends``, ``closed``, ``polyline``, ``tolerance``,
+        ``certified``)."""
+        import networkx as nx
+
+        G = nx.MultiGraph()
+        for i, s in enumerate(self.sites):
+            G.add_node(i, site=s)
+        for e in self.edges:
+            G.add_edge(e.sites[0], e.sites[1], key=e.id, id=e.id, ends=e.ends, closed=e.closed,
+                       polyline=e.polyline, tolerance=e.tolerance, certified=e.certified)
+        return G
+
+    # ------------------------------------------------------------------ JSON
+    def to_json(self) -> dict:
+        from ..sites_io import site_to_json
+
+        return {"format": FORMAT,
+                "sites": [site_to_json(s) for s in self.sites],
+                "vertices": [v.to_json() for v in self.vertices],
+                "edges": [e.to_json() for e in self.edges],
+                "delaunay_edges": [list(p) for p in self.delaunay_edges()],
+                "certified": bool(self.certified),
+                "problems": list(self.problems),
+                "stats": _jsonable(self.stats)}
+
+    @classmethod
+    def from_json(cls, doc: dict) -> "Diagram":
+        """Read :meth:`to_json` output back (sites exactly).  ValueError on a malformed document."""
+        from ..sites_io import parse_site
+
+        if not isinstance(doc, dict) or doc.get("format") != FORMAT:
+            raise ValueError(f'not a diagram document: expected "format": "{FORMAT}"')
+        try:
+            sites = [parse_site(s, f"site {i}") for i, s in enumerate(doc["sites"])]
+            verts = [DiagramVertex(int(v["id"]), tuple(int(t) for t in v["sites"]), float(v["x"]),
+                                   float(v["y"]), float(v["radius"]), bool(v["certified"]))
+                     for v in doc["vertices"]]
+            edges = [DiagramEdge(int(e["id"]), tuple(int(t) for t in e["sites"]),
+                                 tuple(None if t is None else int(t) for t in e["ends"]),
+                                 bool(e["closed"]),
+                                 np.asarray(e["polyline"], dtype=float).reshape(-1, 2),
+                                 float(e["tolerance"]), bool(e["certified"]))
+                     for e in doc["edges"]]
+        except (KeyError, TypeError) as exc:
+            raise ValueError(f"malformed diagram document: {exc!r}") from None
+        return cls(sites, verts, edges, bool(doc.get("certified", False)),
+                   list(doc.get("problems", [])), dict(doc.get("stats", {})))
+
+    def to_geojson(self) -> dict:
+        """A GeoJSON FeatureCollection: one LineString per edge (properties ``kind="edge"``,
+        ``id``, ``sites``, ``ends``, ``closed``, ``tolerance``, ``certified``) and one Point per
+        vertex (``kind="vertex"``, ``id``, ``sites``, ``radius``, ``certified``)."""
+        feats = []
+        for e in self.edges:
+            feats.append({"type": "Feature",
+                          "geometry": {"type": "LineString",
+                                       "coordinates": np.asarray(e.polyline, float).tolist()},
+                          "properties": {"kind": "edge", "id": e.id, "sites": list(e.sites),
+                                         "ends": list(e.ends), "closed": e.closed,
+                                         "tolerance": e.tolerance, "certified": e.certified}})
+        for v in self.vertices:
+            feats.append({"type": "Feature",
+                          "geometry": {"type": "Point", "coordinates": [v.x, v.y]},
+                          "properties": {"kind": "vertex", "id": v.id, "sites": list(v.sites),
+                                         "radius": v.radius, "certified": v.certified}})
+        return {"type": "FeatureCollection", "features": feats}
+
+    def to_shapely(self):
+        """The edges as a list of :class:`shapely.geometry.LineString` (needs shapely)."""
+        try:
+            from shapely.geometry import LineString
+        except ImportError:
+            raise ImportError("Diagram.to_shapely needs shapely (pip install shapely)") from None
+        return [LineString(np.asarray(e.polyline, float)) for e in self.edges]
+
+    def plot(self, path_or_ax=None, *, empty_circles: bool = False, **kw):
+        """Draw the diagram (sites, curved edges, vertices, dashed Delaunay graph); save to a path
+        or draw on a matplotlib Axes.  Returns the Figure."""
+        from .plot import plot_diagram
+
+        return plot_diagram(self, path_or_ax, empty_circles=empty_circles, **kw)
+
+    def __repr__(self) -> str:
+        return (f"Diagram({len(self.sites)} sites, {len(self.vertices)} vertices, {len(self.edges)} edges, "
+                f"certified={self.certified}, {len(self.problems)} problems)")
+
+
+def _jsonable(x):
+    if isinstance(x, dict):
+        return {str(k): _jsonable(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_jsonable(v) for v in x]
+    if isinstance(x, np.generic):
+        return x.item()
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    return x

@@ -1,0 +1,238 @@
+"""A certificate that a reported Voronoi diagram of curved sites is *the* diagram (thesis §1.2).
+
+:func:`verify` takes a diagram (a :class:`runtime.voronoi.structure.Diagram` or its JSON form)
+and the sites, and either proves it or names what failed.  It does not trust, and does not
+call, the construction: it reads only the reported combinatorics (vertex triples, edge pairs and
+ends) and uses the polylines only to choose the arc of a bisector and to check their stated
+tolerance.
+
+What is proved
+--------------
+Let G be the true Voronoi graph and H the reported one.
+
+1. **Vertices** (:mod:`runtime.voronoi.verify_vertices`).  Each reported vertex (i, j, k) is a
+   true Voronoi vertex within 1e-10·(1 + |x| + |y| + r) of the reported position: for circle/point
+   triples both solutions of the Apollonius system are proved by a float Krawczyk test with error
+   bounds (falling back to the exact solver of thesis §3.1.3,
+   :func:`runtime.circles.voronoi_vertices_circles`); for triples with a conic,
+   :func:`runtime.voronoi.vertex.certify_vertex` proves existence and uniqueness (Krawczyk on the
+   exact foot-point system) and the touching property.  **Emptiness**: every other site k has a rigorous lower bound of d(v, S_k) above the
+   upper bound of the radius; far sites are excluded first with a k-d tree on bounding discs
+   (d(q, S) ≥ |q − c_S| − h_S).  Undecided → "vertex 12 (sites 3, 5, 9): site 7 too close to decide".
+2. **Edges.**  An edge (i, j) between proved vertices v0, v1 (or infinity) is a parameter
+   interval of the exact bisector curve of i and j, and every point of its relative interior is
+   strictly closer to i and j than to any other site (:mod:`runtime.voronoi.verify_edges`:
+   discs along the arc with Lipschitz and first-order bounds, the exact zeros of d_k − d_i on
+   the bisector for the third sites of the end vertices, interval bounds in τ = e^{∓u} for the
+   infinite tail).  Hence the
+   open arc is a connected set of points whose two nearest sites are i and j, it is a connected
+   component of β_ij ∖ {v0, v1}, and its ends are Voronoi vertices: it is a **whole** edge of G.
+   Polylines are checked against their stated ``tolerance``: a polyline point whose distance to
+   the bisector is proved larger (|d_i − d_j|/2 is a lower bound, d_i − d_j being 2-Lipschitz)
+   is a problem, as is a polyline end away from its vertex.
+3. **Closure** (:mod:`runtime.voronoi.verify_closure`).  Every vertex (i, j, k) has exactly one incident edge per pair of its sites, every
+   edge ends at listed vertices whose triples contain its pair (or at infinity), every site has
+   an edge, no two edges of one pair overlap.
+4. **Every component of G is represented.**  (a) *At infinity*: the unbounded ends of H, sorted
+   by asymptotic direction θ, must be such that consecutive ends share a site s that strictly
+   maximises the support function h_k(θ) = c_k·e(θ) + ρ_k on the closed arc between them (ties
+   only with the end's own pair at the arc's ends).  Far in direction θ the nearest site is the
+   maximiser of h_k(θ) (d_k(t·e) = t − h_k(θ) + O(1/t)), and an unbounded edge of G has an
+   asymptotic direction where two sites tie for the maximum; so every unbounded end of G is in H.
+   (b) *Bounded components*: by Prop. 1.2.1 a component of G without points at infinity lies
+   inside a site containing other sites.  With nesting depth ≤ 1 (a site inside another contains
+   none), such a component contains the whole boundary of the region of a nested site K (that
+   region is bounded and simply connected, its boundary a Jordan curve), and H contains an edge
+   of K (step 3).
+   **Why nothing is missing**: H ⊂ G (steps 1–2), and H is closed under incidence in G: at a
+   proved simple vertex each of the three pairs has exactly one edge germ, and H's edge of that
+   pair is a whole edge of G ending there (step 2).  Walking from any edge of H along G therefore
+   never leaves H, so H is a union of connected components of G (in the plane, the point at
+   infinity not counted).  Every component of G contains an unbounded end (then it is in H by
+   4a) or is bounded (then in H by 4b).  Hence H = G, and the Delaunay graph is the set of
+   site pairs of H's edges.
+
+Hypotheses (checked, or the certificate says "not proved"): sites pairwise disjoint; nesting
+depth ≤ 1; vertices simple (degree 3: no fourth site at the same distance, which the strict
+emptiness test enforces; three bisectors crossing transversally: proved on the fast circle route,
+where Krawczyk's test proves the Jacobian of the Apollonius system, whose rows are
+(r + ρ_l)·(n_l, −1), nonsingular, i.e. ∇(d_0 − d_1) and ∇(d_0 − d_2) independent; assumed on the
+exact route); for circle and point sites the rounding of
+the bisector's float constants is bounded to first order (module :mod:`verify_edges`).
+
+Sites with an ellipse: vertices as above; an edge between two vertices is proved by
+:mod:`runtime.voronoi.verify_curved` (a chain of strips around the polyline in which the bisector
+is a monotone graph, gradient enclosures for convex sites, the same third-site tests); an
+unbounded edge is proved up to a point at three times the scene's size and reported "not proved
+beyond"; vertex-less edges and hyperbola / parabola edges are reported not proved, and the
+accounting of step 4 is done for circle and point sites only, so such a certificate is never ok.
+
+Public API: :func:`verify`, :class:`Certificate`.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+from .geometry import site_geometry
+from .verify_edge_checks import check_edges
+from .verify_edges import CircleTable
+from .verify_closure import verify_accounting, verify_closure
+from .verify_vertices import prove_vertices
+
+__all__ = ["verify", "verify_files", "Certificate"]
+
+
+
+@dataclass
+class Certificate:
+    """Outcome of :func:`verify`.
+
+    ``ok`` is True only when the whole diagram is proved (every vertex, every edge, closure and
+    the accounting of components).  ``problems`` names each failing vertex / edge / site and why.
+    ``vertices`` and ``edges`` hold one flag per reported vertex / edge (diagram order).
+    """
+
+    ok: bool
+    problems: list[str]
+    vertices: list[bool]
+    edges: list[bool]
+    complete: bool
+    delaunay_edges: list[tuple[int, int]]
+    hypotheses: list[str] = field(default_factory=list)
+    stats: dict = field(default_factory=dict)
+    timings: dict = field(default_factory=dict)
+
+    def to_json(self) -> dict:
+        return {"ok": bool(self.ok), "complete": bool(self.complete), "problems": list(self.problems),
+                "vertices": [bool(v) for v in self.vertices], "edges": [bool(e) for e in self.edges],
+                "delaunay_edges": [list(p) for p in self.delaunay_edges],
+                "hypotheses": list(self.hypotheses), "stats": self.stats,
+                "timings": {k: round(v, 4) for k, v in self.timings.items()}}
+
+
+# ============================================================================ input
+
+def _as_diagram(diagram):
+    from .structure import Diagram
+
+    if isinstance(diagram, dict):
+        return Diagram.from_json(diagram)
+    if isinstance(diagram, Diagram) or all(hasattr(diagram, a) for a in ("sites", "vertices", "edges")):
+        return diagram
+    raise ValueError(f"not a diagram: {type(diagram).__name__} (expected a Diagram or its JSON dict)")
+
+
+def _as_site(s):
+    """A Point / Circle / Conic as is; a tuple (x, y, r) as a circle (r = 0: a point)."""
+    from ..circles import Circle, Point
+    from ..conic import Conic
+
+    if isinstance(s, (Circle, Conic)):
+        return s
+    if isinstance(s, (tuple, list)) and len(s) == 3:
+        x, y, r = s
+        return Point(x, y) if r == 0 else Circle.from_radius(x, y, r)
+    raise ValueError(f"not a site: {s!r} (expected a Point, Circle, Conic or (x, y, r))")
+
+
+def _same_site(a, b) -> bool:
+    from ..sites_io import site_to_json
+    from ..circles import Circle
+
+    try:
+        if isinstance(a, Circle) and isinstance(b, Circle):
+            return (a.cx, a.cy, a.r2) == (b.cx, b.cy, b.r2)
+        return site_to_json(a) == site_to_json(b)
+    except TypeError:
+        return False
+
+
+def verify_files(diagram_path: str, sites_path: str | None = None) -> "Certificate":
+    """:func:`verify` on a diagram JSON file (and optionally a sites file, any form read by
+    :func:`runtime.sites_io.read_sites`).  ValueError (one line) on unreadable or malformed input."""
+    import json
+
+    try:
+        with open(diagram_path) as fh:
+            doc = json.load(fh)
+    except OSError as exc:
+        raise ValueError(f"cannot read {diagram_path}: {exc.strerror}") from None
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{diagram_path} is not valid JSON: {exc}") from None
+    sites = None
+    if sites_path is not None:
+        from ..sites_io import read_sites
+        sites = read_sites(sites_path, distinct=False, scale=False)
+    return verify(doc, sites)
+
+
+# ============================================================================ the verifier
+
+def verify(diagram, sites=None) -> Certificate:
+    """Prove that ``diagram`` is the Voronoi diagram of ``sites`` (default: the diagram's own).
+
+    Parameters
+    ----------
+    diagram : Diagram or dict
+        The diagram or its JSON form (``curvedvoronoi.diagram/1``).
+    sites : list, optional
+        The true sites (Point / Circle / Conic).  When given, the diagram's site list must equal
+        it (a site the diagram ignores is a problem).
+
+    Returns
+    -------
+    Certificate
+        ``ok`` only when everything in the module docstring is proved.
+
+    Examples
+    --------
+    >>> import curvedvoronoi as cv
+    >>> d = cv.voronoi([(0, 0, 1), (4, 0, 1), (2, 4, 1)], certify=False)
+    >>> cv.verify(d).ok
+    True
+    """
+    T0 = time.perf_counter()
+    timings: dict = {}
+    D = _as_diagram(diagram)
+    problems: list[str] = []
+    dsites = list(D.sites)
+    if sites is None:
+        sites = dsites
+    else:
+        sites = [_as_site(s) for s in sites]
+        if len(sites) != len(dsites):
+            problems.append(f"the diagram has {len(dsites)} sites, the input {len(sites)}")
+        for k in range(min(len(sites), len(dsites))):
+            if not _same_site(sites[k], dsites[k]):
+                problems.append(f"site {k} of the diagram differs from input site {k}")
+    n = len(sites)
+    geoms = [site_geometry(s) for s in sites]
+    circular = all(g.kind in ("point", "circle") for g in geoms)
+    table = CircleTable(geoms) if circular and n else None
+    stats = {"sites": n, "vertices": len(D.vertices), "edges": len(D.edges), "route": "circles" if circular else "mixed"}
+    hyp = ["sites pairwise disjoint", "nesting depth <= 1", "vertices simple (transversal bisectors)"]
+    timings["input"] = time.perf_counter() - T0
+
+    # ---------------------------------------------------------------- vertices
+    t0 = time.perf_counter()
+    vinfo, vok = prove_vertices(D, sites, geoms, table, problems)
+    timings["vertices"] = time.perf_counter() - t0
+
+    # ---------------------------------------------------------------- edges
+    t0 = time.perf_counter()
+    eok, ends_inf, intervals = check_edges(D, geoms, table, vinfo, vok, problems, stats)
+    timings["edges"] = time.perf_counter() - t0
+
+    # ---------------------------------------------------------------- closure + accounting
+    t0 = time.perf_counter()
+    closure_ok = verify_closure(D, n, problems, intervals)
+    account_ok = verify_accounting(n, table, ends_inf, problems) if circular else False
+    if not circular:
+        problems.append("completeness (accounting of components) is proved for circle and point sites only")
+    timings["closure"] = time.perf_counter() - t0
+    complete = closure_ok and account_ok
+    ok = complete and all(vok) and all(eok) and not problems
+    pairs = sorted({tuple(int(t) for t in e.sites) for e, f in zip(D.edges, eok) if f})
+    timings["total"] = time.perf_counter() - T0
+    return Certificate(ok, problems, vok, eok, complete, pairs, hyp, stats, timings)

@@ -1,0 +1,165 @@
+"""Closure and accounting steps (3 and 4) of the diagram certificate :mod:`runtime.voronoi.verify`.
+
+* :func:`verify_closure`: every vertex has exactly one edge per pair of its sites, every site has
+  an edge, edges of one pair do not overlap on their bisector.
+* :func:`verify_accounting`: nesting depth <= 1 (thesis Prop. 1.2.1: components without points at
+  infinity come from nested sites) and the ends at infinity: consecutive unbounded ends, sorted by
+  asymptotic direction, share a site that strictly maximises the support function
+  h_k(θ) = c_k·e(θ) + ρ_k on the arc between them (circle and point sites).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .verify_vertices import vname as _vname
+
+__all__ = ["verify_closure", "verify_accounting"]
+
+ANGLE_TOL = 1e-9        # margin for the angular accounting at infinity
+
+
+def verify_closure(D, n, problems, intervals) -> bool:
+    """Step 3 of :mod:`runtime.voronoi.verify`: incidences, sites without edges, overlaps."""
+    ok = True
+    inc: dict = {}
+    for e in D.edges:
+        pair = tuple(int(s) for s in e.sites)
+        for vid in e.ends:
+            if vid is not None:
+                inc.setdefault((vid, pair), []).append(e.id)
+    for v in D.vertices:
+        trip = tuple(sorted(int(s) for s in v.sites))
+        if len(set(trip)) != 3:
+            ok = False
+            continue
+        for p in ((trip[0], trip[1]), (trip[0], trip[2]), (trip[1], trip[2])):
+            got = inc.get((v.id, p), [])
+            if len(got) != 1:
+                ok = False
+                problems.append(f"{_vname(v)}: {'no' if not got else len(got)} edge{'s' if len(got) > 1 else ''} "
+                                f"({p[0]}, {p[1]}) end{'s' if len(got) <= 1 else ''} here")
+    if n >= 2:
+        has = np.zeros(n, bool)
+        for e in D.edges:
+            for s in e.sites:
+                if 0 <= int(s) < n:
+                    has[int(s)] = True
+        for k in np.nonzero(~has)[0][:20]:
+            ok = False
+            problems.append(f"site {int(k)} has no edge: its region is missing")
+    # edges of one pair must not overlap (the same part of a bisector reported twice)
+    for pair, ivs in intervals.items():
+        if len(ivs) < 2:
+            continue
+        hyper = [iv for iv in ivs if iv[0] == "hyperbola"]
+        hyper.sort(key=lambda iv: iv[1])
+        for a, b in zip(hyper, hyper[1:]):
+            if b[1] < a[2] - 1e-12:
+                ok = False
+                problems.append(f"edges {a[3]} and {b[3]} (sites {pair[0]}, {pair[1]}) overlap on their bisector")
+        if any(iv[0] == "ellipse" for iv in ivs):
+            tot = sum(iv[2] - iv[1] for iv in ivs if iv[0] == "ellipse")
+            if tot > 2 * math.pi + 1e-9:
+                ok = False
+                problems.append(f"edges of sites {pair[0]}, {pair[1]} cover their bisector more than once")
+    return ok
+
+
+# ============================================================================ accounting
+
+def verify_accounting(n, table, ends_inf, problems) -> bool:
+    """Step 4 of the module docstring: nesting depth and the ends at infinity (circles/points)."""
+    if n < 2:
+        return True
+    C, R = table.C, table.R
+    # disjointness (float with a margin: a pair that cannot be separated counts as meeting)
+    tol = 1e-12 * table.scale
+    for a, js in enumerate(table.tree.query_ball_point(C, R + table.rmax + tol)):
+        for b in js:
+            if b <= a:
+                continue
+            dd = math.hypot(*(C[a] - C[b]))
+            if dd <= R[a] + R[b] + tol and dd >= abs(R[a] - R[b]) - tol:
+                problems.append(f"sites {a} and {b} intersect or touch (or are too close to decide): "
+                                "the diagram of non-disjoint sites is not proved")
+                return False
+    # nesting: k inside the disc of J
+    nested_in = [[] for _ in range(n)]
+    contains = [[] for _ in range(n)]
+    big = np.nonzero(R > 0)[0]
+    for J in big:
+        ks = table.tree.query_ball_point(C[J], R[J])
+        for k in ks:
+            if k != J and math.hypot(*(C[k] - C[J])) + R[k] < R[J]:
+                nested_in[k].append(int(J))
+                contains[int(J)].append(int(k))
+    ok = True
+    for k in range(n):
+        if nested_in[k] and contains[k]:
+            ok = False
+            problems.append(f"site {k} lies inside site {nested_in[k][0]} and contains site {contains[k][0]}: "
+                            "nesting depth > 1 is not handled by the completeness proof")
+            break
+    # ends at infinity
+    outer = [k for k in range(n) if not nested_in[k]]
+    if not ends_inf:
+        if len(outer) == 1:
+            return ok
+        problems.append("no unbounded edge is proved, but several outer sites have unbounded regions")
+        return False
+    ends = sorted(ends_inf, key=lambda t: t[0])
+    m = len(ends)
+    if m < 2:
+        problems.append("a single unbounded edge end: the ends at infinity do not close up")
+        return False
+    th = np.array([t[0] for t in ends])
+    for a in range(m):
+        ea, eb = ends[a], ends[(a + 1) % m]
+        ta, tb = ea[0], eb[0]
+        L = (tb - ta) % (2 * math.pi)
+        if m == 2 and a == 1 and L == 0:
+            L = 2 * math.pi
+        shared = set(ea[1]) & set(eb[1])
+        if not shared:
+            problems.append(f"unbounded edges {ea[3]} and {eb[3]} are consecutive at infinity but share no site: "
+                            "an unbounded edge between them is missing")
+            ok = False
+            continue
+        if not any(_dominates(s, ta, L, ea[1], eb[1], C, R) for s in shared):
+            problems.append(f"between the unbounded edges {ea[3]} and {eb[3]} no single site owns all far "
+                            "directions: an unbounded edge is missing or misplaced")
+            ok = False
+    return ok
+
+
+def _dominates(s, ta, L, pa, pb, C, R) -> bool:
+    """Does site s strictly maximise h_k(θ) = c_k·e(θ) + ρ_k over θ ∈ [ta, ta + L], ties allowed
+    only with the other site of pair pa at ta and of pair pb at ta + L?"""
+    n = len(R)
+    others = np.array([k for k in range(n) if k != s], int)
+    if not len(others):
+        return True
+    Dv = C[s] - C[others]
+    nd = np.hypot(Dv[:, 0], Dv[:, 1])
+    dr = R[s] - R[others]
+    psi = np.arctan2(Dv[:, 1], Dv[:, 0])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(nd > 0, -dr / nd, np.where(dr > 0, -np.inf, np.inf))
+    always = ratio < -1           # D_k > 0 for every direction (k nested in s)
+    never = ratio >= 1
+    if never.any():
+        return False
+    beta = np.arccos(np.clip(ratio, -1.0, 1.0))
+    start = (ta - (psi - beta)) % (2 * math.pi)       # position of ta in the positive arc (0, 2β)
+    start = np.where(start > 2 * math.pi - ANGLE_TOL, start - 2 * math.pi, start)
+    pa_o = [k for k in pa if k != s][0]
+    pb_o = [k for k in pb if k != s][0]
+    tie_a = (others == pa_o)
+    tie_b = (others == pb_o)
+    lo_ok = np.where(tie_a, start >= -ANGLE_TOL, start > ANGLE_TOL)
+    end = start + L
+    hi_ok = np.where(tie_b, end <= 2 * beta + ANGLE_TOL, end < 2 * beta - ANGLE_TOL)
+    good = always | (lo_ok & hi_ok)
+    return bool(good.all())

@@ -1,0 +1,343 @@
+"""Step 2 of the diagram certificate (:mod:`runtime.voronoi.verify`): the checks of every edge.
+
+Per edge: its site pair and end vertices (proved, on its bisector), its polyline (ends at the
+vertices, points within the stated tolerance of the bisector and on the edge's arc), the
+parameter interval of the edge on the exact bisector of circle/point sites, the exact-zero
+argument for the third sites of its end vertices, then -- batched over all edges -- the third-site
+searches of :mod:`runtime.voronoi.verify_edges` (finite arcs and infinite tails).  Edges with an
+ellipse go to :mod:`runtime.voronoi.verify_curved`.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .verify_edges import bisector, params, prove_arcs, prove_tail
+
+__all__ = ["check_edges"]
+
+
+def _ename(e) -> str:
+    return f"edge {e.id} (sites {', '.join(str(int(s)) for s in e.sites)})"
+
+
+def check_edges(D, geoms, table, vinfo, vok, problems, stats):
+    """Step 2 of :mod:`runtime.voronoi.verify` for every reported edge.  Returns (flags in
+    diagram order, unbounded ends (θ, pair, σ, id), parameter intervals per pair)."""
+    n = len(geoms)
+    eok: list[bool] = []
+    ends_inf: list = []      # (theta, pair, sigma, edge id)
+    intervals: dict = {}     # pair -> list of (kind, lo, hi, edge id)
+    vok_by_id = {v.id: f for v, f in zip(D.vertices, vok)}
+    jobs, cands = [], []
+    for e in D.edges:
+        name = _ename(e)
+        pair = tuple(int(s) for s in e.sites)
+        if len(pair) != 2 or not (0 <= pair[0] < pair[1] < n):
+            problems.append(f"{name}: invalid site pair (need 0 <= i < j < {n})")
+            eok.append(False)
+            continue
+        P = np.asarray(e.polyline, float).reshape(-1, 2)
+        if len(P) < 2 or not np.isfinite(P).all():
+            problems.append(f"{name}: polyline needs at least 2 finite points")
+            eok.append(False)
+            continue
+        ends = tuple(e.ends)
+        endv = []
+        bad = False
+        for t, vid in enumerate(ends):
+            if vid is None:
+                endv.append(None)
+                continue
+            if vid not in vok_by_id:
+                problems.append(f"{name}: end {t} is vertex {vid}, which is not listed")
+                bad = True
+                continue
+            if not vok_by_id[vid] or vid not in vinfo:
+                problems.append(f"{name}: end vertex {vid} is not proved")
+                bad = True
+                continue
+            w = vinfo[vid]
+            if not set(pair) <= set(w.sites):
+                problems.append(f"{name}: ends at vertex {vid} (sites {', '.join(map(str, w.sites))}), "
+                                "which is not on its bisector")
+                bad = True
+                continue
+            endv.append(w)
+        if bad:
+            eok.append(False)
+            continue
+        if table is None:
+            eok.append(_curved_edge(e, name, pair, P, endv, geoms, problems))
+            continue
+        bis = bisector(table, *pair)
+        if isinstance(bis, str):
+            problems.append(f"{name}: {bis}")
+            eok.append(False)
+            continue
+        eok.append(True)
+        cands.append((len(eok) - 1, e, name, pair, P, endv, bis))
+    for (pos, e, name, pair, P, endv, bis), pre in zip(cands, _precompute(cands, table)):
+        job = _edge_job(e, name, pair, P, endv, bis, table, problems, pre)
+        eok[pos] = job is not None
+        if job is not None:
+            jobs.append((pos, e, name, pair, bis, job))
+    # the end vertices' third sites: one sign on the open arc, decided at interior points
+    jobs = _sign_checks(jobs, table, eok, problems)
+    # Lipschitz discs on the finite parts, all edges at once; then the tails
+    arcs = prove_arcs(table, [(bis, job[0], job[1], job[2]) for _, _, _, _, bis, job in jobs]) if jobs else []
+    for (pos, e, name, pair, bis, (lo, hi, exempt, tails, full_lo, full_hi, _)), (ok, det) in zip(jobs, arcs):
+        if ok:
+            for U, sigma in tails:
+                ok, det = prove_tail(table, bis, U, sigma, exempt)
+                if not ok:
+                    break
+        if not ok:
+            k, q, why = det
+            where = "" if q is None else f" near ({q[0]:.9g}, {q[1]:.9g})"
+            if why == "closer":
+                problems.append(f"{name}: site {k} is closer than its sites{where}")
+            elif k is None:
+                problems.append(f"{name}: not proved beyond the finite part: {why}")
+            else:
+                problems.append(f"{name}: site {k} too close to decide{where}")
+            eok[pos] = False
+            continue
+        for U, sigma in tails:
+            d = bis.a * bis.ex + sigma * bis.b * bis.ey
+            ends_inf.append((math.atan2(d[1], d[0]) % (2 * math.pi), pair, sigma, e.id))
+        intervals.setdefault(pair, []).append((bis.kind, full_lo, full_hi, e.id))
+    stats["unbounded_ends"] = len(ends_inf)
+    return eok, ends_inf, intervals
+
+
+def _curved_edge(e, name, pair, P, endv, geoms, problems) -> bool:
+    """An edge with a conic site (:mod:`runtime.voronoi.verify_curved`)."""
+    from .verify_curved import prove_curved_edge
+
+    v0, v1 = endv
+    fin = [b for g in geoms for b in g.bounding_box() if math.isfinite(b)]
+    scale = 1.0 + (max(abs(b) for b in fin) if fin else 0.0)
+    if e.closed or (v0 is None and v1 is None):
+        problems.append(f"{name}: not proved (vertex-less edges of conic sites are not verified by this version)")
+        return False
+    for t, (w, Q) in enumerate(((v0, P[0]), (v1, P[-1]))):
+        if w is not None and math.hypot(Q[0] - w.x, Q[1] - w.y) > w.tol + 2 * w.h + 1e-12 * scale:
+            problems.append(f"{name}: polyline {'starts' if t == 0 else 'ends'} at ({Q[0]:.17g}, {Q[1]:.17g}), "
+                            f"not at vertex {w.id} ({w.x:.17g}, {w.y:.17g})")
+            return False
+    inner = P[1:-1]
+    if len(inner):
+        lo_i, hi_i = geoms[pair[0]].distance_bounds(inner)
+        lo_j, hi_j = geoms[pair[1]].distance_bounds(inner)
+        lb = np.maximum(lo_i - hi_j, lo_j - hi_i) / 2
+        tol = float(e.tolerance) if math.isfinite(e.tolerance) else math.inf
+        far = np.nonzero(lb > tol * (1 + 1e-9) + 1e-12 * scale)[0]
+        if len(far):
+            p = int(far[0])
+            problems.append(f"{name}: polyline point {p + 1} ({inner[p, 0]:.9g}, {inner[p, 1]:.9g}) "
+                            f"is at least {lb[p]:.3g} from the bisector (stated tolerance {tol:.3g})")
+            return False
+    ok, msg, beyond = prove_curved_edge(geoms, scale, pair, P, v0, v1, float(e.tolerance))
+    if not ok:
+        problems.append(f"{name}: {msg}")
+        return False
+    if v0 is None or v1 is None:
+        q = beyond
+        problems.append(f"{name}: proved up to ({q[0]:.9g}, {q[1]:.9g}), not proved beyond it "
+                        "(unbounded edges of conic sites)")
+        return False
+    return True
+
+
+def _sign_checks(jobs, table, eok, problems):
+    """For each job and each exempt third site k: prove d_k > d_i at one of five interior points
+    of the arc (d_k − d_i has no zero on the open arc, so this fixes its sign).  Drops failing
+    jobs (problem recorded)."""
+    fr = np.array([0.5, 0.25, 0.75, 0.125, 0.875])
+    req = [(t, k) for t, (_, _, _, _, _, job) in enumerate(jobs) for k in job[6]]
+    if not req:
+        return jobs
+    T = np.array([r[0] for r in req])
+    K = np.array([r[1] for r in req])
+    Q, E, I = [], [], []
+    for t in T:
+        bis, (lo, hi) = jobs[t][4], jobs[t][5][:2]
+        u = lo + fr * (hi - lo)
+        Q.append(bis.point(u))
+        E.append(bis.curve_error(u))
+        I.append(bis.i)
+    Q = np.concatenate(Q)
+    E = np.concatenate(E)
+    I = np.repeat(np.array(I), len(fr))
+    Kr = np.repeat(K, len(fr))
+    lo_i, hi_i = table.bounds(Q, I)
+    lo_k, hi_k = table.bounds(Q, Kr)
+    pos = (lo_k - E > hi_i + E).reshape(-1, len(fr)).any(-1)
+    drop = set()
+    for r in np.nonzero(~pos)[0]:
+        t = int(T[r])
+        if t in drop:
+            continue
+        drop.add(t)
+        pos_e, _, name = jobs[t][:3]
+        q = Q[r * len(fr)]
+        neg = (hi_k + E < lo_i - E).reshape(-1, len(fr))[r].any()
+        problems.append(f"{name}: site {int(K[r])} " + ("is closer than its sites" if neg else "too close to decide")
+                        + f" near ({q[0]:.9g}, {q[1]:.9g})")
+        eok[pos_e] = False
+    return [jb for t, jb in enumerate(jobs) if t not in drop]
+
+
+def _precompute(cands, table):
+    """Batched float work of the per-edge checks: parameters of the end vertices, of the polyline
+    points and of the other solutions of the end triples, and the lower bounds |d_i − d_j|/2 of
+    the distance of the inner polyline points to the bisector."""
+    biss = [c[6] for c in cands]
+    pts, idx, tags = [], [], []
+    for t, (_, e, _, pair, P, (v0, v1), bis) in enumerate(cands):
+        for name, w in (("v0", v0), ("v1", v1)):
+            if w is not None:
+                pts.append([[w.x, w.y]]), idx.append([t]), tags.append((t, name, 1))
+                if w.others:
+                    pts.append(np.asarray(w.others, float).reshape(-1, 2))
+                    idx.append([t] * len(w.others)), tags.append((t, "o" + name, len(w.others)))
+        mid = P[len(P) // 2] if len(P) > 2 else 0.5 * (P[0] + P[-1])
+        inner = P if e.closed else P[1:-1]
+        pts += [P[:1], P[-1:], mid[None, :], inner]
+        idx += [[t], [t], [t], [t] * len(inner)]
+        tags += [(t, "first", 1), (t, "last", 1), (t, "mid", 1), (t, "inner", len(inner))]
+    out = [dict() for _ in cands]
+    if not cands:
+        return out
+    X = np.concatenate([np.asarray(p, float).reshape(-1, 2) for p in pts])
+    I = np.concatenate([np.asarray(i, int) for i in idx])
+    U = params(biss, I, X)
+    Ei = np.array([c[3][0] for c in cands])[I]
+    Ej = np.array([c[3][1] for c in cands])[I]
+    lo_i, hi_i = table.bounds(X, Ei)
+    lo_j, hi_j = table.bounds(X, Ej)
+    LB = np.maximum(lo_i - hi_j, lo_j - hi_i) / 2
+    pos = 0
+    for t, name, cnt in tags:
+        out[t][name] = U[pos:pos + cnt]
+        if name == "inner":
+            out[t]["lb"] = LB[pos:pos + cnt]
+        pos += cnt
+    return out
+
+
+def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
+    """Checks of one edge that need no search (ends, polyline, exact zeros of the end vertices'
+    third sites); returns (lo, hi, exempt, tails, full_lo, full_hi) for the searches, or None
+    (problem recorded)."""
+    v0, v1 = endv
+    i, j = pair
+    two_pi = 2 * math.pi
+    # --- polyline ends at the vertices
+    for t, (w, Q) in enumerate(((v0, P[0]), (v1, P[-1]))):
+        if w is not None and math.hypot(Q[0] - w.x, Q[1] - w.y) > w.tol + 1e-12 * table.scale:
+            problems.append(f"{name}: polyline {'starts' if t == 0 else 'ends'} at ({Q[0]:.17g}, {Q[1]:.17g}), "
+                            f"not at vertex {w.id} ({w.x:.17g}, {w.y:.17g})")
+            return None
+    # --- the parameter range of the edge (and the tails)
+    tails = []           # (U, sigma)
+    if e.closed:
+        if bis.kind != "ellipse" or v0 is not None or v1 is not None:
+            problems.append(f"{name}: a closed edge needs a site nested in the other and no end vertex")
+            return None
+        t0 = float(pre["first"][0])
+        lo, hi = t0, t0 + two_pi
+    elif v0 is None and v1 is None:
+        if bis.kind != "hyperbola":
+            problems.append(f"{name}: an edge without vertices around a nested site must be closed")
+            return None
+        lo, hi = -1.0, 1.0
+        tails = [(1.0, 1), (-1.0, -1)]
+    elif v0 is None or v1 is None:
+        if bis.kind != "hyperbola":
+            problems.append(f"{name}: goes to infinity on a bounded bisector (nested sites)")
+            return None
+        u0 = float(pre["v0"][0]) if v1 is None else float(pre["v1"][0])
+        uf = float(pre["last"][0]) if v1 is None else float(pre["first"][0])
+        if not abs(uf - u0) > 1e-9 * (1 + abs(u0)):
+            problems.append(f"{name}: cannot tell which way the edge goes to infinity from its polyline")
+            return None
+        sigma = 1 if uf > u0 else -1
+        U = u0 + sigma * 1.0
+        lo, hi = (u0, U) if sigma > 0 else (U, u0)
+        tails = [(U, sigma)]
+    else:
+        u0, u1 = float(pre["v0"][0]), float(pre["v1"][0])
+        if bis.kind == "hyperbola":
+            lo, hi = min(u0, u1), max(u0, u1)
+        else:
+            L = (u1 - u0) % two_pi
+            if v0 is v1:
+                L = two_pi
+            tp = float(pre["mid"][0])
+            if (tp - u0) % two_pi <= L:
+                lo, hi = u0, u0 + L
+            else:
+                lo, hi = u1, u1 + (two_pi - L)
+        if not hi - lo > 1e-12:
+            problems.append(f"{name}: its end vertices coincide on the bisector")
+            return None
+    # --- polyline points: within tolerance of the bisector and on the edge's arc
+    inner = P[1:-1] if not e.closed else P
+    if len(inner):
+        lb = pre["lb"]
+        tol = float(e.tolerance) if math.isfinite(e.tolerance) else math.inf
+        far = np.nonzero(lb > tol * (1 + 1e-9) + 1e-12 * table.scale)[0]
+        if len(far):
+            p = int(far[0])
+            problems.append(f"{name}: polyline point {p + (0 if e.closed else 1)} ({inner[p, 0]:.9g}, {inner[p, 1]:.9g}) "
+                            f"is at least {lb[p]:.3g} from the bisector (stated tolerance {tol:.3g})")
+            return None
+        if not e.closed:
+            up = pre["inner"]
+            if bis.kind == "ellipse":
+                off = (up - lo) % two_pi
+                outside = off > (hi - lo) + 1e-6
+            else:
+                a_ = -math.inf if any(sg < 0 for _, sg in tails) else lo
+                b_ = math.inf if any(sg > 0 for _, sg in tails) else hi
+                slack_u = 1e-6 * (1 + np.abs(up))
+                outside = (up < a_ - slack_u) | (up > b_ + slack_u)
+            if outside.any():
+                p = int(np.nonzero(outside)[0][0])
+                problems.append(f"{name}: polyline point {p + 1} ({inner[p, 0]:.9g}, {inner[p, 1]:.9g}) "
+                                "is not on the arc between its ends")
+                return None
+    # --- third sites of the end vertices: exact zeros of d_k - d_i on the bisector
+    exempt = set()
+    signs = []
+    full_lo = -math.inf if any(s < 0 for _, s in tails) else lo
+    full_hi = math.inf if any(s > 0 for _, s in tails) else hi
+    for w, w2 in ((v0, v1), (v1, v0)):
+        if w is None:
+            continue
+        k = next(s for s in w.sites if s not in pair)
+        if k in exempt:
+            continue
+        if w.others is None:
+            continue          # conic triple: k stays in the search (undecided near the vertex)
+        exempt.add(k)
+        same = w2 is not None and set(w2.sites) == set(w.sites)
+        uo = pre.get("ov0" if w is v0 else "ov1", [])
+        for z, uz in zip(w.others, uo):
+            if same and math.hypot(z[0] - w2.x, z[1] - w2.y) <= w2.tol + 4 * w2.h:
+                continue      # the other solution of the triple is the edge's other end
+            uz = float(uz)
+            if bis.kind == "ellipse":
+                inside = ((uz - lo) % two_pi) < (hi - lo) + 1e-9
+            else:
+                inside = full_lo - 1e-9 * (1 + abs(uz)) <= uz <= full_hi + 1e-9 * (1 + abs(uz))
+            if inside:
+                problems.append(f"{name}: the vertex ({z[0]:.9g}, {z[1]:.9g}) of sites "
+                                f"{', '.join(map(str, sorted((i, j, k))))} lies on the edge's arc: "
+                                f"site {k} cuts the edge")
+                return None
+        signs.append(k)       # one sign on the open arc: decided at interior points (batched)
+    return lo, hi, exempt, tails, full_lo, full_hi, signs

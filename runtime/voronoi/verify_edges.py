@@ -1,0 +1,390 @@
+"""Proofs for the Voronoi edges of circle and point sites, used by :mod:`runtime.voronoi.verify`.
+
+The bisector of two disjoint circle/point sites is known in closed form (thesis §3.1: the
+distance to a circle is | |q − c| − ρ |, additively weighted points are circles):
+
+* **exterior pair** (neither disc contains the other): d_i = |q − c_i| − ρ_i and the bisector is
+  the branch |q − c_i| − |q − c_j| = ρ_i − ρ_j of a hyperbola with foci c_i, c_j (a line when
+  ρ_i = ρ_j).  With m the midpoint, e_x the unit vector from c_i to c_j, e_y = rot90(e_x),
+  2c = |c_j − c_i|, a = (ρ_i − ρ_j)/2 and b = √(c² − a²) > 0 (disjointness gives c > |a|),
+  the whole bisector is ``q(u) = m + a·cosh(u)·e_x + b·sinh(u)·e_y``, u ∈ ℝ, a graph over e_y;
+* **nested pair** (site K inside the disc of circle J): d_J = ρ_J − |q − c_J| inside, and the
+  bisector is the ellipse |q − c_J| + |q − c_K| = ρ_J + ρ_K =: 2A with foci c_J, c_K,
+  ``q(t) = m + A·cos(t)·e_x + B·sin(t)·e_y``, B = √(A² − c²).
+
+An edge (i, j) is a parameter interval of this curve.  It is proved free of third sites by
+
+1. **Discs** on finite sub-intervals [u_a, u_b]: the arc lies in the disc of centre q(u_m) and
+   radius R = the larger arc length from q(u_m) to an end (|q'(u)| ≤ c·cosh u for the hyperbola,
+   ≤ A for the ellipse), enlarged by a rounding bound of the float curve.  Every distance
+   function is 1-Lipschitz, so d_k − d_i ≥ lo_k(q_m) − hi_i(q_m) − 2R there; sharper, along the
+   arc d_k − d_i changes by at most L·(arc length) with L ≥ |∇d_k − ∇d_i| on the disc (for a
+   circle the gradient is the unit vector ±(q − c)/|q − c|, which turns by at most R/(|q_m − c| − R)
+   on the disc).  Intervals that do not decide are halved (capped depth); a half only re-tests
+   the sites its parent could not exclude (candidates come once from a k-d tree on the centres);
+2. **exact zeros** for the third site k0 of an end vertex (where d_k0 = d_i at the end, so no
+   bound can decide near it): d_k0 − d_i vanishes on the bisector exactly at the Voronoi
+   vertices of the triple (i, j, k0), all of which the exact solver of thesis §3.1.3 lists; if
+   none lies strictly inside the edge's parameter interval, d_k0 − d_i has one sign on the open
+   edge, decided at one interior point;
+3. **the unbounded tail** u ∈ [U, ±∞): with τ = e^{∓u} ∈ (0, τ_U] and Z(τ) = τ·(q − m),
+   G_k = |q − c_k| − ρ_k − d_i = (2 Z·(C_i − C_k) + τ(|C_k|² − |C_i|²)) / (|Z − τC_k| + |Z − τC_i|)
+   + ρ_i − ρ_k (C = centres relative to m), a quotient of a quadratic in τ and a positive
+   Lipschitz function, continuous up to τ = 0 (the asymptote).  Interval bounds on τ-intervals,
+   halved until G_k > 0 is decided, cover the whole infinite arc (rounding: a first-order bound
+   1e-12·(1 + c/b)²·(scale + |numerator terms|/denominator), far above the few ulps involved).
+
+Floating-point: the curve's constants (m, e_x, a, b) are floats; the true curve differs from the
+computed one by at most ``curve_error`` (a first-order rounding bound with a factor 64 of
+safety and the conditioning c/b of b = √(c² − a²)); every bound above is widened by it and by
+``rounding_slack`` of :mod:`runtime.voronoi.geometry`.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from .geometry import rounding_slack
+
+__all__ = ["CircleTable", "Bisector", "bisector", "prove_arcs", "prove_tail", "params"]
+
+EPS = 2.0 ** -53
+MAX_DEPTH = 48
+
+
+class CircleTable:
+    """Flat arrays of circle/point sites (centre, radius) with a k-d tree on the centres, and
+    rigorous vectorised distance bounds (the formula of :class:`geometry.CircleGeometry`)."""
+
+    def __init__(self, geoms):
+        self.C = np.array([[g.cx, g.cy] if g.kind == "circle" else [g.x0, g.y0] for g in geoms], float)
+        self.R = np.array([g.rho if g.kind == "circle" else 0.0 for g in geoms], float)
+        self.n = len(geoms)
+        self.tree = cKDTree(self.C)
+        self.rmax = float(self.R.max()) if self.n else 0.0
+        self.scale = float(np.abs(self.C).max() + self.rmax + 1.0) if self.n else 1.0
+
+    def bounds(self, P, k):
+        """(lo, hi) of d(P[m], site k[m]), rigorous."""
+        P = np.asarray(P, float)
+        V = P - self.C[k]
+        d = np.abs(np.hypot(V[:, 0], V[:, 1]) - self.R[k])
+        s = rounding_slack(np.abs(P).sum(axis=1) + np.abs(self.C[k]).sum(axis=1) + self.R[k])
+        return np.maximum(d - s, 0.0), d + s
+
+    def near(self, Q, reach):
+        """Flat (row, site) pairs: sites whose disc may come within ``reach[row]`` of Q[row]
+        (fixed-size k-nearest queries, widened where they may have missed a site)."""
+        Q = np.asarray(Q, float)
+        reach = np.asarray(reach, float) + self.rmax
+        rows_all, cols_all = [], []
+        order = np.argsort(reach)
+        for chunk in np.array_split(order, max(1, len(order) // 512)):
+            todo = chunk
+            kq = min(16, self.n)
+            while len(todo):
+                ub = float(reach[todo].max()) * (1 + 1e-12)
+                dist, ind = self.tree.query(Q[todo], k=kq, distance_upper_bound=ub)
+                dist, ind = dist.reshape(len(todo), -1), ind.reshape(len(todo), -1)
+                hit = dist <= reach[todo][:, None] * (1 + 1e-12)
+                r, c = np.nonzero(hit)
+                full = hit[:, -1] if kq < self.n else np.zeros(len(todo), bool)
+                keep = ~full[r]
+                rows_all.append(todo[r[keep]])
+                cols_all.append(ind[r[keep], c[keep]])
+                todo = todo[full]
+                kq = min(kq * 4, self.n)
+        if not rows_all:
+            return np.zeros(0, int), np.zeros(0, int)
+        return np.concatenate(rows_all), np.concatenate(cols_all).astype(int)
+
+
+class Bisector:
+    """The exact bisector curve of two circle/point sites (see the module docstring)."""
+
+    def __init__(self, kind, m, ex, c, a, b, i, j):
+        self.kind = kind          # "hyperbola" (u ∈ ℝ) or "ellipse" (t ∈ [0, 2π))
+        self.m = np.asarray(m, float)
+        self.ex = np.asarray(ex, float)
+        self.ey = np.array([-ex[1], ex[0]])
+        self.c, self.a, self.b = float(c), float(a), float(b)
+        self.i, self.j = i, j
+        cond = 1.0 + (c / b if b > 0 else math.inf)
+        self.err0 = 64 * EPS * cond * (np.abs(self.m).sum() + abs(self.a) + abs(self.b) + self.c)
+
+    def point(self, u):
+        u = np.asarray(u, float)
+        if self.kind == "hyperbola":
+            X, Y = self.a * np.cosh(u), self.b * np.sinh(u)
+        else:
+            X, Y = self.a * np.cos(u), self.b * np.sin(u)
+        return self.m + X[..., None] * self.ex + Y[..., None] * self.ey
+
+    def param(self, P):
+        """Parameter of the curve point 'nearest' P: same e_y coordinate (hyperbola), same polar
+        angle in the scaled frame (ellipse)."""
+        V = np.atleast_2d(np.asarray(P, float)) - self.m
+        x, y = V @ self.ex, V @ self.ey
+        if self.kind == "hyperbola":
+            return np.arcsinh(y / self.b)
+        return np.mod(np.arctan2(y / self.b, x / self.a), 2 * math.pi)
+
+    def curve_error(self, u):
+        """Bound on |q_true(u) − q_float(u)| (first-order rounding, see module docstring)."""
+        u = np.asarray(u, float)
+        if self.kind == "hyperbola":
+            return self.err0 * np.cosh(np.minimum(np.abs(u), 700.0)) * 4
+        return np.full(u.shape, self.err0 * 4)
+
+    def piece_radius(self, ua, ub):
+        """Radius of a disc around q((ua+ub)/2) containing the arc q([ua, ub])."""
+        um = 0.5 * (ua + ub)
+        if self.kind == "hyperbola":
+            r = self.c * np.maximum(np.sinh(um) - np.sinh(ua), np.sinh(ub) - np.sinh(um))
+        else:
+            r = max(self.a, self.b) * 0.5 * (ub - ua)
+        return r * (1 + 1e-12) + self.curve_error(np.maximum(np.abs(ua), np.abs(ub)))
+
+
+def bisector(table: CircleTable, i: int, j: int) -> Bisector | str:
+    """The bisector of sites i, j, or a one-line reason why the pair is not a valid edge pair."""
+    ci, cj = table.C[i], table.C[j]
+    ri, rj = table.R[i], table.R[j]
+    D = math.hypot(*(cj - ci))
+    tol = 1e-12 * table.scale
+    if D > ri + rj + tol:
+        ex = (cj - ci) / D
+        c, a = D / 2, (ri - rj) / 2
+        return Bisector("hyperbola", (ci + cj) / 2, ex, c, a, math.sqrt(c * c - a * a), i, j)
+    if D < abs(ri - rj) - tol:               # one inside the other's disc: ellipse
+        J, K = (i, j) if ri > rj else (j, i)
+        cJ, cK = table.C[J], table.C[K]
+        ex = (cK - cJ) / D if D > 0 else np.array([1.0, 0.0])
+        A, c = (table.R[J] + table.R[K]) / 2, D / 2
+        return Bisector("ellipse", (cJ + cK) / 2, ex, c, A, math.sqrt(A * A - c * c), i, j)
+    return f"sites {i} and {j} are not disjoint within the float filter: no bisector arc to prove"
+
+
+def prove_tail(table: CircleTable, bis: Bisector, U: float, sigma: int, exempt=()):
+    """Prove G_k > 0 on the hyperbola branch u ∈ [U, σ∞) for every k ∉ {i, j} ∪ exempt, by
+    interval bounds on τ = e^{−σu} ∈ [0, τ_U] (module docstring, item 3).  Returns (ok, detail)."""
+    if bis.kind != "hyperbola":
+        return False, (None, None, "an ellipse has no unbounded part")
+    i, j = bis.i, bis.j
+    a, b, c = bis.a, bis.b, bis.c
+    tauU = math.exp(-sigma * U)
+    if not math.isfinite(tauU) or tauU > 1e300:
+        return False, (None, None, "tail parameter out of range")
+    ks = np.array([k for k in range(table.n) if k not in (i, j) and k not in set(exempt)], int)
+    if not len(ks):
+        return True, None
+    Cr = table.C - bis.m
+    Cx, Cy = Cr @ bis.ex, Cr @ bis.ey
+    wx, wy = Cx[i] - Cx[ks], Cy[i] - Cy[ks]
+    s = (Cx[ks] ** 2 + Cy[ks] ** 2) - (Cx[i] ** 2 + Cy[i] ** 2)
+    al = a * wx + sigma * b * wy
+    ga = a * wx - sigma * b * wy
+    dr = table.R[i] - table.R[ks]
+    nCk = np.hypot(Cx[ks], Cy[ks])
+    nCi = math.hypot(Cx[i], Cy[i])
+    scale = nCk + nCi + c + np.abs(table.R[ks]) + table.R[i] + 1e-300
+    slack = 1e-12 * scale * (1.0 + c / b) ** 2 + 2 * bis.err0 * 4
+    idx = np.arange(len(ks))
+    T0 = np.zeros(len(ks))
+    T1 = np.full(len(ks), tauU)
+    for depth in range(MAX_DEPTH + 20):
+        if not len(idx):
+            return True, None
+        t0, t1 = T0, T1
+        tm, hw = 0.5 * (t0 + t1), 0.5 * (t1 - t0)
+        be = s[idx]
+        A_, G_ = al[idx], ga[idx]
+        f0 = A_ + be * t0 + G_ * t0 * t0
+        f1 = A_ + be * t1 + G_ * t1 * t1
+        num_lo = np.minimum(f0, f1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tv = -be / (2 * G_)
+        inside = (G_ > 0) & (tv > t0) & (tv < t1)
+        fv = A_ - be * be / (4 * np.where(G_ != 0, G_, 1.0))
+        num_lo = np.where(inside, np.minimum(num_lo, fv), num_lo)
+        Zx = a * (1 + tm * tm) / 2
+        Zy = sigma * b * (1 - tm * tm) / 2
+        den_m = (np.hypot(Zx - tm * Cx[ks[idx]], Zy - tm * Cy[ks[idx]])
+                 + np.hypot(Zx - tm * Cx[i], Zy - tm * Cy[i]))
+        lip = 2 * c * t1 + nCk[idx] + nCi
+        den_lo = np.maximum(den_m - lip * hw, 0.0)
+        den_hi = den_m + lip * hw
+        with np.errstate(divide="ignore", invalid="ignore"):
+            q = np.where(num_lo >= 0, num_lo / den_hi, num_lo / np.where(den_lo > 0, den_lo, np.nan))
+        # rounding: the constants (conditioning c/b) and the evaluation of the quotient
+        mag = (np.abs(A_) + np.abs(be) * t1 + np.abs(G_) * t1 * t1) / np.where(den_lo > 0, den_lo, np.inf)
+        sl = slack[idx] + 1e-12 * (1.0 + c / b) ** 2 * mag
+        g_lo = q + dr[idx] - sl
+        ok = g_lo > 0
+        # a proved failure: G_k < 0 at the interval's mid point
+        if not ok.all():
+            fm = A_ + be * tm + G_ * tm * tm
+            gm = fm / den_m + dr[idx] + sl
+            neg = ~ok & (gm < 0)
+            if neg.any():
+                r0 = int(np.nonzero(neg)[0][0])
+                return False, (int(ks[idx[r0]]), _tail_point(bis, tm[r0], sigma), "closer")
+        bad = ~ok
+        idx, T0, T1 = idx[bad], t0[bad], t1[bad]
+        if not len(idx):
+            return True, None
+        if len(idx) > 200000:
+            break
+        M = 0.5 * (T0 + T1)
+        idx = np.concatenate([idx, idx])
+        T0, T1 = np.concatenate([T0, M]), np.concatenate([M, T1])
+    r0 = 0
+    return False, (int(ks[idx[r0]]), _tail_point(bis, 0.5 * (T0[r0] + T1[r0]), sigma), "undecided")
+
+
+def _tail_point(bis: Bisector, tau: float, sigma: int):
+    if tau <= 0:
+        return (math.inf, math.inf)
+    u = -sigma * math.log(tau)
+    return tuple(float(v) for v in bis.point(np.array([u]))[0])
+
+
+def _slope_bound(table: CircleTable, Q, ks, I, R):
+    """Bound on |∇d_k − ∇d_i| over the discs B(Q, R) (first-order enclosure along the arc): for
+    a circle/point site the gradient of d is the unit vector ±(q − c)/|q − c|, which moves by at
+    most R/(|Q − c| − R) over the disc when the disc stays on one side of the circle; otherwise
+    the Lipschitz constant 2."""
+    out = np.full(len(Q), 2.0)
+    dirs, ok, lip = [], np.ones(len(Q), bool), np.zeros(len(Q))
+    for s in (ks, I):
+        V = Q - table.C[s]
+        nv = np.hypot(V[:, 0], V[:, 1])
+        side = nv - table.R[s]
+        ok &= (np.abs(side) > R * (1 + 1e-9)) & (nv > R * (1 + 1e-9))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            dirs.append(np.sign(side)[:, None] * V / nv[:, None])
+            lip += R / (nv - R)
+    with np.errstate(invalid="ignore"):
+        L = np.hypot(*(dirs[0] - dirs[1]).T) * (1 + 1e-12) + 1e-15 + lip * (1 + 1e-12)
+    return np.where(ok & np.isfinite(L), np.minimum(L, out), out)
+
+
+def prove_arcs(table: CircleTable, jobs, init: int = 8):
+    """Prove d_k > d_i (= d_j) on the bisector arc u ∈ [ua, ub] for every site k ∉ {i, j} ∪ exempt,
+    for many edges at once (module docstring, item 1): ``jobs`` is a list of (Bisector, ua, ub,
+    exempt).  Returns a list of (ok, detail) in the order of ``jobs``; detail is None or
+    (site k, (x, y), "closer" | "undecided")."""
+    nj = len(jobs)
+    out = [(True, None)] * nj
+    if not nj:
+        return out
+    hyp = np.array([b.kind == "hyperbola" for b, *_ in jobs])
+    M0 = np.array([b.m for b, *_ in jobs])
+    EX = np.array([b.ex for b, *_ in jobs])
+    EY = np.array([b.ey for b, *_ in jobs])
+    Aa = np.array([b.a for b, *_ in jobs])
+    Bb = np.array([b.b for b, *_ in jobs])
+    Cc = np.array([b.c for b, *_ in jobs])
+    E0 = np.array([b.err0 for b, *_ in jobs])
+    I = np.array([b.i for b, *_ in jobs])
+    J = np.array([b.j for b, *_ in jobs])
+    X = np.full((nj, 2), -1, int)
+    for t, (_, _, _, ex) in enumerate(jobs):
+        ex = sorted(ex)[:2]
+        X[t, :len(ex)] = ex
+    # initial pieces
+    f = np.linspace(0.0, 1.0, init + 1)
+    ua = np.array([j[1] for j in jobs])
+    ub = np.array([j[2] for j in jobs])
+    sa, sb = np.sinh(np.where(hyp, ua, 0.0)), np.sinh(np.where(hyp, ub, 0.0))
+    K = np.where(hyp[:, None], np.arcsinh(sa[:, None] + f[None, :] * (sb - sa)[:, None]),
+                 ua[:, None] + f[None, :] * (ub - ua)[:, None])
+    K[:, 0], K[:, -1] = ua, ub
+    job = np.repeat(np.arange(nj), init)
+    A, B = K[:, :-1].ravel(), K[:, 1:].ravel()
+    alive = np.ones(nj, bool)
+    npieces = 0
+    pp = kk = None          # candidate pairs (piece, site); children inherit only failing pairs
+    for depth in range(MAX_DEPTH + 1):
+        if not len(job):
+            break
+        npieces += len(job)
+        Mid = 0.5 * (A + B)
+        h = hyp[job]
+        with np.errstate(over="ignore"):
+            Xc = np.where(h, Aa[job] * np.cosh(np.where(h, Mid, 0.0)), Aa[job] * np.cos(Mid))
+            Yc = np.where(h, Bb[job] * np.sinh(np.where(h, Mid, 0.0)), Bb[job] * np.sin(Mid))
+        Q = M0[job] + Xc[:, None] * EX[job] + Yc[:, None] * EY[job]
+        amax = np.maximum(np.abs(A), np.abs(B))
+        with np.errstate(over="ignore"):
+            Rh = Cc[job] * np.maximum(np.sinh(np.where(h, Mid, 0.0)) - np.sinh(np.where(h, A, 0.0)),
+                                      np.sinh(np.where(h, B, 0.0)) - np.sinh(np.where(h, Mid, 0.0)))
+            err = 4 * E0[job] * np.where(h, np.cosh(np.where(h, np.minimum(amax, 700.0), 0.0)), 1.0)
+        Re = np.maximum(Aa[job], Bb[job]) * 0.5 * (B - A)
+        err = err + 16 * EPS * (np.abs(Q).sum(axis=1) + 1.0)          # evaluation of q(u_m)
+        Rarc = np.where(h, Rh, Re) * (1 + 1e-12)
+        R = Rarc + err
+        lo_i, hi_i = table.bounds(Q, I[job])
+        lo_j, hi_j = table.bounds(Q, J[job])
+        hi = np.minimum(hi_i, hi_j)
+        if pp is None:
+            rows, ks = table.near(Q, hi + 2 * R)
+            jr = job[rows]
+            keep = (ks != I[jr]) & (ks != J[jr]) & (ks != X[jr, 0]) & (ks != X[jr, 1])
+            pp, kk = rows[keep], ks[keep]
+        rows, ks = pp, kk
+        if not len(rows):
+            break
+        lo_k, hi_k = table.bounds(Q[rows], ks)
+        closer = hi_k + R[rows] < np.maximum(lo_i, lo_j)[rows] - R[rows]
+        for t in np.nonzero(closer)[0]:
+            jj = int(job[rows[t]])
+            if alive[jj]:
+                alive[jj] = False
+                out[jj] = (False, (int(ks[t]), tuple(Q[rows[t]]), "closer"))
+        fail = lo_k - hi[rows] - 2 * R[rows] <= 0
+        if fail.any():
+            fr = np.nonzero(fail)[0]
+            slope = _slope_bound(table, Q[rows[fr]], ks[fr], I[job[rows[fr]]], R[rows[fr]])
+            fail[fr] = lo_k[fr] - hi_i[rows[fr]] - slope * Rarc[rows[fr]] - 2 * err[rows[fr]] <= 0
+        fail &= alive[job[rows]]
+        if not fail.any():
+            break
+        pf, kf = rows[fail], ks[fail]
+        bad_pieces, inv = np.unique(pf, return_inverse=True)
+        if depth == MAX_DEPTH or len(bad_pieces) > 400000:
+            for t in range(len(pf)):
+                jj = int(job[pf[t]])
+                if alive[jj]:
+                    alive[jj] = False
+                    out[jj] = (False, (int(kf[t]), tuple(Q[pf[t]]), "undecided"))
+            break
+        nb = len(bad_pieces)
+        job = np.concatenate([job[bad_pieces], job[bad_pieces]])
+        A, B = np.concatenate([A[bad_pieces], Mid[bad_pieces]]), np.concatenate([Mid[bad_pieces], B[bad_pieces]])
+        pp = np.concatenate([inv, inv + nb])
+        kk = np.concatenate([kf, kf])
+    prove_arcs.last_pieces = npieces
+    return out
+
+
+def params(biss, idx, P):
+    """Vectorised :meth:`Bisector.param`: the parameter of point P[m] on bisector biss[idx[m]]."""
+    idx = np.asarray(idx, int)
+    P = np.asarray(P, float).reshape(-1, 2)
+    if not len(idx):
+        return np.zeros(0)
+    hyp = np.array([b.kind == "hyperbola" for b in biss])[idx]
+    M = np.array([b.m for b in biss])[idx]
+    EX = np.array([b.ex for b in biss])[idx]
+    EY = np.array([b.ey for b in biss])[idx]
+    a = np.array([b.a for b in biss])[idx]
+    b_ = np.array([b.b for b in biss])[idx]
+    V = P - M
+    x, y = (V * EX).sum(1), (V * EY).sum(1)
+    with np.errstate(all="ignore"):
+        uh = np.arcsinh(y / b_)
+        ue = np.mod(np.arctan2(y / b_, x / a), 2 * math.pi)
+    return np.where(hyp, uh, ue)

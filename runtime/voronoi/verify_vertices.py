@@ -1,0 +1,288 @@
+"""Vertex proofs for :mod:`runtime.voronoi.verify`: existence, uniqueness, emptiness.
+
+Circle and point triples (thesis §3.1.2–3.1.3).  A vertex outside the three discs solves
+
+    F_l(x, y, r) = (x − cx_l)² + (y − cy_l)² − (r + ρ_l)² = 0,   l = 0, 1, 2,   r > 0,
+
+and then d(q, S_l) = |q − c_l| − ρ_l = r.  Subtracting F_0 makes two equations linear in q, so
+q = q0 − r·q1 when the centres are not collinear, and F_0 becomes a quadratic in r: the system
+has at most **two** solutions.  Both are proved, in a batch over all vertices, by **Krawczyk's
+test in floating point with error bounds** (Moore, Kearfott & Cloud, *Introduction to Interval
+Analysis*, SIAM 2009, §8.2; Rump, Acta Numerica 19 (2010), §13): with z̃ a float point, Y a float
+inverse of J(z̃) and Z = z̃ + [−ρ, ρ]³,
+
+    |K(Z) − z̃| ≤ |Y|·(|F(z̃)| + s_F) + (|I − Y·J(z̃)| + s_I + |Y|·ΔJ)·ρ  <  ρ (componentwise)
+
+proves a unique zero in Z (s_F bounds the rounding of F and the rounding of the float data of
+the exact sites, ΔJ ≥ |J(z) − J(z̃)| on Z plus data rounding, s_I the rounding of I − YJ).  Two
+disjoint boxes then hold *all* solutions of the system, which the edge proofs use (the zeros of
+d_k − d_i on the bisector of i, j are the solutions with r > 0).  Triples that are not pairwise
+exterior, collinear centres and failed tests go to the exact route of thesis §3.1.3
+(:func:`runtime.circles.voronoi_vertices_circles`, exact in quadratic towers).
+
+Triples with a conic use :func:`runtime.voronoi.vertex.certify_vertex` (Krawczyk on the exact
+foot-point system, thesis §6.1 / App. D.1, and the touching certificate).
+
+Emptiness: every other site k must satisfy lo_k(q̃) − h > r_hi, with h the half diagonal of the
+vertex box (distances are 1-Lipschitz) and lo_k the rigorous ``distance_bounds``; candidates come
+from a k-d tree on the centres (d(q, S) ≥ |q − c| − ρ).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["VertexInfo", "prove_vertices"]
+
+EPS = 2.0 ** -53
+VERTEX_TOL = 1e-10      # relative distance between a reported vertex and the proved one
+
+
+class VertexInfo:
+    """What the verifier knows of one reported vertex: the proved position (x, y), radius r, a
+    half-width ``h`` of its box, and ``others``: the positions of the other solutions of the
+    triple's system (exact route: every Voronoi vertex of the triple; fast route: the second
+    root with r > −h), for the edges' exact-zero argument; ``others=None`` when unknown."""
+
+    def __init__(self, vid, sites, x, y, r, h=0.0, others=(), key=None):
+        self.id, self.sites = vid, sites
+        self.x, self.y, self.r, self.h = float(x), float(y), float(r), float(h)
+        self.others = others
+        self.key = key
+        self.tol = VERTEX_TOL * (1 + abs(x) + abs(y) + abs(r))
+
+
+def vname(v) -> str:
+    return f"vertex {v.id} (sites {', '.join(str(int(s)) for s in v.sites)})"
+
+
+# ============================================================================ fast circle route
+
+def _krawczyk(C, Rho, Z, scale):
+    """Batch float Krawczyk for F_l = |q − c_l|² − (r + ρ_l)².  C (n,3,2), Rho (n,3), Z (n,3).
+    Returns (ok mask, refined Z, box half-width)."""
+    for _ in range(3):                                   # Newton polish
+        q, r = Z[:, None, :2], Z[:, 2:3]
+        V = q - C
+        F = (V ** 2).sum(-1) - (r + Rho) ** 2
+        J = np.concatenate([2 * V, -2 * (r + Rho)[..., None]], axis=-1)
+        with np.errstate(all="ignore"):
+            det = np.linalg.det(J)
+            good = np.isfinite(det) & (np.abs(det) > 1e-300)
+            Jg = np.where(good[:, None, None], J, np.eye(3))
+            Z = Z - np.where(good[:, None], np.linalg.solve(Jg, F[..., None])[..., 0], 0.0)
+    q, r = Z[:, None, :2], Z[:, 2:3]
+    V = q - C
+    F = (V ** 2).sum(-1) - (r + Rho) ** 2
+    J = np.concatenate([2 * V, -2 * (r + Rho)[..., None]], axis=-1)
+    with np.errstate(all="ignore"):
+        Jg = np.where(np.isfinite(np.linalg.det(J))[:, None, None], J, np.eye(3))
+        Y = np.linalg.inv(Jg)
+    mag = (np.abs(q) + np.abs(C)).sum(-1) + np.abs(r) + Rho            # (n,3)
+    # rounding of F (16 ops) and of the float data (centres, radii: a few ulps)
+    sF = 32 * EPS * (mag ** 2) + 8 * EPS * mag * (np.abs(C).sum(-1) + Rho)
+    aY = np.abs(Y)
+    E = np.eye(3) - Y @ J
+    sI = 16 * EPS * (aY @ np.abs(J))
+    base = (aY @ (np.abs(F) + sF)[..., None])[..., 0]                  # |Y|(|F| + s_F)
+    ok = np.zeros(len(Z), bool)
+    H = np.zeros(len(Z))
+    dataJ = 8 * EPS * (mag + np.abs(C).sum(-1))[..., None]             # data rounding in J
+    for mult in (4.0, 64.0, 4096.0):
+        rho = np.maximum(mult * base.max(-1), 1e-15 * scale)
+        dJ = 2 * rho[:, None, None] * np.ones((1, 3, 3)) + dataJ
+        contr = ((np.abs(E) + sI + aY @ dJ) * rho[:, None, None]).sum(-1)
+        test = (base + contr < rho[:, None] * (1 - 1e-12)).all(-1) & np.isfinite(contr).all(-1)
+        new = test & ~ok
+        H = np.where(new, rho, H)
+        ok |= test
+    return ok, Z, H
+
+
+def _fast_circle_vertices(items, table):
+    """items: list of (index, triple, x, y, r).  Returns {index: (x, y, r, h, others)} for the
+    vertices proved on the fast route; the rest go to the exact route."""
+    if not items:
+        return {}
+    idx = np.array([it[0] for it in items])
+    T = np.array([it[1] for it in items], int)
+    C = table.C[T]                    # (n,3,2)
+    Rho = table.R[T]
+    Z0 = np.array([[it[2], it[3], it[4]] for it in items], float)
+    scale = table.scale
+    ok1, Z1, H1 = _krawczyk(C, Rho, Z0, scale)
+    # the second root of the quadratic in r (q = q0 − r q1), shifted to c_0
+    c1, c2 = C[:, 1] - C[:, 0], C[:, 2] - C[:, 0]
+    A = 2 * np.stack([c1, c2], axis=1)                                  # (n,2,2)
+    b = np.stack([(c1 ** 2).sum(-1) - Rho[:, 1] ** 2 + Rho[:, 0] ** 2,
+                  (c2 ** 2).sum(-1) - Rho[:, 2] ** 2 + Rho[:, 0] ** 2], axis=1)
+    d = 2 * np.stack([Rho[:, 1] - Rho[:, 0], Rho[:, 2] - Rho[:, 0]], axis=1)
+    detA = A[:, 0, 0] * A[:, 1, 1] - A[:, 0, 1] * A[:, 1, 0]
+    nA = np.abs(A).max(axis=(1, 2))
+    regular = np.abs(detA) > 1e-9 * nA * nA
+    Ag = np.where(regular[:, None, None], A, np.eye(2))
+    q0 = np.linalg.solve(Ag, b[..., None])[..., 0]
+    q1 = np.linalg.solve(Ag, d[..., None])[..., 0]
+    qa = (q1 ** 2).sum(-1) - 1
+    qb = -2 * ((q0 * q1).sum(-1) + Rho[:, 0])
+    qc = (q0 ** 2).sum(-1) - Rho[:, 0] ** 2
+    with np.errstate(all="ignore"):
+        r_sum = -qb / qa                                               # r1 + r2
+        r_other = r_sum - Z1[:, 2]
+    quad = regular & (np.abs(qa) > 1e-9 * (np.abs(q1) ** 2).sum(-1).clip(1.0)) & np.isfinite(r_other)
+    Zo = np.column_stack([q0 - r_other[:, None] * q1 + C[:, 0], r_other])
+    Zo = np.where(np.isfinite(Zo), Zo, 0.0)
+    ok2, Z2, H2 = _krawczyk(C, Rho, Zo, scale)
+    apart = (np.abs(Z1 - Z2) > (H1 + H2)[:, None]).any(-1)
+    # true vertex: r > 0 and r + ρ_l > 0 on the box
+    pos = (Z1[:, 2] - H1 > 0)
+    good = ok1 & ok2 & quad & apart & pos
+    out = {}
+    for m in np.nonzero(good)[0]:
+        others = () if Z2[m, 2] + H2[m] <= 0 else ((float(Z2[m, 0]), float(Z2[m, 1])),)
+        out[int(idx[m])] = (float(Z1[m, 0]), float(Z1[m, 1]), float(Z1[m, 2]), float(H1[m]), others)
+    return out
+
+
+# ============================================================================ all vertices
+
+def prove_vertices(D, sites, geoms, table, problems):
+    """Prove every reported vertex (position, radius, emptiness).  Returns ({id: VertexInfo},
+    list of flags in diagram order)."""
+    from ..circles import voronoi_vertices_circles
+    from ..result import LocatorError
+
+    n = len(sites)
+    verts = list(D.vertices)
+    flags = [False] * len(verts)
+    infos: dict = {}
+    seen_ids: set = set()
+    fast_items = []
+    todo = []
+    for m, v in enumerate(verts):
+        name = vname(v)
+        trip = tuple(int(s) for s in v.sites)
+        if v.id in seen_ids:
+            problems.append(f"{name}: duplicate vertex id {v.id}")
+            continue
+        seen_ids.add(v.id)
+        if len(trip) != 3 or len(set(trip)) != 3 or not all(0 <= s < n for s in trip):
+            problems.append(f"{name}: invalid site triple")
+            continue
+        if not all(math.isfinite(t) for t in (v.x, v.y, v.radius)):
+            problems.append(f"{name}: non-finite position or radius")
+            continue
+        todo.append(m)
+        if table is not None and _pairwise_exterior(table, trip):
+            fast_items.append((m, trip, float(v.x), float(v.y), float(v.radius)))
+    fast = _fast_circle_vertices(fast_items, table) if table is not None else {}
+    seen_keys: dict = {}
+    for m in todo:
+        v = verts[m]
+        name = vname(v)
+        trip = tuple(int(s) for s in v.sites)
+        g3 = [geoms[s] for s in trip]
+        if m in fast:
+            x, y, r, h, others = fast[m]
+            info = VertexInfo(v.id, trip, x, y, r, h, others, key=(tuple(sorted(trip)), round(x / (1e-9 * (1 + abs(x)))),
+                                                                    round(y / (1e-9 * (1 + abs(y))))))
+        elif all(g.kind in ("point", "circle") for g in g3):
+            try:
+                tv = voronoi_vertices_circles(*[g.exact for g in g3])
+            except LocatorError as exc:
+                problems.append(f"{name}: degenerate triple ({exc})")
+                continue
+            if not tv.vertices:
+                problems.append(f"{name}: the three sites have no Voronoi vertex")
+                continue
+            best = min(tv.vertices, key=lambda w: math.hypot(w.x - v.x, w.y - v.y))
+            h = 2e-16 * (abs(best.x) + abs(best.y)) + 1e-300
+            others = tuple((w.x, w.y) for w in tv.vertices if w is not best)
+            info = VertexInfo(v.id, trip, best.x, best.y, best.radius, h, others,
+                              key=(tuple(sorted(trip)), id(best)))
+        else:
+            from .vertex import certify_vertex
+            proof = certify_vertex([sites[s] for s in trip], g3, v.x, v.y)
+            if not proof.certified:
+                problems.append(f"{name}: not proved ({proof.reason})")
+                continue
+            (xl, xh), (yl, yh) = proof.box
+            h = max(xh - xl, yh - yl) / 2
+            info = VertexInfo(v.id, trip, proof.x, proof.y, proof.radius, h, None,
+                              key=(tuple(sorted(trip)), round(proof.x / (1e-9 * (1 + abs(proof.x)))),
+                                   round(proof.y / (1e-9 * (1 + abs(proof.y))))))
+            info.r_hi = proof.radius_bounds[1]
+        dpos = math.hypot(info.x - v.x, info.y - v.y)
+        if dpos > info.tol + 2 * info.h:
+            problems.append(f"{name}: reported position ({v.x:.17g}, {v.y:.17g}) is {dpos:.3g} from the "
+                            f"proved vertex of its sites ({info.x:.17g}, {info.y:.17g})")
+            continue
+        if abs(info.r - v.radius) > info.tol + 2 * info.h:
+            problems.append(f"{name}: reported radius {v.radius:.17g}, proved {info.r:.17g}")
+            continue
+        if info.key in seen_keys:
+            problems.append(f"{name}: the same vertex as vertex {seen_keys[info.key]}")
+            continue
+        seen_keys[info.key] = v.id
+        infos[v.id] = info
+        flags[m] = True
+    _emptiness_batch(verts, flags, infos, geoms, table, problems)
+    return infos, flags
+
+
+def _pairwise_exterior(table, trip) -> bool:
+    for a in range(3):
+        for b in range(a + 1, 3):
+            i, j = trip[a], trip[b]
+            dd = math.hypot(*(table.C[i] - table.C[j]))
+            if not dd > (table.R[i] + table.R[j]) * (1 + 1e-9) + 1e-12 * table.scale:
+                return False
+    return True
+
+
+def _emptiness_batch(verts, flags, infos, geoms, table, problems):
+    """Every other site strictly outside the disc of each proved vertex (module docstring)."""
+    ms = [m for m, f in enumerate(flags) if f]
+    if not ms:
+        return
+    X = np.array([[infos[verts[m].id].x, infos[verts[m].id].y] for m in ms])
+    info_l = [infos[verts[m].id] for m in ms]
+    H = np.array([inf.h * math.sqrt(2) + 4 * EPS * (abs(inf.x) + abs(inf.y)) for inf in info_l])
+    Rhi = np.array([getattr(inf, "r_hi", inf.r + inf.h) + 4 * EPS * abs(inf.r) for inf in info_l])
+    Rlo = np.array([inf.r - inf.h - 4 * EPS * abs(inf.r) for inf in info_l])
+    if table is not None:
+        rows, ks = table.near(X, Rhi + H + 1e-9 * table.scale)
+        trips = np.array([inf.sites for inf in info_l], int)
+        keep = ~(trips[rows] == ks[:, None]).any(-1)
+        rows, ks = rows[keep], ks[keep]
+        lo, hi = table.bounds(X[rows], ks)
+    else:
+        rows, ks, lo, hi = [], [], [], []
+        boxes = np.array([g.bounding_box() for g in geoms], float)
+        for r_, inf in enumerate(info_l):
+            dx = np.maximum(np.maximum(boxes[:, 0] - inf.x, inf.x - boxes[:, 2]), 0.0)
+            dy = np.maximum(np.maximum(boxes[:, 1] - inf.y, inf.y - boxes[:, 3]), 0.0)
+            dbox = np.where(np.isfinite(dx) & np.isfinite(dy), np.hypot(dx, dy), 0.0)
+            cand = np.nonzero(dbox * (1 - 1e-12) <= Rhi[r_] + 2 * H[r_])[0]
+            for k in cand:
+                if k in inf.sites:
+                    continue
+                l_, h_ = geoms[k].distance_bounds(X[r_:r_ + 1])
+                rows.append(r_), ks.append(int(k)), lo.append(l_[0]), hi.append(h_[0])
+        rows, ks, lo, hi = (np.array(rows, int), np.array(ks, int), np.array(lo), np.array(hi))
+    if not len(rows):
+        return
+    inside = hi + H[rows] < Rlo[rows]
+    und = ~inside & (lo - H[rows] <= Rhi[rows])
+    done = set()
+    for mask, why in ((inside, "is closer than the three sites: not a Voronoi vertex"), (und, "too close to decide")):
+        for t in np.nonzero(mask)[0]:
+            r_ = int(rows[t])
+            if r_ in done:
+                continue
+            done.add(r_)
+            m = ms[r_]
+            flags[m] = False
+            infos.pop(verts[m].id, None)
+            problems.append(f"{vname(verts[m])}: site {int(ks[t])} {why}")

@@ -1,0 +1,68 @@
+"""Build and run the CGAL Apollonius-graph peer (apollonius_edges.cpp), shared by tests/test_cgal.py
+and bench/bench_voronoi.py.  The binary is cached in the temp directory, keyed by the source hash."""
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+
+SOURCE = Path(__file__).with_name("apollonius_edges.cpp")
+HEADER = "/usr/include/CGAL/Apollonius_graph_2.h"
+
+
+class PeerMissing(RuntimeError):
+    """g++ or CGAL (Debian package libcgal-dev) is not installed."""
+
+
+def build() -> Path:
+    """Compile the peer once (about 20 s of CPU) and return the path of the binary."""
+    gxx = shutil.which("g++")
+    if gxx is None:
+        raise PeerMissing("g++ not found (apt-get install g++)")
+    if not os.path.exists(HEADER):
+        raise PeerMissing("CGAL headers not found (apt-get install libcgal-dev)")
+    digest = hashlib.sha256(SOURCE.read_bytes()).hexdigest()[:16]
+    out = Path(tempfile.gettempdir()) / f"curvedvoronoi_cgal_ag_{digest}"
+    if not out.exists():
+        tmp = out.with_suffix(f".{os.getpid()}.tmp")
+        subprocess.run([gxx, "-O2", "-std=c++17", "-DNDEBUG", "-o", str(tmp), str(SOURCE)], check=True,
+                       capture_output=True, text=True)
+        os.replace(tmp, out)
+    return out
+
+
+def delaunay_edges(circles) -> tuple[list[tuple[int, int]], float, int]:
+    """CGAL's Apollonius graph of (x, y, r) float circles: (sorted edges, build seconds, hidden count)."""
+    binary = build()
+    lines = [str(len(circles))] + [f"{x!r} {y!r} {r!r}" for x, y, r in circles]
+    res = subprocess.run([str(binary)], input="\n".join(lines) + "\n", capture_output=True, text=True, check=True)
+    out = res.stdout.split("\n")
+    hidden = int(out[0].split()[1])
+    seconds = float(out[1].split()[1])
+    edges = sorted(tuple(int(t) for t in ln.split()) for ln in out[2:] if ln.strip())
+    return edges, seconds, hidden
+
+
+def random_disjoint_circles(n: int, seed: int, *, rmin=0.5, rmax=3.0, gap=1e-3):
+    """n random pairwise disjoint (not nested) circles in a square of side 10·√n (floats), by
+    rejection with a uniform grid of cell 2·rmax + gap."""
+    import math
+    import random
+
+    rng = random.Random(seed)
+    side = 10.0 * math.sqrt(n)
+    cell = 2 * rmax + gap
+    grid: dict = {}
+    out: list[tuple[float, float, float]] = []
+    while len(out) < n:
+        x, y, r = rng.uniform(0, side), rng.uniform(0, side), rng.uniform(rmin, rmax)
+        gx, gy = int(x // cell), int(y // cell)
+        if any(math.hypot(x - out[i][0], y - out[i][1]) <= r + out[i][2] + gap
+               for dx in (-1, 0, 1) for dy in (-1, 0, 1) for i in grid.get((gx + dx, gy + dy), ())):
+            continue
+        grid.setdefault((gx, gy), []).append(len(out))
+        out.append((x, y, r))
+    return out
