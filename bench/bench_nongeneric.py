@@ -64,7 +64,8 @@ def cases() -> dict[str, list]:
         # small sites far apart: size / scene = 1/100
         "small sites far apart (1/100)": [_E((0, 0), (1, F(1, 2)), r1), _E((100, 7), (F(3, 4), F(1, 2)), r2),
                                           _E((40, 90), (1, F(3, 4)), r3), _E((50, 30), (1, F(1, 2)))],
-        # the spread-out triple of the issue (generic, refused by the null space)
+        # a spread-out generic triple of small ellipses (once refused by the numeric route: two
+        # near-real solutions collapsed onto one)
         "spread-out generic triple": [_E((47, F(73, 2)), (3, F(7, 4)), (F(3, 5), F(-4, 5))),
                                       _E((51, F(43, 2)), (F(15, 4), F(3, 4)), (F(8, 17), F(15, 17))),
                                       _E((14, F(23, 2)), (F(7, 4), F(5, 4)), (F(20, 29), F(-21, 29))),

@@ -46,7 +46,7 @@ TARGETS: dict[str, tuple[list[str] | None, list[str], str | None]] = {
     "runtime/certify.py": (None, ["tests/test_certify.py", "tests/test_locator_certified.py"], None),
     "runtime/certify_krawczyk.py": (None, ["tests/test_certify.py", "tests/test_certify_chart.py"], None),
     "runtime/interval/verify.py": (None, ["tests/test_interval.py"], None),
-    "runtime/interval/bound.py": (None, ["tests/test_interval.py"], "vertex_bound"),
+    "runtime/interval/bound.py": (None, ["tests/test_interval.py"], "vertex_bound or support or search_domain"),
 }
 
 #: behaviour broken on purpose to prove the teeth of the rewritten tests: (what, file, old text,
@@ -183,17 +183,19 @@ def run_tests(tree: Path, tests: list[str], kfilter: str | None, timeout: float,
     return "killed", dt, last
 
 
-def run_teeth(tree: Path, timeout: float, out: Path) -> None:
+def run_teeth(tree: Path, timeout: float, out: Path, previous: str) -> None:
     """Break each behaviour of TEETH in the copy; the new tests must fail, and the replaced tests of
-    the previous suite (read with ``git show HEAD:...``) are run on the same break for comparison."""
+    the previous suite (read with ``git show PREVIOUS:...``, a read-only git command) are run on the
+    same break for comparison."""
     for name in ("test_interval.py", "test_locator.py", "test_cli.py"):
-        old = subprocess.run(["git", "-C", str(ROOT), "show", f"HEAD:tests/{name}"], capture_output=True, text=True)
+        old = subprocess.run(["git", "-C", str(ROOT), "show", f"{previous}:tests/{name}"], capture_output=True,
+                             text=True)
         if old.returncode == 0:
             (tree / "tests" / f"old_{name}").write_text(old.stdout)
     env_extra = {"LOCATOR_REFERENCE_N": "1"}
     rows = ["", "## Teeth of the rewritten tests (behaviour broken on purpose, in a copy of the tree)", "",
-            "`OPENBLAS_NUM_THREADS=1 python bench/mutation_check.py --teeth` (LOCATOR_REFERENCE_N=1; the "
-            "previous tests are read with `git show HEAD:tests/...`).", "",
+            f"`OPENBLAS_NUM_THREADS=1 python bench/mutation_check.py --teeth --previous {previous}` "
+            f"(LOCATOR_REFERENCE_N=1; the previous tests are read with `git show {previous}:tests/...`).", "",
             "| broken behaviour | new tests | result | previous tests | result |", "|---|---|---|---|---|"]
     for what, rel, old, new, tests, old_tests in TEETH:
         f = tree / rel
@@ -229,21 +231,42 @@ def main(argv=None) -> int:
     ap.add_argument("--baseline", action="store_true", help="also run each test subset unmutated first")
     ap.add_argument("--out", default=str(OUT))
     ap.add_argument("--teeth", action="store_true", help="only the TEETH checks (appended to --out)")
+    ap.add_argument("--mutant", action="append", default=[], metavar="FILE::LINE_TEXT::OLD::NEW",
+                    help="run only this mutant: the first token OLD on the line containing LINE_TEXT")
+    ap.add_argument("--previous", default="cf93108",
+                    help="git revision holding the suite before the rewrite (for --teeth)")
+    ap.add_argument("--append", action="store_true", help="append the table to --out instead of replacing it")
+    ap.add_argument("--title", default="Mutation check of the core predicates")
     args = ap.parse_args(argv)
     rng = random.Random(args.seed)
     tree = copy_tree(Path(args.work))
     if args.teeth:
-        run_teeth(tree, args.timeout, Path(args.out))
+        run_teeth(tree, args.timeout, Path(args.out), args.previous)
         return 0
     rows = []
     files = args.files or list(TARGETS)
     t_start = time.perf_counter()
+    wanted: dict[str, list[tuple[str, str, str]]] = {}
+    for spec in args.mutant:
+        rel, text, old, new = spec.split("::")
+        wanted.setdefault(rel, []).append((text, old, new))
+    if wanted:
+        files = list(wanted)
     for rel in files:
         functions, tests, kfilter = TARGETS[rel]
         f = tree / rel
         src = f.read_text()
         muts = enumerate_mutants(rel, src, functions)
-        chosen = sorted(rng.sample(muts, min(args.per_file, len(muts))), key=lambda m: (m["line"], m["col"]))
+        if rel in wanted:
+            chosen = []
+            lines = src.splitlines()
+            for text, old, new in wanted[rel]:
+                ln = next(i for i, line in enumerate(lines, 1) if text in line)
+                m = [m for m in muts if m["line"] == ln and m["old"] == old and m["new"] == new]
+                assert m, (rel, text, old, new)
+                chosen.append(m[0])
+        else:
+            chosen = sorted(rng.sample(muts, min(args.per_file, len(muts))), key=lambda m: (m["line"], m["col"]))
         if args.baseline:
             st, dt, last = run_tests(tree, tests, kfilter, args.timeout)
             print(f"baseline {rel}: {st} ({dt:.0f} s) {last}", flush=True)
@@ -265,10 +288,10 @@ def main(argv=None) -> int:
     killed = sum(r["status"] == "killed" for r in rows)
     timeouts = sum(r["status"] == "timeout" for r in rows)
     surv = [r for r in rows if r["status"] == "survived"]
-    lines = ["# Mutation check of the core predicates",
+    cmdline = " ".join(a if " " not in a else repr(a) for a in (argv if argv is not None else sys.argv[1:]))
+    lines = [("## " if args.append else "# ") + args.title,
              "",
-             f"Command: `OPENBLAS_NUM_THREADS=1 python bench/mutation_check.py --seed {args.seed} "
-             f"--per-file {args.per_file} --timeout {args.timeout:g}` (BLAS threads: 1; "
+             f"Command: `OPENBLAS_NUM_THREADS=1 python bench/mutation_check.py {cmdline}` (BLAS threads: 1; "
              f"{total:.0f} s wall on a shared 2-core machine, noisy).",
              "",
              f"**{killed} of {len(rows)} mutants killed, {len(surv)} survived, {timeouts} timed out** "
@@ -288,7 +311,11 @@ def main(argv=None) -> int:
     text = "\n".join(lines) + "\n"
     print(text)
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-    Path(args.out).write_text(text)
+    if args.append:
+        with Path(args.out).open("a") as fh:
+            fh.write("\n" + text)
+    else:
+        Path(args.out).write_text(text)
     return 0
 
 

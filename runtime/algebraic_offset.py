@@ -49,8 +49,9 @@ from fractions import Fraction
 
 import flint
 
-__all__ = ["AlgebraicOffset", "FactorSelection", "RejectedFactor", "offset", "select_factors", "offset_degrees_on_line", "parse_curve", "offset_point",
-           "curve_points", "evaluate_at_point", "OFFSET_VARIABLES"]
+__all__ = ["AlgebraicOffset", "FactorSelection", "RejectedFactor", "OffsetPoint", "OFFSET_VARIABLES",
+           "curve_points", "evaluate_at_point", "offset", "offset_degrees_on_line", "offset_point",
+           "parse_curve", "select_factors"]
 
 #: variables of every offset polynomial returned here
 OFFSET_VARIABLES = ("u", "v", "R")

@@ -18,7 +18,7 @@ trivially.  :func:`locate_batch` runs them with :class:`joblib.Parallel`:
   to scale out; the workers need this package installed.
 
 Each query is a sequence of four sites in any form accepted by
-:func:`runtime.diagram.as_site` (Circle, Conic, (cx, cy, radius), coefficient list).  Four
+:func:`runtime.voronoi.construction.as_site` (Circle, Conic, (cx, cy, radius), coefficient list).  Four
 circles (or points) go to the exact circle locator; anything else to the general conic
 locator :mod:`runtime.locator` (a LocatorError says so if it is not installed).  Results are
 :class:`runtime.result.LocatorResult` objects, in query order; a query that raises is
@@ -30,39 +30,46 @@ triple into the same chunk (``batch_size``) to reuse them.
 from __future__ import annotations
 
 import time
+from fractions import Fraction
 from typing import Any, Sequence
 
-__all__ = ["locate_batch", "vertices_batch", "locate_one"]
+from .circles import Circle, locate_conflicts_circles, voronoi_vertices_circles
+from .conic import Conic
+from .locator import locate_conflicts, voronoi_vertices
+from .result import LocatorError, VoronoiVertex
+from .voronoi.construction import as_site
+
+__all__ = ["locate_batch", "vertices_batch", "locate_one", "as_conic"]
 
 
 def locate_one(query, method: str = "auto"):
     """One conflict-locator call on four sites (circles exact, other conics via runtime.locator)."""
-    from .diagram import _conic_locator, as_site
-
     if len(query) != 4:
         raise ValueError(f"a query is four sites (C1, C2, C3, C4), got {len(query)}")
     sites = [as_site(q) for q in query]
-    if all(s.is_circle for s in sites):
-        from .circles import locate_conflicts_circles
-
-        return locate_conflicts_circles(*(s.circle for s in sites))
-    loc = _conic_locator()
-    return loc.locate_conflicts(*(s.get_conic() for s in sites), method=method)
+    if all(isinstance(s, Circle) for s in sites):
+        return locate_conflicts_circles(*sites)
+    return locate_conflicts(*(as_conic(s) for s in sites), method=method)
 
 
 def _vertices_one(triple):
-    from .diagram import _conic_locator, as_site
-    from .result import VoronoiVertex
-
     sites = [as_site(q) for q in triple]
     if len(sites) != 3:
         raise ValueError(f"a triple is three sites, got {len(sites)}")
-    if all(s.is_circle for s in sites):
-        from .circles import voronoi_vertices_circles
-
-        tv = voronoi_vertices_circles(*(s.circle for s in sites))
+    if all(isinstance(s, Circle) for s in sites):
+        tv = voronoi_vertices_circles(*sites)
         return [VoronoiVertex(v.x, v.y, v.radius, certified=True) for v in tv.vertices]
-    return list(_conic_locator().voronoi_vertices(*(s.get_conic() for s in sites)))
+    return list(voronoi_vertices(*(as_conic(s) for s in sites)))
+
+
+def as_conic(site):
+    """A circle site as the equal :class:`runtime.conic.Conic` (points have no conic form)."""
+    if isinstance(site, Circle):
+        if site.r2 == 0:
+            raise LocatorError("a point site mixed with conics is answered by the diagram "
+                               "(runtime.voronoi), not by the four-conic locator")
+        return Conic.circle(centre=(Fraction(str(site.cx)), Fraction(str(site.cy))), r2=Fraction(str(site.r2)))
+    return site
 
 
 def _guard(fn, item, on_error, *args):

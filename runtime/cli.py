@@ -270,7 +270,7 @@ def main(argv=None) -> int:
 
 def _dispatch(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
-    if argv[:1] == ["diagram"]:          # its own parser (runtime.diagram), incl. --help
+    if argv[:1] == ["diagram"]:          # its own parser (runtime.voronoi.command), incl. --help
         from .voronoi.command import diagram_main
 
         return diagram_main(argv[1:])

@@ -1,4 +1,4 @@
-"""Command line: `python -m runtime offsets|locate|demo|diagram` as a user runs it."""
+"""Command line: `python -m curvedvoronoi offsets|locate|demo|diagram` as a user runs it."""
 from __future__ import annotations
 
 import json

@@ -1,7 +1,7 @@
 """Generic root counts of the triple offset systems (generated/counts/root_counts.json).
 
 * the artefact is what precompute.root_counts computes (deterministic, fixed seeds);
-* the counts of DESIGN §5 (EEE 184, PPP 93, EPP 118) and the circle families are reproduced;
+* the known counts (EEE 184, PPP 93, EPP 118; three circles 8, Apollonius) are reproduced;
 * a non-generic member (two parabolas with parallel axes) has strictly fewer solutions: the
   samples must be generic, which is why rotations are distinct;
 * the rigid-motion composition of the precompute is exact (offset vanishes at exact offset points).

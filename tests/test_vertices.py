@@ -152,7 +152,7 @@ def test_root_counts_below_mixed_volume(label):
     """Bernstein–Kushnirenko with the origin added to the supports (Li–Wang) bounds the number of
     isolated affine solutions: the artefact's counts must not exceed the mixed volume of the exact
     offsets of a random member (precompute.mixed, an independent polyhedral computation); the
-    design figures EEE 184 < 256, PPP 93 < 108, EPP 118 < 144 are reproduced."""
+    known pairs EEE 184 < 256, PPP 93 < 108, EPP 118 < 144 are reproduced."""
     import random
     from curvedvoronoi.precompute.mixed import mixed_volume
     from curvedvoronoi.precompute.root_counts import FAMILIES3, sample_system

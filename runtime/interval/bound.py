@@ -38,7 +38,7 @@ import numpy as np
 
 from .curves import Curve
 
-__all__ = ["VertexBound", "vertex_bound"]
+__all__ = ["VertexBound", "support_function", "vertex_bound"]
 
 _EPS_REL = 1e-12        # margin for rounding errors in the float evaluation of h (relative to W)
 _MAX_GRID = 1 << 22
@@ -102,6 +102,16 @@ def _site_support(c: Curve):
             return v - rho, v + rho
         return (cx, cy), supp, rho
     return None
+
+
+def support_function(site: Curve, ux, uy, centre=(0.0, 0.0)):
+    """Enclosure (lo, hi) of the support function h(u) = max_{p in site} u·(p − centre) for unit
+    vectors (ux, uy) (floats or arrays; exact for ellipses and circles up to rounding, a disk
+    enclosure for other bounded sites); None for an unbounded site or one without a bounding box."""
+    sup = _site_support(site)
+    if sup is None:
+        return None
+    return sup[1](np.asarray(ux, dtype=float), np.asarray(uy, dtype=float), tuple(float(v) for v in centre))
 
 
 def vertex_bound(sites, max_grid: int = _MAX_GRID) -> VertexBound | None:

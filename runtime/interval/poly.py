@@ -218,11 +218,11 @@ class Poly:
                     expr = sub
                 else:
                     gap = prev - d
-                    mul = v if gap == 1 else f"{v}**{gap}"
+                    mul = v if gap == 1 else "(" + "*".join([v] * gap) + ")"  # not **: nan on arb balls at 0
                     expr = f"({expr})*{mul}+{sub}"
                 prev = d
             if prev:
-                mul = v if prev == 1 else f"{v}**{prev}"
+                mul = v if prev == 1 else "(" + "*".join([v] * prev) + ")"
                 expr = f"({expr})*{mul}"
             return expr
 

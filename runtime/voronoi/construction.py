@@ -102,9 +102,15 @@ class SiteError(InvalidConicError):
 
 def as_site(s):
     """A user site as an exact site: Circle / Point / Conic pass through; a tuple (cx, cy, r)
-    is a circle of radius r (r = 0: a point)."""
+    is a circle of radius r (r = 0: a point); a list of six numbers is the coefficient list of a
+    conic; a dict is a site record of :func:`runtime.sites_io.parse_site`."""
     if isinstance(s, (Circle, Conic)):
         return s
+    if isinstance(s, dict):
+        from ..sites_io import parse_site
+        return parse_site(s)
+    if isinstance(s, (list, tuple)) and len(s) == 6:
+        return Conic.from_coefficients(*s)
     try:
         cx, cy, r = s
     except (TypeError, ValueError):
@@ -982,7 +988,10 @@ def _rounds(S, spacing, stats, timing, deadline, cache, bar):
     return result
 
 
-_LIMITATION = re.compile(r"not proved \(|not verified by|only|not available")
+#: verifier problems that show a fault of the reported diagram (a refinement can fix them); other
+#: lines (limits of what the verifier proves, e.g. "not proved beyond ...") do not trigger rebuilds
+_FAULT = re.compile(r"closer than its sites|too close to decide|share no site|no single site owns|is missing|"
+                    r"has no edge|ends? here|do not close up|not on the arc|overlap|more than once|the vertex \(")
 _NAMED = re.compile(r"\b(sites?|edges?|vertex|vertices)\s+((?:\d+(?:\s*(?:,|and)\s*)?)+)")
 
 
@@ -991,7 +1000,7 @@ def _sites_named(problems, D):
     "vertex 2" (edges and vertices stand for their sites)."""
     out: set = set()
     for p in problems:
-        if _LIMITATION.search(p):      # a limitation of the verifier, not a fault of the diagram
+        if not _FAULT.search(p):       # a limitation of the verifier, not a fault of the diagram
             continue
         for kind, nums in _NAMED.findall(p):
             for t in re.findall(r"\d+", nums):

@@ -16,23 +16,24 @@ Let G be the true Voronoi graph and H the reported one.
    bounds (falling back to the exact solver of thesis §3.1.3,
    :func:`runtime.circles.voronoi_vertices_circles`); for triples with a conic,
    :func:`runtime.voronoi.vertex.certify_vertex` proves existence and uniqueness (Krawczyk on the
-   exact foot-point system) and the touching property.  **Emptiness**: every other site k has a rigorous lower bound of d(v, S_k) above the
-   upper bound of the radius; far sites are excluded first with a k-d tree on bounding discs
-   (d(q, S) ≥ |q − c_S| − h_S).  Undecided → "vertex 12 (sites 3, 5, 9): site 7 too close to decide".
+   exact foot-point system) and the touching property.  **Emptiness**: every other site k has a
+   rigorous lower bound of d(v, S_k) above the upper bound of the radius; far sites are excluded
+   first with a k-d tree on bounding discs (d(q, S) ≥ |q − c_S| − h_S).  Undecided → "vertex 12
+   (sites 3, 5, 9): site 7 too close to decide".
 2. **Edges.**  An edge (i, j) between proved vertices v0, v1 (or infinity) is a parameter
    interval of the exact bisector curve of i and j, and every point of its relative interior is
    strictly closer to i and j than to any other site (:mod:`runtime.voronoi.verify_edges`:
    discs along the arc with Lipschitz and first-order bounds, the exact zeros of d_k − d_i on
    the bisector for the third sites of the end vertices, interval bounds in τ = e^{∓u} for the
-   infinite tail).  Hence the
-   open arc is a connected set of points whose two nearest sites are i and j, it is a connected
-   component of β_ij ∖ {v0, v1}, and its ends are Voronoi vertices: it is a **whole** edge of G.
+   infinite tail).  Hence the open arc is a connected set of points whose two nearest sites are
+   i and j, it is a connected component of β_ij ∖ {v0, v1}, and its ends are Voronoi vertices:
+   it is a **whole** edge of G.
    Polylines are checked against their stated ``tolerance``: a polyline point whose distance to
    the bisector is proved larger (|d_i − d_j|/2 is a lower bound, d_i − d_j being 2-Lipschitz)
    is a problem, as is a polyline end away from its vertex.
-3. **Closure** (:mod:`runtime.voronoi.verify_closure`).  Every vertex (i, j, k) has exactly one incident edge per pair of its sites, every
-   edge ends at listed vertices whose triples contain its pair (or at infinity), every site has
-   an edge, no two edges of one pair overlap.
+3. **Closure** (:mod:`runtime.voronoi.verify_closure`).  Every vertex (i, j, k) has exactly one
+   incident edge per pair of its sites, every edge ends at listed vertices whose triples contain
+   its pair (or at infinity), every site has an edge, no two edges of one pair overlap.
 4. **Every component of G is represented.**  (a) *At infinity*: the unbounded ends of H, sorted
    by asymptotic direction θ, must be such that consecutive ends share a site s that strictly
    maximises the support function h_k(θ) = c_k·e(θ) + ρ_k on the closed arc between them (ties
@@ -57,8 +58,8 @@ depth ≤ 1; vertices simple (degree 3: no fourth site at the same distance, whi
 emptiness test enforces; three bisectors crossing transversally: proved on the fast circle route,
 where Krawczyk's test proves the Jacobian of the Apollonius system, whose rows are
 (r + ρ_l)·(n_l, −1), nonsingular, i.e. ∇(d_0 − d_1) and ∇(d_0 − d_2) independent; assumed on the
-exact route); for circle and point sites the rounding of
-the bisector's float constants is bounded to first order (module :mod:`verify_edges`).
+exact route); for circle and point sites the rounding of the bisector's float constants is
+bounded to first order (module :mod:`runtime.voronoi.verify_edges`).
 
 Sites with an ellipse: vertices as above; an edge between two vertices is proved by
 :mod:`runtime.voronoi.verify_curved` (a chain of strips around the polyline in which the bisector
@@ -67,7 +68,10 @@ unbounded edge is proved up to a point at three times the scene's size and repor
 beyond"; vertex-less edges and hyperbola / parabola edges are reported not proved, and the
 accounting of step 4 is done for circle and point sites only, so such a certificate is never ok.
 
-Public API: :func:`verify`, :class:`Certificate`.
+Command line: ``python -m curvedvoronoi verify DIAGRAM.json [SITES.json]`` (exit 0 proved,
+1 not proved, 2 bad input; prints :meth:`Certificate.to_json`).
+
+Public API: :func:`verify`, :func:`verify_files`, :class:`Certificate`.
 """
 from __future__ import annotations
 

@@ -131,48 +131,83 @@ def prove_curved_edge(geoms, scale, pair, P, v0, v1, tol):
         S[0] = (v0.x, v0.y)
     if v1 is not None:
         S[-1] = (v1.x, v1.y)
-    seg = S[1:] - S[:-1]
-    L = np.hypot(seg[:, 0], seg[:, 1])
-    if np.any(L <= 1e-12 * scale):
-        keep = np.concatenate([[True], L > 1e-12 * scale])
-        S = S[keep]
-        seg = S[1:] - S[:-1]
-        L = np.hypot(seg[:, 0], seg[:, 1])
-    if len(S) < 2:
-        return False, "degenerate polyline", None
-    T = seg / L[:, None]
-    N = _rot90(T)
-    m = len(L)
-    # turning angles between consecutive segments
-    cosang = np.clip((T[:-1] * T[1:]).sum(1), -1, 1)
-    if np.any(cosang < math.cos(math.radians(60))):
-        return False, "polyline turns by more than 60 degrees: refine it", None
-    sinang = np.sqrt(1 - cosang ** 2)
     k0 = next(s for s in v0.sites if s not in pair) if v0 is not None else None
     k1 = next(s for s in v1.sites if s not in pair) if v1 is not None else None
     h0 = (v0.h * 2 + v0.tol) if v0 is not None else 0.0
     h1 = (v1.h * 2 + v1.tol) if v1 is not None else 0.0
     last_msg = None
-    # node half-widths: about 3x the stated tolerance, at most a quarter of the adjacent segments
-    Lmin = np.minimum(np.concatenate([[L[0]], L]), np.concatenate([L, [L[-1]]]))
-    Lmax = np.maximum(np.concatenate([[L[0]], L]), np.concatenate([L, [L[-1]]]))
-    for wfac in (1.0, 3.0, 0.3):
-        W = np.minimum(0.25 * Lmin, max(3 * tol, 1e-6 * scale) * wfac)
-        W = np.maximum(W, 1e-12 * scale)
-        if v0 is not None:
-            W[0] = max(min(W[0], 0.05 * L[0]), 8 * h0 + 1e-12 * scale)
-        if v1 is not None:
-            W[-1] = max(min(W[-1], 0.05 * L[-1]), 8 * h1 + 1e-12 * scale)
-        wn = np.maximum(W[:-1], W[1:])
-        e_lo = np.concatenate([[0.0], wn[:-1] * sinang]) + 1e-12 * scale
-        e_hi = np.concatenate([wn[1:] * sinang, [0.0]]) + 1e-12 * scale
-        e_lo[0] += 2 * h0
-        e_hi[-1] += 2 * h1
-        ok, msg = _prove_rects(op, geoms, S, T, N, L, e_lo, e_hi, W, pair, k0, k1, scale)
-        if ok:
-            return True, None, beyond
-        last_msg = msg
+    attempts = 0
+    for refine in range(3):
+        if refine:      # the polyline is only a guide: halve its segments, nodes moved onto β
+            S = _refine(S, geoms[i], geoms[j])
+        seg = S[1:] - S[:-1]
+        L = np.hypot(seg[:, 0], seg[:, 1])
+        if np.any(L <= 1e-12 * scale):
+            keep = np.concatenate([[True], L > 1e-12 * scale])
+            S = S[keep]
+            seg = S[1:] - S[:-1]
+            L = np.hypot(seg[:, 0], seg[:, 1])
+        if len(S) < 2:
+            return False, "degenerate polyline", None
+        T = seg / L[:, None]
+        N = _rot90(T)
+        # turning angles between consecutive segments
+        cosang = np.clip((T[:-1] * T[1:]).sum(1), -1, 1)
+        if np.any(cosang < math.cos(math.radians(60))):
+            last_msg = "polyline turns by more than 60 degrees"
+            continue
+        sinang = np.sqrt(1 - cosang ** 2)
+        # node half-widths: about 3x the stated tolerance, at most a quarter of the adjacent segments
+        Lmin = np.minimum(np.concatenate([[L[0]], L]), np.concatenate([L, [L[-1]]]))
+        for wfac, endfac in ((1.0, 1e-3), (0.3, 1e-5), (3.0, 1e-3)):
+            W = np.minimum(0.25 * Lmin, max(3 * tol, 1e-6 * scale) * wfac)
+            W = np.maximum(W, 1e-12 * scale)
+            # narrow at the vertices: the transversality test (T3) needs the gradient enclosures
+            # (slack ~ 4R/d) well below the angle between the bisectors
+            if v0 is not None:
+                W[0] = max(min(W[0], 0.05 * L[0], endfac * (v0.r + 1.0)), 8 * h0 + 1e-12 * scale)
+            if v1 is not None:
+                W[-1] = max(min(W[-1], 0.05 * L[-1], endfac * (v1.r + 1.0)), 8 * h1 + 1e-12 * scale)
+            wn = np.maximum(W[:-1], W[1:])
+            e_lo = np.concatenate([[0.0], wn[:-1] * sinang]) + 1e-12 * scale
+            e_hi = np.concatenate([wn[1:] * sinang, [0.0]]) + 1e-12 * scale
+            e_lo[0] += 2 * h0
+            e_hi[-1] += 2 * h1
+            ok, msg = _prove_rects(op, geoms, S, T, N, L, e_lo, e_hi, W, pair, k0, k1, scale)
+            if ok:
+                return True, None, beyond
+            last_msg = msg
+            attempts += 1
+            if attempts >= 4:
+                return False, last_msg, beyond
+            if "bisector leaves" in msg or "monotonicity" in msg:
+                break       # refine the guide rather than try other widths
     return False, last_msg, beyond
+
+
+def _refine(S, gi, gj):
+    """Insert the midpoint of every segment, moved onto the bisector along the segment's normal
+    (float secant steps on f = d_i − d_j; only a better guide, nothing is assumed of it)."""
+    A, B = S[:-1], S[1:]
+    M = 0.5 * (A + B)
+    t = B - A
+    n = np.column_stack([-t[:, 1], t[:, 0]]) / np.maximum(np.hypot(t[:, 0], t[:, 1]), 1e-300)[:, None]
+    f = lambda X: gi.distance(X) - gj.distance(X)       # noqa: E731
+    h = 1e-3 * np.hypot(t[:, 0], t[:, 1])
+    lam0, lam1 = np.zeros(len(M)), h
+    f0, f1 = f(M), f(M + lam1[:, None] * n)
+    for _ in range(8):
+        den = f1 - f0
+        ok = np.abs(den) > 1e-300
+        lam2 = np.where(ok, lam1 - f1 * (lam1 - lam0) / np.where(ok, den, 1.0), lam1)
+        lam2 = np.clip(lam2, -0.5 * np.hypot(t[:, 0], t[:, 1]), 0.5 * np.hypot(t[:, 0], t[:, 1]))
+        lam0, f0 = lam1, f1
+        lam1, f1 = lam2, f(M + lam2[:, None] * n)
+    Mn = np.where(np.isfinite(lam1)[:, None], M + lam1[:, None] * n, M)
+    out = np.empty((2 * len(S) - 1, 2))
+    out[0::2] = S
+    out[1::2] = Mn
+    return out
 
 
 def _prove_rects(op, geoms, S, T, N, L, e_lo, e_hi, W, pair, k0, k1, scale):
@@ -263,7 +298,7 @@ def _prove_rects(op, geoms, S, T, N, L, e_lo, e_hi, W, pair, k0, k1, scale):
         if good.all():
             return True, None
         work += len(sa)
-        if depth == MAX_DEPTH - 1 or (~good).sum() > 20000 or work > 60000:
+        if depth == MAX_DEPTH - 1 or (~good).sum() > 20000 or work > 30000:
             b = int(np.nonzero(~good)[0][0])
             what = ("monotonicity" if not (t1[b] and vi[b] and vj[b]) else
                     "the bisector leaves the polyline's strip" if not side_ok[b] else "a third site")
