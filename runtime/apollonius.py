@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 
 from flint import fmpq, fmpq_mat
 
+from .rationals import parse_rational
 from .quadtower import ONE, ZERO, Elem, Frac, QuadTower, frac_add, frac_sign, rational_sqrt
 from .result import LocatorError, LocatorResult, VoronoiVertex
 
@@ -196,8 +197,6 @@ def solve_system(T: QuadTower, centres, rho, r2, signs) -> SystemSolutions:
 
 
 def _aw_site(p) -> tuple[fmpq, fmpq, fmpq]:
-    from .circles import parse_rational  # local import: circles imports this module
-
     if len(p) != 3:
         raise ValueError("a weighted point is (x, y, w)")
     return tuple(parse_rational(v, "weighted point coordinate") for v in p)  # type: ignore[return-value]
@@ -228,7 +227,7 @@ def _f(sol: AlgebraicSolution, num: Elem) -> float:
     return frac_to_float(sol.tower, Frac(num, sol.D))
 
 
-def _normalise_den(sol: AlgebraicSolution) -> AlgebraicSolution:
+def normalise_den(sol: AlgebraicSolution) -> AlgebraicSolution:
     T = sol.tower
     if T.sign(sol.D) < 0:
         return AlgebraicSolution(T, T.neg(sol.X), T.neg(sol.Y), T.neg(sol.Rn), T.neg(sol.D))
@@ -259,7 +258,7 @@ def aw_vertices(P1, P2, P3) -> list[AWVertex]:
         raise LocatorError("degenerate weighted points: a continuum of additively weighted Voronoi vertices")
     verts = []
     for sol in res.solutions:
-        sol = _normalise_den(sol)
+        sol = normalise_den(sol)
         Tq = sol.tower
         if all(Tq.sign(Tq.add(Tq.mul(wi, sol.D), sol.Rn)) >= 0 for wi in w):
             verts.append(AWVertex(sol))

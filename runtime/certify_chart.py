@@ -22,7 +22,7 @@ Proof (chart j, the homogeneous coordinate h_j set to 1, unknowns u = the other 
   c_i·A^{d_i}·o_i(φ_j(u)) identically.  So u with A ≠ 0 is a zero of G iff φ_j(u) is a (finite)
   zero of o, and at such a zero J_G = diag(c_i A^{d_i})·J_o(φ_j(u))·J_φ(u) (the derivative of the
   factor A^{d_i} multiplies o_i = 0): J_G is nonsingular iff J_o is -- simple zeros correspond;
-* a successful complex Krawczyk test (``_krawczyk_c`` of :mod:`runtime.certify_complete`, acb,
+* a successful complex Krawczyk test (``krawczyk_complex`` of :mod:`runtime.offset_system`, acb,
   the exact integer coefficients as balls) on a box X of the chart proves a unique simple zero u*
   of G in X, lying in the Krawczyk image K ⊂ X; if the A-component of K excludes 0 (or j = 0,
   A ≡ 1), s* = φ_j(u*) is a finite simple zero of o, and the world enclosure W = φ_j(K),
@@ -49,6 +49,7 @@ import numpy as np
 from flint import acb, arb
 
 from .certify_foot import normalised_coefficients, working_prec
+from .offset_system import krawczyk_complex, newton_track, offset_terms
 
 __all__ = ["circle_space_polynomial", "chart_polynomials", "ChartSystem", "certify_in_chart",
            "world_from_chart", "choose_charts"]
@@ -100,8 +101,7 @@ def chart_polynomials(cos: tuple[tuple[Fraction, ...], ...]):
     """Homogeneous circle-space offsets of the three conics (normalised coefficient tuples):
     tuple of (d_i, Q_i = {(a, x̂, ŷ, T̂) exponents: integer coefficient}, c_i) with
     Q_i(1, x, y, x² + y² − R) = c_i · o_i(x, y, R), o_i the offsets of ``OffsetSystem``."""
-    from .certify_complete import _offset_terms
-    return tuple(_homogenise(circle_space_polynomial(_offset_terms(co))) for co in cos)
+    return tuple(_homogenise(circle_space_polynomial(offset_terms(co))) for co in cos)
 
 
 class ChartSystem:
@@ -200,16 +200,15 @@ def certify_in_chart(conics, s, *, precs=CHART_PRECS, iters: int = 30, move_tol:
 
 def _certify_chart(polys, j, u0, s, precs, iters, move_tol):
     """The test of :func:`certify_in_chart` in chart j from the chart point u0 (floats)."""
-    from .certify_complete import _krawczyk_c, _newton_track
     nearly_real = float(np.max(np.abs(u0.imag))) < 1e-6 * max(1.0, float(np.max(np.abs(u0))))
     for prec in precs:
         with working_prec(prec):
             sys = ChartSystem(polys, j)
             m = [acb(float(t.real), 0.0 if nearly_real else float(t.imag)) for t in u0]
-            m, conv = _newton_track(sys, m, nearly_real, iters=iters)
+            m, conv = newton_track(sys, m, nearly_real, iters=iters)
             if not conv or not _near(j, m, s, move_tol):
                 return None
-            res = _krawczyk_c(sys, m, symmetric=nearly_real)
+            res = krawczyk_complex(sys, m, symmetric=nearly_real)
             if res is None:
                 continue
             K, _ = res

@@ -38,134 +38,12 @@ import flint
 import numpy as np
 from flint import acb, acb_mat, arb
 
-from .artefacts import load_offset
 from .certify_foot import (FootFailure, foot_polynomial, normalised_coefficients, real_feet_ball, to_arb,
                            working_prec)
+from .offset_system import OffsetSystem, exact_offset_terms, inside_disc, krawczyk_complex, newton_track  # noqa: F401 (exact_offset_terms re-exported)
 
 __all__ = ["certify_completeness", "completeness_with_vertices", "completeness_exact", "OffsetSystem",
            "certify_solutions", "exact_offset_terms"]
-
-
-@lru_cache(maxsize=256)
-def _offset_terms(co: tuple[Fraction, ...]):
-    o = load_offset("generic")
-    spec = _specialise_int(o, co)
-    if spec is None:
-        a, b, c, d, e, f = co
-        spec = o.specialise(a=a, b=b, c=c, d=d, e=e, f=f)
-    m = max(abs(v) for v in spec.values())
-    return tuple((i, j, k, Fraction(v) / m) for (i, j, k), v in spec.items())
-
-
-def exact_offset_terms(conic) -> tuple[tuple[int, int, int, Fraction], ...]:
-    """The verified generic offset (App. B.1–B.2) specialised at the exact (normalised) coefficients
-    of ``conic``: terms (i, j, k, c) of c·x^i·y^j·R^k, scaled so that max |c| = 1."""
-    return _offset_terms(normalised_coefficients(conic))
-
-
-def _specialise_int(o, co):
-    """``o.specialise`` up to the positive factor q^D, in integer arithmetic (exact, ~10× faster):
-    with co = (p_1, ..., p_6)/q and integer coefficients homogeneous of degree D in (a..f),
-    q^D · o(co) = Σ coef · Π p_i^{e_i}.  None if the artefact is not of that form."""
-    idx = [o.variables.index(p) for p in o.parameters]
-    if len(idx) != 6 or len(o.variables) != 9 or idx != [3, 4, 5, 6, 7, 8]:
-        return None
-    q = 1
-    for c in co:
-        q = _lcm(q, c.denominator)
-    P = [int(c * q) for c in co]
-    degs, out = set(), {}
-    powc = [[1] for _ in range(6)]
-    for exps, coef in o.terms:
-        if getattr(coef, "denominator", 1) != 1:
-            return None
-        degs.add(sum(exps[3:]))
-        val = int(coef)
-        for t in range(6):
-            e = exps[3 + t]
-            if e:
-                pw = powc[t]
-                while len(pw) <= e:
-                    pw.append(pw[-1] * P[t])
-                val *= pw[e]
-        key = (exps[0], exps[1], exps[2])
-        out[key] = out.get(key, 0) + val
-    if len(degs) != 1:
-        return None
-    return {k: v for k, v in out.items() if v != 0}
-
-
-def _lcm(a: int, b: int) -> int:
-    from math import gcd
-    return a // gcd(a, b) * b
-
-
-class OffsetSystem:
-    """o1, o2, o3 in (x, y, R) with exact rational coefficients, evaluated in acb."""
-
-    def __init__(self, conics):
-        self.terms = [_offset_terms(normalised_coefficients(c)) for c in conics]
-
-    def _coeffs(self):
-        return [[(i, j, k, to_arb(v)) for i, j, k, v in T] for T in self.terms]
-
-    def eval(self, z, jac: bool = True):
-        u, v, w = z
-        U, V, W = [acb(1)], [acb(1)], [acb(1)]
-        for _ in range(9):
-            U.append(U[-1] * u)
-            V.append(V[-1] * v)
-            W.append(W[-1] * w)
-        vals, J = [], []
-        for T in self._coeffs():
-            s, gu, gv, gw = acb(0), acb(0), acb(0), acb(0)
-            for i, j, k, c in T:
-                vw = V[j] * W[k]
-                s += c * U[i] * vw
-                if jac:
-                    if i:
-                        gu += (c * i) * U[i - 1] * vw
-                    uw = U[i] * W[k]
-                    if j:
-                        gv += (c * j) * V[j - 1] * uw
-                    if k:
-                        gw += (c * k) * U[i] * V[j] * W[k - 1]
-            vals.append(s)
-            J.append([gu, gv, gw])
-        return vals, J
-
-
-def _krawczyk_c(sys: OffsetSystem, m: list[acb], symmetric: bool, attempts: int = 5):
-    """Complex Krawczyk test around the (exact) point m; returns (K, X) or None."""
-    vals, Jm = sys.eval(m)
-    try:
-        Y = acb_mat(Jm).mid().inv().mid()
-    except ZeroDivisionError:
-        return None
-    F = acb_mat([[v] for v in vals])
-    YF = Y * F
-    scale = max(abs(mi).abs_upper() for mi in m) + 1
-    r = [max(4 * abs(YF[i, 0]).abs_upper(), (abs(m[i]).abs_upper() + 1) * arb(2) ** (-flint.ctx.prec // 2))
-         for i in range(3)]
-    I3 = acb_mat(3, 3)
-    for i in range(3):
-        I3[i, i] = acb(1)
-    for _ in range(attempts + 3):
-        dX = [acb(arb(0, ri), arb(0, ri)) for ri in r]
-        X = [m[i] + dX[i] for i in range(3)]
-        _, JX = sys.eval(X)
-        C = I3 - Y * acb_mat(JX)
-        CdX = C * acb_mat([[d] for d in dX])
-        K = [m[i] - YF[i, 0] + CdX[i, 0] for i in range(3)]
-        if all(_inside(K[i], m[i], r[i]) for i in range(3)):
-            return K, X
-        r = [max(2 * abs(K[i] - m[i]).abs_upper(), 2 * r[i]) for i in range(3)]
-    return None
-
-
-def _inside(k: acb, m: acb, r: arb) -> bool:
-    d = k - m
-    return bool((abs(d.real).abs_upper() < r) and (abs(d.imag).abs_upper() < r))
 
 
 # --------------------------------------------------------------------------- fast batched path
@@ -412,7 +290,7 @@ def certify_solutions(c1, c2, c3, solutions, *, prec: int = 64, iters: int = 4, 
             nearly_real = float(np.max(np.abs(s.imag))) < 1e-6 * scale
             m = [acb(float(t.real), 0.0 if nearly_real else float(t.imag)) for t in s]
             m = _newton_c(sys, m, real=nearly_real, iters=iters)
-            res = _krawczyk_c(sys, m, symmetric=nearly_real)
+            res = krawczyk_complex(sys, m, symmetric=nearly_real)
             if res is None:
                 out.append((None, None))
                 continue
@@ -571,14 +449,14 @@ def _retry_or_diagnose(c1, c2, c3, s):
     with working_prec(_RETRY_PRECS[0]):
         m0 = [acb(float(t.real), 0.0 if nearly_real else float(t.imag)) for t in s]
         cond = _cond(sys, m0)
-        m, conv = _newton_track(sys, m0, nearly_real, iters=30)
+        m, conv = newton_track(sys, m0, nearly_real, iters=30)
         moved = max(abs(complex(m[i].mid()) - s[i]) for i in range(3)) / scale if conv else np.inf
     if conv and moved < 1e-6:
         for prec in _RETRY_PRECS:
             with working_prec(prec):
                 mp = [acb(t) for t in m]
-                mp, _ = _newton_track(sys, mp, nearly_real, iters=3)
-                res = _krawczyk_c(sys, mp, symmetric=nearly_real)
+                mp, _ = newton_track(sys, mp, nearly_real, iters=3)
+                res = krawczyk_complex(sys, mp, symmetric=nearly_real)
                 if res is None:
                     continue
                 K, _ = res
@@ -616,25 +494,6 @@ def _cond(sys, m) -> float:
     with np.errstate(all="ignore"):
         c = float(np.linalg.cond(A))
     return c if np.isfinite(c) else float("inf")
-
-
-def _newton_track(sys, m, real: bool, iters: int):
-    """Newton steps at the working precision; (point, converged) -- converged: the last step is
-    below 2^-(prec/2) relative to the point (quadratic convergence reached)."""
-    tol = arb(2) ** (-flint.ctx.prec // 2)
-    for _ in range(iters):
-        vals, J = sys.eval(m)
-        try:
-            step = acb_mat(J).mid().solve(acb_mat([[v.mid()] for v in vals]))
-        except ZeroDivisionError:
-            return m, False
-        m = [(m[i] - step[i, 0]).mid() for i in range(3)]
-        if real:
-            m = [acb(t.real.mid(), 0) for t in m]
-        size = max(abs(t).mid() for t in m) + 1
-        if all(abs(step[i, 0]).mid() < tol * size for i in range(3)):
-            return m, True
-    return m, False
 
 
 def _newton_at_infinity(sys, s, iters: int = 60, prec: int = 256):
@@ -721,7 +580,7 @@ def _same_by_krawczyk(sys: "OffsetSystem", K, B, prec: int = 128) -> bool:
             I3[i, i] = acb(1)
         CdX = (I3 - Y * acb_mat(JX)) * acb_mat([[d] for d in dX])
         Kr = [m[i] - YF[i, 0] + CdX[i, 0] for i in range(3)]
-        if not all(_inside(Kr[i], m[i], r[i]) for i in range(3)):
+        if not all(inside_disc(Kr[i], m[i], r[i]) for i in range(3)):
             return False
         # X ⊇ K and X ⊇ B by construction (radius ≥ 2·(distance of centres + radii))
         return True

@@ -21,20 +21,19 @@ tangent (d(q, C4) = ρ, not a conflict) iff g = 0 or (ρ4 ≥ ρ and h = 0).  Al
 
 Public API: :class:`Circle`, :func:`voronoi_vertices_circles` (cached, independent of C4),
 :func:`locate_conflicts_circles`; the batched float-filtered path is in
-:mod:`runtime.circles_filter` (re-exported here as :func:`locate_conflicts_circles_batch`).
+:mod:`runtime.circles_filter` (:func:`runtime.circles_filter.locate_conflicts_circles_batch`).
 """
 from __future__ import annotations
 
 import math
-import numbers
 import time
 from dataclasses import dataclass
-from fractions import Fraction
 from functools import lru_cache
 
-from flint import ctx, fmpq, fmpz
+from flint import ctx, fmpq
 
-from .apollonius import AlgebraicSolution, _normalise_den, solve_system
+from .apollonius import AlgebraicSolution, normalise_den, solve_system
+from .rationals import parse_rational  # noqa: F401  (re-exported)
 from .quadtower import Elem, Frac, QuadTower, frac_to_float, rational_sqrt
 from .result import InvalidConicError, LocatorError, LocatorResult, VoronoiVertex
 
@@ -44,38 +43,6 @@ SIGN_SYSTEMS = ((1, 1, 1), (1, 1, -1), (1, -1, 1), (1, -1, -1))
 # =====================================================================================
 # Input
 # =====================================================================================
-
-
-def parse_rational(v, what: str = "value") -> fmpq:
-    """Exact rational from int, Fraction, fmpq, rational/decimal string or float.
-
-    Floats are taken at their exact binary value (Fraction(float)).  NaN, inf and bool are
-    rejected with InvalidConicError.
-    """
-    if isinstance(v, bool):
-        raise InvalidConicError(f"{what}: bool is not a number")
-    if isinstance(v, fmpq):
-        return v
-    if isinstance(v, (int, fmpz)):
-        return fmpq(v)
-    if isinstance(v, Fraction):
-        return fmpq(v.numerator, v.denominator)
-    if isinstance(v, str):
-        s = v.strip()
-        try:
-            f = Fraction(s)
-        except (ValueError, ZeroDivisionError) as e:
-            raise InvalidConicError(f"{what}: cannot parse {v!r} as a rational ({e})") from None
-        return fmpq(f.numerator, f.denominator)
-    if isinstance(v, numbers.Integral):
-        return fmpq(int(v))
-    if isinstance(v, numbers.Real):
-        fv = float(v)
-        if not math.isfinite(fv):
-            raise InvalidConicError(f"{what}: {v!r} is not finite")
-        f = Fraction(fv)
-        return fmpq(f.numerator, f.denominator)
-    raise InvalidConicError(f"{what}: unsupported type {type(v).__name__}")
 
 
 @dataclass(frozen=True)
@@ -288,7 +255,7 @@ def _vertices_cached(cs: tuple[Circle, Circle, Circle]) -> TripleVertices:
                     f"(positive-dimensional solution set of the Apollonius system with signs {s}); "
                     "the Voronoi diagram has no isolated vertex here")
         for sol in res.solutions:
-            sol = _normalise_den(sol)
+            sol = normalise_den(sol)
             Tq = sol.tower
             sR = Tq.sign(sol.Rn)
             if sR == 0:
@@ -406,10 +373,3 @@ def locate_conflicts_circles(c1, c2, c3, c4, *, strict: bool = False) -> Locator
     return LocatorResult(conflict=any(v.in_conflict for v in out), vertices=out, method="circles-exact",
                          timings={"vertices": t1 - t0, "vertices_uncached": tv.seconds, "conflict": t2 - t1},
                          complete=tv.complete, notes=list(tv.notes))
-
-
-def locate_conflicts_circles_batch(data, **kw):
-    """Batched, float-filtered locator; see :func:`runtime.circles_filter.locate_conflicts_circles_batch`."""
-    from .circles_filter import locate_conflicts_circles_batch as _batch
-
-    return _batch(data, **kw)

@@ -20,6 +20,7 @@ from fractions import Fraction
 import numpy as np
 
 from .result import LocatorError
+from .circles import Circle, locate_conflicts_circles
 
 _INF = np.inf
 
@@ -198,8 +199,6 @@ def locate_conflicts_circles_batch(X, *, chunk: int = 8192, on_error: str = "rai
     With ``on_error="raise"`` (default) a degenerate triple (coincident circles, a continuum of
     equidistant points) raises LocatorError naming the query row.
     """
-    from .circles import Circle, locate_conflicts_circles
-
     if on_error not in ("raise", "flag"):
         raise ValueError("on_error must be 'raise' or 'flag'")
     X = _validate(X)

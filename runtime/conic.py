@@ -32,6 +32,7 @@ from typing import Any, Callable, Iterable
 
 import flint
 
+from .rationals import to_fraction  # noqa: F401  (re-exported: part of this module's API)
 from .result import InvalidConicError
 
 __all__ = ["Conic", "CanonicalFrame", "KINDS", "to_fraction", "fraction_sqrt"]
@@ -44,43 +45,6 @@ _FRAME_PREC = 128
 
 
 # --------------------------------------------------------------------------- exact helpers
-
-def to_fraction(v: Any, name: str = "value") -> Fraction:
-    """Exact conversion of ``v`` to a Fraction.
-
-    Accepts int, Fraction, rational strings ("3/5", "-2", "1.25", "1e-3"), floats and numpy
-    scalars (taken at their exact binary value), Decimal, flint fmpz/fmpq.  Raises
-    :class:`InvalidConicError` for NaN/inf, bools and anything else.
-    """
-    if isinstance(v, bool):
-        raise InvalidConicError(f"{name}: bool {v!r} is not a number")
-    if isinstance(v, Fraction):
-        return v
-    if isinstance(v, numbers.Integral):
-        return Fraction(int(v))
-    if isinstance(v, (float, numbers.Real)) and not isinstance(v, numbers.Rational) and not isinstance(v, Decimal):
-        fv = float(v)
-        if not math.isfinite(fv):
-            raise InvalidConicError(f"{name} is not finite ({v!r}): NaN/inf is not accepted")
-        return Fraction(fv)
-    if isinstance(v, numbers.Rational):
-        return Fraction(int(v.numerator), int(v.denominator))
-    if isinstance(v, Decimal):
-        if not v.is_finite():
-            raise InvalidConicError(f"{name} is not finite ({v!r}): NaN/inf is not accepted")
-        return Fraction(v)
-    if isinstance(v, flint.fmpz):
-        return Fraction(int(v))
-    if isinstance(v, flint.fmpq):
-        return Fraction(int(v.p), int(v.q))
-    if isinstance(v, str):
-        s = v.strip()
-        try:
-            return Fraction(s)
-        except (ValueError, ZeroDivisionError) as exc:
-            raise InvalidConicError(f"{name}: cannot read {v!r} as an exact rational number ({exc})") from None
-    raise InvalidConicError(f"{name}: unsupported type {type(v).__name__} ({v!r})")
-
 
 def _isqrt_exact(n: int) -> int | None:
     if n < 0:

@@ -14,7 +14,7 @@ family x² + c·y² + e: (c, e); parabola y² − 2px: p; circle: rho) and its r
 (U, V) = Rot(θ_i)·((x, y) − t_i).  Complex rotations keep U² + V² = |x − t_i|², so every point
 of the complexified parameter space is the offset of a (complex) conic of the same family: the
 family is irreducible and its generic number of isolated solutions is the generic count N of
-:data:`runtime.vertices.CONFIG_TABLE`.
+the generic count passed in by the caller (:data:`runtime.vertices.CONFIG_TABLE`).
 
 1. *Start system*: a random real configuration of the same families well inside the unit disc,
    solved by the null-space route (it must give exactly N distinct refined solutions; cached per
@@ -52,7 +52,7 @@ from functools import lru_cache
 import numpy as np
 
 from .artefacts import load_offset
-from .polyalg import FAMILY_WEIGHTED_DEGREE, CanonicalOffset, WorkingFrame, working_frame
+from .polyalg import CanonicalOffset, WorkingFrame
 from .result import LocatorError
 
 #: step-size control (t ∈ [0, 1] on each segment)
@@ -388,12 +388,10 @@ def _random_conic(family: str, rng):
 
 
 @lru_cache(maxsize=16)
-def start_system(families: tuple[str, str, str]) -> StartSystem:
-    """A random real configuration of these families (per slot) with all N generic solutions
-    found by the null-space route (a few seeds are tried; deterministic)."""
-    from .vertices import CONFIG_TABLE, generalised_vertices
-
-    expected = CONFIG_TABLE.get(tuple(sorted(families)), (None, None))[1]
+def start_system(families: tuple[str, str, str], nullspace_solve, expected: int | None) -> StartSystem:
+    """A random real configuration of these families (per slot) with all ``expected`` (the generic
+    number N) solutions found by ``nullspace_solve(c1, c2, c3)`` (the null-space route of
+    :mod:`runtime.vertices`, passed in by the caller; a few seeds are tried; deterministic)."""
     if expected is None:
         raise LocatorError(f"no generic solution count for {families}; homotopy needs one")
     errors = []
@@ -402,7 +400,7 @@ def start_system(families: tuple[str, str, str]) -> StartSystem:
         rng = np.random.default_rng(1000 + seed)
         conics = [_random_conic(f, rng) for f in families]
         try:
-            sol = generalised_vertices(*conics, solver="nullspace")
+            sol = nullspace_solve(*conics)
         except (LocatorError, ValueError) as exc:
             errors.append(f"seed {seed}: {exc}"[:160])
             continue
@@ -437,16 +435,19 @@ def _to_chart(pts, chart):
     return H / (H @ chart)[:, None]
 
 
-def homotopy_solve(offs: list[CanonicalOffset], wf: WorkingFrame, *, seed: int = 3,
-                   max_retries: int = 2):
+def homotopy_solve(offs: list[CanonicalOffset], wf: WorkingFrame, *, nullspace_solve, expected: int | None,
+                   seed: int = 3, max_retries: int = 2):
     """All finite solutions of the triple system of ``offs`` by parameter homotopy.
+
+    ``nullspace_solve(c1, c2, c3)`` solves the start system (the caller's null-space route) and
+    ``expected`` is the generic number of solutions of the family triple.
 
     Returns (points (M, 3) complex in *world* coordinates, HomotopyInfo); M ≤ N, with M < N
     when some paths end at infinity or fail (then completeness cannot be claimed)."""
     fams = tuple(o.family for o in offs)
     tm: dict[str, float] = {}
     t0 = time.perf_counter()
-    start = start_system(fams)
+    start = start_system(fams, nullspace_solve, expected)
     tm["start_system"] = time.perf_counter() - t0
     target = [slot_parameters(o, wf) for o in offs]
     rng = np.random.default_rng(seed)

@@ -42,11 +42,12 @@ import math
 import time
 from dataclasses import dataclass, field
 from collections.abc import Mapping
-from functools import lru_cache
+from functools import lru_cache, partial
 
 import numpy as np
 import scipy.linalg as sla
 
+from .homotopy import homotopy_solve
 from .polyalg import CanonicalOffset, WorkingFrame, compose_offset, working_frame, FAMILY_WEIGHTED_DEGREE
 from .result import LocatorError, NumericalRefusal, VoronoiVertex
 
@@ -509,9 +510,7 @@ def _homotopy_fallback(offs, wf, expected, errors, total):
     """Second route when the null-space solve refuses: parameter homotopy (runtime.homotopy).
     Endpoints that do not refine or coincide are dropped, so fewer than ``expected`` solutions
     may come back; completeness is then not claimed downstream (certify_complete)."""
-    from .homotopy import homotopy_solve
-
-    pts_w, hinfo = homotopy_solve(offs, wf)
+    pts_w, hinfo = homotopy_route(offs, wf)
     t1 = time.perf_counter()
     pts, res, cond = newton_refine(offs, pts_w, scale=wf.L)
     keep = np.isfinite(res) & (res < RESIDUAL_TOL)
@@ -807,3 +806,14 @@ def _numeric_vertices_triple(c1, c2, c3, *, eigen, degree, refine_dps, homotopy)
     out.sort(key=lambda v: (v.x, v.y))
     tm["filter"] = time.perf_counter() - t1
     return TripleVertices(out, len(P), int(len(real_pts)), tm, notes, sol)
+
+
+#: the null-space route alone, used by the homotopy to solve its start systems
+nullspace_route = partial(generalised_vertices, solver="nullspace")
+
+
+def homotopy_route(offs, wf):
+    """:func:`runtime.homotopy.homotopy_solve` with this module's null-space route for the start
+    system and the generic count of the family triple (:data:`CONFIG_TABLE`)."""
+    expected = CONFIG_TABLE.get(tuple(sorted(o.family for o in offs)), (None, None))[1]
+    return homotopy_solve(offs, wf, nullspace_solve=nullspace_route, expected=expected)

@@ -403,9 +403,9 @@ def test_disjoint_sweep_matches_all_pairs():
 
 
 def test_integer_specialisation_equals_artefact_specialise():
-    """_offset_terms' integer-arithmetic specialisation equals OffsetPolynomial.specialise (scaled)."""
+    """offset_terms' integer-arithmetic specialisation equals OffsetPolynomial.specialise (scaled)."""
     from curvedvoronoi.runtime.artefacts import load_offset
-    from curvedvoronoi.runtime.certify_complete import _offset_terms
+    from curvedvoronoi.runtime.offset_system import offset_terms
     from curvedvoronoi.runtime.certify_foot import normalised_coefficients
     o = load_offset("generic")
     rnd = random.Random(5)
@@ -413,7 +413,7 @@ def test_integer_specialisation_equals_artefact_specialise():
         co = normalised_coefficients([Fraction(rnd.randint(-40, 40), rnd.randint(1, 30)) for _ in range(6)])
         spec = o.specialise(**dict(zip("abcdef", co)))
         m = max(abs(v) for v in spec.values())
-        assert sorted(_offset_terms.__wrapped__(co)) == sorted((i, j, k, v / m) for (i, j, k), v in spec.items())
+        assert sorted(offset_terms.__wrapped__(co)) == sorted((i, j, k, v / m) for (i, j, k), v in spec.items())
 
 
 def test_epc_tangent_far_point_is_certified_in_a_circle_space_chart():

@@ -20,8 +20,8 @@ from flint import acb, arb
 
 from curvedvoronoi.runtime.certify_chart import (ChartSystem, certify_in_chart, chart_polynomials, choose_charts,
                                    circle_space_polynomial, world_from_chart)
-from curvedvoronoi.runtime.certify_complete import (OffsetSystem, _completeness, _krawczyk_c, _offset_terms,
-                                      certify_solutions)
+from curvedvoronoi.runtime.certify_complete import _completeness, certify_solutions
+from curvedvoronoi.runtime.offset_system import OffsetSystem, krawczyk_complex, offset_terms
 from curvedvoronoi.runtime.certify_foot import normalised_coefficients, working_prec
 from curvedvoronoi.runtime.conic import Conic
 from curvedvoronoi.runtime.validation import required_cases_path
@@ -79,7 +79,7 @@ def test_chart_polynomial_identity(kind):
     rnd = random.Random(["ellipse", "hyperbola", "parabola", "circle"].index(kind) + 11)
     for _ in range(2):
         co = normalised_coefficients([Fraction(v) for v in _random_conic(kind, rnd)])
-        o = _offset_terms(co)
+        o = offset_terms(co)
         q = circle_space_polynomial(o)
         ((d, Q, c),) = chart_polynomials((co,))
         assert d == max(sum(e) for e in q) and all(sum(e) == d for e in Q)
@@ -187,7 +187,7 @@ def test_perturbed_far_solution_not_certified(epc, rel):
     polys = chart_polynomials(tuple(normalised_coefficients(c) for c in cs[:3]))
     j, u = choose_charts(p)[0]
     with working_prec(128):
-        assert _krawczyk_c(ChartSystem(polys, j), [acb(float(t.real)) for t in u], symmetric=True) is None
+        assert krawczyk_complex(ChartSystem(polys, j), [acb(float(t.real)) for t in u], symmetric=True) is None
 
 
 def test_perturbed_far_solution_list_not_complete(epc):

@@ -22,10 +22,9 @@ from hypothesis import strategies as st
 from curvedvoronoi.runtime.validation import required_cases_path as _validation_path
 from curvedvoronoi.runtime.apollonius import aw_vertices, locate_conflicts_aw, multiplication_matrix_aw, solve_system
 from curvedvoronoi.runtime.circles import (
-    Circle, locate_conflicts_circles, locate_conflicts_circles_batch, parse_rational,
-    voronoi_vertices_circles,
+    Circle, locate_conflicts_circles, parse_rational, voronoi_vertices_circles,
 )
-from curvedvoronoi.runtime.circles_filter import filter_circles
+from curvedvoronoi.runtime.circles_filter import filter_circles, locate_conflicts_circles_batch
 from curvedvoronoi.runtime.quadtower import QuadTower
 from curvedvoronoi.runtime.result import InvalidConicError, LocatorError
 

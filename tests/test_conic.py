@@ -181,7 +181,7 @@ def test_huge_and_tiny_coefficients_are_exact():
     ((0, 0, 0, 1, 2, 3), "not a conic"),
     ((float("nan"), 0, 1, 0, 0, -1), "not finite"),
     ((1, 0, float("inf"), 0, 0, -1), "not finite"),
-    (("abc", 0, 1, 0, 0, -1), "cannot read"),
+    (("abc", 0, 1, 0, 0, -1), "cannot parse"),
     ((True, 0, 1, 0, 0, -1), "bool"),
     ((None, 0, 1, 0, 0, -1), "unsupported type"),
 ])

@@ -25,12 +25,12 @@ import pytest
 
 from curvedvoronoi.runtime.artefacts import load_offset
 from curvedvoronoi.runtime.conic import Conic
-from curvedvoronoi.runtime.homotopy import _family, _System, _to_chart, homotopy_solve, slot_parameters, start_system
+from curvedvoronoi.runtime.homotopy import _family, _System, _to_chart, slot_parameters, start_system
 from curvedvoronoi.runtime.locator import locate_conflicts
 from curvedvoronoi.runtime.polyalg import CanonicalOffset, working_frame
 from curvedvoronoi.runtime.result import LocatorError
 from curvedvoronoi.runtime.validation import required_cases_path
-from curvedvoronoi.runtime.vertices import CONFIG_TABLE, generalised_vertices
+from curvedvoronoi.runtime.vertices import CONFIG_TABLE, generalised_vertices, homotopy_route, nullspace_route
 
 CASES = {c["name"]: c for c in json.loads(required_cases_path().read_text())["cases"]}
 
@@ -73,7 +73,7 @@ def test_jacobian_and_parameter_derivatives_match_finite_differences():
     rng = np.random.default_rng(0)
     chart = rng.standard_normal(4) + 1j * rng.standard_normal(4)
     sys_ = _System(fams, chart)
-    st = start_system(fams)
+    st = start_system(fams, nullspace_route, CONFIG_TABLE[tuple(sorted(fams))][1])
     Z = _to_chart(st.points[:4], chart) + 1e-3 * (rng.standard_normal((4, 4)) + 1j * rng.standard_normal((4, 4)))
     P = [np.repeat(p[None, :], 4, axis=0) + 0.1j for p in st.params]
     F, J, dP = sys_.eval(Z, P)
@@ -123,7 +123,7 @@ def test_far_vertices_need_the_homotopy_and_are_certified():
         generalised_vertices(*cs[:3], solver="nullspace")
     offs = [CanonicalOffset(c) for c in cs[:3]]
     wf = working_frame(cs[:3], cs[0])
-    pts, info = homotopy_solve(offs, wf)
+    pts, info = homotopy_route(offs, wf)
     assert info.n_finite == 184 and info.n_infinite == 0
     assert np.max(np.abs(pts[:, 0])) > 1e5          # generalised vertices 10^5 scene sizes away
     res = locate_conflicts(*cs)

@@ -77,32 +77,152 @@ from .geometry import EPS, SiteGeometry, rounding_slack, site_geometry
 __all__ = ["ConicGeometry", "EllipseGeometry", "HyperbolaGeometry", "ParabolaGeometry",
            "conic_geometry", "sites_intersect", "site_inside"]
 
-#: bisection halvings for the foot parameter (the bracket shrinks to float resolution)
-_BISECT = 64
 #: relative gap above which the fast bounds defer to the ball route
 _FALLBACK_GAP = 1e-7
-
-
-#: below this many query points the bisection runs on Python floats (numpy's per-call overhead)
+#: iteration cap of the safeguarded Newton iteration (a bisection at least every other step)
+_MAX_IT = 160
+#: bisection halvings of the fallback (the bracket shrinks to float resolution)
+_BISECT = 64
+#: below this many query points the root finding runs on Python floats (numpy's per-call overhead)
 _SCALAR_MAX = 16
 
 
-def _bisect_scalar(fun, hi: float) -> float:
-    """The sign change of ``fun`` (negative at 0 side) in [0, hi], to float resolution."""
-    lo = 0.0
+def _root_scalar(fdf, lo: float, hi: float, x: float) -> float:
+    """The sign change of f in [lo, hi] (f(lo) ≤ 0 ≤ f(hi), f < 0 just right of lo) to float
+    resolution.  ``fdf(x)`` returns (f, f', m) with m a bound on the magnitudes of the terms
+    of f (so |f| ≤ 16 ε m means f = 0 within rounding).
+
+    Newton's method safeguarded by bisection (``rtsafe``, Press et al., *Numerical Recipes*,
+    3rd ed., §9.4): a Newton step leaving the bracket, or not halving the step of two iterations
+    before, is replaced by a bisection, and the bracket keeps f(lo) < 0 ≤ f(hi).  The iteration
+    stops on a step below float resolution, or where f vanishes within rounding; in the latter
+    case a sign change within the rounding-sized interval around x is confirmed by two more
+    evaluations, otherwise plain bisection of the bracket decides (as near the evolute, where
+    f has a near-double root)."""
+    tol = EPS * EPS * (hi - lo)
+    dx = dxold = hi - lo
+    for _ in range(_MAX_IT):
+        f, df, m = fdf(x)
+        if f < 0:
+            lo = x
+        elif f > 0:
+            hi = x
+        else:
+            return x
+        if abs(f) <= 16 * EPS * m:
+            d = 64 * EPS * (m / abs(df) if df != 0 else math.inf) + 4 * EPS * abs(x)
+            xl, xr = max(x - d, lo), min(x + d, hi)
+            if xl < xr and (xl == lo or fdf(xl)[0] < 0) and (xr == hi or fdf(xr)[0] >= 0) \
+                    and xr - xl <= 1e-6 * (abs(x) + tol):
+                return x
+            break
+        if df != 0 and lo < x - f / df < hi and abs(2 * f) <= abs(dxold * df):
+            dxold, dx = dx, f / df
+            xn = x - dx
+        else:
+            dxold, dx = dx, 0.5 * (hi - lo)
+            xn = lo + dx
+            if not lo < xn < hi:
+                return xn
+        if abs(dx) <= 2 * EPS * abs(xn) + tol:
+            return xn
+        x = xn
     for _ in range(_BISECT):
         mid = 0.5 * (lo + hi)
         if not lo < mid < hi:
             break
-        if fun(mid) < 0:
+        if fdf(mid)[0] < 0:
             lo = mid
         else:
             hi = mid
-    return 0.5 * (lo + hi) if lo > 0 else 0.0
+    return 0.5 * (lo + hi)
+
+
+def _root_vector(fdf, lo, hi, x, coefs):
+    """Vectorised :func:`_root_scalar`: the same iteration on all entries at once (converged
+    entries leave the active set).  ``fdf(x, *coefs)`` returns (f, f', m) elementwise;
+    ``coefs`` are arrays aligned with ``x``."""
+    out = np.empty_like(x)
+    idx = np.arange(x.size)
+    lo, hi, x = lo.astype(float), hi.astype(float), x.astype(float)
+    tol = EPS * EPS * (hi - lo)
+    dx = hi - lo
+    dxold = dx.copy()
+    slow = []  # (idx, lo, hi, coefs) left to bisection
+    err = np.seterr(divide="ignore", invalid="ignore", over="ignore")
+    try:
+        for _ in range(_MAX_IT):
+            f, df, m = fdf(x, *coefs)
+            lo = np.where(f < 0, x, lo)
+            hi = np.where(f > 0, x, hi)
+            flat = np.abs(f) <= 16 * EPS * m
+            step = f / df
+            xn = x - step
+            newton = (lo < xn) & (xn < hi) & (np.abs(2 * f) <= np.abs(dxold * df))
+            half = 0.5 * (hi - lo)
+            mid = lo + half
+            dxold = dx
+            dx = np.where(newton, step, half)
+            xn = np.where(newton, xn, mid)
+            done = (np.abs(dx) <= 2 * EPS * np.abs(xn) + tol) | (~newton & ~((lo < mid) & (mid < hi)))
+            xn = np.where(flat, x, xn)
+            if flat.any():
+                # f = 0 within rounding: confirm the sign change around x (else: bisection)
+                fi = np.nonzero(flat)[0]
+                d = 64 * EPS * m[fi] / np.abs(df[fi]) + 4 * EPS * np.abs(x[fi])
+                xl = np.maximum(x[fi] - d, lo[fi])
+                xr = np.minimum(x[fi] + d, hi[fi])
+                cf = tuple(c[fi] for c in coefs)
+                okl = (xl == lo[fi]) | (fdf(xl, *cf)[0] < 0)
+                okr = (xr == hi[fi]) | (fdf(xr, *cf)[0] >= 0)
+                ok = (f[fi] == 0) | (okl & okr & (xl < xr) & (xr - xl <= 1e-6 * (np.abs(x[fi]) + tol[fi])))
+                ok = ok & np.isfinite(xl) & np.isfinite(xr)
+                nok = fi[~ok]
+                if nok.size:
+                    slow.append((idx[nok], lo[nok], hi[nok], tuple(c[nok] for c in coefs)))
+                done[fi] = True
+                xn[fi] = np.where(ok, x[fi], np.nan)
+            if done.any():
+                out[idx[done]] = xn[done]
+                keep = ~done
+                if not keep.any():
+                    break
+                idx, lo, hi, xn, dx, dxold, tol = (idx[keep], lo[keep], hi[keep], xn[keep], dx[keep],
+                                                   dxold[keep], tol[keep])
+                coefs = tuple(c[keep] for c in coefs)
+            x = xn
+        else:
+            slow.append((idx, lo, hi, coefs))
+        for sidx, slo, shi, scf in slow:
+            for _ in range(_BISECT):
+                mid = 0.5 * (slo + shi)
+                neg = fdf(mid, *scf)[0] < 0
+                slo = np.where(neg, mid, slo)
+                shi = np.where(neg, shi, mid)
+            out[sidx] = 0.5 * (slo + shi)
+    finally:
+        np.seterr(**err)
+    return out
 
 
 def _sgn(v):
     return np.where(v < 0, -1.0, 1.0)
+
+
+def _ellipse_fdf(x, A, B, C):
+    x2 = x * x
+    return (A * (x2 * x2 - 1.0) + (B * x2 + C) * x, (4 * A * x + 3 * B) * x2 + C,
+            abs(A) * (x2 * x2 + 1.0) + (abs(B) * x2 + abs(C)) * x)
+
+
+def _hyperbola_fdf(x, k, B, C):
+    x2 = x * x
+    return (((k * x + B) * x2 + C) * x - k, (4 * k * x + 3 * B) * x2 + C,
+            ((k * x + abs(B)) * x2 + abs(C)) * x + k)
+
+
+def _parabola_fdf(x, k, m):
+    return x * (x * x + k) - m, 3 * x * x + k, x * (x * x + abs(k)) + m
 
 
 class ConicGeometry(SiteGeometry):
@@ -305,23 +425,22 @@ class EllipseGeometry(ConicGeometry):
         a, b = self.a, self.b
         u, v = np.abs(X0), np.abs(Y0)
         k = b * b - a * a
+        # in τ = tan(t/2) ∈ [0, 1], (1 + τ²)² D'(t)/2 is the quartic
+        # P(τ) = bv (τ⁴ − 1) + 2 (au − k) τ³ + 2 (au + k) τ   (P(0) = −bv ≤ 0 ≤ 4au = P(1));
+        # start from the parameter of the radial projection of (u/a, v/b)
+        au, bv = a * u, b * v
+        cx, cy = b * u, a * v
+        r = np.hypot(cx, cy)
+        tau0 = np.where(r > 0, cy / np.where(r > 0, r + cx, 1.0), 0.5)
+        tau0 = np.clip(tau0, 0.0625, 0.9375)
         if u.size <= _SCALAR_MAX:
-            t = np.array([_bisect_scalar(lambda t, u=ui, v=vi: k * math.sin(t) * math.cos(t) + a * u * math.sin(t)
-                                         - b * v * math.cos(t), math.pi / 2)
-                          for ui, vi in zip(u.tolist(), v.tolist())], dtype=float)
+            tau = np.array([_root_scalar(lambda x, A=bvi, B=2 * (aui - k), C=2 * (aui + k):
+                                         _ellipse_fdf(x, A, B, C), 0.0, 1.0, x0)
+                            for aui, bvi, x0 in zip(au.tolist(), bv.tolist(), tau0.tolist())], dtype=float)
         else:
-            # in τ = tan(t/2) ∈ [0, 1], (1 + τ²)² D'(t)/2 is the polynomial below (same sign,
-            # no transcendental function per step)
-            lo = np.zeros_like(u)
-            hi = np.ones_like(u)
-            au, bv = a * u, b * v
-            for _ in range(_BISECT):
-                tau = 0.5 * (lo + hi)
-                om = (1.0 - tau) * (1.0 + tau)
-                neg = 2 * k * tau * om + (2 * au * tau - bv * om) * (1.0 + tau * tau) < 0
-                lo = np.where(neg, tau, lo)
-                hi = np.where(neg, hi, tau)
-            t = np.where(lo > 0, 2.0 * np.arctan(0.5 * (lo + hi)), 0.0)
+            tau = _root_vector(_ellipse_fdf, np.zeros_like(u), np.ones_like(u), tau0,
+                               (bv, 2 * (au - k), 2 * (au + k)))
+        t = 2.0 * np.arctan(tau)
         ct, st = np.cos(t), np.sin(t)
         sx, sy = _sgn(X0), _sgn(Y0)
         X, Y = sx * a * ct, sy * b * st
@@ -372,21 +491,23 @@ class HyperbolaGeometry(ConicGeometry):
         a, b = self.a, self.b
         k = a * a + b * b
         T = np.arcsinh((a * np.abs(u) + b * v) / k) * (1 + 1e-12) + 1e-300
-        if u.size <= _SCALAR_MAX:
-            return np.array([_bisect_scalar(lambda t, u=ui, v=vi: k * math.sinh(t) * math.cosh(t)
-                                            - a * u * math.sinh(t) - b * v * math.cosh(t), Ti)
-                             for ui, vi, Ti in zip(u.tolist(), v.tolist(), T.tolist())], dtype=float)
-        # in w = e^t ∈ [1, e^T], 4 D'(t)/2 = k (w² − w⁻²) − 2au (w − 1/w) − 2bv (w + 1/w)
-        lo = np.ones_like(u)
+        # in w = e^t ∈ [1, e^T], 4 w² D'(t)/2 = k (w⁴ − 1) − 2au (w³ − w) − 2bv (w³ + w)
+        #   = k w⁴ − 2 (au + bv) w³ + 2 (au − bv) w − k   (−4bv ≤ 0 at w = 1);
+        # start from the parameter of the point of the branch at height v
         hi = np.exp(T)
         au, bv = a * u, b * v
-        for _ in range(_BISECT):
-            w = 0.5 * (lo + hi)
-            iw = 1.0 / w
-            neg = k * (w - iw) * (w + iw) - 2 * au * (w - iw) - 2 * bv * (w + iw) < 0
-            lo = np.where(neg, w, lo)
-            hi = np.where(neg, hi, w)
-        return np.where(lo > 1, np.log(0.5 * (lo + hi)), 0.0)
+        y = v / b
+        w0 = np.clip(y + np.sqrt(1.0 + y * y), 1.0, hi)
+        w0 = np.where((w0 > 1.0) & (w0 < hi), w0, np.sqrt(hi))
+        if u.size <= _SCALAR_MAX:
+            w = np.array([_root_scalar(lambda x, B=-2 * (aui + bvi), C=2 * (aui - bvi):
+                                       _hyperbola_fdf(x, k, B, C), 1.0, hi_i, x0)
+                          for aui, bvi, hi_i, x0 in zip(au.tolist(), bv.tolist(), hi.tolist(), w0.tolist())],
+                         dtype=float)
+        else:
+            w = _root_vector(_hyperbola_fdf, np.ones_like(u), hi, w0,
+                             (np.full_like(u, k), -2 * (au + bv), 2 * (au - bv)))
+        return np.log(np.maximum(w, 1.0))
 
     def _foot_branch(self, X0, Y0, branch):
         """Foot on the branch of sign ``branch`` (array of ±1) and outward normal of its K."""
@@ -449,18 +570,14 @@ class ParabolaGeometry(ConicGeometry):
         k = 2 * p * (p - u)
         m = 2 * p * p * v
         S = np.maximum(np.cbrt(2 * m), np.sqrt(2 * np.abs(k))) * (1 + 1e-12) + 1e-300
+        # s³ + k s − m: −m ≤ 0 at s = 0; start from the height of q
+        s0 = np.clip(v, 0.0, S)
+        s0 = np.where((s0 > 0) & (s0 < S), s0, 0.5 * S)
         if u.size <= _SCALAR_MAX:
-            s = np.array([_bisect_scalar(lambda s, k=ki, m=mi: s * (s * s + k) - m, Si)
-                          for ki, mi, Si in zip(k.tolist(), m.tolist(), S.tolist())], dtype=float)
+            s = np.array([_root_scalar(lambda x, k=ki, m=mi: _parabola_fdf(x, k, m), 0.0, Si, x0)
+                          for ki, mi, Si, x0 in zip(k.tolist(), m.tolist(), S.tolist(), s0.tolist())], dtype=float)
         else:
-            lo = np.zeros_like(u)
-            hi = S
-            for _ in range(_BISECT):
-                s = 0.5 * (lo + hi)
-                neg = s * (s * s + k) - m < 0
-                lo = np.where(neg, s, lo)
-                hi = np.where(neg, hi, s)
-            s = np.where(lo > 0, 0.5 * (lo + hi), 0.0)
+            s = _root_vector(_parabola_fdf, np.zeros_like(u), S, s0, (k, m))
         sy = _sgn(Y0)
         X, Y = s * s / (2 * p), sy * s
         NX, NY = -p * np.ones_like(s), sy * s

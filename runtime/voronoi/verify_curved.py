@@ -328,3 +328,275 @@ def _candidates(geoms, C, reach, pair):
         if np.any(dd * (1 - 1e-12) <= reach):
             out.append(k)
     return out
+
+
+# ============================================================================ support functions
+
+class SupportTable:
+    """Support functions of bounded convex sites about the centre m of their bounding boxes.
+
+    h_k(θ) = max_{p ∈ S_k} u(θ)·(p − m) (ellipses: :func:`runtime.interval.bound.support_function`,
+    exact up to rounding: h(u) = u·(c − m) + sqrt(uᵀAu)); h_k'(θ) = (p_k(θ) − m)·u⊥(θ) with p_k(θ)
+    the support point (∇ of h in u); ρ_k bounds the radius of curvature (a²/b for an ellipse with
+    semi-axes a ≥ b, r for a circle, 0 for a point), so h_k + h_k'' = ρ_k(θ) ∈ [0, ρ_k] and the
+    support point moves by at most ρ_k·|Δθ|.  W ≥ max_{p ∈ ∪S} |p − m|, so |h_k| ≤ W and
+    |h_k'| ≤ W.  Every float value is widened by ``mu`` (rounding of the float data and of the
+    evaluation, relative to the scene's size, with a wide margin).  ``ok`` is False when a site is
+    not a point, circle or ellipse (no support function)."""
+
+    def __init__(self, geoms):
+        from ..interval.bound import support_function
+        from ..interval.curves import parse_curve
+
+        self.n = len(geoms)
+        self.ok = all(g.kind in ("point", "circle", "ellipse") for g in geoms) and self.n > 0
+        if not self.ok:
+            return
+        bx = np.array([g.bounding_box() for g in geoms], float)
+        self.m = 0.5 * (bx[:, :2].min(0) + bx[:, 2:].max(0))
+        self.kind, self.cen, self.rho, self.ell = [], [], [], []
+        W = 0.0
+        for g in geoms:
+            if g.kind == "point":
+                c, r, rc = (g.x0, g.y0), 0.0, 0.0
+                self.ell.append(None)
+            elif g.kind == "circle":
+                c, r, rc = (g.cx, g.cy), g.rho, g.rho
+                self.ell.append(None)
+            else:
+                c, r = (g.tx, g.ty), max(g.a, g.b)
+                rc = max(g.a, g.b) ** 2 / min(g.a, g.b)
+                self.ell.append((parse_curve(g.exact), g.a, g.b, g.c / math.hypot(g.c, g.s), g.s / math.hypot(g.c, g.s)))
+            self.kind.append(g.kind)
+            self.cen.append(c)
+            self.rho.append(r)
+            W = max(W, math.hypot(c[0] - self.m[0], c[1] - self.m[1]) + r)
+        self.cen = np.array(self.cen, float)
+        self.rho = np.array(self.rho, float)
+        self.rcurv = np.array([max(g.a, g.b) ** 2 / min(g.a, g.b) if g.kind == "ellipse" else
+                               (g.rho if g.kind == "circle" else 0.0) for g in geoms], float) * (1 + 1e-9)
+        self.mu = 1e-11 * (W + float(np.abs(self.m).sum()) + float(np.abs(self.cen).max()) + 1.0)
+        self.W = W * (1 + 1e-9) + self.mu
+        self._sf = support_function
+
+    def h(self, k, th):
+        """Float h_k(θ) (error ≤ mu)."""
+        th = np.asarray(th, float)
+        ux, uy = np.cos(th), np.sin(th)
+        e = self.ell[k]
+        if e is not None:
+            lo, _ = self._sf(e[0], ux, uy, tuple(self.m))
+            return np.asarray(lo, float)
+        c = self.cen[k]
+        return ux * (c[0] - self.m[0]) + uy * (c[1] - self.m[1]) + self.rho[k]
+
+    def hp(self, k, th):
+        """Float h_k'(θ) = (p_k(θ) − m)·u⊥(θ) (error ≤ mu)."""
+        th = np.asarray(th, float)
+        ux, uy = np.cos(th), np.sin(th)
+        c = self.cen[k]
+        v = -uy * (c[0] - self.m[0]) + ux * (c[1] - self.m[1])
+        e = self.ell[k]
+        if e is not None:
+            _, a, b, cs, sn = e
+            uX, uY = cs * ux + sn * uy, -sn * ux + cs * uy
+            vX, vY = cs * (-uy) + sn * ux, -sn * (-uy) + cs * ux
+            v = v + (a * a * uX * vX + b * b * uY * vY) / np.sqrt(a * a * uX * uX + b * b * uY * uY)
+        return v
+
+    def h_range(self, k, thc, half):
+        """Enclosure of h_k on [θc − half, θc + half] (|h'| ≤ W)."""
+        v = self.h(k, thc)
+        r = self.W * half + self.mu
+        return v - r, v + r
+
+
+def _imul(a0, a1, b0, b1):
+    """Interval product [a0, a1]·[b0, b1] (float; callers add their own margins)."""
+    p = np.stack([a0 * b0, a0 * b1, a1 * b0, a1 * b1])
+    return p.min(0), p.max(0)
+
+
+def _eps(W, t0):
+    """W²/(2(t0 − W)): d(m + t·u, S) − (t − h_S(u)) ∈ [0, this] for t ≥ t0 > W (tail docstring)."""
+    return W * W / (2.0 * (t0 - W)) * (1 + 1e-12)
+
+
+def prove_tail(sup: SupportTable, geoms, pair, link, scale, max_work: int = 200000):
+    """Prove the unbounded end of the edge (i, j) beyond the link point (see :data:`TAIL_DOC`).
+
+    ``link`` = (P0, t, n, L, w, s_x): the chain's last rectangle {P0 + s·t + λ·n : s ∈ [0, L],
+    |λ| ≤ w} (proved: β meets it in one arc, all of it closer to i, j than to other sites) and
+    the position s_x on its axis where the link circle crosses it.  Returns (ok, message, sector)
+    with sector = (θa, θb, σ) the angular sector of the asymptotic direction."""
+    i, j = pair
+    if not sup.ok:
+        return False, "the tail needs bounded convex sites (points, circles, ellipses)", None
+    m, W = sup.m, sup.W
+    P0, tv, nv, L, w, sx = link
+    X = np.asarray(P0, float) + sx * np.asarray(tv, float)
+    r = float(math.hypot(X[0] - m[0], X[1] - m[1]))
+    if not r > 2.0 * W:
+        return False, "the proved part does not reach far enough for the tail argument", None
+    thX = math.atan2(X[1] - m[1], X[0] - m[0])
+    # ---- the asymptotic direction: a zero of g = h_i − h_j where i, j are the two largest
+    grid = thX + np.linspace(-math.pi, math.pi, 4097)
+    g = sup.h(i, grid) - sup.h(j, grid)
+    hij = np.maximum(sup.h(i, grid), sup.h(j, grid))
+    top = np.full(len(grid), -np.inf)
+    for k in range(sup.n):
+        if k not in pair:
+            top = np.maximum(top, sup.h(k, grid))
+    ch = np.nonzero((np.sign(g[:-1]) != np.sign(g[1:])) & (hij[:-1] > top[:-1]) & (hij[1:] > top[1:]))[0]
+    if not len(ch):
+        return False, "no direction where its two sites lead the support functions", None
+    c0 = int(ch[np.argmin(np.abs(grid[ch] - thX))])
+    a_, b_ = grid[c0], grid[c0 + 1]
+    ga = sup.h(i, a_) - sup.h(j, a_)
+    for _ in range(60):
+        mid = 0.5 * (a_ + b_)
+        gm = sup.h(i, mid) - sup.h(j, mid)
+        if np.sign(gm) == np.sign(ga):
+            a_, ga = mid, gm
+        else:
+            b_ = mid
+    ths = 0.5 * (a_ + b_)
+    # ---- the link: two points of the circle |q − m| = r inside the rectangle, f of opposite signs
+    dl = 0.5 * w / r
+    sag = r * dl * dl
+    Q = np.array([[m[0] + r * math.cos(thX + s * dl), m[1] + r * math.sin(thX + s * dl)] for s in (-1.0, 1.0)])
+    rel = Q - np.asarray(P0, float)
+    sc, lc = rel @ np.asarray(tv, float), rel @ np.asarray(nv, float)
+    pad = sag + 1e-12 * scale
+    if not (np.all(sc > pad) and np.all(sc < L - pad) and np.all(np.abs(lc) < w - pad)):
+        return False, "the link circle does not cross the last proved strip", None
+    lo_i, hi_i = geoms[i].distance_bounds(Q)
+    lo_j, hi_j = geoms[j].distance_bounds(Q)
+    pos = lo_i - hi_j > 0
+    neg = hi_i - lo_j < 0
+    if not ((pos[0] and neg[1]) or (neg[0] and pos[1])):
+        return False, "the bisector's crossing of the link circle is not decided", None
+    msg = "no sector decided"
+    for half in (0.4, 0.2, 0.1, 0.05, 0.025, 0.0125):
+        tha, thb = ths - half, ths + half
+        if not (tha < thX - dl and thX + dl < thb):
+            continue
+        gb = float(sup.h(i, thb) - sup.h(j, thb))
+        ga = float(sup.h(i, tha) - sup.h(j, tha))
+        if not (gb * ga < 0):
+            continue
+        sigma = -1.0 if gb > 0 else 1.0          # σ·f > 0 on the ray θb, f ≈ −g far away
+        ok, msg = _prove_sector(sup, geoms, pair, tha, thb, sigma, r, scale, max_work)
+        if ok:
+            return True, None, (tha, thb, sigma)
+    return False, msg, None
+
+
+def _prove_sector(sup, geoms, pair, tha, thb, sigma, T0, scale, max_work):
+    """(A) third sites, (M) σ·∂f/∂θ > 0 on Σ = {t ≥ T0, θ ∈ [θa, θb]}, (R) σ·f < 0 on the ray θa
+    and > 0 on the ray θb; cells in (τ = 1/t, θ), halved until decided (TAIL_DOC)."""
+    i, j = pair
+    W, m, mu = sup.W, sup.m, sup.mu
+    others = [k for k in range(sup.n) if k not in pair]
+    opi, opj = _SiteOps(geoms[i], scale), _SiteOps(geoms[j], scale)
+    ops = {k: _SiteOps(geoms[k], scale) for k in others}
+    tmax = 1.0 / T0
+    # ---- rays: 1-D cells in τ
+    for th, want in ((tha, -1.0), (thb, 1.0)):
+        gv = float(sup.h(i, th) - sup.h(j, th))
+        T_a, T_b = np.array([0.0]), np.array([tmax])
+        work = 0
+        while len(T_a):
+            work += len(T_a)
+            if work > max_work:
+                return False, f"the sign of d_{i} - d_{j} on the ray at angle {th:.6g} is undecided"
+            t0 = 1.0 / T_b
+            eps = _eps(W, t0)
+            ok = want * sigma * (-gv) - eps - 2 * mu > 0        # f = −g + e, |e| ≤ ε
+            fin = T_a > 0
+            if fin.any():
+                t1 = np.where(fin, 1.0 / np.where(fin, T_a, 1.0), np.inf)
+                tc = 0.5 * (t0 + t1)
+                C = m + tc[:, None] * np.array([math.cos(th), math.sin(th)])
+                R = np.where(fin, 0.5 * (t1 - t0), np.inf) * (1 + 1e-12)
+                li, hi_ = opi.bounds(C)
+                lj, hj = opj.bounds(C)
+                fl, fh = li - hj - 2 * R, hi_ - lj + 2 * R
+                ok |= fin & (((want * sigma > 0) & (fl > 0)) | ((want * sigma < 0) & (fh < 0)))
+            bad = ~ok
+            if not bad.any():
+                break
+            a_, b_ = T_a[bad], T_b[bad]
+            mid = 0.5 * (a_ + b_)
+            T_a, T_b = np.concatenate([a_, mid]), np.concatenate([mid, b_])
+    # ---- the sector: 2-D cells
+    nt, nth = 8, 8
+    ta = np.repeat(np.linspace(0, tmax, nt + 1)[:-1], nth)
+    tb = np.repeat(np.linspace(0, tmax, nt + 1)[1:], nth)
+    tb[-nth:] = tmax
+    e = np.linspace(tha, thb, nth + 1)
+    h0 = np.tile(e[:-1], nt)
+    h1 = np.tile(e[1:], nt)
+    work = 0
+    while len(ta):
+        work += len(ta)
+        if work > max_work:
+            k = int(np.argmax(tb))
+            return False, f"the tail is undecided near angle {0.5 * (h0[k] + h1[k]):.6g}"
+        thc, half = 0.5 * (h0 + h1), 0.5 * (h1 - h0) * (1 + 1e-12)
+        t0 = 1.0 / tb
+        eps = _eps(W, t0)
+        fin = ta > 0
+        t1 = np.where(fin, 1.0 / np.where(fin, ta, 1.0), np.inf)
+        tc = np.where(fin, 0.5 * (t0 + t1), t0)
+        U = np.column_stack([np.cos(thc), np.sin(thc)])
+        C = m + tc[:, None] * U
+        R = np.where(fin, t1 * half + 0.5 * (t1 - t0), np.inf) * (1 + 1e-12) + 1e-15 * scale
+        # (A) third sites: support bounds, or distance bounds on the cell's disc
+        li_s, _ = sup.h_range(i, thc, half)
+        lj_s, _ = sup.h_range(j, thc, half)
+        hmax_lo = np.maximum(li_s, lj_s)
+        okA = np.ones(len(ta), bool)
+        if fin.any():
+            Cf = np.where(fin[:, None], C, m + T0 * U)
+            _, hi_i = opi.bounds(Cf)
+            _, hi_j = opj.bounds(Cf)
+            hi_min = np.minimum(hi_i, hi_j)
+        for k in others:
+            _, hk = sup.h_range(k, thc, half)
+            okk = hmax_lo - hk - eps > 0
+            if fin.any() and not okk.all():
+                lo_k, _ = ops[k].bounds(Cf)
+                okk |= fin & (lo_k - R > hi_min + R)
+            okA &= okk
+        # (M) σ·∂f/∂θ > 0: support-point enclosure (TAIL_DOC) or gradient enclosures on the disc
+        Wt = W * tb
+        alpha = np.arcsin(np.minimum(1.0, Wt / (1 - Wt)))
+        k_lo, k_hi = 1.0 / (1 + Wt), 1.0 / (1 - Wt)
+        parts = []
+        for s in (i, j):
+            pc = sup.hp(s, thc)
+            rr = sup.rcurv[s] * (alpha + half) + W * half + mu
+            parts.append(_imul(k_lo, k_hi, pc - rr, pc + rr))
+        d_lo = parts[1][0] - parts[0][1]          # −κ_i P_i + κ_j P_j
+        d_hi = parts[1][1] - parts[0][0]
+        d_lo, d_hi = d_lo - 1e-12 * W, d_hi + 1e-12 * W
+        okM = (d_lo > 0) if sigma > 0 else (d_hi < 0)
+        if fin.any() and not okM.all():
+            Gi, si, vi = opi.gradient(Cf, np.where(fin, R, 0.0))
+            Gj, sj, vj = opj.gradient(Cf, np.where(fin, R, 0.0))
+            Df = Gi - Gj
+            perp = np.column_stack([-U[:, 1], U[:, 0]])
+            val = sigma * (Df * perp).sum(1) - np.hypot(Df[:, 0], Df[:, 1]) * half - (si + sj) - 1e-12
+            okM |= fin & vi & vj & (val > 0)
+        bad = ~(okA & okM)
+        if not bad.any():
+            return True, None
+        # halve the undecided cells in both τ and θ
+        a_, b_, c_, d_ = ta[bad], tb[bad], h0[bad], h1[bad]
+        mt, mh = 0.5 * (a_ + b_), 0.5 * (c_ + d_)
+        ta = np.concatenate([a_, a_, mt, mt])
+        tb = np.concatenate([mt, mt, b_, b_])
+        h0 = np.concatenate([c_, mh, c_, mh])
+        h1 = np.concatenate([mh, d_, mh, d_])
+    return True, None
