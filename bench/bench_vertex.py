@@ -32,7 +32,7 @@ from curvedvoronoi.runtime.certify import certify_vertex as locator_certify  # n
 from curvedvoronoi.runtime.circles import Circle, Point  # noqa: E402
 from curvedvoronoi.runtime.conic import Conic  # noqa: E402
 from curvedvoronoi.runtime.validation import load_cases, repository_cases_path  # noqa: E402
-from curvedvoronoi.runtime.voronoi.geometry import site_geometry  # noqa: E402
+from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry  # noqa: E402
 from curvedvoronoi.runtime.voronoi.vertex import certify_vertex, refine_vertex  # noqa: E402
 
 

@@ -63,3 +63,23 @@ def test_garbage_manifest(copy_of_generated):
     (copy_of_generated / "MANIFEST.json").write_text("{not json")
     with pytest.raises(ArtefactError, match="not valid JSON"):
         load_offset("ellipse", root=copy_of_generated)
+
+
+def test_interval_route_takes_offsets_only_from_verified_artefacts(copy_of_generated, monkeypatch):
+    """The ch. 6 route has no second derivation of the offsets: a corrupted artefact stops it with
+    ArtefactError instead of being bypassed (and the intact artefacts give the App. B.4 offset)."""
+    from curvedvoronoi.runtime.interval import offsets as ioff
+
+    assert len(ioff.canonical_offset("ellipse_hyperbola").terms) == len(load_offset("ellipse").terms) == 104
+    target = copy_of_generated / "offsets" / "parabola.json"
+    data = bytearray(target.read_bytes())
+    i = data.index(b'"1"')
+    data[i + 1] = ord("3")
+    target.write_bytes(bytes(data))
+    monkeypatch.setenv("CURVEDVORONOI_GENERATED", str(copy_of_generated))
+    ioff.canonical_offset.cache_clear()
+    try:
+        with pytest.raises(ArtefactError, match="corrupted"):
+            ioff.canonical_offset("parabola")
+    finally:
+        ioff.canonical_offset.cache_clear()

@@ -266,3 +266,28 @@ def test_site_inside():
     assert site_inside(Conic.ellipse(centre=(5, 0), axes=(1, "1/2")), Conic.hyperbola(centre=(0, 0), axes=(2, 1)))
     assert site_inside(Conic.parabola(vertex=(0, 0), p=1), Conic.parabola(vertex=(-1, 0), p=1))
     assert not site_inside(Conic.parabola(vertex=(-1, 0), p=1), Conic.parabola(vertex=(0, 0), p=1))
+
+
+@settings(max_examples=20, deadline=None)
+@given(conics, st.integers(0, 2 ** 32 - 1))
+def test_vectorised_feet_agree_with_the_ball_route(conic, seed):
+    """More than 16 query points take the vectorised root finder (fewer take the scalar one):
+    random points, points on the symmetry axes and near the curve, against the rigorous ball
+    route and against one-point queries."""
+    g = conic_geometry(conic)
+    rng = np.random.default_rng(seed)
+    Q = rng.uniform(-12, 12, (24, 2))
+    S = g.samples(0.5, (-12, -12, 12, 12))
+    near = S[rng.integers(0, len(S), 8)] + rng.normal(scale=1e-3, size=(8, 2))
+    axis = g.from_canonical(rng.uniform(-8, 8, 8), np.zeros(8))
+    P = np.vstack([Q, near, axis, g.from_canonical(np.zeros(4), rng.uniform(-8, 8, 4))])
+    lo, hi = g.distance_bounds(P)
+    d = g.distance(P)
+    F, _ = g.foot_points(P)
+    for i, (x, y) in enumerate(P):
+        blo, bhi = ball(conic, x, y)
+        assert lo[i] <= bhi * (1 + 1e-15) + 1e-300 and hi[i] >= blo * (1 - 1e-15)
+        assert lo[i] <= d[i] <= hi[i]
+        assert abs(d[i] - 0.5 * (blo + bhi)) <= 1e-12 * (1 + abs(x) + abs(y))
+        assert abs(np.hypot(*(P[i] - F[i])) - d[i]) <= 1e-12 * (1 + abs(x) + abs(y))
+        assert abs(g.distance(P[i:i + 1])[0] - d[i]) <= 1e-12 * (1 + abs(x) + abs(y))

@@ -42,7 +42,7 @@ def _distance_fn(site):
     if isinstance(site, Circle):
         cx, cy, rho = float(site.cx), float(site.cy), math.sqrt(float(site.r2))
         return lambda P: np.abs(np.hypot(P[:, 0] - cx, P[:, 1] - cy) - rho)
-    from curvedvoronoi.runtime.voronoi.geometry import site_geometry
+    from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
 
     return site_geometry(site).distance
 
@@ -137,7 +137,7 @@ def _window(sites, pad=0.6):
             r = math.sqrt(float(s.r2))
             boxes.append((float(s.cx) - r, float(s.cy) - r, float(s.cx) + r, float(s.cy) + r))
         else:
-            from curvedvoronoi.runtime.voronoi.geometry import site_geometry
+            from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
 
             boxes.append(site_geometry(s).bounding_box())
     b = np.array(boxes)

@@ -298,8 +298,8 @@ def test_ellipse_edges_proved_and_corruptions_rejected(ellipse_diagram):
     assert all(cert.vertices)
     bounded = [t for t, e in enumerate(D.edges) if None not in e.ends]
     assert bounded and all(cert.edges[t] for t in bounded), cert.problems
-    # unbounded edges of conic sites: honestly "not proved beyond", so the certificate is not ok
-    assert not cert.ok and any("not proved beyond" in p for p in cert.problems)
+    # unbounded edges proved to infinity (support functions), ends at infinity accounted for
+    assert cert.ok and cert.complete, cert.problems
     e = D.edges[bounded[0]]
     P = np.array(e.polyline, float)
     t = P[-1] - P[0]
@@ -327,3 +327,145 @@ def test_duplicated_edge_and_fake_vertex_are_rejected(point_diagram):
     cert = verify(D)
     assert not cert.ok and not cert.vertices[-1]
     assert any(p.startswith(f"vertex {10 ** 6} ") for p in cert.problems)
+
+
+# ----------------------------------------------------------------------------- ellipse diagrams, completeness
+
+def random_ellipses(rng, n, box=30.0):
+    """n pairwise disjoint ellipses (discs around them disjoint) with rational data and rotations
+    (cos, sin) = ((1 − s²)/(1 + s²), 2s/(1 + s²))."""
+    from fractions import Fraction
+
+    from curvedvoronoi.runtime.conic import Conic
+
+    out, used = [], []
+    while len(out) < n:
+        a = round(float(rng.uniform(1, 3)), 2)
+        b = round(float(rng.uniform(0.4, 1)) * a, 2)
+        c = np.round(rng.uniform(-box, box, 2), 2)
+        if any(np.hypot(*(c - d)) < a + ad + 1.0 for d, ad in used):
+            continue
+        s = Fraction(int(rng.integers(-9, 10)), 7)
+        cs, sn = (1 - s * s) / (1 + s * s), 2 * s / (1 + s * s)
+        out.append(Conic.ellipse(centre=(Fraction(str(c[0])), Fraction(str(c[1]))),
+                                 axes=(Fraction(str(a)), Fraction(str(b))), rotation=(str(cs), str(sn))))
+        used.append((c, a))
+    return out
+
+
+@pytest.fixture(scope="module", params=[13, 19])
+def random_ellipse_diagram(request):
+    rng = np.random.default_rng(request.param)
+    return construct(random_ellipses(rng, int(rng.integers(4, 9))))
+
+
+def test_random_ellipse_diagram_is_certified_and_matches_dense_sampling(random_ellipse_diagram):
+    from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+
+    D = random_ellipse_diagram
+    cert = verify(D)
+    assert cert.ok and cert.complete, cert.problems
+    assert any(None in e.ends for e in D.edges)
+    # independent reference: nearest sites on a dense grid (float distances); every pair of grid
+    # neighbours with different nearest sites, away from ties, is a Delaunay edge
+    G = [site_geometry(s) for s in D.sites]
+    xs = np.linspace(-120, 120, 241)
+    X, Y = np.meshgrid(xs, xs)
+    Q = np.column_stack([X.ravel(), Y.ravel()])
+    d = np.array([g.distance(Q) for g in G])
+    lab = d.argmin(0).reshape(X.shape)
+    pairs = set()
+    for A, B in ((lab[:, :-1], lab[:, 1:]), (lab[:-1, :], lab[1:, :])):
+        for a, b in zip(A[A != B], B[A != B]):
+            pairs.add((min(int(a), int(b)), max(int(a), int(b))))
+    assert pairs and pairs <= set(cert.delaunay_edges), pairs - set(cert.delaunay_edges)
+    # far away in direction θ the nearest site maximises the support function: the sites seen on a
+    # large circle are exactly the sites of the unbounded edges
+    th = np.linspace(0, 2 * np.pi, 3600, endpoint=False)
+    far = 1e6 * np.column_stack([np.cos(th), np.sin(th)])
+    seen = set(np.array([g.distance(far) for g in G]).argmin(0).tolist())
+    assert seen == {int(s) for e in D.edges if None in e.ends for s in e.sites}
+
+
+def _ends_at_infinity(D):
+    from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+    from curvedvoronoi.runtime.voronoi.verify_edge_checks import check_edges
+    from curvedvoronoi.runtime.voronoi.verify_vertices import prove_vertices
+
+    geoms = [site_geometry(s) for s in D.sites]
+    problems: list = []
+    vinfo, vok = prove_vertices(D, list(D.sites), geoms, None, problems)
+    eok, ends, _ = check_edges(D, geoms, None, vinfo, vok, problems, {})
+    assert all(eok) and not problems, problems
+    return geoms, ends
+
+
+def test_ellipse_accounting_rejects_wrong_order_and_missing_end(random_ellipse_diagram):
+    from curvedvoronoi.runtime.voronoi.verify_closure import verify_accounting_conics
+    from curvedvoronoi.runtime.voronoi.verify_curved import SupportTable
+
+    D = random_ellipse_diagram
+    geoms, ends = _ends_at_infinity(D)
+    sup = SupportTable(geoms)
+    n = len(geoms)
+    assert len(ends) >= 3
+    probs: list = []
+    assert verify_accounting_conics(n, sup, ends, probs), probs
+    order = sorted(range(len(ends)), key=lambda t: ends[t][0])
+    # wrong asymptotic order: two consecutive ends exchange their site pairs
+    for a in range(len(order)):
+        bad = list(ends)
+        p, q = order[a], order[(a + 1) % len(order)]
+        bad[p] = (ends[p][0], ends[q][1], ends[p][2], ends[p][3])
+        bad[q] = (ends[q][0], ends[p][1], ends[q][2], ends[q][3])
+        probs = []
+        assert not verify_accounting_conics(n, sup, bad, probs)
+        assert any("unbounded edge" in m for m in probs), probs
+    # an unbounded end missing
+    for a in range(len(ends)):
+        probs = []
+        assert not verify_accounting_conics(n, sup, ends[:a] + ends[a + 1:], probs)
+        assert any("at infinity" in m or "far directions" in m for m in probs), probs
+
+
+def test_ellipse_diagram_with_removed_unbounded_edge_is_rejected(random_ellipse_diagram):
+    D = copy.deepcopy(random_ellipse_diagram)
+    e = next(e for e in D.edges if None in e.ends)
+    D.edges.remove(e)
+    cert = verify(D)
+    assert not cert.ok and not cert.complete
+    assert any("at infinity" in p or "far directions" in p for p in cert.problems), cert.problems
+
+
+def test_ellipse_tail_rejects_a_far_site_on_the_asymptote(random_ellipse_diagram):
+    from curvedvoronoi.runtime.circles import Point
+
+    D = copy.deepcopy(random_ellipse_diagram)
+    e = next(e for e in D.edges if e.ends[1] is None)
+    P = np.array(e.polyline, float)
+    u = (P[-1] - P[-2]) / np.hypot(*(P[-1] - P[-2]))
+    far = P[-1] + 5.0 * np.hypot(*P[-1]) * u          # beyond every polyline: only the tail sees it
+    D.sites = list(D.sites) + [Point(float(far[0]), float(far[1]))]
+    cert = verify(D)
+    assert not cert.ok
+    assert any(p.startswith(f"edge {e.id} ") and "not proved beyond" in p for p in cert.problems), cert.problems
+
+
+@pytest.mark.parametrize("yk, proved", [(-1.0, False), (-200.0, True)])
+def test_tail_third_site_closer_on_a_middle_stretch(yk, proved):
+    """Sites i = (−100, 0), j = (100, 0), k = (0, yk): on the bisector x = 0,
+    d_i − d_k = √(10⁴ + y²) − (y − yk) ≈ 5000/y + yk, so for yk = −1 the site k is closer for
+    y < ~5000 (a vertex (i, j, k) at y ≈ 5000), while k never leads at infinity
+    (h_k(π/2) = yk < 0 = h_i).  The tail beyond y = 1000 must be rejected; for yk = −200 it is
+    the true edge (k farther for y > 25) and must be proved."""
+    from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+    from curvedvoronoi.runtime.voronoi.verify_curved import SupportTable, prove_tail
+
+    geoms = [site_geometry(s) for s in (Point(-100, 0), Point(100, 0), Point(0, yk))]
+    y_vertex = (1e4 - yk * yk) / (-2 * yk)            # d_i = d_k on x = 0
+    assert (y_vertex > 1000) != proved
+    link = (np.array([0.0, 1000.0]), np.array([0.0, 1.0]), np.array([-1.0, 0.0]), 10.0, 1.0, 5.0)
+    ok, msg, J = prove_tail(SupportTable(geoms), geoms, (0, 1), link, 1000.0)
+    assert ok == proved, msg
+    if proved:
+        assert J[0] < np.pi / 2 < J[1]

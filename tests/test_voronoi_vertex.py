@@ -15,7 +15,7 @@ from curvedvoronoi.runtime.circles import Circle, Point, voronoi_vertices_circle
 from curvedvoronoi.runtime.conic import Conic
 from curvedvoronoi.runtime.distance import distance as conic_distance
 from curvedvoronoi.runtime.validation import load_cases, repository_cases_path
-from curvedvoronoi.runtime.voronoi.geometry import site_geometry
+from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
 from curvedvoronoi.runtime.voronoi.vertex import (VertexProof, certify_empty, certify_vertex,
                                                   certify_vertices_circles, classify_others,
                                                   refine_vertex)

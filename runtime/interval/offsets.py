@@ -4,12 +4,12 @@ The canonical offsets are the implicit equations in (u, v, R) — R the *squared
 distance — of the families ``x² + c·y² + e`` (ellipse / hyperbola, degree 8, 104 terms),
 ``y² − 2·p·x`` (parabola, 23 terms) and the circle ``(u² + v² − R − ρ²)² − 4Rρ²``.
 
-They are taken from ``runtime.artefacts.load_offset(family)`` when the lead's artefacts are
-available, and otherwise recomputed here with python-flint (``res_y(res_x(f, n), res_x(f, d))``,
-factor, and keep the factor that vanishes at an exact rational point ``p + k∇f(p)``,
-``R = k²|∇f(p)|²`` of the offset — DESIGN.md §3: the resultant has a spurious factor).
+They are taken from the verified artefacts (``runtime.artefacts.load_offset``, derived offline by
+``precompute/offsets.py``); there is no second derivation at run time, and a corrupted artefact
+raises ``ArtefactError``.
 
-Offsets are covariant under *rigid motions only* (DESIGN.md pitfall on App. D.2): the offset of
+Offsets are covariant under *rigid motions only* (thesis App. D.2 substitutes a non-orthogonal
+affine map, which does not give the offset of the moved conic): the offset of
 a moved conic is the canonical offset composed with ``(u, v) = rotation·((x, y) − t)``, R
 unchanged.
 """
@@ -18,8 +18,9 @@ from __future__ import annotations
 from fractions import Fraction
 from functools import lru_cache
 
-from flint import fmpq, fmpq_mpoly_ctx, fmpz_mpoly_ctx
+from flint import fmpq, fmpq_mpoly_ctx
 
+from ..artefacts import ArtefactError, load_offset
 from .poly import Poly
 
 FAMILIES = {
@@ -28,71 +29,17 @@ FAMILIES = {
 }
 
 
-def _from_artefacts(family: str) -> Poly | None:
-    try:
-        from .. import artefacts
-    except Exception:  # noqa: BLE001 - artefacts module not landed yet
-        return None
-    load = getattr(artefacts, "load_offset", None)
-    if load is None:
-        return None
-    names = {"ellipse_hyperbola": ("ellipse", "ellipse_hyperbola", "x2_cy2_e"),
-             "parabola": ("parabola", "y2_2px")}[family]
-    for nm in names:
-        try:
-            off = load(nm)
-        except Exception:  # noqa: BLE001
-            continue
-        vars_ = tuple(off.variables)
-        if set(vars_) != set(FAMILIES[family]):
-            continue
-        p = Poly(vars_, dict(off.terms))
-        order = [vars_.index(v) for v in FAMILIES[family]]
-        return Poly(FAMILIES[family], {tuple(e[i] for i in order): c for e, c in p.terms.items()})
-    return None
-
-
-def _compute(family: str) -> Poly:
-    names = ("x", "y") + FAMILIES[family]
-    ctx = fmpz_mpoly_ctx.get(names, "lex")
-    g = dict(zip(names, ctx.gens()))
-    x, y, u, v, R = g["x"], g["y"], g["u"], g["v"], g["R"]
-    if family == "ellipse_hyperbola":
-        c, e = g["c"], g["e"]
-        f = x**2 + c * y**2 + e
-        fx, fy = 2 * x, 2 * c * y
-        # test point: c=2, e=-3, foot (1,1), grad (2,4), k=1/2 -> (2,3), R=5
-        test = {"u": 2, "v": 3, "R": 5, "c": 2, "e": -3}
-    else:
-        p = g["p"]
-        f = y**2 - 2 * p * x
-        fx, fy = -2 * p, 2 * y
-        # p=1/2: foot (1,1), grad (-1,2), k=1 -> (0,3), R=5
-        test = {"u": 0, "v": 3, "R": 5, "p": Fraction(1, 2)}
-    n = (u - x) * fy - (v - y) * fx
-    d = (u - x) ** 2 + (v - y) ** 2 - R
-    res = f.resultant(n, "x").resultant(f.resultant(d, "x"), "y")
-    _, factors = res.factor()
-    for fac, _mult in factors:
-        if fac.degrees()[names.index("u")] == 0:
-            continue
-        poly = Poly(names, {tuple(e): c for e, c in fac.to_dict().items()})
-        poly = Poly(FAMILIES[family], {e[2:]: c for e, c in poly.terms.items()})
-        vals = [Fraction(test[v_]) for v_ in FAMILIES[family]]
-        if poly(*vals) != 0:
-            continue
-        # second check: another offset point must also vanish (spurious factors fail one of them)
-        if family == "ellipse_hyperbola":
-            # c=-1/3 (hyperbola), e=-1: foot (2,3)?  4 - 3 - 1 = 0; grad (4,-2), k=1 -> (6,1), R=20
-            chk = [6, 1, 20, Fraction(-1, 3), -1]
-        else:
-            # p=2: foot (2,2)? 4 - 8 != 0; foot (1/2, 2)? 4 - 2 = 2 no; foot (2, 2*sqrt2) irrational;
-            # foot (8, ... ) y^2 = 4x: (1,2): grad (-4,4), k=1/2 -> (-1,4), R=8
-            chk = [-1, 4, 8, 2]
-        if poly(*[Fraction(c_) for c_ in chk]) != 0:
-            continue
-        return poly
-    raise RuntimeError(f"no offset factor found for {family}")
+def _from_artefacts(family: str) -> Poly:
+    """The family's offset from the verified artefacts (:func:`runtime.artefacts.load_offset`: a
+    missing, stale or corrupted artefact raises ArtefactError -- never bypassed by a second
+    derivation at run time)."""
+    off = load_offset({"ellipse_hyperbola": "ellipse", "parabola": "parabola"}[family])
+    vars_ = tuple(off.variables)
+    if set(vars_) != set(FAMILIES[family]):
+        raise ArtefactError(f"offset artefact of {family} has variables {vars_}, expected {FAMILIES[family]}")
+    p = Poly(vars_, dict(off.terms))
+    order = [vars_.index(v) for v in FAMILIES[family]]
+    return Poly(FAMILIES[family], {tuple(e[i] for i in order): c for e, c in p.terms.items()})
 
 
 @lru_cache(maxsize=None)
@@ -100,8 +47,7 @@ def canonical_offset(family: str) -> Poly:
     """Implicit generalised offset of a canonical family, variables ``FAMILIES[family]``."""
     if family not in FAMILIES:
         raise ValueError(f"unknown offset family {family!r}; expected one of {sorted(FAMILIES)}")
-    p = _from_artefacts(family)
-    return p if p is not None else _compute(family)
+    return _from_artefacts(family)
 
 
 def conic_offset(kind: str, params: dict, cos, sin, tx, ty, names=("x", "y", "r")) -> Poly:

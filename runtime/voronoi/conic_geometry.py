@@ -18,15 +18,22 @@ reflection) lies in the closed quadrant of q; in the natural parameter there it 
 sign change of the derivative of the squared distance (thesis §5.2, the normal condition):
 
 * ellipse (a cos t, b sin t), t ∈ [0, π/2]: D'(t)/2 = (b² − a²) sin t cos t + a u sin t − b v cos t
-  (vectorised: bisection in τ = tan(t/2), where (1 + τ²)² D'/2 is a polynomial);
+  (solved in τ = tan(t/2) ∈ [0, 1], where (1 + τ²)² D'/2 is a quartic polynomial);
 * hyperbola (a cosh t, b sinh t), t ∈ [0, T]: D'(t)/2 = (a² + b²) sinh t cosh t − a u sinh t − b v cosh t,
-  with T = asinh((a|u| + b v)/(a² + b²)) (then D'(T) ≥ 0; vectorised: bisection in w = e^t);
+  with T = asinh((a|u| + b v)/(a² + b²)) (then D'(T) ≥ 0; solved in w = e^t, where 4w² D'/2 is a
+  quartic polynomial);
 * parabola (s²/2p, s), s ∈ [0, S]: s³ + 2p(p − u) s − 2p² v, S = max((4p²v)^(1/3), (4p|p − u|)^(1/2)).
 
 Uniqueness follows from the Lagrange form q − p = λ ∇g(p)/2: in the open quadrant the
-constraint becomes a strictly monotone function of λ.  Bisection (64 halvings) finds the
-root to float resolution, also on the axes and near the evolute, where Newton's method
-fails; the point is then evaluated from the parameter, so it lies on the curve to rounding.
+constraint becomes a strictly monotone function of λ.  The sign change is found to float
+resolution by Newton's method safeguarded by bisection (``rtsafe``, Press et al., *Numerical
+Recipes*, 3rd ed., §9.4), run on all query points at once (numpy, converged points leave the
+active set; Python floats for a handful of points): about six polynomial evaluations per point
+instead of 64 halvings.  Where the polynomial vanishes within rounding without a confirmed
+sign change (on the axes, near the evolute, where plain Newton fails) plain bisection of the
+full bracket decides, as before.  The point is then evaluated from the parameter, so it lies
+on the curve to rounding.  The rigorous bounds below hold for any parameter; the accuracy of
+the root only decides their tightness (and hence how often the ball route is needed).
 
 Rigorous bounds (``distance_bounds``)
 -------------------------------------
@@ -71,11 +78,12 @@ import math
 
 import numpy as np
 
+from ..circles import Circle
 from ..conic import Conic
-from .geometry import EPS, SiteGeometry, rounding_slack, site_geometry
+from .geometry import EPS, CircleGeometry, PointGeometry, SiteGeometry, rounding_slack
 
 __all__ = ["ConicGeometry", "EllipseGeometry", "HyperbolaGeometry", "ParabolaGeometry",
-           "conic_geometry", "sites_intersect", "site_inside"]
+           "conic_geometry", "site_geometry", "sites_intersect", "site_inside"]
 
 #: relative gap above which the fast bounds defer to the ball route
 _FALLBACK_GAP = 1e-7
@@ -85,6 +93,9 @@ _MAX_IT = 160
 _BISECT = 64
 #: below this many query points the root finding runs on Python floats (numpy's per-call overhead)
 _SCALAR_MAX = 16
+#: a Newton step smaller than this (relative) ends the iteration: the error after it is of
+#: the order of its square
+_NEWTON_TOL = 2.0 ** -30
 
 
 def _root_scalar(fdf, lo: float, hi: float, x: float) -> float:
@@ -95,28 +106,35 @@ def _root_scalar(fdf, lo: float, hi: float, x: float) -> float:
     Newton's method safeguarded by bisection (``rtsafe``, Press et al., *Numerical Recipes*,
     3rd ed., §9.4): a Newton step leaving the bracket, or not halving the step of two iterations
     before, is replaced by a bisection, and the bracket keeps f(lo) < 0 ≤ f(hi).  The iteration
-    stops on a step below float resolution, or where f vanishes within rounding; in the latter
-    case a sign change within the rounding-sized interval around x is confirmed by two more
-    evaluations, otherwise plain bisection of the bracket decides (as near the evolute, where
-    f has a near-double root)."""
+    stops on a Newton step below 2⁻³⁰ relative (the error after it is of the order of its
+    square), on a bracket at float resolution, or where f vanishes within rounding; in the
+    latter case a sign change in [x − δ, x + δ] (δ four times the rounding-sized width
+    16 ε m / |f'|) is confirmed by two more evaluations, otherwise plain bisection of the
+    bracket decides (as near the evolute, where f has a near-double root, or next to an end
+    of the bracket where f vanishes)."""
     tol = EPS * EPS * (hi - lo)
     dx = dxold = hi - lo
+    lo0, hi0 = lo, hi
+    if not lo < x < hi:
+        x = 0.5 * (lo + hi)
     for _ in range(_MAX_IT):
         f, df, m = fdf(x)
         if f < 0:
             lo = x
-        elif f > 0:
+        else:       # f ≥ 0 (or NaN, from non-finite input: treated as non-negative)
             hi = x
-        else:
-            return x
+        newton = df != 0 and lo < x - f / df < hi and abs(2 * f) <= abs(dxold * df)
+        if newton and abs(f / df) <= _NEWTON_TOL * abs(x - f / df) + tol:
+            return x - f / df
         if abs(f) <= 16 * EPS * m:
             d = 64 * EPS * (m / abs(df) if df != 0 else math.inf) + 4 * EPS * abs(x)
             xl, xr = max(x - d, lo), min(x + d, hi)
-            if xl < xr and (xl == lo or fdf(xl)[0] < 0) and (xr == hi or fdf(xr)[0] >= 0) \
+            if xl < xr and fdf(xl)[0] < 0 and fdf(xr)[0] >= 0 \
                     and xr - xl <= 1e-6 * (abs(x) + tol):
                 return x
+            lo, hi = lo0, hi0   # a rounding-level value may have misplaced the bracket
             break
-        if df != 0 and lo < x - f / df < hi and abs(2 * f) <= abs(dxold * df):
+        if newton:
             dxold, dx = dx, f / df
             xn = x - dx
         else:
@@ -144,7 +162,9 @@ def _root_vector(fdf, lo, hi, x, coefs):
     ``coefs`` are arrays aligned with ``x``."""
     out = np.empty_like(x)
     idx = np.arange(x.size)
-    lo, hi, x = lo.astype(float), hi.astype(float), x.astype(float)
+    lo, hi, x = lo.astype(float), hi.astype(float), x.astype(float)   # copies: updated in place
+    x = np.where((lo < x) & (x < hi), x, 0.5 * (lo + hi))
+    lo0, hi0 = lo.copy(), hi.copy()
     tol = EPS * EPS * (hi - lo)
     dx = hi - lo
     dxold = dx.copy()
@@ -153,34 +173,40 @@ def _root_vector(fdf, lo, hi, x, coefs):
     try:
         for _ in range(_MAX_IT):
             f, df, m = fdf(x, *coefs)
-            lo = np.where(f < 0, x, lo)
-            hi = np.where(f > 0, x, hi)
-            flat = np.abs(f) <= 16 * EPS * m
+            neg = f < 0
+            np.copyto(lo, x, where=neg)
+            np.copyto(hi, x, where=~neg)   # f ≥ 0 (or NaN, from non-finite input)
+            af = np.abs(f)
+            flat = af <= 16 * EPS * m
             step = f / df
             xn = x - step
-            newton = (lo < xn) & (xn < hi) & (np.abs(2 * f) <= np.abs(dxold * df))
+            newton = (lo < xn) & (xn < hi) & (2 * af <= np.abs(dxold * df))
             half = 0.5 * (hi - lo)
             mid = lo + half
             dxold = dx
             dx = np.where(newton, step, half)
-            xn = np.where(newton, xn, mid)
-            done = (np.abs(dx) <= 2 * EPS * np.abs(xn) + tol) | (~newton & ~((lo < mid) & (mid < hi)))
-            xn = np.where(flat, x, xn)
+            np.copyto(xn, mid, where=~newton)
+            # a Newton step below 2⁻³⁰ relative: quadratic convergence makes the new iterate
+            # exact to float resolution (simple root); bisection: bracket at float resolution
+            small = np.abs(dx) <= np.where(newton, _NEWTON_TOL, 2 * EPS) * np.abs(xn) + tol
+            flat &= ~(newton & small)
+            done = small | (~newton & ~((lo < mid) & (mid < hi))) | flat
             if flat.any():
+                np.copyto(xn, x, where=flat)
                 # f = 0 within rounding: confirm the sign change around x (else: bisection)
                 fi = np.nonzero(flat)[0]
                 d = 64 * EPS * m[fi] / np.abs(df[fi]) + 4 * EPS * np.abs(x[fi])
                 xl = np.maximum(x[fi] - d, lo[fi])
                 xr = np.minimum(x[fi] + d, hi[fi])
                 cf = tuple(c[fi] for c in coefs)
-                okl = (xl == lo[fi]) | (fdf(xl, *cf)[0] < 0)
-                okr = (xr == hi[fi]) | (fdf(xr, *cf)[0] >= 0)
-                ok = (f[fi] == 0) | (okl & okr & (xl < xr) & (xr - xl <= 1e-6 * (np.abs(x[fi]) + tol[fi])))
+                okl = fdf(xl, *cf)[0] < 0
+                okr = fdf(xr, *cf)[0] >= 0
+                ok = okl & okr & (xl < xr) & (xr - xl <= 1e-6 * (np.abs(x[fi]) + tol[fi]))
                 ok = ok & np.isfinite(xl) & np.isfinite(xr)
                 nok = fi[~ok]
                 if nok.size:
-                    slow.append((idx[nok], lo[nok], hi[nok], tuple(c[nok] for c in coefs)))
-                done[fi] = True
+                    # a rounding-level value may have misplaced the bracket: start afresh
+                    slow.append((idx[nok], lo0[nok], hi0[nok], tuple(c[nok] for c in coefs)))
                 xn[fi] = np.where(ok, x[fi], np.nan)
             if done.any():
                 out[idx[done]] = xn[done]
@@ -189,6 +215,7 @@ def _root_vector(fdf, lo, hi, x, coefs):
                     break
                 idx, lo, hi, xn, dx, dxold, tol = (idx[keep], lo[keep], hi[keep], xn[keep], dx[keep],
                                                    dxold[keep], tol[keep])
+                lo0, hi0 = lo0[keep], hi0[keep]
                 coefs = tuple(c[keep] for c in coefs)
             x = xn
         else:
@@ -487,7 +514,7 @@ class HyperbolaGeometry(ConicGeometry):
         return self._clip(P, window, spacing)
 
     def _branch_param(self, u, v):
-        """Bisection for the foot on the right branch of (u, v), v ≥ 0 (u of any sign)."""
+        """Parameter of the foot on the right branch of (u, v), v ≥ 0 (u of any sign)."""
         a, b = self.a, self.b
         k = a * a + b * b
         T = np.arcsinh((a * np.abs(u) + b * v) / k) * (1 + 1e-12) + 1e-300
@@ -822,3 +849,16 @@ def site_inside(A, B) -> bool:
         ref = tuple(Fraction(float(v)) for v in gb.from_canonical(np.array([far]), np.array([0.0]))[0])
     s = -1 if _eval((a, b, c, d, e, f), *ref) > 0 else 1
     return all(s * _eval((a, b, c, d, e, f), px, py) < 0 for px, py in pts)
+
+
+def site_geometry(site) -> SiteGeometry:
+    """The geometry of a site: a :class:`runtime.circles.Circle` (r2 = 0 is a point), a
+    :class:`runtime.conic.Conic` (circles among them go to :class:`CircleGeometry`)."""
+    if isinstance(site, Circle):
+        return PointGeometry(site) if site.r2 == 0 else CircleGeometry(site)
+    if isinstance(site, Conic):
+        if site.kind == "circle":
+            a, _, _, d, e, f = site.coefficients
+            return CircleGeometry(Circle.from_coefficients(a, 0, a, d, e, f))
+        return conic_geometry(site)
+    raise TypeError(f"not a site: {site!r} (expected a Circle, a point or a Conic)")

@@ -70,7 +70,8 @@ from scipy.spatial import Delaunay, cKDTree
 from ..circles import Circle, Point, as_circle, decide_conflict, voronoi_vertices_circles
 from ..conic import Conic
 from ..result import InvalidConicError, LocatorError
-from .geometry import rounding_slack, site_geometry
+from .conic_geometry import site_geometry
+from .geometry import rounding_slack
 from .structure import Diagram, DiagramEdge, DiagramVertex
 
 __all__ = ["voronoi", "as_site", "check_disjoint", "SiteError"]

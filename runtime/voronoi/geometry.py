@@ -16,8 +16,8 @@ d(B(c, h), S) ⊂ [lo(c) − h, hi(c) + h]: this is how bounds at points become 
 
 Point and circle sites are implemented here (exact rational data in :mod:`runtime.circles`;
 d(q, C) = | |q − c| − ρ |); conic sites (ellipse, hyperbola, parabola) in
-:mod:`runtime.voronoi.conic_geometry`.  :func:`site_geometry` turns a user site into its
-geometry.
+:mod:`runtime.voronoi.conic_geometry`, whose :func:`~runtime.voronoi.conic_geometry.site_geometry`
+turns any user site into its geometry.
 """
 from __future__ import annotations
 
@@ -26,7 +26,7 @@ from abc import ABC, abstractmethod
 
 import numpy as np
 
-__all__ = ["SiteGeometry", "PointGeometry", "CircleGeometry", "rounding_slack", "site_geometry"]
+__all__ = ["SiteGeometry", "PointGeometry", "CircleGeometry", "rounding_slack"]
 
 #: unit roundoff of IEEE double
 EPS = 2.0 ** -53
@@ -162,20 +162,3 @@ class CircleGeometry(SiteGeometry):
         F = np.array([self.cx, self.cy]) + self.rho * D
         U = np.where((n >= self.rho)[:, None], D, -D)
         return F, U
-
-
-def site_geometry(site) -> SiteGeometry:
-    """The geometry of a site: a :class:`runtime.circles.Circle` (r2 = 0 is a point), a
-    :class:`runtime.conic.Conic` (circles among them go to :class:`CircleGeometry`)."""
-    from ..circles import Circle
-    from ..conic import Conic
-
-    if isinstance(site, Circle):
-        return PointGeometry(site) if site.r2 == 0 else CircleGeometry(site)
-    if isinstance(site, Conic):
-        if site.kind == "circle":
-            a, _, _, d, e, f = site.coefficients
-            return CircleGeometry(Circle.from_coefficients(a, 0, a, d, e, f))
-        from .conic_geometry import conic_geometry
-        return conic_geometry(site)
-    raise TypeError(f"not a site: {site!r} (expected a Circle, a point or a Conic)")

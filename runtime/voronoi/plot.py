@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from .geometry import site_geometry
+from .conic_geometry import site_geometry
 
 __all__ = ["plot_diagram", "COLOURS"]
 

@@ -61,12 +61,19 @@ where Krawczyk's test proves the Jacobian of the Apollonius system, whose rows a
 exact route); for circle and point sites the rounding of the bisector's float constants is
 bounded to first order (module :mod:`runtime.voronoi.verify_edges`).
 
-Sites with an ellipse: vertices as above; an edge between two vertices is proved by
-:mod:`runtime.voronoi.verify_curved` (a chain of strips around the polyline in which the bisector
-is a monotone graph, gradient enclosures for convex sites, the same third-site tests); an
-unbounded edge is proved up to a point at three times the scene's size and reported "not proved
-beyond"; vertex-less edges and hyperbola / parabola edges are reported not proved, and the
-accounting of step 4 is done for circle and point sites only, so such a certificate is never ok.
+Sites with an ellipse (with circles and points): vertices as above; an edge between two vertices
+is proved by :mod:`runtime.voronoi.verify_curved` (a chain of strips around the polyline in which
+the bisector is a monotone graph, gradient enclosures for convex sites, the same third-site
+tests); an unbounded edge by the same chain up to a far point, then to infinity by support
+functions on a sector of directions (:func:`runtime.voronoi.verify_curved.prove_tail`: in the
+sector the bisector is one curve to infinity, closer to i, j than to any other site, linked to
+the chain).  Step 4 uses the support functions h_k(θ) = max_{p ∈ S_k} u(θ)·p of the sites
+(:func:`runtime.voronoi.verify_closure.verify_accounting_conics`): (b) the convex hulls of the
+sites are proved pairwise disjoint, so no site is nested and G has no bounded component; (a)
+each unbounded end owns an interval of directions where only its two sites attain max h_k and
+h_i − h_j changes sign, and on every arc of directions between them one site strictly leads.
+Vertex-less edges (two sites; nested sites) and hyperbola / parabola sites are reported not
+proved, so such a certificate is never ok.
 
 Command line: ``python -m curvedvoronoi verify DIAGRAM.json [SITES.json]`` (exit 0 proved,
 1 not proved, 2 bad input; prints :meth:`Certificate.to_json`).
@@ -78,10 +85,11 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 
-from .geometry import site_geometry
+from .conic_geometry import site_geometry
 from .verify_edge_checks import check_edges
 from .verify_edges import CircleTable
-from .verify_closure import verify_accounting, verify_closure
+from .verify_closure import verify_accounting, verify_accounting_conics, verify_closure
+from .verify_curved import SupportTable
 from .verify_vertices import prove_vertices
 
 __all__ = ["verify", "verify_files", "Certificate"]
@@ -231,9 +239,10 @@ def verify(diagram, sites=None) -> Certificate:
     # ---------------------------------------------------------------- closure + accounting
     t0 = time.perf_counter()
     closure_ok = verify_closure(D, n, problems, intervals)
-    account_ok = verify_accounting(n, table, ends_inf, problems) if circular else False
-    if not circular:
-        problems.append("completeness (accounting of components) is proved for circle and point sites only")
+    if circular:
+        account_ok = verify_accounting(n, table, ends_inf, problems)
+    else:
+        account_ok = verify_accounting_conics(n, SupportTable(geoms), ends_inf, problems)
     timings["closure"] = time.perf_counter() - t0
     complete = closure_ok and account_ok
     ok = complete and all(vok) and all(eok) and not problems

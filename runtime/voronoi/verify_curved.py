@@ -27,7 +27,44 @@ with p the projection of q on K, which is 1-Lipschitz; so on B(c, R) the gradien
 4R/d(c) of ∇d(c), and the float foot point F (on S) gives ∇d(c) within 2·e_F/d(c), where
 e_F² = |c − F|² − d(c)² bounds |F − p|² (projection inequality |c − F|² ≥ |c − p|² + |p − F|²).
 
-Unbounded edges of conic sites are proved up to the last polyline point only ("not proved beyond").
+**Unbounded edges** (:func:`prove_tail`).  The chain above proves the edge from its vertex up to
+a polyline point at about ``TAIL_CUT`` times the scene's radius; beyond, support functions
+(thesis §1.2 on far regions; Schneider, *Convex Bodies*, §1.7) take over.  Let every site lie
+in the disc D(m, W) and h_S(θ) = max_{p ∈ S} u(θ)·(p − m) (:class:`SupportTable`; ellipses via
+:func:`runtime.interval.bound.support_function`).  For q = m + t·u, t > W:
+
+* d(q, S) ≥ t − h_S(u) (the supporting line of conv S with normal u separates q from S);
+* d(q, S) ≤ |q − p_u| = √((t − h)² + h'(θ)²) ≤ t − h_S(u) + h_S'(θ)²/(2(t − W)), p_u the support
+  point, whose component across u is h'(θ) (so e_S := d − (t − h_S) ∈ [0, h'²/(2(t − W))]);
+* for the gradient, ∇d_S(q) = (q − p)/|q − p| with p the nearest point, the support point of the
+  normal direction ν, |ν − u| ≤ α = asin(W/(t − W)); the support point moves by at most ρ_S·|Δθ|
+  (ρ_S the largest radius of curvature: a²/b, r, 0), and h_S + h_S'' = ρ_S(θ) ∈ [0, ρ_S], so
+  t·∂_θ d_S = −κ_S·(p − m)·u⊥ with κ_S = t/|q − p| ∈ [1/(1 + W/t), 1/(1 − W/t)] and
+  (p − m)·u⊥ ∈ h_S'(θ_c) ± (ρ_S(α + δ) + W·δ) on an angular cell of half-width δ.
+
+m is moved, for the tail of (i, j), onto the normal line of p_i at the float asymptotic direction
+θ* (a zero of g = h_i − h_j where i, j lead), so that h_i' ≈ 0 and the bound on e_i is sharp.
+On the sector Σ = {t ≥ T, θ ∈ [θa, θb]} ∋ θ*, with f = d_i − d_j ∈ [−g − e_j, −g + e_i], cells in
+(τ = 1/t, θ) (τ = 0 included, so Σ is covered to infinity), each halved until it satisfies
+
+(F) f has one strict sign on the cell (β does not meet it), or
+(A)+(M) every other site k is farther than d_i = d_j on the cell (max(h_i − e_i, h_j − e_j) > h_k,
+    or the distance bounds on the cell's disc as in (T2)) and σ·∂f/∂θ > 0 on it (the enclosure
+    above, or the gradient enclosures on the cell's disc);
+
+and on the rays θa, θb: σ·f < 0, resp. > 0, for all t ≥ T (τ-intervals, same bounds).  Then on
+every circle t = const ≥ T, θ ↦ f is negative then positive (σ = 1) with all its zeros in (M)
+cells, where it strictly increases: exactly one zero θ(t), continuous (implicit functions).  So
+β ∩ Σ is one curve from the circle t = T to infinity, closer to i, j than to every other site,
+with the asymptotic direction in the sector.  **Link**: two points Q± of the circle t = T inside
+the chain's last rectangle (shrunk by the arc's sagitta), with f(Q−), f(Q+) of opposite proved
+signs, bracket θ(T): the curve starts inside that rectangle, on the chain's arc (β meets the
+rectangle in one arc, all proved).  Hence chain ∪ tail is the whole edge from its vertex to
+infinity.  For the accounting of ends at infinity, :func:`prove_tail` also returns an interval
+J = [α, β] ∋ θ* inside the sector on which only i and j attain max_k h_k and g has strict opposite
+signs at α and β.  Not proved (reported): tails whose chain does not reach T > 2W, a lead of i, j
+too narrow for the 4096-direction scan, cells undecided within the work limit.  Vertex-less
+edges (two sites only, nested sites) of conic sites are not handled.
 """
 from __future__ import annotations
 
@@ -35,10 +72,11 @@ import math
 
 import numpy as np
 
-__all__ = ["prove_curved_edge"]
+__all__ = ["prove_curved_edge", "prove_tail", "SupportTable"]
 
 EPS = 2.0 ** -53
 MAX_DEPTH = 40
+TAIL_CUT = 12.0         # the chain proves an unbounded edge up to TAIL_CUT·(scene radius), the tail beyond
 
 
 class _SiteOps:
@@ -85,8 +123,9 @@ def _rot90(V):
 
 def prove_curved_edge(geoms, scale, pair, P, v0, v1, tol):
     """Prove an edge of convex sites along its polyline P (ends at the vertices v0, v1; either may
-    be None = infinity, then only up to the polyline's end).  Returns (ok, message or None,
-    beyond) where ``beyond`` is the point past which an unbounded edge is not proved."""
+    be None = infinity, then up to a point at ``TAIL_CUT`` times the scene's radius).  Returns
+    (ok, message or None, beyond): for an unbounded edge proved so far, ``beyond`` is a dict with
+    the cut ``point`` and the ``link`` rectangle for :func:`prove_tail`."""
     i, j = pair
     ops = {}
 
@@ -99,6 +138,7 @@ def prove_curved_edge(geoms, scale, pair, P, v0, v1, tol):
         return False, "edges of hyperbolas and parabolas are not verified by this version", None
     S = np.array(P, float)
     beyond = None
+    v0f, rad = False, 0.0
     if v0 is None or v1 is None:
         # an unbounded edge is proved up to a point at a few times the scene's size only
         fb = [g.bounding_box() for g in geoms if g.bounded]
@@ -110,14 +150,14 @@ def prove_curved_edge(geoms, scale, pair, P, v0, v1, tol):
         else:
             v0f = False
         dist = np.hypot(S[:, 0] - cen[0], S[:, 1] - cen[1])
-        far = np.nonzero(dist > 3 * rad)[0]
+        far = np.nonzero(dist > TAIL_CUT * rad)[0]
         if len(far) and far[0] > 0:
             f0 = int(far[0])                       # cut the chord where it leaves the disc of radius 3·rad
             A_, B_ = S[f0 - 1], S[f0]
             lo_t, hi_t = 0.0, 1.0
             for _ in range(60):
                 mt = 0.5 * (lo_t + hi_t)
-                if np.hypot(*(A_ + mt * (B_ - A_) - cen)) > 3 * rad:
+                if np.hypot(*(A_ + mt * (B_ - A_) - cen)) > TAIL_CUT * rad:
                     hi_t = mt
                 else:
                     lo_t = mt
@@ -175,6 +215,13 @@ def prove_curved_edge(geoms, scale, pair, P, v0, v1, tol):
             e_hi[-1] += 2 * h1
             ok, msg = _prove_rects(op, geoms, S, T, N, L, e_lo, e_hi, W, pair, k0, k1, scale)
             if ok:
+                if beyond is not None:
+                    # the chain's rectangle at the unbounded end, for the link with the tail
+                    l = 0 if v0f else len(L) - 1
+                    sx = min(0.5 * L[l], 0.25 * rad)
+                    beyond = {"point": beyond, "rad": rad,
+                              "link": (S[l].copy(), T[l].copy(), N[l].copy(), float(L[l]),
+                                       float(min(W[l], W[l + 1])), sx if v0f else float(L[l]) - sx)}
                 return True, None, beyond
             last_msg = msg
             attempts += 1
@@ -358,14 +405,13 @@ class SupportTable:
         W = 0.0
         for g in geoms:
             if g.kind == "point":
-                c, r, rc = (g.x0, g.y0), 0.0, 0.0
+                c, r = (g.x0, g.y0), 0.0
                 self.ell.append(None)
             elif g.kind == "circle":
-                c, r, rc = (g.cx, g.cy), g.rho, g.rho
+                c, r = (g.cx, g.cy), g.rho
                 self.ell.append(None)
             else:
                 c, r = (g.tx, g.ty), max(g.a, g.b)
-                rc = max(g.a, g.b) ** 2 / min(g.a, g.b)
                 self.ell.append((parse_curve(g.exact), g.a, g.b, g.c / math.hypot(g.c, g.s), g.s / math.hypot(g.c, g.s)))
             self.kind.append(g.kind)
             self.cen.append(c)
@@ -378,6 +424,21 @@ class SupportTable:
         self.mu = 1e-11 * (W + float(np.abs(self.m).sum()) + float(np.abs(self.cen).max()) + 1.0)
         self.W = W * (1 + 1e-9) + self.mu
         self._sf = support_function
+
+    def recentred(self, m):
+        """The same table about another centre m (W and mu recomputed)."""
+        import copy
+
+        t = copy.copy(self)
+        t.m = np.asarray(m, float)
+        W = float(np.max(np.hypot(self.cen[:, 0] - t.m[0], self.cen[:, 1] - t.m[1]) + self.rho))
+        t.mu = 1e-11 * (W + float(np.abs(t.m).sum()) + float(np.abs(self.cen).max()) + 1.0)
+        t.W = W * (1 + 1e-9) + t.mu
+        return t
+
+    def hp_abs(self, k, thc, half):
+        """Bound on |h_k'| on [θc − half, θc + half] (|h''| ≤ ρ_k + W)."""
+        return np.abs(self.hp(k, thc)) + (self.rcurv[k] + self.W) * half + self.mu
 
     def h(self, k, th):
         """Float h_k(θ) (error ≤ mu)."""
@@ -417,18 +478,19 @@ def _imul(a0, a1, b0, b1):
     return p.min(0), p.max(0)
 
 
-def _eps(W, t0):
-    """W²/(2(t0 − W)): d(m + t·u, S) − (t − h_S(u)) ∈ [0, this] for t ≥ t0 > W (tail docstring)."""
-    return W * W / (2.0 * (t0 - W)) * (1 + 1e-12)
+def _eps1(hp_abs, W, t0):
+    """h'²/(2(t0 − W)): d(m + t·u, S) − (t − h_S(u)) ∈ [0, this] when |h_S'(u)| ≤ hp_abs, t ≥ t0 > W."""
+    return hp_abs * hp_abs / (2.0 * (t0 - W)) * (1 + 1e-12)
 
 
-def prove_tail(sup: SupportTable, geoms, pair, link, scale, max_work: int = 200000):
-    """Prove the unbounded end of the edge (i, j) beyond the link point (see :data:`TAIL_DOC`).
+def prove_tail(sup: SupportTable, geoms, pair, link, scale, max_work: int = 100000):
+    """Prove the unbounded end of the edge (i, j) beyond the link point (module docstring,
+    *Unbounded edges*).
 
     ``link`` = (P0, t, n, L, w, s_x): the chain's last rectangle {P0 + s·t + λ·n : s ∈ [0, L],
     |λ| ≤ w} (proved: β meets it in one arc, all of it closer to i, j than to other sites) and
-    the position s_x on its axis where the link circle crosses it.  Returns (ok, message, sector)
-    with sector = (θa, θb, σ) the angular sector of the asymptotic direction."""
+    the position s_x on its axis where the link circle crosses it.  Returns (ok, message, J)
+    with J = (α, β, σ): the interval of directions for the accounting (module docstring)."""
     i, j = pair
     if not sup.ok:
         return False, "the tail needs bounded convex sites (points, circles, ellipses)", None
@@ -461,26 +523,56 @@ def prove_tail(sup: SupportTable, geoms, pair, link, scale, max_work: int = 2000
         else:
             b_ = mid
     ths = 0.5 * (a_ + b_)
-    # ---- the link: two points of the circle |q − m| = r inside the rectangle, f of opposite signs
-    dl = 0.5 * w / r
+    # centre on the normal line of site i's support point in the asymptotic direction: there
+    # h_i' ≈ 0, which makes the upper bound d_i ≤ t − h_i + h_i'²/(2(t − W)) sharp (module docstring)
+    m = m + float(sup.hp(i, ths)) * np.array([-math.sin(ths), math.cos(ths)])
+    sup = sup.recentred(m)
+    W = sup.W
+    r = float(math.hypot(X[0] - m[0], X[1] - m[1]))
+    if not r > 2.0 * W:
+        return False, "the proved part does not reach far enough for the tail argument", None
+    thX = math.atan2(X[1] - m[1], X[0] - m[0])
+    # ---- the link: two points of the circle |q − m| = r inside the rectangle, near its two
+    # lateral sides (where the chain proved f's signs), with f of opposite signs
+    tv, nv, P0 = np.asarray(tv, float), np.asarray(nv, float), np.asarray(P0, float)
+
+    def lat(phi):
+        return (m + r * np.array([math.cos(phi), math.sin(phi)]) - P0) @ nv
+
+    dlat = -math.sin(thX) * nv[0] + math.cos(thX) * nv[1]
+    if abs(dlat) < 0.2:
+        return False, "the link circle is nearly tangent to the last proved strip", None
+    Qs = []
+    for target in (-0.97 * w, 0.97 * w):
+        a_, b_ = thX, thX + 2.0 * (target - lat(thX)) / (r * dlat)
+        for _ in range(80):                                 # float bisection on λ(φ) = target
+            mid = 0.5 * (a_ + b_)
+            if (lat(mid) - target) * (lat(a_) - target) > 0:
+                a_ = mid
+            else:
+                b_ = mid
+        Qs.append(0.5 * (a_ + b_))
+    phi_lo, phi_hi = min(Qs), max(Qs)
+    dl = 0.5 * (phi_hi - phi_lo)
     sag = r * dl * dl
-    Q = np.array([[m[0] + r * math.cos(thX + s * dl), m[1] + r * math.sin(thX + s * dl)] for s in (-1.0, 1.0)])
-    rel = Q - np.asarray(P0, float)
-    sc, lc = rel @ np.asarray(tv, float), rel @ np.asarray(nv, float)
+    Q = np.array([[m[0] + r * math.cos(p_), m[1] + r * math.sin(p_)] for p_ in (phi_lo, phi_hi)])
+    rel = Q - P0
+    sc, lc = rel @ tv, rel @ nv
     pad = sag + 1e-12 * scale
     if not (np.all(sc > pad) and np.all(sc < L - pad) and np.all(np.abs(lc) < w - pad)):
         return False, "the link circle does not cross the last proved strip", None
     lo_i, hi_i = geoms[i].distance_bounds(Q)
     lo_j, hi_j = geoms[j].distance_bounds(Q)
-    pos = lo_i - hi_j > 0
-    neg = hi_i - lo_j < 0
+    fl = 4e-12 * (scale + r)        # Q is a float point within ~1e-15·r of the circle; f is 2-Lipschitz
+    pos = lo_i - hi_j > fl
+    neg = hi_i - lo_j < -fl
     if not ((pos[0] and neg[1]) or (neg[0] and pos[1])):
         return False, "the bisector's crossing of the link circle is not decided", None
+    thX = 0.5 * (phi_lo + phi_hi)
     msg = "no sector decided"
-    for half in (0.4, 0.2, 0.1, 0.05, 0.025, 0.0125):
-        tha, thb = ths - half, ths + half
-        if not (tha < thX - dl and thX + dl < thb):
-            continue
+    lo0, hi0 = min(ths, thX - dl), max(ths, thX + dl)
+    for half in (0.005, 0.02, 0.06, 0.15, 0.4):
+        tha, thb = lo0 - half, hi0 + half
         gb = float(sup.h(i, thb) - sup.h(j, thb))
         ga = float(sup.h(i, tha) - sup.h(j, tha))
         if not (gb * ga < 0):
@@ -488,13 +580,51 @@ def prove_tail(sup: SupportTable, geoms, pair, link, scale, max_work: int = 2000
         sigma = -1.0 if gb > 0 else 1.0          # σ·f > 0 on the ray θb, f ≈ −g far away
         ok, msg = _prove_sector(sup, geoms, pair, tha, thb, sigma, r, scale, max_work)
         if ok:
-            return True, None, (tha, thb, sigma)
+            J = _lead_interval(sup, i, j, ths, tha, thb)
+            if J is None:
+                return False, "no interval of directions around the asymptote where its sites lead", None
+            return True, None, J
     return False, msg, None
+
+
+def _lead_interval(sup, i, j, ths, tha, thb):
+    """An interval J = [α, β] ⊂ (θa, θb) around the float asymptotic direction ths on which only
+    i and j attain max_k h_k and h_i − h_j has strict opposite signs at α and β (for the
+    accounting of :func:`runtime.voronoi.verify_closure.verify_accounting_conics`), or None."""
+    mu = sup.mu
+    others = [k for k in range(sup.n) if k not in (i, j)]
+    for eta in (1e-3, 1e-5, 1e-7):
+        a, b = ths - eta, ths + eta
+        if not (tha < a and b < thb):
+            continue
+        ga = float(sup.h(i, a) - sup.h(j, a))
+        gb = float(sup.h(i, b) - sup.h(j, b))
+        if not (ga * gb < 0 and min(abs(ga), abs(gb)) > 4 * mu):
+            continue
+        e = np.linspace(a, b, 9)
+        c0, c1 = e[:-1], e[1:]
+        good = True
+        for _ in range(30):
+            thc, half = 0.5 * (c0 + c1), 0.5 * (c1 - c0) * (1 + 1e-12)
+            lo = np.maximum(sup.h_range(i, thc, half)[0], sup.h_range(j, thc, half)[0])
+            okc = np.ones(len(thc), bool)
+            for k in others:
+                okc &= lo - sup.h_range(k, thc, half)[1] > 0
+            if okc.all():
+                break
+            c0, c1 = c0[~okc], c1[~okc]
+            mid = 0.5 * (c0 + c1)
+            c0, c1 = np.concatenate([c0, mid]), np.concatenate([mid, c1])
+        else:
+            good = False
+        if good:
+            return (a, b, 1.0 if gb < 0 else -1.0)
+    return None
 
 
 def _prove_sector(sup, geoms, pair, tha, thb, sigma, T0, scale, max_work):
     """(A) third sites, (M) σ·∂f/∂θ > 0 on Σ = {t ≥ T0, θ ∈ [θa, θb]}, (R) σ·f < 0 on the ray θa
-    and > 0 on the ray θb; cells in (τ = 1/t, θ), halved until decided (TAIL_DOC)."""
+    and > 0 on the ray θb; cells in (τ = 1/t, θ), halved until decided (module docstring)."""
     i, j = pair
     W, m, mu = sup.W, sup.m, sup.mu
     others = [k for k in range(sup.n) if k not in pair]
@@ -511,14 +641,16 @@ def _prove_sector(sup, geoms, pair, tha, thb, sigma, T0, scale, max_work):
             if work > max_work:
                 return False, f"the sign of d_{i} - d_{j} on the ray at angle {th:.6g} is undecided"
             t0 = 1.0 / T_b
-            eps = _eps(W, t0)
-            ok = want * sigma * (-gv) - eps - 2 * mu > 0        # f = −g + e, |e| ≤ ε
+            e_i = _eps1(sup.hp_abs(i, th, 0.0), W, t0)
+            e_j = _eps1(sup.hp_abs(j, th, 0.0), W, t0)
+            f_lo, f_hi = -gv - 2 * mu - e_j, -gv + 2 * mu + e_i      # f ∈ [−g − e_j, −g + e_i]
+            ok = np.where(want * sigma > 0, f_lo > 0, f_hi < 0)
             fin = T_a > 0
             if fin.any():
-                t1 = np.where(fin, 1.0 / np.where(fin, T_a, 1.0), np.inf)
+                t1 = np.where(fin, 1.0 / np.where(fin, T_a, 1.0), t0)
                 tc = 0.5 * (t0 + t1)
                 C = m + tc[:, None] * np.array([math.cos(th), math.sin(th)])
-                R = np.where(fin, 0.5 * (t1 - t0), np.inf) * (1 + 1e-12)
+                R = np.where(fin, 0.5 * (t1 - t0), np.inf) * (1 + 1e-12) + 1e-12 * (scale + tc)
                 li, hi_ = opi.bounds(C)
                 lj, hj = opj.bounds(C)
                 fl, fh = li - hj - 2 * R, hi_ - lj + 2 * R
@@ -537,39 +669,55 @@ def _prove_sector(sup, geoms, pair, tha, thb, sigma, T0, scale, max_work):
     e = np.linspace(tha, thb, nth + 1)
     h0 = np.tile(e[:-1], nt)
     h1 = np.tile(e[1:], nt)
+    okA_last = np.ones(len(ta), bool)
     work = 0
     while len(ta):
         work += len(ta)
         if work > max_work:
             k = int(np.argmax(tb))
-            return False, f"the tail is undecided near angle {0.5 * (h0[k] + h1[k]):.6g}"
+            what = "third site" if not okA_last[k] else "monotonicity"
+            return False, (f"the tail is undecided ({what}) near angle {0.5 * (h0[k] + h1[k]):.6g}, "
+                           f"distance {1.0 / tb[k]:.6g} from the scene's centre")
         thc, half = 0.5 * (h0 + h1), 0.5 * (h1 - h0) * (1 + 1e-12)
         t0 = 1.0 / tb
-        eps = _eps(W, t0)
+        e_i = _eps1(sup.hp_abs(i, thc, half), W, t0)
+        e_j = _eps1(sup.hp_abs(j, thc, half), W, t0)
         fin = ta > 0
         t1 = np.where(fin, 1.0 / np.where(fin, ta, 1.0), np.inf)
         tc = np.where(fin, 0.5 * (t0 + t1), t0)
         U = np.column_stack([np.cos(thc), np.sin(thc)])
         C = m + tc[:, None] * U
-        R = np.where(fin, t1 * half + 0.5 * (t1 - t0), np.inf) * (1 + 1e-12) + 1e-15 * scale
+        R = np.where(fin, t1 * half + 0.5 * (t1 - t0) + 1e-12 * (scale + tc), np.inf) * (1 + 1e-12)
         # (A) third sites: support bounds, or distance bounds on the cell's disc
         li_s, _ = sup.h_range(i, thc, half)
         lj_s, _ = sup.h_range(j, thc, half)
-        hmax_lo = np.maximum(li_s, lj_s)
+        hmax_lo = np.maximum(li_s - e_i, lj_s - e_j)     # on β: d_i = d_j ≤ t − hmax_lo
         okA = np.ones(len(ta), bool)
         if fin.any():
             Cf = np.where(fin[:, None], C, m + T0 * U)
             _, hi_i = opi.bounds(Cf)
             _, hi_j = opj.bounds(Cf)
             hi_min = np.minimum(hi_i, hi_j)
+        grad_i = None
         for k in others:
             _, hk = sup.h_range(k, thc, half)
-            okk = hmax_lo - hk - eps > 0
+            okk = hmax_lo - hk > 0
             if fin.any() and not okk.all():
                 lo_k, _ = ops[k].bounds(Cf)
                 okk |= fin & (lo_k - R > hi_min + R)
+                todo = fin & ~okk
+                if todo.any():
+                    # first order: d_k − d_i ≥ (lo_k − hi_i)(C) − R·sup|∇d_k − ∇d_i| on the disc
+                    if grad_i is None:
+                        Rf = np.where(fin, R, 0.0)
+                        grad_i = opi.gradient(Cf, Rf)
+                    Gi_, si_, vi_ = grad_i
+                    Gk, sk, vk = ops[k].gradient(Cf, Rf)
+                    lip = np.hypot(*(Gk - Gi_).T) + sk + si_
+                    lip = np.where(vk & vi_ & np.isfinite(lip), np.minimum(lip, 2.0), 2.0) * (1 + 1e-12)
+                    okk |= todo & (lo_k - hi_i - lip * R > 0)
             okA &= okk
-        # (M) σ·∂f/∂θ > 0: support-point enclosure (TAIL_DOC) or gradient enclosures on the disc
+        # (M) σ·∂f/∂θ > 0: support-point enclosure (module docstring) or gradient enclosures on the disc
         Wt = W * tb
         alpha = np.arcsin(np.minimum(1.0, Wt / (1 - Wt)))
         k_lo, k_hi = 1.0 / (1 + Wt), 1.0 / (1 - Wt)
@@ -589,14 +737,39 @@ def _prove_sector(sup, geoms, pair, tha, thb, sigma, T0, scale, max_work):
             perp = np.column_stack([-U[:, 1], U[:, 0]])
             val = sigma * (Df * perp).sum(1) - np.hypot(Df[:, 0], Df[:, 1]) * half - (si + sj) - 1e-12
             okM |= fin & vi & vj & (val > 0)
-        bad = ~(okA & okM)
+        # (F) f has one strict sign on the cell: β does not meet it
+        gc = sup.h(i, thc) - sup.h(j, thc)
+        gr = 2 * W * half + 2 * mu
+        okF = (-(gc + gr) - e_j > 0) | (-(gc - gr) + e_i < 0)
+        if fin.any():
+            li, hi_ = opi.bounds(Cf)
+            lj, hj = opj.bounds(Cf)
+            okF |= fin & ((li - hj - 2 * R > 0) | (hi_ - lj + 2 * R < 0))
+        bad = ~(okF | (okA & okM))
         if not bad.any():
             return True, None
-        # halve the undecided cells in both τ and θ
+        # halve the undecided cells: infinite cells in τ and θ, finite ones across their longer side
         a_, b_, c_, d_ = ta[bad], tb[bad], h0[bad], h1[bad]
+        oA = okA[bad]
         mt, mh = 0.5 * (a_ + b_), 0.5 * (c_ + d_)
-        ta = np.concatenate([a_, a_, mt, mt])
-        tb = np.concatenate([mt, mt, b_, b_])
-        h0 = np.concatenate([c_, mh, c_, mh])
-        h1 = np.concatenate([mh, d_, mh, d_])
+        inf_ = a_ <= 0
+        ta_f = np.where(inf_, np.inf, 1.0 / np.where(inf_, 1.0, a_))
+        radial = 0.5 * (ta_f - 1.0 / b_)
+        lateral = ta_f * 0.5 * (d_ - c_)
+        cut_t = inf_ | (radial >= lateral)
+        cut_h = inf_ | (radial < lateral)
+        parts = []
+        for ct, ch in ((False, False), (True, False), (False, True), (True, True)):
+            # quarter (ct, ch): upper τ half if ct, upper θ half if ch; kept when that cut is made
+            sel = (cut_t | ~np.array(ct)) & (cut_h | ~np.array(ch))
+            A0 = np.where(cut_t, np.where(ct, mt, a_), a_)
+            B0 = np.where(cut_t, np.where(ct, b_, mt), b_)
+            C0 = np.where(cut_h, np.where(ch, mh, c_), c_)
+            D0 = np.where(cut_h, np.where(ch, d_, mh), d_)
+            parts.append((A0[sel], B0[sel], C0[sel], D0[sel], oA[sel]))
+        ta = np.concatenate([p_[0] for p_ in parts])
+        tb = np.concatenate([p_[1] for p_ in parts])
+        h0 = np.concatenate([p_[2] for p_ in parts])
+        h1 = np.concatenate([p_[3] for p_ in parts])
+        okA_last = np.concatenate([p_[4] for p_ in parts])
     return True, None

@@ -4,8 +4,10 @@ Per edge: its site pair and end vertices (proved, on its bisector), its polyline
 vertices, points within the stated tolerance of the bisector and on the edge's arc), the
 parameter interval of the edge on the exact bisector of circle/point sites, the exact-zero
 argument for the third sites of its end vertices, then -- batched over all edges -- the third-site
-searches of :mod:`runtime.voronoi.verify_edges` (finite arcs and infinite tails).  Edges with an
-ellipse go to :mod:`runtime.voronoi.verify_curved`.
+searches of :mod:`runtime.voronoi.verify_edges` (finite arcs and infinite tails).  When a site is
+an ellipse, every edge goes to :mod:`runtime.voronoi.verify_curved` (chain of strips; unbounded
+ends by :func:`runtime.voronoi.verify_curved.prove_tail`, which also gives the interval of
+directions recorded for the accounting).
 """
 from __future__ import annotations
 
@@ -13,6 +15,7 @@ import math
 
 import numpy as np
 
+from .verify_curved import SupportTable
 from .verify_edges import bisector, params, prove_arcs, prove_tail
 
 __all__ = ["check_edges"]
@@ -31,6 +34,7 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats):
     intervals: dict = {}     # pair -> list of (kind, lo, hi, edge id)
     vok_by_id = {v.id: f for v, f in zip(D.vertices, vok)}
     jobs, cands = [], []
+    sup = None
     for e in D.edges:
         name = _ename(e)
         pair = tuple(int(s) for s in e.sites)
@@ -69,7 +73,9 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats):
             eok.append(False)
             continue
         if table is None:
-            eok.append(_curved_edge(e, name, pair, P, endv, geoms, problems))
+            if sup is None:
+                sup = SupportTable(geoms)
+            eok.append(_curved_edge(e, name, pair, P, endv, geoms, problems, sup, ends_inf))
             continue
         bis = bisector(table, *pair)
         if isinstance(bis, str):
@@ -112,9 +118,11 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats):
     return eok, ends_inf, intervals
 
 
-def _curved_edge(e, name, pair, P, endv, geoms, problems) -> bool:
-    """An edge with a conic site (:mod:`runtime.voronoi.verify_curved`)."""
-    from .verify_curved import prove_curved_edge
+def _curved_edge(e, name, pair, P, endv, geoms, problems, sup, ends_inf) -> bool:
+    """An edge with a conic site (:mod:`runtime.voronoi.verify_curved`); an unbounded end is
+    proved to infinity by :func:`runtime.voronoi.verify_curved.prove_tail` and recorded in
+    ``ends_inf`` as (θ_mid, pair, (θa, θb), edge id) with [θa, θb] its asymptotic sector."""
+    from .verify_curved import prove_curved_edge, prove_tail
 
     v0, v1 = endv
     fin = [b for g in geoms for b in g.bounding_box() if math.isfinite(b)]
@@ -144,10 +152,13 @@ def _curved_edge(e, name, pair, P, endv, geoms, problems) -> bool:
         problems.append(f"{name}: {msg}")
         return False
     if v0 is None or v1 is None:
-        q = beyond
-        problems.append(f"{name}: proved up to ({q[0]:.9g}, {q[1]:.9g}), not proved beyond it "
-                        "(unbounded edges of conic sites)")
-        return False
+        q = beyond["point"]
+        ok, msg, sector = prove_tail(sup, geoms, pair, beyond["link"], scale)
+        if not ok:
+            problems.append(f"{name}: proved up to ({q[0]:.9g}, {q[1]:.9g}), not proved beyond it: {msg}")
+            return False
+        tha, thb, _ = sector
+        ends_inf.append((0.5 * (tha + thb) % (2 * math.pi), pair, (tha, thb), e.id))
     return True
 
 

@@ -46,7 +46,7 @@ from ..certify_foot import normalised_coefficients, to_arb, working_prec
 from ..certify_krawczyk import FootSystem, KrawczykFailure
 from ..circles import Circle
 from ..conic import Conic
-from .geometry import site_geometry
+from .conic_geometry import site_geometry
 
 __all__ = ["VertexProof", "refine_vertex", "certify_vertex", "certify_empty", "classify_others",
            "certify_vertices_circles", "SiteFootSystem"]
