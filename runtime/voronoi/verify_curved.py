@@ -49,8 +49,9 @@ On the sector Σ = {t ≥ T, θ ∈ [θa, θb]} ∋ θ*, with f = d_i − d_j �
 
 (F) f has one strict sign on the cell (β does not meet it), or
 (A)+(M) every other site k is farther than d_i = d_j on the cell (max(h_i − e_i, h_j − e_j) > h_k,
-    or the distance bounds on the cell's disc as in (T2)) and σ·∂f/∂θ > 0 on it (the enclosure
-    above, or the gradient enclosures on the cell's disc);
+    or the distance bounds on the cell's disc as in (T2), or to first order
+    d_k − d_i ≥ lo_k(C) − hi_i(C) − R·(|G_k − G_i| + s_k + s_i) with the gradient enclosures) and
+    σ·∂f/∂θ > 0 on it (the enclosure above, or the gradient enclosures on the cell's disc);
 
 and on the rays θa, θb: σ·f < 0, resp. > 0, for all t ≥ T (τ-intervals, same bounds).  Then on
 every circle t = const ≥ T, θ ↦ f is negative then positive (σ = 1) with all its zeros in (M)
@@ -502,15 +503,18 @@ def prove_tail(sup: SupportTable, geoms, pair, link, scale, max_work: int = 1000
         return False, "the proved part does not reach far enough for the tail argument", None
     thX = math.atan2(X[1] - m[1], X[0] - m[0])
     # ---- the asymptotic direction: a zero of g = h_i − h_j where i, j are the two largest
-    grid = thX + np.linspace(-math.pi, math.pi, 4097)
-    g = sup.h(i, grid) - sup.h(j, grid)
-    hij = np.maximum(sup.h(i, grid), sup.h(j, grid))
-    top = np.full(len(grid), -np.inf)
-    for k in range(sup.n):
-        if k not in pair:
-            top = np.maximum(top, sup.h(k, grid))
-    ch = np.nonzero((np.sign(g[:-1]) != np.sign(g[1:])) & (hij[:-1] > top[:-1]) & (hij[1:] > top[1:]))[0]
-    if not len(ch):
+    for npts in (4097, 65537):
+        grid = thX + np.linspace(-math.pi, math.pi, npts)
+        g = sup.h(i, grid) - sup.h(j, grid)
+        hij = np.maximum(sup.h(i, grid), sup.h(j, grid))
+        top = np.full(len(grid), -np.inf)
+        for k in range(sup.n):
+            if k not in pair:
+                top = np.maximum(top, sup.h(k, grid))
+        ch = np.nonzero((np.sign(g[:-1]) != np.sign(g[1:])) & (hij[:-1] > top[:-1]) & (hij[1:] > top[1:]))[0]
+        if len(ch):
+            break
+    else:
         return False, "no direction where its two sites lead the support functions", None
     c0 = int(ch[np.argmin(np.abs(grid[ch] - thX))])
     a_, b_ = grid[c0], grid[c0 + 1]
@@ -613,6 +617,9 @@ def _lead_interval(sup, i, j, ths, tha, thb):
             if okc.all():
                 break
             c0, c1 = c0[~okc], c1[~okc]
+            if len(c0) > 4096:
+                good = False
+                break
             mid = 0.5 * (c0 + c1)
             c0, c1 = np.concatenate([c0, mid]), np.concatenate([mid, c1])
         else:
