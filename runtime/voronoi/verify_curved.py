@@ -2,7 +2,11 @@
 
 Used by :mod:`runtime.voronoi.verify` for an edge (i, j) between two proved vertices when one of
 i, j (or a third site of an end vertex) is an ellipse, where the bisector has no closed form.
-The reported polyline only guides the proof.  For each polyline segment, with unit direction t,
+The reported polyline only guides the proof: its nodes are moved onto β (float secant steps),
+nodes where it turns back are dropped, and a segment is split (its projected midpoint inserted)
+while the arc strays from the chord by more than a tenth of the wanted strip half-width
+(about 3x the stated tolerance, at most 0.03·d·|∇d_i − ∇d_j|); when a third site stays undecided
+the strips are narrowed (factors 0.2, 0.05) and the guide re-split.  For each polyline segment, with unit direction t,
 normal n and length L, take the rectangle Π = {P_l + s·t + λ·n : s ∈ [−e, L + e], |λ| ≤ w}
 (e covers the turn to the next segment and the vertex boxes).  With f = d_i − d_j:
 
@@ -168,6 +172,26 @@ def prove_curved_edge(geoms, scale, pair, P, v0, v1, tol):
         beyond = tuple(S[-1])
         if v0f:
             S = S[::-1]
+    if len(S) >= 2:
+        # the nodes are only a guide: move them onto β (also the cut of an unbounded end)
+        lo_k = 1 if v0 is not None else 0
+        hi_k = len(S) - 1 if v1 is not None else len(S)
+        ks = np.arange(lo_k, hi_k)
+        if len(ks):
+            dirs = S[np.minimum(ks + 1, len(S) - 1)] - S[np.maximum(ks - 1, 0)]
+            Xn, dev = _project(S[ks], dirs, geoms[i], geoms[j])
+            okn = np.isfinite(dev) & np.isfinite(Xn).all(1)
+            S[ks[okn]] = Xn[okn]
+        for _ in range(len(S)):
+            # drop inner nodes where the guide turns back (off-bisector or misplaced points)
+            if len(S) < 3:
+                break
+            sg = S[1:] - S[:-1]
+            Tg = sg / np.maximum(np.hypot(sg[:, 0], sg[:, 1]), 1e-300)[:, None]
+            cg = (Tg[:-1] * Tg[1:]).sum(1)
+            if not cg.min() < 0.5:
+                break
+            S = np.delete(S, int(np.argmin(cg)) + 1, axis=0)
     if v0 is not None:
         S[0] = (v0.x, v0.y)
     if v1 is not None:
@@ -176,86 +200,149 @@ def prove_curved_edge(geoms, scale, pair, P, v0, v1, tol):
     k1 = next(s for s in v1.sites if s not in pair) if v1 is not None else None
     h0 = (v0.h * 2 + v0.tol) if v0 is not None else 0.0
     h1 = (v1.h * 2 + v1.tol) if v1 is not None else 0.0
-    last_msg = None
-    attempts = 0
-    for refine in range(3):
-        if refine:      # the polyline is only a guide: halve its segments, nodes moved onto β
-            S = _refine(S, geoms[i], geoms[j])
-        seg = S[1:] - S[:-1]
-        L = np.hypot(seg[:, 0], seg[:, 1])
-        if np.any(L <= 1e-12 * scale):
-            keep = np.concatenate([[True], L > 1e-12 * scale])
-            S = S[keep]
+    S_guide = S
+    for narrow in (1.0, 0.2, 0.05):
+        S = S_guide.copy()
+        last_msg = None
+        attempts = 0
+        for refine in range(3):
+            if refine:      # the polyline is only a guide: halve its segments, nodes moved onto β
+                S = _refine(S, geoms[i], geoms[j])
+            # split where the arc strays from the chord by more than a fraction of the strip width
+            S = _adapt(S, geoms[i], geoms[j], lambda X: 0.1 * narrow * _node_width(X, geoms[i], geoms[j], tol, scale))
             seg = S[1:] - S[:-1]
             L = np.hypot(seg[:, 0], seg[:, 1])
-        if len(S) < 2:
-            return False, "degenerate polyline", None
-        T = seg / L[:, None]
-        N = _rot90(T)
-        # turning angles between consecutive segments
-        cosang = np.clip((T[:-1] * T[1:]).sum(1), -1, 1)
-        if np.any(cosang < math.cos(math.radians(60))):
-            last_msg = "polyline turns by more than 60 degrees"
-            continue
-        sinang = np.sqrt(1 - cosang ** 2)
-        # node half-widths: about 3x the stated tolerance, at most a quarter of the adjacent segments
-        Lmin = np.minimum(np.concatenate([[L[0]], L]), np.concatenate([L, [L[-1]]]))
-        for wfac, endfac in ((1.0, 1e-3), (0.3, 1e-5), (3.0, 1e-3)):
-            W = np.minimum(0.25 * Lmin, max(3 * tol, 1e-6 * scale) * wfac)
-            W = np.maximum(W, 1e-12 * scale)
-            # narrow at the vertices: the transversality test (T3) needs the gradient enclosures
-            # (slack ~ 4R/d) well below the angle between the bisectors
-            if v0 is not None:
-                W[0] = max(min(W[0], 0.05 * L[0], endfac * (v0.r + 1.0)), 8 * h0 + 1e-12 * scale)
-            if v1 is not None:
-                W[-1] = max(min(W[-1], 0.05 * L[-1], endfac * (v1.r + 1.0)), 8 * h1 + 1e-12 * scale)
-            wn = np.maximum(W[:-1], W[1:])
-            e_lo = np.concatenate([[0.0], wn[:-1] * sinang]) + 1e-12 * scale
-            e_hi = np.concatenate([wn[1:] * sinang, [0.0]]) + 1e-12 * scale
-            e_lo[0] += 2 * h0
-            e_hi[-1] += 2 * h1
-            ok, msg = _prove_rects(op, geoms, S, T, N, L, e_lo, e_hi, W, pair, k0, k1, scale)
-            if ok:
-                if beyond is not None:
-                    # the chain's rectangle at the unbounded end, for the link with the tail
-                    l = 0 if v0f else len(L) - 1
-                    sx = min(0.5 * L[l], 0.25 * rad)
-                    beyond = {"point": beyond, "rad": rad,
-                              "link": (S[l].copy(), T[l].copy(), N[l].copy(), float(L[l]),
-                                       float(min(W[l], W[l + 1])), sx if v0f else float(L[l]) - sx)}
-                return True, None, beyond
-            last_msg = msg
-            attempts += 1
+            if np.any(L <= 1e-12 * scale):
+                keep = np.concatenate([[True], L > 1e-12 * scale])
+                S = S[keep]
+                seg = S[1:] - S[:-1]
+                L = np.hypot(seg[:, 0], seg[:, 1])
+            if len(S) < 2:
+                return False, "degenerate polyline", None
+            T = seg / L[:, None]
+            N = _rot90(T)
+            # turning angles between consecutive segments
+            cosang = np.clip((T[:-1] * T[1:]).sum(1), -1, 1)
+            if np.any(cosang < math.cos(math.radians(60))):
+                last_msg = "polyline turns by more than 60 degrees"
+                continue
+            sinang = np.sqrt(1 - cosang ** 2)
+            wnode = narrow * _node_width(S, geoms[i], geoms[j], tol, scale)
+            # node half-widths: about 3x the stated tolerance, at most a quarter of the adjacent segments
+            Lmin = np.minimum(np.concatenate([[L[0]], L]), np.concatenate([L, [L[-1]]]))
+            for wfac, endfac in ((1.0, 1e-3), (0.3, 1e-5), (3.0, 1e-3)):
+                W = np.minimum(0.25 * Lmin, wnode * wfac)
+                W = np.maximum(W, 1e-12 * scale)
+                # narrow at the vertices: the transversality test (T3) needs the gradient enclosures
+                # (slack ~ 4R/d) well below the angle between the bisectors
+                if v0 is not None:
+                    W[0] = max(min(W[0], 0.05 * L[0], endfac * (v0.r + 1.0)), 8 * h0 + 1e-12 * scale)
+                if v1 is not None:
+                    W[-1] = max(min(W[-1], 0.05 * L[-1], endfac * (v1.r + 1.0)), 8 * h1 + 1e-12 * scale)
+                wn = np.maximum(W[:-1], W[1:])
+                e_lo = np.concatenate([[0.0], wn[:-1] * sinang]) + 1e-12 * scale
+                e_hi = np.concatenate([wn[1:] * sinang, [0.0]]) + 1e-12 * scale
+                e_lo[0] += 2 * h0
+                e_hi[-1] += 2 * h1
+                ok, msg = _prove_rects(op, geoms, S, T, N, L, e_lo, e_hi, W, pair, k0, k1, scale)
+                if ok:
+                    if beyond is not None:
+                        # the chain's rectangle at the unbounded end, for the link with the tail
+                        l = 0 if v0f else len(L) - 1
+                        sx = min(0.5 * L[l], 0.25 * rad)
+                        beyond = {"point": beyond, "rad": rad,
+                                  "link": (S[l].copy(), T[l].copy(), N[l].copy(), float(L[l]),
+                                           float(min(W[l], W[l + 1])), sx if v0f else float(L[l]) - sx)}
+                    return True, None, beyond
+                last_msg = msg
+                attempts += 1
+                if attempts >= 4:
+                    break
+                if "bisector leaves" in msg or "monotonicity" in msg:
+                    break       # refine the guide rather than try other widths
             if attempts >= 4:
-                return False, last_msg, beyond
-            if "bisector leaves" in msg or "monotonicity" in msg:
-                break       # refine the guide rather than try other widths
+                break
+        # a third site undecided: the strips (and the pieces' discs) are too wide; narrow them
+        if last_msg is None or "a third site" not in last_msg:
+            break
     return False, last_msg, beyond
 
 
-def _refine(S, gi, gj):
-    """Insert the midpoint of every segment, moved onto the bisector along the segment's normal
-    (float secant steps on f = d_i − d_j; only a better guide, nothing is assumed of it)."""
-    A, B = S[:-1], S[1:]
-    M = 0.5 * (A + B)
-    t = B - A
-    n = np.column_stack([-t[:, 1], t[:, 0]]) / np.maximum(np.hypot(t[:, 0], t[:, 1]), 1e-300)[:, None]
+def _project_mid(A, B, gi, gj):
+    """Midpoints of the segments [A, B] moved onto the bisector along the segments' normals
+    (float secant steps on f = d_i − d_j; only a better guide, nothing is assumed of it).
+    Returns (points, offsets)."""
+    return _project(0.5 * (A + B), B - A, gi, gj)
+
+
+def _project(M, t, gi, gj):
+    """Points M moved onto the bisector along the normals of the directions t (float secant
+    steps, moves at most |t|/2).  Returns (points, offsets)."""
+    Ls = np.maximum(np.hypot(t[:, 0], t[:, 1]), 1e-300)
+    n = np.column_stack([-t[:, 1], t[:, 0]]) / Ls[:, None]
     f = lambda X: gi.distance(X) - gj.distance(X)       # noqa: E731
-    h = 1e-3 * np.hypot(t[:, 0], t[:, 1])
-    lam0, lam1 = np.zeros(len(M)), h
+    lam0, lam1 = np.zeros(len(M)), 1e-3 * Ls
     f0, f1 = f(M), f(M + lam1[:, None] * n)
+    fM = np.abs(f0)
     for _ in range(8):
         den = f1 - f0
         ok = np.abs(den) > 1e-300
         lam2 = np.where(ok, lam1 - f1 * (lam1 - lam0) / np.where(ok, den, 1.0), lam1)
-        lam2 = np.clip(lam2, -0.5 * np.hypot(t[:, 0], t[:, 1]), 0.5 * np.hypot(t[:, 0], t[:, 1]))
+        lam2 = np.clip(lam2, -0.5 * Ls, 0.5 * Ls)
         lam0, f0 = lam1, f1
         lam1, f1 = lam2, f(M + lam2[:, None] * n)
-    Mn = np.where(np.isfinite(lam1)[:, None], M + lam1[:, None] * n, M)
-    out = np.empty((2 * len(S) - 1, 2))
-    out[0::2] = S
-    out[1::2] = Mn
+    good = np.isfinite(lam1) & np.isfinite(f1) & ((np.abs(f1) <= 1e-3 * fM) | (np.abs(f1) < 1e-12 * (1 + np.abs(M).sum(1))))
+    Mn = np.where(good[:, None], M + np.where(good, lam1, 0.0)[:, None] * n, M)
+    return Mn, np.where(good, np.abs(lam1), np.inf)
+
+
+def _node_width(X, gi, gj, tol, scale):
+    """Strip half-width wanted at the polyline nodes X: about 3x the stated tolerance, at most a
+    small fraction of d·|∇d_i − ∇d_j| (the gradient enclosures of the monotonicity test
+    (T1) have slack ~ 4R/d)."""
+    X = np.asarray(X, float).reshape(-1, 2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        Fi, _ = gi.foot_points(X)
+        Fj, _ = gj.foot_points(X)
+        Vi, Vj = X - Fi, X - Fj
+        di = np.hypot(Vi[:, 0], Vi[:, 1])
+        dj = np.hypot(Vj[:, 0], Vj[:, 1])
+        D = Vi / di[:, None] - Vj / dj[:, None]
+        c = 0.03 * np.minimum(di, dj) * np.hypot(D[:, 0], D[:, 1])
+    c = np.where(np.isfinite(c), c, 0.0)
+    return np.maximum(np.minimum(max(3 * tol, 1e-6 * scale), c), 1e-9 * scale)
+
+
+def _refine(S, gi, gj, sel=None):
+    """Insert the midpoint of every segment (or of the selected ones), moved onto the bisector
+    (:func:`_project_mid`)."""
+    if sel is None:
+        sel = np.ones(len(S) - 1, bool)
+    Mn, _ = _project_mid(S[:-1][sel], S[1:][sel], gi, gj)
+    return _insert(S, sel, Mn)
+
+
+def _insert(S, sel, Mn):
+    out = np.empty((len(S) + int(sel.sum()), 2))
+    pos = np.arange(len(S)) + np.concatenate([[0], np.cumsum(sel)])
+    out[pos] = S
+    out[pos[:-1][sel] + 1] = Mn
     return out
+
+
+def _adapt(S, gi, gj, target, rounds=12, cap=4000):
+    """Split the segments whose bisector arc strays more than ``target`` from the chord (offset
+    of the projected midpoint, float), to a bounded depth: the strips of :func:`_prove_rects`
+    must contain the arc.  Only a guide; the proof decides."""
+    for _ in range(rounds):
+        Mn, dev = _project_mid(S[:-1], S[1:], gi, gj)
+        tn = target(S)
+        Ls = np.hypot(*(S[1:] - S[:-1]).T)
+        sel = (dev > np.minimum(tn[:-1], tn[1:])) & (dev < 0.25 * Ls)     # else the projection is not trusted
+        if not sel.any() or len(S) + int(sel.sum()) > cap:
+            break
+        S = _insert(S, sel, Mn[sel])
+    return S
 
 
 def _prove_rects(op, geoms, S, T, N, L, e_lo, e_hi, W, pair, k0, k1, scale):
@@ -536,6 +623,7 @@ def prove_tail(sup: SupportTable, geoms, pair, link, scale, max_work: int = 1000
     if not r > 2.0 * W:
         return False, "the proved part does not reach far enough for the tail argument", None
     thX = math.atan2(X[1] - m[1], X[0] - m[0])
+    ths = thX + ((ths - thX + math.pi) % (2 * math.pi)) - math.pi     # same branch as thX
     # ---- the link: two points of the circle |q − m| = r inside the rectangle, near its two
     # lateral sides (where the chain proved f's signs), with f of opposite signs
     tv, nv, P0 = np.asarray(tv, float), np.asarray(nv, float), np.asarray(P0, float)
