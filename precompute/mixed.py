@@ -39,7 +39,7 @@ import flint
 import numpy as np
 from scipy.optimize import linprog
 
-from .polytopes import _cross, as_points, affine_rank, minkowski_sum, normalized_volume, vertices
+from .polytopes import generalised_cross, as_points, minkowski_sum, normalized_volume, vertices
 
 __all__ = [
     "NonGenericLifting", "MixedCell", "random_lifting", "lower_edges", "mixed_cells",
@@ -169,7 +169,7 @@ def _line(eq_a, eq_b, ge_a, ge_b):
     interval (lo, hi) of t from the inequalities, or None if it is empty (floats; d exact)."""
     alpha0, *_ = np.linalg.lstsq(eq_a, eq_b, rcond=None)
     # direction: null space of eq_a (integer rows): exact integer generalised cross product
-    d = np.array(_cross(np.rint(eq_a).astype(np.int64).tolist()), dtype=np.int64)
+    d = np.array(generalised_cross(np.rint(eq_a).astype(np.int64).tolist()), dtype=np.int64)
     if not d.any():
         return None
     d = d // math.gcd(*d.tolist())

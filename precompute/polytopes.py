@@ -20,7 +20,6 @@ simplices sum to zero (Minkowski's relation: the boundary is closed, so no facet
 """
 from __future__ import annotations
 
-import itertools
 import math
 from dataclasses import dataclass
 from fractions import Fraction
@@ -33,7 +32,7 @@ from scipy.spatial import ConvexHull, QhullError
 
 __all__ = [
     "as_points", "support", "affine_rank", "ExactHull", "convex_hull", "vertices",
-    "minkowski_sum", "normalized_volume", "lattice_points", "in_convex_hull",
+    "minkowski_sum", "normalized_volume", "lattice_points", "in_convex_hull", "generalised_cross",
 ]
 
 
@@ -80,7 +79,7 @@ def affine_rank(points: np.ndarray) -> int:
 # ----------------------------------------------------------------------------------------------
 # exact convex hull (full-dimensional sets)
 # ----------------------------------------------------------------------------------------------
-def _cross(vectors: list[list[int]]) -> list[int]:
+def generalised_cross(vectors: list[list[int]]) -> list[int]:
     """Generalised cross product of N-1 integer vectors in Z^N (cofactor expansion, exact)."""
     n = len(vectors) + 1
     out = []
@@ -152,7 +151,7 @@ def convex_hull(points: np.ndarray) -> ExactHull:
     for s in simp.tolist():
         base = py_verts[s[0]]
         vecs = [[py_verts[k][j] - base[j] for j in range(n)] for k in s[1:]]
-        nrm = _cross(vecs)
+        nrm = generalised_cross(vecs)
         if not any(nrm):
             continue  # degenerate (flat) simplex of a triangulated facet: no area
         dot_c = sum(Fraction(nrm[j]) * (centroid2[j] - base[j]) for j in range(n))

@@ -407,6 +407,19 @@ def _factor(p) -> list:
         return out
 
 
+def _first_resultants(comp, ctx, x, y, u, v, R):
+    """The offset system of the curve comp = 0 at the point (u, v) and squared distance R (thesis
+    §4.1: normality n = 0 and distance d = 0), and the resultants of comp with n and with d in the
+    first variable eliminated (y, or x for a component free of y).
+    Returns (comp in ctx, Res(comp, n), Res(comp, d), the variable left to eliminate)."""
+    fe = comp.compose(x, y, ctx=ctx)
+    fx, fy = fe.derivative("x"), fe.derivative("y")
+    n = -fy * (u - x) + fx * (v - y)
+    d = (u - x) ** 2 + (v - y) ** 2 - R
+    first, second = ("y", "x") if comp.degrees()[1] > 0 else ("x", "y")
+    return fe, fe.resultant(n, first), fe.resultant(d, first), second
+
+
 def _resultant_factors(comp):
     """Irreducible factors (with multiplicities) of the iterated resultant for one ℚ-irreducible
     component ``comp`` of the curve: Res_x(P, Res_y(comp, d)) with P the part of Res_y(comp, n)
@@ -417,12 +430,7 @@ def _resultant_factors(comp):
     blow-up of the full resultant (quartics ~7× faster).  A component free of y (vertical
     lines) is eliminated in the other order."""
     x, y, u, v, R = _ELIM_CTX.gens()
-    fe = comp.compose(x, y, ctx=_ELIM_CTX)
-    fx, fy = fe.derivative("x"), fe.derivative("y")
-    n = -fy * (u - x) + fx * (v - y)
-    d = (u - x) ** 2 + (v - y) ** 2 - R
-    first, second = ("y", "x") if comp.degrees()[1] > 0 else ("x", "y")
-    r1, r2 = fe.resultant(n, first), fe.resultant(d, first)
+    fe, r1, r2, second = _first_resultants(comp, _ELIM_CTX, x, y, u, v, R)
     part = _ELIM_CTX.from_dict({(0, 0, 0, 0, 0): 1})
     out = []
     for g, e in _factor(r1):
@@ -612,12 +620,7 @@ def _degrees_on_line(comps, line, samples_per_component, rng):
     u, v = a * s + b, c * s + e
     deg_s, deg_R = 0, 0
     for comp in comps:
-        fe = comp.compose(x, y, ctx=_LINE_CTX)
-        fx, fy = fe.derivative("x"), fe.derivative("y")
-        n = -fy * (u - x) + fx * (v - y)
-        d = (u - x) ** 2 + (v - y) ** 2 - R
-        first, second = ("y", "x") if comp.degrees()[1] > 0 else ("x", "y")
-        r1, r2 = fe.resultant(n, first), fe.resultant(d, first)
+        fe, r1, r2, second = _first_resultants(comp, _LINE_CTX, x, y, u, v, R)
         part = _LINE_CTX.from_dict({(0, 0, 0, 0): 1})
         for g, k in _factor(r1):
             if g.degrees()[2]:

@@ -222,7 +222,8 @@ def readme_commands(readme: str) -> list[str]:
 
 @pytest.mark.slow
 @pytest.mark.skipif(bool(os.environ.get("CURVEDVORONOI_SKIP_CLONE_TEST")),
-                    reason="CURVEDVORONOI_SKIP_CLONE_TEST is set (inside the clone test itself)")
+                    reason="run inside the bare-clone test itself (set there to avoid cloning recursively); "
+                           "the outer run tests the clone")
 def test_readme_commands_in_a_bare_clone(tmp_path):
     """git clone of this repository's HEAD, nothing beside it, then the README's two commands as
     written, each in its own fresh clone (they are independent; run side by side, since pip spends

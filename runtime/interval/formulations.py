@@ -71,10 +71,10 @@ def feature_equations(curve: Curve, i: int, feat) -> tuple[list, list]:
 def foot_contractor(curve: Curve, i: int):
     """Block (SubEq3B-like) contraction of the foot point p_i with the two site equations
     (f_i, n_i) only, q in the box acting as interval parameters (parametric Krawczyk)."""
-    from .verify import CRIT, _crit_polys
+    from .verify import CRIT, crit_polys
     from .solver import krawczyk
 
-    polys = _crit_polys(curve)
+    polys = crit_polys(curve)
     sub = System(CRIT, 2, polys, [], [], [arb(0), arb(0)], f"foot[{curve.name}]")
     k = 2 + 2 * i
 

@@ -24,7 +24,7 @@ from ..result import LocatorError, LocatorResult, VoronoiVertex
 from .bound import VertexBound, vertex_bound
 from .boxes import Box, arb_hi, arb_lo
 from .curves import Curve, parse_curve
-from .formulations import (VARS_A, offset_system, original_domain, original_system, r_lower_offset,
+from .formulations import (offset_system, original_domain, original_system, r_lower_offset,
                            r_lower_original, sample_hook, site_features)
 from .solver import Solution, SolverOptions, krawczyk, newton_point, solve, tighten
 from .verify import (conflict_status, d2_ball, distance_to, neighbourhood, site_status, special_points)

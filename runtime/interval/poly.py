@@ -274,7 +274,7 @@ def jacobian(polys: Iterable[Poly], nvars: int) -> list[list[Poly]]:
 
 
 # ---------------------------------------------------------------------- Taylor (centred) form
-def _short_dyadic(m: float, w: float) -> Fraction:
+def short_dyadic(m: float, w: float) -> Fraction:
     """A dyadic rational near m with few bits (any point of the box is a valid Taylor centre)."""
     if w <= 0 or not (m == m):
         return Fraction(m)

@@ -25,7 +25,7 @@ import sys
 from fractions import Fraction
 import time
 from dataclasses import dataclass, field
-from typing import Callable, Sequence
+from typing import Callable
 
 import numpy as np
 from flint import arb, arb_mat
@@ -78,10 +78,10 @@ class System:
 
     def taylor_eval(self, box: Box):
         """(F(X) enclosures, F(c) exact balls, J(X) enclosures, centre c) from Taylor forms."""
-        from .poly import _short_dyadic, taylor_form
+        from .poly import short_dyadic, taylor_form
 
         w = box.width
-        c = [_short_dyadic(float(m), float(wi)) for m, wi in zip(box.mid, w)]
+        c = [short_dyadic(float(m), float(wi)) for m, wi in zip(box.mid, w)]
         cf = np.array([float(v) for v in c])
         if np.any(cf < box.lo) or np.any(cf > box.hi):
             c = [Fraction(float(m)) for m in box.mid]

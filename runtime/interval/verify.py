@@ -17,7 +17,7 @@ from fractions import Fraction
 import numpy as np
 from flint import arb
 
-from .boxes import Box, arb_hi, arb_lo, interval_arb
+from .boxes import Box, arb_hi, arb_lo
 from .curves import Curve
 from .poly import Poly
 from .solver import System, SolverOptions, krawczyk, solve
@@ -25,7 +25,7 @@ from .solver import System, SolverOptions, krawczyk, solve
 CRIT = ("px", "py", "qx", "qy")
 
 
-def _crit_polys(curve: Curve):
+def crit_polys(curve: Curve):
     if not hasattr(curve, "_crit"):
         f = curve.f.rename(CRIT, [0, 1])
         fx = curve.fx.rename(CRIT, [0, 1])
@@ -78,7 +78,7 @@ def critical_points(curve: Curve, Q: Box, threshold: float, max_boxes: int = 200
             return True
         return bool(curve.where) and curve.where_status(xs[0], xs[1]) == "out"
 
-    sysm = System(CRIT, 2, _crit_polys(curve), [], [far], Q.arbs(), f"crit[{curve.name}]")
+    sysm = System(CRIT, 2, crit_polys(curve), [], [far], Q.arbs(), f"crit[{curve.name}]")
     res = solve(sysm, Box(np.array(lo), np.array(hi)), SolverOptions(bisection="largest", max_boxes=max_boxes,
                                                                       eps=1e-12))
     qa = Q.arbs()
@@ -170,7 +170,7 @@ def _same_zero(curve: Curve, p: Point, own: Box, Q: Box) -> bool:
     if not p.box.inflate(2.0, 1e-12).overlaps(own):
         return False
     if p.kind == "critical":
-        sysm = System(CRIT, 2, _crit_polys(curve), [], [], Q.arbs(), "same")
+        sysm = System(CRIT, 2, crit_polys(curve), [], [], Q.arbs(), "same")
     elif p.kind == "endpoint":
         sysm = System(("x", "y"), 2, [curve.f, curve.where[p.k][0]], [], [], [], "same")
     else:

@@ -8,7 +8,7 @@ Prints a summary (the diagram JSON on stdout when no ``--json`` is given and not
 Bad input: one line on stderr, exit status 2.  Ctrl-C: the construction stops and the partial
 result is written, marked not certified.
 
-Public API: :func:`diagram_main`, :func:`read_sites`.
+Public API: :func:`diagram_main` (sites files are read by :func:`runtime.sites_io.read_sites`).
 """
 from __future__ import annotations
 
@@ -16,34 +16,11 @@ import argparse
 import json
 import sys
 
-__all__ = ["diagram_main", "read_sites"]
+from ..sites_io import read_sites
+
+__all__ = ["diagram_main"]
 
 EXIT_BAD_INPUT = 2
-
-
-def read_sites(path: str) -> list:
-    """The sites of a SITES.json file; ValueError naming the file and the site on bad input."""
-    from ..sites_io import parse_site, read_coefficient_lists
-    from ..conic import Conic
-
-    try:
-        with open(path) as fh:
-            doc = json.load(fh)
-    except OSError as exc:
-        raise ValueError(f"cannot read {path}: {exc.strerror}") from None
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"{path} is not valid JSON: {exc}") from None
-    if isinstance(doc, dict) and isinstance(doc.get("sites"), list):
-        return [parse_site(s, f"{path}: site {i}") for i, s in enumerate(doc["sites"])]
-    if isinstance(doc, dict) and isinstance(doc.get("conics"), list):
-        out = []
-        for i, co in enumerate(read_coefficient_lists(path)):
-            try:
-                out.append(Conic.from_coefficients(*co))
-            except ValueError as exc:
-                raise ValueError(f"{path}: site {i}: {exc}") from None
-        return out
-    raise ValueError(f'{path}: expected {{"sites": [...]}} or {{"conics": [...]}}')
 
 
 def _parser():

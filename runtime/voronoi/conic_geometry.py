@@ -82,7 +82,7 @@ from ..circles import Circle
 from ..conic import Conic
 from .geometry import EPS, CircleGeometry, PointGeometry, SiteGeometry, rounding_slack
 
-__all__ = ["ConicGeometry", "EllipseGeometry", "HyperbolaGeometry", "ParabolaGeometry",
+__all__ = ["ConicGeometry", "CentralConicGeometry", "EllipseGeometry", "HyperbolaGeometry", "ParabolaGeometry",
            "conic_geometry", "site_geometry", "sites_intersect", "site_inside"]
 
 #: relative gap above which the fast bounds defer to the ball route
@@ -420,8 +420,8 @@ class ConicGeometry(SiteGeometry):
         return Pts[keep]
 
 
-class EllipseGeometry(ConicGeometry):
-    """An ellipse site X²/a² + Y²/b² = 1 (a ≥ b) in its canonical frame."""
+class CentralConicGeometry(ConicGeometry):
+    """A conic with a centre (ellipse, hyperbola): semi-axes a, b of its canonical frame."""
 
     def __init__(self, conic):
         super().__init__(conic)
@@ -430,6 +430,10 @@ class EllipseGeometry(ConicGeometry):
 
     def _sz(self):
         return self.a + self.b
+
+
+class EllipseGeometry(CentralConicGeometry):
+    """An ellipse site X²/a² + Y²/b² = 1 (a ≥ b) in its canonical frame."""
 
     def _g(self, X, Y):
         return (X / self.a) ** 2 + (Y / self.b) ** 2 - 1.0
@@ -486,16 +490,8 @@ class EllipseGeometry(ConicGeometry):
                          (-1.0, Y0 * Y0, b2 * mu - 1.0, 4 * EPS * (b2 * mu + 1.0))])
 
 
-class HyperbolaGeometry(ConicGeometry):
+class HyperbolaGeometry(CentralConicGeometry):
     """A hyperbola site X²/a² − Y²/b² = 1 (both branches are one site)."""
-
-    def __init__(self, conic):
-        super().__init__(conic)
-        self.a = math.sqrt(self.params["A2"])
-        self.b = math.sqrt(self.params["B2"])
-
-    def _sz(self):
-        return self.a + self.b
 
     def _g(self, X, Y):
         return 1.0 - (X / self.a) ** 2 + (Y / self.b) ** 2
