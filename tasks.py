@@ -96,6 +96,6 @@ def docs(c, no_figures=False, no_html=False):
             print("docs: the HTML reference needs pdoc, which is not installed: pip install 'curvedvoronoi[docs]'")
             raise Exit(code=1)
         c.run(f"{sys.executable} -m pdoc -o {ROOT / 'docs' / '_build' / 'api'} curvedvoronoi "
-              "curvedvoronoi.runtime.sites_io curvedvoronoi.runtime.conic curvedvoronoi.runtime.circles "
-              "curvedvoronoi.runtime.locator curvedvoronoi.runtime.result", pty=False)
+              "curvedvoronoi.runtime.sites.reader curvedvoronoi.runtime.sites.conic curvedvoronoi.runtime.predicates.circles "
+              "curvedvoronoi.runtime.predicates.locator curvedvoronoi.runtime.result", pty=False)
     print(f"docs: done in {time.perf_counter() - t0:.1f} s (docs/index.md is the entry point)")

@@ -3,7 +3,7 @@
     python bench/bench_certify.py             # all 30 validation cases, 1 BLAS thread and default
     python bench/bench_certify.py --quick     # 8 cases
 
-Per validation case: numeric stage (``runtime.locator.locate_conflicts``, per-triple cache cleared),
+Per validation case: numeric stage (``runtime.predicates.locator.locate_conflicts``, per-triple cache cleared),
 vertex certification (``certify_vertex`` on every vertex: Krawczyk + true-vertex + conflict sign,
 exact fallback when needed), completeness (complex Krawczyk on all generalised vertices), and the
 share of vertices / calls that needed the exact path.  Prints a Markdown table and appends it to
@@ -24,16 +24,16 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
 
 from threadpoolctl import threadpool_info, threadpool_limits  # noqa: E402
 
-from curvedvoronoi.runtime.certify import certify_result, certify_vertex  # noqa: E402
-from curvedvoronoi.runtime.certify_complete import certify_completeness  # noqa: E402
-from curvedvoronoi.runtime.conic import Conic  # noqa: E402
+from curvedvoronoi.runtime.certify.conflicts import certify_result, certify_vertex  # noqa: E402
+from curvedvoronoi.runtime.certify.complete import certify_completeness  # noqa: E402
+from curvedvoronoi.runtime.sites.conic import Conic  # noqa: E402
 
 DATA = pathlib.Path("/work/tests/data/validation_cases.json")
 
 
 def run(cases, label):
-    from curvedvoronoi.runtime import locator
-    from curvedvoronoi.runtime.vertices import generalised_vertices
+    from curvedvoronoi.runtime.predicates import locator
+    from curvedvoronoi.runtime.solve.vertices import generalised_vertices
     rows = []
     for case in cases:
         cs = [Conic.from_coefficients(*e["coefficients"]) for e in case["conics"]]

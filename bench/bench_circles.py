@@ -22,9 +22,9 @@ from threadpoolctl import threadpool_info, threadpool_limits
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from curvedvoronoi.runtime.circles import Circle, locate_conflicts_circles, voronoi_vertices_circles  # noqa: E402
-from curvedvoronoi.runtime.circles import _vertices_cached  # noqa: E402
-from curvedvoronoi.runtime.circles_filter import locate_conflicts_circles_batch  # noqa: E402
+from curvedvoronoi.runtime.predicates.circles import Circle, locate_conflicts_circles, voronoi_vertices_circles  # noqa: E402
+from curvedvoronoi.runtime.predicates.circles import _vertices_cached  # noqa: E402
+from curvedvoronoi.runtime.predicates.circles_filter import locate_conflicts_circles_batch  # noqa: E402
 
 
 def random_uniform(n, seed):

@@ -1,4 +1,4 @@
-"""Benchmark of the homotopy route (runtime.homotopy), the second triple solver.
+"""Benchmark of the homotopy route (runtime.solve.homotopy), the second triple solver.
 
 Rows: the validation triples the null-space route refuses (far vertices: hyperbolas_b; parallel
 parabola axes: parabolas_b) and, forced with ``solver="homotopy"``, well-scaled triples that the
@@ -24,11 +24,11 @@ sys.path.insert(0, str(ROOT))
 
 from threadpoolctl import threadpool_info, threadpool_limits  # noqa: E402
 
-from curvedvoronoi.runtime.conic import Conic  # noqa: E402
-from curvedvoronoi.runtime.locator import clear_cache, locate_conflicts  # noqa: E402
+from curvedvoronoi.runtime.sites.conic import Conic  # noqa: E402
+from curvedvoronoi.runtime.predicates.locator import clear_cache, locate_conflicts  # noqa: E402
 from curvedvoronoi.runtime.result import LocatorError  # noqa: E402
 from curvedvoronoi.runtime.validation import required_cases_path  # noqa: E402
-from curvedvoronoi.runtime.vertices import generalised_vertices  # noqa: E402
+from curvedvoronoi.runtime.solve.vertices import generalised_vertices  # noqa: E402
 
 NAMES = ["hyperbolas_b_hyperbola4_conflict", "parabolas_b_parabola4_conflict", "exact_EPC_circle4_tangent",
          "ellipses_a_ellipse4_conflict", "mixed_EHP_parabola4_conflict", "parabolas_a_parabola4_conflict"]

@@ -30,8 +30,8 @@ sys.path.insert(0, str(ROOT / "tests"))
 import numpy as np  # noqa: E402
 from threadpoolctl import threadpool_info, threadpool_limits  # noqa: E402
 
-from curvedvoronoi.runtime.conic import Conic  # noqa: E402
-from curvedvoronoi.runtime.locator import clear_cache, locate_conflicts  # noqa: E402
+from curvedvoronoi.runtime.sites.conic import Conic  # noqa: E402
+from curvedvoronoi.runtime.predicates.locator import clear_cache, locate_conflicts  # noqa: E402
 from curvedvoronoi.runtime.result import LocatorError  # noqa: E402
 
 DATA = Path("/work/tests/data/validation_cases.json")
@@ -94,7 +94,7 @@ def eigen_compare():
     import scipy.linalg as sla
     from scipy.sparse.linalg import eigs
 
-    from curvedvoronoi.runtime import vertices as V
+    from curvedvoronoi.runtime.solve import vertices as V
 
     cs = [Conic.from_coefficients(*k["coefficients"]) for k in json.loads(DATA.read_text())["cases"][4]["conics"]]
     captured = {}

@@ -21,7 +21,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from curvedvoronoi.runtime.conic import Conic  # noqa: E402
+from curvedvoronoi.runtime.sites.conic import Conic  # noqa: E402
 
 
 def _E(c, ax, rot=(1, 0)):
@@ -76,12 +76,12 @@ def cases() -> dict[str, list]:
 
 
 def _demo():
-    from curvedvoronoi.runtime.locator import demo_configuration
+    from curvedvoronoi.runtime.predicates.locator import demo_configuration
     return demo_configuration()
 
 
 def run(reference: bool = False):
-    from curvedvoronoi.runtime.locator import clear_cache, locate_conflicts
+    from curvedvoronoi.runtime.predicates.locator import clear_cache, locate_conflicts
 
     rows = []
     for kind, cs in cases().items():

@@ -46,7 +46,7 @@ def random_disjoint_circles(seed: int, n: int):
 
 def qhull_points_diagram(P, far=50.0):
     from scipy.spatial import Voronoi
-    from curvedvoronoi.runtime.circles import Point
+    from curvedvoronoi.runtime.predicates.circles import Point
     from curvedvoronoi.runtime.voronoi.structure import Diagram, DiagramEdge, DiagramVertex
 
     vor = Voronoi(P)

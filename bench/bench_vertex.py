@@ -9,7 +9,7 @@ Measures, with one BLAS thread:
 * ``certify_vertex`` on circle/point triples (3×3 Krawczyk route);
 * ``distance_bounds`` / ``distance`` throughput per conic kind (10 000 random points), with the
   relative gap of the bounds and the number of points that needed the ball route;
-* for comparison, ``runtime.certify.certify_vertex`` (the locator's certifier: Lagrange
+* for comparison, ``runtime.certify.conflicts.certify_vertex`` (the locator's certifier: Lagrange
   polynomial foot enclosures) on the same conic vertices.
 
 Prints a Markdown table and writes it to bench/results/vertex.md with the thread settings.
@@ -28,9 +28,9 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
 import numpy as np  # noqa: E402
 from threadpoolctl import threadpool_info, threadpool_limits  # noqa: E402
 
-from curvedvoronoi.runtime.certify import certify_vertex as locator_certify  # noqa: E402
-from curvedvoronoi.runtime.circles import Circle, Point  # noqa: E402
-from curvedvoronoi.runtime.conic import Conic  # noqa: E402
+from curvedvoronoi.runtime.certify.conflicts import certify_vertex as locator_certify  # noqa: E402
+from curvedvoronoi.runtime.predicates.circles import Circle, Point  # noqa: E402
+from curvedvoronoi.runtime.sites.conic import Conic  # noqa: E402
 from curvedvoronoi.runtime.validation import load_cases, repository_cases_path  # noqa: E402
 from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry  # noqa: E402
 from curvedvoronoi.runtime.voronoi.vertex import certify_vertex, refine_vertex  # noqa: E402
@@ -73,7 +73,7 @@ def bench_circles():
     rng = np.random.default_rng(1)
     times, ok = [], 0
     n = 0
-    from curvedvoronoi.runtime.circles import voronoi_vertices_circles
+    from curvedvoronoi.runtime.predicates.circles import voronoi_vertices_circles
     while n < 200:
         sites = []
         for _ in range(3):
@@ -125,7 +125,7 @@ def main():
              + " (limited to 1 for the run). Other jobs may share the 2 cores: figures are indicative.",
              "", "### Conic vertices of the validation cases (seed 1e-4 off)", "",
              "| sites | vertices | certified | refine median ms | certify median ms | certify max ms "
-             "| runtime.certify median ms (proved) |",
+             "| runtime.certify.conflicts median ms (proved) |",
              "|---|---|---|---|---|---|---|"]
     for key, rs in sorted(vrows.items()):
         loc = [r[3] for r in rs if r[3] is not None]

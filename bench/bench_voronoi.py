@@ -33,7 +33,7 @@ ROTATIONS = [(Fraction(1), Fraction(0)), (Fraction(3, 5), Fraction(4, 5)), (Frac
 
 def random_ellipses(n: int, seed: int):
     """n ellipses with disjoint circumscribed discs (hence disjoint), exact rational coefficients."""
-    from curvedvoronoi.runtime.conic import Conic
+    from curvedvoronoi.runtime.sites.conic import Conic
 
     rng = random.Random(seed)
     side = 8.0 * math.sqrt(n)

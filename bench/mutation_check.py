@@ -36,15 +36,15 @@ OUT = ROOT / "bench" / "results" / "mutation.md"
 
 #: file -> (functions whose tokens may be mutated (None: all), test files that must kill them, -k filter)
 TARGETS: dict[str, tuple[list[str] | None, list[str], str | None]] = {
-    "runtime/circles.py": (["_family_has_vertices", "decide_conflict", "locate_conflicts_circles", "_check_distinct"],
+    "runtime/predicates/circles.py": (["_family_has_vertices", "decide_conflict", "locate_conflicts_circles", "_check_distinct"],
                            ["tests/test_circles.py"], None),
-    "runtime/quadtower.py": (["rational_sqrt", "sign", "_sign_exact", "is_zero", "frac_sign"],
+    "runtime/algebra/quadtower.py": (["rational_sqrt", "sign", "_sign_exact", "is_zero", "frac_sign"],
                              ["tests/test_circles.py"], None),
-    "runtime/apollonius.py": (["solve_system", "emit", "aw_vertices", "locate_conflicts_aw"],
+    "runtime/predicates/apollonius.py": (["solve_system", "emit", "aw_vertices", "locate_conflicts_aw"],
                               ["tests/test_circles.py"], None),
-    "runtime/locator.py": (None, ["tests/test_locator.py", "tests/test_locator_certified.py"], None),
-    "runtime/certify.py": (None, ["tests/test_certify.py", "tests/test_locator_certified.py"], None),
-    "runtime/certify_krawczyk.py": (None, ["tests/test_certify.py", "tests/test_certify_chart.py"], None),
+    "runtime/predicates/locator.py": (None, ["tests/test_locator.py", "tests/test_locator_certified.py"], None),
+    "runtime/certify/conflicts.py": (None, ["tests/test_certify.py", "tests/test_locator_certified.py"], None),
+    "runtime/certify/krawczyk.py": (None, ["tests/test_certify.py", "tests/test_certify_chart.py"], None),
     "runtime/interval/verify.py": (None, ["tests/test_interval.py"], None),
     "runtime/interval/bound.py": (None, ["tests/test_interval.py"], "vertex_bound or support or search_domain"),
 }
@@ -66,7 +66,7 @@ TEETH = [
      "return (bound.box() if bound is not None else default_domain(sites)), bound",
      "return default_domain(sites), bound",
      ["tests/test_interval.py::test_default_search_domain_is_the_proved_bound"], []),
-    ("conic locator refuses every triple of hyperbolas", "runtime/locator.py",
+    ("conic locator refuses every triple of hyperbolas", "runtime/predicates/locator.py",
      '    all_circles = all(c.kind == "circle" for c in cs)\n',
      '    all_circles = all(c.kind == "circle" for c in cs)\n'
      '    if all(c.kind == "hyperbola" for c in cs[:3]):\n        raise LocatorError("mutant: refused")\n',

@@ -1,7 +1,7 @@
 """Null-space / truncated-normal-form solving on the *polytope-shaped* Newton-matrix support
 (thesis §3.3.1, §5.5; Telen–Mourrain–Van Barel, SIAM J. Matrix Anal. Appl. 2018; Bender–Telen,
 "Toric eigenvalue methods", 2022) compared with the weighted-degree Macaulay support of
-``runtime.vertices.generalised_vertices``.
+``runtime.solve.vertices.generalised_vertices``.
 
 For a triple configuration (EEE, EEP, PPP) the Canny–Emiris artefact ``generated/systems/
 system_<CONF>.npz`` gives the column monomials E and, for each row, (polynomial, multiplier).  We
@@ -54,10 +54,10 @@ sys.path.insert(0, str(ROOT))
 
 from threadpoolctl import threadpool_info, threadpool_limits  # noqa: E402
 
-from curvedvoronoi.runtime.conic import Conic  # noqa: E402
-from curvedvoronoi.runtime.polyalg import CanonicalOffset, WorkingFrame, compose_offset, core_points  # noqa: E402
+from curvedvoronoi.runtime.sites.conic import Conic  # noqa: E402
+from curvedvoronoi.runtime.algebra.polyalg import CanonicalOffset, WorkingFrame, compose_offset, core_points  # noqa: E402
 from curvedvoronoi.runtime.result import LocatorError  # noqa: E402
-from curvedvoronoi.runtime.vertices import (TOP_DEGREES, _distinct_mask, config_entry, generalised_vertices,  # noqa: E402
+from curvedvoronoi.runtime.solve.vertices import (TOP_DEGREES, _distinct_mask, config_entry, generalised_vertices,  # noqa: E402
                               newton_refine, solve_nullspace)
 
 DATA = Path("/work/tests/data/validation_cases.json")
@@ -145,7 +145,7 @@ def structure_variant(conf: str, variant: str):
 def structure_note(conf: str) -> str:
     """How E relates to the weighted-degree (1,1,2) Macaulay support: E − (1,1,1) vs the monomials
     of weighted degree ≤ D."""
-    from curvedvoronoi.runtime.vertices import monomials
+    from curvedvoronoi.runtime.solve.vertices import monomials
     E = load_structure(conf)["E"]
     Q = E - 1
     D = int((Q @ np.array([1, 1, 2])).max())

@@ -22,7 +22,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
 
-from curvedvoronoi.runtime.locator import locate_conflicts, voronoi_vertices  # noqa: E402
+from curvedvoronoi.runtime.predicates.locator import locate_conflicts, voronoi_vertices  # noqa: E402
 from curvedvoronoi.runtime.result import LocatorError  # noqa: E402
 from reference import reference_locate  # noqa: E402
 from test_locator import MIXES, _close, _confirmed_by_reference, random_configuration  # noqa: E402

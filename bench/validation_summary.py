@@ -14,8 +14,8 @@ from pathlib import Path
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from curvedvoronoi.runtime.conic import Conic  # noqa: E402
-from curvedvoronoi.runtime.locator import locate_conflicts  # noqa: E402
+from curvedvoronoi.runtime.sites.conic import Conic  # noqa: E402
+from curvedvoronoi.runtime.predicates.locator import locate_conflicts  # noqa: E402
 from curvedvoronoi.runtime.result import LocatorError  # noqa: E402
 from curvedvoronoi.runtime.validation import default_cases_path  # noqa: E402
 

@@ -28,7 +28,7 @@ voronoi(sites)
 load_offset(family)
     The generalised offset of a conic family (thesis ch. 4, App. B), from verified artefacts.
 read_sites(path)
-    Sites from a JSON file (schema in ``curvedvoronoi.runtime.sites_io``), validated.
+    Sites from a JSON file (schema in ``curvedvoronoi.runtime.sites.reader``), validated.
 
 Errors are ``ValueError`` subclasses with one-line messages: :class:`InvalidConicError` (the
 input is not a proper real conic), :class:`LocatorError` (no trustworthy answer).
@@ -59,7 +59,7 @@ Four circles: the exact locator of thesis §3.1.3.  The circle of radius 1 centr
 
 Four ellipses placed like thesis Fig. 5.5.1 (a certified answer in about a second):
 
->>> from curvedvoronoi.runtime.locator import demo_configuration
+>>> from curvedvoronoi.runtime.predicates.locator import demo_configuration
 >>> res = cv.locate_conflicts(*demo_configuration())
 >>> res.conflict, res.certified, len(res.vertices)
 (True, True, 1)
@@ -93,18 +93,18 @@ if not (_here / "runtime").is_dir() and (_here.parent / "runtime" / "__init__.py
 __version__ = "0.2.0"
 
 _LAZY = {
-    "Conic": ("runtime.conic", "Conic"),
-    "Circle": ("runtime.circles", "Circle"),
-    "Point": ("runtime.circles", "Point"),
+    "Conic": ("runtime.sites.conic", "Conic"),
+    "Circle": ("runtime.predicates.circles", "Circle"),
+    "Point": ("runtime.predicates.circles", "Point"),
     "voronoi": ("runtime.voronoi.construction", "voronoi"),
     "Diagram": ("runtime.voronoi.structure", "Diagram"),
     "verify": ("runtime.voronoi.verify", "verify"),
-    "offset": ("runtime.algebraic_offset", "offset"),
-    "locate_conflicts": ("runtime.locator", "locate_conflicts"),
-    "locate_conflicts_circles": ("runtime.circles", "locate_conflicts_circles"),
-    "read_sites": ("runtime.sites_io", "read_sites"),
-    "parse_site": ("runtime.sites_io", "parse_site"),
-    "voronoi_vertices": ("runtime.locator", "voronoi_vertices"),
+    "offset": ("runtime.algebra.algebraic_offset", "offset"),
+    "locate_conflicts": ("runtime.predicates.locator", "locate_conflicts"),
+    "locate_conflicts_circles": ("runtime.predicates.circles", "locate_conflicts_circles"),
+    "read_sites": ("runtime.sites.reader", "read_sites"),
+    "parse_site": ("runtime.sites.reader", "parse_site"),
+    "voronoi_vertices": ("runtime.predicates.locator", "voronoi_vertices"),
     "LocatorResult": ("runtime.result", "LocatorResult"),
     "VoronoiVertex": ("runtime.result", "VoronoiVertex"),
     "LocatorError": ("runtime.result", "LocatorError"),

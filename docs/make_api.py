@@ -79,9 +79,9 @@ def render() -> str:
                 parts.append(f"### {n}.{m}\n\n`{tag}{m}{sig}`\n\n")
                 parts.append(_block(_doc(fn)))
         parts.append("\n")
-    from curvedvoronoi.runtime import sites_io
+    from curvedvoronoi.runtime.sites import reader as sites_io
 
-    parts.append("## The input schema (curvedvoronoi.runtime.sites_io)\n\n")
+    parts.append("## The input schema (curvedvoronoi.runtime.sites.reader)\n\n")
     parts.append(_block(_doc(sites_io)))
     return "".join(parts)
 

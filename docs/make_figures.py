@@ -1,7 +1,7 @@
 """Pictures of the user guide, written to docs/images/ (``invoke docs`` runs this script).
 
 * ``fig_5_5_1.png`` -- the four ellipses of thesis Fig. 5.5.1 (rigid-motion version,
-  :func:`runtime.locator.demo_configuration`), the true Voronoi vertices of every triple and
+  :func:`runtime.predicates.locator.demo_configuration`), the true Voronoi vertices of every triple and
   their empty circles (thesis Def. 5.2.1), coloured by whether the remaining site conflicts.
 * ``offsets.png`` -- one conic of each family with its generalised offsets (thesis ch. 4,
   App. B): the zero set of the offset polynomial o(x, y, R) at a few squared distances R = r².
@@ -36,7 +36,7 @@ SITE_COLOURS = ["tab:blue", "tab:green", "tab:purple", "tab:brown", "tab:olive",
 
 
 def _draw_site(ax, site, colour, label, n=400, extent=None):
-    from curvedvoronoi.runtime.circles import Circle
+    from curvedvoronoi.runtime.predicates.circles import Circle
 
     if isinstance(site, Circle):
         if site.r2 == 0:
@@ -62,7 +62,7 @@ def fig_5_5_1(path: Path) -> str:
     """All four triples of the demo configuration: vertices, empty circles, conflicts."""
     from itertools import combinations
 
-    from curvedvoronoi.runtime.locator import demo_configuration
+    from curvedvoronoi.runtime.predicates.locator import demo_configuration
 
     sites = demo_configuration()
     fig, ax = plt.subplots(figsize=(7.5, 7))
@@ -101,7 +101,7 @@ def fig_5_5_1(path: Path) -> str:
 
 def fig_offsets(path: Path) -> str:
     """Generalised offsets o(x, y, R) = 0 of one conic per family at R = r², r in RADII."""
-    from curvedvoronoi.runtime.polyalg import CanonicalOffset
+    from curvedvoronoi.runtime.algebra.polyalg import CanonicalOffset
 
     radii = (0.25, 0.5, 1.0)
     conics = [("ellipse  x²/4 + y² = 1", cv.Conic.ellipse(axes=(2, 1))),

@@ -26,7 +26,7 @@ ellipse/hyperbola 8, parabola 6, two lines 4) — we raise if it does not.  For 
 offset is reducible (one factor per line) and several factors are kept; each sample point lies
 on one line only, so a factor is kept when it vanishes at *some* samples, and the product must
 vanish at *all* of them.  The selection rule itself is the library's single one,
-:func:`runtime.algebraic_offset.select_factors` (also used for arbitrary curves).
+:func:`runtime.algebra.algebraic_offset.select_factors` (also used for arbitrary curves).
 """
 from __future__ import annotations
 
@@ -37,7 +37,7 @@ from fractions import Fraction
 
 import flint
 
-from ..runtime.algebraic_offset import select_factors
+from ..runtime.algebra.algebraic_offset import select_factors
 from .conics import FAMILIES, ConicFamily
 
 #: variables of every serialised offset polynomial, before the family parameters

@@ -5,7 +5,7 @@ hyperbolas: x² + c·y² + e with c < 0) and ``parabola`` (P) -- each member pla
 The number of isolated finite solutions (x, y, R) of o1 = o2 = o3 = 0 is the same for all members
 outside a proper algebraic subset (coefficient-parameter theorem, Morgan–Sommese 1989); that
 *generic count* N is what the runtime's completeness-by-counting argument compares with
-(:mod:`runtime.certify_complete`).
+(:mod:`runtime.certify.complete`).
 
 How N is obtained here, independently of the runtime solvers:
 

@@ -1,7 +1,7 @@
 """Command line: ``curvedvoronoi COMMAND ...`` (the same program as ``python -m curvedvoronoi``).
 
 * ``locate FILE.json`` -- the Delaunay-graph conflict locator (thesis ch. 5, §3.1 for circles) on
-  four sites C1..C4 = sites 0..3 of a sites file (schema: :mod:`runtime.sites_io`); JSON out.
+  four sites C1..C4 = sites 0..3 of a sites file (schema: :mod:`runtime.sites.reader`); JSON out.
 * ``diagram SITES.json`` -- the Voronoi diagram / Delaunay graph of any number of sites (§1.2).
 * ``demo`` -- the locator on a built-in four-ellipse configuration (a rigid-motion version of
   thesis Fig. 5.5.1).
@@ -25,7 +25,7 @@ EXIT_FAILED = 1
 
 def _offsets_table(args) -> int:
     if args.curve:                      # any plane algebraic curve (thesis ch. 4)
-        from .degree_formula import offset_report
+        from .algebra.degree_formula import offset_report
 
         print(offset_report(args.curve, as_json=args.json))
         return 0
@@ -53,16 +53,16 @@ def _offsets_table(args) -> int:
 
 
 def read_conics_file(path: str, expected: int | None = 4):
-    """The sites of a sites file as :class:`runtime.conic.Conic` objects (points refused; circles
+    """The sites of a sites file as :class:`runtime.sites.conic.Conic` objects (points refused; circles
     given by centre and radius become circle conics).  ValueError naming the site (0-based)."""
-    from .sites_io import read_sites
+    from .sites.reader import read_sites
 
     return [_as_conic(s, i) for i, s in enumerate(read_sites(path, expected))]
 
 
 def _as_conic(site, i: int):
-    from .circles import Circle
-    from .conic import Conic
+    from .predicates.circles import Circle
+    from .sites.conic import Conic
 
     if isinstance(site, Conic):
         return site
@@ -76,7 +76,7 @@ def _as_conic(site, i: int):
 
 
 def _is_circle_like(site) -> bool:
-    from .circles import Circle
+    from .predicates.circles import Circle
 
     return isinstance(site, Circle) or getattr(site, "kind", None) == "circle"
 
@@ -85,8 +85,8 @@ def run_locate(sites, method: str = "auto"):
     """The conflict locator on four parsed sites (Point, Circle or Conic; C1..C4 = sites 0..3):
     four circles or points go to the exact circle locator (thesis §3.1.3), otherwise the conic
     locator (thesis ch. 5) on the sites as conics.  Returns a LocatorResult."""
-    from .circles import Circle, locate_conflicts_circles
-    from .locator import locate_conflicts
+    from .predicates.circles import Circle, locate_conflicts_circles
+    from .predicates.locator import locate_conflicts
 
     if method in ("auto", "circles") and all(_is_circle_like(s) for s in sites):
         return locate_conflicts_circles(*(s if isinstance(s, Circle) else Circle.from_coefficients(*s.coefficients)
@@ -144,7 +144,7 @@ def _emit(result, args, seconds: float) -> int:
 
 
 def _locate(args) -> int:
-    from .sites_io import read_sites
+    from .sites.reader import read_sites
 
     sites = read_sites(args.file, expected=4)
     t0 = time.perf_counter()
@@ -153,7 +153,7 @@ def _locate(args) -> int:
 
 
 def _demo(args) -> int:
-    from . import locator
+    from .predicates import locator
 
     conics = locator.demo_configuration()
     if not args.quiet:

@@ -7,7 +7,7 @@ The default install (``pip install curvedvoronoi``) has everything the documente
 package               extra       used by
 ====================  ==========  ============================================
 shapely               ``geo``     ``Diagram.to_shapely`` (edges as LineStrings)
-dask.distributed      ``dask``    ``runtime.batch`` with ``backend="dask"``
+dask.distributed      ``dask``    ``runtime.predicates.batch`` with ``backend="dask"``
 pdoc                  ``docs``    ``invoke docs`` (the API reference)
 invoke                ``dev``     ``tasks.py``
 ====================  ==========  ============================================

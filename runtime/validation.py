@@ -3,7 +3,7 @@
 Each case gives four conics C1..C4 (exact integer coefficients and their exact canonical
 construction) and, for every true Voronoi vertex of (C1, C2, C3) (thesis §5.2,
 Def. 5.2.1), the expected radius, distance to C4 and conflict flag (thesis Thm 5.2.2).
-The loader turns the conics into :class:`runtime.conic.Conic` objects and keeps the
+The loader turns the conics into :class:`runtime.sites.conic.Conic` objects and keeps the
 expected values both as exact decimals (Fraction) and floats.
 """
 from __future__ import annotations
@@ -15,7 +15,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
-from .conic import Conic
+from .sites.conic import Conic
 
 __all__ = ["ValidationCase", "ExpectedVertex", "load_cases", "default_cases_path", "canonical_of"]
 

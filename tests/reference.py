@@ -1,6 +1,6 @@
 """Independent reference oracle for the tests (NOT used by the runtime).
 
-Deliberately shares no code with ``runtime/distance.py`` or the conflict locator:
+Deliberately shares no code with ``runtime/sites/distance.py`` or the conflict locator:
 
 * point-to-conic distance by dense sampling of a parametrisation of the canonical form
   (numpy, float) followed by a safeguarded Newton/bisection refinement of the foot
@@ -12,7 +12,7 @@ Deliberately shares no code with ``runtime/distance.py`` or the conflict locator
 * :func:`reference_locate` returns dicts like the vertices of ``validation_cases.json``.
 
 Conics are given as canonical constructions: dicts ``{"type", "cos", "sin", "tx", "ty",
-"A2", "B2" | "p" | "r2"}`` (strings/Fractions/numbers), or :class:`runtime.conic.Conic`
+"A2", "B2" | "p" | "r2"}`` (strings/Fractions/numbers), or :class:`runtime.sites.conic.Conic`
 objects (then their exact / high-precision canonical frame is used).
 """
 from __future__ import annotations
@@ -47,7 +47,7 @@ class RefConic:
                 d = dict(spec)
                 kind = d.pop("type", None) or d.pop("kind")
                 vals = {k: _mpf(v) for k, v in d.items()}
-            else:  # a runtime.conic.Conic
+            else:  # a runtime.sites.conic.Conic
                 fr = spec.exact_frame or spec.frame_mp(dps + 10)
                 kind = fr.kind
                 vals = {"cos": _mpf(fr.cos), "sin": _mpf(fr.sin), "tx": _mpf(fr.tx), "ty": _mpf(fr.ty)}

@@ -21,11 +21,11 @@ import flint
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from curvedvoronoi.runtime.algebraic_offset import (
+from curvedvoronoi.runtime.algebra.algebraic_offset import (
     curve_points, evaluate_at_point, offset, offset_degrees_on_line, offset_point, parse_curve, select_factors)
 from curvedvoronoi.runtime.artefacts import load_offset
 from curvedvoronoi.runtime.cli import main as cli_main
-from curvedvoronoi.runtime.degree_formula import degree_formula
+from curvedvoronoi.runtime.algebra.degree_formula import degree_formula
 
 GOLDEN = Path(__file__).parent / "golden"
 STROPHOID = "y^2 - x^2 - x^3"
@@ -336,8 +336,8 @@ def test_cli_offsets_curve():
 def test_doctests():
     import doctest
 
-    import curvedvoronoi.runtime.algebraic_offset as a
-    import curvedvoronoi.runtime.degree_formula as d
+    import curvedvoronoi.runtime.algebra.algebraic_offset as a
+    import curvedvoronoi.runtime.algebra.degree_formula as d
 
     for mod in (a, d):
         assert doctest.testmod(mod).failed == 0

@@ -1,4 +1,4 @@
-"""Batch evaluation of independent locator calls (runtime/batch.py): joblib locally and on a
+"""Batch evaluation of independent locator calls (runtime/predicates/batch.py): joblib locally and on a
 local dask.distributed cluster through joblib's Dask backend.  Results must equal the direct
 calls of the exact circle locator (thesis §3.1.3)."""
 from __future__ import annotations
@@ -7,8 +7,8 @@ import random
 
 import pytest
 
-from curvedvoronoi.runtime.batch import locate_batch, vertices_batch
-from curvedvoronoi.runtime.circles import locate_conflicts_circles, voronoi_vertices_circles
+from curvedvoronoi.runtime.predicates.batch import locate_batch, vertices_batch
+from curvedvoronoi.runtime.predicates.circles import locate_conflicts_circles, voronoi_vertices_circles
 from curvedvoronoi.runtime.result import LocatorError
 
 

@@ -18,9 +18,9 @@ import numpy as np
 import pytest
 
 from curvedvoronoi.runtime.validation import required_cases_path as _validation_path
-from curvedvoronoi.runtime.certify import certify_completeness, certify_result, certify_vertex, simplest_rational
-from curvedvoronoi.runtime.certify_complete import _completeness
-from curvedvoronoi.runtime.conic import Conic
+from curvedvoronoi.runtime.certify.conflicts import certify_completeness, certify_result, certify_vertex, simplest_rational
+from curvedvoronoi.runtime.certify.complete import _completeness
+from curvedvoronoi.runtime.sites.conic import Conic
 from curvedvoronoi.runtime.result import LocatorResult, VoronoiVertex
 
 from reference import RefConic, ref_distance  # noqa: E402  (tests/ on sys.path via pytest rootdir)
@@ -209,7 +209,7 @@ def test_exact_tangency_rational_construction(kinds):
 def test_non_vertices_never_certified():
     case = next(c for c in CASES if c["name"] == "four_circles" or c["group"] == "four_circles")
     c1, c2, c3, c4 = _conics(case)
-    from curvedvoronoi.runtime.vertices import generalised_vertices
+    from curvedvoronoi.runtime.solve.vertices import generalised_vertices
     sol = generalised_vertices(c1, c2, c3)
     true = {(round(float(v["x"]), 6), round(float(v["y"]), 6)) for v in case["vertices"]}
     n_false = 0
@@ -250,9 +250,9 @@ def _conic_of(spec):
 
 @pytest.mark.parametrize("seed", range(4))
 def test_property_agrees_with_reference(seed):
-    """Candidates from the numeric locator (runtime.vertices); certified answers checked against
+    """Candidates from the numeric locator (runtime.solve.vertices); certified answers checked against
     50-digit distances of the independent reference oracle."""
-    from curvedvoronoi.runtime.vertices import voronoi_vertices_triple
+    from curvedvoronoi.runtime.solve.vertices import voronoi_vertices_triple
     from curvedvoronoi.runtime.result import LocatorError
     rng = random.Random(seed)
     for _attempt in range(10):  # the numeric locator may refuse a configuration: draw another
@@ -288,7 +288,7 @@ def test_property_agrees_with_reference(seed):
 # --------------------------------------------------------------------------- completeness and certify_result
 
 def test_certify_result_and_completeness():
-    from curvedvoronoi.runtime.vertices import generalised_vertices
+    from curvedvoronoi.runtime.solve.vertices import generalised_vertices
     case = next(c for c in CASES if c["group"] == "mixed" and len(c["vertices"]) == 3)
     c1, c2, c3, c4 = _conics(case)
     sol = generalised_vertices(c1, c2, c3)
@@ -326,7 +326,7 @@ def test_simplest_rational():
 # --------------------------------------------------------------------------- fast (float) completeness path
 
 def _solved_triple(name_group="mixed"):
-    from curvedvoronoi.runtime.vertices import generalised_vertices
+    from curvedvoronoi.runtime.solve.vertices import generalised_vertices
     case = next(c for c in CASES if c["group"] == name_group and len(c["vertices"]) == 3)
     c1, c2, c3, _ = _conics(case)
     return c1, c2, c3, generalised_vertices(c1, c2, c3)
@@ -335,7 +335,7 @@ def _solved_triple(name_group="mixed"):
 def test_fast_path_agrees_with_arb_path():
     """Every box of the rigorous float Krawczyk test has the same kind as the acb path's box and the
     two enclosures intersect (both contain the unique solution); most solutions are fast-certified."""
-    from curvedvoronoi.runtime.certify_complete import certify_solutions
+    from curvedvoronoi.runtime.certify.complete import certify_solutions
     c1, c2, c3, sol = _solved_triple()
     S = np.asarray(sol.points)
     fast = certify_solutions(c1, c2, c3, S, method="fast")
@@ -380,7 +380,7 @@ def test_fast_path_rejects_bad_solution_lists():
 
 def test_fast_path_point_not_near_a_solution_is_not_certified():
     """The float Krawczyk test never certifies a point with a large residual (random points)."""
-    from curvedvoronoi.runtime.certify_complete import _certify_fast
+    from curvedvoronoi.runtime.certify.complete import _certify_fast
     c1, c2, c3, _ = _solved_triple()
     rng = np.random.default_rng(7)
     P = rng.normal(size=(50, 3)) + 1j * rng.normal(size=(50, 3))
@@ -391,7 +391,7 @@ def test_fast_path_point_not_near_a_solution_is_not_certified():
 
 def test_disjoint_sweep_matches_all_pairs():
     from flint import acb, arb
-    from curvedvoronoi.runtime.certify_complete import _disjoint, _disjoint_all_pairs
+    from curvedvoronoi.runtime.certify.complete import _disjoint, _disjoint_all_pairs
     rng = np.random.default_rng(3)
     for trial in range(30):
         n = 25
@@ -405,8 +405,8 @@ def test_disjoint_sweep_matches_all_pairs():
 def test_integer_specialisation_equals_artefact_specialise():
     """offset_terms' integer-arithmetic specialisation equals OffsetPolynomial.specialise (scaled)."""
     from curvedvoronoi.runtime.artefacts import load_offset
-    from curvedvoronoi.runtime.offset_system import offset_terms
-    from curvedvoronoi.runtime.certify_foot import normalised_coefficients
+    from curvedvoronoi.runtime.certify.offset_system import offset_terms
+    from curvedvoronoi.runtime.certify.foot import normalised_coefficients
     o = load_offset("generic")
     rnd = random.Random(5)
     for _ in range(3):
@@ -418,12 +418,12 @@ def test_integer_specialisation_equals_artefact_specialise():
 
 def test_epc_tangent_far_point_is_certified_in_a_circle_space_chart():
     """exact_EPC_circle4_tangent: the 60th solution (x ≈ -4.7e5, Jacobian condition ~5e22 in
-    (x, y, R)) was once diagnosed as a point at infinity; the homotopy (runtime.homotopy) and the
-    circle-space Krawczyk test (runtime.certify_chart) show it is a finite simple real solution, so
+    (x, y, R)) was once diagnosed as a point at infinity; the homotopy (runtime.solve.homotopy) and the
+    circle-space Krawczyk test (runtime.certify.chart) show it is a finite simple real solution, so
     completeness is proven: 60 distinct simple solutions = the generic CEP count."""
-    from curvedvoronoi.runtime.conic import Conic
-    from curvedvoronoi.runtime.locator import voronoi_vertices
-    from curvedvoronoi.runtime.certify_complete import certify_completeness
+    from curvedvoronoi.runtime.sites.conic import Conic
+    from curvedvoronoi.runtime.predicates.locator import voronoi_vertices
+    from curvedvoronoi.runtime.certify.complete import certify_completeness
     d = json.loads(DATA.read_text())
     c = [x for x in d["cases"] if x["name"] == "exact_EPC_circle4_tangent"][0]
     cs = [Conic.from_coefficients(*(Fraction(v) for v in k["coefficients"])) for k in c["conics"]][:3]

@@ -1,9 +1,9 @@
-"""Certification of far solutions in circle-space charts (runtime.certify_chart; thesis §4.4, §5.3–§5.5).
+"""Certification of far solutions in circle-space charts (runtime.certify.chart; thesis §4.4, §5.3–§5.5).
 
 Facts asserted: the circle-space offsets satisfy Q_i(A, x̂, ŷ, T̂) = c_i·A^{d_i}·o_i(x̂/A, ŷ/A,
 (x̂² + ŷ²)/A² − T̂/A) exactly (random rational points, all charts); the far solution of
 exact_EPC_circle4_tangent (|x| ≈ 4.7e5, Jacobian condition ≈ 10²² in (x, y, R)) is certified in a
-chart and agrees with the independent parameter homotopy (runtime.homotopy), so the locator's
+chart and agrees with the independent parameter homotopy (runtime.solve.homotopy), so the locator's
 answer is complete and certified and still equals the validation oracle; ordinary solutions get
 the same kind and overlapping enclosures in a chart as in world coordinates; perturbed far
 solutions are not certified.
@@ -18,12 +18,12 @@ import numpy as np
 import pytest
 from flint import acb, arb
 
-from curvedvoronoi.runtime.certify_chart import (ChartSystem, certify_in_chart, chart_polynomials, choose_charts,
+from curvedvoronoi.runtime.certify.chart import (ChartSystem, certify_in_chart, chart_polynomials, choose_charts,
                                    circle_space_polynomial, world_from_chart)
-from curvedvoronoi.runtime.certify_complete import _completeness, certify_solutions
-from curvedvoronoi.runtime.offset_system import OffsetSystem, krawczyk_complex, offset_terms
-from curvedvoronoi.runtime.certify_foot import normalised_coefficients, working_prec
-from curvedvoronoi.runtime.conic import Conic
+from curvedvoronoi.runtime.certify.complete import _completeness, certify_solutions
+from curvedvoronoi.runtime.certify.offset_system import OffsetSystem, krawczyk_complex, offset_terms
+from curvedvoronoi.runtime.certify.foot import normalised_coefficients, working_prec
+from curvedvoronoi.runtime.sites.conic import Conic
 from curvedvoronoi.runtime.validation import required_cases_path
 
 CASES = json.loads(required_cases_path().read_text())["cases"]
@@ -36,7 +36,7 @@ def _case(name):
 
 @pytest.fixture(scope="module")
 def epc():
-    from curvedvoronoi.runtime.locator import voronoi_vertices
+    from curvedvoronoi.runtime.predicates.locator import voronoi_vertices
     case, cs = _case("exact_EPC_circle4_tangent")
     sol = voronoi_vertices(*cs[:3]).solution
     S = np.asarray(sol.points)
@@ -126,7 +126,7 @@ def test_epc_far_solution_certified_in_chart(epc):
     assert all(isinstance(w, arb) for w in W)
     assert all(float(w.rad()) < 1e-12 * abs(float(w.mid())) for w in W)
     # independent reference: the parameter homotopy (tracks in P³ of circles) finds the same point
-    from curvedvoronoi.runtime.vertices import generalised_vertices
+    from curvedvoronoi.runtime.solve.vertices import generalised_vertices
     H = np.asarray(generalised_vertices(*cs[:3], solver="homotopy").points)
     h = H[int(np.argmin(np.abs(H[:, 0] - float(W[0].mid()))))]
     for w, ref in zip(W, h):
@@ -139,7 +139,7 @@ def test_epc_far_solution_certified_in_chart(epc):
 
 def test_epc_locator_complete_and_certified():
     """locate_conflicts on exact_EPC: complete and certified, and the answer equals the oracle."""
-    from curvedvoronoi.runtime.locator import clear_cache, locate_conflicts
+    from curvedvoronoi.runtime.predicates.locator import clear_cache, locate_conflicts
     case, cs = _case("exact_EPC_circle4_tangent")
     clear_cache()
     res = locate_conflicts(*cs)

@@ -40,7 +40,7 @@ def _agrees_with_reference(doc: dict, res: dict) -> None:
     dense sampling + mpmath Newton, no code shared with the runtime)."""
     from fractions import Fraction
 
-    from curvedvoronoi.runtime.conic import Conic
+    from curvedvoronoi.runtime.sites.conic import Conic
     from reference import reference_locate
 
     cs = [Conic.from_coefficients(*(Fraction(str(c)) for c in k["coefficients"])) for k in doc["conics"]]

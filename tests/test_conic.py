@@ -1,4 +1,4 @@
-"""Tests of runtime.conic: exact classification, canonical frames, constructors (thesis §3.1, §5.1)."""
+"""Tests of runtime.sites.conic: exact classification, canonical frames, constructors (thesis §3.1, §5.1)."""
 from __future__ import annotations
 
 import math
@@ -7,7 +7,7 @@ from fractions import Fraction as F
 import pytest
 from hypothesis import given, settings, strategies as st, HealthCheck
 
-from curvedvoronoi.runtime.conic import Conic, CanonicalFrame, fraction_sqrt
+from curvedvoronoi.runtime.sites.conic import Conic, CanonicalFrame, fraction_sqrt
 from curvedvoronoi.runtime.result import InvalidConicError
 from curvedvoronoi.runtime.validation import required_cases_path, load_cases
 
@@ -245,3 +245,16 @@ def test_validation_conics_match_their_canonical_construction():
             wn = want.normalized()
             assert abs(fr.tx - float(wn.tx)) <= 1e-15 * max(1, abs(float(wn.tx)))
     assert n == 120
+
+
+@pytest.mark.parametrize("coeffs,words", [
+    ((1e300, 0, 1, 0, 0, -1), "ellipse size 1e-150"),         # semi-axis 1e-150: squares underflow
+    ((1, 0, 1, -2 * 10 ** 31, 0, 10 ** 62 - 1), "centre x = 1e+31"),  # unit circle at x = 1e31
+    ((0, 0, 1, F(-1, 10 ** 40), 0, 0), "parabola size"),      # y² = 2p x with p = 5e-41
+])
+def test_scales_outside_the_float_range_are_refused_by_the_python_api(coeffs, words):
+    """The same refusal as for file input: one InvalidConicError naming the size, not a silent
+    float overflow later in the numeric routes."""
+    with pytest.raises(InvalidConicError, match="outside the supported range") as err:
+        Conic.from_coefficients(*coeffs)
+    assert words in str(err.value)

@@ -1,6 +1,6 @@
 """Conic site geometry: float foot points and rigorous distance bounds (thesis §5.2).
 
-References independent of the code under test: the rigorous ball route of runtime.distance
+References independent of the code under test: the rigorous ball route of runtime.sites.distance
 (Lagrange polynomial of the foot points, exact coefficients), dense sampling of the curve, and
 the exact conic equation."""
 from __future__ import annotations
@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from curvedvoronoi.runtime.circles import Circle, Point
-from curvedvoronoi.runtime.conic import Conic
-from curvedvoronoi.runtime.distance import distance_ball
+from curvedvoronoi.runtime.predicates.circles import Circle, Point
+from curvedvoronoi.runtime.sites.conic import Conic
+from curvedvoronoi.runtime.sites.distance import distance_ball
 from curvedvoronoi.runtime.voronoi.conic_geometry import (EllipseGeometry, HyperbolaGeometry,
                                                           ParabolaGeometry, conic_geometry,
                                                           site_inside, sites_intersect)

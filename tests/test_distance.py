@@ -1,4 +1,4 @@
-"""Tests of runtime.distance against the independent sampling oracle of tests/reference.py
+"""Tests of runtime.sites.distance against the independent sampling oracle of tests/reference.py
 (thesis §5.2: the Voronoi vertex conditions are equalities of these distances)."""
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ import mpmath
 import pytest
 from hypothesis import example, given, settings, strategies as st, HealthCheck
 
-from curvedvoronoi.runtime.conic import Conic
-from curvedvoronoi.runtime.distance import (distance, foot_points, distance_ball, distance_sign_vs,
+from curvedvoronoi.runtime.sites.conic import Conic
+from curvedvoronoi.runtime.sites.distance import (distance, foot_points, distance_ball, distance_sign_vs,
                               squared_distance_ball, tangency_polynomial, closest_point)
 from curvedvoronoi.runtime.validation import required_cases_path, load_cases
 from reference import RefConic, ref_distance, ref_foot, _dist2, _golden_mp

@@ -15,14 +15,14 @@ import numpy as np
 import pytest
 from flint import arb
 
-from curvedvoronoi.runtime.certify_complete import completeness_exact, vertex_box_from_certificate
-from curvedvoronoi.runtime.conic import Conic
-from curvedvoronoi.runtime.exact_solve import (InfinitelyManySolutions, exact_offset, exact_triple_system,
+from curvedvoronoi.runtime.certify.complete import completeness_exact, vertex_box_from_certificate
+from curvedvoronoi.runtime.sites.conic import Conic
+from curvedvoronoi.runtime.solve.exact import (InfinitelyManySolutions, exact_offset, exact_triple_system,
                                                msolve_available, msolve_run, parametrisation_degree,
                                                parse_output, solve_exact, system_text)
-from curvedvoronoi.runtime.locator import clear_cache, demo_configuration, locate_conflicts
+from curvedvoronoi.runtime.predicates.locator import clear_cache, demo_configuration, locate_conflicts
 from curvedvoronoi.runtime.result import LocatorError, NumericalRefusal
-from curvedvoronoi.runtime.vertices import generalised_vertices
+from curvedvoronoi.runtime.solve.vertices import generalised_vertices
 
 
 def test_msolve_is_installed():
@@ -120,7 +120,8 @@ def test_exact_completeness_fails_on_corrupted_input():
 
 def test_numerical_refusal_is_not_bad_input(monkeypatch):
     """A numeric refusal is a LocatorError subclass with exit status 3 on the command line."""
-    from curvedvoronoi.runtime import cli, locator
+    from curvedvoronoi.runtime import cli
+    from curvedvoronoi.runtime.predicates import locator
 
     assert issubclass(NumericalRefusal, LocatorError)
 

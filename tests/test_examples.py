@@ -80,13 +80,13 @@ def test_user_guide_python_snippets_run():
         assert out.returncode == 0, (code, out.stderr[-2000:])
 
 
-@pytest.mark.parametrize("module", ["curvedvoronoi", "curvedvoronoi.runtime.conic",
-                                    "curvedvoronoi.runtime.circles", "curvedvoronoi.runtime.sites_io"])
+@pytest.mark.parametrize("module", ["curvedvoronoi", "curvedvoronoi.runtime.sites.conic",
+                                    "curvedvoronoi.runtime.predicates.circles", "curvedvoronoi.runtime.sites.reader"])
 def test_docstring_examples(module):
     mod = importlib.import_module(module)
     res = doctest.testmod(mod, optionflags=doctest.ELLIPSIS)
     assert res.failed == 0
-    if module in ("curvedvoronoi", "curvedvoronoi.runtime.conic", "curvedvoronoi.runtime.circles"):
+    if module in ("curvedvoronoi", "curvedvoronoi.runtime.sites.conic", "curvedvoronoi.runtime.predicates.circles"):
         assert res.attempted > 0
 
 

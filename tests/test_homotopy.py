@@ -1,4 +1,4 @@
-"""Parameter homotopy in circle-space coordinates (runtime.homotopy).
+"""Parameter homotopy in circle-space coordinates (runtime.solve.homotopy).
 
 Facts checked:
 
@@ -24,13 +24,13 @@ import numpy as np
 import pytest
 
 from curvedvoronoi.runtime.artefacts import load_offset
-from curvedvoronoi.runtime.conic import Conic
-from curvedvoronoi.runtime.homotopy import _family, _System, _to_chart, slot_parameters, start_system
-from curvedvoronoi.runtime.locator import locate_conflicts
-from curvedvoronoi.runtime.polyalg import CanonicalOffset, working_frame
+from curvedvoronoi.runtime.sites.conic import Conic
+from curvedvoronoi.runtime.solve.homotopy import _family, _System, _to_chart, slot_parameters, start_system
+from curvedvoronoi.runtime.predicates.locator import locate_conflicts
+from curvedvoronoi.runtime.algebra.polyalg import CanonicalOffset, working_frame
 from curvedvoronoi.runtime.result import LocatorError
 from curvedvoronoi.runtime.validation import required_cases_path
-from curvedvoronoi.runtime.vertices import CONFIG_TABLE, generalised_vertices, homotopy_route, nullspace_route
+from curvedvoronoi.runtime.solve.vertices import CONFIG_TABLE, generalised_vertices, homotopy_route, nullspace_route
 
 CASES = {c["name"]: c for c in json.loads(required_cases_path().read_text())["cases"]}
 

@@ -21,13 +21,13 @@ from flint import arb
 from hypothesis import given, settings, strategies as st
 
 from curvedvoronoi.runtime.validation import required_cases_path as _validation_path
-from curvedvoronoi.runtime.circles import Circle, locate_conflicts_circles, voronoi_vertices_circles
-from curvedvoronoi.runtime.conic import Conic
+from curvedvoronoi.runtime.predicates.circles import Circle, locate_conflicts_circles, voronoi_vertices_circles
+from curvedvoronoi.runtime.sites.conic import Conic
 from curvedvoronoi.runtime.interval import (default_domain, locate_conflicts_interval, locate_conflicts_semialgebraic,
                                             search_domain)
 from curvedvoronoi.runtime.interval.bound import support_function, vertex_bound
 from curvedvoronoi.runtime.interval.curves import parse_curve
-from curvedvoronoi.runtime.locator import locate_conflicts
+from curvedvoronoi.runtime.predicates.locator import locate_conflicts
 from curvedvoronoi.runtime.result import LocatorError
 from curvedvoronoi.runtime.interval.boxes import Box, arb_hi, arb_lo, interval_arb
 from curvedvoronoi.runtime.interval.offsets import canonical_offset, conic_offset

@@ -1,4 +1,4 @@
-"""Tests of runtime.locator (thesis ch. 5; issue 4).
+"""Tests of runtime.predicates.locator (thesis ch. 5; issue 4).
 
 * all 30 validation cases (tests/data/validation_cases.json): vertex counts, x, y, radius,
   distance_to_fourth (relative 1e-8), conflict flags; the two exactly tangent cases must come back
@@ -27,9 +27,9 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from curvedvoronoi.runtime.validation import required_cases_path as _validation_path
-from curvedvoronoi.runtime.conic import Conic
-from curvedvoronoi.runtime.locator import clear_cache, demo_configuration, voronoi_vertices
-from curvedvoronoi.runtime.locator import locate_conflicts as _locate_conflicts
+from curvedvoronoi.runtime.sites.conic import Conic
+from curvedvoronoi.runtime.predicates.locator import clear_cache, demo_configuration, voronoi_vertices
+from curvedvoronoi.runtime.predicates.locator import locate_conflicts as _locate_conflicts
 from curvedvoronoi.runtime.result import InvalidConicError, LocatorError
 
 

@@ -17,8 +17,8 @@ from fractions import Fraction
 
 import pytest
 
-from curvedvoronoi.runtime.conic import Conic
-from curvedvoronoi.runtime.locator import locate_conflicts
+from curvedvoronoi.runtime.sites.conic import Conic
+from curvedvoronoi.runtime.predicates.locator import locate_conflicts
 from curvedvoronoi.runtime.result import LocatorError
 from curvedvoronoi.runtime.validation import default_cases_path
 

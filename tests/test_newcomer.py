@@ -44,9 +44,9 @@ def test_public_api_imports():
     import curvedvoronoi as cv
 
     assert re.fullmatch(r"\d+\.\d+\.\d+", cv.__version__)
-    from curvedvoronoi.runtime.circles import Circle, Point
-    from curvedvoronoi.runtime.conic import Conic
-    from curvedvoronoi.runtime.locator import locate_conflicts
+    from curvedvoronoi.runtime.predicates.circles import Circle, Point
+    from curvedvoronoi.runtime.sites.conic import Conic
+    from curvedvoronoi.runtime.predicates.locator import locate_conflicts
 
     assert cv.Conic is Conic and cv.Circle is Circle and cv.Point is Point
     assert cv.locate_conflicts is locate_conflicts
@@ -78,7 +78,7 @@ def test_overflowing_coefficients_are_one_clear_line_fast(tmp_path):
 
 
 def test_the_same_conic_four_times_is_rejected_within_a_second(tmp_path):
-    from curvedvoronoi.runtime.sites_io import sites_from_document
+    from curvedvoronoi.runtime.sites.reader import sites_from_document
 
     doc = {"sites": [{"coefficients": [1, 0, 4, 0, 0, -4]}] * 4}
     t0 = time.perf_counter()
@@ -137,8 +137,8 @@ def test_circles_with_ellipses_in_locate(tmp_path):
     assert out.returncode == 0, out.stderr
     res = json.loads(out.stdout)
     assert res["certified"] and res["vertices"]
-    from curvedvoronoi.runtime.conic import Conic
-    from curvedvoronoi.runtime.distance import distance
+    from curvedvoronoi.runtime.sites.conic import Conic
+    from curvedvoronoi.runtime.sites.distance import distance
 
     e = Conic.ellipse(centre=(5, 0), axes=(2, 1))
     for v in res["vertices"]:   # equidistant from the two circles (|q| - 1) and the ellipse
@@ -196,7 +196,7 @@ def test_missing_extra_message_names_the_extra():
 
 
 def test_conic_repr_with_a_float_rotation_is_short():
-    from curvedvoronoi.runtime.conic import Conic
+    from curvedvoronoi.runtime.sites.conic import Conic
 
     e = Conic.ellipse(centre=(0, 0), axes=(2, 1), rotation=0.5)
     assert len(repr(e)) < 100 and "≈" in repr(e)

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from curvedvoronoi.runtime.locator import clear_cache, locate_conflicts
+from curvedvoronoi.runtime.predicates.locator import clear_cache, locate_conflicts
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
 sys.path.insert(0, str(Path(__file__).resolve().parent))

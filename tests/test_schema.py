@@ -1,4 +1,4 @@
-"""The JSON input schema (runtime/sites_io.py): every site form describes the curve it says
+"""The JSON input schema (runtime/sites/reader.py): every site form describes the curve it says
 (checked against hand-derived equations and points sampled on the curve), and every malformed
 entry gives one line naming it, 0-based."""
 from __future__ import annotations
@@ -10,9 +10,9 @@ from fractions import Fraction
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from curvedvoronoi.runtime.circles import Circle, Point
-from curvedvoronoi.runtime.conic import Conic
-from curvedvoronoi.runtime.sites_io import (SITES_SCHEMA, parse_site, read_sites, site_key, site_to_json,
+from curvedvoronoi.runtime.predicates.circles import Circle, Point
+from curvedvoronoi.runtime.sites.conic import Conic
+from curvedvoronoi.runtime.sites.reader import (SITES_SCHEMA, parse_site, read_sites, site_key, site_to_json,
                                             sites_from_document)
 
 

@@ -1,4 +1,4 @@
-"""Tests of runtime.polyalg and runtime.vertices (thesis §4.4, §5.2–§5.5).
+"""Tests of runtime.algebra.polyalg and runtime.solve.vertices (thesis §4.4, §5.2–§5.5).
 
 * composed offsets vanish on points built from the conic (point ± √R · unit normal), in any
   working frame (covariance under rigid motions and similarities, DESIGN §3);
@@ -21,11 +21,11 @@ import numpy as np
 import pytest
 
 from curvedvoronoi.runtime.validation import required_cases_path as _validation_path
-from curvedvoronoi.runtime.conic import Conic
-from curvedvoronoi.runtime.polyalg import CanonicalOffset, WorkingFrame, compose_offset, eval_dict, working_frame
+from curvedvoronoi.runtime.sites.conic import Conic
+from curvedvoronoi.runtime.algebra.polyalg import CanonicalOffset, WorkingFrame, compose_offset, eval_dict, working_frame
 from curvedvoronoi.runtime.result import LocatorError
 from curvedvoronoi.runtime.artefacts import load_root_counts
-from curvedvoronoi.runtime.vertices import generalised_vertices, monomials, macaulay_matrix, voronoi_vertices_triple
+from curvedvoronoi.runtime.solve.vertices import generalised_vertices, monomials, macaulay_matrix, voronoi_vertices_triple
 
 DATA = _validation_path()
 CASES = json.loads(DATA.read_text())["cases"]
@@ -212,7 +212,7 @@ def _far(case) -> bool:
 def test_validation_triples(case):
     cs = conics_of(case)
     # far-away vertices and parallel parabola axes used to be refused by the null-space route;
-    # the homotopy route (runtime.homotopy) answers them
+    # the homotopy route (runtime.solve.homotopy) answers them
     tv = voronoi_vertices_triple(*cs[:3])
     if tv.solution is None or tv.solution.info.nullspace == "homotopy":
         # the exact route (msolve) or the homotopy answered: only for far vertices / parallel axes

@@ -26,8 +26,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial import Delaunay
 
-from curvedvoronoi.runtime.circles import Circle, Point
-from curvedvoronoi.runtime.conic import Conic
+from curvedvoronoi.runtime.predicates.circles import Circle, Point
+from curvedvoronoi.runtime.sites.conic import Conic
 from curvedvoronoi.runtime.voronoi.construction import SiteError, voronoi
 from curvedvoronoi.runtime.voronoi.structure import Diagram
 

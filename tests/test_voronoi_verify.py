@@ -4,7 +4,7 @@ References independent of the verifier and of the construction:
 * points and equal-radius circles: qhull's Voronoi diagram of the centres (scipy.spatial.Voronoi);
   equal radii shift every distance by the same amount, so the diagram is that of the centres;
 * unequal circles: brute force over all triples with the exact Apollonius solver of thesis §3.1.3
-  and the exact conflict test (runtime.circles.decide_conflict).
+  and the exact conflict test (runtime.predicates.circles.decide_conflict).
 Each corruption (an edge removed, a vertex moved by 1e-6, two edges' site pairs swapped, a site
 the diagram ignores, a shifted polyline) must give ok=False with a problem naming the part.
 """
@@ -23,7 +23,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 from scipy.spatial import Voronoi
 
-from curvedvoronoi.runtime.circles import Circle, Point, decide_conflict, voronoi_vertices_circles
+from curvedvoronoi.runtime.predicates.circles import Circle, Point, decide_conflict, voronoi_vertices_circles
 from curvedvoronoi.runtime.voronoi.structure import Diagram, DiagramEdge, DiagramVertex
 from curvedvoronoi.runtime.voronoi.verify import verify
 
@@ -284,7 +284,7 @@ def test_cli_verify_exit_codes(tmp_path, point_diagram):
 
 @pytest.fixture(scope="module")
 def ellipse_diagram():
-    from curvedvoronoi.runtime.conic import Conic
+    from curvedvoronoi.runtime.sites.conic import Conic
 
     sites = [Conic.ellipse(centre=(0, 0), axes=(3, 1), rotation=(1, 0)),
              Conic.ellipse(centre=(10, 1), axes=(2, 1), rotation=("3/5", "4/5")),
@@ -336,7 +336,7 @@ def random_ellipses(rng, n, box=30.0):
     (cos, sin) = ((1 − s²)/(1 + s²), 2s/(1 + s²))."""
     from fractions import Fraction
 
-    from curvedvoronoi.runtime.conic import Conic
+    from curvedvoronoi.runtime.sites.conic import Conic
 
     out, used = [], []
     while len(out) < n:
@@ -402,7 +402,7 @@ def _ends_at_infinity(D):
 
 def test_ellipse_accounting_rejects_wrong_order_and_missing_end(random_ellipse_diagram):
     from curvedvoronoi.runtime.voronoi.verify_closure import verify_accounting_conics
-    from curvedvoronoi.runtime.voronoi.verify_curved import SupportTable
+    from curvedvoronoi.runtime.voronoi.verify_support import SupportTable
 
     D = random_ellipse_diagram
     geoms, ends = _ends_at_infinity(D)
@@ -438,7 +438,7 @@ def test_ellipse_diagram_with_removed_unbounded_edge_is_rejected(random_ellipse_
 
 
 def test_ellipse_tail_rejects_a_far_site_on_the_asymptote(random_ellipse_diagram):
-    from curvedvoronoi.runtime.circles import Point
+    from curvedvoronoi.runtime.predicates.circles import Point
 
     D = copy.deepcopy(random_ellipse_diagram)
     e = next(e for e in D.edges if e.ends[1] is None)
@@ -459,13 +459,15 @@ def test_tail_third_site_closer_on_a_middle_stretch(yk, proved):
     (h_k(π/2) = yk < 0 = h_i).  The tail beyond y = 1000 must be rejected; for yk = −200 it is
     the true edge (k farther for y > 25) and must be proved."""
     from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
-    from curvedvoronoi.runtime.voronoi.verify_curved import SupportTable, prove_tail
+    from curvedvoronoi.runtime.voronoi.verify_sitetable import SiteTable
+    from curvedvoronoi.runtime.voronoi.verify_support import SupportTable
+    from curvedvoronoi.runtime.voronoi.verify_tail import prove_tail
 
     geoms = [site_geometry(s) for s in (Point(-100, 0), Point(100, 0), Point(0, yk))]
     y_vertex = (1e4 - yk * yk) / (-2 * yk)            # d_i = d_k on x = 0
     assert (y_vertex > 1000) != proved
     link = (np.array([0.0, 1000.0]), np.array([0.0, 1.0]), np.array([-1.0, 0.0]), 10.0, 1.0, 5.0)
-    ok, msg, J = prove_tail(SupportTable(geoms), geoms, (0, 1), link, 1000.0)
+    ok, msg, J = prove_tail(SupportTable(geoms), SiteTable(geoms, 1000.0), (0, 1), link, 1000.0)
     assert ok == proved, msg
     if proved:
         assert J[0] < np.pi / 2 < J[1]

@@ -1,8 +1,8 @@
 """Local Voronoi vertices: float refinement and certification (thesis §5.2, §6.1).
 
 References independent of the code under test: the vendored validation cases (vertices computed
-outside the project), the exact circle locator of runtime.circles (§3.1), and a bisection on a
-bisector with the float distance of runtime.distance."""
+outside the project), the exact circle locator of runtime.predicates.circles (§3.1), and a bisection on a
+bisector with the float distance of runtime.sites.distance."""
 from __future__ import annotations
 
 import math
@@ -11,9 +11,9 @@ from fractions import Fraction
 import numpy as np
 import pytest
 
-from curvedvoronoi.runtime.circles import Circle, Point, voronoi_vertices_circles
-from curvedvoronoi.runtime.conic import Conic
-from curvedvoronoi.runtime.distance import distance as conic_distance
+from curvedvoronoi.runtime.predicates.circles import Circle, Point, voronoi_vertices_circles
+from curvedvoronoi.runtime.sites.conic import Conic
+from curvedvoronoi.runtime.sites.distance import distance as conic_distance
 from curvedvoronoi.runtime.validation import load_cases, repository_cases_path
 from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
 from curvedvoronoi.runtime.voronoi.vertex import (VertexProof, certify_empty, certify_vertex,
@@ -89,7 +89,7 @@ def test_generalised_vertex_that_is_not_true_is_rejected():
 
 def _bisector_vertex(p1, p2, conic, s0, s1):
     """The point of the perpendicular bisector of p1 p2 equidistant from the conic, by bisection
-    on |q − p1| − d(q, C) with runtime.distance's float distance (an independent route)."""
+    on |q − p1| − d(q, C) with runtime.sites.distance's float distance (an independent route)."""
     m = ((p1[0] + p2[0]) / 2, (p1[1] + p2[1]) / 2)
     dx, dy = p2[0] - p1[0], p2[1] - p1[1]
     n = math.hypot(dx, dy)
@@ -247,9 +247,9 @@ def test_random_circle_point_triples_against_the_exact_locator():
 
 def test_random_conic_triples_against_the_triple_locator():
     """Random ellipse / hyperbola / parabola triples: every true vertex of the independent
-    triple solver (runtime.locator.voronoi_vertices, Macaulay null space) is refined from a
+    triple solver (runtime.predicates.locator.voronoi_vertices, Macaulay null space) is refined from a
     seed 1e-4 off and certified, and the proof contains the solver's vertex."""
-    from curvedvoronoi.runtime.locator import voronoi_vertices
+    from curvedvoronoi.runtime.predicates.locator import voronoi_vertices
 
     def rot(m, k):
         h = m * m + k * k

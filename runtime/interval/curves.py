@@ -201,7 +201,7 @@ def _from_conic_object(obj, name) -> Curve:
 
 
 def parse_curve(spec, name: str = "") -> Curve:
-    """Accepts a Curve, a runtime.conic.Conic, a validation-case conic dict
+    """Accepts a Curve, a runtime.sites.conic.Conic, a validation-case conic dict
     ({"coefficients": [...], "canonical": {...}}), a dict {"poly": ..., "where": [...]}
     or a bare polynomial (sympy string / Poly / python-flint mpoly)."""
     if isinstance(spec, Curve):
@@ -218,7 +218,7 @@ def parse_curve(spec, name: str = "") -> Curve:
                 f = conic_frame_poly(conic["kind"], conic["params"], conic["cos"], conic["sin"], conic["tx"], conic["ty"])
             if conic is None:
                 try:
-                    from ..conic import Conic
+                    from ..sites.conic import Conic
 
                     return _from_conic_object(Conic.from_coefficients(*spec["coefficients"]), name)
                 except ImportError:

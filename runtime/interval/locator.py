@@ -157,7 +157,7 @@ def locate_conflicts_semialgebraic(curves, domain=None, formulation: str = "orig
 
     ``curves``: four sites C1..C4, each a polynomial (sympy string, Poly, flint mpoly), a dict
     ``{"poly": ..., "where": ["y >= 0", ...]}`` (an arc), a validation-case conic dict or a
-    ``runtime.conic.Conic``.  ``domain = (xmin, xmax, ymin, ymax)`` bounds the search for the
+    ``runtime.sites.conic.Conic``.  ``domain = (xmin, xmax, ymin, ymax)`` bounds the search for the
     vertices (default: the box of the proved vertex bound :func:`.bound.vertex_bound` when there
     is one, else :func:`default_domain`); ``complete`` is True only if the domain contains the
     proved bound and the whole domain was processed with no undecided box.
@@ -327,5 +327,5 @@ def locate_conflicts_semialgebraic(curves, domain=None, formulation: str = "orig
 
 
 def locate_conflicts_interval(c1, c2, c3, c4, formulation: str = "offset", domain=None, **kw) -> LocatorResult:
-    """Same locator for four conics (runtime.conic.Conic objects or validation-case dicts)."""
+    """Same locator for four conics (runtime.sites.conic.Conic objects or validation-case dicts)."""
     return locate_conflicts_semialgebraic([c1, c2, c3, c4], domain=domain, formulation=formulation, **kw)

@@ -81,7 +81,7 @@ def conic_offset(kind: str, params: dict, cos, sin, tx, ty, names=("x", "y", "r"
             fam = "ellipse_hyperbola"
             if c == 1:
                 raise ValueError("ellipse with equal axes is a circle: use kind='circle' (the degree-8 "
-                                 "offset degenerates for c = 1, DESIGN.md §3)")
+                                 "offset of the ellipse family degenerates for c = 1; a circle has the degree-4 offset of thesis Table 4.1)")
         elif kind == "parabola":
             vals = {"p": Fraction(params["p"])}
             fam = "parabola"

@@ -1,14 +1,14 @@
 """The ``diagram`` command: ``python -m curvedvoronoi diagram SITES.json [--json OUT.json]
 [--png OUT.png] [--geojson OUT.geojson] [--quiet] [--time-limit S] [--no-certify] [--empty-circles]``.
 
-SITES.json is ``{"sites": [...]}`` with the records of :func:`runtime.sites_io.parse_site`
+SITES.json is ``{"sites": [...]}`` with the records of :func:`runtime.sites.reader.parse_site`
 (``{"point": [x, y]}``, ``{"circle": {"centre": [x, y], "radius": r}}``,
 ``{"coefficients": [a, b, c, d, e, f]}``) or the older ``{"conics": [{"coefficients": ...}]}``.
 Prints a summary (the diagram JSON on stdout when no ``--json`` is given and not ``--quiet``).
 Bad input: one line on stderr, exit status 2.  Ctrl-C: the construction stops and the partial
 result is written, marked not certified.
 
-Public API: :func:`diagram_main` (sites files are read by :func:`runtime.sites_io.read_sites`).
+Public API: :func:`diagram_main` (sites files are read by :func:`runtime.sites.reader.read_sites`).
 """
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ import argparse
 import json
 import sys
 
-from ..sites_io import read_sites
+from ..sites.reader import read_sites
 
 __all__ = ["diagram_main"]
 

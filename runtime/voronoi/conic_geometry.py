@@ -5,7 +5,7 @@ points of q are the points of C where q − p is normal to C).  This module impl
 :class:`runtime.voronoi.geometry.SiteGeometry` for ellipses, hyperbolas (both branches form one
 site) and parabolas, vectorised over many query points with numpy.
 
-Canonical frame (:mod:`runtime.conic`): (X, Y) = R(−θ)(q − t); ellipse X²/a² + Y²/b² = 1
+Canonical frame (:mod:`runtime.sites.conic`): (X, Y) = R(−θ)(q − t); ellipse X²/a² + Y²/b² = 1
 (a ≥ b), hyperbola X²/a² − Y²/b² = 1, parabola Y² = 2pX.  g denotes the canonical quadratic
 (ellipse X²/a² + Y²/b² − 1, hyperbola 1 − X²/a² + Y²/b², parabola Y² − 2pX), so that the
 convex side K = {g ≤ 0} (the inside of the ellipse, the focus side of the parabola, the two
@@ -69,7 +69,7 @@ Work in the float canonical frame of the float conic C_f (exact binary numbers);
   evaluated with interval-style error bounds (h is stationary at the optimum, so an error in
   μ costs only second order).
 * where neither is tight (relative gap > 1e-7, e.g. exactly on a symmetry axis at an evolute
-  cusp), the rigorous ball route :func:`runtime.distance.distance_ball` (Lagrange polynomial of
+  cusp), the rigorous ball route :func:`runtime.sites.distance.distance_ball` (Lagrange polynomial of
   the foot points, exact coefficients) is used for those points; the float q is exact.
 """
 from __future__ import annotations
@@ -78,8 +78,8 @@ import math
 
 import numpy as np
 
-from ..circles import Circle
-from ..conic import Conic
+from ..predicates.circles import Circle
+from ..sites.conic import Conic
 from .geometry import EPS, CircleGeometry, PointGeometry, SiteGeometry, rounding_slack
 
 __all__ = ["ConicGeometry", "CentralConicGeometry", "EllipseGeometry", "HyperbolaGeometry", "ParabolaGeometry",
@@ -366,9 +366,9 @@ class ConicGeometry(SiteGeometry):
         return lo, hi
 
     def _ball_bounds(self, x: float, y: float):
-        """Rigorous bounds from :func:`runtime.distance.distance_ball` (floats taken exactly),
+        """Rigorous bounds from :func:`runtime.sites.distance.distance_ball` (floats taken exactly),
         rounded outwards to floats."""
-        from ..distance import distance_ball
+        from ..sites.distance import distance_ball
 
         self.fallbacks += 1
         D = distance_ball(self.exact, x, y, prec=64)
@@ -661,7 +661,7 @@ def _coeffs_of(site):
     """Exact rational coefficients (a, b, c, d, e, f) of a conic or circle site, or ('point', x, y)."""
     from fractions import Fraction
 
-    from ..circles import Circle
+    from ..predicates.circles import Circle
 
     if isinstance(site, Circle):
         cx = Fraction(int(site.cx.p), int(site.cx.q))
@@ -848,8 +848,8 @@ def site_inside(A, B) -> bool:
 
 
 def site_geometry(site) -> SiteGeometry:
-    """The geometry of a site: a :class:`runtime.circles.Circle` (r2 = 0 is a point), a
-    :class:`runtime.conic.Conic` (circles among them go to :class:`CircleGeometry`)."""
+    """The geometry of a site: a :class:`runtime.predicates.circles.Circle` (r2 = 0 is a point), a
+    :class:`runtime.sites.conic.Conic` (circles among them go to :class:`CircleGeometry`)."""
     if isinstance(site, Circle):
         return PointGeometry(site) if site.r2 == 0 else CircleGeometry(site)
     if isinstance(site, Conic):

@@ -14,7 +14,7 @@ traits object).  Each site kind implements
 Every d(·, S) is 1-Lipschitz, so a bound at the centre c of a disc of radius h gives
 d(B(c, h), S) ⊂ [lo(c) − h, hi(c) + h]: this is how bounds at points become bounds on regions.
 
-Point and circle sites are implemented here (exact rational data in :mod:`runtime.circles`;
+Point and circle sites are implemented here (exact rational data in :mod:`runtime.predicates.circles`;
 d(q, C) = | |q − c| − ρ |); conic sites (ellipse, hyperbola, parabola) in
 :mod:`runtime.voronoi.conic_geometry`, whose :func:`~runtime.voronoi.conic_geometry.site_geometry`
 turns any user site into its geometry.
@@ -49,8 +49,8 @@ class SiteGeometry(ABC):
     kind : str
         ``"point"``, ``"circle"``, ``"ellipse"``, ``"hyperbola"`` or ``"parabola"``.
     exact : object
-        The exact site: :class:`runtime.circles.Circle` (points: r2 = 0) or
-        :class:`runtime.conic.Conic`; certification routes use it.
+        The exact site: :class:`runtime.predicates.circles.Circle` (points: r2 = 0) or
+        :class:`runtime.sites.conic.Conic`; certification routes use it.
     """
 
     kind: str

@@ -73,8 +73,8 @@ class DiagramEdge:
 
 @dataclass
 class Diagram:
-    """The Voronoi diagram of ``sites`` (exact :class:`runtime.circles.Circle` /
-    :class:`runtime.circles.Point` / :class:`runtime.conic.Conic`).
+    """The Voronoi diagram of ``sites`` (exact :class:`runtime.predicates.circles.Circle` /
+    :class:`runtime.predicates.circles.Point` / :class:`runtime.sites.conic.Conic`).
 
     ``certified`` is True only when an independent verification proved the whole diagram;
     ``problems`` lists what is not proved (one line each, naming the sites).
@@ -86,6 +86,16 @@ class Diagram:
     certified: bool = False
     problems: list[str] = field(default_factory=list)
     stats: dict = field(default_factory=dict)
+    #: the construction's sampling state (not serialised), used by :meth:`delete_site`
+    construction: object = field(default=None, repr=False, compare=False)
+
+    # ------------------------------------------------------------------ updates
+    def delete_site(self, i: int, *, certify: bool = True) -> "Diagram":
+        """The diagram of the other sites, renumbered (site j > i becomes j − 1); this diagram is
+        left unchanged.  See :func:`runtime.voronoi.deletion.delete_site`."""
+        from .deletion import delete_site
+
+        return delete_site(self, i, certify=certify)
 
     # ------------------------------------------------------------------ graph views
     def delaunay_edges(self) -> list[tuple[int, int]]:
@@ -108,7 +118,7 @@ class Diagram:
 
     # ------------------------------------------------------------------ JSON
     def to_json(self) -> dict:
-        from ..sites_io import site_to_json
+        from ..sites.reader import site_to_json
 
         return {"format": FORMAT,
                 "sites": [site_to_json(s) for s in self.sites],
@@ -122,7 +132,7 @@ class Diagram:
     @classmethod
     def from_json(cls, doc: dict) -> "Diagram":
         """Read :meth:`to_json` output back (sites exactly).  ValueError on a malformed document."""
-        from ..sites_io import parse_site
+        from ..sites.reader import parse_site
 
         if not isinstance(doc, dict) or doc.get("format") != FORMAT:
             raise ValueError(f'not a diagram document: expected "format": "{FORMAT}"')

@@ -14,7 +14,7 @@ Let G be the true Voronoi graph and H the reported one.
    true Voronoi vertex within 1e-10·(1 + |x| + |y| + r) of the reported position: for circle/point
    triples both solutions of the Apollonius system are proved by a float Krawczyk test with error
    bounds (falling back to the exact solver of thesis §3.1.3,
-   :func:`runtime.circles.voronoi_vertices_circles`); for triples with a conic,
+   :func:`runtime.predicates.circles.voronoi_vertices_circles`); for triples with a conic,
    :func:`runtime.voronoi.vertex.certify_vertex` proves existence and uniqueness (Krawczyk on the
    exact foot-point system) and the touching property.  **Emptiness**: every other site k has a
    rigorous lower bound of d(v, S_k) above the upper bound of the radius; far sites are excluded
@@ -89,7 +89,7 @@ from .conic_geometry import site_geometry
 from .verify_edge_checks import check_edges
 from .verify_edges import CircleTable
 from .verify_closure import verify_accounting, verify_accounting_conics, verify_closure
-from .verify_curved import SupportTable
+from .verify_support import SupportTable
 from .verify_vertices import prove_vertices
 
 __all__ = ["verify", "verify_files", "Certificate"]
@@ -137,8 +137,8 @@ def _as_diagram(diagram):
 
 def _as_site(s):
     """A Point / Circle / Conic as is; a tuple (x, y, r) as a circle (r = 0: a point)."""
-    from ..circles import Circle, Point
-    from ..conic import Conic
+    from ..predicates.circles import Circle, Point
+    from ..sites.conic import Conic
 
     if isinstance(s, (Circle, Conic)):
         return s
@@ -149,8 +149,8 @@ def _as_site(s):
 
 
 def _same_site(a, b) -> bool:
-    from ..sites_io import site_to_json
-    from ..circles import Circle
+    from ..sites.reader import site_to_json
+    from ..predicates.circles import Circle
 
     try:
         if isinstance(a, Circle) and isinstance(b, Circle):
@@ -162,7 +162,7 @@ def _same_site(a, b) -> bool:
 
 def verify_files(diagram_path: str, sites_path: str | None = None) -> "Certificate":
     """:func:`verify` on a diagram JSON file (and optionally a sites file, any form read by
-    :func:`runtime.sites_io.read_sites`).  ValueError (one line) on unreadable or malformed input."""
+    :func:`runtime.sites.reader.read_sites`).  ValueError (one line) on unreadable or malformed input."""
     import json
 
     try:
@@ -174,7 +174,7 @@ def verify_files(diagram_path: str, sites_path: str | None = None) -> "Certifica
         raise ValueError(f"{diagram_path} is not valid JSON: {exc}") from None
     sites = None
     if sites_path is not None:
-        from ..sites_io import read_sites
+        from ..sites.reader import read_sites
         sites = read_sites(sites_path, distinct=False, scale=False)
     return verify(doc, sites)
 

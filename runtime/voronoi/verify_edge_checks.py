@@ -5,9 +5,9 @@ vertices, points within the stated tolerance of the bisector and on the edge's a
 parameter interval of the edge on the exact bisector of circle/point sites, the exact-zero
 argument for the third sites of its end vertices, then -- batched over all edges -- the third-site
 searches of :mod:`runtime.voronoi.verify_edges` (finite arcs and infinite tails).  When a site is
-an ellipse, every edge goes to :mod:`runtime.voronoi.verify_curved` (chain of strips; unbounded
-ends by :func:`runtime.voronoi.verify_curved.prove_tail`, which also gives the interval of
-directions recorded for the accounting).
+an ellipse, every edge goes to :mod:`runtime.voronoi.verify_curved` (chains of strips, all edges
+side by side; unbounded ends by :func:`runtime.voronoi.verify_tail.prove_tail`, which also gives
+the interval of directions recorded for the accounting).
 """
 from __future__ import annotations
 
@@ -15,7 +15,6 @@ import math
 
 import numpy as np
 
-from .verify_curved import SupportTable
 from .verify_edges import bisector, params, prove_arcs, prove_tail
 
 __all__ = ["check_edges"]
@@ -34,7 +33,7 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats):
     intervals: dict = {}     # pair -> list of (kind, lo, hi, edge id)
     vok_by_id = {v.id: f for v, f in zip(D.vertices, vok)}
     jobs, cands = [], []
-    sup = None
+    curved, cscale = [], None
     for e in D.edges:
         name = _ename(e)
         pair = tuple(int(s) for s in e.sites)
@@ -73,9 +72,12 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats):
             eok.append(False)
             continue
         if table is None:
-            if sup is None:
-                sup = SupportTable(geoms)
-            eok.append(_curved_edge(e, name, pair, P, endv, geoms, problems, sup, ends_inf))
+            if cscale is None:
+                cscale = _curved_scale(geoms)
+            job = _curved_job(e, name, pair, P, endv, cscale, problems)
+            eok.append(False)
+            if job is not None:
+                curved.append((len(eok) - 1, e, name, job))
             continue
         bis = bisector(table, *pair)
         if isinstance(bis, str):
@@ -84,6 +86,7 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats):
             continue
         eok.append(True)
         cands.append((len(eok) - 1, e, name, pair, P, endv, bis))
+    _curved_edges(curved, geoms, problems, eok, ends_inf)
     for (pos, e, name, pair, P, endv, bis), pre in zip(cands, _precompute(cands, table)):
         job = _edge_job(e, name, pair, P, endv, bis, table, problems, pre)
         eok[pos] = job is not None
@@ -118,48 +121,86 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats):
     return eok, ends_inf, intervals
 
 
-def _curved_edge(e, name, pair, P, endv, geoms, problems, sup, ends_inf) -> bool:
-    """An edge with a conic site (:mod:`runtime.voronoi.verify_curved`); an unbounded end is
-    proved to infinity by :func:`runtime.voronoi.verify_curved.prove_tail` and recorded in
-    ``ends_inf`` as (θ_mid, pair, (θa, θb), edge id) with [θa, θb] its asymptotic sector."""
-    from .verify_curved import prove_curved_edge, prove_tail
-
-    v0, v1 = endv
+def _curved_scale(geoms) -> float:
     fin = [b for g in geoms for b in g.bounding_box() if math.isfinite(b)]
-    scale = 1.0 + (max(abs(b) for b in fin) if fin else 0.0)
+    return 1.0 + (max(abs(b) for b in fin) if fin else 0.0)
+
+
+def _curved_job(e, name, pair, P, endv, scale, problems):
+    """The checks of an edge with a conic site that need no search (ends at its vertices); returns
+    the job for :func:`runtime.voronoi.verify_curved.prove_curved_edges`, or None (problem
+    recorded)."""
+    v0, v1 = endv
     if e.closed or (v0 is None and v1 is None):
         problems.append(f"{name}: not proved (vertex-less edges of conic sites are not verified by this version)")
-        return False
+        return None
     for t, (w, Q) in enumerate(((v0, P[0]), (v1, P[-1]))):
         if w is not None and math.hypot(Q[0] - w.x, Q[1] - w.y) > w.tol + 2 * w.h + 1e-12 * scale:
             problems.append(f"{name}: polyline {'starts' if t == 0 else 'ends'} at ({Q[0]:.17g}, {Q[1]:.17g}), "
                             f"not at vertex {w.id} ({w.x:.17g}, {w.y:.17g})")
-            return False
-    inner = P[1:-1]
-    if len(inner):
-        lo_i, hi_i = geoms[pair[0]].distance_bounds(inner)
-        lo_j, hi_j = geoms[pair[1]].distance_bounds(inner)
-        lb = np.maximum(lo_i - hi_j, lo_j - hi_i) / 2
-        tol = float(e.tolerance) if math.isfinite(e.tolerance) else math.inf
-        far = np.nonzero(lb > tol * (1 + 1e-9) + 1e-12 * scale)[0]
-        if len(far):
-            p = int(far[0])
-            problems.append(f"{name}: polyline point {p + 1} ({inner[p, 0]:.9g}, {inner[p, 1]:.9g}) "
-                            f"is at least {lb[p]:.3g} from the bisector (stated tolerance {tol:.3g})")
-            return False
-    ok, msg, beyond = prove_curved_edge(geoms, scale, pair, P, v0, v1, float(e.tolerance))
-    if not ok:
-        problems.append(f"{name}: {msg}")
-        return False
-    if v0 is None or v1 is None:
-        q = beyond["point"]
-        ok, msg, sector = prove_tail(sup, geoms, pair, beyond["link"], scale)
+            return None
+    return (scale, pair, P, v0, v1, float(e.tolerance))
+
+
+def _curved_edges(curved, geoms, problems, eok, ends_inf):
+    """Edges with a conic site (:mod:`runtime.voronoi.verify_curved`), all chains side by side;
+    an unbounded end is proved to infinity by :func:`runtime.voronoi.verify_tail.prove_tail` and
+    recorded in ``ends_inf`` as (θ_mid, pair, (θa, θb), edge id) with [θa, θb] its asymptotic
+    sector.  ``curved``: (position, edge, name, job)."""
+    from .verify_curved import prove_curved_edges
+    from .verify_sitetable import SiteTable
+    from .verify_support import SupportTable
+    from .verify_tail import prove_tail
+
+    if not curved:
+        return
+    scale = curved[0][3][0]
+    table = SiteTable(geoms, scale)
+    # polyline points within the stated tolerance of the bisector: |d_i − d_j|/2 is a lower bound
+    # of the distance to it (d_i − d_j is 2-Lipschitz); one call for all edges
+    rows, ks, owner = [], [], []
+    for t, (_, e, _, (_, pair, P, _, _, _)) in enumerate(curved):
+        inner = P[1:-1]
+        rows += [inner, inner]
+        ks += [np.full(len(inner), pair[0]), np.full(len(inner), pair[1])]
+        owner.append(len(inner))
+    V = table.evaluate(np.concatenate(rows), np.concatenate(ks)) if sum(owner) else None
+    jobs, pos = [], 0
+    for (p_e, e, name, job), cnt in zip(curved, owner):
+        Vi, Vj = (V.part(pos, pos + cnt), V.part(pos + cnt, pos + 2 * cnt)) if cnt else (None, None)
+        pos += 2 * cnt
+        if cnt:
+            inner = job[2][1:-1]
+            lb = np.maximum(Vi.lo - Vj.hi, Vj.lo - Vi.hi) / 2
+            tol = float(e.tolerance) if math.isfinite(e.tolerance) else math.inf
+            far = np.nonzero(lb > tol * (1 + 1e-9) + 1e-12 * scale)[0]
+            if len(far):
+                p = int(far[0])
+                problems.append(f"{name}: polyline point {p + 1} ({inner[p, 0]:.9g}, {inner[p, 1]:.9g}) "
+                                f"is at least {lb[p]:.3g} from the bisector (stated tolerance {tol:.3g})")
+                eok[p_e] = False
+                continue
+        jobs.append((p_e, e, name, job))
+    results = prove_curved_edges(table, [job for _, _, _, job in jobs])
+    sup = None
+    for (p_e, e, name, job), (ok, msg, beyond) in zip(jobs, results):
         if not ok:
-            problems.append(f"{name}: proved up to ({q[0]:.9g}, {q[1]:.9g}), not proved beyond it: {msg}")
-            return False
-        tha, thb, _ = sector
-        ends_inf.append((0.5 * (tha + thb) % (2 * math.pi), pair, (tha, thb), e.id))
-    return True
+            problems.append(f"{name}: {msg}")
+            eok[p_e] = False
+            continue
+        _, pair, _, v0, v1, _ = job
+        if v0 is None or v1 is None:
+            if sup is None:
+                sup = SupportTable(geoms)
+            q = beyond["point"]
+            ok, msg, sector = prove_tail(sup, table, pair, beyond["link"], scale)
+            if not ok:
+                problems.append(f"{name}: proved up to ({q[0]:.9g}, {q[1]:.9g}), not proved beyond it: {msg}")
+                eok[p_e] = False
+                continue
+            tha, thb, _ = sector
+            ends_inf.append((0.5 * (tha + thb) % (2 * math.pi), pair, (tha, thb), e.id))
+        eok[p_e] = True
 
 
 def _sign_checks(jobs, table, eok, problems):

@@ -18,7 +18,7 @@ the exact sites, ΔJ ≥ |J(z) − J(z̃)| on Z plus data rounding, s_I the roun
 disjoint boxes then hold *all* solutions of the system, which the edge proofs use (the zeros of
 d_k − d_i on the bisector of i, j are the solutions with r > 0).  Triples that are not pairwise
 exterior, collinear centres and failed tests go to the exact route of thesis §3.1.3
-(:func:`runtime.circles.voronoi_vertices_circles`, exact in quadratic towers).
+(:func:`runtime.predicates.circles.voronoi_vertices_circles`, exact in quadratic towers).
 
 Triples with a conic use :func:`runtime.voronoi.vertex.certify_vertex` (Krawczyk on the exact
 foot-point system, thesis §6.1 / App. D.1, and the touching certificate).
@@ -150,7 +150,7 @@ def _fast_circle_vertices(items, table):
 def prove_vertices(D, sites, geoms, table, problems):
     """Prove every reported vertex (position, radius, emptiness).  Returns ({id: VertexInfo},
     list of flags in diagram order)."""
-    from ..circles import voronoi_vertices_circles
+    from ..predicates.circles import voronoi_vertices_circles
     from ..result import LocatorError
 
     n = len(sites)

@@ -3,7 +3,7 @@
 A Voronoi vertex of sites S1, S2, S3 is a point q with d(q, S1) = d(q, S2) = d(q, S3) = r whose
 open disc B(q, r) meets none of them (thesis Def. 5.2.1).  The diagram builds vertices locally
 (a seed on an edge, then Newton) and proves them here, one at a time; the full triple solve of
-:mod:`runtime.locator` is not needed.  Sites may be any mix of points, circles and conics.
+:mod:`runtime.predicates.locator` is not needed.  Sites may be any mix of points, circles and conics.
 
 * :func:`refine_vertex`: damped Newton on (d1 − d2, d1 − d3) = 0 with the float distances of
   :class:`runtime.voronoi.geometry.SiteGeometry`; the gradient of d_i at q is the unit vector
@@ -15,7 +15,7 @@ open disc B(q, r) meets none of them (thesis Def. 5.2.1).  The diagram builds ve
     circle i where q lies (points: ρ_i = 0); with r > 0 and ρ_i + s_i r > 0 in the box it
     gives d(q, S_i) = | |q − c_i| − ρ_i | = r, so the vertex is a true one;
   - otherwise the 8×8 foot-point system of thesis §6.1 / App. D.1
-    (:class:`runtime.certify_krawczyk.FootSystem`), whose point-site rows are p_i = c_i.
+    (:class:`runtime.certify.krawczyk.FootSystem`), whose point-site rows are p_i = c_i.
 
   **True-vertex property** for a conic site (the proved foot p_i is a closest point of S_i):
   with f_i the exact conic equation and μ = σ ∇f_i(p_i)·(p_i − q) / (2 r²), σ = ±1 the sign
@@ -42,10 +42,10 @@ import numpy as np
 import flint
 from flint import arb, arb_mat, fmpq
 
-from ..certify_foot import normalised_coefficients, to_arb, working_prec
-from ..certify_krawczyk import FootSystem, KrawczykFailure
-from ..circles import Circle
-from ..conic import Conic
+from ..certify.foot import normalised_coefficients, to_arb, working_prec
+from ..certify.krawczyk import FootSystem, KrawczykFailure
+from ..predicates.circles import Circle
+from ..sites.conic import Conic
 from .conic_geometry import site_geometry
 
 __all__ = ["VertexProof", "refine_vertex", "certify_vertex", "certify_empty", "classify_others",

@@ -22,7 +22,7 @@ from fractions import Fraction
 import flint
 from flint import arb, arb_mat
 
-from .certify_foot import to_arb
+from .foot import to_arb
 
 __all__ = ["FootSystem", "KrawczykFailure"]
 

@@ -9,7 +9,7 @@ Solver (replaces the thesis' Schur complement of the Canny–Emiris matrix, §5.
 exist on true offset coefficients: the offsets are not generic, DESIGN §3):
 
 1. offsets composed with the rigid motions and a similarity into a *working frame* (C1's axes,
-   configuration cores in the unit disc; :func:`runtime.polyalg.working_frame`);
+   configuration cores in the unit disc; :func:`runtime.algebra.polyalg.working_frame`);
 2. Macaulay matrix M in (x, y, R), weighted degree (1, 1, 2), up to degree d (rows: monomial
    multiples m·o_i, columns: monomials; rows scaled to unit norm);
 3. its null space *projected* on the columns of degree ≤ d − h (pivoted QR of the top-degree
@@ -28,9 +28,9 @@ Honesty rules: the number of finite solutions must equal the generic count of th
 configuration (CONFIG_TABLE; the counts are msolve parametrisation degrees from the precompute,
 ``generated/counts/root_counts.json``); otherwise -- solutions far outside the disc lumped with
 those at infinity, or a non-generic configuration such as parallel parabola axes, which this route
-cannot tell apart -- the exact route (msolve on the rational system, :mod:`runtime.exact_solve`)
+cannot tell apart -- the exact route (msolve on the rational system, :mod:`runtime.solve.exact`)
 answers when installed; without it another degree / null-space variant is tried, then the parameter homotopy of
-:mod:`runtime.homotopy` (circle-space coordinates, where far vertices are ordinary points).  The
+:mod:`runtime.solve.homotopy` (circle-space coordinates, where far vertices are ordinary points).  The
 homotopy may return fewer than the generic count (paths ending at infinity on a non-generic
 input); completeness is then not claimed downstream.  Measured: the Newton (Canny–Emiris)
 polytope support is no smaller than the weighted-degree support here and 8–19× slower
@@ -48,8 +48,8 @@ import numpy as np
 import scipy.linalg as sla
 
 from .homotopy import homotopy_solve
-from .polyalg import CanonicalOffset, WorkingFrame, compose_offset, working_frame, FAMILY_WEIGHTED_DEGREE
-from .result import LocatorError, NumericalRefusal, VoronoiVertex
+from ..algebra.polyalg import CanonicalOffset, WorkingFrame, compose_offset, working_frame, FAMILY_WEIGHTED_DEGREE
+from ..result import LocatorError, NumericalRefusal, VoronoiVertex
 
 #: (sorted family triple) -> (Macaulay degree, degree-gap hint) of the null-space solver (tuning
 #: measured on the validation triples and random rigid configurations; hyperbolas use the ellipse
@@ -75,7 +75,7 @@ class _ConfigTable(Mapping):
     precompute, :func:`runtime.artefacts.load_root_counts`), read on first use."""
 
     def _counts(self):
-        from .artefacts import load_root_counts
+        from ..artefacts import load_root_counts
         return load_root_counts()
 
     def __getitem__(self, fams):
@@ -182,22 +182,42 @@ def _nullspace(M, degs, d, top):
     hi = degs > d - top
     if top > 0:
         MH, ML = M[:, hi], M[:, ~hi]
-        Q, Rh, _ = sla.qr(MH, pivoting=True, mode="full", check_finite=False)
+        # Householder QR without forming Q (measured 4x cheaper than mode="full" on 609 x 300);
+        # Qᵀ·ML and the trailing columns of Qn are applied with LAPACK ormqr
+        (qh, tauh), Rh, _ = sla.qr(MH, pivoting=True, mode="raw", check_finite=False)
         dr = np.abs(np.diag(Rh))
         rh, ratio_h = _rank_from_values(dr, RANK_TOL * dr[0])
         if ratio_h >= GAP_RATIO:
-            N = Q[:, rh:].T @ ML
-            Qn, Rn, _ = sla.qr(N.T, pivoting=True, mode="full", check_finite=False)
+            N = _householder_apply(qh, tauh, ML, "T")[rh:]
+            if N.shape[0] == 0:
+                return np.eye(ML.shape[1]), degs[~hi], "projected"
+            (qn, taun), Rn, _ = sla.qr(N.T, pivoting=True, mode="raw", check_finite=False)
             dn = np.abs(np.diag(Rn))
             rn, ratio_n = _rank_from_values(dn, RANK_TOL * dn[0]) if len(dn) else (0, math.inf)
             if ratio_n >= GAP_RATIO:
-                return Qn[:, rn:], degs[~hi], "projected"
+                n = N.shape[1]
+                tail = np.zeros((n, n - rn))
+                tail[rn:, :] = np.eye(n - rn)
+                return _householder_apply(qn, taun, tail, "N"), degs[~hi], "projected"
     Q, R, _ = sla.qr(M.T, pivoting=True, mode="full", check_finite=False)
     dr = np.abs(np.diag(R))
     r, ratio = _rank_from_values(dr, RANK_TOL * dr[0])
     if ratio < GAP_RATIO:
         raise LocatorError(f"Macaulay solver: numerical rank of the Macaulay matrix not clear (ratio {ratio:.1e})")
     return Q[:, r:], degs, "full"
+
+
+def _householder_apply(qr, tau, C, trans: str):
+    """Q·C (trans "N") or Qᵀ·C ("T") for the full orthogonal Q of a raw Householder QR
+    (``scipy.linalg.qr(mode="raw")``), by LAPACK ormqr."""
+    ormqr, = sla.get_lapack_funcs(("ormqr",), (qr,))
+    C = np.asfortranarray(C, dtype=qr.dtype)
+    _, work, info = ormqr("L", trans, qr, tau, C, -1)
+    lwork = max(int(work[0].real), 1)
+    out, _, info = ormqr("L", trans, qr, tau, C, lwork, overwrite_c=True)
+    if info != 0:
+        raise LocatorError(f"internal error: LAPACK ormqr failed (info {info})")
+    return out
 
 
 def _find_gap(Z, dl, kmax, hint, kmin=1):
@@ -387,7 +407,7 @@ class TripleVertices:
     timings: dict[str, float]
     notes: list[str]
     solution: TripleSolution | None = None
-    #: real solutions of the exact system (runtime.exact_solve.ExactRoots) when the exact route answered
+    #: real solutions of the exact system (runtime.solve.exact.ExactRoots) when the exact route answered
     exact: object | None = None
 
 
@@ -406,7 +426,7 @@ def config_entry(fams: tuple[str, ...]) -> tuple[int, int | None, int]:
 
 #: enlargements of the working frame tried in turn.  Measured: a 16x larger disc does not recover
 #: far-away solutions (the near ones then cluster and the rank decisions blur), so only 1 is used;
-#: far solutions are found by the homotopy (runtime.homotopy).
+#: far solutions are found by the homotopy (runtime.solve.homotopy).
 SCALES = (1,)
 
 #: residual (relative backward error) accepted for a refined solution
@@ -420,7 +440,7 @@ class _CountMismatch(LocatorError):
 def _modular_count(c1, c2, c3) -> int | None:
     """Number of complex solutions of the exact triple system modulo a prime (msolve), None if
     msolve fails or the system is positive-dimensional there (the exact route then decides)."""
-    from .exact_solve import MODULAR_PRIMES, exact_triple_system, parametrisation_degree
+    from .exact import MODULAR_PRIMES, exact_triple_system, parametrisation_degree
 
     try:
         return parametrisation_degree(exact_triple_system(c1, c2, c3), MODULAR_PRIMES[0], timeout=30)
@@ -507,7 +527,7 @@ def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = 
 
 
 def _homotopy_fallback(offs, wf, expected, errors, total):
-    """Second route when the null-space solve refuses: parameter homotopy (runtime.homotopy).
+    """Second route when the null-space solve refuses: parameter homotopy (runtime.solve.homotopy).
     Endpoints that do not refine or coincide are dropped, so fewer than ``expected`` solutions
     may come back; completeness is then not claimed downstream (certify_complete)."""
     pts_w, hinfo = homotopy_route(offs, wf)
@@ -632,7 +652,7 @@ def _classify(c1, c2, c3, x, y, R):
     """'true' when d(q, C_i) = √R (relative TRUE_TOL) for i = 1, 2, 3; 'false' when some site is
     clearly closer (relative deviation < −FALSE_TOL); 'ambiguous' otherwise (a distance above √R
     beyond TRUE_TOL is impossible for an exact solution, so it means lost accuracy)."""
-    from .distance import distance
+    from ..sites.distance import distance
 
     rho = math.sqrt(R)
     ds = [distance(c, x, y) for c in (c1, c2, c3)]
@@ -655,7 +675,7 @@ ROUTES = ("auto", "numeric", "exact")
 def voronoi_vertices_triple(c1, c2, c3, *, eigen: str = "dense", degree: int | None = None,
                             refine_dps: int | None = None, route: str = "auto") -> TripleVertices:
     """True Voronoi vertices of C1, C2, C3 (thesis §5.2, Def. 5.2.1): real generalised vertices
-    with R > 0 and d(q, C_i) = √R for i = 1, 2, 3 (runtime.distance).  Each vertex carries in
+    with R > 0 and d(q, C_i) = √R for i = 1, 2, 3 (runtime.sites.distance).  Each vertex carries in
     ``info`` the refined (x, y, R), the relative residual, the Jacobian condition number and the
     distances to the three conics.  ``certified`` is False (certification is a later stage).
 
@@ -665,7 +685,7 @@ def voronoi_vertices_triple(c1, c2, c3, *, eigen: str = "dense", degree: int | N
     count: non-generic configurations, far vertices; coinciding or unrefinable solutions) the exact
     route if msolve is installed, else the homotopy.  A refusal raises
     :class:`runtime.result.NumericalRefusal`."""
-    from .exact_solve import InfinitelyManySolutions, MsolveError, msolve_available
+    from .exact import InfinitelyManySolutions, MsolveError, msolve_available
 
     if route not in ROUTES:
         raise ValueError(f"route={route!r}: choose one of {', '.join(ROUTES)}")
@@ -701,12 +721,12 @@ def voronoi_vertices_triple(c1, c2, c3, *, eigen: str = "dense", degree: int | N
 
 def exact_vertices_triple(c1, c2, c3) -> TripleVertices:
     """True Voronoi vertices of C1, C2, C3 from the exact real solutions of the rational triple
-    offset system (:func:`runtime.exact_solve.solve_exact`, msolve): every real solution with R > 0
+    offset system (:func:`runtime.solve.exact.solve_exact`, msolve): every real solution with R > 0
     whose float distances to the three conics agree with √R (or are too close to call) becomes a
     candidate vertex; the certification stage proves or drops it, and
-    :func:`runtime.certify_complete.completeness_exact` proves the list complete from the boxes
+    :func:`runtime.certify.complete.completeness_exact` proves the list complete from the boxes
     (``TripleVertices.exact``)."""
-    from .exact_solve import solve_exact_cached
+    from .exact import solve_exact_cached
 
     t0 = time.perf_counter()
     roots = solve_exact_cached(c1, c2, c3)
@@ -730,7 +750,7 @@ def exact_vertices_triple(c1, c2, c3) -> TripleVertices:
 
 
 def _numeric_vertices_triple(c1, c2, c3, *, eigen, degree, refine_dps, homotopy) -> TripleVertices:
-    from .distance import distance
+    from ..sites.distance import distance
 
     # with the exact route behind it (quick): a count mismatch goes to msolve at once (measured on
     # identical translated ellipses: 6 refused null-space attempts 6 s, msolve 1 s)
@@ -752,7 +772,7 @@ def _numeric_vertices_triple(c1, c2, c3, *, eigen, degree, refine_dps, homotopy)
     real_pts, res, cond, cand = real_pts[ok], res[ok], cond[ok], cand[ok]
     # two near-real candidates refined to one real point (e.g. a conjugate pair with tiny imaginary
     # parts): keep one.  Nothing is lost silently: completeness is decided on the full complex list
-    # (runtime.certify_complete: Krawczyk decides which solutions are real, and every real one must
+    # (runtime.certify.complete: Krawczyk decides which solutions are real, and every real one must
     # match a certified vertex), and by the exact route when that does not close.
     dup = np.zeros(len(real_pts), dtype=bool)
     Dsc = np.array([L, L, L * L])
@@ -813,7 +833,7 @@ nullspace_route = partial(generalised_vertices, solver="nullspace")
 
 
 def homotopy_route(offs, wf):
-    """:func:`runtime.homotopy.homotopy_solve` with this module's null-space route for the start
+    """:func:`runtime.solve.homotopy.homotopy_solve` with this module's null-space route for the start
     system and the generic count of the family triple (:data:`CONFIG_TABLE`)."""
     expected = CONFIG_TABLE.get(tuple(sorted(o.family for o in offs)), (None, None))[1]
     return homotopy_solve(offs, wf, nullspace_solve=nullspace_route, expected=expected)

@@ -17,11 +17,11 @@ circles, points); two different patterns never give the same vertex (that would 
 Conflict with C4 (centre c4, radius ρ4): d(q, C4) < ρ iff
     g = |q - c4|^2 - (ρ4 + ρ)^2 < 0   and   (ρ4 - ρ < 0  or  h = |q - c4|^2 - (ρ4 - ρ)^2 > 0);
 tangent (d(q, C4) = ρ, not a conflict) iff g = 0 or (ρ4 ≥ ρ and h = 0).  All signs are exact
-(:mod:`runtime.quadtower`), also for non-square squared radii r2 (ρ = √r2).
+(:mod:`runtime.algebra.quadtower`), also for non-square squared radii r2 (ρ = √r2).
 
 Public API: :class:`Circle`, :func:`voronoi_vertices_circles` (cached, independent of C4),
 :func:`locate_conflicts_circles`; the batched float-filtered path is in
-:mod:`runtime.circles_filter` (:func:`runtime.circles_filter.locate_conflicts_circles_batch`).
+:mod:`runtime.predicates.circles_filter` (:func:`runtime.predicates.circles_filter.locate_conflicts_circles_batch`).
 """
 from __future__ import annotations
 
@@ -33,9 +33,9 @@ from functools import lru_cache
 from flint import ctx, fmpq
 
 from .apollonius import AlgebraicSolution, normalise_den, solve_system
-from .rationals import parse_rational  # noqa: F401  (re-exported)
-from .quadtower import Elem, Frac, QuadTower, frac_to_float, rational_sqrt
-from .result import InvalidConicError, LocatorError, LocatorResult, VoronoiVertex
+from ..sites.rationals import parse_rational  # noqa: F401  (re-exported)
+from ..algebra.quadtower import Elem, Frac, QuadTower, frac_to_float, rational_sqrt
+from ..result import InvalidConicError, LocatorError, LocatorResult, VoronoiVertex
 
 SIGN_SYSTEMS = ((1, 1, 1), (1, 1, -1), (1, -1, 1), (1, -1, -1))
 

@@ -33,7 +33,7 @@ from typing import Any, Callable, Iterable
 import flint
 
 from .rationals import to_fraction  # noqa: F401  (re-exported: part of this module's API)
-from .result import InvalidConicError
+from ..result import InvalidConicError
 
 __all__ = ["Conic", "CanonicalFrame", "KINDS", "to_fraction", "fraction_sqrt"]
 
@@ -78,6 +78,12 @@ def _sign(q: Fraction) -> int:
 
 
 # --------------------------------------------------------------------------- frame
+
+#: centre coordinates and sizes (semi-axes, parabola parameter) of a conic must lie within
+#: [1/SCALE_LIMIT, SCALE_LIMIT] in magnitude: the float routes square them and form offset
+#: coefficients of degree up to 8 in them (thesis App. B).
+SCALE_LIMIT = 1e30
+
 
 @dataclass(frozen=True)
 class CanonicalFrame:
@@ -499,10 +505,22 @@ class Conic:
                               {k: conv(v) for k, v in fr.params.items()})
 
     def _check_float_range(self) -> None:
+        """The numeric routes work in floating point on the canonical frame: its centre and sizes
+        (semi-axes, parabola parameter) must lie within :data:`SCALE_LIMIT` (squares and offset
+        coefficients of degree ≤ 8 in them then stay far from overflow and underflow)."""
         fr = self.frame
         for name, v in (("tx", fr.tx), ("ty", fr.ty), *fr.params.items()):
             if not math.isfinite(v):
                 raise InvalidConicError(f"{self._kind}: canonical {name} overflows the float range")
+        for name, v in (("centre x", fr.tx), ("centre y", fr.ty)):
+            if abs(v) > SCALE_LIMIT:
+                raise InvalidConicError(f"{self._kind} {name} = {v:.3g} is outside the supported range "
+                                        f"|value| <= {SCALE_LIMIT:g} (rescale the input)")
+        for name, v in fr.params.items():
+            size = math.sqrt(v) if name != "p" and v > 0 else v
+            if v > 0 and not (1 / SCALE_LIMIT <= size <= SCALE_LIMIT):
+                raise InvalidConicError(f"{self._kind} size {size:.3g} (semi-axis or parameter) is outside the "
+                                        f"supported range [{1 / SCALE_LIMIT:g}, {SCALE_LIMIT:g}] (rescale the input)")
         for name, v in fr.params.items():
             if not (v > 0) or v < 1e-300:
                 raise InvalidConicError(f"{self._kind}: canonical parameter {name} underflows the float range")

@@ -4,10 +4,10 @@ The generalised offset of a conic C (thesis §4.4, App. B) is stored once per *f
 canonical coordinates: o(u, v, R) with (u, v) the canonical coordinates of the point and R the
 squared offset distance (``runtime.artefacts.load_offset``).  The offset of the actual conic is
 obtained by composing it with the rigid motion of C's canonical frame (offsets are covariant
-under rigid motions only, DESIGN §3) and, for numerical work, with a similarity of the plane
+under rigid motions only: a general affine map does not preserve distances, thesis §4.1) and, for numerical work, with a similarity of the plane
 (``R`` scales by the square of the ratio).
 
-This module is the thin numeric layer under :mod:`runtime.vertices`:
+This module is the thin numeric layer under :mod:`runtime.solve.vertices`:
 
 * :func:`family_and_params` -- which offset family and which parameter values a conic uses
   (ellipse  X²/A2+Y²/B2=1  ->  x² + c·y² + e with c = A2/B2, e = −A2;
@@ -27,7 +27,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .artefacts import load_offset
+from ..artefacts import load_offset
 
 #: weighted degree (weights 1, 1, 2 for x, y, R) of the offset of each family (Table 4.1)
 FAMILY_WEIGHTED_DEGREE = {"ellipse": 8, "parabola": 6, "circle": 4}

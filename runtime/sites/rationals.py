@@ -15,7 +15,7 @@ from typing import Any
 
 import flint
 
-from .result import InvalidConicError
+from ..result import InvalidConicError
 
 __all__ = ["to_fraction", "parse_rational"]
 

@@ -7,12 +7,12 @@ numeric stage constructs, this stage decides predicates with filtered exact eval
 What is proved for one candidate (``certify_vertex``)
 -------------------------------------------------------
 1. **Existence and uniqueness** of a solution z* = (q, p1, p2, p3) of the 8×8 foot-point system
-   (thesis §6.1, App. D.1; :mod:`runtime.certify_krawczyk`) in a box X, by Krawczyk's test in
+   (thesis §6.1, App. D.1; :mod:`runtime.certify.krawczyk`) in a box X, by Krawczyk's test in
    ball arithmetic, at growing precision (64, 128, 256, ... bits).  R = |q − p_i|² is enclosed
    by the intersection of the three balls |X_q − X_{p_i}|².
 2. **True Voronoi vertex** (Def. 5.2.1: no point of C1, C2, C3 strictly inside the circle):
    for each i, all real foot points of q on C_i are enclosed rigorously via the Lagrange
-   polynomial F_q(λ) (:mod:`runtime.certify_foot`); the one whose isolating interval contains
+   polynomial F_q(λ) (:mod:`runtime.certify.foot`); the one whose isolating interval contains
    the multiplier of p_i *is* p_i (D = R exactly); every other one must have D > R (disjoint
    balls).  A foot point with D < R proves the candidate is **not** a true vertex
    (``true_vertex=False``); a tie (D ball meets R) stays undecided (degenerate input).
@@ -30,10 +30,10 @@ What is proved for one candidate (``certify_vertex``)
    needs algebraic-number arithmetic on the full system, which is not implemented.
 
 Exact inputs: the conics' exact rational coefficients are used throughout (floats were already
-converted at their exact binary value by :class:`runtime.conic.Conic`).  The candidate (x, y, R)
+converted at their exact binary value by :class:`runtime.sites.conic.Conic`).  The candidate (x, y, R)
 is only a starting point.
 
-Completeness is in :mod:`runtime.certify_complete`.
+Completeness is in :mod:`runtime.certify.complete`.
 """
 from __future__ import annotations
 
@@ -46,10 +46,10 @@ from typing import Any
 import flint
 from flint import arb, fmpq
 
-from .certify_foot import (FootFailure, FootPolynomial, exact_polynomials, foot_polynomial,
+from .foot import (FootFailure, FootPolynomial, exact_polynomials, foot_polynomial,
                            normalised_coefficients, real_feet_ball, to_arb, working_prec)
-from .certify_krawczyk import FootSystem, KrawczykFailure
-from .result import LocatorResult, VoronoiVertex
+from .krawczyk import FootSystem, KrawczykFailure
+from ..result import LocatorResult, VoronoiVertex
 
 __all__ = ["CertifiedVertex", "certify_vertex", "certify_result", "certify_completeness",
            "simplest_rational", "DEFAULT_MAX_PREC"]
@@ -371,7 +371,7 @@ def certify_vertex(c1, c2, c3, x, y, R, c4=None, *, max_prec: int = DEFAULT_MAX_
     """Prove that a true Voronoi vertex of (C1, C2, C3) lies near (x, y) with squared radius ≈ R,
     and decide sign(d(q, C4) − r) (see the module docstring for what is proved).
 
-    Conics are :class:`runtime.conic.Conic` objects (or 6-sequences of exact coefficients).
+    Conics are :class:`runtime.sites.conic.Conic` objects (or 6-sequences of exact coefficients).
     ``x``, ``y``, ``R`` (R = radius²) may be floats, Fractions, decimal strings or arb balls.
     Never raises on a failed proof: returns ``proven=False`` with a ``note``.
     """
@@ -510,7 +510,7 @@ def certify_result(result: LocatorResult, c1, c2, c3, c4, *, solutions=None,
     t_vert = time.perf_counter() - t0
     complete = False
     if solutions is not None:
-        from .certify_complete import completeness_with_vertices
+        from .complete import completeness_with_vertices
         complete, note = completeness_with_vertices(c1, c2, c3, solutions, expected_count, certs,
                                                     max_prec=max_prec)
         notes.append(f"certify completeness: {note}")
@@ -526,6 +526,6 @@ def certify_result(result: LocatorResult, c1, c2, c3, c4, *, solutions=None,
 
 def certify_completeness(c1, c2, c3, solutions, expected_count: int | None, *,
                          max_prec: int = 256) -> tuple[bool, str]:
-    """See :func:`runtime.certify_complete.certify_completeness`."""
-    from .certify_complete import certify_completeness as _cc
+    """See :func:`runtime.certify.complete.certify_completeness`."""
+    from .complete import certify_completeness as _cc
     return _cc(c1, c2, c3, solutions, expected_count, max_prec=max_prec)

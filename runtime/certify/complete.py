@@ -8,7 +8,7 @@ of the type configuration (e.g. 184 for three ellipses, DESIGN §5).  Completene
    offsets o_i (the verified generic offset of :mod:`runtime.artefacts`, App. B.1–B.2,
    specialised at the conic's exact rational coefficients): X_k holds exactly one solution,
    which is simple (nonsingular Jacobian).  A far solution, terribly conditioned in (x, y, R),
-   is instead certified in a chart of P³ of circles [A : x̂ : ŷ : T̂] (:mod:`runtime.certify_chart`)
+   is instead certified in a chart of P³ of circles [A : x̂ : ŷ : T̂] (:mod:`runtime.certify.chart`)
    and enclosed in (x, y, R) by ball arithmetic;
 2. the enclosures are pairwise disjoint, so the N solutions are distinct;
 3. a candidate with tiny imaginary part is tested on a *conjugation-symmetric* box: as the
@@ -16,10 +16,13 @@ of the type configuration (e.g. 184 for three ellipses, DESIGN §5).  Completene
    the enclosure must exclude the real axis (proved non-real);
 4. if N equals the generic count, these are all the isolated solutions: by the coefficient-
    parameter theorem (Morgan–Sommese) a member of a family has at most the generic number of
-   isolated solutions.  The generic counts (``runtime.vertices.CONFIG_TABLE``) come from the
+   isolated solutions.  The generic counts (``runtime.solve.vertices.CONFIG_TABLE``) come from the
    precompute (``generated/counts/root_counts.json``: degrees of msolve's rational
    parametrisation of random members over F_p), not from the runtime solvers.  Solutions on
-   positive-dimensional components are not covered by counting; when the count does not close,
+   positive-dimensional components are not covered by counting, so the system is first proved
+   zero-dimensional (:func:`runtime.certify.dimension.zero_dimensional`: the projective closure in
+   the P³ of circles is finite modulo a prime, hence over Q̄); with finitely many solutions, all are
+   isolated and the count bounds them all.  When that proof or the count does not close,
    :func:`completeness_exact` decides from msolve's exact real solutions, which also detects a
    positive-dimensional system.
 5. every proven-real solution either matches a certified vertex (its box contains the vertex's
@@ -38,9 +41,11 @@ import flint
 import numpy as np
 from flint import acb, acb_mat, arb
 
-from .certify_foot import (FootFailure, foot_polynomial, normalised_coefficients, real_feet_ball, to_arb,
+from .foot import (FootFailure, foot_polynomial, normalised_coefficients, real_feet_ball, to_arb,
                            working_prec)
-from .offset_system import OffsetSystem, exact_offset_terms, inside_disc, krawczyk_complex, newton_track  # noqa: F401 (exact_offset_terms re-exported)
+from .dimension import zero_dimensional
+from .offset_system import (OffsetSystem, exact_offset_terms, framed_offset_system,  # noqa: F401 (re-exported)
+                            inside_disc, krawczyk_complex, newton_track, scene_frame)
 
 __all__ = ["certify_completeness", "completeness_with_vertices", "completeness_exact", "OffsetSystem",
            "certify_solutions", "exact_offset_terms"]
@@ -102,10 +107,11 @@ class _FastSystem:
     """Monomial structure of (o_i, ∂o_i/∂x_j) as float matrices with rigorous conversion radii."""
 
     def __init__(self, sys: "OffsetSystem"):
-        polys = []  # 12 polynomials: o_1..o_3, then ∂o_i/∂(x, y, R)
-        for T in sys.terms:
+        polys = []  # 12 polynomials: o_1..o_3, then ∂o_i/∂(x, y, R) (exact, python-flint fmpq)
+        terms = [[(i, j, k, flint.fmpq(v.numerator, v.denominator)) for i, j, k, v in T] for T in sys.terms]
+        for T in terms:
             polys.append({(i, j, k): v for i, j, k, v in T})
-        for T in sys.terms:
+        for T in terms:
             for var in range(3):
                 d = {}
                 for i, j, k, v in T:
@@ -124,11 +130,13 @@ class _FastSystem:
         for q, p in enumerate(polys):
             for e, v in p.items():
                 f = float(v)
-                err = abs(Fraction(f) - Fraction(v)) if np.isfinite(f) else None
-                if err is None:
+                if not np.isfinite(f):
                     raise OverflowError("coefficient out of float range")
+                n, d = f.as_integer_ratio()
+                err = abs(flint.fmpq(n, d) - v)          # exact
                 C[idx[e], q] = f
-                R[idx[e], q] = _up(float(err))  # float(err) is within u of err; _up dominates
+                # float(err) is within a few units of the last place of err; _up dominates
+                R[idx[e], q] = _up(float(err))
         self.C, self.R, self.absC = C, R, np.abs(C)
         self.gT = _gamma(len(monos) + 2)
 
@@ -228,8 +236,9 @@ def _newton_np(fs: _FastSystem, S, real, iters: int = 4):
 
 
 @lru_cache(maxsize=64)
-def _fast_system(cos) -> _FastSystem:
-    return _FastSystem(OffsetSystem(cos))
+def _fast_system(cos, frame=None) -> _FastSystem:
+    conics = [tuple(c) for c in cos]
+    return _FastSystem(framed_offset_system(conics, frame) if frame is not None else OffsetSystem(conics))
 
 
 def _nearly_real(S):
@@ -237,14 +246,15 @@ def _nearly_real(S):
     return np.abs(S.imag).max(axis=1) < 1e-6 * scale
 
 
-def _certify_fast(c1, c2, c3, S):
-    """Batched fast path of :func:`certify_solutions` (proof in the comment above _U)."""
+def _certify_fast(c1, c2, c3, S, frame=None):
+    """Batched fast path of :func:`certify_solutions` (proof in the comment above _U), on the
+    system in the coordinates of ``frame`` (None: world coordinates) at points S in those coordinates."""
     S = np.asarray(S, dtype=complex).reshape(-1, 3)
     out = [(None, None)] * len(S)
     if not len(S):
         return out
     try:
-        fs = _fast_system(tuple(normalised_coefficients(c) for c in (c1, c2, c3)))
+        fs = _fast_system(tuple(normalised_coefficients(c) for c in (c1, c2, c3)), frame)
     except (OverflowError, ValueError):
         return out
     real = _nearly_real(S)
@@ -263,26 +273,69 @@ def _certify_fast(c1, c2, c3, S):
     return out
 
 
-def certify_solutions(c1, c2, c3, solutions, *, prec: int = 64, iters: int = 4, method: str = "auto"):
+def _to_frame(S, frame):
+    """Float images (u, v, S) of world points (x, y, R) (midpoints only, not part of any proof)."""
+    px, py, s = (float(t) for t in frame)
+    return (S - np.array([px, py, 0.0])) / np.array([s, s, s * s])
+
+
+def _from_frame(box, frame):
+    """World enclosure of a frame box: x = px + s·u, y = py + s·v, R = s²·S in ball arithmetic
+    (the affine bijection maps the unique zero in the box to the unique zero in the image; real
+    coefficients keep a real zero real)."""
+    kind, K = box
+    if kind is None:
+        return box
+    px, py, s = (arb(flint.fmpq(t.numerator, t.denominator)) for t in frame)
+    conv = (lambda t: t) if kind == "real" else acb
+    return kind, [conv(px) + conv(s) * K[0], conv(py) + conv(s) * K[1], conv(s * s) * K[2]]
+
+
+def certify_solutions(c1, c2, c3, solutions, *, prec: int = 64, iters: int = 4, method: str = "auto",
+                      frame="scene"):
     """Krawczyk boxes for every solution: list of (kind, K) with kind 'real' | 'nonreal' | None.
 
     ``method``: ``"arb"`` -- complex-ball (acb) Krawczyk per solution at ``prec`` bits;
     ``"fast"`` -- the batched rigorous floating-point Krawczyk test (:func:`_certify_fast`) only;
     ``"auto"`` (default) -- the fast test, then the arb path (at ≥ 128 bits: what binary64 could not
-    certify rarely succeeds at 64 bits) for the solutions it did not certify."""
+    certify rarely succeeds at 64 bits) for the solutions it did not certify.
+
+    ``frame``: the tests run on the offset system in the exact scene coordinates (u, v, S) of
+    :func:`runtime.certify.offset_system.scene_frame` (x = px + s·u, y = py + s·v, R = s²·S, dyadic px, py,
+    power-of-two s; ``"scene"``, default), or in world coordinates (None), or in a given exact
+    (px, py, s).  A spread-out scene has world coordinates ~10²–10³ and R ~10⁴–10⁶: the float test
+    then fails on cancellation in the degree-8 offsets; in scene coordinates it is the compact case.
+    The boxes returned are world boxes (:func:`_from_frame`)."""
     if method not in ("auto", "fast", "arb"):
         raise ValueError(f"method must be 'auto', 'fast' or 'arb', got {method!r}")
     S = np.asarray(solutions, dtype=complex).reshape(-1, 3)
+    if isinstance(frame, str):
+        if frame != "scene":
+            raise ValueError(f"frame must be 'scene', None or (px, py, s), got {frame!r}")
+        try:
+            frame = scene_frame((c1, c2, c3))
+        except ValueError:
+            frame = None
+    if frame is not None:
+        frame = tuple(Fraction(t) for t in frame)
+        if frame == (0, 0, 1):
+            frame = None
+    Sf = _to_frame(S, frame) if frame is not None else S
+    out = _certify_framed(c1, c2, c3, Sf, prec, iters, method, frame)
+    return [_from_frame(b, frame) for b in out] if frame is not None else out
+
+
+def _certify_framed(c1, c2, c3, S, prec, iters, method, frame):
     if method != "arb":
-        out = _certify_fast(c1, c2, c3, S)
+        out = _certify_fast(c1, c2, c3, S, frame)
         failed = [k for k, (kind, _) in enumerate(out) if kind is None]
         if method == "fast" or not failed:
             return out
-        again = certify_solutions(c1, c2, c3, S[failed], prec=max(prec, 128), iters=iters, method="arb")
+        again = _certify_framed(c1, c2, c3, S[failed], max(prec, 128), iters, "arb", frame)
         for k, b in zip(failed, again):
             out[k] = b
         return out
-    sys = OffsetSystem((c1, c2, c3))
+    sys = framed_offset_system((c1, c2, c3), frame) if frame is not None else OffsetSystem((c1, c2, c3))
     out = []
     with working_prec(prec):
         for s in S:
@@ -389,8 +442,8 @@ def _completeness(c1, c2, c3, solutions, expected_count):
     n_chart = 0
     if failed and len(failed) <= _MAX_CHART:
         # far (ill-conditioned in (x, y, R)) solutions: Krawczyk in a circle-space chart of P³,
-        # world enclosure by ball arithmetic (proof in runtime.certify_chart)
-        from .certify_chart import certify_in_chart
+        # world enclosure by ball arithmetic (proof in runtime.certify.chart)
+        from .chart import certify_in_chart
         for k in failed:
             box = certify_in_chart((c1, c2, c3), S[k])
             if box is not None:
@@ -412,8 +465,13 @@ def _completeness(c1, c2, c3, solutions, expected_count):
         return False, note, []
     if not _disjoint([K for _, K in boxes]):
         return False, "two solution enclosures overlap (distinctness not proven)", []
+    # counting bounds the *isolated* solutions only: positive-dimensional components are excluded
+    # first (runtime.certify.dimension: modular dimension test of the projective closure in circle space)
+    zero_dim, dim_note = zero_dimensional(c1, c2, c3)
+    if not zero_dim:
+        return False, f"{len(S)} distinct simple solutions = generic count, but {dim_note}", []
     reals = [K for kind, K in boxes if kind == "real"]
-    note = f"{len(S)} distinct simple solutions ({len(reals)} real) = generic count"
+    note = f"{len(S)} distinct simple solutions ({len(reals)} real) = generic count; {dim_note}"
     if n_chart:
         note += f" ({n_chart} far solution(s) certified in a circle-space chart)"
     return True, note, reals
@@ -627,7 +685,7 @@ def _interval_ball(lo: Fraction, hi: Fraction) -> arb:
 
 def vertex_box_from_certificate(cert: dict):
     """(x, y, R) arb balls containing the proven vertex whose ``VoronoiVertex.info['certificate']``
-    is ``cert`` (float mid/rad as written by runtime.certify), widened for the float rounding of
+    is ``cert`` (float mid/rad as written by runtime.certify.conflicts), widened for the float rounding of
     mid (≤ 2^-53 relative) and rad; None when the certificate has no box."""
     out = []
     for name in ("x", "y", "R"):
@@ -645,7 +703,7 @@ def completeness_exact(c1, c2, c3, boxes, vertex_boxes) -> tuple[bool, str]:
     """Completeness of a certified vertex list from the exact real solutions of the triple system.
 
     ``boxes``: msolve's isolating boxes ((x_lo, x_hi), (y_lo, y_hi), (R_lo, R_hi)) of *all* real
-    solutions of the exact offset system (:mod:`runtime.exact_solve`); ``vertex_boxes``: (x, y, R)
+    solutions of the exact offset system (:mod:`runtime.solve.exact`); ``vertex_boxes``: (x, y, R)
     arb enclosures of the certified true vertices.  Argument: a true Voronoi vertex is a real
     solution of o1 = o2 = o3 = 0 (thesis §5.2–§5.3: √R is a critical distance to each conic), so it
     lies in exactly one box.  (i) Each certified vertex box must meet exactly one exact box -- that

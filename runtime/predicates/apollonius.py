@@ -1,7 +1,7 @@
 """Apollonius circles: exact solution of the systems (I)/(II) of thesis §3.1.2–§3.1.3.
 
 For centres c_i (rational), "radii" ρ_i (elements of a quadratic tower, see
-:mod:`runtime.quadtower`) and a sign pattern s = (1, s2, s3), the system
+:mod:`runtime.algebra.quadtower`) and a sign pattern s = (1, s2, s3), the system
 
     |q - c_i|^2 - (ρ_i + s_i R)^2 = 0,   i = 1, 2, 3                      (thesis (II))
 
@@ -22,9 +22,9 @@ from dataclasses import dataclass, field
 
 from flint import fmpq, fmpq_mat
 
-from .rationals import parse_rational
-from .quadtower import ONE, ZERO, Elem, Frac, QuadTower, frac_add, frac_sign, rational_sqrt
-from .result import LocatorError, LocatorResult, VoronoiVertex
+from ..sites.rationals import parse_rational
+from ..algebra.quadtower import ONE, ZERO, Elem, Frac, QuadTower, frac_add, frac_sign, rational_sqrt
+from ..result import LocatorError, LocatorResult, VoronoiVertex
 
 
 @dataclass
@@ -222,7 +222,7 @@ class AWVertex:
 
 
 def _f(sol: AlgebraicSolution, num: Elem) -> float:
-    from .quadtower import frac_to_float
+    from ..algebra.quadtower import frac_to_float
 
     return frac_to_float(sol.tower, Frac(num, sol.D))
 

@@ -20,7 +20,7 @@ trivially.  :func:`locate_batch` runs them with :class:`joblib.Parallel`:
 Each query is a sequence of four sites in any form accepted by
 :func:`runtime.voronoi.construction.as_site` (Circle, Conic, (cx, cy, radius), coefficient list).  Four
 circles (or points) go to the exact circle locator; anything else to the general conic
-locator :mod:`runtime.locator` (a LocatorError says so if it is not installed).  Results are
+locator :mod:`runtime.predicates.locator` (a LocatorError says so if it is not installed).  Results are
 :class:`runtime.result.LocatorResult` objects, in query order; a query that raises is
 returned as the exception object when ``on_error="return"`` (default ``"raise"``).
 
@@ -34,16 +34,16 @@ from fractions import Fraction
 from typing import Any, Sequence
 
 from .circles import Circle, locate_conflicts_circles, voronoi_vertices_circles
-from .conic import Conic
+from ..sites.conic import Conic
 from .locator import locate_conflicts, voronoi_vertices
-from .result import LocatorError, VoronoiVertex
-from .voronoi.construction import as_site
+from ..result import LocatorError, VoronoiVertex
+from ..voronoi.construction import as_site
 
 __all__ = ["locate_batch", "vertices_batch", "locate_one", "as_conic"]
 
 
 def locate_one(query, method: str = "auto"):
-    """One conflict-locator call on four sites (circles exact, other conics via runtime.locator)."""
+    """One conflict-locator call on four sites (circles exact, other conics via runtime.predicates.locator)."""
     if len(query) != 4:
         raise ValueError(f"a query is four sites (C1, C2, C3, C4), got {len(query)}")
     sites = [as_site(q) for q in query]
@@ -63,7 +63,7 @@ def _vertices_one(triple):
 
 
 def as_conic(site):
-    """A circle site as the equal :class:`runtime.conic.Conic` (points have no conic form)."""
+    """A circle site as the equal :class:`runtime.sites.conic.Conic` (points have no conic form)."""
     if isinstance(site, Circle):
         if site.r2 == 0:
             raise LocatorError("a point site mixed with conics is answered by the diagram "

@@ -24,7 +24,7 @@ evaluation of the parametrisation), one thread.  It returns either
 * the real solutions, each in an isolating box with dyadic endpoints (default 128 bits).
 
 The boxes are the input of the exact completeness proof
-(:func:`runtime.certify_complete.completeness_exact`): every true Voronoi vertex is a real solution
+(:func:`runtime.certify.complete.completeness_exact`): every true Voronoi vertex is a real solution
 of this system, so a vertex list is complete when every box is matched with a certified vertex or
 proved not to hold a true vertex.
 
@@ -46,7 +46,7 @@ from fractions import Fraction
 from functools import lru_cache
 from math import gcd, lcm
 
-from .result import LocatorError
+from ..result import LocatorError
 
 __all__ = ["msolve_path", "msolve_available", "exact_offset", "exact_triple_system", "ExactRoots",
            "InfinitelyManySolutions", "MsolveError", "solve_exact", "solve_exact_cached", "clear_exact_cache", "msolve_run", "parametrisation_degree"]
@@ -92,7 +92,7 @@ def msolve_available() -> bool:
 # --------------------------------------------------------------------------- exact polynomials
 
 def exact_offset(conic) -> dict[tuple[int, int, int], int]:
-    """The offset o(x, y, R) of ``conic`` (a runtime.conic.Conic) with exact integer coefficients
+    """The offset o(x, y, R) of ``conic`` (a runtime.sites.conic.Conic) with exact integer coefficients
     (primitive, content removed), as {(i, j, k): c} for c·x^i·y^j·R^k (module docstring)."""
     if conic.kind == "circle":
         a, b, c, d, e, f = (Fraction(t) for t in conic.coefficients)
@@ -108,7 +108,7 @@ def exact_offset(conic) -> dict[tuple[int, int, int], int]:
                 poly[key] = poly.get(key, 0) + v1 * v2
         poly[(0, 0, 1)] = poly.get((0, 0, 1), 0) - 4 * rho2
     else:
-        from .certify_complete import exact_offset_terms
+        from ..certify.offset_system import exact_offset_terms
         poly = {(i, j, k): v for i, j, k, v in exact_offset_terms(conic)}
     return _primitive(poly)
 

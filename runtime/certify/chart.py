@@ -2,13 +2,13 @@
 
 Why: a solution (x, y, R) of o1 = o2 = o3 = 0 whose circle is huge (|x| ~ 10⁵–10⁶, the circle
 almost a line) is terribly conditioned in (x, y, R) -- Jacobian condition ~10²² -- and the
-world-coordinate Krawczyk test of :mod:`runtime.certify_complete` fails on it, although it is a
+world-coordinate Krawczyk test of :mod:`runtime.certify.complete` fails on it, although it is a
 genuine finite simple solution.
 
 What: the circle with centre (x, y) and squared radius R is A(X² + Y²) − 2x̂X − 2ŷY + T̂ = 0 with
 homogeneous coordinates h = [A : x̂ : ŷ : T̂] ∈ P³, x = x̂/A, y = ŷ/A, T̂/A = x² + y² − R (the
 power of the origin).  Each exact offset o_i(x, y, R) (``OffsetSystem`` of
-:mod:`runtime.certify_complete`) becomes q_i(x, y, T) = o_i(x, y, x² + y² − T), of lower total
+:mod:`runtime.certify.complete`) becomes q_i(x, y, T) = o_i(x, y, x² + y² − T), of lower total
 degree d_i than the weighted degree 8 of o_i (measured: 5 for a parabola, 6 for an ellipse or a
 hyperbola, 6 for a circle, where the specialised generic offset is the degree-2 circle offset times
 the square of a quadric), homogenised to Q_i(A, x̂, ŷ, T̂) = c_i·A^{d_i} q_i(x̂/A, ŷ/A, T̂/A) with
@@ -22,7 +22,7 @@ Proof (chart j, the homogeneous coordinate h_j set to 1, unknowns u = the other 
   c_i·A^{d_i}·o_i(φ_j(u)) identically.  So u with A ≠ 0 is a zero of G iff φ_j(u) is a (finite)
   zero of o, and at such a zero J_G = diag(c_i A^{d_i})·J_o(φ_j(u))·J_φ(u) (the derivative of the
   factor A^{d_i} multiplies o_i = 0): J_G is nonsingular iff J_o is -- simple zeros correspond;
-* a successful complex Krawczyk test (``krawczyk_complex`` of :mod:`runtime.offset_system`, acb,
+* a successful complex Krawczyk test (``krawczyk_complex`` of :mod:`runtime.certify.offset_system`, acb,
   the exact integer coefficients as balls) on a box X of the chart proves a unique simple zero u*
   of G in X, lying in the Krawczyk image K ⊂ X; if the A-component of K excludes 0 (or j = 0,
   A ≡ 1), s* = φ_j(u*) is a finite simple zero of o, and the world enclosure W = φ_j(K),
@@ -30,7 +30,7 @@ Proof (chart j, the homogeneous coordinate h_j set to 1, unknowns u = the other 
 * reality: G has real coefficients; for a real midpoint X is conjugation-symmetric, so u* is real
   (its conjugate is a zero in X too) and so is s* (φ_j is real); if some component of K excludes
   the real axis, u* is non-real and so is s* (φ_j⁻¹ = h/h_j maps real points to real points);
-* the completeness argument of :mod:`runtime.certify_complete` needs, per listed solution, only an
+* the completeness argument of :mod:`runtime.certify.complete` needs, per listed solution, only an
   enclosure containing a simple zero of o of the stated reality: the N zeros are distinct because
   the N world enclosures are pairwise disjoint (``_disjoint``; a zero lies in each enclosure, so
   two enclosures sharing no point hold different zeros), exactly as for world-coordinate boxes
@@ -48,7 +48,7 @@ import flint
 import numpy as np
 from flint import acb, arb
 
-from .certify_foot import normalised_coefficients, working_prec
+from .foot import normalised_coefficients, working_prec
 from .offset_system import krawczyk_complex, newton_track, offset_terms
 
 __all__ = ["circle_space_polynomial", "chart_polynomials", "ChartSystem", "certify_in_chart",

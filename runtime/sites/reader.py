@@ -33,13 +33,12 @@ from __future__ import annotations
 import json
 import math
 from fractions import Fraction
+from .conic import SCALE_LIMIT
 
 __all__ = ["SITES_SCHEMA", "SCALE_LIMIT", "parse_number", "parse_site", "sites_from_document",
            "read_sites", "read_coefficient_lists", "check_distinct", "check_scale", "site_key",
            "site_to_json", "site_label"]
 
-#: centre coordinates and semi-axes of a conic must lie in [1/SCALE_LIMIT, SCALE_LIMIT] in magnitude
-SCALE_LIMIT = 1e30
 
 _RATIONAL = r"^\s*[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?(\s*/\s*[+-]?\d+)?\s*$"
 
@@ -154,7 +153,7 @@ def _message(err) -> str:
 
 
 def _validate(doc, source: str) -> None:
-    from .optional import require
+    from ..optional import require
 
     jsonschema = require("jsonschema", "reading a sites file")   # a declared dependency
     validator = jsonschema.Draft202012Validator(SITES_SCHEMA)
@@ -211,12 +210,12 @@ def _rotation(rot, where: str):
 
 
 def parse_site(entry, where: str = "site"):
-    """One site record (see the module docstring) as a :class:`runtime.circles.Point`,
-    :class:`runtime.circles.Circle` or :class:`runtime.conic.Conic`.
+    """One site record (see the module docstring) as a :class:`runtime.predicates.circles.Point`,
+    :class:`runtime.predicates.circles.Circle` or :class:`runtime.sites.conic.Conic`.
 
     ValueError (InvalidConicError for a degenerate or imaginary conic) naming ``where``.  The
     record is assumed to have the right shape; :func:`sites_from_document` validates first."""
-    from .circles import Circle, Point
+    from ..predicates.circles import Circle, Point
     from .conic import Conic
 
     if not isinstance(entry, dict):
@@ -271,7 +270,7 @@ def site_label(site, index: int) -> str:
 def site_key(site) -> tuple:
     """Exact key of the curve a site describes: equal keys iff the same curve.  A circle given by
     coefficients and the same circle given by centre and radius have the same key."""
-    from .circles import Circle
+    from ..predicates.circles import Circle
     from .conic import Conic
 
     if isinstance(site, Conic) and site.kind == "circle":
@@ -314,7 +313,7 @@ def check_scale(conic, where: str = "site") -> None:
         if not (1 / SCALE_LIMIT <= v <= SCALE_LIMIT):
             raise ValueError(f"{where}: {conic.kind} size {v:.3g} (semi-axis or parameter) is outside the "
                              f"supported range [{1 / SCALE_LIMIT:g}, {SCALE_LIMIT:g}] (rescale the input)")
-    from .polyalg import CanonicalOffset
+    from ..algebra.polyalg import CanonicalOffset
 
     try:
         off = CanonicalOffset(conic)
@@ -390,7 +389,7 @@ def site_to_json(site) -> dict:
     """The exact JSON record of a site: ``{"point": [x, y]}``, ``{"circle": {"centre": [x, y],
     "radius_squared": r2}}`` or ``{"coefficients": [a, b, c, d, e, f]}``, numbers as rational strings
     (read back by :func:`parse_site` to the same site)."""
-    from .circles import Circle
+    from ..predicates.circles import Circle
     from .conic import Conic
 
     if isinstance(site, Circle):

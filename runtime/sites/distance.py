@@ -6,7 +6,7 @@ d(q, C1) = d(q, C2) = d(q, C3)).  Its critical points ("foot points") are the po
 where q − p is normal to C (thesis §5.2, the normal condition behind Thm 5.2.2).
 
 Float route (:func:`foot_points`, :func:`distance`): in the canonical frame (see
-:mod:`runtime.conic`) the normal condition is a univariate polynomial in a parameter that
+:mod:`runtime.sites.conic`) the normal condition is a univariate polynomial in a parameter that
 covers the whole curve:
 
 * ellipse  (a cos θ, b sin θ): quartic in u = tan(θ/2) (θ = π added as a seed);
@@ -19,7 +19,7 @@ vertices are polished by Newton's method on the derivative of the squared distan
 smooth parameter, so points on the axes, at the centre and near the evolute are handled.
 
 Rigorous route (:func:`squared_distance_ball`, :func:`distance_ball`): every real foot point is
-enclosed through the Lagrange polynomial F_q(λ) of :mod:`runtime.certify_foot` (thesis §4.1,
+enclosed through the Lagrange polynomial F_q(λ) of :mod:`runtime.certify.foot` (thesis §4.1,
 exact coefficients), d² ≥ the smallest lower bound; d² ≤ |q − p|² for a true curve point p next
 to the float closest point; at degenerate q (symmetry axes, evolute cusps) the enclosure is
 narrowed to the real roots of the exact tangency polynomial (every critical value of the
@@ -36,10 +36,10 @@ import numpy as np
 import flint
 from flint import arb
 
-from .certify_foot import (FootFailure, foot_polynomial, normalised_coefficients, real_feet_ball,
+from ..certify.foot import (FootFailure, foot_polynomial, normalised_coefficients, real_feet_ball,
                            to_arb, working_prec)
 from .conic import Conic, to_fraction
-from .result import InvalidConicError
+from ..result import InvalidConicError
 
 __all__ = ["distance", "foot_points", "distance_ball", "distance_sign_vs", "squared_distance_ball",
            "tangency_polynomial"]
@@ -316,7 +316,7 @@ def squared_distance_ball(conic: Conic, x, y, prec: int = 128, max_prec: int | N
     Thesis §5.2 (foot points; d² is the smallest critical value of |q − p|² on C):
 
     1. every real foot point of q is enclosed through the Lagrange polynomial F_q(λ)
-       (:func:`runtime.certify_foot.real_feet_ball`); d² ≥ min of their lower bounds, and
+       (:func:`runtime.certify.foot.real_feet_ball`); d² ≥ min of their lower bounds, and
        d² ≤ the upper bound of any foot proven to exist (or the largest of all bounds: the
        nearest point *is* one of the enclosed feet);
     2. d² ≤ |q − p|² for a true curve point p next to the float closest point;

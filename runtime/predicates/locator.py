@@ -7,8 +7,8 @@ of circles tangent to the three and empty of them, §5.2 Def. 5.2.1) does C4 inv
 Routes (``method=``):
 
 * ``"triple"`` -- vertices of the triple once (:func:`voronoi_vertices`, cached on the exact
-  coefficients; :mod:`runtime.vertices`: Macaulay null space, degree gap, multiplication maps,
-  eigenvectors, Newton), then the point-to-conic distance to C4 (:mod:`runtime.distance`).
+  coefficients; :mod:`runtime.solve.vertices`: Macaulay null space, degree gap, multiplication maps,
+  eigenvectors, Newton), then the point-to-conic distance to C4 (:mod:`runtime.sites.distance`).
   The vertices of a triple do not depend on C4, so further C4 cost one distance per vertex.
 * ``"quadruple"`` -- a *cross-check* after the thesis' four-offset formulation {o1, o2, o3, o4}
   in (x, y, r, R) (§5.3), where the signs of R − r at the vertices decide the conflict.  It does
@@ -16,13 +16,13 @@ Routes (``method=``):
   the vertices come from the same triple solve, and at each vertex the squared distance r to C4
   is the smallest non-negative root of the 4th offset equation o4(x, y, ·), checked against the
   distance module.  See :func:`_locate_quadruple`.
-* ``"circles"`` -- four circles: the exact locator of §3.1 (:mod:`runtime.circles`).
+* ``"circles"`` -- four circles: the exact locator of §3.1 (:mod:`runtime.predicates.circles`).
 * ``"interval"`` -- the branch-and-prune locator of ch. 6 (:mod:`runtime.interval`).
 * ``"auto"`` -- circles when all four are circles, otherwise ``"triple"`` followed by the
   certification stage.  If the null-space solve refuses (non-generic configurations, vertices
-  far outside the scene) the exact route answers (:mod:`runtime.exact_solve`, msolve on the
+  far outside the scene) the exact route answers (:mod:`runtime.solve.exact`, msolve on the
   rational triple system); if the counting proof of completeness does not close, the exact real
-  solutions decide it (:func:`runtime.certify_complete.completeness_exact`).  Only when every
+  solutions decide it (:func:`runtime.certify.complete.completeness_exact`).  Only when every
   route refuses does the interval route answer, with ``complete=False``; a refusal of all routes
   raises :class:`runtime.result.NumericalRefusal`.
 
@@ -39,8 +39,8 @@ from collections import OrderedDict
 from dataclasses import replace
 from fractions import Fraction
 
-from .exact_solve import InfinitelyManySolutions
-from .result import LocatorError, LocatorResult, NumericalRefusal, VoronoiVertex
+from ..solve.exact import InfinitelyManySolutions
+from ..result import LocatorError, LocatorResult, NumericalRefusal, VoronoiVertex
 
 METHODS = ("auto", "triple", "quadruple", "circles", "interval")
 
@@ -55,10 +55,10 @@ _cache: "OrderedDict[tuple, object]" = OrderedDict()
 
 
 def _check_conic(c, i):
-    from .conic import Conic
+    from ..sites.conic import Conic
 
     if not isinstance(c, Conic):
-        raise LocatorError(f"C{i}: expected a runtime.conic.Conic, got {type(c).__name__}")
+        raise LocatorError(f"C{i}: expected a runtime.sites.conic.Conic, got {type(c).__name__}")
     return c
 
 
@@ -68,7 +68,7 @@ def _key(c) -> tuple:
 
 
 def clear_cache() -> None:
-    from .exact_solve import clear_exact_cache
+    from ..solve.exact import clear_exact_cache
 
     _cache.clear()
     _completeness_cache.clear()
@@ -76,10 +76,10 @@ def clear_cache() -> None:
 
 
 def voronoi_vertices(c1, c2, c3, *, eigen: str = "dense", use_cache: bool = True):
-    """True Voronoi vertices of (C1, C2, C3) as a :class:`runtime.vertices.TripleVertices`,
+    """True Voronoi vertices of (C1, C2, C3) as a :class:`runtime.solve.vertices.TripleVertices`,
     cached on the exact coefficients of the ordered triple (thesis §5.2; the vertices do not
     depend on the fourth site).  Raises LocatorError for identical sites or an unreliable solve."""
-    from .vertices import voronoi_vertices_triple
+    from ..solve.vertices import voronoi_vertices_triple
 
     cs = [_check_conic(c, i) for i, c in enumerate((c1, c2, c3), 1)]
     keys = [_key(c) for c in cs]
@@ -113,7 +113,7 @@ def locate_conflicts(c1, c2, c3, c4, method: str = "auto", *, certify: bool = Tr
     """Conflict locator for four conics (see the module docstring for the routes).
 
     With ``certify=True`` (default) the numeric routes are followed by the certification stage
-    (:mod:`runtime.certify`): per vertex, Krawczyk existence/uniqueness on the exact foot-point
+    (:mod:`runtime.certify.conflicts`): per vertex, Krawczyk existence/uniqueness on the exact foot-point
     system, rigorous true-vertex and conflict-sign decisions, exact rational fallback for
     tangencies.  With ``completeness=True`` (default) the triple's full complex solution set is
     also certified (once per triple, cached): ``complete`` is then True only when every one of
@@ -138,7 +138,7 @@ def locate_conflicts(c1, c2, c3, c4, method: str = "auto", *, certify: bool = Tr
         from .circles import Circle, locate_conflicts_circles
         return locate_conflicts_circles(*(Circle.from_coefficients(*c.coefficients) for c in cs))
     if method == "interval":
-        from .interval.locator import locate_conflicts_interval
+        from ..interval.locator import locate_conflicts_interval
         return locate_conflicts_interval(*cs, **kw)
     if method == "quadruple":
         res = _locate_quadruple(*cs)
@@ -159,7 +159,7 @@ def _interval_fallback(cs, exc: LocatorError) -> LocatorResult:
     the certified interval locator (ch. 6).  Its vertices carry their own proofs, but its
     search box is finite, so ``complete`` is reported False: a vertex outside the box would
     not be seen (the box is named in the notes)."""
-    from .interval.locator import locate_conflicts_interval
+    from ..interval.locator import locate_conflicts_interval
 
     try:
         res = locate_conflicts_interval(*cs, max_boxes=FALLBACK_MAX_BOXES)
@@ -180,7 +180,7 @@ _completeness_cache: "OrderedDict[tuple, tuple[bool, str, float]]" = OrderedDict
 
 def _certified(res: LocatorResult, cs, completeness: bool, eigen: str) -> LocatorResult:
     """Certification stage (issue 5), with the triple's completeness proof cached per triple."""
-    from .certify import certify_result
+    from ..certify.conflicts import certify_result
 
     c1, c2, c3, c4 = cs
     key = (tuple(_key(c) for c in (c1, c2, c3)), eigen)
@@ -216,10 +216,10 @@ def _certified(res: LocatorResult, cs, completeness: bool, eigen: str) -> Locato
 
 def _exact_completeness(out: LocatorResult, triple, roots=None) -> None:
     """Completeness from the exact real solutions of the triple system (msolve;
-    runtime.certify_complete.completeness_exact), when the counting argument did not close or the
+    runtime.certify.complete.completeness_exact), when the counting argument did not close or the
     exact route produced the vertices.  Sets ``out.complete`` and appends a note."""
-    from .certify_complete import completeness_exact, vertex_box_from_certificate
-    from .exact_solve import MsolveError, msolve_available, solve_exact_cached
+    from ..certify.complete import completeness_exact, vertex_box_from_certificate
+    from ..solve.exact import MsolveError, msolve_available, solve_exact_cached
 
     if roots is None:
         if not msolve_available():
@@ -246,7 +246,7 @@ def _exact_completeness(out: LocatorResult, triple, roots=None) -> None:
 
 
 def _locate_triple(c1, c2, c3, c4, eigen: str = "dense") -> LocatorResult:
-    from .distance import distance
+    from ..sites.distance import distance
 
     t0 = time.perf_counter()
     key_hit = ((tuple(_key(c) for c in (c1, c2, c3)), eigen) in _cache)
@@ -277,10 +277,10 @@ def _locate_quadruple(c1, c2, c3, c4) -> LocatorResult:
     matrix is singular on true offsets).  The (x, y, R) part is the triple solve; r is then the
     smallest non-negative real root of the univariate o4(x, y, ·) at each vertex (r = d(q, C4)²,
     thesis §4.1: the squared distance is the smallest critical value), refined by Newton, and the
-    conflict is the sign of R − r.  Independent of runtime.distance except as a cross-check."""
+    conflict is the sign of R − r.  Independent of runtime.sites.distance except as a cross-check."""
     import numpy as np
-    from .distance import distance
-    from .polyalg import CanonicalOffset
+    from ..sites.distance import distance
+    from ..algebra.polyalg import CanonicalOffset
 
     t0 = time.perf_counter()
     tv = voronoi_vertices(c1, c2, c3)
@@ -338,7 +338,7 @@ def demo_configuration():
     maps, which do not transform offsets (DESIGN §3).  Here four ellipses of the same kind of
     shapes are placed by exact rotations from Pythagorean triples (3,4,5), (5,12,13), (8,15,17),
     (7,24,25) and rational translations; C1 is axis-aligned at the origin (thesis §5.3)."""
-    from .conic import Conic
+    from ..sites.conic import Conic
 
     return [
         Conic.ellipse(centre=(0, 0), axes=(2, 1), rotation=(1, 0)),

@@ -11,7 +11,7 @@ so p(λ) = adj M(λ) (q − λ b) / det M(λ) and, substituting into the conic,
     F_q(λ) = wᵀ A w + 2 det M · bᵀ w + f · det M²,      w = adj M(λ) (q − λ b),
 
 a polynomial of degree ≤ 4 in λ whose coefficients are exact rational polynomials in q.
-Facts used by the certificates (proved in the module docstring of :mod:`runtime.certify`):
+Facts used by the certificates (proved in the module docstring of :mod:`runtime.certify.conflicts`):
 
 * a *real* foot point has a *real* λ (for p real, A p + b ≠ 0 because the centre is not on a
   non-degenerate conic), and conversely a real root λ with det M(λ) ≠ 0 gives a real foot point;

@@ -1,6 +1,6 @@
 """Filtered, batched circle conflict locator (thesis §3.1.3, CGAL-style filtering).
 
-The predicate of :mod:`runtime.circles` is evaluated for many queries at once in vectorised
+The predicate of :mod:`runtime.predicates.circles` is evaluated for many queries at once in vectorised
 numpy *interval arithmetic*: every floating-point operation is followed by an outward step
 ``nextafter`` so that the true real value of every intermediate quantity lies in the computed
 interval (round-to-nearest errors are at most half an ulp; overflow gives ±inf, invalid
@@ -19,7 +19,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from .result import LocatorError
+from ..result import LocatorError
 from .circles import Circle, locate_conflicts_circles
 
 _INF = np.inf

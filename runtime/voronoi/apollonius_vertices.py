@@ -1,0 +1,184 @@
+"""Voronoi vertices of three circles or points (Apollonius vertices), refined and proved.
+
+The candidate vertices of a triple are refined by vectorised Newton steps on d_a = d_b = d_c and
+*proved* by an error-bounded float Krawczyk test (existence and uniqueness of the equidistant
+point in a box; Moore, Kearfott & Cloud, *Introduction to Interval Analysis*, §8.2).  When the
+filter cannot decide, the exact route of thesis §3.1.3
+(:func:`runtime.predicates.circles.voronoi_vertices_circles`) decides.  Several candidates near
+one true vertex are merged by their triple and a proof (one Krawczyk box holding all their Newton
+points), never by a float tolerance alone.
+
+Public API: :func:`newton_vertices`, :func:`krawczyk_circles`, :func:`apollonius_vertices`,
+:func:`exact_vertex`.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..predicates.circles import voronoi_vertices_circles
+from ..result import InvalidConicError, LocatorError
+from .geometry import rounding_slack
+from .site_arrays import SiteArrays
+
+__all__ = ["newton_vertices", "krawczyk_circles", "apollonius_vertices", "exact_vertex"]
+
+
+def newton_vertices(S: SiteArrays, T3, Q, iters=30):
+    """Float Newton on d_a = d_b = d_c (a, b, c = T3 columns) from seeds Q; vectorised.
+    Returns the points and the size of the last step."""
+    Q = Q.copy()
+    step = np.full(len(Q), np.inf)
+    for _ in range(iters):
+        da, Ua = S.dist_grad(Q, T3[:, 0])
+        db, Ub = S.dist_grad(Q, T3[:, 1])
+        dc, Uc = S.dist_grad(Q, T3[:, 2])
+        F1, F2 = da - db, da - dc
+        J = np.stack([Ua - Ub, Ua - Uc], axis=1)          # (n, 2, 2)
+        det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            dx = (J[:, 1, 1] * F1 - J[:, 0, 1] * F2) / det
+            dy = (-J[:, 1, 0] * F1 + J[:, 0, 0] * F2) / det
+        # damp huge steps (a seed far from the vertex)
+        ln = np.hypot(dx, dy)
+        lim = 0.5 * np.maximum(np.minimum(np.minimum(da, db), dc), 1e-300) + 1e-300
+        f = np.where(ln > lim * 4, lim * 4 / np.where(ln > 0, ln, 1), 1.0)
+        ok = np.isfinite(dx) & np.isfinite(dy)
+        dx = np.where(ok, dx * f, 0.0)
+        dy = np.where(ok, dy * f, 0.0)
+        Q[:, 0] -= dx
+        Q[:, 1] -= dy
+        step = np.where(ok, np.hypot(dx, dy), np.inf)
+        if np.all(step <= 1e-15 * (np.abs(Q).sum(axis=1) + 1e-300)):
+            break
+    return Q, step
+
+
+def krawczyk_circles(S: SiteArrays, T3, M, h):
+    """Error-bounded float Krawczyk test for d_a = d_b = d_c on the boxes |q − M|∞ ≤ h (circles and
+    points; the box must not meet any of the three sites, so each d is smooth there).
+
+    With Y = J(M)⁻¹: K(B) = M − Y·F(M) + (I − Y·J(B))·(B − M); K(B) ⊂ int B proves a unique zero in
+    B (Krawczyk 1969; Moore–Kearfott–Cloud §8.2).  The gradient u = (q − c)/|q − c| of a distance
+    to a centre is 1/|q − c|-Lipschitz, so over B (radius ρB = h√2) each gradient moves by at most
+    ρB / (|M − c| − ρB): this bounds J(B) − J(M).  Returns (ok, rlo, rhi), the radius of the empty
+    circle enclosed."""
+    rB = h * math.sqrt(2)
+    ds, Us, slack, lip = [], [], [], []
+    ok = np.ones(len(M), bool)
+    for col in range(3):
+        s = T3[:, col]
+        V = M - S.C[s]
+        n = np.hypot(V[:, 0], V[:, 1])
+        g = n - S.R[s]
+        sl = rounding_slack(np.abs(M).sum(axis=1) + np.abs(S.C[s]).sum(axis=1) + S.R[s])
+        ok &= (np.abs(g) > rB + sl) & (n > rB + sl)
+        sig = np.where(g >= 0, 1.0, -1.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            Us.append(sig[:, None] * V / n[:, None])
+            lip.append(rB / (n - rB) + 4e-16)
+        ds.append(np.abs(g))
+        slack.append(sl)
+    F = np.column_stack([ds[0] - ds[1], ds[0] - ds[2]])
+    eF = np.column_stack([slack[0] + slack[1], slack[0] + slack[2]]) * 1.01 + 1e-300
+    J = np.stack([Us[0] - Us[1], Us[0] - Us[2]], axis=1)
+    E = np.column_stack([lip[0] + lip[1], lip[0] + lip[2]])      # per row, every entry
+    det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        Y = np.stack([np.stack([J[:, 1, 1], -J[:, 0, 1]], 1), np.stack([-J[:, 1, 0], J[:, 0, 0]], 1)], 1) / det[:, None, None]
+    aY = np.abs(Y)
+    YF = np.abs(np.einsum("nij,nj->ni", Y, F))
+    I_YJ = np.abs(np.eye(2)[None] - np.einsum("nij,njk->nik", Y, J)) + 1e-15 * np.einsum("nij,njk->nik", aY, np.abs(J))
+    # |Y|·E with E[r, :] = E[:, r]: (|Y| E)_{ik} = sum_j |Y_ij| E_j
+    YE = (aY * E[:, None, :]).sum(axis=2)[:, :, None] * np.ones((1, 1, 2))
+    bound = YF + np.einsum("nij,nj->ni", aY, eF) + np.einsum("nij,nj->ni", I_YJ + YE, np.column_stack([h, h]))
+    bound *= 1 + 1e-12
+    ok &= np.isfinite(bound).all(axis=1) & (bound < h[:, None]).all(axis=1) & np.isfinite(det) & (det != 0)
+    rlo = ds[0] - slack[0] - rB
+    rhi = ds[0] + slack[0] + rB
+    return ok, rlo, rhi
+
+
+def apollonius_vertices(S: SiteArrays, T3, seeds, stats, known=None):
+    """Refine, merge and prove the candidate vertices of circle/point triples.  Returns
+    (cluster id per candidate, list of clusters, Newton points) where a cluster is a dict with x,
+    y, h, rlo, rhi, ok (proved), triple.  ``known``: Newton points of an earlier round (NaN: not
+    known) for candidates whose triangle did not change; the proofs are redone from them."""
+    Q = np.full((len(T3), 2), np.nan) if known is None else np.array(known, dtype=float).reshape(-1, 2)
+    todo = ~np.isfinite(Q).all(axis=1)
+    if todo.any():
+        Q[todo], _ = newton_vertices(S, T3[todo], seeds[todo])
+    # group candidates of one triple whose Newton points nearly agree (consecutive in the order of
+    # (triple, x, y) within 1e-9 of the scale); the proof box then holds every member
+    scale = np.abs(Q).sum(axis=1) + 1.0
+    key = np.lexsort((Q[:, 1], Q[:, 0], T3[:, 2], T3[:, 1], T3[:, 0]))
+    Qs, Ts = Q[key], T3[key]
+    finite = np.isfinite(Qs).all(axis=1)
+    new = np.ones(len(key), bool)
+    if len(key) > 1:
+        near = np.abs(Qs[1:] - Qs[:-1]).sum(axis=1) <= 1e-9 * scale[key][1:]
+        new[1:] = ~((Ts[1:] == Ts[:-1]).all(axis=1) & finite[1:] & finite[:-1] & near)
+    heads = np.nonzero(new)[0]
+    cs = np.cumsum(new) - 1
+    cid = np.empty(len(T3), dtype=np.int64)
+    cid[key] = cs
+    M = Qs[heads].reshape(-1, 2)
+    TT = Ts[heads].reshape(-1, 3)
+    spread = np.zeros(len(heads))
+    if len(key):
+        dev = np.where(finite[:, None], np.abs(Qs - M[cs]), 0.0).max(axis=1)
+        np.maximum.at(spread, cs, dev)
+    members = np.split(key, heads[1:]) if len(key) else []
+    clusters = [{"triple": tuple(tr), "members": mem.tolist(), "x": float(m[0]), "y": float(m[1])}
+                for tr, mem, m in zip(TT.tolist(), members, M)]
+    nC = len(clusters)
+    fin = np.isfinite(M).all(axis=1)
+    Mf = np.where(fin[:, None], M, 0.0)
+    sc = np.abs(Mf).sum(axis=1) + S.R[TT].max(axis=1) + 1.0
+    ok = np.zeros(nC, bool)
+    rlo = np.zeros(nC)
+    rhi = np.zeros(nC)
+    hh = np.zeros(nC)
+    for factor in (1e-12, 1e-9, 1e-6):
+        todo = fin & ~ok
+        if not todo.any():
+            break
+        h = np.maximum(factor * sc[todo], 4 * spread[todo] + 1e-300)
+        o, lo, hi = krawczyk_circles(S, TT[todo], Mf[todo], h)
+        idx = np.nonzero(todo)[0]
+        ok[idx[o]] = True
+        rlo[idx[o]], rhi[idx[o]], hh[idx[o]] = lo[o], hi[o], h[o]
+    stats["krawczyk_filter_failures"] = stats.get("krawczyk_filter_failures", 0) + int((fin & ~ok).sum())
+    for c, (o, lo, hi, h) in enumerate(zip(ok, rlo, rhi, hh)):
+        clusters[c].update(ok=bool(o), rlo=float(lo), rhi=float(hi), h=float(h), exact=None)
+    # exact fallback (thesis §3.1.3) where the filter could not decide
+    for c in np.nonzero(~ok)[0].tolist():
+        cl = clusters[c]
+        stats["exact_vertex_calls"] = stats.get("exact_vertex_calls", 0) + 1
+        i, j, k = cl["triple"]
+        try:
+            tv = voronoi_vertices_circles(S.sites[i], S.sites[j], S.sites[k])
+        except (LocatorError, InvalidConicError):
+            continue
+        if not tv.vertices:
+            continue
+        sx, sy = (cl["x"], cl["y"]) if np.isfinite(cl["x"]) else tuple(seeds[cl["members"][0]])
+        v = min(tv.vertices, key=lambda v: math.hypot(v.x - sx, v.y - sy))
+        eps = 4e-16 * (abs(v.x) + abs(v.y) + v.radius) + 1e-300
+        cl.update(x=v.x, y=v.y, ok=True, rlo=v.radius - eps, rhi=v.radius + eps, h=eps,
+                  exact=(tv, v))
+    return cid, clusters, Q
+
+
+
+def exact_vertex(S, cl):
+    i, j, k = cl["triple"]
+    tv = voronoi_vertices_circles(S.sites[i], S.sites[j], S.sites[k])
+    if not tv.vertices:
+        raise ValueError("no vertex")
+    v = min(tv.vertices, key=lambda v: math.hypot(v.x - cl["x"], v.y - cl["y"]))
+    if math.hypot(v.x - cl["x"], v.y - cl["y"]) > 1e-6 * (abs(v.x) + abs(v.y) + v.radius + 1):
+        raise ValueError("exact vertex is not the float one")
+    return tv, v
+

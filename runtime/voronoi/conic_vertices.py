@@ -1,0 +1,107 @@
+"""Voronoi vertices of triples with a conic: one refinement and one proof per vertex.
+
+Candidate seeds come from the 3-label triangles of the sample triangulation; each is refined by
+``refine_vertex`` and proved by ``certify_vertex`` of :mod:`runtime.voronoi.vertex` (thesis §5.2:
+a vertex is a point equidistant from three sites with an empty circle).  Candidates of one triple
+are merged only when one proof box holds the other.
+
+Public API: :func:`conic_vertices`.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .site_arrays import SiteArrays
+
+__all__ = ["conic_vertices"]
+
+
+def _vertex_generic(S: SiteArrays, triple, seed, stats):
+    """Refine and prove one vertex of a triple with a conic (runtime.voronoi.vertex)."""
+    try:
+        from .vertex import certify_vertex, refine_vertex
+    except ImportError:
+        return None
+    geoms = [S.geoms[t] for t in triple]
+    sites = [S.sites[t] for t in triple]
+    try:
+        r = refine_vertex(geoms, float(seed[0]), float(seed[1]))
+    except Exception as exc:  # noqa: BLE001 - a failed refinement is a problem, not a crash
+        stats.setdefault("vertex_errors", []).append(f"{triple}: {exc}")
+        return None
+    if r is None:
+        return None
+    x, y, _ = r
+    try:
+        pf = certify_vertex(sites, geoms, x, y)
+    except Exception as exc:  # noqa: BLE001
+        stats.setdefault("vertex_errors", []).append(f"{triple}: {exc}")
+        return None
+    if pf.box is None or not pf.certified:
+        return {"triple": tuple(triple), "x": float(x), "y": float(y), "ok": False, "rlo": 0.0, "rhi": 0.0,
+                "h": 0.0, "exact": None, "reason": getattr(pf, "reason", "")}
+    (xlo, xhi), (ylo, yhi) = pf.box
+    return {"triple": tuple(triple), "x": pf.x, "y": pf.y, "ok": bool(pf.certified),
+            "rlo": float(pf.radius_bounds[0]), "rhi": float(pf.radius_bounds[1]),
+            "box": ((xlo, xhi), (ylo, yhi)), "h": max(xhi - xlo, yhi - ylo) / 2, "exact": None,
+            "radius": pf.radius, "reason": getattr(pf, "reason", "")}
+
+
+def conic_vertices(S: SiteArrays, T3, seeds, stats, cache):
+    """Candidates of triples with a conic, one proof per vertex.  ``cache`` (triple -> proved
+    vertices of earlier rounds) is reused when a seed lies within a quarter of the radius of exactly
+    one proved vertex of its triple."""
+    cid = np.full(len(T3), -1)
+    clusters = []
+    by_triple: dict = {}
+    for m in range(len(T3)):
+        tr = tuple(int(v) for v in T3[m])
+        found = None
+        for c in by_triple.get(tr, []):
+            cl = clusters[c]
+            if cl["ok"] and "box" in cl:
+                (xlo, xhi), (ylo, yhi) = cl["box"]
+                pad = 0.0
+                if xlo - pad <= seeds[m, 0] <= xhi + pad and ylo <= seeds[m, 1] <= yhi:
+                    found = c
+                    break
+        if found is None:
+            near = [c for c in cache.get(tr, [])
+                    if math.hypot(c["x"] - seeds[m, 0], c["y"] - seeds[m, 1]) < 0.25 * c["rlo"]]
+            if len(near) == 1:
+                cl = dict(near[0])
+                stats["vertex_cache_hits"] = stats.get("vertex_cache_hits", 0) + 1
+            else:
+                cl = _vertex_generic(S, tr, seeds[m], stats)
+                if cl is not None and cl["ok"]:
+                    cache.setdefault(tr, []).append(dict(cl))
+            if cl is None:
+                cl = {"triple": tr, "x": float(seeds[m, 0]), "y": float(seeds[m, 1]), "ok": False,
+                      "rlo": 0.0, "rhi": 0.0, "h": 0.0, "exact": None}
+            # same triple, box overlapping a proved box: same vertex only if one box holds the other
+            for c in by_triple.get(tr, []):
+                o = clusters[c]
+                if o["ok"] and cl["ok"] and _box_contains(o["box"], cl["box"]):
+                    found = c
+                    break
+                if o["ok"] and cl["ok"] and _box_contains(cl["box"], o["box"]):
+                    clusters[c] = dict(cl, members=o["members"])
+                    found = c
+                    break
+            if found is None:
+                cl["members"] = []
+                found = len(clusters)
+                clusters.append(cl)
+                by_triple.setdefault(tr, []).append(found)
+        clusters[found].setdefault("members", []).append(m)
+        cid[m] = found
+    return cid, clusters
+
+
+def _box_contains(a, b):
+    (axl, axh), (ayl, ayh) = a
+    (bxl, bxh), (byl, byh) = b
+    return axl <= bxl and bxh <= axh and ayl <= byl and byh <= ayh
+

@@ -1,0 +1,235 @@
+"""The edges of the diagram as polylines on the bisectors.
+
+The circumcentres along a walk of the sample triangulation are projected onto the true bisector
+(Newton steps on d_i − d_j along its gradient, using the foot points); the ends are the vertices.
+``tolerance`` of an edge is max(max |d_i − d_j| / 2 at its points, the deviation of each chord
+midpoint from its projection onto the bisector): a *measured* figure, not a proof; the proof that
+every arc is a true edge is the independent verifier's (:func:`runtime.voronoi.verify.verify`).
+
+Public API: :func:`edge_polylines`, :func:`project_to_bisector`, :func:`bisector_offset`.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .sample_delaunay import SampleTriangulation
+from .site_arrays import SiteArrays
+from .structure import DiagramEdge
+
+__all__ = ["edge_polylines", "project_to_bisector", "bisector_offset", "MAX_EDGE_POINTS", "DENSIFY_REL"]
+
+#: interior points kept per edge polyline (evenly chosen among the walk's circumcentres; a third
+#: of it for conics, whose foot points cost more, before densification)
+MAX_EDGE_POINTS = 32
+#: polyline chords are split while their midpoint is farther from the bisector than this fraction of
+#: the distance to the sites there
+DENSIFY_REL = 1e-3
+
+
+def project_to_bisector(S: SiteArrays, P, I, J, iters=6):
+    """Newton steps on f = d_I − d_J along ∇f (foot-point normals): points onto the bisector.
+    Points already on it (|f| ≤ 1e-12·scale) stop early.  Returns the points and |f|/2."""
+    P = P.copy()
+    act = np.arange(len(P))
+    res = np.zeros(len(P))
+    for it in range(iters + 1):
+        if not len(act):
+            break
+        Q = P[act]
+        di, Ui = S.dist_grad(Q, I[act])
+        dj, Uj = S.dist_grad(Q, J[act])
+        f = di - dj
+        res[act] = np.abs(f) / 2
+        if it == iters:
+            break
+        G = Ui - Uj
+        g2 = (G * G).sum(axis=1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            st = np.where(g2 > 1e-30, f / g2, 0.0)
+        lim = 0.25 * np.maximum(di, dj)
+        st = np.clip(st, -lim, lim)
+        P[act] = Q - st[:, None] * G
+        keep = np.abs(f) > 1e-12 * (np.abs(Q).sum(axis=1) + di + 1e-300)
+        act = act[keep]
+    return P, res
+
+
+def bisector_offset(S: SiteArrays, P, I, J):
+    """First-order distance from P to the bisector: |d_I − d_J| / |∇(d_I − d_J)|."""
+    di, Ui = S.dist_grad(P, I)
+    dj, Uj = S.dist_grad(P, J)
+    g = np.hypot(*(Ui - Uj).T)
+    return np.abs(di - dj) / np.maximum(g, 1e-3), di
+
+
+
+def edge_polylines(S: SiteArrays, tri: SampleTriangulation, vertices, edges_raw):
+    """Polylines of the edges: vertex, projected circumcentres, vertex (hull ends extended to the
+    window), with their measured tolerance."""
+    if not edges_raw:
+        return []
+    far = 2.0 * (S.window[2] - S.window[0])
+    nT, nV = len(tri.cc), len(vertices)
+    VX = np.array([[v.x, v.y] for v in vertices], dtype=float).reshape(-1, 2)
+    hull_pts = []
+    rows, lens = [], []             # rows of the table [circumcentres; vertices; hull points]
+    cap = MAX_EDGE_POINTS if S.all_circles else MAX_EDGE_POINTS // 3
+    for pair, start, chain, end, ends in edges_raw:
+        if len(chain) > cap:
+            chain = [chain[m] for m in np.linspace(0, len(chain) - 1, cap).round().astype(int).tolist()]
+        r = []
+        if start is not None and start[0] == "hull":
+            hull_pts.append(_hull_point(tri, start, chain[0] if chain else None, far))
+            r.append(nT + nV + len(hull_pts) - 1)
+        elif ends[0] is not None:
+            r.append(nT + ends[0])
+        r.extend(chain)
+        if end is None:               # closed
+            r.append(r[0])
+        elif end[0] == "hull":
+            base = chain[-1] if chain else None
+            vtx = vertices[ends[0]] if (not chain and ends[0] is not None) else None
+            hull_pts.append(_hull_point(tri, end, base, far, vertex=vtx))
+            r.append(nT + nV + len(hull_pts) - 1)
+        else:
+            r.append(nT + ends[1])
+        rows.extend(r)
+        lens.append(len(r))
+    rows = np.array(rows, dtype=np.int64)
+    lens = np.array(lens, dtype=np.int64)
+    table = np.vstack([tri.cc, VX, np.array(hull_pts, dtype=float).reshape(-1, 2)])
+    P = table[rows]
+    E = len(edges_raw)
+    own = np.repeat(np.arange(E), lens)
+    PI = np.array([er[0][0] for er in edges_raw], dtype=np.int64)
+    PJ = np.array([er[0][1] for er in edges_raw], dtype=np.int64)
+    ENDS = np.array([[-1 if v is None else v for v in er[4]] for er in edges_raw], dtype=np.int64)
+    free = ~((rows >= nT) & (rows < nT + nV))
+    Pp = P.copy()
+    if free.any():
+        Pp[free], _ = project_to_bisector(S, P[free], PI[own[free]], PJ[own[free]])
+    keep = _untrimmed(Pp, own, lens, _leaving_directions(S, vertices, PI, PJ, ENDS))
+    Q, own = Pp[keep], own[keep]
+    # measured tolerance on the final polylines: residual at the points, offset of chord midpoints
+    if S.all_circles:
+        Q, own = _densify(S, Q, own, PI, PJ)
+    else:   # conic foot points are costlier: a coarser target
+        Q, own = _densify(S, Q, own, PI, PJ, rel=10 * DENSIFY_REL, passes=3)
+    pi, pj = PI[own], PJ[own]
+    same = own[1:] == own[:-1]
+    di, _ = S.dist_grad(Q, pi)
+    dj, _ = S.dist_grad(Q, pj)
+    tol = np.zeros(E)
+    np.maximum.at(tol, own, np.abs(di - dj) / 2)
+    mids = ((Q[1:] + Q[:-1]) / 2)[same]
+    if len(mids):
+        np.maximum.at(tol, own[1:][same], bisector_offset(S, mids, pi[1:][same], pj[1:][same])[0])
+    edges = []
+    cuts = np.searchsorted(own, np.arange(E + 1))
+    for e, (pair, start, chain, end, ends) in enumerate(edges_raw):
+        poly = Q[cuts[e]:cuts[e + 1]].copy()
+        closed = end is None and start is None
+        if closed:
+            poly[-1] = poly[0]
+        edges.append(DiagramEdge(e, pair, (ends[0], ends[1]), closed, poly, float(tol[e]), False))
+    return edges
+
+
+def _densify(S: SiteArrays, Q, own, PI, PJ, rel=DENSIFY_REL, passes=6):
+    """Insert projected chord midpoints where a chord strays from the bisector by more than
+    ``rel`` times the distance to the sites there (a few vectorised passes; after the first pass
+    only the halves of split chords are examined)."""
+    check = np.ones(len(Q), bool)          # examine the chord starting at this point
+    for _ in range(passes):
+        same = np.nonzero((own[1:] == own[:-1]) & check[:-1])[0]
+        if not len(same):
+            break
+        mids = (Q[same] + Q[same + 1]) / 2
+        a, b = PI[own[same]], PJ[own[same]]
+        off, dloc = bisector_offset(S, mids, a, b)
+        seg = np.hypot(*(Q[same + 1] - Q[same]).T)
+        split = (off > rel * np.maximum(dloc, 1e-12 * S.scale)) & (seg > 1e-9 * S.scale)
+        if not split.any():
+            break
+        k = same[split]
+        newp, _ = project_to_bisector(S, mids[split], a[split], b[split])
+        check[:] = False
+        check[k] = True
+        Q = np.insert(Q, k + 1, newp, axis=0)
+        own = np.insert(own, k + 1, own[k])
+        check = np.insert(check, k + 1, True)
+    return Q, own
+
+
+def _leaving_directions(S: SiteArrays, vertices, PI, PJ, ENDS):
+    """For each vertex end of an edge (i, j), the unit tangent of the bisector at the vertex pointing
+    into the edge: the side where the third site k of the vertex is farther than i and j.  Returns
+    (E, 2, 2) (NaN where an end is not a vertex of a triple holding i and j)."""
+    out = np.full((len(PI), 2, 2), np.nan)
+    if not len(vertices):
+        return out
+    VT = np.array([v.sites for v in vertices], dtype=np.int64).reshape(-1, 3)
+    VX = np.array([[v.x, v.y] for v in vertices], dtype=float).reshape(-1, 2)
+    e, side = np.nonzero(ENDS >= 0)
+    v = ENDS[e, side]
+    tr = VT[v]
+    i, j = PI[e], PJ[e]
+    ok = (tr == i[:, None]).any(axis=1) & (tr == j[:, None]).any(axis=1) & (i != j)
+    e, side, v, tr, i, j = e[ok], side[ok], v[ok], tr[ok], i[ok], j[ok]
+    if not len(e):
+        return out
+    k = tr.sum(axis=1) - i - j
+    V = VX[v]
+    _, Ui = S.dist_grad(V, i)
+    _, Uj = S.dist_grad(V, j)
+    _, Uk = S.dist_grad(V, k)
+    G = Ui - Uj
+    T = np.column_stack([-G[:, 1], G[:, 0]])
+    sgn = np.where(((Uk - Ui) * T).sum(axis=1) < 0, -1.0, 1.0)
+    T = T * sgn[:, None]
+    T /= np.maximum(np.hypot(T[:, 0], T[:, 1]), 1e-300)[:, None]
+    out[e, side] = T
+    return out
+
+
+def _untrimmed(P, own, lens, tau):
+    """Mask of the polyline points to keep: interior points lying behind an end vertex (the
+    circumcentres of the sample triangles next to a vertex may overshoot it along the bisector)
+    are dropped, from each end until the first point in front of it."""
+    start = np.concatenate([[0], np.cumsum(lens)[:-1]])
+    pos = np.arange(len(P)) - start[own]
+    interior = (pos >= 1) & (pos <= lens[own] - 2)
+    keep = np.ones(len(P), bool)
+    for side, ref in ((0, start), (1, start + lens - 1)):
+        t = tau[own, side]
+        has = np.isfinite(t[:, 0]) & interior
+        front = has & (((P - P[ref[own]]) * np.where(np.isfinite(t), t, 0.0)).sum(axis=1) > 0)
+        f = front.astype(np.int64)
+        if side == 0:
+            run = np.cumsum(f) - np.cumsum(f)[start[own]] + f[start[own]]
+        else:
+            rc = np.cumsum(f[::-1])[::-1]                      # sum of f over [m, end of array)
+            stop = start + lens - 1
+            run = rc - rc[stop[own]] + f[stop[own]]
+        keep &= ~(has & (run == 0))
+    return keep
+
+
+def _hull_point(tri, end, t_chain, far, vertex=None):
+    """A far point along the outward normal of a bichromatic hull side (the edge goes to infinity)."""
+    _, t, k = end
+    a = tri.simp[t, (k + 1) % 3]
+    b = tri.simp[t, (k + 2) % 3]
+    A, B = tri.P[a], tri.P[b]
+    opp = tri.P[tri.simp[t, k]]
+    d = B - A
+    n = np.array([-d[1], d[0]])
+    if np.dot(n, opp - A) > 0:
+        n = -n
+    n = n / (np.hypot(*n) or 1.0)
+    base = tri.cc[t_chain] if t_chain is not None else (np.array([vertex.x, vertex.y]) if vertex is not None
+                                                        else (A + B) / 2)
+    mid = (A + B) / 2
+    base = base if np.all(np.isfinite(base)) else mid
+    start = mid if np.dot(base - mid, n) < 0 else base
+    return tuple(start + far * n)

@@ -1,0 +1,297 @@
+"""The Delaunay triangulation of the labelled samples and the walks along its bichromatic sides.
+
+The Voronoi diagram of the samples, restricted to the boundaries between different labels,
+approximates the diagram of the sites (the sites' regions are the unions of their samples' cells
+in the limit of dense sampling).  A triangle with three labels (i, j, k) is a candidate vertex
+(its circumcentre is the seed); triangles with two labels {i, j} chain into the edge (i, j).
+Walking the dual graph across the bichromatic sides gives every edge: from a 3-label triangle to
+another (an edge between two vertices), to the hull (an unbounded edge) or back to the start (a
+closed, vertex-less edge around a nested site, thesis Prop. 1.2.1).
+
+Public API: :class:`SampleTriangulation`, :func:`circumcentres`.
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import ConvexHull, Delaunay, cKDTree
+
+__all__ = ["SampleTriangulation", "circumcentres"]
+
+
+class SampleTriangulation:
+    """The Delaunay triangulation (qhull) of the samples ``P`` labelled by their sites ``lab``.
+
+    ``simp`` / ``nb``: triangles and their neighbours (``nb[t, k]`` across the side opposite
+    vertex k, −1 on the hull); ``L``: labels of the corners; ``nlab``: 1, 2 or 3 labels;
+    ``cc``: circumcentres; ``seed``: per triangle, the refined vertex point of a 3-label triangle
+    once known (NaN before), kept by :meth:`update` for unchanged triangles."""
+
+    def __init__(self, P, lab, simp=None, nb=None, cc=None, seed=None):
+        self.P = P
+        self.lab = lab
+        if simp is None:
+            tri = Delaunay(P)
+            simp, nb = tri.simplices, tri.neighbors
+        self.simp = simp
+        self.nb = nb
+        L = lab[self.simp]
+        self.L = L
+        # side k is opposite vertex k: labels L[:, k+1], L[:, k+2]
+        self.bich = np.column_stack([L[:, (k + 1) % 3] != L[:, (k + 2) % 3] for k in range(3)])
+        nbi = self.bich.sum(axis=1)
+        self.nlab = np.where(nbi == 0, 1, np.where(nbi == 3, 3, 2))
+        if cc is None:
+            cc = circumcentres(*(P[self.simp[:, k]] for k in range(3)))
+        self.cc = cc
+        self.seed = np.full((len(simp), 2), np.nan) if seed is None else seed
+        self.prior = None           # (walks of the previous triangulation, old -> new triangle)
+        self.walk_list = None
+
+    def update(self, remove, Pnew, labnew):
+        """The triangulation after removing the samples ``remove`` (indices) and inserting ``Pnew``
+        (labels ``labnew``), by a batch Bowyer–Watson step (Bowyer 1981, Watson 1981); None when a
+        full triangulation is needed (a removed hull sample, a failed check).
+
+        A triangle whose closed circumdisk holds no new sample and which has no removed corner
+        keeps an empty open circumdisk, so it is a triangle of the new Delaunay triangulation;
+        a hull side stays one unless a new sample lies on or beyond its line (the "ghost
+        triangle" of the side is then in conflict).  The rest (the *cavity*, with the area the
+        hull gains) is re-triangulated by qhull from the cavity's remaining corners and the new
+        samples: every new Delaunay triangle lies there and is Delaunay for these points, so the
+        local triangles that fill the cavity are the new ones.  They are found by flooding the
+        local triangulation from the new (and removed) samples without crossing the cavity's
+        boundary sides, and checked: their area is the cavity's plus the hull's gain, no side
+        is shared by more than two triangles, and the boundary sides are the new hull's.
+        Points: kept samples in their order, then ``Pnew``; triangles: kept ones in their order,
+        then the new ones."""
+        P, simp, nb = self.P, self.simp, self.nb
+        n = len(P)
+        Pnew = np.asarray(Pnew, float).reshape(-1, 2)
+        rm = np.zeros(n, bool)
+        rm[np.asarray(remove, dtype=np.int64)] = True
+        hull_t, hull_k = np.nonzero(nb == -1)
+        ha, hb = simp[hull_t, (hull_k + 1) % 3], simp[hull_t, (hull_k + 2) % 3]
+        if rm[ha].any() or rm[hb].any() or not (len(Pnew) or rm.any()):
+            return None
+        conflict = rm[simp].any(axis=1)
+        scale = float(np.abs(P).max()) + 1.0
+        visible = np.zeros(len(hull_t), bool)      # hull sides whose ghost triangle is in conflict
+        if len(Pnew):
+            rad = np.hypot(*(P[simp[:, 0]] - self.cc).T)
+            fin = np.isfinite(rad)
+            conflict |= ~fin
+            cnt = cKDTree(Pnew).query_ball_point(self.cc[fin], rad[fin] * (1 + 1e-9) + 1e-12 * scale,
+                                                 return_length=True)
+            conflict[np.nonzero(fin)[0][cnt > 0]] = True
+            # orientation of each hull side so that the third corner is on its left
+            A, B, O = P[ha], P[hb], P[simp[hull_t, hull_k]]
+            d = B - A
+            s = np.sign(d[:, 0] * (O[:, 1] - A[:, 1]) - d[:, 1] * (O[:, 0] - A[:, 0]))
+            side = s[:, None] * (d[:, 0:1] * (Pnew[None, :, 1] - A[:, 1:2]) - d[:, 1:2] * (Pnew[None, :, 0] - A[:, 0:1]))
+            visible = (side <= 1e-12 * scale * np.hypot(d[:, 0], d[:, 1])[:, None]).any(axis=1)
+            conflict[hull_t[visible]] = True
+        cav = np.nonzero(conflict)[0]
+        U = np.unique(simp[cav])
+        U = U[~rm[U]]
+        g2l = np.full(n, -1)
+        g2l[U] = np.arange(len(U))
+        loc_pts = np.vstack([P[U], Pnew])
+        try:
+            loc = Delaunay(loc_pts)
+        except Exception:  # noqa: BLE001 - qhull refuses (too few / flat points): full rebuild
+            return None
+        # the cavity's boundary sides (towards kept triangles, or non-visible hull sides), local pairs
+        tt, kk = np.repeat(cav, 3), np.tile(np.arange(3), len(cav))
+        out_nb = nb[tt, kk]
+        vis_side = np.zeros(nb.shape, bool)
+        vis_side[hull_t[visible], hull_k[visible]] = True
+        bnd = np.where(out_nb == -1, ~vis_side[tt, kk], ~conflict[np.maximum(out_nb, 0)])
+        a = g2l[simp[tt[bnd], (kk[bnd] + 1) % 3]]
+        b = g2l[simp[tt[bnd], (kk[bnd] + 2) % 3]]
+        m = len(loc_pts)
+        bkeys = np.minimum(a, b) * m + np.maximum(a, b)
+        ls, ln = loc.simplices, loc.neighbors
+        sk = np.stack([np.minimum(ls[:, (k + 1) % 3], ls[:, (k + 2) % 3]) * m
+                       + np.maximum(ls[:, (k + 1) % 3], ls[:, (k + 2) % 3]) for k in range(3)], axis=1)
+        cross = ~np.isin(sk, bkeys) & (ln >= 0)
+        seeds = [loc.vertex_to_simplex[len(U) + np.arange(len(Pnew))]]
+        if rm.any():
+            seeds.append(loc.find_simplex(P[rm]))
+        seeds = np.concatenate(seeds)
+        if (seeds < 0).any():
+            return None
+        r, c = np.nonzero(cross)
+        g = coo_matrix((np.ones(len(r)), (r, ln[r, c])), shape=(len(ls), len(ls)))
+        _, comp = connected_components(g, directed=False)
+        inside = np.isin(comp, np.unique(comp[seeds]))
+        # area check: the cavity plus what the hull gains
+        gain = 0.0
+        if visible.any():
+            hp = P[np.unique(np.concatenate([ha, hb]))]
+            gain = ConvexHull(np.vstack([hp, Pnew])).volume - ConvexHull(hp).volume
+        area_cav = _areas(P, simp[cav]).sum() + gain
+        area_new = _areas(loc_pts, ls[inside]).sum()
+        if not abs(area_new - area_cav) <= 1e-9 * max(area_cav, 1e-300):
+            return None
+        # the new triangulation
+        keep_pts = ~rm
+        o2n = np.cumsum(keep_pts) - 1
+        n_keep = int(keep_pts.sum())
+        l2n = np.concatenate([o2n[U], n_keep + np.arange(len(Pnew))])
+        kept_t = np.nonzero(~conflict)[0]
+        simp2 = np.vstack([o2n[simp[kept_t]], l2n[ls[inside]]])
+        nb2 = _neighbours(simp2, n_keep + len(Pnew))
+        if nb2 is None:
+            return None
+        P2 = np.vstack([P[keep_pts], Pnew])
+        if visible.any():        # the boundary must be the new convex hull
+            t2, k2 = np.nonzero(nb2 == -1)
+            hull2 = ConvexHull(np.vstack([P[np.unique(np.concatenate([ha, hb]))], Pnew]))
+            if len(t2) != len(hull2.simplices):
+                return None
+        lab2 = np.concatenate([self.lab[keep_pts], labnew])
+        cc2 = np.vstack([self.cc[kept_t], circumcentres(*(P2[simp2[len(kept_t):, k]] for k in range(3)))])
+        seed2 = np.vstack([self.seed[kept_t], np.full((int(inside.sum()), 2), np.nan)])
+        out = SampleTriangulation(P2, lab2, simp2, nb2, cc2, seed2)
+        if self.walk_list is not None:
+            o2t = np.full(len(simp), -1, dtype=np.int64)
+            o2t[kept_t] = np.arange(len(kept_t))
+            out.prior = (self.walk_list, o2t)
+        return out
+
+    def walks(self):
+        """The edges of the labelled triangulation: list of (pair, start, chain, end) where start /
+        end are ("tri", t) for a 3-label triangle, ("hull", t, k) for the hull side k of triangle
+        t, None for a closed chain (then start is None too), or ("bad", t) for a walk that could not
+        be closed; chain = the 2-label triangles in order."""
+        nlab = self.nlab
+        nbl = self.nb.tolist()
+        two = nlab == 2
+        ks = np.argsort(~self.bich, axis=1, kind="stable")[:, :2]
+        t_idx = np.arange(len(nlab))
+        n1 = np.where(two, self.nb[t_idx, ks[:, 0]], -2).tolist()
+        n2 = np.where(two, self.nb[t_idx, ks[:, 1]], -2).tolist()
+        k1 = ks[:, 0].tolist()
+        k2 = ks[:, 1].tolist()
+        nl = nlab.tolist()
+        L = self.L
+        seen = [False] * len(nl)
+        out = []
+
+        def pair_of(t, k):
+            a, b = int(L[t, (k + 1) % 3]), int(L[t, (k + 2) % 3])
+            return (a, b) if a < b else (b, a)
+
+        if self.prior is not None:
+            # walks of the previous triangulation made only of kept triangles are walks here: two
+            # kept triangles adjacent before are adjacent now, and their labels did not change
+            old_walks, o2t = self.prior
+            o2t = o2t.tolist()
+
+            def moved(e):
+                if e is None:
+                    return None, True
+                t2 = o2t[e[1]]
+                if t2 < 0 or (e[0] == "hull" and nbl[t2][e[2]] != -1) or e[0] == "bad":
+                    return None, False
+                return (e[0], t2) + tuple(e[2:]), True
+
+            for _, start, chain, end in old_walks:
+                if not chain:
+                    continue
+                ch = [o2t[c] for c in chain]
+                if min(ch) < 0:
+                    continue
+                (s2, ok1), (e2, ok2) = moved(start), moved(end)
+                if not (ok1 and ok2):
+                    continue
+                for c in ch:
+                    seen[c] = True
+                out.append((pair_of(ch[0], k1[ch[0]]), s2, ch, e2))
+
+        def walk(cur, k_in, start_t):
+            chain = []
+            while True:
+                if nl[cur] == 3:
+                    return chain, ("tri", cur)
+                if seen[cur]:
+                    return chain, (None if cur == start_t else ("bad", cur))
+                seen[cur] = True
+                chain.append(cur)
+                k_out = k2[cur] if k1[cur] == k_in else k1[cur]
+                nxt = nbl[cur][k_out]
+                if nxt == -1:
+                    return chain, ("hull", cur, k_out)
+                if nl[nxt] == 2:
+                    k_in = k1[nxt] if n1[nxt] == cur else k2[nxt]
+                cur = nxt
+
+        for t in np.nonzero(nlab == 3)[0].tolist():
+            for k in range(3):
+                u = nbl[t][k]
+                if u == -1:
+                    out.append((pair_of(t, k), ("tri", t), [], ("hull", t, k)))
+                    continue
+                if nl[u] == 3:
+                    if u > t:
+                        out.append((pair_of(t, k), ("tri", t), [], ("tri", u)))
+                    continue
+                if seen[u]:
+                    continue
+                chain, end = walk(u, k1[u] if n1[u] == t else k2[u], -1)
+                out.append((pair_of(t, k), ("tri", t), chain, end))
+        twos = np.nonzero(two)[0].tolist()
+        for t in twos:                      # chains from the hull to the hull
+            if seen[t]:
+                continue
+            for nn, kk in ((n1[t], k1[t]), (n2[t], k2[t])):
+                if nn == -1:
+                    chain, end = walk(t, kk, -1)
+                    out.append((pair_of(t, kk), ("hull", t, kk), chain, end))
+                    break
+        for t in twos:                      # closed chains around nested sites
+            if seen[t]:
+                continue
+            chain, end = walk(t, k1[t], t)
+            out.append((pair_of(t, k1[t]), None if end is None else ("bad", t), chain, end))
+        self.walk_list = out
+        return out
+
+
+def circumcentres(A, B, C):
+    bx, by = B[:, 0] - A[:, 0], B[:, 1] - A[:, 1]
+    cx, cy = C[:, 0] - A[:, 0], C[:, 1] - A[:, 1]
+    d = 2 * (bx * cy - by * cx)
+    b2, c2 = bx * bx + by * by, cx * cx + cy * cy
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ux = (cy * b2 - by * c2) / d
+        uy = (bx * c2 - cx * b2) / d
+    return np.column_stack([A[:, 0] + ux, A[:, 1] + uy])
+
+
+
+def _areas(P, simp):
+    A, B, C = (P[simp[:, k]] for k in range(3))
+    return np.abs((B[:, 0] - A[:, 0]) * (C[:, 1] - A[:, 1]) - (B[:, 1] - A[:, 1]) * (C[:, 0] - A[:, 0])) / 2
+
+
+def _neighbours(simp, npts):
+    """``nb[t, k]``: the triangle across the side opposite corner k (−1: none); None when a side is
+    shared by more than two triangles."""
+    T = len(simp)
+    a = np.concatenate([simp[:, (k + 1) % 3] for k in range(3)])
+    b = np.concatenate([simp[:, (k + 2) % 3] for k in range(3)])
+    key = np.minimum(a, b).astype(np.int64) * npts + np.maximum(a, b)
+    order = np.argsort(key, kind="stable")
+    ks = key[order]
+    same = ks[1:] == ks[:-1]
+    if (same[1:] & same[:-1]).any():
+        return None
+    nb = np.full(3 * T, -1, dtype=np.int64)
+    i = np.nonzero(same)[0]
+    s1, s2 = order[i], order[i + 1]
+    nb[s1] = s2 % T
+    nb[s2] = s1 % T
+    return nb.reshape(3, T).T.copy()

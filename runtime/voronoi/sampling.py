@@ -1,0 +1,136 @@
+"""Sampling of the sites for the sample Delaunay triangulation.
+
+Every site is sampled with spacing ``SPACING_FACTOR``·min(size, gap), the gap a lower bound of
+the distance to the other sites from a k-d tree on bounding discs (floored at ``GAP_FLOOR``·size:
+a narrow gap between two convex sites does not change the combinatorics, and where a third site
+makes it matter the refinement rounds densify).  Unbounded sites are clipped to the window.
+
+Circles are sampled at the angles 2πk/n; a refinement multiplies n by a power of two, so the
+samples of a round are a subset of those of the next (bitwise: 2π·2k/(2n) = 2πk/n in floating
+point), and the sample triangulation can be updated by insertion only
+(:meth:`runtime.voronoi.sample_delaunay.SampleTriangulation.update`).
+
+Public API: :func:`initial_spacing`, :func:`clamp_spacing`, :func:`sample_sites`.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from .sample_delaunay import SampleTriangulation
+from .site_arrays import SiteArrays
+
+__all__ = ["Samples", "initial_spacing", "clamp_spacing", "sample_sites", "circle_sample_counts", "SPACING_FACTOR", "MAX_SAMPLES_FIRST",
+           "MAX_SAMPLES", "GAP_FLOOR"]
+
+#: sampling spacing as a fraction of min(gap, size)
+SPACING_FACTOR = 0.6
+#: samples per site: at the first round / at most after refinement
+MAX_SAMPLES_FIRST = 2048
+MAX_SAMPLES = 1 << 15
+#: the gap used for the first spacing is at least this fraction of the size (narrow gaps between two
+#: convex sites do not change the combinatorics; where they do, the refinement rounds densify)
+GAP_FLOOR = 0.5
+
+
+def initial_spacing(S: SiteArrays) -> np.ndarray:
+    """spacing_i = c·min(gap_i, size_i), gap_i a lower bound from bounding discs (k-d tree)."""
+    n = S.n
+    size = S.size.copy()
+    gap = np.full(n, np.inf)
+    if n > 1:
+        tree = cKDTree(S.C)
+        k = min(n, 9)
+        dd, jj = tree.query(S.C, k=k)
+        for col in range(1, k):
+            j = jj[:, col]
+            g = dd[:, col] - S.R - S.R[j]
+            ok = (g > 0) & S.bounded & S.bounded[j]
+            gap = np.where(ok, np.minimum(gap, g), gap)
+    gap = np.maximum(np.where(np.isfinite(gap), gap, size), GAP_FLOOR * size)
+    sp = SPACING_FACTOR * np.minimum(gap, size)
+    sp = np.where(sp > 0, sp, SPACING_FACTOR * size)
+    return clamp_spacing(S, sp, MAX_SAMPLES_FIRST)
+
+
+def clamp_spacing(S: SiteArrays, sp, max_samples):
+    perim = 2 * math.pi * S.size
+    floor = perim / max_samples
+    sp = np.maximum(sp, floor)
+    return np.where(sp > 0, sp, 1.0)
+
+
+def circle_sample_counts(S: SiteArrays, spacing, base=None):
+    """Samples per circle: max(8, ⌈2πr / spacing⌉), or, given the counts ``base`` of the first
+    round, the least base·2^k reaching that (so that later rounds only add samples); 1 for a point."""
+    R = S.R
+    need = np.where(R > 0, np.maximum(8, np.ceil(2 * math.pi * R / spacing)), 1).astype(np.int64)
+    if base is None:
+        return need
+    k = np.ceil(np.log2(np.maximum(need / np.maximum(base, 1), 1.0)) - 1e-12).astype(np.int64)
+    return np.where(R > 0, base * (1 << np.maximum(k, 0)), 1).astype(np.int64)
+
+
+def sample_sites(S: SiteArrays, spacing, sites=None, base=None):
+    """The samples (m, 2) of ``sites`` (all when None) and their site labels.  Circles: the angles
+    2πk/n, n from :func:`circle_sample_counts` (``base``: the first round's counts)."""
+    idx = np.arange(S.n) if sites is None else np.asarray(sites, dtype=np.int64)
+    if S.all_circles:
+        R = S.R
+        nper = circle_sample_counts(S, spacing, base)[idx]
+        lab = np.repeat(idx, nper)
+        start = np.concatenate([[0], np.cumsum(nper)[:-1]])
+        k = np.arange(len(lab)) - np.repeat(start, nper)
+        t = 2 * math.pi * k / np.repeat(nper, nper)
+        P = np.column_stack([S.C[lab, 0] + R[lab] * np.cos(t), S.C[lab, 1] + R[lab] * np.sin(t)])
+        return P, lab
+    parts, labs = [np.zeros((0, 2))], [np.zeros(0, np.int64)]
+    for i in idx.tolist():
+        p = np.asarray(S.geoms[i].samples(float(spacing[i]), S.window), float).reshape(-1, 2)
+        parts.append(p)
+        labs.append(np.full(len(p), i, dtype=np.int64))
+    return np.concatenate(parts), np.concatenate(labs)
+
+
+class Samples:
+    """The samples of every site at the current ``spacing`` and their Delaunay triangulation,
+    kept across refinement rounds.  :meth:`triangulation` re-samples only the sites whose spacing
+    changed and updates the last triangulation locally
+    (:meth:`runtime.voronoi.sample_delaunay.SampleTriangulation.update`: the samples that
+    disappear are removed, the new ones inserted), with a full qhull triangulation when the
+    local update declines."""
+
+    def __init__(self, S: SiteArrays, spacing):
+        self.S = S
+        self.spacing = np.asarray(spacing, float).copy()
+        self.base = circle_sample_counts(S, self.spacing) if S.all_circles else None
+        self.sampled = None          # the spacing of the samples in self.tri
+        self.tri = None
+
+    def refine(self, idx, new_spacing):
+        self.spacing[idx] = new_spacing
+        self.spacing[:] = clamp_spacing(self.S, self.spacing, MAX_SAMPLES)
+
+    def triangulation(self, stats) -> SampleTriangulation:
+        S = self.S
+        if self.tri is not None:
+            changed = np.nonzero(self.spacing != self.sampled)[0]
+            if not len(changed):
+                return self.tri
+            Pn, ln = sample_sites(S, self.spacing, sites=changed, base=self.base)
+            old = np.nonzero(np.isin(self.tri.lab, changed))[0]
+            zo = self.tri.P[old, 0] + 1j * self.tri.P[old, 1]
+            zn = Pn[:, 0] + 1j * Pn[:, 1]
+            add = ~np.isin(zn, zo)
+            remove = old[~np.isin(zo, zn)]
+            tri = self.tri.update(remove, Pn[add], ln[add])
+            if tri is not None:
+                stats["local_updates"] = stats.get("local_updates", 0) + 1
+                self.tri, self.sampled = tri, self.spacing.copy()
+                return tri
+        stats["triangulations"] = stats.get("triangulations", 0) + 1
+        P, lab = sample_sites(S, self.spacing, base=self.base)
+        self.tri, self.sampled = SampleTriangulation(P, lab), self.spacing.copy()
+        return self.tri

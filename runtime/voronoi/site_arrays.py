@@ -1,0 +1,117 @@
+"""The sites of a diagram as flat arrays: vectorised distances, gradients and neighbour queries.
+
+Every site has a geometry (:mod:`runtime.voronoi.geometry`, :mod:`runtime.voronoi.conic_geometry`)
+giving float distances, foot points and rigorous distance bounds; when every site is a circle or
+a point the distances are evaluated on arrays of centres and radii at once.  The neighbour query
+(k-d tree on bounding discs, "big" sites checked one by one) serves the emptiness proofs.
+
+Public API: :class:`SiteArrays`, :func:`site_groups`.
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from .geometry import rounding_slack
+
+__all__ = ["SiteArrays", "site_groups"]
+
+
+class SiteArrays:
+    """The geometries plus, when every site is a circle or a point, flat arrays for the
+    vectorised paths."""
+
+    def __init__(self, sites, geoms):
+        self.sites = sites
+        self.geoms = geoms
+        self.n = len(geoms)
+        self.all_circles = all(g.kind in ("point", "circle") for g in geoms)
+        boxes = np.array([g.bounding_box() for g in geoms], dtype=float)
+        self.boxes = boxes
+        self.bounded = np.array([g.bounded for g in geoms])
+        if self.all_circles:
+            self.C = np.array([[g.cx, g.cy] if g.kind == "circle" else [g.x0, g.y0] for g in geoms])
+            self.R = np.array([g.rho if g.kind == "circle" else 0.0 for g in geoms])
+        else:
+            fin = np.where(np.isfinite(boxes), boxes, 0.0)
+            self.C = np.column_stack([(fin[:, 0] + fin[:, 2]) / 2, (fin[:, 1] + fin[:, 3]) / 2])
+            self.R = np.hypot(fin[:, 2] - fin[:, 0], fin[:, 3] - fin[:, 1]) / 2
+        b = boxes[self.bounded] if self.bounded.any() else np.zeros((1, 4))
+        x0, y0, x1, y1 = b[:, 0].min(), b[:, 1].min(), b[:, 2].max(), b[:, 3].max()
+        w = max(x1 - x0, y1 - y0, 1e-9 * (1 + abs(x0) + abs(y0)), 1.0 if not self.bounded.any() else 0.0)
+        cx, cy = (x0 + x1) / 2, (y0 + y1) / 2
+        self.window = (cx - 1.5 * w, cy - 1.5 * w, cx + 1.5 * w, cy + 1.5 * w)
+        self.scale = float(max(abs(cx), abs(cy)) + 2 * w)
+        self.size = np.where(self.bounded, self.R, 0.25 * w)
+        # "big" sites (checked one by one in emptiness tests): radius beyond 8x the 90th percentile
+        pos = self.R[self.bounded & (self.R > 0)]
+        big = self.R > 8 * (float(np.percentile(pos, 90)) if len(pos) else 0.0)
+        self.big = np.nonzero(big | ~self.bounded)[0]
+        small = np.nonzero(~(big | ~self.bounded))[0]
+        self.small = small
+        self.small_tree = cKDTree(self.C[small]) if len(small) else None
+        self.small_rmax = float(self.R[small].max()) if len(small) else 0.0
+
+    # ---- distances, vectorised over (point, site) pairs
+    def dist_grad(self, P, lab):
+        """Float d(P[m], site lab[m]) and the unit gradient U (from the foot point to P)."""
+        P = np.asarray(P, float)
+        if self.all_circles:
+            V = P - self.C[lab]
+            n = np.hypot(V[:, 0], V[:, 1])
+            D = np.where(n[:, None] > 0, V / np.where(n > 0, n, 1.0)[:, None], np.array([1.0, 0.0]))
+            g = n - self.R[lab]
+            return np.abs(g), np.where((g >= 0)[:, None], D, -D)
+        d = np.empty(len(P))
+        U = np.empty((len(P), 2))
+        for s, rows in site_groups(lab):
+            geo = self.geoms[s]
+            d[rows] = geo.distance(P[rows])
+            _, U[rows] = geo.foot_points(P[rows])
+        return d, U
+
+    def dist_bounds(self, P, lab):
+        """Rigorous (lo, hi) of d(P[m], site lab[m])."""
+        P = np.asarray(P, float)
+        if self.all_circles:
+            d, _ = self.dist_grad(P, lab)
+            s = rounding_slack(np.abs(P).sum(axis=1) + np.abs(self.C[lab]).sum(axis=1) + self.R[lab])
+            return np.maximum(d - s, 0.0), d + s
+        lo = np.empty(len(P))
+        hi = np.empty(len(P))
+        for s, rows in site_groups(lab):
+            lo[rows], hi[rows] = self.geoms[s].distance_bounds(P[rows])
+        return lo, hi
+
+    def near_sites(self, Q, reach):
+        """For each query point Q[m], the sites whose bounding disc meets the disc (Q[m], reach[m]):
+        returns flat arrays (m, site)."""
+        rows, cols = [], []
+        if self.small_tree is not None and len(Q):
+            lists = self.small_tree.query_ball_point(Q, reach + self.small_rmax)
+            lens = np.fromiter((len(x) for x in lists), int, len(lists))
+            if lens.sum():
+                rows.append(np.repeat(np.arange(len(Q)), lens))
+                cols.append(self.small[np.concatenate([np.asarray(x, int) for x in lists if len(x)])])
+        for b in self.big:
+            if self.bounded[b]:
+                dd = np.hypot(Q[:, 0] - self.C[b, 0], Q[:, 1] - self.C[b, 1])
+                m = np.nonzero(dd <= reach + self.R[b] + 1e-12 * self.scale)[0]
+            else:
+                m = np.arange(len(Q))
+            rows.append(m)
+            cols.append(np.full(len(m), b))
+        if not rows:
+            return np.zeros(0, int), np.zeros(0, int)
+        return np.concatenate(rows), np.concatenate(cols)
+
+
+def site_groups(lab):
+    lab = np.asarray(lab)
+    order = np.argsort(lab, kind="stable")
+    sl = lab[order]
+    cuts = np.nonzero(np.diff(sl))[0] + 1
+    for part in np.split(order, cuts):
+        if len(part):
+            yield int(lab[part[0]]), part
+

@@ -1,0 +1,133 @@
+"""Input sites: conversion of user sites to exact sites and the disjointness check.
+
+Thesis §1.2 defines the Voronoi diagram of pairwise *disjoint* sites; intersecting or repeated
+sites are rejected with an error naming the pair (circles and points: exact rational test;
+conics: ``sites_intersect`` of :mod:`runtime.voronoi.conic_geometry`).
+
+Public API: :func:`as_site`, :func:`check_disjoint`, :func:`sites_equal`, :class:`SiteError`.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..predicates.circles import Circle, Point, as_circle
+from ..sites.conic import Conic
+from ..result import InvalidConicError
+from .conic_geometry import site_geometry
+
+__all__ = ["as_site", "check_disjoint", "sites_equal", "SiteError"]
+
+
+class SiteError(InvalidConicError):
+    """Sites that intersect or repeat: the diagram of the thesis (§1.2) needs disjoint sites."""
+
+
+
+def as_site(s):
+    """A user site as an exact site: Circle / Point / Conic pass through; a tuple (cx, cy, r)
+    is a circle of radius r (r = 0: a point); a list of six numbers is the coefficient list of a
+    conic; a dict is a site record of :func:`runtime.sites.reader.parse_site`."""
+    if isinstance(s, (Circle, Conic)):
+        return s
+    if isinstance(s, dict):
+        from ..sites.reader import parse_site
+        return parse_site(s)
+    if isinstance(s, (list, tuple)) and len(s) == 6:
+        return Conic.from_coefficients(*s)
+    try:
+        cx, cy, r = s
+    except (TypeError, ValueError):
+        raise InvalidConicError(f"not a site: {s!r} (expected Circle, Point, Conic or (cx, cy, r))") from None
+    if r == 0:
+        return Point(cx, cy)
+    return as_circle((cx, cy, r))
+
+
+def _circles_meet(a: Circle, b: Circle) -> bool:
+    """Exact: do the circles (points) a and b have a common point?  With ρ = √r2:
+    (ρa − ρb)² ≤ |ca − cb|² ≤ (ρa + ρb)², decided with rationals only."""
+    d2 = (a.cx - b.cx) ** 2 + (a.cy - b.cy) ** 2
+    s = a.r2 + b.r2
+    p4 = 4 * a.r2 * b.r2
+    t = d2 - s
+    outer = t <= 0 or t * t <= p4
+    u = s - d2
+    inner = u <= 0 or u * u <= p4
+    return outer and inner
+
+
+def check_disjoint(sites, geoms=None) -> list[str]:
+    """Raise :class:`SiteError` naming the first pair of sites that intersect or repeat.
+
+    Circles and points: candidate pairs from a k-d tree (a pair of overlapping discs is found
+    from the larger one), a float filter, then the exact test.  Pairs with a conic: bounding
+    boxes, then ``sites_intersect`` of :mod:`runtime.voronoi.conic_geometry`.  Returns notes on
+    what could not be checked (no conic intersection test available)."""
+    if geoms is None:
+        geoms = [site_geometry(s) for s in sites]
+    notes: list[str] = []
+    circ = [i for i, g in enumerate(geoms) if g.kind in ("point", "circle")]
+    if len(circ) > 1:
+        idx = np.array(circ)
+        C = np.array([[geoms[i].cx if geoms[i].kind == "circle" else geoms[i].x0,
+                       geoms[i].cy if geoms[i].kind == "circle" else geoms[i].y0] for i in circ])
+        R = np.array([geoms[i].rho if geoms[i].kind == "circle" else 0.0 for i in circ])
+        scale = float(np.abs(C).max() + R.max() + 1.0)
+        tree = cKDTree(C)
+        lists = tree.query_ball_point(C, 2 * R + 1e-9 * scale)
+        for a, js in enumerate(lists):
+            for b in js:
+                if b == a or R[b] > R[a] or (R[b] == R[a] and b < a):
+                    continue
+                d = math.hypot(C[a, 0] - C[b, 0], C[a, 1] - C[b, 1])
+                tol = 1e-9 * scale
+                if d > R[a] + R[b] + tol or d < abs(R[a] - R[b]) - tol:
+                    continue
+                i, j = sorted((int(idx[a]), int(idx[b])))
+                if sites_equal(sites[i], sites[j]):
+                    raise SiteError(f"site {i} and site {j} are the same site (repeated): remove one")
+                if _circles_meet(as_circle(sites[i]) if not isinstance(sites[i], Circle) else sites[i],
+                                 as_circle(sites[j]) if not isinstance(sites[j], Circle) else sites[j]):
+                    raise SiteError(f"site {i} and site {j} intersect: the Voronoi diagram needs disjoint sites")
+    conics = [i for i, g in enumerate(geoms) if g.kind not in ("point", "circle")]
+    if conics:
+        try:
+            from .conic_geometry import sites_intersect
+        except ImportError:
+            sites_intersect = None
+        boxes = np.array([g.bounding_box() for g in geoms], dtype=float)
+        for i in conics:
+            bi = boxes[i]
+            over = ((boxes[:, 0] <= bi[2]) & (boxes[:, 2] >= bi[0]) & (boxes[:, 1] <= bi[3]) & (boxes[:, 3] >= bi[1]))
+            for j in np.nonzero(over)[0]:
+                j = int(j)
+                if j == i or (j in conics and j < i):
+                    continue
+                a, b = sorted((i, j))
+                if sites_equal(sites[a], sites[b]):
+                    raise SiteError(f"site {a} and site {b} are the same site (repeated): remove one")
+                if sites_intersect is None:
+                    notes.append(f"sites {a} and {b}: no conic intersection test available (not checked)")
+                    continue
+                if sites_intersect(sites[a], sites[b]):
+                    raise SiteError(f"site {a} and site {b} intersect: the Voronoi diagram needs disjoint sites")
+    return notes
+
+
+def sites_equal(a, b) -> bool:
+    """Exact equality of two sites (conics up to a nonzero factor)."""
+    if isinstance(a, Circle) and isinstance(b, Circle):
+        return a.cx == b.cx and a.cy == b.cy and a.r2 == b.r2
+    ca = getattr(a, "coefficients", None)
+    cb = getattr(b, "coefficients", None)
+    if ca is None or cb is None:
+        return False
+    ka = next((k for k, v in enumerate(ca) if v != 0), None)
+    kb = next((k for k, v in enumerate(cb) if v != 0), None)
+    if ka != kb or ka is None:
+        return False
+    return all(x * cb[ka] == y * ca[ka] for x, y in zip(ca, cb))
+

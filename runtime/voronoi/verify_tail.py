@@ -1,0 +1,363 @@
+"""The unbounded end of a Voronoi edge of bounded convex sites, to infinity (thesis §1.2).
+
+**Unbounded edges** (:func:`prove_tail`).  The chain of strips (:mod:`runtime.voronoi.verify_strips`)
+proves the edge from its vertex up to a polyline point at about ``TAIL_CUT`` times the scene's
+radius (:mod:`runtime.voronoi.verify_curved`); beyond, support functions
+(thesis §1.2 on far regions; Schneider, *Convex Bodies*, §1.7) take over.  Let every site lie
+in the disc D(m, W) and h_S(θ) = max_{p ∈ S} u(θ)·(p − m) (:class:`runtime.voronoi.verify_support.SupportTable`; ellipses via
+:func:`runtime.interval.bound.support_function`).  For q = m + t·u, t > W:
+
+* d(q, S) ≥ t − h_S(u) (the supporting line of conv S with normal u separates q from S);
+* d(q, S) ≤ |q − p_u| = √((t − h)² + h'(θ)²) ≤ t − h_S(u) + h_S'(θ)²/(2(t − W)), p_u the support
+  point, whose component across u is h'(θ) (so e_S := d − (t − h_S) ∈ [0, h'²/(2(t − W))]);
+* for the gradient, ∇d_S(q) = (q − p)/|q − p| with p the nearest point, the support point of the
+  normal direction ν, |ν − u| ≤ α = asin(W/(t − W)); the support point moves by at most ρ_S·|Δθ|
+  (ρ_S the largest radius of curvature: a²/b, r, 0), and h_S + h_S'' = ρ_S(θ) ∈ [0, ρ_S], so
+  t·∂_θ d_S = −κ_S·(p − m)·u⊥ with κ_S = t/|q − p| ∈ [1/(1 + W/t), 1/(1 − W/t)] and
+  (p − m)·u⊥ ∈ h_S'(θ_c) ± (ρ_S(α + δ) + W·δ) on an angular cell of half-width δ.
+
+m is moved, for the tail of (i, j), onto the normal line of p_i at the float asymptotic direction
+θ* (a zero of g = h_i − h_j where i, j lead), so that h_i' ≈ 0 and the bound on e_i is sharp.
+On the sector Σ = {t ≥ T, θ ∈ [θa, θb]} ∋ θ*, with f = d_i − d_j ∈ [−g − e_j, −g + e_i], cells in
+(τ = 1/t, θ) (τ = 0 included, so Σ is covered to infinity), each halved until it satisfies
+
+(F) f has one strict sign on the cell (β does not meet it), or
+(A)+(M) every other site k is farther than d_i = d_j on the cell (max(h_i − e_i, h_j − e_j) > h_k,
+    or the distance bounds on the cell's disc as in (T2), or to first order
+    d_k − d_i ≥ lo_k(C) − hi_i(C) − R·(|G_k − G_i| + s_k + s_i) with the gradient enclosures) and
+    σ·∂f/∂θ > 0 on it (the enclosure above, or the gradient enclosures on the cell's disc);
+
+and on the rays θa, θb: σ·f < 0, resp. > 0, for all t ≥ T (τ-intervals, same bounds).  Then on
+every circle t = const ≥ T, θ ↦ f is negative then positive (σ = 1) with all its zeros in (M)
+cells, where it strictly increases: exactly one zero θ(t), continuous (implicit functions).  So
+β ∩ Σ is one curve from the circle t = T to infinity, closer to i, j than to every other site,
+with the asymptotic direction in the sector.  **Link**: two points Q± of the circle t = T inside
+the chain's last rectangle (shrunk by the arc's sagitta), with f(Q−), f(Q+) of opposite proved
+signs, bracket θ(T): the curve starts inside that rectangle, on the chain's arc (β meets the
+rectangle in one arc, all proved).  Hence chain ∪ tail is the whole edge from its vertex to
+infinity.  For the accounting of ends at infinity, :func:`prove_tail` also returns an interval
+J = [α, β] ∋ θ* inside the sector on which only i and j attain max_k h_k and g has strict opposite
+signs at α and β.  Not proved (reported): tails whose chain does not reach T > 2W, a lead of i, j
+too narrow for the 4096-direction scan, cells undecided within the work limit.  Vertex-less
+edges (two sites only, nested sites) of conic sites are not handled.
+
+Distance values come from :class:`runtime.voronoi.verify_sitetable.SiteTable`, one call for all
+third sites of a round of cells.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .verify_sitetable import gradient_enclosure
+
+__all__ = ["prove_tail"]
+
+
+def _imul(a0, a1, b0, b1):
+    """Interval product [a0, a1]·[b0, b1] (float; callers add their own margins)."""
+    p = np.stack([a0 * b0, a0 * b1, a1 * b0, a1 * b1])
+    return p.min(0), p.max(0)
+
+
+def _eps1(hp_abs, W, t0):
+    """h'²/(2(t0 − W)): d(m + t·u, S) − (t − h_S(u)) ∈ [0, this] when |h_S'(u)| ≤ hp_abs, t ≥ t0 > W."""
+    return hp_abs * hp_abs / (2.0 * (t0 - W)) * (1 + 1e-12)
+
+
+def prove_tail(sup, table, pair, link, scale, max_work: int = 100000):
+    """Prove the unbounded end of the edge (i, j) beyond the link point (module docstring,
+    *Unbounded edges*).
+
+    ``link`` = (P0, t, n, L, w, s_x): the chain's last rectangle {P0 + s·t + λ·n : s ∈ [0, L],
+    |λ| ≤ w} (proved: β meets it in one arc, all of it closer to i, j than to other sites) and
+    the position s_x on its axis where the link circle crosses it.  Returns (ok, message, J)
+    with J = (α, β, σ): the interval of directions for the accounting (module docstring)."""
+    i, j = pair
+    if not sup.ok:
+        return False, "the tail needs bounded convex sites (points, circles, ellipses)", None
+    m, W = sup.m, sup.W
+    P0, tv, nv, L, w, sx = link
+    X = np.asarray(P0, float) + sx * np.asarray(tv, float)
+    r = float(math.hypot(X[0] - m[0], X[1] - m[1]))
+    if not r > 2.0 * W:
+        return False, "the proved part does not reach far enough for the tail argument", None
+    thX = math.atan2(X[1] - m[1], X[0] - m[0])
+    # ---- the asymptotic direction: a zero of g = h_i − h_j where i, j are the two largest
+    for npts in (4097, 65537):
+        grid = thX + np.linspace(-math.pi, math.pi, npts)
+        g = sup.h(i, grid) - sup.h(j, grid)
+        hij = np.maximum(sup.h(i, grid), sup.h(j, grid))
+        top = np.full(len(grid), -np.inf)
+        oth = np.array([k for k in range(sup.n) if k not in pair], int)
+        for ks in np.array_split(oth, max(1, len(oth) * npts // 500000)):
+            if len(ks):
+                top = np.maximum(top, sup.h(ks[:, None], grid[None, :]).max(0))
+        ch = np.nonzero((np.sign(g[:-1]) != np.sign(g[1:])) & (hij[:-1] > top[:-1]) & (hij[1:] > top[1:]))[0]
+        if len(ch):
+            break
+    else:
+        return False, "no direction where its two sites lead the support functions", None
+    c0 = int(ch[np.argmin(np.abs(grid[ch] - thX))])
+    a_, b_ = grid[c0], grid[c0 + 1]
+    ga = sup.h(i, a_) - sup.h(j, a_)
+    for _ in range(60):
+        mid = 0.5 * (a_ + b_)
+        gm = sup.h(i, mid) - sup.h(j, mid)
+        if np.sign(gm) == np.sign(ga):
+            a_, ga = mid, gm
+        else:
+            b_ = mid
+    ths = 0.5 * (a_ + b_)
+    # centre on the normal line of site i's support point in the asymptotic direction: there
+    # h_i' ≈ 0, which makes the upper bound d_i ≤ t − h_i + h_i'²/(2(t − W)) sharp (module docstring)
+    m = m + float(sup.hp(i, ths)) * np.array([-math.sin(ths), math.cos(ths)])
+    sup = sup.recentred(m)
+    W = sup.W
+    r = float(math.hypot(X[0] - m[0], X[1] - m[1]))
+    if not r > 2.0 * W:
+        return False, "the proved part does not reach far enough for the tail argument", None
+    thX = math.atan2(X[1] - m[1], X[0] - m[0])
+    ths = thX + ((ths - thX + math.pi) % (2 * math.pi)) - math.pi     # same branch as thX
+    # ---- the link: two points of the circle |q − m| = r inside the rectangle, near its two
+    # lateral sides (where the chain proved f's signs), with f of opposite signs
+    tv, nv, P0 = np.asarray(tv, float), np.asarray(nv, float), np.asarray(P0, float)
+
+    def lat(phi):
+        return (m + r * np.array([math.cos(phi), math.sin(phi)]) - P0) @ nv
+
+    dlat = -math.sin(thX) * nv[0] + math.cos(thX) * nv[1]
+    if abs(dlat) < 0.2:
+        return False, "the link circle is nearly tangent to the last proved strip", None
+    Qs = []
+    for target in (-0.97 * w, 0.97 * w):
+        a_, b_ = thX, thX + 2.0 * (target - lat(thX)) / (r * dlat)
+        for _ in range(80):                                 # float bisection on λ(φ) = target
+            mid = 0.5 * (a_ + b_)
+            if (lat(mid) - target) * (lat(a_) - target) > 0:
+                a_ = mid
+            else:
+                b_ = mid
+        Qs.append(0.5 * (a_ + b_))
+    phi_lo, phi_hi = min(Qs), max(Qs)
+    dl = 0.5 * (phi_hi - phi_lo)
+    sag = r * dl * dl
+    Q = np.array([[m[0] + r * math.cos(p_), m[1] + r * math.sin(p_)] for p_ in (phi_lo, phi_hi)])
+    rel = Q - P0
+    sc, lc = rel @ tv, rel @ nv
+    pad = sag + 1e-12 * scale
+    if not (np.all(sc > pad) and np.all(sc < L - pad) and np.all(np.abs(lc) < w - pad)):
+        return False, "the link circle does not cross the last proved strip", None
+    V = table.evaluate(np.concatenate([Q, Q]), [i, i, j, j])
+    lo_i, hi_i, lo_j, hi_j = V.lo[:2], V.hi[:2], V.lo[2:], V.hi[2:]
+    fl = 4e-12 * (scale + r)        # Q is a float point within ~1e-15·r of the circle; f is 2-Lipschitz
+    pos = lo_i - hi_j > fl
+    neg = hi_i - lo_j < -fl
+    if not ((pos[0] and neg[1]) or (neg[0] and pos[1])):
+        return False, "the bisector's crossing of the link circle is not decided", None
+    thX = 0.5 * (phi_lo + phi_hi)
+    msg = "no sector decided"
+    lo0, hi0 = min(ths, thX - dl), max(ths, thX + dl)
+    for half in (0.005, 0.02, 0.06, 0.15, 0.4):
+        tha, thb = lo0 - half, hi0 + half
+        gb = float(sup.h(i, thb) - sup.h(j, thb))
+        ga = float(sup.h(i, tha) - sup.h(j, tha))
+        if not (gb * ga < 0):
+            continue
+        sigma = -1.0 if gb > 0 else 1.0          # σ·f > 0 on the ray θb, f ≈ −g far away
+        ok, msg = _prove_sector(sup, table, pair, tha, thb, sigma, r, scale, max_work)
+        if ok:
+            J = _lead_interval(sup, i, j, ths, tha, thb)
+            if J is None:
+                return False, "no interval of directions around the asymptote where its sites lead", None
+            return True, None, J
+    return False, msg, None
+
+
+def _lead_interval(sup, i, j, ths, tha, thb):
+    """An interval J = [α, β] ⊂ (θa, θb) around the float asymptotic direction ths on which only
+    i and j attain max_k h_k and h_i − h_j has strict opposite signs at α and β (for the
+    accounting of :func:`runtime.voronoi.verify_closure.verify_accounting_conics`), or None."""
+    mu = sup.mu
+    others = [k for k in range(sup.n) if k not in (i, j)]
+    for eta in (1e-3, 1e-5, 1e-7):
+        a, b = ths - eta, ths + eta
+        if not (tha < a and b < thb):
+            continue
+        ga = float(sup.h(i, a) - sup.h(j, a))
+        gb = float(sup.h(i, b) - sup.h(j, b))
+        if not (ga * gb < 0 and min(abs(ga), abs(gb)) > 4 * mu):
+            continue
+        e = np.linspace(a, b, 9)
+        c0, c1 = e[:-1], e[1:]
+        good = True
+        for _ in range(30):
+            thc, half = 0.5 * (c0 + c1), 0.5 * (c1 - c0) * (1 + 1e-12)
+            lo = np.maximum(sup.h_range(i, thc, half)[0], sup.h_range(j, thc, half)[0])
+            okc = np.ones(len(thc), bool)
+            if len(others):
+                hk = sup.h(np.array(others)[:, None], thc[None, :]) + (sup.W * half + sup.mu)[None, :]
+                okc &= (lo[None, :] - hk > 0).all(0)
+            if okc.all():
+                break
+            c0, c1 = c0[~okc], c1[~okc]
+            if len(c0) > 4096:
+                good = False
+                break
+            mid = 0.5 * (c0 + c1)
+            c0, c1 = np.concatenate([c0, mid]), np.concatenate([mid, c1])
+        else:
+            good = False
+        if good:
+            return (a, b, 1.0 if gb < 0 else -1.0)
+    return None
+
+
+def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
+    """(A) third sites, (M) σ·∂f/∂θ > 0 on Σ = {t ≥ T0, θ ∈ [θa, θb]}, (R) σ·f < 0 on the ray θa
+    and > 0 on the ray θb; cells in (τ = 1/t, θ), halved until decided (module docstring)."""
+    i, j = pair
+    W, m, mu = sup.W, sup.m, sup.mu
+    oth = np.array([k for k in range(sup.n) if k not in pair], int)
+    tmax = 1.0 / T0
+    # ---- rays: 1-D cells in τ
+    for th, want in ((tha, -1.0), (thb, 1.0)):
+        gv = float(sup.h(i, th) - sup.h(j, th))
+        T_a, T_b = np.array([0.0]), np.array([tmax])
+        work = 0
+        while len(T_a):
+            work += len(T_a)
+            if work > max_work:
+                return False, f"the sign of d_{i} - d_{j} on the ray at angle {th:.6g} is undecided"
+            t0 = 1.0 / T_b
+            e_i = _eps1(sup.hp_abs(i, th, 0.0), W, t0)
+            e_j = _eps1(sup.hp_abs(j, th, 0.0), W, t0)
+            f_lo, f_hi = -gv - 2 * mu - e_j, -gv + 2 * mu + e_i      # f ∈ [−g − e_j, −g + e_i]
+            ok = np.where(want * sigma > 0, f_lo > 0, f_hi < 0)
+            fin = T_a > 0
+            if fin.any():
+                t1 = np.where(fin, 1.0 / np.where(fin, T_a, 1.0), t0)
+                tc = 0.5 * (t0 + t1)
+                C = m + tc[:, None] * np.array([math.cos(th), math.sin(th)])
+                R = np.where(fin, 0.5 * (t1 - t0), np.inf) * (1 + 1e-12) + 1e-12 * (scale + tc)
+                n_ = len(C)
+                V = table.evaluate(np.concatenate([C, C]), np.repeat([i, j], n_))
+                fl, fh = V.lo[:n_] - V.hi[n_:] - 2 * R, V.hi[:n_] - V.lo[n_:] + 2 * R
+                ok |= fin & (((want * sigma > 0) & (fl > 0)) | ((want * sigma < 0) & (fh < 0)))
+            bad = ~ok
+            if not bad.any():
+                break
+            a_, b_ = T_a[bad], T_b[bad]
+            mid = 0.5 * (a_ + b_)
+            T_a, T_b = np.concatenate([a_, mid]), np.concatenate([mid, b_])
+    # ---- the sector: 2-D cells
+    nt, nth = 8, 8
+    ta = np.repeat(np.linspace(0, tmax, nt + 1)[:-1], nth)
+    tb = np.repeat(np.linspace(0, tmax, nt + 1)[1:], nth)
+    tb[-nth:] = tmax
+    e = np.linspace(tha, thb, nth + 1)
+    h0 = np.tile(e[:-1], nt)
+    h1 = np.tile(e[1:], nt)
+    okA_last = np.ones(len(ta), bool)
+    work = 0
+    while len(ta):
+        work += len(ta)
+        if work > max_work:
+            k = int(np.argmax(tb))
+            what = "third site" if not okA_last[k] else "monotonicity"
+            return False, (f"the tail is undecided ({what}) near angle {0.5 * (h0[k] + h1[k]):.6g}, "
+                           f"distance {1.0 / tb[k]:.6g} from the scene's centre")
+        thc, half = 0.5 * (h0 + h1), 0.5 * (h1 - h0) * (1 + 1e-12)
+        t0 = 1.0 / tb
+        e_i = _eps1(sup.hp_abs(i, thc, half), W, t0)
+        e_j = _eps1(sup.hp_abs(j, thc, half), W, t0)
+        fin = ta > 0
+        t1 = np.where(fin, 1.0 / np.where(fin, ta, 1.0), np.inf)
+        tc = np.where(fin, 0.5 * (t0 + t1), t0)
+        U = np.column_stack([np.cos(thc), np.sin(thc)])
+        C = m + tc[:, None] * U
+        R = np.where(fin, t1 * half + 0.5 * (t1 - t0) + 1e-12 * (scale + tc), np.inf) * (1 + 1e-12)
+        # (A) third sites: support bounds, or distance bounds on the cell's disc
+        li_s, _ = sup.h_range(i, thc, half)
+        lj_s, _ = sup.h_range(j, thc, half)
+        hmax_lo = np.maximum(li_s - e_i, lj_s - e_j)     # on β: d_i = d_j ≤ t − hmax_lo
+        okA = np.ones(len(ta), bool)
+        nc = len(ta)
+        Cf = np.where(fin[:, None], C, m + T0 * U)
+        Rf = np.where(fin, R, 0.0)
+        Vij = table.evaluate(np.concatenate([Cf, Cf]), np.repeat([i, j], nc))
+        Vi, Vj = Vij.part(0, nc), Vij.part(nc, 2 * nc)
+        hi_i, hi_min = Vi.hi, np.minimum(Vi.hi, Vj.hi)
+        Gi, si, vi = gradient_enclosure(Cf, Vi, Rf, scale)
+        Gj, sj, vj = gradient_enclosure(Cf, Vj, Rf, scale)
+        rows = np.zeros(0, int)
+        if len(oth):
+            # support bounds: h_k below max(h_i − e_i, h_j − e_j) on the cell
+            hk = sup.h(oth[:, None], thc[None, :]) + (W * half + mu)[None, :]
+            fail = ~(hmax_lo[None, :] - hk > 0)
+            okA &= ~(fail & ~fin[None, :]).any(0)
+            kk, rows = np.nonzero(fail & fin[None, :])
+            ks = oth[kk]
+        if len(rows):
+            # distance bounds on the cell's disc, or to first order
+            # d_k − d_i ≥ (lo_k − hi_i)(C) − R·sup|∇d_k − ∇d_i| on the disc; one call for all sites
+            Vk = table.evaluate(Cf[rows], ks)
+            okk = Vk.lo - R[rows] > hi_min[rows] + R[rows]
+            Gk, sk, vk = gradient_enclosure(Cf[rows], Vk, Rf[rows], scale)
+            lip = np.hypot(*(Gk - Gi[rows]).T) + sk + si[rows]
+            lip = np.where(vk & vi[rows] & np.isfinite(lip), np.minimum(lip, 2.0), 2.0) * (1 + 1e-12)
+            okk |= Vk.lo - hi_i[rows] - lip * R[rows] > 0
+            np.logical_and.at(okA, rows, okk)
+        # (M) σ·∂f/∂θ > 0: support-point enclosure (module docstring) or gradient enclosures on the disc
+        Wt = W * tb
+        alpha = np.arcsin(np.minimum(1.0, Wt / (1 - Wt)))
+        k_lo, k_hi = 1.0 / (1 + Wt), 1.0 / (1 - Wt)
+        parts = []
+        for s in (i, j):
+            pc = sup.hp(s, thc)
+            rr = sup.rcurv[s] * (alpha + half) + W * half + mu
+            parts.append(_imul(k_lo, k_hi, pc - rr, pc + rr))
+        d_lo = parts[1][0] - parts[0][1]          # −κ_i P_i + κ_j P_j
+        d_hi = parts[1][1] - parts[0][0]
+        d_lo, d_hi = d_lo - 1e-12 * W, d_hi + 1e-12 * W
+        okM = (d_lo > 0) if sigma > 0 else (d_hi < 0)
+        if fin.any() and not okM.all():
+            Df = Gi - Gj
+            perp = np.column_stack([-U[:, 1], U[:, 0]])
+            val = sigma * (Df * perp).sum(1) - np.hypot(Df[:, 0], Df[:, 1]) * half - (si + sj) - 1e-12
+            okM |= fin & vi & vj & (val > 0)
+        # (F) f has one strict sign on the cell: β does not meet it
+        gc = sup.h(i, thc) - sup.h(j, thc)
+        gr = 2 * W * half + 2 * mu
+        okF = (-(gc + gr) - e_j > 0) | (-(gc - gr) + e_i < 0)
+        if fin.any():
+            okF |= fin & ((Vi.lo - Vj.hi - 2 * R > 0) | (Vi.hi - Vj.lo + 2 * R < 0))
+        bad = ~(okF | (okA & okM))
+        if not bad.any():
+            return True, None
+        # halve the undecided cells: infinite cells in τ and θ, finite ones across their longer side
+        a_, b_, c_, d_ = ta[bad], tb[bad], h0[bad], h1[bad]
+        oA = okA[bad]
+        mt, mh = 0.5 * (a_ + b_), 0.5 * (c_ + d_)
+        inf_ = a_ <= 0
+        ta_f = np.where(inf_, np.inf, 1.0 / np.where(inf_, 1.0, a_))
+        radial = 0.5 * (ta_f - 1.0 / b_)
+        lateral = ta_f * 0.5 * (d_ - c_)
+        cut_t = inf_ | (radial >= lateral)
+        cut_h = inf_ | (radial < lateral)
+        parts = []
+        for ct, ch in ((False, False), (True, False), (False, True), (True, True)):
+            # quarter (ct, ch): upper τ half if ct, upper θ half if ch; kept when that cut is made
+            sel = (cut_t | ~np.array(ct)) & (cut_h | ~np.array(ch))
+            A0 = np.where(cut_t, np.where(ct, mt, a_), a_)
+            B0 = np.where(cut_t, np.where(ct, b_, mt), b_)
+            C0 = np.where(cut_h, np.where(ch, mh, c_), c_)
+            D0 = np.where(cut_h, np.where(ch, d_, mh), d_)
+            parts.append((A0[sel], B0[sel], C0[sel], D0[sel], oA[sel]))
+        ta = np.concatenate([p_[0] for p_ in parts])
+        tb = np.concatenate([p_[1] for p_ in parts])
+        h0 = np.concatenate([p_[2] for p_ in parts])
+        h1 = np.concatenate([p_[3] for p_ in parts])
+        okA_last = np.concatenate([p_[4] for p_ in parts])
+    return True, None

@@ -1,0 +1,88 @@
+"""Emptiness of the circle of a proved vertex: no site enters it (thesis §5.2, the vertex condition).
+
+Rigorous distance lower bounds to every site whose bounding disc can reach the circle (k-d tree);
+undecided circle/point cases go to the exact conflict test of thesis §3.1.3
+(:func:`runtime.predicates.circles.decide_conflict`).
+
+Public API: :func:`prove_empty`.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..predicates.circles import as_circle, decide_conflict
+from ..result import InvalidConicError, LocatorError
+from .apollonius_vertices import exact_vertex
+from .site_arrays import SiteArrays
+
+__all__ = ["prove_empty"]
+
+
+def prove_empty(S: SiteArrays, clusters, stats):
+    """Prove that no site enters the empty circle of each proved vertex; returns, per cluster,
+    True (empty, proved), False (a site enters: not a Voronoi vertex) or None (undecided), and the
+    conflicting site."""
+    idx = [c for c, cl in enumerate(clusters) if cl["ok"]]
+    res = [None] * len(clusters)
+    culprit = [None] * len(clusters)
+    if not idx:
+        return res, culprit
+    M = np.array([[clusters[c]["x"], clusters[c]["y"]] for c in idx])
+    H = np.array([clusters[c]["h"] for c in idx]) * math.sqrt(2)
+    RLO = np.array([clusters[c]["rlo"] for c in idx])
+    RHI = np.array([clusters[c]["rhi"] for c in idx])
+    TT = np.array([clusters[c]["triple"] for c in idx])
+    rows, cols = S.near_sites(M, RHI + H)
+    keep = (cols != TT[rows, 0]) & (cols != TT[rows, 1]) & (cols != TT[rows, 2])
+    rows, cols = rows[keep], cols[keep]
+    lo, hi = S.dist_bounds(M[rows], cols)
+    lo, hi = lo - H[rows], hi + H[rows]
+    safe = lo > RHI[rows]
+    conflict = hi < RLO[rows]
+    bad = np.zeros(len(idx), bool)
+    und = np.zeros(len(idx), bool)
+    np.logical_or.at(bad, rows[conflict], True)
+    undecided = ~safe & ~conflict
+    np.logical_or.at(und, rows[undecided], True)
+    first_bad = {}
+    depth = (RLO[rows] - hi)[conflict]
+    for r, c, dp in zip(rows[conflict].tolist(), cols[conflict].tolist(), depth.tolist()):
+        if r not in first_bad or dp < clusters[idx[r]].get("intrusion", np.inf):
+            first_bad[r] = c
+            clusters[idx[r]]["intrusion"] = dp
+    und_pairs: dict = {}
+    for r, c in zip(rows[undecided].tolist(), cols[undecided].tolist()):
+        und_pairs.setdefault(r, []).append(c)
+    stats["emptiness_pairs"] = stats.get("emptiness_pairs", 0) + int(len(rows))
+    for a, c in enumerate(idx):
+        if bad[a]:
+            res[c], culprit[c] = False, first_bad[a]
+            continue
+        if not und[a]:
+            res[c] = True
+            continue
+        # undecided: the exact circle route when everything is a circle
+        cl = clusters[c]
+        decided = None
+        if S.all_circles:
+            decided = True
+            try:
+                tv, v = cl["exact"] or exact_vertex(S, cl)
+                cl["exact"] = (tv, v)
+                for k in und_pairs[a]:
+                    stats["exact_conflict_calls"] = stats.get("exact_conflict_calls", 0) + 1
+                    dec = decide_conflict(tv, v, as_circle(S.sites[k]))
+                    if dec.in_conflict:
+                        decided, culprit[c] = False, k
+                        break
+                    if dec.tangent:      # site k touches the empty circle: a degenerate vertex
+                        cl.setdefault("tangent", []).append(k)
+            except (LocatorError, InvalidConicError, ValueError):
+                decided = None
+        if decided is None and culprit[c] is None:
+            culprit[c] = und_pairs[a][0]
+        res[c] = decided
+    return res, culprit
+
