@@ -20,7 +20,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from curvedvoronoi.runtime.algebra.algebraic_offset import offset, offset_degrees_on_line  # noqa: E402
+from curvedvoronoi.runtime.algebra.algebraic_offset import offset  # noqa: E402
+from curvedvoronoi.runtime.algebra.offset_degrees import offset_degrees_on_line  # noqa: E402
 from curvedvoronoi.runtime.algebra.degree_formula import degree_formula  # noqa: E402
 
 #: the curves of the degree table: (name, polynomial)

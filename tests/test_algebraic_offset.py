@@ -22,7 +22,8 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from curvedvoronoi.runtime.algebra.algebraic_offset import (
-    curve_points, evaluate_at_point, offset, offset_degrees_on_line, offset_point, parse_curve, select_factors)
+    curve_points, evaluate_at_point, offset, offset_point, parse_curve, select_factors)
+from curvedvoronoi.runtime.algebra.offset_degrees import offset_degrees_on_line
 from curvedvoronoi.runtime.artefacts import load_offset
 from curvedvoronoi.runtime.cli import main as cli_main
 from curvedvoronoi.runtime.algebra.degree_formula import degree_formula

@@ -42,6 +42,7 @@ Examples
 """
 from __future__ import annotations
 
+import math
 import random
 import time
 from dataclasses import dataclass, field
@@ -49,206 +50,18 @@ from fractions import Fraction
 
 import flint
 
+from .curve_points import (OffsetPoint, curve_at_abscissa, curve_points, evaluate_at_point,
+                           leading_coefficient, offset_point, parse_curve)
+
 __all__ = ["AlgebraicOffset", "FactorSelection", "RejectedFactor", "OffsetPoint", "OFFSET_VARIABLES",
-           "curve_points", "evaluate_at_point", "offset", "offset_degrees_on_line", "offset_point",
-           "parse_curve", "select_factors"]
+           "curve_points", "evaluate_at_point", "factor_over_z", "first_resultants", "offset",
+           "offset_point", "parse_curve", "select_factors"]
 
 #: variables of every offset polynomial returned here
 OFFSET_VARIABLES = ("u", "v", "R")
 
 _ELIM_CTX = flint.fmpz_mpoly_ctx.get(("x", "y", "u", "v", "R"), "lex")
 _OUT_CTX = flint.fmpz_mpoly_ctx.get(OFFSET_VARIABLES, "lex")
-_CURVE_CTX = flint.fmpz_mpoly_ctx.get(("x", "y"), "lex")
-
-
-# ------------------------------------------------------------------------------------------
-# input
-# ------------------------------------------------------------------------------------------
-
-def parse_curve(f) -> flint.fmpz_mpoly:
-    """The curve polynomial as a primitive ``fmpz_mpoly`` in (x, y) with positive leading term.
-
-    ``f`` is a string in x and y ("y^2 - x^2 - x^3", rational coefficients such as "3/5*x"
-    allowed), a SymPy expression or Poly in x and y, or a python-flint ``fmpz_mpoly`` /
-    ``fmpq_mpoly`` in two variables (named x and y, or taken in the order of their context).
-    Raises ``ValueError`` for anything else, for constants and for non-square-free polynomials.
-    """
-    terms = _terms_of(f)
-    terms = {k: Fraction(v) for k, v in terms.items() if v != 0}
-    if not terms or all(k == (0, 0) for k in terms):
-        raise ValueError("curve polynomial is constant: no curve")
-    den = 1
-    for c in terms.values():
-        den = den * c.denominator // _gcd(den, c.denominator)
-    poly = _CURVE_CTX.from_dict({k: int(c * den) for k, c in terms.items()})
-    poly = poly.primitive()[1]
-    if _leading(poly) < 0:
-        poly = -poly
-    _, facs = poly.factor()
-    if any(int(m) > 1 for _, m in facs):
-        raise ValueError(f"curve polynomial {poly} is not square-free (thesis Theorem 4.2.18 "
-                         "assumes f square-free); pass its square-free part")
-    return poly
-
-
-def _gcd(a: int, b: int) -> int:
-    import math
-    return math.gcd(a, b)
-
-
-def _leading(p) -> int:
-    return int(sorted(p.to_dict().items(), reverse=True)[0][1])
-
-
-def _terms_of(f) -> dict[tuple[int, int], object]:
-    if isinstance(f, (flint.fmpz_mpoly, flint.fmpq_mpoly)):
-        names = f.context().names()
-        if len(names) != 2:
-            raise ValueError(f"curve polynomial must have two variables, got {names}")
-        swap = tuple(names) == ("y", "x")
-        out = {}
-        for k, c in f.to_dict().items():
-            k = (int(k[1]), int(k[0])) if swap else (int(k[0]), int(k[1]))
-            out[k] = Fraction(int(c.p), int(c.q)) if isinstance(c, flint.fmpq) else int(c)
-        return out
-    import sympy
-
-    x, y = sympy.symbols("x y")
-    if isinstance(f, str):
-        text = f.replace("^", "**").strip()
-        if "=" in text:
-            lhs, _, rhs = text.partition("=")
-            text = f"({lhs}) - ({rhs})" if rhs.strip() not in ("", "0") else lhs
-        try:
-            expr = sympy.sympify(text, locals={"x": x, "y": y}, rational=True)
-        except (sympy.SympifyError, SyntaxError, TypeError) as exc:
-            raise ValueError(f"cannot parse curve {f!r}: {exc}") from None
-    elif isinstance(f, sympy.Poly):
-        expr = f.as_expr()
-    elif isinstance(f, sympy.Basic):
-        expr = f
-    else:
-        raise ValueError(f"curve must be a string, a SymPy or a python-flint polynomial, got {type(f).__name__}")
-    extra = expr.free_symbols - {x, y}
-    if extra:
-        raise ValueError(f"curve polynomial has symbols other than x, y: {sorted(map(str, extra))}")
-    try:
-        poly = sympy.Poly(sympy.nsimplify(expr, rational=True) if expr.has(sympy.Float) else expr,
-                          x, y, domain="QQ")
-    except (sympy.PolynomialError, sympy.polys.polyerrors.CoercionFailed) as exc:
-        raise ValueError(f"curve is not a polynomial in x, y with rational coefficients: {exc}") from None
-    return {tuple(int(e) for e in k): Fraction(int(c.numerator), int(c.denominator))
-            for k, c in poly.terms()}
-
-
-# ------------------------------------------------------------------------------------------
-# exact offset points over number fields
-# ------------------------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class OffsetPoint:
-    """A point (u, v, R) of the generalised offset with coordinates in ℚ(α) = ℚ[α]/(modulus).
-
-    Built from the curve point (x0, α) (or (α, y0) when ``swapped``) and the rational step k
-    along the gradient.  ``u``, ``v``, ``R`` are ``fmpq_poly`` in α reduced modulo ``modulus``.
-    """
-
-    x0: Fraction
-    k: Fraction
-    modulus: flint.fmpq_poly
-    u: flint.fmpq_poly
-    v: flint.fmpq_poly
-    R: flint.fmpq_poly
-    swapped: bool = False
-
-    def describe(self) -> str:
-        a = "alpha"
-        pt = f"({a}, {self.x0})" if self.swapped else f"({self.x0}, {a})"
-        return f"p = {pt}, {a} root of {self.modulus.str(var='a')}, q = p + ({self.k})*grad f(p)"
-
-
-def _poly_in_alpha(curve, x0: Fraction, swapped: bool):
-    """f(x0, y) (or f(x, y0)) as an fmpq_poly."""
-    coeffs: dict[int, Fraction] = {}
-    for (i, j), c in curve.to_dict().items():
-        i, j = int(i), int(j)
-        e, other = (i, j) if swapped else (j, i)
-        coeffs[e] = coeffs.get(e, Fraction(0)) + int(c) * x0 ** other
-    deg = max(coeffs) if coeffs else 0
-    return flint.fmpq_poly([flint.fmpq(coeffs.get(e, Fraction(0)).numerator, coeffs.get(e, Fraction(0)).denominator)
-                            for e in range(deg + 1)])
-
-
-def _eval_xy(poly, x, y, mod):
-    """poly(x, y) for x, y fmpq_poly in α, reduced modulo mod (poly an fmpz_mpoly in x, y)."""
-    total = flint.fmpq_poly(0)
-    for (i, j), c in poly.to_dict().items():
-        total += int(c) * (x ** int(i)) * (y ** int(j))
-    return total % mod
-
-
-def curve_points(curve, count: int, rng: random.Random, *, max_tries: int = 200):
-    """``count`` generic points of V(curve) over number fields: list of (x, y, modulus, swapped).
-
-    x = x0 rational, y = α a root of an irreducible factor of curve(x0, y) over ℚ (or the roles
-    of x and y swapped when the component does not depend on y), the gradient not zero.
-    """
-    curve = parse_curve(curve) if not isinstance(curve, flint.fmpz_mpoly) else curve
-    swapped = curve.degrees()[1] == 0
-    fx, fy = curve.derivative(0), curve.derivative(1)
-    out = []
-    for _ in range(max_tries):
-        if len(out) >= count:
-            break
-        x0 = Fraction(rng.randint(-40, 40), rng.randint(1, 12))
-        p = _poly_in_alpha(curve, x0, swapped)
-        if p.degree() < 1:
-            continue
-        _, facs = p.factor()
-        facs = [g for g, _ in facs if g.degree() >= 1]
-        if not facs:
-            continue
-        g = rng.choice(facs)
-        g = g / g.leading_coefficient()
-        alpha = flint.fmpq_poly([0, 1]) % g
-        xq = flint.fmpq_poly([flint.fmpq(x0.numerator, x0.denominator)])
-        X, Y = (alpha, xq) if swapped else (xq, alpha)
-        gx, gy = _eval_xy(fx, X, Y, g), _eval_xy(fy, X, Y, g)
-        if gx.is_zero() and gy.is_zero():
-            continue                       # a singular point: not a generic point
-        out.append((x0, X, Y, gx, gy, g, swapped))
-    if len(out) < count:
-        raise ValueError(f"could not find {count} generic points on the curve {curve}")
-    return out
-
-
-def offset_point(curve, point, k: Fraction) -> OffsetPoint:
-    """The exact offset point q = p + k·∇f(p), R = k²·|∇f(p)|² over the point's number field."""
-    x0, X, Y, gx, gy, g, swapped = point
-    kq = flint.fmpq(k.numerator, k.denominator)
-    u = (X + kq * gx) % g
-    v = (Y + kq * gy) % g
-    R = (kq * kq * (gx * gx + gy * gy)) % g
-    return OffsetPoint(x0, k, g, u, v, R, swapped)
-
-
-def evaluate_at_point(poly, pt: OffsetPoint) -> flint.fmpq_poly:
-    """poly(u, v, R) at the exact point ``pt`` (an element of ℚ[α]/(modulus), as fmpq_poly)."""
-    mod = pt.modulus
-    cache: dict[tuple[int, int], flint.fmpq_poly] = {}
-
-    def power(which: int, e: int):
-        key = (which, e)
-        if key not in cache:
-            base = (pt.u, pt.v, pt.R)[which]
-            cache[key] = flint.fmpq_poly(1) if e == 0 else (power(which, e - 1) * base) % mod
-        return cache[key]
-
-    total = flint.fmpq_poly(0)
-    for (i, j, l), c in poly.to_dict().items():
-        total += int(c) * ((power(0, int(i)) * power(1, int(j))) % mod * power(2, int(l)))
-        total %= mod
-    return total
 
 
 # ------------------------------------------------------------------------------------------
@@ -339,7 +152,7 @@ def _rational_singular_points(curve) -> list[tuple[Fraction, Fraction]]:
             return out
         cands = [(r, None) for r in _rational_roots(_to_univariate(g, 0))]
     for x0, _ in cands:
-        py = _poly_in_alpha(curve, x0, False)
+        py = curve_at_abscissa(curve, x0, False)
         ys = _rational_roots(py) if py.degree() >= 1 else []
         for y0 in ys:
             vals = [_eval_rational(p, x0, y0) for p in (curve, fx, fy)]
@@ -386,7 +199,7 @@ def _is_singular_circle(fac, sing: list[tuple[Fraction, Fraction]]):
     return None
 
 
-def _factor(p) -> list:
+def factor_over_z(p) -> list:
     """Irreducible factors of an fmpz_mpoly over ℤ (content dropped).  python-flint 0.9's
     ``fmpz_mpoly.factor`` raises OverflowError while sorting two factors of equal length with
     huge coefficients; ``fmpq_mpoly.factor`` does not, so it is the fallback."""
@@ -401,13 +214,13 @@ def _factor(p) -> list:
         for g, e in q.factor()[1]:
             den = 1
             for c in g.to_dict().values():
-                den = den * int(c.q) // _gcd(den, int(c.q))
+                den = den * int(c.q) // math.gcd(den, int(c.q))
             gz = ctx.from_dict({k: int(c * den) for k, c in g.to_dict().items()}).primitive()[1]
             out.append((gz, int(e)))
         return out
 
 
-def _first_resultants(comp, ctx, x, y, u, v, R):
+def first_resultants(comp, ctx, x, y, u, v, R):
     """The offset system of the curve comp = 0 at the point (u, v) and squared distance R (thesis
     §4.1: normality n = 0 and distance d = 0), and the resultants of comp with n and with d in the
     first variable eliminated (y, or x for a component free of y).
@@ -430,21 +243,21 @@ def _resultant_factors(comp):
     blow-up of the full resultant (quartics ~7× faster).  A component free of y (vertical
     lines) is eliminated in the other order."""
     x, y, u, v, R = _ELIM_CTX.gens()
-    fe, r1, r2, second = _first_resultants(comp, _ELIM_CTX, x, y, u, v, R)
+    fe, r1, r2, second = first_resultants(comp, _ELIM_CTX, x, y, u, v, R)
     part = _ELIM_CTX.from_dict({(0, 0, 0, 0, 0): 1})
     out = []
-    for g, e in _factor(r1):
+    for g, e in factor_over_z(r1):
         degs = g.degrees()
         if degs[2] or degs[3]:
             part = part * g ** int(e)
         elif not g.is_constant():
             # its share of the full resultant, Res(g, r2)^e: the circles centred at the points of
             # the curve above the root(s) of g, among them the singular circle of §4.1 (cheap)
-            out += [(h, int(e) * int(k)) for h, k in _factor(g.resultant(r2, second)) if not h.is_constant()]
+            out += [(h, int(e) * int(k)) for h, k in factor_over_z(g.resultant(r2, second)) if not h.is_constant()]
     res = part.resultant(r2, second)
     if res.is_zero():
         raise ValueError(f"offset of {comp}: the iterated resultant vanishes identically")
-    return [(g, int(e)) for g, e in _factor(res) if not g.is_constant()] + out
+    return [(g, int(e)) for g, e in factor_over_z(res) if not g.is_constant()] + out
 
 
 @dataclass(frozen=True)
@@ -510,7 +323,6 @@ def offset(f, *, samples_per_component: int = 2, seed: int = 20030101) -> Algebr
             else:
                 factors.append((fac, mult))
     t1 = time.perf_counter()
-    t2 = t1
     rng = random.Random(seed)
     comp_points = []
     for comp in comps:
@@ -554,97 +366,9 @@ def offset(f, *, samples_per_component: int = 2, seed: int = 20030101) -> Algebr
     for k_ in kept[1:]:
         poly = poly * k_
     poly = poly.primitive()[1]
-    if _leading(poly) < 0:
+    if leading_coefficient(poly) < 0:
         poly = -poly
     samples = [p.describe() for pts in comp_points for p in pts]
     return AlgebraicOffset(curve, poly, kept_info, rejected, samples,
                            {"elimination": t1 - t0, "selection": time.perf_counter() - t1,
                             "total": time.perf_counter() - t0})
-
-
-_LINE_CTX = flint.fmpz_mpoly_ctx.get(("x", "y", "s", "R"), "lex")
-_SR_CTX = flint.fmpz_mpoly_ctx.get(("s", "R"), "lex")
-
-
-def _eval_sr(poly, s, R, mod) -> flint.fmpq_poly:
-    total = flint.fmpq_poly(0)
-    sp, Rp = {0: flint.fmpq_poly(1)}, {0: flint.fmpq_poly(1)}
-    for (i, j), c in poly.to_dict().items():
-        i, j = int(i), int(j)
-        for cache, base, e in ((sp, s, i), (Rp, R, j)):
-            for k in range(len(cache), e + 1):
-                cache[k] = (cache[k - 1] * base) % mod
-        total = (total + int(c) * ((sp[i] * Rp[j]) % mod)) % mod
-    return total
-
-
-def offset_degrees_on_line(f, *, lines: int = 2, samples_per_component: int = 2, seed: int = 7) -> dict:
-    """Degree of the generalised offset in (u, v) and in R, from its restriction to random lines.
-
-    The offset restricted to the line u = a·s + b, v = c·s + e is eliminated exactly (same
-    resultants, in the two variables s, R) and its factors are selected by exact offset points
-    lying on the line (k and s solved in ℚ(α)); the degree in s of the kept product is the
-    degree of the offset curve at a generic fixed R (Theorem 4.2.18's quantity) when the line is
-    generic.  Much faster than :func:`offset` for dense cubics; the maximum over ``lines``
-    random lines is returned (a special line can only lower the degree).
-    """
-    curve = parse_curve(f)
-    rng = random.Random(seed)
-    comps = [g for g, _ in curve.factor()[1] if not g.is_constant()]
-    t0 = time.perf_counter()
-    best = {"degree_uv": -1, "degree_R": -1}
-    done = 0
-    for _attempt in range(4 * lines):
-        if done == lines:
-            break
-        a, b, c, e = (rng.choice([i for i in range(-9, 10) if i]) for _ in range(4))
-        try:
-            deg_s, deg_R = _degrees_on_line(comps, (a, b, c, e), samples_per_component, rng)
-        except _SpecialLine:
-            continue
-        done += 1
-        best = {"degree_uv": max(best["degree_uv"], deg_s), "degree_R": max(best["degree_R"], deg_R)}
-    if done < lines:
-        raise RuntimeError(f"offset of {curve}: no generic line found")
-    best["seconds"] = time.perf_counter() - t0
-    return best
-
-
-class _SpecialLine(Exception):
-    """The random line is special for a line component (parallel to it or to its normal)."""
-
-
-def _degrees_on_line(comps, line, samples_per_component, rng):
-    a, b, c, e = line
-    x, y, s, R = _LINE_CTX.gens()
-    u, v = a * s + b, c * s + e
-    deg_s, deg_R = 0, 0
-    for comp in comps:
-        fe, r1, r2, second = _first_resultants(comp, _LINE_CTX, x, y, u, v, R)
-        part = _LINE_CTX.from_dict({(0, 0, 0, 0): 1})
-        for g, k in _factor(r1):
-            if g.degrees()[2]:
-                part = part * g ** k
-        res = part.resultant(r2, second)
-        pts = []
-        for X0, X, Y, gx, gy, mod, _sw in curve_points(comp, samples_per_component + 2, rng):
-            D = (a * gy - c * gx) % mod
-            if D.is_zero():
-                continue
-            inv = D.xgcd(mod)[1] % mod
-            k = ((a * (e - Y) - c * (b - X)) * inv) % mod
-            sv = ((gx * (e - Y) - gy * (b - X)) * inv) % mod
-            pts.append((sv, (k * k * (gx * gx + gy * gy)) % mod, mod))
-        if len(pts) < samples_per_component:
-            raise _SpecialLine
-        pts = pts[:samples_per_component]
-        kept = []
-        for g, _k in _factor(res):
-            go = g.project_to_context(_SR_CTX)
-            if all(_eval_sr(go, sv, Rv, mod).is_zero() for sv, Rv, mod in pts):
-                kept.append(go)
-        if not kept or not any(g.degrees()[0] for g in kept):
-            raise _SpecialLine      # e.g. the line is parallel to a line component
-        deg_s += sum(int(g.degrees()[0]) for g in kept)
-        deg_R += sum(int(g.degrees()[1]) for g in kept)
-    return deg_s, deg_R

@@ -17,6 +17,9 @@ This is the ALIAS-style general solver of thesis §3.3.3, on python-flint ``arb`
 
 Results are certified boxes (unique zero proven, with a tight enclosure obtained by iterating
 the Krawczyk operator) and undecided boxes.  Nothing undecided is ever reported as a zero.
+The operator is :func:`runtime.certify.interval_newton.krawczyk_image`, shared with every other
+proof of the runtime.  The module is one algorithm (the branch-and-prune loop with its options),
+hence its length.
 """
 from __future__ import annotations
 
@@ -32,6 +35,7 @@ from flint import arb, arb_mat
 
 from .boxes import Box, arb_hi, arb_lo
 from .poly import Poly
+from ..certify.interval_newton import krawczyk_image
 
 _ZERO = arb(0)
 # split slightly off-centre so that rational/dyadic zeros do not sit on a bisection plane
@@ -180,12 +184,8 @@ def krawczyk(system: System, box: Box, jac=None, fm=None, centre=None):
     if not np.all(np.isfinite(y)):
         return "unknown", box
     ya = arb_mat(y.tolist())
-    ja = arb_mat(jac)
-    fa = arb_mat([[v] for v in fm])
-    d = arb_mat([[xs[i] - marb[i]] for i in range(n)])
-    ident = arb_mat([[1 if i == j else 0 for j in range(n)] for i in range(n)])
-    kk = arb_mat([[m] for m in marb]) - ya * fa + (ident - ya * ja) * d
-    ks = [kk[i, 0] for i in range(n)]
+    ks = krawczyk_image(marb, ya * arb_mat([[v] for v in fm]), ya, arb_mat(jac),
+                        [xs[i] - marb[i] for i in range(n)])
     klo = np.array([arb_lo(k) for k in ks])
     khi = np.array([arb_hi(k) for k in ks])
     if not (np.all(np.isfinite(klo)) and np.all(np.isfinite(khi))):
