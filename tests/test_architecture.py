@@ -84,3 +84,22 @@ def test_module_imports_in_isolation(module):
     r = subprocess.run([sys.executable, "-c", f"import curvedvoronoi.{module}"], cwd=ROOT,
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr[-2000:]
+
+
+def private_imports(modules=None) -> list[str]:
+    """``from <module> import _name`` between modules of the package (the underscore marks a name
+    private to its module: make it public where it is owned, or move it)."""
+    bad = []
+    for name, f in (modules or _modules()).items():
+        for node in ast.walk(ast.parse(f.read_text())):
+            if isinstance(node, ast.ImportFrom) and (node.level or (node.module or "").startswith("curvedvoronoi")):
+                bad += [f"{name}: {a.name}" for a in node.names if a.name.startswith("_") and a.name != "__name__"
+                        and a.name != "__version__"]
+    return bad
+
+
+def test_no_private_name_crosses_a_module_border(tmp_path):
+    assert not private_imports(), private_imports()
+    f = tmp_path / "m.py"                        # the check is not vacuous
+    f.write_text("from .sites.conic import _isqrt_exact\n")
+    assert private_imports({"runtime.m": f}) == ["runtime.m: _isqrt_exact"]

@@ -66,7 +66,7 @@ def krawczyk_inflation(F: Callable, J: Callable, m: Sequence, *, attempts: int =
     ``F(z)`` returns the list of values and ``J(z)`` the Jacobian rows (lists of balls), both
     at ball arguments z; ``m`` is a list of arb (real test) or acb (complex test) midpoints.
     Returns (K ∩ X or K, X): the enclosure of the zero and the box X in which it is unique.
-    ``floor`` (an arb) bounds the first radius from below; by default
+    ``floor`` (an arb, or one per component) bounds the first radius from below; by default
     (max|m| + 1)·2^(floor_bits − prec).  Raises :class:`KrawczykFailure`.
     """
     complex_ = isinstance(m[0], acb)
@@ -81,7 +81,8 @@ def krawczyk_inflation(F: Callable, J: Callable, m: Sequence, *, attempts: int =
     if floor is None:
         scale = max(abs(t).abs_upper() for t in m) + 1
         floor = scale * arb(2) ** (floor_bits - flint.ctx.prec)
-    r = [max(4 * abs(YF[i, 0]).abs_upper(), floor) for i in range(n)]
+    floors = list(floor) if isinstance(floor, (list, tuple)) else [floor] * n
+    r = [max(4 * abs(YF[i, 0]).abs_upper(), floors[i]) for i in range(n)]
     for _ in range(attempts):
         dX = [acb(arb(0, ri), arb(0, ri)) if complex_ else arb(0, ri) for ri in r]
         X = [m[i] + dX[i] for i in range(n)]

@@ -19,16 +19,12 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-import flint
 from flint import arb, arb_mat
 
 from .foot import to_arb
+from .interval_newton import KrawczykFailure, krawczyk_inflation
 
 __all__ = ["FootSystem", "KrawczykFailure"]
-
-
-class KrawczykFailure(Exception):
-    """No Krawczyk proof at this precision (singular Jacobian, no contraction...)."""
 
 
 class FootSystem:
@@ -100,35 +96,8 @@ class FootSystem:
         """A box around the exact point m proved to hold exactly one zero (else KrawczykFailure).
 
         Returns the enclosure K ∩ X; the (larger) box X in which the zero is unique is kept in
-        ``self.last_uniqueness_box``."""
-        m = [arb(v.mid()) for v in m]
-        Jm = self.jacobian(m)
-        try:
-            Y = Jm.mid().inv().mid()
-        except ZeroDivisionError:
-            raise KrawczykFailure("singular Jacobian at the candidate (double vertex?)") from None
-        Fm = arb_mat([[v] for v in self.residual(m)])
-        YF = Y * Fm
-        scale = max(abs(m[i]).abs_upper() for i in range(8)) + 1
-        floor = scale * arb(2) ** (-flint.ctx.prec + 24)
-        r = [_amax(4 * YF[i, 0].abs_upper(), floor) for i in range(8)]
-        I8 = arb_mat(8, 8)
-        for i in range(8):
-            I8[i, i] = arb(1)
-        for _ in range(attempts):
-            X = [m[i] + arb(0, r[i]) for i in range(8)]
-            C = I8 - Y * self.jacobian(X)
-            CdX = C * arb_mat([[arb(0, r[i])] for i in range(8)])
-            K = [m[i] - YF[i, 0] + CdX[i, 0] for i in range(8)]
-            if not all(k.is_finite() for k in K):
-                break
-            if all(X[i].contains_interior(K[i]) for i in range(8)):
-                self.last_uniqueness_box = X
-                return [K[i].intersection(X[i]) for i in range(8)]
-            # epsilon-inflation (Rump): grow the box towards the Krawczyk image
-            r = [_amax(2 * (K[i] - m[i]).abs_upper(), 2 * r[i]) for i in range(8)]
-        raise KrawczykFailure("Krawczyk operator did not contract")
-
-
-def _amax(a: arb, b: arb) -> arb:
-    return a if a > b else b
+        ``self.last_uniqueness_box``.  The test is :func:`runtime.certify.interval_newton.krawczyk_inflation`."""
+        enclosure, X = krawczyk_inflation(self.residual, lambda z: self.jacobian(z).tolist(), m,
+                                          attempts=attempts, floor_bits=24)
+        self.last_uniqueness_box = X
+        return enclosure
