@@ -28,7 +28,7 @@ from curvedvoronoi.runtime.certify.conflicts import certify_result, certify_vert
 from curvedvoronoi.runtime.certify.complete import certify_completeness  # noqa: E402
 from curvedvoronoi.runtime.sites.conic import Conic  # noqa: E402
 
-DATA = pathlib.Path("/work/tests/data/validation_cases.json")
+DATA = pathlib.Path(__file__).resolve().parents[1] / "tests" / "data" / "validation_cases.json"
 
 
 def run(cases, label):

@@ -232,3 +232,32 @@ def test_no_vertex_triple():
     tv = voronoi_vertices_triple(*conics_of(case)[:3])
     assert tv.vertices == []
     assert tv.n_generalised > 0          # there are generalised vertices, none is a true one
+
+
+@pytest.mark.parametrize("shape", [(40, 25, 30), (20, 35, 30)], ids=["tall", "wide"])
+def test_projected_nullspace_matches_explicit_householder_q(shape):
+    """The projected null space (raw Householder QR + LAPACK ormqr, no explicit Q) spans the same
+    subspace as the textbook construction with the full orthogonal factors formed explicitly,
+    for a tall and a wide top-degree block of a rank-deficient matrix."""
+    import scipy.linalg as sla
+    from curvedvoronoi.runtime.solve.vertices import _nullspace
+    m, n_hi, n_lo = shape
+    rng = np.random.default_rng(5)
+    r = min(m, n_hi) - 6                                 # rank-deficient top block, generic rest
+    M = np.hstack([rng.standard_normal((m, r)) @ rng.standard_normal((r, n_hi)),
+                   rng.standard_normal((m, n_lo))])
+    d = 3
+    degs = np.array([d] * n_hi + [0] * n_lo)            # the first n_hi columns are "top degree"
+    Z, dl, how = _nullspace(M, degs, d, top=1)
+    assert how == "projected" and np.all(dl == 0)
+    MH, ML = M[:, :n_hi], M[:, n_hi:]
+    Q, Rh, _ = sla.qr(MH, pivoting=True, mode="full")
+    rh = int((np.abs(np.diag(Rh)) > 1e-9 * abs(Rh[0, 0])).sum())
+    N = Q[:, rh:].T @ ML
+    Qn, Rn, _ = sla.qr(N.T, pivoting=True, mode="full")
+    rn = int((np.abs(np.diag(Rn)) > 1e-9 * abs(Rn[0, 0])).sum()) if min(N.shape) else 0
+    Zref = Qn[:, rn:]
+    assert Z.shape == Zref.shape
+    assert np.allclose(Z.T @ Z, np.eye(Z.shape[1]), atol=1e-12)
+    assert np.linalg.norm(Zref - Z @ (Z.T @ Zref)) < 1e-10        # same subspace
+    assert np.linalg.norm(N @ Z) < 1e-10 * max(1.0, np.linalg.norm(N))

@@ -9,7 +9,10 @@ of the type configuration (e.g. 184 for three ellipses, DESIGN §5).  Completene
    specialised at the conic's exact rational coefficients): X_k holds exactly one solution,
    which is simple (nonsingular Jacobian).  A far solution, terribly conditioned in (x, y, R),
    is instead certified in a chart of P³ of circles [A : x̂ : ŷ : T̂] (:mod:`runtime.certify.chart`)
-   and enclosed in (x, y, R) by ball arithmetic;
+   and enclosed in (x, y, R) by ball arithmetic.  The tests run on the offsets composed with an
+   exact similarity to the scene frame (dyadic centre, power-of-two scale:
+   :func:`runtime.certify.offset_system.scene_frame`), so a spread-out scene is as well scaled as
+   a compact one; the frame boxes are mapped back to (x, y, R) in ball arithmetic;
 2. the enclosures are pairwise disjoint, so the N solutions are distinct;
 3. a candidate with tiny imaginary part is tested on a *conjugation-symmetric* box: as the
    o_i have real coefficients, the unique solution in it is real.  Otherwise some coordinate of
@@ -31,6 +34,9 @@ of the type configuration (e.g. 184 for three ellipses, DESIGN §5).  Completene
    critical point only).
 
 If any step fails, ``complete`` is False and the note says which.
+
+(Longer than 400 lines: the counting proof, its batched float fast path and the exact-route proof
+share the enclosure and disjointness helpers; one idea, completeness of a vertex list.)
 """
 from __future__ import annotations
 
@@ -41,14 +47,14 @@ import flint
 import numpy as np
 from flint import acb, acb_mat, arb
 
-from .foot import (FootFailure, foot_polynomial, normalised_coefficients, real_feet_ball, to_arb,
-                           working_prec)
+from .foot import FootFailure, foot_polynomial, normalised_coefficients, real_feet_ball, working_prec
 from .dimension import zero_dimensional
 from .offset_system import (OffsetSystem, exact_offset_terms, framed_offset_system,  # noqa: F401 (re-exported)
                             inside_disc, krawczyk_complex, newton_track, scene_frame)
+from .interval_newton import krawczyk_image
 
-__all__ = ["certify_completeness", "completeness_with_vertices", "completeness_exact", "OffsetSystem",
-           "certify_solutions", "exact_offset_terms"]
+__all__ = ["clear_certification_caches", "certify_completeness", "completeness_with_vertices", "completeness_exact",
+           "OffsetSystem", "certify_solutions", "exact_offset_terms"]
 
 
 # --------------------------------------------------------------------------- fast batched path
@@ -108,7 +114,7 @@ class _FastSystem:
 
     def __init__(self, sys: "OffsetSystem"):
         polys = []  # 12 polynomials: o_1..o_3, then ∂o_i/∂(x, y, R) (exact, python-flint fmpq)
-        terms = [[(i, j, k, flint.fmpq(v.numerator, v.denominator)) for i, j, k, v in T] for T in sys.terms]
+        terms = sys.fmpq_terms
         for T in terms:
             polys.append({(i, j, k): v for i, j, k, v in T})
         for T in terms:
@@ -239,6 +245,16 @@ def _newton_np(fs: _FastSystem, S, real, iters: int = 4):
 def _fast_system(cos, frame=None) -> _FastSystem:
     conics = [tuple(c) for c in cos]
     return _FastSystem(framed_offset_system(conics, frame) if frame is not None else OffsetSystem(conics))
+
+
+def clear_certification_caches() -> None:
+    """Forget the per-triple systems of the certification (float and ball coefficient tables,
+    scene-frame systems, zero-dimensionality proofs)."""
+    from . import dimension, offset_system
+
+    _fast_system.cache_clear()
+    offset_system.clear_offset_system_caches()
+    dimension.clear_dimension_cache()
 
 
 def _nearly_real(S):
@@ -560,9 +576,9 @@ def _newton_at_infinity(sys, s, iters: int = 60, prec: int = 256):
     big = 0 if abs(s[0]) >= abs(s[1]) else 1
     with working_prec(prec):
         polys = []
-        for T in sys.terms:
+        for T in sys.fmpq_terms:
             D = max(i + j + 2 * k for i, j, k, _ in T)
-            polys.append([(D - i - j - 2 * k, (j if big == 0 else i), k, to_arb(c)) for i, j, k, c in T])
+            polys.append([(D - i - j - 2 * k, (j if big == 0 else i), k, arb(c)) for i, j, k, c in T])
         w = acb(complex(1 / s[big]))
         v = acb(complex(s[1 - big] / s[big]))
         q = acb(complex(s[2] / s[big] ** 2))
@@ -632,12 +648,7 @@ def _same_by_krawczyk(sys: "OffsetSystem", K, B, prec: int = 128) -> bool:
         YF = Y * acb_mat([[v] for v in vals])
         dX = [acb(arb(0, ri), arb(0, ri)) for ri in r]
         X = [m[i] + dX[i] for i in range(3)]
-        _, JX = sys.eval(X)
-        I3 = acb_mat(3, 3)
-        for i in range(3):
-            I3[i, i] = acb(1)
-        CdX = (I3 - Y * acb_mat(JX)) * acb_mat([[d] for d in dX])
-        Kr = [m[i] - YF[i, 0] + CdX[i, 0] for i in range(3)]
+        Kr = krawczyk_image(m, YF, Y, acb_mat(sys.eval(X)[1]), dX)
         if not all(inside_disc(Kr[i], m[i], r[i]) for i in range(3)):
             return False
         # X ⊇ K and X ⊇ B by construction (radius ≥ 2·(distance of centres + radii))

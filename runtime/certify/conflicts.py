@@ -43,7 +43,6 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-import flint
 from flint import arb, fmpq
 
 from .foot import (FootFailure, FootPolynomial, exact_polynomials, foot_polynomial,

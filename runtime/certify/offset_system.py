@@ -18,9 +18,11 @@ import flint
 from flint import acb, acb_mat, arb
 
 from ..artefacts import load_offset
-from .foot import normalised_coefficients, to_arb
+from .foot import normalised_coefficients
+from .interval_newton import KrawczykFailure, krawczyk_inflation, strictly_inside
 
 __all__ = ["offset_terms", "exact_offset_terms", "OffsetSystem", "scene_frame", "framed_offset_system",
+           "clear_offset_system_caches",
            "krawczyk_complex", "newton_track", "inside_disc"]
 
 
@@ -86,12 +88,19 @@ class OffsetSystem:
         if terms is None:
             terms = [offset_terms(normalised_coefficients(c)) for c in conics]
         self.terms = [tuple(T) for T in terms]
-        self._arb: dict[int, list] = {}
+        self._arb: dict = {}
+
+    @property
+    def fmpq_terms(self):
+        """``terms`` with python-flint fmpq coefficients (exact; converted once)."""
+        if "fmpq" not in self._arb:
+            self._arb["fmpq"] = [[(i, j, k, _fmpq(c)) for i, j, k, c in T] for T in self.terms]
+        return self._arb["fmpq"]
 
     def _coeffs(self):
         prec = flint.ctx.prec
         if prec not in self._arb:
-            self._arb[prec] = [[(i, j, k, to_arb(v)) for i, j, k, v in T] for T in self.terms]
+            self._arb[prec] = [[(i, j, k, arb(v)) for i, j, k, v in T] for T in self.fmpq_terms]
         return self._arb[prec]
 
     def _matrix(self):
@@ -102,9 +111,8 @@ class OffsetSystem:
         key = ("mat", prec)
         if key not in self._arb:
             cols: list[dict] = [{} for _ in range(12)]
-            for q, T in enumerate(self.terms):
+            for q, T in enumerate(self.fmpq_terms):
                 for i, j, k, c in T:
-                    c = flint.fmpq(c.numerator, c.denominator)
                     cols[q][(i, j, k)] = cols[q].get((i, j, k), 0) + c
                     for var, e in enumerate((i, j, k)):
                         if e:
@@ -165,13 +173,16 @@ def _framed_terms(T, px: Fraction, py: Fraction, s: Fraction):
     """Terms of o(px + s·u, py + s·v, s²·S) (exact, python-flint fmpq_mpoly), max |c| = 1."""
     ctx = flint.fmpq_mpoly_ctx.get(("u", "v", "S"))
     u, v, S = ctx.gens()
-    o = ctx.from_dict({(i, j, k): flint.fmpq(c.numerator, c.denominator) for i, j, k, c in T})
-    g = o.compose(flint.fmpq(px.numerator, px.denominator) + flint.fmpq(s.numerator, s.denominator) * u,
-                  flint.fmpq(py.numerator, py.denominator) + flint.fmpq(s.numerator, s.denominator) * v,
-                  flint.fmpq((s * s).numerator, (s * s).denominator) * S)
-    d = {e: Fraction(int(c.p), int(c.q)) for e, c in g.to_dict().items()}
+    o = ctx.from_dict({(i, j, k): _fmpq(c) for i, j, k, c in T})
+    g = o.compose(_fmpq(px) + _fmpq(s) * u, _fmpq(py) + _fmpq(s) * v, _fmpq(s * s) * S)
+    d = g.to_dict()
     m = max(abs(c) for c in d.values())
+    # fmpq coefficients (exact): the consumers (OffsetSystem.fmpq_terms) use them as they are
     return tuple((int(e[0]), int(e[1]), int(e[2]), c / m) for e, c in sorted(d.items()))
+
+
+def _fmpq(c):
+    return c if isinstance(c, flint.fmpq) else flint.fmpq(c.numerator, c.denominator)
 
 
 def framed_offset_system(conics, frame) -> OffsetSystem:
@@ -187,37 +198,26 @@ def _framed_system(cos, frame) -> OffsetSystem:
     return OffsetSystem(terms=[_framed_terms(offset_terms(co), px, py, s) for co in cos])
 
 
+def clear_offset_system_caches() -> None:
+    """Forget the cached scene-frame systems (the specialised offsets themselves stay cached)."""
+    _framed_system.cache_clear()
+    _framed_terms.cache_clear()
+
+
 def krawczyk_complex(sys: OffsetSystem, m: list[acb], symmetric: bool, attempts: int = 5):
-    """Complex Krawczyk test around the (exact) point m; returns (K, X) or None."""
-    vals, Jm = sys.eval(m)
+    """Complex Krawczyk test around the (exact) point m; returns (K, X) or None
+    (:func:`runtime.certify.interval_newton.krawczyk_inflation` on square complex boxes)."""
+    floor = [(abs(t).abs_upper() + 1) * arb(2) ** (-flint.ctx.prec // 2) for t in m]
     try:
-        Y = acb_mat(Jm).mid().inv().mid()
-    except ZeroDivisionError:
+        return krawczyk_inflation(lambda z: sys.eval(z)[0], lambda z: sys.eval(z)[1], m,
+                                  attempts=attempts + 3, floor=floor)
+    except KrawczykFailure:
         return None
-    F = acb_mat([[v] for v in vals])
-    YF = Y * F
-    scale = max(abs(mi).abs_upper() for mi in m) + 1
-    r = [max(4 * abs(YF[i, 0]).abs_upper(), (abs(m[i]).abs_upper() + 1) * arb(2) ** (-flint.ctx.prec // 2))
-         for i in range(3)]
-    I3 = acb_mat(3, 3)
-    for i in range(3):
-        I3[i, i] = acb(1)
-    for _ in range(attempts + 3):
-        dX = [acb(arb(0, ri), arb(0, ri)) for ri in r]
-        X = [m[i] + dX[i] for i in range(3)]
-        _, JX = sys.eval(X)
-        C = I3 - Y * acb_mat(JX)
-        CdX = C * acb_mat([[d] for d in dX])
-        K = [m[i] - YF[i, 0] + CdX[i, 0] for i in range(3)]
-        if all(inside_disc(K[i], m[i], r[i]) for i in range(3)):
-            return K, X
-        r = [max(2 * abs(K[i] - m[i]).abs_upper(), 2 * r[i]) for i in range(3)]
-    return None
 
 
 def inside_disc(k: acb, m: acb, r: arb) -> bool:
-    d = k - m
-    return bool((abs(d.real).abs_upper() < r) and (abs(d.imag).abs_upper() < r))
+    """k ⊂ int(m + [−r, r] + i[−r, r]) (:func:`runtime.certify.interval_newton.strictly_inside`)."""
+    return strictly_inside(k, m, r)
 
 
 def newton_track(sys, m, real: bool, iters: int):

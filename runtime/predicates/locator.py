@@ -68,11 +68,15 @@ def _key(c) -> tuple:
 
 
 def clear_cache() -> None:
+    """Forget every per-triple result: vertices, completeness proofs, exact solutions, and the
+    certification stage's per-triple systems (a cold call after this one redoes all the work)."""
+    from ..certify.complete import clear_certification_caches
     from ..solve.exact import clear_exact_cache
 
     _cache.clear()
     _completeness_cache.clear()
     clear_exact_cache()
+    clear_certification_caches()
 
 
 def voronoi_vertices(c1, c2, c3, *, eigen: str = "dense", use_cache: bool = True):
@@ -117,8 +121,10 @@ def locate_conflicts(c1, c2, c3, c4, method: str = "auto", *, certify: bool = Tr
     system, rigorous true-vertex and conflict-sign decisions, exact rational fallback for
     tangencies.  With ``completeness=True`` (default) the triple's full complex solution set is
     also certified (once per triple, cached): ``complete`` is then True only when every one of
-    the generic number of solutions is proven simple, distinct, real or non-real, and every real
-    one is a certified vertex or proven not to be one.
+    the generic number of solutions is proven simple, distinct, real or non-real, the system is
+    proven zero-dimensional (:mod:`runtime.certify.dimension`: counting bounds isolated solutions
+    only), and every real one is a certified vertex or proven not to be one -- or, when that
+    argument does not close, when the exact real solutions (msolve) match the certified vertices.
     """
     if method not in METHODS:
         raise LocatorError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
@@ -140,6 +146,12 @@ def locate_conflicts(c1, c2, c3, c4, method: str = "auto", *, certify: bool = Tr
     if method == "interval":
         from ..interval.locator import locate_conflicts_interval
         return locate_conflicts_interval(*cs, **kw)
+    triple_key = (tuple(_key(c) for c in cs[:3]), kw.get("eigen", "dense"))
+    if certify and completeness and triple_key not in _completeness_cache:
+        # the zero-dimensionality proof behind completeness by counting (an msolve subprocess over
+        # F_p) runs in the background while the triple is solved numerically
+        from ..certify.dimension import start_zero_dimensional
+        start_zero_dimensional(*cs[:3])
     if method == "quadruple":
         res = _locate_quadruple(*cs)
     else:

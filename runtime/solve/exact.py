@@ -93,7 +93,21 @@ def msolve_available() -> bool:
 
 def exact_offset(conic) -> dict[tuple[int, int, int], int]:
     """The offset o(x, y, R) of ``conic`` (a runtime.sites.conic.Conic) with exact integer coefficients
-    (primitive, content removed), as {(i, j, k): c} for c·x^i·y^j·R^k (module docstring)."""
+    (primitive, content removed), as {(i, j, k): c} for c·x^i·y^j·R^k (module docstring).  Cached
+    on the exact coefficients (a copy is returned)."""
+    key = (conic.kind, tuple(Fraction(t) for t in conic.coefficients))
+    hit = _OFFSET_CACHE.get(key)
+    if hit is None:
+        if len(_OFFSET_CACHE) > 512:
+            _OFFSET_CACHE.clear()
+        hit = _OFFSET_CACHE[key] = _exact_offset(conic)
+    return dict(hit)
+
+
+_OFFSET_CACHE: dict = {}
+
+
+def _exact_offset(conic) -> dict[tuple[int, int, int], int]:
     if conic.kind == "circle":
         a, b, c, d, e, f = (Fraction(t) for t in conic.coefficients)
         ca, cb = -d / (2 * a), -e / (2 * a)
@@ -300,6 +314,7 @@ _EXACT_CACHE: dict = {}
 
 def clear_exact_cache() -> None:
     _EXACT_CACHE.clear()
+    _DEGREE_CACHE.clear()
 
 
 def solve_exact_cached(c1, c2, c3) -> ExactRoots:
@@ -317,13 +332,28 @@ def parametrisation_degree(polys, characteristic: int, timeout: float = MSOLVE_T
     closure, counted without multiplicity when the ideal is in shape position) of a system with
     integer coefficients, computed over F_p (``characteristic`` = p) or Q (0).  −1 for no solution;
     raises InfinitelyManySolutions for a positive-dimensional system."""
-    out = parse_output(msolve_run(system_text(polys, characteristic), "-P", "1", timeout=timeout))
-    st = _status(out)
-    if st == "empty":
-        return 0
-    if st == "positive":
+    text = system_text(polys, characteristic)
+    hit = _DEGREE_CACHE.get(text)
+    if hit is None:
+        out = parse_output(msolve_run(text, "-P", "1", timeout=timeout))
+        st = _status(out)
+        if st == "empty":
+            hit = 0
+        elif st == "positive":
+            hit = -1
+        else:
+            try:
+                hit = int(out[1][2])
+            except (IndexError, TypeError, ValueError) as exc:
+                raise MsolveError(f"unexpected msolve parametrisation output ({exc})") from None
+        if len(_DEGREE_CACHE) > 256:
+            _DEGREE_CACHE.clear()
+        _DEGREE_CACHE[text] = hit
+    if hit < 0:
         raise InfinitelyManySolutions("positive-dimensional system")
-    try:
-        return int(out[1][2])
-    except (IndexError, TypeError, ValueError) as exc:
-        raise MsolveError(f"unexpected msolve parametrisation output ({exc})") from None
+    return hit
+
+
+#: msolve input text -> parametrisation degree (−1: positive-dimensional); the same modular run
+#: serves the numeric route's count check, the exact route's pre-pass and the dimension proof
+_DEGREE_CACHE: dict[str, int] = {}

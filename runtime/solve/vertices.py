@@ -211,6 +211,7 @@ def _householder_apply(qr, tau, C, trans: str):
     """Q·C (trans "N") or Qᵀ·C ("T") for the full orthogonal Q of a raw Householder QR
     (``scipy.linalg.qr(mode="raw")``), by LAPACK ormqr."""
     ormqr, = sla.get_lapack_funcs(("ormqr",), (qr,))
+    qr = np.asfortranarray(qr[:, :len(tau)])      # a wide matrix has min(m, n) reflectors
     C = np.asfortranarray(C, dtype=qr.dtype)
     _, work, info = ormqr("L", trans, qr, tau, C, -1)
     lwork = max(int(work[0].real), 1)
@@ -272,11 +273,16 @@ def solve_nullspace(polys: list[dict], wdegs: list[int], d: int, top: int = TOP_
     nfin = profile[gap]
     # --- column compression on rows of degree ≤ gap + 1
     rows1 = np.nonzero(dl <= gap + 1)[0]
-    _, _, Vt = np.linalg.svd(Z[rows1], full_matrices=False)
-    W = Z[rows1] @ Vt[:nfin].T          # (n_rows1, nfin); rows indexed like the first monomials
-    # --- stable basis: pivoted QR on the rows of degree ≤ gap
+    if Z.shape[1] == nfin:
+        # no solutions at infinity in the null space: the compression would only change the basis
+        # (the multiplication maps below are then similar, same eigenvalues and eigenvectors in W)
+        W = Z[rows1]
+    else:
+        _, _, Vt = np.linalg.svd(Z[rows1], full_matrices=False)
+        W = Z[rows1] @ Vt[:nfin].T      # (n_rows1, nfin); rows indexed like the first monomials
+    # --- stable basis: pivoted QR on the rows of degree ≤ gap (only the pivots are used)
     rows0 = np.nonzero(dl <= gap)[0]
-    _, _, piv = sla.qr(W[rows0].T, pivoting=True, mode="economic", check_finite=False)
+    _, piv = sla.qr(W[rows0].T, pivoting=True, mode="r", check_finite=False)
     B = rows0[piv[:nfin]]
     EB = E[B]
     xB = cube[EB[:, 0] + 1, EB[:, 1], EB[:, 2]]
@@ -564,8 +570,12 @@ def _distinct_mask(pts, D, tol=1e-8):
     """True for points that do not coincide (scaled max-norm < tol) with an earlier one."""
     Ps = pts / D[None, :]
     keep = np.ones(len(pts), dtype=bool)
-    for i in range(len(pts)):
-        if i and np.any(np.max(np.abs(Ps[:i][keep[:i]] - Ps[i]), axis=1) < tol):
+    with np.errstate(invalid="ignore"):
+        close = np.max(np.abs(Ps[:, None, :] - Ps[None, :, :]), axis=2) < tol
+    close = np.tril(close, -1)
+    # only points with a close earlier point can be dropped; decide those in order
+    for i in np.nonzero(close.any(axis=1))[0]:
+        if np.any(close[i, :i] & keep[:i]):
             keep[i] = False
     return keep
 
@@ -750,8 +760,6 @@ def exact_vertices_triple(c1, c2, c3) -> TripleVertices:
 
 
 def _numeric_vertices_triple(c1, c2, c3, *, eigen, degree, refine_dps, homotopy) -> TripleVertices:
-    from ..sites.distance import distance
-
     # with the exact route behind it (quick): a count mismatch goes to msolve at once (measured on
     # identical translated ellipses: 6 refused null-space attempts 6 s, msolve 1 s)
     sol = generalised_vertices(c1, c2, c3, eigen=eigen, degree=degree, homotopy=homotopy, quick=not homotopy)
