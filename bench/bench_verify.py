@@ -1,12 +1,15 @@
 """Benchmark: the diagram verifier (runtime.voronoi.verify) against the construction.
 
-For random disjoint circles (N = 100, 300, 1000) the diagram is built by
-``runtime.voronoi.construction.voronoi(certify=False)`` and then verified; for random points the
-diagram comes from qhull (scipy.spatial.Voronoi), so the verifier is timed on a reference diagram
-independent of the construction.  Reports seconds, the ratio verify / construct (target <= 2),
-the verdict and the number of problems (a "no" verdict lists what was not proved).
+For random disjoint circles (N = 100, 300, 1000) and random disjoint ellipses (N = 32, 128, 512,
+the generator of bench/bench_voronoi.py) the diagram is built by
+``runtime.voronoi.construction.voronoi(certify=False)`` and then verified in the same process; for
+random points the diagram comes from qhull (scipy.spatial.Voronoi), so the verifier is timed on a
+reference diagram independent of the construction.  Reports seconds (wall and the verifier's CPU
+time), the ratio verify / construct (target <= 2), the verdict and the number of problems (a "no"
+verdict lists what was not proved).
 
-Run:  python bench/bench_verify.py [--sizes 100,300,1000]   (writes bench/results/verify.md)
+Run:  python bench/bench_verify.py [--sizes 100,300,1000] [--ellipses 32,128,512]
+(writes bench/results/verify.md)
 Thread settings (threadpoolctl) are recorded; other processes on the machine make figures noisy.
 """
 from __future__ import annotations
@@ -20,6 +23,7 @@ from pathlib import Path
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "bench"))
 
 import numpy as np  # noqa: E402
 
@@ -76,45 +80,65 @@ def qhull_points_diagram(P, far=50.0):
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", default="100,300,1000")
+    ap.add_argument("--ellipses", default="32,128,512")
     ap.add_argument("--out", default=str(ROOT / "bench" / "results" / "verify.md"))
     args = ap.parse_args(argv)
     from threadpoolctl import threadpool_info
     from curvedvoronoi.runtime.voronoi.construction import voronoi
     from curvedvoronoi.runtime.voronoi.verify import verify
 
+    from bench_voronoi import random_ellipses
+
     sizes = [int(s) for s in args.sizes.split(",")]
+    esizes = [int(s) for s in args.ellipses.split(",") if s]
     rows = []
     for n in sizes:
         sites = random_disjoint_circles(n, n)
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.process_time()
         D = voronoi(sites, certify=False)
-        tc = time.perf_counter() - t
-        t = time.perf_counter()
+        tc, cc = time.perf_counter() - t, time.process_time() - c
+        t, c = time.perf_counter(), time.process_time()
         cert = verify(D)
-        tv = time.perf_counter() - t
-        rows.append(("circles", n, len(D.vertices), len(D.edges), tc, tv, cert, cert.timings))
+        tv, cv = time.perf_counter() - t, time.process_time() - c
+        rows.append(("circles", n, len(D.vertices), len(D.edges), (tc, cc), tv, cv, cert, cert.timings))
         print(f"circles {n}: construct {tc:.2f} s, verify {tv:.2f} s, ok={cert.ok}", file=sys.stderr)
+    for n in esizes:
+        sites = random_ellipses(n, 1)
+        t, c = time.perf_counter(), time.process_time()
+        D = voronoi(sites, certify=False)
+        tc, cc = time.perf_counter() - t, time.process_time() - c
+        t, c = time.perf_counter(), time.process_time()
+        cert = verify(D, sites)
+        tv, cv = time.perf_counter() - t, time.process_time() - c
+        rows.append(("ellipses", n, len(D.vertices), len(D.edges), (tc, cc), tv, cv, cert, cert.timings))
+        print(f"ellipses {n}: construct {tc:.2f} s, verify {tv:.2f} s, ok={cert.ok}", file=sys.stderr)
     for n in sizes:
         P = np.random.default_rng(n).uniform(0, float(np.sqrt(10.0 * n)), (n, 2))
         D = qhull_points_diagram(P)
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.process_time()
         cert = verify(D)
-        tv = time.perf_counter() - t
-        rows.append(("points (qhull diagram)", n, len(D.vertices), len(D.edges), None, tv, cert, cert.timings))
+        tv, cv = time.perf_counter() - t, time.process_time() - c
+        rows.append(("points (qhull diagram)", n, len(D.vertices), len(D.edges), None, tv, cv, cert, cert.timings))
         print(f"points {n}: verify {tv:.2f} s, ok={cert.ok}", file=sys.stderr)
     threads = ", ".join(f"{i.get('internal_api')}={i.get('num_threads')}" for i in threadpool_info()) or "none"
+    load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
     lines = ["# Diagram verifier (runtime.voronoi.verify)", "",
-             f"Command: `python bench/bench_verify.py --sizes {args.sizes}`; BLAS threads: {threads}; "
-             f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}.  Machine shared with other "
-             "processes: timings are noisy.", "",
-             "| sites | N | vertices | edges | construct s | verify s | verify/construct | vertices s | edges s | ok | problems |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
-    for kind, n, nv, ne, tc, tv, cert, tm in rows:
+             f"Command: `python bench/bench_verify.py --sizes {args.sizes} --ellipses {args.ellipses}`; "
+             f"BLAS threads: {threads}; OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}; "
+             f"load average at the end (1, 5, 15 min): {load} on {os.cpu_count()} cores.  Machine shared with "
+             "other processes: wall timings are noisy (verify CPU s is the verifier's process time).", "",
+             "| sites | N | vertices | edges | construct s | construct CPU s | verify s | verify CPU s | "
+             "verify/construct (wall) | (CPU) | vertices s | edges s | ok | problems |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for kind, n, nv, ne, tcc, tv, cv, cert, tm in rows:
+        tc, cc = tcc if tcc else (None, None)
         ratio = f"{tv / tc:.2f}" if tc else "-"
-        lines.append(f"| {kind} | {n} | {nv} | {ne} | {'-' if tc is None else f'{tc:.2f}'} | {tv:.2f} | {ratio} | "
-                     f"{tm.get('vertices', 0):.2f} | {tm.get('edges', 0):.2f} | {'yes' if cert.ok else 'no'} | "
-                     f"{len(cert.problems)} |")
-    bad = [(kind, n, cert.problems[:3]) for kind, n, _, _, _, _, cert, _ in rows if cert.problems]
+        cratio = f"{cv / cc:.2f}" if cc else "-"
+        lines.append(f"| {kind} | {n} | {nv} | {ne} | {'-' if tc is None else f'{tc:.2f}'} | "
+                     f"{'-' if cc is None else f'{cc:.2f}'} | {tv:.2f} | {cv:.2f} | {ratio} | {cratio} | "
+                     f"{tm.get('vertices', 0):.2f} | {tm.get('edges', 0):.2f} | "
+                     f"{'yes' if cert.ok else 'no'} | {len(cert.problems)} |")
+    bad = [(kind, n, cert.problems[:3]) for kind, n, _, _, _, _, _, cert, _ in rows if cert.problems]
     if bad:
         lines += ["", "First problems of the diagrams not proved:", ""]
         for kind, n, probs in bad:

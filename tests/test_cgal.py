@@ -59,14 +59,19 @@ def test_cgal_comparison_can_fail(peer):
     assert voronoi(circles[:-1], certify=False).delaunay_edges() == fewer
 
 
-def test_far_hull_vertex_found_through_the_verifier(peer):
+def test_far_hull_vertex_found_through_the_verifier(peer, monkeypatch):
     """A small circle (site 2) 1e-3 inside the common tangent of sites 0 and 1: the unbounded edge
     (0, 1) starts at a vertex ~10⁵ away.  The coarse samples of sites 0 and 1 retreat from that
-    tangent more than site 2 does, so the sampled hull passes through site 2; the verifier finds the
-    missing edge, names the sites, and the rebuild with finer samples agrees with CGAL."""
+    tangent more than site 2 does, so the sampled hull passes through site 2; the construction's
+    convex-hull check finds it, and without that check the verifier finds the missing edge, names
+    the sites, and the rebuild with finer samples agrees with CGAL."""
     cs = [(0.0, 0.0, 1.0), (60.0, 80.0, 1.0), (30.3992, 39.7006, 0.5), (0.0, 80.0, 1.0), (30.0, 60.0, 1.0)]
     expected, _, hidden = cgal_peer.delaunay_edges(cs)
     assert hidden == 0 and (0, 1) in expected
+    assert voronoi(cs, certify=False).delaunay_edges() == expected
+    import curvedvoronoi.runtime.voronoi.construction as construction
+
+    monkeypatch.setattr(construction, "hull_neighbours", lambda S, sites: set())
     d = voronoi(cs)
     assert d.certified, d.problems
     assert d.stats.get("verify_refinements", 0) >= 1

@@ -14,7 +14,7 @@ from hypothesis import given, settings, strategies as st
 
 from curvedvoronoi.runtime.predicates.circles import Circle, Point
 from curvedvoronoi.runtime.sites.conic import Conic
-from curvedvoronoi.runtime.sites.distance import distance_ball
+from curvedvoronoi.runtime.sites.distance_ball import distance_ball
 from curvedvoronoi.runtime.voronoi.conic_geometry import (EllipseGeometry, HyperbolaGeometry,
                                                           ParabolaGeometry, conic_geometry,
                                                           site_inside, sites_intersect)

@@ -11,8 +11,9 @@ import pytest
 from hypothesis import example, given, settings, strategies as st, HealthCheck
 
 from curvedvoronoi.runtime.sites.conic import Conic
-from curvedvoronoi.runtime.sites.distance import (distance, foot_points, distance_ball, distance_sign_vs,
-                              squared_distance_ball, tangency_polynomial, closest_point)
+from curvedvoronoi.runtime.sites.distance import closest_point, distance, foot_points
+from curvedvoronoi.runtime.sites.distance_ball import (distance_ball, distance_sign_vs, squared_distance_ball,
+                                                       tangency_polynomial)
 from curvedvoronoi.runtime.validation import required_cases_path, load_cases
 from reference import RefConic, ref_distance, ref_foot, _dist2, _golden_mp
 

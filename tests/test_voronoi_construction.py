@@ -383,3 +383,20 @@ def test_two_and_collinear_points():
     d = voronoi([(2, 2, 0), (0, 0, 0), (1, 1, 0), (5, 5, 0)], certify=False)
     assert d.delaunay_edges() == [(0, 2), (0, 3), (1, 2)] and not d.vertices
     check_points([Point(2, 2), Point(0, 0), Point(1, 1), Point(5, 5)], d)
+
+
+@pytest.mark.parametrize("g", [0.004, 0.001])
+def test_hull_neighbours_far_apart_keep_their_unbounded_edge(g):
+    # circles 0 and 1 have the common supporting line y = −1 and circle 2 lies above it by g, so 0
+    # and 1 are consecutive on the convex hull of the sites: the points (50, −t), t → ∞, are
+    # nearest to 0 and 1 (their distances differ by o(1) and circle 2 is farther by about g), an
+    # unbounded Voronoi edge (0, 1).  With 11 samples per circle the lowest samples of 0 and 1
+    # sit 0.0102 above the line and a sample of circle 2 sticks out below their chord.
+    circ = [(0.0, 0.0, 1.0), (100.0, 0.0, 1.0), (50.0, -1.0 + g + 0.5, 0.5), (50.0, 20.0, 1.0),
+            (20.0, 8.0, 2.0), (80.0, 9.0, 1.5)]
+    d = voronoi(circ, certify=False)
+    assert (0, 1) in d.delaunay_edges()
+    e = [e for e in d.edges if e.sites == (0, 1)]
+    assert len(e) == 1 and None in e[0].ends
+    assert all(v.certified for v in d.vertices)
+    check_points([Circle.from_radius(*c) for c in circ], d)

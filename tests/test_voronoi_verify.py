@@ -471,3 +471,292 @@ def test_tail_third_site_closer_on_a_middle_stretch(yk, proved):
     assert ok == proved, msg
     if proved:
         assert J[0] < np.pi / 2 < J[1]
+
+
+# ----------------------------------------------------------------------------- batched bounds and strips
+
+def test_site_table_bounds_contain_the_sampled_distance():
+    """The verifier's multi-site table (runtime.voronoi.verify_sitetable) against dense sampling of
+    the curves: lo ≤ d ≤ hi at points outside, inside (deferred to the site's own bounds), on the
+    axes and far away; its float foot points lie on the curves."""
+    from curvedvoronoi.runtime.sites.conic import Conic
+    from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+    from curvedvoronoi.runtime.voronoi.verify_sitetable import SiteTable
+
+    sites = [Conic.ellipse(centre=(1, 2), axes=(3, 1), rotation=("3/5", "4/5")),
+             Conic.ellipse(centre=(-6, 0), axes=(2, "3/2"), rotation=(1, 0)),
+             Circle.from_radius(5, -5, 2), Point(-3, 7)]
+    G = [site_geometry(s) for s in sites]
+    table = SiteTable(G, 20.0)
+    rng = np.random.default_rng(7)
+    Q = np.vstack([rng.uniform(-12, 12, (150, 2)), rng.uniform(-500, 500, (20, 2)),
+                   [[1, 2], [-6, 0], [-6, 1.0], [-9, 0], [5, -5], [-3, 7]]])
+    for k, g in enumerate(G):
+        V = table.evaluate(Q, np.full(len(Q), k))
+        assert np.all(V.lo <= V.hi)
+        if g.kind == "ellipse":
+            t = np.linspace(0, 2 * np.pi, 200001)
+            X, Y = g.a * np.cos(t), g.b * np.sin(t)
+            C = np.column_stack([g.tx + g.c * X - g.s * Y, g.ty + g.s * X + g.c * Y])
+            d = np.array([np.hypot(*(C - q).T).min() for q in Q])     # ≥ the distance
+            h = g.a * (t[1] - t[0])                                    # sample spacing on the curve
+            err = np.where(d > h, h * h / 4 * (1 / np.maximum(d, h) + g.a / g.b ** 2), h) + 1e-12
+            assert np.all(V.lo <= d + 1e-12) and np.all(V.hi >= d - err)
+            assert np.all(np.abs(g.distance(V.F)) < 1e-9)             # feet on the curve
+        else:
+            ref_lo, ref_hi = g.distance_bounds(Q)
+            assert np.all(V.lo <= ref_hi) and np.all(V.hi >= ref_lo)
+
+
+@pytest.mark.parametrize("margin", [0.5, 1e-4])
+def test_ellipse_edge_with_a_closer_ignored_site_is_rejected(random_ellipse_diagram, margin):
+    """A point site at d_i − margin·d_i from the middle of a bounded edge (so closer to that point
+    than its two sites, however slightly) must make the edge fail: the third-site bounds of the
+    strips, first-order ones included, may not accept it."""
+    from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+
+    D = copy.deepcopy(random_ellipse_diagram)
+    e = max((e for e in D.edges if None not in e.ends), key=lambda e: len(e.polyline))
+    P = np.array(e.polyline, float)
+    mid = P[len(P) // 2]
+    gi, gj = (site_geometry(D.sites[s]) for s in e.sites)
+    di = float(gi.distance(mid[None, :])[0])
+    t = P[len(P) // 2 + 1] - P[len(P) // 2 - 1]
+    n = np.array([-t[1], t[0]]) / np.hypot(*t)         # across the edge: away from both sites' feet
+    Fi, _ = gi.foot_points(mid[None, :])
+    if np.dot(n, mid - Fi[0]) < 0:
+        n = -n
+    q = mid + (1 - margin) * di * n
+    if any(site_geometry(s).distance(q[None, :])[0] < 0.1 * di * margin for s in D.sites):
+        pytest.skip("the probe lands on a site")
+    D.sites = list(D.sites) + [Point(float(q[0]), float(q[1]))]
+    cert = verify(D)
+    assert not cert.ok
+    assert not cert.edges[D.edges.index(e)], cert.problems
+
+
+def test_ellipse_diagram_corruptions_are_rejected(random_ellipse_diagram):
+    """Perturbed vertex, dropped edge, swapped site pairs of two bounded edges: each must fail."""
+    D0 = random_ellipse_diagram
+    bounded = [t for t, e in enumerate(D0.edges) if None not in e.ends]
+    assert len(bounded) >= 2
+    D = copy.deepcopy(D0)
+    D.vertices[-1].y -= 1e-7
+    cert = verify(D)
+    assert not cert.ok and not cert.vertices[-1], cert.problems
+    D = copy.deepcopy(D0)
+    e = D.edges.pop(bounded[0])
+    cert = verify(D)
+    assert not cert.ok and any(f"vertex {e.ends[0]} " in p for p in cert.problems), cert.problems
+    D = copy.deepcopy(D0)
+    a = D.edges[bounded[0]]
+    b = next(D.edges[t] for t in bounded[1:] if D.edges[t].sites != a.sites)
+    a.sites, b.sites = b.sites, a.sites
+    cert = verify(D)
+    assert not cert.ok
+    assert not cert.edges[D.edges.index(a)] and not cert.edges[D.edges.index(b)], cert.problems
+
+
+# ----------------------------------------------------------------------------- vertex-less edges of conic sites
+
+def _row_of_ellipses(n):
+    from curvedvoronoi.runtime.sites.conic import Conic
+
+    base = [Conic.ellipse(centre=(0, 0), axes=(3, 1), rotation=(1, 0)),
+            Conic.ellipse(centre=(10, 1), axes=(2, 1), rotation=("3/5", "4/5")),
+            Conic.ellipse(centre=(20, 3), axes=(2, 1), rotation=(1, 0))]
+    return base[:n]
+
+
+@pytest.mark.parametrize("n", [2, 3])
+def test_vertexless_ellipse_edges_are_proved_and_match_dense_sampling(n):
+    """Two or three ellipses in a row: the diagram has no vertex, each edge is a whole bisector,
+    infinite both ways (chain of strips + two tails).  Reference: nearest sites on a dense grid."""
+    from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+
+    D = construct(_row_of_ellipses(n))
+    assert not D.vertices and all(e.ends == (None, None) for e in D.edges)
+    cert = verify(D)
+    assert cert.ok and cert.complete, cert.problems
+    G = [site_geometry(s) for s in D.sites]
+    xs = np.linspace(-300, 300, 301)
+    X, Y = np.meshgrid(xs, xs)
+    lab = np.array([g.distance(np.column_stack([X.ravel(), Y.ravel()])) for g in G]).argmin(0).reshape(X.shape)
+    pairs = {(min(int(a), int(b)), max(int(a), int(b)))
+             for A, B in ((lab[:, :-1], lab[:, 1:]), (lab[:-1, :], lab[1:, :])) for a, b in zip(A[A != B], B[A != B])}
+    assert pairs == set(cert.delaunay_edges) == {(k, k + 1) for k in range(n - 1)}
+
+
+def test_vertexless_ellipse_edge_corruptions_are_rejected():
+    D0 = construct(_row_of_ellipses(3))
+    D = copy.deepcopy(D0)
+    D.edges.pop(0)                                             # a missing vertex-less edge
+    cert = verify(D)
+    assert not cert.ok and not cert.complete, cert.problems
+    D = copy.deepcopy(D0)
+    D.edges[0].sites = (0, 2)                                  # the wrong pair
+    cert = verify(D)
+    assert not cert.ok and not cert.edges[0], cert.problems
+    D = copy.deepcopy(D0)                                      # a site the diagram ignores, on an edge
+    P = np.array(D.edges[1].polyline, float)
+    mid = P[np.argmin(np.hypot(P[:, 0] - 15, P[:, 1] - 2))]
+    D.sites = list(D.sites) + [Point(float(mid[0]), float(mid[1]))]
+    cert = verify(D)
+    assert not cert.ok and not cert.edges[1], cert.problems
+
+
+# ----------------------------------------------------------------------------- a parabola site
+
+def _parabola_scene():
+    from curvedvoronoi.runtime.sites.conic import Conic
+
+    return [Conic.parabola(vertex=(0, -6), p=1, rotation=(0, -1)),
+            Conic.ellipse(centre=(0, 4), axes=(2, 1), rotation=(1, 0)),
+            Conic.ellipse(centre=(7, 5), axes=(2, 1), rotation=("3/5", "4/5")),
+            Conic.ellipse(centre=(-6, 6), axes=(3, 1), rotation=(1, 0)), (3, 12, 1)]
+
+
+def test_parabola_diagram_bounded_edges_proved_tails_reported():
+    """With a parabola (an unbounded convex site) the bounded edges, the parabola's included, are
+    proved (gradient enclosures outside its focus side); the unbounded ends are reported not
+    proved, so the certificate is not ok.  Reference: the pairs of the proved edges are
+    neighbours on a dense grid."""
+    from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+
+    D = construct(_parabola_scene())
+    cert = verify(D)
+    bounded = [t for t, e in enumerate(D.edges) if None not in e.ends]
+    assert bounded and all(cert.edges[t] for t in bounded), cert.problems
+    assert any(0 in D.edges[t].sites for t in bounded)
+    assert not cert.ok and not cert.complete
+    assert all(("not proved beyond" in p or "completeness" in p) for p in cert.problems), cert.problems
+    G = [site_geometry(s) for s in D.sites]
+    xs = np.linspace(-20, 20, 401)
+    X, Y = np.meshgrid(xs, xs)
+    lab = np.array([g.distance(np.column_stack([X.ravel(), Y.ravel()])) for g in G]).argmin(0).reshape(X.shape)
+    pairs = {(min(int(a), int(b)), max(int(a), int(b)))
+             for A, B in ((lab[:, :-1], lab[:, 1:]), (lab[:-1, :], lab[1:, :])) for a, b in zip(A[A != B], B[A != B])}
+    assert {tuple(D.edges[t].sites) for t in bounded} <= pairs
+
+
+def test_parabola_edge_with_an_ignored_site_is_rejected():
+    D = construct(_parabola_scene())
+    e = next(e for e in D.edges if None not in e.ends and 0 in e.sites)
+    assert verify(D).edges[D.edges.index(e)]
+    P = np.array(e.polyline, float)
+    mid = P[len(P) // 2]
+    D.sites = list(D.sites) + [Point(float(mid[0]), float(mid[1]) + 0.05)]
+    cert = verify(D)
+    assert not cert.edges[D.edges.index(e)], cert.problems
+
+
+# ----------------------------------------------------------------------------- conic vertices in float Krawczyk
+
+def test_conic_vertex_krawczyk_agrees_with_the_exact_route(random_ellipse_diagram):
+    """The float Krawczyk proof on the distance differences (runtime.voronoi.verify_conic_vertices)
+    against the arb Krawczyk proof on the foot-point system (runtime.voronoi.vertex.certify_vertex):
+    the same vertices, within the boxes; a wrong triple or a far start point is not proved."""
+    from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+    from curvedvoronoi.runtime.voronoi.verify_conic_vertices import prove_conic_vertices
+    from curvedvoronoi.runtime.voronoi.vertex import certify_vertex
+
+    D = random_ellipse_diagram
+    G = [site_geometry(s) for s in D.sites]
+    trips = [tuple(v.sites) for v in D.vertices]
+    res = prove_conic_vertices(G, trips, [(v.x, v.y) for v in D.vertices], 100.0)
+    assert sum(r is not None for r in res) >= len(res) - 1
+    for v, r in zip(D.vertices, res):
+        if r is None:
+            continue
+        proof = certify_vertex([D.sites[s] for s in v.sites], [G[s] for s in v.sites], v.x, v.y)
+        assert proof.certified
+        (xl, xh), (yl, yh) = proof.box
+        h = r[2]
+        assert xl - h <= r[0] <= xh + h and yl - h <= r[1] <= yh + h
+        assert r[3] <= proof.radius_bounds[1] and proof.radius_bounds[0] <= r[4]
+    # a triple without a vertex near the point: the test must not pass
+    v = D.vertices[0]
+    k = next(s for s in range(len(G)) if s not in v.sites)
+    wrong = prove_conic_vertices(G, [(v.sites[0], v.sites[1], k)], [(v.x, v.y)], 100.0)[0]
+    assert wrong is None or np.hypot(wrong[0] - v.x, wrong[1] - v.y) > 1e-3
+
+
+def test_ellipse_vertex_with_a_wrong_triple_is_rejected(random_ellipse_diagram):
+    D = copy.deepcopy(random_ellipse_diagram)
+    v = D.vertices[0]
+    k = next(s for s in range(len(D.sites)) if s not in v.sites)
+    v.sites = tuple(sorted((v.sites[0], v.sites[1], k)))
+    cert = verify(D)
+    assert not cert.ok and not cert.vertices[0], cert.problems
+
+
+# ----------------------------------------------------------------------------- a conic nested in a conic
+
+def _nested_scene(b=5):
+    from curvedvoronoi.runtime.sites.conic import Conic
+
+    return [Conic.ellipse(centre=(0, 0), axes=(6, b), rotation=(1, 0)), (0.5, 0.3, 1),
+            Conic.ellipse(centre=(14, 1), axes=(2, 1), rotation=(1, 0))]
+
+
+def test_nested_circle_in_ellipse_closed_edge_is_proved_and_matches_dense_sampling():
+    """A circle inside an ellipse: the closed edge around it is a closed chain of strips (gradient
+    enclosures inside the ellipse, within the reach b²/a of its boundary), the nesting is proved
+    with support functions; the certificate is complete.  Reference: a dense grid."""
+    from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+
+    D = construct(_nested_scene())
+    closed = [e for e in D.edges if e.closed]
+    assert len(closed) == 1 and set(closed[0].sites) == {0, 1}
+    cert = verify(D)
+    assert cert.ok and cert.complete, cert.problems
+    G = [site_geometry(s) for s in D.sites]
+    xs = np.linspace(-40, 40, 321)
+    X, Y = np.meshgrid(xs, xs)
+    lab = np.array([g.distance(np.column_stack([X.ravel(), Y.ravel()])) for g in G]).argmin(0).reshape(X.shape)
+    pairs = {(min(int(a), int(b)), max(int(a), int(b)))
+             for A, B in ((lab[:, :-1], lab[:, 1:]), (lab[:-1, :], lab[1:, :])) for a, b in zip(A[A != B], B[A != B])}
+    assert pairs == set(cert.delaunay_edges) == {(0, 1), (0, 2)}
+
+
+def test_nested_closed_edge_corruptions_are_rejected():
+    D0 = construct(_nested_scene())
+    t = next(t for t, e in enumerate(D0.edges) if e.closed)
+    D = copy.deepcopy(D0)
+    D.edges.pop(t)                                              # the region of the circle is missing
+    cert = verify(D)
+    assert not cert.ok and any("site 1 has no edge" in p for p in cert.problems), cert.problems
+    D = copy.deepcopy(D0)
+    e = D.edges[t]
+    P = np.array(e.polyline, float)
+    P[:, 0] += 3 * e.tolerance + 1e-3                           # the loop shifted beyond its tolerance
+    e.polyline = P
+    cert = verify(D)
+    assert not cert.ok and not cert.edges[t], cert.problems
+    D = copy.deepcopy(D0)                                       # the loop reported twice
+    e = copy.deepcopy(D.edges[t])
+    e.id = 10 ** 6
+    D.edges.append(e)
+    cert = verify(D)
+    assert not cert.ok and any("second edge of the pair" in p for p in cert.problems), cert.problems
+    D = copy.deepcopy(D0)                                       # an ignored point on the loop
+    q = np.array(D.edges[t].polyline, float)[5]
+    D.sites = list(D.sites) + [Point(float(q[0]), float(q[1]))]
+    cert = verify(D)
+    assert not cert.ok and not cert.edges[t], cert.problems
+
+
+def test_closed_edge_across_the_medial_axis_is_reported_not_proved():
+    """In a flatter ellipse (b²/a below the depth of the loop) the loop crosses the medial axis of
+    the ellipse, where its distance is not differentiable: not proved, and said so."""
+    D = construct(_nested_scene(b=4))
+    cert = verify(D)
+    t = next(t for t, e in enumerate(D.edges) if e.closed)
+    assert not cert.ok and not cert.edges[t]
+    assert any(p.startswith(f"edge {D.edges[t].id} ") for p in cert.problems), cert.problems
+
+
+def test_nesting_two_deep_is_reported():
+    D = construct(_nested_scene() + [(0.5, 0.3, 0)])         # a point inside the nested circle
+    cert = verify(D)
+    assert not cert.ok and any("nested two deep" in p for p in cert.problems), cert.problems

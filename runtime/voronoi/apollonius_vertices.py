@@ -26,14 +26,19 @@ __all__ = ["newton_vertices", "krawczyk_circles", "apollonius_vertices", "exact_
 
 
 def newton_vertices(S: SiteArrays, T3, Q, iters=30):
-    """Float Newton on d_a = d_b = d_c (a, b, c = T3 columns) from seeds Q; vectorised.
-    Returns the points and the size of the last step."""
-    Q = Q.copy()
+    """Float Newton on d_a = d_b = d_c (a, b, c = T3 columns) from seeds Q; vectorised over the
+    candidates still moving (a candidate stops after a step below 1e-15 of its scale, or on a
+    singular Jacobian).  Returns the points and the size of the last step (inf: singular)."""
+    Q = np.array(Q, dtype=float)
     step = np.full(len(Q), np.inf)
+    act = np.arange(len(Q))
     for _ in range(iters):
-        da, Ua = S.dist_grad(Q, T3[:, 0])
-        db, Ub = S.dist_grad(Q, T3[:, 1])
-        dc, Uc = S.dist_grad(Q, T3[:, 2])
+        if not len(act):
+            break
+        q, tr = Q[act], T3[act]
+        da, Ua = S.dist_grad(q, tr[:, 0])
+        db, Ub = S.dist_grad(q, tr[:, 1])
+        dc, Uc = S.dist_grad(q, tr[:, 2])
         F1, F2 = da - db, da - dc
         J = np.stack([Ua - Ub, Ua - Uc], axis=1)          # (n, 2, 2)
         det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
@@ -47,11 +52,12 @@ def newton_vertices(S: SiteArrays, T3, Q, iters=30):
         ok = np.isfinite(dx) & np.isfinite(dy)
         dx = np.where(ok, dx * f, 0.0)
         dy = np.where(ok, dy * f, 0.0)
-        Q[:, 0] -= dx
-        Q[:, 1] -= dy
-        step = np.where(ok, np.hypot(dx, dy), np.inf)
-        if np.all(step <= 1e-15 * (np.abs(Q).sum(axis=1) + 1e-300)):
-            break
+        Q[act, 0] -= dx
+        Q[act, 1] -= dy
+        st = np.where(ok, np.hypot(dx, dy), np.inf)
+        step[act] = st
+        moving = ok & (st > 1e-15 * (np.abs(Q[act]).sum(axis=1) + 1e-300))
+        act = act[moving]
     return Q, step
 
 
@@ -103,7 +109,7 @@ def krawczyk_circles(S: SiteArrays, T3, M, h):
 def apollonius_vertices(S: SiteArrays, T3, seeds, stats, known=None):
     """Refine, merge and prove the candidate vertices of circle/point triples.  Returns
     (cluster id per candidate, list of clusters, Newton points) where a cluster is a dict with x,
-    y, h, rlo, rhi, ok (proved), triple.  ``known``: Newton points of an earlier round (NaN: not
+    y, h, rlo, rhi, ok (proved), triple, first (a member candidate).  ``known``: Newton points of an earlier round (NaN: not
     known) for candidates whose triangle did not change; the proofs are redone from them."""
     Q = np.full((len(T3), 2), np.nan) if known is None else np.array(known, dtype=float).reshape(-1, 2)
     todo = ~np.isfinite(Q).all(axis=1)
@@ -129,9 +135,8 @@ def apollonius_vertices(S: SiteArrays, T3, seeds, stats, known=None):
     if len(key):
         dev = np.where(finite[:, None], np.abs(Qs - M[cs]), 0.0).max(axis=1)
         np.maximum.at(spread, cs, dev)
-    members = np.split(key, heads[1:]) if len(key) else []
-    clusters = [{"triple": tuple(tr), "members": mem.tolist(), "x": float(m[0]), "y": float(m[1])}
-                for tr, mem, m in zip(TT.tolist(), members, M)]
+    clusters = [{"triple": tuple(tr), "first": f, "x": x, "y": y}
+                for tr, f, (x, y) in zip(TT.tolist(), key[heads].tolist(), M.tolist())]
     nC = len(clusters)
     fin = np.isfinite(M).all(axis=1)
     Mf = np.where(fin[:, None], M, 0.0)
@@ -150,12 +155,14 @@ def apollonius_vertices(S: SiteArrays, T3, seeds, stats, known=None):
         ok[idx[o]] = True
         rlo[idx[o]], rhi[idx[o]], hh[idx[o]] = lo[o], hi[o], h[o]
     stats["krawczyk_filter_failures"] = stats.get("krawczyk_filter_failures", 0) + int((fin & ~ok).sum())
+    stats["triple_solves"] = stats.get("triple_solves", 0) + nC
     for c, (o, lo, hi, h) in enumerate(zip(ok, rlo, rhi, hh)):
         clusters[c].update(ok=bool(o), rlo=float(lo), rhi=float(hi), h=float(h), exact=None)
     # exact fallback (thesis §3.1.3) where the filter could not decide
     for c in np.nonzero(~ok)[0].tolist():
         cl = clusters[c]
         stats["exact_vertex_calls"] = stats.get("exact_vertex_calls", 0) + 1
+        stats["full_triple_solves"] = stats.get("full_triple_solves", 0) + 1
         i, j, k = cl["triple"]
         try:
             tv = voronoi_vertices_circles(S.sites[i], S.sites[j], S.sites[k])
@@ -163,7 +170,7 @@ def apollonius_vertices(S: SiteArrays, T3, seeds, stats, known=None):
             continue
         if not tv.vertices:
             continue
-        sx, sy = (cl["x"], cl["y"]) if np.isfinite(cl["x"]) else tuple(seeds[cl["members"][0]])
+        sx, sy = (cl["x"], cl["y"]) if np.isfinite(cl["x"]) else tuple(seeds[cl["first"]])
         v = min(tv.vertices, key=lambda v: math.hypot(v.x - sx, v.y - sy))
         eps = 4e-16 * (abs(v.x) + abs(v.y) + v.radius) + 1e-300
         cl.update(x=v.x, y=v.y, ok=True, rlo=v.radius - eps, rhi=v.radius + eps, h=eps,

@@ -69,7 +69,7 @@ Work in the float canonical frame of the float conic C_f (exact binary numbers);
   evaluated with interval-style error bounds (h is stationary at the optimum, so an error in
   μ costs only second order).
 * where neither is tight (relative gap > 1e-7, e.g. exactly on a symmetry axis at an evolute
-  cusp), the rigorous ball route :func:`runtime.sites.distance.distance_ball` (Lagrange polynomial of
+  cusp), the rigorous ball route :func:`runtime.sites.distance_ball.distance_ball` (Lagrange polynomial of
   the foot points, exact coefficients) is used for those points; the float q is exact.
 """
 from __future__ import annotations
@@ -83,7 +83,8 @@ from ..sites.conic import Conic
 from .geometry import EPS, CircleGeometry, PointGeometry, SiteGeometry, rounding_slack
 
 __all__ = ["ConicGeometry", "CentralConicGeometry", "EllipseGeometry", "HyperbolaGeometry", "ParabolaGeometry",
-           "conic_geometry", "site_geometry", "sites_intersect", "site_inside"]
+           "conic_geometry", "site_geometry", "sites_intersect", "site_inside", "ellipse_feet",
+           "ellipse_foot_points"]
 
 #: relative gap above which the fast bounds defer to the ball route
 _FALLBACK_GAP = 1e-7
@@ -252,6 +253,58 @@ def _parabola_fdf(x, k, m):
     return x * (x * x + k) - m, 3 * x * x + k, x * (x * x + abs(k)) + m
 
 
+def ellipse_feet(X0, Y0, a, b):
+    """The closest points of the ellipses X²/a² + Y²/b² = 1 to (X0, Y0), canonical coordinates:
+    (X, Y, NX, NY, t) as ``_feet_canonical``.  ``a``, ``b``: floats, or arrays aligned with X0
+    (many ellipses at once)."""
+    u, v = np.abs(X0), np.abs(Y0)
+    k = b * b - a * a
+    # in τ = tan(t/2) ∈ [0, 1], (1 + τ²)² D'(t)/2 is the quartic
+    # P(τ) = bv (τ⁴ − 1) + 2 (au − k) τ³ + 2 (au + k) τ   (P(0) = −bv ≤ 0 ≤ 4au = P(1));
+    # start from the parameter of the radial projection of (u/a, v/b)
+    au, bv = a * u, b * v
+    cx, cy = b * u, a * v
+    r = np.hypot(cx, cy)
+    tau0 = np.where(r > 0, cy / np.where(r > 0, r + cx, 1.0), 0.5)
+    tau0 = np.clip(tau0, 0.0625, 0.9375)
+    if u.size <= _SCALAR_MAX and np.ndim(a) == 0:
+        tau = np.array([_root_scalar(lambda x, A=bvi, B=2 * (aui - k), C=2 * (aui + k):
+                                     _ellipse_fdf(x, A, B, C), 0.0, 1.0, x0)
+                        for aui, bvi, x0 in zip(au.tolist(), bv.tolist(), tau0.tolist())], dtype=float)
+    else:
+        tau = _root_vector(_ellipse_fdf, np.zeros_like(u), np.ones_like(u), tau0,
+                           (bv, 2 * (au - k), 2 * (au + k)))
+    t = 2.0 * np.arctan(tau)
+    ct, st = np.cos(t), np.sin(t)
+    sx, sy = _sgn(X0), _sgn(Y0)
+    X, Y = sx * a * ct, sy * b * st
+    NX, NY = sx * b * ct, sy * a * st
+    nn = np.hypot(NX, NY)
+    return X, Y, NX / nn, NY / nn, t
+
+
+def _feet_to_world(P, X, Y, NX, NY, c, s, tx, ty):
+    """Feet (X, Y) and unit normals (NX, NY) of the canonical frame (rotation c, s, translation
+    tx, ty; floats or arrays) back to the plane: (F, U) of :meth:`SiteGeometry.foot_points`."""
+    F = np.column_stack([tx + c * X - s * Y, ty + s * X + c * Y])
+    V = P - F
+    n = np.hypot(V[:, 0], V[:, 1])
+    N = np.column_stack([c * NX - s * NY, s * NX + c * NY])
+    # q on the curve (to rounding): the normal of the curve
+    tiny = n <= 1e-14 * (1.0 + np.abs(P).sum(axis=1))
+    U = np.where(~tiny[:, None], V / np.where(tiny, 1.0, n)[:, None], N)
+    return F, U
+
+
+def ellipse_foot_points(P, a, b, c, s, tx, ty):
+    """:meth:`EllipseGeometry.foot_points` for many ellipses at once: row m of ``P`` against the
+    ellipse of semi-axes a[m], b[m], rotation (c[m], s[m]), centre (tx[m], ty[m])."""
+    P = np.asarray(P, dtype=float).reshape(-1, 2)
+    dx, dy = P[:, 0] - tx, P[:, 1] - ty
+    X, Y, NX, NY, _ = ellipse_feet(c * dx + s * dy, -s * dx + c * dy, a, b)
+    return _feet_to_world(P, X, Y, NX, NY, c, s, tx, ty)
+
+
 class ConicGeometry(SiteGeometry):
     """Common part of the conic geometries: canonical frame, transforms, bounds driver."""
 
@@ -296,14 +349,7 @@ class ConicGeometry(SiteGeometry):
         P = np.asarray(P, dtype=float).reshape(-1, 2)
         X0, Y0 = self.to_canonical(P)
         X, Y, NX, NY, _ = self._feet_canonical(X0, Y0)
-        F = self.from_canonical(X, Y)
-        V = P - F
-        n = np.hypot(V[:, 0], V[:, 1])
-        N = self._rot(NX, NY)
-        # q on the curve (to rounding): the normal of the curve
-        tiny = n <= 1e-14 * (1.0 + np.abs(P).sum(axis=1))
-        U = np.where(~tiny[:, None], V / np.where(tiny, 1.0, n)[:, None], N)
-        return F, U
+        return _feet_to_world(P, X, Y, NX, NY, self.c, self.s, self.tx, self.ty)
 
     def distance(self, P):
         P = np.asarray(P, dtype=float).reshape(-1, 2)
@@ -366,9 +412,9 @@ class ConicGeometry(SiteGeometry):
         return lo, hi
 
     def _ball_bounds(self, x: float, y: float):
-        """Rigorous bounds from :func:`runtime.sites.distance.distance_ball` (floats taken exactly),
+        """Rigorous bounds from :func:`runtime.sites.distance_ball.distance_ball` (floats taken exactly),
         rounded outwards to floats."""
-        from ..sites.distance import distance_ball
+        from ..sites.distance_ball import distance_ball
 
         self.fallbacks += 1
         D = distance_ball(self.exact, x, y, prec=64)
@@ -453,31 +499,7 @@ class EllipseGeometry(CentralConicGeometry):
         return P[:-1]  # the last point repeats the first
 
     def _feet_canonical(self, X0, Y0):
-        a, b = self.a, self.b
-        u, v = np.abs(X0), np.abs(Y0)
-        k = b * b - a * a
-        # in τ = tan(t/2) ∈ [0, 1], (1 + τ²)² D'(t)/2 is the quartic
-        # P(τ) = bv (τ⁴ − 1) + 2 (au − k) τ³ + 2 (au + k) τ   (P(0) = −bv ≤ 0 ≤ 4au = P(1));
-        # start from the parameter of the radial projection of (u/a, v/b)
-        au, bv = a * u, b * v
-        cx, cy = b * u, a * v
-        r = np.hypot(cx, cy)
-        tau0 = np.where(r > 0, cy / np.where(r > 0, r + cx, 1.0), 0.5)
-        tau0 = np.clip(tau0, 0.0625, 0.9375)
-        if u.size <= _SCALAR_MAX:
-            tau = np.array([_root_scalar(lambda x, A=bvi, B=2 * (aui - k), C=2 * (aui + k):
-                                         _ellipse_fdf(x, A, B, C), 0.0, 1.0, x0)
-                            for aui, bvi, x0 in zip(au.tolist(), bv.tolist(), tau0.tolist())], dtype=float)
-        else:
-            tau = _root_vector(_ellipse_fdf, np.zeros_like(u), np.ones_like(u), tau0,
-                               (bv, 2 * (au - k), 2 * (au + k)))
-        t = 2.0 * np.arctan(tau)
-        ct, st = np.cos(t), np.sin(t)
-        sx, sy = _sgn(X0), _sgn(Y0)
-        X, Y = sx * a * ct, sy * b * st
-        NX, NY = sx * b * ct, sy * a * st
-        nn = np.hypot(NX, NY)
-        return X, Y, NX / nn, NY / nn, t
+        return ellipse_feet(X0, Y0, self.a, self.b)
 
     def _slemma_lower(self, X0, Y0, X, Y):
         a2, b2 = self.params["A2"], self.params["B2"]

@@ -13,6 +13,7 @@ import math
 
 import numpy as np
 
+from .apollonius_vertices import newton_vertices
 from .site_arrays import SiteArrays
 
 __all__ = ["conic_vertices"]
@@ -26,6 +27,7 @@ def _vertex_generic(S: SiteArrays, triple, seed, stats):
         return None
     geoms = [S.geoms[t] for t in triple]
     sites = [S.sites[t] for t in triple]
+    stats["triple_solves"] = stats.get("triple_solves", 0) + 1
     try:
         r = refine_vertex(geoms, float(seed[0]), float(seed[1]))
     except Exception as exc:  # noqa: BLE001 - a failed refinement is a problem, not a crash
@@ -56,6 +58,15 @@ def conic_vertices(S: SiteArrays, T3, seeds, stats, cache):
     cid = np.full(len(T3), -1)
     clusters = []
     by_triple: dict = {}
+    # vectorised Newton over all candidates first (the distances of all ellipses at once): the
+    # per-vertex refinement then starts at a converged point; a point that left the seed's
+    # neighbourhood (beyond the distance to the sites) is not used
+    start = np.asarray(seeds, float).copy()
+    if len(T3):
+        Q, _ = newton_vertices(S, T3, start)
+        dseed, _ = S.dist_grad(start, T3[:, 0])
+        good = np.isfinite(Q).all(axis=1) & (np.hypot(*(Q - start).T) <= dseed + 1e-12 * S.scale)
+        start[good] = Q[good]
     for m in range(len(T3)):
         tr = tuple(int(v) for v in T3[m])
         found = None
@@ -63,8 +74,7 @@ def conic_vertices(S: SiteArrays, T3, seeds, stats, cache):
             cl = clusters[c]
             if cl["ok"] and "box" in cl:
                 (xlo, xhi), (ylo, yhi) = cl["box"]
-                pad = 0.0
-                if xlo - pad <= seeds[m, 0] <= xhi + pad and ylo <= seeds[m, 1] <= yhi:
+                if any(xlo <= p[0] <= xhi and ylo <= p[1] <= yhi for p in (seeds[m], start[m])):
                     found = c
                     break
         if found is None:
@@ -74,7 +84,7 @@ def conic_vertices(S: SiteArrays, T3, seeds, stats, cache):
                 cl = dict(near[0])
                 stats["vertex_cache_hits"] = stats.get("vertex_cache_hits", 0) + 1
             else:
-                cl = _vertex_generic(S, tr, seeds[m], stats)
+                cl = _vertex_generic(S, tr, start[m], stats)
                 if cl is not None and cl["ok"]:
                     cache.setdefault(tr, []).append(dict(cl))
             if cl is None:

@@ -13,7 +13,7 @@ predicates are run, once per output vertex, so the work is proportional to the o
    its size and its gap to the other sites.
 3. **Sample Delaunay triangulation** (:mod:`runtime.voronoi.sample_delaunay`, qhull), every
    sample labelled with its site; 3-label triangles are candidate vertices, walks across the
-   bichromatic sides give the edges.
+   bichromatic sides give the edges (:mod:`runtime.voronoi.sample_walks`, vectorised).
 4. **Vertices**: circles and points by vectorised Newton + float Krawczyk proofs
    (:mod:`runtime.voronoi.apollonius_vertices`), triples with a conic by
    :mod:`runtime.voronoi.conic_vertices`; emptiness by rigorous distance bounds
@@ -21,8 +21,10 @@ predicates are run, once per output vertex, so the work is proportional to the o
 5. **Edges** (:mod:`runtime.voronoi.edge_polylines`): walk circumcentres projected onto the
    bisectors, with a measured tolerance.
 6. **Refine.**  A 3-label triangle whose triple has no proved, empty vertex near it, a vertex
-   without exactly its three incident edges (i, j), (j, k), (i, k), or a walk that cannot be
-   closed, makes the spacing of the sites involved shrink (to √(2rδ) when a site enters a
+   without exactly its three incident edges (i, j), (j, k), (i, k), a walk that cannot be
+   closed, or two bounded sites consecutive on the convex hull of the sites without an unbounded
+   edge between them (:func:`runtime.voronoi.sampling.hull_neighbours`; a coarse sample of a third
+   site can stick out between theirs), makes the spacing of the sites involved shrink (to √(2rδ) when a site enters a
    circle of radius r by δ — samples s apart misplace distances by about s²/8r — else by half).
    The next round does not redo the triangulation: the old samples of the refined sites are
    removed and the new ones inserted by a batch Bowyer–Watson update on the *conflict region*
@@ -42,6 +44,8 @@ Public API: :func:`voronoi`, :func:`as_site`, :func:`check_disjoint`, :func:`sit
 """
 from __future__ import annotations
 
+import functools
+import gc
 import math
 import re
 import time
@@ -49,14 +53,14 @@ import time
 import numpy as np
 
 from .apollonius_vertices import apollonius_vertices
+from .collinear_points import collinear, collinear_points_diagram
 from .conic_geometry import site_geometry
 from .conic_vertices import conic_vertices
 from .edge_polylines import edge_polylines
-from .geometry import rounding_slack
-from .sampling import Samples, initial_spacing
+from .sampling import Samples, hull_neighbours, initial_spacing
 from .site_arrays import SiteArrays
 from .site_input import SiteError, as_site, check_disjoint, sites_equal
-from .structure import Diagram, DiagramEdge, DiagramVertex
+from .structure import Diagram, DiagramVertex
 from .vertex_emptiness import prove_empty
 
 __all__ = ["voronoi", "build_diagram", "ConstructionState", "as_site", "check_disjoint", "SiteError",
@@ -65,17 +69,37 @@ __all__ = ["voronoi", "build_diagram", "ConstructionState", "as_site", "check_di
 
 class ConstructionState:
     """What a diagram needs to be updated locally (:func:`runtime.voronoi.deletion.delete_site`):
-    the site arrays, the samples with their triangulation, the conic vertex cache.  Not
-    serialised; a diagram read from JSON has none."""
+    the site arrays, the samples with their triangulation, the conic vertex cache, and the
+    construction's entry points (``build``: :func:`build_diagram`, ``scratch``: :func:`voronoi`;
+    held here so that the update code needs no import of this module).  Not serialised; a
+    diagram read from JSON has none."""
 
     def __init__(self, S, samples, cache):
         self.S, self.samples, self.cache = S, samples, cache
+        self.build, self.scratch = build_diagram, voronoi
 
 MAX_ROUNDS = 8
 #: rebuilds driven by the verifier's problems (sites it names are sampled 4x finer)
 VERIFY_ROUNDS = 3
 
 
+def _without_cyclic_gc(fn):
+    """Run ``fn`` with CPython's cyclic garbage collector paused: the construction allocates
+    millions of small objects (walks, chains, clusters) and makes no reference cycles, and the
+    collector's repeated traversals of them cost about a quarter of the time at 10⁴ sites."""
+    @functools.wraps(fn)
+    def run(*args, **kw):
+        was = gc.isenabled()
+        gc.disable()
+        try:
+            return fn(*args, **kw)
+        finally:
+            if was:
+                gc.enable()
+    return run
+
+
+@_without_cyclic_gc
 def voronoi(sites, *, certify: bool = True, progress=None, time_limit: float | None = None) -> Diagram:
     """The Voronoi diagram of ``sites`` (thesis §1.2, §5.1–5.2), built by sample-then-refine.
 
@@ -116,14 +140,15 @@ def voronoi(sites, *, certify: bool = True, progress=None, time_limit: float | N
     notes = check_disjoint(sites, geoms)
     S = SiteArrays(sites, geoms)
     stats: dict = {"sites": len(sites), "rounds": 0, "samples": 0}
-    if S.all_circles and not S.R.any() and _collinear(S.C):
-        return _finish_collinear(S, sites, notes, certify, stats, t_start)
+    if S.all_circles and not S.R.any() and collinear(S.C):
+        return collinear_points_diagram(S, sites, notes, certify, stats, t_start)
     timing = {"input": time.perf_counter() - t_start}
     samples = Samples(S, initial_spacing(S))
     return build_diagram(S, samples, {}, notes, stats, timing, certify=certify, progress=progress,
                          deadline=deadline, time_limit=time_limit, t_start=t_start)
 
 
+@_without_cyclic_gc
 def build_diagram(S: SiteArrays, samples: Samples, cache: dict, notes, stats, timing, *, certify=True,
                   progress=None, deadline=None, time_limit=None, t_start=None) -> Diagram:
     """The rounds of :func:`voronoi` from a sampling state (``samples``, whose triangulation may
@@ -206,51 +231,6 @@ def build_diagram(S: SiteArrays, samples: Samples, cache: dict, notes, stats, ti
     return D
 
 
-def _collinear(C) -> bool:
-    """Are the points C (float) on one line (exactly, with the exact float values)?"""
-    from fractions import Fraction
-
-    if len(C) < 3:
-        return True
-    p0 = [Fraction(v) for v in C[0]]
-    far = max(range(len(C)), key=lambda m: abs(C[m, 0] - C[0, 0]) + abs(C[m, 1] - C[0, 1]))
-    d = [Fraction(C[far, 0]) - p0[0], Fraction(C[far, 1]) - p0[1]]
-    return all(d[0] * (Fraction(y) - p0[1]) - d[1] * (Fraction(x) - p0[0]) == 0 for x, y in C.tolist())
-
-
-def _finish_collinear(S, sites, notes, certify, stats, t_start):
-    """Collinear point sites (no triangulation exists): the edges are the perpendicular bisectors of
-    consecutive points along the line, each a whole line without vertices."""
-    C = S.C
-    d = C[np.argmax(np.abs(C - C[0]).sum(axis=1))] - C[0]
-    d = d / np.hypot(*d)
-    order = np.argsort(C @ d, kind="stable")
-    nrm = np.array([-d[1], d[0]])
-    far = 2.0 * (S.window[2] - S.window[0])
-    edges = []
-    for a, b in zip(order[:-1].tolist(), order[1:].tolist()):
-        m = (C[a] + C[b]) / 2
-        poly = np.array([m - far * nrm, m, m + far * nrm])
-        tol = float(rounding_slack(np.abs(poly).sum(axis=1).max() + np.abs(C[[a, b]]).sum()))
-        edges.append(DiagramEdge(len(edges), (min(a, b), max(a, b)), (None, None), False, poly, tol, False))
-    D = Diagram(S.sites, [], edges, False, list(notes), stats)
-    if certify:
-        try:
-            from .verify import verify
-        except ImportError:
-            D.problems.append("verifier runtime.voronoi.verify not available: edges not proved")
-        else:
-            cert = verify(D, sites)
-            D.certified = bool(cert.ok) and not notes
-            D.problems.extend(cert.problems)
-            for e, ok in zip(D.edges, cert.edges):
-                e.certified = bool(ok)
-    else:
-        D.problems.append("not verified (certify=False)")
-    D.stats["seconds"] = {"total": round(time.perf_counter() - t_start, 4)}
-    return D
-
-
 def _rounds(S, samples, stats, timing, deadline, cache, bar):
     """Sample-triangulate-prove rounds until the combinatorics are consistent (or MAX_ROUNDS)."""
     result = None
@@ -323,7 +303,6 @@ def _build_once(S: SiteArrays, samples: Samples, stats, timing, deadline, cache)
             refine[int(t)] = min(refine.get(int(t), np.inf), cap)
 
     # final vertices: proved, empty clusters
-    tri_to_vertex = {}
     vertices: list[DiagramVertex] = []
     cluster_vid = {}
     for c, cl in enumerate(clusters):
@@ -354,10 +333,12 @@ def _build_once(S: SiteArrays, samples: Samples, stats, timing, deadline, cache)
             else:
                 problems.append(f"sites {tr[0]}, {tr[1]}, {tr[2]}: emptiness of the vertex at "
                                 f"({cl['x']:.6g}, {cl['y']:.6g}) undecided (site {culprit[c]})")
-    for m, t in enumerate(threes.tolist()):
-        c = int(cid[m])
-        if c in cluster_vid:
-            tri_to_vertex[t] = cluster_vid[c]
+    cvid = np.full(len(clusters) + 1, -1, dtype=np.int64)
+    for c, vid in cluster_vid.items():
+        cvid[c] = vid
+    ttv = np.full(len(tri.nlab), -1, dtype=np.int64)
+    ttv[threes] = cvid[np.asarray(cid, dtype=np.int64)]
+    tri_to_vertex = ttv.tolist()
     # edges
     edges_raw = []
     degree = [[] for _ in vertices]
@@ -372,8 +353,8 @@ def _build_once(S: SiteArrays, samples: Samples, stats, timing, deadline, cache)
             if e is None or e[0] == "hull":
                 ends.append(None)
             else:
-                v = tri_to_vertex.get(e[1])
-                if v is None:
+                v = tri_to_vertex[e[1]]
+                if v < 0:
                     okv = False
                 ends.append(v)
         if not okv:
@@ -391,6 +372,15 @@ def _build_once(S: SiteArrays, samples: Samples, stats, timing, deadline, cache)
             ask(v.sites)
             problems.append(f"sites {a}, {b}, {c}: the vertex at ({v.x:.6g}, {v.y:.6g}) has incident edges "
                             f"{sorted(degree[v.id])}, expected ({a}, {b}), ({a}, {c}), ({b}, {c})")
+    # sites consecutive on the convex hull of the sites have an unbounded edge; a coarse sample of a
+    # third site can hide it (its samples stick out between theirs): refine both
+    if S.bounded.all():
+        ht, _ = np.nonzero(tri.nb == -1)
+        unbounded = {pair for pair, start, _, end in raw if (start and start[0] == "hull") or (end and end[0] == "hull")}
+        for a, b in sorted(hull_neighbours(S, np.unique(tri.L[ht])) - unbounded):
+            ask((a, b))
+            problems.append(f"sites {a}, {b}: consecutive on the convex hull of the sites, but no unbounded edge "
+                            "between them was found")
     timing["walks"] += time.perf_counter() - t3
     stats["candidate_triangles"] = int(len(threes))
     D = Diagram(S.sites, vertices, [], False, problems, {})

@@ -6,17 +6,17 @@ site was i).  The construction (:mod:`runtime.voronoi.construction`) is sample-b
 deletion works on the samples: the samples of i are removed from the sample Delaunay
 triangulation by a local Bowyer–Watson step
 (:meth:`runtime.voronoi.sample_delaunay.SampleTriangulation.update`: only the triangles with a
-corner on site i are re-triangulated, from their other corners), the walks and the refined
-vertex points of the unchanged triangles are kept, and the usual rounds run from there: every
+corner on site i are re-triangulated, from their other corners), the refined vertex points and
+the edge polylines of the unchanged triangles are kept, and the usual rounds run from there: every
 vertex is proved again (existence and emptiness among the remaining sites), every vertex must
 have its three edges, and failures refine the sampling locally, exactly as in a construction
 from scratch.  The result is therefore the diagram :func:`runtime.voronoi.construction.voronoi`
 would certify for the remaining sites, with the same guarantees.
 
-A full rebuild from the remaining sites is used instead when the diagram has no construction
-state (read from JSON, or collinear points), when a sample of site i is a vertex of the sample
-hull (removing it changes the hull: the local step declines and the remaining samples are
-re-triangulated by qhull), or when fewer than two sites remain.
+The remaining samples are re-triangulated by qhull (the rounds still reuse them) when a sample
+of site i is a vertex of the sample hull (removing it changes the hull: the local step declines);
+point sites only are rebuilt from scratch (their collinear case has its own path).  A diagram
+read from JSON has no construction state: :class:`ValueError` (build it with ``voronoi`` first).
 
 Indices: the remaining sites are **renumbered** — site j > i becomes j − 1 — so the result is
 exactly the diagram of ``sites[:i] + sites[i+1:]``.
@@ -29,20 +29,19 @@ import time
 
 import numpy as np
 
-from .construction import build_diagram, voronoi
 from .sample_delaunay import SampleTriangulation
 from .sampling import Samples
 from .site_arrays import SiteArrays
-from .structure import Diagram
 
 __all__ = ["delete_site"]
 
 
-def delete_site(diagram: Diagram, i: int, *, certify: bool = True) -> Diagram:
+def delete_site(diagram, i: int, *, certify: bool = True):
     """The Voronoi diagram of ``diagram``'s sites without site ``i`` (renumbered: j > i becomes
     j − 1); ``diagram`` is left unchanged.  ``stats["deletion"]`` says "local" (sample
     triangulation updated around site i), "local triangulation declined" (samples re-triangulated
-    by qhull, the rounds reused) or "rebuild"."""
+    by qhull, the rounds reused) or "rebuild".  The construction functions come from the diagram's
+    state (:class:`runtime.voronoi.construction.ConstructionState`)."""
     n = len(diagram.sites)
     i = int(i)
     if not 0 <= i < n:
@@ -51,8 +50,11 @@ def delete_site(diagram: Diagram, i: int, *, certify: bool = True) -> Diagram:
     if len(rest) < 2:
         raise ValueError(f"the Voronoi diagram needs at least 2 sites, {len(rest)} would remain")
     st = diagram.construction
-    if st is None or st.samples.tri is None:
-        D = voronoi(rest, certify=certify)
+    if st is None:
+        raise ValueError("this diagram has no construction state (read from JSON?): build the diagram of the "
+                         "remaining sites with voronoi(...)")
+    if st.samples.tri is None:
+        D = st.scratch(rest, certify=certify)
         D.stats["deletion"] = "rebuild"
         return D
     t_start = time.perf_counter()
@@ -63,7 +65,7 @@ def delete_site(diagram: Diagram, i: int, *, certify: bool = True) -> Diagram:
     new_index[i] = -1
     S2 = SiteArrays(rest, [g for k, g in enumerate(S.geoms) if k != i])
     if S2.all_circles and not S2.R.any():
-        D = voronoi(rest, certify=certify)      # points only: the collinear case needs its own path
+        D = st.scratch(rest, certify=certify)      # points only: the collinear case needs its own path
         D.stats["deletion"] = "rebuild"
         return D
     old = st.samples
@@ -74,7 +76,7 @@ def delete_site(diagram: Diagram, i: int, *, certify: bool = True) -> Diagram:
     how = "local triangulation declined"
     if tri is not None:
         moved = SampleTriangulation(tri.P, new_index[tri.lab], tri.simp, tri.nb, tri.cc, tri.seed)
-        moved.prior = tri.prior
+        moved.prior_edge_memo = tri.prior_edge_memo
         samples.tri, samples.sampled = moved, old.sampled[keep].copy()
         how = "local"
     cache = {}
@@ -84,4 +86,4 @@ def delete_site(diagram: Diagram, i: int, *, certify: bool = True) -> Diagram:
             cache[t2] = [dict(c, triple=t2) for c in found]
     stats: dict = {"sites": len(rest), "rounds": 0, "samples": 0, "deletion": how}
     timing = {"input": time.perf_counter() - t_start}
-    return build_diagram(S2, samples, cache, [], stats, timing, certify=certify, t_start=t_start)
+    return st.build(S2, samples, cache, [], stats, timing, certify=certify, t_start=t_start)

@@ -98,12 +98,43 @@ def edge_polylines(S: SiteArrays, tri: SampleTriangulation, vertices, edges_raw)
     rows = np.array(rows, dtype=np.int64)
     lens = np.array(lens, dtype=np.int64)
     table = np.vstack([tri.cc, VX, np.array(hull_pts, dtype=float).reshape(-1, 2)])
-    P = table[rows]
     E = len(edges_raw)
-    own = np.repeat(np.arange(E), lens)
-    PI = np.array([er[0][0] for er in edges_raw], dtype=np.int64)
-    PJ = np.array([er[0][1] for er in edges_raw], dtype=np.int64)
-    ENDS = np.array([[-1 if v is None else v for v in er[4]] for er in edges_raw], dtype=np.int64)
+    # an edge with the same end points and the same first / last circumcentres and count as an edge
+    # of the previous triangulation (``tri.prior_edge_memo``, kept triangles keep their exact
+    # circumcentres) is the same arc of the same bisector: its polyline is reused
+    first = np.cumsum(lens) - lens
+    key = np.column_stack([table[rows[first]], table[rows[first + 1]], table[rows[first + lens - 2]],
+                           table[rows[first + lens - 1]], lens.astype(float)])
+    keys = [k.tobytes() for k in key]
+    prior = getattr(tri, "prior_edge_memo", None) or {}
+    known = [prior.get(k) for k in keys]
+    todo = np.array([e for e in range(E) if known[e] is None], dtype=np.int64)
+    polys, tol = _fresh_polylines(S, vertices, edges_raw, rows, lens, table, nT, nV, todo)
+    edges = []
+    for e, (pair, start, chain, end, ends) in enumerate(edges_raw):
+        poly, tl = known[e] if known[e] is not None else (polys[e], tol[e])
+        closed = end is None and start is None
+        edges.append(DiagramEdge(e, pair, (ends[0], ends[1]), closed, poly.copy(), float(tl), False))
+    tri.edge_memo = {k: (ed.polyline, ed.tolerance) for k, ed in zip(keys, edges)}
+    return edges
+
+
+def _fresh_polylines(S: SiteArrays, vertices, edges_raw, rows, lens, table, nT, nV, todo):
+    """The polylines and tolerances of the edges ``todo`` (a dict / array indexed by edge)."""
+    E = len(edges_raw)
+    polys, tol = {}, np.zeros(E)
+    if not len(todo):
+        return polys, tol
+    own_all = np.repeat(np.arange(E), lens)
+    sel = np.isin(own_all, todo)
+    rows = rows[sel]
+    own = np.searchsorted(todo, own_all[sel])
+    lens = lens[todo]
+    sub = [edges_raw[e] for e in todo.tolist()]
+    P = table[rows]
+    PI = np.array([er[0][0] for er in sub], dtype=np.int64)
+    PJ = np.array([er[0][1] for er in sub], dtype=np.int64)
+    ENDS = np.array([[-1 if v is None else v for v in er[4]] for er in sub], dtype=np.int64).reshape(-1, 2)
     free = ~((rows >= nT) & (rows < nT + nV))
     Pp = P.copy()
     if free.any():
@@ -119,20 +150,20 @@ def edge_polylines(S: SiteArrays, tri: SampleTriangulation, vertices, edges_raw)
     same = own[1:] == own[:-1]
     di, _ = S.dist_grad(Q, pi)
     dj, _ = S.dist_grad(Q, pj)
-    tol = np.zeros(E)
-    np.maximum.at(tol, own, np.abs(di - dj) / 2)
+    ts = np.zeros(len(todo))
+    np.maximum.at(ts, own, np.abs(di - dj) / 2)
     mids = ((Q[1:] + Q[:-1]) / 2)[same]
     if len(mids):
-        np.maximum.at(tol, own[1:][same], bisector_offset(S, mids, pi[1:][same], pj[1:][same])[0])
-    edges = []
-    cuts = np.searchsorted(own, np.arange(E + 1))
-    for e, (pair, start, chain, end, ends) in enumerate(edges_raw):
-        poly = Q[cuts[e]:cuts[e + 1]].copy()
-        closed = end is None and start is None
-        if closed:
+        np.maximum.at(ts, own[1:][same], bisector_offset(S, mids, pi[1:][same], pj[1:][same])[0])
+    cuts = np.searchsorted(own, np.arange(len(todo) + 1))
+    for m, e in enumerate(todo.tolist()):
+        poly = Q[cuts[m]:cuts[m + 1]].copy()
+        _, start, _, end, _ = edges_raw[e]
+        if end is None and start is None:       # closed
             poly[-1] = poly[0]
-        edges.append(DiagramEdge(e, pair, (ends[0], ends[1]), closed, poly, float(tol[e]), False))
-    return edges
+        polys[e] = poly
+        tol[e] = ts[m]
+    return polys, tol
 
 
 def _densify(S: SiteArrays, Q, own, PI, PJ, rel=DENSIFY_REL, passes=6):

@@ -17,6 +17,8 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull, Delaunay, cKDTree
 
+from .sample_walks import chain_walks
+
 __all__ = ["SampleTriangulation", "circumcentres"]
 
 
@@ -46,8 +48,10 @@ class SampleTriangulation:
             cc = circumcentres(*(P[self.simp[:, k]] for k in range(3)))
         self.cc = cc
         self.seed = np.full((len(simp), 2), np.nan) if seed is None else seed
-        self.prior = None           # (walks of the previous triangulation, old -> new triangle)
         self.walk_list = None
+        #: edge polylines computed on this triangulation / on the previous one (reused when equal)
+        self.edge_memo = None
+        self.prior_edge_memo = None
 
     def update(self, remove, Pnew, labnew):
         """The triangulation after removing the samples ``remove`` (indices) and inserting ``Pnew``
@@ -82,9 +86,10 @@ class SampleTriangulation:
             rad = np.hypot(*(P[simp[:, 0]] - self.cc).T)
             fin = np.isfinite(rad)
             conflict |= ~fin
-            cnt = cKDTree(Pnew).query_ball_point(self.cc[fin], rad[fin] * (1 + 1e-9) + 1e-12 * scale,
-                                                 return_length=True)
-            conflict[np.nonzero(fin)[0][cnt > 0]] = True
+            reach = rad * (1 + 1e-9) + 1e-12 * scale              # the closed disk, with rounding room
+            cand = np.nonzero(fin & _may_hold(self.cc, reach, Pnew))[0]
+            cnt = cKDTree(Pnew).query_ball_point(self.cc[cand], reach[cand], return_length=True)
+            conflict[cand[cnt > 0]] = True
             # orientation of each hull side so that the third corner is on its left
             A, B, O = P[ha], P[hb], P[simp[hull_t, hull_k]]
             d = B - A
@@ -155,17 +160,22 @@ class SampleTriangulation:
         cc2 = np.vstack([self.cc[kept_t], circumcentres(*(P2[simp2[len(kept_t):, k]] for k in range(3)))])
         seed2 = np.vstack([self.seed[kept_t], np.full((int(inside.sum()), 2), np.nan)])
         out = SampleTriangulation(P2, lab2, simp2, nb2, cc2, seed2)
-        if self.walk_list is not None:
-            o2t = np.full(len(simp), -1, dtype=np.int64)
-            o2t[kept_t] = np.arange(len(kept_t))
-            out.prior = (self.walk_list, o2t)
+        out.prior_edge_memo = self.edge_memo
         return out
 
-    def walks(self):
+    def walks(self, vectorised: bool = True):
         """The edges of the labelled triangulation: list of (pair, start, chain, end) where start /
         end are ("tri", t) for a 3-label triangle, ("hull", t, k) for the hull side k of triangle
         t, None for a closed chain (then start is None too), or ("bad", t) for a walk that could not
-        be closed; chain = the 2-label triangles in order."""
+        be closed; chain = the 2-label triangles in order.
+
+        Vectorised (:func:`runtime.voronoi.sample_walks.chain_walks`) unless a chain closes up or
+        a neighbourhood is inconsistent; then step by step."""
+        if vectorised:
+            res = chain_walks(self)
+            if res is not None and not len(res[1]):
+                self.walk_list = res[0]
+                return res[0]
         nlab = self.nlab
         nbl = self.nb.tolist()
         two = nlab == 2
@@ -183,33 +193,6 @@ class SampleTriangulation:
         def pair_of(t, k):
             a, b = int(L[t, (k + 1) % 3]), int(L[t, (k + 2) % 3])
             return (a, b) if a < b else (b, a)
-
-        if self.prior is not None:
-            # walks of the previous triangulation made only of kept triangles are walks here: two
-            # kept triangles adjacent before are adjacent now, and their labels did not change
-            old_walks, o2t = self.prior
-            o2t = o2t.tolist()
-
-            def moved(e):
-                if e is None:
-                    return None, True
-                t2 = o2t[e[1]]
-                if t2 < 0 or (e[0] == "hull" and nbl[t2][e[2]] != -1) or e[0] == "bad":
-                    return None, False
-                return (e[0], t2) + tuple(e[2:]), True
-
-            for _, start, chain, end in old_walks:
-                if not chain:
-                    continue
-                ch = [o2t[c] for c in chain]
-                if min(ch) < 0:
-                    continue
-                (s2, ok1), (e2, ok2) = moved(start), moved(end)
-                if not (ok1 and ok2):
-                    continue
-                for c in ch:
-                    seen[c] = True
-                out.append((pair_of(ch[0], k1[ch[0]]), s2, ch, e2))
 
         def walk(cur, k_in, start_t):
             chain = []
@@ -242,7 +225,8 @@ class SampleTriangulation:
                     continue
                 chain, end = walk(u, k1[u] if n1[u] == t else k2[u], -1)
                 out.append((pair_of(t, k), ("tri", t), chain, end))
-        twos = np.nonzero(two)[0].tolist()
+        left = two & ~np.array(seen, dtype=bool)       # 2-label triangles not on a walk yet
+        twos = np.nonzero(left & ((self.nb[t_idx, ks[:, 0]] == -1) | (self.nb[t_idx, ks[:, 1]] == -1)))[0].tolist()
         for t in twos:                      # chains from the hull to the hull
             if seen[t]:
                 continue
@@ -251,7 +235,7 @@ class SampleTriangulation:
                     chain, end = walk(t, kk, -1)
                     out.append((pair_of(t, kk), ("hull", t, kk), chain, end))
                     break
-        for t in twos:                      # closed chains around nested sites
+        for t in np.nonzero(left)[0].tolist():      # closed chains around nested sites
             if seen[t]:
                 continue
             chain, end = walk(t, k1[t], t)
@@ -295,3 +279,29 @@ def _neighbours(simp, npts):
     nb[s1] = s2 % T
     nb[s2] = s1 % T
     return nb.reshape(3, T).T.copy()
+
+
+def _may_hold(cc, rad, Q):
+    """A cheap superset of the disks (cc, rad) that may hold a point of Q: on a grid of cell
+    h = 2 × the median radius, a disk of radius ≤ h can hold q only if the cells of its centre
+    and of q are neighbours (|cc − q| ≤ h); larger disks (and centres off the grid) are kept."""
+    fin = np.isfinite(rad)
+    if not fin.any() or not len(Q):
+        return np.ones(len(rad), bool)
+    h = 2.0 * float(np.median(rad[fin]))
+    lo = Q.min(axis=0) - 2 * h
+    n = np.ceil((Q.max(axis=0) + 2 * h - lo) / h).astype(np.int64) + 1 if h > 0 else None
+    if n is None or n[0] * n[1] > 4_000_000:
+        return np.ones(len(rad), bool)
+    grid = np.zeros((n[0] + 2, n[1] + 2), bool)
+    gq = np.floor((Q - lo) / h).astype(np.int64) + 1
+    for dx in (-1, 0, 1):
+        for dy in (-1, 0, 1):
+            grid[gq[:, 0] + dx, gq[:, 1] + dy] = True
+    with np.errstate(invalid="ignore"):
+        g = np.floor((cc - lo) / h) + 1
+    on = np.isfinite(g).all(axis=1) & (g[:, 0] >= 0) & (g[:, 1] >= 0) & (g[:, 0] < n[0] + 2) & (g[:, 1] < n[1] + 2)
+    out = ~on | ~fin | (rad > h)
+    gi = np.where(on[:, None], g, 0).astype(np.int64)
+    out |= on & grid[gi[:, 0], gi[:, 1]]
+    return out

@@ -17,12 +17,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.spatial import cKDTree
+from scipy.spatial import ConvexHull, cKDTree
 
 from .sample_delaunay import SampleTriangulation
 from .site_arrays import SiteArrays
 
-__all__ = ["Samples", "initial_spacing", "clamp_spacing", "sample_sites", "circle_sample_counts", "SPACING_FACTOR", "MAX_SAMPLES_FIRST",
+__all__ = ["Samples", "hull_neighbours", "initial_spacing", "clamp_spacing", "sample_sites", "circle_sample_counts", "SPACING_FACTOR", "MAX_SAMPLES_FIRST",
            "MAX_SAMPLES", "GAP_FLOOR"]
 
 #: sampling spacing as a fraction of min(gap, size)
@@ -125,6 +125,9 @@ class Samples:
             zn = Pn[:, 0] + 1j * Pn[:, 1]
             add = ~np.isin(zn, zo)
             remove = old[~np.isin(zo, zn)]
+            if not add.any() and not len(remove):        # same samples (e.g. at the sample cap)
+                self.sampled = self.spacing.copy()
+                return self.tri
             tri = self.tri.update(remove, Pn[add], ln[add])
             if tri is not None:
                 stats["local_updates"] = stats.get("local_updates", 0) + 1
@@ -134,3 +137,32 @@ class Samples:
         P, lab = sample_sites(S, self.spacing, base=self.base)
         self.tri, self.sampled = SampleTriangulation(P, lab), self.spacing.copy()
         return self.tri
+
+
+#: samples per site for the convex hull of :func:`hull_neighbours` (sagitta 1 − cos(π/256) ≈ 7.5e-5
+#: of the size)
+HULL_SAMPLES = 256
+
+
+def hull_neighbours(S: SiteArrays, sites) -> set:
+    """The pairs of ``sites`` consecutive on the convex hull of their fine samples
+    (``HULL_SAMPLES`` per site).  For bounded sites, two sites consecutive on the convex hull of
+    all sites have an unbounded Voronoi edge (its points far along the outer normal of their common
+    supporting line are nearest to them); ``sites`` must hold every site of that hull."""
+    idx = np.asarray(sorted(set(int(s) for s in sites)), dtype=np.int64)
+    if len(idx) < 2:
+        return set()
+    spacing = np.full(S.n, np.inf)
+    spacing[idx] = np.maximum(2 * math.pi * S.size[idx] / HULL_SAMPLES, 1e-300)
+    P, lab = sample_sites(S, spacing, sites=idx)
+    try:
+        order = ConvexHull(P).vertices            # counter-clockwise
+    except Exception:  # noqa: BLE001 - flat or too few points: no hull pairs to check
+        return set()
+    L = lab[order]
+    L = L[np.concatenate([[True], L[1:] != L[:-1]])]
+    if len(L) > 1 and L[0] == L[-1]:
+        L = L[:-1]
+    if len(L) < 2 or len(set(L.tolist())) != len(L):
+        return set()                               # a site twice on the hull: leave it to the verifier
+    return {(min(a, b), max(a, b)) for a, b in zip(L.tolist(), np.roll(L, -1).tolist()) if a != b}

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
+from .conic_geometry import EllipseGeometry, ellipse_foot_points
 from .geometry import rounding_slack
 
 __all__ = ["SiteArrays", "site_groups"]
@@ -29,6 +30,10 @@ class SiteArrays:
         boxes = np.array([g.bounding_box() for g in geoms], dtype=float)
         self.boxes = boxes
         self.bounded = np.array([g.bounded for g in geoms])
+        self.ellipse = np.array([isinstance(g, EllipseGeometry) for g in geoms])
+        #: a, b, cos, sin, tx, ty of the ellipses' canonical frames (NaN for other sites)
+        self.ellipse_frames = tuple(np.array([getattr(g, k) if isinstance(g, EllipseGeometry) else np.nan
+                                              for g in geoms]) for k in ("a", "b", "c", "s", "tx", "ty"))
         if self.all_circles:
             self.C = np.array([[g.cx, g.cy] if g.kind == "circle" else [g.x0, g.y0] for g in geoms])
             self.R = np.array([g.rho if g.kind == "circle" else 0.0 for g in geoms])
@@ -64,10 +69,18 @@ class SiteArrays:
             return np.abs(g), np.where((g >= 0)[:, None], D, -D)
         d = np.empty(len(P))
         U = np.empty((len(P), 2))
-        for s, rows in site_groups(lab):
-            geo = self.geoms[s]
-            d[rows] = geo.distance(P[rows])
-            _, U[rows] = geo.foot_points(P[rows])
+        ell = self.ellipse[lab]
+        if ell.any():              # all ellipses at once (vectorised over sites)
+            r = np.nonzero(ell)[0]
+            s = lab[r]
+            F, U[r] = ellipse_foot_points(P[r], *(col[s] for col in self.ellipse_frames))
+            d[r] = np.hypot(P[r, 0] - F[:, 0], P[r, 1] - F[:, 1])
+        if not ell.all():
+            r0 = np.nonzero(~ell)[0]
+            for s, rows in site_groups(lab[r0]):
+                rows = r0[rows]
+                F, U[rows] = self.geoms[s].foot_points(P[rows])
+                d[rows] = np.hypot(P[rows, 0] - F[:, 0], P[rows, 1] - F[:, 1])     # one foot-point solve
         return d, U
 
     def dist_bounds(self, P, lab):

@@ -92,7 +92,8 @@ class Diagram:
     # ------------------------------------------------------------------ updates
     def delete_site(self, i: int, *, certify: bool = True) -> "Diagram":
         """The diagram of the other sites, renumbered (site j > i becomes j − 1); this diagram is
-        left unchanged.  See :func:`runtime.voronoi.deletion.delete_site`."""
+        left unchanged.  Needs the construction state of a diagram built by ``voronoi`` (not one
+        read from JSON).  See :func:`runtime.voronoi.deletion.delete_site`."""
         from .deletion import delete_site
 
         return delete_site(self, i, certify=certify)

@@ -14,7 +14,9 @@ Let G be the true Voronoi graph and H the reported one.
    true Voronoi vertex within 1e-10·(1 + |x| + |y| + r) of the reported position: for circle/point
    triples both solutions of the Apollonius system are proved by a float Krawczyk test with error
    bounds (falling back to the exact solver of thesis §3.1.3,
-   :func:`runtime.predicates.circles.voronoi_vertices_circles`); for triples with a conic,
+   :func:`runtime.predicates.circles.voronoi_vertices_circles`); for triples with a conic, a
+   float Krawczyk test on (d_i − d_j, d_i − d_k) proves a unique equidistant point in a tiny box
+   (:mod:`runtime.voronoi.verify_conic_vertices`, convex sites), else
    :func:`runtime.voronoi.vertex.certify_vertex` proves existence and uniqueness (Krawczyk on the
    exact foot-point system) and the touching property.  **Emptiness**: every other site k has a
    rigorous lower bound of d(v, S_k) above the upper bound of the radius; far sites are excluded
@@ -63,17 +65,33 @@ bounded to first order (module :mod:`runtime.voronoi.verify_edges`).
 
 Sites with an ellipse (with circles and points): vertices as above; an edge between two vertices
 is proved by :mod:`runtime.voronoi.verify_curved` (a chain of strips around the polyline in which
-the bisector is a monotone graph, gradient enclosures for convex sites, the same third-site
-tests); an unbounded edge by the same chain up to a far point, then to infinity by support
-functions on a sector of directions (:func:`runtime.voronoi.verify_curved.prove_tail`: in the
+the bisector is a monotone graph, :mod:`runtime.voronoi.verify_strips`: gradient enclosures for
+convex sites, third sites by distance bounds, first-order bounds or the transversality at the end
+vertices); an unbounded edge by the same chain up to a far point, then to infinity by support
+functions on a sector of directions (:func:`runtime.voronoi.verify_tail.prove_tail`: in the
 sector the bisector is one curve to infinity, closer to i, j than to any other site, linked to
-the chain).  Step 4 uses the support functions h_k(θ) = max_{p ∈ S_k} u(θ)·p of the sites
-(:func:`runtime.voronoi.verify_closure.verify_accounting_conics`): (b) the convex hulls of the
+the chain).  All chains run side by side, and every distance enclosure they need comes from one
+vectorised call per round (:mod:`runtime.voronoi.verify_sitetable`, which defers to the site
+geometries' own bounds wherever its cheap bounds are not tight).  Step 4 uses the support
+functions h_k(θ) = max_{p ∈ S_k} u(θ)·p of the sites
+(:class:`runtime.voronoi.verify_support.SupportTable`,
+:func:`runtime.voronoi.verify_closure.verify_accounting_conics`): (b) the convex hulls of the
 sites are proved pairwise disjoint, so no site is nested and G has no bounded component; (a)
 each unbounded end owns an interval of directions where only its two sites attain max h_k and
 h_i − h_j changes sign, and on every arc of directions between them one site strictly leads.
-Vertex-less edges (two sites; nested sites) and hyperbola / parabola sites are reported not
-proved, so such a certificate is never ok.
+A vertex-less edge (two sites, or sites in a row) is a chain of strips between two cut points
+with a tail at each end: the curve is open and closed in the bisector β_ij (each strip and
+sector meets β in exactly one arc, all in the curve), so it is a whole component of β_ij, and
+both its ends at infinity enter the accounting of step 4.  A parabola is convex (its focus side
+K): edges between two vertices with a parabola site are proved by the same chains (gradient
+enclosures outside K), but unbounded ends need bounded sites (support functions), so with a
+parabola the unbounded edges and the accounting are reported not proved.  A site inside a
+circle or an ellipse (nesting depth ≤ 1, proved with support functions:
+:func:`runtime.voronoi.verify_closure.verify_accounting_conics`): its closed edge is a chain of
+strips that closes up, with gradient enclosures inside the container while the loop stays within
+the reach of its boundary (b²/a for an ellipse: the loop must not cross the medial axis, else it
+is reported not proved).  Edges of hyperbola sites are reported not proved.  Certificates with
+an unproved part are never ok.
 
 Command line: ``python -m curvedvoronoi verify DIAGRAM.json [SITES.json]`` (exit 0 proved,
 1 not proved, 2 bad input; prints :meth:`Certificate.to_json`).

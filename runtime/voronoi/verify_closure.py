@@ -8,7 +8,7 @@
   h_k(θ) = c_k·e(θ) + ρ_k on the arc between them (circle and point sites).
 * :func:`verify_accounting_conics`: the same for bounded convex sites (ellipses, circles, points)
   with support functions: convex hulls pairwise disjoint (no nesting), and the intervals of
-  directions of the unbounded ends (from :func:`runtime.voronoi.verify_curved.prove_tail`)
+  directions of the unbounded ends (from :func:`runtime.voronoi.verify_tail.prove_tail`)
   separated by arcs on which one site strictly leads.
 """
 from __future__ import annotations
@@ -53,6 +53,18 @@ def verify_closure(D, n, problems, intervals) -> bool:
         for k in np.nonzero(~has)[0][:20]:
             ok = False
             problems.append(f"site {int(k)} has no edge: its region is missing")
+    # a closed edge is a whole component of its bisector: no other edge of its pair is accepted
+    # (a repeated loop would otherwise pass; two components of one bisector are not handled)
+    by_pair: dict = {}
+    for e in D.edges:
+        by_pair.setdefault(tuple(sorted(int(s) for s in e.sites)), []).append(e)
+    for pair, es in by_pair.items():
+        loops = [e for e in es if e.closed]
+        if loops and len(es) > 1:
+            ok = False
+            other = next(e for e in es if e is not loops[0])
+            problems.append(f"edges {loops[0].id} and {other.id} (sites {pair[0]}, {pair[1]}): the closed edge "
+                            "is the whole bisector loop, a second edge of the pair is not accepted")
     # edges of one pair must not overlap (the same part of a bisector reported twice)
     for pair, ivs in intervals.items():
         if len(ivs) < 2:
@@ -118,7 +130,6 @@ def verify_accounting(n, table, ends_inf, problems) -> bool:
     if m < 2:
         problems.append("a single unbounded edge end: the ends at infinity do not close up")
         return False
-    th = np.array([t[0] for t in ends])
     for a in range(m):
         ea, eb = ends[a], ends[(a + 1) % m]
         ta, tb = ea[0], eb[0]
@@ -173,13 +184,17 @@ def _dominates(s, ta, L, pa, pb, C, R) -> bool:
 
 def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000) -> bool:
     """Step 4 of :mod:`runtime.voronoi.verify` for bounded convex sites (ellipses, circles, points)
-    with the support functions h_k of :class:`runtime.voronoi.verify_curved.SupportTable`.
+    with the support functions h_k of :class:`runtime.voronoi.verify_support.SupportTable`.
 
     (b) The convex hulls of the sites are proved pairwise disjoint (a separating direction u with
-    h_a(u) + h_b(−u) < 0, or disjoint bounding boxes), so no site lies inside another and, by
-    thesis Prop. 1.2.1, G has no component without points at infinity.
+    h_a(u) + h_b(−u) < 0, or disjoint bounding boxes), or one inside the open convex region of a
+    circle or ellipse (h_in < h_out in every direction), with nesting depth ≤ 1 (no container is
+    itself nested).  By thesis Prop. 1.2.1 a component of G without points at infinity lies
+    inside a container; it contains an edge of the region of a nested site K, whose boundary is
+    connected, so it contains that boundary, and H holds an edge of K (step 3) and is closed
+    under incidence: the component is in H.  (Nested sites never lead at infinity: h_K < h_out.)
     (a) Each unbounded end e of H (pair i, j) comes with its sector [θa, θb] from
-    :func:`runtime.voronoi.verify_curved.prove_tail`: there only i and j attain max_k h_k, h_i − h_j
+    :func:`runtime.voronoi.verify_tail.prove_tail`: there only i and j attain max_k h_k, h_i − h_j
     has strict opposite signs at θa and θb, and β_ij ∩ {t ≥ T, θ ∈ [θa, θb]} is the edge's tail.
     Here two sectors of one pair are proved disjoint, and on every closed arc of directions that no
     sector covers one site (shared by the pairs of the sectors on either side) strictly maximises
@@ -206,6 +221,7 @@ def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000)
     order = np.argsort(bx[:, 0])
     th = np.linspace(0.0, 2 * math.pi, 257)[:-1]
     H = {}
+    nested = {}
 
     def hv(k):
         if k not in H:
@@ -221,10 +237,22 @@ def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000)
             if bx[b, 1] > bx[a, 3] + 1e-9 * W or bx[a, 1] > bx[b, 3] + 1e-9 * W:
                 continue
             sep = hv(a)[0] + hv(b)[1]
-            if not np.any(sep < -4 * mu):
-                problems.append(f"sites {min(a, b)} and {max(a, b)}: convex hulls not proved disjoint "
-                                "(nested or intersecting conic sites are not handled by the completeness proof)")
+            if np.any(sep < -4 * mu):
+                continue
+            # not separated: one site strictly inside the other's convex region (h_in < h_out)
+            for inner, outer in ((a, b), (b, a)):
+                if sup.kind[outer] in ("circle", "ellipse") and _below(sup, inner, outer, max_work):
+                    nested[inner] = outer
+                    break
+            else:
+                problems.append(f"sites {min(a, b)} and {max(a, b)}: convex hulls not proved disjoint, "
+                                "nor one inside the other")
                 return False
+    deep = sorted(k for k, out in nested.items() if out in nested)
+    if deep:
+        problems.append(f"site {deep[0]} is nested two deep (inside site {nested[deep[0]]}, inside site "
+                        f"{nested[nested[deep[0]]]}): nesting depth > 1 is not handled")
+        return False
     # ---- (a) the ends at infinity
     if not ends_inf:
         problems.append("no unbounded edge is proved, but several sites have unbounded regions")
@@ -268,6 +296,28 @@ def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000)
         if t < m and nxt[1] > cur_end:
             cur, cur_end = nxt, nxt[1]
     return ok
+
+
+def _below(sup, b, a, max_work) -> bool:
+    """Is h_b(θ) < h_a(θ) for every θ, i.e. conv S_b inside the open convex region of S_a
+    (support functions of convex bodies)?  Cells halved until decided, as in
+    :func:`_dominates_conic`."""
+    c0 = np.linspace(0.0, 2 * math.pi, 65)[:-1]
+    c1 = c0 + 2 * math.pi / 64
+    work = 0
+    while len(c0):
+        work += len(c0)
+        if work > max_work:
+            return False
+        thc, half = 0.5 * (c0 + c1), 0.5 * (c1 - c0) * (1 + 1e-12)
+        gap = sup.h(a, thc) - sup.h(b, thc) - 2 * sup.W * half - 4 * sup.mu
+        if np.any(sup.h(a, thc) - sup.h(b, thc) < -4 * sup.mu):
+            return False
+        bad = ~(gap > 0)
+        c0, c1 = c0[bad], c1[bad]
+        mid = 0.5 * (c0 + c1)
+        c0, c1 = np.concatenate([c0, mid]), np.concatenate([mid, c1])
+    return True
 
 
 def _dominates_conic(sup, s, g0, g1, max_work) -> bool:

@@ -1,4 +1,4 @@
-"""Proofs for Voronoi edges of convex curved sites (ellipses, mixed with circles and points).
+"""Proofs for Voronoi edges of convex curved sites (ellipses, parabolas, circles and points).
 
 Used by :mod:`runtime.voronoi.verify` for an edge (i, j) between two proved vertices when one of
 i, j (or a third site of an end vertex) is an ellipse, where the bisector has no closed form
@@ -11,15 +11,18 @@ The reported polyline only guides the proof: its nodes are moved onto β (float 
 along the segments' normals), nodes where it turns back are dropped, and a segment is split
 (its projected midpoint inserted) while the arc strays from the chord by more than a tenth of
 the wanted strip half-width (about 3x the stated tolerance, at most 0.03·d·|∇d_i − ∇d_j|, since
-the gradient enclosures of the monotonicity test have slack ~ 4R/d); when a third site stays
+the gradient enclosures of the monotonicity test have slack ~ 2R/d); when a third site stays
 undecided the strips are narrowed (factors 0.2, 0.05) and the guide re-split; when the bisector
 leaves a strip the guide is refined (segments halved).  Nothing is assumed of the guide: the
 strips decide.
 
-:func:`prove_curved_edge` is a generator (its distance requests go to a
-:class:`runtime.voronoi.verify_sitetable.SiteTable`; :func:`prove_curved_edges` runs all edges
-side by side with :func:`runtime.voronoi.verify_sitetable.run_lockstep`).  Vertex-less edges (two
-sites only, nested sites) and edges of hyperbolas and parabolas are not handled here.
+:func:`prove_curved_edge` is a generator: its distance requests, guide projections
+(:func:`project_many`) and chains of strips (:func:`runtime.voronoi.verify_strips.prove_strips_many`)
+are served for all edges at once by :func:`runtime.voronoi.verify_sitetable.run_lockstep`
+(:func:`prove_curved_edges`).  A vertex-less edge
+(infinite both ways) is cut at both ends and gets two tails.  Closed edges (nested sites) and
+edges of hyperbolas are not handled here; edges of a parabola (convex) are, up to its
+unbounded ends (the tails need bounded sites).
 """
 from __future__ import annotations
 
@@ -28,68 +31,68 @@ import math
 import numpy as np
 
 from .verify_sitetable import run_lockstep
-from .verify_strips import prove_strips, rot90
+from .verify_strips import StripsJob, prove_strips, prove_strips_many, rot90
 
-__all__ = ["prove_curved_edge", "prove_curved_edges", "TAIL_CUT"]
+__all__ = ["prove_curved_edge", "prove_curved_edges", "project_many", "ProjectJob", "TAIL_CUT"]
 
 TAIL_CUT = 12.0         # the chain proves an unbounded edge up to TAIL_CUT·(scene radius), the tail beyond
 NEWTON = 6              # Newton steps of the guide's projection onto β
+EDGE_WORK = 80000       # pieces tested per edge, all attempts together, before giving up
+LONG = 50000.0          # strips at least (edge length)/LONG wide (3x this), at most 0.03·d·|∇d_i − ∇d_j|
 
 
 def prove_curved_edges(table, jobs):
     """:func:`prove_curved_edge` for every job (scale, pair, P, v0, v1, tol), side by side.
     Returns their results (ok, message, beyond) in order."""
-    return run_lockstep([prove_curved_edge(table, *job) for job in jobs], table)
+    return run_lockstep([prove_curved_edge(table, *job) for job in jobs], table,
+                        {StripsJob: prove_strips_many, ProjectJob: project_many})
 
 
-def prove_curved_edge(table, scale, pair, P, v0, v1, tol):
+def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False):
     """Prove an edge of convex sites along its polyline P (ends at the vertices v0, v1; either may
-    be None = infinity, then up to a point at ``TAIL_CUT`` times the scene's radius).  Returns
-    (ok, message or None, beyond): for an unbounded edge proved so far, ``beyond`` is a dict with
-    the cut ``point`` and the ``link`` rectangle for :func:`runtime.voronoi.verify_tail.prove_tail`.
-    Generator (requests to ``table``)."""
+    be None = infinity, then up to a point at ``TAIL_CUT`` times the scene's radius; both None: a
+    vertex-less edge, infinite both ways, or with ``closed`` a closed curve around a nested site,
+    the chain of strips then closing up).  Returns (ok, message or None, beyond): ``beyond`` lists,
+    per unbounded end, a dict with the cut ``point`` and the ``link`` rectangle for
+    :func:`runtime.voronoi.verify_tail.prove_tail`.  Generator (requests to ``table``)."""
     i, j = pair
     geoms = table.geoms
     if not (table.convex[i] and table.convex[j]):
-        return False, "edges of hyperbolas and parabolas are not verified by this version", None
+        return False, "edges of hyperbolas are not verified by this version", None
     S = np.array(P, float)
-    beyond = None
-    v0f, rad = False, 0.0
-    if v0 is None or v1 is None:
-        # an unbounded edge is proved up to a point at a few times the scene's size only
+    if closed:
+        if v0 is not None or v1 is not None or len(S) < 4:
+            return False, "a closed edge needs no end vertices and a polyline around its site", None
+        if np.hypot(*(S[0] - S[-1])) <= 1e-12 * scale:
+            S = S[:-1]
+    far_ends = [t for t, v in enumerate((v0, v1)) if v is None and not closed]      # 0: start, 1: end
+    rad = 0.0
+    if far_ends:
+        # an unbounded end is proved up to a point at TAIL_CUT times the scene's radius only
         fb = [g.bounding_box() for g in geoms if g.bounded]
         bx = np.array(fb, float)
         cen = 0.5 * (bx[:, :2].min(0) + bx[:, 2:].max(0))
         rad = 0.5 * float(np.hypot(*(bx[:, 2:].max(0) - bx[:, :2].min(0)))) + 1.0
-        if v0 is None:
-            S, v0f = S[::-1], True
+        Rc = TAIL_CUT * rad
+        if len(far_ends) == 1:
+            S = _cut_outside(S, cen, Rc) if v1 is None else _cut_outside(S[::-1], cen, Rc)[::-1]
         else:
-            v0f = False
-        dist = np.hypot(S[:, 0] - cen[0], S[:, 1] - cen[1])
-        far = np.nonzero(dist > TAIL_CUT * rad)[0]
-        if len(far) and far[0] > 0:
-            f0 = int(far[0])                       # cut the chord where it leaves the disc of radius 3·rad
-            A_, B_ = S[f0 - 1], S[f0]
-            lo_t, hi_t = 0.0, 1.0
-            for _ in range(60):
-                mt = 0.5 * (lo_t + hi_t)
-                if np.hypot(*(A_ + mt * (B_ - A_) - cen)) > TAIL_CUT * rad:
-                    hi_t = mt
-                else:
-                    lo_t = mt
-            S = np.vstack([S[:f0], A_ + hi_t * (B_ - A_)])
-        elif len(far):
-            S = S[:2]
-        beyond = tuple(S[-1])
-        if v0f:
-            S = S[::-1]
+            # no vertex: from the first node inside the disc, cut both ways
+            inside = np.nonzero(np.hypot(S[:, 0] - cen[0], S[:, 1] - cen[1]) <= Rc)[0]
+            if not len(inside):
+                return False, "the polyline does not come near the sites", None
+            a_ = int(inside[0])
+            S = np.vstack([_cut_outside(S[:a_ + 1][::-1], cen, Rc)[::-1][:-1], _cut_outside(S[a_:], cen, Rc)])
     if len(S) >= 2:
         # the nodes are only a guide: move them onto β (also the cut of an unbounded end)
         lo_k = 1 if v0 is not None else 0
         hi_k = len(S) - 1 if v1 is not None else len(S)
         ks = np.arange(lo_k, hi_k)
         if len(ks):
-            dirs = S[np.minimum(ks + 1, len(S) - 1)] - S[np.maximum(ks - 1, 0)]
+            if closed:          # the neighbours of a closed guide are cyclic
+                dirs = S[(ks + 1) % len(S)] - S[(ks - 1) % len(S)]
+            else:
+                dirs = S[np.minimum(ks + 1, len(S) - 1)] - S[np.maximum(ks - 1, 0)]
             Xn, dev = yield from _project(S[ks], dirs, pair)
             okn = np.isfinite(dev) & np.isfinite(Xn).all(1)
             S[ks[okn]] = Xn[okn]
@@ -103,6 +106,8 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol):
             if not cg.min() < 0.5:
                 break
             S = np.delete(S, int(np.argmin(cg)) + 1, axis=0)
+    if closed:
+        S = np.vstack([S, S[:1]])           # the chain returns to its first node
     if v0 is not None:
         S[0] = (v0.x, v0.y)
     if v1 is not None:
@@ -112,6 +117,9 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol):
     h0 = (v0.h * 2 + v0.tol) if v0 is not None else 0.0
     h1 = (v1.h * 2 + v1.tol) if v1 is not None else 0.0
     S_guide = S
+    budget = [EDGE_WORK]
+    # strip half-widths ~ 3·wtol: the stated tolerance, or more on a long edge (bounded piece count)
+    wtol = max(tol, float(np.hypot(*(S[1:] - S[:-1]).T).sum()) / LONG) if len(S) >= 2 else tol
     for narrow in (1.0, 0.2, 0.05):
         S = S_guide.copy()
         last_msg = None
@@ -120,7 +128,7 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol):
             if refine:      # the polyline is only a guide: halve its segments, nodes moved onto β
                 S = yield from _refine(S, pair)
             # split where the arc strays from the chord by more than a fraction of the strip width
-            S = yield from _adapt(S, pair, 0.1 * narrow, tol, scale)
+            S = yield from _adapt(S, pair, 0.1 * narrow, wtol, scale)
             seg = S[1:] - S[:-1]
             L = np.hypot(seg[:, 0], seg[:, 1])
             if np.any(L <= 1e-12 * scale):
@@ -132,20 +140,23 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol):
                 return False, "degenerate polyline", None
             T = seg / L[:, None]
             N = rot90(T)
-            # turning angles between consecutive segments
+            # turning angles between consecutive segments (and from the last to the first, closed)
             cosang = np.clip((T[:-1] * T[1:]).sum(1), -1, 1)
-            if np.any(cosang < math.cos(math.radians(60))):
+            cos_wrap = float(np.clip((T[-1] * T[0]).sum(), -1, 1)) if closed else 1.0
+            if np.any(cosang < math.cos(math.radians(60))) or cos_wrap < math.cos(math.radians(60)):
                 last_msg = "polyline turns by more than 60 degrees"
                 continue
             sinang = np.sqrt(1 - cosang ** 2)
-            wnode = narrow * (yield from _node_width(S, pair, tol, scale))
+            sin_wrap = math.sqrt(1 - cos_wrap ** 2)
+            wnode = narrow * (yield from _node_width(S, pair, wtol, scale))
             # node half-widths: about 3x the stated tolerance, at most a quarter of the adjacent segments
-            Lmin = np.minimum(np.concatenate([[L[0]], L]), np.concatenate([L, [L[-1]]]))
+            Lmin = np.minimum(np.concatenate([[L[-1] if closed else L[0]], L]),
+                              np.concatenate([L, [L[0] if closed else L[-1]]]))
             for wfac, endfac in ((1.0, 1e-3), (0.3, 1e-5), (3.0, 1e-3)):
                 W = np.minimum(0.25 * Lmin, wnode * wfac)
                 W = np.maximum(W, 1e-12 * scale)
                 # narrow at the vertices: the transversality test (T3) needs the gradient enclosures
-                # (slack ~ 4R/d) well below the angle between the bisectors
+                # (slack ~ 2R/d) well below the angle between the bisectors
                 if v0 is not None:
                     W[0] = max(min(W[0], 0.05 * L[0], endfac * (v0.r + 1.0)), 8 * h0 + 1e-12 * scale)
                 if v1 is not None:
@@ -155,18 +166,24 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol):
                 e_hi = np.concatenate([wn[1:] * sinang, [0.0]]) + 1e-12 * scale
                 e_lo[0] += 2 * h0
                 e_hi[-1] += 2 * h1
-                ok, msg = yield from prove_strips(table, S, T, N, L, e_lo, e_hi, W, pair, k0, k1, scale)
+                if closed:          # the cap between the last and the first rectangle
+                    e_lo[0] += max(W[0], W[-1]) * sin_wrap
+                    e_hi[-1] += max(W[0], W[-1]) * sin_wrap
+                ok, msg = yield from prove_strips(S, T, N, L, e_lo, e_hi, W, pair, k0, k1, budget)
                 if ok:
-                    if beyond is not None:
-                        # the chain's rectangle at the unbounded end, for the link with the tail
-                        l = 0 if v0f else len(L) - 1
+                    # the chain's rectangle at each unbounded end, for the link with its tail
+                    beyond = []
+                    for t in far_ends:
+                        l = 0 if t == 0 else len(L) - 1
                         sx = min(0.5 * L[l], 0.25 * rad)
-                        beyond = {"point": beyond, "rad": rad,
-                                  "link": (S[l].copy(), T[l].copy(), N[l].copy(), float(L[l]),
-                                           float(min(W[l], W[l + 1])), sx if v0f else float(L[l]) - sx)}
+                        beyond.append({"point": tuple(S[0] if t == 0 else S[-1]), "rad": rad,
+                                       "link": (S[l].copy(), T[l].copy(), N[l].copy(), float(L[l]),
+                                                float(min(W[l], W[l + 1])), sx if t == 0 else float(L[l]) - sx)})
                     return True, None, beyond
                 last_msg = msg
                 attempts += 1
+                if budget[0] < 0:
+                    return False, msg + " (work limit of the edge reached)", None
                 if attempts >= 4:
                     break
                 if "bisector leaves" in msg or "monotonicity" in msg:
@@ -176,18 +193,41 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol):
         # a third site undecided: the strips (and the pieces' discs) are too wide; narrow them
         if last_msg is None or "a third site" not in last_msg:
             break
-    return False, last_msg, beyond
+    return False, last_msg, None
 
+
+
+def _cut_outside(S, cen, Rc):
+    """The guide S up to where it first leaves the disc D(cen, Rc) after its first node (cut on
+    the crossing segment by bisection)."""
+    dist = np.hypot(S[:, 0] - cen[0], S[:, 1] - cen[1])
+    far = np.nonzero(dist > Rc)[0]
+    if len(far) and far[0] > 0:
+        f0 = int(far[0])
+        A_, B_ = S[f0 - 1], S[f0]
+        lo_t, hi_t = 0.0, 1.0
+        for _ in range(60):
+            mt = 0.5 * (lo_t + hi_t)
+            if np.hypot(*(A_ + mt * (B_ - A_) - cen)) > Rc:
+                hi_t = mt
+            else:
+                lo_t = mt
+        return np.vstack([S[:f0], A_ + hi_t * (B_ - A_)])
+    return S[:2] if len(far) else S
 
 
 def _fgrad(M, pair):
     """Float f = d_i − d_j and ∇f at the points M (from the float foot points).  Generator."""
     n = len(M)
     V = yield (np.concatenate([M, M]), np.repeat(list(pair), n))
+    return _fgrad_values(M, V.part(0, n), V.part(n, 2 * n))
+
+
+def _fgrad_values(M, Vi, Vj):
     with np.errstate(divide="ignore", invalid="ignore"):
-        Ui = (M - V.F[:n]) / V.d[:n, None]
-        Uj = (M - V.F[n:]) / V.d[n:, None]
-    return V.d[:n] - V.d[n:], Ui - Uj, V.d[:n], V.d[n:]
+        Ui = (M - Vi.F) / Vi.d[:, None]
+        Uj = (M - Vj.F) / Vj.d[:, None]
+    return Vi.d - Vj.d, Ui - Uj, Vi.d, Vj.d
 
 
 def _project_mid(A, B, pair):
@@ -197,9 +237,29 @@ def _project_mid(A, B, pair):
     return (yield from _project(0.5 * (A + B), B - A, pair))
 
 
+class ProjectJob:
+    """Points M to move onto the bisector of ``pair`` along the normals of the directions t."""
+
+    __slots__ = ("M", "t", "pair")
+
+    def __init__(self, M, t, pair):
+        self.M, self.t, self.pair = np.asarray(M, float).reshape(-1, 2), np.asarray(t, float).reshape(-1, 2), pair
+
+
 def _project(M, t, pair):
     """Points M moved onto the bisector along the normals of the directions t (float Newton
-    steps, moves at most |t|/2).  Returns (points, offsets).  Generator."""
+    steps, moves at most |t|/2).  Returns (points, offsets).  Generator: all pending projections
+    of all edges run together (:func:`project_many`)."""
+    return (yield ProjectJob(M, t, pair))
+
+
+def project_many(table, jobs):
+    """:func:`_project` for many jobs at once (one table call per Newton step)."""
+    M = np.concatenate([jb.M for jb in jobs])
+    t = np.concatenate([jb.t for jb in jobs])
+    cnt = [len(jb.M) for jb in jobs]
+    I = np.repeat([jb.pair[0] for jb in jobs], cnt)
+    J = np.repeat([jb.pair[1] for jb in jobs], cnt)
     Ls = np.maximum(np.hypot(t[:, 0], t[:, 1]), 1e-300)
     n = np.column_stack([-t[:, 1], t[:, 0]]) / Ls[:, None]
     lam = np.zeros(len(M))
@@ -207,10 +267,17 @@ def _project(M, t, pair):
     fM = None
     act = np.arange(len(M))
     f1 = np.full(len(M), np.inf)
+
+    def fvalues(act):
+        X = M[act] + lam[act, None] * n[act]
+        m = len(act)
+        V = table.evaluate(np.concatenate([X, X]), np.concatenate([I[act], J[act]]))
+        return _fgrad_values(X, V.part(0, m), V.part(m, 2 * m))
+
     for _ in range(NEWTON):
         if not len(act):
             break
-        f, G, _, _ = yield from _fgrad(M[act] + lam[act, None] * n[act], pair)
+        f, G, _, _ = fvalues(act)
         if fM is None:
             fM = np.abs(f)
         f1[act] = f
@@ -221,19 +288,23 @@ def _project(M, t, pair):
         keep = ok & (np.abs(step) > 1e-13 * size[act]) & (np.abs(f) > 1e-14 * size[act])
         act = act[keep]
     if len(act):
-        f, _, _, _ = yield from _fgrad(M[act] + lam[act, None] * n[act], pair)
-        f1[act] = f
+        f1[act] = fvalues(act)[0]
     if fM is None:
         fM = np.zeros(len(M))
     good = np.isfinite(lam) & np.isfinite(f1) & ((np.abs(f1) <= 1e-3 * fM) | (np.abs(f1) < 1e-12 * size))
     Mn = np.where(good[:, None], M + np.where(good, lam, 0.0)[:, None] * n, M)
-    return Mn, np.where(good, np.abs(lam), np.inf)
+    dev = np.where(good, np.abs(lam), np.inf)
+    res, pos = [], 0
+    for c in cnt:
+        res.append((Mn[pos:pos + c], dev[pos:pos + c]))
+        pos += c
+    return res
 
 
 def _node_width(X, pair, tol, scale):
     """Strip half-width wanted at the polyline nodes X: about 3x the stated tolerance, at most a
     small fraction of d·|∇d_i − ∇d_j| (the gradient enclosures of the monotonicity test
-    have slack ~ 4R/d).  Generator."""
+    have slack ~ 2R/d).  Generator."""
     X = np.asarray(X, float).reshape(-1, 2)
     _, D, di, dj = yield from _fgrad(X, pair)
     with np.errstate(invalid="ignore"):
@@ -262,13 +333,19 @@ def _insert(S, sel, Mn):
 def _adapt(S, pair, frac, tol, scale, rounds=12, cap=4000):
     """Split the segments whose bisector arc strays more than ``frac`` times the wanted strip
     half-width from the chord (offset of the projected midpoint, float), to a bounded depth: the
-    strips must contain the arc.  Only a guide; the proof decides.  Generator."""
+    strips must contain the arc.  Only the new segments are projected again.  Only a guide; the
+    proof decides.  Generator."""
+    Mn, dev = yield from _project_mid(S[:-1], S[1:], pair)
+    tn = frac * (yield from _node_width(S, pair, tol, scale))
     for _ in range(rounds):
-        Mn, dev = yield from _project_mid(S[:-1], S[1:], pair)
-        tn = frac * (yield from _node_width(S, pair, tol, scale))
         Ls = np.hypot(*(S[1:] - S[:-1]).T)
         sel = (dev > np.minimum(tn[:-1], tn[1:])) & (dev < 0.25 * Ls)     # else the projection is not trusted
         if not sel.any() or len(S) + int(sel.sum()) > cap:
             break
         S = _insert(S, sel, Mn[sel])
+        tn = _insert(tn[:, None], sel, frac * (yield from _node_width(Mn[sel], pair, tol, scale))[:, None])[:, 0]
+        fresh = np.repeat(sel, 1 + sel)          # the two halves of every split segment
+        Mn, dev = np.repeat(Mn, 1 + sel, axis=0), np.repeat(dev, 1 + sel)
+        Mf, df = yield from _project_mid(S[:-1][fresh], S[1:][fresh], pair)
+        Mn[fresh], dev[fresh] = Mf, df
     return S

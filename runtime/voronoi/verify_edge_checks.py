@@ -131,15 +131,15 @@ def _curved_job(e, name, pair, P, endv, scale, problems):
     the job for :func:`runtime.voronoi.verify_curved.prove_curved_edges`, or None (problem
     recorded)."""
     v0, v1 = endv
-    if e.closed or (v0 is None and v1 is None):
-        problems.append(f"{name}: not proved (vertex-less edges of conic sites are not verified by this version)")
+    if e.closed and (v0 is not None or v1 is not None):
+        problems.append(f"{name}: a closed edge cannot end at a vertex")
         return None
     for t, (w, Q) in enumerate(((v0, P[0]), (v1, P[-1]))):
         if w is not None and math.hypot(Q[0] - w.x, Q[1] - w.y) > w.tol + 2 * w.h + 1e-12 * scale:
             problems.append(f"{name}: polyline {'starts' if t == 0 else 'ends'} at ({Q[0]:.17g}, {Q[1]:.17g}), "
                             f"not at vertex {w.id} ({w.x:.17g}, {w.y:.17g})")
             return None
-    return (scale, pair, P, v0, v1, float(e.tolerance))
+    return (scale, pair, P, v0, v1, float(e.tolerance), bool(e.closed))
 
 
 def _curved_edges(curved, geoms, problems, eok, ends_inf):
@@ -159,7 +159,7 @@ def _curved_edges(curved, geoms, problems, eok, ends_inf):
     # polyline points within the stated tolerance of the bisector: |d_i − d_j|/2 is a lower bound
     # of the distance to it (d_i − d_j is 2-Lipschitz); one call for all edges
     rows, ks, owner = [], [], []
-    for t, (_, e, _, (_, pair, P, _, _, _)) in enumerate(curved):
+    for t, (_, e, _, (_, pair, P, _, _, _, _)) in enumerate(curved):
         inner = P[1:-1]
         rows += [inner, inner]
         ks += [np.full(len(inner), pair[0]), np.full(len(inner), pair[1])]
@@ -188,19 +188,21 @@ def _curved_edges(curved, geoms, problems, eok, ends_inf):
             problems.append(f"{name}: {msg}")
             eok[p_e] = False
             continue
-        _, pair, _, v0, v1, _ = job
-        if v0 is None or v1 is None:
+        pair = job[1]
+        ends = []
+        for far in beyond:
             if sup is None:
                 sup = SupportTable(geoms)
-            q = beyond["point"]
-            ok, msg, sector = prove_tail(sup, table, pair, beyond["link"], scale)
+            q = far["point"]
+            ok, msg, sector = prove_tail(sup, table, pair, far["link"], scale)
             if not ok:
                 problems.append(f"{name}: proved up to ({q[0]:.9g}, {q[1]:.9g}), not proved beyond it: {msg}")
-                eok[p_e] = False
-                continue
+                break
             tha, thb, _ = sector
-            ends_inf.append((0.5 * (tha + thb) % (2 * math.pi), pair, (tha, thb), e.id))
-        eok[p_e] = True
+            ends.append((0.5 * (tha + thb) % (2 * math.pi), pair, (tha, thb), e.id))
+        eok[p_e] = ok
+        if ok:
+            ends_inf.extend(ends)
 
 
 def _sign_checks(jobs, table, eok, problems):

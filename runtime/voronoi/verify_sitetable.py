@@ -13,64 +13,78 @@ vectorised over the sites as well as the points):
 
 * point / circle: d = | |q − c| − ρ |, widened by ``rounding_slack`` of the data's size;
 * ellipse (thesis §5.2; :mod:`runtime.voronoi.conic_geometry`, *Rigorous bounds*): in the float
-  canonical frame of the site's geometry, a float foot parameter t (safeguarded Newton on the
-  quartic of the normal condition in τ = tan(t/2), any accuracy is sound) gives the upper bound
+  canonical frame of the site's geometry, a float foot parameter t
+  (:func:`runtime.voronoi.conic_geometry.ellipse_feet`, many ellipses at once; any accuracy is
+  sound) gives the upper bound
   |Q − P(t)| and, for Q outside K, the supporting-line lower bound n(t)·(Q − P(t)) (K convex);
   every value is widened by the rounding allowances of that module (ε_P, the normal's rounding,
   the frame's slack σ).  Pairs where these bounds are not tight to 1e-7 relative (Q inside K,
   near the evolute, non-finite), and every pair with a site of another kind (hyperbola,
   parabola), are handed to the site geometry's own ``distance_bounds``, which is exact to
   float resolution (S-lemma, ball route).  So the table never claims more than the site
-  geometries do; it only saves their per-call cost where the cheap bound already decides.
+  geometries do; it only saves their per-call cost where the cheap bound already decides;
+* parabola: the site geometry's own bounds; outside its convex focus side K the gradient
+  enclosures below apply (a hyperbola's two convex regions are not handled: no gradients).
 
 **Gradient enclosures** (:func:`gradient_enclosure`) for a convex site S and q outside its convex
-hull K: ∇d(q) = (q − p)/|q − p| with p the projection of q on K, which is 1-Lipschitz; so on
-B(c, R) the gradient is within 4R/d(c) of ∇d(c), and the float foot point F gives ∇d(c) within
-2·e_F/d(c), where e_F² = |c − F|² − d(c)² bounds |F − p|² (projection inequality
-|c − F|² ≥ |c − p|² + |p − F|², F ∈ K up to rounding).
+hull K: ∇d(q) = (q − p)/|q − p| with p the projection of q on K, which is 1-Lipschitz, and
+x ↦ x/|x| is (1/m)-Lipschitz on {|x| ≥ m} (m·x/|x| is the projection onto the ball of radius m).
+So for q ∈ B(c, R), with x = c − p(c), y = q − p(q), |x − y| ≤ 2R and |x|, |y| ≥ d(c) − R:
+|∇d(q) − ∇d(c)| ≤ 2R/(d(c) − R); and the float foot point F gives ∇d(c) within e_F/d(c), where
+e_F² = |c − F|² − d(c)² bounds |F − p|² (projection inequality |c − F|² ≥ |c − p|² + |p − F|²,
+F ∈ K up to rounding; |c − F| ≥ d(c)).  **Inside** a circle or an ellipse (q in its open convex
+region, depth d(q) below the reach r of the curve, b²/a or the radius: Federer, *Curvature
+measures*, Trans. AMS 93 (1959), 4.8 and 4.18): the nearest point p(q) is unique, ∇d(q) =
+(q − p)/|q − p|, p is r/(r − t)-Lipschitz where the depth is ≤ t, and for every F on the curve
+(c − p)·(F − p) ≤ |F − p|²·d/(2r), so |F − p|² ≤ (|c − F|² − d²)/(1 − d/r); with t = hi + R < r
+the enclosure is e_F/d + (1 + r/(r − t))·R/(d − R).
 """
 from __future__ import annotations
 
-import numpy as np
+import itertools
 
+import numpy as np
+from scipy.spatial import cKDTree
+
+from .conic_geometry import ellipse_feet
 from .geometry import EPS, rounding_slack
 
 __all__ = ["SiteTable", "SiteValues", "gradient_enclosure", "run_lockstep"]
 
 #: relative gap above which the table defers to the site geometry's own bounds
 FALLBACK_GAP = 1e-7
-#: Newton iterations of the float foot parameter (converged entries leave earlier)
-NEWTON_STEPS = 60
-#: a Newton step below this (relative) ends the iteration (conic_geometry's rule)
-NEWTON_TOL = 2.0 ** -30
 
 
 class SiteValues:
     """Values of :meth:`SiteTable.evaluate` at rows (q, k): rigorous ``lo`` ≤ d(q, S_k) ≤ ``hi``,
-    a float foot point ``F`` (on S_k up to rounding), its float distance ``d`` and ``base``:
-    S_k convex and q proved outside its convex hull (gradient enclosures allowed)."""
+    a float foot point ``F`` (on S_k up to rounding), its float distance ``d``, ``base``: S_k
+    convex and q proved outside its convex hull, ``inner``: q proved inside the convex region of
+    a circle or ellipse whose boundary has reach ``reach`` (gradient enclosures allowed)."""
 
-    __slots__ = ("lo", "hi", "F", "d", "base")
+    __slots__ = ("lo", "hi", "F", "d", "base", "inner", "reach")
 
-    def __init__(self, lo, hi, F, d, base):
-        self.lo, self.hi, self.F, self.d, self.base = lo, hi, F, d, base
+    def __init__(self, lo, hi, F, d, base, inner, reach):
+        self.lo, self.hi, self.F, self.d, self.base, self.inner, self.reach = lo, hi, F, d, base, inner, reach
 
     def part(self, a, b):
-        return SiteValues(self.lo[a:b], self.hi[a:b], self.F[a:b], self.d[a:b], self.base[a:b])
+        return SiteValues(self.lo[a:b], self.hi[a:b], self.F[a:b], self.d[a:b], self.base[a:b],
+                          self.inner[a:b], self.reach[a:b])
 
     def take(self, idx):
-        return SiteValues(self.lo[idx], self.hi[idx], self.F[idx], self.d[idx], self.base[idx])
+        return SiteValues(self.lo[idx], self.hi[idx], self.F[idx], self.d[idx], self.base[idx],
+                          self.inner[idx], self.reach[idx])
 
 
 class SiteTable:
-    """Flat float data of the sites (kinds point / circle / ellipse; others via their geometry)."""
+    """Flat float data of the sites (kinds point / circle / ellipse; others via their geometry),
+    their bounding boxes and a k-d tree on the boxes' centres (:meth:`near_pairs`)."""
 
     def __init__(self, geoms, scale):
         self.geoms = geoms
         self.scale = float(scale)
         n = len(geoms)
         self.n = n
-        self.kind = np.zeros(n, int)          # 0 point, 1 circle, 2 ellipse, 3 other
+        self.kind = np.zeros(n, int)          # 0 point, 1 circle, 2 ellipse, 3 hyperbola, 4 parabola
         self.cx, self.cy, self.rho = np.zeros(n), np.zeros(n), np.zeros(n)
         self.a, self.b, self.c, self.s = np.ones(n), np.ones(n), np.ones(n), np.zeros(n)
         for k, g in enumerate(geoms):
@@ -82,10 +96,27 @@ class SiteTable:
             elif g.kind == "ellipse":
                 self.kind[k] = 2
                 self.cx[k], self.cy[k], self.a[k], self.b[k], self.c[k], self.s[k] = g.tx, g.ty, g.a, g.b, g.c, g.s
+            elif g.kind == "parabola":
+                self.kind[k] = 4
             else:
                 self.kind[k] = 3
-        self.convex = self.kind < 3
+        # convex K (the inside of an ellipse, the focus side of a parabola; not a hyperbola's two
+        # regions): the gradient enclosures hold outside K
+        self.convex = self.kind != 3
+        # reach of the boundary from inside (Federer): b²/a for an ellipse (a ≥ b: the ends of
+        # the medial axis are the centres of curvature at the major vertices), r for a circle
+        lo_ax, hi_ax = np.minimum(self.a, self.b), np.maximum(self.a, self.b)
+        self.reach = np.where(self.kind == 2, lo_ax * lo_ax / hi_ax, np.where(self.kind == 1, self.rho, 0.0))
+        self.reach = self.reach * (1 - 1e-9)
         self.boxes = np.array([g.bounding_box() for g in geoms], float).reshape(-1, 4)
+        # a k-d tree on the centres of the finite bounding boxes (radius: their half-diagonals)
+        fin = np.isfinite(self.boxes).all(1)
+        self.bounded = np.nonzero(fin)[0]
+        self.unbounded = np.nonzero(~fin)[0]
+        bx = self.boxes[fin]
+        self.box_centre = 0.5 * (bx[:, :2] + bx[:, 2:])
+        self.box_half = float((0.5 * np.hypot(bx[:, 2] - bx[:, 0], bx[:, 3] - bx[:, 1])).max()) if len(bx) else 0.0
+        self.tree = cKDTree(self.box_centre) if len(bx) else None
         self.calls = 0
         self.fallbacks = 0
 
@@ -99,6 +130,7 @@ class SiteTable:
         lo, hi, d = np.zeros(m), np.full(m, np.inf), np.full(m, np.inf)
         F = np.full((m, 2), np.nan)
         base = np.zeros(m, bool)
+        inner = np.zeros(m, bool)
         loose = np.zeros(m, bool)
         kind = self.kind[K]
         x, y = Q[:, 0], Q[:, 1]
@@ -116,12 +148,13 @@ class SiteTable:
                 ux, uy = np.where(nv > 0, vx / nv, 1.0), np.where(nv > 0, vy / nv, 0.0)
             F[r, 0], F[r, 1] = cx + rho * ux, cy + rho * uy
             base[r] = nv > rho * (1 + 1e-12)
+            inner[r] = nv < rho * (1 - 1e-12)
         # ---- ellipses
         r = np.nonzero(kind == 2)[0]
         if len(r):
-            loose[r] = self._ellipses(r, K[r], x[r], y[r], lo, hi, F, d, base)
+            loose[r] = self._ellipses(r, K[r], x[r], y[r], lo, hi, F, d, base, inner)
         # ---- the site geometries' own bounds where the table is not tight or not applicable
-        bad = (kind == 3) | loose
+        bad = (kind >= 3) | loose
         if bad.any():
             idx = np.nonzero(bad)[0]
             for k in np.unique(K[idx]):
@@ -130,33 +163,23 @@ class SiteTable:
                 g = self.geoms[k]
                 lo_, hi_ = g.distance_bounds(Q[sel])
                 lo[sel], hi[sel] = lo_, hi_
-                if kind[sel[0]] == 3 or not np.isfinite(F[sel]).all():
+                if kind[sel[0]] >= 3 or not np.isfinite(F[sel]).all():
                     F_, _ = g.foot_points(Q[sel])
                     F[sel] = F_
                     d[sel] = np.hypot(*(Q[sel] - F_).T)
-        return SiteValues(lo, hi, F, d, base & self.convex[K])
+                if kind[sel[0]] == 4:
+                    # outside the focus side Y² ≤ 2pX (canonical frame; margin far above rounding)
+                    X0, Y0 = g.to_canonical(Q[sel])
+                    gv = Y0 * Y0 - 2 * g.p * X0
+                    base[sel] = gv > 1e-9 * (Y0 * Y0 + 2 * g.p * np.abs(X0)) + 1e-300
+        return SiteValues(lo, hi, F, d, base & self.convex[K], inner, self.reach[K])
 
-    def _ellipses(self, r, k, x, y, lo, hi, F, d, base):
+    def _ellipses(self, r, k, x, y, lo, hi, F, d, base, inner):
         a, b, c, s, tx, ty = self.a[k], self.b[k], self.c[k], self.s[k], self.cx[k], self.cy[k]
         dx, dy = x - tx, y - ty
         X0, Y0 = c * dx + s * dy, -s * dx + c * dy
-        u, v = np.abs(X0), np.abs(Y0)
-        kk = b * b - a * a
-        au, bv = a * u, b * v
-        # P(τ) = bv (τ⁴ − 1) + 2 (au − k) τ³ + 2 (au + k) τ on [0, 1]: P(0) ≤ 0 ≤ P(1)
-        B3, B1 = 2 * (au - kk), 2 * (au + kk)
-        cxr, cyr = b * u, a * v
-        rr = np.hypot(cxr, cyr)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            tau = np.clip(np.where(rr > 0, cyr / np.where(rr > 0, rr + cxr, 1.0), 0.5), 0.0625, 0.9375)
-        tau = _foot_parameter(tau, bv, B3, B1)
-        t = 2.0 * np.arctan(tau)
-        ct, st = np.cos(t), np.sin(t)
-        sx, sy = np.where(X0 < 0, -1.0, 1.0), np.where(Y0 < 0, -1.0, 1.0)
-        X, Y = sx * a * ct, sy * b * st
-        NX, NY = sx * b * ct, sy * a * st
-        nn = np.hypot(NX, NY)
-        NX, NY = NX / nn, NY / nn
+        # the float foot in the canonical frame, all ellipses at once (conic_geometry's solver)
+        X, Y, NX, NY, _ = ellipse_feet(X0, Y0, a, b)
         dX, dY = X0 - X, Y0 - Y
         dist = np.hypot(dX, dY)
         sz = a + b
@@ -175,81 +198,54 @@ class SiteTable:
         F[r, 0], F[r, 1] = tx + c * X - s * Y, ty + s * X + c * Y
         d[r] = dist
         base[r] = outside
+        inner[r] = g < 1 - 1e-9
         # inside K the supporting line proves nothing (the geometry's S-lemma bound decides); the
         # same tightness rule as the geometry's own ball-route fallback
         tight = (hi_ - lo_) <= np.maximum(FALLBACK_GAP * hi_, 64 * sig)
         return ~(outside & tight & np.isfinite(lo_) & np.isfinite(hi_))
 
     # ------------------------------------------------------------------ third sites
-    def candidates(self, C, reach, pair):
-        """Sites other than ``pair`` whose bounding box comes within ``reach`` of some point of C
-        (rigorous: d(q, S) is at least the distance from q to the bounding box of S)."""
-        C = np.asarray(C, float).reshape(-1, 2)
-        if not len(C):
-            return np.zeros(0, int)
-        bx = self.boxes
-        lo_ = C.min(0) - np.max(reach)
-        hi_ = C.max(0) + np.max(reach)
-        near = ~((bx[:, 0] > hi_[0]) | (bx[:, 2] < lo_[0]) | (bx[:, 1] > hi_[1]) | (bx[:, 3] < lo_[1]))
-        near[list(pair)] = False
-        ks = np.nonzero(near)[0]
-        if not len(ks) or len(C) == 0:
-            return ks
-        with np.errstate(invalid="ignore"):
-            dx = np.maximum(np.maximum(bx[ks, 0][None, :] - C[:, :1], C[:, :1] - bx[ks, 2][None, :]), 0.0)
-            dy = np.maximum(np.maximum(bx[ks, 1][None, :] - C[:, 1:], C[:, 1:] - bx[ks, 3][None, :]), 0.0)
-            dd = np.where(np.isfinite(dx) & np.isfinite(dy), np.hypot(dx, dy), 0.0)
-        hit = (dd * (1 - 1e-12) <= np.asarray(reach, float).reshape(-1, 1)).any(0)
-        return ks[hit]
-
     def near_pairs(self, C, reach, pair):
-        """(rows, sites): the pairs (C[row], site k ∉ pair) with the bounding box of S_k within
+        """(rows, sites): the pairs (C[row], site k ∉ pair) (``pair``: two sites, or two arrays with
+        one pair per row) with the bounding box of S_k within
         ``reach[row]`` of C[row]; every other site is proved farther than ``reach`` from its
-        point (d(q, S) is at least the distance from q to the bounding box of S)."""
+        point (d(q, S) is at least the distance from q to the bounding box of S, and the box
+        lies in the disc of its half-diagonal around its centre: the k-d tree query with radius
+        reach + max half-diagonal, widened, returns every box that may come that close)."""
         C = np.asarray(C, float).reshape(-1, 2)
         reach = np.broadcast_to(np.asarray(reach, float), (len(C),))
-        ks = self.candidates(C, reach, pair)
-        if not len(ks):
-            return np.zeros(0, int), np.zeros(0, int)
+        rows, ks = [np.zeros(0, int)], [np.zeros(0, int)]
+        if len(C) and self.tree is not None:
+            r = np.where(np.isfinite(reach), (reach + self.box_half) * (1 + 1e-9) + 1e-9 * self.scale, np.inf)
+            big = ~np.isfinite(r) | (r > 1e300)
+            lists = self.tree.query_ball_point(np.where(big[:, None], 0.0, C), np.where(big, 0.0, r),
+                                               return_sorted=False)
+            cnt = np.fromiter(map(len, lists), int, len(lists))
+            if cnt.any():
+                rows.append(np.repeat(np.arange(len(C)), cnt))
+                ks.append(self.bounded[np.fromiter(itertools.chain.from_iterable(lists), int, int(cnt.sum()))])
+            for b_ in np.nonzero(big)[0]:        # unbounded reach: every bounded site
+                rows.append(np.full(len(self.bounded), b_))
+                ks.append(self.bounded)
+        for k in self.unbounded:
+            rows.append(np.arange(len(C)))
+            ks.append(np.full(len(C), k))
+        rows, ks = np.concatenate(rows), np.concatenate(ks)
+        if np.ndim(pair[0]):            # one pair per row
+            keep = (ks != np.asarray(pair[0])[rows]) & (ks != np.asarray(pair[1])[rows])
+        else:
+            keep = (ks != pair[0]) & (ks != pair[1])
+        rows, ks = rows[keep], ks[keep]
+        if not len(rows):
+            return rows, ks
         bx = self.boxes[ks]
+        Cr = C[rows]
         with np.errstate(invalid="ignore"):
-            dx = np.maximum(np.maximum(bx[:, 0][None, :] - C[:, :1], C[:, :1] - bx[:, 2][None, :]), 0.0)
-            dy = np.maximum(np.maximum(bx[:, 1][None, :] - C[:, 1:], C[:, 1:] - bx[:, 3][None, :]), 0.0)
+            dx = np.maximum(np.maximum(bx[:, 0] - Cr[:, 0], Cr[:, 0] - bx[:, 2]), 0.0)
+            dy = np.maximum(np.maximum(bx[:, 1] - Cr[:, 1], Cr[:, 1] - bx[:, 3]), 0.0)
             dd = np.where(np.isfinite(dx) & np.isfinite(dy), np.hypot(dx, dy), 0.0)
-        rows, cols = np.nonzero(dd * (1 - 1e-12) <= reach[:, None])
-        return rows, ks[cols]
-
-
-def _foot_parameter(x, A, B, C):
-    """Float root in [0, 1] of A(τ⁴ − 1) + Bτ³ + Cτ (A ≥ 0, value ≤ 0 at 0 and ≥ 0 at 1):
-    Newton's method kept in a bracket by bisection.  Only a guide: every bound built on it holds
-    for any parameter."""
-    lo, hi = np.zeros_like(x), np.ones_like(x)
-    out = x.copy()
-    idx = np.arange(len(x))
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        for it in range(NEWTON_STEPS):
-            x2 = x * x
-            f = A * (x2 * x2 - 1.0) + (B * x2 + C) * x
-            flat = np.abs(f) <= 16 * EPS * (np.abs(A) * (x2 * x2 + 1.0) + (np.abs(B) * x2 + np.abs(C)) * x)
-            df = (4 * A * x + 3 * B) * x2 + C
-            neg = f < 0
-            lo = np.where(neg, x, lo)
-            hi = np.where(neg, hi, x)
-            step = f / df
-            xn = x - step
-            ok = (xn > lo) & (xn < hi) & np.isfinite(xn)
-            xn = np.where(ok, xn, 0.5 * (lo + hi))
-            # a Newton step below 2⁻³⁰ relative: the next iterate is exact to float resolution
-            # (quadratic convergence at a simple root); else a bracket at float resolution
-            done = (ok & (np.abs(step) <= NEWTON_TOL * np.abs(xn) + 2.0 ** -64)) | (hi - lo <= 4 * EPS) | flat
-            xn = np.where(flat, x, xn)      # f = 0 within rounding at x
-            out[idx] = xn
-            if done.all():
-                break
-            keep = ~done
-            idx, x, lo, hi, A, B, C = idx[keep], xn[keep], lo[keep], hi[keep], A[keep], B[keep], C[keep]
-    return out
+        hit = dd * (1 - 1e-12) <= reach[rows]
+        return rows[hit], ks[hit]
 
 
 def gradient_enclosure(Q, V: SiteValues, R, scale):
@@ -260,18 +256,31 @@ def gradient_enclosure(Q, V: SiteValues, R, scale):
     dF = np.hypot(W[:, 0], W[:, 1])
     size = np.abs(Q).sum(1) + scale
     dF_hi = dF * (1 + 8 * EPS) + 1e-14 * size
-    eF = np.sqrt(np.maximum(dF_hi ** 2 - V.lo ** 2, 0.0)) + 1e-12 * size
-    valid = V.base & (V.lo > 2 * R + eF) & (dF > 0)
+    gap = np.maximum(dF_hi ** 2 - V.lo ** 2, 0.0)
     with np.errstate(divide="ignore", invalid="ignore"):
+        # outside the convex hull: projection onto a convex set
+        eF = np.sqrt(gap) + 1e-12 * size
+        valid = V.base & (V.lo > 2 * R + eF) & (dF > 0)
+        slack = eF / V.lo + 2 * R / (V.lo - R) + 1e-12
+        # inside a circle / ellipse, at depth t < reach r on the disc: the foot map is
+        # r/(r − t)-Lipschitz and |F − p|² ≤ (|c − F|² − d²)/(1 − d/r) (Federer, reach)
+        t = V.hi + R
+        inn = V.inner & ~V.base & (t < V.reach) & (V.reach > 0)
+        L = V.reach / (V.reach - t)
+        eFi = np.sqrt(gap / (1 - V.hi / V.reach)) + 1e-12 * size
+        valid_i = inn & (V.lo > 2 * R + eFi) & (dF > 0)
+        slack_i = eFi / V.lo + (1 + L) * R / (V.lo - R) + 1e-12
         G = W / dF[:, None]
-        slack = (2 * eF + 4 * R) / V.lo + 1e-12
-    return G, np.where(valid, slack, np.inf), valid
+    slack = np.where(valid, slack, np.where(valid_i, slack_i, np.inf))
+    return G, slack, valid | valid_i
 
 
-def run_lockstep(gens, table: SiteTable):
+def run_lockstep(gens, table: SiteTable, collective=None):
     """Run generator proofs side by side: each yields requests (Q, K) and receives the
     :class:`SiteValues` at those rows; one :meth:`SiteTable.evaluate` serves all pending requests.
-    Returns the generators' return values (in order)."""
+    ``collective`` maps a request type to a function (table, [requests]) -> [results] that
+    serves all pending requests of that type at once.  Returns the generators' return values."""
+    collective = collective or {}
     out = [None] * len(gens)
     pending = {}
     for t, g in enumerate(gens):
@@ -280,19 +289,25 @@ def run_lockstep(gens, table: SiteTable):
         except StopIteration as stop:
             out[t] = stop.value
     while pending:
-        keys = list(pending)
-        Qs = [np.asarray(pending[t][0], float).reshape(-1, 2) for t in keys]
-        Ks = [np.asarray(pending[t][1], int).reshape(-1) for t in keys]
-        V = table.evaluate(np.concatenate(Qs), np.concatenate(Ks))
-        pos = 0
+        answers = {}
+        for kind, fn in collective.items():
+            keys = [t for t, req in pending.items() if isinstance(req, kind)]
+            if keys:
+                answers.update(zip(keys, fn(table, [pending[t] for t in keys])))
+        keys = [t for t in pending if t not in answers]
+        if keys:
+            Qs = [np.asarray(pending[t][0], float).reshape(-1, 2) for t in keys]
+            Ks = [np.asarray(pending[t][1], int).reshape(-1) for t in keys]
+            V = table.evaluate(np.concatenate(Qs), np.concatenate(Ks))
+            pos = 0
+            for t, q in zip(keys, Qs):
+                answers[t] = V.part(pos, pos + len(q))
+                pos += len(q)
         nxt = {}
-        for t, q in zip(keys, Qs):
-            part = V.part(pos, pos + len(q))
-            pos += len(q)
+        for t, ans in answers.items():
             try:
-                nxt[t] = gens[t].send(part)
+                nxt[t] = gens[t].send(ans)
             except StopIteration as stop:
                 out[t] = stop.value
         pending = nxt
     return out
-

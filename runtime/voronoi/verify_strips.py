@@ -12,7 +12,9 @@ segment and the vertex boxes).  With f = d_i − d_j:
 Then every cross-section s = const meets the bisector β exactly once, so β ∩ Π is one arc, a
 graph over s (implicit function theorem).  The arc leaves Π through the cap s = L + e at
 |λ| < w, inside the next rectangle (e ≥ w·|sin θ| for the turn θ), so the arcs chain into one
-curve of β through both end vertices (each lies in the first / last rectangle).  Along it:
+curve of β through both end vertices (each lies in the first / last rectangle); for a closed
+edge (no vertex) the last rectangle hands over to the first and the arcs form a closed curve,
+open and closed in β, hence a whole component of β.  Along it:
 
 (T2) every other site k is proved farther on each piece (lo_k − R > min(hi_i, hi_j) + R on a disc
      of radius R covering the piece; d is 1-Lipschitz), or to first order
@@ -27,12 +29,15 @@ curve of β through both end vertices (each lies in the first / last rectangle).
      the vertex, g' > 0 on a run of pieces that starts at the vertex or after a (T2) piece keeps
      g > 0 (symmetrically g' < 0 before the last vertex).
 
-Pieces are the rectangles cut across s; a piece that fails is halved (its two halves re-tested),
-the others are done.  The gradients come with the enclosures of
-:func:`runtime.voronoi.verify_sitetable.gradient_enclosure`.  :func:`prove_strips` is a
-generator: it yields its requests of distance values to a
-:class:`runtime.voronoi.verify_sitetable.SiteTable` (run with
-:func:`runtime.voronoi.verify_sitetable.run_lockstep`, all edges side by side).
+Pieces are the rectangles cut across s, initially ``PIECE`` times as long as the strip is wide;
+a piece that fails is halved (its two halves re-tested), the others are done.  A chain gives up
+when halving stops deciding pieces (``STALL`` rounds), or when its work limits are spent (the
+caller then narrows the strips or reports the edge).  The gradients come with the enclosures of
+:func:`runtime.voronoi.verify_sitetable.gradient_enclosure`.  The chains of all edges are proved
+together (:func:`prove_strips_many`: the pieces of every chain in flat arrays, two calls of
+:meth:`runtime.voronoi.verify_sitetable.SiteTable.evaluate` per round of halving);
+:func:`prove_strips` is the generator form used under
+:func:`runtime.voronoi.verify_sitetable.run_lockstep`.
 """
 from __future__ import annotations
 
@@ -40,128 +45,180 @@ import numpy as np
 
 from .verify_sitetable import gradient_enclosure
 
-__all__ = ["prove_strips", "rot90"]
+__all__ = ["StripsJob", "prove_strips", "prove_strips_many", "rot90"]
 
 MAX_DEPTH = 40
 STALL = 3           # rounds of halving without progress before giving up
-PIECE = 4.0         # initial pieces: PIECE times as long as the strip is wide
+PIECE = 8.0         # initial pieces: PIECE times as long as the strip is wide
 
 
 def rot90(V):
     return np.column_stack([-V[:, 1], V[:, 0]])
 
 
-def prove_strips(table, S, T, N, L, e_lo, e_hi, W, pair, k0, k1, scale):
-    """(T1)–(T4) on the trapezoids of the polyline S (segments T, N, L; node half-widths W; cap
-    extensions e_lo, e_hi).  Generator; returns (ok, message or None)."""
-    i, j = pair
-    m = len(L)
-    slope = (W[1:] - W[:-1]) / L                     # half-width w(s) = W_l + slope_l·s (trapezoids)
-    init = np.maximum(np.ceil((L + e_lo + e_hi) / (2 * PIECE * np.minimum(W[:-1], W[1:]))).astype(int), 1)
-    init = np.minimum(init, 400)
-    seg_id = np.repeat(np.arange(m), init)
-    frac0 = np.concatenate([np.arange(n) / n for n in init])
-    frac1 = np.concatenate([np.arange(1, n + 1) / n for n in init])
-    span = (L + e_lo + e_hi)[seg_id]
-    sa = -e_lo[seg_id] + frac0 * span
-    sb = -e_lo[seg_id] + frac1 * span
-    start = np.concatenate([[0.0], np.cumsum(L)[:-1]])      # arc position of each segment start
-    total = float(L.sum())
-    sigma = None
-    work = stall = 0
+class StripsJob:
+    """One chain of strips to prove: the polyline S (segments T, N, L; node half-widths W; cap
+    extensions e_lo, e_hi), the pair, the third sites k0, k1 of the end vertices (or None) and
+    ``budget``, a one-element list: the pieces this edge may still test (decreased here)."""
+
+    __slots__ = ("S", "T", "N", "L", "e_lo", "e_hi", "W", "pair", "k0", "k1", "budget")
+
+    def __init__(self, S, T, N, L, e_lo, e_hi, W, pair, k0, k1, budget):
+        self.S, self.T, self.N, self.L, self.e_lo, self.e_hi, self.W = S, T, N, L, e_lo, e_hi, W
+        self.pair, self.k0, self.k1, self.budget = pair, k0, k1, budget
+
+
+def prove_strips(S, T, N, L, e_lo, e_hi, W, pair, k0, k1, budget):
+    """(T1)–(T4) on the trapezoids of one polyline (see :class:`StripsJob`).  Generator: yields
+    the job to :func:`runtime.voronoi.verify_sitetable.run_lockstep`, which proves all pending
+    jobs together with :func:`prove_strips_many`; returns (ok, message or None)."""
+    return (yield StripsJob(S, T, N, L, e_lo, e_hi, W, pair, k0, k1, budget))
+
+
+def prove_strips_many(table, jobs):
+    """(T1)–(T4) for many :class:`StripsJob` at once: the pieces of all chains in flat arrays,
+    two calls of ``table.evaluate`` per round of halving.  Returns (ok, message or None) per job."""
+    scale = table.scale
+    nj = len(jobs)
+    out = [None] * nj
+    # ---- segments of all jobs
+    segs = [len(jb.L) for jb in jobs]
+    sj = np.repeat(np.arange(nj), segs)                          # job of each segment
+    Sg = np.concatenate([jb.S[:-1] for jb in jobs])
+    Tg = np.concatenate([jb.T for jb in jobs])
+    Ng = np.concatenate([jb.N for jb in jobs])
+    Lg = np.concatenate([jb.L for jb in jobs])
+    W0 = np.concatenate([jb.W[:-1] for jb in jobs])
+    slope = (np.concatenate([jb.W[1:] for jb in jobs]) - W0) / Lg   # w(s) = W_l + slope_l·s (trapezoids)
+    Wmin = np.minimum(W0, np.concatenate([jb.W[1:] for jb in jobs]))
+    elo = np.concatenate([jb.e_lo for jb in jobs])
+    ehi = np.concatenate([jb.e_hi for jb in jobs])
+    start = np.concatenate([np.concatenate([[0.0], np.cumsum(jb.L)[:-1]]) for jb in jobs])
+    total = np.array([float(jb.L.sum()) for jb in jobs])
+    I = np.array([jb.pair[0] for jb in jobs])
+    J = np.array([jb.pair[1] for jb in jobs])
+    K0 = np.array([-1 if jb.k0 is None else jb.k0 for jb in jobs])
+    K1 = np.array([-1 if jb.k1 is None else jb.k1 for jb in jobs])
+    same = (K0 == K1) & (K0 >= 0)
+    # ---- initial pieces: PIECE times as long as the strip is wide (at most 400 per segment)
+    init = np.minimum(np.maximum(np.ceil((Lg + elo + ehi) / (2 * PIECE * Wmin)).astype(int), 1), 400)
+    seg = np.repeat(np.arange(len(Lg)), init)
+    r = np.arange(len(seg)) - np.repeat(np.cumsum(init) - init, init)
+    span = (Lg + elo + ehi)[seg]
+    sa = -elo[seg] + r / init[seg] * span
+    sb = -elo[seg] + (r + 1) / init[seg] * span
+    sigma = np.zeros(nj)
+    work, stall = np.zeros(nj, int), np.zeros(nj, int)
     for depth in range(MAX_DEPTH):
         p = len(sa)
+        if not p:
+            break
+        jb = sj[seg]
         sm = 0.5 * (sa + sb)
-        Tn, Nn = T[seg_id], N[seg_id]
-        C = S[seg_id] + sm[:, None] * Tn
+        Tn, Nn = Tg[seg], Ng[seg]
+        C = Sg[seg] + sm[:, None] * Tn
         half = 0.5 * (sb - sa)
-        wa = np.maximum(W[seg_id] + slope[seg_id] * sa, 0.0)
-        wb = np.maximum(W[seg_id] + slope[seg_id] * sb, 0.0)
+        wa = np.maximum(W0[seg] + slope[seg] * sa, 0.0)
+        wb = np.maximum(W0[seg] + slope[seg] * sb, 0.0)
         w = 0.5 * (wa + wb)                           # half-width at the piece centre
-        wmax = np.maximum(wa, wb)
-        R = np.hypot(half, wmax) * (1 + 1e-12) + 1e-15 * scale
-        side_len = half * np.sqrt(1 + slope[seg_id] ** 2) * (1 + 1e-12)
+        R = np.hypot(half, np.maximum(wa, wb)) * (1 + 1e-12) + 1e-15 * scale
+        side_len = half * np.sqrt(1 + slope[seg] ** 2) * (1 + 1e-12)
         Qp, Qm = C + w[:, None] * Nn, C - w[:, None] * Nn
-        V = yield (np.concatenate([C, C, Qp, Qp, Qm, Qm]), np.repeat([i, j, i, j, i, j], p))
+        Ip, Jp = I[jb], J[jb]
+        V = table.evaluate(np.concatenate([C, C, Qp, Qp, Qm, Qm]), np.concatenate([Ip, Jp, Ip, Jp, Ip, Jp]))
         Vi, Vj = V.part(0, p), V.part(p, 2 * p)
-        lo_i, hi_i, hi_j = Vi.lo, Vi.hi, Vj.hi
+        hi_i, hi_j = Vi.hi, Vj.hi
         Gi, si, vi = gradient_enclosure(C, Vi, R, scale)
-        Gj, sj, vj = gradient_enclosure(C, Vj, R, scale)
+        Gj, sj_, vj = gradient_enclosure(C, Vj, R, scale)
         Df = Gi - Gj
-        sf = si + sj
+        sf = si + sj_
         mono = (Df * Nn).sum(1)
-        if sigma is None:
-            good = np.abs(mono) > sf
-            if not good.any():
-                return False, "the bisector's direction is not decided (monotonicity)"
-            sigma = float(np.sign(mono[good][0]))
-        t1 = sigma * mono - sf > 0
+        if depth == 0:
+            # σ of each chain: the sign of the first piece where it is decided
+            dec = np.nonzero(np.abs(mono) > sf)[0]
+            first_job, first = np.unique(jb[dec], return_index=True)
+            sigma[first_job] = np.sign(mono[dec[first]])
+            for t in np.nonzero(sigma == 0)[0]:
+                out[t] = (False, "the bisector's direction is not decided (monotonicity)")
+        sg_p = sigma[jb]
+        t1 = sg_p * mono - sf > 0
         # (T4) lateral sides of this piece: f at (s, ±w), first order along the side where the
-        # gradients are enclosed, else 2-Lipschitz
+        # gradients are enclosed, else 2-Lipschitz; σ·f > 0 on the side +w, < 0 on the side −w
         side_ok = np.ones(p, bool)
         for b, (Qs, sg) in enumerate(((Qp, 1.0), (Qm, -1.0))):
             Vis, Vjs = V.part((2 + 2 * b) * p, (3 + 2 * b) * p), V.part((3 + 2 * b) * p, (4 + 2 * b) * p)
-            tside = Tn + (sg * slope[seg_id])[:, None] * Nn
+            tside = Tn + (sg * slope[seg])[:, None] * Nn
             tside /= np.hypot(*tside.T)[:, None]
             Gis, sis, vis = gradient_enclosure(Qs, Vis, side_len, scale)
             Gjs, sjs, vjs = gradient_enclosure(Qs, Vjs, side_len, scale)
             rate = np.abs(((Gis - Gjs) * tside).sum(1)) + sis + sjs
             rate = np.where(vis & vjs & np.isfinite(rate), np.minimum(rate, 2.0), 2.0) * (1 + 1e-12)
-            if sg * sigma > 0:      # f > 0 needed on this side
-                side_ok &= (Vis.lo - Vjs.hi) - rate * side_len > 0
-            else:                   # f < 0 needed
-                side_ok &= (Vjs.lo - Vis.hi) - rate * side_len > 0
+            pos_f = sg * sg_p > 0
+            side_ok &= np.where(pos_f, Vis.lo - Vjs.hi, Vjs.lo - Vis.hi) - rate * side_len > 0
         # (T2)/(T3) third sites, only where (T1) and (T4) hold
         third_ok = np.ones(p, bool)
         pre = t1 & side_ok & vi & vj
         hi = np.minimum(hi_i, hi_j)
-        rows, ks = table.near_pairs(C[pre], (hi + 2 * R)[pre], pair)
-        rows = np.nonzero(pre)[0][rows]
+        pidx = np.nonzero(pre)[0]
+        rows, ks = table.near_pairs(C[pidx], (hi + 2 * R)[pidx], (Ip[pidx], Jp[pidx]))
+        rows = pidx[rows]
         if len(rows):
-            Vk = yield (C[rows], ks)
+            Vk = table.evaluate(C[rows], ks)
             Rr = R[rows]
-            t2 = Vk.lo - Rr > hi[rows] + Rr
-            okk = t2.copy()
+            okk = Vk.lo - Rr > hi[rows] + Rr
             # (T2') first order: d_k − d_i ≥ (lo_k − hi_i)(C) − R·sup|∇d_k − ∇d_i| on the disc
             GK, SK, VK = gradient_enclosure(C[rows], Vk, Rr, scale)
-            for G_, s_, v_, h_ in ((Gi, si, vi, hi_i), (Gj, sj, vj, hi_j)):
+            for G_, s_, v_, h_ in ((Gi, si, vi, hi_i), (Gj, sj_, vj, hi_j)):
                 lip = np.hypot(*(GK - G_[rows]).T) + SK + s_[rows]
                 lip = np.where(VK & v_[rows] & np.isfinite(lip), np.minimum(lip, 2.0), 2.0) * (1 + 1e-12)
                 okk |= Vk.lo - h_[rows] - lip * Rr > 0
-            pos = start[seg_id[rows]] + sm[rows]
-            for kk, want in ((k0, 1.0), (k1, -1.0)):
-                sel = np.nonzero((ks == kk) & ~okk)[0]
-                if kk is None or not len(sel):
+            jr = jb[rows]
+            pos = start[seg[rows]] + sm[rows]
+            for KK, want in ((K0, 1.0), (K1, -1.0)):
+                sel = np.nonzero((ks == KK[jr]) & ~okk)[0]
+                if not len(sel):
                     continue
                 r_ = rows[sel]
-                Gk, sk, vk = GK[sel], SK[sel], VK[sel]
-                Dg = Gk - Gi[r_]
-                sg_ = si[r_] + sk
+                Dg = GK[sel] - Gi[r_]
+                sg_ = si[r_] + SK[sel]
                 rf = rot90(Df[r_])
                 tt = (rf * Tn[r_]).sum(1)
                 dec_t = np.abs(tt) > sf[r_]
                 val = np.sign(tt) * (Dg * rf).sum(1)
                 err = np.hypot(*Dg.T) * sf[r_] + np.hypot(*Df[r_].T) * sg_ + sf[r_] * sg_
-                t3 = dec_t & vk & (want * val - err * (1 + 1e-9) - 1e-12 > 0)
-                if k0 == k1:    # same third site at both ends: g' > 0 in the first half, < 0 in the second
-                    t3 &= (pos[sel] <= 0.5 * total) if want > 0 else (pos[sel] > 0.5 * total)
+                t3 = dec_t & VK[sel] & (want * val - err * (1 + 1e-9) - 1e-12 > 0)
+                # same third site at both ends: g' > 0 in the first half, < 0 in the second
+                half_ok = (pos[sel] <= 0.5 * total[jr[sel]]) if want > 0 else (pos[sel] > 0.5 * total[jr[sel]])
+                t3 &= ~same[jr[sel]] | half_ok
                 okk[sel] |= t3
             np.logical_and.at(third_ok, rows, okk)
         good = pre & third_ok
-        if good.all():
-            return True, None
-        work += p
-        nbad = int((~good).sum())
+        # ---- per chain: done, failed, or halve its undecided pieces
+        running = np.array([o is None for o in out])
+        cnt = np.bincount(jb, minlength=nj)
+        nbad = np.bincount(jb[~good], minlength=nj)
+        work += cnt
+        for t in np.nonzero(cnt)[0]:
+            if jobs[t].budget is not None:
+                jobs[t].budget[0] -= int(cnt[t])
         # halving that decides (almost) no piece for STALL rounds will not decide them: the
         # strip, not the pieces, is too wide (R stays ≥ w); give up early, the caller narrows it
-        stall = stall + 1 if nbad > 0.98 * p and depth >= 2 else 0
-        if depth == MAX_DEPTH - 1 or nbad > 20000 or work > 30000 or stall >= STALL:
-            b = int(np.nonzero(~good)[0][0])
-            what = ("monotonicity" if not (t1[b] and vi[b] and vj[b]) else
-                    "the bisector leaves the polyline's strip" if not side_ok[b] else "a third site")
-            return False, f"not proved near ({C[b, 0]:.9g}, {C[b, 1]:.9g}): {what} undecided"
-        bad = ~good
+        stall = np.where((cnt > 0) & (nbad > 0.98 * cnt) & (depth >= 2), stall + 1, 0)
+        spent = np.array([jb_.budget is not None and jb_.budget[0] < 0 for jb_ in jobs])
+        for t in np.nonzero(running & (cnt > 0) & (nbad == 0))[0]:
+            out[t] = (True, None)
+        give_up = running & (nbad > 0) & ((depth == MAX_DEPTH - 1) | (nbad > 20000) | (work > 30000)
+                                          | (stall >= STALL) | spent)
+        if give_up.any():
+            badidx = np.nonzero(~good & give_up[jb])[0]
+            tj, first = np.unique(jb[badidx], return_index=True)
+            for t, b in zip(tj, badidx[first]):
+                what = ("monotonicity" if not (t1[b] and vi[b] and vj[b]) else
+                        "the bisector leaves the polyline's strip" if not side_ok[b] else "a third site")
+                out[t] = (False, f"not proved near ({C[b, 0]:.9g}, {C[b, 1]:.9g}): {what} undecided")
+        still = np.array([o is None for o in out])
+        bad = ~good & still[jb]
         # keep the good pieces out; halve the bad ones
-        seg_id = np.concatenate([seg_id[bad], seg_id[bad]])
+        seg = np.concatenate([seg[bad], seg[bad]])
         sa, sb = np.concatenate([sa[bad], sm[bad]]), np.concatenate([sm[bad], sb[bad]])
-    return False, "not proved"
+    return [o if o is not None else (False, "not proved") for o in out]

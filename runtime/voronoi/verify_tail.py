@@ -4,7 +4,8 @@
 proves the edge from its vertex up to a polyline point at about ``TAIL_CUT`` times the scene's
 radius (:mod:`runtime.voronoi.verify_curved`); beyond, support functions
 (thesis §1.2 on far regions; Schneider, *Convex Bodies*, §1.7) take over.  Let every site lie
-in the disc D(m, W) and h_S(θ) = max_{p ∈ S} u(θ)·(p − m) (:class:`runtime.voronoi.verify_support.SupportTable`; ellipses via
+in the disc D(m, W) and h_S(θ) = max_{p ∈ S} u(θ)·(p − m)
+(:class:`runtime.voronoi.verify_support.SupportTable`, the formula of
 :func:`runtime.interval.bound.support_function`).  For q = m + t·u, t > W:
 
 * d(q, S) ≥ t − h_S(u) (the supporting line of conv S with normal u separates q from S);
@@ -38,8 +39,8 @@ rectangle in one arc, all proved).  Hence chain ∪ tail is the whole edge from 
 infinity.  For the accounting of ends at infinity, :func:`prove_tail` also returns an interval
 J = [α, β] ∋ θ* inside the sector on which only i and j attain max_k h_k and g has strict opposite
 signs at α and β.  Not proved (reported): tails whose chain does not reach T > 2W, a lead of i, j
-too narrow for the 4096-direction scan, cells undecided within the work limit.  Vertex-less
-edges (two sites only, nested sites) of conic sites are not handled.
+too narrow for the 4096-direction scan, cells undecided within the work limit.  A vertex-less
+edge has two tails, one per end of its chain.
 
 Distance values come from :class:`runtime.voronoi.verify_sitetable.SiteTable`, one call for all
 third sites of a round of cells.
@@ -61,12 +62,25 @@ def _imul(a0, a1, b0, b1):
     return p.min(0), p.max(0)
 
 
+def _arc_dot(V, tha, thb):
+    """(min, max) over θ ∈ [θa, θb] (θb − θa < π) of u(θ)·v for the rows v of V (float)."""
+    ea = np.cos(tha) * V[:, 0] + np.sin(tha) * V[:, 1]
+    eb = np.cos(thb) * V[:, 0] + np.sin(thb) * V[:, 1]
+    nv = np.hypot(V[:, 0], V[:, 1])
+    phi = np.arctan2(V[:, 1], V[:, 0])
+    inside = ((phi - tha) % (2 * math.pi)) <= thb - tha
+    opposite = ((phi + math.pi - tha) % (2 * math.pi)) <= thb - tha
+    lo = np.where(opposite, -nv, np.minimum(ea, eb))
+    hi = np.where(inside, nv, np.maximum(ea, eb))
+    return lo, hi
+
+
 def _eps1(hp_abs, W, t0):
     """h'²/(2(t0 − W)): d(m + t·u, S) − (t − h_S(u)) ∈ [0, this] when |h_S'(u)| ≤ hp_abs, t ≥ t0 > W."""
     return hp_abs * hp_abs / (2.0 * (t0 - W)) * (1 + 1e-12)
 
 
-def prove_tail(sup, table, pair, link, scale, max_work: int = 100000):
+def prove_tail(sup, table, pair, link, scale, max_work: int = 60000):
     """Prove the unbounded end of the edge (i, j) beyond the link point (module docstring,
     *Unbounded edges*).
 
@@ -87,14 +101,16 @@ def prove_tail(sup, table, pair, link, scale, max_work: int = 100000):
     # ---- the asymptotic direction: a zero of g = h_i − h_j where i, j are the two largest
     for npts in (4097, 65537):
         grid = thX + np.linspace(-math.pi, math.pi, npts)
-        g = sup.h(i, grid) - sup.h(j, grid)
-        hij = np.maximum(sup.h(i, grid), sup.h(j, grid))
-        top = np.full(len(grid), -np.inf)
+        hi_, hj_ = sup.h(i, grid), sup.h(j, grid)
+        g = hi_ - hj_
+        hij = np.maximum(hi_, hj_)
+        ch = np.nonzero(np.sign(g[:-1]) != np.sign(g[1:]))[0]
         oth = np.array([k for k in range(sup.n) if k not in pair], int)
-        for ks in np.array_split(oth, max(1, len(oth) * npts // 500000)):
-            if len(ks):
-                top = np.maximum(top, sup.h(ks[:, None], grid[None, :]).max(0))
-        ch = np.nonzero((np.sign(g[:-1]) != np.sign(g[1:])) & (hij[:-1] > top[:-1]) & (hij[1:] > top[1:]))[0]
+        if len(ch) and len(oth):     # where i, j lead the others (float scan, only a guide)
+            both = np.concatenate([ch, ch + 1])
+            top = sup.h(oth[:, None], grid[both][None, :]).max(0)
+            lead = hij[both] > top
+            ch = ch[lead[:len(ch)] & lead[len(ch):]]
         if len(ch):
             break
     else:
@@ -221,6 +237,19 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
     W, m, mu = sup.W, sup.m, sup.mu
     oth = np.array([k for k in range(sup.n) if k not in pair], int)
     tmax = 1.0 / T0
+    # sites farther on the whole sector: d_k ≥ t − h_k > t − max(h_i − e_i, h_j − e_j) ≥ d_i = d_j on
+    # β, with h bounded over the sector (|h'| ≤ W) and e at t = T0 (the largest); the cells below
+    # only test the others
+    # (h over the sector: h_k ≤ max_θ u(θ)·(c_k − m) + r_k, h_k ≥ min_θ u(θ)·(c_k − m) + b_k with
+    # r_k, b_k the largest / smallest semi-axis; u·v over an arc of directions is extreme at its
+    # ends or at ±v/|v|)
+    thm, hw = 0.5 * (tha + thb), 0.5 * (thb - tha) * (1 + 1e-12)
+    dlo, dhi = _arc_dot(sup.cen - m, tha, thb)
+    slack = 1e-12 * (np.abs(sup.cen - m).sum(1) + sup.rho) + mu
+    small = np.minimum(sup.sa, sup.sb)
+    lead = max(float(dlo[s_] + small[s_] - slack[s_]) - _eps1(float(sup.hp_abs(s_, thm, hw)), W, T0) for s_ in pair)
+    if len(oth):
+        oth = oth[~(dhi[oth] + sup.rho[oth] + slack[oth] < lead)]
     # ---- rays: 1-D cells in τ
     for th, want in ((tha, -1.0), (thb, 1.0)):
         gv = float(sup.h(i, th) - sup.h(j, th))
@@ -291,14 +320,27 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
         hi_i, hi_min = Vi.hi, np.minimum(Vi.hi, Vj.hi)
         Gi, si, vi = gradient_enclosure(Cf, Vi, Rf, scale)
         Gj, sj, vj = gradient_enclosure(Cf, Vj, Rf, scale)
+        # (F) first: cells where β does not pass need no (A), (M)
+        gc = sup.h(i, thc) - sup.h(j, thc)
+        gr = 2 * W * half + 2 * mu
+        okF = (-(gc + gr) - e_j > 0) | (-(gc - gr) + e_i < 0)
+        if fin.any():
+            okF |= fin & ((Vi.lo - Vj.hi - 2 * R > 0) | (Vi.hi - Vj.lo + 2 * R < 0))
+        need = np.nonzero(~okF)[0]
         rows = np.zeros(0, int)
-        if len(oth):
+        if len(oth) and len(need):
             # support bounds: h_k below max(h_i − e_i, h_j − e_j) on the cell
-            hk = sup.h(oth[:, None], thc[None, :]) + (W * half + mu)[None, :]
-            fail = ~(hmax_lo[None, :] - hk > 0)
-            okA &= ~(fail & ~fin[None, :]).any(0)
-            kk, rows = np.nonzero(fail & fin[None, :])
-            ks = oth[kk]
+            hk = sup.h(oth[:, None], thc[need][None, :]) + (W * half[need] + mu)[None, :]
+            fail = ~(hmax_lo[need][None, :] - hk > 0)
+            okA[need] &= ~(fail & ~fin[need][None, :]).any(0)
+            kk, cc = np.nonzero(fail & fin[need][None, :])
+            rows, ks = need[cc], oth[kk]
+            # the bounding disc first: d_k ≥ |q − c_k| − ρ_k (cheap); the table only for the rest
+            V_ = Cf[rows] - sup.cen[ks]
+            lo_disc = np.hypot(V_[:, 0], V_[:, 1]) - sup.rho[ks]
+            lo_disc -= 1e-12 * (np.abs(Cf[rows]).sum(1) + np.abs(sup.cen[ks]).sum(1) + sup.rho[ks]) + mu
+            far_k = lo_disc - R[rows] > hi_min[rows] + R[rows]
+            rows, ks = rows[~far_k], ks[~far_k]
         if len(rows):
             # distance bounds on the cell's disc, or to first order
             # d_k − d_i ≥ (lo_k − hi_i)(C) − R·sup|∇d_k − ∇d_i| on the disc; one call for all sites
@@ -327,12 +369,6 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
             perp = np.column_stack([-U[:, 1], U[:, 0]])
             val = sigma * (Df * perp).sum(1) - np.hypot(Df[:, 0], Df[:, 1]) * half - (si + sj) - 1e-12
             okM |= fin & vi & vj & (val > 0)
-        # (F) f has one strict sign on the cell: β does not meet it
-        gc = sup.h(i, thc) - sup.h(j, thc)
-        gr = 2 * W * half + 2 * mu
-        okF = (-(gc + gr) - e_j > 0) | (-(gc - gr) + e_i < 0)
-        if fin.any():
-            okF |= fin & ((Vi.lo - Vj.hi - 2 * R > 0) | (Vi.hi - Vj.lo + 2 * R < 0))
         bad = ~(okF | (okA & okM))
         if not bad.any():
             return True, None

@@ -20,8 +20,10 @@ d_k − d_i on the bisector of i, j are the solutions with r > 0).  Triples that
 exterior, collinear centres and failed tests go to the exact route of thesis §3.1.3
 (:func:`runtime.predicates.circles.voronoi_vertices_circles`, exact in quadratic towers).
 
-Triples with a conic use :func:`runtime.voronoi.vertex.certify_vertex` (Krawczyk on the exact
-foot-point system, thesis §6.1 / App. D.1, and the touching certificate).
+Triples with a conic: first, for convex sites, a float Krawczyk test on the distance
+differences, all vertices at once (:mod:`runtime.voronoi.verify_conic_vertices`); where it does
+not decide, :func:`runtime.voronoi.vertex.certify_vertex` (Krawczyk on the exact foot-point
+system, thesis §6.1 / App. D.1, and the touching certificate).
 
 Emptiness: every other site k must satisfy lo_k(q̃) − h > r_hi, with h the half diagonal of the
 vertex box (distances are 1-Lipschitz) and lo_k the rigorous ``distance_bounds``; candidates come
@@ -126,7 +128,6 @@ def _fast_circle_vertices(items, table):
     q1 = np.linalg.solve(Ag, d[..., None])[..., 0]
     qa = (q1 ** 2).sum(-1) - 1
     qb = -2 * ((q0 * q1).sum(-1) + Rho[:, 0])
-    qc = (q0 ** 2).sum(-1) - Rho[:, 0] ** 2
     with np.errstate(all="ignore"):
         r_sum = -qb / qa                                               # r1 + r2
         r_other = r_sum - Z1[:, 2]
@@ -177,6 +178,17 @@ def prove_vertices(D, sites, geoms, table, problems):
         if table is not None and _pairwise_exterior(table, trip):
             fast_items.append((m, trip, float(v.x), float(v.y), float(v.radius)))
     fast = _fast_circle_vertices(fast_items, table) if table is not None else {}
+    # triples with a conic: float Krawczyk on the distance differences first, all at once
+    conic = [m for m in todo if m not in fast
+             and not all(geoms[int(s)].kind in ("point", "circle") for s in verts[m].sites)]
+    quick = {}
+    if conic:
+        from .verify_conic_vertices import prove_conic_vertices
+
+        fin = [abs(b) for g in geoms for b in g.bounding_box() if math.isfinite(b)]
+        res = prove_conic_vertices(geoms, [tuple(int(s) for s in verts[m].sites) for m in conic],
+                                   [(verts[m].x, verts[m].y) for m in conic], 1.0 + (max(fin) if fin else 0.0))
+        quick = {m: r for m, r in zip(conic, res) if r is not None}
     seen_keys: dict = {}
     for m in todo:
         v = verts[m]
@@ -201,6 +213,12 @@ def prove_vertices(D, sites, geoms, table, problems):
             others = tuple((w.x, w.y) for w in tv.vertices if w is not best)
             info = VertexInfo(v.id, trip, best.x, best.y, best.radius, h, others,
                               key=(tuple(sorted(trip)), id(best)))
+        elif m in quick:
+            x, y, h, r_lo, r_hi = quick[m]
+            info = VertexInfo(v.id, trip, x, y, 0.5 * (r_lo + r_hi), h, None,
+                              key=(tuple(sorted(trip)), round(x / (1e-9 * (1 + abs(x)))),
+                                   round(y / (1e-9 * (1 + abs(y))))))
+            info.r_hi = r_hi
         else:
             from .vertex import certify_vertex
             proof = certify_vertex([sites[s] for s in trip], g3, v.x, v.y)

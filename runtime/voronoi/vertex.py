@@ -87,6 +87,9 @@ def refine_vertex(geoms, x0: float, y0: float, iters: int = 30, tol: float = 1e-
         if not np.all(np.isfinite(step)):
             return None
         nF = np.linalg.norm(F)
+        scale = 1.0 + abs(d[0]) + abs(q[0]) + abs(q[1])
+        if nF <= tol * scale and np.linalg.norm(step) <= 1e-9 * scale:
+            return float(q[0]), float(q[1]), float(sum(d) / 3)      # converged already (a refined seed)
         lam = 1.0
         for _h in range(30):
             qn = q + lam * step

@@ -69,6 +69,8 @@ def prove_empty(S: SiteArrays, clusters, stats):
         if S.all_circles:
             decided = True
             try:
+                if cl["exact"] is None:
+                    stats["full_triple_solves"] = stats.get("full_triple_solves", 0) + 1
                 tv, v = cl["exact"] or exact_vertex(S, cl)
                 cl["exact"] = (tv, v)
                 for k in und_pairs[a]:

@@ -1,0 +1,110 @@
+"""Voronoi vertices of convex conic sites proved in floating point, all at once (thesis §6.1).
+
+A Voronoi vertex of the sites i, j, k is a zero of F(q) = (d_i(q) − d_j(q), d_i(q) − d_k(q))
+with every other site farther (the emptiness test of :mod:`runtime.voronoi.verify_vertices`):
+there d_i = d_j = d_k = r, the distance being the minimum over each curve, so the circle of
+radius r about q touches the three sites and no other.  For convex sites (points, circles,
+ellipses, parabolas) and q outside their convex hulls the distance functions are C¹ with
+∇d = (q − p)/|q − p|, enclosed on a disc by
+:func:`runtime.voronoi.verify_sitetable.gradient_enclosure`.
+
+**Krawczyk's test** (Moore, Kearfott & Cloud, *Introduction to Interval Analysis*, SIAM 2009,
+§8.2; Rump, Acta Numerica 19 (2010), §13) on the square B = c + [−ρ, ρ]²: with J̃ the float
+Jacobian at c (rows G_i − G_j, G_i − G_k), Y a float inverse of it, F(c) enclosed by the
+rigorous distance bounds and every Jacobian J(q), q ∈ B, within E of J̃ entrywise (E_row = the
+sum of the two gradient slacks on the disc B(c, ρ√2)),
+
+    |K(B) − c| ≤ |Y|·|F(c)| + (|I − Y·J̃| + |Y|·E)·ρ·(1, 1)ᵀ  <  ρ   (componentwise)
+
+proves that F has exactly one zero in B (the mean-value form: F(q) − F(c) = J̄(q − c) with J̄
+an average of Jacobians on the segment, within E of J̃ since the enclosures are balls).  The
+float products are widened by a relative 1e-9 and 1e-300.  Vertices whose sites are not all
+convex, or where the test fails for every tried ρ, are left to the exact route
+(:func:`runtime.voronoi.vertex.certify_vertex`, arb Krawczyk on the foot-point system).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .verify_sitetable import SiteTable, gradient_enclosure
+
+__all__ = ["prove_conic_vertices"]
+
+#: half-widths of the tried boxes, relative to 1 + |x| + |y| + r (below the verifier's vertex tolerance)
+RHOS = (2e-11, 1e-12, 4e-11)
+NEWTON = 4
+
+
+def prove_conic_vertices(geoms, triples, X, scale):
+    """For float vertices X[m] of the triples (i, j, k) of convex sites: per row, None (not
+    proved here) or (x, y, h, r_lo, r_hi): a unique zero of F in the square of centre (x, y) and
+    half-width h, with radius in [r_lo, r_hi]."""
+    T = np.asarray(triples, int).reshape(-1, 3)
+    X = np.asarray(X, float).reshape(-1, 2).copy()
+    out = [None] * len(T)
+    if not len(T):
+        return out
+    table = SiteTable(geoms, scale)
+    ok_sites = table.convex[T].all(1)
+    idx = np.nonzero(ok_sites)[0]
+    if not len(idx):
+        return out
+    I, J, K = T[idx, 0], T[idx, 1], T[idx, 2]
+    C = X[idx]
+    n = len(idx)
+    # float Newton on F (a better centre; nothing is assumed of it)
+    for _ in range(NEWTON):
+        V = table.evaluate(np.concatenate([C, C, C]), np.concatenate([I, J, K]))
+        Gi, Gj, Gk = (_unit(C, V.part(a * n, (a + 1) * n)) for a in range(3))
+        f1, f2 = V.d[:n] - V.d[n:2 * n], V.d[:n] - V.d[2 * n:]
+        J11, J12 = (Gi - Gj).T
+        J21, J22 = (Gi - Gk).T
+        det = J11 * J22 - J12 * J21
+        with np.errstate(divide="ignore", invalid="ignore"):
+            dx = (J22 * f1 - J12 * f2) / det
+            dy = (-J21 * f1 + J11 * f2) / det
+        good = np.isfinite(dx) & np.isfinite(dy) & (np.hypot(dx, dy) < 1e-3 * (1 + np.abs(C).sum(1)))
+        C = C - np.where(good[:, None], np.column_stack([dx, dy]), 0.0)
+    todo = np.arange(n)
+    for rel in RHOS:
+        if not len(todo):
+            break
+        c = C[todo]
+        m = len(todo)
+        i_, j_, k_ = I[todo], J[todo], K[todo]
+        V = table.evaluate(np.concatenate([c, c, c]), np.concatenate([i_, j_, k_]))
+        Vi, Vj, Vk = V.part(0, m), V.part(m, 2 * m), V.part(2 * m, 3 * m)
+        r0 = Vi.d
+        rho = rel * (1 + np.abs(c).sum(1) + np.where(np.isfinite(r0), r0, 0.0))
+        Rd = rho * np.sqrt(2.0) * (1 + 1e-12)
+        Gi, si, vi = gradient_enclosure(c, Vi, Rd, scale)
+        Gj, sj, vj = gradient_enclosure(c, Vj, Rd, scale)
+        Gk, sk, vk = gradient_enclosure(c, Vk, Rd, scale)
+        # F(c) enclosed; |F(c)| ≤ Fa
+        F1a = np.maximum(np.abs(Vi.lo - Vj.hi), np.abs(Vi.hi - Vj.lo))
+        F2a = np.maximum(np.abs(Vi.lo - Vk.hi), np.abs(Vi.hi - Vk.lo))
+        A = np.stack([Gi - Gj, Gi - Gk], axis=1)            # (m, 2, 2) float Jacobian at c
+        # row b of every J(q), q ∈ B, is within E_b of row b of J̃ (2-norm), so the row's two
+        # entries deviate by at most √2·E_b in sum: |Y|·|ΔJ|·(1, 1)ᵀ ≤ |Y|·(√2·E)
+        E = np.sqrt(2.0) * np.column_stack([si + sj, si + sk])
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            det = A[:, 0, 0] * A[:, 1, 1] - A[:, 0, 1] * A[:, 1, 0]
+            Y = np.stack([np.stack([A[:, 1, 1], -A[:, 0, 1]], 1), np.stack([-A[:, 1, 0], A[:, 0, 0]], 1)], 1)
+            Y = Y / det[:, None, None]                      # any float matrix will do (Krawczyk)
+            aY = np.abs(Y)
+            IYJ = np.abs(np.eye(2)[None] - Y @ A) + 8 * 2.0 ** -53 * (aY @ np.abs(A) + 1.0)
+            lhs = (aY @ np.column_stack([F1a, F2a])[:, :, None])[:, :, 0]
+            lhs += IYJ.sum(2) * rho[:, None] + (aY @ E[:, :, None])[:, :, 0] * rho[:, None]
+            lhs = lhs * (1 + 1e-9) + 1e-300
+        proved = vi & vj & vk & np.isfinite(lhs).all(1) & (lhs < rho[:, None]).all(1)
+        for t in np.nonzero(proved)[0]:
+            r_lo = max(float(Vi.lo[t]) - float(Rd[t]), 0.0)
+            r_hi = float(Vi.hi[t]) + float(Rd[t])
+            out[int(idx[todo[t]])] = (float(c[t, 0]), float(c[t, 1]), float(rho[t]), r_lo, r_hi)
+        todo = todo[~proved]
+    return out
+
+
+def _unit(C, V):
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return (C - V.F) / V.d[:, None]
