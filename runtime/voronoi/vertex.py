@@ -43,6 +43,7 @@ import flint
 from flint import arb, arb_mat, fmpq
 
 from ..certify.foot import normalised_coefficients, to_arb, working_prec
+from ..certify.interval_newton import krawczyk_inflation
 from ..certify.krawczyk import FootSystem, KrawczykFailure
 from ..predicates.circles import Circle
 from ..sites.conic import Conic
@@ -279,30 +280,14 @@ def _circles_krawczyk(recs, x, y, r):
         except ZeroDivisionError:
             raise KrawczykFailure("singular Jacobian") from None
         m = [(m[i] - st[i, 0]).mid() for i in range(3)]
-    try:
-        Y = Jm(m).mid().inv().mid()
-    except ZeroDivisionError:
-        raise KrawczykFailure("singular Jacobian") from None
-    YF = Y * arb_mat([[v] for v in F(m)])
-    scale = max(abs(v).abs_upper() for v in m) + 1
-    floor = scale * arb(2) ** (-flint.ctx.prec + 20)
-    rad = [max(4 * YF[i, 0].abs_upper(), floor) for i in range(3)]
-    I3 = arb_mat([[1, 0, 0], [0, 1, 0], [0, 0, 1]])
-    for _ in range(6):
-        X = [m[i] + arb(0, rad[i]) for i in range(3)]
-        Cm = I3 - Y * Jm(X)
-        K = [m[i] - YF[i, 0] + (Cm * arb_mat([[arb(0, rad[j])] for j in range(3)]))[i, 0] for i in range(3)]
-        if all(X[i].contains_interior(K[i]) for i in range(3)):
-            box = [K[i].intersection(X[i]) for i in range(3)]
-            rr = box[2]
-            if not rr > 0:
-                raise KrawczykFailure("radius not provably positive")
-            for (cx, cy, rho), s in zip(C, signs):
-                if not (rho + s * rr > 0):
-                    raise KrawczykFailure("side of a circle not decided")
-            return box, signs
-        rad = [max(2 * (K[i] - m[i]).abs_upper(), 2 * rad[i]) for i in range(3)]
-    raise KrawczykFailure("Krawczyk operator did not contract")
+    box, _X = krawczyk_inflation(F, lambda z: Jm(z).tolist(), m, attempts=6, floor_bits=20)
+    rr = box[2]
+    if not rr > 0:
+        raise KrawczykFailure("radius not provably positive")
+    for (cx, cy, rho), s in zip(C, signs):
+        if not (rho + s * rr > 0):
+            raise KrawczykFailure("side of a circle not decided")
+    return box, signs
 
 
 def certify_vertex(sites, geoms, x: float, y: float, *, feet=None, max_prec: int = 256,
