@@ -1,4 +1,4 @@
-"""Benchmark: the diagram verifier (runtime.voronoi.verify) against the construction.
+"""Benchmark: the diagram verifier (runtime.voronoi.verify.certificate) against the construction.
 
 For random disjoint circles (N = 100, 300, 1000) and random disjoint ellipses (N = 32, 128, 512,
 the generator of bench/bench_voronoi.py) the diagram is built by
@@ -85,7 +85,7 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     from threadpoolctl import threadpool_info
     from curvedvoronoi.runtime.voronoi.construction import voronoi
-    from curvedvoronoi.runtime.voronoi.verify import verify
+    from curvedvoronoi.runtime.voronoi.verify.certificate import verify
 
     from bench_voronoi import random_ellipses
 
@@ -122,7 +122,7 @@ def main(argv=None) -> int:
         print(f"points {n}: verify {tv:.2f} s, ok={cert.ok}", file=sys.stderr)
     threads = ", ".join(f"{i.get('internal_api')}={i.get('num_threads')}" for i in threadpool_info()) or "none"
     load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
-    lines = ["# Diagram verifier (runtime.voronoi.verify)", "",
+    lines = ["# Diagram verifier (runtime.voronoi.verify.certificate)", "",
              f"Command: `python bench/bench_verify.py --sizes {args.sizes} --ellipses {args.ellipses}`; "
              f"BLAS threads: {threads}; OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}; "
              f"load average at the end (1, 5, 15 min): {load} on {os.cpu_count()} cores.  Machine shared with "

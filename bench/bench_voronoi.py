@@ -8,7 +8,7 @@ Delaunay graph compared with CGAL's graph of the remaining circles); random disj
 axis-aligned ellipses with random axes (non-generic inputs, N = 128, 512); mixed conics
 (ellipses, circles, points, two parabolas and a hyperbola, N = 100).  Each case runs in a fresh
 subprocess (peak RSS = ru_maxrss of that process, imports included); construction time is
-certify=False; the verifier (runtime.voronoi.verify) is timed separately where affordable.
+certify=False; the verifier (runtime.voronoi.verify.certificate) is timed separately where affordable.
 "triple solves" = local vertex proofs (one Newton + Krawczyk per vertex candidate cluster);
 "full triple solves" = exact solves of all the vertices of a triple (the circle fallback of thesis
 §3.1.3, used when the float filter cannot decide).  bench/results/voronoi_per_site.png plots the
@@ -196,7 +196,7 @@ def run_case(kind: str, n: int, seed: int, verify: bool) -> dict:
                    full_triple_solves=d.stats.get("full_triple_solves", 0))
         out.pop("delaunay_edges")
     if verify:
-        from curvedvoronoi.runtime.voronoi.verify import verify as verify_fn
+        from curvedvoronoi.runtime.voronoi.verify.certificate import verify as verify_fn
 
         t2 = time.perf_counter()
         cert = verify_fn(d, [d.sites[i] for i in range(len(d.sites))])
@@ -281,7 +281,7 @@ def main():
              "",
              "Construction = `voronoi(sites, certify=False)` (sampling, qhull Delaunay with local Bowyer–Watson "
              "updates in the refinement rounds, walks, proved vertices, edge polylines); verify = "
-             "`runtime.voronoi.verify.verify` on its output; CGAL = Apollonius_graph_2 insertion only (filtered "
+             "`runtime.voronoi.verify.certificate.verify` on its output; CGAL = Apollonius_graph_2 insertion only (filtered "
              "exact predicates, g++ -O2), same run. One process per case; peak RSS includes the imports. Wall "
              "times are noisy when other jobs share the machine (see load); CPU s is the construction's process "
              "time, and the CPU ratio compares it with CGAL's time. circles-delete: 10 deletions one after the "

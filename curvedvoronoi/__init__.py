@@ -98,7 +98,7 @@ _LAZY = {
     "Point": ("runtime.predicates.circles", "Point"),
     "voronoi": ("runtime.voronoi.construction", "voronoi"),
     "Diagram": ("runtime.voronoi.structure", "Diagram"),
-    "verify": ("runtime.voronoi.verify", "verify"),
+    "verify": ("runtime.voronoi.verify.certificate", "verify"),
     "offset": ("runtime.algebra.algebraic_offset", "offset"),
     "locate_conflicts": ("runtime.predicates.locator", "locate_conflicts"),
     "locate_conflicts_circles": ("runtime.predicates.circles", "locate_conflicts_circles"),

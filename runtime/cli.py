@@ -199,7 +199,7 @@ def _version() -> str:
 
 def _verify(args) -> int:
     """``verify DIAGRAM.json [SITES.json]``: exit 0 proved, 1 not proved, 2 bad input."""
-    from .voronoi.verify import verify_files
+    from .voronoi.verify.certificate import verify_files
 
     cert = verify_files(args.diagram, args.sites)
     print(json.dumps(cert.to_json(), indent=2))

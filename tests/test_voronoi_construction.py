@@ -334,7 +334,7 @@ def test_verifier_rejects_a_corrupted_construction():
     """The construction's output is checked by the verifier, which must notice a wrong diagram."""
     d = voronoi([(0, 0, 1), (4, 0, 1), (2, 4, 1), (8, 3, 1)])
     assert d.certified
-    from curvedvoronoi.runtime.voronoi.verify import verify
+    from curvedvoronoi.runtime.voronoi.verify.certificate import verify
 
     doc = d.to_json()
     doc["edges"] = doc["edges"][1:]

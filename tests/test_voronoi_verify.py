@@ -1,4 +1,4 @@
-"""The diagram verifier (runtime.voronoi.verify): it proves correct diagrams and REJECTS corrupted ones.
+"""The diagram verifier (runtime.voronoi.verify.certificate): it proves correct diagrams and REJECTS corrupted ones.
 
 References independent of the verifier and of the construction:
 * points and equal-radius circles: qhull's Voronoi diagram of the centres (scipy.spatial.Voronoi);
@@ -25,7 +25,7 @@ from scipy.spatial import Voronoi
 
 from curvedvoronoi.runtime.predicates.circles import Circle, Point, decide_conflict, voronoi_vertices_circles
 from curvedvoronoi.runtime.voronoi.structure import Diagram, DiagramEdge, DiagramVertex
-from curvedvoronoi.runtime.voronoi.verify import verify
+from curvedvoronoi.runtime.voronoi.verify.certificate import verify
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -389,8 +389,8 @@ def test_random_ellipse_diagram_is_certified_and_matches_dense_sampling(random_e
 
 def _ends_at_infinity(D):
     from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
-    from curvedvoronoi.runtime.voronoi.verify_edge_checks import check_edges
-    from curvedvoronoi.runtime.voronoi.verify_vertices import prove_vertices
+    from curvedvoronoi.runtime.voronoi.verify.edge_checks import check_edges
+    from curvedvoronoi.runtime.voronoi.verify.vertices import prove_vertices
 
     geoms = [site_geometry(s) for s in D.sites]
     problems: list = []
@@ -401,8 +401,8 @@ def _ends_at_infinity(D):
 
 
 def test_ellipse_accounting_rejects_wrong_order_and_missing_end(random_ellipse_diagram):
-    from curvedvoronoi.runtime.voronoi.verify_closure import verify_accounting_conics
-    from curvedvoronoi.runtime.voronoi.verify_support import SupportTable
+    from curvedvoronoi.runtime.voronoi.verify.closure import verify_accounting_conics
+    from curvedvoronoi.runtime.voronoi.verify.support import SupportTable
 
     D = random_ellipse_diagram
     geoms, ends = _ends_at_infinity(D)
@@ -459,9 +459,9 @@ def test_tail_third_site_closer_on_a_middle_stretch(yk, proved):
     (h_k(π/2) = yk < 0 = h_i).  The tail beyond y = 1000 must be rejected; for yk = −200 it is
     the true edge (k farther for y > 25) and must be proved."""
     from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
-    from curvedvoronoi.runtime.voronoi.verify_sitetable import SiteTable
-    from curvedvoronoi.runtime.voronoi.verify_support import SupportTable
-    from curvedvoronoi.runtime.voronoi.verify_tail import prove_tail
+    from curvedvoronoi.runtime.voronoi.verify.site_table import SiteTable
+    from curvedvoronoi.runtime.voronoi.verify.support import SupportTable
+    from curvedvoronoi.runtime.voronoi.verify.tail import prove_tail
 
     geoms = [site_geometry(s) for s in (Point(-100, 0), Point(100, 0), Point(0, yk))]
     y_vertex = (1e4 - yk * yk) / (-2 * yk)            # d_i = d_k on x = 0
@@ -476,12 +476,12 @@ def test_tail_third_site_closer_on_a_middle_stretch(yk, proved):
 # ----------------------------------------------------------------------------- batched bounds and strips
 
 def test_site_table_bounds_contain_the_sampled_distance():
-    """The verifier's multi-site table (runtime.voronoi.verify_sitetable) against dense sampling of
+    """The verifier's multi-site table (runtime.voronoi.verify.site_table) against dense sampling of
     the curves: lo ≤ d ≤ hi at points outside, inside (deferred to the site's own bounds), on the
     axes and far away; its float foot points lie on the curves."""
     from curvedvoronoi.runtime.sites.conic import Conic
     from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
-    from curvedvoronoi.runtime.voronoi.verify_sitetable import SiteTable
+    from curvedvoronoi.runtime.voronoi.verify.site_table import SiteTable
 
     sites = [Conic.ellipse(centre=(1, 2), axes=(3, 1), rotation=("3/5", "4/5")),
              Conic.ellipse(centre=(-6, 0), axes=(2, "3/2"), rotation=(1, 0)),
@@ -653,11 +653,11 @@ def test_parabola_edge_with_an_ignored_site_is_rejected():
 # ----------------------------------------------------------------------------- conic vertices in float Krawczyk
 
 def test_conic_vertex_krawczyk_agrees_with_the_exact_route(random_ellipse_diagram):
-    """The float Krawczyk proof on the distance differences (runtime.voronoi.verify_conic_vertices)
+    """The float Krawczyk proof on the distance differences (runtime.voronoi.verify.conic_vertices)
     against the arb Krawczyk proof on the foot-point system (runtime.voronoi.vertex.certify_vertex):
     the same vertices, within the boxes; a wrong triple or a far start point is not proved."""
     from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
-    from curvedvoronoi.runtime.voronoi.verify_conic_vertices import prove_conic_vertices
+    from curvedvoronoi.runtime.voronoi.verify.conic_vertices import prove_conic_vertices
     from curvedvoronoi.runtime.voronoi.vertex import certify_vertex
 
     D = random_ellipse_diagram

@@ -48,9 +48,9 @@ def collinear_points_diagram(S, sites, notes, certify, stats, t_start):
     D = Diagram(S.sites, [], edges, False, list(notes), stats)
     if certify:
         try:
-            from .verify import verify
+            from .verify.certificate import verify
         except ImportError:
-            D.problems.append("verifier runtime.voronoi.verify not available: edges not proved")
+            D.problems.append("verifier runtime.voronoi.verify.certificate not available: edges not proved")
         else:
             cert = verify(D, sites)
             D.certified = bool(cert.ok) and not notes

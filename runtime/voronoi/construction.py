@@ -109,7 +109,7 @@ def voronoi(sites, *, certify: bool = True, progress=None, time_limit: float | N
         :class:`runtime.predicates.circles.Circle`, :class:`runtime.predicates.circles.Point`, :class:`runtime.sites.conic.Conic`
         or (cx, cy, r) tuples (r = 0: a point).  Sites must be pairwise disjoint.
     certify : bool
-        Run the independent verifier (:func:`runtime.voronoi.verify.verify`) at the end;
+        Run the independent verifier (:func:`runtime.voronoi.verify.certificate.verify`) at the end;
         ``diagram.certified`` is its verdict.  Without it the diagram is never certified.
     progress : bool or None
         Show a progress bar (tqdm) over the rounds; None: only for more than 2000 sites.
@@ -172,7 +172,7 @@ def build_diagram(S: SiteArrays, samples: Samples, cache: dict, notes, stats, ti
         verify = None
         if certify:
             try:
-                from .verify import verify
+                from .verify.certificate import verify
             except ImportError:
                 verify = None
         for vround in range(VERIFY_ROUNDS):
@@ -214,7 +214,7 @@ def build_diagram(S: SiteArrays, samples: Samples, cache: dict, notes, stats, ti
     if not certify:
         D.problems.append("not verified (certify=False)")
     elif verify is None:
-        D.problems.append("verifier runtime.voronoi.verify not available: edges not proved")
+        D.problems.append("verifier runtime.voronoi.verify.certificate not available: edges not proved")
     elif cert is not None and not interrupted:
         vertices_ok = all(v.certified for v in D.vertices)
         D.certified = bool(cert.ok) and vertices_ok and not D.problems

@@ -4,7 +4,7 @@ The circumcentres along a walk of the sample triangulation are projected onto th
 (Newton steps on d_i − d_j along its gradient, using the foot points); the ends are the vertices.
 ``tolerance`` of an edge is max(max |d_i − d_j| / 2 at its points, the deviation of each chord
 midpoint from its projection onto the bisector): a *measured* figure, not a proof; the proof that
-every arc is a true edge is the independent verifier's (:func:`runtime.voronoi.verify.verify`).
+every arc is a true edge is the independent verifier's (:func:`runtime.voronoi.verify.certificate.verify`).
 
 Public API: :func:`edge_polylines`, :func:`project_to_bisector`, :func:`bisector_offset`.
 """

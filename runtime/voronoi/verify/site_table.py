@@ -1,6 +1,6 @@
 """Rigorous distance bounds for many (point, site) pairs at once, for the diagram verifier.
 
-The proofs of :mod:`runtime.voronoi.verify_strips` and :mod:`runtime.voronoi.verify_tail` ask,
+The proofs of :mod:`runtime.voronoi.verify.strips` and :mod:`runtime.voronoi.verify.tail` ask,
 again and again, for enclosures of d(q, S_k) and of ∇d(q, S_k) at a few points q of one edge.
 Asked site by site and edge by edge, the cost is the fixed cost of a numpy call (about a
 millisecond for a conic's foot points), not the arithmetic.  :class:`SiteTable` holds the float
@@ -46,8 +46,8 @@ import itertools
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .conic_geometry import ellipse_feet
-from .geometry import EPS, rounding_slack
+from ..conic_geometry import ellipse_feet
+from ..geometry import EPS, rounding_slack
 
 __all__ = ["SiteTable", "SiteValues", "gradient_enclosure", "run_lockstep"]
 

@@ -1,12 +1,12 @@
-"""Step 2 of the diagram certificate (:mod:`runtime.voronoi.verify`): the checks of every edge.
+"""Step 2 of the diagram certificate (:mod:`runtime.voronoi.verify.certificate`): the checks of every edge.
 
 Per edge: its site pair and end vertices (proved, on its bisector), its polyline (ends at the
 vertices, points within the stated tolerance of the bisector and on the edge's arc), the
 parameter interval of the edge on the exact bisector of circle/point sites, the exact-zero
 argument for the third sites of its end vertices, then -- batched over all edges -- the third-site
-searches of :mod:`runtime.voronoi.verify_edges` (finite arcs and infinite tails).  When a site is
-an ellipse, every edge goes to :mod:`runtime.voronoi.verify_curved` (chains of strips, all edges
-side by side; unbounded ends by :func:`runtime.voronoi.verify_tail.prove_tail`, which also gives
+searches of :mod:`runtime.voronoi.verify.edges` (finite arcs and infinite tails).  When a site is
+an ellipse, every edge goes to :mod:`runtime.voronoi.verify.curved` (chains of strips, all edges
+side by side; unbounded ends by :func:`runtime.voronoi.verify.tail.prove_tail`, which also gives
 the interval of directions recorded for the accounting).
 """
 from __future__ import annotations
@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from .verify_edges import bisector, params, prove_arcs, prove_tail
+from .edges import bisector, params, prove_arcs, prove_tail
 
 __all__ = ["check_edges"]
 
@@ -25,7 +25,7 @@ def _ename(e) -> str:
 
 
 def check_edges(D, geoms, table, vinfo, vok, problems, stats):
-    """Step 2 of :mod:`runtime.voronoi.verify` for every reported edge.  Returns (flags in
+    """Step 2 of :mod:`runtime.voronoi.verify.certificate` for every reported edge.  Returns (flags in
     diagram order, unbounded ends (θ, pair, σ, id), parameter intervals per pair)."""
     n = len(geoms)
     eok: list[bool] = []
@@ -128,7 +128,7 @@ def _curved_scale(geoms) -> float:
 
 def _curved_job(e, name, pair, P, endv, scale, problems):
     """The checks of an edge with a conic site that need no search (ends at its vertices); returns
-    the job for :func:`runtime.voronoi.verify_curved.prove_curved_edges`, or None (problem
+    the job for :func:`runtime.voronoi.verify.curved.prove_curved_edges`, or None (problem
     recorded)."""
     v0, v1 = endv
     if e.closed and (v0 is not None or v1 is not None):
@@ -143,14 +143,14 @@ def _curved_job(e, name, pair, P, endv, scale, problems):
 
 
 def _curved_edges(curved, geoms, problems, eok, ends_inf):
-    """Edges with a conic site (:mod:`runtime.voronoi.verify_curved`), all chains side by side;
-    an unbounded end is proved to infinity by :func:`runtime.voronoi.verify_tail.prove_tail` and
+    """Edges with a conic site (:mod:`runtime.voronoi.verify.curved`), all chains side by side;
+    an unbounded end is proved to infinity by :func:`runtime.voronoi.verify.tail.prove_tail` and
     recorded in ``ends_inf`` as (θ_mid, pair, (θa, θb), edge id) with [θa, θb] its asymptotic
     sector.  ``curved``: (position, edge, name, job)."""
-    from .verify_curved import prove_curved_edges
-    from .verify_sitetable import SiteTable
-    from .verify_support import SupportTable
-    from .verify_tail import prove_tail
+    from .curved import prove_curved_edges
+    from .site_table import SiteTable
+    from .support import SupportTable
+    from .tail import prove_tail
 
     if not curved:
         return

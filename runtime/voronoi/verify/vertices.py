@@ -1,4 +1,4 @@
-"""Vertex proofs for :mod:`runtime.voronoi.verify`: existence, uniqueness, emptiness.
+"""Vertex proofs for :mod:`runtime.voronoi.verify.certificate`: existence, uniqueness, emptiness.
 
 Circle and point triples (thesis §3.1.2–3.1.3).  A vertex outside the three discs solves
 
@@ -21,7 +21,7 @@ exterior, collinear centres and failed tests go to the exact route of thesis §3
 (:func:`runtime.predicates.circles.voronoi_vertices_circles`, exact in quadratic towers).
 
 Triples with a conic: first, for convex sites, a float Krawczyk test on the distance
-differences, all vertices at once (:mod:`runtime.voronoi.verify_conic_vertices`); where it does
+differences, all vertices at once (:mod:`runtime.voronoi.verify.conic_vertices`); where it does
 not decide, :func:`runtime.voronoi.vertex.certify_vertex` (Krawczyk on the exact foot-point
 system, thesis §6.1 / App. D.1, and the touching certificate).
 
@@ -151,8 +151,8 @@ def _fast_circle_vertices(items, table):
 def prove_vertices(D, sites, geoms, table, problems):
     """Prove every reported vertex (position, radius, emptiness).  Returns ({id: VertexInfo},
     list of flags in diagram order)."""
-    from ..predicates.circles import voronoi_vertices_circles
-    from ..result import LocatorError
+    from ...predicates.circles import voronoi_vertices_circles
+    from ...result import LocatorError
 
     n = len(sites)
     verts = list(D.vertices)
@@ -183,7 +183,7 @@ def prove_vertices(D, sites, geoms, table, problems):
              and not all(geoms[int(s)].kind in ("point", "circle") for s in verts[m].sites)]
     quick = {}
     if conic:
-        from .verify_conic_vertices import prove_conic_vertices
+        from .conic_vertices import prove_conic_vertices
 
         fin = [abs(b) for g in geoms for b in g.bounding_box() if math.isfinite(b)]
         res = prove_conic_vertices(geoms, [tuple(int(s) for s in verts[m].sites) for m in conic],
@@ -220,7 +220,7 @@ def prove_vertices(D, sites, geoms, table, problems):
                                    round(y / (1e-9 * (1 + abs(y))))))
             info.r_hi = r_hi
         else:
-            from .vertex import certify_vertex
+            from ..vertex import certify_vertex
             proof = certify_vertex([sites[s] for s in trip], g3, v.x, v.y)
             if not proof.certified:
                 problems.append(f"{name}: not proved ({proof.reason})")

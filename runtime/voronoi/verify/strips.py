@@ -1,6 +1,6 @@
 """A chain of strips that contains one arc of a bisector of convex sites (thesis §5.1–5.2).
 
-Used by :mod:`runtime.voronoi.verify_curved` for an edge (i, j) whose bisector has no closed form
+Used by :mod:`runtime.voronoi.verify.curved` for an edge (i, j) whose bisector has no closed form
 (one of i, j, or a third site, is an ellipse).  For each polyline segment, with unit direction
 t, normal n and length L, take the rectangle (a trapezoid when the half-widths of its two nodes
 differ) Π = {P_l + s·t + λ·n : s ∈ [−e, L + e], |λ| ≤ w(s)} (e covers the turn to the next
@@ -33,17 +33,17 @@ Pieces are the rectangles cut across s, initially ``PIECE`` times as long as the
 a piece that fails is halved (its two halves re-tested), the others are done.  A chain gives up
 when halving stops deciding pieces (``STALL`` rounds), or when its work limits are spent (the
 caller then narrows the strips or reports the edge).  The gradients come with the enclosures of
-:func:`runtime.voronoi.verify_sitetable.gradient_enclosure`.  The chains of all edges are proved
+:func:`runtime.voronoi.verify.site_table.gradient_enclosure`.  The chains of all edges are proved
 together (:func:`prove_strips_many`: the pieces of every chain in flat arrays, two calls of
-:meth:`runtime.voronoi.verify_sitetable.SiteTable.evaluate` per round of halving);
+:meth:`runtime.voronoi.verify.site_table.SiteTable.evaluate` per round of halving);
 :func:`prove_strips` is the generator form used under
-:func:`runtime.voronoi.verify_sitetable.run_lockstep`.
+:func:`runtime.voronoi.verify.site_table.run_lockstep`.
 """
 from __future__ import annotations
 
 import numpy as np
 
-from .verify_sitetable import gradient_enclosure
+from .site_table import gradient_enclosure
 
 __all__ = ["StripsJob", "prove_strips", "prove_strips_many", "rot90"]
 
@@ -70,7 +70,7 @@ class StripsJob:
 
 def prove_strips(S, T, N, L, e_lo, e_hi, W, pair, k0, k1, budget):
     """(T1)–(T4) on the trapezoids of one polyline (see :class:`StripsJob`).  Generator: yields
-    the job to :func:`runtime.voronoi.verify_sitetable.run_lockstep`, which proves all pending
+    the job to :func:`runtime.voronoi.verify.site_table.run_lockstep`, which proves all pending
     jobs together with :func:`prove_strips_many`; returns (ok, message or None)."""
     return (yield StripsJob(S, T, N, L, e_lo, e_hi, W, pair, k0, k1, budget))
 

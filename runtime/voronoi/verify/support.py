@@ -4,8 +4,8 @@ Far from every site, in direction u(θ), the nearest site is the one whose suppo
 h_k(θ) = max_{p ∈ S_k} u(θ)·(p − m) is largest (d(m + t·u, S) = t − h_S(θ) + O(1/t); Schneider,
 *Convex Bodies*, §1.7).  :class:`SupportTable` evaluates h_k and h_k' for points, circles and
 ellipses with a rounding margin; it serves the unbounded edges
-(:func:`runtime.voronoi.verify_tail.prove_tail`) and the accounting of the ends at infinity
-(:func:`runtime.voronoi.verify_closure.verify_accounting_conics`).
+(:func:`runtime.voronoi.verify.tail.prove_tail`) and the accounting of the ends at infinity
+(:func:`runtime.voronoi.verify.closure.verify_accounting_conics`).
 """
 from __future__ import annotations
 

@@ -1,12 +1,12 @@
 """Voronoi vertices of convex conic sites proved in floating point, all at once (thesis §6.1).
 
 A Voronoi vertex of the sites i, j, k is a zero of F(q) = (d_i(q) − d_j(q), d_i(q) − d_k(q))
-with every other site farther (the emptiness test of :mod:`runtime.voronoi.verify_vertices`):
+with every other site farther (the emptiness test of :mod:`runtime.voronoi.verify.vertices`):
 there d_i = d_j = d_k = r, the distance being the minimum over each curve, so the circle of
 radius r about q touches the three sites and no other.  For convex sites (points, circles,
 ellipses, parabolas) and q outside their convex hulls the distance functions are C¹ with
 ∇d = (q − p)/|q − p|, enclosed on a disc by
-:func:`runtime.voronoi.verify_sitetable.gradient_enclosure`.
+:func:`runtime.voronoi.verify.site_table.gradient_enclosure`.
 
 **Krawczyk's test** (Moore, Kearfott & Cloud, *Introduction to Interval Analysis*, SIAM 2009,
 §8.2; Rump, Acta Numerica 19 (2010), §13) on the square B = c + [−ρ, ρ]²: with J̃ the float
@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .verify_sitetable import SiteTable, gradient_enclosure
+from .site_table import SiteTable, gradient_enclosure
 
 __all__ = ["prove_conic_vertices"]
 

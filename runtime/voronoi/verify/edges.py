@@ -1,4 +1,4 @@
-"""Proofs for the Voronoi edges of circle and point sites, used by :mod:`runtime.voronoi.verify`.
+"""Proofs for the Voronoi edges of circle and point sites, used by :mod:`runtime.voronoi.verify.certificate`.
 
 The bisector of two disjoint circle/point sites is known in closed form (thesis §3.1: the
 distance to a circle is | |q − c| − ρ |, additively weighted points are circles):
@@ -46,7 +46,7 @@ import math
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .geometry import rounding_slack
+from ..geometry import rounding_slack
 
 __all__ = ["CircleTable", "Bisector", "bisector", "prove_arcs", "prove_tail", "params"]
 

@@ -10,13 +10,13 @@ What is proved
 --------------
 Let G be the true Voronoi graph and H the reported one.
 
-1. **Vertices** (:mod:`runtime.voronoi.verify_vertices`).  Each reported vertex (i, j, k) is a
+1. **Vertices** (:mod:`runtime.voronoi.verify.vertices`).  Each reported vertex (i, j, k) is a
    true Voronoi vertex within 1e-10·(1 + |x| + |y| + r) of the reported position: for circle/point
    triples both solutions of the Apollonius system are proved by a float Krawczyk test with error
    bounds (falling back to the exact solver of thesis §3.1.3,
    :func:`runtime.predicates.circles.voronoi_vertices_circles`); for triples with a conic, a
    float Krawczyk test on (d_i − d_j, d_i − d_k) proves a unique equidistant point in a tiny box
-   (:mod:`runtime.voronoi.verify_conic_vertices`, convex sites), else
+   (:mod:`runtime.voronoi.verify.conic_vertices`, convex sites), else
    :func:`runtime.voronoi.vertex.certify_vertex` proves existence and uniqueness (Krawczyk on the
    exact foot-point system) and the touching property.  **Emptiness**: every other site k has a
    rigorous lower bound of d(v, S_k) above the upper bound of the radius; far sites are excluded
@@ -24,7 +24,7 @@ Let G be the true Voronoi graph and H the reported one.
    (sites 3, 5, 9): site 7 too close to decide".
 2. **Edges.**  An edge (i, j) between proved vertices v0, v1 (or infinity) is a parameter
    interval of the exact bisector curve of i and j, and every point of its relative interior is
-   strictly closer to i and j than to any other site (:mod:`runtime.voronoi.verify_edges`:
+   strictly closer to i and j than to any other site (:mod:`runtime.voronoi.verify.edges`:
    discs along the arc with Lipschitz and first-order bounds, the exact zeros of d_k − d_i on
    the bisector for the third sites of the end vertices, interval bounds in τ = e^{∓u} for the
    infinite tail).  Hence the open arc is a connected set of points whose two nearest sites are
@@ -33,7 +33,7 @@ Let G be the true Voronoi graph and H the reported one.
    Polylines are checked against their stated ``tolerance``: a polyline point whose distance to
    the bisector is proved larger (|d_i − d_j|/2 is a lower bound, d_i − d_j being 2-Lipschitz)
    is a problem, as is a polyline end away from its vertex.
-3. **Closure** (:mod:`runtime.voronoi.verify_closure`).  Every vertex (i, j, k) has exactly one
+3. **Closure** (:mod:`runtime.voronoi.verify.closure`).  Every vertex (i, j, k) has exactly one
    incident edge per pair of its sites, every edge ends at listed vertices whose triples contain
    its pair (or at infinity), every site has an edge, no two edges of one pair overlap.
 4. **Every component of G is represented.**  (a) *At infinity*: the unbounded ends of H, sorted
@@ -61,21 +61,21 @@ emptiness test enforces; three bisectors crossing transversally: proved on the f
 where Krawczyk's test proves the Jacobian of the Apollonius system, whose rows are
 (r + ρ_l)·(n_l, −1), nonsingular, i.e. ∇(d_0 − d_1) and ∇(d_0 − d_2) independent; assumed on the
 exact route); for circle and point sites the rounding of the bisector's float constants is
-bounded to first order (module :mod:`runtime.voronoi.verify_edges`).
+bounded to first order (module :mod:`runtime.voronoi.verify.edges`).
 
 Sites with an ellipse (with circles and points): vertices as above; an edge between two vertices
-is proved by :mod:`runtime.voronoi.verify_curved` (a chain of strips around the polyline in which
-the bisector is a monotone graph, :mod:`runtime.voronoi.verify_strips`: gradient enclosures for
+is proved by :mod:`runtime.voronoi.verify.curved` (a chain of strips around the polyline in which
+the bisector is a monotone graph, :mod:`runtime.voronoi.verify.strips`: gradient enclosures for
 convex sites, third sites by distance bounds, first-order bounds or the transversality at the end
 vertices); an unbounded edge by the same chain up to a far point, then to infinity by support
-functions on a sector of directions (:func:`runtime.voronoi.verify_tail.prove_tail`: in the
+functions on a sector of directions (:func:`runtime.voronoi.verify.tail.prove_tail`: in the
 sector the bisector is one curve to infinity, closer to i, j than to any other site, linked to
 the chain).  All chains run side by side, and every distance enclosure they need comes from one
-vectorised call per round (:mod:`runtime.voronoi.verify_sitetable`, which defers to the site
+vectorised call per round (:mod:`runtime.voronoi.verify.site_table`, which defers to the site
 geometries' own bounds wherever its cheap bounds are not tight).  Step 4 uses the support
 functions h_k(θ) = max_{p ∈ S_k} u(θ)·p of the sites
-(:class:`runtime.voronoi.verify_support.SupportTable`,
-:func:`runtime.voronoi.verify_closure.verify_accounting_conics`): (b) the convex hulls of the
+(:class:`runtime.voronoi.verify.support.SupportTable`,
+:func:`runtime.voronoi.verify.closure.verify_accounting_conics`): (b) the convex hulls of the
 sites are proved pairwise disjoint, so no site is nested and G has no bounded component; (a)
 each unbounded end owns an interval of directions where only its two sites attain max h_k and
 h_i − h_j changes sign, and on every arc of directions between them one site strictly leads.
@@ -87,7 +87,7 @@ K): edges between two vertices with a parabola site are proved by the same chain
 enclosures outside K), but unbounded ends need bounded sites (support functions), so with a
 parabola the unbounded edges and the accounting are reported not proved.  A site inside a
 circle or an ellipse (nesting depth ≤ 1, proved with support functions:
-:func:`runtime.voronoi.verify_closure.verify_accounting_conics`): its closed edge is a chain of
+:func:`runtime.voronoi.verify.closure.verify_accounting_conics`): its closed edge is a chain of
 strips that closes up, with gradient enclosures inside the container while the loop stays within
 the reach of its boundary (b²/a for an ellipse: the loop must not cross the medial axis, else it
 is reported not proved).  Edges of hyperbola sites are reported not proved.  Certificates with
@@ -103,12 +103,12 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 
-from .conic_geometry import site_geometry
-from .verify_edge_checks import check_edges
-from .verify_edges import CircleTable
-from .verify_closure import verify_accounting, verify_accounting_conics, verify_closure
-from .verify_support import SupportTable
-from .verify_vertices import prove_vertices
+from ..conic_geometry import site_geometry
+from .edge_checks import check_edges
+from .edges import CircleTable
+from .closure import verify_accounting, verify_accounting_conics, verify_closure
+from .support import SupportTable
+from .vertices import prove_vertices
 
 __all__ = ["verify", "verify_files", "Certificate"]
 
@@ -144,7 +144,7 @@ class Certificate:
 # ============================================================================ input
 
 def _as_diagram(diagram):
-    from .structure import Diagram
+    from ..structure import Diagram
 
     if isinstance(diagram, dict):
         return Diagram.from_json(diagram)
@@ -155,8 +155,8 @@ def _as_diagram(diagram):
 
 def _as_site(s):
     """A Point / Circle / Conic as is; a tuple (x, y, r) as a circle (r = 0: a point)."""
-    from ..predicates.circles import Circle, Point
-    from ..sites.conic import Conic
+    from ...predicates.circles import Circle, Point
+    from ...sites.conic import Conic
 
     if isinstance(s, (Circle, Conic)):
         return s
@@ -167,8 +167,8 @@ def _as_site(s):
 
 
 def _same_site(a, b) -> bool:
-    from ..sites.reader import site_to_json
-    from ..predicates.circles import Circle
+    from ...sites.reader import site_to_json
+    from ...predicates.circles import Circle
 
     try:
         if isinstance(a, Circle) and isinstance(b, Circle):
@@ -192,7 +192,7 @@ def verify_files(diagram_path: str, sites_path: str | None = None) -> "Certifica
         raise ValueError(f"{diagram_path} is not valid JSON: {exc}") from None
     sites = None
     if sites_path is not None:
-        from ..sites.reader import read_sites
+        from ...sites.reader import read_sites
         sites = read_sites(sites_path, distinct=False, scale=False)
     return verify(doc, sites)
 

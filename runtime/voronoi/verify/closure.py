@@ -1,4 +1,4 @@
-"""Closure and accounting steps (3 and 4) of the diagram certificate :mod:`runtime.voronoi.verify`.
+"""Closure and accounting steps (3 and 4) of the diagram certificate :mod:`runtime.voronoi.verify.certificate`.
 
 * :func:`verify_closure`: every vertex has exactly one edge per pair of its sites, every site has
   an edge, edges of one pair do not overlap on their bisector.
@@ -8,7 +8,7 @@
   h_k(θ) = c_k·e(θ) + ρ_k on the arc between them (circle and point sites).
 * :func:`verify_accounting_conics`: the same for bounded convex sites (ellipses, circles, points)
   with support functions: convex hulls pairwise disjoint (no nesting), and the intervals of
-  directions of the unbounded ends (from :func:`runtime.voronoi.verify_tail.prove_tail`)
+  directions of the unbounded ends (from :func:`runtime.voronoi.verify.tail.prove_tail`)
   separated by arcs on which one site strictly leads.
 """
 from __future__ import annotations
@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from .verify_vertices import vname as _vname
+from .vertices import vname as _vname
 
 __all__ = ["verify_closure", "verify_accounting", "verify_accounting_conics"]
 
@@ -25,7 +25,7 @@ ANGLE_TOL = 1e-9        # margin for the angular accounting at infinity
 
 
 def verify_closure(D, n, problems, intervals) -> bool:
-    """Step 3 of :mod:`runtime.voronoi.verify`: incidences, sites without edges, overlaps."""
+    """Step 3 of :mod:`runtime.voronoi.verify.certificate`: incidences, sites without edges, overlaps."""
     ok = True
     inc: dict = {}
     for e in D.edges:
@@ -183,8 +183,8 @@ def _dominates(s, ta, L, pa, pb, C, R) -> bool:
 # ============================================================================ accounting, conic sites
 
 def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000) -> bool:
-    """Step 4 of :mod:`runtime.voronoi.verify` for bounded convex sites (ellipses, circles, points)
-    with the support functions h_k of :class:`runtime.voronoi.verify_support.SupportTable`.
+    """Step 4 of :mod:`runtime.voronoi.verify.certificate` for bounded convex sites (ellipses, circles, points)
+    with the support functions h_k of :class:`runtime.voronoi.verify.support.SupportTable`.
 
     (b) The convex hulls of the sites are proved pairwise disjoint (a separating direction u with
     h_a(u) + h_b(−u) < 0, or disjoint bounding boxes), or one inside the open convex region of a
@@ -194,7 +194,7 @@ def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000)
     connected, so it contains that boundary, and H holds an edge of K (step 3) and is closed
     under incidence: the component is in H.  (Nested sites never lead at infinity: h_K < h_out.)
     (a) Each unbounded end e of H (pair i, j) comes with its sector [θa, θb] from
-    :func:`runtime.voronoi.verify_tail.prove_tail`: there only i and j attain max_k h_k, h_i − h_j
+    :func:`runtime.voronoi.verify.tail.prove_tail`: there only i and j attain max_k h_k, h_i − h_j
     has strict opposite signs at θa and θb, and β_ij ∩ {t ≥ T, θ ∈ [θa, θb]} is the edge's tail.
     Here two sectors of one pair are proved disjoint, and on every closed arc of directions that no
     sector covers one site (shared by the pairs of the sectors on either side) strictly maximises

@@ -1,11 +1,11 @@
 """The unbounded end of a Voronoi edge of bounded convex sites, to infinity (thesis §1.2).
 
-**Unbounded edges** (:func:`prove_tail`).  The chain of strips (:mod:`runtime.voronoi.verify_strips`)
+**Unbounded edges** (:func:`prove_tail`).  The chain of strips (:mod:`runtime.voronoi.verify.strips`)
 proves the edge from its vertex up to a polyline point at about ``TAIL_CUT`` times the scene's
-radius (:mod:`runtime.voronoi.verify_curved`); beyond, support functions
+radius (:mod:`runtime.voronoi.verify.curved`); beyond, support functions
 (thesis §1.2 on far regions; Schneider, *Convex Bodies*, §1.7) take over.  Let every site lie
 in the disc D(m, W) and h_S(θ) = max_{p ∈ S} u(θ)·(p − m)
-(:class:`runtime.voronoi.verify_support.SupportTable`, the formula of
+(:class:`runtime.voronoi.verify.support.SupportTable`, the formula of
 :func:`runtime.interval.bound.support_function`).  For q = m + t·u, t > W:
 
 * d(q, S) ≥ t − h_S(u) (the supporting line of conv S with normal u separates q from S);
@@ -42,7 +42,7 @@ signs at α and β.  Not proved (reported): tails whose chain does not reach T >
 too narrow for the 4096-direction scan, cells undecided within the work limit.  A vertex-less
 edge has two tails, one per end of its chain.
 
-Distance values come from :class:`runtime.voronoi.verify_sitetable.SiteTable`, one call for all
+Distance values come from :class:`runtime.voronoi.verify.site_table.SiteTable`, one call for all
 third sites of a round of cells.
 """
 from __future__ import annotations
@@ -51,7 +51,7 @@ import math
 
 import numpy as np
 
-from .verify_sitetable import gradient_enclosure
+from .site_table import gradient_enclosure
 
 __all__ = ["prove_tail"]
 
@@ -194,7 +194,7 @@ def prove_tail(sup, table, pair, link, scale, max_work: int = 60000):
 def _lead_interval(sup, i, j, ths, tha, thb):
     """An interval J = [α, β] ⊂ (θa, θb) around the float asymptotic direction ths on which only
     i and j attain max_k h_k and h_i − h_j has strict opposite signs at α and β (for the
-    accounting of :func:`runtime.voronoi.verify_closure.verify_accounting_conics`), or None."""
+    accounting of :func:`runtime.voronoi.verify.closure.verify_accounting_conics`), or None."""
     mu = sup.mu
     others = [k for k in range(sup.n) if k not in (i, j)]
     for eta in (1e-3, 1e-5, 1e-7):

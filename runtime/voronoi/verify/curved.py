@@ -1,11 +1,11 @@
 """Proofs for Voronoi edges of convex curved sites (ellipses, parabolas, circles and points).
 
-Used by :mod:`runtime.voronoi.verify` for an edge (i, j) between two proved vertices when one of
+Used by :mod:`runtime.voronoi.verify.certificate` for an edge (i, j) between two proved vertices when one of
 i, j (or a third site of an end vertex) is an ellipse, where the bisector has no closed form
 (thesis §5.1–5.2).  The proof is a chain of strips around the reported polyline
-(:mod:`runtime.voronoi.verify_strips`: in each strip the bisector is one monotone arc, closer to
+(:mod:`runtime.voronoi.verify.strips`: in each strip the bisector is one monotone arc, closer to
 i and j than to every other site); an unbounded edge is proved by the chain up to a point at
-``TAIL_CUT`` times the scene's radius and beyond it by :func:`runtime.voronoi.verify_tail.prove_tail`.
+``TAIL_CUT`` times the scene's radius and beyond it by :func:`runtime.voronoi.verify.tail.prove_tail`.
 
 The reported polyline only guides the proof: its nodes are moved onto β (float Newton steps
 along the segments' normals), nodes where it turns back are dropped, and a segment is split
@@ -17,8 +17,8 @@ leaves a strip the guide is refined (segments halved).  Nothing is assumed of th
 strips decide.
 
 :func:`prove_curved_edge` is a generator: its distance requests, guide projections
-(:func:`project_many`) and chains of strips (:func:`runtime.voronoi.verify_strips.prove_strips_many`)
-are served for all edges at once by :func:`runtime.voronoi.verify_sitetable.run_lockstep`
+(:func:`project_many`) and chains of strips (:func:`runtime.voronoi.verify.strips.prove_strips_many`)
+are served for all edges at once by :func:`runtime.voronoi.verify.site_table.run_lockstep`
 (:func:`prove_curved_edges`).  A vertex-less edge
 (infinite both ways) is cut at both ends and gets two tails.  Closed edges (nested sites) and
 edges of hyperbolas are not handled here; edges of a parabola (convex) are, up to its
@@ -30,8 +30,8 @@ import math
 
 import numpy as np
 
-from .verify_sitetable import run_lockstep
-from .verify_strips import StripsJob, prove_strips, prove_strips_many, rot90
+from .site_table import run_lockstep
+from .strips import StripsJob, prove_strips, prove_strips_many, rot90
 
 __all__ = ["prove_curved_edge", "prove_curved_edges", "project_many", "ProjectJob", "TAIL_CUT"]
 
@@ -54,7 +54,7 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False):
     vertex-less edge, infinite both ways, or with ``closed`` a closed curve around a nested site,
     the chain of strips then closing up).  Returns (ok, message or None, beyond): ``beyond`` lists,
     per unbounded end, a dict with the cut ``point`` and the ``link`` rectangle for
-    :func:`runtime.voronoi.verify_tail.prove_tail`.  Generator (requests to ``table``)."""
+    :func:`runtime.voronoi.verify.tail.prove_tail`.  Generator (requests to ``table``)."""
     i, j = pair
     geoms = table.geoms
     if not (table.convex[i] and table.convex[j]):
