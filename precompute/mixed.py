@@ -26,6 +26,8 @@ Mizutani–Takeda–Kojima, simplified:
 reference via inclusion–exclusion of exact Minkowski-sum volumes (CLO, Using Algebraic Geometry,
 ch. 7 §4).  ``MixedSubdivision.locate`` finds the cell ``F_0 + ... + F_N`` of the mixed
 subdivision of N+1 supports containing a point (used for the Canny–Emiris row content, §3.3.1).
+
+Length: lifting, mixed cells and mixed volume are one algorithm (Huber–Sturmfels 1995).
 """
 from __future__ import annotations
 

@@ -34,6 +34,9 @@ converted at their exact binary value by :class:`runtime.sites.conic.Conic`).  T
 is only a starting point.
 
 Completeness is in :mod:`runtime.certify.complete`.
+
+Length: one procedure, the certification of a locator answer (vertex boxes, touching, emptiness
+and conflict signs), with the facts it relies on proved in this docstring.
 """
 from __future__ import annotations
 

@@ -22,6 +22,9 @@ Facts used by the certificates (proved in the module docstring of :mod:`runtime.
 Hence d(q, C)² = min over the real roots λ of F_q of D(λ), which this module encloses with
 ball arithmetic (python-flint ``acb_poly.roots`` gives isolating balls; reality is proved with
 conjugation-symmetric isolating boxes) or decides exactly for rational q (``fmpq_poly``).
+
+Length: the Lagrange polynomial, its exact and ball forms and the isolation of its real roots are
+one procedure; the proofs of the enclosures refer to each other.
 """
 from __future__ import annotations
 

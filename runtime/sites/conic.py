@@ -19,6 +19,8 @@ Canonical frame convention (also that of ``tests/data/validation_cases.json``)::
 Classification (thesis §3.1; classical invariants of the 3×3 matrix M of the conic):
 ``disc = b² − 4ac`` (< 0 ellipse, = 0 parabola, > 0 hyperbola), ``det M = 0`` degenerate,
 an ellipse is real iff ``(a + c)·det M < 0``.
+
+Length: the exact conic type with its constructors, classification and frame conversions.
 """
 from __future__ import annotations
 

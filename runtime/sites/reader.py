@@ -27,6 +27,8 @@ also rejects
   (thesis App. B), specialised to its canonical parameters, must have finite float coefficients,
   and the conic's centre and size must lie within ``10^±30`` (:data:`SCALE_LIMIT`), because the
   offsets of degree up to 8 are evaluated in floating point.
+
+Length: the JSON schema of the sites file and its validation messages live with the parser.
 """
 from __future__ import annotations
 

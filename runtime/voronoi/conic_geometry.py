@@ -71,6 +71,9 @@ Work in the float canonical frame of the float conic C_f (exact binary numbers);
 * where neither is tight (relative gap > 1e-7, e.g. exactly on a symmetry axis at an evolute
   cusp), the rigorous ball route :func:`runtime.sites.distance_ball.distance_ball` (Lagrange polynomial of
   the foot points, exact coefficients) is used for those points; the float q is exact.
+
+Length: the three conic kinds share the float foot-point machinery and the rounding allowances
+that their rigorous bounds are proved with; splitting them would separate a bound from its proof.
 """
 from __future__ import annotations
 

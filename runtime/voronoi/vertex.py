@@ -29,6 +29,9 @@ open disc B(q, r) meets none of them (thesis Def. 5.2.1).  The diagram builds ve
 * :func:`certify_empty`: the other sites stay outside the open disc: rigorous
   ``distance_bounds`` at the centre of the vertex box minus its half diagonal (d is 1-Lipschitz)
   exceed the upper radius bound.
+
+Length: refinement and proof of one vertex for every mix of site kinds (points, circles, conics),
+one procedure with its proof argument above.
 """
 from __future__ import annotations
 
