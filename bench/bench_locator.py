@@ -11,6 +11,7 @@ Also: dense LAPACK ``eig`` vs ARPACK ``eigs`` on the multiplication matrix (``--
     python bench/bench_locator.py --quick    # fewer repetitions
     OPENBLAS_NUM_THREADS=1 python bench/bench_locator.py --generic   # certified generic triples, cold/warm
     OPENBLAS_NUM_THREADS=1 python bench/bench_locator.py --all-certified   # every configuration, certified
+    OPENBLAS_NUM_THREADS=1 python bench/bench_locator.py --far   # the null-space refusals, certified
 """
 from __future__ import annotations
 
@@ -227,6 +228,40 @@ def all_certified() -> str:
     return "\n".join(lines)
 
 
+#: configurations whose null-space route refuses (``generalised_vertices(..., homotopy=False,
+#: quick=True)``, measured 2026-11-23): indices into :func:`configurations` and random rigid
+#: configurations (kinds, seed) of tests/test_locator.random_configuration -- vertices far outside the
+#: scene, or non-generic members
+FAR_CONFIGURATIONS = ([8, 12, 32, 34], [("PPPP", s) for s in (102, 104, 105, 107, 109, 110, 111)]
+                      + [("EHPE", s) for s in (103, 105, 106)]
+                      + [("HHHH", s) for s in (100, 101, 104, 106, 109, 110, 111)] + [("CEPE", 110)])
+
+
+def far_certified() -> str:
+    """The 22 configurations of :data:`FAR_CONFIGURATIONS` through the certified default route:
+    cold time, certified, complete."""
+    from test_locator import random_configuration
+
+    cfgs = configurations()
+    runs = [(f"validation #{i} ({cfgs[i][0]})", cfgs[i][1]) for i in FAR_CONFIGURATIONS[0]]
+    runs += [(f"{k} seed {s}", random_configuration(k, s)) for k, s in FAR_CONFIGURATIONS[1]]
+    load0 = os.getloadavg()[0]
+    lines = [f"### Null-space refusals, certified route ({time.strftime('%Y-%m-%d %H:%M')}, "
+             f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}, cold calls)", "",
+             "| configuration | cold (s) | certified | complete |", "|---|---:|---|---|"]
+    times = []
+    for name, cs in runs:
+        clear_cache()
+        t0 = time.perf_counter()
+        res = locate_conflicts(*cs)
+        times.append(time.perf_counter() - t0)
+        lines.append(f"| {name} | {times[-1]:.2f} | {res.certified} | {res.complete} |")
+    lines += ["", f"{len(times)} configurations: median {statistics.median(times):.2f} s, max {max(times):.2f} s, "
+              f"sum {sum(times):.1f} s; load average {load0:.1f} at the start, {os.getloadavg()[0]:.1f} at the end.",
+              ""]
+    return "\n".join(lines)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true")
@@ -235,9 +270,11 @@ def main():
                     help="only the certified end-to-end timing of generic triples (appended to locator.md)")
     ap.add_argument("--all-certified", action="store_true",
                     help="every configuration through the certified default route (appended to locator.md)")
+    ap.add_argument("--far", action="store_true",
+                    help="the configurations the null-space route refuses, certified (appended to locator.md)")
     args = ap.parse_args()
-    if args.generic or args.all_certified:
-        text = generic_triple() if args.generic else all_certified()
+    if args.generic or args.all_certified or args.far:
+        text = generic_triple() if args.generic else all_certified() if args.all_certified else far_certified()
         print(text)
         with open(ROOT / "bench" / "results" / "locator.md", "a") as fh:
             fh.write("\n" + text + "\n")
