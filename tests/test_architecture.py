@@ -3,6 +3,7 @@ never imports precompute, every sub-package is installed, and each module import
 from __future__ import annotations
 
 import ast
+import re
 import pathlib
 import subprocess
 import sys
@@ -103,3 +104,14 @@ def test_no_private_name_crosses_a_module_border(tmp_path):
     f = tmp_path / "m.py"                        # the check is not vacuous
     f.write_text("from .sites.conic import _isqrt_exact\n")
     assert private_imports({"runtime.m": f}) == ["runtime.m: _isqrt_exact"]
+
+
+#: how a module over ~400 lines states why it is one module (in its docstring)
+LENGTH_REASON = re.compile(r"Length:|[Oo]ver 400 lines|[Ll]onger than 400 lines|hence its length")
+
+
+def test_long_modules_say_why_in_their_docstring():
+    long = {name: f for name, f in _modules().items() if len(f.read_text().splitlines()) > 420}
+    silent = [name for name, f in long.items()
+              if not LENGTH_REASON.search(ast.get_docstring(ast.parse(f.read_text())) or "")]
+    assert not silent, f"modules over 400 lines without a reason in their docstring: {silent}"

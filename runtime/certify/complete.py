@@ -2,7 +2,8 @@
 
 The numeric locator returns all N complex solutions (x, y, R) of the offset system
 o1 = o2 = o3 = 0 it found (generalised Voronoi vertices, thesis §5.2) and the *generic count*
-of the type configuration (e.g. 184 for three ellipses, DESIGN §5).  Completeness argument:
+of the type configuration (e.g. 184 for three ellipses: generated/counts/root_counts.json, computed by
+precompute/root_counts.py with msolve).  Completeness argument:
 
 1. every solution s_k is enclosed in a box X_k by a **complex Krawczyk** test on the exact
    offsets o_i (the verified generic offset of :mod:`runtime.artefacts`, App. B.1–B.2,

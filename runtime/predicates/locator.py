@@ -1,4 +1,4 @@
-"""Delaunay-graph conflict locator for conics (thesis ch. 5; issue 4).
+"""Delaunay-graph conflict locator for conics (thesis ch. 5, Thm 5.2.2).
 
 ``locate_conflicts(c1, c2, c3, c4)`` answers: which true Voronoi vertices of C1, C2, C3 (centres
 of circles tangent to the three and empty of them, §5.2 Def. 5.2.1) does C4 invalidate
@@ -191,7 +191,7 @@ _completeness_cache: "OrderedDict[tuple, tuple[bool, str, float]]" = OrderedDict
 
 
 def _certified(res: LocatorResult, cs, completeness: bool, eigen: str) -> LocatorResult:
-    """Certification stage (issue 5), with the triple's completeness proof cached per triple."""
+    """Certification stage (:mod:`runtime.certify.conflicts`), with the triple's completeness proof cached per triple."""
     from ..certify.conflicts import certify_result
 
     c1, c2, c3, c4 = cs
@@ -285,8 +285,9 @@ def _locate_triple(c1, c2, c3, c4, eigen: str = "dense") -> LocatorResult:
 def _locate_quadruple(c1, c2, c3, c4) -> LocatorResult:
     """The thesis' four-conic formulation (§5.3): o1(x, y, R) = o2 = o3 = 0 and o4(x, y, r) = 0.
 
-    The Newton-matrix artefacts of the 4-variable system are not used (DESIGN §3: the Canny–Emiris
-    matrix is singular on true offsets).  The (x, y, R) part is the triple solve; r is then the
+    The Newton-matrix artefacts of the 4-variable system are not used (the Canny–Emiris
+    matrix is singular on true offsets, whose coefficients are not generic; thesis §5.5,
+    bench/results/newton_rank.md).  The (x, y, R) part is the triple solve; r is then the
     smallest non-negative real root of the univariate o4(x, y, ·) at each vertex (r = d(q, C4)²,
     thesis §4.1: the squared distance is the smallest critical value), refined by Newton, and the
     conflict is the sign of R − r.  Independent of runtime.sites.distance except as a cross-check."""
@@ -347,7 +348,7 @@ def demo_configuration():
     """Four ellipses: a rigid-motion version of the thesis' Fig. 5.5.1 example.
 
     The thesis (§5.5, App. D.2) maps the canonical ellipse x² + c·y² + e by non-orthogonal affine
-    maps, which do not transform offsets (DESIGN §3).  Here four ellipses of the same kind of
+    maps, which do not transform offsets (distances are invariant under rigid motions only).  Here four ellipses of the same kind of
     shapes are placed by exact rotations from Pythagorean triples (3,4,5), (5,12,13), (8,15,17),
     (7,24,25) and rational translations; C1 is axis-aligned at the origin (thesis §5.3)."""
     from ..sites.conic import Conic

@@ -42,6 +42,7 @@ exponent-1 and exponent-0 factors simplified.
 
 The module is over 400 lines: it is the one interface to msolve (input text, run, output parser, the
 circle-space form of the system and the mapping of its boxes, background solve), kept together.
+
 """
 from __future__ import annotations
 

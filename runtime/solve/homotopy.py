@@ -41,6 +41,9 @@ null-space ones (Krawczyk per solution, completeness only when N distinct simple
 proven, :mod:`runtime.certify.complete`).  If some paths diverge (a non-generic target with
 solutions at infinity, e.g. conics sharing an axis of symmetry) the finite endpoints are still
 returned but fewer than N, so completeness is not claimed.
+
+Length: one algorithm, a certified-step parameter homotopy (start system, path tracking,
+end games), whose steps share the tracker state.
 """
 from __future__ import annotations
 

@@ -6,7 +6,8 @@ Voronoi vertex is a real one with R > 0 whose distance to each of the three coni
 (the offset only says √R is a critical distance; thesis §5.2, Def. 5.2.1).
 
 Solver (replaces the thesis' Schur complement of the Canny–Emiris matrix, §5.5, which does not
-exist on true offset coefficients: the offsets are not generic, DESIGN §3):
+exist on true offset coefficients: the offsets are not generic,
+bench/results/newton_rank.md):
 
 1. offsets composed with the rigid motions and a similarity into a *working frame* (C1's axes,
    configuration cores in the unit disc; :func:`runtime.algebra.polyalg.working_frame`);
@@ -35,6 +36,9 @@ homotopy may return fewer than the generic count (paths ending at infinity on a 
 input); completeness is then not claimed downstream.  Measured: the Newton (Canny–Emiris)
 polytope support is no smaller than the weighted-degree support here and 8–19× slower
 (bench/results/newton_support.md), so the Macaulay support is kept.
+
+Length: one solver (null space, degree gap, multiplication maps, eigenvectors, Newton, deflation
+and the fallbacks between them); its steps share the working frame and the Macaulay data.
 """
 from __future__ import annotations
 
