@@ -167,7 +167,7 @@ def load_offset(family: str, root: Path | None = None) -> OffsetPolynomial:
     return _load_offset_cached(family, str(root))
 
 
-ROOT_COUNTS_FORMAT = "curvedvoronoi.root_counts/1"
+ROOT_COUNTS_FORMAT = "curvedvoronoi.root_counts/2"
 
 
 @lru_cache(maxsize=4)
@@ -185,8 +185,13 @@ def _load_root_counts_cached(root: str) -> dict:
             n = entry["count"]
             if not isinstance(n, int) or n < 0:
                 raise ValueError(f"bad count {n!r} for {key}")
-            out[fams] = n
-        return out
+            mv = entry["mixed_volume_circle_space"]
+            if not isinstance(mv, int) or mv < n:
+                raise ValueError(f"bad mixed volume {mv!r} for {key} (below the count {n})")
+            out[fams] = (n, mv)
+        supports = {f: frozenset(tuple(int(v) for v in e) for e in exps)
+                    for f, exps in doc["circle_space_supports"].items()}
+        return {"counts": out, "supports": supports}
     except (KeyError, TypeError, ValueError) as exc:
         raise ArtefactError(f"artefact {rel} is malformed ({exc}); {_fix()}") from None
 
@@ -196,4 +201,13 @@ def load_root_counts(root: Path | None = None) -> dict[tuple[str, str, str], int
     (``generated/counts/root_counts.json``: msolve parametrisation degrees of random members,
     :mod:`precompute.root_counts`), verified against the manifest."""
     root = Path(root) if root is not None else generated_dir()
-    return dict(_load_root_counts_cached(str(root)))
+    return {k: n for k, (n, _mv) in _load_root_counts_cached(str(root))["counts"].items()}
+
+
+def load_root_count_bounds(root: Path | None = None) -> tuple[dict, dict]:
+    """(mixed volume per sorted family triple, circle-space support set per family) of
+    ``generated/counts/root_counts.json``: the proved bound behind the counts
+    (:mod:`runtime.certify.root_bound`)."""
+    root = Path(root) if root is not None else generated_dir()
+    doc = _load_root_counts_cached(str(root))
+    return {k: mv for k, (_n, mv) in doc["counts"].items()}, dict(doc["supports"])

@@ -57,3 +57,46 @@ def test_member_offset_is_exact():
         assert sum(v * x ** i * y ** j * (d * d) ** k for (i, j, k), v in o.items()) == 0
     x, y = F(1, 3) + 2 * F(3, 5), F(-2, 7) + 2 * F(4, 5)
     assert sum(v * x ** i * y ** j for (i, j, k), v in o.items() if k == 0) != 0
+
+
+def test_counts_are_proved_bounds_by_the_circle_space_mixed_volume():
+    """Li–Wang: the mixed volume of the circle-space supports (origin added) bounds the isolated
+    solutions in C³.  Recomputed here by the independent inclusion–exclusion formula
+    (precompute.mixed.mixed_volume_ie, exact hulls) from the recorded supports: it equals the
+    recorded mixed volume and msolve's count for every family triple, and is strictly smaller
+    than the (x, y, R) mixed volume (the weighted frame has solutions at infinity)."""
+    from curvedvoronoi.precompute.mixed import mixed_volume_ie
+    from curvedvoronoi.runtime.artefacts import load_root_count_bounds
+
+    mvs, supports = load_root_count_bounds()
+    counts = load_root_counts()
+    for fams, mv in mvs.items():
+        assert mixed_volume_ie([sorted(supports[f]) for f in fams]) == mv == counts[fams], fams
+    E = "ellipse"
+    assert mvs[(E, E, E)] == 184
+    # every support is a lattice set in the polytope {i + j + k ≤ 6, i + j + 2k ≤ 8} for the ellipse
+    # family (total degree 6 in circle space, weighted degree 8 as in (x, y, R))
+    assert all(i + j + k <= 6 and i + j + 2 * k <= 8 for i, j, k in supports[E])
+
+
+def test_count_bound_refuses_a_member_outside_the_recorded_support(monkeypatch):
+    """A conic whose circle-space support has a monomial the recorded family support lacks gets
+    no bound, and completeness by counting is then not claimed (the verifier of the bound fails
+    on corrupted data)."""
+    from curvedvoronoi.runtime import artefacts
+    from curvedvoronoi.runtime.certify import root_bound
+    from curvedvoronoi.runtime.predicates.locator import demo_configuration
+
+    c1, c2, c3, _ = demo_configuration()
+    bound, note = root_bound.count_bound(c1, c2, c3)
+    assert bound == 184, note
+    mvs, supports = artefacts.load_root_count_bounds()
+    poor = dict(supports)
+    poor["ellipse"] = frozenset(supports["ellipse"] - {max(supports["ellipse"])})
+    monkeypatch.setattr(artefacts, "load_root_count_bounds", lambda root=None: (mvs, poor))
+    root_bound._bound.cache_clear()
+    try:
+        bound, note = root_bound.count_bound(c1, c2, c3)
+        assert bound is None and "outside the recorded support" in note
+    finally:
+        root_bound._bound.cache_clear()

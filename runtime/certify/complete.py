@@ -18,11 +18,13 @@ precompute/root_counts.py with msolve).  Completeness argument:
 3. a candidate with tiny imaginary part is tested on a *conjugation-symmetric* box: as the
    o_i have real coefficients, the unique solution in it is real.  Otherwise some coordinate of
    the enclosure must exclude the real axis (proved non-real);
-4. if N equals the generic count, these are all the isolated solutions: by the coefficient-
-   parameter theorem (Morgan–Sommese) a member of a family has at most the generic number of
-   isolated solutions.  The generic counts (``runtime.solve.vertices.CONFIG_TABLE``) come from the
-   precompute (``generated/counts/root_counts.json``: degrees of msolve's rational
-   parametrisation of random members over F_p), not from the runtime solvers.  Solutions on
+4. if N equals a proved bound on the isolated solutions of *these* conics, these are all of
+   them.  The bound is the circle-space mixed volume of the family triple
+   (:func:`runtime.certify.root_bound.count_bound`: Li–Wang's BKK bound in C³, after an exact check
+   that each offset's circle-space support lies in its family's recorded support); it equals the
+   generic count of the precompute (``generated/counts/root_counts.json``: degrees of msolve's
+   rational parametrisation of random members over F_p, not the runtime solvers) for every family
+   triple, so counting uses the generic count and proves it for the member.  Solutions on
    positive-dimensional components are not covered by counting, so the system is first proved
    zero-dimensional (:func:`runtime.certify.dimension.zero_dimensional`: the projective closure in
    the P³ of circles is finite modulo a prime, hence over Q̄); with finitely many solutions, all are
@@ -50,6 +52,7 @@ from flint import acb, acb_mat, arb
 
 from .foot import FootFailure, foot_polynomial, normalised_coefficients, real_feet_ball, working_prec
 from .dimension import zero_dimensional
+from .root_bound import count_bound
 from .offset_system import (OffsetSystem, exact_offset_terms, framed_offset_system,  # noqa: F401 (re-exported)
                             inside_disc, krawczyk_complex, newton_track, scene_frame)
 from .interval_newton import krawczyk_image
@@ -487,8 +490,14 @@ def _completeness(c1, c2, c3, solutions, expected_count):
     zero_dim, dim_note = zero_dimensional(c1, c2, c3)
     if not zero_dim:
         return False, f"{len(S)} distinct simple solutions = generic count, but {dim_note}", []
+    # the count must be a proved bound on the isolated solutions of *these* conics
+    # (runtime.certify.root_bound: circle-space mixed volume, Li–Wang)
+    bound, bound_note = count_bound(c1, c2, c3)
+    if bound is None or bound != len(S):
+        return False, (f"{len(S)} distinct simple solutions = generic count, but no proved bound equal to it "
+                       f"({bound_note})"), []
     reals = [K for kind, K in boxes if kind == "real"]
-    note = f"{len(S)} distinct simple solutions ({len(reals)} real) = generic count; {dim_note}"
+    note = f"{len(S)} distinct simple solutions ({len(reals)} real) = generic count, {bound_note}; {dim_note}"
     if n_chart:
         note += f" ({n_chart} far solution(s) certified in a circle-space chart)"
     return True, note, reals
