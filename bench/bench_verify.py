@@ -1,14 +1,16 @@
 """Benchmark: the diagram verifier (runtime.voronoi.verify.certificate) against the construction.
 
 For random disjoint circles (N = 100, 300, 1000) and random disjoint ellipses (N = 32, 128, 512,
-the generator of bench/bench_voronoi.py) the diagram is built by
+the generator of bench/bench_voronoi.py) and the mixed conics of bench/bench_voronoi.py (N = 100:
+ellipses, circles, points, two parabolas and a hyperbola; the counts of proved vertices and edges
+are reported, tails and accounting with unbounded sites being not proved) the diagram is built by
 ``runtime.voronoi.construction.voronoi(certify=False)`` and then verified in the same process; for
 random points the diagram comes from qhull (scipy.spatial.Voronoi), so the verifier is timed on a
 reference diagram independent of the construction.  Reports seconds (wall and the verifier's CPU
 time), the ratio verify / construct (target <= 2), the verdict and the number of problems (a "no"
 verdict lists what was not proved).
 
-Run:  python bench/bench_verify.py [--sizes 100,300,1000] [--ellipses 32,128,512]
+Run:  python bench/bench_verify.py [--sizes 100,300,1000] [--ellipses 32,128,512] [--mixed 100]
 (writes bench/results/verify.md)
 Thread settings (threadpoolctl) are recorded; other processes on the machine make figures noisy.
 """
@@ -81,16 +83,18 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", default="100,300,1000")
     ap.add_argument("--ellipses", default="32,128,512")
+    ap.add_argument("--mixed", default="100", help="sizes of the mixed conics of bench_voronoi (parabolas, a hyperbola)")
     ap.add_argument("--out", default=str(ROOT / "bench" / "results" / "verify.md"))
     args = ap.parse_args(argv)
     from threadpoolctl import threadpool_info
     from curvedvoronoi.runtime.voronoi.construction import voronoi
     from curvedvoronoi.runtime.voronoi.verify.certificate import verify
 
-    from bench_voronoi import random_ellipses
+    from bench_voronoi import mixed_conics, random_ellipses
 
     sizes = [int(s) for s in args.sizes.split(",")]
     esizes = [int(s) for s in args.ellipses.split(",") if s]
+    msizes = [int(s) for s in args.mixed.split(",") if s]
     rows = []
     for n in sizes:
         sites = random_disjoint_circles(n, n)
@@ -112,6 +116,17 @@ def main(argv=None) -> int:
         tv, cv = time.perf_counter() - t, time.process_time() - c
         rows.append(("ellipses", n, len(D.vertices), len(D.edges), (tc, cc), tv, cv, cert, cert.timings))
         print(f"ellipses {n}: construct {tc:.2f} s, verify {tv:.2f} s, ok={cert.ok}", file=sys.stderr)
+    for n in msizes:
+        sites = mixed_conics(n, 1)
+        t, c = time.perf_counter(), time.process_time()
+        D = voronoi(sites, certify=False)
+        tc, cc = time.perf_counter() - t, time.process_time() - c
+        t, c = time.perf_counter(), time.process_time()
+        cert = verify(D, sites)
+        tv, cv = time.perf_counter() - t, time.process_time() - c
+        rows.append(("mixed conics", n, len(D.vertices), len(D.edges), (tc, cc), tv, cv, cert, cert.timings))
+        print(f"mixed {n}: construct {tc:.2f} s, verify {tv:.2f} s, ok={cert.ok}, "
+              f"edges proved {sum(cert.edges)}/{len(cert.edges)}", file=sys.stderr)
     for n in sizes:
         P = np.random.default_rng(n).uniform(0, float(np.sqrt(10.0 * n)), (n, 2))
         D = qhull_points_diagram(P)
@@ -123,13 +138,14 @@ def main(argv=None) -> int:
     threads = ", ".join(f"{i.get('internal_api')}={i.get('num_threads')}" for i in threadpool_info()) or "none"
     load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
     lines = ["# Diagram verifier (runtime.voronoi.verify.certificate)", "",
-             f"Command: `python bench/bench_verify.py --sizes {args.sizes} --ellipses {args.ellipses}`; "
+             f"Command: `python bench/bench_verify.py --sizes {args.sizes} --ellipses {args.ellipses} "
+             f"--mixed {args.mixed}`; "
              f"BLAS threads: {threads}; OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}; "
              f"load average at the end (1, 5, 15 min): {load} on {os.cpu_count()} cores.  Machine shared with "
              "other processes: wall timings are noisy (verify CPU s is the verifier's process time).", "",
              "| sites | N | vertices | edges | construct s | construct CPU s | verify s | verify CPU s | "
-             "verify/construct (wall) | (CPU) | vertices s | edges s | ok | problems |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "verify/construct (wall) | (CPU) | vertices s | edges s | vertices proved | edges proved | ok | problems |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for kind, n, nv, ne, tcc, tv, cv, cert, tm in rows:
         tc, cc = tcc if tcc else (None, None)
         ratio = f"{tv / tc:.2f}" if tc else "-"
@@ -137,6 +153,7 @@ def main(argv=None) -> int:
         lines.append(f"| {kind} | {n} | {nv} | {ne} | {'-' if tc is None else f'{tc:.2f}'} | "
                      f"{'-' if cc is None else f'{cc:.2f}'} | {tv:.2f} | {cv:.2f} | {ratio} | {cratio} | "
                      f"{tm.get('vertices', 0):.2f} | {tm.get('edges', 0):.2f} | "
+                     f"{sum(cert.vertices)} | {sum(cert.edges)} | "
                      f"{'yes' if cert.ok else 'no'} | {len(cert.problems)} |")
     bad = [(kind, n, cert.problems[:3]) for kind, n, _, _, _, _, _, cert, _ in rows if cert.problems]
     if bad:

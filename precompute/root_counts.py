@@ -21,8 +21,14 @@ How N is obtained here, independently of the runtime solvers:
    an unlucky prime can only lose solutions or give an error, which is reported).
 
 Fixed seeds make the artefact deterministic (``invoke check-generated``).  The degree over F_p
-equals the degree over Q except for finitely many primes; the mixed volume (Bernstein–Kushnirenko,
-supports with the origin added: an upper bound on the affine count) is compared in the tests.
+equals the degree over Q except for finitely many primes, so these counts are lower bounds of the
+generic number; what makes them *proved* is the record of
+
+4. the circle-space supports of each family (g(x, y, T) = o(x, y, x² + y² − T), union over the
+   samples, origin added) and the mixed volume of each family triple (:mod:`precompute.mixed`):
+   by Li–Wang's BKK bound in C^n it bounds the isolated solutions of every member whose supports
+   lie in the recorded ones (checked at run time, :mod:`runtime.certify.root_bound`).  For every
+   family triple it equals the msolve count (tests/test_root_counts.py).
 """
 from __future__ import annotations
 

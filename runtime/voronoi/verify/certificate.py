@@ -90,8 +90,11 @@ circle or an ellipse (nesting depth ≤ 1, proved with support functions:
 :func:`runtime.voronoi.verify.closure.verify_accounting_conics`): its closed edge is a chain of
 strips that closes up, with gradient enclosures inside the container while the loop stays within
 the reach of its boundary (b²/a for an ellipse: the loop must not cross the medial axis, else it
-is reported not proved).  Edges of hyperbola sites are reported not proved.  Certificates with
-an unproved part are never ok.
+is reported not proved).  Edges of a hyperbola site are proved by the same chains where they
+stay on one side of its conjugate axis (there the distance is the distance to the convex region
+of the nearer branch, :mod:`runtime.voronoi.verify.site_table`); an edge crossing the conjugate
+axis (the bisector has a corner there), the tails and the accounting with a hyperbola are
+reported not proved.  Certificates with an unproved part are never ok.
 
 Command line: ``python -m curvedvoronoi verify DIAGRAM.json [SITES.json]`` (exit 0 proved,
 1 not proved, 2 bad input; prints :meth:`Certificate.to_json`).

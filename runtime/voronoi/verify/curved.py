@@ -1,4 +1,4 @@
-"""Proofs for Voronoi edges of convex curved sites (ellipses, parabolas, circles and points).
+"""Proofs for Voronoi edges of curved sites (ellipses, parabolas, hyperbolas, circles and points).
 
 Used by :mod:`runtime.voronoi.verify.certificate` for an edge (i, j) between two proved vertices when one of
 i, j (or a third site of an end vertex) is an ellipse, where the bisector has no closed form
@@ -20,9 +20,11 @@ strips decide.
 (:func:`project_many`) and chains of strips (:func:`runtime.voronoi.verify.strips.prove_strips_many`)
 are served for all edges at once by :func:`runtime.voronoi.verify.site_table.run_lockstep`
 (:func:`prove_curved_edges`).  A vertex-less edge
-(infinite both ways) is cut at both ends and gets two tails.  Closed edges (nested sites) and
-edges of hyperbolas are not handled here; edges of a parabola (convex) are, up to its
-unbounded ends (the tails need bounded sites).
+(infinite both ways) is cut at both ends and gets two tails.  A closed edge (around a nested
+site) is a chain that closes up.  Edges of a parabola (convex) and of a hyperbola (each branch convex; the
+gradient enclosures of :mod:`runtime.voronoi.verify.site_table` hold on discs that do not reach
+its conjugate axis) are, up to their unbounded ends (the tails need bounded sites); an edge of a
+hyperbola crossing its conjugate axis (a corner of the bisector) is reported not proved.
 """
 from __future__ import annotations
 
@@ -57,9 +59,14 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False):
     :func:`runtime.voronoi.verify.tail.prove_tail`.  Generator (requests to ``table``)."""
     i, j = pair
     geoms = table.geoms
-    if not (table.convex[i] and table.convex[j]):
-        return False, "edges of hyperbolas are not verified by this version", None
     S = np.array(P, float)
+    for h in pair:
+        if table.kind[h] == 3:
+            # a strip across the conjugate axis X = 0 always holds a piece whose disc reaches it,
+            # where the gradient enclosures stop (the nearer branch switches: a corner of β)
+            X0, _ = geoms[h].to_canonical(S)
+            if np.any(np.sign(X0[:-1]) != np.sign(X0[1:])) or np.any(X0 == 0):
+                return False, f"the edge crosses the conjugate axis of hyperbola {h} (a corner of the bisector)", None
     if closed:
         if v0 is not None or v1 is not None or len(S) < 4:
             return False, "a closed edge needs no end vertices and a polyline around its site", None

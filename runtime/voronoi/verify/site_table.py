@@ -24,7 +24,16 @@ vectorised over the sites as well as the points):
   float resolution (S-lemma, ball route).  So the table never claims more than the site
   geometries do; it only saves their per-call cost where the cheap bound already decides;
 * parabola: the site geometry's own bounds; outside its convex focus side K the gradient
-  enclosures below apply (a hyperbola's two convex regions are not handled: no gradients).
+  enclosures below apply;
+* hyperbola (both branches one site, X²/a² − Y²/b² = 1 canonical): the site geometry's own
+  bounds.  Each branch bounds a convex region K_± (its focus side) and the nearer branch of q is
+  the one of the sign of X (for X > 0 the mirror image p = (−X', Y') of a point (X', Y') of the
+  left branch lies on the right branch and |q − p| ≤ |q − (X', Y')|), so on a disc that does
+  not reach the conjugate axis X = 0 (``sep``, with a margin for the float frame) d is the
+  distance to one branch: outside K_± (q between the branches) the
+  gradient enclosure of the convex set K_± below applies, inside K_± the one of the inside
+  (reach b²/a).  Discs reaching the conjugate axis, where d = min(d_+, d_−) has a ridge and the
+  bisectors a corner, get no enclosure.
 
 **Gradient enclosures** (:func:`gradient_enclosure`) for a convex site S and q outside its convex
 hull K: ∇d(q) = (q − p)/|q − p| with p the projection of q on K, which is 1-Lipschitz, and
@@ -32,8 +41,9 @@ x ↦ x/|x| is (1/m)-Lipschitz on {|x| ≥ m} (m·x/|x| is the projection onto t
 So for q ∈ B(c, R), with x = c − p(c), y = q − p(q), |x − y| ≤ 2R and |x|, |y| ≥ d(c) − R:
 |∇d(q) − ∇d(c)| ≤ 2R/(d(c) − R); and the float foot point F gives ∇d(c) within e_F/d(c), where
 e_F² = |c − F|² − d(c)² bounds |F − p|² (projection inequality |c − F|² ≥ |c − p|² + |p − F|²,
-F ∈ K up to rounding; |c − F| ≥ d(c)).  **Inside** a circle or an ellipse (q in its open convex
-region, depth d(q) below the reach r of the curve, b²/a or the radius: Federer, *Curvature
+F ∈ K up to rounding; |c − F| ≥ d(c)).  **Inside** a circle, an ellipse, a parabola or a hyperbola
+branch (q in its open convex region, depth d(q) below the reach r of the curve, b²/a, the
+radius, p for Y² = 2pX, b²/a for a hyperbola branch: Federer, *Curvature
 measures*, Trans. AMS 93 (1959), 4.8 and 4.18): the nearest point p(q) is unique, ∇d(q) =
 (q − p)/|q − p|, p is r/(r − t)-Lipschitz where the depth is ≤ t, and for every F on the curve
 (c − p)·(F − p) ≤ |F − p|²·d/(2r), so |F − p|² ≤ (|c − F|² − d²)/(1 − d/r); with t = hi + R < r
@@ -57,22 +67,27 @@ FALLBACK_GAP = 1e-7
 
 class SiteValues:
     """Values of :meth:`SiteTable.evaluate` at rows (q, k): rigorous ``lo`` ≤ d(q, S_k) ≤ ``hi``,
-    a float foot point ``F`` (on S_k up to rounding), its float distance ``d``, ``base``: S_k
-    convex and q proved outside its convex hull, ``inner``: q proved inside the convex region of
-    a circle or ellipse whose boundary has reach ``reach`` (gradient enclosures allowed)."""
+    a float foot point ``F`` (on S_k up to rounding), its float distance ``d``, ``base``: q
+    proved outside the convex region K that F's curve bounds (for a hyperbola: the branch of
+    F, q between the branches), ``inner``: q proved inside the convex region of a circle,
+    ellipse, parabola or hyperbola branch whose boundary has reach ``reach``, ``sep``: a lower
+    bound of the distance from q to the line where the nearest branch of a hyperbola may switch
+    (its conjugate axis; +inf for the other kinds).  Gradient enclosures hold on discs of
+    radius R < ``sep`` (module docstring)."""
 
-    __slots__ = ("lo", "hi", "F", "d", "base", "inner", "reach")
+    __slots__ = ("lo", "hi", "F", "d", "base", "inner", "reach", "sep")
 
-    def __init__(self, lo, hi, F, d, base, inner, reach):
+    def __init__(self, lo, hi, F, d, base, inner, reach, sep):
         self.lo, self.hi, self.F, self.d, self.base, self.inner, self.reach = lo, hi, F, d, base, inner, reach
+        self.sep = sep
 
     def part(self, a, b):
         return SiteValues(self.lo[a:b], self.hi[a:b], self.F[a:b], self.d[a:b], self.base[a:b],
-                          self.inner[a:b], self.reach[a:b])
+                          self.inner[a:b], self.reach[a:b], self.sep[a:b])
 
     def take(self, idx):
         return SiteValues(self.lo[idx], self.hi[idx], self.F[idx], self.d[idx], self.base[idx],
-                          self.inner[idx], self.reach[idx])
+                          self.inner[idx], self.reach[idx], self.sep[idx])
 
 
 class SiteTable:
@@ -101,12 +116,21 @@ class SiteTable:
             else:
                 self.kind[k] = 3
         # convex K (the inside of an ellipse, the focus side of a parabola; not a hyperbola's two
-        # regions): the gradient enclosures hold outside K
+        # regions): the site is the boundary of one convex set
         self.convex = self.kind != 3
         # reach of the boundary from inside (Federer): b²/a for an ellipse (a ≥ b: the ends of
-        # the medial axis are the centres of curvature at the major vertices), r for a circle
+        # the medial axis are the centres of curvature at the major vertices), r for a circle;
+        # b²/a for a hyperbola branch X²/a² − Y²/b² = 1 and p for a parabola Y² = 2pX (the
+        # radius of curvature at the vertex, the least one; the medial axis of the convex side is
+        # the axis ray from that centre of curvature: the depth is concave on the convex side,
+        # unbounded along the ray, hence non-decreasing there)
         lo_ax, hi_ax = np.minimum(self.a, self.b), np.maximum(self.a, self.b)
         self.reach = np.where(self.kind == 2, lo_ax * lo_ax / hi_ax, np.where(self.kind == 1, self.rho, 0.0))
+        for k, g in enumerate(geoms):
+            if g.kind == "hyperbola":
+                self.reach[k] = g.b * g.b / g.a
+            elif g.kind == "parabola":
+                self.reach[k] = g.p
         self.reach = self.reach * (1 - 1e-9)
         self.boxes = np.array([g.bounding_box() for g in geoms], float).reshape(-1, 4)
         # a k-d tree on the centres of the finite bounding boxes (radius: their half-diagonals)
@@ -131,6 +155,7 @@ class SiteTable:
         F = np.full((m, 2), np.nan)
         base = np.zeros(m, bool)
         inner = np.zeros(m, bool)
+        sep = np.full(m, np.inf)
         loose = np.zeros(m, bool)
         kind = self.kind[K]
         x, y = Q[:, 0], Q[:, 1]
@@ -168,11 +193,24 @@ class SiteTable:
                     F[sel] = F_
                     d[sel] = np.hypot(*(Q[sel] - F_).T)
                 if kind[sel[0]] == 4:
-                    # outside the focus side Y² ≤ 2pX (canonical frame; margin far above rounding)
+                    # outside / inside the focus side Y² ≤ 2pX (canonical frame; margin far
+                    # above rounding)
                     X0, Y0 = g.to_canonical(Q[sel])
                     gv = Y0 * Y0 - 2 * g.p * X0
-                    base[sel] = gv > 1e-9 * (Y0 * Y0 + 2 * g.p * np.abs(X0)) + 1e-300
-        return SiteValues(lo, hi, F, d, base & self.convex[K], inner, self.reach[K])
+                    mg = 1e-9 * (Y0 * Y0 + 2 * g.p * np.abs(X0)) + 1e-300
+                    base[sel], inner[sel] = gv > mg, gv < -mg
+                elif kind[sel[0]] == 3:
+                    # between the branches (1 − X²/a² + Y²/b² > 0) or inside the branch of
+                    # sign X; the nearest branch is the one of sign X (mirror X ↦ −X), so the
+                    # values are those of one convex set on discs that do not reach X = 0
+                    X0, Y0 = g.to_canonical(Q[sel])
+                    u, v = X0 / g.a, Y0 / g.b
+                    gv = 1.0 - u * u + v * v
+                    mg = 1e-9 * (1.0 + u * u + v * v)
+                    base[sel], inner[sel] = gv > mg, gv < -mg
+                    sep[sel] = np.abs(X0) * (1 - 1e-9) - 1e-9 * (np.abs(Q[sel]).sum(1) + abs(g.tx) + abs(g.ty)
+                                                              + np.abs(Y0) + g.a + g.b)
+        return SiteValues(lo, hi, F, d, base, inner, self.reach[K], sep)
 
     def _ellipses(self, r, k, x, y, lo, hi, F, d, base, inner):
         a, b, c, s, tx, ty = self.a[k], self.b[k], self.c[k], self.s[k], self.cx[k], self.cy[k]
@@ -260,12 +298,13 @@ def gradient_enclosure(Q, V: SiteValues, R, scale):
     with np.errstate(divide="ignore", invalid="ignore"):
         # outside the convex hull: projection onto a convex set
         eF = np.sqrt(gap) + 1e-12 * size
-        valid = V.base & (V.lo > 2 * R + eF) & (dF > 0)
+        near = V.sep > R        # hyperbola: one branch is nearest on the whole disc
+        valid = V.base & near & (V.lo > 2 * R + eF) & (dF > 0)
         slack = eF / V.lo + 2 * R / (V.lo - R) + 1e-12
         # inside a circle / ellipse, at depth t < reach r on the disc: the foot map is
         # r/(r − t)-Lipschitz and |F − p|² ≤ (|c − F|² − d²)/(1 − d/r) (Federer, reach)
         t = V.hi + R
-        inn = V.inner & ~V.base & (t < V.reach) & (V.reach > 0)
+        inn = V.inner & ~V.base & near & (t < V.reach) & (V.reach > 0)
         L = V.reach / (V.reach - t)
         eFi = np.sqrt(gap / (1 - V.hi / V.reach)) + 1e-12 * size
         valid_i = inn & (V.lo > 2 * R + eFi) & (dF > 0)
