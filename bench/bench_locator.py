@@ -270,11 +270,12 @@ def main():
                     help="only the certified end-to-end timing of generic triples (appended to locator.md)")
     ap.add_argument("--all-certified", action="store_true",
                     help="every configuration through the certified default route (appended to locator.md)")
+    ap.add_argument("--repeat", type=int, default=5, help="cold/warm runs per triple with --generic")
     ap.add_argument("--far", action="store_true",
                     help="the configurations the null-space route refuses, certified (appended to locator.md)")
     args = ap.parse_args()
     if args.generic or args.all_certified or args.far:
-        text = generic_triple() if args.generic else all_certified() if args.all_certified else far_certified()
+        text = generic_triple(args.repeat) if args.generic else all_certified() if args.all_certified else far_certified()
         print(text)
         with open(ROOT / "bench" / "results" / "locator.md", "a") as fh:
             fh.write("\n" + text + "\n")

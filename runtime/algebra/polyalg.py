@@ -238,8 +238,11 @@ def compose_offset(off: CanonicalOffset, wf: WorkingFrame) -> dict[tuple[int, in
     D = off.wdeg
     out = np.zeros((D + 1, D + 1, off.dR + 1))
     L2 = wf.L ** 2
+    prods = {}                                        # u^i·v^j, shared by the terms with several k
     for (i, j, k), c in zip(off.exps.tolist(), off.coefs):
-        prod = _mul2(Up[i], Vp[j])
+        prod = prods.get((i, j))
+        if prod is None:
+            prod = prods[(i, j)] = _mul2(Up[i], Vp[j])
         n0, n1 = prod.shape
         out[:n0, :n1, k] += c * L2 ** k * prod
     m = np.abs(out).max()

@@ -13,7 +13,10 @@ precompute/root_counts.py with msolve).  Completeness argument:
    and enclosed in (x, y, R) by ball arithmetic.  The tests run on the offsets composed with an
    exact similarity to the scene frame (dyadic centre, power-of-two scale:
    :func:`runtime.certify.offset_system.scene_frame`), so a spread-out scene is as well scaled as
-   a compact one; the frame boxes are mapped back to (x, y, R) in ball arithmetic;
+   a compact one; the frame boxes are mapped back to (x, y, R) in ball arithmetic.  Non-real
+   solutions come in conjugate pairs (real coefficients): of a numerically conjugate pair only
+   one is tested, the other gets the conjugate box, which holds exactly one solution, the
+   conjugate one, also simple (:func:`_conjugate_pairs`; step 2 covers any mispairing);
 2. the enclosures are pairwise disjoint, so the N solutions are distinct;
 3. a candidate with tiny imaginary part is tested on a *conjugation-symmetric* box: as the
    o_i have real coefficients, the unique solution in it is real.  Otherwise some coordinate of
@@ -43,6 +46,7 @@ share the enclosure and disjointness helpers; one idea, completeness of a vertex
 """
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 from functools import lru_cache
 
@@ -137,16 +141,20 @@ class _FastSystem:
         idx = {e: n for n, e in enumerate(monos)}
         C = np.zeros((len(monos), len(polys)))
         R = np.zeros((len(monos), len(polys)))
+        rows, cols, fs, errs = [], [], [], []
+        fmpq, isfinite = flint.fmpq, math.isfinite
         for q, p in enumerate(polys):
             for e, v in p.items():
                 f = float(v)
-                if not np.isfinite(f):
+                if not isfinite(f):
                     raise OverflowError("coefficient out of float range")
-                n, d = f.as_integer_ratio()
-                err = abs(flint.fmpq(n, d) - v)          # exact
-                C[idx[e], q] = f
-                # float(err) is within a few units of the last place of err; _up dominates
-                R[idx[e], q] = _up(float(err))
+                rows.append(idx[e])
+                cols.append(q)
+                fs.append(f)
+                errs.append(float(abs(fmpq(*f.as_integer_ratio()) - v)))      # exact error, rounded
+        C[rows, cols] = fs
+        # float(err) is within a few units of the last place of err; _up dominates
+        R[rows, cols] = _up(np.array(errs))
         self.C, self.R, self.absC = C, R, np.abs(C)
         self.gT = _gamma(len(monos) + 2)
 
@@ -242,6 +250,8 @@ def _newton_np(fs: _FastSystem, S, real, iters: int = 4):
             new[real] = new[real].real
             upd = fin & np.isfinite(new).all(axis=1)
             m[upd] = new[upd]
+            if (np.abs(step[upd]) <= 2.0 ** -50 * (np.abs(m[upd]) + 1.0)).all():
+                break           # converged to float precision: further steps change nothing
     return m
 
 
@@ -249,6 +259,15 @@ def _newton_np(fs: _FastSystem, S, real, iters: int = 4):
 def _fast_system(cos, frame=None) -> _FastSystem:
     conics = [tuple(c) for c in cos]
     return _FastSystem(framed_offset_system(conics, frame) if frame is not None else OffsetSystem(conics))
+
+
+def _scene_frame_or_none(c1, c2, c3):
+    """The exact scene frame of :func:`certify_solutions` (None: world coordinates)."""
+    try:
+        frame = tuple(Fraction(t) for t in scene_frame((c1, c2, c3)))
+    except ValueError:
+        return None
+    return None if frame == (0, 0, 1) else frame
 
 
 def clear_certification_caches() -> None:
@@ -332,17 +351,58 @@ def certify_solutions(c1, c2, c3, solutions, *, prec: int = 64, iters: int = 4, 
     if isinstance(frame, str):
         if frame != "scene":
             raise ValueError(f"frame must be 'scene', None or (px, py, s), got {frame!r}")
-        try:
-            frame = scene_frame((c1, c2, c3))
-        except ValueError:
-            frame = None
+        frame = _scene_frame_or_none(c1, c2, c3)
     if frame is not None:
         frame = tuple(Fraction(t) for t in frame)
         if frame == (0, 0, 1):
             frame = None
     Sf = _to_frame(S, frame) if frame is not None else S
-    out = _certify_framed(c1, c2, c3, Sf, prec, iters, method, frame)
-    return [_from_frame(b, frame) for b in out] if frame is not None else out
+    rep, mate = _conjugate_pairs(Sf)
+    out = _certify_framed(c1, c2, c3, Sf[rep], prec, iters, method, frame)
+    if frame is not None:
+        out = [_from_frame(b, frame) for b in out]
+    boxes = [None] * len(S)
+    for k, b in zip(rep, out):
+        boxes[k] = b
+    for j, k in mate.items():
+        boxes[j] = _conjugate_box(boxes[k])
+    return boxes
+
+
+def _conjugate_pairs(S):
+    """(rep, mate): indices of the solutions to certify, and {j: k} for non-real solutions S_j
+    that are numerically the conjugate of a certified S_k.  The offsets have real coefficients,
+    so the conjugate of a Krawczyk box of S_k is a box with a unique, simple zero -- the
+    conjugate zero -- and S_j needs no test of its own (:func:`_conjugate_box`).  The pairing is
+    only a choice of work: whatever it pairs, every box returned still holds a unique zero, and
+    distinctness is proved afterwards on all boxes (:func:`_disjoint`)."""
+    n = len(S)
+    if n < 2:
+        return np.arange(n), {}
+    nonreal = np.nonzero(~_nearly_real(S))[0]
+    if len(nonreal) < 2:
+        return np.arange(n), {}
+    P = S[nonreal]
+    scale = np.maximum(1.0, np.abs(P).max(axis=1))
+    # nearest conjugate by the first coordinate, mutual, then checked on all three
+    D = np.abs(P[:, None, 0] - np.conj(P[None, :, 0]))
+    np.fill_diagonal(D, np.inf)
+    near = np.argmin(D, axis=1)
+    mate = {}
+    for a, b in enumerate(near):
+        if a < b and near[b] == a and np.abs(P[a] - np.conj(P[b])).max() < 1e-6 * max(scale[a], scale[b]):
+            mate[int(nonreal[b])] = int(nonreal[a])
+    rep = np.array([k for k in range(n) if k not in mate], dtype=np.int64)
+    return rep, mate
+
+
+def _conjugate_box(box):
+    """The conjugate of a non-real Krawczyk box (kind 'nonreal', acb enclosures); (None, None) for
+    anything else (that solution is then tested on its own by the callers' retries)."""
+    kind, K = box
+    if kind != "nonreal":
+        return None, None
+    return "nonreal", [k.conjugate() for k in K]
 
 
 def _certify_framed(c1, c2, c3, S, prec, iters, method, frame):
@@ -399,14 +459,19 @@ def _disjoint(Ks) -> bool:
         return True
     lo = np.empty((n, 6))
     hi = np.empty((n, 6))
+    mids = np.empty((n, 3), dtype=complex)
+    rads = np.empty((n, 3))
     for a, K in enumerate(Ks):
         for i in range(3):
-            z = K[i] if isinstance(K[i], acb) else acb(K[i])
-            for part, t in enumerate((z.real, z.imag)):
-                c, rr = float(t.mid()), float(t.rad())
-                # float() rounds to nearest: widen by 2^-45·(|c| + rr) (≫ the few roundings) + tiny
-                w = rr + (abs(c) + rr) * 2.0 ** -45 + 2.0 ** -1000
-                lo[a, 2 * i + part], hi[a, 2 * i + part] = c - w, c + w
+            z = K[i] if isinstance(K[i], (arb, acb)) else acb(K[i])
+            # the midpoint (both parts in one conversion) and a radius bounding both parts' radii
+            # (acb.rad() ≥ hypot of the two; an arb's own radius for a real ball)
+            mids[a, i] = complex(z.mid())
+            rads[a, i] = float(z.rad())
+    # float() rounds to nearest: widen by 2^-45·(|c| + rr) (≫ the few roundings) + tiny
+    for part, c in enumerate((mids.real, mids.imag)):
+        w = rads + (np.abs(c) + rads) * 2.0 ** -45 + 2.0 ** -1000
+        lo[:, part::2], hi[:, part::2] = c - w, c + w
     if not (np.isfinite(lo).all() and np.isfinite(hi).all()):
         return _disjoint_all_pairs(Ks)
     order = np.argsort(lo[:, 0], kind="stable")

@@ -132,23 +132,39 @@ def monomials(d: int):
 def macaulay_matrix(polys: list[dict], wdegs: list[int], d: int) -> np.ndarray:
     """Dense Macaulay matrix of the polynomials {(i, j, k): c} up to weighted degree d (rows scaled
     to unit 2-norm)."""
-    E, degs, cube = monomials(d)
-    blocks = []
+    supports = tuple((tuple(p.keys()), dp) for p, dp in zip(polys, wdegs) if dp <= d)
+    nrows, ncols, flat = _macaulay_pattern(supports, d)
+    vals = []
     for p, dp in zip(polys, wdegs):
         if dp > d:
             continue
-        pe = np.array(list(p.keys()), dtype=np.int64).reshape(-1, 3)
-        pc = np.array(list(p.values()), dtype=float)
-        pc = pc / np.linalg.norm(pc)
+        pc = np.fromiter(p.values(), dtype=float, count=len(p))
+        vals.append(np.tile(pc / np.linalg.norm(pc), len(monomials(d - dp)[0])))
+    M = np.zeros(nrows * ncols)
+    M[flat] = np.concatenate(vals)
+    return M.reshape(nrows, ncols)
+
+
+@lru_cache(maxsize=32)
+def _macaulay_pattern(supports, d: int):
+    """Positions (flat, row-major) of the coefficients in the Macaulay matrix of polynomials with
+    the given supports ((exponent tuples, weighted degree) per polynomial) up to degree d: row of
+    m·p for each monomial m of degree ≤ d − deg p, in the order of :func:`monomials`.  Depends on
+    the supports only (the same for every member of a family triple), hence cached."""
+    E, degs, cube = monomials(d)
+    flat, row0 = [], 0
+    for exps, dp in supports:
+        pe = np.array(exps, dtype=np.int64).reshape(-1, 3)
         S = monomials(d - dp)[0]
         cols = cube[S[:, None, 0] + pe[None, :, 0], S[:, None, 1] + pe[None, :, 1],
                     S[:, None, 2] + pe[None, :, 2]]
         if (cols < 0).any():
             raise LocatorError("internal error: offset degree exceeds its family's weighted degree")
-        block = np.zeros((len(S), len(E)))
-        block[np.repeat(np.arange(len(S)), len(pe)), cols.ravel()] = np.tile(pc, len(S))
-        blocks.append(block)
-    return np.vstack(blocks)
+        flat.append(((row0 + np.arange(len(S)))[:, None] * len(E) + cols).ravel())
+        row0 += len(S)
+    flat = np.concatenate(flat) if flat else np.zeros(0, dtype=np.int64)
+    flat.setflags(write=False)
+    return row0, len(E), flat
 
 
 def _rank_from_values(vals: np.ndarray, tol: float) -> tuple[int, float]:
@@ -186,14 +202,20 @@ def _nullspace(M, degs, d, top):
     rank decision there is not clear-cut, of the whole null space ("full": pivoted QR of Mᵀ)."""
     hi = degs > d - top
     if top > 0:
-        MH, ML = M[:, hi], M[:, ~hi]
+        # rows m·o_i of weighted degree ≤ d − top vanish on the top-degree columns: they pass
+        # unchanged into the projected matrix, and only the other rows (about half of them) enter
+        # the QR of the top-degree block -- the same projected matrix up to an orthogonal change
+        # of rows, so the same null space
+        MH = M[:, hi]
+        touch = np.any(MH != 0, axis=1)
+        MH, ML = MH[touch], M[np.ix_(touch, ~hi)]
         # Householder QR without forming Q (measured 4x cheaper than mode="full" on 609 x 300);
         # Qᵀ·ML and the trailing columns of Qn are applied with LAPACK ormqr
         (qh, tauh), Rh, _ = sla.qr(MH, pivoting=True, mode="raw", check_finite=False)
         dr = np.abs(np.diag(Rh))
         rh, ratio_h = _rank_from_values(dr, RANK_TOL * dr[0])
         if ratio_h >= GAP_RATIO:
-            N = _householder_apply(qh, tauh, ML, "T")[rh:]
+            N = np.vstack([_householder_apply(qh, tauh, ML, "T")[rh:], M[np.ix_(~touch, ~hi)]])
             if N.shape[0] == 0:
                 return np.eye(ML.shape[1]), degs[~hi], "projected"
             (qn, taun), Rn, _ = sla.qr(N.T, pivoting=True, mode="raw", check_finite=False)
@@ -228,12 +250,18 @@ def _householder_apply(qr, tau, C, trans: str):
 
 def _find_gap(Z, dl, kmax, hint, kmin=1):
     """First degree k (searched from ``hint`` upwards, then downwards) with r_k = r_{k+1} where both
-    rank decisions are clear-cut (ratio ≥ GAP_RATIO, dropped values ≤ PROFILE_NOISE)."""
+    rank decisions are clear-cut (ratio ≥ GAP_RATIO, dropped values ≤ PROFILE_NOISE).  ``Z`` has
+    orthonormal columns (both null-space routes of :func:`_nullspace`)."""
     cache: dict[int, tuple[int, float, float]] = {}
 
     def rank(k):
         if k not in cache:
-            sv = np.linalg.svd(Z[dl <= k], compute_uv=False)
+            rows = dl <= k
+            if rows.all():
+                # Z has orthonormal columns: all its singular values are 1
+                cache[k] = (Z.shape[1], math.inf, 0.0)
+                return cache[k]
+            sv = np.linalg.svd(Z[rows], compute_uv=False)
             r, ratio = _rank_from_values(sv, PROFILE_TOL)
             dropped = sv[r] if r < len(sv) else 0.0
             cache[k] = (r, ratio, dropped)
@@ -305,8 +333,10 @@ def solve_nullspace(polys: list[dict], wdegs: list[int], d: int, top: int = TOP_
         # ARPACK (scipy.sparse.linalg.eigs) returns at most N − 2 of the N eigenpairs and was slower
         # than LAPACK for N − 2 (bench/results/locator.md): every solution is needed, so dense only.
         raise ValueError(f"eigen={eigen!r}: only 'dense' is supported (see bench/bench_locator.py)")
-    _, V = sla.eig(Mg, check_finite=False)
-    K = W @ V                                # monomial evaluations (degree ≤ gap + 1) per root
+    _, V = sla.eig(Mg, overwrite_a=True, check_finite=False)
+    # monomial evaluations (degree ≤ gap + 1) per root; W is real: two real products instead of
+    # one complex one (half the flops)
+    K = W @ V.real + 1j * (W @ V.imag)
     t4 = time.perf_counter()
     tm["eigen"] = t4 - t3
     # --- read (x, y, R): normalising monomial m of degree ≤ gap − 1 with the largest |value|
@@ -340,12 +370,17 @@ def newton_refine(offs: list[CanonicalOffset], Z: np.ndarray, iters: int = 8, re
     D = np.array([scale, scale, scale * scale])
     best = Z.copy()
     best_res = np.full(n, np.inf)
+    best_grads = None
     for it in range(iters + 1):
         vals, grads, absv = _system(offs, Z)
         res = np.max(np.abs(vals) / np.maximum(absv, 1e-300), axis=1)
         better = res < best_res
         best[better] = Z[better]
         best_res[better] = res[better]
+        if best_grads is None:
+            best_grads = grads.copy()       # Jacobians at ``best`` (only read where best_res < inf)
+        else:
+            best_grads[better] = grads[better]
         if it == iters or np.all(res < 4e-16):
             break
         J = grads * D[None, None, :]
@@ -355,8 +390,7 @@ def newton_refine(offs: list[CanonicalOffset], Z: np.ndarray, iters: int = 8, re
             step = np.stack([np.linalg.lstsq(Ji, -vi, rcond=None)[0] for Ji, vi in zip(J, vals)])
         step = np.where(np.isfinite(step), step, 0)
         Z = Z + step * D[None, :]
-    vals, grads, absv = _system(offs, best)
-    J = grads * D[None, None, :]
+    J = best_grads * D[None, None, :]
     Jn = J / np.maximum(np.linalg.norm(J, axis=2, keepdims=True), 1e-300)
     with np.errstate(all="ignore"):
         cond = np.linalg.cond(Jn)
@@ -594,9 +628,12 @@ def _distinct_mask(pts, D, tol=1e-8):
     """True for points that do not coincide (scaled max-norm < tol) with an earlier one."""
     Ps = pts / D[None, :]
     keep = np.ones(len(pts), dtype=bool)
+    close = np.zeros((len(pts), len(pts)), dtype=bool)
     with np.errstate(invalid="ignore"):
-        close = np.max(np.abs(Ps[:, None, :] - Ps[None, :, :]), axis=2) < tol
-    close = np.tril(close, -1)
+        # pairs i > j close in the first coordinate, then the other two on those pairs only
+        i, j = np.nonzero(np.tril(np.abs(Ps[:, None, 0] - Ps[None, :, 0]) < tol, -1))
+        near = (np.abs(Ps[i, 1:] - Ps[j, 1:]) < tol).all(axis=1)
+    close[i[near], j[near]] = True
     # only points with a close earlier point can be dropped; decide those in order
     for i in np.nonzero(close.any(axis=1))[0]:
         if np.any(close[i, :i] & keep[:i]):
