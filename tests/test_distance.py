@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import random
 from fractions import Fraction as F
 
 import flint
@@ -135,6 +136,82 @@ def test_foot_points_counts_and_normal_condition():
             cross = (q[0] - px) * gy - (q[1] - py) * gx
             assert abs(cross) <= 1e-9 * math.hypot(gx, gy) * (1 + dist)
             assert abs(con(px, py)) <= 1e-9 * (1 + abs(gx) + abs(gy))
+
+
+def _lagrange_real_roots(kind, A2, B2, p, u, v) -> int:
+    """Independent count of the foot points of q = (u, v) (canonical frame, u v ≠ 0): the real
+    roots λ of the Lagrange polynomial of q − P = λ ∇g(P)/2 (each gives one foot point), found
+    by mpmath at 60 digits.  Ellipse (X, Y) = (A2 u/(A2 + λ), B2 v/(B2 + λ)); hyperbola
+    (A2 u/(A2 + λ), B2 v/(B2 − λ)); parabola Y² = 2pX: (u + λ p, v/(1 + λ))."""
+    with mpmath.workdps(60):
+        u, v = mpmath.mpf(u), mpmath.mpf(v)
+        if kind == "ellipse":
+            A, B = mpmath.mpf(A2), mpmath.mpf(B2)
+            # A u² (λ + B)² + B v² (λ + A)² − (λ + A)² (λ + B)²
+            coeffs = _padd(_padd(_pmul([A * u * u], _psq([1, B])), _pmul([B * v * v], _psq([1, A]))),
+                           [-c for c in _pmul(_psq([1, A]), _psq([1, B]))])
+        elif kind == "hyperbola":
+            A, B = mpmath.mpf(A2), mpmath.mpf(B2)
+            # A u² (B − λ)² − B v² (λ + A)² − (λ + A)² (B − λ)²
+            coeffs = _padd(_padd(_pmul([A * u * u], _psq([-1, B])), [-c for c in _pmul([B * v * v], _psq([1, A]))]),
+                           [-c for c in _pmul(_psq([1, A]), _psq([-1, B]))])
+        else:
+            pp = mpmath.mpf(p)
+            # v² − 2p (u + λ p) (1 + λ)²
+            coeffs = _padd([v * v], [-c for c in _pmul([2 * pp * pp, 2 * pp * u], _psq([1, 1]))])
+        roots = mpmath.polyroots(coeffs, maxsteps=500, extraprec=500)
+        return sum(1 for z in roots if abs(mpmath.im(z)) <= mpmath.mpf(10) ** -40 * (1 + abs(z)))
+
+
+def _pmul(f, g):
+    out = [0] * (len(f) + len(g) - 1)
+    for i, a in enumerate(f):
+        for j, b in enumerate(g):
+            out[i + j] += a * b
+    return out
+
+
+def _psq(f):
+    return _pmul(f, f)
+
+
+def _padd(f, g):
+    n = max(len(f), len(g))
+    f, g = [0] * (n - len(f)) + list(f), [0] * (n - len(g)) + list(g)
+    return [a + b for a, b in zip(f, g)]
+
+
+def test_foot_point_count_matches_lagrange_polynomial_near_the_evolute():
+    """The number of foot points equals the number of real roots of the Lagrange polynomial
+    (independent, 60 digits) for points at relative distance 1e-10 and 1e-7 on either side of the
+    evolute (where a double root splits into two real or two complex roots, imaginary parts
+    ~1e-5 relative) and at random points; a complex pair close to the real axis is not a foot
+    point."""
+    rng = random.Random(20261123)
+    for _ in range(150):
+        kind = rng.choice(["ellipse", "hyperbola", "parabola"])
+        A2, B2, p = rng.uniform(0.2, 5), rng.uniform(0.2, 5), rng.uniform(0.2, 3)
+        if kind == "ellipse":
+            A2, B2 = max(A2, B2) + 0.1, min(A2, B2)
+            a, b, th = math.sqrt(A2), math.sqrt(B2), rng.uniform(0.1, 1.4)
+            X0, Y0 = (A2 - B2) / a * math.cos(th) ** 3, (A2 - B2) / b * math.sin(th) ** 3
+        elif kind == "hyperbola":
+            a, b, t = math.sqrt(A2), math.sqrt(B2), rng.uniform(0.1, 1.5)
+            X0, Y0 = (A2 + B2) / a * math.cosh(t) ** 3, (A2 + B2) / b * math.sinh(t) ** 3
+        else:
+            s = rng.uniform(0.2, 2) * p
+            X0, Y0 = p + 1.5 * s * s / p, s ** 3 / p ** 2
+        f = 1 + rng.choice([-1e-10, 1e-10, -1e-7, 1e-7, 0.3, -0.3])
+        X0, Y0 = X0 * f * rng.choice([-1, 1]), Y0 * f * rng.choice([-1, 1])
+        spec = {"type": kind, "cos": F(1), "sin": F(0), "tx": F(0), "ty": F(0)}
+        spec.update({"p": F(p)} if kind == "parabola" else {"A2": F(A2), "B2": F(B2)})
+        con = build(spec)
+        prm = con.frame.params
+        want = _lagrange_real_roots(kind, prm.get("A2"), prm.get("B2"), prm.get("p"), X0, Y0)
+        got = foot_points(con, X0, Y0)
+        assert len(got) == want, (spec, X0, Y0, got, want)
+        d = ref_distance(RefConic(spec), X0, Y0)
+        assert close(got[0][2], d, 1e-9), (spec, X0, Y0, got, d)
 
 
 # ----------------------------------------------------------------------------- rigorous route

@@ -20,7 +20,7 @@ from flint import arb
 from ..certify.foot import (FootFailure, foot_polynomial, normalised_coefficients, real_feet_ball,
                            to_arb, working_prec)
 from .conic import Conic, to_fraction
-from .distance import canonical_foot_points
+from .foot_points import canonical_foot_points
 from ..result import InvalidConicError
 
 __all__ = ["distance_ball", "distance_sign_vs", "squared_distance_ball", "tangency_polynomial"]

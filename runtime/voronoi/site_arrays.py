@@ -12,7 +12,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .conic_geometry import EllipseGeometry, ellipse_foot_points
+from ..sites.foot_points import ellipse_foot_points
+from .conic_geometry import EllipseGeometry
 from .geometry import rounding_slack
 
 __all__ = ["SiteArrays", "site_groups"]

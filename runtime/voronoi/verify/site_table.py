@@ -56,7 +56,7 @@ import itertools
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..conic_geometry import ellipse_feet
+from ...sites.foot_points import ellipse_feet
 from ..geometry import EPS, rounding_slack
 
 __all__ = ["SiteTable", "SiteValues", "gradient_enclosure", "run_lockstep"]
