@@ -400,3 +400,47 @@ def test_hull_neighbours_far_apart_keep_their_unbounded_edge(g):
     assert len(e) == 1 and None in e[0].ends
     assert all(v.certified for v in d.vertices)
     check_points([Circle.from_radius(*c) for c in circ], d)
+
+
+# ----------------------------------------------------------------------------- order and edge interiors
+
+def test_site_order_does_not_change_the_diagram():
+    """The diagram is a function of the set of sites (thesis §1.2): a permuted input gives the
+    permuted Delaunay graph and the same vertices (insertion-order independence)."""
+    sites = [ellipse(0, 0, 2, 1), ellipse(6, 0, 2, 1, Fraction(3, 5), Fraction(4, 5)),
+             ellipse(3, 5, 1, Fraction(1, 2)), Point(3, 2), Circle(-4, 1, 1),
+             ellipse(-3, 6, Fraction(3, 2), 1, Fraction(5, 13), Fraction(12, 13)), Point(1, -4), Circle(8, 6, 2)]
+    rng = np.random.default_rng(5)
+    d = voronoi(sites, certify=False)
+    for _ in range(2):
+        perm = rng.permutation(len(sites))               # new index k holds old site perm[k]
+        dp = voronoi([sites[i] for i in perm], certify=False)
+        assert all(v.certified for v in dp.vertices)
+        back = {tuple(sorted((int(perm[a]), int(perm[b])))) for a, b in dp.delaunay_edges()}
+        assert back == {tuple(sorted(e)) for e in d.delaunay_edges()}
+        P = np.array([[v.x, v.y] for v in d.vertices])
+        Q = np.array([[v.x, v.y] for v in dp.vertices])
+        assert len(P) == len(Q)
+        gap = np.min(np.hypot(*(P[:, None, :] - Q[None, :, :]).transpose(2, 0, 1)), axis=1)
+        assert gap.max() < 1e-8 * (1 + np.abs(P).max())
+
+
+def test_a_small_site_cutting_an_edge_in_its_interior():
+    """Edge-interior conflict built on purpose: two ellipses far apart share a long edge; a small
+    circle near the middle of that edge, far from both of the edge's ends (which lie on the hull:
+    the edge is a line-like curve infinite both ways), cuts the edge in its interior.  With it, the
+    edge (0, 1) splits in two pieces around the circle's region and the circle has edges with both
+    ellipses; deleting the circle restores the single edge (0, 1)."""
+    A, B = ellipse(-10, 0, 2, 1), ellipse(10, 0, 2, 1, Fraction(3, 5), Fraction(4, 5))
+    small = Circle(0, Fraction(1, 2), Fraction(1, 4))
+    d0 = voronoi([A, B], certify=False)
+    assert sorted(tuple(sorted(e)) for e in d0.delaunay_edges()) == [(0, 1)]
+    d = voronoi([A, B, small], certify=False)
+    assert {tuple(sorted(e)) for e in d.delaunay_edges()} == {(0, 1), (0, 2), (1, 2)}
+    assert len([e for e in d.edges if tuple(sorted(e.sites)) == (0, 1)]) == 2      # the edge is cut
+    assert all(v.certified for v in d.vertices) and len(d.vertices) == 2
+    check_points([A, B, small], d, rel=1e-6)
+    grid_check([A, B, small], d, (-14, 14, -8, 8), n=220)
+    back = d.delete_site(2, certify=False)
+    assert sorted(tuple(sorted(e)) for e in back.delaunay_edges()) == [(0, 1)]
+    assert len(back.edges) == 1 and not back.vertices
