@@ -106,27 +106,18 @@ def main(argv=None) -> int:
         tv, cv = time.perf_counter() - t, time.process_time() - c
         rows.append(("circles", n, len(D.vertices), len(D.edges), (tc, cc), tv, cv, cert, cert.timings))
         print(f"circles {n}: construct {tc:.2f} s, verify {tv:.2f} s, ok={cert.ok}", file=sys.stderr)
-    for n in esizes:
-        sites = random_ellipses(n, 1)
-        t, c = time.perf_counter(), time.process_time()
-        D = voronoi(sites, certify=False)
-        tc, cc = time.perf_counter() - t, time.process_time() - c
-        t, c = time.perf_counter(), time.process_time()
-        cert = verify(D, sites)
-        tv, cv = time.perf_counter() - t, time.process_time() - c
-        rows.append(("ellipses", n, len(D.vertices), len(D.edges), (tc, cc), tv, cv, cert, cert.timings))
-        print(f"ellipses {n}: construct {tc:.2f} s, verify {tv:.2f} s, ok={cert.ok}", file=sys.stderr)
-    for n in msizes:
-        sites = mixed_conics(n, 1)
-        t, c = time.perf_counter(), time.process_time()
-        D = voronoi(sites, certify=False)
-        tc, cc = time.perf_counter() - t, time.process_time() - c
-        t, c = time.perf_counter(), time.process_time()
-        cert = verify(D, sites)
-        tv, cv = time.perf_counter() - t, time.process_time() - c
-        rows.append(("mixed conics", n, len(D.vertices), len(D.edges), (tc, cc), tv, cv, cert, cert.timings))
-        print(f"mixed {n}: construct {tc:.2f} s, verify {tv:.2f} s, ok={cert.ok}, "
-              f"edges proved {sum(cert.edges)}/{len(cert.edges)}", file=sys.stderr)
+    for label, make, ns in (("ellipses", random_ellipses, esizes), ("mixed conics", mixed_conics, msizes)):
+        for n in ns:
+            sites = make(n, 1)
+            t, c = time.perf_counter(), time.process_time()
+            D = voronoi(sites, certify=False)
+            tc, cc = time.perf_counter() - t, time.process_time() - c
+            t, c = time.perf_counter(), time.process_time()
+            cert = verify(D, sites)
+            tv, cv = time.perf_counter() - t, time.process_time() - c
+            rows.append((label, n, len(D.vertices), len(D.edges), (tc, cc), tv, cv, cert, cert.timings))
+            print(f"{label} {n}: construct {tc:.2f} s, verify {tv:.2f} s, ok={cert.ok}, "
+                  f"edges proved {sum(cert.edges)}/{len(cert.edges)}", file=sys.stderr)
     for n in sizes:
         P = np.random.default_rng(n).uniform(0, float(np.sqrt(10.0 * n)), (n, 2))
         D = qhull_points_diagram(P)

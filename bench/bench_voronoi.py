@@ -56,33 +56,17 @@ def random_ellipses(n: int, seed: int, rotations=None):
         if any(math.hypot(float(cx) - x, float(cy) - y) <= float(a) + r + 0.05 for x, y, r in placed):
             continue
         c, s = rng.choice(rotations)
-        A = b * b * c * c + a * a * s * s
-        B = 2 * c * s * (b * b - a * a)
-        C = b * b * s * s + a * a * c * c
-        D = -2 * A * cx - B * cy
-        E = -2 * C * cy - B * cx
-        F = A * cx * cx + B * cx * cy + C * cy * cy - a * a * b * b
-        out.append(Conic.from_coefficients(A, B, C, D, E, F))
+        out.append(Conic.ellipse(centre=(cx, cy), axes=(a, b), rotation=(c, s)))
         placed.append((float(cx), float(cy), float(a)))
     return out
-
-
-def _conic_ellipse(cx, cy, a, b, c, s):
-    from curvedvoronoi.runtime.sites.conic import Conic
-
-    A = b * b * c * c + a * a * s * s
-    B = 2 * c * s * (b * b - a * a)
-    C = b * b * s * s + a * a * c * c
-    D = -2 * A * cx - B * cy
-    E = -2 * C * cy - B * cx
-    F = A * cx * cx + B * cx * cy + C * cy * cy - a * a * b * b
-    return Conic.from_coefficients(A, B, C, D, E, F)
 
 
 def grid_ellipses(n: int, seed: int):
     """n identical ellipses (semi-axes 2 and 6/5, rotation (3/5, 4/5)) centred on a square grid of
     step 6 with a jitter of at most 1/2 in each coordinate: disjoint (circumscribed discs of radius
     2 at distance ≥ 5), non-generic (every triple is made of translates of one ellipse)."""
+    from curvedvoronoi.runtime.sites.conic import Conic
+
     rng = random.Random(seed)
     side = math.ceil(math.sqrt(n))
     out = []
@@ -90,7 +74,8 @@ def grid_ellipses(n: int, seed: int):
         gx, gy = k % side, k // side
         cx = 6 * gx + Fraction(rng.randint(-32, 32), 64)
         cy = 6 * gy + Fraction(rng.randint(-32, 32), 64)
-        out.append(_conic_ellipse(cx, cy, Fraction(2), Fraction(6, 5), Fraction(3, 5), Fraction(4, 5)))
+        out.append(Conic.ellipse(centre=(cx, cy), axes=(Fraction(2), Fraction(6, 5)),
+                               rotation=(Fraction(3, 5), Fraction(4, 5))))
     return out
 
 
@@ -136,7 +121,7 @@ def mixed_conics(n: int, seed: int):
             a = Fraction(r)
             b = a * Fraction(round(rng.uniform(0.3, 0.9) * 16), 16)
             c, s = rng.choice(ROTATIONS)
-            out.append(_conic_ellipse(cx, cy, a, b, c, s))
+            out.append(Conic.ellipse(centre=(cx, cy), axes=(a, b), rotation=(c, s)))
         placed.append((float(cx), float(cy), r))
     return out
 

@@ -3,7 +3,10 @@ eig on the 2-core CI machines), and a fixed hypothesis profile so CI time is pre
 from __future__ import annotations
 
 import os
+import sys
+from pathlib import Path
 
+import pytest
 from hypothesis import HealthCheck, settings
 from threadpoolctl import threadpool_limits
 
@@ -37,3 +40,19 @@ def pytest_report_header(config):
 def pytest_terminal_summary(terminalreporter):
     terminalreporter.write_line("sampled reference runs used CURVEDVORONOI_TEST_SEED="
                                 f"{os.environ['CURVEDVORONOI_TEST_SEED']} (set it to reproduce)")
+
+
+@pytest.fixture(scope="session")
+def cgal_peer_program():
+    """The compiled CGAL Apollonius_graph_2 peer (tests/cgal/).  Without g++ or libcgal-dev the
+    comparison is skipped with the install line; under CI (which installs both) it fails instead."""
+    sys.path.insert(0, str(Path(__file__).with_name("cgal")))
+    import cgal_peer
+
+    try:
+        return cgal_peer.build()
+    except cgal_peer.PeerMissing as exc:
+        if os.environ.get("CI"):
+            pytest.fail(f"CGAL peer unavailable in CI: {exc}")
+        pytest.skip(f"comparison with CGAL Apollonius_graph_2 not run on this machine: {exc} "
+                    "(sudo apt-get install libcgal-dev g++; CI installs both and fails instead of skipping)")

@@ -15,12 +15,9 @@ import os
 from fractions import Fraction as F
 
 import numpy as np
-import pytest
 
 from curvedvoronoi.runtime.sites.conic import Conic
-from curvedvoronoi.runtime.solve.exact import msolve_available
 
-needs_msolve = pytest.mark.skipif(not msolve_available(), reason="msolve not installed")
 
 
 def _tangent_triple():
@@ -38,7 +35,6 @@ def test_tangent_triple_has_a_continuum_of_equidistant_points():
         assert max(abs(d - abs(t)) for d in ds) < 1e-9
 
 
-@needs_msolve
 def test_zero_dimensional_generic_and_positive_dimensional():
     from curvedvoronoi.runtime.certify.dimension import zero_dimensional
     from curvedvoronoi.runtime.predicates.locator import demo_configuration
@@ -49,7 +45,6 @@ def test_zero_dimensional_generic_and_positive_dimensional():
     assert "positive-dimensional" in note
 
 
-@needs_msolve
 def test_counting_does_not_claim_completeness_on_a_positive_dimensional_system():
     """Isolated solutions of the tangent triple (msolve on the system with x·s = 1 added, which
     removes the curve x = 0) are certified simple and distinct; their number is passed as the
@@ -70,7 +65,6 @@ def test_counting_does_not_claim_completeness_on_a_positive_dimensional_system()
     assert "= generic count, but" in note and "positive-dimensional" in note
 
 
-@needs_msolve
 def test_locator_refuses_a_continuum_of_vertices():
     from curvedvoronoi.runtime.predicates.locator import clear_cache, locate_conflicts
     from curvedvoronoi.runtime.solve.exact import InfinitelyManySolutions

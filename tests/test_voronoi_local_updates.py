@@ -100,11 +100,7 @@ def _edges(d):
     return [list(e) for e in d.delaunay_edges()]
 
 
-def test_delete_circles_equals_scratch_and_cgal():
-    try:
-        cgal_peer.build()
-    except cgal_peer.PeerMissing as exc:
-        pytest.skip(str(exc))
+def test_delete_circles_equals_scratch_and_cgal(cgal_peer_program):
     circles = cgal_peer.random_disjoint_circles(150, 7)
     d = voronoi(circles, certify=False)
     rng = random.Random(3)

@@ -516,19 +516,24 @@ def test_ellipse_edge_with_a_closer_ignored_site_is_rejected(random_ellipse_diag
     from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
 
     D = copy.deepcopy(random_ellipse_diagram)
-    e = max((e for e in D.edges if None not in e.ends), key=lambda e: len(e.polyline))
-    P = np.array(e.polyline, float)
-    mid = P[len(P) // 2]
-    gi, gj = (site_geometry(D.sites[s]) for s in e.sites)
-    di = float(gi.distance(mid[None, :])[0])
-    t = P[len(P) // 2 + 1] - P[len(P) // 2 - 1]
-    n = np.array([-t[1], t[0]]) / np.hypot(*t)         # across the edge: away from both sites' feet
-    Fi, _ = gi.foot_points(mid[None, :])
-    if np.dot(n, mid - Fi[0]) < 0:
-        n = -n
-    q = mid + (1 - margin) * di * n
-    if any(site_geometry(s).distance(q[None, :])[0] < 0.1 * di * margin for s in D.sites):
-        pytest.skip("the probe lands on a site")
+    geoms = [site_geometry(s) for s in D.sites]
+    # the longest bounded edge whose probe point stays clear of every site (the probe must be a
+    # valid, disjoint point site)
+    for e in sorted((e for e in D.edges if None not in e.ends), key=lambda e: -len(e.polyline)):
+        P = np.array(e.polyline, float)
+        mid = P[len(P) // 2]
+        gi = geoms[e.sites[0]]
+        di = float(gi.distance(mid[None, :])[0])
+        t = P[len(P) // 2 + 1] - P[len(P) // 2 - 1]
+        n = np.array([-t[1], t[0]]) / np.hypot(*t)     # across the edge: away from both sites' feet
+        Fi, _ = gi.foot_points(mid[None, :])
+        if np.dot(n, mid - Fi[0]) < 0:
+            n = -n
+        q = mid + (1 - margin) * di * n
+        if all(g.distance(q[None, :])[0] >= 0.1 * di * margin for g in geoms):
+            break
+    else:
+        raise AssertionError("no bounded edge admits a probe point clear of the sites")
     D.sites = list(D.sites) + [Point(float(q[0]), float(q[1]))]
     cert = verify(D)
     assert not cert.ok
