@@ -194,13 +194,11 @@ def count_mod_p(polys, p: int, timeout: float = 60.0) -> int:
 
 
 def circle_space_support(poly: dict) -> set[tuple[int, int, int]]:
-    """Exponents of g(x, y, T) = o(x, y, x² + y² − T) (circle-space coordinates, exact)."""
-    import flint
+    """Exponents of g(x, y, T) = o(x, y, x² + y² − T) (circle-space coordinates, exact; the runtime's
+    :func:`runtime.certify.root_bound.circle_space_polynomial`, so both sides check the same support)."""
+    from ..runtime.certify.root_bound import circle_space_polynomial
 
-    ctx = flint.fmpz_mpoly_ctx.get(("x", "y", "T"))
-    x, y, t = ctx.gens()
-    o = ctx.from_dict({tuple(int(v) for v in e): int(c) for e, c in poly.items()})
-    return {tuple(int(v) for v in e) for e in o.compose(x, y, x * x + y * y - t).to_dict()}
+    return {tuple(int(v) for v in e) for e in circle_space_polynomial(poly).to_dict()}
 
 
 def compute_root_counts(offset_dir: Path) -> dict:

@@ -49,6 +49,8 @@ from __future__ import annotations
 import threading
 from functools import lru_cache
 
+from .root_bound import circle_space_polynomial
+
 __all__ = ["zero_dimensional", "start_zero_dimensional", "clear_dimension_cache", "DIMENSION_PRIME"]
 
 #: prime of the modular dimension test (accepted by msolve's FGLM)
@@ -61,13 +63,10 @@ def _top_forms_coprime(polys, p: int) -> bool:
     a zero: False.)"""
     import flint
 
-    zctx = flint.fmpz_mpoly_ctx.get(("x", "y", "T"))
     pctx = flint.nmod_mpoly_ctx.get(("x", "y", "T"), modulus=p)
-    x, y, t = zctx.gens()
     tops = []
     for poly in polys:
-        o = zctx.from_dict({e: int(c) for e, c in poly.items()})
-        g = o.compose(x, y, x * x + y * y - t)
+        g = circle_space_polynomial(poly)
         if g.is_zero():
             return False
         d = int(g.total_degree())
