@@ -195,8 +195,8 @@ def count_mod_p(polys, p: int, timeout: float = 60.0) -> int:
 
 def circle_space_support(poly: dict) -> set[tuple[int, int, int]]:
     """Exponents of g(x, y, T) = o(x, y, x² + y² − T) (circle-space coordinates, exact; the runtime's
-    :func:`runtime.certify.root_bound.circle_space_polynomial`, so both sides check the same support)."""
-    from ..runtime.certify.root_bound import circle_space_polynomial
+    :func:`runtime.algebra.circle_space.circle_space_polynomial`, so both sides check the same support)."""
+    from ..runtime.algebra.circle_space import circle_space_polynomial
 
     return {tuple(int(v) for v in e) for e in circle_space_polynomial(poly).to_dict()}
 

@@ -18,8 +18,9 @@ import numpy as np
 import pytest
 from flint import acb, arb
 
+from curvedvoronoi.runtime.algebra.circle_space import circle_space_terms
 from curvedvoronoi.runtime.certify.chart import (ChartSystem, certify_in_chart, chart_polynomials, choose_charts,
-                                   circle_space_polynomial, world_from_chart)
+                                   world_from_chart)
 from curvedvoronoi.runtime.certify.complete import _completeness, certify_solutions
 from curvedvoronoi.runtime.certify.offset_system import OffsetSystem, krawczyk_complex, offset_terms
 from curvedvoronoi.runtime.certify.foot import normalised_coefficients, working_prec
@@ -80,7 +81,7 @@ def test_chart_polynomial_identity(kind):
     for _ in range(2):
         co = normalised_coefficients([Fraction(v) for v in _random_conic(kind, rnd)])
         o = offset_terms(co)
-        q = circle_space_polynomial(o)
+        q = circle_space_terms({(i, j, k): v for i, j, k, v in o})
         ((d, Q, c),) = chart_polynomials((co,))
         assert d == max(sum(e) for e in q) and all(sum(e) == d for e in Q)
         assert d < max(i + j + 2 * k for i, j, k, _ in o)        # much lower than weighted degree 8

@@ -42,16 +42,16 @@ from __future__ import annotations
 
 from fractions import Fraction
 from functools import lru_cache
-from math import factorial
 
 import flint
 import numpy as np
 from flint import acb, arb
 
+from ..algebra.circle_space import circle_space_terms
 from .foot import normalised_coefficients, working_prec
 from .offset_system import krawczyk_complex, newton_track, offset_terms
 
-__all__ = ["circle_space_polynomial", "chart_polynomials", "ChartSystem", "certify_in_chart",
+__all__ = ["chart_polynomials", "ChartSystem", "certify_in_chart",
            "world_from_chart", "choose_charts"]
 
 #: the refined solution must be within this relative distance of the input, per world coordinate:
@@ -60,20 +60,6 @@ __all__ = ["circle_space_polynomial", "chart_polynomials", "ChartSystem", "certi
 MOVE_TOL = 1e-4
 #: precisions (bits) of the chart Krawczyk test
 CHART_PRECS = (128, 256)
-
-
-def circle_space_polynomial(terms) -> dict[tuple[int, int, int], Fraction]:
-    """q(x, y, T) = o(x, y, x² + y² − T) for o = Σ c·x^i y^j R^k given as (i, j, k, c): exact."""
-    out: dict[tuple[int, int, int], Fraction] = {}
-    for i, j, k, c in terms:
-        # (x² + y² − T)^k = Σ k!/(a! b! e!) x^{2a} y^{2b} (−T)^e
-        for a in range(k + 1):
-            for b in range(k + 1 - a):
-                e = k - a - b
-                m = factorial(k) // (factorial(a) * factorial(b) * factorial(e))
-                key = (i + 2 * a, j + 2 * b, e)
-                out[key] = out.get(key, 0) + c * m * (-1) ** e
-    return {key: v for key, v in out.items() if v != 0}
 
 
 def _homogenise(q: dict) -> tuple[int, dict[tuple[int, int, int, int], int], Fraction]:
@@ -101,7 +87,7 @@ def chart_polynomials(cos: tuple[tuple[Fraction, ...], ...]):
     """Homogeneous circle-space offsets of the three conics (normalised coefficient tuples):
     tuple of (d_i, Q_i = {(a, x̂, ŷ, T̂) exponents: integer coefficient}, c_i) with
     Q_i(1, x, y, x² + y² − R) = c_i · o_i(x, y, R), o_i the offsets of ``OffsetSystem``."""
-    return tuple(_homogenise(circle_space_polynomial(offset_terms(co))) for co in cos)
+    return tuple(_homogenise(circle_space_terms({(i, j, k): c for i, j, k, c in offset_terms(co)})) for co in cos)
 
 
 class ChartSystem:

@@ -49,7 +49,7 @@ from __future__ import annotations
 import threading
 from functools import lru_cache
 
-from .root_bound import circle_space_polynomial
+from ..algebra.circle_space import circle_space_polynomial
 
 __all__ = ["zero_dimensional", "start_zero_dimensional", "clear_dimension_cache", "DIMENSION_PRIME"]
 

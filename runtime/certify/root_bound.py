@@ -29,18 +29,9 @@ from __future__ import annotations
 
 from functools import lru_cache
 
-__all__ = ["circle_space_polynomial", "count_bound", "family_of"]
+from ..algebra.circle_space import circle_space_polynomial
 
-
-def circle_space_polynomial(poly: dict):
-    """g(x, y, T) = o(x, y, x² + y² − T) over Z (python-flint fmpz_mpoly in x, y, T) of an exact
-    offset {(i, j, k): c} in (x, y, R)."""
-    import flint
-
-    ctx = flint.fmpz_mpoly_ctx.get(("x", "y", "T"))
-    x, y, t = ctx.gens()
-    o = ctx.from_dict({tuple(int(v) for v in e): int(c) for e, c in poly.items()})
-    return o.compose(x, y, x * x + y * y - t)
+__all__ = ["count_bound", "family_of"]
 
 
 def family_of(conic) -> str:

@@ -274,8 +274,9 @@ def _locate_triple(c1, c2, c3, c4, eigen: str = "dense") -> LocatorResult:
     timings["distances"] = time.perf_counter() - t1
     info = tv.solution.info if tv.solution is not None else None
     if info is not None:
-        notes.append(f"{info.n_finite} generalised vertices (degree gap {info.gap_degree}, Macaulay degree "
-                     f"{info.degree}, {info.nullspace} null space), {tv.n_real} real, {len(vs)} true")
+        how = (f"{info.nullspace} null space in circle space" if info.nullspace.startswith("toric") else
+               f"degree gap {info.gap_degree}, Macaulay degree {info.degree}, {info.nullspace} null space")
+        notes.append(f"{info.n_finite} generalised vertices ({how}), {tv.n_real} real, {len(vs)} true")
     return LocatorResult(conflict=any(v.in_conflict is True for v in vs), vertices=vs, method="triple",
                          timings=timings, complete=False, notes=notes)
 

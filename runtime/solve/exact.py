@@ -350,11 +350,11 @@ def circle_space_system(polys):
     :mod:`runtime.certify.chart`, :mod:`runtime.certify.dimension`).  The total degrees drop from 8 to 6
     (ellipse, hyperbola) or 5 (parabola) and from 4 to 2 for the exact circle offset; msolve's
     Gröbner basis and parametrisation over Q are ~2x faster on this form."""
-    from ..certify.chart import circle_space_polynomial
+    from ..algebra.circle_space import circle_space_terms
 
     out = []
     for p in polys:
-        q = circle_space_polynomial([(i, j, k, c) for (i, j, k), c in p.items()])
+        q = circle_space_terms(p)
         out.append({(k, i, j): int(c) for (i, j, k), c in q.items()})
     return out
 

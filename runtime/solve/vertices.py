@@ -53,6 +53,8 @@ import scipy.linalg as sla
 
 from .exact import cancel_solve_exact, exact_solved, start_solve_exact
 from .homotopy import homotopy_solve
+from .householder import householder_apply, rank_from_values
+from .toric import solve_toric
 from ..algebra.polyalg import CanonicalOffset, WorkingFrame, compose_offset, working_frame, FAMILY_WEIGHTED_DEGREE
 from ..result import LocatorError, NumericalRefusal, VoronoiVertex
 
@@ -167,17 +169,6 @@ def _macaulay_pattern(supports, d: int):
     return row0, len(E), flat
 
 
-def _rank_from_values(vals: np.ndarray, tol: float) -> tuple[int, float]:
-    """Numerical rank from decreasing magnitudes (singular values or |diag R|): the number above
-    ``tol``, and the ratio across the cut (inf when nothing is dropped or kept)."""
-    if len(vals) == 0:
-        return 0, math.inf
-    r = int((vals > tol).sum())
-    if r == len(vals) or r == 0:
-        return r, math.inf
-    return r, (vals[r - 1] / vals[r]) if vals[r] > 0 else math.inf
-
-
 # =========================================================================== solver
 
 @dataclass
@@ -213,39 +204,25 @@ def _nullspace(M, degs, d, top):
         # Qᵀ·ML and the trailing columns of Qn are applied with LAPACK ormqr
         (qh, tauh), Rh, _ = sla.qr(MH, pivoting=True, mode="raw", check_finite=False)
         dr = np.abs(np.diag(Rh))
-        rh, ratio_h = _rank_from_values(dr, RANK_TOL * dr[0])
+        rh, ratio_h = rank_from_values(dr, RANK_TOL * dr[0])
         if ratio_h >= GAP_RATIO:
-            N = np.vstack([_householder_apply(qh, tauh, ML, "T")[rh:], M[np.ix_(~touch, ~hi)]])
+            N = np.vstack([householder_apply(qh, tauh, ML, "T")[rh:], M[np.ix_(~touch, ~hi)]])
             if N.shape[0] == 0:
                 return np.eye(ML.shape[1]), degs[~hi], "projected"
             (qn, taun), Rn, _ = sla.qr(N.T, pivoting=True, mode="raw", check_finite=False)
             dn = np.abs(np.diag(Rn))
-            rn, ratio_n = _rank_from_values(dn, RANK_TOL * dn[0]) if len(dn) else (0, math.inf)
+            rn, ratio_n = rank_from_values(dn, RANK_TOL * dn[0]) if len(dn) else (0, math.inf)
             if ratio_n >= GAP_RATIO:
                 n = N.shape[1]
                 tail = np.zeros((n, n - rn))
                 tail[rn:, :] = np.eye(n - rn)
-                return _householder_apply(qn, taun, tail, "N"), degs[~hi], "projected"
+                return householder_apply(qn, taun, tail, "N"), degs[~hi], "projected"
     Q, R, _ = sla.qr(M.T, pivoting=True, mode="full", check_finite=False)
     dr = np.abs(np.diag(R))
-    r, ratio = _rank_from_values(dr, RANK_TOL * dr[0])
+    r, ratio = rank_from_values(dr, RANK_TOL * dr[0])
     if ratio < GAP_RATIO:
         raise LocatorError(f"Macaulay solver: numerical rank of the Macaulay matrix not clear (ratio {ratio:.1e})")
     return Q[:, r:], degs, "full"
-
-
-def _householder_apply(qr, tau, C, trans: str):
-    """Q·C (trans "N") or Qᵀ·C ("T") for the full orthogonal Q of a raw Householder QR
-    (``scipy.linalg.qr(mode="raw")``), by LAPACK ormqr."""
-    ormqr, = sla.get_lapack_funcs(("ormqr",), (qr,))
-    qr = np.asfortranarray(qr[:, :len(tau)])      # a wide matrix has min(m, n) reflectors
-    C = np.asfortranarray(C, dtype=qr.dtype)
-    _, work, info = ormqr("L", trans, qr, tau, C, -1)
-    lwork = max(int(work[0].real), 1)
-    out, _, info = ormqr("L", trans, qr, tau, C, lwork, overwrite_c=True)
-    if info != 0:
-        raise LocatorError(f"internal error: LAPACK ormqr failed (info {info})")
-    return out
 
 
 def _find_gap(Z, dl, kmax, hint, kmin=1):
@@ -262,7 +239,7 @@ def _find_gap(Z, dl, kmax, hint, kmin=1):
                 cache[k] = (Z.shape[1], math.inf, 0.0)
                 return cache[k]
             sv = np.linalg.svd(Z[rows], compute_uv=False)
-            r, ratio = _rank_from_values(sv, PROFILE_TOL)
+            r, ratio = rank_from_values(sv, PROFILE_TOL)
             dropped = sv[r] if r < len(sv) else 0.0
             cache[k] = (r, ratio, dropped)
         return cache[k]
@@ -476,6 +453,9 @@ SCALES = (1,)
 #: extra Macaulay degrees tried when the exact route stands behind the numeric one (``quick``)
 QUICK_EXTRA_DEGREE = 1
 
+#: marker of the toric null-space attempt in :func:`generalised_vertices`
+TORIC = "toric"
+
 #: residual (relative backward error) accepted for a refined solution
 RESIDUAL_TOL = 1e-11
 
@@ -521,30 +501,38 @@ def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = 
     d0, expected, hint = config_entry(fams)
     if degree is not None:
         d0 = degree
-    if solver not in ("auto", "nullspace", "homotopy"):
-        raise ValueError(f"solver={solver!r}: choose 'auto', 'nullspace' or 'homotopy'")
+    if solver not in ("auto", "nullspace", "toric", "homotopy"):
+        raise ValueError(f"solver={solver!r}: choose 'auto', 'nullspace', 'toric' or 'homotopy'")
     if quick:
         # measured on 99 rigid configurations: no success at d0 + 2 after refusals at d0 and d0 + 1
         max_extra_degree = min(max_extra_degree, QUICK_EXTRA_DEGREE)
     attempts = [(sc, d, top) for sc in SCALES for d in range(d0, d0 + max_extra_degree + 1)
-                for top in (TOP_DEGREES, 0)] if solver != "homotopy" else []
-    if solver == "nullspace":
+                for top in (TOP_DEGREES, 0)] if solver in ("auto", "nullspace") else []
+    if expected is not None and solver in ("auto", "toric"):
+        # the toric null space in circle space right after the first weighted attempt: it finds
+        # the far vertices that the weighted closure lumps with its curve at infinity
+        attempts.insert(1 if attempts else 0, TORIC)
+    if solver in ("nullspace", "toric"):
         homotopy = False
     errors = []
     total: dict[str, float] = {"fill": t_compose}
     wf0 = wf
-    for sc, d, top in attempts:
+    for attempt in attempts:
         if quick and errors and exact_solved(c1, c2, c3):
             errors.append("the exact route (started in the background) has answered first")
             raise LocatorError("; ".join(errors))
+        sc, d, top = (1, -1, 0) if attempt is TORIC else attempt
         if wf.L != wf0.L * sc:
             wf = WorkingFrame(wf0.cos, wf0.sin, wf0.px, wf0.py, wf0.L * sc)
             t0 = time.perf_counter()
             polys = [compose_offset(o, wf) for o in offs]
             total["fill"] += time.perf_counter() - t0
         try:
-            roots_w, info = solve_nullspace(polys, [o.wdeg for o in offs], d, eigen=eigen, top=top,
-                                            gap_hint=hint + (d - d0))
+            if attempt is TORIC:
+                roots_w, info = _toric_attempt(polys, offs, expected)
+            else:
+                roots_w, info = solve_nullspace(polys, [o.wdeg for o in offs], d, eigen=eigen, top=top,
+                                                gap_hint=hint + (d - d0))
             for k, v in info.timings.items():
                 total[k] = total.get(k, 0.0) + v
             if expected is not None and info.n_finite != expected:
@@ -555,13 +543,16 @@ def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = 
             t1 = time.perf_counter()
             x, y = wf.to_world(roots_w[:, 0], roots_w[:, 1])
             pts = np.stack([x, y, roots_w[:, 2] * wf.L ** 2], axis=1)
-            pts, res, cond = newton_refine(offs, pts, scale=wf.L)
+            # the toric roots are Newton-refined in circle space already: Newton in (x, y, R) can
+            # move a far vertex to a point of smaller residual but farther from it
+            pts, res, cond = newton_refine(offs, pts, scale=wf.L, iters=0 if attempt is TORIC else 8)
             try:
                 pts, res, cond, n_deflated = _complete_by_deflation(offs, pts, res, cond, wf.L)
             finally:
                 total["refine"] = total.get("refine", 0.0) + time.perf_counter() - t1
         except LocatorError as exc:
-            errors.append(f"scale {sc}, degree {d} ({'projected' if top else 'full'} null space): {exc}")
+            errors.append(f"toric null space: {exc}" if attempt is TORIC else
+                          f"scale {sc}, degree {d} ({'projected' if top else 'full'} null space): {exc}")
             if quick and len(errors) == 1 and expected is not None:
                 # is the member non-generic?  msolve's parametrisation degree over F_p (~0.03 s)
                 # counts its complex solutions; fewer than the generic count: further degrees
@@ -571,8 +562,9 @@ def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = 
                     errors.append(f"msolve modulo a prime: {n_member} complex solutions, generic count "
                                   f"{expected}: non-generic configuration")
                     raise LocatorError("; ".join(errors)) from None
-                # generic member, but the first attempt refused (typically vertices far outside the
-                # scene): the exact route likely answers; start it now on the other core
+            if quick and expected is not None and (attempt is TORIC or TORIC not in attempts):
+                # a generic member that the toric null space did not solve either: the exact route
+                # likely answers; start it now on the other core
                 start_solve_exact(c1, c2, c3)
             continue
         if quick and errors:
@@ -588,6 +580,15 @@ def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = 
     info.n_deflated = n_deflated
     info.failed_attempts = errors
     return TripleSolution(pts, res, cond, info, wf, first)
+
+
+def _toric_attempt(polys, offs, expected):
+    """The toric null space (:func:`runtime.solve.toric.solve_toric`) as an attempt of
+    :func:`generalised_vertices`: roots in working coordinates and a SolveInfo."""
+    roots, tinfo = solve_toric(polys, [o.family for o in offs], expected)
+    info = SolveInfo(-1, tinfo.n_finite, -1, {}, tinfo.rank_ratio, tinfo.matrix_shape,
+                     f"toric {tinfo.polytope}", timings=dict(tinfo.timings))
+    return roots, info
 
 
 def _homotopy_fallback(offs, wf, expected, errors, total):
