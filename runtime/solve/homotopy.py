@@ -1,5 +1,9 @@
 """Parameter homotopy for the triple offset system (far-away and badly scaled vertices).
 
+Role: the last numeric route, used when msolve is not installed and both null spaces refuse
+(:mod:`runtime.solve.vertices`, :mod:`runtime.solve.toric`); the toric null space now finds the
+far vertices that motivated it, in 0.1–0.4 s instead of 1–10 s here.
+
 Why: the Macaulay null-space solver (:mod:`runtime.solve.vertices`) reads the number of finite
 solutions off a *degree gap* in a fixed chart (configuration scaled into the unit disc).
 Generalised Voronoi vertices of hyperbolas and parabolas can lie 10³–10⁶ times farther out than

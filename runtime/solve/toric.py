@@ -49,7 +49,8 @@ from ..algebra.circle_space import circle_space_float, polytope_bounds
 from ..result import LocatorError
 from .householder import householder_apply, rank_from_values
 
-__all__ = ["ToricInfo", "solve_toric", "polytope_points", "DILATION_STEPS"]
+__all__ = ["ToricInfo", "solve_toric", "toric_macaulay_matrix", "polytope_points", "family_polytope", "projective_newton",
+           "DILATION_STEPS"]
 
 #: (ΔA, ΔB) subtracted from (Σa_i, Σb_i) for the column polytope, tried in turn
 DILATION_STEPS = ((2, 4), (0, 0))
@@ -88,7 +89,7 @@ def polytope_points(a: int, b: int):
     return E, cube
 
 
-def _macaulay(gs, A: int, B: int):
+def toric_macaulay_matrix(gs, A: int, B: int):
     cols, cube = polytope_points(A, B)
     blocks = []
     for E, C, (a, b) in gs:
@@ -145,7 +146,7 @@ def solve_toric(polys: list[dict], families: list[str], expected: int,
 
 def _solve_at(gs, A: int, B: int, expected: int, seed: int, tm: dict):
     t0 = time.perf_counter()
-    M, cols, cube = _macaulay(gs, A, B)
+    M, cols, cube = toric_macaulay_matrix(gs, A, B)
     t1 = time.perf_counter()
     tm["fill"] = tm.get("fill", 0.0) + t1 - t0
     n = M.shape[1]
