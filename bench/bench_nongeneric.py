@@ -130,7 +130,7 @@ def run(reference: bool = False):
     info = (f"\n*cold*: first call after `clear_cache()` (every per-triple result and certification table "
             f"forgotten; artefacts already loaded); *warm*: the same call again (per-triple caches).  "
             f"First call in the process (demo, imports and artefact loading included): {first:.2f} s.  "
-            f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}, msolve -t {foreground_threads()} (foreground), "
+            f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}, msolve -t {foreground_threads()}, "
             f"{platform.machine()}, {os.cpu_count()} cores; machine shared with other jobs "
             f"(load average {load0[0]:.1f} at the start, {load1[0]:.1f} at the end): times are noisy.\n")
     text = "\n".join(lines) + "\n" + info

@@ -2,7 +2,9 @@
 
 For each random rigid configuration (tests/test_locator.random_configuration: rational rotations,
 positions in [-3, 3]², kinds E ellipse, H hyperbola, P parabola, C circle) and each spread factor s
-(the centres multiplied by s, the sites kept: small sites far apart):
+(the centres multiplied by s, the sites kept: small sites far apart)
+
+(``random_configuration(kinds, seed, spread=s)``)
 
 * toric route alone (``generalised_vertices(..., solver="toric")``): does it return the bound's
   number of solutions, and in what time;
@@ -11,7 +13,7 @@ positions in [-3, 3]², kinds E ellipse, H hyperbola, P parabola, C circle) and 
 * the locator's default route: time, certified, complete, and which solver answered (weighted null
   space, toric null space, exact msolve).
 
-    OPENBLAS_NUM_THREADS=1 python bench/bench_toric.py              # 4 mixes x 10 seeds x spreads 1, 10
+    OPENBLAS_NUM_THREADS=1 python bench/bench_toric.py              # 6 mixes x 10 seeds x spreads 1, 10
     OPENBLAS_NUM_THREADS=1 python bench/bench_toric.py --seeds 3     # quicker
     OPENBLAS_NUM_THREADS=1 python bench/bench_toric.py --scene 24    # the triples of a diagram
 
@@ -47,23 +49,6 @@ from curvedvoronoi.runtime.solve.exact import solve_exact  # noqa: E402
 from curvedvoronoi.runtime.solve.vertices import CONFIG_TABLE, generalised_vertices  # noqa: E402
 
 MIXES = ["EEEE", "HHHH", "PPPP", "EPHC", "CEEE", "EEPE"]
-
-
-def spread(conics, s: int):
-    """The same sites with centres (translations) multiplied by s."""
-    out = []
-    for c in conics:
-        a, b, cc, d, e, f = c.coefficients
-        # translate by (s − 1)·t, t the centre / vertex of the canonical frame
-        fr = c.exact_frame               # rational rotations: exact translation
-        tx, ty = fr.tx, fr.ty
-        dx, dy = (s - 1) * tx, (s - 1) * ty
-        # q(x − dx, y − dy)
-        d2 = d - 2 * a * dx - b * dy
-        e2 = e - b * dx - 2 * cc * dy
-        f2 = f + a * dx * dx + b * dx * dy + cc * dy * dy - d * dx - e * dy
-        out.append(Conic.from_coefficients(a, b, cc, d2, e2, f2))
-    return out
 
 
 def route_of(notes) -> str:
@@ -155,9 +140,8 @@ def main():
     rows = defaultdict(list)
     for mix in MIXES:
         for seed in range(200, 200 + args.seeds):
-            base = random_configuration(mix, seed)
             for s in spreads:
-                cs = spread(base, s) if s != 1 else base
+                cs = random_configuration(mix, seed, spread=s)
                 fams = tuple(sorted({"hyperbola": "ellipse"}.get(c.kind, c.kind) for c in cs[:3]))
                 n = CONFIG_TABLE[fams][1] if fams in CONFIG_TABLE else None
                 t0 = time.perf_counter()

@@ -207,16 +207,17 @@ def test_rigid_motion_invariance(rot, bx, by):
 ROTS = [(3, 4, 5), (5, 12, 13), (8, 15, 17), (7, 24, 25), (20, 21, 29), (12, 35, 37), (9, 40, 41)]
 
 
-def random_configuration(kinds: str, seed: int):
+def random_configuration(kinds: str, seed: int, spread: int = 1):
     """Four conics of the given kinds (E ellipse, H hyperbola, P parabola, C circle) with rational
-    rotations (Pythagorean triples) and rational positions in [-3, 3]²."""
+    rotations (Pythagorean triples) and rational positions in [-3, 3]², multiplied by ``spread``
+    (the same sites farther apart: small sites far apart)."""
     rng = np.random.default_rng(seed)
     out = []
     for i, k in enumerate(kinds):
         a, b, h = ROTS[int(rng.integers(len(ROTS)))]
         sg = 1 if rng.random() < 0.5 else -1
         rot = (Fraction(a, h), Fraction(sg * b, h))
-        c = (Fraction(int(rng.integers(-30, 31)), 10), Fraction(int(rng.integers(-30, 31)), 10))
+        c = (Fraction(int(rng.integers(-30, 31)) * spread, 10), Fraction(int(rng.integers(-30, 31)) * spread, 10))
         A = Fraction(int(rng.integers(6, 21)), 10)
         B = Fraction(int(rng.integers(3, 10)), 10)
         if k == "E":

@@ -32,7 +32,7 @@ from curvedvoronoi.runtime.result import LocatorError
 from curvedvoronoi.runtime.sites.conic import Conic
 from curvedvoronoi.runtime.solve.exact import solve_exact
 from curvedvoronoi.runtime.solve.toric import DILATION_STEPS, toric_macaulay_matrix, family_polytope, solve_toric
-from curvedvoronoi.runtime.solve.vertices import generalised_vertices
+from curvedvoronoi.runtime.solve.vertices import generalised_vertices, voronoi_vertices_triple
 from curvedvoronoi.runtime.validation import required_cases_path
 from test_locator import random_configuration
 
@@ -99,15 +99,8 @@ def _real_points(sol, tol=1e-9):
     return P[real].real
 
 
-@pytest.mark.parametrize("source", ["hyperbolas_b_hyperbola4_conflict", ("HHHH", 100), ("PPPP", 102)])
-def test_far_vertices_all_found_and_real_ones_are_the_exact_real_roots(source):
-    cs = _conics(source) if isinstance(source, str) else random_configuration(*source)
-    with pytest.raises(LocatorError):
-        generalised_vertices(*cs[:3], solver="nullspace", max_extra_degree=0)
-    sol = generalised_vertices(*cs[:3], solver="toric")
-    fams = [CanonicalOffset(c).family for c in cs[:3]]
-    assert len(sol.points) == _mixed_volume(fams)
-    assert np.max(np.abs(sol.points[:, 0])) > 1e4 * sol.frame.L       # far outside the scene
+def _assert_real_roots_are_msolves(cs, sol):
+    """The real solutions of ``sol`` are the exact real roots (msolve), one per isolating box."""
     ex = solve_exact(*cs[:3])
     real = _real_points(sol)
     assert len(real) == len(ex.boxes)
@@ -121,6 +114,33 @@ def test_far_vertices_all_found_and_real_ones_are_the_exact_real_roots(source):
         assert inside.sum() == 1, (box, inside.sum())
         hits += inside
     assert np.all(hits == 1)
+
+
+@pytest.mark.parametrize("source", ["hyperbolas_b_hyperbola4_conflict", ("HHHH", 100), ("PPPP", 102)])
+def test_far_vertices_all_found_and_real_ones_are_the_exact_real_roots(source):
+    cs = _conics(source) if isinstance(source, str) else random_configuration(*source)
+    with pytest.raises(LocatorError):
+        generalised_vertices(*cs[:3], solver="nullspace", max_extra_degree=0)
+    sol = generalised_vertices(*cs[:3], solver="toric")
+    fams = [CanonicalOffset(c).family for c in cs[:3]]
+    assert len(sol.points) == _mixed_volume(fams)
+    assert np.max(np.abs(sol.points[:, 0])) > 1e4 * sol.frame.L       # far outside the scene
+    _assert_real_roots_are_msolves(cs, sol)
+
+
+def test_small_sites_far_apart_cluster_of_nearby_solutions():
+    """Three ellipses 100 times farther apart than their sizes: the 8 circles tangent to all three
+    (inner or outer contact with each, Apollonius-like) form a cluster of real solutions ~3e-3 apart
+    in circle space, where one eigenvalue problem loses two of them; the pooled problems find all
+    184, and the real ones are msolve's.  The locator answers without the exact route."""
+    cs = random_configuration("EEEE", 205, spread=100)
+    sol = generalised_vertices(*cs[:3], solver="toric")
+    assert len(sol.points) == _mixed_volume(["ellipse"] * 3)
+    _assert_real_roots_are_msolves(cs, sol)
+    clear_cache()
+    res = locate_conflicts(*cs)
+    assert res.certified and res.complete
+    assert any("toric" in n for n in res.notes) and not any("exact route" in n for n in res.notes), res.notes
 
 
 def test_far_vertex_locator_is_complete_without_the_exact_route():
@@ -148,3 +168,20 @@ def test_non_generic_member_is_refused():
     cs = _conics("parabolas_b_parabola4_conflict")
     with pytest.raises(LocatorError):
         generalised_vertices(*cs[:3], solver="toric")
+
+
+def test_counting_route_decides_a_real_solution_next_to_a_double_foot_point():
+    """Three hyperbolas (random rigid seed 206): one real solution that is not a Voronoi vertex sits
+    next to a double foot point of a site, where the foot-distance enclosures of its 64-bit box are
+    ±0.2 around √R.  A tighter 256-bit box of the same zero decides it, so completeness by counting
+    closes without msolve, with the same vertices as the exact route."""
+    cs = random_configuration("HHHH", 206)
+    clear_cache()
+    res = locate_conflicts(*cs)
+    assert res.certified and res.complete
+    assert not any("exact route" in n or "exact:" in n for n in res.notes), res.notes
+    ref = voronoi_vertices_triple(*cs[:3], route="exact")
+    assert len(ref.vertices) == len(res.vertices)
+    for v in ref.vertices:
+        assert sum(abs(w.x - v.x) <= 1e-9 * max(1, abs(v.x)) and abs(w.y - v.y) <= 1e-9 * max(1, abs(v.y))
+                   for w in res.vertices) == 1

@@ -264,9 +264,17 @@ def _lin_powers(lin, d):
 
 
 def _mul2(A, B):
-    """Product of two bivariate polynomials given as coefficient arrays [deg_x, deg_y]."""
+    """Product of two bivariate polynomials given as coefficient arrays [deg_x, deg_y].  Every
+    coefficient is a sum over the terms of A in row-major order; a loop over the entries of B in
+    reverse row-major order forms the same sums bit for bit (the extra zero products leave a sum
+    started at +0.0 unchanged), in fewer passes when B is the smaller (the powers of a linear form)."""
     n0, n1 = A.shape[0] + B.shape[0] - 1, A.shape[1] + B.shape[1] - 1
     out = np.zeros((n0, n1))
+    if B.size < np.count_nonzero(A):
+        for e in range(B.shape[0] - 1, -1, -1):
+            for f in range(B.shape[1] - 1, -1, -1):
+                out[e:e + A.shape[0], f:f + A.shape[1]] += B[e, f] * A
+        return out
     for a in range(A.shape[0]):
         for b in range(A.shape[1]):
             c = A[a, b]

@@ -121,21 +121,16 @@ class OffsetSystem:
                             d = cols[3 + 3 * q + var]
                             d[tuple(ex)] = d.get(tuple(ex), 0) + c * e
             mons = sorted({m for col in cols for m in col})
-            C = acb_mat(len(mons), 12)
-            for col, dct in enumerate(cols):
-                for t, m in enumerate(mons):
-                    v = dct.get(m)
-                    if v:
-                        C[t, col] = acb(arb(v))
-            self._arb[key] = (mons, C)
+            # one conversion of the whole table (exact rationals rounded to balls at this precision)
+            C = acb_mat([[dct.get(m, 0) for dct in cols] for m in mons]) if mons else acb_mat(0, 12)
+            self._arb[key] = (mons, C, max(max(m) for m in mons) if mons else 0)
         return self._arb[key]
 
     def eval(self, z, jac: bool = True):
         """Values [o_1, o_2, o_3] and Jacobian rows at the acb point z (one acb matrix product
         of the monomial vector with the coefficient matrix)."""
-        mons, C = self._matrix()
+        mons, C, n = self._matrix()
         u, v, w = z
-        n = max(max(m) for m in mons) if mons else 0
         U, V, W = [acb(1)], [acb(1)], [acb(1)]
         for _ in range(n):
             U.append(U[-1] * u)
@@ -169,16 +164,18 @@ def scene_frame(conics) -> tuple[Fraction, Fraction, Fraction]:
 
 
 @lru_cache(maxsize=64)
-def _framed_terms(T, px: Fraction, py: Fraction, s: Fraction):
-    """Terms of o(px + s·u, py + s·v, s²·S) (exact, python-flint fmpq_mpoly), max |c| = 1."""
+def _framed_terms(co: tuple[Fraction, ...], px: Fraction, py: Fraction, s: Fraction):
+    """Terms of o(px + s·u, py + s·v, s²·S) (exact, python-flint fmpq_mpoly), max |c| = 1, for the
+    offset o of the conic with normalised coefficients ``co`` (the cache key: six rationals, not
+    the ~100 terms, whose hashing cost a third of the composition)."""
+    T = offset_terms(co)
     ctx = flint.fmpq_mpoly_ctx.get(("u", "v", "S"))
     u, v, S = ctx.gens()
     o = ctx.from_dict({(i, j, k): _fmpq(c) for i, j, k, c in T})
     g = o.compose(_fmpq(px) + _fmpq(s) * u, _fmpq(py) + _fmpq(s) * v, _fmpq(s * s) * S)
-    d = g.to_dict()
-    m = max(abs(c) for c in d.values())
+    g = g * (1 / max(abs(c) for c in g.coeffs()))     # exact, in flint
     # fmpq coefficients (exact): the consumers (OffsetSystem.fmpq_terms) use them as they are
-    return tuple((int(e[0]), int(e[1]), int(e[2]), c / m) for e, c in sorted(d.items()))
+    return tuple(sorted((int(e[0]), int(e[1]), int(e[2]), c) for e, c in zip(g.monoms(), g.coeffs())))
 
 
 def _fmpq(c):
@@ -195,7 +192,7 @@ def framed_offset_system(conics, frame) -> OffsetSystem:
 @lru_cache(maxsize=64)
 def _framed_system(cos, frame) -> OffsetSystem:
     px, py, s = frame
-    return OffsetSystem(terms=[_framed_terms(offset_terms(co), px, py, s) for co in cos])
+    return OffsetSystem(terms=[_framed_terms(co, px, py, s) for co in cos])
 
 
 def clear_offset_system_caches() -> None:

@@ -23,8 +23,8 @@ outside the scene): 2.5 s against 5.1 s for the (x, y, R) system.
 The system is handed to **msolve** (Berthomieu, Eder, Safey El Din, *msolve: a library for solving
 polynomial systems*, ISSAC 2021; Gröbner bases by F4, rational parametrisation over Q by a
 multi-modular FGLM, real-root isolation of the eliminating polynomial with certified interval
-evaluation of the parametrisation), two threads when the caller waits for it
-(:func:`foreground_threads`), one in the background.  It returns either
+evaluation of the parametrisation), one thread (:func:`foreground_threads`: two were not
+reliably faster on a shared 2-core machine).  It returns either
 
 * "no solution", or
 * "positive dimension" -- infinitely many complex solutions: :class:`InfinitelyManySolutions`
@@ -425,18 +425,18 @@ def solve_exact_cached(c1, c2, c3) -> ExactRoots:
 
 
 def foreground_threads() -> int:
-    """msolve threads of an exact solve the caller waits for: 2 on a machine with 2 or more cores
-    (measured on a non-generic triple of homothetic ellipses with parallel axes, 168 solutions:
-    1.25 s with one thread, 0.80 s with two; bench/results/nongeneric.md), or
-    ``CURVEDVORONOI_MSOLVE_THREADS``.  A solve in the background (:func:`start_solve_exact`) uses
-    one thread: the numeric route runs on the other core meanwhile."""
+    """msolve threads of an exact solve the caller waits for: ``CURVEDVORONOI_MSOLVE_THREADS``, else
+    one.  Measured on this 2-core machine shared with other jobs (msolve over Q, circle-space
+    systems, -t 1 / -t 2 alternated twice): far hyperbolas 2.7 / 2.1 s, identical translated ellipses
+    0.27 / 0.17 s, but homothetic parallel ellipses 1.3 / 3.5–5.6 s and parallel parabolas (77
+    solutions) 0.2 / 0.3–2.8 s when the other core is busy: two threads are not reliably faster."""
     env = os.environ.get("CURVEDVORONOI_MSOLVE_THREADS")
     if env:
         try:
             return max(1, int(env))
         except ValueError:
             pass
-    return 2 if (os.cpu_count() or 1) >= 2 else 1
+    return 1
 
 
 def exact_solved(c1, c2, c3) -> bool:
