@@ -691,6 +691,10 @@ def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = 
             # the toric roots are Newton-refined in circle space already: Newton in (x, y, R) can
             # move a far vertex to a point of smaller residual but farther from it
             pts, res, cond = newton_refine(offs, pts, scale=wf.L, iters=0 if attempt is TORIC else 8)
+            if attempt is TORIC and not (res < RESIDUAL_TOL).all():
+                # roots whose circle-space accuracy is not enough in (x, y, R): Newton there
+                lo = ~(res < RESIDUAL_TOL)
+                pts[lo], res[lo], cond[lo] = newton_refine(offs, pts[lo], scale=wf.L)
             try:
                 # toric roots are deduplicated in circle space at the accuracy Newton reached there;
                 # near-double roots closer than 1e-8 of the frame stay apart (certification proves
