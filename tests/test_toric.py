@@ -170,12 +170,17 @@ def test_non_generic_member_is_refused():
         generalised_vertices(*cs[:3], solver="toric")
 
 
-def test_counting_route_decides_a_real_solution_next_to_a_double_foot_point():
-    """Three hyperbolas (random rigid seed 206): one real solution that is not a Voronoi vertex sits
-    next to a double foot point of a site, where the foot-distance enclosures of its 64-bit box are
-    ±0.2 around √R.  A tighter 256-bit box of the same zero decides it, so completeness by counting
-    closes without msolve, with the same vertices as the exact route."""
-    cs = random_configuration("HHHH", 206)
+@pytest.mark.parametrize("kinds,seed,spread", [("HHHH", 206, 1), ("EEPE", 204, 10)])
+def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
+    """Cases that once fell to the exact route or were answered wrongly incomplete:
+    * three hyperbolas (seed 206): one real solution that is not a Voronoi vertex sits next to a
+      double foot point of a site, where the foot-distance enclosures of its 64-bit box are ±0.2
+      around √R; a tighter 256-bit box of the same zero decides it;
+    * two ellipses and a parabola 10× apart (seed 204): an ill-conditioned root near the scene,
+      accurate only to 1e-5 from circle space, must be sharpened in (x, y, R) or a true vertex is
+      lost (a site seemed closer by 5e-5).
+    Completeness by counting then closes without msolve, with the same vertices as the exact route."""
+    cs = random_configuration(kinds, seed, spread=spread)
     clear_cache()
     res = locate_conflicts(*cs)
     assert res.certified and res.complete

@@ -68,8 +68,10 @@ GAP_RATIO = 1e4
 SHIFT_RCOND = 1e-9
 #: random pairs (h₀, h₁) of eigenvalue problems pooled at most, and the last Newton correction
 #: (max-normalised chart coordinates) below which a root counts as converged
-EIGEN_PAIRS = 3
+EIGEN_PAIRS = 5
 CONVERGED_STEP = 1e-6
+#: backward error (relative residual of the homogenised offsets) below which a refined point is a root
+ROOT_RESIDUAL = 1e-12
 #: the circle-space sections 1, x, y, T (exponents of x, y, T)
 SECTIONS = np.array([(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)], dtype=np.int64)
 
@@ -82,6 +84,8 @@ class ToricInfo:
     rank_ratio: float
     shift_rcond: float
     timings: dict[str, float] = field(default_factory=dict)
+    #: backward errors of the returned roots in circle space (homogenised offsets)
+    residuals: np.ndarray | None = None
 
 
 @lru_cache(maxsize=32)
@@ -182,19 +186,22 @@ def _solve_at(gs, A: int, B: int, expected: int, seed: int, tm: dict):
     Ns = Nul[rows]                                                       # (4, |sub|, N)
     # eigenvectors of h₁/h₀ for a few random pairs (h₀, h₁): each pair resolves a cluster of nearby
     # solutions differently, and the converged roots of all pairs are pooled (measured with small
-    # sites far apart: 1–2 of 184 roots lost with one pair, none with the pool of two or three)
+    # sites far apart: 1–2 of 184 roots lost with one pair; up to five pairs were needed on three
+    # hyperbolas 100 times farther apart than their sizes)
     pool = np.zeros((0, 4), dtype=complex)
     pool_step = np.zeros(0)
+    pool_res = np.zeros(0)
     rconds = []
     for attempt in range(EIGEN_PAIRS):
-        Z, step, rc = _eigen_points(gs, Ns, seed + attempt)
+        Z, step, res, rc = _eigen_points(gs, Ns, seed + attempt)
         rconds.append(rc)
         if Z is None:
             continue
-        conv = step < CONVERGED_STEP
+        conv = (step < CONVERGED_STEP) & (res < ROOT_RESIDUAL)
         allZ, allS = np.vstack([pool, Z[conv]]), np.concatenate([pool_step, step[conv]])
+        allR = np.concatenate([pool_res, res[conv]])
         keep = ~_duplicates(allZ, allS)            # the pool's rows come first and stay
-        pool, pool_step = allZ[keep], allS[keep]
+        pool, pool_step, pool_res = allZ[keep], allS[keep], allR[keep]
         if len(pool) >= expected:
             break
     tm["eigen"] = tm.get("eigen", 0.0) + time.perf_counter() - t2
@@ -205,13 +212,13 @@ def _solve_at(gs, A: int, B: int, expected: int, seed: int, tm: dict):
     A_, X_, Y_, T_ = pool.T
     with np.errstate(divide="ignore", invalid="ignore"):
         roots = np.stack([X_ / A_, Y_ / A_, (X_ * X_ + Y_ * Y_ - A_ * T_) / (A_ * A_)], axis=1)
-    return roots, ToricInfo((A, B), M.shape, expected, ratio, max(rconds), tm)
+    return roots, ToricInfo((A, B), M.shape, expected, ratio, max(rconds), tm, pool_res)
 
 
 def _eigen_points(gs, Ns, seed: int):
-    """(points (N, 4) of P³ refined by :func:`projective_newton`, their last corrections, shift
-    condition) from the eigenvectors of h₁/h₀ (module docstring, step 2–3) for the random pair of
-    ``seed``; (None, None, rcond) when the shifted null space is singular."""
+    """(points (N, 4) of P³ refined by :func:`projective_newton`, their last corrections and
+    relative residuals, shift condition) from the eigenvectors of h₁/h₀ (module docstring, step 2–3) for the random pair of
+    ``seed``; (None, None, None, rcond) when the shifted null space is singular."""
     rng = np.random.default_rng(seed)
     h0, h1 = rng.standard_normal(4), rng.standard_normal(4)
     N0 = np.tensordot(h0, Ns, axes=1)
@@ -219,7 +226,7 @@ def _eigen_points(gs, Ns, seed: int):
     Q0, R0, p0 = sla.qr(N0, mode="economic", pivoting=True, check_finite=False)
     rcond = abs(R0[-1, -1] / R0[0, 0])
     if not rcond > SHIFT_RCOND:
-        return None, None, rcond
+        return None, None, None, rcond
     X = sla.solve_triangular(R0, Q0.T @ N1[:, p0], check_finite=False)
     _, W = sla.eig(X, overwrite_a=True, check_finite=False)
     # [1 : x : y : T] at each solution, on the row of largest |h₀|
@@ -227,8 +234,8 @@ def _eigen_points(gs, Ns, seed: int):
     Z0 = N0[:, p0] @ W.real + 1j * (N0[:, p0] @ W.imag)                  # (|sub|, N)
     k = np.argmax(np.abs(Z0), axis=0)
     Z = np.einsum("esj,js->es", Nsp[:, k, :], W)                         # (4, N)
-    Z, step = projective_newton(gs, Z.T)
-    return Z, step, rcond
+    Z, step, res = projective_newton(gs, Z.T)
+    return Z, step, res, rcond
 
 
 def _homogeneous_system(gs, Z: np.ndarray, fixed: np.ndarray):
@@ -294,8 +301,8 @@ def projective_newton(gs, Z: np.ndarray, iters: int = 30) -> np.ndarray:
     at points Z (N, 4) of P³, each in the affine chart of its largest coordinate (vectorised; a
     point stops once its correction is at the rounding level).  A far vertex (A → 0) is as well
     conditioned here as a near one, whereas Newton in (x, y, R) can reach a tiny residual far from
-    it (Jacobian condition up to 10¹⁷ measured).  Returns the points and each one's last Newton
-    correction (the accuracy reached)."""
+    it (Jacobian condition up to 10¹⁷ measured).  Returns the points, each one's last Newton
+    correction (the accuracy reached) and its relative residual."""
     Z = _normalised(np.array(Z, dtype=complex))
     if len(Z) == 0:
         return Z
@@ -313,4 +320,17 @@ def projective_newton(gs, Z: np.ndarray, iters: int = 30) -> np.ndarray:
         active = active[~done]
         if len(active) == 0:
             break
-    return Z, step
+    return Z, step, _relative_residuals(gs, Z)
+
+
+def _relative_residuals(gs, Z: np.ndarray) -> np.ndarray:
+    """max_i |G_i(Z)| / Σ_m |c_m·m(Z)| (backward error of the homogenised offsets) at points Z (N, 4)."""
+    out = np.zeros(len(Z))
+    for E, C, (a, _b) in gs:
+        ex = np.concatenate([(a - E.sum(axis=1))[:, None], E], axis=1)
+        mono = np.prod(Z[None, :, :] ** ex[:, None, :], axis=2)             # (t, N)
+        val = np.abs(C @ mono)
+        size = np.abs(C) @ np.abs(mono)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out = np.maximum(out, np.where(size > 0, val / size, np.inf))
+    return out
