@@ -37,7 +37,7 @@ dimension N, the number of solutions, at a large enough Q:
 
 The caller checks residuals in world coordinates and certifies every root (Krawczyk, counting).
 
-Measured on the validation and random rigid triples (bench/results/locator.md): Q = (Σa − 2,
+Measured on the validation and random rigid triples (bench/results/locator.md, bench/results/toric.md): Q = (Σa − 2,
 Σb − 4) has null-space dimension N and a well-conditioned shift for every generic member, with
 vertices up to 10¹³ times the scene size; Q = (Σa, Σb) is the fallback.  Everything returned is
 checked downstream (Krawczyk per solution, count against the proved bound).
