@@ -238,10 +238,13 @@ def _eigen_points(gs, Ns, seed: int):
     return Z, step, res, rcond
 
 
-def _homogeneous_system(gs, Z: np.ndarray, fixed: np.ndarray):
-    """Values (N, 4) and Jacobians (N, 4, 4) of (G_1, G_2, G_3, Z_fixed − 1) at points Z (N, 4)."""
+def _homogeneous_system(gs, Z: np.ndarray, fixed: np.ndarray, with_size: bool = False):
+    """Values (N, 4) and Jacobians (N, 4, 4) of (G_1, G_2, G_3, Z_fixed − 1) at points Z (N, 4);
+    with ``with_size`` also the sizes Σ_m |c_m·m(Z)| and values |G_i(Z)| (N, 3) of the relative
+    residuals (backward errors)."""
     F = np.empty((len(Z), 4), dtype=complex)
     J = np.zeros((len(Z), 4, 4), dtype=complex)
+    size = np.zeros((len(Z), 3))
     tiny = (np.abs(Z) < 1e-100).any()
     for i, (E, C, (a, _b)) in enumerate(gs):
         ex = np.concatenate([(a - E.sum(axis=1))[:, None], E], axis=1)          # (t, 4): A, X, Y, T
@@ -251,6 +254,8 @@ def _homogeneous_system(gs, Z: np.ndarray, fixed: np.ndarray):
         fac = P[ex, np.arange(4)[None, :], :]                                  # (t, 4, N)
         mono = np.prod(fac, axis=1)                                            # (t, N)
         F[:, i] = C @ mono
+        if with_size:
+            size[:, i] = np.abs(C) @ np.abs(mono)
         for c in range(4):
             if tiny:
                 g = ex[:, c][:, None] * P[np.maximum(ex[:, c] - 1, 0), c, :]
@@ -263,6 +268,8 @@ def _homogeneous_system(gs, Z: np.ndarray, fixed: np.ndarray):
                 J[:, i, c] = ((C * ex[:, c]) @ mono) / Z[:, c]
     F[:, 3] = Z[np.arange(len(Z)), fixed] - 1.0
     J[np.arange(len(Z)), 3, fixed] = 1.0
+    if with_size:
+        return F, J, size, np.abs(F[:, :3])
     return F, J
 
 
@@ -305,7 +312,7 @@ def projective_newton(gs, Z: np.ndarray, iters: int = 30) -> np.ndarray:
     correction (the accuracy reached) and its relative residual."""
     Z = _normalised(np.array(Z, dtype=complex))
     if len(Z) == 0:
-        return Z
+        return Z, np.zeros(0), np.zeros(0)
     fixed = np.argmax(np.abs(Z), axis=1)
     step = np.full(len(Z), np.inf)
     active = np.arange(len(Z))
@@ -320,17 +327,7 @@ def projective_newton(gs, Z: np.ndarray, iters: int = 30) -> np.ndarray:
         active = active[~done]
         if len(active) == 0:
             break
-    return Z, step, _relative_residuals(gs, Z)
-
-
-def _relative_residuals(gs, Z: np.ndarray) -> np.ndarray:
-    """max_i |G_i(Z)| / Σ_m |c_m·m(Z)| (backward error of the homogenised offsets) at points Z (N, 4)."""
-    out = np.zeros(len(Z))
-    for E, C, (a, _b) in gs:
-        ex = np.concatenate([(a - E.sum(axis=1))[:, None], E], axis=1)
-        mono = np.prod(Z[None, :, :] ** ex[:, None, :], axis=2)             # (t, N)
-        val = np.abs(C @ mono)
-        size = np.abs(C) @ np.abs(mono)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            out = np.maximum(out, np.where(size > 0, val / size, np.inf))
-    return out
+    _, _, size, value = _homogeneous_system(gs, Z, fixed, with_size=True)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        res = np.where(size > 0, value / size, np.inf).max(axis=1)
+    return Z, step, res

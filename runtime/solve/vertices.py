@@ -755,20 +755,26 @@ def _refine_toric_roots(offs, pts, cs_res, L):
     So a refined root is kept only where the circle-space one had a large (x, y, R) residual, the
     refined one has a small one, and the refined roots stay distinct; elsewhere the circle-space
     root stays, with its residual."""
-    p0, r0, c0 = newton_refine(offs, pts, iters=0, scale=L)
-    p1, r1, c1 = newton_refine(offs, pts, scale=L)
-    D = np.array([L, L, L * L])
+    out, r0, cond = newton_refine(offs, pts, iters=0, scale=L)
+    res = np.minimum(r0, cs_res)
     # only roots whose (x, y, R) residual shows they need it: Newton on a far root with a tiny
     # residual already moves it along the ill-conditioned direction (measured 2e-6 relative)
-    ok = ~(r0 < RESIDUAL_TOL) & np.isfinite(r1) & (r1 < RESIDUAL_TOL)
-    # refined roots that coincide with another refined root: revert both
-    P = p1 / D[None, :]
-    close = np.abs(P[:, None, :] - P[None, :, :]).max(axis=2) <= TORIC_DISTINCT_TOL
-    np.fill_diagonal(close, False)
-    ok &= ~close.any(axis=1)
-    out = np.where(ok[:, None], p1, p0)
-    res = np.where(ok, r1, np.minimum(r0, cs_res))
-    return out, res, np.where(ok, c1, c0)
+    need = np.nonzero(~(r0 < RESIDUAL_TOL))[0]
+    if len(need) == 0:
+        return out, res, cond
+    p1, r1, c1 = newton_refine(offs, pts[need], scale=L)
+    take = need[np.isfinite(r1) & (r1 < RESIDUAL_TOL)]
+    keep = np.isin(need, take)
+    new = out.copy()
+    new[take] = p1[keep]
+    # a refined root that coincides with another root slid onto it: keep its circle-space value
+    D = np.array([L, L, L * L])
+    P = new / D[None, :]
+    close = np.abs(P[take, None, :] - P[None, :, :]).max(axis=2) <= TORIC_DISTINCT_TOL
+    close[np.arange(len(take)), take] = False
+    take, keep_idx = take[~close.any(axis=1)], np.nonzero(keep)[0][~close.any(axis=1)]
+    out[take], res[take], cond[take] = p1[keep_idx], r1[keep_idx], c1[keep_idx]
+    return out, res, cond
 
 
 def _homotopy_fallback(offs, wf, expected, errors, total):

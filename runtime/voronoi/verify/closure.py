@@ -310,9 +310,10 @@ def _below(sup, b, a, max_work) -> bool:
         if work > max_work:
             return False
         thc, half = 0.5 * (c0 + c1), 0.5 * (c1 - c0) * (1 + 1e-12)
-        gap = sup.h(a, thc) - sup.h(b, thc) - 2 * sup.W * half - 4 * sup.mu
-        if np.any(sup.h(a, thc) - sup.h(b, thc) < -4 * sup.mu):
+        diff = sup.h(a, thc) - sup.h(b, thc)
+        if np.any(diff < -4 * sup.mu):
             return False
+        gap = diff - 2 * sup.W * half - 4 * sup.mu
         bad = ~(gap > 0)
         c0, c1 = c0[bad], c1[bad]
         mid = 0.5 * (c0 + c1)
