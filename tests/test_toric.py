@@ -128,6 +128,20 @@ def test_far_vertices_all_found_and_real_ones_are_the_exact_real_roots(source):
     _assert_real_roots_are_msolves(cs, sol)
 
 
+@pytest.mark.parametrize("seed", [205, 207])
+def test_a_root_reached_twice_is_not_two_roots(seed):
+    """Three hyperbolas 100 times farther apart than their sizes: two eigenvalue problems once
+    reached one well-conditioned root twice, 1.5e-11 apart in circle space (Newton's last steps
+    1e-12 and 4e-16, so "distinct" at 10 times the step), and missed another root (a real one at
+    (−95, −208), a conjugate pair at x ≈ −537.5).  Rows closer than their forward-error estimates
+    ε·‖J⁻¹‖·Σ|c_m·m(Z)| send the pooling on to the next problem: all 184 distinct roots, and the real
+    ones are msolve's exact real roots, one per isolating box."""
+    cs = random_configuration("HHHH", seed, spread=100)
+    sol = generalised_vertices(*cs[:3], solver="toric")
+    assert len(sol.points) == _mixed_volume(["ellipse"] * 3)
+    _assert_real_roots_are_msolves(cs, sol)
+
+
 def test_small_sites_far_apart_cluster_of_nearby_solutions():
     """Three ellipses 100 times farther apart than their sizes: the 8 circles tangent to all three
     (inner or outer contact with each, Apollonius-like) form a cluster of real solutions ~3e-3 apart
@@ -170,7 +184,8 @@ def test_non_generic_member_is_refused():
         generalised_vertices(*cs[:3], solver="toric")
 
 
-@pytest.mark.parametrize("kinds,seed,spread", [("HHHH", 206, 1), ("EEPE", 204, 10)])
+@pytest.mark.parametrize("kinds,seed,spread", [("HHHH", 206, 1), ("EEPE", 204, 10), ("HHHH", 204, 100),
+                                               ("HHHH", 205, 100)])
 def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
     """Cases that once fell to the exact route or were answered wrongly incomplete:
     * three hyperbolas (seed 206): one real solution that is not a Voronoi vertex sits next to a
@@ -178,7 +193,11 @@ def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
       around √R; a tighter 256-bit box of the same zero decides it;
     * two ellipses and a parabola 10× apart (seed 204): an ill-conditioned root near the scene,
       accurate only to 1e-5 from circle space, must be sharpened in (x, y, R) or a true vertex is
-      lost (a site seemed closer by 5e-5).
+      lost (a site seemed closer by 5e-5);
+    * three hyperbolas 100× apart (seed 204): a complex-conjugate pair 1.8e-5 off the real axis
+      at (x, y, R) ≈ (17.8, 0.53, 32820), "nearly real" at 10⁻⁶ of its size; real Newton cannot
+      reach either zero (Krawczyk failed up to 1024 bits), complex Newton from the unprojected
+      point does, and 128 bits certify both.
     Completeness by counting then closes without msolve, with the same vertices as the exact route."""
     cs = random_configuration(kinds, seed, spread=spread)
     clear_cache()

@@ -471,6 +471,13 @@ def _certify_framed(c1, c2, c3, S, prec, iters, method, frame):
             m = [acb(float(t.real), 0.0 if nearly_real else float(t.imag)) for t in s]
             m = _newton_c(sys, m, real=nearly_real, iters=iters)
             res = krawczyk_complex(sys, m, symmetric=nearly_real)
+            if res is None and nearly_real and np.any(s.imag != 0):
+                # a conjugate pair closer to the real axis than 10⁻⁶ of its size (a near-double
+                # real root split into the complex plane): real Newton cannot reach either zero,
+                # complex Newton from the unprojected point does
+                nearly_real = False
+                m = _newton_c(sys, [acb(complex(t)) for t in s], real=False, iters=max(iters, 8))
+                res = krawczyk_complex(sys, m, symmetric=False)
             if res is None:
                 out.append((None, None))
                 continue
