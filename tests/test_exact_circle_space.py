@@ -2,7 +2,8 @@
 the circle-space chart of runtime.certify.chart):
 
 * the real solutions msolve isolates in (T, x, y), mapped back to (x, y, R), match one to one those
-  it isolates on the original system o1 = o2 = o3 = 0, on a triple with vertices far outside the scene;
+  it isolates on the original system o1 = o2 = o3 = 0, on a triple with vertices far outside the scene,
+  and on a triple far from the origin that msolve solves translated;
 * the image box of a (T, x, y) box contains the image point (exact interval arithmetic);
 * a background exact solve gives the same solutions as a direct one, and a cancelled one leaves
   nothing behind.
@@ -30,6 +31,28 @@ def test_circle_space_boxes_match_the_weighted_system():
     from test_locator import random_configuration
 
     cs = random_configuration("PPPP", 102)[:3]
+    ref = parse_output(msolve_run(system_text(exact_triple_system(*cs)), "-p", "128"))[1][1]
+    ref = [tuple((F(lo), F(hi)) for lo, hi in b) for b in ref]
+    boxes = solve_exact(*cs).boxes
+    assert len(boxes) == len(ref) > 0
+    for b in ref:
+        assert sum(_meet(b, c) for c in boxes) == 1
+    for c in boxes:
+        assert sum(_meet(b, c) for b in ref) == 1
+
+
+def test_translated_solve_matches_the_world_system():
+    """Sites far from the origin (two homothetic parallel ellipses and a circle near (25, 29) of a
+    60 × 60 scene): msolve runs on the conics translated to an integer point near them; its boxes,
+    shifted back, are one to one the real solutions msolve isolates on the untranslated world
+    system o1 = o2 = o3 = 0 in (x, y, R)."""
+    from curvedvoronoi.runtime.sites.conic import Conic
+    from curvedvoronoi.runtime.solve.exact import scene_translation
+
+    cs = [Conic.from_coefficients(*map(F, co)) for co in
+          [(29008, 11088, 11617, -1289904, -879972, 23810663),
+           (116032, 44352, 46468, -7580832, -4616076, 183084533), (1, 0, 1, -50, -58, 1465)]]
+    assert scene_translation(*cs) != (0, 0)
     ref = parse_output(msolve_run(system_text(exact_triple_system(*cs)), "-p", "128"))[1][1]
     ref = [tuple((F(lo), F(hi)) for lo, hi in b) for b in ref]
     boxes = solve_exact(*cs).boxes
