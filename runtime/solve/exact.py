@@ -26,8 +26,8 @@ msolve 0.98 s against 1.22 s (median of 4, interleaved).
 The system is handed to **msolve** (Berthomieu, Eder, Safey El Din, *msolve: a library for solving
 polynomial systems*, ISSAC 2021; Gröbner bases by F4, rational parametrisation over Q by a
 multi-modular FGLM, real-root isolation of the eliminating polynomial with certified interval
-evaluation of the parametrisation), one thread (:func:`foreground_threads`: two were not
-reliably faster on a shared 2-core machine).  It returns either
+evaluation of the parametrisation), two threads only when a core is idle (:func:`foreground_threads`:
+two are 1.6x faster then, but 3-4x slower when the other core is busy).  It returns either
 
 * "no solution", or
 * "positive dimension" -- infinitely many complex solutions: :class:`InfinitelyManySolutions`
@@ -460,17 +460,36 @@ def solve_exact_cached(c1, c2, c3) -> ExactRoots:
 
 def foreground_threads() -> int:
     """msolve threads of an exact solve the caller waits for: ``CURVEDVORONOI_MSOLVE_THREADS``, else
-    one.  Measured on this 2-core machine shared with other jobs (msolve over Q, circle-space
-    systems, -t 1 / -t 2 alternated twice): far hyperbolas 2.7 / 2.1 s, identical translated ellipses
-    0.27 / 0.17 s, but homothetic parallel ellipses 1.3 / 3.5–5.6 s and parallel parabolas (77
-    solutions) 0.2 / 0.3–2.8 s when the other core is busy: two threads are not reliably faster."""
+    two when a second core is idle right now (:func:`idle_core`), else one.
+
+    Measured on this 2-core machine shared with other jobs (msolve over Q, circle-space systems,
+    -t 1 / -t 2 alternated): with the other core idle, homothetic parallel ellipses (168 solutions)
+    0.97 / 0.60 s, far hyperbolas 2.7 / 2.1 s, identical translated ellipses 0.27 / 0.17 s; with
+    the other core busy, homothetic parallel ellipses 1.3 / 3.5–5.6 s and parallel parabolas (77
+    solutions) 0.2 / 0.3–2.8 s: msolve's threads wait for each other, so two threads only when a
+    core is free."""
     env = os.environ.get("CURVEDVORONOI_MSOLVE_THREADS")
     if env:
         try:
             return max(1, int(env))
         except ValueError:
             pass
-    return 1
+    return 2 if idle_core() else 1
+
+
+def idle_core() -> bool:
+    """Is a second core free now?  At least two usable CPUs, a one-minute load average below
+    n − 1/2 (this process counts 1) and no other runnable task beyond n − 2 in the kernel's
+    instantaneous count (``/proc/loadavg``, field 4: runnable/total, this process included).
+    False where /proc/loadavg does not exist."""
+    try:
+        n = len(os.sched_getaffinity(0))
+        with open("/proc/loadavg") as fh:
+            fields = fh.read().split()
+        load1, running = float(fields[0]), int(fields[3].split("/")[0])
+    except (AttributeError, OSError, ValueError, IndexError):
+        return False
+    return n >= 2 and load1 < n - 0.5 and running - 1 <= n - 2
 
 
 def exact_solved(c1, c2, c3) -> bool:
