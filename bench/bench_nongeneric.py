@@ -23,7 +23,6 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from curvedvoronoi.runtime.sites.conic import Conic  # noqa: E402
-from curvedvoronoi.runtime.solve.exact import foreground_threads  # noqa: E402
 
 
 def _E(c, ax, rot=(1, 0)):
@@ -130,7 +129,7 @@ def run(reference: bool = False):
     info = (f"\n*cold*: first call after `clear_cache()` (every per-triple result and certification table "
             f"forgotten; artefacts already loaded); *warm*: the same call again (per-triple caches).  "
             f"First call in the process (demo, imports and artefact loading included): {first:.2f} s.  "
-            f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}, msolve -t {foreground_threads()}, "
+            f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}, msolve threads: {os.environ.get('CURVEDVORONOI_MSOLVE_THREADS') or '2 when a second core is idle at the call, else 1'}, "
             f"{platform.machine()}, {os.cpu_count()} cores; machine shared with other jobs "
             f"(load average {load0[0]:.1f} at the start, {load1[0]:.1f} at the end): times are noisy.\n")
     text = "\n".join(lines) + "\n" + info

@@ -33,7 +33,11 @@ dimension N, the number of solutions, at a large enough Q:
 4. a cluster of nearby solutions (small sites far apart: the 8 circles touching three small
    ellipses from inside or outside) can send two eigenvectors to one root: the converged roots
    of up to :data:`EIGEN_PAIRS` random pairs (h₀, h₁) are pooled, duplicates judged at the
-   accuracy Newton reached, until the bound's number of distinct roots is found.
+   accuracy Newton reached, until the bound's number of distinct roots is found; two rows that
+   are apart by more than Newton's last steps but less than their forward-error estimates
+   (ε·‖J⁻¹‖ times the size of the values: Higham 2002, §25.3) may be one root reached twice, so
+   such a pool counts as complete only once these rows are merged, and otherwise the next pair is
+   tried (a near-double pair that Newton resolved then comes back as the first complete pool).
 
 The caller checks residuals in world coordinates and certifies every root (Krawczyk, counting).
 
