@@ -15,6 +15,7 @@ positions in [-3, 3]², kinds E ellipse, H hyperbola, P parabola, C circle) and 
 
     OPENBLAS_NUM_THREADS=1 python bench/bench_toric.py              # 6 mixes x 10 seeds x spreads 1, 10
     OPENBLAS_NUM_THREADS=1 python bench/bench_toric.py --seeds 3     # quicker
+    OPENBLAS_NUM_THREADS=1 python bench/bench_toric.py --first-seed 300 --seeds 8 --spreads 1000  # held-out seeds
     OPENBLAS_NUM_THREADS=1 python bench/bench_toric.py --scene 24    # the triples of a diagram
 
 ``--scene N``: N random disjoint ellipses (axes 1–4, rational rotations, centres over a 60 × 60
@@ -126,6 +127,7 @@ def main():
 
     ap = argparse.ArgumentParser()
     ap.add_argument("--seeds", type=int, default=10)
+    ap.add_argument("--first-seed", type=int, default=200, help="seeds first-seed .. first-seed + seeds - 1")
     ap.add_argument("--spreads", default="1,10")
     ap.add_argument("--scene", type=int, default=0, help="locate the triples of a diagram of this many ellipses")
     args = ap.parse_args()
@@ -139,7 +141,7 @@ def main():
     load0 = os.getloadavg()[0]
     rows = defaultdict(list)
     for mix in MIXES:
-        for seed in range(200, 200 + args.seeds):
+        for seed in range(args.first_seed, args.first_seed + args.seeds):
             for s in spreads:
                 cs = random_configuration(mix, seed, spread=s)
                 fams = tuple(sorted({"hyperbola": "ellipse"}.get(c.kind, c.kind) for c in cs[:3]))
@@ -172,7 +174,7 @@ def main():
                 print(mix, seed, s, ok, f"{t_toric:.3f}", match, f"{t_loc:.3f}", res.certified, res.complete,
                       route_of(res.notes), flush=True)
     lines = [f"## bench_toric.py ({time.strftime('%Y-%m-%d %H:%M')}, OPENBLAS_NUM_THREADS="
-             f"{os.environ.get('OPENBLAS_NUM_THREADS')}, seeds 200..{199 + args.seeds}, spreads {spreads})", "",
+             f"{os.environ.get('OPENBLAS_NUM_THREADS')}, seeds {args.first_seed}..{args.first_seed + args.seeds - 1}, spreads {spreads})", "",
              "| mix | spread | toric: all N solutions | toric median s | real solutions = msolve's | "
              "locator median s | locator max s | certified & complete | answered by |",
              "|---|---:|---|---:|---|---:|---:|---|---|"]

@@ -185,7 +185,7 @@ def test_non_generic_member_is_refused():
 
 
 @pytest.mark.parametrize("kinds,seed,spread", [("HHHH", 206, 1), ("EEPE", 204, 10), ("HHHH", 204, 100),
-                                               ("HHHH", 205, 100)])
+                                               ("HHHH", 205, 100), ("EPHC", 304, 10)])
 def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
     """Cases that once fell to the exact route or were answered wrongly incomplete:
     * three hyperbolas (seed 206): one real solution that is not a Voronoi vertex sits next to a
@@ -197,7 +197,11 @@ def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
     * three hyperbolas 100× apart (seed 204): a complex-conjugate pair 1.8e-5 off the real axis
       at (x, y, R) ≈ (17.8, 0.53, 32820), "nearly real" at 10⁻⁶ of its size; real Newton cannot
       reach either zero (Krawczyk failed up to 1024 bits), complex Newton from the unprojected
-      point does, and 128 bits certify both.
+      point does, and 128 bits certify both;
+    * an ellipse, a parabola and a hyperbola 10× apart (seed 304): a conjugate pair so near the real
+      axis that the weighted null space returns it as two real points 1e-3 apart (Jacobian condition
+      1e10; msolve: 16 real solutions, not 18); complex Newton from s_k + i·(s_k − s_j) certifies
+      the two conjugate zeros.
     Completeness by counting then closes without msolve, with the same vertices as the exact route."""
     cs = random_configuration(kinds, seed, spread=spread)
     clear_cache()
