@@ -24,13 +24,9 @@ def _meet(b, c):
     return all(not (i[1] < j[0] or j[1] < i[0]) for i, j in zip(b, c))
 
 
-def test_circle_space_boxes_match_the_weighted_system():
-    """Four parabolas (random rigid configuration, seed 102) whose null-space route refuses (far
-    vertices): the real solutions msolve isolates in (T, x, y), mapped to (x, y, R), are one to one
-    the real solutions it isolates on the original system o1 = o2 = o3 = 0 in (x, y, R)."""
-    from test_locator import random_configuration
-
-    cs = random_configuration("PPPP", 102)[:3]
+def _assert_boxes_match_the_world_system(cs):
+    """solve_exact's boxes are one to one the real solutions msolve isolates on o1 = o2 = o3 = 0 in
+    (x, y, R) as given (no circle space, no translation)."""
     ref = parse_output(msolve_run(system_text(exact_triple_system(*cs)), "-p", "128"))[1][1]
     ref = [tuple((F(lo), F(hi)) for lo, hi in b) for b in ref]
     boxes = solve_exact(*cs).boxes
@@ -39,6 +35,16 @@ def test_circle_space_boxes_match_the_weighted_system():
         assert sum(_meet(b, c) for c in boxes) == 1
     for c in boxes:
         assert sum(_meet(b, c) for b in ref) == 1
+
+
+def test_circle_space_boxes_match_the_weighted_system():
+    """Four parabolas (random rigid configuration, seed 102) whose null-space route refuses (far
+    vertices): the real solutions msolve isolates in (T, x, y), mapped to (x, y, R), are one to one
+    the real solutions it isolates on the original system o1 = o2 = o3 = 0 in (x, y, R)."""
+    from test_locator import random_configuration
+
+    cs = random_configuration("PPPP", 102)[:3]
+    _assert_boxes_match_the_world_system(cs)
 
 
 def test_translated_solve_matches_the_world_system():
@@ -53,14 +59,7 @@ def test_translated_solve_matches_the_world_system():
           [(29008, 11088, 11617, -1289904, -879972, 23810663),
            (116032, 44352, 46468, -7580832, -4616076, 183084533), (1, 0, 1, -50, -58, 1465)]]
     assert scene_translation(*cs) != (0, 0)
-    ref = parse_output(msolve_run(system_text(exact_triple_system(*cs)), "-p", "128"))[1][1]
-    ref = [tuple((F(lo), F(hi)) for lo, hi in b) for b in ref]
-    boxes = solve_exact(*cs).boxes
-    assert len(boxes) == len(ref) > 0
-    for b in ref:
-        assert sum(_meet(b, c) for c in boxes) == 1
-    for c in boxes:
-        assert sum(_meet(b, c) for b in ref) == 1
+    _assert_boxes_match_the_world_system(cs)
 
 
 def test_world_box_contains_the_image():
