@@ -185,7 +185,8 @@ def test_non_generic_member_is_refused():
 
 
 @pytest.mark.parametrize("kinds,seed,spread", [("HHHH", 206, 1), ("EEPE", 204, 10), ("HHHH", 204, 100),
-                                               ("HHHH", 205, 100), ("EPHC", 304, 10)])
+                                               ("HHHH", 205, 100), ("EPHC", 304, 10), ("HHHH", 300, 100),
+                                               ("EEEE", 301, 1000)])
 def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
     """Cases that once fell to the exact route or were answered wrongly incomplete:
     * three hyperbolas (seed 206): one real solution that is not a Voronoi vertex sits next to a
@@ -201,7 +202,14 @@ def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
     * an ellipse, a parabola and a hyperbola 10× apart (seed 304): a conjugate pair so near the real
       axis that the weighted null space returns it as two real points 1e-3 apart (Jacobian condition
       1e10; msolve: 16 real solutions, not 18); complex Newton from s_k + i·(s_k − s_j) certifies
-      the two conjugate zeros.
+      the two conjugate zeros;
+    * three hyperbolas 100× apart (seed 300): the weighted null space returns a spurious conjugate
+      pair m ± i·w, both of whose members certify as the one real root near m, and lacks a real
+      root at m + 206·w (msolve: 60 real solutions, not 58); one member is dropped and Newton at
+      128 bits from m ± t·w finds the lost root;
+    * three ellipses 1000× apart (seed 301): 8 real roots within 2e-3 of each other, one reached
+      twice by the toric eigenvectors and one never; Newton from random starts around the duplicate
+      finds it.
     Completeness by counting then closes without msolve, with the same vertices as the exact route."""
     cs = random_configuration(kinds, seed, spread=spread)
     clear_cache()
@@ -213,3 +221,26 @@ def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
     for v in ref.vertices:
         assert sum(abs(w.x - v.x) <= 1e-9 * max(1, abs(v.x)) and abs(w.y - v.y) <= 1e-9 * max(1, abs(v.y))
                    for w in res.vertices) == 1
+
+
+def test_a_list_with_a_root_replaced_by_a_copy_is_not_complete_unless_the_root_is_found_again():
+    """Corrupted input for the completeness proof: in a complete list (three ellipses, seed 3), a
+    real root is replaced by a copy of another real root.  The proof must either refuse, or find the
+    lost root again (then its real solutions are msolve's exact real solutions, in number)."""
+    import re
+
+    from curvedvoronoi.runtime.certify.complete import certify_completeness
+
+    cs = random_configuration("EEEE", 3)
+    sol = generalised_vertices(*cs[:3])
+    S = sol.points.copy()
+    real = np.nonzero(np.abs(S.imag).max(axis=1) < 1e-9 * np.maximum(1, np.abs(S).max(axis=1)))[0]
+    assert len(real) >= 2
+    ok, _ = certify_completeness(*cs[:3], S, sol.info.expected)
+    assert ok
+    i, j = real[0], real[-1]
+    S[j] = S[i]
+    ok, note = certify_completeness(*cs[:3], S, sol.info.expected)
+    if ok:
+        assert "replaced" in note
+        assert int(re.search(r"\((\d+) real\)", note).group(1)) == len(solve_exact(*cs[:3]).boxes)
