@@ -687,14 +687,16 @@ def _replace_unproved(c1, c2, c3, S, boxes) -> int:
     """Solutions whose enclosures overlap another's, when no chart separates them: typically one
     root reached twice by the numeric stage while a nearby root of the same cluster was missed
     (small sites far apart: 8 real roots within 2e-3 of each other, eigenvectors mixed at 3e-3).
-    One member of each overlapping pair is dropped; for each dropped one, Newton at 128 bits runs
-    from starts around it -- first, for a point m + i·w seen as non-real, the real points m ± t·w,
+
+    One member of each overlapping pair is dropped.  For each dropped one, Newton at 128 bits runs
+    from starts around it: first, for a point m + i·w seen as non-real, the real points m ± t·w,
     t = 1 … 1000 (a spurious conjugate pair near the real axis points along the segment between
-    two real roots), then random real and complex directions at distances
-    1e-5 ... 1e-1 of its size -- and the first certified box disjoint from all kept boxes replaces
-    it (measured: a real root 6e-4 away that the numeric stage had replaced by a spurious
-    conjugate pair; msolve 60 real solutions where the numeric stage had 58).  Returns the number replaced if all were, else 0 (``boxes`` may then be partly updated;
-    the caller gives up).  Nothing here is assumed: every box is an ordinary Krawczyk box, and
+    two real roots; measured: the lost real root at m + 206·w, msolve 60 real solutions where the
+    numeric stage had 58); then random real and complex directions at distances 1e-5 … 1e-1 of its
+    size.  The first certified box disjoint from all kept boxes replaces it.
+
+    Returns the number replaced if all were, else 0 (``boxes`` may then be partly updated; the
+    caller gives up).  Nothing here is assumed: every box is an ordinary Krawczyk box, and the
     disjointness of all N boxes is checked again at the end."""
     overlaps: list = []
     _disjoint([K for _, K in boxes], overlaps)
