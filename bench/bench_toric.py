@@ -132,10 +132,7 @@ def main():
     ap.add_argument("--scene", type=int, default=0, help="locate the triples of a diagram of this many ellipses")
     args = ap.parse_args()
     if args.scene:
-        text = scene(args.scene)
-        print(text)
-        with open(ROOT / "bench" / "results" / "toric.md", "a") as fh:
-            fh.write(text + "\n")
+        _report(scene(args.scene))
         return
     spreads = [int(s) for s in args.spreads.split(",")]
     load0 = os.getloadavg()[0]
@@ -189,7 +186,11 @@ def main():
               f"{sum(bool(r[2]) for r in allr)} of those; locator certified & complete {sum(r[4] and r[5] for r in allr)}, "
               f"median {statistics.median(r[3] for r in allr):.3f} s, max {max(r[3] for r in allr):.3f} s; "
               f"load average {load0:.1f} at the start, {os.getloadavg()[0]:.1f} at the end.", ""]
-    text = "\n".join(lines)
+    _report("\n".join(lines))
+
+
+def _report(text: str) -> None:
+    """Print a results block and append it to bench/results/toric.md."""
     print(text)
     with open(ROOT / "bench" / "results" / "toric.md", "a") as fh:
         fh.write(text + "\n")

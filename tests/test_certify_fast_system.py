@@ -23,16 +23,7 @@ def _spread():
 def test_fast_system_radii_bound_the_exact_coefficients(cs):
     sys = framed_offset_system(cs, scene_frame(cs))
     fs = _FastSystem(sys)
-    exact = [dict() for _ in range(12)]
-    for q, T in enumerate(sys.fmpq_terms):
-        for i, j, k, c in T:
-            exact[q][(i, j, k)] = exact[q].get((i, j, k), 0) + c
-            for var, e in enumerate((i, j, k)):
-                if e:
-                    ex = [i, j, k]
-                    ex[var] -= 1
-                    col = exact[3 + 3 * q + var]
-                    col[tuple(ex)] = col.get(tuple(ex), 0) + c * e
+    exact = sys.value_gradient_columns()
     rows = {tuple(int(t) for t in e): n for n, e in enumerate(fs.exps)}
     assert set(rows) == {m for col in exact for m in col}
     checked = 0

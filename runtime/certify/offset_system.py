@@ -103,13 +103,10 @@ class OffsetSystem:
             self._arb[prec] = [[(i, j, k, arb(v)) for i, j, k, v in T] for T in self.fmpq_terms]
         return self._arb[prec]
 
-    def _matrix(self):
-        """(monomials, acb_mat C) with row t of C the coefficients of monomial t in o_1..o_3 and
-        ∂o_i/∂(x, y, R) (12 columns: o_1, o_2, o_3, then ∂o_i/∂x_j row-major), exact rationals
-        rounded to balls at the current precision."""
-        prec = flint.ctx.prec
-        key = ("mat", prec)
-        if key not in self._arb:
+    def value_gradient_columns(self) -> list[dict]:
+        """The 12 polynomials o_1, o_2, o_3, then ∂o_i/∂x_j (column 3 + 3i + j, (x_0, x_1, x_2) =
+        (x, y, R)), each as {(i, j, k): exact fmpq coefficient} (cached)."""
+        if "cols" not in self._arb:
             cols: list[dict] = [{} for _ in range(12)]
             for q, T in enumerate(self.fmpq_terms):
                 for i, j, k, c in T:
@@ -120,6 +117,17 @@ class OffsetSystem:
                             ex[var] -= 1
                             d = cols[3 + 3 * q + var]
                             d[tuple(ex)] = d.get(tuple(ex), 0) + c * e
+            self._arb["cols"] = cols
+        return self._arb["cols"]
+
+    def _matrix(self):
+        """(monomials, acb_mat C) with row t of C the coefficients of monomial t in the 12
+        polynomials of :meth:`value_gradient_columns`, exact rationals rounded to balls at the
+        current precision."""
+        prec = flint.ctx.prec
+        key = ("mat", prec)
+        if key not in self._arb:
+            cols = self.value_gradient_columns()
             mons = sorted({m for col in cols for m in col})
             # one conversion of the whole table (exact rationals rounded to balls at this precision)
             C = acb_mat([[dct.get(m, 0) for dct in cols] for m in mons]) if mons else acb_mat(0, 12)

@@ -314,8 +314,12 @@ def solve_exact(c1, c2, c3, *, precision: int = 128, timeout: float = MSOLVE_TIM
                     "equidistant points, the Voronoi vertices are not isolated") from None
     # msolve runs on the translated conics (u, v) = (x − px, y − py), (px, py) an integer point near
     # the sites: smaller coefficients, the same real solutions shifted exactly (module docstring)
+    # (the modular pre-pass above keeps the untranslated system: same count, and its result is
+    # cached from the locator's own modular count)
     px, py = scene_translation(c1, c2, c3)
-    shifted = exact_triple_system(*(translated_conic(c, px, py) for c in (c1, c2, c3))) if (px, py) != (0, 0) else polys
+    shifted = polys
+    if (px, py) != (0, 0):
+        shifted = exact_triple_system(*(translated_conic(c, px, py) for c in (c1, c2, c3)))
     out = parse_output(msolve_run(system_text(circle_space_system(shifted), names=CIRCLE_SPACE_NAMES),
                                   "-p", str(int(precision)), timeout=timeout, threads=threads))
     st = _status(out)

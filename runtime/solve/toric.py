@@ -236,8 +236,8 @@ def _solve_at(gs, A: int, B: int, expected: int, seed: int, tm: dict):
 
 def _eigen_points(gs, Ns, seed: int):
     """(points (N, 4) of P³ refined by :func:`projective_newton`, their last corrections,
-    relative residuals and forward-error estimates, shift condition) from the eigenvectors of h₁/h₀ (module docstring, step 2–3) for the random pair of
-    ``seed``; (None, None, None, rcond) when the shifted null space is singular."""
+    relative residuals and forward-error estimates, shift condition) from the eigenvectors of
+    h₁/h₀ (module docstring, step 2–3) for the random pair of ``seed``; (None, None, None, rcond) when the shifted null space is singular."""
     rng = np.random.default_rng(seed)
     h0, h1 = rng.standard_normal(4), rng.standard_normal(4)
     N0 = np.tensordot(h0, Ns, axes=1)
@@ -308,9 +308,9 @@ def _normalised(Z):
 def _duplicates(Z, step=None) -> np.ndarray:
     """True for points of P³ (rows, max-normalised) that coincide with an earlier row: closer than
     10 times the larger of their accuracies ``step`` (last Newton corrections, or forward-error
-    estimates), and at least 1e-13.  Near-double roots that Newton resolved stay apart (two real vertices 1e-9
-    apart were measured with small sites far apart); the certification proves them distinct or
-    the counting proof fails."""
+    estimates), and at least 1e-13.  Near-double roots that Newton resolved stay apart (two real
+    vertices 1e-9 apart were measured with small sites far apart); the certification proves them
+    distinct or the counting proof fails."""
     W = _normalised(Z)
     st = np.zeros(len(W)) if step is None else np.asarray(step, dtype=float)
     tol = np.maximum(1e-13, 10 * np.maximum(st[:, None], st[None, :]))
