@@ -573,10 +573,6 @@ class TripleVertices:
     exact: object | None = None
 
 
-def _families(conics):
-    return tuple(sorted(CanonicalOffset(c).family for c in conics))
-
-
 def config_entry(fams: tuple[str, ...]) -> tuple[int, int | None, int]:
     """(Macaulay degree, generic count or None, degree-gap hint) for a sorted family triple."""
     if fams in CONFIG_TABLE:
