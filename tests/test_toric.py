@@ -23,6 +23,8 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from curvedvoronoi.runtime.algebra.circle_space import circle_space_float
 from curvedvoronoi.runtime.algebra.polyalg import CanonicalOffset, compose_offset, working_frame
@@ -142,6 +144,20 @@ def test_a_root_reached_twice_is_not_two_roots(seed):
     _assert_real_roots_are_msolves(cs, sol)
 
 
+@pytest.mark.parametrize("kinds,seed", [("HHHH", 302), ("HHHH", 305), ("EEPE", 307)])
+def test_clusters_resolved_by_schur_points(kinds, seed):
+    """Small sites 100 times farther apart than their sizes, where the eigenvectors of five pooled
+    eigenvalue problems found 185, 178 and 142 distinct roots (bounds 184, 184, 148): clusters of up
+    to 27 solutions down to 5e-5 apart in working units.  Reading each solution also from the Schur
+    form (common eigenvalues of the section maps, no eigenvector) finds every root, and the real
+    ones are msolve's exact real roots, one per isolating box."""
+    cs = random_configuration(kinds, seed, spread=100)
+    sol = generalised_vertices(*cs[:3], solver="toric")
+    fams = [CanonicalOffset(c).family for c in cs[:3]]
+    assert len(sol.points) == _mixed_volume(fams)
+    _assert_real_roots_are_msolves(cs, sol)
+
+
 def test_small_sites_far_apart_cluster_of_nearby_solutions():
     """Three ellipses 100 times farther apart than their sizes: the 8 circles tangent to all three
     (inner or outer contact with each, Apollonius-like) form a cluster of real solutions ~3e-3 apart
@@ -186,7 +202,8 @@ def test_non_generic_member_is_refused():
 
 @pytest.mark.parametrize("kinds,seed,spread", [("HHHH", 206, 1), ("EEPE", 204, 10), ("HHHH", 204, 100),
                                                ("HHHH", 205, 100), ("EPHC", 304, 10), ("HHHH", 300, 100),
-                                               ("EEEE", 301, 1000)])
+                                               ("EEEE", 301, 1000), ("HHHH", 302, 100), ("HHHH", 305, 100),
+                                               ("EEPE", 307, 100)])
 def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
     """Cases that once fell to the exact route or were answered wrongly incomplete:
     * three hyperbolas (seed 206): one real solution that is not a Voronoi vertex sits next to a
@@ -209,7 +226,10 @@ def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
       128 bits from m ± t·w finds the lost root;
     * three ellipses 1000× apart (seed 301): 8 real roots within 2e-3 of each other, one reached
       twice by the toric eigenvectors and one never; Newton from random starts around the duplicate
-      finds it.
+      finds it;
+    * three hyperbolas (seeds 302, 305) and two ellipses and a parabola (seed 307) 100× apart:
+      clusters the eigenvectors do not resolve (both null spaces refused, msolve answered in
+      1.7–4.4 s); the Schur points of the toric null space resolve them.
     Completeness by counting then closes without msolve, with the same vertices as the exact route."""
     cs = random_configuration(kinds, seed, spread=spread)
     clear_cache()
@@ -244,3 +264,59 @@ def test_a_list_with_a_root_replaced_by_a_copy_is_not_complete_unless_the_root_i
     if ok:
         assert "replaced" in note
         assert int(re.search(r"\((\d+) real\)", note).group(1)) == len(solve_exact(*cs[:3]).boxes)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(0, 6), st.integers(0, 5))
+def test_common_eigenvalues_of_commuting_matrices(seed, n_real, n_pairs):
+    """Commuting real matrices X_s = V·B_s·V⁻¹ (B_s block diagonal: a real value, or a conjugate pair
+    a ± ib as the block [[a, b], [−b, a]]; V random): the rows returned are the common
+    eigenvalues, each point once, conjugate pairs included."""
+    from curvedvoronoi.runtime.solve.toric import common_eigenvalues
+
+    if n_real + 2 * n_pairs == 0:
+        return
+    rng = np.random.default_rng(seed)
+    real = rng.standard_normal((n_real, 4))
+    pairs = rng.standard_normal((n_pairs, 4)) + 1j * rng.standard_normal((n_pairs, 4))
+    n = n_real + 2 * n_pairs
+    B = np.zeros((4, n, n))
+    for k in range(n_real):
+        B[:, k, k] = real[k]
+    for k in range(n_pairs):
+        i = n_real + 2 * k
+        B[:, i, i] = B[:, i + 1, i + 1] = pairs[k].real
+        B[:, i, i + 1], B[:, i + 1, i] = pairs[k].imag, -pairs[k].imag
+    V = np.linalg.qr(rng.standard_normal((n, n)))[0] + 0.3 * rng.standard_normal((n, n))
+    Xs = np.einsum("ij,sjk,kl->sil", V, B, np.linalg.inv(V))
+    X = np.tensordot(rng.standard_normal(4), Xs, axes=1)
+    Z = common_eigenvalues(X, Xs)
+    expected = np.vstack([real.astype(complex), pairs, pairs.conj()])
+    D = np.abs(Z[:, None, :] - expected[None, :, :]).max(axis=2)
+    tol = 1e-7 * max(1.0, np.abs(expected).max()) * np.linalg.cond(V) ** 2
+    assert len(Z) == n
+    assert np.all(D.min(axis=1) < tol) and np.all(D.min(axis=0) < tol)
+    # each expected point matched by exactly one row
+    assert sorted(np.argmin(D, axis=1).tolist()) == list(range(n))
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 60))
+def test_duplicates_by_sort_and_sweep_equal_the_pairwise_definition(seed, n):
+    """Rows coinciding with an earlier row (closer than 10 × the larger accuracy, at least 1e-13),
+    on clustered random points of P³: the sweep equals the all-pairs definition."""
+    from curvedvoronoi.runtime.solve.toric import _duplicates
+
+    rng = np.random.default_rng(seed)
+    base = rng.standard_normal((max(1, n // 3), 4)) + 1j * rng.standard_normal((max(1, n // 3), 4))
+    Z = base[rng.integers(0, len(base), n)] * (1 + rng.standard_normal((n, 1)) * 10.0 ** rng.integers(-16, -6))
+    Z = Z + 10.0 ** rng.integers(-15, -5) * rng.standard_normal((n, 4))
+    step = 10.0 ** rng.uniform(-16, -8, n)
+    W = Z / Z[np.arange(n), np.argmax(np.abs(Z), axis=1)][:, None]
+    want = np.zeros(n, dtype=bool)
+    for a in range(n):
+        for b in range(a):
+            if not want[b] and np.abs(W[a] - W[b]).max() < max(1e-13, 10 * step[a], 10 * step[b]):
+                want[a] = True
+                break
+    assert np.array_equal(_duplicates(Z, step), want)

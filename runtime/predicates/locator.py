@@ -193,6 +193,7 @@ _completeness_cache: "OrderedDict[tuple, tuple[bool, str, float]]" = OrderedDict
 def _certified(res: LocatorResult, cs, completeness: bool, eigen: str) -> LocatorResult:
     """Certification stage (:mod:`runtime.certify.conflicts`), with the triple's completeness proof cached per triple."""
     from ..certify.conflicts import certify_result
+    from ..solve.exact import cancel_solve_exact
 
     c1, c2, c3, c4 = cs
     key = (tuple(_key(c) for c in (c1, c2, c3)), eigen)
@@ -210,6 +211,10 @@ def _certified(res: LocatorResult, cs, completeness: bool, eigen: str) -> Locato
             out = certify_result(res, c1, c2, c3, c4, solutions=sol.points, expected_count=sol.info.expected)
             if not out.complete:
                 _exact_completeness(out, (c1, c2, c3), tv.exact)
+            elif sol.info.provisional:
+                # proved complete by counting: the exact solve kept running for a provisional list
+                # (runtime.solve.vertices.generalised_vertices) is not needed
+                cancel_solve_exact(c1, c2, c3)
         else:
             out = certify_result(res, c1, c2, c3, c4)
             out.notes = [n for n in out.notes if not n.startswith("certify: completeness not proven")]

@@ -258,6 +258,9 @@ class SolveInfo:
     homotopy: dict | None = None
     #: residuals of the roots in the solver's own coordinates when they replace those in (x, y, R)
     root_residuals: np.ndarray | None = None
+    #: the list holds a pair of roots closer than their forward-error estimates (a near-double
+    #: pair, or one root reached twice): the certification decides
+    provisional: bool = False
 
 
 def _nullspace(M, degs, d, top):
@@ -719,8 +722,10 @@ def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = 
                 # ill-conditioned solutions) and is stopped when a numeric attempt succeeds
                 start_solve_exact(c1, c2, c3)
             continue
-        if quick and errors:
-            cancel_solve_exact(c1, c2, c3)       # answered after all: the background solve is waste
+        if quick and errors and not info.provisional:
+            # answered after all: the background solve is waste (a provisional list keeps it: if
+            # the certification refuses, the exact route is already under way)
+            cancel_solve_exact(c1, c2, c3)
         break
     else:
         if not homotopy or expected is None:
@@ -739,7 +744,8 @@ def _toric_attempt(polys, offs, expected):
     :func:`generalised_vertices`: roots in working coordinates and a SolveInfo."""
     roots, tinfo = solve_toric(polys, [o.family for o in offs], expected)
     info = SolveInfo(-1, tinfo.n_finite, -1, {}, tinfo.rank_ratio, tinfo.matrix_shape,
-                     f"toric {tinfo.polytope}", timings=dict(tinfo.timings), root_residuals=tinfo.residuals)
+                     f"toric {tinfo.polytope}", timings=dict(tinfo.timings), root_residuals=tinfo.residuals,
+                     provisional=tinfo.provisional)
     return roots, info
 
 
