@@ -341,7 +341,7 @@ def _eigen_points(gs, Ns, seed: int):
 
 
 def common_eigenvalues(X: np.ndarray, Xs: np.ndarray) -> np.ndarray:
-    """The common eigenvalues (N, 4) of the commuting real matrices Xs[s] (N × N), ordered by a
+    """The common eigenvalues (N, S) of the commuting real matrices Xs[s] (S × N × N), ordered by a
     real Schur form X = U·S·Uᵀ of X (one of their combinations): the diagonal of Uᵀ·Xs[s]·U for
     a 1 × 1 block of S, and for a 2 × 2 block (a conjugate pair) the eigenvalues of the 2 × 2
     block of Uᵀ·Xs[s]·U in the eigenvector basis of S's block."""
@@ -355,7 +355,7 @@ def common_eigenvalues(X: np.ndarray, Xs: np.ndarray) -> np.ndarray:
     if len(k):
         up = np.einsum("ik,sik->ks", U[:, k], Y[:, :, k + 1])                   # (m, 4)
         lo = np.einsum("ik,sik->ks", U[:, k + 1], Y[:, :, k])
-        blocks = np.empty((len(k), 4, 2, 2))
+        blocks = np.empty((len(k), len(Xs), 2, 2))
         blocks[:, :, 0, 0], blocks[:, :, 1, 1] = diag[k], diag[k + 1]
         blocks[:, :, 0, 1], blocks[:, :, 1, 0] = up, lo
         Sb = np.stack([S[k, k], S[k, k + 1], S[k + 1, k], S[k + 1, k + 1]], axis=1).reshape(-1, 2, 2)
