@@ -175,9 +175,9 @@ def solve_toric(polys: list[dict], families: list[str], expected: int,
             roots, res = pool.roots(expected, fallback=True)
             return roots, ToricInfo((A, B), shape, expected, ratio, max(rconds), tm, res,
                                     pool.count() != expected)
-        errors.append(f"polytope ({A}, {B}): {pool.count()} distinct converged roots from {len(rconds)} eigenvalue "
-                      f"problems, not the {expected} of the bound (a cluster of nearby solutions, or solutions at toric infinity; shift conditions "
-                      f"{', '.join(f'{r:.0e}' for r in rconds)})")
+        errors.append(f"polytope ({A}, {B}): {pool.count()} distinct converged roots from {len(rconds)} "
+                      f"eigenvalue problems, not the {expected} of the bound (a cluster of nearby solutions, or "
+                      f"solutions at toric infinity; shift conditions {', '.join(f'{r:.0e}' for r in rconds)})")
     raise LocatorError("toric null space: " + "; ".join(errors))
 
 
@@ -190,10 +190,10 @@ def _circle_space_system(polys, ab):
     return gs
 
 
-def _shifted_null_space(gs, A: int, B: int, expected: int, tm: dict, strict: bool = True):
+def _shifted_null_space(gs, A: int, B: int, expected: int, tm: dict):
     """(the null space restricted to the shifts by the sections 1, x, y, T: (4, |sub|, N), the
     rank ratio, the Macaulay matrix's shape) at the column polytope (A, B) (module docstring,
-    steps 1–2).  ``strict``: refuse when the numerical rank is not n − N with a clear gap."""
+    steps 1–2); refuses when the numerical rank is not n − N with a clear gap."""
     t0 = time.perf_counter()
     M, cols, cube = toric_macaulay_matrix(gs, A, B)
     t1 = time.perf_counter()
@@ -205,7 +205,7 @@ def _shifted_null_space(gs, A: int, B: int, expected: int, tm: dict, strict: boo
     (qr, tau), R, _ = sla.qr(M.T, pivoting=True, mode="raw", check_finite=False)
     dr = np.abs(np.diag(R))
     rank, ratio = rank_from_values(dr, RANK_TOL * dr[0])
-    if strict and (rank != r or ratio < GAP_RATIO):
+    if rank != r or ratio < GAP_RATIO:
         raise LocatorError(f"null space of dimension {n - rank} (ratio {ratio:.1e} across the cut), "
                            f"not the {expected} solutions of the bound: solutions at toric infinity, "
                            "a positive-dimensional component or a non-generic member")
@@ -236,9 +236,8 @@ class _Pool:
         conjugate of a root is a root, reached at the same accuracy)."""
         conv = (step < CONVERGED_STEP) & (res < ROOT_RESIDUAL)
         Z, step, res, err = (np.concatenate([v[conv], v[conv].conj()]) for v in (Z, step, res, err))
-        conv = np.ones(len(Z), dtype=bool)
-        allZ, allS = np.vstack([self.Z, Z[conv]]), np.concatenate([self.step, step[conv]])
-        allE, allR = np.concatenate([self.err, err[conv]]), np.concatenate([self.res, res[conv]])
+        allZ, allS = np.vstack([self.Z, Z]), np.concatenate([self.step, step])
+        allE, allR = np.concatenate([self.err, err]), np.concatenate([self.res, res])
         keep = ~_duplicates(allZ, allS)            # the pool's rows come first and stay
         self.Z, self.step, self.err, self.res = allZ[keep], allS[keep], allE[keep], allR[keep]
 
@@ -346,14 +345,13 @@ def common_eigenvalues(X: np.ndarray, Xs: np.ndarray) -> np.ndarray:
     a 1 × 1 block of S, and for a 2 × 2 block (a conjugate pair) the eigenvalues of the 2 × 2
     block of Uᵀ·Xs[s]·U in the eigenvector basis of S's block."""
     S, U = sla.schur(X, output="real", check_finite=False)
-    n = len(S)
     Y = np.einsum("sij,jk->sik", Xs, U)
-    diag = np.einsum("ik,sik->ks", U, Y)                                        # (n, 4)
+    diag = np.einsum("ik,sik->ks", U, Y)                                        # (N, S)
     Z = diag.astype(complex)
     sub = np.abs(np.diagonal(S, -1)) > 0
     k = np.nonzero(sub)[0]
     if len(k):
-        up = np.einsum("ik,sik->ks", U[:, k], Y[:, :, k + 1])                   # (m, 4)
+        up = np.einsum("ik,sik->ks", U[:, k], Y[:, :, k + 1])                   # (m, S)
         lo = np.einsum("ik,sik->ks", U[:, k + 1], Y[:, :, k])
         blocks = np.empty((len(k), len(Xs), 2, 2))
         blocks[:, :, 0, 0], blocks[:, :, 1, 1] = diag[k], diag[k + 1]
@@ -361,7 +359,7 @@ def common_eigenvalues(X: np.ndarray, Xs: np.ndarray) -> np.ndarray:
         Sb = np.stack([S[k, k], S[k, k + 1], S[k + 1, k], S[k + 1, k + 1]], axis=1).reshape(-1, 2, 2)
         _, V = np.linalg.eig(Sb)                                                # (m, 2, 2)
         Vi = np.linalg.inv(V)
-        vals = np.einsum("mab,msbc,mca->msa", Vi, blocks, V)                    # (m, 4, 2)
+        vals = np.einsum("mab,msbc,mca->msa", Vi, blocks, V)                    # (m, S, 2)
         Z[k] = vals[:, :, 0]
         Z[k + 1] = vals[:, :, 1]
     return Z
@@ -420,8 +418,9 @@ def _duplicates(Z, step=None) -> np.ndarray:
     10 times the larger of their accuracies ``step`` (last Newton corrections, or forward-error
     estimates), and at least 1e-13.  Near-double roots that Newton resolved stay apart (two real
     vertices 1e-9 apart were measured with small sites far apart); the certification proves them
-    distinct or the counting proof fails.  Candidate pairs by sort and sweep on the real part of
-    one coordinate at the largest tolerance, then each pair at its own tolerance."""
+    distinct or the counting proof fails.  A row of non-finite accuracy is never merged.
+    Candidate pairs by sort and sweep on the real part of one coordinate at the largest tolerance,
+    then each pair at its own tolerance."""
     W = _normalised(Z)
     st = np.zeros(len(W)) if step is None else np.nan_to_num(np.asarray(step, dtype=float), nan=np.inf)
     dup = np.zeros(len(W), dtype=bool)
