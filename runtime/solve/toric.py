@@ -293,9 +293,9 @@ def _pool_eigen(pool: _Pool, gs, Ns, expected: int, seed: int, pairs: int) -> li
 
 def _eigen_points(gs, Ns, seed: int, schur: bool = True):
     """(points (2N, 4), or (N, 4) without ``schur``, of P³ refined by :func:`projective_newton`,
-    their last corrections, relative residuals and forward-error estimates, shift condition) for the random pair (h₀, h₁)
-    of ``seed`` (module docstring, steps 2–3); (None, None, None, None, rcond) when the shifted
-    null space is singular.
+    their last corrections, relative residuals and forward-error estimates, shift condition) for
+    the random pair (h₀, h₁) of ``seed`` (module docstring, steps 2–3); (None, None, None, None,
+    rcond) when the shifted null space is singular.
 
     Each solution is read twice, as two starts for Newton:
 
