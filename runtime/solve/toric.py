@@ -167,7 +167,7 @@ def solve_toric(polys: list[dict], families: list[str], expected: int,
             errors.append(f"polytope ({A}, {B}): {exc}")
             continue
         t1 = time.perf_counter()
-        rconds = _pool_eigen(pool, gs, Ns, expected, seed, EIGEN_PAIRS)
+        rconds = _pool_eigen(pool, gs, Ns, expected, seed)
         tm["eigen"] = tm.get("eigen", 0.0) + time.perf_counter() - t1
         if pool.complete(expected, fallback=True):
             # merged at the forward-error estimates, fewer than the bound may remain: a near-double
@@ -182,6 +182,8 @@ def solve_toric(polys: list[dict], families: list[str], expected: int,
 
 
 def _circle_space_system(polys, ab):
+    """[(exponents, coefficients, (a, b))] of the circle-space offsets, restricted to their family
+    polytopes {i + j + k ≤ a, i + j + 2k ≤ b}."""
     gs = []
     for p, (a, b) in zip(polys, ab):
         E, C = circle_space_float(p)
@@ -230,6 +232,7 @@ class _Pool:
         self.step = np.zeros(0)
         self.err = np.zeros(0)
         self.res = np.zeros(0)
+        self.loose = np.zeros(0, dtype=bool)
 
     def add(self, Z, step, res, err) -> None:
         """Add the converged rows and their complex conjugates (the offsets are real: the
@@ -240,15 +243,13 @@ class _Pool:
         allE, allR = np.concatenate([self.err, err]), np.concatenate([self.res, res])
         keep = ~_duplicates(allZ, allS)            # the pool's rows come first and stay
         self.Z, self.step, self.err, self.res = allZ[keep], allS[keep], allE[keep], allR[keep]
-
-    def loose(self) -> np.ndarray:
-        """Rows kept when rows closer than their forward-error estimates are merged: a
-        well-conditioned root 1.5e-11 apart from itself was measured, Newton's last steps 1e-12
-        and 4e-16; such a pair is one root reached twice, and a root is missing."""
-        return ~_duplicates(self.Z, self.err)
+        # rows kept when rows closer than their forward-error estimates are merged: a
+        # well-conditioned root 1.5e-11 apart from itself was measured, Newton's last steps 1e-12
+        # and 4e-16; such a pair is one root reached twice, and a root is missing
+        self.loose = ~_duplicates(self.Z, self.err)
 
     def count(self) -> int:
-        return int(self.loose().sum())
+        return int(self.loose.sum())
 
     def complete(self, expected: int, fallback: bool = False) -> bool:
         n = self.count()
@@ -260,10 +261,9 @@ class _Pool:
         the merged rows farthest from their kept neighbour (relative to Newton's last step) are
         added back: a near-double pair that Newton resolved, which the certification proves
         distinct (or the counting proof fails and the exact route answers)."""
-        loose = self.loose()
-        rows = np.nonzero(loose)[0]
+        rows = np.nonzero(self.loose)[0]
         if len(rows) != expected and fallback:
-            merged = np.nonzero(~loose)[0]
+            merged = np.nonzero(~self.loose)[0]
             W = _normalised(self.Z)
             gap = np.abs(W[merged][:, None, :] - W[rows][None, :, :]).max(axis=2).min(axis=1)
             order = np.argsort(-gap / np.maximum(self.step[merged], 1e-300), kind="stable")
@@ -274,11 +274,11 @@ class _Pool:
         return roots, self.res[rows]
 
 
-def _pool_eigen(pool: _Pool, gs, Ns, expected: int, seed: int, pairs: int) -> list[float]:
-    """Pool the converged roots of up to ``pairs`` random eigenvalue problems until the bound's
-    number of distinct roots is reached; returns the shift conditions."""
+def _pool_eigen(pool: _Pool, gs, Ns, expected: int, seed: int) -> list[float]:
+    """Pool the converged roots of up to :data:`EIGEN_PAIRS` random eigenvalue problems until the
+    bound's number of distinct roots is reached; returns the shift conditions."""
     rconds = []
-    for attempt in range(pairs):
+    for attempt in range(EIGEN_PAIRS):
         # the first problem's eigenvectors alone close most triples; from the second on, where
         # clusters are left, the Schur points too
         Z, step, res, err, rc = _eigen_points(gs, Ns, seed + attempt, schur=attempt > 0)
