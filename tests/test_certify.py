@@ -360,18 +360,28 @@ def test_fast_path_rejects_bad_solution_lists():
     S = np.asarray(sol.points).copy()
     N = sol.info.expected
     assert _completeness(c1, c2, c3, S, N)[0]
-    # duplicated solution (replacing another): count right, but two boxes coincide -> not complete
+    # duplicated solutions (replacing others): count right, but boxes coincide, more of them than the
+    # lost-root search replaces -> not complete
     D = S.copy()
-    D[1] = D[0]
+    D[1:6] = D[0]
     ok, note, _ = _completeness(c1, c2, c3, D, N)
     assert not ok and "overlap" in note
     # missing solution (N - 1 given) -> not complete
     assert not _completeness(c1, c2, c3, S[1:], N)[0]
-    # a perturbed "solution" far from any solution cannot be certified -> not complete
+    # perturbed "solutions" far from any solution cannot be certified: more of them than the lost-root
+    # search replaces -> not complete
     P = S.copy()
-    P[0] = P[0] + np.array([0.37 + 0.11j, -0.23 + 0.05j, 1.7 - 0.3j]) * (1 + np.abs(P[0]))
+    P[:5] = P[:5] + np.array([0.37 + 0.11j, -0.23 + 0.05j, 1.7 - 0.3j]) * (1 + np.abs(P[:5]))
     ok, note, _ = _completeness(c1, c2, c3, P, N)
-    assert not ok
+    assert not ok and "not certified" in note
+    # one such point in place of a non-real solution: the conjugate of its partner's box holds the
+    # lost zero, which replaces it (and the real solutions are still exactly the list's real ones)
+    k = int(np.nonzero(np.abs(S.imag).max(axis=1) > 1e-3)[0][0])
+    P = S.copy()
+    P[k] = P[k] + np.array([0.37 + 0.11j, -0.23 + 0.05j, 1.7 - 0.3j]) * (1 + np.abs(P[k]))
+    ok, note, reals = _completeness(c1, c2, c3, P, N)
+    assert ok and "replaced" in note
+    assert len(reals) == len(_completeness(c1, c2, c3, S, N)[2])
     # a slightly perturbed solution converges back onto its solution: still a valid (complete) list
     Q = S.copy()
     Q[0] = Q[0] * (1 + 1e-9)

@@ -198,11 +198,18 @@ def test_perturbed_far_solution_list_not_complete(epc):
     P[far] = P[far] * (1 + np.array([1e-3, 1e-3, 0]))
     ok, note, _ = _completeness(*cs[:3], P, N)
     assert not ok and note.startswith("1 of 60 solutions not certified")
-    # duplicating the far solution (replacing another) is caught by distinctness
+    # duplicating the far solution (replacing five others) is caught by distinctness
     D = S.copy()
-    D[(far + 1) % len(S)] = S[far]
+    D[[(far + k) % len(S) for k in range(1, 6)]] = S[far]
     ok, note, _ = _completeness(*cs[:3], D, N)
     assert not ok and "overlap" in note
+    # in place of one other solution, the lost-root search finds the one replaced, and the proved
+    # real solutions are those of the correct list
+    D = S.copy()
+    D[(far + 1) % len(S)] = S[far]
+    ok, note, reals = _completeness(*cs[:3], D, N)
+    assert ok and "replaced" in note
+    assert len(reals) == len(_completeness(*cs[:3], S, N)[2])
 
 
 def test_world_from_chart_excludes_infinity():

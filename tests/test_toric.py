@@ -203,7 +203,7 @@ def test_non_generic_member_is_refused():
 @pytest.mark.parametrize("kinds,seed,spread", [("HHHH", 206, 1), ("EEPE", 204, 10), ("HHHH", 204, 100),
                                                ("HHHH", 205, 100), ("EPHC", 304, 10), ("HHHH", 300, 100),
                                                ("EEEE", 301, 1000), ("HHHH", 302, 100), ("HHHH", 305, 100),
-                                               ("EEPE", 307, 100)])
+                                               ("EEPE", 307, 100), ("HHHH", 405, 10)])
 def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
     """Cases that once fell to the exact route or were answered wrongly incomplete:
     * three hyperbolas (seed 206): one real solution that is not a Voronoi vertex sits next to a
@@ -229,7 +229,11 @@ def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
       finds it;
     * three hyperbolas (seeds 302, 305) and two ellipses and a parabola (seed 307) 100× apart:
       clusters the eigenvectors do not resolve (both null spaces refused, msolve answered in
-      1.7–4.4 s); the Schur points of the toric null space resolve them.
+      1.7–4.4 s); the Schur points of the toric null space resolve them;
+    * three hyperbolas 10× apart (seed 405): a conjugate pair 1e-5 off the real axis where the
+      pool's real Newton stalled at a real point that is no root, with another root listed twice
+      (msolve: 56 real solutions, not 57); complex Newton from that point plus i·1e-6 of its size
+      certifies one member of the pair, its conjugate box the other.
     Completeness by counting then closes without msolve, with the same vertices as the exact route."""
     cs = random_configuration(kinds, seed, spread=spread)
     clear_cache()

@@ -617,13 +617,20 @@ def _completeness(c1, c2, c3, solutions, expected_count):
         else:
             diag.append(f"solution {k}: {text}")
     failed = [k for k, (kind, _) in enumerate(boxes) if kind is None]
-    if failed:
-        note = f"{len(failed)} of {len(S)} solutions not certified by Krawczyk"
-        if diag:
-            note += " (" + "; ".join(diag) + ")"
-        return False, note, []
-    overlaps: list = []
     lost_note = ""
+    if failed:
+        # a point that is no solution (Newton leaves it): e.g. a real point where real Newton stalled
+        # between the members of a conjugate pair closer to the real axis than it can tell, while
+        # one of the pair was listed twice; search around it
+        n_lost = _replace_unproved(c1, c2, c3, S, boxes) if len(failed) <= _MAX_LOST else 0
+        if not n_lost:
+            note = f"{len(failed)} of {len(S)} solutions not certified by Krawczyk"
+            if diag:
+                note += " (" + "; ".join(diag) + ")"
+            return False, note, []
+        lost_note = (f" ({n_lost} uncertified or overlapping solution(s) replaced by solutions found by Newton at "
+                     "128 bits from starts around them)")
+    overlaps: list = []
     if not _disjoint([K for _, K in boxes], overlaps):
         # a near-double pair (two simple zeros closer than the first boxes' radii, e.g. small sites
         # far apart): each of them again in a circle-space chart, where Newton separates them and
@@ -684,12 +691,19 @@ def _certify_split_pairs(c1, c2, c3, S, failed, boxes) -> None:
 
 
 def _replace_unproved(c1, c2, c3, S, boxes) -> int:
-    """Solutions whose enclosures overlap another's, when no chart separates them: typically one
-    root reached twice by the numeric stage while a nearby root of the same cluster was missed
-    (small sites far apart: 8 real roots within 2e-3 of each other, eigenvectors mixed at 3e-3).
+    """Solutions without a Krawczyk box, or whose enclosures overlap another's when no chart
+    separates them: typically one root reached twice by the numeric stage while a nearby root of
+    the same cluster was missed (small sites far apart: 8 real roots within 2e-3 of each other,
+    eigenvectors mixed at 3e-3), or a real point where real Newton stalled between the members of a
+    conjugate pair 1e-5 off the real axis (three hyperbolas 10× apart: one of the pair listed
+    twice, the other missing, msolve 56 real solutions where the list had 57).
 
-    One member of each overlapping pair is dropped.  For each dropped one, Newton at 128 bits runs
-    from starts around it: first, for a point m + i·w seen as non-real, the real points m ± t·w,
+    Every uncertified solution and one member of each overlapping pair are dropped.  A dropped one
+    is first replaced by the conjugate of a found or kept non-real box that meets no kept box (the
+    offsets have real coefficients: that box holds the conjugate zero, which the list lacks).
+    Otherwise Newton at 128 bits runs from starts around it: for a real point m, first the
+    complex points m + i·r·v (random real v, r = 1e-6 … 1e-3 of its size: a near-real conjugate
+    pair); for a point m + i·w seen as non-real, the real points m ± t·w,
     t = 1 … 1000 (a spurious conjugate pair near the real axis points along the segment between
     two real roots; measured: the lost real root at m + 206·w, msolve 60 real solutions where the
     numeric stage had 58); then random real and complex directions at distances 1e-5 … 1e-1 of its
@@ -698,23 +712,41 @@ def _replace_unproved(c1, c2, c3, S, boxes) -> int:
     Returns the number replaced if all were, else 0 (``boxes`` may then be partly updated; the
     caller gives up).  Nothing here is assumed: every box is an ordinary Krawczyk box, and the
     disjointness of all N boxes is checked again at the end."""
+    drop = [k for k, (kind, _) in enumerate(boxes) if kind is None]
+    proved = [k for k in range(len(S)) if k not in drop]
     overlaps: list = []
-    _disjoint([K for _, K in boxes], overlaps)
-    drop: list[int] = []
+    _disjoint([boxes[k][1] for k in proved], overlaps)
     for a, b in overlaps:
-        if a not in drop and b not in drop:
-            drop.append(b)
+        if proved[a] not in drop and proved[b] not in drop:
+            drop.append(proved[b])
     if not drop or len(drop) > _MAX_LOST:
         return 0
     kept = [k for k in range(len(S)) if k not in drop]
     if not _disjoint([boxes[k][1] for k in kept]):
         return 0
+    # conjugates of kept non-real boxes that meet no kept box: zeros the list lacks
+    conj = [_conjugate_box(boxes[j]) for j in kept if boxes[j][0] == "nonreal"]
+    pairs: list = []
+    _disjoint([boxes[j][1] for j in kept] + [K for _, K in conj], pairs)
+    met = {max(a, b) for a, b in pairs if min(a, b) < len(kept) <= max(a, b)}
+    free = [conj[i - len(kept)] for i in range(len(kept), len(kept) + len(conj)) if i not in met]
     scale = np.maximum(1.0, np.abs(S).max(axis=1))
     rng = np.random.default_rng(17)
     for k in drop:
+        for f in free:
+            if _disjoint([boxes[j][1] for j in kept] + [f[1]]):
+                boxes[k] = f
+                kept.append(k)
+                free.remove(f)
+                break
+        else:
+            f = None
+        if f is not None:
+            continue
         # a near-double real pair seen as a conjugate pair m ± i·w: its zeros may be near m ± w·t
         m, w = S[k].real, S[k].imag
-        starts = [m + s * t * w for t in _PAIR_STEPS for s in (1.0, -1.0)] if np.any(w != 0) else []
+        starts = [m + s * t * w for t in _PAIR_STEPS for s in (1.0, -1.0)] if np.any(w != 0) else \
+            [m + 1j * r * scale[k] * rng.standard_normal(3) for r in _NEAR_REAL_RADII for _ in range(2)]
         for attempt in range(_LOST_STARTS):
             direction = rng.standard_normal(3) + (1j * rng.standard_normal(3) if attempt % 2 else 0.0)
             direction = direction / np.abs(direction).max()
@@ -728,6 +760,8 @@ def _replace_unproved(c1, c2, c3, S, boxes) -> int:
             if _disjoint([boxes[j][1] for j in kept] + [K]):
                 boxes[k] = (kind, K)
                 kept.append(k)
+                if kind == "nonreal":
+                    free.append(_conjugate_box(boxes[k]))
                 break
         else:
             return 0
@@ -740,6 +774,9 @@ _MAX_LOST = 4
 #: the roots of a cluster were measured 7e-5 to 2e-3 apart, a lost real root 6e-4 away
 _LOST_STARTS = 30
 _LOST_RADII = (1e-5, 1e-4, 1e-3, 1e-2, 1e-1)
+#: imaginary offsets (relative to the point's size) of the complex starts around a real point
+#: that is no solution (measured: a conjugate pair 1e-5 · i off the real axis found from 1e-6 to 1e-3)
+_NEAR_REAL_RADII = (1e-6, 1e-5, 1e-4, 1e-3)
 #: multiples t of the imaginary part w of a point m + i·w tried as real starts m ± t·w (measured:
 #: the lost real root at m + 206·w, its partner at m − 0.1·w)
 _PAIR_STEPS = (1.0, 3.0, 10.0, 30.0, 100.0, 300.0, 1000.0)
