@@ -6,8 +6,11 @@ warm time × certified × complete × route) and writes it to bench/results/nong
 the first call after ``clear_cache()`` (artefacts loaded), *warm* the repeated call.
 
     OPENBLAS_NUM_THREADS=1 python bench/bench_nongeneric.py [--reference]
+    OPENBLAS_NUM_THREADS=1 python bench/bench_nongeneric.py --random 0:10 [--reference]
 
 ``--reference`` also compares every vertex with the independent oracle tests/reference.py.
+``--random a:b`` runs every kind of :func:`random_nongeneric` (seeded random drawings with
+symmetry) on seeds a..b−1 and appends a table per kind.
 """
 from __future__ import annotations
 
@@ -17,6 +20,8 @@ import sys
 import time
 from fractions import Fraction as F
 from pathlib import Path
+
+import numpy as np
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 ROOT = Path(__file__).resolve().parents[1]
@@ -74,6 +79,99 @@ def cases() -> dict[str, list]:
         # generic compact reference point
         "generic compact (demo)": None,
     }
+
+
+#: kinds of :func:`random_nongeneric` (drawings with symmetry; each is a non-generic member of its
+#: family for the counting argument, or has a shared direction that makes it so)
+RANDOM_KINDS = ("identical translated ellipses", "homothetic parallel ellipses", "axis-aligned ellipses",
+                "identical translated hyperbolas", "equal circles", "parallel parabola axes",
+                "opposite parabola axes", "shared symmetry axis", "collinear centres")
+
+_ROTS = [(3, 4, 5), (5, 12, 13), (8, 15, 17), (7, 24, 25), (20, 21, 29), (12, 35, 37), (9, 40, 41)]
+
+
+def random_nongeneric(kind: str, seed: int) -> list:
+    """Four exact conics (C1, C2, C3, C4) of a non-generic ``kind`` (one of :data:`RANDOM_KINDS`),
+    drawn from ``seed``: rotations from Pythagorean triples, semi-axes in quarters (1 to 5/2 and
+    1/2 to the first), positions on the half-integer grid of [-8, 8]²; C1–C3 have pairwise
+    disjoint bounding discs (ellipses, circles) and C4 is a small ellipse near their centroid.
+    Parabolas and hyperbolas may cross the other sites."""
+    if kind not in RANDOM_KINDS:
+        raise ValueError(f"unknown kind {kind!r}; choose one of {RANDOM_KINDS}")
+    rng = np.random.default_rng([int(seed), RANDOM_KINDS.index(kind)])
+
+    def rot():
+        a, b, h = _ROTS[int(rng.integers(len(_ROTS)))]
+        sa, sb = (1 if rng.random() < 0.5 else -1), (1 if rng.random() < 0.5 else -1)
+        return (F(sa * a, h), F(sb * b, h))
+
+    def axes():
+        A = F(int(rng.integers(4, 11)), 4)
+        return A, F(int(rng.integers(2, 4 * A)), 4)
+
+    def point():
+        return (F(int(rng.integers(-16, 17)), 2), F(int(rng.integers(-16, 17)), 2))
+
+    def centres(radii, on_line=None):
+        """three centres, bounding discs 1/2 apart, not collinear unless ``on_line`` (direction)"""
+        while True:
+            if on_line is None:
+                cs = [point() for _ in radii]
+            else:
+                o, (c, s) = point(), on_line
+                cs = [(o[0] + k * c, o[1] + k * s) for k in (F(int(rng.integers(-24, 25)), 2) for _ in radii)]
+            far = all((float(p[0] - q[0]) ** 2 + float(p[1] - q[1]) ** 2) ** 0.5 >= float(r + t) + 0.5
+                      for i, (p, r) in enumerate(zip(cs, radii)) for q, t in zip(cs[i + 1:], radii[i + 1:]))
+            area = (cs[1][0] - cs[0][0]) * (cs[2][1] - cs[0][1]) - (cs[1][1] - cs[0][1]) * (cs[2][0] - cs[0][0])
+            if far and (on_line is not None or area != 0):
+                return cs
+
+    E, H, P, C = Conic.ellipse, Conic.hyperbola, Conic.parabola, Conic.circle
+    if kind == "identical translated ellipses":
+        (A, B), r = axes(), rot()
+        pos = centres([A] * 3)
+        sites = [E(c, (A, B), r) for c in pos]
+    elif kind == "homothetic parallel ellipses":
+        (A, B), r = axes(), rot()
+        ks = [F(int(k), 4) for k in rng.choice(np.arange(2, 9), size=3, replace=False)]
+        pos = centres([k * A for k in ks])
+        sites = [E(c, (k * A, k * B), r) for c, k in zip(pos, ks)]
+    elif kind == "axis-aligned ellipses":
+        ab = [axes() for _ in range(3)]
+        pos = centres([a[0] for a in ab])
+        sites = [E(c, a) for c, a in zip(pos, ab)]
+    elif kind == "identical translated hyperbolas":
+        (A, B), r = axes(), rot()
+        pos = centres([A / 2] * 3)
+        sites = [H(c, (B, A / 2), r) for c in pos]
+    elif kind == "equal circles":
+        rad = F(int(rng.integers(2, 9)), 4)
+        pos = centres([rad] * 3)
+        sites = [C(c, rad) for c in pos]
+    elif kind == "parallel parabola axes":
+        r = rot()
+        pos = centres([F(1)] * 3)
+        sites = [P(c, F(int(rng.integers(2, 9)), 4), r) for c in pos]
+    elif kind == "opposite parabola axes":
+        (A, B), (c, s) = axes(), rot()
+        pos = v = centres([F(1), F(1), A])
+        sites = [P(v[0], F(int(rng.integers(2, 9)), 4), (c, s)), P(v[1], F(int(rng.integers(2, 9)), 4), (-c, -s)),
+                 E(v[2], (A, B), rot())]
+    elif kind == "shared symmetry axis":
+        (c, s) = rot()
+        ab = [axes() for _ in range(2)]
+        pos = v = centres([ab[0][0], ab[1][0], F(1)], on_line=(c, s))
+        turn = [(c, s) if rng.random() < 0.5 else (-s, c) for _ in range(2)]
+        sg = 1 if rng.random() < 0.5 else -1
+        sites = [E(v[0], ab[0], turn[0]), E(v[1], ab[1], turn[1]), P(v[2], F(int(rng.integers(2, 9)), 4), (sg * c, sg * s))]
+    else:  # collinear centres
+        ab = [axes() for _ in range(3)]
+        pos = centres([a[0] for a in ab], on_line=rot())
+        sites = [E(q, a, rot()) for q, a in zip(pos, ab)]
+    gx, gy = (sum(float(q[i]) for q in pos) / 3 for i in (0, 1))
+    c4 = E((F(round(2 * gx) + int(rng.integers(-2, 3)), 2), F(round(2 * gy) + int(rng.integers(-2, 3)), 2)),
+           (F(1, 2), F(1, 3)), rot())
+    return sites + [c4]
 
 
 def _demo():
@@ -141,5 +239,72 @@ def run(reference: bool = False):
     return rows
 
 
+def _matches_reference(cs, res) -> bool:
+    """Same vertices (to 1e-7 relative) as the independent oracle tests/reference.py."""
+    sys.path.insert(0, str(ROOT / "tests"))
+    from reference import reference_vertices
+
+    rv = reference_vertices(*cs[:3])
+    return len(rv) == len(res.vertices) and all(
+        any(abs(float(a[0]) - v.x) < 1e-7 * (1 + abs(v.x)) and abs(float(a[1]) - v.y) < 1e-7 * (1 + abs(v.y))
+            for v in res.vertices) for a in rv)
+
+
+def run_random(seeds: range, reference: bool = False):
+    """Every kind of :func:`random_nongeneric` on ``seeds``: cold time, certified and complete,
+    route, and (``reference``) agreement with the oracle; a table per kind appended to
+    bench/results/nongeneric.md."""
+    import statistics
+    from collections import Counter
+
+    from curvedvoronoi.runtime.predicates.locator import clear_cache, locate_conflicts
+    from curvedvoronoi.runtime.result import LocatorError
+
+    load0 = os.getloadavg()
+    locate_conflicts(*_demo())
+    lines = [f"## Random non-generic configurations, seeds {seeds.start}..{seeds.stop - 1} "
+             f"({time.strftime('%Y-%m-%d %H:%M')}, OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')})", "",
+             f"Command: `OPENBLAS_NUM_THREADS=1 python bench/bench_nongeneric.py --random {seeds.start}:{seeds.stop}"
+             + (" --reference`" if reference else "`"), "",
+             "| kind | triples | median s | max s | certified & complete | answered by | matches reference |",
+             "|---|---:|---:|---:|---|---|---|"]
+    for kind in RANDOM_KINDS:
+        ts, ok, routes, refs = [], 0, Counter(), 0
+        for seed in seeds:
+            cs = random_nongeneric(kind, seed)
+            clear_cache()
+            t0 = time.perf_counter()
+            try:
+                res = locate_conflicts(*cs)
+            except LocatorError as exc:
+                ts.append(time.perf_counter() - t0)
+                routes["refused"] += 1
+                print(kind, seed, f"{ts[-1]:.3f}", "refused:", str(exc)[:200], flush=True)
+                continue
+            ts.append(time.perf_counter() - t0)
+            ok += bool(res.certified and res.complete)
+            routes[_route(res)] += 1
+            match = _matches_reference(cs, res) if reference else None
+            refs += bool(match)
+            print(kind, seed, f"{ts[-1]:.3f}", res.certified, res.complete, len(res.vertices), _route(res),
+                  "" if match is None else ("reference: yes" if match else "reference: NO"), flush=True)
+        lines.append(f"| {kind} | {len(ts)} | {statistics.median(ts):.3f} | {max(ts):.3f} | {ok}/{len(ts)} | "
+                     + ", ".join(f"{k} {v}" for k, v in sorted(routes.items())) + " | "
+                     + (f"{refs}/{len(ts)} |" if reference else "not run |"))
+    lines += ["", f"Cold calls (`clear_cache()` before each); msolve threads: 2 when a second core is idle at the "
+              f"call, else 1; load average {load0[0]:.1f} at the start, {os.getloadavg()[0]:.1f} at the end "
+              f"({os.cpu_count()} cores shared with other jobs).", ""]
+    text = "\n".join(lines)
+    print(text)
+    out = ROOT / "bench" / "results" / "nongeneric.md"
+    with out.open("a") as fh:
+        fh.write("\n" + text)
+    return text
+
+
 if __name__ == "__main__":
-    run(reference="--reference" in sys.argv)
+    if "--random" in sys.argv:
+        a, b = sys.argv[sys.argv.index("--random") + 1].split(":")
+        run_random(range(int(a), int(b)), reference="--reference" in sys.argv)
+    else:
+        run(reference="--reference" in sys.argv)

@@ -323,6 +323,7 @@ def _newton_vertex_float(cs, sx, sy, iters=40):
     """Vectorised float Newton on (d1 - d2, d1 - d3) from many seeds; returns converged points."""
     x, y = np.array(sx, float), np.array(sy, float)
     alive = np.ones(x.shape, bool)
+    step = np.full(x.shape, np.inf)
     for _ in range(iters):
         fs = [_grid_foot(c, x, y, n=720) for c in cs]
         d = [f[0] for f in fs]
@@ -343,10 +344,16 @@ def _newton_vertex_float(cs, sx, sy, iters=40):
             big = np.hypot(dx, dy) > scale
             fac = np.where(big, scale / np.maximum(np.hypot(dx, dy), 1e-300), 1.0)
         x, y = x - fac * dx, y - fac * dy
+        step = fac * np.hypot(dx, dy) / scale
     fs = [_grid_foot(c, x, y, n=720) for c in cs]
     d = [f[0] for f in fs]
     r = d[0]
-    ok = alive & np.isfinite(r) & (r > 0) & (np.abs(d[0] - d[1]) < 1e-9 * r) & (np.abs(d[0] - d[2]) < 1e-9 * r)
+    # converged points only: along directions where three translated copies of one hyperbola are
+    # nearly equidistant (differences of distances tending to constants), damped Newton runs off to
+    # infinity with the differences O(1), which 1e-9·r accepts once r is huge (measured: 55 such
+    # points at |x| ~ 1e52, all still doubling at the last step)
+    ok = (alive & np.isfinite(r) & (r > 0) & (np.abs(d[0] - d[1]) < 1e-9 * r) & (np.abs(d[0] - d[2]) < 1e-9 * r)
+          & (step < 1e-6))
     return [(float(u), float(v)) for u, v in zip(x[ok], y[ok])]
 
 

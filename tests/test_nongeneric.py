@@ -8,9 +8,12 @@ tests/reference.py (grid seeding + mpmath Newton on distances, no offsets, no ms
 """
 from __future__ import annotations
 
+import os
 import sys
+from fractions import Fraction
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from curvedvoronoi.runtime.predicates.locator import clear_cache, locate_conflicts
@@ -18,7 +21,7 @@ from curvedvoronoi.runtime.predicates.locator import clear_cache, locate_conflic
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from bench_nongeneric import cases  # noqa: E402
+from bench_nongeneric import RANDOM_KINDS, cases, random_nongeneric  # noqa: E402
 from reference import reference_vertices  # noqa: E402
 
 CASES = {k: v for k, v in cases().items() if v is not None and not k.startswith("spread-out")}
@@ -47,3 +50,73 @@ def test_nongeneric_certified_complete_and_equal_to_reference(kind):
                for n in res.notes)
     if kind in EXACT_KINDS:
         assert any(n.startswith("certify completeness: exact:") for n in res.notes), res.notes
+
+
+def _random_seed(kind: str) -> int:
+    """One held-out seed per kind, drawn from the session's CURVEDVORONOI_TEST_SEED (printed in the
+    pytest header; tests/conftest.py), so each run checks other drawings."""
+    rng = np.random.default_rng([int(os.environ.get("CURVEDVORONOI_TEST_SEED", "0")), RANDOM_KINDS.index(kind)])
+    return int(rng.integers(1000, 10 ** 6))
+
+
+@pytest.mark.parametrize("kind", RANDOM_KINDS)
+def test_random_nongeneric_certified_complete_and_equal_to_reference(kind):
+    """A random drawing of each kind (bench/bench_nongeneric.py: random_nongeneric) is answered
+    certified and complete, with the vertices of the independent oracle."""
+    seed = _random_seed(kind)
+    cs = random_nongeneric(kind, seed)
+    clear_cache()
+    res = locate_conflicts(*cs)
+    assert res.certified and res.complete, (kind, seed, res.notes)
+    ref = reference_vertices(*cs[:3])
+    assert len(ref) == len(res.vertices), (kind, seed)
+    for x, y, r in ref:
+        hit = [v for v in res.vertices
+               if abs(v.x - float(x)) <= 1e-8 * (1 + abs(float(x))) and abs(v.y - float(y)) <= 1e-8 * (1 + abs(float(y)))]
+        assert len(hit) == 1, (kind, seed)
+        assert abs(hit[0].radius - float(r)) <= 1e-8 * (1 + float(r))
+
+
+def _quadratic_part(c):
+    a, b, cc = c.coefficients[:3]
+    return a, b, cc
+
+
+def _proportional(u, v) -> bool:
+    return all(p * v[0] == q * u[0] for p, q in zip(u, v)) and u[0] * v[0] > 0
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_random_nongeneric_drawings_have_their_symmetry(seed):
+    """The generator draws what each kind names (exact checks on the coefficients)."""
+    q = {k: [_quadratic_part(c) for c in random_nongeneric(k, seed)[:3]] for k in RANDOM_KINDS}
+    sites = {k: random_nongeneric(k, seed) for k in RANDOM_KINDS}
+    # same shape and orientation: proportional quadratic parts; identical: equal up to the scale
+    for k in ("identical translated ellipses", "homothetic parallel ellipses", "identical translated hyperbolas",
+              "equal circles", "parallel parabola axes"):
+        assert all(_proportional(q[k][0], u) for u in q[k][1:]), k
+    for k in ("identical translated ellipses", "identical translated hyperbolas", "equal circles"):
+        # the same canonical form (semi-axes, radius) at three different centres
+        fr = [c.exact_frame for c in sites[k][:3]]
+        assert all(f.params == fr[0].params for f in fr), k
+        assert len({(f.tx, f.ty) for f in fr}) == 3, k
+    assert all(u[1] == 0 for u in q["axis-aligned ellipses"])
+    kinds = [c.kind for c in sites["equal circles"][:3]]
+    assert kinds == ["circle"] * 3
+    # opposite parabola axes: proportional quadratic parts (parallel axes), linear parts pointing
+    # opposite ways: the axis direction (cos, sin) of Y² = 2pX is −(d, e)-ish; compare via frames
+    p1, p2 = sites["opposite parabola axes"][:2]
+    f1, f2 = p1.exact_frame, p2.exact_frame
+    assert (f1.cos, f1.sin) == (-f2.cos, -f2.sin)
+    # collinear centres / shared symmetry axis: the three centres (vertex) on one line
+    for k in ("collinear centres", "shared symmetry axis"):
+        fr = [c.exact_frame for c in sites[k][:3]]
+        (x0, y0), (x1, y1), (x2, y2) = [(f.tx, f.ty) for f in fr]
+        assert (x1 - x0) * (y2 - y0) == (y1 - y0) * (x2 - x0), k
+    # shared symmetry axis: every site's axis is parallel or perpendicular to the line of centres
+    fr = [c.exact_frame for c in sites["shared symmetry axis"][:3]]
+    dx, dy = fr[1].tx - fr[0].tx, fr[1].ty - fr[0].ty
+    for f in fr:
+        cross, dot = f.cos * dy - f.sin * dx, f.cos * dx + f.sin * dy
+        assert cross == 0 or dot == 0
+    assert isinstance(dx, Fraction) or dx == 0

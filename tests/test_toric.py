@@ -203,7 +203,8 @@ def test_non_generic_member_is_refused():
 @pytest.mark.parametrize("kinds,seed,spread", [("HHHH", 206, 1), ("EEPE", 204, 10), ("HHHH", 204, 100),
                                                ("HHHH", 205, 100), ("EPHC", 304, 10), ("HHHH", 300, 100),
                                                ("EEEE", 301, 1000), ("HHHH", 302, 100), ("HHHH", 305, 100),
-                                               ("EEPE", 307, 100), ("HHHH", 405, 10)])
+                                               ("EEPE", 307, 100), ("HHHH", 405, 10),
+                                               ("HHHH", 401, 100)])
 def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
     """Cases that once fell to the exact route or were answered wrongly incomplete:
     * three hyperbolas (seed 206): one real solution that is not a Voronoi vertex sits next to a
@@ -233,7 +234,11 @@ def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
     * three hyperbolas 10× apart (seed 405): a conjugate pair 1e-5 off the real axis where the
       pool's real Newton stalled at a real point that is no root, with another root listed twice
       (msolve: 56 real solutions, not 57); complex Newton from that point plus i·1e-6 of its size
-      certifies one member of the pair, its conjugate box the other.
+      certifies one member of the pair, its conjugate box the other;
+    * three hyperbolas 100× apart (seed 401): a real root that every eigenvalue problem reached
+      but none converged to (circle-space Newton creeps, steps 1e-5), so the pool stayed one short
+      and padded with a duplicate (msolve answered in 2.6 s); the traces of the multiplication
+      maps give the missing root, certified in (x, y, R).
     Completeness by counting then closes without msolve, with the same vertices as the exact route."""
     cs = random_configuration(kinds, seed, spread=spread)
     clear_cache()
@@ -324,3 +329,33 @@ def test_duplicates_by_sort_and_sweep_equal_the_pairwise_definition(seed, n):
                 want[a] = True
                 break
     assert np.array_equal(_duplicates(Z, step), want)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(4, 40), st.integers(1, 3))
+def test_missing_solutions_from_traces(seed, n, k):
+    """Multiplication maps X_s = V·diag(s/h₀ at n points of P³)·V⁻¹ (V random): given n − k of the
+    points (scaled arbitrarily: points of P³), the k others are read from the traces, up to scale."""
+    from curvedvoronoi.runtime.solve.toric import missing_by_traces
+
+    rng = np.random.default_rng(seed)
+    P = rng.standard_normal((n, 4)) + 1j * rng.standard_normal((n, 4))
+    h0, h1 = rng.standard_normal(4), rng.standard_normal(4)
+    vals = P / (P @ h0)[:, None]
+    V = np.linalg.qr(rng.standard_normal((n, n)))[0] + 0.3 * rng.standard_normal((n, n))
+    Xs = np.einsum("ij,sj,jl->sil", V, vals.T, np.linalg.inv(V))
+    lost = rng.choice(n, size=k, replace=False)
+    known = np.delete(P, lost, axis=0) * rng.uniform(0.5, 2.0, (n - k, 1))
+    got = missing_by_traces(known, h0, h1, Xs, k)
+    assert got.shape == (k, 4)
+
+    def unit(Z):
+        return Z / Z[np.arange(len(Z)), np.argmax(np.abs(Z), axis=1)][:, None]
+
+    want, got = unit(P[lost]), unit(got)
+    D = np.abs(got[:, None, :] - want[None, :, :]).max(axis=2)
+    lam = vals @ h1
+    gap = min(np.abs(lam[a] - lam[b]) for a in lost for b in range(n) if b != a)
+    tol = 1e-9 * np.linalg.cond(V) ** 2 / min(1.0, gap) ** k      # measured errors 1e-15 .. 3e-11
+    assert sorted(np.argmin(D, axis=1).tolist()) == list(range(k))
+    assert np.all(D.min(axis=1) < tol)
