@@ -40,7 +40,10 @@ dimension N, the number of solutions, at a large enough Q:
    are apart by more than Newton's last steps but less than their forward-error estimates
    (ε·‖J⁻¹‖ times the size of the values: Higham 2002, §25.3) may be one root reached twice, so
    such a pool counts as complete only once these rows are merged (or, when merging leaves fewer
-   than the bound, as a near-double pair that Newton resolved, for the certification to prove).
+   than the bound, as a near-double pair that Newton resolved, for the certification to prove);
+5. when the pool is at most three roots short, the traces of the multiplication maps minus the
+   values at the pooled roots give the missing ones (:func:`missing_by_traces`): a root that
+   every problem reached but Newton did not converge to is read without an eigenvector.
 
 The caller checks residuals in world coordinates and certifies every root (Krawczyk, counting).
 
@@ -289,7 +292,7 @@ def _pool_eigen(pool: _Pool, gs, Ns, expected: int, seed: int) -> list[float]:
     for attempt in range(EIGEN_PAIRS):
         # the first problem's eigenvectors alone close most triples; from the second on, where
         # clusters are left, the Schur points too
-        Z, step, res, err, rc, traces = _eigen_points(gs, Ns, seed + attempt, schur=attempt > 0)
+        Z, step, res, err, rc, shifts = _eigen_points(gs, Ns, seed + attempt, schur=attempt > 0)
         rconds.append(rc)
         if Z is None:
             continue
@@ -300,7 +303,8 @@ def _pool_eigen(pool: _Pool, gs, Ns, expected: int, seed: int) -> list[float]:
             # Newton in circle space approaches only slowly (every eigenvalue problem had reached
             # it, none converged) is taken at a backward error below TRACE_RESIDUAL, and the list
             # is then provisional: the certification proves it or the exact route answers
-            Zm = missing_by_traces(pool.Z[pool.loose], *traces, short)
+            h0, h1, maps = shifts
+            Zm = missing_by_traces(pool.Z[pool.loose], h0, h1, maps(), short)
             if len(Zm):
                 missing = projective_newton(gs, Zm)
                 pool.add(*missing)
@@ -354,7 +358,7 @@ def missing_by_traces(known: np.ndarray, h0: np.ndarray, h1: np.ndarray, Xs: np.
 def _eigen_points(gs, Ns, seed: int, schur: bool = True):
     """(points (2N, 4), or (N, 4) without ``schur``, of P³ refined by :func:`projective_newton`,
     their last corrections, relative residuals and forward-error estimates, shift condition,
-    (h₀, h₁, the maps of the sections s/h₀)) for
+    (h₀, h₁, a function returning the maps of the sections s/h₀)) for
     the random pair (h₀, h₁) of ``seed`` (module docstring, steps 2–3); (None, None, None, None,
     rcond) when the shifted null space is singular.
 
@@ -386,13 +390,21 @@ def _eigen_points(gs, Ns, seed: int, schur: bool = True):
     if not rcond > SHIFT_RCOND:
         return None, None, None, None, rcond, None
     X = sla.solve_triangular(R0, Q0.T @ N1[:, p0], check_finite=False)
-    # the maps X_s = R₀⁻¹Q₀ᵀ·N_s of the four sections (for the traces of missing_by_traces)
-    Xs = sla.solve_triangular(R0, Q0.T @ Ns[:, :, p0].transpose(1, 0, 2).reshape(Ns.shape[1], -1),
-                              check_finite=False).reshape(len(p0), 4, len(p0)).transpose(1, 0, 2)
+
+    def section_maps():
+        """the maps X_s = R₀⁻¹Q₀ᵀ·N_s of the four sections s/h₀"""
+        return sla.solve_triangular(R0, Q0.T @ Ns[:, :, p0].transpose(1, 0, 2).reshape(Ns.shape[1], -1),
+                                    check_finite=False).reshape(len(p0), 4, len(p0)).transpose(1, 0, 2)
+
     Zs = np.zeros((0, 4), dtype=complex)
+    maps = section_maps
     if schur:
         # Schur points: the values of 1/h₀, x/h₀, y/h₀, T/h₀ on the diagonal of Uᵀ·X_s·U
+        Xs = section_maps()
         Zs = common_eigenvalues(X, Xs)
+
+        def maps():
+            return Xs
     # eigenvector points: [1 : x : y : T] at each solution, on the row of largest |h₀|
     _, W = sla.eig(X, overwrite_a=True, check_finite=False)
     Nsp = Ns[:, :, p0]
@@ -404,7 +416,7 @@ def _eigen_points(gs, Ns, seed: int, schur: bool = True):
     # whereas the real Schur form gives two real values whose Newton iterates stay real and stall
     # between them (measured: 17.78 ± 7e-7·i at R ≈ 32820, three hyperbolas 100× apart)
     Z, step, res, err = projective_newton(gs, np.vstack([Ze.T, Zs]))
-    return Z, step, res, err, rcond, (h0, h1, Xs)
+    return Z, step, res, err, rcond, (h0, h1, maps)
 
 
 def common_eigenvalues(X: np.ndarray, Xs: np.ndarray) -> np.ndarray:
