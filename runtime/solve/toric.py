@@ -248,7 +248,7 @@ class _Pool:
         pool is marked ``unconverged``) and their complex conjugates (the offsets are real: the
         conjugate of a root is a root, reached at the same accuracy)."""
         conv = np.ones(len(Z), dtype=bool) if converged else (step < CONVERGED_STEP) & (res < ROOT_RESIDUAL)
-        self.unconverged |= converged
+        before = len(self.Z)
         Z, step, res, err = (np.concatenate([v[conv], v[conv].conj()]) for v in (Z, step, res, err))
         allZ, allS = np.vstack([self.Z, Z]), np.concatenate([self.step, step])
         allE, allR = np.concatenate([self.err, err]), np.concatenate([self.res, res])
@@ -258,6 +258,7 @@ class _Pool:
         # well-conditioned root 1.5e-11 apart from itself was measured, Newton's last steps 1e-12
         # and 4e-16; such a pair is one root reached twice, and a root is missing
         self.loose = ~_duplicates(self.Z, self.err)
+        self.unconverged |= converged and len(self.Z) > before
 
     def count(self) -> int:
         return int(self.loose.sum())

@@ -900,8 +900,10 @@ def _deflated_real_newton(offs, z0, found, L, iters: int = 40):
         except np.linalg.LinAlgError:
             return None
         lk = (z[None, :] - found) @ c if len(found) else np.zeros(0)
-        tau = 1.0 + (np.sum((delta @ c) / lk) if len(found) else 0.0)
-        z = z + delta / tau
+        with np.errstate(divide="ignore", invalid="ignore"):
+            # at a deflated point itself ℓ = 0: the step is infinite and the start gives up below
+            tau = 1.0 + (np.sum((delta @ c) / lk) if len(found) else 0.0)
+            z = z + delta / tau
         if not np.all(np.isfinite(z)):
             return None
     return None
