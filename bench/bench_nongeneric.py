@@ -90,12 +90,13 @@ RANDOM_KINDS = ("identical translated ellipses", "homothetic parallel ellipses",
 _ROTS = [(3, 4, 5), (5, 12, 13), (8, 15, 17), (7, 24, 25), (20, 21, 29), (12, 35, 37), (9, 40, 41)]
 
 
-def random_nongeneric(kind: str, seed: int) -> list:
+def random_nongeneric(kind: str, seed: int, spread: int = 1) -> list:
     """Four exact conics (C1, C2, C3, C4) of a non-generic ``kind`` (one of :data:`RANDOM_KINDS`),
     drawn from ``seed``: rotations from Pythagorean triples, semi-axes in quarters (1 to 5/2 and
     1/2 to the first), positions on the half-integer grid of [-8, 8]²; C1–C3 have pairwise
     disjoint bounding discs (ellipses, circles) and C4 is a small ellipse near their centroid.
-    Parabolas and hyperbolas may cross the other sites."""
+    Parabolas and hyperbolas may cross the other sites.  ``spread`` multiplies the positions (not
+    the sizes): small sites far apart."""
     if kind not in RANDOM_KINDS:
         raise ValueError(f"unknown kind {kind!r}; choose one of {RANDOM_KINDS}")
     rng = np.random.default_rng([int(seed), RANDOM_KINDS.index(kind)])
@@ -110,7 +111,7 @@ def random_nongeneric(kind: str, seed: int) -> list:
         return A, F(int(rng.integers(2, 4 * A)), 4)
 
     def point():
-        return (F(int(rng.integers(-16, 17)), 2), F(int(rng.integers(-16, 17)), 2))
+        return (F(int(rng.integers(-16, 17)) * spread, 2), F(int(rng.integers(-16, 17)) * spread, 2))
 
     def centres(radii, on_line=None):
         """three centres, bounding discs 1/2 apart, not collinear unless ``on_line`` (direction)"""
@@ -119,7 +120,7 @@ def random_nongeneric(kind: str, seed: int) -> list:
                 cs = [point() for _ in radii]
             else:
                 o, (c, s) = point(), on_line
-                cs = [(o[0] + k * c, o[1] + k * s) for k in (F(int(rng.integers(-24, 25)), 2) for _ in radii)]
+                cs = [(o[0] + k * c, o[1] + k * s) for k in (F(int(rng.integers(-24, 25)) * spread, 2) for _ in radii)]
             far = all((float(p[0] - q[0]) ** 2 + float(p[1] - q[1]) ** 2) ** 0.5 >= float(r + t) + 0.5
                       for i, (p, r) in enumerate(zip(cs, radii)) for q, t in zip(cs[i + 1:], radii[i + 1:]))
             area = (cs[1][0] - cs[0][0]) * (cs[2][1] - cs[0][1]) - (cs[1][1] - cs[0][1]) * (cs[2][0] - cs[0][0])

@@ -126,3 +126,55 @@ def test_random_nongeneric_drawings_have_their_symmetry(seed):
         cross, dot = f.cos * dy - f.sin * dx, f.cos * dx + f.sin * dy
         assert cross == 0 or dot == 0
     assert isinstance(dx, Fraction) or dx == 0
+
+
+def test_far_vertex_matched_by_a_tighter_vertex_box():
+    """Collinear centres 100× apart (seed 0): a true vertex at (−43481, −10484), R ≈ 1.9e9, whose
+    64-bit certified box (x ± 2.9e-8) is wider than the offset system's enclosure of the same zero
+    (x ± 7e-12), and the Krawczyk test over a box holding both fails (interval Jacobian of the
+    degree-8 offsets at that distance).  The vertex certified again from 128 bits has a box inside
+    that enclosure, which closes completeness without msolve; a retightened box that is not inside
+    it (corrupted) or none leaves it open."""
+    from flint import arb
+
+    from curvedvoronoi.runtime.certify import conflicts
+    from curvedvoronoi.runtime.certify.complete import completeness_with_vertices
+    from curvedvoronoi.runtime.predicates.locator import _locate_triple
+    from curvedvoronoi.runtime.solve.vertices import generalised_vertices
+
+    cs = random_nongeneric("collinear centres", 0, spread=100)
+    clear_cache()
+    res = locate_conflicts(*cs)
+    assert res.certified and res.complete
+    assert not any("exact" in n for n in res.notes), res.notes
+    assert any(abs(v.x + 43480.7788) < 1e-3 and abs(v.y + 10483.8138) < 1e-3 for v in res.vertices)
+    ref = reference_vertices(*cs[:3])
+    assert sorted((round(float(x), 4), round(float(y), 4)) for x, y, _ in ref) == \
+        sorted((round(v.x, 4), round(v.y, 4)) for v in res.vertices)
+    # the same proof with the retightening removed or corrupted (arguments captured from the call)
+    from curvedvoronoi.runtime.certify import complete as C
+
+    sol = generalised_vertices(*cs[:3], quick=True)
+    seen = {}
+    C_orig = C.completeness_with_vertices
+
+    def spy(*a, **kw):
+        seen["args"], seen["kw"] = a, kw
+        return C_orig(*a, **kw)
+
+    C.completeness_with_vertices = spy
+    try:
+        conflicts.certify_result(_locate_triple(*cs), *cs, solutions=sol.points, expected_count=sol.info.expected)
+    finally:
+        C.completeness_with_vertices = C_orig
+    a, kw = seen["args"], seen["kw"]
+    assert completeness_with_vertices(*a, max_prec=kw["max_prec"], retighten=kw["retighten"])[0]
+    ok, note = completeness_with_vertices(*a, max_prec=kw["max_prec"], retighten=None)
+    assert not ok and "neither matches" in note
+
+    def shifted(cv):
+        B = kw["retighten"](cv)
+        return None if B is None else (B[0] + arb(1e-9), B[1], B[2])
+
+    ok, note = completeness_with_vertices(*a, max_prec=kw["max_prec"], retighten=shifted)
+    assert not ok and "neither matches" in note

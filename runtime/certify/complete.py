@@ -942,8 +942,11 @@ def _same_by_krawczyk(sys: "OffsetSystem", K, B, prec: int = 128) -> bool:
         return True
 
 
-def completeness_with_vertices(c1, c2, c3, solutions, expected_count, certs, *, max_prec: int = 256):
-    """Completeness of the certified vertex list ``certs`` (CertifiedVertex objects)."""
+def completeness_with_vertices(c1, c2, c3, solutions, expected_count, certs, *, max_prec: int = 256,
+                               retighten=None):
+    """Completeness of the certified vertex list ``certs`` (CertifiedVertex objects).
+    ``retighten(cv)``: a tighter (x, y, R) box of the same vertex as ``cv`` (or None), tried when
+    a real solution's enclosure meets only ``cv``'s box but neither contains the other."""
     ok, note, reals = _completeness(c1, c2, c3, solutions, expected_count)
     if not ok:
         return False, note
@@ -963,6 +966,14 @@ def completeness_with_vertices(c1, c2, c3, solutions, expected_count, certs, *, 
             if len(near) == 1 and _same_by_krawczyk(OffsetSystem((c1, c2, c3)), K, certs[near[0]].box):
                 matched.add(near[0])
                 continue
+            if len(near) == 1 and retighten is not None:
+                # a far vertex: its 64-bit box is wider than K, and the offsets' interval Jacobian
+                # over a box holding both is too wide for Krawczyk; a vertex box inside K is one
+                # zero of the offset system in K, which holds exactly one
+                B = retighten(certs[near[0]])
+                if B is not None and all(K[i].contains(B[i]) for i in range(3)):
+                    matched.add(near[0])
+                    continue
             if _not_a_vertex(fps, K) or _closer_witness((c1, c2, c3), fps, K):
                 continue
             # undecided: near a double foot point the foot-distance enclosures grow like the square
