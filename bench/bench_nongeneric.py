@@ -6,7 +6,7 @@ warm time × certified × complete × route) and writes it to bench/results/nong
 the first call after ``clear_cache()`` (artefacts loaded), *warm* the repeated call.
 
     OPENBLAS_NUM_THREADS=1 python bench/bench_nongeneric.py [--reference]
-    OPENBLAS_NUM_THREADS=1 python bench/bench_nongeneric.py --random 0:10 [--reference]
+    OPENBLAS_NUM_THREADS=1 python bench/bench_nongeneric.py --random 0:10 [--spread 100] [--reference]
 
 ``--reference`` also compares every vertex with the independent oracle tests/reference.py.
 ``--random a:b`` runs every kind of :func:`random_nongeneric` (seeded random drawings with
@@ -258,10 +258,10 @@ def _matches_reference(cs, res) -> bool:
             and all(any(near(a, v) for a in rv) or _confirmed_by_reference(cs, v) for v in res.vertices))
 
 
-def run_random(seeds: range, reference: bool = False):
+def run_random(seeds: range, reference: bool = False, spread: int = 1):
     """Every kind of :func:`random_nongeneric` on ``seeds``: cold time, certified and complete,
     route, and (``reference``) agreement with the oracle; a table per kind appended to
-    bench/results/nongeneric.md."""
+    bench/results/nongeneric.md.  ``spread`` multiplies the positions (small sites far apart)."""
     import statistics
     from collections import Counter
 
@@ -270,16 +270,17 @@ def run_random(seeds: range, reference: bool = False):
 
     load0 = os.getloadavg()
     locate_conflicts(*_demo())
-    lines = [f"## Random non-generic configurations, seeds {seeds.start}..{seeds.stop - 1} "
+    lines = [f"## Random non-generic configurations, seeds {seeds.start}..{seeds.stop - 1}, spread {spread} "
              f"({time.strftime('%Y-%m-%d %H:%M')}, OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')})", "",
              f"Command: `OPENBLAS_NUM_THREADS=1 python bench/bench_nongeneric.py --random {seeds.start}:{seeds.stop}"
+             + (f" --spread {spread}" if spread != 1 else "")
              + (" --reference`" if reference else "`"), "",
              "| kind | triples | median s | max s | certified & complete | answered by | matches reference |",
              "|---|---:|---:|---:|---|---|---|"]
     for kind in RANDOM_KINDS:
         ts, ok, routes, refs = [], 0, Counter(), 0
         for seed in seeds:
-            cs = random_nongeneric(kind, seed)
+            cs = random_nongeneric(kind, seed, spread)
             clear_cache()
             t0 = time.perf_counter()
             try:
@@ -313,6 +314,7 @@ def run_random(seeds: range, reference: bool = False):
 if __name__ == "__main__":
     if "--random" in sys.argv:
         a, b = sys.argv[sys.argv.index("--random") + 1].split(":")
-        run_random(range(int(a), int(b)), reference="--reference" in sys.argv)
+        sp = int(sys.argv[sys.argv.index("--spread") + 1]) if "--spread" in sys.argv else 1
+        run_random(range(int(a), int(b)), reference="--reference" in sys.argv, spread=sp)
     else:
         run(reference="--reference" in sys.argv)

@@ -700,7 +700,8 @@ def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = 
                 # near-double roots closer than 1e-8 of the frame stay apart (certification proves
                 # them distinct, or the counting proof fails and the exact route answers)
                 pts, res, cond, n_deflated = _complete_by_deflation(
-                    offs, pts, res, cond, wf.L, tol=TORIC_DISTINCT_TOL if attempt is TORIC else DISTINCT_TOL)
+                    offs, pts, res, cond, wf.L, tol=TORIC_DISTINCT_TOL if attempt is TORIC else DISTINCT_TOL,
+                    forward=attempt is not TORIC)
             finally:
                 total["refine"] = total.get("refine", 0.0) + time.perf_counter() - t1
         except LocatorError as exc:
@@ -814,14 +815,17 @@ def _homotopy_fallback(offs, wf, expected, errors, total):
 
 
 def _distinct_mask(pts, D, tol=1e-8):
-    """True for points that do not coincide (scaled max-norm < tol) with an earlier one."""
+    """True for points that do not coincide (scaled max-norm < tol, or with a tolerance per point
+    the larger of the two) with an earlier one."""
     Ps = pts / D[None, :]
     keep = np.ones(len(pts), dtype=bool)
     close = np.zeros((len(pts), len(pts)), dtype=bool)
+    t = np.broadcast_to(np.asarray(tol, dtype=float), (len(pts),))
     with np.errstate(invalid="ignore"):
         # pairs i > j close in the first coordinate, then the other two on those pairs only
-        i, j = np.nonzero(np.tril(np.abs(Ps[:, None, 0] - Ps[None, :, 0]) < tol, -1))
-        near = (np.abs(Ps[i, 1:] - Ps[j, 1:]) < tol).all(axis=1)
+        T = np.maximum(t[:, None], t[None, :])
+        i, j = np.nonzero(np.tril(np.abs(Ps[:, None, 0] - Ps[None, :, 0]) < T, -1))
+        near = (np.abs(Ps[i, 1:] - Ps[j, 1:]) < T[i, j][:, None]).all(axis=1)
     close[i[near], j[near]] = True
     # only points with a close earlier point can be dropped; decide those in order
     for i in np.nonzero(close.any(axis=1))[0]:
@@ -830,12 +834,29 @@ def _distinct_mask(pts, D, tol=1e-8):
     return keep
 
 
-def _complete_by_deflation(offs, pts, res, cond, L, iters: int = 40, tol: float = 1e-8):
+def _complete_by_deflation(offs, pts, res, cond, L, iters: int = 40, tol: float = 1e-8,
+                           forward: bool = False):
     """Eigenvalue clusters can send two starts to one root and miss another.  Every start that
     did not converge, or converged to an already found root, is restarted with Newton deflated at
     the found roots (step δ/(1 + Σ_k ℓ(δ)/ℓ(z − z_k)), ℓ a random linear form).  Raises
-    LocatorError when the set of distinct converged roots stays smaller than the count."""
+    LocatorError when the set of distinct converged roots stays smaller than the count.
+
+    With ``forward``, two points also coincide when closer than 10 times the larger of their
+    forward-error estimates |J⁻¹|·ε·Σ|c_m·m| (scaled variables; Higham 2002, §25.3): a far root
+    evaluated with heavy cancellation is reached by two starts 4e-8 of its size apart, both with
+    backward error 1e-16, while another root is missing (measured on two triples 100× apart:
+    estimates 6e-4 and 3e-3 against separations 2e-4 and 4e-5; elsewhere the estimates are
+    below 1e-9 and no pair is within them)."""
     D = np.array([L, L, L * L])
+    if forward and len(pts):
+        vals, grads, absv = _system(offs, pts)
+        with np.errstate(all="ignore"):
+            try:
+                Ji = np.linalg.inv(grads * D[None, None, :])
+                fe = (np.abs(Ji) @ (np.finfo(float).eps * absv)[..., None])[..., 0].max(axis=1)
+            except np.linalg.LinAlgError:
+                fe = np.zeros(len(pts))
+        tol = np.maximum(tol, 10 * np.nan_to_num(fe, nan=0.0, posinf=0.0))
     good = (res < RESIDUAL_TOL) & _distinct_mask(pts, D, tol)
     todo = np.nonzero(~good)[0]
     if len(todo) == 0:
@@ -850,19 +871,21 @@ def _complete_by_deflation(offs, pts, res, cond, L, iters: int = 40, tol: float 
     pts = pts.copy()
     res = res.copy()
     cond = cond.copy()
+    tol = np.broadcast_to(np.asarray(tol, dtype=float), (len(pts),))
     for i in todo:
         found = pts[good]
+        t_found = tol[good]
         z = pts[i].astype(complex)
         ok = False
         for _ in range(iters):
             vals, grads, absv = _system(offs, z[None, :])
             r = np.max(np.abs(vals[0]) / np.maximum(absv[0], 1e-300))
-            if r < RESIDUAL_TOL and np.all(np.max(np.abs((found - z) / D), axis=1) > tol):
+            if r < RESIDUAL_TOL and np.all(np.max(np.abs((found - z) / D), axis=1) > t_found):
                 # a few plain Newton steps to full accuracy; they must not slide back onto a found
                 # root (measured: an ill-conditioned found root attracts the polished point, which
                 # left a duplicate in the list and one solution missing)
                 zz, rr, kk = newton_refine(offs, z[None, :], iters=3, scale=L)
-                if np.all(np.max(np.abs((found - zz[0]) / D), axis=1) > tol):
+                if np.all(np.max(np.abs((found - zz[0]) / D), axis=1) > t_found):
                     ok = True
                     z, r, k = zz[0], rr[0], kk[0]
                 break
@@ -917,8 +940,10 @@ TRUE_TOL = 1e-9
 
 def _classify(c1, c2, c3, x, y, R):
     """'true' when d(q, C_i) = √R (relative TRUE_TOL) for i = 1, 2, 3; 'false' when some site is
-    clearly closer (relative deviation < −FALSE_TOL); 'ambiguous' otherwise (a distance above √R
-    beyond TRUE_TOL is impossible for an exact solution, so it means lost accuracy)."""
+    clearly closer (relative deviation < −FALSE_TOL); 'ambiguous' otherwise: a distance above √R
+    beyond TRUE_TOL means either lost accuracy or that R is the squared distance to complex
+    critical points only (the caller refines at 40 digits and then rejects deviations above
+    FARTHER_TOL)."""
     from ..sites.distance import distance
 
     rho = math.sqrt(R)
@@ -933,6 +958,10 @@ def _classify(c1, c2, c3, x, y, R):
 
 #: relative deviation below which a site is certainly closer than √R (not a true vertex)
 FALSE_TOL = 1e-6
+#: relative deviation above which, after refinement at 40 digits, a site is certainly farther than
+#: √R: the squared distance R then belongs to complex foot points only (measured: +0.22 on all three
+#: sites at a real solution 4e5 away from three small ellipses with collinear centres)
+FARTHER_TOL = 1e-3
 
 
 #: routes of :func:`voronoi_vertices_triple`
@@ -1084,6 +1113,13 @@ def _numeric_vertices_triple(c1, c2, c3, *, eigen, degree, refine_dps, homotopy)
                          "residual_mp": float(rmp), "dps": dps})
             if verdict == "ambiguous":
                 verdict, ds, dev = _classify(c1, c2, c3, x, y, R)
+                if verdict == "ambiguous" and max(dev) > FARTHER_TOL:
+                    # a site farther than √R by more than any accuracy loss at 40 digits: √R is the
+                    # distance to complex critical points of that conic only, not a vertex (the
+                    # completeness proof decides it again for every real solution)
+                    verdict = "false"
+                    notes.append(f"candidate ({x:.6g}, {y:.6g}) rejected: a site is farther than √R by "
+                                 f"{max(dev):.1e} (relative; R belongs to complex foot points)")
                 if verdict == "ambiguous":
                     raise LocatorError(f"vertex candidate ({x:.6g}, {y:.6g}, R={R:.6g}): distances to the sites "
                                        f"deviate from √R by {dev} (relative) even after refinement at {dps} "
