@@ -328,19 +328,19 @@ def missing_by_traces(known: np.ndarray, h0: np.ndarray, h1: np.ndarray, Xs: np.
     the λ_u for each section's values.  With k = 1 the coordinates are just the traces of the X_s.
     A trace needs no eigenvector: where a cluster leaves a root unreached by every eigenvalue
     problem, this reads it directly (measured: three hyperbolas 100× apart, seed 401, one real
-    root 3e-2 of its size from its neighbour that five problems had not reached).  Returns an
-    empty array when the λ_u are not distinct."""
+    root 3e-2 of its size from its neighbour, which five problems had reached but to which Newton
+    had not converged).  Returns an empty array when the λ_u are not distinct."""
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         w = known @ h0
         vals = known / w[:, None]                                             # (N − k, 4): s/h₀
+        if k == 1:
+            out = np.array([np.trace(Xs[s]) for s in range(4)]) - vals.sum(axis=0)
+            return np.nan_to_num(out)[None, :]
         lam = vals @ h1                                                       # h₁/h₀
         X = np.tensordot(h1, Xs, axes=1)
         powers = [np.eye(len(X))]
         for _ in range(k):
             powers.append(powers[-1] @ X)
-        if k == 1:
-            out = np.array([np.trace(Xs[s]) for s in range(4)]) - vals.sum(axis=0)
-            return np.nan_to_num(out)[None, :]
         p = np.array([np.trace(powers[j]) - (lam ** j).sum() for j in range(1, k + 1)])
         # Newton's identities: e_j = (Σ_{i=1}^{j} (−1)^{i−1} e_{j−i} p_i) / j
         e = [1.0 + 0j]
