@@ -733,15 +733,11 @@ def _replace_unproved(c1, c2, c3, S, boxes) -> int:
     scale = np.maximum(1.0, np.abs(S).max(axis=1))
     rng = np.random.default_rng(17)
     for k in drop:
-        for f in free:
-            if _disjoint([boxes[j][1] for j in kept] + [f[1]]):
-                boxes[k] = f
-                kept.append(k)
-                free.remove(f)
-                break
-        else:
-            f = None
+        f = next((f for f in free if _disjoint([boxes[j][1] for j in kept] + [f[1]])), None)
         if f is not None:
+            boxes[k] = f
+            kept.append(k)
+            free.remove(f)
             continue
         # a near-double real pair seen as a conjugate pair m ± i·w: its zeros may be near m ± w·t
         m, w = S[k].real, S[k].imag

@@ -42,8 +42,8 @@ from __future__ import annotations
 
 import math
 import time
-from functools import partial
 from dataclasses import dataclass, field
+from functools import partial
 from fractions import Fraction
 from typing import Any
 

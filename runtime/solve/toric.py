@@ -392,23 +392,20 @@ def _eigen_points(gs, Ns, seed: int, schur: bool = True):
         return None, None, None, None, rcond, None
     X = sla.solve_triangular(R0, Q0.T @ N1[:, p0], check_finite=False)
 
+    Nsp = Ns[:, :, p0]
+
+    @lru_cache(maxsize=1)
     def section_maps():
-        """the maps X_s = R₀⁻¹Q₀ᵀ·N_s of the four sections s/h₀"""
-        return sla.solve_triangular(R0, Q0.T @ Ns[:, :, p0].transpose(1, 0, 2).reshape(Ns.shape[1], -1),
+        """the maps X_s = R₀⁻¹Q₀ᵀ·N_s of the four sections s/h₀ (formed once, when first asked)"""
+        return sla.solve_triangular(R0, Q0.T @ Nsp.transpose(1, 0, 2).reshape(Ns.shape[1], -1),
                                     check_finite=False).reshape(len(p0), 4, len(p0)).transpose(1, 0, 2)
 
     Zs = np.zeros((0, 4), dtype=complex)
-    maps = section_maps
     if schur:
         # Schur points: the values of 1/h₀, x/h₀, y/h₀, T/h₀ on the diagonal of Uᵀ·X_s·U
-        Xs = section_maps()
-        Zs = common_eigenvalues(X, Xs)
-
-        def maps():
-            return Xs
+        Zs = common_eigenvalues(X, section_maps())
     # eigenvector points: [1 : x : y : T] at each solution, on the row of largest |h₀|
     _, W = sla.eig(X, overwrite_a=True, check_finite=False)
-    Nsp = Ns[:, :, p0]
     Z0 = N0[:, p0] @ W.real + 1j * (N0[:, p0] @ W.imag)                  # (|sub|, N)
     k = np.argmax(np.abs(Z0), axis=0)
     Ze = np.einsum("esj,js->es", Nsp[:, k, :], W)                        # (4, N)
@@ -417,7 +414,7 @@ def _eigen_points(gs, Ns, seed: int, schur: bool = True):
     # whereas the real Schur form gives two real values whose Newton iterates stay real and stall
     # between them (measured: 17.78 ± 7e-7·i at R ≈ 32820, three hyperbolas 100× apart)
     Z, step, res, err = projective_newton(gs, np.vstack([Ze.T, Zs]))
-    return Z, step, res, err, rcond, (h0, h1, maps)
+    return Z, step, res, err, rcond, (h0, h1, section_maps)
 
 
 def common_eigenvalues(X: np.ndarray, Xs: np.ndarray) -> np.ndarray:

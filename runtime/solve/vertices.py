@@ -477,20 +477,22 @@ def solve_nullspace(polys: list[dict], wdegs: list[int], d: int, top: int = TOP_
 # =========================================================================== refinement
 
 def newton_refine(offs: list[CanonicalOffset], Z: np.ndarray, iters: int = 8, real: bool = False,
-                  scale: float = 1.0):
+                  scale: float = 1.0, forward_error: bool = False):
     """Vectorised Newton on (o1, o2, o3)(x, y, R) = 0 in world coordinates.
 
-    Returns (refined points, relative residuals (N,), condition numbers (N,)).  The relative
-    residual of o_i is |o_i| / Σ|c_m·m| (backward error); the condition number is that of the
-    Jacobian with rows scaled to unit norm in the scaled variables (x/L, y/L, R/L²)."""
+    Returns (refined points, relative residuals (N,), condition numbers (N,)), and with
+    ``forward_error`` also forward-error estimates (N,) max_k (|J⁻¹|·ε·Σ|c_m·m|)_k in the scaled
+    variables (the rounding error of the values carried through J⁻¹; Higham 2002, §25.3).  The
+    relative residual of o_i is |o_i| / Σ|c_m·m| (backward error); the condition number is that of
+    the Jacobian with rows scaled to unit norm in the scaled variables (x/L, y/L, R/L²)."""
     Z = np.array(Z, dtype=float if real else complex)
     n = len(Z)
     if n == 0:
-        return Z, np.zeros(0), np.zeros(0)
+        return (Z, np.zeros(0), np.zeros(0)) + ((np.zeros(0),) if forward_error else ())
     D = np.array([scale, scale, scale * scale])
     best = Z.copy()
     best_res = np.full(n, np.inf)
-    best_grads = None
+    best_grads = best_absv = None
     for it in range(iters + 1):
         vals, grads, absv = _system(offs, Z)
         res = np.max(np.abs(vals) / np.maximum(absv, 1e-300), axis=1)
@@ -499,8 +501,10 @@ def newton_refine(offs: list[CanonicalOffset], Z: np.ndarray, iters: int = 8, re
         best_res[better] = res[better]
         if best_grads is None:
             best_grads = grads.copy()       # Jacobians at ``best`` (only read where best_res < inf)
+            best_absv = absv.copy()
         else:
             best_grads[better] = grads[better]
+            best_absv[better] = absv[better]
         if it == iters or np.all(res < 4e-16):
             break
         J = grads * D[None, None, :]
@@ -514,7 +518,15 @@ def newton_refine(offs: list[CanonicalOffset], Z: np.ndarray, iters: int = 8, re
     Jn = J / np.maximum(np.linalg.norm(J, axis=2, keepdims=True), 1e-300)
     with np.errstate(all="ignore"):
         cond = np.linalg.cond(Jn)
-    return best, best_res, cond
+    if not forward_error:
+        return best, best_res, cond
+    with np.errstate(all="ignore"):
+        try:
+            Ji = np.linalg.inv(J)
+            fe = (np.abs(Ji) @ (np.finfo(float).eps * best_absv)[..., None])[..., 0].max(axis=1)
+        except np.linalg.LinAlgError:
+            fe = np.zeros(n)
+    return best, best_res, cond, np.nan_to_num(fe, nan=0.0, posinf=0.0)
 
 
 def _system(offs, Z):
@@ -701,15 +713,20 @@ def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = 
             # move a far vertex to a point of smaller residual but farther from it
             if attempt is TORIC:
                 pts, res, cond = _refine_toric_roots(offs, pts, info.root_residuals, wf.L)
+                tol = TORIC_DISTINCT_TOL
             else:
-                pts, res, cond = newton_refine(offs, pts, scale=wf.L)
+                pts, res, cond, fe = newton_refine(offs, pts, scale=wf.L, forward_error=True)
+                # two points closer than 10 times their forward-error estimates are one root: a far
+                # root evaluated with heavy cancellation is reached by two starts 4e-8 of its size
+                # apart, both with backward error 1e-16, while another root is missing (measured on
+                # two triples 100× apart: estimates 6e-4 and 3e-3 against separations 2e-4 and
+                # 4e-5; elsewhere the estimates are below 1e-9 and no pair is within them)
+                tol = np.maximum(DISTINCT_TOL, 10 * fe)
             try:
                 # toric roots are deduplicated in circle space at the accuracy Newton reached there;
                 # near-double roots closer than 1e-8 of the frame stay apart (certification proves
                 # them distinct, or the counting proof fails and the exact route answers)
-                pts, res, cond, n_deflated = _complete_by_deflation(
-                    offs, pts, res, cond, wf.L, tol=TORIC_DISTINCT_TOL if attempt is TORIC else DISTINCT_TOL,
-                    forward=attempt is not TORIC)
+                pts, res, cond, n_deflated = _complete_by_deflation(offs, pts, res, cond, wf.L, tol=tol)
             finally:
                 total["refine"] = total.get("refine", 0.0) + time.perf_counter() - t1
         except LocatorError as exc:
@@ -854,29 +871,13 @@ def _distinct_mask(pts, D, tol=1e-8):
     return keep
 
 
-def _complete_by_deflation(offs, pts, res, cond, L, iters: int = 40, tol: float = 1e-8,
-                           forward: bool = False):
+def _complete_by_deflation(offs, pts, res, cond, L, iters: int = 40, tol=1e-8):
     """Eigenvalue clusters can send two starts to one root and miss another.  Every start that
-    did not converge, or converged to an already found root, is restarted with Newton deflated at
+    did not converge, or converged to an already found root (closer than ``tol``, scaled max-norm;
+    a number or one per point, the larger of two applying), is restarted with Newton deflated at
     the found roots (step δ/(1 + Σ_k ℓ(δ)/ℓ(z − z_k)), ℓ a random linear form).  Raises
-    LocatorError when the set of distinct converged roots stays smaller than the count.
-
-    With ``forward``, two points also coincide when closer than 10 times the larger of their
-    forward-error estimates |J⁻¹|·ε·Σ|c_m·m| (scaled variables; Higham 2002, §25.3): a far root
-    evaluated with heavy cancellation is reached by two starts 4e-8 of its size apart, both with
-    backward error 1e-16, while another root is missing (measured on two triples 100× apart:
-    estimates 6e-4 and 3e-3 against separations 2e-4 and 4e-5; elsewhere the estimates are
-    below 1e-9 and no pair is within them)."""
+    LocatorError when the set of distinct converged roots stays smaller than the count."""
     D = np.array([L, L, L * L])
-    if forward and len(pts):
-        vals, grads, absv = _system(offs, pts)
-        with np.errstate(all="ignore"):
-            try:
-                Ji = np.linalg.inv(grads * D[None, None, :])
-                fe = (np.abs(Ji) @ (np.finfo(float).eps * absv)[..., None])[..., 0].max(axis=1)
-            except np.linalg.LinAlgError:
-                fe = np.zeros(len(pts))
-        tol = np.maximum(tol, 10 * np.nan_to_num(fe, nan=0.0, posinf=0.0))
     good = (res < RESIDUAL_TOL) & _distinct_mask(pts, D, tol)
     todo = np.nonzero(~good)[0]
     if len(todo) == 0:
