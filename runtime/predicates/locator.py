@@ -79,10 +79,14 @@ def clear_cache() -> None:
     clear_certification_caches()
 
 
-def voronoi_vertices(c1, c2, c3, *, eigen: str = "dense", use_cache: bool = True):
+def voronoi_vertices(c1, c2, c3, *, eigen: str = "dense", use_cache: bool = True, resolve: bool = True):
     """True Voronoi vertices of (C1, C2, C3) as a :class:`runtime.solve.vertices.TripleVertices`,
     cached on the exact coefficients of the ordered triple (thesis §5.2; the vertices do not
-    depend on the fourth site).  Raises LocatorError for identical sites or an unreliable solve."""
+    depend on the fourth site).  Raises LocatorError for identical sites or an unreliable solve.
+
+    A numeric list with candidates left undecided (``TripleVertices.unresolved``) is replaced by
+    the exact route's unless ``resolve=False``: the caller then proves the list complete or calls
+    :func:`exact_vertices` itself."""
     from ..solve.vertices import voronoi_vertices_triple
 
     cs = [_check_conic(c, i) for i, c in enumerate((c1, c2, c3), 1)]
@@ -92,12 +96,30 @@ def voronoi_vertices(c1, c2, c3, *, eigen: str = "dense", use_cache: bool = True
     key = (tuple(keys), eigen)
     if use_cache and key in _cache:
         _cache.move_to_end(key)
-        return _cache[key]
-    tv = voronoi_vertices_triple(*cs, eigen=eigen)
+        tv = _cache[key]
+    else:
+        tv = voronoi_vertices_triple(*cs, eigen=eigen)
+    if resolve and tv.unresolved:
+        tv = exact_vertices(*cs, reason=f"{tv.unresolved} real candidate(s) of the numeric route undecided")
     if use_cache:
         _cache[key] = tv
         while len(_cache) > _CACHE_SIZE:
             _cache.popitem(last=False)
+    return tv
+
+
+def exact_vertices(c1, c2, c3, *, reason: str):
+    """The exact route's vertices of (C1, C2, C3) (:func:`runtime.solve.vertices.exact_vertices_triple`;
+    msolve, its result cached or already under way in the background), with ``reason`` in the notes.
+    Raises :class:`runtime.result.NumericalRefusal` when msolve is missing or fails."""
+    from ..solve.exact import MsolveError
+    from ..solve.vertices import exact_vertices_triple
+
+    try:
+        tv = exact_vertices_triple(c1, c2, c3)
+    except MsolveError as exc:
+        raise NumericalRefusal(f"{reason}, and the exact route failed: {exc}") from None
+    tv.notes.insert(0, f"{reason}; vertices from the exact route (msolve)")
     return tv
 
 
@@ -156,7 +178,9 @@ def locate_conflicts(c1, c2, c3, c4, method: str = "auto", *, certify: bool = Tr
         res = _locate_quadruple(*cs)
     else:
         try:
-            res = _locate_triple(*cs, **kw)
+            # with the completeness proof to follow, a numeric list may keep undecided candidates
+            # (voronoi_vertices): the proof closes over the full solution list, or the exact route answers
+            res = _locate_triple(*cs, resolve=not (certify and completeness), **kw)
         except InfinitelyManySolutions:
             raise
         except LocatorError as exc:
@@ -193,11 +217,11 @@ _completeness_cache: "OrderedDict[tuple, tuple[bool, str, float]]" = OrderedDict
 def _certified(res: LocatorResult, cs, completeness: bool, eigen: str) -> LocatorResult:
     """Certification stage (:mod:`runtime.certify.conflicts`), with the triple's completeness proof cached per triple."""
     from ..certify.conflicts import certify_result
-    from ..solve.exact import cancel_solve_exact
+    from ..solve.exact import cancel_solve_exact, msolve_available
 
     c1, c2, c3, c4 = cs
     key = (tuple(_key(c) for c in (c1, c2, c3)), eigen)
-    tv = voronoi_vertices(c1, c2, c3, eigen=eigen)
+    tv = voronoi_vertices(c1, c2, c3, eigen=eigen, resolve=not completeness)
     sol = tv.solution
     if not completeness or (sol is None and tv.exact is None):
         out = certify_result(res, c1, c2, c3, c4)
@@ -211,9 +235,16 @@ def _certified(res: LocatorResult, cs, completeness: bool, eigen: str) -> Locato
             out = certify_result(res, c1, c2, c3, c4, solutions=sol.points, expected_count=sol.info.expected)
             if not out.complete:
                 _exact_completeness(out, (c1, c2, c3), tv.exact)
-            elif sol.info.provisional:
+                if not out.complete and (tv.unresolved or sol.info.provisional) and msolve_available():
+                    # the numeric list itself may lack a vertex: the exact route's list instead
+                    tv = exact_vertices(c1, c2, c3, reason="the numeric list was not proved complete")
+                    _cache[(tuple(_key(c) for c in (c1, c2, c3)), eigen)] = tv
+                    out = certify_result(_locate_triple(c1, c2, c3, c4, eigen), c1, c2, c3, c4)
+                    out.notes = [n for n in out.notes if not n.startswith("certify: completeness not proven")]
+                    _exact_completeness(out, (c1, c2, c3), tv.exact)
+            elif sol.info.provisional or tv.unresolved:
                 # proved complete by counting: the exact solve kept running for a provisional list
-                # (runtime.solve.vertices.generalised_vertices) is not needed
+                # or an undecided candidate (runtime.solve.vertices) is not needed
                 cancel_solve_exact(c1, c2, c3)
         else:
             out = certify_result(res, c1, c2, c3, c4)
@@ -262,12 +293,12 @@ def _exact_completeness(out: LocatorResult, triple, roots=None) -> None:
     out.notes.append(f"certify completeness: {note}")
 
 
-def _locate_triple(c1, c2, c3, c4, eigen: str = "dense") -> LocatorResult:
+def _locate_triple(c1, c2, c3, c4, eigen: str = "dense", resolve: bool = True) -> LocatorResult:
     from ..sites.distance import distance
 
     t0 = time.perf_counter()
     key_hit = ((tuple(_key(c) for c in (c1, c2, c3)), eigen) in _cache)
-    tv = voronoi_vertices(c1, c2, c3, eigen=eigen)
+    tv = voronoi_vertices(c1, c2, c3, eigen=eigen, resolve=resolve)
     t1 = time.perf_counter()
     timings = {"cache_lookup": t1 - t0} if key_hit else dict(tv.timings)
     notes = list(tv.notes)

@@ -586,6 +586,10 @@ class TripleVertices:
     solution: TripleSolution | None = None
     #: real solutions of the exact system (runtime.solve.exact.ExactRoots) when the exact route answered
     exact: object | None = None
+    #: real candidates left out of ``vertices`` undecided (Newton at 40 digits did not converge from
+    #: them, so their distances to the sites decide nothing): the list is complete only if the
+    #: completeness proof over the full solution list closes; otherwise the exact route answers
+    unresolved: int = 0
 
 
 def config_entry(fams: tuple[str, ...]) -> tuple[int, int | None, int]:
@@ -616,6 +620,9 @@ TORIC_DISTINCT_TOL = 1e-13
 
 #: residual (relative backward error) accepted for a refined solution
 RESIDUAL_TOL = 1e-11
+#: relative residual after Newton at 40 digits above which a real candidate is not a root
+#: approximation (converged: below 1e-35; measured on a far candidate Newton drifted from: 1e-2)
+UNRESOLVED_RESIDUAL = 1e-20
 
 
 class _CountMismatch(LocatorError):
@@ -1114,6 +1121,7 @@ def _numeric_vertices_triple(c1, c2, c3, *, eigen, degree, refine_dps, homotopy)
     tm["refine"] += time.perf_counter() - t0
     t1 = time.perf_counter()
     out = []
+    unresolved = 0
     for (x, y, R), r, k in zip(real_pts, res, cond):
         if not R > 0:
             continue
@@ -1126,13 +1134,28 @@ def _numeric_vertices_triple(c1, c2, c3, *, eigen, degree, refine_dps, homotopy)
             x, y, R = (float(t) for t in zmp)
             info.update({"x_mp": str(zmp[0]), "y_mp": str(zmp[1]), "R_mp": str(zmp[2]),
                          "residual_mp": float(rmp), "dps": dps})
-            if verdict == "ambiguous":
-                verdict, ds, dev = _classify(c1, c2, c3, x, y, R)
+            converged = not float(rmp) > UNRESOLVED_RESIDUAL
+            if verdict == "ambiguous" or not R > 0:
+                if R > 0:
+                    verdict, ds, dev = _classify(c1, c2, c3, x, y, R)
+                elif converged:
+                    continue                     # a real solution with R ≤ 0 is no vertex
+                else:
+                    verdict = "ambiguous"
                 if verdict == "ambiguous":
-                    raise LocatorError(f"vertex candidate ({x:.6g}, {y:.6g}, R={R:.6g}): distances to the sites "
-                                       f"deviate from √R by {dev} (relative) even after refinement at {dps} "
-                                       f"digits (Newton residual there {float(rmp):.1e}); cannot decide whether "
-                                       "it is a true Voronoi vertex")
+                    msg = (f"vertex candidate ({x:.6g}, {y:.6g}, R={R:.6g}): "
+                           + (f"distances to the sites deviate from √R by {dev} (relative)" if R > 0 else "R ≤ 0")
+                           + f" even after refinement at {dps} digits (Newton residual there {float(rmp):.1e})")
+                    if homotopy or converged:
+                        raise LocatorError(msg + "; cannot decide whether it is a true Voronoi vertex")
+                    # Newton did not converge: the point approximates no solution of the system, and
+                    # whatever real solution it stood for is in the full list the completeness proof
+                    # certifies (runtime.certify.complete); if that proof does not close, the exact
+                    # route answers (the exact solve starts now on the other core)
+                    unresolved += 1
+                    notes.append(msg + "; left to the completeness proof")
+                    start_solve_exact(c1, c2, c3)
+                    continue
         if verdict == "true":
             info["distances"] = ds
             out.append(VoronoiVertex(x=float(x), y=float(y), radius=math.sqrt(R), certified=False, info=info))
@@ -1140,7 +1163,7 @@ def _numeric_vertices_triple(c1, c2, c3, *, eigen, degree, refine_dps, homotopy)
             notes.append(f"candidate ({x:.6g}, {y:.6g}) rejected: a site is closer by {min(dev):.1e} (relative)")
     out.sort(key=lambda v: (v.x, v.y))
     tm["filter"] = time.perf_counter() - t1
-    return TripleVertices(out, len(P), int(len(real_pts)), tm, notes, sol)
+    return TripleVertices(out, len(P), int(len(real_pts)), tm, notes, sol, unresolved=unresolved)
 
 
 #: the null-space route alone, used by the homotopy to solve its start systems
