@@ -235,17 +235,19 @@ def _certified(res: LocatorResult, cs, completeness: bool, eigen: str) -> Locato
             out = certify_result(res, c1, c2, c3, c4, solutions=sol.points, expected_count=sol.info.expected)
             if not out.complete:
                 _exact_completeness(out, (c1, c2, c3), tv.exact)
-                if not out.complete and (tv.unresolved or sol.info.provisional) and msolve_available():
-                    # the numeric list itself may lack a vertex: the exact route's list instead
-                    tv = exact_vertices(c1, c2, c3, reason="the numeric list was not proved complete")
+            if tv.unresolved or sol.info.provisional:
+                if out.certified:
+                    # proved: the exact solve kept running for a provisional list or an undecided
+                    # candidate (runtime.solve.vertices) is not needed
+                    cancel_solve_exact(c1, c2, c3)
+                elif msolve_available():
+                    # the numeric list itself may lack a vertex or hold a point that is none: the
+                    # exact route's list instead (its solve is under way or done)
+                    tv = exact_vertices(c1, c2, c3, reason="the numeric list was not proved")
                     _cache[(tuple(_key(c) for c in (c1, c2, c3)), eigen)] = tv
                     out = certify_result(_locate_triple(c1, c2, c3, c4, eigen), c1, c2, c3, c4)
                     out.notes = [n for n in out.notes if not n.startswith("certify: completeness not proven")]
                     _exact_completeness(out, (c1, c2, c3), tv.exact)
-            elif sol.info.provisional or tv.unresolved:
-                # proved complete by counting: the exact solve kept running for a provisional list
-                # or an undecided candidate (runtime.solve.vertices) is not needed
-                cancel_solve_exact(c1, c2, c3)
         else:
             out = certify_result(res, c1, c2, c3, c4)
             out.notes = [n for n in out.notes if not n.startswith("certify: completeness not proven")]

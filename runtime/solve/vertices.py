@@ -53,6 +53,7 @@ from functools import lru_cache, partial
 import numpy as np
 import scipy.linalg as sla
 
+from ..sites.symmetry import common_axis
 from .exact import cancel_solve_exact, exact_solved, start_solve_exact
 from .homotopy import homotopy_solve
 from .householder import householder_apply, rank_from_values
@@ -540,7 +541,8 @@ def _system(offs, Z):
 
 
 def newton_refine_mp(offs_mp: list[CanonicalOffset], z, dps: int, iters: int = 20):
-    """Newton in mpmath at ``dps`` digits from a real float start; returns (point, relative residual)."""
+    """Newton in mpmath at ``dps`` digits from a real float start; returns (point, relative residual);
+    a singular Jacobian stops it where it is (the residual then says it did not converge)."""
     import mpmath
     with mpmath.workdps(dps):
         x = [mpmath.mpf(float(t)) for t in z]
@@ -555,7 +557,10 @@ def newton_refine_mp(offs_mp: list[CanonicalOffset], z, dps: int, iters: int = 2
             res = max(abs(f) / a for f, a in zip(F, A))
             if res < mpmath.mpf(10) ** (-dps + 5):
                 break
-            step = mpmath.lu_solve(mpmath.matrix(J), -mpmath.matrix(F))
+            try:
+                step = mpmath.lu_solve(mpmath.matrix(J), -mpmath.matrix(F))
+            except ZeroDivisionError:            # singular Jacobian: Newton stops, not converged
+                break
             x = [x[i] + step[i] for i in range(3)]
         return x, res
 
@@ -586,9 +591,10 @@ class TripleVertices:
     solution: TripleSolution | None = None
     #: real solutions of the exact system (runtime.solve.exact.ExactRoots) when the exact route answered
     exact: object | None = None
-    #: real candidates left out of ``vertices`` undecided (Newton at 40 digits did not converge from
-    #: them, so their distances to the sites decide nothing): the list is complete only if the
-    #: completeness proof over the full solution list closes; otherwise the exact route answers
+    #: real candidates undecided after Newton at 40 digits: kept as candidate vertices when Newton
+    #: converged (distances too close to call in floats), left out when it did not (the point
+    #: approximates no solution); the list is then right only if the certification and the
+    #: completeness proof over the full solution list close, otherwise the exact route answers
     unresolved: int = 0
 
 
@@ -1010,6 +1016,15 @@ def voronoi_vertices_triple(c1, c2, c3, *, eigen: str = "dense", degree: int | N
     if route == "exact":
         return exact_vertices_triple(c1, c2, c3)
     use_exact = route == "auto" and msolve_available()
+    if use_exact and common_axis((c1, c2, c3)) is not None:
+        # sites symmetric about one line: the exact solve on the quotient by the reflection
+        # (runtime.solve.exact.symmetric_boxes) takes 0.2-0.5 s, 100x apart as in a compact drawing,
+        # where clusters of mirror-image solutions far out make the numeric route take 0.5-2 s
+        # (measured on 16 drawings 100x apart, bench/bench_nongeneric.py)
+        try:
+            return exact_vertices_triple(c1, c2, c3)
+        except MsolveError:
+            pass
     try:
         return _numeric_vertices_triple(c1, c2, c3, eigen=eigen, degree=degree, refine_dps=refine_dps,
                                         homotopy=not use_exact)
@@ -1146,16 +1161,22 @@ def _numeric_vertices_triple(c1, c2, c3, *, eigen, degree, refine_dps, homotopy)
                     msg = (f"vertex candidate ({x:.6g}, {y:.6g}, R={R:.6g}): "
                            + (f"distances to the sites deviate from √R by {dev} (relative)" if R > 0 else "R ≤ 0")
                            + f" even after refinement at {dps} digits (Newton residual there {float(rmp):.1e})")
-                    if homotopy or converged:
+                    if homotopy:
                         raise LocatorError(msg + "; cannot decide whether it is a true Voronoi vertex")
-                    # Newton did not converge: the point approximates no solution of the system, and
-                    # whatever real solution it stood for is in the full list the completeness proof
-                    # certifies (runtime.certify.complete); if that proof does not close, the exact
-                    # route answers (the exact solve starts now on the other core)
+                    # the list is complete only if the certification decides (unresolved; the exact
+                    # solve starts now on the other core, for the case it does not):
+                    # * converged: a real solution too close to call in floats is a candidate vertex,
+                    #   as on the exact route; the certification proves it a true vertex or drops it
+                    # * not converged: the point approximates no solution, and whatever real solution
+                    #   it stood for is in the full list the completeness proof certifies
+                    #   (runtime.certify.complete)
                     unresolved += 1
-                    notes.append(msg + "; left to the completeness proof")
                     start_solve_exact(c1, c2, c3)
-                    continue
+                    if not converged:
+                        notes.append(msg + "; left to the completeness proof")
+                        continue
+                    notes.append(msg + "; left to the certification")
+                    verdict = "true"
         if verdict == "true":
             info["distances"] = ds
             out.append(VoronoiVertex(x=float(x), y=float(y), radius=math.sqrt(R), certified=False, info=info))
