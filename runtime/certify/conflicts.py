@@ -345,17 +345,29 @@ def _exact_path(box, fps, fp4, prec: int, max_prec: int, ubox=None):
 
 # --------------------------------------------------------------------------- public API
 
+#: precisions (bits) tried in turn for the initial foot points: far from a conic, the zones
+#: around its singular multipliers (radius 2^(-prec/4) times a crude root bound of the foot
+#: polynomial) overlap at low precision (measured: a vertex 4.7e6 away from ellipses of
+#: semi-axes 1-2, root bound 1e38, needed 512 bits)
+INITIAL_FEET_PRECS = (64, 128, 256, 512)
+
+
 def _initial_feet(fps, x, y, R):
-    z = [x, y]
-    with working_prec(64):
-        xa, ya, Ra = _ball(x), _ball(y), _ball(R)
-        for fp in fps:
-            feet = real_feet_ball(fp, xa, ya)
-            if not feet:
-                raise FootFailure("no real foot point")
-            best = min(feet, key=lambda f: abs(float((f.D - Ra).mid())))
-            z += [best.px.mid(), best.py.mid()]
-    return z
+    for prec in INITIAL_FEET_PRECS:
+        z = [x, y]
+        try:
+            with working_prec(prec):
+                xa, ya, Ra = _ball(x), _ball(y), _ball(R)
+                for fp in fps:
+                    feet = real_feet_ball(fp, xa, ya)
+                    if not feet:
+                        raise FootFailure("no real foot point")
+                    best = min(feet, key=lambda f: abs(float((f.D - Ra).mid())))
+                    z += [best.px.mid(), best.py.mid()]
+            return z
+        except FootFailure:
+            if prec == INITIAL_FEET_PRECS[-1]:
+                raise
 
 
 #: relative distance (to the scene scale) by which the proven vertex may differ from the candidate
