@@ -244,7 +244,7 @@ def _certified(res: LocatorResult, cs, completeness: bool, eigen: str) -> Locato
                     # the numeric list itself may lack a vertex or hold a point that is none: the
                     # exact route's list instead (its solve is under way or done)
                     tv = exact_vertices(c1, c2, c3, reason="the numeric list was not proved")
-                    _cache[(tuple(_key(c) for c in (c1, c2, c3)), eigen)] = tv
+                    _cache[key] = tv
                     out = certify_result(_locate_triple(c1, c2, c3, c4, eigen), c1, c2, c3, c4)
                     out.notes = [n for n in out.notes if not n.startswith("certify: completeness not proven")]
                     _exact_completeness(out, (c1, c2, c3), tv.exact)
