@@ -85,7 +85,7 @@ def cases() -> dict[str, list]:
 #: family for the counting argument, or has a shared direction that makes it so)
 RANDOM_KINDS = ("identical translated ellipses", "homothetic parallel ellipses", "axis-aligned ellipses",
                 "identical translated hyperbolas", "equal circles", "parallel parabola axes",
-                "opposite parabola axes", "shared symmetry axis", "collinear centres")
+                "opposite parabola axes", "shared symmetry axis", "collinear centres", "coaxial mixed sites")
 
 _ROTS = [(3, 4, 5), (5, 12, 13), (8, 15, 17), (7, 24, 25), (20, 21, 29), (12, 35, 37), (9, 40, 41)]
 
@@ -165,6 +165,18 @@ def random_nongeneric(kind: str, seed: int, spread: int = 1) -> list:
         turn = [(c, s) if rng.random() < 0.5 else (-s, c) for _ in range(2)]
         sg = 1 if rng.random() < 0.5 else -1
         sites = [E(v[0], ab[0], turn[0]), E(v[1], ab[1], turn[1]), P(v[2], F(int(rng.integers(2, 9)), 4), (sg * c, sg * s))]
+    elif kind == "coaxial mixed sites":
+        # three sites of any kinds (ellipse, hyperbola, parabola, circle) symmetric about one line
+        (c, s) = rot()
+        kinds = [str(k) for k in rng.choice(list("EHPC"), size=3)]
+        ab = [axes() for _ in range(3)]
+        pos = v = centres([a[0] for a in ab], on_line=(c, s))
+        sites = []
+        for k, q, (A, B) in zip(kinds, v, ab):
+            turn = (c, s) if rng.random() < 0.5 else (-s, c)
+            sg = 1 if rng.random() < 0.5 else -1
+            sites.append(E(q, (A, B), turn) if k == "E" else H(q, (A, B), turn) if k == "H" else
+                         C(q, A) if k == "C" else P(q, F(int(rng.integers(2, 9)), 4), (sg * c, sg * s)))
     else:  # collinear centres
         ab = [axes() for _ in range(3)]
         pos = centres([a[0] for a in ab], on_line=rot())

@@ -226,13 +226,16 @@ def test_undecided_far_candidate_left_to_the_completeness_proof():
     """Collinear centres 100× apart (seed 4): two real candidates at R ≈ 1.3e11 from which Newton
     at 40 digits does not converge (residual 1e-2; their distances to the sites exceed √R by 22 %)
     once made the numeric route refuse, and msolve answered in 2–3 s.  They are left out of the
-    vertex list and the completeness proof over all 184 solutions closes: certified, complete, no
-    exact route, and the oracle's vertices."""
+    vertex list (or, where Newton converged, left to the certification, which drops them) and the
+    completeness proof over all 184 solutions closes: certified, complete, no exact route, and the
+    oracle's vertices."""
     cs = random_nongeneric("collinear centres", 4, spread=100)
     clear_cache()
     res = locate_conflicts(*cs)
     assert res.certified and res.complete, res.notes
-    assert any("left to the completeness proof" in n for n in res.notes), res.notes
+    # (which of the two far candidates Newton converges from depends on the pooled eigenvalue
+    # problems: a converged one is left to the certification, which drops it)
+    assert any("left to the completeness proof" in n or "left to the certification" in n for n in res.notes), res.notes
     assert not any("exact route" in n or "msolve" in n for n in res.notes), res.notes
     ref = reference_vertices(*cs[:3])
     assert len(ref) == len(res.vertices)

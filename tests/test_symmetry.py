@@ -34,9 +34,10 @@ def _mirror(frame, x, y):
     return frame.x0 + a, frame.y0 + b
 
 
+@pytest.mark.parametrize("kind", ["shared symmetry axis", "coaxial mixed sites"])
 @pytest.mark.parametrize("seed", range(6))
-def test_common_axis_is_a_line_of_symmetry_of_every_site(seed):
-    cs = random_nongeneric("shared symmetry axis", seed)[:3]
+def test_common_axis_is_a_line_of_symmetry_of_every_site(kind, seed):
+    cs = random_nongeneric(kind, seed)[:3]
     frame = common_axis(cs)
     assert frame is not None
     rng = np.random.default_rng(seed)
