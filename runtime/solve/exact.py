@@ -425,8 +425,8 @@ def symmetric_boxes(c1, c2, c3, frame, *, precision: int = 128, timeout: float =
                 axis = [{(k, i): c for (k, i, j), c in h.items() if j == 0} for h in hs]
                 on_axis = real_boxes(axis, names=CIRCLE_SPACE_NAMES[:2], precision=precision,
                                      timeout=timeout, threads=threads)
-            meets = [a for a in on_axis if all(lo <= q_hi and p_lo <= hi for (lo, hi), (p_lo, q_hi) in zip(a, (t, u)))]
-            if len(meets) != 1 or not all(p_lo <= lo and hi <= p_hi for (lo, hi), (p_lo, p_hi) in zip(meets[0], (t, u))):
+            meets = [a for a in on_axis if _meet(a, (t, u))]
+            if len(meets) != 1 or not _inside(meets[0], (t, u)):
                 raise MsolveError("a solution of the quotient near the axis is not separated from it")
             vs = [(Fraction(0), Fraction(0))]
             V = (Fraction(0), Fraction(0))
@@ -529,9 +529,19 @@ def _pairwise_disjoint(boxes) -> bool:
         for j in order[a + 1:]:
             if boxes[j][0][0] > boxes[i][0][1]:
                 break
-            if all(not (bj[1] < bi[0] or bi[1] < bj[0]) for bi, bj in zip(boxes[i], boxes[j])):
+            if _meet(boxes[i], boxes[j]):
                 return False
     return True
+
+
+def _meet(a, b) -> bool:
+    """Do the boxes a and b (tuples of (lo, hi) intervals) intersect?"""
+    return all(lo <= hi2 and lo2 <= hi for (lo, hi), (lo2, hi2) in zip(a, b))
+
+
+def _inside(a, b) -> bool:
+    """Is the box a inside the box b?"""
+    return all(lo2 <= lo and hi <= hi2 for (lo, hi), (lo2, hi2) in zip(a, b))
 
 
 _EXACT_CACHE: dict = {}
