@@ -199,6 +199,30 @@ def test_spread_out_drawings_answered_without_msolve(kind, seed):
                    for v in res.vertices) == 1
 
 
+def test_unresolved_cluster_completed_by_the_certifications_search():
+    """Collinear centres 100× apart (seed 8): a cluster of complex roots whose Jacobian singular
+    values are 1e-11 of the largest (forward-error estimates 1e-4) stays two roots short after five
+    eigenvalue problems at each polytope of the toric null space, and msolve answered in 2.8 s.  The
+    toric list is completed by repeating two of the cluster's rows (provisional); the completeness
+    proof drops the overlapping copies and finds the two missing roots by Newton at 128 bits:
+    certified and complete by counting, no exact route, the vertices of the oracle and of msolve."""
+    from curvedvoronoi.runtime.solve.vertices import voronoi_vertices_triple
+
+    cs = random_nongeneric("collinear centres", 8, spread=100)
+    clear_cache()
+    res = locate_conflicts(*cs)
+    assert res.certified and res.complete, res.notes
+    assert any("repeat another root of an unresolved cluster" in n for n in res.notes), res.notes
+    assert any("replaced by solutions found by Newton at 128 bits" in n for n in res.notes), res.notes
+    assert not any("exact route" in n or "msolve" in n for n in res.notes), res.notes
+    exact = voronoi_vertices_triple(*cs[:3], route="exact").vertices
+    for ref in (reference_vertices(*cs[:3]), [(v.x, v.y, None) for v in exact]):
+        assert len(ref) == len(res.vertices)
+        for x, y, _ in ref:
+            assert sum(abs(v.x - float(x)) <= 1e-7 * (1 + abs(float(x)))
+                       and abs(v.y - float(y)) <= 1e-7 * (1 + abs(float(y))) for v in res.vertices) == 1
+
+
 def test_shared_shape_sends_non_generic_members_to_msolve_before_any_null_space():
     """Two sites of one shape and orientation (translated or scaled ellipses, parallel parabolas):
     exact proportionality of the quadratic parts; such a member with fewer complex solutions

@@ -255,6 +255,38 @@ def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
                    for w in res.vertices) == 1
 
 
+def test_a_pool_short_in_a_cluster_is_padded_with_its_least_accurate_non_real_rows():
+    """The pool's completion rule (runtime.solve.toric, step 6): short by at most PADDED_MAX rows
+    with at least as many cluster roots (forward-error estimates above CLUSTER_ERROR), the list
+    repeats the least accurate non-real rows; short by more, or without a cluster, it is refused."""
+    from curvedvoronoi.runtime.solve.toric import CLUSTER_ERROR, PADDED_MAX, _Pool
+
+    rng = np.random.default_rng(3)
+    n = 12
+    Z = np.c_[np.ones(n), rng.standard_normal((n, 3)) + 1j * rng.standard_normal((n, 3))]
+    Z[:3, 1:] = Z[:3, 1:].real                                  # three real roots
+    err = np.full(n, 1e-14)
+    err[[0, 1]] = 1e-4                                          # two real roots in a cluster...
+    err[[4, 5]] = [1e-5, 1e-6]                                  # ...and two non-real ones
+
+    def pool(errs):
+        p = _Pool()
+        p.Z, p.step, p.err, p.res = Z.copy(), np.full(n, 1e-15), errs.copy(), np.full(n, 1e-15)
+        p.loose = np.ones(n, dtype=bool)
+        return p
+
+    p = pool(err)
+    assert p.padding(n + PADDED_MAX) == PADDED_MAX and p.complete(n + PADDED_MAX, fallback=True)
+    roots, res, padded = p.roots(n + 2, fallback=True)
+    assert padded == 2 and len(roots) == n + 2
+    W = Z[:, 1] / Z[:, 0]
+    assert sorted(np.argmin(np.abs(W[None, :] - roots[n:, 0, None]), axis=1).tolist()) == [4, 5]
+    assert not p.complete(n + PADDED_MAX + 1, fallback=True)                # too many missing
+    assert not p.complete(n + 1, fallback=False)                             # only as a fallback
+    calm = pool(np.full(n, CLUSTER_ERROR / 10))
+    assert calm.padding(n + 1) == 0 and not calm.complete(n + 1, fallback=True)   # no cluster
+
+
 def test_a_list_with_a_root_replaced_by_a_copy_is_not_complete_unless_the_root_is_found_again():
     """Corrupted input for the completeness proof: in a complete list (three ellipses, seed 3), a
     real root is replaced by a copy of another real root.  The proof must either refuse, or find the

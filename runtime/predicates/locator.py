@@ -315,6 +315,9 @@ def _locate_triple(c1, c2, c3, c4, eigen: str = "dense", resolve: bool = True) -
         how = (f"{info.nullspace} null space in circle space" if info.nullspace.startswith("toric") else
                f"degree gap {info.gap_degree}, Macaulay degree {info.degree}, {info.nullspace} null space")
         notes.append(f"{info.n_finite} generalised vertices ({how}), {tv.n_real} real, {len(vs)} true")
+        if info.padded:
+            notes.append(f"{info.padded} of them repeat another root of an unresolved cluster: the list is "
+                         "provisional, the completeness proof searches for the missing roots at 128 bits")
     return LocatorResult(conflict=any(v.in_conflict is True for v in vs), vertices=vs, method="triple",
                          timings=timings, complete=False, notes=notes)
 

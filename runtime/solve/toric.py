@@ -43,7 +43,14 @@ dimension N, the number of solutions, at a large enough Q:
    than the bound, as a near-double pair that Newton resolved, for the certification to prove);
 5. when the pool is at most three roots short, the traces of the multiplication maps minus the
    values at the pooled roots give the missing ones (:func:`missing_by_traces`): a root that
-   every problem reached but Newton did not converge to is read without an eigenvector.
+   every problem reached but Newton did not converge to is read without an eigenvector;
+6. when a cluster is so ill-conditioned that no double-precision step resolves it (measured:
+   three ellipses with collinear centres 100× apart, Jacobian singular values 10⁻¹¹ of the
+   largest, forward-error estimates 10⁻⁴: five eigenvalue problems at each of two polytopes left
+   the pool two roots short), the list is completed by repeating the least accurate rows of the
+   cluster (at most :data:`PADDED_MAX`) and marked provisional: the certification's search at
+   128 bits around an uncertified or overlapping root (:mod:`runtime.certify.complete`) finds
+   the missing ones, or the counting proof fails and the exact route answers.
 
 The caller checks residuals in world coordinates and certifies every root (Krawczyk, counting).
 
@@ -91,6 +98,10 @@ TRACE_MISSING = 3
 #: backward error below which a root read from the traces is pooled though Newton has not
 #: converged to it (measured: 1.9e-11 at a root 2e-5 from Newton's last iterate, steps 1e-5)
 TRACE_RESIDUAL = 1e-9
+#: at most this many rows are repeated to complete a pool short of the bound in a cluster (step 6),
+#: only where at least as many pooled roots have forward-error estimates above CLUSTER_ERROR
+PADDED_MAX = 2
+CLUSTER_ERROR = 1e-8
 #: the circle-space sections 1, x, y, T (exponents of x, y, T)
 SECTIONS = np.array([(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)], dtype=np.int64)
 
@@ -105,8 +116,11 @@ class ToricInfo:
     timings: dict[str, float] = field(default_factory=dict)
     #: backward errors of the returned roots in circle space (homogenised offsets)
     residuals: np.ndarray | None = None
-    #: rows merged at their forward-error estimates were added back (:meth:`_Pool.roots`)
+    #: rows merged at their forward-error estimates were added back, or rows repeated in a cluster
+    #: (:meth:`_Pool.roots`): the list holds the bound's number of rows, not proved distinct roots
     provisional: bool = False
+    #: rows repeated to complete the list in a cluster (module docstring, step 6)
+    padded: int = 0
 
 
 @lru_cache(maxsize=32)
@@ -180,9 +194,9 @@ def solve_toric(polys: list[dict], families: list[str], expected: int,
         if pool.complete(expected, fallback=True):
             # merged at the forward-error estimates, fewer than the bound may remain: a near-double
             # pair that Newton resolved (:meth:`_Pool.roots`)
-            roots, res = pool.roots(expected, fallback=True)
+            roots, res, padded = pool.roots(expected, fallback=True)
             return roots, ToricInfo((A, B), shape, expected, ratio, max(rconds), tm, res,
-                                    pool.count() != expected or pool.unconverged)
+                                    pool.count() != expected or pool.unconverged, padded)
         errors.append(f"polytope ({A}, {B}): {pool.count()} distinct converged roots from {len(rconds)} "
                       f"eigenvalue problems, not the {expected} of the bound (a cluster of nearby solutions, or "
                       f"solutions at toric infinity; shift conditions {', '.join(f'{r:.0e}' for r in rconds)})")
@@ -263,27 +277,46 @@ class _Pool:
     def count(self) -> int:
         return int(self.loose.sum())
 
+    def padding(self, expected: int) -> int:
+        """How many rows :meth:`roots` may repeat (module docstring, step 6): the pool is at most
+        :data:`PADDED_MAX` rows short and holds at least as many roots of a cluster (forward-error
+        estimates above :data:`CLUSTER_ERROR`); else 0."""
+        short = expected - len(self.Z)
+        if not 0 < short <= PADDED_MAX or int((self.err > CLUSTER_ERROR).sum()) < short:
+            return 0
+        return short
+
     def complete(self, expected: int, fallback: bool = False) -> bool:
         n = self.count()
-        return n == expected or (fallback and n < expected <= len(self.Z))
+        return n == expected or (fallback and n < expected <= len(self.Z) + self.padding(expected))
 
     def roots(self, expected: int, fallback: bool = False):
-        """(roots (x, y, R) in the working frame, residuals).  With ``fallback``, when merging at
-        the forward-error estimates leaves fewer than ``expected`` rows but the pool has enough,
-        the merged rows farthest from their kept neighbour (relative to Newton's last step) are
-        added back: a near-double pair that Newton resolved, which the certification proves
-        distinct (or the counting proof fails and the exact route answers)."""
+        """(roots (x, y, R) in the working frame, residuals, number of repeated rows).  With
+        ``fallback``, when merging at the forward-error estimates leaves fewer than ``expected``
+        rows, the merged rows farthest from their kept neighbour (relative to Newton's last step)
+        are added back: a near-double pair that Newton resolved, which the certification proves
+        distinct (or the counting proof fails and the exact route answers).  If the pool still
+        lacks rows, the :meth:`padding` least accurate ones of the cluster are repeated, non-real
+        ones first (a repeated real root would be a repeated candidate vertex); the certification
+        searches for the missing roots around them."""
         rows = np.nonzero(self.loose)[0]
+        padded = 0
         if len(rows) != expected and fallback:
             merged = np.nonzero(~self.loose)[0]
             W = _normalised(self.Z)
-            gap = np.abs(W[merged][:, None, :] - W[rows][None, :, :]).max(axis=2).min(axis=1)
-            order = np.argsort(-gap / np.maximum(self.step[merged], 1e-300), kind="stable")
-            rows = np.sort(np.concatenate([rows, merged[order[:expected - len(rows)]]]))
+            if len(merged):
+                gap = np.abs(W[merged][:, None, :] - W[rows][None, :, :]).max(axis=2).min(axis=1)
+                order = np.argsort(-gap / np.maximum(self.step[merged], 1e-300), kind="stable")
+                rows = np.sort(np.concatenate([rows, merged[order[:expected - len(rows)]]]))
+            padded = min(expected - len(rows), self.padding(expected))
+            if padded > 0:
+                real = np.abs(W[rows].imag).max(axis=1) <= CLUSTER_ERROR
+                order = np.lexsort((-self.err[rows], real))
+                rows = np.concatenate([rows, rows[order[:padded]]])
         A_, X_, Y_, T_ = self.Z[rows].T
         with np.errstate(divide="ignore", invalid="ignore"):
             roots = np.stack([X_ / A_, Y_ / A_, (X_ * X_ + Y_ * Y_ - A_ * T_) / (A_ * A_)], axis=1)
-        return roots, self.res[rows]
+        return roots, self.res[rows], max(padded, 0)
 
 
 def _pool_eigen(pool: _Pool, gs, Ns, expected: int, seed: int) -> list[float]:

@@ -260,8 +260,11 @@ class SolveInfo:
     #: residuals of the roots in the solver's own coordinates when they replace those in (x, y, R)
     root_residuals: np.ndarray | None = None
     #: the list holds a pair of roots closer than their forward-error estimates (a near-double
-    #: pair, or one root reached twice): the certification decides
+    #: pair, or one root reached twice), or repeated rows of a cluster: the certification decides
     provisional: bool = False
+    #: rows of the toric list that repeat another in an unresolved cluster (runtime.solve.toric,
+    #: step 6): left to the certification's search for the missing roots
+    padded: int = 0
 
 
 def _nullspace(M, degs, d, top):
@@ -739,7 +742,8 @@ def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = 
                 # toric roots are deduplicated in circle space at the accuracy Newton reached there;
                 # near-double roots closer than 1e-8 of the frame stay apart (certification proves
                 # them distinct, or the counting proof fails and the exact route answers)
-                pts, res, cond, n_deflated = _complete_by_deflation(offs, pts, res, cond, wf.L, tol=tol)
+                pts, res, cond, n_deflated = _complete_by_deflation(offs, pts, res, cond, wf.L, tol=tol,
+                                                                    repeated=info.padded)
             finally:
                 total["refine"] = total.get("refine", 0.0) + time.perf_counter() - t1
         except LocatorError as exc:
@@ -796,7 +800,7 @@ def _toric_attempt(polys, offs, expected):
     roots, tinfo = solve_toric(polys, [o.family for o in offs], expected)
     info = SolveInfo(-1, tinfo.n_finite, -1, {}, tinfo.rank_ratio, tinfo.matrix_shape,
                      f"toric {tinfo.polytope}", timings=dict(tinfo.timings), root_residuals=tinfo.residuals,
-                     provisional=tinfo.provisional)
+                     provisional=tinfo.provisional, padded=tinfo.padded)
     return roots, info
 
 
@@ -884,12 +888,15 @@ def _distinct_mask(pts, D, tol=1e-8):
     return keep
 
 
-def _complete_by_deflation(offs, pts, res, cond, L, iters: int = 40, tol=1e-8):
+def _complete_by_deflation(offs, pts, res, cond, L, iters: int = 40, tol=1e-8, repeated: int = 0):
     """Eigenvalue clusters can send two starts to one root and miss another.  Every start that
     did not converge, or converged to an already found root (closer than ``tol``, scaled max-norm;
     a number or one per point, the larger of two applying), is restarted with Newton deflated at
     the found roots (step δ/(1 + Σ_k ℓ(δ)/ℓ(z − z_k)), ℓ a random linear form).  Raises
-    LocatorError when the set of distinct converged roots stays smaller than the count."""
+    LocatorError when the set of distinct converged roots stays smaller than the count, except
+    that up to ``repeated`` rows that repeat a found root (a provisional toric list completed in a
+    cluster, :mod:`runtime.solve.toric` step 6) are left as they are, for the certification's
+    search at 128 bits."""
     D = np.array([L, L, L * L])
     good = (res < RESIDUAL_TOL) & _distinct_mask(pts, D, tol)
     todo = np.nonzero(~good)[0]
@@ -928,14 +935,15 @@ def _complete_by_deflation(offs, pts, res, cond, L, iters: int = 40, tol=1e-8):
             except np.linalg.LinAlgError:
                 break
             lk = (z[None, :] - found) @ c
-            tau = 1.0 + np.sum((delta @ c) / lk)
-            z = z + delta / tau
+            with np.errstate(divide="ignore", invalid="ignore"):
+                tau = 1.0 + np.sum((delta @ c) / lk)
+                z = z + delta / tau
             if not np.all(np.isfinite(z)):
                 break
         if ok:
             pts[i], res[i], cond[i] = z, r, k
             good[i] = True
-    if not good.all():
+    if int((~good).sum()) > repeated:
         raise LocatorError(f"{int((~good).sum())} of {len(pts)} generalised vertices could not be refined to "
                            "distinct solutions (eigenvalue cluster); the numeric route is unreliable here")
     return pts, res, cond, len(todo)
