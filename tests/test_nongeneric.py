@@ -8,6 +8,7 @@ tests/reference.py (grid seeding + mpmath Newton on distances, no offsets, no ms
 """
 from __future__ import annotations
 
+import math
 import os
 import sys
 from fractions import Fraction
@@ -221,6 +222,34 @@ def test_unresolved_cluster_completed_by_the_certifications_search():
         for x, y, _ in ref:
             assert sum(abs(v.x - float(x)) <= 1e-7 * (1 + abs(float(x)))
                        and abs(v.y - float(y)) <= 1e-7 * (1 + abs(float(y))) for v in res.vertices) == 1
+
+
+def test_touching_sites_vertex_not_certified_and_the_pair_named():
+    """Held-out degenerate input (random parabolas, seed 607, 10× apart): C2 and C3 have the same
+    vertex (−30, −9) and axis and different focal lengths, so they touch there.  The empty circle of
+    the one true vertex touches both at that point; there d2² − d3² has zero gradient (the bisector
+    surfaces are tangent), the solution is singular and Krawczyk cannot succeed.  The answer is the
+    oracle's vertex, ``certified: false`` (not a guess presented as proved), and a note names the
+    pair of sites that meet; disjoint sites get no such note."""
+    from test_locator import random_configuration
+
+    cs = random_configuration("PPPP", 607, spread=10)
+    X = (Fraction(-30), Fraction(-9))
+    assert cs[1](*X) == 0 and cs[2](*X) == 0 and cs[1] != cs[2]           # a common point, exactly
+    clear_cache()
+    res = locate_conflicts(*cs)
+    assert not res.certified and not res.complete
+    assert [v.certified for v in res.vertices] == [False]
+    assert any(n.startswith("certify: C2 and C3 have a common point") for n in res.notes), res.notes
+    assert not any(n.startswith("certify: C1 and") for n in res.notes), res.notes
+    v = res.vertices[0]
+    d = math.hypot(v.x - float(X[0]), v.y - float(X[1]))
+    assert abs(d - v.radius) <= 1e-9 * v.radius                              # touches C2, C3 at X
+    ref = reference_vertices(*cs[:3])          # the oracle's Newton reaches the double root twice
+    assert ref and all(abs(float(x) - v.x) <= 1e-7 * abs(v.x) and abs(float(y) - v.y) <= 1e-7 * abs(v.y)
+                       for x, y, _ in ref)
+    clear_cache()
+    assert not any("have a common point" in n for n in locate_conflicts(*random_configuration("PPPP", 604, spread=10)).notes)
 
 
 def test_shared_shape_sends_non_generic_members_to_msolve_before_any_null_space():

@@ -33,6 +33,14 @@ Exact inputs: the conics' exact rational coefficients are used throughout (float
 converted at their exact binary value by :class:`runtime.sites.conic.Conic`).  The candidate (x, y, R)
 is only a starting point.
 
+5. **Sites with a common point.**  When C_i and C_j meet at a point X and the empty circle
+   touches both there (two parabolas tangent at their common vertex, both touched at it from
+   outside), d_i² − d_j² has gradient 2(p_j − p_i) = 0 at the vertex: the two bisector surfaces
+   are tangent, the vertex is a singular solution of the foot-point system, and Krawczyk's test
+   cannot succeed at any precision.  Such a vertex stays ``certified: false``, and the answer names
+   the pair of sites that meet (exact test ``sites_intersect`` of
+   :mod:`runtime.voronoi.conic_geometry`), the cause the user can act on.
+
 Completeness is in :mod:`runtime.certify.complete`.
 
 Length: one procedure, the certification of a locator answer (vertex boxes, touching, emptiness
@@ -541,6 +549,8 @@ def certify_result(result: LocatorResult, c1, c2, c3, c4, *, solutions=None,
             if _same_solution(certs[i], certs[j]) is not False:
                 kept[i].certified = kept[j].certified = False
                 notes.append("certify: two vertices not proven distinct")
+    if any(not v.certified for v in kept):
+        notes.extend(_meeting_sites(c1, c2, c3))
     t_vert = time.perf_counter() - t0
     complete = False
     if solutions is not None:
@@ -557,6 +567,26 @@ def certify_result(result: LocatorResult, c1, c2, c3, c4, *, solutions=None,
     conflict = any(v.in_conflict for v in kept)
     return LocatorResult(conflict=conflict, vertices=kept, method=result.method + "+certified",
                          timings=timings, complete=complete, notes=notes)
+
+
+def _meeting_sites(c1, c2, c3) -> list[str]:
+    """Notes naming the pairs of C1, C2, C3 with a common real point (module docstring, item 5)."""
+    from ..voronoi.conic_geometry import sites_intersect
+
+    out = []
+    cs = (c1, c2, c3)
+    for i in range(3):
+        for j in range(i + 1, 3):
+            try:
+                meet = sites_intersect(cs[i], cs[j])
+            except (TypeError, ValueError, AttributeError):
+                continue
+            if meet:
+                out.append(f"certify: C{i + 1} and C{j + 1} have a common point (they intersect or touch): a vertex "
+                           "whose empty circle touches both there is a singular solution of the offset system, "
+                           "which interval Newton (Krawczyk) cannot certify; the Voronoi diagram expects disjoint "
+                           "sites")
+    return out
 
 
 def certify_completeness(c1, c2, c3, solutions, expected_count: int | None, *,
