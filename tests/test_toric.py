@@ -255,6 +255,25 @@ def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
                    for w in res.vertices) == 1
 
 
+def test_small_sites_far_apart_try_the_toric_null_space_first():
+    """Sites small against the distances between them (scene-to-site ratio at least
+    TORIC_FIRST_RATIO) go to the toric null space first, where the weighted closure would refuse
+    (three hyperbolas 100× apart, seed 305: once a failed weighted attempt first); sites drawn next
+    to each other (the demo triple) keep the weighted null space first, the faster one there."""
+    from curvedvoronoi.runtime.algebra.polyalg import scene_to_site_ratio
+    from curvedvoronoi.runtime.predicates.locator import demo_configuration
+    from curvedvoronoi.runtime.solve.vertices import TORIC_FIRST_RATIO
+
+    far = random_configuration("HHHH", 305, spread=100)[:3]
+    near = demo_configuration()[:3]
+    assert scene_to_site_ratio(far, working_frame(far, far[0])) >= TORIC_FIRST_RATIO
+    assert scene_to_site_ratio(near, working_frame(near, near[0])) < TORIC_FIRST_RATIO
+    sol = generalised_vertices(*far)
+    assert sol.info.nullspace.startswith("toric") and not sol.info.failed_attempts, sol.info.failed_attempts
+    assert len(sol.points) == _mixed_volume(["ellipse"] * 3)
+    assert not generalised_vertices(*near).info.nullspace.startswith("toric")
+
+
 def test_a_pool_short_in_a_cluster_is_padded_with_its_least_accurate_non_real_rows():
     """The pool's completion rule (runtime.solve.toric, step 6): short by at most PADDED_MAX rows
     with at least as many cluster roots (forward-error estimates above CLUSTER_ERROR), the list

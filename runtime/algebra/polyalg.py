@@ -220,6 +220,14 @@ def working_frame(conics, first) -> WorkingFrame:
     return WorkingFrame(c, s, px, py, L)
 
 
+def scene_to_site_ratio(conics, wf: WorkingFrame) -> float:
+    """The working frame's half-diagonal L over the largest half-extent of a conic's core points
+    (:func:`core_points`): about 1–6 for sites drawn next to each other, 10 and more for small
+    sites far apart."""
+    r = max(float(np.ptp(np.array(core_points(c)), axis=0).max()) / 2 for c in conics)
+    return wf.L / r if r > 0 else math.inf
+
+
 def compose_offset(off: CanonicalOffset, wf: WorkingFrame) -> dict[tuple[int, int, int], float]:
     """The offset of ``off.conic`` as a polynomial in working coordinates (x, y, R):
     o(u(x, y), v(x, y), L²·R) with u, v affine in (x, y); normalised to max |coef| = 1."""
