@@ -28,11 +28,6 @@ What is proved for one candidate (``certify_vertex``)
    sign 0, margin exactly 0, no conflict (the empty circle is open).  Irrational vertices that
    are exactly tangent to C4 are *not* decided (sign None, certified False): deciding them
    needs algebraic-number arithmetic on the full system, which is not implemented.
-
-Exact inputs: the conics' exact rational coefficients are used throughout (floats were already
-converted at their exact binary value by :class:`runtime.sites.conic.Conic`).  The candidate (x, y, R)
-is only a starting point.
-
 5. **Sites with a common point.**  When C_i and C_j meet at a point X and the empty circle
    touches both there (two parabolas tangent at their common vertex, both touched at it from
    outside), d_i² − d_j² has gradient 2(p_j − p_i) = 0 at the vertex: the two bisector surfaces
@@ -40,6 +35,10 @@ is only a starting point.
    cannot succeed at any precision.  Such a vertex stays ``certified: false``, and the answer names
    the pair of sites that meet (exact test ``sites_intersect`` of
    :mod:`runtime.voronoi.conic_geometry`), the cause the user can act on.
+
+Exact inputs: the conics' exact rational coefficients are used throughout (floats were already
+converted at their exact binary value by :class:`runtime.sites.conic.Conic`).  The candidate (x, y, R)
+is only a starting point.
 
 Completeness is in :mod:`runtime.certify.complete`.
 
