@@ -68,7 +68,7 @@ from functools import lru_cache
 from math import gcd, isqrt, lcm
 
 from ..result import LocatorError
-from ..sites.symmetry import common_axis
+from ..sites.symmetry import AxisFrame, common_axis, in_axis_frame
 
 __all__ = ["msolve_path", "msolve_available", "exact_offset", "exact_triple_system", "ExactRoots",
            "InfinitelyManySolutions", "MsolveError", "solve_exact", "solve_exact_cached", "clear_exact_cache", "msolve_run", "parametrisation_degree"]
@@ -382,8 +382,6 @@ def real_boxes(polys, *, names=CIRCLE_SPACE_NAMES, precision: int = 128, timeout
     return boxes
 
 
-
-
 def symmetric_boxes(c1, c2, c3, frame, *, precision: int = 128, timeout: float = MSOLVE_TIMEOUT,
                     threads: int = 1) -> list[tuple[tuple[Fraction, Fraction], ...]]:
     """Isolating (x, y, R) boxes of the real solutions of the triple offset system of three conics
@@ -403,8 +401,6 @@ def symmetric_boxes(c1, c2, c3, frame, *, precision: int = 128, timeout: float =
       raises :class:`MsolveError` (the caller solves the full system).
 
     R = k²·(u² + V − T) and (x, y) = frame(u, ±√V) in exact interval arithmetic."""
-    from ..sites.symmetry import in_axis_frame
-
     conics = [in_axis_frame(c, frame) for c in (c1, c2, c3)]
     gs = circle_space_system(exact_triple_system(*conics))          # keys (T, u, v)
     if any(j % 2 for g in gs for (_, _, j) in g):
@@ -495,11 +491,7 @@ def translated_conic(conic, px, py):
     """The conic in the coordinates (u, v) = (x − px, y − py) (exact).  Distances, hence R, are
     unchanged, so its offset is o(u + px, v + py, R) and the zeros of the triple system shift by
     (px, py, 0)."""
-    from ..sites.conic import Conic
-
-    a, b, c, d, e, f = conic.coefficients
-    return Conic.from_coefficients(a, b, c, d + 2 * a * px + b * py, e + b * px + 2 * c * py,
-                                   a * px * px + b * px * py + c * py * py + d * px + e * py + f)
+    return in_axis_frame(conic, AxisFrame(Fraction(px), Fraction(py), Fraction(1), Fraction(0)))
 
 
 def _shifted_box(box, px, py):

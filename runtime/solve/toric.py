@@ -316,7 +316,7 @@ class _Pool:
         A_, X_, Y_, T_ = self.Z[rows].T
         with np.errstate(divide="ignore", invalid="ignore"):
             roots = np.stack([X_ / A_, Y_ / A_, (X_ * X_ + Y_ * Y_ - A_ * T_) / (A_ * A_)], axis=1)
-        return roots, self.res[rows], max(padded, 0)
+        return roots, self.res[rows], padded
 
 
 def _pool_eigen(pool: _Pool, gs, Ns, expected: int, seed: int) -> list[float]:
