@@ -15,9 +15,9 @@ from hypothesis import given, settings, strategies as st
 from curvedvoronoi.runtime.predicates.circles import Circle, Point
 from curvedvoronoi.runtime.sites.conic import Conic
 from curvedvoronoi.runtime.sites.distance_ball import distance_ball
+from curvedvoronoi.runtime.sites.intersection import circles_meet, sites_intersect
 from curvedvoronoi.runtime.voronoi.conic_geometry import (EllipseGeometry, HyperbolaGeometry,
-                                                          ParabolaGeometry, conic_geometry,
-                                                          site_inside, sites_intersect)
+                                                          ParabolaGeometry, conic_geometry, site_inside)
 from curvedvoronoi.runtime.voronoi.geometry import CircleGeometry
 
 
@@ -229,6 +229,28 @@ E1 = Conic.ellipse(centre=(0, 0), axes=(3, 1))
 def test_sites_intersect(a, b, expected):
     assert sites_intersect(a, b) is expected
     assert sites_intersect(b, a) is expected
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(1, 12), st.integers(0, 12), st.integers(-3, 3), st.integers(-3, 3),
+       st.fractions(0, 20, max_denominator=8), st.fractions(0, 20, max_denominator=8),
+       st.sampled_from([-1, 0, 1]))
+def test_circles_meet_against_distances(m, n, x0, y0, r1, r2, shift):
+    """Exact circle test on centres a Pythagorean distance D = m² + n² apart: the circles (radii
+    ρ1, ρ2) meet iff |ρ1 − ρ2| ≤ D ≤ ρ1 + ρ2, with the tangent cases ρ2 = D − ρ1 (outer) and
+    ρ2 = ρ1 − D (inner) made exact, and off-tangent radii decided by the same inequalities on
+    rationals (no squares).  A radius 0 is a point."""
+    D = m * m + n * n
+    c1, c2 = (x0, y0), (x0 + m * m - n * n, y0 + 2 * m * n)
+    if shift == 0:                                   # exactly tangent (outer or inner)
+        r2 = abs(D - r1)
+    else:                                            # off tangency by a rational step
+        r2 = abs(D - r1) + Fraction(shift, 7) if abs(D - r1) + Fraction(shift, 7) >= 0 else r2
+    expected = abs(r1 - r2) <= D <= r1 + r2
+    a, b = (c1[0], c1[1], r1 * r1), (c2[0], c2[1], r2 * r2)
+    assert circles_meet(a, b) is expected
+    assert circles_meet(b, a) is expected
+    assert sites_intersect(Circle(*a), Circle(*b)) is expected
 
 
 def test_intersection_against_sampling():

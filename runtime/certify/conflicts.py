@@ -33,8 +33,8 @@ What is proved for one candidate (``certify_vertex``)
    outside), d_i² − d_j² has gradient 2(p_j − p_i) = 0 at the vertex: the two bisector surfaces
    are tangent, the vertex is a singular solution of the foot-point system, and Krawczyk's test
    cannot succeed at any precision.  Such a vertex stays ``certified: false``, and the answer names
-   the pair of sites that meet (exact test ``sites_intersect`` of
-   :mod:`runtime.voronoi.conic_geometry`), the cause the user can act on.
+   the pair of sites that meet (exact test :func:`runtime.sites.intersection.sites_intersect`),
+   the cause the user can act on.
 
 Exact inputs: the conics' exact rational coefficients are used throughout (floats were already
 converted at their exact binary value by :class:`runtime.sites.conic.Conic`).  The candidate (x, y, R)
@@ -60,6 +60,7 @@ from .foot import (FootFailure, FootPolynomial, exact_polynomials, foot_polynomi
                            normalised_coefficients, real_feet_ball, to_arb, working_prec)
 from .krawczyk import FootSystem, KrawczykFailure
 from ..result import LocatorResult, VoronoiVertex
+from ..sites.intersection import sites_intersect
 
 __all__ = ["CertifiedVertex", "certify_vertex", "certify_result", "certify_completeness",
            "simplest_rational", "DEFAULT_MAX_PREC"]
@@ -570,8 +571,6 @@ def certify_result(result: LocatorResult, c1, c2, c3, c4, *, solutions=None,
 
 def _meeting_sites(c1, c2, c3) -> list[str]:
     """Notes naming the pairs of C1, C2, C3 with a common real point (module docstring, item 5)."""
-    from ..voronoi.conic_geometry import sites_intersect
-
     out = []
     cs = (c1, c2, c3)
     for i in range(3):

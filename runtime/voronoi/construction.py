@@ -137,7 +137,8 @@ def voronoi(sites, *, certify: bool = True, progress=None, time_limit: float | N
     if len(sites) < 2:
         raise ValueError(f"the Voronoi diagram needs at least 2 sites, got {len(sites)}")
     geoms = [site_geometry(s) for s in sites]
-    notes = check_disjoint(sites, geoms)
+    check_disjoint(sites, geoms)
+    notes: list[str] = []
     S = SiteArrays(sites, geoms)
     stats: dict = {"sites": len(sites), "rounds": 0, "samples": 0}
     if S.all_circles and not S.R.any() and collinear(S.C):

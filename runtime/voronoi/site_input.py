@@ -2,7 +2,7 @@
 
 Thesis §1.2 defines the Voronoi diagram of pairwise *disjoint* sites; intersecting or repeated
 sites are rejected with an error naming the pair (circles and points: exact rational test;
-conics: ``sites_intersect`` of :mod:`runtime.voronoi.conic_geometry`).
+conics: :func:`runtime.sites.intersection.sites_intersect`).
 
 Public API: :func:`as_site`, :func:`check_disjoint`, :func:`sites_equal`, :class:`SiteError`.
 """
@@ -15,6 +15,7 @@ from scipy.spatial import cKDTree
 
 from ..predicates.circles import Circle, Point, as_circle
 from ..sites.conic import Conic
+from ..sites.intersection import circles_meet, sites_intersect
 from ..result import InvalidConicError
 from .conic_geometry import site_geometry
 
@@ -46,29 +47,14 @@ def as_site(s):
     return as_circle((cx, cy, r))
 
 
-def _circles_meet(a: Circle, b: Circle) -> bool:
-    """Exact: do the circles (points) a and b have a common point?  With ρ = √r2:
-    (ρa − ρb)² ≤ |ca − cb|² ≤ (ρa + ρb)², decided with rationals only."""
-    d2 = (a.cx - b.cx) ** 2 + (a.cy - b.cy) ** 2
-    s = a.r2 + b.r2
-    p4 = 4 * a.r2 * b.r2
-    t = d2 - s
-    outer = t <= 0 or t * t <= p4
-    u = s - d2
-    inner = u <= 0 or u * u <= p4
-    return outer and inner
-
-
-def check_disjoint(sites, geoms=None) -> list[str]:
+def check_disjoint(sites, geoms=None) -> None:
     """Raise :class:`SiteError` naming the first pair of sites that intersect or repeat.
 
     Circles and points: candidate pairs from a k-d tree (a pair of overlapping discs is found
     from the larger one), a float filter, then the exact test.  Pairs with a conic: bounding
-    boxes, then ``sites_intersect`` of :mod:`runtime.voronoi.conic_geometry`.  Returns notes on
-    what could not be checked (no conic intersection test available)."""
+    boxes, then :func:`runtime.sites.intersection.sites_intersect`."""
     if geoms is None:
         geoms = [site_geometry(s) for s in sites]
-    notes: list[str] = []
     circ = [i for i, g in enumerate(geoms) if g.kind in ("point", "circle")]
     if len(circ) > 1:
         idx = np.array(circ)
@@ -89,15 +75,11 @@ def check_disjoint(sites, geoms=None) -> list[str]:
                 i, j = sorted((int(idx[a]), int(idx[b])))
                 if sites_equal(sites[i], sites[j]):
                     raise SiteError(f"site {i} and site {j} are the same site (repeated): remove one")
-                if _circles_meet(as_circle(sites[i]) if not isinstance(sites[i], Circle) else sites[i],
-                                 as_circle(sites[j]) if not isinstance(sites[j], Circle) else sites[j]):
+                ci, cj = (as_circle(s) if not isinstance(s, Circle) else s for s in (sites[i], sites[j]))
+                if circles_meet((ci.cx, ci.cy, ci.r2), (cj.cx, cj.cy, cj.r2)):
                     raise SiteError(f"site {i} and site {j} intersect: the Voronoi diagram needs disjoint sites")
     conics = [i for i, g in enumerate(geoms) if g.kind not in ("point", "circle")]
     if conics:
-        try:
-            from .conic_geometry import sites_intersect
-        except ImportError:
-            sites_intersect = None
         boxes = np.array([g.bounding_box() for g in geoms], dtype=float)
         for i in conics:
             bi = boxes[i]
@@ -109,12 +91,8 @@ def check_disjoint(sites, geoms=None) -> list[str]:
                 a, b = sorted((i, j))
                 if sites_equal(sites[a], sites[b]):
                     raise SiteError(f"site {a} and site {b} are the same site (repeated): remove one")
-                if sites_intersect is None:
-                    notes.append(f"sites {a} and {b}: no conic intersection test available (not checked)")
-                    continue
                 if sites_intersect(sites[a], sites[b]):
                     raise SiteError(f"site {a} and site {b} intersect: the Voronoi diagram needs disjoint sites")
-    return notes
 
 
 def sites_equal(a, b) -> bool:
