@@ -200,28 +200,39 @@ def test_spread_out_drawings_answered_without_msolve(kind, seed):
                    for v in res.vertices) == 1
 
 
-def test_unresolved_cluster_completed_by_the_certifications_search():
+def test_unresolved_cluster_completed_by_the_certifications_search(monkeypatch):
     """Collinear centres 100× apart (seed 8): a cluster of complex roots whose Jacobian singular
     values are 1e-11 of the largest (forward-error estimates 1e-4) stays two roots short after five
-    eigenvalue problems at each polytope of the toric null space, and msolve answered in 2.8 s.  The
-    toric list is completed by repeating two of the cluster's rows (provisional); the completeness
-    proof drops the overlapping copies and finds the two missing roots by Newton at 128 bits:
-    certified and complete by counting, no exact route, the vertices of the oracle and of msolve."""
+    eigenvalue problems at each polytope of the toric null space in the scene's frame, and msolve
+    answered in 2.8 s.  In the scene's frame alone (the frame centred at the cluster switched off),
+    the toric list is completed by repeating two of the cluster's rows (provisional); the
+    completeness proof drops the overlapping copies and finds the two missing roots by Newton at
+    128 bits.  By default the frame centred at the least accurate root resolves the cluster, and no
+    row is repeated.  Both ways: certified and complete by counting, no exact route, the vertices
+    of the oracle and of msolve."""
+    from curvedvoronoi.runtime.solve import toric
     from curvedvoronoi.runtime.solve.vertices import voronoi_vertices_triple
 
     cs = random_nongeneric("collinear centres", 8, spread=100)
-    clear_cache()
-    res = locate_conflicts(*cs)
-    assert res.certified and res.complete, res.notes
-    assert any("repeat another root of an unresolved cluster" in n for n in res.notes), res.notes
-    assert any("replaced by solutions found by Newton at 128 bits" in n for n in res.notes), res.notes
-    assert not any("exact route" in n or "msolve" in n for n in res.notes), res.notes
     exact = voronoi_vertices_triple(*cs[:3], route="exact").vertices
-    for ref in (reference_vertices(*cs[:3]), [(v.x, v.y, None) for v in exact]):
-        assert len(ref) == len(res.vertices)
-        for x, y, _ in ref:
-            assert sum(abs(v.x - float(x)) <= 1e-7 * (1 + abs(float(x)))
-                       and abs(v.y - float(y)) <= 1e-7 * (1 + abs(float(y))) for v in res.vertices) == 1
+    refs = (reference_vertices(*cs[:3]), [(v.x, v.y, None) for v in exact])
+    for centred in (False, True):
+        with monkeypatch.context() as m:
+            if not centred:
+                m.setattr(toric._Pool, "least_accurate", lambda self: None)
+            clear_cache()
+            res = locate_conflicts(*cs)
+        assert res.certified and res.complete, res.notes
+        padded = any("repeat another root of an unresolved cluster" in n for n in res.notes)
+        assert padded is not centred, res.notes
+        if not centred:
+            assert any("replaced by solutions found by Newton at 128 bits" in n for n in res.notes), res.notes
+        assert not any("exact route" in n or "msolve" in n for n in res.notes), res.notes
+        for ref in refs:
+            assert len(ref) == len(res.vertices)
+            for x, y, _ in ref:
+                assert sum(abs(v.x - float(x)) <= 1e-7 * (1 + abs(float(x)))
+                           and abs(v.y - float(y)) <= 1e-7 * (1 + abs(float(y))) for v in res.vertices) == 1
 
 
 def test_touching_sites_vertex_not_certified_and_the_pair_named():

@@ -50,7 +50,13 @@ dimension N, the number of solutions, at a large enough Q:
    the pool two roots short), the list is completed by repeating the least accurate rows of the
    cluster (at most :data:`PADDED_MAX`) and marked provisional: the certification's search at
    128 bits around an uncertified or overlapping root (:mod:`runtime.certify.complete`) finds
-   the missing ones, or the counting proof fails and the exact route answers.
+   the missing ones, or the counting proof fails and the exact route answers;
+7. a pool that stays short after the first polytope, or a provisional list, has its worst cluster
+   at the root with the largest forward-error estimate (:meth:`_Pool.least_accurate`): the
+   caller (:func:`runtime.solve.vertices.generalised_vertices`) solves the system again in a
+   frame centred there, where the cluster is no longer a small relative perturbation of large
+   coordinates, and goes on in the scene's frame with the next polytope and the same pool
+   (``pool=``, :class:`ToricShort`) only when that does not resolve more of it.
 
 The caller checks residuals in world coordinates and certifies every root (Krawczyk, counting).
 
@@ -76,7 +82,7 @@ from ..algebra.circle_space import circle_space_float, polytope_bounds
 from ..result import LocatorError
 from .householder import householder_apply, rank_from_values
 
-__all__ = ["ToricInfo", "solve_toric", "toric_macaulay_matrix", "polytope_points", "family_polytope", "projective_newton",
+__all__ = ["ToricInfo", "ToricShort", "solve_toric", "toric_macaulay_matrix", "polytope_points", "family_polytope", "projective_newton",
            "DILATION_STEPS", "common_eigenvalues", "missing_by_traces"]
 
 #: (ΔA, ΔB) subtracted from (Σa_i, Σb_i) for the column polytope, tried in turn
@@ -121,6 +127,11 @@ class ToricInfo:
     provisional: bool = False
     #: rows repeated to complete the list in a cluster (module docstring, step 6)
     padded: int = 0
+    #: distinct roots in the pool (merged at their forward-error estimates)
+    distinct: int = 0
+    #: working (x, y) (real parts) of the pooled root with the largest forward-error estimate: the
+    #: centre of the worst-resolved cluster, where a provisional list is solved again (step 7)
+    least_accurate: tuple[float, float] | None = None
 
 
 @lru_cache(maxsize=32)
@@ -163,14 +174,27 @@ def family_polytope(family: str) -> tuple[int, int]:
     return polytope_bounds(np.array(sorted(support), dtype=np.int64))
 
 
+class ToricShort(LocatorError):
+    """The pooled eigenvalue problems found fewer distinct roots than the bound; ``pool`` holds
+    them (:meth:`_Pool.least_accurate` locates the worst-resolved cluster, and a later call may go
+    on pooling with further polytopes)."""
+
+    def __init__(self, message: str, pool: "_Pool", timings: dict | None = None):
+        super().__init__(message)
+        self.pool = pool
+        self.timings = timings or {}
+
+
 def solve_toric(polys: list[dict], families: list[str], expected: int,
-                seed: int = 5) -> tuple[np.ndarray, ToricInfo]:
+                seed: int = 5, *, dilations=DILATION_STEPS, pool: "_Pool | None" = None) -> tuple[np.ndarray, ToricInfo]:
     """All solutions (x, y, R) (complex, working coordinates of the caller, shape (N, 3)) of the
     offsets ``polys`` ({(i, j, k): c} in (x, y, R), float) of conics of the offset ``families``
     (circle, ellipse, parabola), by the toric null space in circle space (module docstring).
     ``expected`` is the proved bound on the number of isolated solutions.  Raises LocatorError
     when the null space does not have dimension ``expected`` or the shifted null space is
-    singular at every dilation tried.
+    singular at every dilation tried, :class:`ToricShort` (with the pool) when the pooled roots
+    stay fewer than the bound.  The column polytopes are ``dilations`` (tried in turn), and the
+    roots pool in ``pool`` when one is given (the pool of an earlier call, in the same frame).
 
     The float composition leaves rounding residues (~10⁻¹⁶ relative) on monomials outside the
     family polytope, where the exact composition cancels; they are dropped."""
@@ -180,8 +204,8 @@ def solve_toric(polys: list[dict], families: list[str], expected: int,
     gs = _circle_space_system(polys, ab)
     tm["compose"] = time.perf_counter() - t0
     errors = []
-    pool = _Pool()
-    for dA, dB in DILATION_STEPS:
+    pool = _Pool() if pool is None else pool
+    for dA, dB in dilations:
         A, B = sum(a for a, _ in ab) - dA, sum(b for _, b in ab) - dB
         try:
             Ns, ratio, shape = _shifted_null_space(gs, A, B, expected, tm)
@@ -196,10 +220,13 @@ def solve_toric(polys: list[dict], families: list[str], expected: int,
             # pair that Newton resolved (:meth:`_Pool.roots`)
             roots, res, padded = pool.roots(expected, fallback=True)
             return roots, ToricInfo((A, B), shape, expected, ratio, max(rconds), tm, res,
-                                    pool.count() != expected or pool.unconverged, padded)
+                                    pool.count() != expected or pool.unconverged, padded, pool.count(),
+                                    pool.least_accurate())
         errors.append(f"polytope ({A}, {B}): {pool.count()} distinct converged roots from {len(rconds)} "
                       f"eigenvalue problems, not the {expected} of the bound (a cluster of nearby solutions, or "
                       f"solutions at toric infinity; shift conditions {', '.join(f'{r:.0e}' for r in rconds)})")
+    if len(pool.Z):
+        raise ToricShort("toric null space: " + "; ".join(errors), pool, tm)
     raise LocatorError("toric null space: " + "; ".join(errors))
 
 
@@ -276,6 +303,18 @@ class _Pool:
 
     def count(self) -> int:
         return int(self.loose.sum())
+
+    def least_accurate(self) -> tuple[float, float] | None:
+        """Working (x, y) (real parts) of the distinct root with the largest forward-error
+        estimate, None when it is at infinity (A = 0) or the pool is empty."""
+        if not self.loose.any():
+            return None
+        k = int(np.argmax(np.where(self.loose, self.err, -np.inf)))
+        A, X, Y, _ = self.Z[k]
+        if A == 0:
+            return None
+        x, y = complex(X / A).real, complex(Y / A).real
+        return (x, y) if np.isfinite(x) and np.isfinite(y) else None
 
     def padding(self, expected: int) -> int:
         """How many rows :meth:`roots` may repeat (module docstring, step 6): the pool is at most
