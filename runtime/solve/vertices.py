@@ -728,8 +728,7 @@ def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = 
             else:
                 roots_w, info = solve_nullspace(polys, [o.wdeg for o in offs], d, eigen=eigen, top=top,
                                                 gap_hint=hint + (d - d0))
-            for k, v in info.timings.items():
-                total[k] = total.get(k, 0.0) + v
+            _add_timings(total, info.timings)
             if expected is not None and info.n_finite != expected:
                 # fewer: solutions far away lumped with those at infinity, or a non-generic
                 # configuration (e.g. parallel parabola axes); completeness is not established
@@ -866,6 +865,7 @@ def _toric_attempt(polys, offs, expected, wf):
 
 
 def _add_timings(into: dict, other: dict) -> None:
+    """Add the stage times of ``other`` to ``into`` (seconds per stage name)."""
     for k, v in other.items():
         into[k] = into.get(k, 0.0) + v
 
