@@ -591,7 +591,9 @@ def _completeness(c1, c2, c3, solutions, expected_count):
         failed = [k for k, (kind, _) in enumerate(boxes) if kind is None]
         if not failed:
             break
-        again = certify_solutions(c1, c2, c3, S[failed], prec=prec, iters=8)
+        # up to 30 Newton steps: a complex root read next to the real axis (a conjugate pair 5e-5 of
+        # its size apart, read 2e-9 off the axis) needs 10–30 before complex Newton splits the pair
+        again = certify_solutions(c1, c2, c3, S[failed], prec=prec, iters=30)
         for k, b in zip(failed, again):
             boxes[k] = b
     failed = [k for k, (kind, _) in enumerate(boxes) if kind is None]
