@@ -21,8 +21,10 @@ Routes (``method=``):
 * ``"auto"`` -- circles when all four are circles, otherwise ``"triple"`` followed by the
   certification stage.  If the null-space solve refuses (non-generic configurations, vertices
   far outside the scene) the exact route answers (:mod:`runtime.solve.exact`, msolve on the
-  rational triple system); if the counting proof of completeness does not close, the exact real
-  solutions decide it (:func:`runtime.certify.complete.completeness_exact`).  Only when every
+  rational triple system); if the counting proof of completeness does not close on a list of the
+  weighted null space, the toric null space's list of the same system is tried
+  (:func:`_toric_completeness`), then the exact real solutions decide it
+  (:func:`runtime.certify.complete.completeness_exact`).  Only when every
   route refuses does the interval route answer, with ``complete=False``; a refusal of all routes
   raises :class:`runtime.result.NumericalRefusal`.
 
@@ -30,6 +32,9 @@ Every vertex of a numeric route has ``certified=False`` (certification is a sepa
 ``info`` with the refined (x, y, R), relative residual and Jacobian condition number.  A vertex
 whose margin is within the numeric uncertainty (|margin| ≤ MARGIN_TOL) gets ``in_conflict=None``
 (undecided) and a note: the exactly tangent validation cases land here.  ``complete`` is False.
+
+Length: one predicate's routes and the per-triple caches they share (vertices, completeness
+proofs, exact solves) are kept in one module.
 """
 from __future__ import annotations
 
