@@ -75,7 +75,7 @@ def check_disjoint(sites, geoms=None) -> None:
                 i, j = sorted((int(idx[a]), int(idx[b])))
                 if sites_equal(sites[i], sites[j]):
                     raise SiteError(f"site {i} and site {j} are the same site (repeated): remove one")
-                ci, cj = (as_circle(s) if not isinstance(s, Circle) else s for s in (sites[i], sites[j]))
+                ci, cj = as_circle(sites[i]), as_circle(sites[j])
                 if circles_meet((ci.cx, ci.cy, ci.r2), (cj.cx, cj.cy, cj.r2)):
                     raise SiteError(f"site {i} and site {j} intersect: the Voronoi diagram needs disjoint sites")
     conics = [i for i, g in enumerate(geoms) if g.kind not in ("point", "circle")]
