@@ -205,7 +205,8 @@ def test_non_generic_member_is_refused():
                                                ("EEEE", 301, 1000), ("HHHH", 302, 100), ("HHHH", 305, 100),
                                                ("EEPE", 307, 100), ("HHHH", 405, 10),
                                                ("HHHH", 401, 100), ("EEPE", 407, 100), ("HHHH", 806, 100),
-                                               ("HHHH", 904, 100), ("EEPE", 904, 1)])
+                                               ("HHHH", 904, 100), ("EEPE", 904, 1), ("HHHH", 1003, 100),
+                                               ("HHHH", 1004, 100)])
 def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
     """Cases that once fell to the exact route or were answered wrongly incomplete:
     * three hyperbolas (seed 206): one real solution that is not a Voronoi vertex sits next to a
@@ -255,7 +256,15 @@ def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
       centred at the least accurate root, the pool has all 184 distinct roots;
     * two ellipses and a parabola, compact (held-out seed 904): the weighted null space reads a far
       root (58307, −21572) only to 5·10⁻⁵ of its size and its list is not proved complete (msolve
-      answered); the toric null space's list of the same system is, and the vertices stay.
+      answered); the toric null space's list of the same system is, and the vertices stay;
+    * three hyperbolas 100× apart (held-out seed 1003): four real roots near (−1.3·10⁶, −1.5·10⁷),
+      2–5·10⁻⁴ of their size apart, each listed 5·10⁻⁴ from the root its chart Newton reaches; the
+      chart test once required the root to lie within 10⁻⁴ of the listed point and refused them
+      (msolve answered, 2.2 s in all); all four are reached and proved distinct;
+    * three hyperbolas 100× apart (held-out seed 1004): a real pair 3·10⁻⁶ of its size apart, one
+      point listed 5·10⁻⁶ from one of them (uncertified at first, then certified in a chart at that
+      one) and the other's place taken by a duplicate 2·10³ away (msolve answered, 1.6 s); Newton
+      from the line through the listed point and its certified root finds the other.
     Completeness by counting then closes without msolve, with the same vertices as the exact route."""
     cs = random_configuration(kinds, seed, spread=spread)
     clear_cache()

@@ -587,6 +587,7 @@ def _completeness(c1, c2, c3, solutions, expected_count):
     if len(S) != expected_count:
         return False, f"{len(S)} solutions given, generic count is {expected_count}", []
     boxes = certify_solutions(c1, c2, c3, S)
+    first_failed = [k for k, (kind, _) in enumerate(boxes) if kind is None]
     for prec in (128, 256):
         failed = [k for k, (kind, _) in enumerate(boxes) if kind is None]
         if not failed:
@@ -624,7 +625,8 @@ def _completeness(c1, c2, c3, solutions, expected_count):
         # a point that is no solution (Newton leaves it): e.g. a real point where real Newton stalled
         # between the members of a conjugate pair closer to the real axis than it can tell, while
         # one of the pair was listed twice; search around it
-        n_lost = _replace_unproved(c1, c2, c3, S, boxes) if len(failed) <= _MAX_LOST else 0
+        n_lost = (_replace_unproved(c1, c2, c3, S, boxes, _moved(S, boxes, first_failed))
+                  if len(failed) <= _MAX_LOST else 0)
         if not n_lost:
             note = f"{len(failed)} of {len(S)} solutions not certified by Krawczyk"
             if diag:
@@ -646,7 +648,7 @@ def _completeness(c1, c2, c3, solutions, expected_count):
                     boxes[k] = box
                     n_chart += 1
         if not _disjoint([K for _, K in boxes]):
-            n_lost = _replace_unproved(c1, c2, c3, S, boxes)
+            n_lost = _replace_unproved(c1, c2, c3, S, boxes, _moved(S, boxes, first_failed))
             if not n_lost:
                 return False, "two solution enclosures overlap (distinctness not proven)", []
             lost_note = (f" ({n_lost} solution(s) whose enclosure overlapped another replaced by solutions found "
@@ -692,7 +694,18 @@ def _certify_split_pairs(c1, c2, c3, S, failed, boxes) -> None:
             boxes[k] = (kind, K)
 
 
-def _replace_unproved(c1, c2, c3, S, boxes) -> int:
+def _moved(S, boxes, first_failed) -> list[tuple[np.ndarray, np.ndarray]]:
+    """(s_k, c_k) for the solutions the first Krawczyk pass failed on and a later test certified:
+    s_k as listed, c_k the centre of its box (numerical; only starts of a search are made from it)."""
+    out = []
+    for k in first_failed:
+        kind, K = boxes[k]
+        if kind is not None:
+            out.append((S[k], np.array([complex(t.mid()) for t in K])))
+    return out
+
+
+def _replace_unproved(c1, c2, c3, S, boxes, moved=()) -> int:
     """Solutions without a Krawczyk box, or whose enclosures overlap another's when no chart
     separates them: typically one root reached twice by the numeric stage while a nearby root of
     the same cluster was missed (small sites far apart: 8 real roots within 2e-3 of each other,
@@ -709,7 +722,14 @@ def _replace_unproved(c1, c2, c3, S, boxes) -> int:
     t = 1 … 1000 (a spurious conjugate pair near the real axis points along the segment between
     two real roots; measured: the lost real root at m + 206·w, msolve 60 real solutions where the
     numeric stage had 58); then random real and complex directions at distances 1e-5 … 1e-1 of its
-    size.  The first certified box disjoint from all kept boxes replaces it.
+    size.  Before all these, the points c + t·(s − c) (:data:`_MOVED_STEPS`) on the line of each
+    solution ``moved`` (listed at s, certified only by a later test at c): a point listed near the
+    two zeros of a close pair is uncertified at first (its error lies along the Jacobian's
+    near-null direction, the direction of the pair) and converges to one of them, while the
+    eigenvectors gave the other's place to a duplicate elsewhere (measured: three hyperbolas 100×
+    apart, a real pair 3e-6 of its size apart, the listed point 5e-6 from the zero it converged to,
+    a duplicate 2e3 away).  The first certified box
+    disjoint from all kept boxes replaces it.
 
     Returns the number replaced if all were, else 0 (``boxes`` may then be partly updated; the
     caller gives up).  Nothing here is assumed: every box is an ordinary Krawczyk box, and the
@@ -743,7 +763,8 @@ def _replace_unproved(c1, c2, c3, S, boxes) -> int:
             continue
         # a near-double real pair seen as a conjugate pair m ± i·w: its zeros may be near m ± w·t
         m, w = S[k].real, S[k].imag
-        starts = [m + s * t * w for t in _PAIR_STEPS for s in (1.0, -1.0)] if np.any(w != 0) else \
+        starts = [c + t * (s - c) for s, c in moved for t in _MOVED_STEPS]
+        starts += [m + s * t * w for t in _PAIR_STEPS for s in (1.0, -1.0)] if np.any(w != 0) else \
             [m + 1j * r * scale[k] * rng.standard_normal(3) for r in _NEAR_REAL_RADII for _ in range(2)]
         for attempt in range(_LOST_STARTS):
             direction = rng.standard_normal(3) + (1j * rng.standard_normal(3) if attempt % 2 else 0.0)
@@ -778,6 +799,9 @@ _NEAR_REAL_RADII = (1e-6, 1e-5, 1e-4, 1e-3)
 #: multiples t of the imaginary part w of a point m + i·w tried as real starts m ± t·w (measured:
 #: the lost real root at m + 206·w, its partner at m − 0.1·w)
 _PAIR_STEPS = (1.0, 3.0, 10.0, 30.0, 100.0, 300.0, 1000.0)
+#: multiples t of s − c tried as starts c + t·(s − c) for a solution listed at s and certified at c
+#: (measured: the missing zero of a close pair at t ≈ −0.6)
+_MOVED_STEPS = (-0.5, -1.0, -2.0, 2.0, 3.0)
 #: at most this many uncertified solutions get the high-precision retry / diagnosis
 _MAX_DIAGNOSED = 4
 #: the circle-space chart test is tried when at most this many solutions are uncertified
