@@ -368,12 +368,21 @@ def test_fast_path_rejects_bad_solution_lists():
     assert not ok and "overlap" in note
     # missing solution (N - 1 given) -> not complete
     assert not _completeness(c1, c2, c3, S[1:], N)[0]
-    # perturbed "solutions" far from any solution cannot be certified: more of them than the lost-root
-    # search replaces -> not complete
+    # perturbed "solutions" far from any solution cannot be certified: more of them than the chart
+    # test and the lost-root search take on -> not complete
     P = S.copy()
-    P[:5] = P[:5] + np.array([0.37 + 0.11j, -0.23 + 0.05j, 1.7 - 0.3j]) * (1 + np.abs(P[:5]))
+    P[:20] = P[:20] + np.array([0.37 + 0.11j, -0.23 + 0.05j, 1.7 - 0.3j]) * (1 + np.abs(P[:20]))
     ok, note, _ = _completeness(c1, c2, c3, P, N)
     assert not ok and "not certified" in note
+    # five of them: Newton in a chart or around them may reach zeros; then the list is proved only if
+    # the N enclosures are disjoint, and its real solutions are exactly the correct list's
+    P = S.copy()
+    P[:5] = P[:5] + np.array([0.37 + 0.11j, -0.23 + 0.05j, 1.7 - 0.3j]) * (1 + np.abs(P[:5]))
+    ok, note, reals = _completeness(c1, c2, c3, P, N)
+    if ok:
+        ref = _completeness(c1, c2, c3, S, N)[2]
+        assert len(reals) == len(ref)
+        assert all(sum(all(a.overlaps(b) for a, b in zip(K, K0)) for K0 in ref) == 1 for K in reals)
     # one such point in place of a non-real solution: the conjugate of its partner's box holds the
     # lost zero, which replaces it (and the real solutions are still exactly the list's real ones)
     k = int(np.nonzero(np.abs(S.imag).max(axis=1) > 1e-3)[0][0])
