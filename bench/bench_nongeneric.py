@@ -312,8 +312,9 @@ def run_random(seeds: range, reference: bool = False, spread: int = 1):
         lines.append(f"| {kind} | {len(ts)} | {statistics.median(ts):.3f} | {max(ts):.3f} | {ok}/{len(ts)} | "
                      + ", ".join(f"{k} {v}" for k, v in sorted(routes.items())) + " | "
                      + (f"{refs}/{len(ts)} |" if reference else "not run |"))
-    lines += ["", f"Cold calls (`clear_cache()` before each); msolve threads: 2 when a second core is idle at the "
-              f"call, else 1; load average {load0[0]:.1f} at the start, {os.getloadavg()[0]:.1f} at the end "
+    threads = (f"{os.environ['CURVEDVORONOI_MSOLVE_THREADS']} (CURVEDVORONOI_MSOLVE_THREADS)"
+               if os.environ.get("CURVEDVORONOI_MSOLVE_THREADS") else "2 when a second core is idle at the call, else 1")
+    lines += ["", f"Cold calls (`clear_cache()` before each); msolve threads: {threads}; load average {load0[0]:.1f} at the start, {os.getloadavg()[0]:.1f} at the end "
               f"({os.cpu_count()} cores shared with other jobs).", ""]
     text = "\n".join(lines)
     print(text)
