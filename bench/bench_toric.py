@@ -130,6 +130,8 @@ def main():
     ap.add_argument("--first-seed", type=int, default=200, help="seeds first-seed .. first-seed + seeds - 1")
     ap.add_argument("--spreads", default="1,10")
     ap.add_argument("--scene", type=int, default=0, help="locate the triples of a diagram of this many ellipses")
+    ap.add_argument("--mixes", default=",".join(MIXES),
+                    help="comma-separated site kinds of C1..C4 (E ellipse, H hyperbola, P parabola, C circle)")
     args = ap.parse_args()
     if args.scene:
         _report(scene(args.scene))
@@ -137,7 +139,10 @@ def main():
     spreads = [int(s) for s in args.spreads.split(",")]
     load0 = os.getloadavg()[0]
     rows = defaultdict(list)
-    for mix in MIXES:
+    mixes = args.mixes.split(",")
+    if any(len(m) != 4 or set(m) - set("EHPC") for m in mixes):
+        ap.error("--mixes: four letters of E, H, P, C per mix, e.g. EEEE,HPPC")
+    for mix in mixes:
         for seed in range(args.first_seed, args.first_seed + args.seeds):
             for s in spreads:
                 cs = random_configuration(mix, seed, spread=s)
