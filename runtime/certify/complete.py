@@ -696,13 +696,16 @@ def _certify_split_pairs(c1, c2, c3, S, failed, boxes) -> None:
 
 def _moved(S, boxes, first_failed) -> list[tuple[np.ndarray, np.ndarray]]:
     """(s_k, c_k) for the solutions the first Krawczyk pass failed on and a later test certified:
-    s_k as listed, c_k the centre of its box (numerical; only starts of a search are made from it)."""
+    s_k as listed, c_k the centre of its box (numerical; only starts of a search are made from it),
+    at most :data:`_MAX_MOVED` of them, those that moved farthest relative to their size first."""
     out = []
     for k in first_failed:
         kind, K = boxes[k]
         if kind is not None:
-            out.append((S[k], np.array([complex(t.mid()) for t in K])))
-    return out
+            c = np.array([complex(t.mid()) for t in K])
+            out.append((float(np.max(np.abs(S[k] - c) / np.maximum(1.0, np.abs(c)))), S[k], c))
+    out.sort(key=lambda t: -t[0])
+    return [(s, c) for _, s, c in out[:_MAX_MOVED]]
 
 
 def _replace_unproved(c1, c2, c3, S, boxes, moved=()) -> int:
@@ -728,8 +731,7 @@ def _replace_unproved(c1, c2, c3, S, boxes, moved=()) -> int:
     near-null direction, the direction of the pair) and converges to one of them, while the
     eigenvectors gave the other's place to a duplicate elsewhere (measured: three hyperbolas 100×
     apart, a real pair 3e-6 of its size apart, the listed point 5e-6 from the zero it converged to,
-    a duplicate 2e3 away).  The first certified box
-    disjoint from all kept boxes replaces it.
+    a duplicate 2e3 away).  The first certified box disjoint from all kept boxes replaces it.
 
     Returns the number replaced if all were, else 0 (``boxes`` may then be partly updated; the
     caller gives up).  Nothing here is assumed: every box is an ordinary Krawczyk box, and the
@@ -802,6 +804,8 @@ _PAIR_STEPS = (1.0, 3.0, 10.0, 30.0, 100.0, 300.0, 1000.0)
 #: multiples t of s − c tried as starts c + t·(s − c) for a solution listed at s and certified at c
 #: (measured: the missing zero of a close pair at t ≈ −0.6)
 _MOVED_STEPS = (-0.5, -1.0, -2.0, 2.0, 3.0)
+#: at most this many such solutions give starts (each costs len(_MOVED_STEPS) Newton runs per lost root)
+_MAX_MOVED = 6
 #: at most this many uncertified solutions get the high-precision retry / diagnosis
 _MAX_DIAGNOSED = 4
 #: the circle-space chart test is tried when at most this many solutions are uncertified
