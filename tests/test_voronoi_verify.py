@@ -422,10 +422,18 @@ def test_ellipse_accounting_rejects_wrong_order_and_missing_end(random_ellipse_d
         assert not verify_accounting_conics(n, sup, bad, probs)
         assert any("unbounded edge" in m for m in probs), probs
     # an unbounded end missing
+    named = 0
     for a in range(len(ends)):
         probs = []
         assert not verify_accounting_conics(n, sup, ends[:a] + ends[a + 1:], probs)
         assert any("at infinity" in m or "far directions" in m for m in probs), probs
+        # the same gap, where the diagram has that edge but its end was not proved: the edge is named
+        probs = []
+        assert not verify_accounting_conics(n, sup, ends[:a] + ends[a + 1:], probs, unproved_ends=[ends[a][3]])
+        gap = [m for m in probs if "share no site" in m]
+        assert all(f"is not proved (unbounded edge {ends[a][3]})" in m for m in gap), gap
+        named += bool(gap)
+    assert named
 
 
 def test_ellipse_diagram_with_removed_unbounded_edge_is_rejected(random_ellipse_diagram):

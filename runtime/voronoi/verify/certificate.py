@@ -260,10 +260,13 @@ def verify(diagram, sites=None) -> Certificate:
     # ---------------------------------------------------------------- closure + accounting
     t0 = time.perf_counter()
     closure_ok = verify_closure(D, n, problems, intervals)
+    proved_ends = {t[-1] for t in ends_inf}
+    unproved_ends = [e.id for e in D.edges if None in e.ends and e.id not in proved_ends]
     if circular:
-        account_ok = verify_accounting(n, table, ends_inf, problems)
+        account_ok = verify_accounting(n, table, ends_inf, problems, unproved_ends)
     else:
-        account_ok = verify_accounting_conics(n, SupportTable(geoms), ends_inf, problems)
+        account_ok = verify_accounting_conics(n, SupportTable(geoms), ends_inf, problems,
+                                              unproved_ends=unproved_ends)
     timings["closure"] = time.perf_counter() - t0
     complete = closure_ok and account_ok
     ok = complete and all(vok) and all(eok) and not problems

@@ -85,8 +85,10 @@ def verify_closure(D, n, problems, intervals) -> bool:
 
 # ============================================================================ accounting
 
-def verify_accounting(n, table, ends_inf, problems) -> bool:
-    """Step 4 of the module docstring: nesting depth and the ends at infinity (circles/points)."""
+def verify_accounting(n, table, ends_inf, problems, unproved_ends=()) -> bool:
+    """Step 4 of the module docstring: nesting depth and the ends at infinity (circles/points).
+    ``unproved_ends``: ids of unbounded edges whose end at infinity is not in ``ends_inf`` (their
+    proof failed); a gap in the ends is then reported as possibly theirs (:func:`_gap_note`)."""
     if n < 2:
         return True
     C, R = table.C, table.R
@@ -139,7 +141,7 @@ def verify_accounting(n, table, ends_inf, problems) -> bool:
         shared = set(ea[1]) & set(eb[1])
         if not shared:
             problems.append(f"unbounded edges {ea[3]} and {eb[3]} are consecutive at infinity but share no site: "
-                            "an unbounded edge between them is missing")
+                            + _gap_note(unproved_ends))
             ok = False
             continue
         if not any(_dominates(s, ta, L, ea[1], eb[1], C, R) for s in shared):
@@ -182,7 +184,7 @@ def _dominates(s, ta, L, pa, pb, C, R) -> bool:
 
 # ============================================================================ accounting, conic sites
 
-def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000) -> bool:
+def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000, unproved_ends=()) -> bool:
     """Step 4 of :mod:`runtime.voronoi.verify.certificate` for bounded convex sites (ellipses, circles, points)
     with the support functions h_k of :class:`runtime.voronoi.verify.support.SupportTable`.
 
@@ -287,7 +289,7 @@ def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000)
             shared = set(cur[2]) & set(nxt[2])
             if not shared:
                 problems.append(f"unbounded edges {cur[3]} and {nxt[3]} are consecutive at infinity but share "
-                                "no site: an unbounded edge between them is missing")
+                                "no site: " + _gap_note(unproved_ends))
                 ok = False
             elif not any(_dominates_conic(sup, s, cur_end, a_next, max_work) for s in shared):
                 problems.append(f"between the unbounded edges {cur[3]} and {nxt[3]} no single site owns all far "
@@ -296,6 +298,17 @@ def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000)
         if t < m and nxt[1] > cur_end:
             cur, cur_end = nxt, nxt[1]
     return ok
+
+
+def _gap_note(unproved_ends) -> str:
+    """What a gap between consecutive proved ends at infinity means: an unbounded edge is missing,
+    or it is one of the diagram's unbounded edges whose end was not proved (named)."""
+    if not unproved_ends:
+        return "an unbounded edge between them is missing"
+    ids = sorted(unproved_ends)
+    named = ", ".join(map(str, ids[:6])) + (", ..." if len(ids) > 6 else "")
+    return (f"an unbounded edge between them is missing, or it is one whose end at infinity is not proved "
+            f"(unbounded edge{'s' if len(ids) > 1 else ''} {named})")
 
 
 def _below(sup, b, a, max_work) -> bool:
