@@ -150,7 +150,7 @@ def _curved_edges(curved, geoms, problems, eok, ends_inf):
     from .curved import prove_curved_edges
     from .site_table import SiteTable
     from .support import SupportTable
-    from .tail import prove_tail
+    from .tail import MORE_TAILS, TAIL_WORK_MORE, prove_tail
 
     if not curved:
         return
@@ -183,6 +183,7 @@ def _curved_edges(curved, geoms, problems, eok, ends_inf):
         jobs.append((p_e, e, name, job))
     results = prove_curved_edges(table, [job for _, _, _, job in jobs])
     sup = None
+    more = [MORE_TAILS]         # tails undecided within TAIL_WORK tried again with TAIL_WORK_MORE
     for (p_e, e, name, job), (ok, msg, beyond) in zip(jobs, results):
         if not ok:
             problems.append(f"{name}: {msg}")
@@ -195,6 +196,9 @@ def _curved_edges(curved, geoms, problems, eok, ends_inf):
                 sup = SupportTable(geoms)
             q = far["point"]
             ok, msg, sector = prove_tail(sup, table, pair, far["link"], scale)
+            if not ok and "undecided" in msg and more[0] > 0:
+                more[0] -= 1
+                ok, msg, sector = prove_tail(sup, table, pair, far["link"], scale, max_work=TAIL_WORK_MORE)
             if not ok:
                 problems.append(f"{name}: proved up to ({q[0]:.9g}, {q[1]:.9g}), not proved beyond it: {msg}")
                 break
