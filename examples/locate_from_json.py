@@ -7,13 +7,12 @@ import sys
 from pathlib import Path
 
 import curvedvoronoi as cv
-from curvedvoronoi.runtime.cli import run_locate
 
 path = sys.argv[1] if len(sys.argv) > 1 else str(Path(__file__).with_name("sites_forms.json"))
 sites = cv.read_sites(path, expected=4)          # validated; errors name the entry, 0-based
 for i, s in enumerate(sites):
     print(f"site {i}: {s!r}")
-res = run_locate(sites)                          # circles/points -> exact §3.1 locator, else ch. 5
+res = cv.locate_conflicts(*sites)                # circles/points -> exact §3.1 locator, else ch. 5
 print(f"conflict={res.conflict} certified={res.certified} method={res.method}")
 for v in res.vertices:
     print(f"  vertex ({v.x:.6f}, {v.y:.6f}) radius {v.radius:.6f} in_conflict={v.in_conflict} "

@@ -52,52 +52,6 @@ def _offsets_table(args) -> int:
     return 0
 
 
-def read_conics_file(path: str, expected: int | None = 4):
-    """The sites of a sites file as :class:`runtime.sites.conic.Conic` objects (points refused; circles
-    given by centre and radius become circle conics).  ValueError naming the site (0-based)."""
-    from .sites.reader import read_sites
-
-    return [_as_conic(s, i) for i, s in enumerate(read_sites(path, expected))]
-
-
-def _as_conic(site, i: int):
-    from .predicates.circles import Circle
-    from .sites.conic import Conic
-
-    if isinstance(site, Conic):
-        return site
-    if isinstance(site, Circle):
-        if site.r2 == 0:
-            raise ValueError(f"site {i} is a point: the conic locator takes conics and circles of positive "
-                             "radius; points work with circles and points only (exact locator, thesis §3.1), "
-                             "or in `curvedvoronoi diagram`")
-        return Conic.circle(centre=(site.cx, site.cy), r2=site.r2)
-    raise ValueError(f"site {i}: not a site ({type(site).__name__})")
-
-
-def _is_circle_like(site) -> bool:
-    from .predicates.circles import Circle
-
-    return isinstance(site, Circle) or getattr(site, "kind", None) == "circle"
-
-
-def run_locate(sites, method: str = "auto"):
-    """The conflict locator on four parsed sites (Point, Circle or Conic; C1..C4 = sites 0..3):
-    four circles or points go to the exact circle locator (thesis §3.1.3), otherwise the conic
-    locator (thesis ch. 5) on the sites as conics.  Returns a LocatorResult."""
-    from .predicates.circles import Circle, locate_conflicts_circles
-    from .predicates.locator import locate_conflicts
-
-    if method in ("auto", "circles") and all(_is_circle_like(s) for s in sites):
-        return locate_conflicts_circles(*(s if isinstance(s, Circle) else Circle.from_coefficients(*s.coefficients)
-                                          for s in sites))
-    if method == "circles":
-        bad = next(i for i, s in enumerate(sites) if not _is_circle_like(s))
-        raise ValueError(f"--method circles needs four circles or points; site {bad} is a {sites[bad].kind}")
-    conics = [_as_conic(s, i) for i, s in enumerate(sites)]
-    return locate_conflicts(*conics, method=method)
-
-
 def _zero_based(msg: str) -> str:
     """The locator names the sites C1..C4 (thesis notation); the command line numbers them 0..3."""
     import re
@@ -148,7 +102,9 @@ def _locate(args) -> int:
 
     sites = read_sites(args.file, expected=4)
     t0 = time.perf_counter()
-    result = run_locate(sites, method=args.method)
+    from .predicates.locator import locate_conflicts
+
+    result = locate_conflicts(*sites, method=args.method)
     return _emit(result, args, time.perf_counter() - t0)
 
 

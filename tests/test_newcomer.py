@@ -105,9 +105,29 @@ def test_points_with_ellipses_through_the_api_are_a_clear_error():
     import curvedvoronoi as cv
 
     e1, e2 = cv.Conic.ellipse(centre=(0, 0), axes=(2, 1)), cv.Conic.ellipse(centre=(0, 5), axes=(2, 1))
-    with pytest.raises(cv.LocatorError, match="Point") as exc:
+    with pytest.raises(cv.LocatorError, match="C2 is a point") as exc:
         cv.locate_conflicts(e1, cv.Point(5, 0), e2, cv.Point(1, 1))
-    assert "\n" not in str(exc.value)
+    assert "\n" not in str(exc.value) and "diagram" in str(exc.value)
+
+
+def test_circles_and_points_through_the_api_go_to_the_exact_circle_locator():
+    """The same four sites as the command-line case below, given as Circle, Conic and Point objects:
+    locate_conflicts sends them to the exact circle locator; a circle with ellipses is taken as the
+    circle conic (its answer equals the one with Conic.circle)."""
+    import curvedvoronoi as cv
+
+    sites = [cv.Circle.from_radius(0, 0, 1), cv.Circle.from_radius(4, 0, 1),
+             cv.Conic.from_coefficients(1, 0, 1, 0, -8, 15), cv.Point(1, 1)]
+    res = cv.locate_conflicts(*sites)
+    assert res.certified and res.conflict and res.method == "circles-exact"
+    (v,) = res.vertices
+    assert abs(v.x - 2) < 1e-12 and abs(v.y - 2) < 1e-12
+    e = cv.Conic.ellipse(centre=(9, 1), axes=(2, 1))
+    a = cv.locate_conflicts(sites[0], sites[1], e, sites[2])
+    b = cv.locate_conflicts(cv.Conic.circle(centre=(0, 0), radius=1), cv.Conic.circle(centre=(4, 0), radius=1), e,
+                            sites[2])
+    assert a.certified and (a.conflict, len(a.vertices)) == (b.conflict, len(b.vertices))
+    assert all(abs(u.x - w.x) < 1e-12 and abs(u.y - w.y) < 1e-12 for u, w in zip(a.vertices, b.vertices))
 
 
 def test_points_and_circles_in_locate_use_the_exact_circle_locator(tmp_path):

@@ -16,9 +16,9 @@ Routes (``method=``):
   the vertices come from the same triple solve, and at each vertex the squared distance r to C4
   is the smallest non-negative root of the 4th offset equation o4(x, y, ·), checked against the
   distance module.  See :func:`_locate_quadruple`.
-* ``"circles"`` -- four circles: the exact locator of §3.1 (:mod:`runtime.predicates.circles`).
+* ``"circles"`` -- four circles or points: the exact locator of §3.1 (:mod:`runtime.predicates.circles`).
 * ``"interval"`` -- the branch-and-prune locator of ch. 6 (:mod:`runtime.interval`).
-* ``"auto"`` -- circles when all four are circles, otherwise ``"triple"`` followed by the
+* ``"auto"`` -- circles when all four are circles or points, otherwise ``"triple"`` followed by the
   certification stage.  If the null-space solve refuses (non-generic configurations, vertices
   far outside the scene) the exact route answers (:mod:`runtime.solve.exact`, msolve on the
   rational triple system); if the counting proof of completeness does not close on a list of the
@@ -27,6 +27,10 @@ Routes (``method=``):
   (:func:`runtime.certify.complete.completeness_exact`).  Only when every
   route refuses does the interval route answer, with ``complete=False``; a refusal of all routes
   raises :class:`runtime.result.NumericalRefusal`.
+
+The sites are :class:`runtime.sites.conic.Conic` objects, or :class:`runtime.predicates.circles.Circle`
+and ``Point`` objects (a circle of positive radius is taken as the circle conic; a point with
+conics is refused with a message naming the diagram, which handles it).
 
 Every vertex of a numeric route has ``certified=False`` (certification is a separate stage) and
 ``info`` with the refined (x, y, R), relative residual and Jacobian condition number.  A vertex
@@ -59,12 +63,28 @@ _CACHE_SIZE = 256
 _cache: "OrderedDict[tuple, object]" = OrderedDict()
 
 
-def _check_conic(c, i):
+def _as_conic(c, i):
+    """C_i as a conic: a circle of positive radius becomes the circle conic; a point is refused
+    (its offset is not one of the conic families of the numeric routes), naming what handles it."""
+    from ..result import InvalidConicError
     from ..sites.conic import Conic
+    from .circles import Circle
 
-    if not isinstance(c, Conic):
-        raise LocatorError(f"C{i}: expected a runtime.sites.conic.Conic, got {type(c).__name__}")
-    return c
+    if isinstance(c, Conic):
+        return c
+    if isinstance(c, Circle):
+        if c.r2 == 0:
+            raise InvalidConicError(f"C{i} is a point: the conic locator takes conics and circles of positive "
+                                    "radius; points work with circles and points only (the exact locator, thesis "
+                                    "§3.1), or in the diagram (voronoi, `curvedvoronoi diagram`)")
+        return Conic.circle(centre=(c.cx, c.cy), r2=c.r2)
+    raise LocatorError(f"C{i}: expected a Conic, Circle or Point, got {type(c).__name__}")
+
+
+def _circle_like(c) -> bool:
+    from .circles import Circle
+
+    return isinstance(c, Circle) or getattr(c, "kind", None) == "circle"
 
 
 def _key(c) -> tuple:
@@ -94,7 +114,7 @@ def voronoi_vertices(c1, c2, c3, *, eigen: str = "dense", use_cache: bool = True
     :func:`exact_vertices` itself."""
     from ..solve.vertices import voronoi_vertices_triple
 
-    cs = [_check_conic(c, i) for i, c in enumerate((c1, c2, c3), 1)]
+    cs = [_as_conic(c, i) for i, c in enumerate((c1, c2, c3), 1)]
     keys = [_key(c) for c in cs]
     if len(set(keys)) < 3:
         raise LocatorError("two of C1, C2, C3 are the same conic: the Voronoi vertices are not isolated")
@@ -155,21 +175,26 @@ def locate_conflicts(c1, c2, c3, c4, method: str = "auto", *, certify: bool = Tr
     """
     if method not in METHODS:
         raise LocatorError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
-    cs = [_check_conic(c, i) for i, c in enumerate((c1, c2, c3, c4), 1)]
-    if method != "circles" and len({_key(c) for c in cs[:3]}) < 3:
+    sites = (c1, c2, c3, c4)
+    all_circles = all(_circle_like(c) for c in sites)
+    auto = method == "auto"
+    if auto and all_circles:
+        method = "circles"
+    if method == "circles":
+        if not all_circles:
+            bad = next(i for i, c in enumerate(sites, 1) if not _circle_like(c))
+            raise LocatorError(f"method 'circles' needs four circles or points; C{bad} is a "
+                               f"{getattr(sites[bad - 1], 'kind', type(sites[bad - 1]).__name__)}")
+        from .circles import Circle, locate_conflicts_circles
+        return locate_conflicts_circles(*(c if isinstance(c, Circle) else Circle.from_coefficients(*c.coefficients)
+                                          for c in sites))
+    cs = [_as_conic(c, i) for i, c in enumerate(sites, 1)]
+    if len({_key(c) for c in cs[:3]}) < 3:
         # before any route: the interval fallback would search its whole box for nothing
         raise LocatorError("two of C1, C2, C3 are the same conic: infinitely many equidistant points, "
                            "the Voronoi vertices are not isolated")
-    all_circles = all(c.kind == "circle" for c in cs)
-    auto = method == "auto"
     if auto:
-        method = "circles" if all_circles else "triple"
-    if method == "circles":
-        if not all_circles:
-            raise LocatorError("method 'circles' needs four circles; got "
-                               + ", ".join(c.kind for c in cs))
-        from .circles import Circle, locate_conflicts_circles
-        return locate_conflicts_circles(*(Circle.from_coefficients(*c.coefficients) for c in cs))
+        method = "triple"
     if method == "interval":
         from ..interval.locator import locate_conflicts_interval
         return locate_conflicts_interval(*cs, **kw)
