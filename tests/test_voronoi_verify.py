@@ -881,7 +881,8 @@ def test_hyperbola_edge_corruptions_are_rejected():
     assert any(f"no edge {pair} ends here" in p for p in cert.problems), cert.problems
 
 
-def test_edges_and_tails_past_their_work_limit_get_a_bounded_second_chance(random_ellipse_diagram, monkeypatch):
+@pytest.mark.parametrize("what", ["edges", "tails"])
+def test_edges_and_tails_past_their_work_limit_get_a_bounded_second_chance(random_ellipse_diagram, monkeypatch, what):
     """An edge whose strips spend EDGE_WORK pieces may go on to EDGE_WORK_MORE from a pool shared by
     the edges of the diagram, and a tail undecided within TAIL_WORK is tried once more with
     TAIL_WORK_MORE: with tiny first budgets and no second chance the proofs stop at the limit (and
@@ -889,19 +890,15 @@ def test_edges_and_tails_past_their_work_limit_get_a_bounded_second_chance(rando
     from curvedvoronoi.runtime.voronoi.verify import curved, tail
 
     D = random_ellipse_diagram
-    with monkeypatch.context() as m:
-        m.setattr(curved, "EDGE_WORK", 40)
-        m.setattr(curved, "EXTRA_EDGES", 0)
-        cert = verify(D)
-        assert not cert.ok and any("work limit of the edge reached" in p for p in cert.problems), cert.problems
-        m.setattr(curved, "EXTRA_EDGES", len(D.edges))
-        cert = verify(D)
-        assert cert.ok, cert.problems
-    with monkeypatch.context() as m:
-        m.setattr(tail.prove_tail, "__defaults__", (2,))
-        m.setattr(tail, "MORE_TAILS", 0)
-        cert = verify(D)
-        assert not cert.ok and any("undecided" in p for p in cert.problems), cert.problems
-        m.setattr(tail, "MORE_TAILS", len(D.edges))
-        cert = verify(D)
-        assert cert.ok, cert.problems
+    if what == "edges":
+        monkeypatch.setattr(curved, "EDGE_WORK", 40)
+        pool, said = (curved, "EXTRA_EDGES"), "work limit of the edge reached"
+    else:
+        monkeypatch.setattr(tail.prove_tail, "__defaults__", (2,))
+        pool, said = (tail, "MORE_TAILS"), "undecided"
+    monkeypatch.setattr(*pool, 0)
+    cert = verify(D)
+    assert not cert.ok and any(said in p for p in cert.problems), cert.problems
+    monkeypatch.setattr(*pool, len(D.edges))
+    cert = verify(D)
+    assert cert.ok, cert.problems
