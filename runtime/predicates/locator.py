@@ -49,7 +49,7 @@ from dataclasses import replace
 from fractions import Fraction
 
 from ..solve.exact import InfinitelyManySolutions
-from ..result import LocatorError, LocatorResult, NumericalRefusal, VoronoiVertex
+from ..result import InvalidConicError, LocatorError, LocatorResult, NumericalRefusal, VoronoiVertex
 
 METHODS = ("auto", "triple", "quadruple", "circles", "interval")
 
@@ -66,7 +66,6 @@ _cache: "OrderedDict[tuple, object]" = OrderedDict()
 def _as_conic(c, i):
     """C_i as a conic: a circle of positive radius becomes the circle conic; a point is refused
     (its offset is not one of the conic families of the numeric routes), naming what handles it."""
-    from ..result import InvalidConicError
     from ..sites.conic import Conic
     from .circles import Circle
 
