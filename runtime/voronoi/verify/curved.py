@@ -41,11 +41,13 @@ TAIL_CUT = 12.0         # the chain proves an unbounded edge up to TAIL_CUT·(sc
 NEWTON = 6              # Newton steps of the guide's projection onto β
 EDGE_WORK = 80000       # pieces tested per edge, all attempts together, before giving up
 #: an edge that spends EDGE_WORK may go on to EDGE_WORK_MORE, drawing from a pool shared by all the
-#: edges of one call, of EXTRA_EDGES such top-ups (measured on 512 random ellipses: 7 edges next to
-#: vertices ~10⁴ scene radii away spent 80000, 5 of them are proved with 400000, verification
-#: 5.2 → 6.5 s; the pool bounds the extra work where many edges cannot be proved)
+#: edges of one call, of EXTRA_EDGES such top-ups.  Measured (random ellipses, with the tail retry
+#: of runtime.voronoi.verify.tail): 512 sites, 1512 → 1518 of 1520 edges proved, verification
+#: 6.7 → 7.1 s; 2000 sites, 5956 → 5959 of 5979, 25 → 30 s.  A pool of 12 proved one more edge at
+#: 512 sites but cost 48 s at 2000: the edges that need it lie next to vertices 10³–10⁵ scene
+#: units out, where a piece meets many third sites
 EDGE_WORK_MORE = 400000
-EXTRA_EDGES = 12
+EXTRA_EDGES = 4
 LONG = 50000.0          # strips at least (edge length)/LONG wide (3x this), at most 0.03·d·|∇d_i − ∇d_j|
 
 
