@@ -23,7 +23,8 @@ locate_conflicts(c1, c2, c3, c4, method="auto")
     The Delaunay-graph conflict locator (thesis §1.2, ch. 5): the true Voronoi vertices of
     C1, C2, C3 (centres of empty circles tangent to the three) and whether C4 enters them.
     Sites are Conic, Circle or Point objects: four circles or points go to the exact locator of
-    thesis §3.1, anything else to the conic locator (a point with conics is refused: use voronoi).
+    thesis §3.1, a point among conics to the proved diagram of C1, C2, C3, anything else to the
+    conic locator.
     Returns a :class:`LocatorResult`; ``certified`` is True only for a proved answer.
 voronoi(sites)
     The Voronoi diagram / Delaunay graph of any number of sites (thesis §1.2), a ``Diagram``.

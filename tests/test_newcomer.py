@@ -93,21 +93,26 @@ def test_the_same_conic_four_times_is_rejected_within_a_second(tmp_path):
     assert "same curve" in one_line_error(out)
 
 
-def test_points_with_ellipses_in_locate_are_a_clear_error(tmp_path):
+def test_points_with_ellipses_in_locate_are_answered(tmp_path):
+    """Points among ellipses go to the diagram of C1, C2, C3 (proved by the verifier), not to an error."""
     f = sites_file(tmp_path, [{"ellipse": {"centre": [0, 0], "axes": [2, 1]}}, {"point": [5, 0]},
                               {"ellipse": {"centre": [0, 5], "axes": [2, 1], "rotation": 90}},
                               {"point": [1, 1]}])
-    msg = one_line_error(cli("locate", f))
-    assert "site 1 is a point" in msg and "diagram" in msg
+    out = cli("locate", f, "--quiet")
+    assert out.returncode == 0 and out.stderr == "", out.stderr
+    res = json.loads(out.stdout)
+    assert res["method"] == "diagram+certified" and res["certified"] and res["complete"] and res["vertices"]
 
 
-def test_points_with_ellipses_through_the_api_are_a_clear_error():
+def test_points_with_ellipses_through_the_api_are_answered_and_a_point_on_a_site_is_refused():
     import curvedvoronoi as cv
 
     e1, e2 = cv.Conic.ellipse(centre=(0, 0), axes=(2, 1)), cv.Conic.ellipse(centre=(0, 5), axes=(2, 1))
-    with pytest.raises(cv.LocatorError, match="C2 is a point") as exc:
-        cv.locate_conflicts(e1, cv.Point(5, 0), e2, cv.Point(1, 1))
-    assert "\n" not in str(exc.value) and "diagram" in str(exc.value)
+    res = cv.locate_conflicts(e1, cv.Point(5, 0), e2, cv.Point(1, 1))
+    assert res.certified and res.complete and res.vertices
+    with pytest.raises(ValueError, match="intersect") as exc:
+        cv.locate_conflicts(e1, cv.Point(2, 0), e2, cv.Point(1, 1))
+    assert "\n" not in str(exc.value)
 
 
 def test_circles_and_points_through_the_api_go_to_the_exact_circle_locator():

@@ -29,8 +29,9 @@ Routes (``method=``):
   raises :class:`runtime.result.NumericalRefusal`.
 
 The sites are :class:`runtime.sites.conic.Conic` objects, or :class:`runtime.predicates.circles.Circle`
-and ``Point`` objects (a circle of positive radius is taken as the circle conic; a point with
-conics is refused with a message naming the diagram, which handles it).
+and ``Point`` objects: a circle of positive radius is taken as the circle conic; four sites with a
+point among conics go to :func:`_locate_with_points` (the Voronoi diagram of C1, C2, C3, proved by
+the independent verifier, and rigorous distance bounds to C4).
 
 Every vertex of a numeric route has ``certified=False`` (certification is a separate stage) and
 ``info`` with the refined (x, y, R), relative residual and Jacobian condition number.  A vertex
@@ -65,7 +66,8 @@ _cache: "OrderedDict[tuple, object]" = OrderedDict()
 
 def _as_conic(c, i):
     """C_i as a conic: a circle of positive radius becomes the circle conic; a point is refused
-    (its offset is not one of the conic families of the numeric routes), naming what handles it."""
+    (its offset is not one of the conic families of the numeric routes), naming the route that
+    handles it (:func:`_locate_with_points`)."""
     from ..sites.conic import Conic
     from .circles import Circle
 
@@ -73,11 +75,65 @@ def _as_conic(c, i):
         return c
     if isinstance(c, Circle):
         if c.r2 == 0:
-            raise InvalidConicError(f"C{i} is a point: the conic locator takes conics and circles of positive "
-                                    "radius; points work with circles and points only (the exact locator, thesis "
-                                    "§3.1), or in the diagram (voronoi, `curvedvoronoi diagram`)")
+            raise InvalidConicError(f"C{i} is a point: this route takes conics and circles of positive radius; "
+                                    "locate_conflicts with method 'auto' or 'triple' handles points (through the "
+                                    "diagram of C1, C2, C3)")
         return Conic.circle(centre=(c.cx, c.cy), r2=c.r2)
     raise LocatorError(f"C{i}: expected a Conic, Circle or Point, got {type(c).__name__}")
+
+
+def _is_point(c) -> bool:
+    from .circles import Circle
+
+    return isinstance(c, Circle) and c.r2 == 0
+
+
+def _locate_with_points(sites) -> LocatorResult:
+    """Four sites with a point among conics (thesis §5.2, Def. 5.2.1, for any sites).
+
+    The true Voronoi vertices of the triple are the vertices of the Voronoi diagram of the three
+    sites alone (points equidistant from the three with an empty open disc): it is built by
+    :func:`runtime.voronoi.construction.voronoi`, and the independent verifier
+    (:mod:`runtime.voronoi.verify.certificate`) proves that the diagram is complete, hence so is the
+    vertex list (``complete``).  Each vertex is proved again by
+    :func:`runtime.voronoi.vertex.certify_vertex` (Krawczyk on the foot-point system, emptiness by
+    the S-lemma), and C4's conflict with it is decided by rigorous distance bounds on the proof box
+    (:func:`runtime.voronoi.vertex.classify_others`: d(q, C4) < r proved, d ≥ r proved, or
+    undecided).  C4 may be any site.  Sites that meet raise the diagram's error."""
+    import numpy as np
+
+    from ..voronoi.conic_geometry import site_geometry
+    from ..voronoi.construction import voronoi
+    from ..voronoi.vertex import certify_vertex, classify_others
+
+    t0 = time.perf_counter()
+    triple = list(sites[:3])
+    diagram = voronoi(triple, certify=True)
+    g4 = site_geometry(sites[3])
+    verts = []
+    for v in diagram.vertices:
+        proof = certify_vertex(triple, None, v.x, v.y)
+        side = classify_others([g4], proof.box, proof.radius_bounds)[0] if proof.certified else 0
+        inc = {-1: True, 1: False}.get(int(side))
+        lo, hi = g4.distance_bounds(np.array([[v.x, v.y]]))
+        verts.append(VoronoiVertex(x=float(v.x), y=float(v.y), radius=float(v.radius),
+                                   distance_to_fourth=0.5 * float(lo[0] + hi[0]), in_conflict=inc,
+                                   certified=bool(proof.certified and inc is not None),
+                                   info={"proof": proof.method, "box": proof.box,
+                                         "radius_bounds": proof.radius_bounds, "reason": proof.reason}))
+    notes = ["a point among the sites: vertices from the Voronoi diagram of C1, C2, C3, each proved "
+             "(Krawczyk, S-lemma), the conflict with C4 by distance bounds"]
+    if diagram.certified:
+        notes.append("certify completeness: the diagram of C1, C2, C3 is proved by the independent verifier, "
+                     "so its vertices are all the true Voronoi vertices")
+    else:
+        notes.append("certify completeness: not proven (the verifier did not prove the diagram of C1, C2, C3: "
+                     + "; ".join(diagram.problems[:3]) + ")")
+    notes += [f"vertex ({v.x:.6g}, {v.y:.6g}): conflict with C4 undecided" for v in verts
+              if v.in_conflict is None]
+    return LocatorResult(conflict=any(v.in_conflict is True for v in verts), vertices=verts,
+                         method="diagram+certified", timings={"total": time.perf_counter() - t0},
+                         complete=bool(diagram.certified), notes=notes)
 
 
 def _circle_like(c) -> bool:
@@ -187,6 +243,8 @@ def locate_conflicts(c1, c2, c3, c4, method: str = "auto", *, certify: bool = Tr
         from .circles import Circle, locate_conflicts_circles
         return locate_conflicts_circles(*(c if isinstance(c, Circle) else Circle.from_coefficients(*c.coefficients)
                                           for c in sites))
+    if method in ("auto", "triple") and any(_is_point(c) for c in sites):
+        return _locate_with_points(sites)
     cs = [_as_conic(c, i) for i, c in enumerate(sites, 1)]
     if len({_key(c) for c in cs[:3]}) < 3:
         # before any route: the interval fallback would search its whole box for nothing
