@@ -486,3 +486,24 @@ def test_edge_through_a_narrow_gap_between_two_ellipses():
     assert gap < 0.2
     cert = verify(d, sites)
     assert cert.ok, cert.problems
+
+
+def test_closed_edge_of_a_point_near_the_boundary_of_its_ellipse_winds_around_it():
+    """A point 0.2 inside an ellipse: its closed edge is the loop {q : |q − p| = d(q, E)} around it
+    (the point's region is star-shaped from p).  The polyline must wind once around p and lie on
+    the bisector (independent oracle).  (The circumcentres of the coarse sample triangulation once
+    gave a path out and back along one side, winding number 0.)"""
+    from reference import ref_distance
+
+    p = Point(Fraction(-13, 10), Fraction(-2, 5))
+    e = Conic.from_coefficients(11232025, 6552000, 2800225, 24616830, 13451965, 12765159)
+    sites = [p, Point(Fraction(-7, 5), Fraction(29, 10)), e]
+    d = voronoi(sites, certify=False)
+    (loop,) = [ed for ed in d.edges if ed.closed]
+    assert set(loop.sites) == {0, 2}
+    P = np.asarray(loop.polyline) - np.array([float(p.cx), float(p.cy)])
+    ang = np.unwrap(np.arctan2(P[:, 1], P[:, 0]))
+    assert abs(abs(ang[-1] - ang[0]) - 2 * math.pi) < 1e-9
+    for x, y in np.asarray(loop.polyline)[::4]:
+        dp = math.hypot(x - float(p.cx), y - float(p.cy))
+        assert abs(dp - float(ref_distance(e, x, y))) <= 1e-6 * dp + 1e-9
