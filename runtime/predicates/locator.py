@@ -44,6 +44,7 @@ proofs, exact solves) are kept in one module.
 from __future__ import annotations
 
 import math
+import re
 import time
 from collections import OrderedDict
 from dataclasses import replace
@@ -108,7 +109,10 @@ def _locate_with_points(sites) -> LocatorResult:
 
     t0 = time.perf_counter()
     triple = list(sites[:3])
-    diagram = voronoi(triple, certify=True)
+    try:
+        diagram = voronoi(triple, certify=True)
+    except InvalidConicError as exc:        # the diagram numbers its sites 0, 1, 2: name them C1..C3
+        raise type(exc)(re.sub(r"\bsite ([0-2])\b", lambda m: f"C{int(m.group(1)) + 1}", str(exc))) from None
     g4 = site_geometry(sites[3])
     verts = []
     for v in diagram.vertices:
