@@ -842,8 +842,9 @@ def _toric_attempt(polys, offs, expected, wf):
             found.append((roots2, tinfo2, wf2))
         except LocatorError:
             pass
-    better = [t for _, t, f in found if f is not wf and (not t.provisional or pool is None or t.distinct > pool.count())]
-    if not better and not (found and found[0][2] is wf) and rest:
+    centred_better = any(f is not wf and (not t.provisional or pool is None or t.distinct > pool.count())
+                         for _, t, f in found)
+    if not centred_better and not (found and found[0][2] is wf) and rest:
         # the scene's frame goes on with the next polytopes, the first polytope's roots kept
         # (unless the centred frame resolved more of the cluster)
         try:

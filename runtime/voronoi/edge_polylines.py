@@ -194,7 +194,7 @@ def _point_loops(S: SiteArrays, Q, own, sub, PI, PJ, n=LOOP_RAYS):
     a small loop may retrace one side (measured: a point 0.2 inside an ellipse, the loop given as
     a path out and back, which the verifier refused).  Other edges are returned unchanged."""
     todo = [m for m, er in enumerate(sub) if er[1] is None and er[3] is None
-            and any(getattr(S.sites[k], "r2", None) == 0 for k in er[0])]
+            and any(S.geoms[k].kind == "point" for k in er[0])]
     if not todo:
         return Q, own
     cuts = np.searchsorted(own, np.arange(len(sub) + 1))
@@ -203,7 +203,7 @@ def _point_loops(S: SiteArrays, Q, own, sub, PI, PJ, n=LOOP_RAYS):
     U = np.column_stack([np.cos(th), np.sin(th)])
     for m in todo:
         i, j = int(PI[m]), int(PJ[m])
-        p_site, other = (i, j) if getattr(S.sites[i], "r2", None) == 0 else (j, i)
+        p_site, other = (i, j) if S.geoms[i].kind == "point" else (j, i)
         p = np.array([float(S.sites[p_site].cx), float(S.sites[p_site].cy)])
         lab = np.full(n, other)
         box = S.boxes[other]

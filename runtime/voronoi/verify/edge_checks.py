@@ -183,7 +183,7 @@ def _curved_edges(curved, geoms, problems, eok, ends_inf):
         jobs.append((p_e, e, name, job))
     results = prove_curved_edges(table, [job for _, _, _, job in jobs])
     sup = None
-    more = [MORE_TAILS]         # tails undecided within TAIL_WORK tried again with TAIL_WORK_MORE
+    more = MORE_TAILS           # tails undecided within TAIL_WORK tried again with TAIL_WORK_MORE
     for (p_e, e, name, job), (ok, msg, beyond) in zip(jobs, results):
         if not ok:
             problems.append(f"{name}: {msg}")
@@ -196,8 +196,8 @@ def _curved_edges(curved, geoms, problems, eok, ends_inf):
                 sup = SupportTable(geoms)
             q = far["point"]
             ok, msg, sector = prove_tail(sup, table, pair, far["link"], scale)
-            if not ok and "undecided" in msg and more[0] > 0:
-                more[0] -= 1
+            if not ok and "undecided" in msg and more > 0:
+                more -= 1
                 ok, msg, sector = prove_tail(sup, table, pair, far["link"], scale, max_work=TAIL_WORK_MORE)
             if not ok:
                 problems.append(f"{name}: proved up to ({q[0]:.9g}, {q[1]:.9g}), not proved beyond it: {msg}")
