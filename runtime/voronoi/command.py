@@ -1,12 +1,22 @@
 """The ``diagram`` command: ``python -m curvedvoronoi diagram SITES.json [--json OUT.json]
-[--png OUT.png] [--geojson OUT.geojson] [--quiet] [--time-limit S] [--no-certify] [--empty-circles]``.
+[--png OUT.png] [--geojson OUT.geojson] [--window=XMIN,XMAX,YMIN,YMAX] [--quiet] [--time-limit S]
+[--no-certify] [--empty-circles]``.
 
 SITES.json is ``{"sites": [...]}`` with the records of :func:`runtime.sites.reader.parse_site`
 (``{"point": [x, y]}``, ``{"circle": {"centre": [x, y], "radius": r}}``,
 ``{"coefficients": [a, b, c, d, e, f]}``) or the older ``{"conics": [{"coefficients": ...}]}``.
 Prints a summary (the diagram JSON on stdout when no ``--json`` is given and not ``--quiet``).
-Bad input: one line on stderr, exit status 2.  Ctrl-C: the construction stops and the partial
-result is written, marked not certified.
+
+Exit status (the requested outputs are written whenever a diagram exists):
+
+* 0 -- the diagram is certified (proved by the independent verifier,
+  :func:`runtime.voronoi.verify.certificate.verify`), or, with ``--no-certify``, the construction
+  ran to its end (not verified, on request);
+* 1 -- a diagram was written but is not certified (something is not proved, or the time limit
+  stopped it), or the program failed on valid input (one line naming the failure);
+* 2 -- bad input (one line on stderr starting ``error:``);
+* 3 -- a numeric route refused valid input (:class:`runtime.result.NumericalRefusal`);
+* 130 -- interrupted (Ctrl-C): the partial result is written, marked not certified.
 
 Public API: :func:`diagram_main` (sites files are read by :func:`runtime.sites.reader.read_sites`).
 """
@@ -14,60 +24,173 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
+import signal
 import sys
 
+from ..result import InvalidConicError, NumericalRefusal
 from ..sites.reader import read_sites
 
-__all__ = ["diagram_main"]
+__all__ = ["diagram_main", "parse_window", "EXIT_CERTIFIED", "EXIT_NOT_CERTIFIED", "EXIT_BAD_INPUT",
+           "EXIT_NUMERICAL_REFUSAL", "EXIT_INTERRUPTED"]
 
+EXIT_CERTIFIED = 0
+EXIT_NOT_CERTIFIED = 1
 EXIT_BAD_INPUT = 2
+EXIT_NUMERICAL_REFUSAL = 3
+EXIT_INTERRUPTED = 130
+
+INTERRUPTED_NOTE = "interrupted (Ctrl-C)"
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """argparse with usage errors as one line ``error: ...`` on stderr, exit status 2."""
+
+    def error(self, message):
+        print(f"error: {message} (see `{self.prog} --help`)", file=sys.stderr)
+        sys.exit(EXIT_BAD_INPUT)
+
+
+def parse_window(text: str) -> tuple[float, float, float, float]:
+    """``"xmin,xmax,ymin,ymax"`` (matplotlib's ``axis`` order) as four finite floats with
+    xmin < xmax and ymin < ymax; ``argparse.ArgumentTypeError`` otherwise."""
+    parts = text.split(",")
+    try:
+        vals = tuple(float(p) for p in parts)
+    except ValueError:
+        vals = ()
+    if len(vals) != 4 or not all(math.isfinite(v) for v in vals):
+        raise argparse.ArgumentTypeError(f"--window {text!r}: expected four finite numbers xmin,xmax,ymin,ymax")
+    if not (vals[0] < vals[1] and vals[2] < vals[3]):
+        raise argparse.ArgumentTypeError(f"--window {text!r}: needs xmin < xmax and ymin < ymax")
+    return vals
 
 
 def _parser():
-    p = argparse.ArgumentParser(prog="curvedvoronoi diagram",
-                                description="Voronoi diagram / Delaunay graph of disjoint circles, points and "
-                                            "conics (thesis §1.2), certified by an independent verifier.")
+    p = OneLineParser(prog="curvedvoronoi diagram",
+                      description="Voronoi diagram / Delaunay graph of disjoint circles, points and "
+                                  "conics (thesis §1.2), certified by an independent verifier.",
+                      epilog="Exit status: 0 certified (with --no-certify: ran to the end, not verified on "
+                             "request), 1 not certified or failed, 2 bad input, 3 numerical refusal, "
+                             "130 interrupted (partial result written, not certified).")
     p.add_argument("sites", help='JSON file {"sites": [...]} or {"conics": [{"coefficients": [...]}, ...]}')
     p.add_argument("--json", dest="json_out", help="write the diagram (curvedvoronoi.diagram/1) here")
     p.add_argument("--png", help="write a picture here")
+    p.add_argument("--window", type=parse_window, metavar="XMIN,XMAX,YMIN,YMAX",
+                   help="the picture's window (default: fitted to the sites); write --window=-1,1,-1,1 "
+                        "when the first number is negative")
     p.add_argument("--geojson", help="write the edges and vertices as GeoJSON here")
     p.add_argument("--empty-circles", action="store_true", help="draw the vertices' empty circles")
     p.add_argument("--quiet", action="store_true", help="no summary, no progress bar")
     p.add_argument("--time-limit", type=float, default=None, help="stop after S seconds (partial result)")
-    p.add_argument("--no-certify", action="store_true", help="skip the verifier (never certified)")
+    p.add_argument("--no-certify", action="store_true",
+                   help="skip the verifier (never certified; exit 0 when the construction ran to its end)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     return p
 
 
+def _write(path, text, what):
+    try:
+        with open(path, "w") as fh:
+            fh.write(text)
+    except OSError as exc:
+        raise OSError(f"cannot write the {what} {path}: {exc.strerror}") from None
+
+
+def _picture(d, args) -> None:
+    """``--png``: any failure of the drawing becomes OSError (one line), except a missing matplotlib
+    (ImportError, reported by :func:`runtime.cli.main` with the package to install)."""
+    try:
+        d.plot(args.png, empty_circles=args.empty_circles, window=args.window)
+    except (ImportError, OSError, KeyboardInterrupt):
+        raise
+    except Exception as exc:  # noqa: BLE001 - the JSON outputs are written; say what the picture hit
+        raise OSError(f"cannot draw the picture {args.png}: {type(exc).__name__}: {exc}") from None
+
+
+def _exit_status(d, certify: bool, interrupted: bool) -> int:
+    if interrupted:
+        return EXIT_INTERRUPTED
+    if d.certified:
+        return EXIT_CERTIFIED
+    if not certify and not any(p.startswith("time limit of") for p in d.problems):
+        return EXIT_CERTIFIED            # not verified on request, but the construction ran to its end
+    return EXIT_NOT_CERTIFIED
+
+
 def diagram_main(argv=None) -> int:
     args = _parser().parse_args(argv)
-    from .construction import voronoi
-
     try:
         sites = read_sites(args.sites)
+    except ValueError as exc:          # unreadable file, schema, NaN, repeated sites, ...
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    if len(sites) < 2:
+        print(f"error: {args.sites}: the Voronoi diagram needs at least 2 sites, got {len(sites)}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+
+    from .construction import voronoi
+    from .structure import Diagram
+
+    # Ctrl-C: record it, then let the construction stop (it returns its last finished round)
+    state = {"interrupted": False}
+    previous = signal.getsignal(signal.SIGINT)
+
+    def on_sigint(signum, frame):
+        state["interrupted"] = True
+        raise KeyboardInterrupt
+
+    try:
+        signal.signal(signal.SIGINT, on_sigint)
+    except ValueError:                 # not the main thread: keep the default handler
+        previous = None
+    try:
         progress = None if not (args.quiet or args.no_progress) else False
         try:
             d = voronoi(sites, certify=not args.no_certify, progress=progress, time_limit=args.time_limit)
         except KeyboardInterrupt:
-            from .structure import Diagram
-
-            d = Diagram(sites, [], [], False, ["interrupted (Ctrl-C): no diagram computed"], {})
-    except ValueError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    doc = d.to_json()
-    if args.json_out:
-        with open(args.json_out, "w") as fh:
-            json.dump(doc, fh, indent=1)
-    if args.geojson:
-        with open(args.geojson, "w") as fh:
-            json.dump(d.to_geojson(), fh)
-    if args.png:
-        d.plot(args.png, empty_circles=args.empty_circles)
+            state["interrupted"] = True
+            d = Diagram(sites, [], [], False, [f"{INTERRUPTED_NOTE}: no diagram computed"], {})
+        except NumericalRefusal as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return EXIT_NUMERICAL_REFUSAL
+        except InvalidConicError as exc:   # intersecting or repeated sites, a degenerate conic
+            print(f"error: {exc}", file=sys.stderr)
+            return EXIT_BAD_INPUT
+        except (ImportError, MemoryError):
+            raise
+        except Exception as exc:  # noqa: BLE001 - valid input the construction failed on: one line, exit 1
+            msg = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
+            print(f"error: the construction failed on this input ({type(exc).__name__}"
+                  + (f": {msg}" if msg else "") + "); please report it", file=sys.stderr)
+            return EXIT_NOT_CERTIFIED
+        if state["interrupted"] and not any(p.startswith("interrupted") for p in d.problems):
+            d.problems.append(f"{INTERRUPTED_NOTE}: partial diagram")
+        if state["interrupted"]:
+            d.certified = False
+        # the outputs: written even when not certified (and after Ctrl-C, marked)
+        try:
+            doc = d.to_json()
+            if args.json_out:
+                _write(args.json_out, json.dumps(doc, indent=1), "diagram JSON")
+            if args.geojson:
+                _write(args.geojson, json.dumps(d.to_geojson()), "GeoJSON")
+            if args.png:
+                _picture(d, args)
+        except OSError as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return EXIT_NOT_CERTIFIED
+        except KeyboardInterrupt:
+            state["interrupted"] = True
+            print("interrupted while writing the outputs", file=sys.stderr)
+            return EXIT_INTERRUPTED
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGINT, previous)
     if not args.quiet:
         if not args.json_out:
             print(json.dumps(doc, indent=1))
         print(f"{len(d.sites)} sites, {len(d.vertices)} vertices, {len(d.edges)} edges, "
               f"{len(d.delaunay_edges())} Delaunay edges, certified={d.certified}"
               + (f"; {len(d.problems)} problems, first: {d.problems[0]}" if d.problems else ""), file=sys.stderr)
-    return 0
+    return _exit_status(d, not args.no_certify, state["interrupted"])
