@@ -153,19 +153,68 @@ def _version() -> str:
     return __version__
 
 
+def _verify_summary(cert, seconds: float) -> str:
+    st = cert.stats
+    if cert.ok:
+        return f"proved: {st.get('vertices', len(cert.vertices))} vertices, {st.get('edges', len(cert.edges))} edges, {seconds:.2f} s"
+    n = len(cert.problems)
+    first = cert.problems[0] if cert.problems else "the certificate is not complete"
+    return (f"NOT proved: {n} problem{'s' if n != 1 else ''}, first: {first} "
+            f"({sum(cert.vertices)}/{len(cert.vertices)} vertices, {sum(cert.edges)}/{len(cert.edges)} edges proved, "
+            f"{seconds:.2f} s)")
+
+
+#: diagrams with more edges than this get a line on stderr before the (silent) verification
+VERIFY_ANNOUNCE_EDGES = 2000
+
+
 def _verify(args) -> int:
-    """``verify DIAGRAM.json [SITES.json]``: exit 0 proved, 1 not proved, 2 bad input."""
+    """``verify DIAGRAM.json [SITES.json] [-v] [-o OUT.json]``: exit 0 proved, 1 not proved, 2 bad input.
+
+    Prints one summary line; ``-v`` prints the whole certificate (JSON) on stdout and the summary on
+    stderr; ``-o`` writes the certificate there."""
     from .voronoi.verify.certificate import verify_files
 
-    cert = verify_files(args.diagram, args.sites)
-    print(json.dumps(cert.to_json(), indent=2))
-    return 0 if cert.ok else 1
+    t0 = time.perf_counter()
+    if not args.quiet:
+        try:
+            with open(args.diagram) as fh:
+                n_edges = len(json.load(fh).get("edges", []))
+        except (OSError, ValueError, AttributeError, TypeError):
+            n_edges = 0                    # verify_files reports what is wrong with the file
+        if n_edges > VERIFY_ANNOUNCE_EDGES:
+            print(f"verifying {n_edges} edges (no progress bar: the verifier reports at the end)", file=sys.stderr)
+    try:
+        cert = verify_files(args.diagram, args.sites)
+    except (ValueError, KeyboardInterrupt, MemoryError):
+        raise
+    except (IndexError, KeyError, TypeError, AttributeError) as exc:   # a document that parses but is not a diagram
+        raise ValueError(f"{args.diagram}: malformed diagram document ({type(exc).__name__}: {exc})") from None
+    seconds = time.perf_counter() - t0
+    doc = cert.to_json()
+    if args.output:
+        try:
+            with open(args.output, "w") as fh:
+                fh.write(json.dumps(doc, indent=2) + "\n")
+        except OSError as exc:
+            print(f"error: cannot write {args.output}: {exc.strerror}", file=sys.stderr)
+            return EXIT_FAILED
+    summary = _verify_summary(cert, seconds)
+    if args.verbose:
+        print(json.dumps(doc, indent=2))
+        if not args.quiet:
+            print(summary, file=sys.stderr)
+    elif not args.quiet:
+        print(summary)
+    return 0 if cert.ok else EXIT_FAILED
 
 
 def build_parser() -> argparse.ArgumentParser:
     __version__ = _version()
 
-    p = argparse.ArgumentParser(
+    from .voronoi.command import OneLineParser
+
+    p = OneLineParser(
         prog="curvedvoronoi",
         description="Certified Voronoi diagrams and Delaunay-graph conflict locator for conics "
                     "(F. Anton, Voronoi diagrams of semi-algebraic sets, 2003).",
@@ -193,9 +242,14 @@ def build_parser() -> argparse.ArgumentParser:
     s.set_defaults(func=_demo)
     s = sub.add_parser("verify", help="prove a diagram (DIAGRAM.json): exit 0 proved, 1 not proved",
                        description="Independent certificate that DIAGRAM.json (curvedvoronoi.diagram/1) is the "
-                                   "Voronoi diagram of its sites (or of SITES.json); prints the certificate.")
+                                   "Voronoi diagram of its sites (or of SITES.json); prints one summary line "
+                                   "(-v: the whole certificate).  Exit status: 0 proved, 1 not proved, 2 bad input.")
     s.add_argument("diagram", help="diagram JSON written by `diagram --json` or Diagram.to_json()")
     s.add_argument("sites", nargs="?", default=None, help="optional sites file; default: the diagram's sites")
+    s.add_argument("-v", "--verbose", action="store_true",
+                   help="print the whole certificate (JSON) on stdout, the summary on stderr")
+    s.add_argument("-o", "--output", metavar="OUT.json", help="write the certificate (JSON) there")
+    s.add_argument("-q", "--quiet", action="store_true", help="no summary line (the exit status says it)")
     s.set_defaults(func=_verify)
     s = sub.add_parser("offsets", help="table of generalised offsets (thesis Table 4.1, App. B)",
                        description="Sizes of the generalised offsets of each conic family, read from the "

@@ -270,7 +270,7 @@ def test_cli_verify_exit_codes(tmp_path, point_diagram):
     junk.write_text("{not json")
 
     def run(*a):
-        return subprocess.run([sys.executable, "-m", "curvedvoronoi", "verify", *a], cwd=ROOT, env=env,
+        return subprocess.run([sys.executable, "-m", "curvedvoronoi", "verify", "-v", *a], cwd=ROOT, env=env,
                               capture_output=True, text=True, timeout=300)
 
     r = run(str(good))

@@ -31,7 +31,7 @@ import sys
 from ..result import InvalidConicError, NumericalRefusal
 from ..sites.reader import read_sites
 
-__all__ = ["diagram_main", "parse_window", "EXIT_CERTIFIED", "EXIT_NOT_CERTIFIED", "EXIT_BAD_INPUT",
+__all__ = ["diagram_main", "parse_window", "OneLineParser", "EXIT_CERTIFIED", "EXIT_NOT_CERTIFIED", "EXIT_BAD_INPUT",
            "EXIT_NUMERICAL_REFUSAL", "EXIT_INTERRUPTED"]
 
 EXIT_CERTIFIED = 0
