@@ -317,7 +317,7 @@ def test_certified_by_the_verifier_and_json_roundtrip(tmp_path):
     d = voronoi(sites)
     assert d.certified, d.problems
     doc = json.loads(json.dumps(d.to_json()))
-    assert doc["format"] == "curvedvoronoi.diagram/1"
+    assert doc["format"] == "curvedvoronoi.diagram/2"
     assert doc["delaunay_edges"] == [list(p) for p in d.delaunay_edges()]
     d2 = Diagram.from_json(doc)
     assert d2.sites == d.sites           # exact rationals
@@ -352,7 +352,7 @@ def test_cli_diagram(tmp_path):
                         "--geojson", str(gj), "--quiet"], cwd=ROOT, capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr
     doc = json.loads(out.read_text())
-    assert doc["format"] == "curvedvoronoi.diagram/1" and doc["certified"] is True
+    assert doc["format"] == "curvedvoronoi.diagram/2" and doc["certified"] is True
     # three sites nested in site 3: a triangle of mutual edges, site 1 (nearest the rim) touches site 3
     assert {(0, 1), (0, 2), (1, 2), (1, 3)} <= {tuple(p) for p in doc["delaunay_edges"]}
     assert png.stat().st_size > 1000 and json.loads(gj.read_text())["type"] == "FeatureCollection"

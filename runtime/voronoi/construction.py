@@ -53,6 +53,7 @@ import time
 import numpy as np
 
 from .apollonius_vertices import apollonius_vertices
+from .cocircular import consecutive_pairs, contact_order_triples, merge_cocircular
 from .collinear_points import collinear, collinear_points_diagram
 from .conic_geometry import site_geometry
 from .conic_vertices import conic_vertices
@@ -303,37 +304,44 @@ def _build_once(S: SiteArrays, samples: Samples, stats, timing, deadline, cache)
         for t in sites_:
             refine[int(t)] = min(refine.get(int(t), np.inf), cap)
 
-    # final vertices: proved, empty clusters
+    # final vertices: proved, empty clusters; clusters whose circles the exact test found touched
+    # by further sites are merged into one vertex of degree k (runtime.voronoi.cocircular)
     vertices: list[DiagramVertex] = []
     cluster_vid = {}
+    usable = [c for c, cl in enumerate(clusters) if cl["ok"] and empty[c] is True]
+    for members, order in merge_cocircular(S, clusters, usable):
+        head = clusters[members[0]]
+        if order is None:
+            full = sorted(set(head["triple"]) | set(head.get("tangent", ())))
+            problems.append(f"sites {', '.join(map(str, full))}: the vertex at ({head['x']:.6g}, {head['y']:.6g}) "
+                            "touches them at points too close to order")
+            continue
+        vid = len(vertices)
+        for c in members:
+            cluster_vid[c] = vid
+        r = float(head.get("radius") or 0.0) or float((head["rlo"] + head["rhi"]) / 2)
+        vertices.append(DiagramVertex(vid, tuple(order), float(head["x"]), float(head["y"]), r, True))
+    usable_set = set(usable)
     for c, cl in enumerate(clusters):
         tr = cl["triple"]
-        if cl["ok"] and empty[c] is True:
-            if cl.get("tangent"):
-                problems.append(f"sites {tr[0]}, {tr[1]}, {tr[2]}: degenerate vertex at ({cl['x']:.6g}, "
-                                f"{cl['y']:.6g}): site(s) {', '.join(map(str, cl['tangent']))} touch its empty "
-                                "circle exactly (a vertex of degree > 3, reported as several vertices)")
-            vid = len(vertices)
-            cluster_vid[c] = vid
-            r = float(cl.get("radius") or 0.0) or float((cl["rlo"] + cl["rhi"]) / 2)
-            vertices.append(DiagramVertex(vid, tr, float(cl["x"]), float(cl["y"]), r, True))
+        if c in usable_set:
+            continue
+        # a site entering the circle by δ: samples s apart misplace distances near a vertex of
+        # radius r by about s²/(8r), so s = √(2 r δ) separates the two configurations
+        dp = cl.get("intrusion")
+        cap = math.sqrt(2 * max(cl["rlo"], 0.0) * dp) if dp is not None and dp > 0 else np.inf
+        ask(tr, cap)
+        if culprit[c] is not None:
+            ask([culprit[c]], cap)
+        if not cl["ok"]:
+            problems.append(f"sites {tr[0]}, {tr[1]}, {tr[2]}: candidate vertex near "
+                            f"({cl['x']:.6g}, {cl['y']:.6g}) not proved")
+        elif empty[c] is False:
+            problems.append(f"sites {tr[0]}, {tr[1]}, {tr[2]}: candidate vertex at ({cl['x']:.6g}, "
+                            f"{cl['y']:.6g}) is not empty (site {culprit[c]} enters its circle)")
         else:
-            # a site entering the circle by δ: samples s apart misplace distances near a vertex of
-            # radius r by about s²/(8r), so s = √(2 r δ) separates the two configurations
-            dp = cl.get("intrusion")
-            cap = math.sqrt(2 * max(cl["rlo"], 0.0) * dp) if dp is not None and dp > 0 else np.inf
-            ask(tr, cap)
-            if culprit[c] is not None:
-                ask([culprit[c]], cap)
-            if not cl["ok"]:
-                problems.append(f"sites {tr[0]}, {tr[1]}, {tr[2]}: candidate vertex near "
-                                f"({cl['x']:.6g}, {cl['y']:.6g}) not proved")
-            elif empty[c] is False:
-                problems.append(f"sites {tr[0]}, {tr[1]}, {tr[2]}: candidate vertex at ({cl['x']:.6g}, "
-                                f"{cl['y']:.6g}) is not empty (site {culprit[c]} enters its circle)")
-            else:
-                problems.append(f"sites {tr[0]}, {tr[1]}, {tr[2]}: emptiness of the vertex at "
-                                f"({cl['x']:.6g}, {cl['y']:.6g}) undecided (site {culprit[c]})")
+            problems.append(f"sites {tr[0]}, {tr[1]}, {tr[2]}: emptiness of the vertex at "
+                            f"({cl['x']:.6g}, {cl['y']:.6g}) undecided (site {culprit[c]})")
     cvid = np.full(len(clusters) + 1, -1, dtype=np.int64)
     for c, vid in cluster_vid.items():
         cvid[c] = vid
@@ -368,11 +376,18 @@ def _build_once(S: SiteArrays, samples: Samples, stats, timing, deadline, cache)
                 degree[v].append(pair)
         edges_raw.append((pair, start, chain, end, ends))
     for v in vertices:
-        a, b, c = v.sites
-        if sorted(degree[v.id]) != sorted([(a, b), (a, c), (b, c)]):
+        want = sorted(consecutive_pairs(v.sites))
+        if sorted(degree[v.id]) != want:
             ask(v.sites)
-            problems.append(f"sites {a}, {b}, {c}: the vertex at ({v.x:.6g}, {v.y:.6g}) has incident edges "
-                            f"{sorted(degree[v.id])}, expected ({a}, {b}), ({a}, {c}), ({b}, {c})")
+            problems.append(f"sites {', '.join(map(str, v.sites))}: the vertex at ({v.x:.6g}, {v.y:.6g}) has "
+                            f"incident edges {sorted(degree[v.id])}, expected "
+                            f"{', '.join(f'({a}, {b})' for a, b in want)}")
+    # vertices of three sites listed counter-clockwise like those of degree k (one batch)
+    three = [v for v in vertices if len(v.sites) == 3]
+    if three:
+        ordered = contact_order_triples(S, [[v.x, v.y] for v in three], [v.sites for v in three])
+        for v, row in zip(three, ordered.tolist()):
+            v.sites = tuple(row)
     # sites consecutive on the convex hull of the sites have an unbounded edge; a coarse sample of a
     # third site can hide it (its samples stick out between theirs): refine both
     if S.bounded.all():

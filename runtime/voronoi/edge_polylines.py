@@ -251,12 +251,15 @@ def _densify(S: SiteArrays, Q, own, PI, PJ, rel=DENSIFY_REL, passes=6):
 
 def _leaving_directions(S: SiteArrays, vertices, PI, PJ, ENDS):
     """For each vertex end of an edge (i, j), the unit tangent of the bisector at the vertex pointing
-    into the edge: the side where the third site k of the vertex is farther than i and j.  Returns
+    into the edge: the side where another site k of the vertex is farther than i and j.  Returns
     (E, 2, 2) (NaN where an end is not a vertex of a triple holding i and j)."""
     out = np.full((len(PI), 2, 2), np.nan)
     if not len(vertices):
         return out
-    VT = np.array([v.sites for v in vertices], dtype=np.int64).reshape(-1, 3)
+    width = max(len(v.sites) for v in vertices)
+    VT = np.full((len(vertices), width), -1, dtype=np.int64)
+    for t, v in enumerate(vertices):
+        VT[t, :len(v.sites)] = v.sites
     VX = np.array([[v.x, v.y] for v in vertices], dtype=float).reshape(-1, 2)
     e, side = np.nonzero(ENDS >= 0)
     v = ENDS[e, side]
@@ -266,7 +269,10 @@ def _leaving_directions(S: SiteArrays, vertices, PI, PJ, ENDS):
     e, side, v, tr, i, j = e[ok], side[ok], v[ok], tr[ok], i[ok], j[ok]
     if not len(e):
         return out
-    k = tr.sum(axis=1) - i - j
+    # any other site of the vertex: at a vertex of degree k the edge (i, j) of consecutive sites
+    # leaves on the side where every other site of the vertex is farther
+    other = (tr != i[:, None]) & (tr != j[:, None]) & (tr >= 0)
+    k = tr[np.arange(len(tr)), np.argmax(other, axis=1)]
     V = VX[v]
     _, Ui = S.dist_grad(V, i)
     _, Uj = S.dist_grad(V, j)

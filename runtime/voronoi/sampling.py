@@ -160,9 +160,29 @@ def hull_neighbours(S: SiteArrays, sites) -> set:
     except Exception:  # noqa: BLE001 - flat or too few points: no hull pairs to check
         return set()
     L = lab[order]
+    # hull sides joining two sites, and whether a third site (nearly) touches the side's line:
+    # then the sites tie at infinity in that direction (collinear points, sites tangent to one
+    # line) and which of them have unbounded edges is left to the verifier's exact accounting
+    Pn = P[np.roll(order, -1)]
+    Po = P[order]
+    d = Pn - Po
+    nrm = np.column_stack([d[:, 1], -d[:, 0]])
+    ln = np.hypot(nrm[:, 0], nrm[:, 1])
+    side = np.nonzero((L != np.roll(L, -1)) & (ln > 0))[0]
+    tied = set()
+    if len(side):
+        u = nrm[side] / ln[side, None]
+        h = (Po[side] * u).sum(axis=1)
+        sag = (math.pi / HULL_SAMPLES) ** 2 * S.size[idx].max()       # a sample's depth below the hull
+        reach = P @ u.T - h[None, :]                                  # (samples, sides)
+        other = (lab[:, None] != L[side][None, :]) & (lab[:, None] != L[(side + 1) % len(L)][None, :])
+        near = ((reach >= -2 * sag - 1e-9 * (np.abs(P).max() + 1)) & other).any(axis=0)
+        tied = {(min(int(L[t]), int(L[(t + 1) % len(L)])), max(int(L[t]), int(L[(t + 1) % len(L)])))
+                for t in side[near].tolist()}
     L = L[np.concatenate([[True], L[1:] != L[:-1]])]
     if len(L) > 1 and L[0] == L[-1]:
         L = L[:-1]
     if len(L) < 2 or len(set(L.tolist())) != len(L):
         return set()                               # a site twice on the hull: leave it to the verifier
-    return {(min(a, b), max(a, b)) for a, b in zip(L.tolist(), np.roll(L, -1).tolist()) if a != b}
+    pairs = {(min(a, b), max(a, b)) for a, b in zip(L.tolist(), np.roll(L, -1).tolist()) if a != b}
+    return pairs - tied

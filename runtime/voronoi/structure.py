@@ -1,20 +1,29 @@
 """The Voronoi diagram of many sites as data: vertices, curved edges, the Delaunay graph.
 
-Thesis §1.2 (Prop. 1.2.1) and §5.1–5.2: a *Voronoi vertex* of sites (i, j, k) is the centre of a
-circle touching the three sites and empty of all sites; a *Voronoi edge* (i, j) is a connected
+Thesis §1.2 (Prop. 1.2.1) and §5.1–5.2: a *Voronoi vertex* is the centre of a circle touching
+k ≥ 3 sites and empty of all sites (k = 3 in general position; grids, co-circular points and
+symmetric conics give k > 3, decided exactly on the input's rational values); a *Voronoi edge* (i, j) is a connected
 arc of points whose two nearest sites are exactly i and j.  An edge ends at vertices or at
 infinity; an edge around a site nested inside another has no vertex and is a closed curve
-(Prop. 1.2.1).  The Delaunay graph joins i and j when they share an edge.
+(Prop. 1.2.1).  The Delaunay graph joins i and j when they share an edge of positive length: at a vertex of
+degree k only the k pairs consecutive around it share an edge (a square of co-circular points has
+no diagonal in its Delaunay graph).
 
-JSON schema ``curvedvoronoi.diagram/1`` (site indices are 0-based positions in the input list,
+JSON schema ``curvedvoronoi.diagram/2`` (site indices are 0-based positions in the input list,
 distances are Euclidean distances, not squared)::
 
-    {"format": "curvedvoronoi.diagram/1",
+    {"format": "curvedvoronoi.diagram/2",
      "sites": [site_to_json(s), ...],
-     "vertices": [{"id", "sites": [i, j, k], "x", "y", "radius", "certified"}],
+     "vertices": [{"id", "sites": [s_0, ..., s_{k-1}], "x", "y", "radius", "certified"}],
      "edges": [{"id", "sites": [i, j], "ends": [v | null, v | null], "closed",
                 "polyline": [[x, y], ...], "tolerance", "certified"}],
      "delaunay_edges": [[i, j], ...], "certified", "problems": [...], "stats": {...}}
+
+A vertex lists its k ≥ 3 sites counter-clockwise by the angle of their contact points with the
+empty circle, seen from the vertex, starting with the smallest index; its edges are those of the
+consecutive pairs (s_t, s_{t+1 mod k}).  Version 1 (``curvedvoronoi.diagram/1``) listed exactly
+three sorted sites per vertex; :meth:`Diagram.from_json` reads it (a triple's cyclic order is
+immaterial: all three pairs are consecutive).
 
 Public API: :class:`DiagramVertex`, :class:`DiagramEdge`, :class:`Diagram`.
 """
@@ -24,22 +33,36 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["DiagramVertex", "DiagramEdge", "Diagram", "FORMAT"]
+__all__ = ["DiagramVertex", "DiagramEdge", "Diagram", "FORMAT", "READABLE_FORMATS"]
 
-FORMAT = "curvedvoronoi.diagram/1"
+FORMAT = "curvedvoronoi.diagram/2"
+#: formats :meth:`Diagram.from_json` reads
+READABLE_FORMATS = ("curvedvoronoi.diagram/1", FORMAT)
 
 
 @dataclass
 class DiagramVertex:
-    """A Voronoi vertex: equidistant (``radius``) from the three ``sites`` (sorted), no site
-    closer.  ``certified`` is True only when existence and emptiness were proved."""
+    """A Voronoi vertex: equidistant (``radius``) from its k ≥ 3 ``sites``, no site closer.
+    ``sites`` lists them counter-clockwise by their contact points with the empty circle, the
+    smallest index first; the vertex's edges are those of cyclically consecutive pairs.
+    ``certified`` is True only when existence and emptiness were proved."""
 
     id: int
-    sites: tuple[int, int, int]
+    sites: tuple[int, ...]
     x: float
     y: float
     radius: float
     certified: bool = False
+
+    @property
+    def degree(self) -> int:
+        """The number of sites (and of edges) at the vertex: 3 in general position."""
+        return len(self.sites)
+
+    def site_pairs(self) -> list[tuple[int, int]]:
+        """The sorted pairs of cyclically consecutive sites: the pairs of the vertex's edges."""
+        k = len(self.sites)
+        return [tuple(sorted((int(self.sites[t]), int(self.sites[(t + 1) % k])))) for t in range(k)]
 
     def to_json(self) -> dict:
         return {"id": self.id, "sites": list(self.sites), "x": self.x, "y": self.y,
@@ -135,8 +158,9 @@ class Diagram:
         """Read :meth:`to_json` output back (sites exactly).  ValueError on a malformed document."""
         from ..sites.reader import parse_site
 
-        if not isinstance(doc, dict) or doc.get("format") != FORMAT:
-            raise ValueError(f'not a diagram document: expected "format": "{FORMAT}"')
+        if not isinstance(doc, dict) or doc.get("format") not in READABLE_FORMATS:
+            raise ValueError(f'not a diagram document: expected "format": "{FORMAT}" '
+                             f'(or {READABLE_FORMATS[0]})')
         try:
             sites = [parse_site(s, f"site {i}") for i, s in enumerate(doc["sites"])]
             verts = [DiagramVertex(int(v["id"]), tuple(int(t) for t in v["sites"]), float(v["x"]),

@@ -109,7 +109,7 @@ from dataclasses import dataclass, field
 from ..conic_geometry import site_geometry
 from .edge_checks import check_edges
 from .edges import CircleTable
-from .closure import verify_accounting, verify_accounting_conics, verify_closure
+from .closure import verify_accounting, verify_accounting_conics, verify_accounting_points, verify_closure
 from .support import SupportTable
 from .vertices import prove_vertices
 
@@ -208,7 +208,7 @@ def verify(diagram, sites=None) -> Certificate:
     Parameters
     ----------
     diagram : Diagram or dict
-        The diagram or its JSON form (``curvedvoronoi.diagram/1``).
+        The diagram or its JSON form (``curvedvoronoi.diagram/2``; /1 is read too).
     sites : list, optional
         The true sites (Point / Circle / Conic).  When given, the diagram's site list must equal
         it (a site the diagram ignores is a problem).
@@ -262,7 +262,9 @@ def verify(diagram, sites=None) -> Certificate:
     closure_ok = verify_closure(D, n, problems, intervals)
     proved_ends = {t[-1] for t in ends_inf}
     unproved_ends = [e.id for e in D.edges if None in e.ends and e.id not in proved_ends]
-    if circular:
+    if n and all(g.kind == "point" for g in geoms):
+        account_ok = verify_accounting_points(geoms, ends_inf, problems)
+    elif circular:
         account_ok = verify_accounting(n, table, ends_inf, problems, unproved_ends)
     else:
         account_ok = verify_accounting_conics(n, SupportTable(geoms), ends_inf, problems,

@@ -16,6 +16,7 @@ import math
 import numpy as np
 
 from .edges import bisector, params, prove_arcs, prove_tail
+from .point_edges import point_edge_clear
 
 __all__ = ["check_edges"]
 
@@ -97,11 +98,18 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats):
     # Lipschitz discs on the finite parts, all edges at once; then the tails
     arcs = prove_arcs(table, [(bis, job[0], job[1], job[2]) for _, _, _, _, bis, job in jobs]) if jobs else []
     for (pos, e, name, pair, bis, (lo, hi, exempt, tails, full_lo, full_hi, _)), (ok, det) in zip(jobs, arcs):
-        if ok:
-            for U, sigma in tails:
-                ok, det = prove_tail(table, bis, U, sigma, exempt)
-                if not ok:
-                    break
+        while True:
+            if ok:
+                for U, sigma in tails:
+                    ok, det = prove_tail(table, bis, U, sigma, exempt)
+                    if not ok:
+                        break
+            if ok or not _exact_point_clear(geoms, vinfo, e, pair, tails, det):
+                break
+            # a third point the float bounds could not decide is proved farther exactly: search again
+            # without it (collinear points tie at infinity; a point may touch an end vertex)
+            exempt = set(exempt) | {det[0]}
+            ok, det = prove_arcs(table, [(bis, lo, hi, exempt)])[0]
         if not ok:
             k, q, why = det
             where = "" if q is None else f" near ({q[0]:.9g}, {q[1]:.9g})"
@@ -119,6 +127,29 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats):
         intervals.setdefault(pair, []).append((bis.kind, full_lo, full_hi, e.id))
     stats["unbounded_ends"] = len(ends_inf)
     return eok, ends_inf, intervals
+
+
+def _exact_point_clear(geoms, vinfo, e, pair, tails, det) -> bool:
+    """Is the site a failed search left undecided a point strictly farther than the edge's two
+    point sites on the whole open edge, decided exactly (:mod:`runtime.voronoi.verify.point_edges`)?"""
+    if det is None or det[0] is None or det[2] != "undecided":
+        return False
+    k = int(det[0])
+    if any(geoms[s].kind != "point" for s in (*pair, k)):
+        return False
+    ends = []
+    tail_sigmas = [sg for _, sg in tails]
+    for vid in e.ends:
+        if vid is None:
+            if not tail_sigmas:
+                return False
+            ends.append(("inf", tail_sigmas.pop(0)))
+        else:
+            w = vinfo[vid]
+            if any(geoms[s].kind != "point" for s in w.sites):
+                return False
+            ends.append(tuple(w.sites))
+    return point_edge_clear(geoms, pair[0], pair[1], k, ends[0], ends[1])
 
 
 def _curved_scale(geoms) -> float:
@@ -376,26 +407,67 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
     for w, w2 in ((v0, v1), (v1, v0)):
         if w is None:
             continue
-        k = next(s for s in w.sites if s not in pair)
-        if k in exempt:
-            continue
-        if w.others is None:
-            continue          # conic triple: k stays in the search (undecided near the vertex)
-        exempt.add(k)
-        same = w2 is not None and set(w2.sites) == set(w.sites)
-        uo = pre.get("ov0" if w is v0 else "ov1", [])
-        for z, uz in zip(w.others, uo):
-            if same and math.hypot(z[0] - w2.x, z[1] - w2.y) <= w2.tol + 4 * w2.h:
-                continue      # the other solution of the triple is the edge's other end
-            uz = float(uz)
-            if bis.kind == "ellipse":
-                inside = ((uz - lo) % two_pi) < (hi - lo) + 1e-9
+        for k in [s for s in w.sites if s not in pair]:
+            if k in exempt:
+                continue
+            if len(w.sites) == 3:
+                if w.others is None:
+                    continue      # conic triple: k stays in the search (undecided near the vertex)
+                others = w.others
+                uo = pre.get("ov0" if w is v0 else "ov1", [])
             else:
-                inside = full_lo - 1e-9 * (1 + abs(uz)) <= uz <= full_hi + 1e-9 * (1 + abs(uz))
-            if inside:
-                problems.append(f"{name}: the vertex ({z[0]:.9g}, {z[1]:.9g}) of sites "
-                                f"{', '.join(map(str, sorted((i, j, k))))} lies on the edge's arc: "
-                                f"site {k} cuts the edge")
+                others = triple_others(w, i, j, k)
+                if others is None:
+                    problems.append(f"{name}: the vertices of sites {', '.join(map(str, sorted((i, j, k))))} "
+                                    "are not known exactly")
+                    return None
+                uo = bis.param(np.asarray(others, float).reshape(-1, 2)) if others else []
+            exempt.add(k)
+            same = w2 is not None and k in w2.sites
+            bad = _cuts(name, bis, others, uo, w2 if same else None, lo, hi, full_lo, full_hi, (i, j, k), problems)
+            if bad:
                 return None
-        signs.append(k)       # one sign on the open arc: decided at interior points (batched)
+            signs.append(k)       # one sign on the open arc: decided at interior points (batched)
     return lo, hi, exempt, tails, full_lo, full_hi, signs
+
+
+def triple_others(w, i, j, k):
+    """The Voronoi vertices of the circle/point triple (i, j, k) other than the degree-k vertex w
+    (whose exact vertex is ``w.exact``), exactly (thesis §3.1.3); None when the triple's vertices
+    cannot be told apart from w."""
+    from ...predicates.circles import decide_conflict, voronoi_vertices_circles
+    from ...result import LocatorError
+
+    geoms = w.geoms
+    try:
+        tv = voronoi_vertices_circles(geoms[i].exact, geoms[j].exact, geoms[k].exact)
+    except LocatorError:
+        return None
+    out = []
+    found = 0
+    for z in tv.vertices:
+        if math.hypot(z.x - w.x, z.y - w.y) <= 4 * (w.tol + w.h):
+            found += 1
+        else:
+            out.append((z.x, z.y))
+    return out if found == 1 else None
+
+
+def _cuts(name, bis, others, uo, w2, lo, hi, full_lo, full_hi, triple, problems) -> bool:
+    """Does a zero of d_k − d_i on the bisector (another vertex of the triple) lie on the edge's
+    arc?  Zeros at the other end vertex ``w2`` (which holds k too) do not count."""
+    two_pi = 2 * math.pi
+    for z, uz in zip(others, uo):
+        if w2 is not None and math.hypot(z[0] - w2.x, z[1] - w2.y) <= w2.tol + 4 * w2.h:
+            continue      # the other solution of the triple is the edge's other end
+        uz = float(uz)
+        if bis.kind == "ellipse":
+            inside = ((uz - lo) % two_pi) < (hi - lo) + 1e-9
+        else:
+            inside = full_lo - 1e-9 * (1 + abs(uz)) <= uz <= full_hi + 1e-9 * (1 + abs(uz))
+        if inside:
+            problems.append(f"{name}: the vertex ({z[0]:.9g}, {z[1]:.9g}) of sites "
+                            f"{', '.join(map(str, sorted(triple)))} lies on the edge's arc: "
+                            f"site {triple[2]} cuts the edge")
+            return True
+    return False

@@ -290,9 +290,9 @@ def prove_arcs(table: CircleTable, jobs, init: int = 8):
     E0 = np.array([b.err0 for b, *_ in jobs])
     I = np.array([b.i for b, *_ in jobs])
     J = np.array([b.j for b, *_ in jobs])
-    X = np.full((nj, 2), -1, int)
+    X = np.full((nj, max([2] + [len(j[3]) for j in jobs])), -1, int)
     for t, (_, _, _, ex) in enumerate(jobs):
-        ex = sorted(ex)[:2]
+        ex = sorted(ex)
         X[t, :len(ex)] = ex
     # initial pieces
     f = np.linspace(0.0, 1.0, init + 1)
@@ -332,7 +332,7 @@ def prove_arcs(table: CircleTable, jobs, init: int = 8):
         if pp is None:
             rows, ks = table.near(Q, hi + 2 * R)
             jr = job[rows]
-            keep = (ks != I[jr]) & (ks != J[jr]) & (ks != X[jr, 0]) & (ks != X[jr, 1])
+            keep = (ks != I[jr]) & (ks != J[jr]) & ~(X[jr] == ks[:, None]).any(axis=1)
             pp, kk = rows[keep], ks[keep]
         rows, ks = pp, kk
         if not len(rows):

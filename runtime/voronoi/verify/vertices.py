@@ -168,18 +168,18 @@ def prove_vertices(D, sites, geoms, table, problems):
             problems.append(f"{name}: duplicate vertex id {v.id}")
             continue
         seen_ids.add(v.id)
-        if len(trip) != 3 or len(set(trip)) != 3 or not all(0 <= s < n for s in trip):
-            problems.append(f"{name}: invalid site triple")
+        if len(trip) < 3 or len(set(trip)) != len(trip) or not all(0 <= s < n for s in trip):
+            problems.append(f"{name}: invalid site list (need k >= 3 distinct sites)")
             continue
         if not all(math.isfinite(t) for t in (v.x, v.y, v.radius)):
             problems.append(f"{name}: non-finite position or radius")
             continue
         todo.append(m)
-        if table is not None and _pairwise_exterior(table, trip):
+        if len(trip) == 3 and table is not None and _pairwise_exterior(table, trip):
             fast_items.append((m, trip, float(v.x), float(v.y), float(v.radius)))
     fast = _fast_circle_vertices(fast_items, table) if table is not None else {}
     # triples with a conic: float Krawczyk on the distance differences first, all at once
-    conic = [m for m in todo if m not in fast
+    conic = [m for m in todo if m not in fast and len(verts[m].sites) == 3
              and not all(geoms[int(s)].kind in ("point", "circle") for s in verts[m].sites)]
     quick = {}
     if conic:
@@ -199,6 +199,10 @@ def prove_vertices(D, sites, geoms, table, problems):
             x, y, r, h, others = fast[m]
             info = VertexInfo(v.id, trip, x, y, r, h, others, key=(tuple(sorted(trip)), round(x / (1e-9 * (1 + abs(x)))),
                                                                     round(y / (1e-9 * (1 + abs(y))))))
+        elif len(trip) > 3:
+            info = _cocircular_vertex(v, trip, geoms, problems)
+            if info is None:
+                continue
         elif all(g.kind in ("point", "circle") for g in g3):
             try:
                 tv = voronoi_vertices_circles(*[g.exact for g in g3])
@@ -249,6 +253,82 @@ def prove_vertices(D, sites, geoms, table, problems):
     return infos, flags
 
 
+def _cocircular_vertex(v, sites, geoms, problems):
+    """A reported vertex of k > 3 circle/point sites, proved exactly (thesis §3.1.3): the vertex of
+    three of its sites in the quadratic tower of :func:`runtime.predicates.circles.
+    voronoi_vertices_circles`, every other listed site exactly tangent to its circle
+    (:func:`runtime.predicates.circles.decide_conflict`: the sign of |q − c|² − (r + ρ)² is 0),
+    and the listed order counter-clockwise by contact points.  The order matters: the vertex's
+    edges are those of consecutive sites (:mod:`runtime.voronoi.cocircular`), which the closure
+    step requires.  Returns a :class:`VertexInfo` whose ``exact`` holds the tower vertex, or None
+    (problem recorded)."""
+    from ...predicates.circles import decide_conflict, voronoi_vertices_circles
+    from ...result import LocatorError
+
+    name = vname(v)
+    if not all(geoms[s].kind in ("point", "circle") for s in sites):
+        problems.append(f"{name}: a vertex of degree {len(sites)} with a conic site is not proved")
+        return None
+    k = len(sites)
+    tv = best = None
+    for t in range(k):
+        base = [sites[(t + u) % k] for u in range(3)]
+        try:
+            tv = voronoi_vertices_circles(*[geoms[s].exact for s in base])
+        except LocatorError:
+            continue
+        if tv.vertices:
+            break
+    if tv is None or not tv.vertices:
+        problems.append(f"{name}: no three of its sites have a Voronoi vertex")
+        return None
+    best = min(tv.vertices, key=lambda w: math.hypot(w.x - v.x, w.y - v.y))
+    h = 2e-16 * (abs(best.x) + abs(best.y) + best.radius) + 1e-300
+    tol = VERTEX_TOL * (1 + abs(best.x) + abs(best.y) + abs(best.radius))
+    for w in tv.vertices:
+        if w is not best and math.hypot(w.x - best.x, w.y - best.y) <= 2 * (tol + 2 * h):
+            problems.append(f"{name}: two vertices of sites {', '.join(map(str, base))} are too close to tell apart")
+            return None
+    for s in sites:
+        if s in base:
+            continue
+        dec = decide_conflict(tv, best, geoms[s].exact)
+        if not dec.tangent:
+            problems.append(f"{name}: site {s} does not touch the circle of sites {', '.join(map(str, base))} "
+                            f"({'it enters it' if dec.in_conflict else 'it stays outside'})")
+            return None
+    # counter-clockwise order of the contact points: direction ±(c − q) (− inside a circle)
+    ang = []
+    for s in sites:
+        g = geoms[s]
+        cx, cy = (g.cx, g.cy) if g.kind == "circle" else (g.x0, g.y0)
+        dx, dy = cx - best.x, cy - best.y
+        dist = math.hypot(dx, dy)
+        if g.kind == "circle" and dist < g.rho:          # the vertex inside site s: contact away from c
+            dx, dy = -dx, -dy
+        err = 16 * EPS * (abs(best.x) + abs(best.y) + abs(cx) + abs(cy) + best.radius) + 2 * h
+        if not dist > 1e3 * err:
+            problems.append(f"{name}: the contact point of site {s} cannot be placed")
+            return None
+        ang.append((math.atan2(dy, dx), err / dist))
+    a = [t for t, _ in ang]
+    rank = sorted(range(k), key=lambda t: a[t])
+    start = rank.index(0)
+    if [rank[(start + t) % k] for t in range(k)] != list(range(k)):
+        problems.append(f"{name}: its sites are not listed counter-clockwise around it")
+        return None
+    for t in range(k):
+        p, q = rank[t], rank[(t + 1) % k]
+        gap = (a[q] - a[p]) % (2 * math.pi)
+        if not gap > 4 * (ang[p][1] + ang[q][1]):
+            problems.append(f"{name}: the contact points of sites {sites[p]} and {sites[q]} are too close to order")
+            return None
+    info = VertexInfo(v.id, tuple(sites), best.x, best.y, best.radius, h, None, key=(tuple(sorted(sites)), id(best)))
+    info.exact = (tv, best)
+    info.geoms = geoms          # for the exact vertices of its triples (edge proofs)
+    return info
+
+
 def _pairwise_exterior(table, trip) -> bool:
     for a in range(3):
         for b in range(a + 1, 3):
@@ -271,7 +351,10 @@ def _emptiness_batch(verts, flags, infos, geoms, table, problems):
     Rlo = np.array([inf.r - inf.h - 4 * EPS * abs(inf.r) for inf in info_l])
     if table is not None:
         rows, ks = table.near(X, Rhi + H + 1e-9 * table.scale)
-        trips = np.array([inf.sites for inf in info_l], int)
+        width = max(len(inf.sites) for inf in info_l)
+        trips = np.full((len(info_l), width), -1, int)
+        for t, inf in enumerate(info_l):
+            trips[t, :len(inf.sites)] = inf.sites
         keep = ~(trips[rows] == ks[:, None]).any(-1)
         rows, ks = rows[keep], ks[keep]
         lo, hi = table.bounds(X[rows], ks)
