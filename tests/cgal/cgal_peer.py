@@ -46,6 +46,30 @@ def delaunay_edges(circles) -> tuple[list[tuple[int, int]], float, int]:
     return edges, seconds, hidden
 
 
+def delaunay_edges_nondegenerate(circles):
+    """CGAL's Apollonius graph of (x, y, r) float circles without its degenerate edges (the binary's
+    ``--degenerate`` mode: CGAL's exact Is_degenerate_edge_2 on the two triangles of each edge).
+
+    Returns (sorted pairs sharing a Voronoi edge of positive length, build seconds, hidden count,
+    triangulation edges as (i, j, degenerate, length) with the double-precision length of the dual
+    Voronoi edge, inf for an unbounded one).  Apollonius_graph_2 is a triangulation: on co-circular
+    input it also lists pairs whose Voronoi edge has length zero; those are left out of the pairs."""
+    binary = build()
+    lines = [str(len(circles))] + [f"{x!r} {y!r} {r!r}" for x, y, r in circles]
+    res = subprocess.run([str(binary), "--degenerate"], input="\n".join(lines) + "\n", capture_output=True,
+                         text=True, check=True)
+    out = res.stdout.split("\n")
+    hidden = int(out[0].split()[1])
+    seconds = float(out[1].split()[1])
+    raw = []
+    for ln in out[2:]:
+        if ln.strip():
+            i, j, dg, length = ln.split()
+            raw.append((int(i), int(j), dg == "1", float(length)))
+    edges = sorted({(i, j) for i, j, dg, _ in raw if not dg})
+    return edges, seconds, hidden, raw
+
+
 def random_disjoint_circles(n: int, seed: int, *, rmin=0.5, rmax=3.0, gap=1e-3):
     """n random pairwise disjoint (not nested) circles in a square of side 10·√n (floats), by
     rejection with a uniform grid of cell 2·rmax + gap."""
