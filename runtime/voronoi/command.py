@@ -102,8 +102,10 @@ def _picture(d, args) -> None:
     (ImportError, reported by :func:`runtime.cli.main` with the package to install)."""
     try:
         d.plot(args.png, empty_circles=args.empty_circles, window=args.window)
-    except (ImportError, OSError, KeyboardInterrupt):
+    except (ImportError, KeyboardInterrupt):
         raise
+    except OSError as exc:
+        raise OSError(f"cannot write the picture {args.png}: {exc.strerror or exc}") from None
     except Exception as exc:  # noqa: BLE001 - the JSON outputs are written; say what the picture hit
         raise OSError(f"cannot draw the picture {args.png}: {type(exc).__name__}: {exc}") from None
 
