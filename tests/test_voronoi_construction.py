@@ -268,7 +268,7 @@ def test_permutation_relabels_the_same_diagram():
     back = {new: int(old) for new, old in enumerate(perm)}
     relabel = sorted(tuple(sorted((back[i], back[j]))) for i, j in d2.delaunay_edges())
     assert relabel == d1.delaunay_edges()
-    v1 = sorted((v.sites, round(v.x, 9), round(v.y, 9)) for v in d1.vertices)
+    v1 = sorted((tuple(sorted(v.sites)), round(v.x, 9), round(v.y, 9)) for v in d1.vertices)
     v2 = sorted((tuple(sorted(back[t] for t in v.sites)), round(v.x, 9), round(v.y, 9)) for v in d2.vertices)
     assert v1 == v2
 
@@ -365,15 +365,19 @@ def test_cli_diagram(tmp_path):
     assert len(r.stderr.strip().splitlines()) == 1
 
 
-def test_cocircular_points_degenerate_vertex_reported_not_certified():
-    """Four points on one empty circle (a square): the vertex (1/2, 1/2) has degree 4.  It is proved
-    a true vertex (the exact §3.1.3 test finds the fourth site tangent, not inside), reported as two
-    triples at one point, and the diagram is never certified."""
+def test_cocircular_points_give_one_certified_vertex_of_degree_four():
+    """Four points on one empty circle (a square): the vertex (1/2, 1/2) has degree 4 (the exact
+    §3.1.3 test finds the fourth site tangent, not inside).  It is one vertex listing the four
+    corners counter-clockwise, with four edges; the diagonals are not Delaunay edges."""
     d = voronoi([(0, 0, 0), (1, 0, 0), (0, 1, 0), (1, 1, 0)])
-    assert not d.certified
-    assert any("degenerate vertex at (0.5, 0.5)" in p for p in d.problems)
-    assert {(0, 1), (0, 2), (1, 3), (2, 3)} <= set(d.delaunay_edges())
-    assert all((v.x, v.y, v.radius) == pytest.approx((0.5, 0.5, math.sqrt(0.5)), abs=1e-12) for v in d.vertices)
+    assert d.certified, d.problems
+    assert len(d.vertices) == 1
+    v = d.vertices[0]
+    assert (v.x, v.y, v.radius) == pytest.approx((0.5, 0.5, math.sqrt(0.5)), abs=1e-12)
+    # counter-clockwise from (0, 0): (1, 0), (1, 1), (0, 1) -> sites 0, 1, 3, 2
+    assert v.sites == (0, 1, 3, 2) and v.degree == 4
+    assert d.delaunay_edges() == [(0, 1), (0, 2), (1, 3), (2, 3)]
+    assert len(d.edges) == 4 and all(e.ends.count(0) == 1 and None in e.ends for e in d.edges)
 
 
 def test_two_and_collinear_points():

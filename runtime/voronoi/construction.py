@@ -58,6 +58,8 @@ from .collinear_points import collinear, collinear_points_diagram
 from .conic_geometry import site_geometry
 from .conic_vertices import conic_vertices
 from .edge_polylines import edge_polylines
+from .frame import local_frame
+from .near_degenerate import near_degenerate_clusters
 from .sampling import Samples, hull_neighbours, initial_spacing
 from .site_arrays import SiteArrays
 from .site_input import SiteError, as_site, check_disjoint, sites_equal
@@ -139,6 +141,9 @@ def voronoi(sites, *, certify: bool = True, progress=None, time_limit: float | N
         raise ValueError(f"the Voronoi diagram needs at least 2 sites, got {len(sites)}")
     geoms = [site_geometry(s) for s in sites]
     check_disjoint(sites, geoms)
+    frame, local = local_frame(sites, geoms)     # far sites: built at the origin (runtime.voronoi.frame)
+    if frame is not None:
+        return frame.to_global(voronoi(local, certify=certify, progress=progress, time_limit=time_limit), sites)
     notes: list[str] = []
     S = SiteArrays(sites, geoms)
     stats: dict = {"sites": len(sites), "rounds": 0, "samples": 0}
@@ -294,6 +299,17 @@ def _build_once(S: SiteArrays, samples: Samples, stats, timing, deadline, cache)
     else:
         cid, clusters = conic_vertices(S, T3, seeds, stats, cache)
     empty, culprit = prove_empty(S, clusters, stats)
+    # candidates that a site misses or enters by a relative 1e-7 or less: the local diagram of the
+    # sites that close is decided exactly (runtime.voronoi.near_degenerate), not by finer samples
+    groups: dict = {}
+    n_old = len(clusters)
+    if S.all_circles:
+        local, groups = near_degenerate_clusters(S, clusters, empty, stats)
+        if local:
+            e2, c2 = prove_empty(S, local, stats)
+            clusters = clusters + local
+            empty, culprit = list(empty) + list(e2), list(culprit) + list(c2)
+    replaced = {c: g for g, cs in groups.items() for c in cs}
     timing["vertices"] = timing.get("vertices", 0) + time.perf_counter() - t2
     timed_out = deadline is not None and time.perf_counter() > deadline
     t3 = time.perf_counter()
@@ -322,9 +338,32 @@ def _build_once(S: SiteArrays, samples: Samples, stats, timing, deadline, cache)
         r = float(head.get("radius") or 0.0) or float((head["rlo"] + head["rhi"]) / 2)
         vertices.append(DiagramVertex(vid, tuple(order), float(head["x"]), float(head["y"]), r, True))
     usable_set = set(usable)
+    # the local diagram of each near-degenerate group: edges between its vertices (pairs consecutive
+    # at two of them) and the pairs whose edge leaves the group (consecutive at one)
+    group_out: dict = {}
+    local_edges = []
+    vgroup: dict = {}        # vertex id -> its near-degenerate group
+    for g in groups:
+        count: dict = {}
+        for c in range(n_old, len(clusters)):
+            if clusters[c].get("group") == g and c in cluster_vid:
+                vid = cluster_vid[c]
+                vgroup[vid] = g
+                for pr in consecutive_pairs(vertices[vid].sites):
+                    count.setdefault(pr, set()).add(vid)
+        out = group_out.setdefault(g, {})
+        for pr, vids in count.items():
+            vids = sorted(vids)
+            if len(vids) == 1:
+                out[pr] = vids[0]
+            elif len(vids) == 2:
+                local_edges.append((pr, vids))
+            else:
+                problems.append(f"sites {pr[0]}, {pr[1]}: their bisector meets {len(vids)} vertices of one "
+                                "near-degenerate cluster")
     for c, cl in enumerate(clusters):
         tr = cl["triple"]
-        if c in usable_set:
+        if c in usable_set or c in replaced:
             continue
         # a site entering the circle by δ: samples s apart misplace distances near a vertex of
         # radius r by about s²/(8r), so s = √(2 r δ) separates the two configurations
@@ -345,6 +384,8 @@ def _build_once(S: SiteArrays, samples: Samples, stats, timing, deadline, cache)
     cvid = np.full(len(clusters) + 1, -1, dtype=np.int64)
     for c, vid in cluster_vid.items():
         cvid[c] = vid
+    for c, g in replaced.items():
+        cvid[c] = -2 - g         # a triangle of a near-degenerate group: its vertex depends on the pair
     ttv = np.full(len(tri.nlab), -1, dtype=np.int64)
     ttv[threes] = cvid[np.asarray(cid, dtype=np.int64)]
     tri_to_vertex = ttv.tolist()
@@ -358,14 +399,20 @@ def _build_once(S: SiteArrays, samples: Samples, stats, timing, deadline, cache)
             continue
         ends = []
         okv = True
+        codes = []
         for e in (start, end):
             if e is None or e[0] == "hull":
                 ends.append(None)
             else:
                 v = tri_to_vertex[e[1]]
+                codes.append(-2 - vgroup[v] if v in vgroup else v)
+                if v <= -2:
+                    v = group_out.get(-2 - v, {}).get(tuple(pair), -1)
                 if v < 0:
                     okv = False
                 ends.append(v)
+        if len(codes) == 2 and codes[0] == codes[1] and codes[0] <= -2:
+            continue   # inside one near-degenerate group: its local edges are added below
         if not okv:
             ask(pair)
             continue
@@ -375,6 +422,10 @@ def _build_once(S: SiteArrays, samples: Samples, stats, timing, deadline, cache)
             if v is not None:
                 degree[v].append(pair)
         edges_raw.append((pair, start, chain, end, ends))
+    for pr, (va, vb) in local_edges:
+        degree[va].append(pr)
+        degree[vb].append(pr)
+        edges_raw.append((pr, ("local", -1), [], ("local", -1), [va, vb]))
     for v in vertices:
         want = sorted(consecutive_pairs(v.sites))
         if sorted(degree[v.id]) != want:

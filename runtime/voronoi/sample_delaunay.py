@@ -35,6 +35,8 @@ __all__ = ["SampleTriangulation", "circumcentres", "delaunay"]
 #: qhull options: joggled input (every sample a corner, no facet merging) with the paraboloid
 #: coordinate scaled to the box of the others
 QHULL_OPTIONS = "QJ Qbb"
+#: below this many samples qhull runs unjoggled first (exact degeneracies of the input kept)
+JOGGLE_ABOVE = 20000
 
 
 def delaunay(P):
@@ -44,8 +46,18 @@ def delaunay(P):
     on fewer than three points."""
     P = np.asarray(P, float)
     c = (P.min(axis=0) + P.max(axis=0)) / 2 if len(P) else np.zeros(2)
+    # exact grids and collinear points (point sites are single samples) must keep qhull's merged,
+    # unjoggled triangulation: joggling splits their flat hull sides into slivers whose
+    # circumcentres are at infinity.  Joggle only when qhull drops samples as coplanar, or for
+    # many samples (dense co-circular samples make facet merging quadratic).
     # joggling needs four points for its initial simplex; three are triangulated as they are
-    return Delaunay(P - c, qhull_options=QHULL_OPTIONS if len(P) > 3 else None), c
+    if len(P) <= 3:
+        return Delaunay(P - c), c
+    if len(P) < JOGGLE_ABOVE:
+        tri = Delaunay(P - c, qhull_options="Qbb Qc Qz Q12")
+        if not len(tri.coplanar):
+            return tri, c
+    return Delaunay(P - c, qhull_options=QHULL_OPTIONS), c
 
 
 class SampleTriangulation:

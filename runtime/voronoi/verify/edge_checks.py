@@ -16,9 +16,14 @@ import math
 import numpy as np
 
 from .edges import bisector, params, prove_arcs, prove_tail
-from .point_edges import point_edge_clear
+from .point_edges import circle_edge_clear, point_edge_clear
+from .vertices import exact_tower_vertex
 
-__all__ = ["check_edges"]
+__all__ = ["check_edges", "SHALLOW"]
+
+#: halvings of the first search over all edges; a site still undecided goes to the exact route
+#: (circles, points), and only then to the full-depth search (runtime.voronoi.verify.edges.MAX_DEPTH)
+SHALLOW = 24
 
 
 def _ename(e) -> str:
@@ -96,19 +101,27 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats):
     # the end vertices' third sites: one sign on the open arc, decided at interior points
     jobs = _sign_checks(jobs, table, eok, problems)
     # Lipschitz discs on the finite parts, all edges at once; then the tails
-    arcs = prove_arcs(table, [(bis, job[0], job[1], job[2]) for _, _, _, _, bis, job in jobs]) if jobs else []
+    arcs = prove_arcs(table, [(bis, job[0], job[1], job[2]) for _, _, _, _, bis, job in jobs],
+                      max_depth=SHALLOW, max_pieces=4096 + 64 * len(jobs)) if jobs else []
     for (pos, e, name, pair, bis, (lo, hi, exempt, tails, full_lo, full_hi, _)), (ok, det) in zip(jobs, arcs):
+        deep = False
         while True:
             if ok:
                 for U, sigma in tails:
                     ok, det = prove_tail(table, bis, U, sigma, exempt)
                     if not ok:
                         break
-            if ok or not _exact_point_clear(geoms, vinfo, e, pair, tails, det):
+            if ok:
                 break
-            # a third point the float bounds could not decide is proved farther exactly: search again
-            # without it (collinear points tie at infinity; a point may touch an end vertex)
-            exempt = set(exempt) | {det[0]}
+            if _exact_point_clear(geoms, vinfo, e, pair, tails, det):
+                # a third site the float bounds could not decide is proved farther exactly: search
+                # again without it (collinear points tie at infinity, nearly co-circular sites)
+                exempt = set(exempt) | {det[0]}
+                ok, det = prove_arcs(table, [(bis, lo, hi, exempt)], max_depth=SHALLOW, max_pieces=256)[0]
+                continue
+            if deep or det is None or det[2] != "undecided":
+                break
+            deep = True           # the full-depth search, once
             ok, det = prove_arcs(table, [(bis, lo, hi, exempt)])[0]
         if not ok:
             k, q, why = det
@@ -130,13 +143,28 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats):
 
 
 def _exact_point_clear(geoms, vinfo, e, pair, tails, det) -> bool:
-    """Is the site a failed search left undecided a point strictly farther than the edge's two
-    point sites on the whole open edge, decided exactly (:mod:`runtime.voronoi.verify.point_edges`)?"""
+    """Is the site a failed search left undecided (a point or circle) strictly farther than the
+    edge's two sites on the whole open edge, decided exactly (:mod:`runtime.voronoi.verify.point_edges`)?"""
     if det is None or det[0] is None or det[2] != "undecided":
         return False
     k = int(det[0])
-    if any(geoms[s].kind != "point" for s in (*pair, k)):
+    if any(geoms[s].kind not in ("point", "circle") for s in (*pair, k)):
         return False
+    if any(geoms[s].kind != "point" for s in (*pair, k)):
+        # circles: exact zeros on a hyperbola branch between two exact end vertices
+        ends = []
+        tail_sigmas = [sg for _, sg in tails]
+        for vid in e.ends:
+            if vid is None:
+                if len(tail_sigmas) != 1:
+                    return False
+                ends.append(("inf", tail_sigmas[0]))
+                continue
+            ex = exact_tower_vertex(vinfo[vid], geoms)
+            if ex is None:
+                return False
+            ends.append((tuple(vinfo[vid].sites), ex[1]))
+        return circle_edge_clear(geoms, pair[0], pair[1], k, ends[0], ends[1])
     ends = []
     tail_sigmas = [sg for _, sg in tails]
     for vid in e.ends:
@@ -150,6 +178,21 @@ def _exact_point_clear(geoms, vinfo, e, pair, tails, det) -> bool:
                 return False
             ends.append(tuple(w.sites))
     return point_edge_clear(geoms, pair[0], pair[1], k, ends[0], ends[1])
+
+
+def _apart(a, b) -> bool:
+    """Distinct points: some coordinate's ball enclosures are disjoint (thesis §3.1.3 towers)."""
+    from flint import ctx
+
+    prec = 128
+    while prec <= 4096:
+        with ctx.workprec(prec):
+            da = [a.sol.tower.to_arb(v, prec) / a.sol.tower.to_arb(a.sol.D, prec) for v in (a.sol.X, a.sol.Y)]
+            db = [b.sol.tower.to_arb(v, prec) / b.sol.tower.to_arb(b.sol.D, prec) for v in (b.sol.X, b.sol.Y)]
+        if any(not (p - q).contains(0) for p, q in zip(da, db)):
+            return True
+        prec *= 4
+    return False
 
 
 def _curved_scale(geoms) -> float:
@@ -371,8 +414,12 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
             else:
                 lo, hi = u1, u1 + (two_pi - L)
         if not hi - lo > 1e-12:
-            problems.append(f"{name}: its end vertices coincide on the bisector")
-            return None
+            ex0 = exact_tower_vertex(v0, v0.geoms) if hasattr(v0, "geoms") else None
+            ex1 = exact_tower_vertex(v1, v1.geoms) if hasattr(v1, "geoms") else None
+            if bis.kind != "hyperbola" or ex0 is None or ex1 is None or not _apart(ex0[1], ex1[1]):
+                problems.append(f"{name}: its end vertices coincide on the bisector")
+                return None
+            hi = max(hi, lo)      # a very short edge: the exact search decides its third sites
     # --- polyline points: within tolerance of the bisector and on the edge's arc
     inner = P[1:-1] if not e.closed else P
     if len(inner):
@@ -427,7 +474,10 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
             bad = _cuts(name, bis, others, uo, w2 if same else None, lo, hi, full_lo, full_hi, (i, j, k), problems)
             if bad:
                 return None
-            signs.append(k)       # one sign on the open arc: decided at interior points (batched)
+            if w2 is None or same:
+                signs.append(k)   # one sign on the open arc: decided at interior points (batched)
+            # else: d_k − d_i has no zero on the arc and is > 0 at the other end w2, whose
+            # emptiness (k strictly outside) is proved: it is positive on the whole open arc
     return lo, hi, exempt, tails, full_lo, full_hi, signs
 
 

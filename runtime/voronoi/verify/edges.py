@@ -232,6 +232,13 @@ def prove_tail(table: CircleTable, bis: Bisector, U: float, sigma: int, exempt=(
                 r0 = int(np.nonzero(neg)[0][0])
                 return False, (int(ks[idx[r0]]), _tail_point(bis, tm[r0], sigma), "closer")
         bad = ~ok
+        # a site tied with i at the asymptote (G_k(0) within rounding of 0: collinear points,
+        # sites touching one line) cannot be decided by subdividing τ: say so at once
+        if depth >= 6:
+            tied = bad & (t0 == 0) & (np.abs(A_ / np.where(den_m > 0, den_m, np.inf) + dr[idx]) <= 4 * sl)
+            if tied.any():
+                r0 = int(np.nonzero(tied)[0][0])
+                return False, (int(ks[idx[r0]]), _tail_point(bis, tm[r0], sigma), "undecided")
         idx, T0, T1 = idx[bad], t0[bad], t1[bad]
         if not len(idx):
             return True, None
@@ -271,11 +278,12 @@ def _slope_bound(table: CircleTable, Q, ks, I, R):
     return np.where(ok & np.isfinite(L), np.minimum(L, out), out)
 
 
-def prove_arcs(table: CircleTable, jobs, init: int = 8):
+def prove_arcs(table: CircleTable, jobs, init: int = 8, max_depth: int = MAX_DEPTH, max_pieces: int = 400000):
     """Prove d_k > d_i (= d_j) on the bisector arc u ∈ [ua, ub] for every site k ∉ {i, j} ∪ exempt,
     for many edges at once (module docstring, item 1): ``jobs`` is a list of (Bisector, ua, ub,
     exempt).  Returns a list of (ok, detail) in the order of ``jobs``; detail is None or
-    (site k, (x, y), "closer" | "undecided")."""
+    (site k, (x, y), "closer" | "undecided").  ``max_depth``: halvings of a piece before a site is
+    reported undecided; ``max_pieces``: undecided pieces (all jobs) before giving up."""
     nj = len(jobs)
     out = [(True, None)] * nj
     if not nj:
@@ -307,7 +315,7 @@ def prove_arcs(table: CircleTable, jobs, init: int = 8):
     alive = np.ones(nj, bool)
     npieces = 0
     pp = kk = None          # candidate pairs (piece, site); children inherit only failing pairs
-    for depth in range(MAX_DEPTH + 1):
+    for depth in range(max_depth + 1):
         if not len(job):
             break
         npieces += len(job)
@@ -354,7 +362,7 @@ def prove_arcs(table: CircleTable, jobs, init: int = 8):
             break
         pf, kf = rows[fail], ks[fail]
         bad_pieces, inv = np.unique(pf, return_inverse=True)
-        if depth == MAX_DEPTH or len(bad_pieces) > 400000:
+        if depth == max_depth or len(bad_pieces) > max_pieces:
             for t in range(len(pf)):
                 jj = int(job[pf[t]])
                 if alive[jj]:

@@ -35,7 +35,7 @@ import math
 
 import numpy as np
 
-__all__ = ["VertexInfo", "prove_vertices"]
+__all__ = ["VertexInfo", "prove_vertices", "exact_tower_vertex"]
 
 EPS = 2.0 ** -53
 VERTEX_TOL = 1e-10      # relative distance between a reported vertex and the proved one
@@ -329,6 +329,49 @@ def _cocircular_vertex(v, sites, geoms, problems):
     return info
 
 
+def exact_tower_vertex(inf, geoms):
+    """(TripleVertices, CircleVertex): the exact vertex (thesis §3.1.3) of a proved circle/point
+    vertex ``inf``: the one vertex of three of its sites within the proof's reach (the proved zero
+    of the system is one of the at most two tower vertices; when both are within reach, None).
+    Cached on ``inf``."""
+    from ...predicates.circles import voronoi_vertices_circles
+    from ...result import LocatorError
+
+    ex = getattr(inf, "exact", None)
+    if ex is not None:
+        return ex
+    if not all(geoms[s].kind in ("point", "circle") for s in inf.sites):
+        return None
+    try:
+        tv = voronoi_vertices_circles(*[geoms[s].exact for s in inf.sites[:3]])
+    except LocatorError:
+        return None
+    near = [w for w in tv.vertices if math.hypot(w.x - inf.x, w.y - inf.y) <= 4 * (inf.tol + inf.h)]
+    if len(near) != 1:
+        return None
+    inf.exact = (tv, near[0])
+    inf.geoms = geoms
+    return inf.exact
+
+
+def _exact_emptiness(inf, k, geoms) -> str | None:
+    """Where site k lies relative to the empty circle of the circle/point vertex ``inf``, decided
+    exactly (:func:`runtime.predicates.circles.decide_conflict` on the tower vertex of three of
+    its sites): "outside", "inside", "touches" (then the vertex has more sites than listed), or
+    None when the tower vertex cannot be identified with the proved one."""
+    from ...predicates.circles import decide_conflict
+
+    if not all(geoms[s].kind in ("point", "circle") for s in (*inf.sites, k)):
+        return None
+    ex = exact_tower_vertex(inf, geoms)
+    if ex is None:
+        return None
+    dec = decide_conflict(ex[0], ex[1], geoms[k].exact)
+    if dec.in_conflict:
+        return "inside"
+    return "touches" if dec.tangent else "outside"
+
+
 def _pairwise_exterior(table, trip) -> bool:
     for a in range(3):
         for b in range(a + 1, 3):
@@ -376,6 +419,16 @@ def _emptiness_batch(verts, flags, infos, geoms, table, problems):
         return
     inside = hi + H[rows] < Rlo[rows]
     und = ~inside & (lo - H[rows] <= Rhi[rows])
+    if und.any() and table is not None:
+        # circle/point vertices: the floats cannot separate the site from the circle (nearly
+        # co-circular input); decide exactly in the quadratic tower (thesis §3.1.3)
+        for t in np.nonzero(und)[0].tolist():
+            inf = info_l[int(rows[t])]
+            verdict = _exact_emptiness(inf, int(ks[t]), geoms)
+            if verdict == "outside":
+                und[t] = False
+            elif verdict == "inside":
+                und[t], inside[t] = False, True
     done = set()
     for mask, why in ((inside, "is closer than the three sites: not a Voronoi vertex"), (und, "too close to decide")):
         for t in np.nonzero(mask)[0]:
