@@ -109,7 +109,8 @@ from dataclasses import dataclass, field
 from ..conic_geometry import site_geometry
 from .edge_checks import check_edges
 from .edges import CircleTable
-from .closure import verify_accounting, verify_accounting_conics, verify_accounting_points, verify_closure
+from .closure import verify_accounting, verify_accounting_conics, verify_closure
+from .hull_points import verify_accounting_points
 from .support import SupportTable
 from .vertices import prove_vertices
 

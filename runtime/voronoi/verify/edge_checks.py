@@ -15,15 +15,11 @@ import math
 
 import numpy as np
 
-from .edges import bisector, params, prove_arcs, prove_tail
-from .point_edges import circle_edge_clear, point_edge_clear
-from .vertices import exact_tower_vertex
+from .edges import bisector, params, prove_arcs
+from .exact_edges import SHALLOW, search_with_exact_fallback, tower_points_apart, triple_others, zero_on_arc
+from .exact_vertices import exact_tower_vertex
 
-__all__ = ["check_edges", "SHALLOW"]
-
-#: halvings of the first search over all edges; a site still undecided goes to the exact route
-#: (circles, points), and only then to the full-depth search (runtime.voronoi.verify.edges.MAX_DEPTH)
-SHALLOW = 24
+__all__ = ["check_edges"]
 
 
 def _ename(e) -> str:
@@ -104,25 +100,7 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats):
     arcs = prove_arcs(table, [(bis, job[0], job[1], job[2]) for _, _, _, _, bis, job in jobs],
                       max_depth=SHALLOW, max_pieces=4096 + 64 * len(jobs)) if jobs else []
     for (pos, e, name, pair, bis, (lo, hi, exempt, tails, full_lo, full_hi, _)), (ok, det) in zip(jobs, arcs):
-        deep = False
-        while True:
-            if ok:
-                for U, sigma in tails:
-                    ok, det = prove_tail(table, bis, U, sigma, exempt)
-                    if not ok:
-                        break
-            if ok:
-                break
-            if _exact_point_clear(geoms, vinfo, e, pair, tails, det):
-                # a third site the float bounds could not decide is proved farther exactly: search
-                # again without it (collinear points tie at infinity, nearly co-circular sites)
-                exempt = set(exempt) | {det[0]}
-                ok, det = prove_arcs(table, [(bis, lo, hi, exempt)], max_depth=SHALLOW, max_pieces=256)[0]
-                continue
-            if deep or det is None or det[2] != "undecided":
-                break
-            deep = True           # the full-depth search, once
-            ok, det = prove_arcs(table, [(bis, lo, hi, exempt)])[0]
+        ok, det = search_with_exact_fallback(table, geoms, vinfo, e, pair, bis, lo, hi, exempt, tails, ok, det)
         if not ok:
             k, q, why = det
             where = "" if q is None else f" near ({q[0]:.9g}, {q[1]:.9g})"
@@ -140,59 +118,6 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats):
         intervals.setdefault(pair, []).append((bis.kind, full_lo, full_hi, e.id))
     stats["unbounded_ends"] = len(ends_inf)
     return eok, ends_inf, intervals
-
-
-def _exact_point_clear(geoms, vinfo, e, pair, tails, det) -> bool:
-    """Is the site a failed search left undecided (a point or circle) strictly farther than the
-    edge's two sites on the whole open edge, decided exactly (:mod:`runtime.voronoi.verify.point_edges`)?"""
-    if det is None or det[0] is None or det[2] != "undecided":
-        return False
-    k = int(det[0])
-    if any(geoms[s].kind not in ("point", "circle") for s in (*pair, k)):
-        return False
-    if any(geoms[s].kind != "point" for s in (*pair, k)):
-        # circles: exact zeros on a hyperbola branch between two exact end vertices
-        ends = []
-        tail_sigmas = [sg for _, sg in tails]
-        for vid in e.ends:
-            if vid is None:
-                if len(tail_sigmas) != 1:
-                    return False
-                ends.append(("inf", tail_sigmas[0]))
-                continue
-            ex = exact_tower_vertex(vinfo[vid], geoms)
-            if ex is None:
-                return False
-            ends.append((tuple(vinfo[vid].sites), ex[1]))
-        return circle_edge_clear(geoms, pair[0], pair[1], k, ends[0], ends[1])
-    ends = []
-    tail_sigmas = [sg for _, sg in tails]
-    for vid in e.ends:
-        if vid is None:
-            if not tail_sigmas:
-                return False
-            ends.append(("inf", tail_sigmas.pop(0)))
-        else:
-            w = vinfo[vid]
-            if any(geoms[s].kind != "point" for s in w.sites):
-                return False
-            ends.append(tuple(w.sites))
-    return point_edge_clear(geoms, pair[0], pair[1], k, ends[0], ends[1])
-
-
-def _apart(a, b) -> bool:
-    """Distinct points: some coordinate's ball enclosures are disjoint (thesis §3.1.3 towers)."""
-    from flint import ctx
-
-    prec = 128
-    while prec <= 4096:
-        with ctx.workprec(prec):
-            da = [a.sol.tower.to_arb(v, prec) / a.sol.tower.to_arb(a.sol.D, prec) for v in (a.sol.X, a.sol.Y)]
-            db = [b.sol.tower.to_arb(v, prec) / b.sol.tower.to_arb(b.sol.D, prec) for v in (b.sol.X, b.sol.Y)]
-        if any(not (p - q).contains(0) for p, q in zip(da, db)):
-            return True
-        prec *= 4
-    return False
 
 
 def _curved_scale(geoms) -> float:
@@ -416,7 +341,7 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
         if not hi - lo > 1e-12:
             ex0 = exact_tower_vertex(v0, v0.geoms) if hasattr(v0, "geoms") else None
             ex1 = exact_tower_vertex(v1, v1.geoms) if hasattr(v1, "geoms") else None
-            if bis.kind != "hyperbola" or ex0 is None or ex1 is None or not _apart(ex0[1], ex1[1]):
+            if bis.kind != "hyperbola" or ex0 is None or ex1 is None or not tower_points_apart(ex0[1], ex1[1]):
                 problems.append(f"{name}: its end vertices coincide on the bisector")
                 return None
             hi = max(hi, lo)      # a very short edge: the exact search decides its third sites
@@ -471,7 +396,7 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
                 uo = bis.param(np.asarray(others, float).reshape(-1, 2)) if others else []
             exempt.add(k)
             same = w2 is not None and k in w2.sites
-            bad = _cuts(name, bis, others, uo, w2 if same else None, lo, hi, full_lo, full_hi, (i, j, k), problems)
+            bad = zero_on_arc(name, bis, others, uo, w2 if same else None, lo, hi, full_lo, full_hi, (i, j, k), problems)
             if bad:
                 return None
             if w2 is None or same:
@@ -479,45 +404,3 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
             # else: d_k − d_i has no zero on the arc and is > 0 at the other end w2, whose
             # emptiness (k strictly outside) is proved: it is positive on the whole open arc
     return lo, hi, exempt, tails, full_lo, full_hi, signs
-
-
-def triple_others(w, i, j, k):
-    """The Voronoi vertices of the circle/point triple (i, j, k) other than the degree-k vertex w
-    (whose exact vertex is ``w.exact``), exactly (thesis §3.1.3); None when the triple's vertices
-    cannot be told apart from w."""
-    from ...predicates.circles import decide_conflict, voronoi_vertices_circles
-    from ...result import LocatorError
-
-    geoms = w.geoms
-    try:
-        tv = voronoi_vertices_circles(geoms[i].exact, geoms[j].exact, geoms[k].exact)
-    except LocatorError:
-        return None
-    out = []
-    found = 0
-    for z in tv.vertices:
-        if math.hypot(z.x - w.x, z.y - w.y) <= 4 * (w.tol + w.h):
-            found += 1
-        else:
-            out.append((z.x, z.y))
-    return out if found == 1 else None
-
-
-def _cuts(name, bis, others, uo, w2, lo, hi, full_lo, full_hi, triple, problems) -> bool:
-    """Does a zero of d_k − d_i on the bisector (another vertex of the triple) lie on the edge's
-    arc?  Zeros at the other end vertex ``w2`` (which holds k too) do not count."""
-    two_pi = 2 * math.pi
-    for z, uz in zip(others, uo):
-        if w2 is not None and math.hypot(z[0] - w2.x, z[1] - w2.y) <= w2.tol + 4 * w2.h:
-            continue      # the other solution of the triple is the edge's other end
-        uz = float(uz)
-        if bis.kind == "ellipse":
-            inside = ((uz - lo) % two_pi) < (hi - lo) + 1e-9
-        else:
-            inside = full_lo - 1e-9 * (1 + abs(uz)) <= uz <= full_hi + 1e-9 * (1 + abs(uz))
-        if inside:
-            problems.append(f"{name}: the vertex ({z[0]:.9g}, {z[1]:.9g}) of sites "
-                            f"{', '.join(map(str, sorted(triple)))} lies on the edge's arc: "
-                            f"site {triple[2]} cuts the edge")
-            return True
-    return False

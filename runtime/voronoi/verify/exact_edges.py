@@ -1,4 +1,6 @@
-"""Exact edge proofs among point sites: the bisector of two points is a line (thesis §3.1, ρ = 0).
+"""Exact edge proofs among point and circle sites (thesis §3.1): where floats cannot decide.
+
+Points: the bisector of two points is a line (ρ = 0).
 
 On the bisector of the points p_i, p_j, written q(t) = m + t·n with m = (p_i + p_j)/2 and
 n = rot90(p_j − p_i), the power difference of a third point p_k,
@@ -18,13 +20,23 @@ order along the branch, compared with ball arithmetic at increasing precision.  
 edges, 10⁻¹⁵ long, of nearly co-circular floats.
 
 Public API: :func:`point_edge_clear`, :func:`circle_edge_clear`, :func:`branch_order`,
-:func:`circumcentre`.
+:func:`circumcentre`, :func:`triple_others`, :func:`exact_third_site_clear`,
+:func:`tower_points_apart`, :func:`zero_on_arc`, :func:`search_with_exact_fallback`.
 """
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 
-__all__ = ["point_edge_clear", "circle_edge_clear", "branch_order", "circumcentre"]
+from .edges import prove_arcs, prove_tail
+from .exact_vertices import exact_tower_vertex
+
+__all__ = ["point_edge_clear", "circle_edge_clear", "branch_order", "circumcentre", "triple_others",
+           "exact_third_site_clear", "tower_points_apart", "zero_on_arc", "search_with_exact_fallback", "SHALLOW"]
+
+#: halvings of the first float search over all edges; a site still undecided goes to the exact
+#: route (circles, points), and only then to the full-depth search (runtime.voronoi.verify.edges)
+SHALLOW = 24
 
 
 def _xy(g):
@@ -163,3 +175,123 @@ def circle_edge_clear(geoms, i, j, k, u, w) -> bool:
         if lo < pz and pz < hi:
             return False          # site k cuts the edge at z
     return True
+
+
+def triple_others(w, i, j, k):
+    """The Voronoi vertices of the circle/point triple (i, j, k) other than the degree-k vertex w
+    (whose exact vertex is ``w.exact``), exactly (thesis §3.1.3); None when the triple's vertices
+    cannot be told apart from w."""
+    from ...predicates.circles import voronoi_vertices_circles
+    from ...result import LocatorError
+
+    geoms = w.geoms
+    try:
+        tv = voronoi_vertices_circles(geoms[i].exact, geoms[j].exact, geoms[k].exact)
+    except LocatorError:
+        return None
+    out = []
+    found = 0
+    for z in tv.vertices:
+        if math.hypot(z.x - w.x, z.y - w.y) <= 4 * (w.tol + w.h):
+            found += 1
+        else:
+            out.append((z.x, z.y))
+    return out if found == 1 else None
+
+
+def exact_third_site_clear(geoms, vinfo, e, pair, tails, det) -> bool:
+    """Is the site a failed search left undecided (a point or circle) strictly farther than the
+    edge's two sites on the whole open edge, decided exactly (:func:`point_edge_clear`, :func:`circle_edge_clear`)?"""
+    if det is None or det[0] is None or det[2] != "undecided":
+        return False
+    k = int(det[0])
+    if any(geoms[s].kind not in ("point", "circle") for s in (*pair, k)):
+        return False
+    if any(geoms[s].kind != "point" for s in (*pair, k)):
+        # circles: exact zeros on a hyperbola branch between two exact end vertices
+        ends = []
+        tail_sigmas = [sg for _, sg in tails]
+        for vid in e.ends:
+            if vid is None:
+                if len(tail_sigmas) != 1:
+                    return False
+                ends.append(("inf", tail_sigmas[0]))
+                continue
+            ex = exact_tower_vertex(vinfo[vid], geoms)
+            if ex is None:
+                return False
+            ends.append((tuple(vinfo[vid].sites), ex[1]))
+        return circle_edge_clear(geoms, pair[0], pair[1], k, ends[0], ends[1])
+    ends = []
+    tail_sigmas = [sg for _, sg in tails]
+    for vid in e.ends:
+        if vid is None:
+            if not tail_sigmas:
+                return False
+            ends.append(("inf", tail_sigmas.pop(0)))
+        else:
+            w = vinfo[vid]
+            if any(geoms[s].kind != "point" for s in w.sites):
+                return False
+            ends.append(tuple(w.sites))
+    return point_edge_clear(geoms, pair[0], pair[1], k, ends[0], ends[1])
+
+
+def tower_points_apart(a, b) -> bool:
+    """Distinct points: some coordinate's ball enclosures are disjoint (thesis §3.1.3 towers)."""
+    from flint import ctx
+
+    prec = 128
+    while prec <= 4096:
+        with ctx.workprec(prec):
+            da = [a.sol.tower.to_arb(v, prec) / a.sol.tower.to_arb(a.sol.D, prec) for v in (a.sol.X, a.sol.Y)]
+            db = [b.sol.tower.to_arb(v, prec) / b.sol.tower.to_arb(b.sol.D, prec) for v in (b.sol.X, b.sol.Y)]
+        if any(not (p - q).contains(0) for p, q in zip(da, db)):
+            return True
+        prec *= 4
+    return False
+
+
+def zero_on_arc(name, bis, others, uo, w2, lo, hi, full_lo, full_hi, triple, problems) -> bool:
+    """Does a zero of d_k − d_i on the bisector (another vertex of the triple) lie on the edge's
+    arc?  Zeros at the other end vertex ``w2`` (which holds k too) do not count."""
+    two_pi = 2 * math.pi
+    for z, uz in zip(others, uo):
+        if w2 is not None and math.hypot(z[0] - w2.x, z[1] - w2.y) <= w2.tol + 4 * w2.h:
+            continue      # the other solution of the triple is the edge's other end
+        uz = float(uz)
+        if bis.kind == "ellipse":
+            inside = ((uz - lo) % two_pi) < (hi - lo) + 1e-9
+        else:
+            inside = full_lo - 1e-9 * (1 + abs(uz)) <= uz <= full_hi + 1e-9 * (1 + abs(uz))
+        if inside:
+            problems.append(f"{name}: the vertex ({z[0]:.9g}, {z[1]:.9g}) of sites "
+                            f"{', '.join(map(str, sorted(triple)))} lies on the edge's arc: "
+                            f"site {triple[2]} cuts the edge")
+            return True
+    return False
+
+
+def search_with_exact_fallback(table, geoms, vinfo, e, pair, bis, lo, hi, exempt, tails, ok, det):
+    """Finish the third-site search of one circle/point edge after the shallow batch search
+    (result ``ok, det``): the tails, then, while a site stays undecided, the exact route
+    (:func:`exact_third_site_clear`: the site is proved farther and the search repeated without
+    it), else one full-depth float search.  Returns (ok, detail) as
+    :func:`runtime.voronoi.verify.edges.prove_arcs`."""
+    deep = False
+    while True:
+        if ok:
+            for U, sigma in tails:
+                ok, det = prove_tail(table, bis, U, sigma, exempt)
+                if not ok:
+                    break
+        if ok:
+            return ok, det
+        if exact_third_site_clear(geoms, vinfo, e, pair, tails, det):
+            exempt = set(exempt) | {det[0]}
+            ok, det = prove_arcs(table, [(bis, lo, hi, exempt)], max_depth=SHALLOW, max_pieces=256)[0]
+            continue
+        if deep or det is None or det[2] != "undecided":
+            return ok, det
+        deep = True
+        ok, det = prove_arcs(table, [(bis, lo, hi, exempt)])[0]

@@ -1,0 +1,141 @@
+"""Exact vertex proofs for circle and point sites (thesis §3.1.3), where floats cannot decide.
+
+* A vertex of degree k > 3 (co-circular sites): the tower vertex of three of its sites, every
+  other listed site exactly tangent, the sites listed counter-clockwise by contact points.
+* Emptiness of a nearly co-circular vertex: the sign of |q − c|² − (r + ρ)² in the tower.
+
+The exact arithmetic is that of :mod:`runtime.predicates.circles` (quadratic towers).
+
+Public API: :func:`cocircular_vertex`, :func:`exact_tower_vertex`, :func:`exact_emptiness`.
+"""
+from __future__ import annotations
+
+import math
+
+__all__ = ["cocircular_vertex", "exact_tower_vertex", "exact_emptiness"]
+
+EPS = 2.0 ** -53
+VERTEX_TOL = 1e-10      # as in runtime.voronoi.verify.vertices
+
+
+def vname(v) -> str:
+    return f"vertex {v.id} (sites {', '.join(str(int(s)) for s in v.sites)})"
+
+
+def cocircular_vertex(v, sites, geoms, problems, VertexInfo):
+    """A reported vertex of k > 3 circle/point sites, proved exactly (thesis §3.1.3): the vertex of
+    three of its sites in the quadratic tower of :func:`runtime.predicates.circles.
+    voronoi_vertices_circles`, every other listed site exactly tangent to its circle
+    (:func:`runtime.predicates.circles.decide_conflict`: the sign of |q − c|² − (r + ρ)² is 0),
+    and the listed order counter-clockwise by contact points.  The order matters: the vertex's
+    edges are those of consecutive sites (:mod:`runtime.voronoi.cocircular`), which the closure
+    step requires.  Returns a ``VertexInfo`` (the class is passed in) whose ``exact`` holds the
+    tower vertex, or None (problem recorded)."""
+    from ...predicates.circles import decide_conflict, voronoi_vertices_circles
+    from ...result import LocatorError
+
+    name = vname(v)
+    if not all(geoms[s].kind in ("point", "circle") for s in sites):
+        problems.append(f"{name}: a vertex of degree {len(sites)} with a conic site is not proved")
+        return None
+    k = len(sites)
+    tv = best = None
+    for t in range(k):
+        base = [sites[(t + u) % k] for u in range(3)]
+        try:
+            tv = voronoi_vertices_circles(*[geoms[s].exact for s in base])
+        except LocatorError:
+            continue
+        if tv.vertices:
+            break
+    if tv is None or not tv.vertices:
+        problems.append(f"{name}: no three of its sites have a Voronoi vertex")
+        return None
+    best = min(tv.vertices, key=lambda w: math.hypot(w.x - v.x, w.y - v.y))
+    h = 2e-16 * (abs(best.x) + abs(best.y) + best.radius) + 1e-300
+    tol = VERTEX_TOL * (1 + abs(best.x) + abs(best.y) + abs(best.radius))
+    for w in tv.vertices:
+        if w is not best and math.hypot(w.x - best.x, w.y - best.y) <= 2 * (tol + 2 * h):
+            problems.append(f"{name}: two vertices of sites {', '.join(map(str, base))} are too close to tell apart")
+            return None
+    for s in sites:
+        if s in base:
+            continue
+        dec = decide_conflict(tv, best, geoms[s].exact)
+        if not dec.tangent:
+            problems.append(f"{name}: site {s} does not touch the circle of sites {', '.join(map(str, base))} "
+                            f"({'it enters it' if dec.in_conflict else 'it stays outside'})")
+            return None
+    # counter-clockwise order of the contact points: direction ±(c − q) (− inside a circle)
+    ang = []
+    for s in sites:
+        g = geoms[s]
+        cx, cy = (g.cx, g.cy) if g.kind == "circle" else (g.x0, g.y0)
+        dx, dy = cx - best.x, cy - best.y
+        dist = math.hypot(dx, dy)
+        if g.kind == "circle" and dist < g.rho:          # the vertex inside site s: contact away from c
+            dx, dy = -dx, -dy
+        err = 16 * EPS * (abs(best.x) + abs(best.y) + abs(cx) + abs(cy) + best.radius) + 2 * h
+        if not dist > 1e3 * err:
+            problems.append(f"{name}: the contact point of site {s} cannot be placed")
+            return None
+        ang.append((math.atan2(dy, dx), err / dist))
+    a = [t for t, _ in ang]
+    rank = sorted(range(k), key=lambda t: a[t])
+    start = rank.index(0)
+    if [rank[(start + t) % k] for t in range(k)] != list(range(k)):
+        problems.append(f"{name}: its sites are not listed counter-clockwise around it")
+        return None
+    for t in range(k):
+        p, q = rank[t], rank[(t + 1) % k]
+        gap = (a[q] - a[p]) % (2 * math.pi)
+        if not gap > 4 * (ang[p][1] + ang[q][1]):
+            problems.append(f"{name}: the contact points of sites {sites[p]} and {sites[q]} are too close to order")
+            return None
+    info = VertexInfo(v.id, tuple(sites), best.x, best.y, best.radius, h, None, key=(tuple(sorted(sites)), id(best)))
+    info.exact = (tv, best)
+    info.geoms = geoms          # for the exact vertices of its triples (edge proofs)
+    return info
+
+
+def exact_tower_vertex(inf, geoms):
+    """(TripleVertices, CircleVertex): the exact vertex (thesis §3.1.3) of a proved circle/point
+    vertex ``inf``: the one vertex of three of its sites within the proof's reach (the proved zero
+    of the system is one of the at most two tower vertices; when both are within reach, None).
+    Cached on ``inf``."""
+    from ...predicates.circles import voronoi_vertices_circles
+    from ...result import LocatorError
+
+    ex = getattr(inf, "exact", None)
+    if ex is not None:
+        return ex
+    if not all(geoms[s].kind in ("point", "circle") for s in inf.sites):
+        return None
+    try:
+        tv = voronoi_vertices_circles(*[geoms[s].exact for s in inf.sites[:3]])
+    except LocatorError:
+        return None
+    near = [w for w in tv.vertices if math.hypot(w.x - inf.x, w.y - inf.y) <= 4 * (inf.tol + inf.h)]
+    if len(near) != 1:
+        return None
+    inf.exact = (tv, near[0])
+    inf.geoms = geoms
+    return inf.exact
+
+
+def exact_emptiness(inf, k, geoms) -> str | None:
+    """Where site k lies relative to the empty circle of the circle/point vertex ``inf``, decided
+    exactly (:func:`runtime.predicates.circles.decide_conflict` on the tower vertex of three of
+    its sites): "outside", "inside", "touches" (then the vertex has more sites than listed), or
+    None when the tower vertex cannot be identified with the proved one."""
+    from ...predicates.circles import decide_conflict
+
+    if not all(geoms[s].kind in ("point", "circle") for s in (*inf.sites, k)):
+        return None
+    ex = exact_tower_vertex(inf, geoms)
+    if ex is None:
+        return None
+    dec = decide_conflict(ex[0], ex[1], geoms[k].exact)
+    if dec.in_conflict:
+        return "inside"
+    return "touches" if dec.tangent else "outside"
