@@ -13,6 +13,7 @@ import math
 import numpy as np
 
 from ..predicates.circles import as_circle, decide_conflict
+from ..predicates.symmetry import equidistant_by_symmetry, rational_candidates
 from ..result import InvalidConicError, LocatorError
 from .apollonius_vertices import exact_vertex
 from .site_arrays import SiteArrays
@@ -83,8 +84,27 @@ def prove_empty(S: SiteArrays, clusters, stats):
                         cl.setdefault("tangent", []).append(k)
             except (LocatorError, InvalidConicError, ValueError):
                 decided = None
+        elif cl.get("box") is not None or cl.get("h"):
+            decided = _symmetric_tangency(S, cl, und_pairs[a], stats)
         if decided is None and culprit[c] is None:
             culprit[c] = und_pairs[a][0]
         res[c] = decided
     return res, culprit
 
+
+def _symmetric_tangency(S: SiteArrays, cl, undecided, stats):
+    """Sites the floats cannot separate from the circle of a conic vertex: tangent when a rational
+    point p at the vertex is fixed by isometries that join the triple and these sites
+    (:func:`runtime.predicates.symmetry.equidistant_by_symmetry`: then all are exactly at one
+    distance from p, and p, equidistant from the triple in the vertex's proof box, is the vertex).
+    Returns True (the vertex moved to p, the sites recorded as tangent) or None."""
+    x, y = cl["x"], cl["y"]
+    reach = 4 * cl.get("h", 0.0) + 1e-9 * (abs(x) + abs(y) + float(cl.get("rhi", 0.0)) + 1.0)
+    K = [S.sites[t] for t in (*cl["triple"], *undecided)]
+    for p in rational_candidates(x, y, reach):
+        if equidistant_by_symmetry(K, p):
+            stats["symmetric_vertices"] = stats.get("symmetric_vertices", 0) + 1
+            cl.update(x=float(p[0]), y=float(p[1]), symmetric=p)
+            cl.setdefault("tangent", []).extend(int(k) for k in undecided)
+            return True
+    return None

@@ -129,8 +129,8 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, extra=No
         S[0] = (v0.x, v0.y)
     if v1 is not None:
         S[-1] = (v1.x, v1.y)
-    k0 = next(s for s in v0.sites if s not in pair) if v0 is not None else None
-    k1 = next(s for s in v1.sites if s not in pair) if v1 is not None else None
+    k0 = tuple(s for s in v0.sites if s not in pair) if v0 is not None else None
+    k1 = tuple(s for s in v1.sites if s not in pair) if v1 is not None else None
     h0 = (v0.h * 2 + v0.tol) if v0 is not None else 0.0
     h1 = (v1.h * 2 + v1.tol) if v1 is not None else 0.0
     S_guide = S

@@ -6,13 +6,17 @@
 
 The exact arithmetic is that of :mod:`runtime.predicates.circles` (quadratic towers).
 
-Public API: :func:`cocircular_vertex`, :func:`exact_tower_vertex`, :func:`exact_emptiness`.
+* A vertex of degree k > 3 with conic sites: equidistance proved by a symmetry fixing a rational
+  point (:mod:`runtime.predicates.symmetry`).
+
+Public API: :func:`cocircular_vertex`, :func:`symmetric_vertex`, :func:`exact_tower_vertex`,
+:func:`exact_emptiness`.
 """
 from __future__ import annotations
 
 import math
 
-__all__ = ["cocircular_vertex", "exact_tower_vertex", "exact_emptiness"]
+__all__ = ["cocircular_vertex", "symmetric_vertex", "exact_tower_vertex", "exact_emptiness"]
 
 EPS = 2.0 ** -53
 VERTEX_TOL = 1e-10      # as in runtime.voronoi.verify.vertices
@@ -36,8 +40,7 @@ def cocircular_vertex(v, sites, geoms, problems, VertexInfo):
 
     name = vname(v)
     if not all(geoms[s].kind in ("point", "circle") for s in sites):
-        problems.append(f"{name}: a vertex of degree {len(sites)} with a conic site is not proved")
-        return None
+        return symmetric_vertex(v, sites, geoms, problems, VertexInfo)
     k = len(sites)
     tv = best = None
     for t in range(k):
@@ -139,3 +142,50 @@ def exact_emptiness(inf, k, geoms) -> str | None:
     if dec.in_conflict:
         return "inside"
     return "touches" if dec.tangent else "outside"
+
+
+def symmetric_vertex(v, sites, geoms, problems, VertexInfo):
+    """A reported vertex of k > 3 sites, some of them conics, proved by symmetry: a rational point
+    p at the reported position is fixed by isometries that join all its sites
+    (:func:`runtime.predicates.symmetry.equidistant_by_symmetry`), so every site is at exactly the
+    same distance r from p; r is enclosed by the sites' rigorous distance bounds at p.  With the
+    emptiness of p (every other site strictly farther, checked by the caller) p is a Voronoi vertex
+    whose sites are exactly these.  The listed order is checked on the float foot points (an order
+    that is not the true one makes the closure step demand edges that cannot be proved).  Returns
+    a ``VertexInfo`` or None (problem recorded)."""
+    import numpy as np
+
+    from ...predicates.symmetry import equidistant_by_symmetry, rational_candidates
+
+    name = vname(v)
+    reach = 1e-12 * (1 + abs(v.x) + abs(v.y) + abs(v.radius))
+    exact = [geoms[s].exact for s in sites]
+    p = next((q for q in rational_candidates(v.x, v.y, reach) if equidistant_by_symmetry(exact, q)), None)
+    if p is None:
+        problems.append(f"{name}: its {len(sites)} sites are not proved equidistant (no symmetry of them "
+                        "fixes the reported point)")
+        return None
+    x, y = float(p[0]), float(p[1])
+    h = max(abs(x - p[0]), abs(y - p[1])) * 2 + 1e-300     # float(p) within an ulp of p
+    P = np.array([[x, y]])
+    lo = max(float(geoms[s].distance_bounds(P)[0][0]) for s in sites) - 2 * h
+    hi = min(float(geoms[s].distance_bounds(P)[1][0]) for s in sites) + 2 * h
+    if not lo <= hi:
+        problems.append(f"{name}: the distance bounds of its sites do not overlap")
+        return None
+    ang = []
+    for s in sites:
+        F, _ = geoms[s].foot_points(P)
+        ang.append(math.atan2(F[0, 1] - y, F[0, 0] - x))
+    k = len(sites)
+    rank = sorted(range(k), key=lambda t: ang[t])
+    start = rank.index(0)
+    gaps = [(ang[rank[(t + 1) % k]] - ang[rank[t]]) % (2 * math.pi) for t in range(k)]
+    if [rank[(start + t) % k] for t in range(k)] != list(range(k)) or min(gaps) < 1e-6:
+        problems.append(f"{name}: its sites are not listed counter-clockwise around it")
+        return None
+    info = VertexInfo(v.id, tuple(sites), x, y, 0.5 * (lo + hi), h, None,
+                      key=(tuple(sorted(sites)), p))
+    info.r_hi = hi
+    info.exact_point = p
+    return info

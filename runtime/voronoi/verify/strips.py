@@ -23,7 +23,8 @@ open and closed in β, hence a whole component of β.  Along it:
      much larger than the margin d_k − d_i); the same with j (d_i = d_j on β); sites whose
      bounding box is farther than min(hi_i, hi_j) + 2R from the piece's centre pass without
      evaluation;
-(T3) or, for the third site k0 of the first vertex (k1 of the last), the derivative of
+(T3) or, for a site k0 tied at the first vertex (k1 at the last; one at a simple vertex, k − 2 at
+     a vertex of degree k), the derivative of
      g = d_k0 − d_i along the arc has a proved sign: the arc's tangent is ± rot90(∇f), so
      g' ∝ σ_t·(∇d_k0 − ∇d_i)·rot90(∇d_i − ∇d_j) (transversality at the vertex).  Since g = 0 at
      the vertex, g' > 0 on a run of pieces that starts at the vertex or after a (T2) piece keeps
@@ -97,9 +98,17 @@ def prove_strips_many(table, jobs):
     total = np.array([float(jb.L.sum()) for jb in jobs])
     I = np.array([jb.pair[0] for jb in jobs])
     J = np.array([jb.pair[1] for jb in jobs])
-    K0 = np.array([-1 if jb.k0 is None else jb.k0 for jb in jobs])
-    K1 = np.array([-1 if jb.k1 is None else jb.k1 for jb in jobs])
-    same = (K0 == K1) & (K0 >= 0)
+    # the sites tied with the pair at the first (K0) and last (K1) vertex, -1 padded: one at a
+    # simple vertex, k − 2 at a vertex of degree k
+    def ties(k):
+        return () if k is None else ((k,) if np.isscalar(k) else tuple(k))
+
+    width = max([1] + [len(ties(jb.k0)) for jb in jobs] + [len(ties(jb.k1)) for jb in jobs])
+    K0 = np.full((nj, width), -1)
+    K1 = np.full((nj, width), -1)
+    for t, jb in enumerate(jobs):
+        K0[t, :len(ties(jb.k0))] = ties(jb.k0)
+        K1[t, :len(ties(jb.k1))] = ties(jb.k1)
     # ---- initial pieces: PIECE times as long as the strip is wide (at most 400 per segment)
     init = np.minimum(np.maximum(np.ceil((Lg + elo + ehi) / (2 * PIECE * Wmin)).astype(int), 1), 400)
     seg = np.repeat(np.arange(len(Lg)), init)
@@ -174,8 +183,8 @@ def prove_strips_many(table, jobs):
                 okk |= Vk.lo - h_[rows] - lip * Rr > 0
             jr = jb[rows]
             pos = start[seg[rows]] + sm[rows]
-            for KK, want in ((K0, 1.0), (K1, -1.0)):
-                sel = np.nonzero((ks == KK[jr]) & ~okk)[0]
+            for KK, OTHER, want in ((K0, K1, 1.0), (K1, K0, -1.0)):
+                sel = np.nonzero((KK[jr] == ks[:, None]).any(1) & ~okk)[0]
                 if not len(sel):
                     continue
                 r_ = rows[sel]
@@ -189,7 +198,8 @@ def prove_strips_many(table, jobs):
                 t3 = dec_t & VK[sel] & (want * val - err * (1 + 1e-9) - 1e-12 > 0)
                 # same third site at both ends: g' > 0 in the first half, < 0 in the second
                 half_ok = (pos[sel] <= 0.5 * total[jr[sel]]) if want > 0 else (pos[sel] > 0.5 * total[jr[sel]])
-                t3 &= ~same[jr[sel]] | half_ok
+                same = (OTHER[jr[sel]] == ks[sel][:, None]).any(1)
+                t3 &= ~same | half_ok
                 okk[sel] |= t3
             np.logical_and.at(third_ok, rows, okk)
         good = pre & third_ok
