@@ -24,6 +24,7 @@ import ast
 import io
 import os
 import random
+import re
 import shutil
 import subprocess
 import sys
@@ -221,6 +222,398 @@ def run_teeth(tree: Path, timeout: float, out: Path, previous: str) -> None:
         fh.write(text)
 
 
+# ============================================================================ soundness mutants
+# (issue 31 item 3): the verifier (runtime/voronoi/verify/**) and the certification stage
+# (runtime/certify/**), with operators that WEAKEN soundness, generated from the AST.
+
+#: default modules of the soundness mode (globs relative to the repository)
+SOUND_MODULES = ["runtime/voronoi/verify/**/*.py", "runtime/certify/**/*.py"]
+
+_VERIFY_TESTS = ["tests/test_voronoi_verify.py", "tests/test_verify_boundaries.py", "tests/test_degenerate.py",
+                 "tests/test_degenerate_cgal.py", "tests/test_symmetry.py"]
+_CERTIFY_TESTS = ["tests/test_certify.py", "tests/test_certify_chart.py", "tests/test_certify_conjugates.py",
+                  "tests/test_certify_dimension.py", "tests/test_certify_fast_system.py",
+                  "tests/test_certify_boundaries.py", "tests/test_locator_certified.py",
+                  "tests/test_interval_newton.py", "tests/test_voronoi_vertex.py"]
+#: module prefix -> test files run against its mutants (first match wins); files that do not exist
+#: in the copy are left out
+SOUND_TESTS: list[tuple[str, list[str]]] = [
+    ("runtime/voronoi/verify/", _VERIFY_TESTS),
+    # krawczyk / foot / interval_newton serve the diagram's vertex proofs too (runtime/voronoi/vertex.py)
+    ("runtime/certify/krawczyk.py", _CERTIFY_TESTS + ["tests/test_voronoi_verify.py"]),
+    ("runtime/certify/foot.py", _CERTIFY_TESTS + ["tests/test_voronoi_verify.py"]),
+    ("runtime/certify/interval_newton.py", _CERTIFY_TESTS + ["tests/test_voronoi_verify.py"]),
+    ("runtime/certify/", _CERTIFY_TESTS),
+]
+
+#: operand names that read as a width, a slack, an error term or a safety margin (drop-term)
+_SLACK = re.compile(r"(^h\d?$|^H\d?$|^h_|_h$|^hh|eps|tol|slack|margin|rad|err|wid|pad|lip|^L$|delta|half|^w\d?$|"
+                    r"^W$|gap|infl|fuzz|ulp|^s[FI]$|^sl|^dJ|^contr|^base$|^sig|^mag|^scale|^r_?hi|^r_?lo|^prec)", re.I)
+_NOFACTOR_CALLS = {"range", "round", "int", "len", "enumerate", "zip", "print", "reshape", "format", "isclose",
+                   "linspace", "arange", "zeros", "ones", "full", "empty", "eye", "max_iter", "islice"}
+STRICT = {ast.Lt: ast.LtE, ast.LtE: ast.Lt, ast.Gt: ast.GtE, ast.GtE: ast.Gt}
+DIRECTION = {ast.Lt: ast.Gt, ast.LtE: ast.GtE, ast.Gt: ast.Lt, ast.GtE: ast.LtE}
+SOUND_OPERATORS = ["cmp-strict", "cmp-direction", "drop-term", "factor", "skip-continue", "skip-problem",
+                   "drop-conjunct", "early-success"]
+
+
+def _names(node: ast.AST) -> list[str]:
+    out = []
+    for n in ast.walk(node):
+        if isinstance(n, ast.Name):
+            out.append(n.id)
+        elif isinstance(n, ast.Attribute):
+            out.append(n.attr)
+    return out
+
+
+def _slack_like(node: ast.AST) -> bool:
+    if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not isinstance(node.value, bool):
+        return 0 < abs(node.value) < 1e-3
+    if any(_SLACK.search(n) for n in _names(node)):
+        return True
+    return any(isinstance(n, ast.Constant) and isinstance(n.value, float) and 0 < abs(n.value) < 1e-3
+               for n in ast.walk(node))
+
+
+def _parents(tree: ast.AST) -> dict:
+    par = {}
+    for p in ast.walk(tree):
+        for c in ast.iter_child_nodes(p):
+            par[c] = p
+    return par
+
+
+def _fmt_num(v) -> str:
+    return repr(v)
+
+
+def enumerate_sound_mutants(path: str, src: str) -> list[dict]:
+    """Every soundness-weakening mutation of ``src`` (one per mutant): dicts with the source span
+    (line, col, end_line, end_col; columns in characters), the replacement text, the operator
+    (``kind``), the enclosing function and a one-line description."""
+    tree = ast.parse(src)
+    par = _parents(tree)
+    lines = src.splitlines(keepends=True)
+    docs = _docstring_lines(src)
+    spans = sorted(((n.lineno, n.end_lineno, n.name) for n in ast.walk(tree)
+                    if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef))), key=lambda t: t[0])
+
+    def owner(line: int) -> str:
+        best = "<module>"
+        for a, b, name in spans:
+            if a <= line <= b:
+                best = name
+        return best
+
+    def chars(line: int, col_bytes: int) -> int:
+        return len(lines[line - 1].encode("utf-8")[:col_bytes].decode("utf-8", errors="ignore"))
+
+    out: list[dict] = []
+
+    def add(node, new: str, kind: str, what: str, stmt: bool = False):
+        if node.lineno in docs:
+            return
+        old = ast.get_source_segment(src, node) or ""
+        out.append(dict(path=path, line=node.lineno, col=chars(node.lineno, node.col_offset),
+                        end_line=node.end_lineno, end_col=chars(node.end_lineno, node.end_col_offset),
+                        old=old, new=new, kind=kind, function=owner(node.lineno), what=what, stmt=stmt))
+
+    def expr(node) -> str:
+        return "(" + ast.unparse(node) + ")"
+
+    for node in ast.walk(tree):
+        # ---- comparisons: strictness and direction, one operator at a time
+        if isinstance(node, ast.Compare):
+            for i, op in enumerate(node.ops):
+                for kind, table in (("cmp-strict", STRICT), ("cmp-direction", DIRECTION)):
+                    if type(op) in table:
+                        new = ast.Compare(left=node.left, ops=list(node.ops), comparators=node.comparators)
+                        new.ops[i] = table[type(op)]()
+                        add(node, expr(new), kind, f"{type(op).__name__} -> {table[type(op)].__name__}")
+        # ---- drop a width / slack term: x + h -> x, lo - H -> lo, h + x -> x
+        elif isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub)):
+            if _slack_like(node.right) and not (isinstance(node.left, ast.Constant) and isinstance(node.op, ast.Sub)):
+                add(node, expr(node.left), "drop-term", f"drop {ast.unparse(node.right)[:40]}")
+            elif isinstance(node.op, ast.Add) and _slack_like(node.left) and not _slack_like(node.right):
+                add(node, expr(node.right), "drop-term", f"drop {ast.unparse(node.left)[:40]}")
+        # ---- loosen a constant factor: c -> 0, c -> 2c
+        elif isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) \
+                and not isinstance(node.value, bool) and node.value not in (0, 1):
+            p = par.get(node)
+            q = p
+            while isinstance(q, ast.UnaryOp):
+                q = par.get(q)
+            ok_ctx = False
+            if isinstance(q, ast.BinOp) and not (isinstance(q.op, ast.Pow) and q.right is node):
+                ok_ctx = True
+            elif isinstance(q, ast.Compare):
+                ok_ctx = True
+            elif isinstance(q, (ast.Assign, ast.AnnAssign)) and owner(node.lineno) == "<module>":
+                ok_ctx = True
+            if ok_ctx:
+                gp = par.get(q)
+                while isinstance(gp, (ast.BinOp, ast.UnaryOp)):
+                    gp = par.get(gp)
+                if isinstance(gp, (ast.Subscript, ast.keyword)) or isinstance(gp, ast.Call) and (
+                        isinstance(gp.func, ast.Name) and gp.func.id in _NOFACTOR_CALLS
+                        or isinstance(gp.func, ast.Attribute) and gp.func.attr in _NOFACTOR_CALLS):
+                    ok_ctx = False
+            if ok_ctx:
+                add(node, "0", "factor", f"{node.value!r} -> 0")
+                add(node, _fmt_num(node.value * 2), "factor", f"{node.value!r} -> {node.value * 2!r}")
+        # ---- skip a case
+        elif isinstance(node, ast.Continue):
+            add(node, "pass", "skip-continue", "continue -> pass", stmt=True)
+        elif isinstance(node, ast.Expr) and isinstance(node.value, ast.Call) \
+                and isinstance(node.value.func, ast.Attribute) and node.value.func.attr in ("append", "extend") \
+                and "problem" in ast.unparse(node.value.func.value).lower():
+            add(node, "pass", "skip-problem", "problems.append deleted", stmt=True)
+        elif isinstance(node, ast.AugAssign) and isinstance(node.op, ast.BitAnd):
+            add(node, "pass", "drop-conjunct", f"{ast.unparse(node.target)} &= ... deleted", stmt=True)
+        elif isinstance(node, ast.BoolOp) and isinstance(node.op, ast.And):
+            for i in range(len(node.values)):
+                rest = node.values[:i] + node.values[i + 1:]
+                new = rest[0] if len(rest) == 1 else ast.BoolOp(op=ast.And(), values=rest)
+                add(node, expr(new), "drop-conjunct", f"drop conjunct {ast.unparse(node.values[i])[:40]}")
+        # ---- return early with success
+        elif isinstance(node, ast.Return) and node.value is not None:
+            v = node.value
+            first = v.elts[0] if isinstance(v, ast.Tuple) and v.elts else v
+            if isinstance(first, ast.Constant) and first.value is False:
+                add(first, "True", "early-success", "return False -> True")
+        elif isinstance(node, ast.Assign) and isinstance(node.value, ast.Constant) and node.value.value is False:
+            add(node.value, "True", "early-success", f"{ast.unparse(node.targets[0])[:30]} = False -> True")
+    # the unparsed replacement must compile and differ from the source
+    good = []
+    for m in out:
+        try:
+            mutated = apply_span(src, m)
+            compile(mutated, path, "exec")
+        except (SyntaxError, ValueError):
+            continue
+        if ast.dump(ast.parse(mutated)) != ast.dump(tree):
+            good.append(m)
+    good.sort(key=lambda m: (m["line"], m["col"], m["kind"], m["new"]))
+    return good
+
+
+def apply_span(src: str, m: dict) -> str:
+    lines = src.splitlines(keepends=True)
+    a, b = m["line"] - 1, m["end_line"] - 1
+    head, tail = lines[a][:m["col"]], lines[b][m["end_col"]:]
+    seg = "".join(lines[a:b + 1])[len(lines[a][:m["col"]]):]
+    seg = seg[:len(seg) - len(tail)] if tail else seg
+    if m["old"] and seg != m["old"]:
+        raise ValueError(f"span mismatch at {m['path']}:{m['line']}")
+    return "".join(lines[:a]) + head + m["new"] + tail + "".join(lines[b + 1:])
+
+
+def sample_stratified(muts: list[dict], n: int, seed: int) -> list[dict]:
+    """``n`` mutants spread evenly over the strata (module, operator): each stratum gets
+    floor(n / strata) or one more, a small stratum gives its spare quota to the others; within a
+    stratum a seeded sample.  Deterministic for a given candidate list and seed."""
+    rng = random.Random(seed)
+    strata: dict[tuple[str, str], list[dict]] = {}
+    for m in muts:
+        strata.setdefault((m["path"], m["kind"]), []).append(m)
+    keys = sorted(strata)
+    for k in keys:
+        rng.shuffle(strata[k])
+    quota = {k: 0 for k in keys}
+    left = min(n, len(muts))
+    while left > 0:
+        open_ = [k for k in keys if quota[k] < len(strata[k])]
+        if not open_:
+            break
+        share = max(1, left // len(open_))
+        for k in open_:
+            if left == 0:
+                break
+            take = min(share, len(strata[k]) - quota[k], left)
+            quota[k] += take
+            left -= take
+    chosen = [m for k in keys for m in strata[k][:quota[k]]]
+    return sorted(chosen, key=lambda m: (m["path"], m["line"], m["col"], m["kind"]))
+
+
+def _tests_for(rel: str, tree: Path) -> list[str]:
+    for prefix, tests in SOUND_TESTS:
+        if rel.startswith(prefix):
+            return [t for t in dict.fromkeys(tests) if (tree / t).exists()]
+    return []
+
+
+def _failing_ids(tree: Path, tests: list[str], timeout: float) -> tuple[list[str], str]:
+    """Node ids that fail on the UNMUTATED copy (others' work in progress): deselected in every
+    mutant run of that subset, and listed in the report."""
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", PYTHONPATH=str(tree), PYTHONDONTWRITEBYTECODE="1")
+    cmd = [sys.executable, "-m", "pytest", "-q", "-rfE", "-p", "no:cacheprovider", "-m", "not slow", *tests]
+    p = subprocess.run(cmd, cwd=tree, env=env, capture_output=True, text=True, timeout=timeout * 4)
+    bad = []
+    for line in p.stdout.splitlines():
+        if line.startswith(("FAILED ", "ERROR ")):
+            bad.append(line.split()[1])
+    return bad, (p.stdout.strip().splitlines() or [""])[-1]
+
+
+def _check_copy_is_imported(tree: Path, rel: str) -> None:
+    """The tests must import the COPY, not the editable install of the repository."""
+    mod = "curvedvoronoi." + rel[:-3].replace("/", ".").replace(".__init__", "")
+    env = dict(os.environ, PYTHONPATH=str(tree), PYTHONDONTWRITEBYTECODE="1")
+    p = subprocess.run([sys.executable, "-c", f"import {mod} as m; print(m.__file__)"], cwd=tree, env=env,
+                       capture_output=True, text=True)
+    where = p.stdout.strip()
+    if not where.startswith(str(tree)):
+        raise SystemExit(f"the tests would import {mod} from {where or p.stderr.strip()[-200:]}, not the copy {tree}")
+
+
+def _run_mutant(tree: Path, m: dict, tests: list[str], deselect: list[str], timeout: float) -> tuple[str, float, str]:
+    f = tree / m["path"]
+    src = f.read_text()
+    try:
+        f.write_text(apply_span(src, m))
+        cmd_extra = [a for d in deselect for a in ("--deselect", d)]
+        st, dt, last = run_tests(tree, tests + cmd_extra, None, timeout)
+    finally:
+        f.write_text(src)
+    return st, dt, last
+
+
+def _replay(allm: list[dict], path: str) -> list[dict]:
+    """The mutants of an earlier run (its .jsonl), found again in today's tree by module, operator,
+    old and new text (the nearest line wins: others edit the modules meanwhile)."""
+    import json
+
+    out = []
+    for line in Path(path).read_text().splitlines():
+        r = json.loads(line)
+        cands = [m for m in allm if (m["path"], m["kind"], m["old"], m["new"]) == (r["path"], r["kind"], r["old"], r["new"])]
+        if not cands:
+            print(f"replay: {r['path']}:{r['line']} {r['kind']} {r['what']} no longer in the source", flush=True)
+            continue
+        out.append(min(cands, key=lambda m: abs(m["line"] - r["line"])))
+    return out
+
+
+def main_soundness(args) -> int:
+    import concurrent.futures as cf
+    import glob
+    import json
+
+    t_start = time.perf_counter()
+    trees = [copy_tree(Path(f"{args.work}-{j}") if args.jobs > 1 else Path(args.work)) for j in range(args.jobs)]
+    tree = trees[0]
+    pats = args.modules or SOUND_MODULES
+    rels = sorted({str(Path(p).relative_to(tree)) for pat in pats for p in glob.glob(str(tree / pat), recursive=True)
+                   if p.endswith(".py")})
+    allm: list[dict] = []
+    for rel in rels:
+        allm += enumerate_sound_mutants(rel, (tree / rel).read_text())
+    if args.list:
+        for m in allm:
+            print(f"{m['path']}:{m['line']} {m['kind']} {m['what']}")
+        print(len(allm), "candidates")
+        return 0
+    if args.replay:
+        chosen = _replay(allm, args.replay)
+    else:
+        chosen = sample_stratified(allm, args.max_mutants, args.seed)
+    print(f"{len(allm)} candidate mutants in {len(rels)} modules; sample of {len(chosen)} (seed {args.seed})", flush=True)
+    subsets = sorted({tuple(_tests_for(m["path"], tree)) for m in chosen})
+    deselect: dict[tuple, list[str]] = {}
+    baseline_notes = []
+    for sub in subsets:
+        _check_copy_is_imported(tree, next(m["path"] for m in chosen if tuple(_tests_for(m["path"], tree)) == sub))
+        bad, last = _failing_ids(tree, list(sub), args.timeout)
+        deselect[sub] = bad
+        baseline_notes.append((sub, bad, last))
+        print(f"baseline {' '.join(s.replace('tests/', '') for s in sub)}: {last}; deselected {bad}", flush=True)
+    rows: list[dict] = []
+    jsonl = Path(args.out).with_suffix(".jsonl")
+
+    def work(job: int, m: dict) -> dict:
+        sub = tuple(_tests_for(m["path"], trees[job]))
+        st, dt, last = _run_mutant(trees[job], m, list(sub), deselect[sub], args.timeout)
+        return dict(m, status=st, seconds=dt, last=last, tests=" ".join(sub))
+
+    with jsonl.open("w") as fh:
+        if args.jobs == 1:
+            results = (work(0, m) for m in chosen)
+        else:
+            ex = cf.ThreadPoolExecutor(args.jobs)
+            import queue
+            free: "queue.Queue[int]" = queue.Queue()
+            for j in range(args.jobs):
+                free.put(j)
+
+            def w(m):
+                j = free.get()
+                try:
+                    return work(j, m)
+                finally:
+                    free.put(j)
+            results = ex.map(w, chosen)
+        for i, r in enumerate(results, 1):
+            rows.append(r)
+            fh.write(json.dumps(r) + "\n")
+            fh.flush()
+            print(f"[{i}/{len(chosen)}] {r['path']}:{r['line']} {r['kind']} {r['what']}: {r['status']} "
+                  f"({r['seconds']:.0f} s)", flush=True)
+    total = time.perf_counter() - t_start
+    write_sound_report(rows, args, total, len(allm), baseline_notes)
+    return 0
+
+
+def write_sound_report(rows, args, total, n_candidates, baseline_notes) -> None:
+    cmdline = " ".join(a if " " not in a else repr(a) for a in sys.argv[1:])
+    killed = sum(r["status"] == "killed" for r in rows)
+    surv = [r for r in rows if r["status"] == "survived"]
+    tmo = sum(r["status"] == "timeout" for r in rows)
+    L = [f"## {args.title}", "",
+         f"Command: `OPENBLAS_NUM_THREADS=1 python bench/mutation_check.py {cmdline}` — sample seed {args.seed}, "
+         f"{len(rows)} of {n_candidates} candidate mutants (stratified by module and operator), "
+         f"{total:.0f} s wall on a shared 2-core machine.", "",
+         f"**{killed} of {len(rows)} killed ({100 * killed / max(1, len(rows)):.0f} %), {len(surv)} survived, "
+         f"{tmo} timed out.**  Each mutant: `pytest -x -q -m 'not slow'` on the module's test subset "
+         f"(timeout {args.timeout:.0f} s), in a copy of the tree.", ""]
+    for sub, bad, last in baseline_notes:
+        L.append(f"- subset {', '.join(s.replace('tests/', '') for s in sub)}: unmutated `{last}`"
+                 + (f"; failing before any mutation, deselected: {', '.join(bad)}" if bad else ""))
+    L += ["", "| module | operator | mutants | killed | survived | timeout |", "|---|---|---|---|---|---|"]
+    agg: dict[tuple[str, str], list[int]] = {}
+    for r in rows:
+        a = agg.setdefault((r["path"], r["kind"]), [0, 0, 0, 0])
+        a[0] += 1
+        a[1] += r["status"] == "killed"
+        a[2] += r["status"] == "survived"
+        a[3] += r["status"] == "timeout"
+    for (p, k), a in sorted(agg.items()):
+        L.append(f"| {p.replace('runtime/', '')} | {k} | {a[0]} | {a[1]} | {a[2]} | {a[3]} |")
+    L += ["", "| operator | mutants | killed | survived |", "|---|---|---|---|"]
+    for k in SOUND_OPERATORS:
+        rs = [r for r in rows if r["kind"] == k]
+        if rs:
+            L.append(f"| {k} | {len(rs)} | {sum(r['status'] == 'killed' for r in rs)} | "
+                     f"{sum(r['status'] == 'survived' for r in rs)} |")
+    L += ["", "Survivors (and timeouts):", "", "| file:line | function | operator | diff |", "|---|---|---|---|"]
+    for r in rows:
+        if r["status"] in ("survived", "timeout", "no tests"):
+            old = r["old"].replace("\n", " ").replace("|", "\\|")
+            new = r["new"].replace("|", "\\|")
+            L.append(f"| {r['path']}:{r['line']} | {r['function']} | {r['kind']} ({r['status']}) | "
+                     f"`{old[:90]}` → `{new[:90]}` |")
+    text = "\n".join(L) + "\n"
+    print(text)
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    if args.append and out.exists():
+        with out.open("a") as fh:
+            fh.write("\n" + text)
+    else:
+        out.write_text(text)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--work", default="/tmp/mut")
@@ -236,8 +629,21 @@ def main(argv=None) -> int:
     ap.add_argument("--previous", default="cf93108",
                     help="git revision holding the suite before the rewrite (for --teeth)")
     ap.add_argument("--append", action="store_true", help="append the table to --out instead of replacing it")
-    ap.add_argument("--title", default="Mutation check of the core predicates")
+    ap.add_argument("--title", default=None)
+    ap.add_argument("--modules", nargs="*", default=None, metavar="GLOB",
+                    help="soundness mode: mutate these modules (globs; none given: " + " ".join(SOUND_MODULES) + ")")
+    ap.add_argument("--max-mutants", type=int, default=200, help="soundness mode: size of the stratified sample")
+    ap.add_argument("--jobs", type=int, default=1, help="soundness mode: mutants run side by side (one copy each)")
+    ap.add_argument("--list", action="store_true", help="soundness mode: only list the candidate mutants")
+    ap.add_argument("--replay", default=None, metavar="JSONL",
+                    help="soundness mode: re-run the mutants of an earlier run (its .jsonl) instead of sampling")
     args = ap.parse_args(argv)
+    if args.modules is not None:
+        if args.timeout == 300 and "--timeout" not in (argv if argv is not None else sys.argv):
+            args.timeout = 120
+        args.title = args.title or "Soundness mutants of the verifier and the certification stage"
+        return main_soundness(args)
+    args.title = args.title or "Mutation check of the core predicates"
     rng = random.Random(args.seed)
     tree = copy_tree(Path(args.work))
     if args.teeth:
