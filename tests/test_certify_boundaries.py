@@ -1,0 +1,90 @@
+"""The proof kernel of runtime/certify at its boundaries (issue 31 items 2-3), CGAL-style: inputs on
+both sides of each inequality the proofs rely on, with the verdict computed by hand.
+
+* ``strictly_inside``: K ⊂ int(m + [−r, r]) is strict: a ball of radius exactly r around m is NOT
+  inside (its end points are on the boundary), radius r·(1 − 2⁻²⁰) is; in the complex case both
+  the real and the imaginary part are tested;
+* ``krawczyk_image`` on F(x) = x² − 2, m = 3/2, X = m + [−1/10, 1/10], Y = 1/3:
+  K = 3/2 − (1/3)(1/4) + (1 − (1/3)[14/5, 16/5])·[−1/10, 1/10] = 17/12 + [−1/150, 1/150]
+  (1 − [14/15, 16/15] = [−1/15, 1/15]); √2 = 1.41421… lies in it, 17/12 does not equal √2, so an
+  image without its (I − Y J)(X − m) term misses the zero;
+* ``krawczyk_inflation``: x² = 2 is proved near 1.4 with √2 in the enclosure (inside X); x² = 0
+  (a double zero) and x² = −1 (no real zero) are not proved.
+"""
+from __future__ import annotations
+
+from fractions import Fraction as F
+
+import pytest
+from flint import acb, arb, arb_mat
+
+from curvedvoronoi.runtime.certify.interval_newton import (KrawczykFailure, krawczyk_image, krawczyk_inflation,
+                                                          strictly_inside)
+
+R = arb(F(1, 8).numerator) / 8                   # 1/8, exact in binary
+
+
+@pytest.mark.parametrize("m", [0, 1, -3])
+def test_strictly_inside_real_at_the_boundary(m):
+    m = arb(m)
+    assert not strictly_inside(arb(m, R), m, R)                     # touches m ± r: not interior
+    assert not strictly_inside(m + R, m, R)                         # the end point itself
+    assert not strictly_inside(m - R, m, R)
+    assert strictly_inside(arb(m, R * (1 - arb(2) ** -20)), m, R)   # a hair inside
+    assert strictly_inside(m, m, R)
+    assert not strictly_inside(arb(m, 2 * R), m, R)
+
+
+def test_strictly_inside_complex_needs_both_parts():
+    m = acb(1, -2)
+    inner = R * (1 - arb(2) ** -20)
+    assert strictly_inside(acb(arb(1, inner), arb(-2, inner)), m, R)
+    assert not strictly_inside(acb(arb(1, R), arb(-2, inner)), m, R)      # real part on the boundary
+    assert not strictly_inside(acb(arb(1, inner), arb(-2, R)), m, R)      # imaginary part on the boundary
+    assert not strictly_inside(acb(arb(1), arb(-2) + R), m, R)
+    assert not strictly_inside(acb(arb(1) - R, arb(-2)), m, R)
+
+
+def test_krawczyk_image_by_hand():
+    m = [arb(3) / 2]
+    dX = [arb(0, arb(1) / 10)]
+    Y = arb_mat([[arb(1) / 3]])
+    YF = Y * arb_mat([[m[0] * m[0] - 2]])
+    JX = arb_mat([[2 * (m[0] + dX[0])]])
+    (K,) = krawczyk_image(m, YF, Y, JX, dX)
+    assert K.contains(arb(2).sqrt())
+    assert K.contains(arb(17) / 12 + arb(1) / 150) and K.contains(arb(17) / 12 - arb(1) / 150)
+    assert not K.contains(arb(17) / 12 + arb(1) / 140) and not K.contains(arb(17) / 12 - arb(1) / 140)
+
+
+def _square(c):
+    def F_(z):
+        return [z[0] * z[0] - c]
+
+    def J_(z):
+        return [[2 * z[0]]]
+    return F_, J_
+
+
+def test_krawczyk_inflation_proves_sqrt2_inside_its_box():
+    # √2 ∈ (1.41421356237309, 1.41421356237310): the enclosure must meet the zero's ball and, when
+    # tight, lie within 1e-12 of it
+    K, X = krawczyk_inflation(*_square(2), [arb(1.4)])
+    assert K[0].overlaps(arb(2).sqrt()) and X[0].contains(K[0])
+    assert float(K[0].lower()) < 1.41421356237309 and float(K[0].upper()) > 1.41421356237310
+    K, X = krawczyk_inflation(*_square(2), [arb(1.4142135623730951)])
+    assert K[0].overlaps(arb(2).sqrt()) and X[0].contains(K[0]) and K[0].rad() < 1e-12
+    assert float(K[0].lower()) < 1.41421356237310 and float(K[0].upper()) > 1.41421356237309
+
+
+@pytest.mark.parametrize("c, m", [(0, 1e-9), (0, 0.5), (-1, 0.5), (-1, 1e-3)])
+def test_krawczyk_inflation_refuses_double_and_missing_zeros(c, m):
+    with pytest.raises(KrawczykFailure):
+        krawczyk_inflation(*_square(c), [arb(m)])
+
+
+def test_krawczyk_inflation_complex_zero():
+    """z² = −1: the zero i is proved from 1e-9 + (1 + 1e-9) i, and −i is not in its enclosure."""
+    K, X = krawczyk_inflation(*_square(-1), [acb(1e-9, 1 + 1e-9)])
+    assert K[0].contains(acb(0, 1)) and not K[0].contains(acb(0, -1))
+    assert X[0].real.contains(K[0].real) and X[0].imag.contains(K[0].imag)
