@@ -35,7 +35,7 @@ import numpy as np
 from .site_table import run_lockstep
 from .strips import StripsJob, prove_strips, prove_strips_many, rot90
 
-__all__ = ["prove_curved_edge", "prove_curved_edges", "project_many", "ProjectJob", "TAIL_CUT"]
+__all__ = ["prove_curved_edge", "prove_curved_edges", "project_many", "ProjectJob", "TAIL_CUT", "TIME_LIMIT"]
 
 TAIL_CUT = 12.0         # the chain proves an unbounded edge up to TAIL_CUT·(scene radius), the tail beyond
 NEWTON = 6              # Newton steps of the guide's projection onto β
@@ -51,12 +51,18 @@ EXTRA_EDGES = 4
 LONG = 50000.0          # strips at least (edge length)/LONG wide (3x this), at most 0.03·d·|∇d_i − ∇d_j|
 
 
-def prove_curved_edges(table, jobs):
+#: the message of an edge whose proof was stopped at the deadline
+TIME_LIMIT = "time limit reached before the edge was proved"
+
+
+def prove_curved_edges(table, jobs, deadline=None):
     """:func:`prove_curved_edge` for every job (scale, pair, P, v0, v1, tol), side by side.
-    Returns their results (ok, message, beyond) in order."""
+    Returns their results (ok, message, beyond) in order; (False, :data:`TIME_LIMIT`, []) for
+    the edges still running at ``deadline`` (a :func:`time.perf_counter` value)."""
     extra = [EXTRA_EDGES * (EDGE_WORK_MORE - EDGE_WORK)]
-    return run_lockstep([prove_curved_edge(table, *job, extra=extra) for job in jobs], table,
-                        {StripsJob: prove_strips_many, ProjectJob: project_many})
+    out = run_lockstep([prove_curved_edge(table, *job, extra=extra) for job in jobs], table,
+                       {StripsJob: prove_strips_many, ProjectJob: project_many}, deadline=deadline)
+    return [(False, TIME_LIMIT, []) if r is None else r for r in out]
 
 
 def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, extra=None):

@@ -53,6 +53,8 @@ from __future__ import annotations
 
 import itertools
 
+import time
+
 import numpy as np
 from scipy.spatial import cKDTree
 
@@ -314,11 +316,13 @@ def gradient_enclosure(Q, V: SiteValues, R, scale):
     return G, slack, valid | valid_i
 
 
-def run_lockstep(gens, table: SiteTable, collective=None):
+def run_lockstep(gens, table: SiteTable, collective=None, deadline=None):
     """Run generator proofs side by side: each yields requests (Q, K) and receives the
     :class:`SiteValues` at those rows; one :meth:`SiteTable.evaluate` serves all pending requests.
     ``collective`` maps a request type to a function (table, [requests]) -> [results] that
-    serves all pending requests of that type at once.  Returns the generators' return values."""
+    serves all pending requests of that type at once.  Returns the generators' return values;
+    None for those still running at ``deadline`` (a :func:`time.perf_counter` value), which are
+    closed then."""
     collective = collective or {}
     out = [None] * len(gens)
     pending = {}
@@ -328,6 +332,10 @@ def run_lockstep(gens, table: SiteTable, collective=None):
         except StopIteration as stop:
             out[t] = stop.value
     while pending:
+        if deadline is not None and time.perf_counter() > deadline:
+            for t in pending:
+                gens[t].close()
+            break
         answers = {}
         for kind, fn in collective.items():
             keys = [t for t, req in pending.items() if isinstance(req, kind)]
