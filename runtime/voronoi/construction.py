@@ -140,10 +140,10 @@ def voronoi(sites, *, certify: bool = True, progress=None, time_limit: float | N
     if len(sites) < 2:
         raise ValueError(f"the Voronoi diagram needs at least 2 sites, got {len(sites)}")
     geoms = [site_geometry(s) for s in sites]
-    check_disjoint(sites, geoms)
     frame, local = local_frame(sites, geoms)     # far sites: built at the origin (runtime.voronoi.frame)
     if frame is not None:
         return frame.to_global(voronoi(local, certify=certify, progress=progress, time_limit=time_limit), sites)
+    check_disjoint(sites, geoms)
     notes: list[str] = []
     S = SiteArrays(sites, geoms)
     stats: dict = {"sites": len(sites), "rounds": 0, "samples": 0}
@@ -191,7 +191,7 @@ def build_diagram(S: SiteArrays, samples: Samples, cache: dict, notes, stats, ti
             if not certify or verify is None or result.get("timed_out") or D.problems:
                 break
             t0 = time.perf_counter()
-            cert = verify(D, sites)
+            cert = verify(D, sites, deadline=deadline)
             timing["verify"] = timing.get("verify", 0) + time.perf_counter() - t0
             result["certificate"] = cert
             named = _sites_named(cert.problems, D) if not cert.ok else set()
@@ -242,6 +242,9 @@ def _rounds(S, samples, stats, timing, deadline, cache, bar):
     """Sample-triangulate-prove rounds until the combinatorics are consistent (or MAX_ROUNDS)."""
     result = None
     for _ in range(MAX_ROUNDS):
+        if result is not None and deadline is not None and time.perf_counter() > deadline:
+            result["timed_out"] = True      # the refinement would start after the time limit
+            break
         stats["rounds"] = stats.get("rounds", 0) + 1
         result, refine = _build_once(S, samples, stats, timing, deadline, cache)
         if bar is not None:

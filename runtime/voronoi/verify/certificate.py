@@ -107,6 +107,7 @@ import time
 from dataclasses import dataclass, field
 
 from ..conic_geometry import site_geometry
+from ..frame import to_local_frame
 from .edge_checks import check_edges
 from .edges import CircleTable
 from .closure import verify_accounting, verify_accounting_conics, verify_closure
@@ -203,7 +204,7 @@ def verify_files(diagram_path: str, sites_path: str | None = None) -> "Certifica
 
 # ============================================================================ the verifier
 
-def verify(diagram, sites=None) -> Certificate:
+def verify(diagram, sites=None, *, deadline=None) -> Certificate:
     """Prove that ``diagram`` is the Voronoi diagram of ``sites`` (default: the diagram's own).
 
     Parameters
@@ -213,11 +214,20 @@ def verify(diagram, sites=None) -> Certificate:
     sites : list, optional
         The true sites (Point / Circle / Conic).  When given, the diagram's site list must equal
         it (a site the diagram ignores is a problem).
+    deadline : float, optional
+        A :func:`time.perf_counter` value: edges not checked by then are not proved
+        ("time limit reached: N edges not checked"), and the certificate is not ok.
 
     Returns
     -------
     Certificate
         ``ok`` only when everything in the module docstring is proved.
+
+    Sites far from the origin are checked in their local frame
+    (:func:`runtime.voronoi.frame.to_local_frame`): the diagram and the sites are translated by a
+    dyadic vector, exactly (each float's translation is checked exact, else nothing is moved), so
+    the translated diagram is the reported one moved by an isometry and its proof is the
+    reported diagram's; problem lines then give coordinates in that frame.
 
     Examples
     --------
@@ -228,7 +238,7 @@ def verify(diagram, sites=None) -> Certificate:
     """
     T0 = time.perf_counter()
     timings: dict = {}
-    D = _as_diagram(diagram)
+    D, sites = to_local_frame(_as_diagram(diagram), sites)
     problems: list[str] = []
     dsites = list(D.sites)
     if sites is None:
@@ -255,7 +265,7 @@ def verify(diagram, sites=None) -> Certificate:
 
     # ---------------------------------------------------------------- edges
     t0 = time.perf_counter()
-    eok, ends_inf, intervals = check_edges(D, geoms, table, vinfo, vok, problems, stats)
+    eok, ends_inf, intervals = check_edges(D, geoms, table, vinfo, vok, problems, stats, deadline=deadline)
     timings["edges"] = time.perf_counter() - t0
 
     # ---------------------------------------------------------------- closure + accounting

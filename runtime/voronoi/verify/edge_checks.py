@@ -12,6 +12,7 @@ the interval of directions recorded for the accounting).
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 
@@ -26,9 +27,12 @@ def _ename(e) -> str:
     return f"edge {e.id} (sites {', '.join(str(int(s)) for s in e.sites)})"
 
 
-def check_edges(D, geoms, table, vinfo, vok, problems, stats):
+def check_edges(D, geoms, table, vinfo, vok, problems, stats, deadline=None):
     """Step 2 of :mod:`runtime.voronoi.verify.certificate` for every reported edge.  Returns (flags in
-    diagram order, unbounded ends (θ, pair, σ, id), parameter intervals per pair)."""
+    diagram order, unbounded ends (θ, pair, σ, id), parameter intervals per pair).  Edges not
+    checked by ``deadline`` (a :func:`time.perf_counter` value) are not proved, and one problem
+    line says how many."""
+    late = [0]        # edges left unchecked at the deadline
     n = len(geoms)
     eok: list[bool] = []
     ends_inf: list = []      # (theta, pair, sigma, edge id)
@@ -88,7 +92,12 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats):
             continue
         eok.append(True)
         cands.append((len(eok) - 1, e, name, pair, P, endv, bis))
-    _curved_edges(curved, geoms, problems, eok, ends_inf)
+    _curved_edges(curved, geoms, problems, eok, ends_inf, deadline, late)
+    if _past(deadline) and cands:
+        late[0] += len(cands)
+        for c in cands:
+            eok[c[0]] = False
+        cands = []
     for (pos, e, name, pair, P, endv, bis), pre in zip(cands, _precompute(cands, table)):
         job = _edge_job(e, name, pair, P, endv, bis, table, problems, pre)
         eok[pos] = job is not None
@@ -100,6 +109,10 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats):
     arcs = prove_arcs(table, [(bis, job[0], job[1], job[2]) for _, _, _, _, bis, job in jobs],
                       max_depth=SHALLOW, max_pieces=4096 + 64 * len(jobs)) if jobs else []
     for (pos, e, name, pair, bis, (lo, hi, exempt, tails, full_lo, full_hi, _)), (ok, det) in zip(jobs, arcs):
+        if _past(deadline):
+            late[0] += 1
+            eok[pos] = False
+            continue
         ok, det = search_with_exact_fallback(table, geoms, vinfo, e, pair, bis, lo, hi, exempt, tails, ok, det)
         if not ok:
             k, q, why = det
@@ -117,7 +130,13 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats):
             ends_inf.append((math.atan2(d[1], d[0]) % (2 * math.pi), pair, sigma, e.id))
         intervals.setdefault(pair, []).append((bis.kind, full_lo, full_hi, e.id))
     stats["unbounded_ends"] = len(ends_inf)
+    if late[0]:
+        problems.append(f"time limit reached: {late[0]} edges not checked")
     return eok, ends_inf, intervals
+
+
+def _past(deadline) -> bool:
+    return deadline is not None and time.perf_counter() > deadline
 
 
 def _curved_scale(geoms) -> float:
@@ -141,18 +160,19 @@ def _curved_job(e, name, pair, P, endv, scale, problems):
     return (scale, pair, P, v0, v1, float(e.tolerance), bool(e.closed))
 
 
-def _curved_edges(curved, geoms, problems, eok, ends_inf):
+def _curved_edges(curved, geoms, problems, eok, ends_inf, deadline=None, late=None):
     """Edges with a conic site (:mod:`runtime.voronoi.verify.curved`), all chains side by side;
     an unbounded end is proved to infinity by :func:`runtime.voronoi.verify.tail.prove_tail` and
     recorded in ``ends_inf`` as (θ_mid, pair, (θa, θb), edge id) with [θa, θb] its asymptotic
     sector.  ``curved``: (position, edge, name, job)."""
-    from .curved import prove_curved_edges
+    from .curved import TIME_LIMIT, prove_curved_edges
     from .site_table import SiteTable
     from .support import SupportTable
     from .tail import MORE_TAILS, TAIL_WORK_MORE, prove_tail
 
     if not curved:
         return
+    late = [0] if late is None else late
     scale = curved[0][3][0]
     table = SiteTable(geoms, scale)
     # polyline points within the stated tolerance of the bisector: |d_i − d_j|/2 is a lower bound
@@ -180,10 +200,14 @@ def _curved_edges(curved, geoms, problems, eok, ends_inf):
                 eok[p_e] = False
                 continue
         jobs.append((p_e, e, name, job))
-    results = prove_curved_edges(table, [job for _, _, _, job in jobs])
+    results = prove_curved_edges(table, [job for _, _, _, job in jobs], deadline=deadline)
     sup = None
     more = MORE_TAILS           # tails undecided within TAIL_WORK tried again with TAIL_WORK_MORE
     for (p_e, e, name, job), (ok, msg, beyond) in zip(jobs, results):
+        if msg == TIME_LIMIT or (beyond and _past(deadline)):
+            late[0] += 1           # stopped, or its tails would start after the deadline
+            eok[p_e] = False
+            continue
         if not ok:
             problems.append(f"{name}: {msg}")
             eok[p_e] = False
