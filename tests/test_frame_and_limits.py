@@ -106,6 +106,21 @@ def test_utm_scale_circles_certified():
         assert cv.voronoi(origin).delaunay_edges() == d.delaunay_edges()
 
 
+def test_far_ellipses_same_delaunay_graph_and_reverified():
+    """Ellipses (exact rational rotation) moved by (2^20 + 1/2, −2^20 − 1/2): the conic
+    coefficients are translated exactly; same Delaunay graph as at the origin, certified, and the
+    returned far diagram passes the verifier again."""
+    rng = random.Random(2)
+    base = _disjoint_circles(rng, 8, size=12, rmin=0.3, gap=0.2)
+    rot = (Fraction(3, 5), Fraction(4, 5))
+    T = 2.0 ** 20 + 0.5
+    d0 = cv.voronoi([cv.Conic.ellipse((x, y), (r, r * 0.6), rotation=rot) for x, y, r in base])
+    d1 = cv.voronoi([cv.Conic.ellipse((x + T, y - T), (r, r * 0.6), rotation=rot) for x, y, r in base])
+    assert d0.certified and d1.certified, d1.problems[:3]
+    assert d1.delaunay_edges() == d0.delaunay_edges()
+    assert cv.verify(d1).ok
+
+
 def test_delete_site_in_a_far_frame():
     rng = random.Random(3)
     s = [(x + 1e6, y + 1e6, r) for x, y, r in _disjoint_circles(rng, 12)]
