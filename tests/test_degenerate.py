@@ -369,13 +369,11 @@ def _edge_key(pair, ends):
 NOT_YET = {
     "readme": "a conic among sites tangent to one line: their tie at infinity is not proved for conics "
               "(runtime/voronoi/verify/tail.py needs the second-order term)",
-    "ellipse_grid3": "identical ellipses in a row tie at infinity: the tails of their parallel edges are not "
-                     "proved for conics (runtime/voronoi/verify/tail.py works in sectors of directions)",
 }
 
 
 #: these cases are right but not proved: only their certification is expected to fail
-ONLY_CERTIFIED = {"readme", "ellipse_grid3"}
+ONLY_CERTIFIED = {"readme"}
 
 
 def _names(test="certified"):

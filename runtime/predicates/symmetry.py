@@ -15,13 +15,20 @@ isometries join them all (one class of the equivalence they generate).
 Sites: :class:`runtime.sites.conic.Conic`, :class:`runtime.predicates.circles.Circle` and
 :class:`runtime.predicates.circles.Point` (a point is the conic (x − a)² + (y − b)² = 0).
 
-Public API: :func:`site_coefficients`, :func:`equidistant_by_symmetry`, :func:`rational_candidates`.
+**Mirrors.**  If the reflection in a line ℓ maps site A onto site B and A lies strictly on one side
+H of ℓ, then d(q, A) < d(q, B) for every q in the open half-plane H (the nearest point p of A to
+the mirror image of q satisfies |q − p| < |q̄ − p| since p and q lie on the same side), and the
+bisector of A and B is exactly ℓ.  :func:`mirror_line` finds such a line (the perpendicular
+bisector of the centres, checked exactly on the coefficients).
+
+Public API: :func:`site_coefficients`, :func:`equidistant_by_symmetry`, :func:`rational_candidates`,
+:func:`site_centre`, :func:`mirror_line`.
 """
 from __future__ import annotations
 
 from fractions import Fraction
 
-__all__ = ["site_coefficients", "equidistant_by_symmetry", "rational_candidates"]
+__all__ = ["site_coefficients", "equidistant_by_symmetry", "rational_candidates", "site_centre", "mirror_line"]
 
 #: the linear parts of D4: (m11, m12, m21, m22), q ↦ p + M (q − p)
 D4 = ((1, 0, 0, 1), (-1, 0, 0, 1), (1, 0, 0, -1), (-1, 0, 0, -1),
@@ -51,15 +58,17 @@ def site_coefficients(site) -> tuple[Fraction, ...]:
 
 def _image(co, M, p):
     """Coefficients of g(C) for g(q) = p + M(q − p), M orthogonal (so g⁻¹(q) = p + Mᵀ(q − p))."""
-    a, b, c, d, e, f = co
     m11, m12, m21, m22 = M
     px, py = p
     # v = g⁻¹(q) = Mᵀ q + t, t = p − Mᵀ p; C(v) = 0 ⟺ g(C)(q) = 0
     tx = px - (m11 * px + m21 * py)
     ty = py - (m12 * px + m22 * py)
-    # vx = m11·qx + m21·qy + tx, vy = m12·qx + m22·qy + ty
-    ux, uy, u0 = (m11, m21, tx), (m12, m22, ty), None
-    del u0
+    return _substitute(co, (m11, m21, tx), (m12, m22, ty))
+
+
+def _substitute(co, ux, uy):
+    """Normalised coefficients of C(vx, vy) with vx = ux[0]·x + ux[1]·y + ux[2], vy likewise."""
+    a, b, c, d, e, f = co
 
     def mul(P, Q):
         out: dict = {}
@@ -114,3 +123,30 @@ def rational_candidates(x: float, y: float, reach: float):
         if abs(qx - fx) <= reach and abs(qy - fy) <= reach and (qx, qy) not in out:
             out.append((qx, qy))
     return out
+
+
+def site_centre(site):
+    """The exact centre of a circle, point or central conic (None for a parabola): the zero of the
+    gradient of a·x² + b·xy + c·y² + d·x + e·y + f."""
+    a, b, c, d, e, _ = site_coefficients(site)
+    det = 4 * a * c - b * b
+    if det == 0:
+        return None
+    return ((b * e - 2 * c * d) / det, (b * d - 2 * a * e) / det)
+
+
+def mirror_line(site_a, site_b):
+    """The line ℓ = {q : n·q = k} (n, k rational) whose reflection maps site_a exactly onto site_b,
+    tried as the perpendicular bisector of their centres; None if that reflection does not."""
+    ca, cb = site_centre(site_a), site_centre(site_b)
+    if ca is None or cb is None or ca == cb:
+        return None
+    n = (cb[0] - ca[0], cb[1] - ca[1])
+    k = (n[0] * (ca[0] + cb[0]) + n[1] * (ca[1] + cb[1])) / 2
+    nn = n[0] * n[0] + n[1] * n[1]
+    # reflection q ↦ q − 2 (n·q − k) n / |n|² = M q + t (its own inverse)
+    m11, m12 = 1 - 2 * n[0] * n[0] / nn, -2 * n[0] * n[1] / nn
+    m22 = 1 - 2 * n[1] * n[1] / nn
+    t = (2 * k * n[0] / nn, 2 * k * n[1] / nn)
+    image = _substitute(site_coefficients(site_a), (m11, m12, t[0]), (m12, m22, t[1]))
+    return (n, k) if image == site_coefficients(site_b) else None

@@ -18,7 +18,8 @@ u is, to first order, the one whose contact direction is closest to u (d_s(q + �
 ε·u·n_s + O(ε²)), so the vertex's edges are exactly the bisectors of cyclically consecutive
 sites (Okabe, Boots, Sugihara & Chiu, *Spatial Tessellations*, 2nd ed., §2.3, for points).
 
-Public API: :func:`contact_order`, :func:`merge_cocircular`.
+Public API: :func:`contact_order`, :func:`contact_order_triples`, :func:`merge_cocircular`,
+:func:`consecutive_pairs`, :func:`assemble_vertices`.
 """
 from __future__ import annotations
 
@@ -28,7 +29,7 @@ import numpy as np
 
 from .site_arrays import SiteArrays
 
-__all__ = ["contact_order", "contact_order_triples", "merge_cocircular", "consecutive_pairs"]
+__all__ = ["contact_order", "contact_order_triples", "merge_cocircular", "consecutive_pairs", "assemble_vertices"]
 
 
 def contact_order_triples(S: SiteArrays, X, T) -> np.ndarray:
@@ -106,3 +107,49 @@ def merge_cocircular(S: SiteArrays, clusters, usable):
             order = contact_order(S, head["x"], head["y"], full) if len(full) > 3 else tuple(full)
             out.append((part, order))
     return out
+
+
+def assemble_vertices(S: SiteArrays, clusters, usable, groups, n_old, problems, vertex_cls):
+    """The diagram's vertices from the usable clusters (:func:`merge_cocircular`), and for each
+    near-degenerate group of :func:`runtime.voronoi.near_degenerate.near_degenerate_clusters`
+    (clusters ``n_old`` and after) its local edges: a pair consecutive at two of the group's
+    vertices is an edge between them, a pair consecutive at one leaves the group there.
+
+    Returns (vertices, cluster → vertex id, group → {pair: vertex id}, local edges
+    [(pair, [va, vb])], vertex id → group); problems are appended."""
+    vertices = []
+    cluster_vid: dict = {}
+    for members, order in merge_cocircular(S, clusters, usable):
+        head = clusters[members[0]]
+        if order is None:
+            full = sorted(set(head["triple"]) | set(head.get("tangent", ())))
+            problems.append(f"sites {', '.join(map(str, full))}: the vertex at ({head['x']:.6g}, {head['y']:.6g}) "
+                            "touches them at points too close to order")
+            continue
+        vid = len(vertices)
+        for c in members:
+            cluster_vid[c] = vid
+        r = float(head.get("radius") or 0.0) or float((head["rlo"] + head["rhi"]) / 2)
+        vertices.append(vertex_cls(vid, tuple(order), float(head["x"]), float(head["y"]), r, True))
+    group_out: dict = {}
+    local_edges = []
+    vgroup: dict = {}
+    for g in groups:
+        count: dict = {}
+        for c in range(n_old, len(clusters)):
+            if clusters[c].get("group") == g and c in cluster_vid:
+                vid = cluster_vid[c]
+                vgroup[vid] = g
+                for pr in consecutive_pairs(vertices[vid].sites):
+                    count.setdefault(pr, set()).add(vid)
+        out = group_out.setdefault(g, {})
+        for pr, vids in count.items():
+            vids = sorted(vids)
+            if len(vids) == 1:
+                out[pr] = vids[0]
+            elif len(vids) == 2:
+                local_edges.append((pr, vids))
+            else:
+                problems.append(f"sites {pr[0]}, {pr[1]}: their bisector meets {len(vids)} vertices of one "
+                                "near-degenerate cluster")
+    return vertices, cluster_vid, group_out, local_edges, vgroup

@@ -1,11 +1,10 @@
 """The Voronoi diagram of many sites, built output-sensitively by *sample-then-refine*.
 
 Thesis §1.2 (Prop. 1.2.1) and §5.1–5.2 define the diagram: a vertex is the centre of a circle
-touching three sites and empty of all sites; an edge is an arc of points with exactly two
-nearest sites.  The thesis builds it incrementally with the conflict locator; an insertion that
-re-tests every vertex and solves full triple systems costs O(n) heavy work per site.  Here the
-*combinatorics* come from a cheap, robust approximation and only the *local* certified
-predicates are run, once per output vertex, so the work is proportional to the output:
+touching k ≥ 3 sites and empty of all sites; an edge is an arc of points with exactly two
+nearest sites.  Here the *combinatorics* come from a cheap, robust approximation and only the
+*local* certified predicates are run, once per output vertex (the thesis' incremental insertion
+re-tests every vertex: O(n) heavy work per site):
 
 1. **Sites** (:mod:`runtime.voronoi.site_input`): intersecting or repeated sites are rejected
    with an error naming the pair.
@@ -17,11 +16,13 @@ predicates are run, once per output vertex, so the work is proportional to the o
 4. **Vertices**: circles and points by vectorised Newton + float Krawczyk proofs
    (:mod:`runtime.voronoi.apollonius_vertices`), triples with a conic by
    :mod:`runtime.voronoi.conic_vertices`; emptiness by rigorous distance bounds
-   (:mod:`runtime.voronoi.vertex_emptiness`).
+   (:mod:`runtime.voronoi.vertex_emptiness`); sites found exactly on a vertex's circle make it
+   a vertex of degree k (:mod:`runtime.voronoi.cocircular`); nearly co-circular circles are
+   resolved exactly (:mod:`runtime.voronoi.near_degenerate`).
 5. **Edges** (:mod:`runtime.voronoi.edge_polylines`): walk circumcentres projected onto the
    bisectors, with a measured tolerance.
 6. **Refine.**  A 3-label triangle whose triple has no proved, empty vertex near it, a vertex
-   without exactly its three incident edges (i, j), (j, k), (i, k), a walk that cannot be
+   without exactly one incident edge per consecutive pair of its sites, a walk that cannot be
    closed, or two bounded sites consecutive on the convex hull of the sites without an unbounded
    edge between them (:func:`runtime.voronoi.sampling.hull_neighbours`; a coarse sample of a third
    site can stick out between theirs), makes the spacing of the sites involved shrink (to √(2rδ) when a site enters a
@@ -33,11 +34,9 @@ predicates are run, once per output vertex, so the work is proportional to the o
    problems that name sites refine those sites four times and rebuild (3 times at most).
    Whatever stays unproved is listed in ``problems`` and the diagram is ``certified=False``.
 
-Why sample-then-refine rather than CGAL-style incremental insertion: it needs only the two
-certified predicates that exist for every site kind (vertex existence and emptiness), no
-edge-interior conflict predicate for curved bisectors (which may be cut several times), and
-all heavy work is vectorised numpy/qhull.  Its completeness argument is the verifier's
-(every vertex proved, every vertex of full degree, every component represented).
+Why not CGAL-style incremental insertion: this needs only the two certified predicates every
+site kind has (vertex existence, emptiness), no edge-interior conflict predicate for curved
+bisectors, and its heavy work is vectorised; completeness is the verifier's argument.
 
 Public API: :func:`voronoi`, :func:`as_site`, :func:`check_disjoint`, :func:`sites_equal`,
 :class:`SiteError`.
@@ -53,7 +52,7 @@ import time
 import numpy as np
 
 from .apollonius_vertices import apollonius_vertices
-from .cocircular import consecutive_pairs, contact_order_triples, merge_cocircular
+from .cocircular import assemble_vertices, consecutive_pairs, contact_order_triples
 from .collinear_points import collinear, collinear_points_diagram
 from .conic_geometry import site_geometry
 from .conic_vertices import conic_vertices
@@ -71,11 +70,9 @@ __all__ = ["voronoi", "build_diagram", "ConstructionState", "as_site", "check_di
 
 
 class ConstructionState:
-    """What a diagram needs to be updated locally (:func:`runtime.voronoi.deletion.delete_site`):
-    the site arrays, the samples with their triangulation, the conic vertex cache, and the
-    construction's entry points (``build``: :func:`build_diagram`, ``scratch``: :func:`voronoi`;
-    held here so that the update code needs no import of this module).  Not serialised; a
-    diagram read from JSON has none."""
+    """What :func:`runtime.voronoi.deletion.delete_site` needs: site arrays, samples, conic vertex
+    cache, and the entry points ``build`` (:func:`build_diagram`) and ``scratch`` (:func:`voronoi`),
+    so that it imports nothing of this module.  Not serialised."""
 
     def __init__(self, S, samples, cache):
         self.S, self.samples, self.cache = S, samples, cache
@@ -109,8 +106,8 @@ def voronoi(sites, *, certify: bool = True, progress=None, time_limit: float | N
     Parameters
     ----------
     sites : list
-        :class:`runtime.predicates.circles.Circle`, :class:`runtime.predicates.circles.Point`, :class:`runtime.sites.conic.Conic`
-        or (cx, cy, r) tuples (r = 0: a point).  Sites must be pairwise disjoint.
+        :class:`runtime.predicates.circles.Circle`, :class:`runtime.predicates.circles.Point`,
+        :class:`runtime.sites.conic.Conic` or (cx, cy, r) tuples (r = 0: a point); pairwise disjoint.
     certify : bool
         Run the independent verifier (:func:`runtime.voronoi.verify.certificate.verify`) at the end;
         ``diagram.certified`` is its verdict.  Without it the diagram is never certified.
@@ -122,10 +119,9 @@ def voronoi(sites, *, certify: bool = True, progress=None, time_limit: float | N
     Returns
     -------
     Diagram
-        Vertices are ``certified`` when existence, uniqueness near (x, y) and emptiness were
-        proved.  Edge polylines join the end vertices through points projected onto the bisector;
-        ``tolerance`` is the measured max(|d_i − d_j|/2 at the points, chord-midpoint deviation),
-        not a proof; the edges' proof is the verifier's.
+        Vertices (k ≥ 3 sites each) are ``certified`` when existence and emptiness were proved.
+        Edge polylines join the end vertices through points projected onto the bisector;
+        ``tolerance`` is measured, not proved; the edges' proof is the verifier's.
 
     Examples
     --------
@@ -140,7 +136,7 @@ def voronoi(sites, *, certify: bool = True, progress=None, time_limit: float | N
     if len(sites) < 2:
         raise ValueError(f"the Voronoi diagram needs at least 2 sites, got {len(sites)}")
     geoms = [site_geometry(s) for s in sites]
-    frame, local = local_frame(sites, geoms)     # far sites: built at the origin (runtime.voronoi.frame)
+    frame, local = local_frame(sites, geoms)     # far sites: built at the origin
     if frame is not None:
         return frame.to_global(voronoi(local, certify=certify, progress=progress, time_limit=time_limit), sites)
     check_disjoint(sites, geoms)
@@ -323,47 +319,12 @@ def _build_once(S: SiteArrays, samples: Samples, stats, timing, deadline, cache)
         for t in sites_:
             refine[int(t)] = min(refine.get(int(t), np.inf), cap)
 
-    # final vertices: proved, empty clusters; clusters whose circles the exact test found touched
-    # by further sites are merged into one vertex of degree k (runtime.voronoi.cocircular)
-    vertices: list[DiagramVertex] = []
-    cluster_vid = {}
+    # final vertices: proved, empty clusters (merged into vertices of degree k where the exact test
+    # found further sites touching) and the local edges of near-degenerate groups
     usable = [c for c, cl in enumerate(clusters) if cl["ok"] and empty[c] is True]
-    for members, order in merge_cocircular(S, clusters, usable):
-        head = clusters[members[0]]
-        if order is None:
-            full = sorted(set(head["triple"]) | set(head.get("tangent", ())))
-            problems.append(f"sites {', '.join(map(str, full))}: the vertex at ({head['x']:.6g}, {head['y']:.6g}) "
-                            "touches them at points too close to order")
-            continue
-        vid = len(vertices)
-        for c in members:
-            cluster_vid[c] = vid
-        r = float(head.get("radius") or 0.0) or float((head["rlo"] + head["rhi"]) / 2)
-        vertices.append(DiagramVertex(vid, tuple(order), float(head["x"]), float(head["y"]), r, True))
     usable_set = set(usable)
-    # the local diagram of each near-degenerate group: edges between its vertices (pairs consecutive
-    # at two of them) and the pairs whose edge leaves the group (consecutive at one)
-    group_out: dict = {}
-    local_edges = []
-    vgroup: dict = {}        # vertex id -> its near-degenerate group
-    for g in groups:
-        count: dict = {}
-        for c in range(n_old, len(clusters)):
-            if clusters[c].get("group") == g and c in cluster_vid:
-                vid = cluster_vid[c]
-                vgroup[vid] = g
-                for pr in consecutive_pairs(vertices[vid].sites):
-                    count.setdefault(pr, set()).add(vid)
-        out = group_out.setdefault(g, {})
-        for pr, vids in count.items():
-            vids = sorted(vids)
-            if len(vids) == 1:
-                out[pr] = vids[0]
-            elif len(vids) == 2:
-                local_edges.append((pr, vids))
-            else:
-                problems.append(f"sites {pr[0]}, {pr[1]}: their bisector meets {len(vids)} vertices of one "
-                                "near-degenerate cluster")
+    vertices, cluster_vid, group_out, local_edges, vgroup = assemble_vertices(
+        S, clusters, usable, groups, n_old, problems, DiagramVertex)
     for c, cl in enumerate(clusters):
         tr = cl["triple"]
         if c in usable_set or c in replaced:

@@ -110,7 +110,7 @@ from ..conic_geometry import site_geometry
 from ..frame import to_local_frame
 from .edge_checks import check_edges
 from .edges import CircleTable
-from .closure import verify_accounting, verify_accounting_conics, verify_closure
+from .closure import circles_disjoint, verify_accounting, verify_accounting_conics, verify_closure
 from .hull_points import verify_accounting_points
 from .support import SupportTable
 from .vertices import prove_vertices
@@ -275,11 +275,15 @@ def verify(diagram, sites=None, *, deadline=None) -> Certificate:
     unproved_ends = [e.id for e in D.edges if None in e.ends and e.id not in proved_ends]
     if n and all(g.kind == "point" for g in geoms):
         account_ok = verify_accounting_points(geoms, ends_inf, problems)
+    elif circular and len({g.exact.r2 for g in geoms}) == 1:
+        # equal disjoint circles: far away their diagram is that of their centres (equal additive
+        # weights), so the exact accounting of points applies (ties of collinear centres included)
+        account_ok = circles_disjoint(table, problems) and verify_accounting_points(geoms, ends_inf, problems)
     elif circular:
         account_ok = verify_accounting(n, table, ends_inf, problems, unproved_ends)
     else:
         account_ok = verify_accounting_conics(n, SupportTable(geoms), ends_inf, problems,
-                                              unproved_ends=unproved_ends)
+                                              unproved_ends=unproved_ends, sites=[g.exact for g in geoms])
     timings["closure"] = time.perf_counter() - t0
     complete = closure_ok and account_ok
     ok = complete and all(vok) and all(eok) and not problems

@@ -17,9 +17,10 @@ import math
 
 import numpy as np
 
+from .ties_at_infinity import tied_sectors
 from .vertices import vname as _vname
 
-__all__ = ["verify_closure", "verify_accounting", "verify_accounting_conics"]
+__all__ = ["verify_closure", "verify_accounting", "verify_accounting_conics", "circles_disjoint"]
 
 ANGLE_TOL = 1e-9        # margin for the angular accounting at infinity
 
@@ -96,17 +97,8 @@ def verify_accounting(n, table, ends_inf, problems, unproved_ends=()) -> bool:
     if n < 2:
         return True
     C, R = table.C, table.R
-    # disjointness (float with a margin: a pair that cannot be separated counts as meeting)
-    tol = 1e-12 * table.scale
-    for a, js in enumerate(table.tree.query_ball_point(C, R + table.rmax + tol)):
-        for b in js:
-            if b <= a:
-                continue
-            dd = math.hypot(*(C[a] - C[b]))
-            if dd <= R[a] + R[b] + tol and dd >= abs(R[a] - R[b]) - tol:
-                problems.append(f"sites {a} and {b} intersect or touch (or are too close to decide): "
-                                "the diagram of non-disjoint sites is not proved")
-                return False
+    if not circles_disjoint(table, problems):
+        return False
     # nesting: k inside the disc of J
     nested_in = [[] for _ in range(n)]
     contains = [[] for _ in range(n)]
@@ -155,6 +147,23 @@ def verify_accounting(n, table, ends_inf, problems, unproved_ends=()) -> bool:
     return ok
 
 
+def circles_disjoint(table, problems) -> bool:
+    """Are the circle/point sites pairwise disjoint (float with a margin: a pair that cannot be
+    separated counts as meeting)?"""
+    C, R = table.C, table.R
+    tol = 1e-12 * table.scale
+    for a, js in enumerate(table.tree.query_ball_point(C, R + table.rmax + tol)):
+        for b in js:
+            if b <= a:
+                continue
+            dd = math.hypot(*(C[a] - C[b]))
+            if dd <= R[a] + R[b] + tol and dd >= abs(R[a] - R[b]) - tol:
+                problems.append(f"sites {a} and {b} intersect or touch (or are too close to decide): "
+                                "the diagram of non-disjoint sites is not proved")
+                return False
+    return True
+
+
 def _dominates(s, ta, L, pa, pb, C, R) -> bool:
     """Does site s strictly maximise h_k(θ) = c_k·e(θ) + ρ_k over θ ∈ [ta, ta + L], ties allowed
     only with the other site of pair pa at ta and of pair pb at ta + L?"""
@@ -188,7 +197,7 @@ def _dominates(s, ta, L, pa, pb, C, R) -> bool:
 
 # ============================================================================ accounting, conic sites
 
-def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000, unproved_ends=()) -> bool:
+def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000, unproved_ends=(), sites=None) -> bool:
     """Step 4 of :mod:`runtime.voronoi.verify.certificate` for bounded convex sites (ellipses, circles, points)
     with the support functions h_k of :class:`runtime.voronoi.verify.support.SupportTable`.
 
@@ -263,10 +272,18 @@ def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000,
     if not ends_inf:
         problems.append("no unbounded edge is proved, but several sites have unbounded regions")
         return False
+    # (a0, a1, pair, edge id, pair leaving the sector): a sector, or the small sector about a
+    # direction where several sites tie (runtime.voronoi.verify.ties_at_infinity)
     ends = []
-    for _, pair, (tha, thb), eid in ends_inf:
+    mirror = [t for t in ends_inf if t[2][0] == "mirror"]
+    for _, pair, (tha, thb), eid in (t for t in ends_inf if t[2][0] != "mirror"):
         a0 = tha % (2 * math.pi)
-        ends.append((a0, a0 + (thb - tha), pair, eid))
+        ends.append((a0, a0 + (thb - tha), pair, eid, pair))
+    if mirror:
+        tied = tied_sectors(sup, sites, mirror, problems)
+        if tied is None:
+            return False
+        ends.extend(tied)
     ends.sort(key=lambda t: t[0])
     m = len(ends)
     if m < 2:
@@ -290,7 +307,7 @@ def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000,
         nxt = ends[t % m]
         a_next = nxt[0] + (2 * math.pi if t == m else 0.0)
         if a_next > cur_end:
-            shared = set(cur[2]) & set(nxt[2])
+            shared = set(cur[4]) & set(nxt[2])
             if not shared:
                 problems.append(f"unbounded edges {cur[3]} and {nxt[3]} are consecutive at infinity but share "
                                 "no site: " + _gap_note(unproved_ends))

@@ -5,20 +5,21 @@ vertices, points within the stated tolerance of the bisector and on the edge's a
 parameter interval of the edge on the exact bisector of circle/point sites, the exact-zero
 argument for the third sites of its end vertices, then -- batched over all edges -- the third-site
 searches of :mod:`runtime.voronoi.verify.edges` (finite arcs and infinite tails).  When a site is
-an ellipse, every edge goes to :mod:`runtime.voronoi.verify.curved` (chains of strips, all edges
-side by side; unbounded ends by :func:`runtime.voronoi.verify.tail.prove_tail`, which also gives
-the interval of directions recorded for the accounting).
+an ellipse, every edge goes to :mod:`runtime.voronoi.verify.curved_edges` (chains of strips, all
+edges side by side; unbounded ends in a sector of directions or along a mirror line).  Where the
+floats cannot decide a third site of a circle/point edge, :mod:`runtime.voronoi.verify.exact_edges`
+decides it exactly.
 """
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 
 from .edges import bisector, params, prove_arcs
 from .exact_edges import SHALLOW, search_with_exact_fallback, tower_points_apart, triple_others, zero_on_arc
 from .exact_vertices import exact_tower_vertex
+from .curved_edges import curved_edges, curved_job, curved_scale, past
 
 __all__ = ["check_edges"]
 
@@ -79,8 +80,8 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats, deadline=None):
             continue
         if table is None:
             if cscale is None:
-                cscale = _curved_scale(geoms)
-            job = _curved_job(e, name, pair, P, endv, cscale, problems)
+                cscale = curved_scale(geoms)
+            job = curved_job(e, name, pair, P, endv, cscale, problems)
             eok.append(False)
             if job is not None:
                 curved.append((len(eok) - 1, e, name, job))
@@ -92,8 +93,8 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats, deadline=None):
             continue
         eok.append(True)
         cands.append((len(eok) - 1, e, name, pair, P, endv, bis))
-    _curved_edges(curved, geoms, problems, eok, ends_inf, deadline, late)
-    if _past(deadline) and cands:
+    curved_edges(curved, geoms, problems, eok, ends_inf, deadline, late)
+    if past(deadline) and cands:
         late[0] += len(cands)
         for c in cands:
             eok[c[0]] = False
@@ -109,7 +110,7 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats, deadline=None):
     arcs = prove_arcs(table, [(bis, job[0], job[1], job[2]) for _, _, _, _, bis, job in jobs],
                       max_depth=SHALLOW, max_pieces=4096 + 64 * len(jobs)) if jobs else []
     for (pos, e, name, pair, bis, (lo, hi, exempt, tails, full_lo, full_hi, _)), (ok, det) in zip(jobs, arcs):
-        if _past(deadline) and (not ok or tails):     # proved finite arcs cost nothing more
+        if past(deadline) and (not ok or tails):     # proved finite arcs cost nothing more
             late[0] += 1
             eok[pos] = False
             continue
@@ -133,103 +134,6 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats, deadline=None):
     if late[0]:
         problems.append(f"time limit reached: {late[0]} edges not checked")
     return eok, ends_inf, intervals
-
-
-def _past(deadline) -> bool:
-    return deadline is not None and time.perf_counter() > deadline
-
-
-def _curved_scale(geoms) -> float:
-    fin = [b for g in geoms for b in g.bounding_box() if math.isfinite(b)]
-    return 1.0 + (max(abs(b) for b in fin) if fin else 0.0)
-
-
-def _curved_job(e, name, pair, P, endv, scale, problems):
-    """The checks of an edge with a conic site that need no search (ends at its vertices); returns
-    the job for :func:`runtime.voronoi.verify.curved.prove_curved_edges`, or None (problem
-    recorded)."""
-    v0, v1 = endv
-    if e.closed and (v0 is not None or v1 is not None):
-        problems.append(f"{name}: a closed edge cannot end at a vertex")
-        return None
-    for t, (w, Q) in enumerate(((v0, P[0]), (v1, P[-1]))):
-        if w is not None and math.hypot(Q[0] - w.x, Q[1] - w.y) > w.tol + 2 * w.h + 1e-12 * scale:
-            problems.append(f"{name}: polyline {'starts' if t == 0 else 'ends'} at ({Q[0]:.17g}, {Q[1]:.17g}), "
-                            f"not at vertex {w.id} ({w.x:.17g}, {w.y:.17g})")
-            return None
-    return (scale, pair, P, v0, v1, float(e.tolerance), bool(e.closed))
-
-
-def _curved_edges(curved, geoms, problems, eok, ends_inf, deadline=None, late=None):
-    """Edges with a conic site (:mod:`runtime.voronoi.verify.curved`), all chains side by side;
-    an unbounded end is proved to infinity by :func:`runtime.voronoi.verify.tail.prove_tail` and
-    recorded in ``ends_inf`` as (θ_mid, pair, (θa, θb), edge id) with [θa, θb] its asymptotic
-    sector.  ``curved``: (position, edge, name, job)."""
-    from .curved import TIME_LIMIT, prove_curved_edges
-    from .site_table import SiteTable
-    from .support import SupportTable
-    from .tail import MORE_TAILS, TAIL_WORK_MORE, prove_tail
-
-    if not curved:
-        return
-    late = [0] if late is None else late
-    scale = curved[0][3][0]
-    table = SiteTable(geoms, scale)
-    # polyline points within the stated tolerance of the bisector: |d_i − d_j|/2 is a lower bound
-    # of the distance to it (d_i − d_j is 2-Lipschitz); one call for all edges
-    rows, ks, owner = [], [], []
-    for t, (_, e, _, (_, pair, P, _, _, _, _)) in enumerate(curved):
-        inner = P[1:-1]
-        rows += [inner, inner]
-        ks += [np.full(len(inner), pair[0]), np.full(len(inner), pair[1])]
-        owner.append(len(inner))
-    V = table.evaluate(np.concatenate(rows), np.concatenate(ks)) if sum(owner) else None
-    jobs, pos = [], 0
-    for (p_e, e, name, job), cnt in zip(curved, owner):
-        Vi, Vj = (V.part(pos, pos + cnt), V.part(pos + cnt, pos + 2 * cnt)) if cnt else (None, None)
-        pos += 2 * cnt
-        if cnt:
-            inner = job[2][1:-1]
-            lb = np.maximum(Vi.lo - Vj.hi, Vj.lo - Vi.hi) / 2
-            tol = float(e.tolerance) if math.isfinite(e.tolerance) else math.inf
-            far = np.nonzero(lb > tol * (1 + 1e-9) + 1e-12 * scale)[0]
-            if len(far):
-                p = int(far[0])
-                problems.append(f"{name}: polyline point {p + 1} ({inner[p, 0]:.9g}, {inner[p, 1]:.9g}) "
-                                f"is at least {lb[p]:.3g} from the bisector (stated tolerance {tol:.3g})")
-                eok[p_e] = False
-                continue
-        jobs.append((p_e, e, name, job))
-    results = prove_curved_edges(table, [job for _, _, _, job in jobs], deadline=deadline)
-    sup = None
-    more = MORE_TAILS           # tails undecided within TAIL_WORK tried again with TAIL_WORK_MORE
-    for (p_e, e, name, job), (ok, msg, beyond) in zip(jobs, results):
-        if msg == TIME_LIMIT or (beyond and _past(deadline)):
-            late[0] += 1           # stopped, or its tails would start after the deadline
-            eok[p_e] = False
-            continue
-        if not ok:
-            problems.append(f"{name}: {msg}")
-            eok[p_e] = False
-            continue
-        pair = job[1]
-        ends = []
-        for far in beyond:
-            if sup is None:
-                sup = SupportTable(geoms)
-            q = far["point"]
-            ok, msg, sector = prove_tail(sup, table, pair, far["link"], scale)
-            if not ok and "undecided" in msg and more > 0:
-                more -= 1
-                ok, msg, sector = prove_tail(sup, table, pair, far["link"], scale, max_work=TAIL_WORK_MORE)
-            if not ok:
-                problems.append(f"{name}: proved up to ({q[0]:.9g}, {q[1]:.9g}), not proved beyond it: {msg}")
-                break
-            tha, thb, _ = sector
-            ends.append((0.5 * (tha + thb) % (2 * math.pi), pair, (tha, thb), e.id))
-        eok[p_e] = ok
-        if ok:
-            ends_inf.extend(ends)
 
 
 def _sign_checks(jobs, table, eok, problems):

@@ -1,0 +1,124 @@
+"""Step 2 of the certificate (:mod:`runtime.voronoi.verify.certificate`) for the edges with a conic
+site: their chains of strips (:mod:`runtime.voronoi.verify.curved`, all edges side by side), and
+their unbounded ends, proved to infinity in a sector of directions
+(:func:`runtime.voronoi.verify.tail.prove_tail`) or, for mirror-image sites tied at infinity,
+along their mirror line (:func:`runtime.voronoi.verify.mirror_tail.prove_mirror_tail`).
+
+Public API: :func:`curved_edges`, :func:`curved_job`, :func:`curved_scale`, :func:`past`.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from .mirror_tail import prove_mirror_tail
+
+__all__ = ["curved_edges", "curved_job", "curved_scale", "past"]
+
+
+def past(deadline) -> bool:
+    """Is the deadline (a :func:`time.perf_counter` value) passed?"""
+    return deadline is not None and time.perf_counter() > deadline
+
+
+def curved_scale(geoms) -> float:
+    """1 + the largest finite coordinate of the sites' bounding boxes."""
+    fin = [b for g in geoms for b in g.bounding_box() if math.isfinite(b)]
+    return 1.0 + (max(abs(b) for b in fin) if fin else 0.0)
+
+
+def curved_job(e, name, pair, P, endv, scale, problems):
+    """The checks of an edge with a conic site that need no search (ends at its vertices); returns
+    the job for :func:`runtime.voronoi.verify.curved.prove_curved_edges`, or None (problem
+    recorded)."""
+    v0, v1 = endv
+    if e.closed and (v0 is not None or v1 is not None):
+        problems.append(f"{name}: a closed edge cannot end at a vertex")
+        return None
+    for t, (w, Q) in enumerate(((v0, P[0]), (v1, P[-1]))):
+        if w is not None and math.hypot(Q[0] - w.x, Q[1] - w.y) > w.tol + 2 * w.h + 1e-12 * scale:
+            problems.append(f"{name}: polyline {'starts' if t == 0 else 'ends'} at ({Q[0]:.17g}, {Q[1]:.17g}), "
+                            f"not at vertex {w.id} ({w.x:.17g}, {w.y:.17g})")
+            return None
+    return (scale, pair, P, v0, v1, float(e.tolerance), bool(e.closed))
+
+
+def curved_edges(curved, geoms, problems, eok, ends_inf, deadline=None, late=None):
+    """Edges with a conic site (:mod:`runtime.voronoi.verify.curved`), all chains side by side;
+    an unbounded end is proved to infinity by :func:`runtime.voronoi.verify.tail.prove_tail` and
+    recorded in ``ends_inf`` as (θ_mid, pair, (θa, θb), edge id) with [θa, θb] its asymptotic
+    sector.  ``curved``: (position, edge, name, job)."""
+    from .curved import TIME_LIMIT, prove_curved_edges
+    from .site_table import SiteTable
+    from .support import SupportTable
+    from .tail import MORE_TAILS, TAIL_WORK_MORE, prove_tail
+
+    if not curved:
+        return
+    late = [0] if late is None else late
+    scale = curved[0][3][0]
+    table = SiteTable(geoms, scale)
+    # polyline points within the stated tolerance of the bisector: |d_i − d_j|/2 is a lower bound
+    # of the distance to it (d_i − d_j is 2-Lipschitz); one call for all edges
+    rows, ks, owner = [], [], []
+    for t, (_, e, _, (_, pair, P, _, _, _, _)) in enumerate(curved):
+        inner = P[1:-1]
+        rows += [inner, inner]
+        ks += [np.full(len(inner), pair[0]), np.full(len(inner), pair[1])]
+        owner.append(len(inner))
+    V = table.evaluate(np.concatenate(rows), np.concatenate(ks)) if sum(owner) else None
+    jobs, pos = [], 0
+    for (p_e, e, name, job), cnt in zip(curved, owner):
+        Vi, Vj = (V.part(pos, pos + cnt), V.part(pos + cnt, pos + 2 * cnt)) if cnt else (None, None)
+        pos += 2 * cnt
+        if cnt:
+            inner = job[2][1:-1]
+            lb = np.maximum(Vi.lo - Vj.hi, Vj.lo - Vi.hi) / 2
+            tol = float(e.tolerance) if math.isfinite(e.tolerance) else math.inf
+            far = np.nonzero(lb > tol * (1 + 1e-9) + 1e-12 * scale)[0]
+            if len(far):
+                p = int(far[0])
+                problems.append(f"{name}: polyline point {p + 1} ({inner[p, 0]:.9g}, {inner[p, 1]:.9g}) "
+                                f"is at least {lb[p]:.3g} from the bisector (stated tolerance {tol:.3g})")
+                eok[p_e] = False
+                continue
+        jobs.append((p_e, e, name, job))
+    results = prove_curved_edges(table, [job for _, _, _, job in jobs], deadline=deadline)
+    sup = None
+    more = MORE_TAILS           # tails undecided within TAIL_WORK tried again with TAIL_WORK_MORE
+    for (p_e, e, name, job), (ok, msg, beyond) in zip(jobs, results):
+        if msg == TIME_LIMIT or (beyond and past(deadline)):
+            late[0] += 1           # stopped, or its tails would start after the deadline
+            eok[p_e] = False
+            continue
+        if not ok:
+            problems.append(f"{name}: {msg}")
+            eok[p_e] = False
+            continue
+        pair = job[1]
+        ends = []
+        for far in beyond:
+            if sup is None:
+                sup = SupportTable(geoms)
+            q = far["point"]
+            ok, msg, sector = prove_tail(sup, table, pair, far["link"], scale)
+            if not ok and "undecided" in msg and more > 0:
+                more -= 1
+                ok, msg, sector = prove_tail(sup, table, pair, far["link"], scale, max_work=TAIL_WORK_MORE)
+            if not ok:
+                # rows of identical shapes tie at infinity: their edges are mirror lines
+                ok2, msg2, tie = prove_mirror_tail([g.exact for g in geoms], geoms, sup, pair, far["link"])
+                if ok2:
+                    ok = True
+                    th = math.atan2(float(tie[0][1]), float(tie[0][0])) % (2 * math.pi)
+                    ends.append((th, pair, ("mirror",) + tie, e.id))
+                    continue
+                problems.append(f"{name}: proved up to ({q[0]:.9g}, {q[1]:.9g}), not proved beyond it: {msg}")
+                break
+            tha, thb, _ = sector
+            ends.append((0.5 * (tha + thb) % (2 * math.pi), pair, (tha, thb), e.id))
+        eok[p_e] = ok
+        if ok:
+            ends_inf.extend(ends)
