@@ -88,3 +88,68 @@ def test_krawczyk_inflation_complex_zero():
     K, X = krawczyk_inflation(*_square(-1), [acb(1e-9, 1 + 1e-9)])
     assert K[0].contains(acb(0, 1)) and not K[0].contains(acb(0, -1))
     assert X[0].real.contains(K[0].real) and X[0].imag.contains(K[0].imag)
+
+
+# ----------------------------------------------------------------------------- zero-dimensionality
+# runtime.certify.dimension: the top-degree forms of g_i(x, y, T) (polynomials without R are their
+# own circle-space form) must be coprime modulo p, and the affine part finite; every branch where
+# that is not established must say "not proven" (False), never True.
+
+def _dim():
+    from curvedvoronoi.runtime.certify import dimension
+    return dimension
+
+
+def test_top_forms_with_a_common_factor_are_not_coprime():
+    """Tops x·y, x·(x + y), x² share x (a point at infinity of a curve); the whole polynomials
+    xy + 1, x² + xy + y, x² + 1 are coprime, so only the top forms show it."""
+    d = _dim()
+    P = d.DIMENSION_PRIME
+    common = [{(1, 1, 0): 1, (0, 0, 0): 1}, {(2, 0, 0): 1, (1, 1, 0): 1, (0, 1, 0): 1}, {(2, 0, 0): 1, (0, 0, 0): 1}]
+    assert d._top_forms_coprime(common, P) is False
+    coprime = [{(1, 1, 0): 1, (0, 0, 0): 1}, {(2, 0, 0): 1, (0, 1, 0): 1}, {(0, 2, 0): 1, (1, 0, 0): 1}]
+    assert d._top_forms_coprime(coprime, P) is True         # tops xy, x², y²: gcd 1
+
+
+def test_top_form_vanishing_modulo_p_is_not_coprime():
+    """p·x² + y has a top form ≡ 0 mod p: the plane at infinity is not excluded (False); with
+    (p + 1)·x² + y (top ≡ x²) and x² + 1, y² + 1 the tops x², x², y² are coprime."""
+    d = _dim()
+    P = d.DIMENSION_PRIME
+    rest = [{(2, 0, 0): 1, (0, 0, 0): 1}, {(0, 2, 0): 1, (0, 0, 0): 1}]
+    assert d._top_forms_coprime([{(2, 0, 0): P, (0, 1, 0): 1}] + rest, P) is False
+    assert d._top_forms_coprime([{(2, 0, 0): P + 1, (0, 1, 0): 1}] + rest, P) is True
+
+
+@pytest.fixture
+def fresh_dimension_cache():
+    d = _dim()
+    d.clear_dimension_cache()
+    yield d
+    d.clear_dimension_cache()
+
+
+def test_without_msolve_zero_dimensionality_is_not_proved(fresh_dimension_cache, monkeypatch):
+    import curvedvoronoi.runtime.solve.exact as ex
+    from curvedvoronoi.runtime.predicates.locator import demo_configuration
+
+    d = fresh_dimension_cache
+    triple = demo_configuration()[:3]
+    monkeypatch.setattr(ex, "msolve_available", lambda: False)
+    ok, note = d.zero_dimensional(*triple)
+    assert ok is False and "not installed" in note
+
+
+def test_msolve_failure_is_not_a_proof(fresh_dimension_cache, monkeypatch):
+    import curvedvoronoi.runtime.solve.exact as ex
+    from curvedvoronoi.runtime.predicates.locator import demo_configuration
+
+    d = fresh_dimension_cache
+    triple = demo_configuration()[:3]
+
+    def boom(*a, **k):
+        raise ex.MsolveError("planted failure")
+    monkeypatch.setattr(ex, "msolve_available", lambda: True)
+    monkeypatch.setattr(ex, "parametrisation_degree", boom)
+    ok, note = d.zero_dimensional(*triple)
+    assert ok is False and "planted failure" in note
