@@ -153,3 +153,36 @@ def test_msolve_failure_is_not_a_proof(fresh_dimension_cache, monkeypatch):
     monkeypatch.setattr(ex, "parametrisation_degree", boom)
     ok, note = d.zero_dimensional(*triple)
     assert ok is False and "planted failure" in note
+
+
+# ----------------------------------------------------------------------------- foot points
+# x² + xy + y² = 1 has a == c but b ≠ 0: an ellipse (semi-axes √(2/3) along (1, 1), √2 along
+# (1, −1)), NOT a circle.  From q = (3, 1): (1, 0) is on it and its normal (2x + y, x + 2y) = (2, 1)
+# is parallel to q − (1, 0), so (1, 0) is a foot with D = 5; dense sampling of the parametrisation
+# gives the farthest foot D = 17.49129813875… (to 1e-9).  The circle x² + y² = 1 from (3, 1) has
+# feet at distance √10 ∓ 1.
+
+def test_foot_points_of_an_ellipse_with_equal_diagonal_coefficients():
+    from flint import arb as arb_
+    from curvedvoronoi.runtime.certify.foot import foot_polynomial, real_feet_ball, working_prec
+
+    fp = foot_polynomial(tuple(F(v) for v in (1, 1, 1, 0, 0, -1)))
+    assert not fp.is_circle
+    with working_prec(128):
+        feet = sorted(real_feet_ball(fp, arb_(3), arb_(1)), key=lambda f: float(f.D.mid()))
+    assert len(feet) == 2 and not any(f.possible for f in feet)
+    assert feet[0].D.contains(5) and feet[0].px.contains(1) and feet[0].py.contains(0)
+    assert abs(float(feet[1].D.mid()) - 17.4912981387565) < 1e-9
+
+
+def test_foot_points_of_a_circle():
+    from flint import arb as arb_
+    from curvedvoronoi.runtime.certify.foot import foot_polynomial, real_feet_ball, working_prec
+
+    fp = foot_polynomial(tuple(F(v) for v in (1, 0, 1, 0, 0, -1)))
+    assert fp.is_circle
+    with working_prec(128):
+        feet = sorted(real_feet_ball(fp, arb_(3), arb_(1)), key=lambda f: float(f.D.mid()))
+        ref = [(arb_(10).sqrt() - 1) ** 2, (arb_(10).sqrt() + 1) ** 2]
+    assert len(feet) == 2 and all(f.D.overlaps(r) for f, r in zip(feet, ref))
+    assert all(abs(float(f.D.mid()) - float(r.mid())) < 1e-12 for f, r in zip(feet, ref))
