@@ -480,7 +480,7 @@ def _run_mutant(tree: Path, m: dict, tests: list[str], deselect: list[str], time
     return st, dt, last
 
 
-def _replay(allm: list[dict], path: str) -> list[dict]:
+def _replay(allm: list[dict], path: str, statuses: set | None = None) -> list[dict]:
     """The mutants of an earlier run (its .jsonl), found again in today's tree by module, operator,
     old and new text (the nearest line wins: others edit the modules meanwhile)."""
     import json
@@ -488,6 +488,8 @@ def _replay(allm: list[dict], path: str) -> list[dict]:
     out = []
     for line in Path(path).read_text().splitlines():
         r = json.loads(line)
+        if statuses and r.get("status") not in statuses:
+            continue
         cands = [m for m in allm if (m["path"], m["kind"], m["old"], m["new"]) == (r["path"], r["kind"], r["old"], r["new"])]
         if not cands:
             print(f"replay: {r['path']}:{r['line']} {r['kind']} {r['what']} no longer in the source", flush=True)
@@ -516,7 +518,7 @@ def main_soundness(args) -> int:
         print(len(allm), "candidates")
         return 0
     if args.replay:
-        chosen = _replay(allm, args.replay)
+        chosen = _replay(allm, args.replay, set(args.replay_status.split(",")) if args.replay_status else None)
     else:
         chosen = sample_stratified(allm, args.max_mutants, args.seed)
     print(f"{len(allm)} candidate mutants in {len(rels)} modules; sample of {len(chosen)} (seed {args.seed})", flush=True)
@@ -637,6 +639,8 @@ def main(argv=None) -> int:
     ap.add_argument("--list", action="store_true", help="soundness mode: only list the candidate mutants")
     ap.add_argument("--replay", default=None, metavar="JSONL",
                     help="soundness mode: re-run the mutants of an earlier run (its .jsonl) instead of sampling")
+    ap.add_argument("--replay-status", default=None, metavar="S1,S2",
+                    help="with --replay: only the mutants that had one of these results (e.g. survived,timeout)")
     args = ap.parse_args(argv)
     if args.modules is not None:
         if args.timeout == 300 and "--timeout" not in (argv if argv is not None else sys.argv):
