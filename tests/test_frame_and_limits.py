@@ -251,3 +251,25 @@ def test_verify_deadline_names_the_unchecked_edges():
     assert len(line) == 1 and "edges not checked" in line[0]
     n = int(line[0].split(":")[1].split()[0])
     assert 0 < n <= len(d.edges) and sum(cert.edges) <= len(d.edges) - n
+
+
+def test_far_small_scene_reverifies_from_its_json():
+    """Sizes 1e-3 at absolute coordinates 1e9: the user's floats there are only good to about
+    1e-7, yet the returned diagram (and its JSON) must verify: the verifier works in the local
+    frame with the tolerance of the user's coordinates, and the back-translated polylines state
+    their rounding.  The same scene at the origin has the same Delaunay graph."""
+    import json
+
+    import curvedvoronoi as cv
+    from curvedvoronoi.runtime.voronoi.structure import Diagram
+
+    base = [(0.01 * i, 0.013 * (i % 3), 1e-3) for i in range(8)]
+    near = cv.voronoi(base)
+    far = cv.voronoi([(x + 1e9, y + 1e9, r) for x, y, r in base])
+    assert near.certified and far.certified, far.problems
+    assert far.delaunay_edges() == near.delaunay_edges()
+    doc = json.loads(json.dumps(far.to_json()))
+    assert cv.verify(doc).ok and cv.verify(Diagram.from_json(doc)).ok
+    # a vertex moved by 1e-5 (about 80 ulps at 1e9, 1 % of the sites' size) is rejected
+    doc["vertices"][0]["x"] += 1e-5
+    assert not cv.verify(doc).ok

@@ -159,6 +159,9 @@ class LocalFrame:
             v.x, v.y = float(v.x + tx), float(v.y + ty)
         for e in D.edges:
             e.polyline = np.asarray(e.polyline, float) + self.t
+            # each point rounded to the user's float: half an ulp of its coordinates
+            big = float(np.abs(e.polyline).max()) if len(e.polyline) else 0.0
+            e.tolerance = float(e.tolerance) + 2.0 ** -52 * big
         D.sites = list(sites)
         D.stats["frame"] = [float(tx), float(ty)]
         if D.problems:
@@ -238,6 +241,7 @@ def to_local_frame(D, sites=None):
         v.x, v.y = float(v.x - frame.t[0]), float(v.y - frame.t[1])
     for e, P in zip(L.edges, Ps):
         e.polyline = P - frame.t
+    L.frame_offset = (float(frame.t[0]), float(frame.t[1]))     # tolerances stay the user's
     try:
         L.sites = local if sites is None else frame.local_sites(list(D.sites))
     except (SiteError, ValueError, TypeError):

@@ -260,7 +260,7 @@ def verify(diagram, sites=None, *, deadline=None) -> Certificate:
 
     # ---------------------------------------------------------------- vertices
     t0 = time.perf_counter()
-    vinfo, vok = prove_vertices(D, sites, geoms, table, problems)
+    vinfo, vok = prove_vertices(D, sites, geoms, table, problems, offset=getattr(D, "frame_offset", (0.0, 0.0)))
     timings["vertices"] = time.perf_counter() - t0
 
     # ---------------------------------------------------------------- edges

@@ -150,7 +150,7 @@ def _fast_circle_vertices(items, table):
 
 # ============================================================================ all vertices
 
-def prove_vertices(D, sites, geoms, table, problems):
+def prove_vertices(D, sites, geoms, table, problems, offset=(0.0, 0.0)):
     """Prove every reported vertex (position, radius, emptiness).  Returns ({id: VertexInfo},
     list of flags in diagram order)."""
     from ...predicates.circles import voronoi_vertices_circles
@@ -237,6 +237,9 @@ def prove_vertices(D, sites, geoms, table, problems):
                               key=(tuple(sorted(trip)), round(proof.x / (1e-9 * (1 + abs(proof.x)))),
                                    round(proof.y / (1e-9 * (1 + abs(proof.y))))))
             info.r_hi = proof.radius_bounds[1]
+        # in a local frame (``offset``: the translation from the user's frame) the reported
+        # position was the user's float: add a few ulps of the user's coordinates
+        info.tol += 8 * EPS * (abs(info.x + offset[0]) + abs(info.y + offset[1]))
         dpos = math.hypot(info.x - v.x, info.y - v.y)
         if dpos > info.tol + 2 * info.h:
             problems.append(f"{name}: reported position ({v.x:.17g}, {v.y:.17g}) is {dpos:.3g} from the "
