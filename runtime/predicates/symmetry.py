@@ -26,6 +26,7 @@ Public API: :func:`site_coefficients`, :func:`equidistant_by_symmetry`, :func:`r
 """
 from __future__ import annotations
 
+import functools
 from fractions import Fraction
 
 __all__ = ["site_coefficients", "equidistant_by_symmetry", "rational_candidates", "site_centre", "mirror_line"]
@@ -45,7 +46,19 @@ def _q(v) -> Fraction:
 
 def site_coefficients(site) -> tuple[Fraction, ...]:
     """Exact (a, b, c, d, e, f) of a·x² + b·xy + c·y² + d·x + e·y + f = 0, scaled so that the first
-    non-zero coefficient is 1 (a site is determined by this tuple)."""
+    non-zero coefficient is 1 (a site is determined by this tuple).  Cached per site object."""
+    try:
+        return _coefficients_cached(site)
+    except TypeError:                  # an unhashable site
+        return _coefficients(site)
+
+
+@functools.lru_cache(maxsize=65536)
+def _coefficients_cached(site):
+    return _coefficients(site)
+
+
+def _coefficients(site):
     if hasattr(site, "coefficients") and not hasattr(site, "r2"):
         co = [_q(v) for v in site.coefficients]
     else:
@@ -56,6 +69,7 @@ def site_coefficients(site) -> tuple[Fraction, ...]:
     return tuple(v / lead for v in co)
 
 
+@functools.lru_cache(maxsize=65536)
 def _image(co, M, p):
     """Coefficients of g(C) for g(q) = p + M(q − p), M orthogonal (so g⁻¹(q) = p + Mᵀ(q − p))."""
     m11, m12, m21, m22 = M
@@ -67,24 +81,25 @@ def _image(co, M, p):
 
 
 def _substitute(co, ux, uy):
-    """Normalised coefficients of C(vx, vy) with vx = ux[0]·x + ux[1]·y + ux[2], vy likewise."""
+    """Normalised coefficients of C(vx, vy) with vx = ux[0]·x + ux[1]·y + ux[2], vy likewise:
+    with v = A·q + t and C(v) = vᵀMv + N·v + f, the image has M' = AᵀMA, N' = Aᵀ(2Mt + N),
+    f' = tᵀMt + N·t + f."""
     a, b, c, d, e, f = co
-
-    def mul(P, Q):
-        out: dict = {}
-        for (i1, j1), c1 in P.items():
-            for (i2, j2), c2 in Q.items():
-                out[(i1 + i2, j1 + j2)] = out.get((i1 + i2, j1 + j2), 0) + c1 * c2
-        return out
-
-    X = {(1, 0): ux[0], (0, 1): ux[1], (0, 0): ux[2]}
-    Y = {(1, 0): uy[0], (0, 1): uy[1], (0, 0): uy[2]}
-    terms = [(a, mul(X, X)), (b, mul(X, Y)), (c, mul(Y, Y)), (d, X), (e, Y), (f, {(0, 0): 1})]
-    tot: dict = {}
-    for coef, P in terms:
-        for k, v in P.items():
-            tot[k] = tot.get(k, 0) + coef * v
-    new = [Fraction(tot.get(k, 0)) for k in ((2, 0), (1, 1), (0, 2), (1, 0), (0, 1), (0, 0))]
+    a11, a12, t1 = ux
+    a21, a22, t2 = uy
+    m11, m12, m22 = a, b / 2, c
+    # M·A
+    p11, p12 = m11 * a11 + m12 * a21, m11 * a12 + m12 * a22
+    p21, p22 = m12 * a11 + m22 * a21, m12 * a12 + m22 * a22
+    n11 = a11 * p11 + a21 * p21
+    n12 = a11 * p12 + a21 * p22
+    n22 = a12 * p12 + a22 * p22
+    # 2Mt + N
+    w1 = 2 * (m11 * t1 + m12 * t2) + d
+    w2 = 2 * (m12 * t1 + m22 * t2) + e
+    new = [n11, 2 * n12, n22, a11 * w1 + a21 * w2, a12 * w1 + a22 * w2,
+           m11 * t1 * t1 + 2 * m12 * t1 * t2 + m22 * t2 * t2 + d * t1 + e * t2 + f]
+    new = [Fraction(v) for v in new]
     lead = next(v for v in new if v != 0)
     return tuple(v / lead for v in new)
 
@@ -103,12 +118,16 @@ def equidistant_by_symmetry(sites, p) -> bool:
             a = parent[a]
         return a
 
+    classes = len(cos)
     for M in D4[1:]:
         for t, co in enumerate(cos):
             u = index.get(_image(co, M, p))
-            if u is not None:
+            if u is not None and find(u) != find(t):
                 parent[find(u)] = find(t)
-    return len({find(t) for t in range(len(cos))}) == 1
+                classes -= 1
+                if classes == 1:
+                    return True
+    return classes == 1
 
 
 def rational_candidates(x: float, y: float, reach: float):
@@ -128,7 +147,11 @@ def rational_candidates(x: float, y: float, reach: float):
 def site_centre(site):
     """The exact centre of a circle, point or central conic (None for a parabola): the zero of the
     gradient of a·x² + b·xy + c·y² + d·x + e·y + f."""
-    a, b, c, d, e, _ = site_coefficients(site)
+    return _centre(site_coefficients(site))
+
+
+def _centre(co):
+    a, b, c, d, e, _ = co
     det = 4 * a * c - b * b
     if det == 0:
         return None
@@ -138,7 +161,12 @@ def site_centre(site):
 def mirror_line(site_a, site_b):
     """The line ℓ = {q : n·q = k} (n, k rational) whose reflection maps site_a exactly onto site_b,
     tried as the perpendicular bisector of their centres; None if that reflection does not."""
-    ca, cb = site_centre(site_a), site_centre(site_b)
+    return _mirror(site_coefficients(site_a), site_coefficients(site_b))
+
+
+@functools.lru_cache(maxsize=65536)
+def _mirror(co_a, co_b):
+    ca, cb = _centre(co_a), _centre(co_b)
     if ca is None or cb is None or ca == cb:
         return None
     n = (cb[0] - ca[0], cb[1] - ca[1])
@@ -148,5 +176,5 @@ def mirror_line(site_a, site_b):
     m11, m12 = 1 - 2 * n[0] * n[0] / nn, -2 * n[0] * n[1] / nn
     m22 = 1 - 2 * n[1] * n[1] / nn
     t = (2 * k * n[0] / nn, 2 * k * n[1] / nn)
-    image = _substitute(site_coefficients(site_a), (m11, m12, t[0]), (m12, m22, t[1]))
-    return (n, k) if image == site_coefficients(site_b) else None
+    image = _substitute(co_a, (m11, m12, t[0]), (m12, m22, t[1]))
+    return (n, k) if image == co_b else None

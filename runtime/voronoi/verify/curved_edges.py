@@ -13,7 +13,8 @@ import time
 
 import numpy as np
 
-from .mirror_tail import prove_mirror_tail
+from ...predicates.symmetry import mirror_line
+from .mirror_tail import prove_mirror_edge, prove_mirror_tail
 
 __all__ = ["curved_edges", "curved_job", "curved_scale", "past"]
 
@@ -85,8 +86,22 @@ def curved_edges(curved, geoms, problems, eok, ends_inf, deadline=None, late=Non
                 eok[p_e] = False
                 continue
         jobs.append((p_e, e, name, job))
+    # edges between mirror-image sites are their mirror lines: proved without strips
+    sup = SupportTable(geoms) if sup_ok(geoms) else None
+    exact = [g.exact for g in geoms]
+    rest = []
+    for p_e, e, name, job in jobs:
+        _, pair, P, v0, v1, _, closed = job
+        if sup is not None and mirror_line(exact[pair[0]], exact[pair[1]]) is not None:
+            ok, _, mends = prove_mirror_edge(exact, geoms, table, sup, pair, v0, v1, P, closed)
+            if ok:
+                eok[p_e] = True
+                ends_inf.extend((math.atan2(float(u[1]), float(u[0])) % (2 * math.pi), pair,
+                                 ("mirror", u, lat), e.id) for u, lat in mends)
+                continue
+        rest.append((p_e, e, name, job))
+    jobs = rest
     results = prove_curved_edges(table, [job for _, _, _, job in jobs], deadline=deadline)
-    sup = None
     more = MORE_TAILS           # tails undecided within TAIL_WORK tried again with TAIL_WORK_MORE
     for (p_e, e, name, job), (ok, msg, beyond) in zip(jobs, results):
         if msg == TIME_LIMIT or (beyond and past(deadline)):
@@ -122,3 +137,8 @@ def curved_edges(curved, geoms, problems, eok, ends_inf, deadline=None, late=Non
         eok[p_e] = ok
         if ok:
             ends_inf.extend(ends)
+
+
+def sup_ok(geoms) -> bool:
+    """Do the sites have support functions (points, circles, ellipses)?"""
+    return all(g.kind in ("point", "circle", "ellipse") for g in geoms)

@@ -81,6 +81,15 @@ def prove_mirror_tail(sites, geoms, sup, pair, link):
     d = (-n[1], n[0])                                      # direction of ℓ, exact
     if (float(d[0]) * (X[0] - sup.m[0]) + float(d[1]) * (X[1] - sup.m[1])) < 0:
         d = (n[1], -n[0])                                  # the outward one
+    return ray_clear(sites, geoms, sup, pair, P, d)
+
+
+def ray_clear(sites, geoms, sup, pair, P, d):
+    """Is every site other than the pair strictly farther than i (= j) on the ray {P + t·d : t ≥ 0}
+    of their mirror line (P, d exact rationals)?  Conditions (A) and (B) of the module docstring.
+    Returns (ok, message, end) as :func:`prove_mirror_tail`."""
+    i, j = pair
+    Pf = np.array([float(P[0]), float(P[1])])
     dn = math.hypot(float(d[0]), float(d[1]))
     u = np.array([float(d[0]), float(d[1])]) / dn
     uperp = np.array([-u[1], u[0]])
@@ -97,22 +106,147 @@ def prove_mirror_tail(sites, geoms, sup, pair, link):
             feet.append((float((F[0] - sup.m) @ u) - b * b / (2 * a) * (1 + 1e-9) - eps))
     base = max(feet) if feet else -math.inf
     others = np.array([t for t in range(len(geoms)) if t not in pair], int)
+    end = ((d[0], d[1]), float(Pf @ uperp))
     if not len(others):
-        return True, None, ((d[0], d[1]), float(Pf @ uperp))
+        return True, None, end
     hk = sup.h(others, np.full(len(others), th))
     todo = others[~(base - hk - sup.mu > 0)]
     # (B) mirrors onto the remaining sites
     for t in todo.tolist():
-        for s in (i, j):
-            ml = mirror_line(sites[s], sites[t])
-            if ml is None:
-                continue
-            m2, k2 = ml
-            side = _side_box(geoms[s].bounding_box(), m2, k2)
-            val = m2[0] * P[0] + m2[1] * P[1] - k2
-            slope = m2[0] * d[0] + m2[1] * d[1]
-            if side != 0 and val * side > 0 and slope * side >= 0:
-                break
-        else:
+        if dominated_on(sites, geoms, pair, t, P, d, ray=True) is None:
             return False, f"site {t} is not proved farther on the mirror line to infinity", None
-    return True, None, ((d[0], d[1]), float(Pf @ uperp))
+    return True, None, end
+
+
+def dominated_on(sites, geoms, pair, t, P, d, ray=False, Q=None):
+    """A site of the pair whose mirror image is site t, with the segment [P, Q] (open at the ends
+    where it meets the mirror) or the ray from P along d inside the open half-plane of that site:
+    then d_i < d_t there (module docstring, (B)).  P, Q, d exact; returns the site or None."""
+    for s in pair:
+        ml = mirror_line(sites[s], sites[t])
+        if ml is None:
+            continue
+        m2, k2 = ml
+        side = _side_box(geoms[s].bounding_box(), m2, k2)
+        if side == 0:
+            continue
+        val = (m2[0] * P[0] + m2[1] * P[1] - k2) * side
+        if ray:
+            slope = (m2[0] * d[0] + m2[1] * d[1]) * side
+            if val > 0 and slope >= 0:
+                return s
+        else:
+            val2 = (m2[0] * Q[0] + m2[1] * Q[1] - k2) * side
+            if val >= 0 and val2 >= 0 and (val > 0 or val2 > 0):
+                return s
+    return None
+
+
+def _exact_on_line(w, n, k):
+    """The exact point of a proved vertex (a symmetric vertex's rational point) if it lies on the
+    line n·q = k, else None."""
+    p = getattr(w, "exact_point", None)
+    if p is None:
+        return None
+    return p if n[0] * p[0] + n[1] * p[1] == k else None
+
+
+def prove_mirror_edge(sites, geoms, table, sup, pair, v0, v1, P, closed, max_pieces=20000):
+    """Prove a whole edge (i, j) of mirror-image sites: it is the part of their mirror line ℓ
+    between its end vertices (exact rational points of ℓ) or from a vertex to infinity, or the
+    whole line.  Third sites are proved farther on the finite part by distance bounds on discs
+    covering pieces of it (d is 1-Lipschitz: lo_k(C) − R > hi_i(C) + R on a piece of half-length
+    R about C), or by a mirror (:func:`dominated_on`; the sites tied at an end vertex), and on the
+    rays by :func:`ray_clear`.  Returns (ok, message, ends at infinity as in
+    :func:`prove_mirror_tail`)."""
+    if closed:
+        return False, "a closed edge", []
+    line = mirror_line(sites[pair[0]], sites[pair[1]])
+    if line is None:
+        return False, "no mirror", []
+    n, k = line
+    si, sj = _side_box(geoms[pair[0]].bounding_box(), n, k), _side_box(geoms[pair[1]].bounding_box(), n, k)
+    if si == 0 or sj == 0 or si == sj:
+        return False, "its sites are not strictly on opposite sides of their mirror", []
+    d = (-n[1], n[0])
+    ends = []
+    for w in (v0, v1):
+        ends.append(None if w is None else _exact_on_line(w, n, k))
+        if w is not None and ends[-1] is None:
+            return False, "an end vertex is not an exact point of the mirror", []
+    dd = d[0] * d[0] + d[1] * d[1]
+
+    def param(q):
+        return (q[0] * d[0] + q[1] * d[1]) / dd
+
+    def point(s):
+        base = (k * n[0] / (n[0] * n[0] + n[1] * n[1]), k * n[1] / (n[0] * n[0] + n[1] * n[1]))
+        return (base[0] + s * d[0], base[1] + s * d[1])
+
+    P = np.asarray(P, float).reshape(-1, 2)
+    sP = [param((Fraction(float(x)), Fraction(float(y)))) for x, y in (P[0], P[-1])]
+    reach = Fraction(max(4 * sup.W + float(np.abs(sup.m).sum()), 1.0)) / Fraction(math.sqrt(float(dd)))
+    # the finite part [a, b] of ℓ (parameters) and the rays beyond it
+    if ends[0] is not None and ends[1] is not None:
+        a, b = sorted((param(ends[0]), param(ends[1])))
+        rays = []
+    elif ends[0] is None and ends[1] is None:
+        c = param((Fraction(float(sup.m[0])), Fraction(float(sup.m[1]))))
+        a, b = c - reach, c + reach
+        rays = [(a, -1), (b, 1)]
+    else:
+        sv = param(ends[0] if ends[0] is not None else ends[1])
+        far = sP[1] if ends[0] is not None else sP[0]       # the polyline's unbounded end
+        sg = 1 if far > sv else -1
+        a, b = (sv, sv + reach) if sg > 0 else (sv - reach, sv)
+        rays = [(b, 1) if sg > 0 else (a, -1)]
+    if not b > a:
+        return False, "its end vertices coincide", []
+    # the polyline must follow this part of ℓ (its distance to ℓ was checked against the tolerance)
+    sl = 1e-9 * (1.0 + float(np.abs(P).max())) / math.sqrt(float(dd))
+    sp = np.array([float(param((Fraction(float(x)), Fraction(float(y))))) for x, y in P])
+    lo_ok = any(sg < 0 for _, sg in rays) or (sp >= float(a) - sl).all()
+    hi_ok = any(sg > 0 for _, sg in rays) or (sp <= float(b) + sl).all()
+    if not (lo_ok and hi_ok):
+        return False, "its polyline leaves the part of the mirror line between its ends", []
+    # third sites on the finite part: discs, then mirrors for the rest
+    i = pair[0]
+    dn = math.sqrt(float(dd))
+    fa, fb = float(a), float(b)
+    base = np.array([float(point(0)[0]), float(point(0)[1])])
+    dv = np.array([float(d[0]), float(d[1])])
+    A, B = np.linspace(fa, fb, 9)[:-1], np.linspace(fa, fb, 9)[1:]
+    done_mirror: dict = {}
+    work = 0
+    while len(A):
+        work += len(A)
+        if work > max_pieces:
+            return False, "third sites undecided on the mirror line (work limit)", []
+        mid = 0.5 * (A + B)
+        C = base[None, :] + mid[:, None] * dv[None, :]
+        R = 0.5 * (B - A) * dn * (1 + 1e-9) + 1e-12 * (np.abs(C).sum(1) + 1.0)
+        Vi = table.evaluate(C, np.full(len(C), i))
+        rows, ks = table.near_pairs(C, Vi.hi + 2 * R, pair)
+        if not len(rows):
+            break
+        Vk = table.evaluate(C[rows], ks)
+        ok = Vk.lo - R[rows] > Vi.hi[rows] + R[rows]
+        bad = np.nonzero(~ok)[0]
+        keep = np.zeros(len(A), bool)
+        for t in bad.tolist():
+            kk = int(ks[t])
+            if kk not in done_mirror:
+                done_mirror[kk] = dominated_on(sites, geoms, pair, kk, point(a), d, Q=point(b)) is not None
+            if not done_mirror[kk]:
+                keep[rows[t]] = True
+        if not keep.any():
+            break
+        A, B, M = A[keep], B[keep], mid[keep]
+        A, B = np.concatenate([A, M]), np.concatenate([M, B])
+    out = []
+    for s0, sg in rays:
+        ok, msg, end = ray_clear(sites, geoms, sup, pair, point(s0), (sg * d[0], sg * d[1]))
+        if not ok:
+            return False, msg, []
+        out.append(end)
+    return True, None, out
