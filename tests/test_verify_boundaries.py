@@ -300,3 +300,35 @@ def test_closed_loop_traversed_twice_is_rejected():
     e["polyline"] = e["polyline"] + e["polyline"][1:]
     cert = verify(doc)
     assert not cert.ok and any(p.startswith(f"edge {e['id']} ") for p in cert.problems), cert.problems
+
+
+# ----------------------------------------------------------------------------- the site list
+
+def test_sites_given_as_tuples_are_read_as_points_and_circles():
+    """(x, y, r) with r = 0 is a point, r > 0 a circle of radius r."""
+    doc = _three_points_doc()
+    assert verify(doc, [(-1, 0, 0), (1, 0, 0), (0, 1, 0)]).ok
+    cert = verify(doc, [(-1, 0, 0), (1, 0, 0), (0, 1, F(1, 10))])
+    assert not cert.ok and any("site 2" in p for p in cert.problems), cert.problems
+    doc = _doc(("outside", F(1, 4)), _four(DELTAS["outside"], F(1, 4)))
+    assert verify(doc, [(x, y, F(1, 4)) for x, y in ((-1, 0), (1, 0), (0, 1), (0, -1 - DELTAS["outside"]))]).ok
+
+
+def test_a_site_count_mismatch_is_named():
+    doc = _three_points_doc()
+    for sites in ([Point(-1, 0), Point(1, 0)], [Point(-1, 0), Point(1, 0), Point(0, 1), Point(0, 1000)]):
+        cert = verify(doc, sites)
+        assert not cert.ok and any(p.startswith(f"the diagram has 3 sites, the input {len(sites)}")
+                                   for p in cert.problems), cert.problems
+
+
+def test_a_conic_and_a_circle_are_different_sites():
+    """The ellipse scene checked against its own sites (ok), and with the ellipse and a circle
+    exchanged in the input list (a conic compared with a circle both ways): rejected, both named."""
+    doc = _ellipse_doc()
+    sites = [Conic.ellipse(centre=(0, 0), axes=(2, 1), rotation=(1, 0)), Circle.from_radius(6, 0, 1),
+             Circle.from_radius(3, 5, 1), Point(2, -4)]
+    assert verify(doc, sites).ok
+    swapped = [sites[1], sites[0]] + sites[2:]
+    cert = verify(doc, swapped)
+    assert not cert.ok and any("site 0" in p for p in cert.problems) and any("site 1" in p for p in cert.problems)
