@@ -616,6 +616,66 @@ def write_sound_report(rows, args, total, n_candidates, baseline_notes) -> None:
         out.write_text(text)
 
 
+
+def _mkey(r: dict) -> str:
+    return f"{r['path']}:{r['line']} {r['kind']} {r['what']}"
+
+
+def merge_report(first: str, after: list[str], verdicts: str | None, title: str) -> str:
+    """The table of a sample (``first``, a .jsonl) with the survivors re-run after new tests
+    (``after``, .jsonl files of ``--replay --replay-status survived``: a mutant killed once stays
+    killed, tests being only added) and the reading of each remaining survivor (``verdicts``: a
+    JSON object mapping "path:line kind what" to "equivalent: why" / "heuristic: why" / ...)."""
+    import json
+
+    rows = [json.loads(x) for x in Path(first).read_text().splitlines()]
+    later: dict[tuple, str] = {}
+    for a in after:
+        for x in Path(a).read_text().splitlines():
+            r = json.loads(x)
+            later[(r["path"], r["kind"], r["old"], r["new"])] = r["status"]
+    why = json.loads(Path(verdicts).read_text()) if verdicts else {}
+    for r in rows:
+        r["final"] = r["status"] if r["status"] == "killed" else later.get((r["path"], r["kind"], r["old"], r["new"]),
+                                                                           r["status"])
+    n = len(rows)
+    k0 = sum(r["status"] == "killed" for r in rows)
+    k1 = sum(r["final"] == "killed" for r in rows)
+    left = [r for r in rows if r["final"] != "killed"]
+    eq = [r for r in left if why.get(_mkey(r), "").split(":")[0] in ("equivalent", "heuristic", "unreachable")]
+    L = [f"## {title}", "",
+         f"**Before the new tests: {k0} of {n} killed ({100 * k0 / max(1, n):.0f} %).  After: {k1} of {n} killed "
+         f"({100 * k1 / max(1, n):.0f} %); of the {len(left)} left, {len(eq)} are explained as equivalent for "
+         f"soundness (equivalent / heuristic / unreachable), {len(left) - len(eq)} are open.**", "",
+         "| module | operator | mutants | killed before | killed after | left |", "|---|---|---|---|---|---|"]
+    agg: dict = {}
+    for r in rows:
+        a = agg.setdefault((r["path"], r["kind"]), [0, 0, 0, 0])
+        a[0] += 1
+        a[1] += r["status"] == "killed"
+        a[2] += r["final"] == "killed"
+        a[3] += r["final"] != "killed"
+    for (p, k), a in sorted(agg.items()):
+        L.append(f"| {p.replace('runtime/', '')} | {k} | {a[0]} | {a[1]} | {a[2]} | {a[3]} |")
+    L += ["", "| operator | mutants | killed before | killed after |", "|---|---|---|---|"]
+    for k in SOUND_OPERATORS:
+        rs = [r for r in rows if r["kind"] == k]
+        if rs:
+            L.append(f"| {k} | {len(rs)} | {sum(r['status'] == 'killed' for r in rs)} | "
+                     f"{sum(r['final'] == 'killed' for r in rs)} |")
+    L += ["", "Survivors of the first run (diff line; result after the new tests; reading):", "",
+          "| file:line | function | operator | diff | after | reading |", "|---|---|---|---|---|---|"]
+    for r in rows:
+        if r["status"] == "killed":
+            continue
+        old = r["old"].replace("\n", " ").replace("|", "\\|")
+        new = r["new"].replace("|", "\\|")
+        old = " ".join(old.split())
+        L.append(f"| {r['path'].replace('runtime/', '')}:{r['line']} | {r['function']} | {r['kind']} | "
+                 f"`{old[:70]}` → `{new[:70]}` | {r['final']} | {why.get(_mkey(r), '').replace('|', '/')} |")
+    return "\n".join(L) + "\n"
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--work", default="/tmp/mut")
@@ -641,7 +701,17 @@ def main(argv=None) -> int:
                     help="soundness mode: re-run the mutants of an earlier run (its .jsonl) instead of sampling")
     ap.add_argument("--replay-status", default=None, metavar="S1,S2",
                     help="with --replay: only the mutants that had one of these results (e.g. survived,timeout)")
+    ap.add_argument("--merge", nargs="+", default=None, metavar="JSONL",
+                    help="write the table of a first run's .jsonl and the .jsonl of its survivors re-run "
+                         "after new tests (first file first) to --out; --verdicts reads the survivors' reading")
+    ap.add_argument("--verdicts", default=None, metavar="JSON")
     args = ap.parse_args(argv)
+    if args.merge:
+        text = merge_report(args.merge[0], args.merge[1:], args.verdicts,
+                            args.title or "Soundness mutants of the verifier and the certification stage")
+        print(text)
+        Path(args.out).write_text(text) if not args.append else Path(args.out).open("a").write("\n" + text)
+        return 0
     if args.modules is not None:
         if args.timeout == 300 and "--timeout" not in (argv if argv is not None else sys.argv):
             args.timeout = 120
