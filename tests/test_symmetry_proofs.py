@@ -153,3 +153,23 @@ def test_rows_of_equal_circles_and_of_ellipses_tie_at_infinity():
         assert e.ends == (None, None)
         xs = np.asarray(e.polyline)[:, 0]
         assert np.allclose(xs, 3 + 6 * e.sites[0], atol=1e-9)
+
+
+def test_circles_resting_on_one_line_are_certified_and_their_ends_are_the_hull_sides():
+    """Circles of different radii tangent to y = −1 tie at infinity in the direction −y: the
+    unbounded edges are those of the neighbours along that line, (0, 1) and (1, 2), going down,
+    and of the upper hull side, (0, 2), going up (site 1's top, y = 1, lies below the tangent of
+    sites 0 and 2).  Decided exactly by the hull of the discs."""
+    d = cv.voronoi([(0, 0, 1), (4, 0, 1), (10, 1, 2)])
+    assert d.certified, d.problems
+    assert d.delaunay_edges() == [(0, 1), (0, 2), (1, 2)] and len(d.vertices) == 1
+    down = {tuple(e.sites) for e in d.edges if np.asarray(e.polyline)[-1, 1] < -50 or np.asarray(e.polyline)[0, 1] < -50}
+    up = {tuple(e.sites) for e in d.edges if np.asarray(e.polyline)[-1, 1] > 50 or np.asarray(e.polyline)[0, 1] > 50}
+    assert down == {(0, 1), (1, 2)} and up == {(0, 2)}
+    doc = d.to_json()
+    bad = copy.deepcopy(doc)
+    k = next(t for t, e in enumerate(bad["edges"]) if e["sites"] == [0, 1])
+    del bad["edges"][k]
+    for t, e in enumerate(bad["edges"]):
+        e["id"] = t
+    assert not cv.verify(bad).ok

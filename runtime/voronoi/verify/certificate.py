@@ -111,7 +111,7 @@ from ..frame import to_local_frame
 from .edge_checks import check_edges
 from .edges import CircleTable
 from .closure import circles_disjoint, verify_accounting, verify_accounting_conics, verify_closure
-from .hull_points import verify_accounting_points
+from .hull_points import verify_accounting_discs, verify_accounting_points
 from .support import SupportTable
 from .vertices import prove_vertices
 
@@ -280,7 +280,15 @@ def verify(diagram, sites=None, *, deadline=None) -> Certificate:
         # weights), so the exact accounting of points applies (ties of collinear centres included)
         account_ok = circles_disjoint(table, problems) and verify_accounting_points(geoms, ends_inf, problems)
     elif circular:
-        account_ok = verify_accounting(n, table, ends_inf, problems, unproved_ends)
+        lines: list = []
+        account_ok = verify_accounting(n, table, ends_inf, lines, unproved_ends)
+        if not account_ok and circles_disjoint(table, []):
+            # ties at infinity (circles tangent to one line): the exact hull of the discs decides
+            exact_lines: list = []
+            exact_ok = verify_accounting_discs(geoms, ends_inf, exact_lines)
+            if exact_ok is not None:
+                account_ok, lines = exact_ok, exact_lines
+        problems.extend(lines)
     else:
         account_ok = verify_accounting_conics(n, SupportTable(geoms), ends_inf, problems,
                                               unproved_ends=unproved_ends, sites=[g.exact for g in geoms])

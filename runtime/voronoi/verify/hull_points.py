@@ -2,13 +2,19 @@
 the unbounded edges of the Voronoi diagram of points are those of the pairs consecutive on the
 boundary of their convex hull, collinear boundary points included.
 
-Public API: :func:`verify_accounting_points`.
+Circles with rational radii, none inside another (:func:`verify_accounting_discs`): the same with the
+boundary of the convex hull of the discs, common tangents decided exactly in a quadratic field.
+
+Public API: :func:`verify_accounting_points`, :func:`verify_accounting_discs`.
 """
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 
-__all__ = ["verify_accounting_points"]
+import numpy as np
+
+__all__ = ["verify_accounting_points", "verify_accounting_discs"]
 
 
 def verify_accounting_points(geoms, ends_inf, problems) -> bool:
@@ -70,4 +76,111 @@ def verify_accounting_points(geoms, ends_inf, problems) -> bool:
         else:
             problems.append(f"edge {ids[key]} (sites {i}, {j}): an unbounded end that the convex hull of the "
                             "points does not have" + (" (reported more than once)" if w else ""))
+    return ok
+
+
+def _sign_quadratic(A: Fraction, B: Fraction, D: Fraction) -> int:
+    """The exact sign of A + B·√D (D ≥ 0)."""
+    sa = (A > 0) - (A < 0)
+    sb = (B > 0) - (B < 0)
+    if sb == 0 or D == 0:
+        return sa
+    if sa == 0 or sa == sb:
+        return sb if sa == 0 else sa
+    diff = A * A - B * B * D          # sa ≠ sb: the larger magnitude wins
+    return sa if diff > 0 else (sb if diff < 0 else 0)
+
+
+def verify_accounting_discs(geoms, ends_inf, problems) -> bool | None:
+    """Step 4 for disjoint circles and points with rational radii, none inside another, exactly:
+    far in direction u the nearest site maximises h_k(u) = c_k·u + ρ_k, so the unbounded edges are
+    those of the pairs consecutive on the boundary of the convex hull of the discs: for each pair
+    (a, b) and each of its two outer common tangents L (outer normal u, with
+    (c_a − c_b)·u = ρ_b − ρ_a), L supports every disc (c_k·u + ρ_k ≤ c_a·u + ρ_a, decided exactly in
+    Q(√Δ), Δ = |c_b − c_a|² − (ρ_a − ρ_b)²) and a, b are consecutive among the discs touching L
+    (ordered by their tangent points).  The edge of such a pair goes to infinity in direction u.
+    Each proved end (pair, asymptotic direction) is matched with the nearer of its pair's two
+    tangents; the proved ends must be exactly the expected ones.  Returns None when the sites do not
+    qualify (irrational radius, nesting), so the caller uses the float accounting."""
+    from ...algebra.quadtower import rational_sqrt
+
+    n = len(geoms)
+    C, R = [], []
+    for g in geoms:
+        ex = g.exact
+        rho = rational_sqrt(ex.r2) if hasattr(ex, "r2") else None
+        if rho is None:
+            return None
+        C.append((Fraction(int(ex.cx.p), int(ex.cx.q)), Fraction(int(ex.cy.p), int(ex.cy.q))))
+        R.append(Fraction(int(rho.p), int(rho.q)))
+    Cf = np.array([[float(x), float(y)] for x, y in C])
+    Rf = np.array([float(r) for r in R])
+    for a in range(n):                                     # no disc inside another (float prefilter)
+        inside = np.hypot(*(Cf - Cf[a]).T) + Rf < Rf[a] + 1e-9 * (np.abs(Cf).max() + Rf.max() + 1)
+        inside[a] = False
+        if inside.any():
+            return None
+    # candidates: the discs that (nearly) maximise h in some direction
+    th = np.linspace(0, 2 * np.pi, 4096, endpoint=False)
+    U = np.stack([np.cos(th), np.sin(th)], 1)
+    H = Cf @ U.T + Rf[:, None]
+    scale = float(np.abs(Cf).max() + Rf.max() + 1.0)
+    top = H.max(0)
+    cand = sorted(set(np.nonzero((H >= top[None, :] - 1e-3 * scale).any(1))[0].tolist()))
+    want: dict = {}
+    for ia, a in enumerate(cand):
+        for b in cand[ia + 1:]:
+            wx, wy = C[b][0] - C[a][0], C[b][1] - C[a][1]
+            w2 = wx * wx + wy * wy
+            dl = R[a] - R[b]
+            Dl = w2 - dl * dl
+            if Dl <= 0:
+                continue
+            sq = math.sqrt(float(Dl))
+            for s in (1, -1):
+                # u = (δ·w + s·√Δ·rot90(w)) / |w|²; f_k = (c_k − c_a)·u + ρ_k − ρ_a ≤ 0 for all k
+                ok, touch = True, []
+                uf = (float(dl) * np.array([float(wx), float(wy)]) + s * sq * np.array([-float(wy), float(wx)])) / float(w2)
+                for k in range(n):
+                    vx, vy = C[k][0] - C[a][0], C[k][1] - C[a][1]
+                    A = dl * (vx * wx + vy * wy) / w2 + R[k] - R[a]
+                    B = s * (-vx * wy + vy * wx) / w2
+                    sg = _sign_quadratic(A, B, Dl) if k not in (a, b) else 0
+                    if sg > 0:
+                        ok = False
+                        break
+                    if sg == 0:
+                        touch.append(k)
+                if not ok:
+                    continue
+                t = np.array([-uf[1], uf[0]])
+                pos = {k: float(Cf[k] @ t) for k in touch}
+                lo, hi = sorted((pos[a], pos[b]))
+                between = [k for k in touch if k not in (a, b) and lo - 1e-9 * scale <= pos[k] <= hi + 1e-9 * scale]
+                if between:
+                    continue
+                want[(a, b, s)] = uf
+    got: dict = {}
+    for th_e, pair, _, eid in ends_inf:
+        a, b = int(pair[0]), int(pair[1])
+        d = np.array([math.cos(th_e), math.sin(th_e)])
+        opts = [(float(d @ u), s) for (p, q, s), u in want.items() if (p, q) == (a, b)]
+        if not opts:
+            problems.append(f"edge {eid} (sites {a}, {b}): an unbounded end that the convex hull of the "
+                            "sites does not have")
+            return False
+        opts.sort(reverse=True)
+        if len(opts) > 1 and opts[0][0] - opts[1][0] < 1e-9:
+            problems.append(f"edge {eid} (sites {a}, {b}): its direction at infinity cannot be told apart")
+            return False
+        key = (a, b, opts[0][1])
+        got[key] = got.get(key, 0) + 1
+    ok = True
+    for key in sorted(set(want) | set(got)):
+        if got.get(key, 0) != 1:
+            ok = False
+            a, b, _ = key
+            problems.append(f"sites {a}, {b}: " + ("consecutive on the convex hull of the sites, but no proved "
+                                                  "unbounded edge between them goes out across that side"
+                                                  if not got.get(key) else "an unbounded end reported more than once"))
     return ok
