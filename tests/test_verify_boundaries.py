@@ -332,3 +332,20 @@ def test_a_conic_and_a_circle_are_different_sites():
     swapped = [sites[1], sites[0]] + sites[2:]
     cert = verify(doc, swapped)
     assert not cert.ok and any("site 0" in p for p in cert.problems) and any("site 1" in p for p in cert.problems)
+
+
+# ----------------------------------------------------------------------------- disjointness of the sites
+# Equal circles of squared radius r² at A, B, C: A and C are √2 apart, so they are disjoint iff
+# r² < 1/2 (tangent at r² = 1/2); the diagram is that of the points (equal radii), the vertex
+# (0, 0) at distance 1 − r.
+
+@pytest.mark.parametrize("r2, ok", [(F(1, 4), True), (F(1, 2) - F(1, 10 ** 9), True), (F(1, 2), False),
+                                    (F(1, 2) + F(1, 10 ** 9), False), (F(9, 16), False)])
+def test_equal_circles_at_the_disjointness_boundary(r2, ok):
+    doc = _three_points_doc()
+    doc["sites"] = [site_to_json(Circle(x, y, r2)) for x, y in ((-1, 0), (1, 0), (0, 1))]
+    doc["vertices"][0]["radius"] = 1 - math.sqrt(r2)
+    cert = verify(doc)
+    assert cert.ok is ok, cert.problems
+    if not ok:
+        assert any("0 and 2" in p or "not disjoint" in p for p in cert.problems), cert.problems
