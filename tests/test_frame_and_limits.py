@@ -22,7 +22,7 @@ from scipy.spatial import Delaunay
 import curvedvoronoi as cv
 from curvedvoronoi.runtime.voronoi.frame import MAX_RANGE, check_range, local_frame, translate_site
 from curvedvoronoi.runtime.voronoi.sample_delaunay import SampleTriangulation
-from curvedvoronoi.runtime.voronoi.site_input import SiteError
+from curvedvoronoi.runtime.voronoi.frame import RangeRefusal
 
 
 def _disjoint_circles(rng, n, size=10.0, rmin=0.1, rmax=1.0, gap=0.05):
@@ -136,7 +136,7 @@ def test_delete_site_in_a_far_frame():
 
 @pytest.mark.parametrize("far", [1e10, 1e20, 1e300])
 def test_far_apart_sites_one_line_error(far):
-    with pytest.raises(SiteError) as exc:
+    with pytest.raises(RangeRefusal) as exc:
         cv.voronoi([(far, 0, 1), (0, 0, 1), (3, 1, 1)])
     msg = str(exc.value)
     assert "\n" not in msg and msg.startswith("site 0 ") and "out of range" in msg
@@ -162,7 +162,7 @@ def test_check_range_both_sides():
         if ok:
             check_range(sites, geoms)
         else:
-            with pytest.raises(SiteError, match="site 2"):
+            with pytest.raises(RangeRefusal, match="site 2"):
                 check_range(sites, geoms)
 
 
@@ -273,3 +273,23 @@ def test_far_small_scene_reverifies_from_its_json():
     # a vertex moved by 1e-5 (about 80 ulps at 1e9, 1 % of the sites' size) is rejected
     doc["vertices"][0]["x"] += 1e-5
     assert not cv.verify(doc).ok
+
+
+def test_far_apart_sites_are_a_numerical_refusal_on_the_command_line(tmp_path):
+    """A circle 1e10 away from two unit circles: one line naming site 0, exit status 3 (a limit of
+    the float proofs, not bad input); 1e20 the same, no qhull or LinAlg traceback."""
+    import json
+    import os
+    import subprocess
+    import sys
+
+    for x in (1e10, 1e20):
+        f = tmp_path / "far.json"
+        f.write_text(json.dumps({"sites": [{"circle": {"centre": [x, 0], "radius": 1}},
+                                           {"circle": {"centre": [0, 0], "radius": 1}},
+                                           {"circle": {"centre": [5, 1], "radius": 1}}]}))
+        out = subprocess.run([sys.executable, "-m", "curvedvoronoi", "diagram", str(f), "--quiet"],
+                             capture_output=True, text=True, env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
+        assert out.returncode == 3, out.stderr
+        assert out.stderr.startswith("error: site 0 ") and out.stderr.count("\n") == 1
+        assert "Traceback" not in out.stderr and "scale the sites" in out.stderr

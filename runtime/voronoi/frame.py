@@ -38,11 +38,12 @@ between two centres of circles and points).  Measured with one site moved away a
 ten points plus a far one at 2²⁴, not at 2²⁵.  2²² keeps a factor 2 of margin.  Scenes with
 conics are proved to a smaller range (ten ellipses plus a far one: certified at 2¹⁴, a
 diagram not certified beyond); within :data:`MAX_RANGE` they give a diagram, beyond it the
-same error.  Beyond the range the input is rejected with one line naming the site farthest
-from the others (:class:`SiteError`), never a numerical exception.
+same error.  Beyond the range the input is refused with one line naming the site farthest
+from the others (:class:`RangeRefusal`, a numerical refusal: exit status 3 on the command line),
+never a numerical exception.
 
 Public API: :class:`LocalFrame`, :func:`local_frame`, :func:`translate_site`,
-:func:`to_local_frame`, :func:`check_range`, :data:`MAX_RANGE`.
+:func:`to_local_frame`, :func:`check_range`, :data:`MAX_RANGE`, :class:`RangeRefusal`.
 """
 from __future__ import annotations
 
@@ -57,9 +58,10 @@ from scipy.spatial import cKDTree
 from ..predicates.circles import Circle, Point
 from ..sites.conic import Conic
 from .conic_geometry import site_geometry
+from ..result import NumericalRefusal
 from .site_input import SiteError, as_site
 
-__all__ = ["LocalFrame", "MAX_RANGE", "check_range", "local_frame", "to_local_frame", "translate_site"]
+__all__ = ["LocalFrame", "MAX_RANGE", "RangeRefusal", "check_range", "local_frame", "to_local_frame", "translate_site"]
 
 #: largest extent / smallest feature the float construction and verifier prove (module docstring)
 MAX_RANGE = 2.0 ** 22
@@ -99,7 +101,7 @@ def _boxes(geoms):
 
 
 def check_range(sites, geoms) -> None:
-    """Raise :class:`SiteError` (one line, naming a site) when the extent of the sites exceeds
+    """Raise :class:`RangeRefusal` (one line, naming a site) when the extent of the sites exceeds
     :data:`MAX_RANGE` times their smallest feature (see the module docstring)."""
     boxes, fin = _boxes(geoms)
     if len(fin) < 2:
@@ -135,9 +137,14 @@ def check_range(sites, geoms) -> None:
     med = np.median(mid[ok], axis=0)
     far = np.where(ok, np.hypot(*(mid - med).T), -1.0)
     k = int(np.argmax(far))
-    raise SiteError(f"site {k} at ({mid[k, 0]:.6g}, {mid[k, 1]:.6g}) is out of range: the sites span {ext:.3g}, "
+    raise RangeRefusal(f"site {k} at ({mid[k, 0]:.6g}, {mid[k, 1]:.6g}) is out of range: the sites span {ext:.3g}, "
                     f"{ext / feat:.3g} times their smallest feature ({feat:.3g}); the diagram is proved up to "
                     f"2^{int(math.log2(MAX_RANGE))} = {MAX_RANGE:.3g} (scale the sites or split the input)")
+
+
+class RangeRefusal(NumericalRefusal):
+    """Valid sites spread over more than :data:`MAX_RANGE` times their smallest feature: not bad
+    input, a limit of the float proofs (the command line exits with status 3)."""
 
 
 class LocalFrame:
