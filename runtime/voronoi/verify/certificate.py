@@ -108,6 +108,7 @@ from dataclasses import dataclass, field
 
 from ..conic_geometry import site_geometry
 from ..frame import to_local_frame
+from .document import check_document
 from .edge_checks import check_edges
 from .edges import CircleTable
 from .closure import circles_disjoint, verify_accounting, verify_accounting_conics, verify_closure
@@ -252,6 +253,7 @@ def verify(diagram, sites=None, *, deadline=None) -> Certificate:
                 problems.append(f"site {k} of the diagram differs from input site {k}")
     n = len(sites)
     geoms = [site_geometry(s) for s in sites]
+    check_document(D, diagram if isinstance(diagram, dict) else None, geoms, problems)
     circular = all(g.kind in ("point", "circle") for g in geoms)
     table = CircleTable(geoms) if circular and n else None
     stats = {"sites": n, "vertices": len(D.vertices), "edges": len(D.edges), "route": "circles" if circular else "mixed"}

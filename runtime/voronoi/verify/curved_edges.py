@@ -65,7 +65,7 @@ def curved_edges(curved, geoms, problems, eok, ends_inf, deadline=None, late=Non
     # of the distance to it (d_i − d_j is 2-Lipschitz); one call for all edges
     rows, ks, owner = [], [], []
     for t, (_, e, _, (_, pair, P, _, _, _, _)) in enumerate(curved):
-        inner = P[1:-1]
+        inner = P[_far_span(e, P)]
         rows += [inner, inner]
         ks += [np.full(len(inner), pair[0]), np.full(len(inner), pair[1])]
         owner.append(len(inner))
@@ -75,14 +75,14 @@ def curved_edges(curved, geoms, problems, eok, ends_inf, deadline=None, late=Non
         Vi, Vj = (V.part(pos, pos + cnt), V.part(pos + cnt, pos + 2 * cnt)) if cnt else (None, None)
         pos += 2 * cnt
         if cnt:
-            inner = job[2][1:-1]
+            inner = job[2][_far_span(e, job[2])]
             lb = np.maximum(Vi.lo - Vj.hi, Vj.lo - Vi.hi) / 2
             tol = float(e.tolerance) if math.isfinite(e.tolerance) else math.inf
             far = np.nonzero(lb > tol * (1 + 1e-9) + 1e-12 * scale)[0]
             if len(far):
                 p = int(far[0])
-                problems.append(f"{name}: polyline point {p + 1} ({inner[p, 0]:.9g}, {inner[p, 1]:.9g}) "
-                                f"is at least {lb[p]:.3g} from the bisector (stated tolerance {tol:.3g})")
+                problems.append(f"{name}: polyline point {p + _far_span(e, job[2]).start} ({inner[p, 0]:.9g}, "
+                                f"{inner[p, 1]:.9g}) is at least {lb[p]:.3g} from the bisector (stated tolerance {tol:.3g})")
                 eok[p_e] = False
                 continue
         jobs.append((p_e, e, name, job))
@@ -142,3 +142,10 @@ def curved_edges(curved, geoms, problems, eok, ends_inf, deadline=None, late=Non
 def sup_ok(geoms) -> bool:
     """Do the sites have support functions (points, circles, ellipses)?"""
     return all(g.kind in ("point", "circle", "ellipse") for g in geoms)
+
+
+def _far_span(e, P) -> slice:
+    """The polyline points other than its end vertices (a far point at an end at infinity included)."""
+    if e.closed:
+        return slice(0, len(P))
+    return slice(0 if e.ends[0] is None else 1, len(P) if e.ends[1] is None else len(P) - 1)

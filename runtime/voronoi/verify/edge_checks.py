@@ -175,6 +175,12 @@ def _sign_checks(jobs, table, eok, problems):
     return [jb for t, jb in enumerate(jobs) if t not in drop]
 
 
+def _span(e, P) -> slice:
+    """The polyline points that are not end vertices: all but the first and last, plus an end at
+    infinity (a far point, which must lie within the stated tolerance of the bisector too)."""
+    return slice(0 if e.ends[0] is None else 1, len(P) if e.ends[1] is None else len(P) - 1)
+
+
 def _precompute(cands, table):
     """Batched float work of the per-edge checks: parameters of the end vertices, of the polyline
     points and of the other solutions of the end triples, and the lower bounds |d_i − d_j|/2 of
@@ -189,7 +195,7 @@ def _precompute(cands, table):
                     pts.append(np.asarray(w.others, float).reshape(-1, 2))
                     idx.append([t] * len(w.others)), tags.append((t, "o" + name, len(w.others)))
         mid = P[len(P) // 2] if len(P) > 2 else 0.5 * (P[0] + P[-1])
-        inner = P if e.closed else P[1:-1]
+        inner = P if e.closed else P[_span(e, P)]
         pts += [P[:1], P[-1:], mid[None, :], inner]
         idx += [[t], [t], [t], [t] * len(inner)]
         tags += [(t, "first", 1), (t, "last", 1), (t, "mid", 1), (t, "inner", len(inner))]
@@ -274,14 +280,15 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
                 return None
             hi = max(hi, lo)      # a very short edge: the exact search decides its third sites
     # --- polyline points: within tolerance of the bisector and on the edge's arc
-    inner = P[1:-1] if not e.closed else P
+    inner = P[_span(e, P)] if not e.closed else P
+    first = 0 if e.closed else _span(e, P).start
     if len(inner):
         lb = pre["lb"]
         tol = float(e.tolerance) if math.isfinite(e.tolerance) else math.inf
         far = np.nonzero(lb > tol * (1 + 1e-9) + 1e-12 * table.scale)[0]
         if len(far):
             p = int(far[0])
-            problems.append(f"{name}: polyline point {p + (0 if e.closed else 1)} ({inner[p, 0]:.9g}, {inner[p, 1]:.9g}) "
+            problems.append(f"{name}: polyline point {p + first} ({inner[p, 0]:.9g}, {inner[p, 1]:.9g}) "
                             f"is at least {lb[p]:.3g} from the bisector (stated tolerance {tol:.3g})")
             return None
         if not e.closed:
@@ -296,7 +303,7 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
                 outside = (up < a_ - slack_u) | (up > b_ + slack_u)
             if outside.any():
                 p = int(np.nonzero(outside)[0][0])
-                problems.append(f"{name}: polyline point {p + 1} ({inner[p, 0]:.9g}, {inner[p, 1]:.9g}) "
+                problems.append(f"{name}: polyline point {p + first} ({inner[p, 0]:.9g}, {inner[p, 1]:.9g}) "
                                 "is not on the arc between its ends")
                 return None
     # --- third sites of the end vertices: exact zeros of d_k - d_i on the bisector
