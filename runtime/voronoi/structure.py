@@ -75,8 +75,11 @@ class DiagramEdge:
 
     ``ends`` are vertex ids (None: the edge goes to infinity); ``closed`` marks a vertex-less
     closed curve (then ``polyline[0] == polyline[-1]``).  ``polyline`` runs from ``ends[0]`` to
-    ``ends[1]``; ``tolerance`` bounds the measured deviation of the polyline from the bisector
-    (see :func:`runtime.voronoi.construction.voronoi` for what it means exactly).
+    ``ends[1]``.  ``tolerance``: for circle and point sites, a bound on the Hausdorff distance
+    between the polyline (its segments, not only its points) and the edge's arc, which the
+    verifier proves (:mod:`runtime.voronoi.verify.polyline_bound`, up to 1e-9 of the coordinates);
+    with a conic site, the measured deviation (the verifier proves every polyline point within it
+    and the arc inside strips along the polyline).
     """
 
     id: int

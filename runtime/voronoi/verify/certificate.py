@@ -32,7 +32,11 @@ Let G be the true Voronoi graph and H the reported one.
    it is a **whole** edge of G.
    Polylines are checked against their stated ``tolerance``: a polyline point whose distance to
    the bisector is proved larger (|d_i − d_j|/2 is a lower bound, d_i − d_j being 2-Lipschitz)
-   is a problem, as is a polyline end away from its vertex.
+   is a problem, as is a polyline end away from its vertex; for circle and point sites the
+   Hausdorff distance between the whole polyline (segments included) and the arc is proved
+   within the tolerance (:mod:`runtime.voronoi.verify.polyline_bound`), and the document's own
+   fields are checked (:mod:`runtime.voronoi.verify.document`: finite numbers, ``delaunay_edges``
+   equal to the edges' pairs, a closed edge winding once around its nested site).
 3. **Closure** (:mod:`runtime.voronoi.verify.closure`).  Every vertex (i, j, k) has exactly one
    incident edge per pair of its sites, every edge ends at listed vertices whose triples contain
    its pair (or at infinity), every site has an edge, no two edges of one pair overlap.

@@ -19,6 +19,7 @@ import numpy as np
 from .edges import bisector, params, prove_arcs
 from .exact_edges import SHALLOW, search_with_exact_fallback, tower_points_apart, triple_others, zero_on_arc
 from .exact_vertices import exact_tower_vertex
+from .polyline_bound import hausdorff_bound
 from .curved_edges import curved_edges, curved_job, curved_scale, past
 
 __all__ = ["check_edges"]
@@ -306,6 +307,15 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
                 problems.append(f"{name}: polyline point {p + first} ({inner[p, 0]:.9g}, {inner[p, 1]:.9g}) "
                                 "is not on the arc between its ends")
                 return None
+    # --- the whole polyline, segments included, within the stated tolerance of the arc (Hausdorff)
+    tol = float(e.tolerance)
+    bound, why = hausdorff_bound(bis, P, e.closed)
+    # (up to the rounding of the float data: 1e-9 of the coordinates' magnitude)
+    if why is not None or not bound <= tol * (1 + 1e-9) + 1e-9 * (table.scale + float(np.abs(P).max())):
+        problems.append(f"{name}: " + (why if why is not None else
+                        f"its polyline is proved only within {bound:.3g} of the bisector arc "
+                        f"(stated tolerance {tol:.3g})"))
+        return None
     # --- third sites of the end vertices: exact zeros of d_k - d_i on the bisector
     exempt = set()
     signs = []
