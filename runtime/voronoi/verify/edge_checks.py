@@ -117,7 +117,7 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats, deadline=None):
             continue
         ok, det = search_with_exact_fallback(table, geoms, vinfo, e, pair, bis, lo, hi, exempt, tails, ok, det)
         if not ok:
-            k, q, why = det
+            k, q, why = det[:3]
             where = "" if q is None else f" near ({q[0]:.9g}, {q[1]:.9g})"
             if why == "closer":
                 problems.append(f"{name}: site {k} is closer than its sites{where}")

@@ -169,7 +169,8 @@ def bisector(table: CircleTable, i: int, j: int) -> Bisector | str:
 
 def prove_tail(table: CircleTable, bis: Bisector, U: float, sigma: int, exempt=()):
     """Prove G_k > 0 on the hyperbola branch u ∈ [U, σ∞) for every k ∉ {i, j} ∪ exempt, by
-    interval bounds on τ = e^{−σu} ∈ [0, τ_U] (module docstring, item 3).  Returns (ok, detail)."""
+    interval bounds on τ = e^{−σu} ∈ [0, τ_U] (module docstring, item 3).  Returns (ok, detail);
+    a detail of sites tied with i at the asymptote has a fourth entry listing all of them."""
     if bis.kind != "hyperbola":
         return False, (None, None, "an ellipse has no unbounded part")
     i, j = bis.i, bis.j
@@ -237,8 +238,10 @@ def prove_tail(table: CircleTable, bis: Bisector, U: float, sigma: int, exempt=(
         if depth >= 6:
             tied = bad & (t0 == 0) & (np.abs(A_ / np.where(den_m > 0, den_m, np.inf) + dr[idx]) <= 4 * sl)
             if tied.any():
-                r0 = int(np.nonzero(tied)[0][0])
-                return False, (int(ks[idx[r0]]), _tail_point(bis, tm[r0], sigma), "undecided")
+                rs = np.nonzero(tied)[0]
+                r0 = int(rs[0])
+                return False, (int(ks[idx[r0]]), _tail_point(bis, tm[r0], sigma), "undecided",
+                               sorted({int(ks[idx[r]]) for r in rs.tolist()}))
         idx, T0, T1 = idx[bad], t0[bad], t1[bad]
         if not len(idx):
             return True, None

@@ -185,6 +185,9 @@ def triple_others(w, i, j, k):
     from ...result import LocatorError
 
     geoms = w.geoms
+    if all(geoms[s].kind == "point" for s in (i, j, k)):
+        # three points of the proved vertex's circle: their only equidistant point is its centre
+        return []
     try:
         tv = voronoi_vertices_circles(geoms[i].exact, geoms[j].exact, geoms[k].exact)
     except LocatorError:
@@ -288,7 +291,10 @@ def search_with_exact_fallback(table, geoms, vinfo, e, pair, bis, lo, hi, exempt
         if ok:
             return ok, det
         if exact_third_site_clear(geoms, vinfo, e, pair, tails, det):
-            exempt = set(exempt) | {det[0]}
+            # every site tied with it at infinity (listed by prove_tail) that is also proved farther
+            extra = [k for k in (det[3] if len(det) > 3 else ())
+                     if k != det[0] and exact_third_site_clear(geoms, vinfo, e, pair, tails, (k,) + tuple(det[1:3]))]
+            exempt = set(exempt) | {det[0]} | set(extra)
             ok, det = prove_arcs(table, [(bis, lo, hi, exempt)], max_depth=SHALLOW, max_pieces=256)[0]
             continue
         if deep or det is None or det[2] != "undecided":
