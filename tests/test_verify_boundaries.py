@@ -18,10 +18,9 @@ hand below — never from the verifier's own output:
 * a polyline point off its bisector by 1e-3 (stated tolerance 0): |d_A - d_B|/2 > 0 at (1e-3, y);
 * a vertex of circles (the fast Krawczyk route) and of an ellipse triple moved by 1e-6.
 
-Documented gaps of the verifier (issue 31, "Geometry unchecked between nodes") are strict xfails:
-they must start to fail the day the verifier closes them (the far end of an unbounded polyline, a
-NaN tolerance, wrong delaunay_edges and a loop traversed twice are closed:
-runtime/voronoi/verify/document.py and edge_checks.py).
+The five gaps of issue 31 these tests exposed (chord, far end of an unbounded polyline, NaN
+tolerance, delaunay_edges, a loop traversed twice) were strict xfails until commits 805fd3a and
+274a147 closed them.
 """
 from __future__ import annotations
 
