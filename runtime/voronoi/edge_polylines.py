@@ -179,11 +179,30 @@ def _fresh_polylines(S: SiteArrays, vertices, edges_raw, rows, lens, table, nT, 
         if end is None and start is None:       # closed
             poly[-1] = poly[0]
         polys[e] = poly
-        # circles and points: the verifier proves the Hausdorff distance between polyline and arc
-        # (runtime/voronoi/verify/polyline_bound.py); the measured value, taken at chord midpoints,
-        # is stated with a factor 2 and a rounding allowance of the coordinates
-        tol[e] = (2 * ts[m] + 1e-10 * (1 + float(np.abs(poly).max()))) if S.all_circles else ts[m]
+        tol[e] = ts[m]
+    if S.all_circles:
+        _circle_tolerances(S, edges_raw, todo, polys, tol)
     return polys, tol
+
+
+def _circle_tolerances(S: SiteArrays, edges_raw, todo, polys, tol):
+    """Circles and points: the stated tolerance is the bound on the Hausdorff distance between the
+    polyline and the arc that the verifier proves (:func:`runtime.voronoi.verify.polyline_bound.
+    hausdorff_bounds`, the one implementation of that bound; the chord-midpoint measure misses the
+    bulge of a long, asymmetric piece of hyperbola), at least twice the measured deviation plus a
+    rounding allowance of the coordinates."""
+    from .verify.edges import CircleTable, bisector
+    from .verify.polyline_bound import hausdorff_bounds
+
+    table = CircleTable(S.geoms)
+    es = [e for e in todo.tolist() if e in polys]
+    biss = [bisector(table, *edges_raw[e][0]) for e in es]
+    good = [t for t, b in enumerate(biss) if not isinstance(b, str)]
+    hb = hausdorff_bounds([biss[t] for t in good], [polys[es[t]] for t in good])
+    bound = dict(zip([es[t] for t in good], hb.tolist()))
+    for e in es:
+        allowance = 1e-10 * (1 + float(np.abs(polys[e]).max()))
+        tol[e] = max(2 * tol[e] + allowance, bound.get(e, 0.0) * (1 + 1e-9) + allowance)
 
 
 def _point_loops(S: SiteArrays, Q, own, sub, PI, PJ, n=LOOP_RAYS):

@@ -51,16 +51,36 @@ Let G be the true Voronoi graph and H the reported one.
    none), such a component contains the whole boundary of the region of a nested site K (that
    region is bounded and simply connected, its boundary a Jordan curve), and H contains an edge
    of K (step 3).
+   (c) *Ties at infinity* (several sites share the largest h_k(θ*): collinear points, circles
+   resting on one line, rows of identical shapes): far in direction θ* the nearest of them is the
+   one whose support point is laterally closest, so the ends there are exactly the laterally
+   consecutive pairs; decided exactly for points and circles with rational radii (the hull of the
+   points or discs, :mod:`runtime.voronoi.verify.hull_points`) and, for conics, where mirrors
+   prove the tie (:mod:`runtime.voronoi.verify.ties_at_infinity`).
    **Why nothing is missing**: H ⊂ G (steps 1–2), and H is closed under incidence in G: at a
-   proved simple vertex each of the three pairs has exactly one edge germ, and H's edge of that
-   pair is a whole edge of G ending there (step 2).  Walking from any edge of H along G therefore
+   proved vertex of k sites listed counter-clockwise by their contact points, each of the k pairs
+   of consecutive sites has exactly one edge germ (the first-order argument of
+   :mod:`runtime.voronoi.cocircular`), and H's edge of that pair is a whole edge of G ending
+   there (step 2).  Walking from any edge of H along G therefore
    never leaves H, so H is a union of connected components of G (in the plane, the point at
    infinity not counted).  Every component of G contains an unbounded end (then it is in H by
    4a) or is bounded (then in H by 4b).  Hence H = G, and the Delaunay graph is the set of
    site pairs of H's edges.
 
+Vertices of degree k > 3 are proved exactly: circles and points in the quadratic towers of
+thesis §3.1.3 (:mod:`runtime.voronoi.verify.exact_vertices`), conics by a symmetry fixing a
+rational point (:mod:`runtime.predicates.symmetry`).
+
+Code shared with the construction (a bug there is a bug on both sides): the exact predicates of
+:mod:`runtime.predicates.circles` (quadratic towers) and :mod:`runtime.predicates.symmetry`, the
+site geometries' distance bounds (:mod:`runtime.voronoi.conic_geometry`), the foot-point vertex
+proof :func:`runtime.voronoi.vertex.certify_vertex` (the fallback of conic triples), the local
+frame (:mod:`runtime.voronoi.frame`), and the Hausdorff bound of
+:mod:`runtime.voronoi.verify.polyline_bound`, which the construction uses to state its
+tolerances.  Each is tested against an independent reference (exact arithmetic, dense sampling).
+
 Hypotheses (checked, or the certificate says "not proved"): sites pairwise disjoint; nesting
-depth ≤ 1; vertices simple (degree 3: no fourth site at the same distance, which the strict
+depth ≤ 1; vertices of three sites simple (no fourth site at the same distance, which the strict
 emptiness test enforces; three bisectors crossing transversally: proved on the fast circle route,
 where Krawczyk's test proves the Jacobian of the Apollonius system, whose rows are
 (r + ρ_l)·(n_l, −1), nonsingular, i.e. ∇(d_0 − d_1) and ∇(d_0 − d_2) independent; assumed on the

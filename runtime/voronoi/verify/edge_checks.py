@@ -19,7 +19,7 @@ import numpy as np
 from .edges import bisector, params, prove_arcs
 from .exact_edges import SHALLOW, search_with_exact_fallback, tower_points_apart, triple_others, zero_on_arc
 from .exact_vertices import exact_tower_vertex
-from .polyline_bound import hausdorff_bound
+from .polyline_bound import hausdorff_bounds
 from .curved_edges import curved_edges, curved_job, curved_scale, past
 
 __all__ = ["check_edges"]
@@ -203,6 +203,8 @@ def _precompute(cands, table):
     out = [dict() for _ in cands]
     if not cands:
         return out
+    for o, hb in zip(out, hausdorff_bounds(biss, [c[4] for c in cands])):
+        o["hausdorff"] = float(hb)
     X = np.concatenate([np.asarray(p, float).reshape(-1, 2) for p in pts])
     I = np.concatenate([np.asarray(i, int) for i in idx])
     U = params(biss, I, X)
@@ -309,7 +311,7 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
                 return None
     # --- the whole polyline, segments included, within the stated tolerance of the arc (Hausdorff)
     tol = float(e.tolerance)
-    bound, why = hausdorff_bound(bis, P, e.closed)
+    bound, why = pre["hausdorff"], None
     # (up to the rounding of the float data: 1e-9 of the coordinates' magnitude)
     if why is not None or not bound <= tol * (1 + 1e-9) + 1e-9 * (table.scale + float(np.abs(P).max())):
         problems.append(f"{name}: " + (why if why is not None else

@@ -18,7 +18,7 @@ max_t (max(d_t, d_{t+1}) + dev_t).
 An end at infinity: the polyline's last point is a far point of the edge (checked like the others);
 the part of the edge beyond it is not drawn, and the bound covers the drawn part.
 
-Public API: :func:`hausdorff_bound`.
+Public API: :func:`hausdorff_bound`, :func:`hausdorff_bounds` (many edges at once).
 """
 from __future__ import annotations
 
@@ -26,7 +26,42 @@ import math
 
 import numpy as np
 
-__all__ = ["hausdorff_bound"]
+__all__ = ["hausdorff_bound", "hausdorff_bounds"]
+
+
+class _Curves:
+    """Per-point constants of the bisectors (m, e_x, e_y, a, b, kind, rounding) as flat arrays."""
+
+    def __init__(self, biss, owner):
+        self.hyp = np.array([b.kind == "hyperbola" for b in biss], bool)[owner]
+        self.m = np.array([b.m for b in biss], float).reshape(-1, 2)[owner]
+        self.ex = np.array([b.ex for b in biss], float).reshape(-1, 2)[owner]
+        self.ey = np.array([b.ey for b in biss], float).reshape(-1, 2)[owner]
+        self.a = np.array([b.a for b in biss], float)[owner]
+        self.b = np.array([b.b for b in biss], float)[owner]
+        self.err0 = np.array([b.err0 for b in biss], float)[owner]
+
+    def take(self, idx):
+        c = object.__new__(_Curves)
+        for k in ("hyp", "m", "ex", "ey", "a", "b", "err0"):
+            setattr(c, k, getattr(self, k)[idx])
+        return c
+
+    def point(self, u):
+        with np.errstate(over="ignore"):
+            X = np.where(self.hyp, self.a * np.cosh(np.where(self.hyp, u, 0.0)), self.a * np.cos(u))
+            Y = np.where(self.hyp, self.b * np.sinh(np.where(self.hyp, u, 0.0)), self.b * np.sin(u))
+        return self.m + X[:, None] * self.ex + Y[:, None] * self.ey
+
+    def param(self, P):
+        V = P - self.m
+        x, y = (V * self.ex).sum(1), (V * self.ey).sum(1)
+        with np.errstate(all="ignore"):
+            return np.where(self.hyp, np.arcsinh(y / self.b), np.mod(np.arctan2(y / self.b, x / self.a), 2 * math.pi))
+
+    def curve_error(self, u):
+        """As :meth:`runtime.voronoi.verify.edges.Bisector.curve_error`."""
+        return np.where(self.hyp, self.err0 * np.cosh(np.minimum(np.abs(u), 700.0)) * 4, self.err0 * 4)
 
 
 def hausdorff_bound(bis, P, closed=False):
@@ -35,18 +70,63 @@ def hausdorff_bound(bis, P, closed=False):
     P = np.asarray(P, float).reshape(-1, 2)
     if len(P) < 2:
         return math.inf, "fewer than two points"
-    u = np.asarray(bis.param(P), float).reshape(-1)
-    du = np.diff(u)
-    if bis.kind == "ellipse":
-        du = (du + math.pi) % (2 * math.pi) - math.pi          # steps below half a turn
-    Q = bis.point(u)
-    d = np.hypot(*(P - Q).T) + bis.curve_error(u)
-    dev = _chord_deviation(bis, u[:-1], u[:-1] + du, Q[:-1], Q[1:])
-    bound = np.maximum(d[:-1], d[1:]) + dev
-    return float(bound.max()) * (1 + 1e-12), None
+    return float(hausdorff_bounds([bis], [P])[0]), None
 
 
-def _chord_deviation(bis, ua, ub, Qa, Qb):
+def hausdorff_bounds(biss, polys):
+    """:func:`hausdorff_bound` of many edges at once (array of bounds; inf for a polyline of fewer
+    than two points)."""
+    polys = [np.asarray(P, float).reshape(-1, 2) for P in polys]
+    lens = np.array([len(P) for P in polys], int)
+    out = np.full(len(polys), math.inf)
+    if not len(polys) or lens.sum() == 0:
+        return out
+    owner = np.repeat(np.arange(len(polys)), lens)
+    P = np.concatenate(polys)
+    C = _Curves(biss, owner)
+    u = _foot_params(C, P, C.param(P))
+    Q = C.point(u)
+    d = np.hypot(*(P - Q).T) + C.curve_error(u)
+    seg = np.nonzero(owner[1:] == owner[:-1])[0]            # segment t joins points t, t + 1
+    if not len(seg):
+        return out
+    du = u[seg + 1] - u[seg]
+    hypseg = C.hyp[seg]
+    du = np.where(hypseg, du, (du + math.pi) % (2 * math.pi) - math.pi)   # ellipse: below half a turn
+    dev = _chord_deviation(C.take(seg), u[seg], u[seg] + du, Q[seg], Q[seg + 1])
+    bound = np.maximum(d[seg], d[seg + 1]) + dev
+    res = np.full(len(polys), -np.inf)
+    np.maximum.at(res, owner[seg], bound)
+    ok = lens >= 2
+    out[ok] = res[ok] * (1 + 1e-12)
+    return out
+
+
+def _foot_params(C, P, u, iters=4):
+    """Parameters of (nearly) the nearest curve points to P: Newton steps on (q(u) − P)·q'(u) = 0
+    from the given ones.  Any parameter gives a curve point, so |P − q(u)| bounds the distance
+    whatever the accuracy of these steps; they only make the bound sharp."""
+    a, b, hyp = C.a, C.b, C.hyp
+    V = P - C.m
+    x, y = (V * C.ex).sum(1), (V * C.ey).sum(1)
+    for _ in range(iters):
+        with np.errstate(all="ignore"):
+            ch, sh = np.cosh(np.where(hyp, u, 0.0)), np.sinh(np.where(hyp, u, 0.0))
+            co, si = np.cos(u), np.sin(u)
+            X = np.where(hyp, a * ch, a * co)
+            Y = np.where(hyp, b * sh, b * si)
+            dX = np.where(hyp, a * sh, -a * si)
+            dY = np.where(hyp, b * ch, b * co)
+            ddX = np.where(hyp, X, -X)
+            ddY = np.where(hyp, Y, -Y)
+            g = (X - x) * dX + (Y - y) * dY
+            dg = dX * dX + dY * dY + (X - x) * ddX + (Y - y) * ddY
+            step = np.where(np.isfinite(g / dg) & (dg > 0), g / dg, 0.0)
+        u = u - np.clip(step, -0.5, 0.5)
+    return u
+
+
+def _chord_deviation(C, ua, ub, Qa, Qb):
     """Bound on the Hausdorff distance between the arc q([ua, ub]) and its chord [q(ua), q(ub)]:
     f(u) = n·(q(u) − q(ua)) (n the chord's unit normal) is α·ch(u) + β·sh(u) + γ (cos, sin for an
     ellipse) and vanishes at both ends, so its extreme value on the piece is at the critical point
@@ -57,38 +137,37 @@ def _chord_deviation(bis, ua, ub, Qa, Qb):
     T = Qb - Qa
     L = np.hypot(T[:, 0], T[:, 1])
     n = np.column_stack([-T[:, 1], T[:, 0]]) / np.where(L > 0, L, 1.0)[:, None]
-    a, b = bis.a, bis.b
-    alpha = a * (n @ bis.ex)
-    beta = b * (n @ bis.ey)
-    gamma = ((bis.m - Qa) * n).sum(1)
-    hyp = bis.kind == "hyperbola"
+    a, b, hyp = C.a, C.b, C.hyp
+    alpha = a * (n * C.ex).sum(1)
+    beta = b * (n * C.ey).sum(1)
+    gamma = ((C.m - Qa) * n).sum(1)
+    big = np.minimum(np.maximum(np.abs(lo), np.abs(hi)), 700.0)
     with np.errstate(all="ignore"):
-        if hyp:
-            r = -beta / alpha
-            ustar = np.where(np.abs(r) < 1, np.arctanh(np.clip(r, -1 + 1e-16, 1 - 1e-16)), lo)
-            inside = (np.abs(r) < 1) & (ustar > lo) & (ustar < hi)
-            us = np.where(inside, ustar, lo)
-            f = alpha * np.cosh(us) + beta * np.sinh(us) + gamma
-            mag = np.abs(alpha) * np.cosh(np.maximum(np.abs(lo), np.abs(hi))) \
-                + np.abs(beta) * np.cosh(np.maximum(np.abs(lo), np.abs(hi))) + np.abs(gamma)
-            speed = np.sqrt(a * a * np.sinh(np.maximum(np.abs(lo), np.abs(hi))) ** 2
-                            + b * b * np.cosh(np.maximum(np.abs(lo), np.abs(hi))) ** 2)
-            # turning of the tangent (a·sh u, b·ch u) between the ends
-            t0 = np.arctan2(b * np.cosh(lo), a * np.sinh(lo))
-            t1 = np.arctan2(b * np.cosh(hi), a * np.sinh(hi))
-            turn = np.abs((t1 - t0 + np.pi) % (2 * np.pi) - np.pi)
-        else:
-            t1 = np.arctan2(beta, alpha)
-            cands = np.stack([t1, t1 + np.pi])
-            k = np.ceil((lo[None, :] - cands) / (2 * np.pi))
-            cands = cands + 2 * np.pi * k                    # first critical angle ≥ lo
-            inside2 = cands < hi[None, :]
-            f = np.where(inside2, alpha * np.cos(cands) + beta * np.sin(cands) + gamma, 0.0)
-            f = np.abs(f).max(0)
-            inside = inside2.any(0)
-            mag = np.abs(alpha) + np.abs(beta) + np.abs(gamma)
-            speed = np.full(len(lo), max(abs(a), abs(b)))
-            turn = (hi - lo) * max(abs(a), abs(b)) / max(min(abs(a), abs(b)), 1e-300)   # ≥ the turning
-    dev = np.where(inside, np.abs(f), 0.0) + 1e-12 * mag + 4 * bis.curve_error(np.maximum(np.abs(lo), np.abs(hi)))
+        # hyperbola
+        r = -beta / alpha
+        ustar = np.arctanh(np.clip(r, -1 + 1e-16, 1 - 1e-16))
+        in_h = (np.abs(r) < 1) & (ustar > lo) & (ustar < hi)
+        us = np.where(in_h, ustar, lo)
+        f_h = alpha * np.cosh(np.where(hyp, us, 0.0)) + beta * np.sinh(np.where(hyp, us, 0.0)) + gamma
+        mag_h = (np.abs(alpha) + np.abs(beta)) * np.cosh(np.where(hyp, big, 0.0)) + np.abs(gamma)
+        speed_h = np.sqrt(a * a * np.sinh(np.where(hyp, big, 0.0)) ** 2 + b * b * np.cosh(np.where(hyp, big, 0.0)) ** 2)
+        t0 = np.arctan2(b * np.cosh(np.where(hyp, lo, 0.0)), a * np.sinh(np.where(hyp, lo, 0.0)))
+        t1 = np.arctan2(b * np.cosh(np.where(hyp, hi, 0.0)), a * np.sinh(np.where(hyp, hi, 0.0)))
+        turn_h = np.abs((t1 - t0 + np.pi) % (2 * np.pi) - np.pi)
+        # ellipse: the first critical angles ≥ lo
+        tc = np.arctan2(beta, alpha)
+        c1 = tc + 2 * np.pi * np.ceil((lo - tc) / (2 * np.pi))
+        c2 = (tc + np.pi) + 2 * np.pi * np.ceil((lo - tc - np.pi) / (2 * np.pi))
+        f1 = np.where(c1 < hi, np.abs(alpha * np.cos(c1) + beta * np.sin(c1) + gamma), 0.0)
+        f2 = np.where(c2 < hi, np.abs(alpha * np.cos(c2) + beta * np.sin(c2) + gamma), 0.0)
+        f_e = np.maximum(f1, f2)
+        mag_e = np.abs(alpha) + np.abs(beta) + np.abs(gamma)
+        speed_e = np.maximum(np.abs(a), np.abs(b))
+        turn_e = (hi - lo) * speed_e / np.maximum(np.minimum(np.abs(a), np.abs(b)), 1e-300)   # ≥ the turning
+    f = np.where(hyp, np.where(in_h, np.abs(f_h), 0.0), f_e)
+    mag = np.where(hyp, mag_h, mag_e)
+    speed = np.where(hyp, speed_h, speed_e)
+    turn = np.where(hyp, turn_h, turn_e)
+    dev = f + 1e-12 * mag + 4 * C.curve_error(big)
     crude = 0.5 * speed * (hi - lo) * (1 + 1e-12)
     return np.where(turn < np.pi / 2, dev, np.maximum(dev, crude))
