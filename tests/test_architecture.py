@@ -136,3 +136,38 @@ def test_no_undefined_names(tmp_path):
     f = tmp_path / "m.py"                        # the check is not vacuous
     f.write_text("def f(c):\n    return sites_intersect(c, c)\n")
     assert undefined_names({"runtime.m": f}) == ["runtime.m:2: undefined name 'sites_intersect'"]
+
+
+#: the construction of the diagram (sampling, triangulation, candidate vertices, polylines, local
+#: updates); the verifier must reach none of them, directly or through other modules
+CONSTRUCTION = {f"runtime.voronoi.{m}" for m in (
+    "construction", "sampling", "sample_delaunay", "sample_walks", "apollonius_vertices", "conic_vertices",
+    "edge_polylines", "vertex_emptiness", "near_degenerate", "cocircular", "collinear_points", "deletion",
+    "site_arrays", "command")}
+
+
+def construction_reached_by_verifier(G=None) -> list[str]:
+    """(verifier module, construction module) pairs where the first imports the second, directly or
+    transitively (function-level imports included)."""
+    G = import_graph() if G is None else G
+    out = []
+    for m in G.nodes:
+        if m.startswith("runtime.voronoi.verify"):
+            for r in nx.descendants(G, m) & CONSTRUCTION:
+                out.append(f"{m} -> {r}")
+    return sorted(out)
+
+
+def test_the_verifier_imports_nothing_of_the_construction():
+    """The certificate is independent of the construction (runtime/voronoi/verify/certificate.py
+    names the kernel both share: predicates, site geometries, the vertex proof, the frame)."""
+    assert not construction_reached_by_verifier(), construction_reached_by_verifier()[:5]
+
+
+def test_the_independence_check_sees_a_planted_import():
+    G = import_graph()
+    G.add_edge("runtime.voronoi.verify.strips", "runtime.voronoi.edge_polylines")
+    assert "runtime.voronoi.verify.strips -> runtime.voronoi.edge_polylines" in construction_reached_by_verifier(G)
+    G = import_graph()
+    G.add_edge("runtime.voronoi.geometry", "runtime.voronoi.sampling")     # transitively, through the kernel
+    assert any(p.endswith("-> runtime.voronoi.sampling") for p in construction_reached_by_verifier(G))

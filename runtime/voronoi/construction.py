@@ -56,6 +56,7 @@ from .cocircular import assemble_vertices, consecutive_pairs, contact_order_trip
 from .collinear_points import collinear, collinear_points_diagram
 from .conic_geometry import site_geometry
 from .conic_vertices import conic_vertices
+from .deletion import delete_site
 from .edge_polylines import edge_polylines
 from .frame import local_frame
 from .near_degenerate import near_degenerate_clusters
@@ -71,12 +72,12 @@ __all__ = ["voronoi", "build_diagram", "ConstructionState", "as_site", "check_di
 
 class ConstructionState:
     """What :func:`runtime.voronoi.deletion.delete_site` needs: site arrays, samples, conic vertex
-    cache, and the entry points ``build`` (:func:`build_diagram`) and ``scratch`` (:func:`voronoi`),
-    so that it imports nothing of this module.  Not serialised."""
+    cache, the entry points ``build`` (:func:`build_diagram`) and ``scratch`` (:func:`voronoi`), so
+    that it imports nothing of this module, and ``delete`` itself for the diagram.  Not serialised."""
 
     def __init__(self, S, samples, cache):
         self.S, self.samples, self.cache = S, samples, cache
-        self.build, self.scratch = build_diagram, voronoi
+        self.build, self.scratch, self.delete = build_diagram, voronoi, delete_site
 
 MAX_ROUNDS = 8
 #: rebuilds driven by the verifier's problems (sites it names are sampled 4x finer)
@@ -261,8 +262,7 @@ _NAMED = re.compile(r"\b(sites?|edges?|vertex|vertices)\s+((?:\d+(?:\s*(?:,|and)
 
 
 def _sites_named(problems, D):
-    """The sites a verifier's problem lines name: "site 3", "sites 3, 5", "edge 7", "edges 8 and 9",
-    "vertex 2" (edges and vertices stand for their sites)."""
+    """The sites a verifier's problem lines name ("site 3", "edges 8 and 9": edges, vertices stand for their sites)."""
     out: set = set()
     for p in problems:
         if not _FAULT.search(p):       # a limitation of the verifier, not a fault of the diagram

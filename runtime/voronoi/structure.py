@@ -119,10 +119,12 @@ class Diagram:
     def delete_site(self, i: int, *, certify: bool = True) -> "Diagram":
         """The diagram of the other sites, renumbered (site j > i becomes j − 1); this diagram is
         left unchanged.  Needs the construction state of a diagram built by ``voronoi`` (not one
-        read from JSON).  See :func:`runtime.voronoi.deletion.delete_site`."""
-        from .deletion import delete_site
-
-        return delete_site(self, i, certify=certify)
+        read from JSON).  See :func:`runtime.voronoi.deletion.delete_site` (reached through the
+        construction state, so that this data module imports nothing of the construction)."""
+        if self.construction is None:
+            raise ValueError("this diagram has no construction state (read from JSON?): build the diagram of "
+                             "the remaining sites with voronoi(...)")
+        return self.construction.delete(self, i, certify=certify)
 
     # ------------------------------------------------------------------ graph views
     def delaunay_edges(self) -> list[tuple[int, int]]:
