@@ -164,7 +164,7 @@ def _verify_summary(cert, seconds: float) -> str:
             f"{seconds:.2f} s)")
 
 
-#: diagrams with more edges than this get a line on stderr before the (silent) verification
+#: diagrams with more edges than this get a progress bar over the verifier's stages (stderr)
 VERIFY_ANNOUNCE_EDGES = 2000
 
 
@@ -182,10 +182,10 @@ def _verify(args) -> int:
                 n_edges = len(json.load(fh).get("edges", []))
         except (OSError, ValueError, AttributeError, TypeError):
             n_edges = 0                    # verify_files reports what is wrong with the file
-        if n_edges > VERIFY_ANNOUNCE_EDGES:
-            print(f"verifying {n_edges} edges (no progress bar: the verifier reports at the end)", file=sys.stderr)
+    else:
+        n_edges = 0
     try:
-        cert = verify_files(args.diagram, args.sites)
+        cert = verify_files(args.diagram, args.sites, progress=n_edges > VERIFY_ANNOUNCE_EDGES)
     except (ValueError, KeyboardInterrupt, MemoryError):
         raise
     except (IndexError, KeyError, TypeError, AttributeError) as exc:   # a document that parses but is not a diagram

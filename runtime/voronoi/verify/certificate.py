@@ -208,7 +208,28 @@ def _same_site(a, b) -> bool:
         return False
 
 
-def verify_files(diagram_path: str, sites_path: str | None = None) -> "Certificate":
+def _stage_bar(progress, n_edges):
+    if progress is None:
+        progress = n_edges > 2000
+    if not progress:
+        return None
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        return None
+    return tqdm(total=3, desc="verify", unit="stage", leave=False)
+
+
+def _advance(bar, what, close=False):
+    if bar is None:
+        return
+    bar.set_postfix_str(what)
+    bar.update(1)
+    if close:
+        bar.close()
+
+
+def verify_files(diagram_path: str, sites_path: str | None = None, progress=None) -> "Certificate":
     """:func:`verify` on a diagram JSON file (and optionally a sites file, any form read by
     :func:`runtime.sites.reader.read_sites`).  ValueError (one line) on unreadable or malformed input."""
     import json
@@ -224,12 +245,12 @@ def verify_files(diagram_path: str, sites_path: str | None = None) -> "Certifica
     if sites_path is not None:
         from ...sites.reader import read_sites
         sites = read_sites(sites_path, distinct=False, scale=False)
-    return verify(doc, sites)
+    return verify(doc, sites, progress=progress)
 
 
 # ============================================================================ the verifier
 
-def verify(diagram, sites=None, *, deadline=None) -> Certificate:
+def verify(diagram, sites=None, *, deadline=None, progress=None) -> Certificate:
     """Prove that ``diagram`` is the Voronoi diagram of ``sites`` (default: the diagram's own).
 
     Parameters
@@ -239,6 +260,9 @@ def verify(diagram, sites=None, *, deadline=None) -> Certificate:
     sites : list, optional
         The true sites (Point / Circle / Conic).  When given, the diagram's site list must equal
         it (a site the diagram ignores is a problem).
+    progress : bool or None
+        A tqdm bar over the three stages (vertices, edges, closure and accounting) on stderr; None:
+        only for more than 2000 edges.
     deadline : float, optional
         A :func:`time.perf_counter` value: edges not checked by then are not proved
         ("time limit reached: N edges not checked"), and the certificate is not ok.
@@ -288,11 +312,14 @@ def verify(diagram, sites=None, *, deadline=None) -> Certificate:
     t0 = time.perf_counter()
     vinfo, vok = prove_vertices(D, sites, geoms, table, problems, offset=getattr(D, "frame_offset", (0.0, 0.0)))
     timings["vertices"] = time.perf_counter() - t0
+    bar = _stage_bar(progress, len(D.edges))
+    _advance(bar, f"{sum(vok)}/{len(vok)} vertices")
 
     # ---------------------------------------------------------------- edges
     t0 = time.perf_counter()
     eok, ends_inf, intervals = check_edges(D, geoms, table, vinfo, vok, problems, stats, deadline=deadline)
     timings["edges"] = time.perf_counter() - t0
+    _advance(bar, f"{sum(eok)}/{len(eok)} edges")
 
     # ---------------------------------------------------------------- closure + accounting
     t0 = time.perf_counter()
@@ -319,6 +346,7 @@ def verify(diagram, sites=None, *, deadline=None) -> Certificate:
         account_ok = verify_accounting_conics(n, SupportTable(geoms), ends_inf, problems,
                                               unproved_ends=unproved_ends, sites=[g.exact for g in geoms])
     timings["closure"] = time.perf_counter() - t0
+    _advance(bar, "closure", close=True)
     complete = closure_ok and account_ok
     ok = complete and all(vok) and all(eok) and not problems
     pairs = sorted({tuple(int(t) for t in e.sites) for e, f in zip(D.edges, eok) if f})
