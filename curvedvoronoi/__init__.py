@@ -80,12 +80,10 @@ install time, so that an installed copy owns a single top-level name.
 """
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
-# One BLAS thread unless the user says otherwise: on 2-core machines OpenBLAS with two threads made
-# the null-space stage ~80x slower (bench/results/locator.md).  Set before numpy is imported.
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+# One BLAS thread inside the library's calls (runtime/threads.py, threadpoolctl): importing the
+# package leaves the caller's environment untouched.
 
 # In a source checkout runtime/, precompute/ and generated/ sit beside this folder: let the
 # package find them there (an installed copy has them inside, see pyproject.toml).

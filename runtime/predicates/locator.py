@@ -50,6 +50,7 @@ from collections import OrderedDict
 from dataclasses import replace
 from fractions import Fraction
 
+from ..threads import one_blas_thread
 from ..solve.exact import InfinitelyManySolutions
 from ..result import InvalidConicError, LocatorError, LocatorResult, NumericalRefusal, VoronoiVertex
 
@@ -163,6 +164,7 @@ def clear_cache() -> None:
     clear_certification_caches()
 
 
+@one_blas_thread
 def voronoi_vertices(c1, c2, c3, *, eigen: str = "dense", use_cache: bool = True, resolve: bool = True):
     """True Voronoi vertices of (C1, C2, C3) as a :class:`runtime.solve.vertices.TripleVertices`,
     cached on the exact coefficients of the ordered triple (thesis §5.2; the vertices do not
@@ -218,6 +220,7 @@ def _decide(v: VoronoiVertex, d4: float, notes: list) -> VoronoiVertex:
     return replace(v, distance_to_fourth=d4, in_conflict=inc, certified=False, info=dict(v.info))
 
 
+@one_blas_thread
 def locate_conflicts(c1, c2, c3, c4, method: str = "auto", *, certify: bool = True,
                      completeness: bool = True, fallback: bool = True, **kw) -> LocatorResult:
     """Conflict locator for four conics (see the module docstring for the routes).

@@ -51,6 +51,7 @@ import time
 
 import numpy as np
 
+from ..threads import one_blas_thread
 from .apollonius_vertices import apollonius_vertices
 from .cocircular import assemble_vertices, consecutive_pairs, contact_order_triples
 from .collinear_points import collinear, collinear_points_diagram
@@ -100,6 +101,7 @@ def _without_cyclic_gc(fn):
     return run
 
 
+@one_blas_thread
 @_without_cyclic_gc
 def voronoi(sites, *, certify: bool = True, progress=None, time_limit: float | None = None) -> Diagram:
     """The Voronoi diagram of ``sites`` (thesis §1.2, §5.1–5.2), built by sample-then-refine.

@@ -29,6 +29,7 @@ import time
 
 import numpy as np
 
+from ..threads import one_blas_thread
 from .sample_delaunay import SampleTriangulation
 from .sampling import Samples
 from .site_arrays import SiteArrays
@@ -36,6 +37,7 @@ from .site_arrays import SiteArrays
 __all__ = ["delete_site"]
 
 
+@one_blas_thread
 def delete_site(diagram, i: int, *, certify: bool = True):
     """The Voronoi diagram of ``diagram``'s sites without site ``i`` (renumbered: j > i becomes
     j − 1); ``diagram`` is left unchanged.  ``stats["deletion"]`` says "local" (sample

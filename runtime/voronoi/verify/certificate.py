@@ -130,6 +130,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 
+from ...threads import one_blas_thread
 from ..conic_geometry import site_geometry
 from ..frame import to_local_frame
 from .document import check_document
@@ -250,6 +251,7 @@ def verify_files(diagram_path: str, sites_path: str | None = None, progress=None
 
 # ============================================================================ the verifier
 
+@one_blas_thread
 def verify(diagram, sites=None, *, deadline=None, progress=None) -> Certificate:
     """Prove that ``diagram`` is the Voronoi diagram of ``sites`` (default: the diagram's own).
 
