@@ -46,7 +46,6 @@ from __future__ import annotations
 import functools
 import gc
 import math
-import re
 import time
 
 import numpy as np
@@ -256,28 +255,18 @@ def _rounds(S, samples, stats, timing, deadline, cache, bar):
     return result
 
 
-#: verifier problems that show a fault of the reported diagram (a refinement can fix them); other
-#: lines (limits of what the verifier proves, e.g. "not proved beyond ...") do not trigger rebuilds
-_FAULT = re.compile(r"closer than its sites|too close to decide|share no site|no single site owns|is missing|"
-                    r"has no edge|ends? here|do not close up|not on the arc|overlap|more than once|the vertex \(")
-_NAMED = re.compile(r"\b(sites?|edges?|vertex|vertices)\s+((?:\d+(?:\s*(?:,|and)\s*)?)+)")
-
-
 def _sites_named(problems, D):
-    """The sites a verifier's problem lines name ("site 3", "edges 8 and 9": edges, vertices stand for their sites)."""
+    """The sites of the verifier's faults (:class:`runtime.voronoi.verify.problems.Problem` with
+    ``fault``: its sites, and those of the edge or vertex it names); limits are not refined."""
     out: set = set()
     for p in problems:
-        if not _FAULT.search(p):       # a limitation of the verifier, not a fault of the diagram
+        if not getattr(p, "fault", False):
             continue
-        for kind, nums in _NAMED.findall(p):
-            for t in re.findall(r"\d+", nums):
-                t = int(t)
-                if kind.startswith("site") and t < len(D.sites):
-                    out.add(t)
-                elif kind.startswith("edge") and t < len(D.edges):
-                    out.update(D.edges[t].sites)
-                elif kind.startswith("vert") and t < len(D.vertices):
-                    out.update(D.vertices[t].sites)
+        out.update(t for t in p.sites if 0 <= t < len(D.sites))
+        if p.edge is not None and 0 <= p.edge < len(D.edges):
+            out.update(D.edges[p.edge].sites)
+        if p.vertex is not None and 0 <= p.vertex < len(D.vertices):
+            out.update(D.vertices[p.vertex].sites)
     return out
 
 

@@ -134,6 +134,7 @@ from ...threads import one_blas_thread
 from ..conic_geometry import site_geometry
 from ..frame import to_local_frame
 from .document import check_document
+from .problems import records
 from .edge_checks import check_edges
 from .edges import CircleTable
 from .closure import circles_disjoint, verify_accounting, verify_accounting_conics, verify_closure
@@ -150,7 +151,9 @@ class Certificate:
     """Outcome of :func:`verify`.
 
     ``ok`` is True only when the whole diagram is proved (every vertex, every edge, closure and
-    the accounting of components).  ``problems`` names each failing vertex / edge / site and why.
+    the accounting of components).  ``problems`` names each failing vertex / edge / site and why;
+    the lines that show a fault of the diagram are :class:`runtime.voronoi.verify.problems.Problem`
+    records (fields ``kind``, ``sites``, ``vertex``, ``edge``, ``fault``; ``problem_records`` in JSON).
     ``vertices`` and ``edges`` hold one flag per reported vertex / edge (diagram order).
     """
 
@@ -165,7 +168,8 @@ class Certificate:
     timings: dict = field(default_factory=dict)
 
     def to_json(self) -> dict:
-        return {"ok": bool(self.ok), "complete": bool(self.complete), "problems": list(self.problems),
+        return {"ok": bool(self.ok), "complete": bool(self.complete), "problems": [str(p) for p in self.problems],
+                "problem_records": records(self.problems),
                 "vertices": [bool(v) for v in self.vertices], "edges": [bool(e) for e in self.edges],
                 "delaunay_edges": [list(p) for p in self.delaunay_edges],
                 "hypotheses": list(self.hypotheses), "stats": self.stats,

@@ -17,6 +17,7 @@ import math
 
 import numpy as np
 
+from .problems import fault
 from .ties_at_infinity import tied_sectors
 from .vertices import vname as _vname
 
@@ -47,8 +48,9 @@ def verify_closure(D, n, problems, intervals) -> bool:
             got = inc.get((v.id, p), [])
             if len(got) != 1:
                 ok = False
-                problems.append(f"{_vname(v)}: {'no' if not got else len(got)} edge{'s' if len(got) > 1 else ''} "
-                                f"({p[0]}, {p[1]}) end{'s' if len(got) <= 1 else ''} here")
+                problems.append(fault(f"{_vname(v)}: {'no' if not got else len(got)} edge{'s' if len(got) > 1 else ''} "
+                                      f"({p[0]}, {p[1]}) end{'s' if len(got) <= 1 else ''} here",
+                                      kind="vertex", vertex=v.id, sites=sites))
     if n >= 2:
         has = np.zeros(n, bool)
         for e in D.edges:
@@ -57,7 +59,7 @@ def verify_closure(D, n, problems, intervals) -> bool:
                     has[int(s)] = True
         for k in np.nonzero(~has)[0][:20]:
             ok = False
-            problems.append(f"site {int(k)} has no edge: its region is missing")
+            problems.append(fault(f"site {int(k)} has no edge: its region is missing", kind="site", sites=(k,)))
     # a closed edge is a whole component of its bisector: no other edge of its pair is accepted
     # (a repeated loop would otherwise pass; two components of one bisector are not handled)
     by_pair: dict = {}
@@ -79,12 +81,14 @@ def verify_closure(D, n, problems, intervals) -> bool:
         for a, b in zip(hyper, hyper[1:]):
             if b[1] < a[2] - 1e-12:
                 ok = False
-                problems.append(f"edges {a[3]} and {b[3]} (sites {pair[0]}, {pair[1]}) overlap on their bisector")
+                problems.append(fault(f"edges {a[3]} and {b[3]} (sites {pair[0]}, {pair[1]}) overlap on their bisector",
+                                      kind="edge", edge=a[3], sites=pair))
         if any(iv[0] == "ellipse" for iv in ivs):
             tot = sum(iv[2] - iv[1] for iv in ivs if iv[0] == "ellipse")
             if tot > 2 * math.pi + 1e-9:
                 ok = False
-                problems.append(f"edges of sites {pair[0]}, {pair[1]} cover their bisector more than once")
+                problems.append(fault(f"edges of sites {pair[0]}, {pair[1]} cover their bisector more than once",
+                                      kind="edge", sites=pair))
     return ok
 
 
@@ -126,7 +130,7 @@ def verify_accounting(n, table, ends_inf, problems, unproved_ends=()) -> bool:
     ends = sorted(ends_inf, key=lambda t: t[0])
     m = len(ends)
     if m < 2:
-        problems.append("a single unbounded edge end: the ends at infinity do not close up")
+        problems.append(fault("a single unbounded edge end: the ends at infinity do not close up", kind="infinity"))
         return False
     for a in range(m):
         ea, eb = ends[a], ends[(a + 1) % m]
@@ -136,13 +140,14 @@ def verify_accounting(n, table, ends_inf, problems, unproved_ends=()) -> bool:
             L = 2 * math.pi
         shared = set(ea[1]) & set(eb[1])
         if not shared:
-            problems.append(f"unbounded edges {ea[3]} and {eb[3]} are consecutive at infinity but share no site: "
-                            + _gap_note(unproved_ends))
+            problems.append(fault(f"unbounded edges {ea[3]} and {eb[3]} are consecutive at infinity but share no "
+                                  "site: " + _gap_note(unproved_ends), kind="infinity", sites=(*ea[1], *eb[1])))
             ok = False
             continue
         if not any(_dominates(s, ta, L, ea[1], eb[1], C, R) for s in shared):
-            problems.append(f"between the unbounded edges {ea[3]} and {eb[3]} no single site owns all far "
-                            "directions: an unbounded edge is missing or misplaced")
+            problems.append(fault(f"between the unbounded edges {ea[3]} and {eb[3]} no single site owns all far "
+                                  "directions: an unbounded edge is missing or misplaced", kind="infinity",
+                                  sites=(*ea[1], *eb[1])))
             ok = False
     return ok
 
@@ -158,8 +163,8 @@ def circles_disjoint(table, problems) -> bool:
                 continue
             dd = math.hypot(*(C[a] - C[b]))
             if dd <= R[a] + R[b] + tol and dd >= abs(R[a] - R[b]) - tol:
-                problems.append(f"sites {a} and {b} intersect or touch (or are too close to decide): "
-                                "the diagram of non-disjoint sites is not proved")
+                problems.append(fault(f"sites {a} and {b} intersect or touch (or are too close to decide): "
+                                      "the diagram of non-disjoint sites is not proved", kind="site", sites=(a, b)))
                 return False
     return True
 
@@ -287,7 +292,7 @@ def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000,
     ends.sort(key=lambda t: t[0])
     m = len(ends)
     if m < 2:
-        problems.append("a single unbounded edge end: the ends at infinity do not close up")
+        problems.append(fault("a single unbounded edge end: the ends at infinity do not close up", kind="infinity"))
         return False
     ok = True
     # two ends of one pair must have disjoint sectors
@@ -298,8 +303,8 @@ def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000,
                 lo, hi = eb[0] - ea[0], eb[1] - ea[0]
                 L = ea[1] - ea[0]
                 if not (lo > L and hi < 2 * math.pi):
-                    problems.append(f"unbounded edges {ea[3]} and {eb[3]} of sites {ea[2][0]}, {ea[2][1]} "
-                                    "have overlapping asymptotic sectors")
+                    problems.append(fault(f"unbounded edges {ea[3]} and {eb[3]} of sites {ea[2][0]}, {ea[2][1]} "
+                                          "have overlapping asymptotic sectors", kind="infinity", sites=ea[2]))
                     ok = False
     # walk around the circle of directions: every uncovered arc needs one strictly largest h_s
     cur, cur_end = ends[0], ends[0][1]
@@ -309,12 +314,14 @@ def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000,
         if a_next > cur_end:
             shared = set(cur[4]) & set(nxt[2])
             if not shared:
-                problems.append(f"unbounded edges {cur[3]} and {nxt[3]} are consecutive at infinity but share "
-                                "no site: " + _gap_note(unproved_ends))
+                problems.append(fault(f"unbounded edges {cur[3]} and {nxt[3]} are consecutive at infinity but share "
+                                      "no site: " + _gap_note(unproved_ends), kind="infinity",
+                                      sites=(*cur[4], *nxt[2])))
                 ok = False
             elif not any(_dominates_conic(sup, s, cur_end, a_next, max_work) for s in shared):
-                problems.append(f"between the unbounded edges {cur[3]} and {nxt[3]} no single site owns all far "
-                                "directions: an unbounded edge is missing or misplaced")
+                problems.append(fault(f"between the unbounded edges {cur[3]} and {nxt[3]} no single site owns all "
+                                      "far directions: an unbounded edge is missing or misplaced", kind="infinity",
+                                      sites=(*cur[4], *nxt[2])))
                 ok = False
         if t < m and nxt[1] > cur_end:
             cur, cur_end = nxt, nxt[1]

@@ -16,6 +16,7 @@ import math
 
 import numpy as np
 
+from .problems import fault
 from .edges import bisector, params, prove_arcs
 from .exact_edges import SHALLOW, search_with_exact_fallback, tower_points_apart, triple_others, zero_on_arc
 from .exact_vertices import exact_tower_vertex
@@ -120,11 +121,13 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats, deadline=None):
             k, q, why = det[:3]
             where = "" if q is None else f" near ({q[0]:.9g}, {q[1]:.9g})"
             if why == "closer":
-                problems.append(f"{name}: site {k} is closer than its sites{where}")
+                problems.append(fault(f"{name}: site {k} is closer than its sites{where}", kind="edge",
+                                      edge=e.id, sites=(*pair, k)))
             elif k is None:
                 problems.append(f"{name}: not proved beyond the finite part: {why}")
             else:
-                problems.append(f"{name}: site {k} too close to decide{where}")
+                problems.append(fault(f"{name}: site {k} too close to decide{where}", kind="edge",
+                                      edge=e.id, sites=(*pair, k)))
             eok[pos] = False
             continue
         for U, sigma in tails:
@@ -167,11 +170,11 @@ def _sign_checks(jobs, table, eok, problems):
         if t in drop:
             continue
         drop.add(t)
-        pos_e, _, name = jobs[t][:3]
+        pos_e, e, name, pair = jobs[t][:4]
         q = Q[r * len(fr)]
         neg = (hi_k + E < lo_i - E).reshape(-1, len(fr))[r].any()
-        problems.append(f"{name}: site {int(K[r])} " + ("is closer than its sites" if neg else "too close to decide")
-                        + f" near ({q[0]:.9g}, {q[1]:.9g})")
+        problems.append(fault(f"{name}: site {int(K[r])} " + ("is closer than its sites" if neg else "too close to decide")
+                              + f" near ({q[0]:.9g}, {q[1]:.9g})", kind="edge", edge=e.id, sites=(*pair, int(K[r]))))
         eok[pos_e] = False
     return [jb for t, jb in enumerate(jobs) if t not in drop]
 
@@ -306,8 +309,8 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
                 outside = (up < a_ - slack_u) | (up > b_ + slack_u)
             if outside.any():
                 p = int(np.nonzero(outside)[0][0])
-                problems.append(f"{name}: polyline point {p + first} ({inner[p, 0]:.9g}, {inner[p, 1]:.9g}) "
-                                "is not on the arc between its ends")
+                problems.append(fault(f"{name}: polyline point {p + first} ({inner[p, 0]:.9g}, {inner[p, 1]:.9g}) "
+                                      "is not on the arc between its ends", kind="edge", edge=e.id, sites=pair))
                 return None
     # --- the whole polyline, segments included, within the stated tolerance of the arc (Hausdorff)
     tol = float(e.tolerance)
@@ -343,7 +346,8 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
                 uo = bis.param(np.asarray(others, float).reshape(-1, 2)) if others else []
             exempt.add(k)
             same = w2 is not None and k in w2.sites
-            bad = zero_on_arc(name, bis, others, uo, w2 if same else None, lo, hi, full_lo, full_hi, (i, j, k), problems)
+            bad = zero_on_arc(name, bis, others, uo, w2 if same else None, lo, hi, full_lo, full_hi, (i, j, k), problems,
+                              edge=e.id)
             if bad:
                 return None
             if w2 is None or same:

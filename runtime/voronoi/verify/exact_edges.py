@@ -28,6 +28,7 @@ from __future__ import annotations
 import math
 from fractions import Fraction
 
+from .problems import fault
 from .edges import prove_arcs, prove_tail
 from .exact_vertices import exact_tower_vertex
 
@@ -255,7 +256,7 @@ def tower_points_apart(a, b) -> bool:
     return False
 
 
-def zero_on_arc(name, bis, others, uo, w2, lo, hi, full_lo, full_hi, triple, problems) -> bool:
+def zero_on_arc(name, bis, others, uo, w2, lo, hi, full_lo, full_hi, triple, problems, edge=None) -> bool:
     """Does a zero of d_k − d_i on the bisector (another vertex of the triple) lie on the edge's
     arc?  Zeros at the other end vertex ``w2`` (which holds k too) do not count."""
     two_pi = 2 * math.pi
@@ -268,9 +269,9 @@ def zero_on_arc(name, bis, others, uo, w2, lo, hi, full_lo, full_hi, triple, pro
         else:
             inside = full_lo - 1e-9 * (1 + abs(uz)) <= uz <= full_hi + 1e-9 * (1 + abs(uz))
         if inside:
-            problems.append(f"{name}: the vertex ({z[0]:.9g}, {z[1]:.9g}) of sites "
-                            f"{', '.join(map(str, sorted(triple)))} lies on the edge's arc: "
-                            f"site {triple[2]} cuts the edge")
+            problems.append(fault(f"{name}: the vertex ({z[0]:.9g}, {z[1]:.9g}) of sites "
+                                  f"{', '.join(map(str, sorted(triple)))} lies on the edge's arc: "
+                                  f"site {triple[2]} cuts the edge", kind="edge", edge=edge, sites=triple))
             return True
     return False
 

@@ -14,6 +14,7 @@ from fractions import Fraction
 
 import numpy as np
 
+from .problems import fault
 __all__ = ["verify_accounting_points", "verify_accounting_discs"]
 
 
@@ -71,11 +72,13 @@ def verify_accounting_points(geoms, ends_inf, problems) -> bool:
         ok = False
         i, j, sg = key
         if g < w:
-            problems.append(f"sites {i}, {j}: consecutive on the convex hull of the points, but no proved "
-                            "unbounded edge between them goes out across that side")
+            problems.append(fault(f"sites {i}, {j}: consecutive on the convex hull of the points, but no proved "
+                                  "unbounded edge between them goes out across that side", kind="infinity",
+                                  sites=(i, j)))
         else:
-            problems.append(f"edge {ids[key]} (sites {i}, {j}): an unbounded end that the convex hull of the "
-                            "points does not have" + (" (reported more than once)" if w else ""))
+            problems.append(fault(f"edge {ids[key]} (sites {i}, {j}): an unbounded end that the convex hull of the "
+                                  "points does not have" + (" (reported more than once)" if w else ""),
+                                  kind="infinity", edge=ids[key], sites=(i, j)))
     return ok
 
 
@@ -166,8 +169,8 @@ def verify_accounting_discs(geoms, ends_inf, problems) -> bool | None:
         d = np.array([math.cos(th_e), math.sin(th_e)])
         opts = [(float(d @ u), s) for (p, q, s), u in want.items() if (p, q) == (a, b)]
         if not opts:
-            problems.append(f"edge {eid} (sites {a}, {b}): an unbounded end that the convex hull of the "
-                            "sites does not have")
+            problems.append(fault(f"edge {eid} (sites {a}, {b}): an unbounded end that the convex hull of the "
+                                  "sites does not have", kind="infinity", edge=eid, sites=(a, b)))
             return False
         opts.sort(reverse=True)
         if len(opts) > 1 and opts[0][0] - opts[1][0] < 1e-9:
@@ -180,7 +183,8 @@ def verify_accounting_discs(geoms, ends_inf, problems) -> bool | None:
         if got.get(key, 0) != 1:
             ok = False
             a, b, _ = key
-            problems.append(f"sites {a}, {b}: " + ("consecutive on the convex hull of the sites, but no proved "
-                                                  "unbounded edge between them goes out across that side"
-                                                  if not got.get(key) else "an unbounded end reported more than once"))
+            problems.append(fault(f"sites {a}, {b}: " + ("consecutive on the convex hull of the sites, but no proved "
+                                                        "unbounded edge between them goes out across that side"
+                                                        if not got.get(key) else "an unbounded end reported more than once"),
+                                  kind="infinity", sites=(a, b)))
     return ok

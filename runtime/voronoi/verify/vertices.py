@@ -35,6 +35,7 @@ import math
 
 import numpy as np
 
+from .problems import fault
 from .exact_vertices import cocircular_vertex, exact_emptiness
 
 __all__ = ["VertexInfo", "prove_vertices", "vname"]
@@ -325,4 +326,5 @@ def _emptiness_batch(verts, flags, infos, geoms, table, problems):
             m = ms[r_]
             flags[m] = False
             infos.pop(verts[m].id, None)
-            problems.append(f"{vname(verts[m])}: site {int(ks[t])} {why}")
+            problems.append(fault(f"{vname(verts[m])}: site {int(ks[t])} {why}", kind="vertex", vertex=verts[m].id,
+                                  sites=(*verts[m].sites, int(ks[t]))))
