@@ -110,6 +110,12 @@ _LAZY = {
     "VoronoiVertex": ("runtime.result", "VoronoiVertex"),
     "LocatorError": ("runtime.result", "LocatorError"),
     "InvalidConicError": ("runtime.result", "InvalidConicError"),
+    "NumericalRefusal": ("runtime.result", "NumericalRefusal"),
+    "SiteError": ("runtime.voronoi.site_input", "SiteError"),
+    "RangeRefusal": ("runtime.voronoi.frame", "RangeRefusal"),
+    "Certificate": ("runtime.voronoi.verify.certificate", "Certificate"),
+    "DiagramVertex": ("runtime.voronoi.structure", "DiagramVertex"),
+    "DiagramEdge": ("runtime.voronoi.structure", "DiagramEdge"),
     "load_offset": ("runtime.artefacts", "load_offset"),
     "ArtefactError": ("runtime.artefacts", "ArtefactError"),
 }

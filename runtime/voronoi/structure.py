@@ -69,7 +69,7 @@ class DiagramVertex:
                 "radius": self.radius, "certified": self.certified}
 
 
-@dataclass
+@dataclass(eq=False)
 class DiagramEdge:
     """A Voronoi edge between ``sites`` (i < j).
 
@@ -89,6 +89,16 @@ class DiagramEdge:
     polyline: np.ndarray
     tolerance: float
     certified: bool = False
+
+    def __eq__(self, other) -> bool:
+        if not isinstance(other, DiagramEdge):
+            return NotImplemented
+        return (self.id == other.id and tuple(self.sites) == tuple(other.sites) and tuple(self.ends) == tuple(other.ends)
+                and self.closed == other.closed and self.certified == other.certified
+                and np.array_equal(np.asarray(self.polyline, float), np.asarray(other.polyline, float))
+                and (self.tolerance == other.tolerance or (self.tolerance != self.tolerance and other.tolerance != other.tolerance)))
+
+    __hash__ = None
 
     def to_json(self) -> dict:
         return {"id": self.id, "sites": list(self.sites), "ends": list(self.ends),
@@ -182,24 +192,30 @@ class Diagram:
         return cls(sites, verts, edges, bool(doc.get("certified", False)),
                    list(doc.get("problems", [])), dict(doc.get("stats", {})))
 
-    def to_geojson(self) -> dict:
+    def to_geojson(self, crs: str | None = None) -> dict:
         """A GeoJSON FeatureCollection: one LineString per edge (properties ``kind="edge"``,
         ``id``, ``sites``, ``ends``, ``closed``, ``tolerance``, ``certified``) and one Point per
-        vertex (``kind="vertex"``, ``id``, ``sites``, ``radius``, ``certified``)."""
+        vertex (``kind="vertex"``, ``id``, ``sites``, ``radius``, ``certified``).  Feature ids are
+        unique (``"edge-3"``, ``"vertex-3"``).  ``crs``: the coordinate reference system of the
+        sites (e.g. ``"EPSG:32633"``), written as the collection's ``crs`` member (the form GDAL
+        reads), so that GIS tools do not take planar coordinates for longitude and latitude."""
         feats = []
         for e in self.edges:
-            feats.append({"type": "Feature",
+            feats.append({"type": "Feature", "id": f"edge-{e.id}",
                           "geometry": {"type": "LineString",
                                        "coordinates": np.asarray(e.polyline, float).tolist()},
                           "properties": {"kind": "edge", "id": e.id, "sites": list(e.sites),
                                          "ends": list(e.ends), "closed": e.closed,
                                          "tolerance": e.tolerance, "certified": e.certified}})
         for v in self.vertices:
-            feats.append({"type": "Feature",
+            feats.append({"type": "Feature", "id": f"vertex-{v.id}",
                           "geometry": {"type": "Point", "coordinates": [v.x, v.y]},
                           "properties": {"kind": "vertex", "id": v.id, "sites": list(v.sites),
                                          "radius": v.radius, "certified": v.certified}})
-        return {"type": "FeatureCollection", "features": feats}
+        out = {"type": "FeatureCollection", "features": feats}
+        if crs is not None:
+            out["crs"] = {"type": "name", "properties": {"name": str(crs)}}
+        return out
 
     def to_shapely(self):
         """The edges as a list of :class:`shapely.geometry.LineString` (needs shapely)."""
