@@ -167,3 +167,68 @@ def test_symmetric_three_circles_verify():
     assert got == [(-3.75, 3.25), (3.75, 3.25)]
     cert = verify(doc)
     assert cert.ok, cert.problems
+
+
+def _nested_sites():
+    from curvedvoronoi.runtime.sites.conic import Conic
+
+    return [Conic.ellipse(centre=(0, 0), axes=(6, 5), rotation=(1, 0)), Circle.from_radius(F(1, 2), F(3, 10), 1),
+            Conic.ellipse(centre=(14, 1), axes=(2, 1), rotation=(1, 0))]
+
+
+def test_a_document_without_delaunay_edges_is_verified():
+    """The ``delaunay_edges`` field is optional (compared only when present)."""
+    from curvedvoronoi.runtime.voronoi.verify.certificate import verify
+
+    doc = _doc(_nested_sites())
+    assert "delaunay_edges" in doc
+    del doc["delaunay_edges"]
+    cert = verify(doc)
+    assert cert.ok, cert.problems
+
+
+@pytest.mark.parametrize("kind", ["circle", "ellipse"])
+def test_a_closed_edge_with_a_site_index_out_of_range_is_named_not_a_crash(kind):
+    """Site 1 (a circle) is nested in site 0; the closed edge around it relabelled (0, 7) in a
+    diagram of three sites: rejected (no exception), the edge named."""
+    import copy
+
+    from curvedvoronoi.runtime.voronoi.verify.certificate import verify
+
+    sites = _nested_sites()
+    if kind == "circle":
+        sites = [Circle.from_radius(0, 0, 5)] + sites[1:2] + [Circle.from_radius(14, 1, 1)]
+    doc = _doc(sites)
+    d = copy.deepcopy(doc)
+    e = next(e for e in d["edges"] if e["closed"])
+    e["sites"] = [0, 7]
+    cert = verify(d)
+    assert not cert.ok and not cert.edges[d["edges"].index(e)], cert.problems
+    assert any(p.startswith(f"edge {e['id']} ") for p in cert.problems), cert.problems
+
+
+def test_a_degree_four_conic_vertex_moved_with_its_edges_is_named():
+    """Four equal ellipses x²/4 + y² = 1 centred at (0, 0), (6, 0), (0, 4), (6, 4): the mirrors
+    x = 3 and y = 2 map them onto each other, so (3, 2) is equidistant from all four, a vertex of
+    degree 4.  Moved to (3 + 1e-7, 2) with its four edges' ends moved along, no symmetry of the
+    sites fixes the reported point any more (the mirrors fix only x = 3): the vertex is rejected
+    and named."""
+    import copy
+
+    from curvedvoronoi.runtime.sites.conic import Conic
+    from curvedvoronoi.runtime.voronoi.verify.certificate import verify
+
+    doc = _doc([Conic.ellipse(centre=(6 * i, 4 * j), axes=(2, 1)) for i in range(2) for j in range(2)])
+    (v,) = doc["vertices"]
+    assert (v["x"], v["y"], len(v["sites"])) == (3.0, 2.0, 4)
+    assert verify(doc).ok
+    bad = copy.deepcopy(doc)
+    v = bad["vertices"][0]
+    v["x"] += 1e-7
+    for e in bad["edges"]:
+        for k, end in ((0, e["ends"][0]), (-1, e["ends"][1])):
+            if end == v["id"]:
+                e["polyline"][k] = [v["x"], v["y"]]
+    cert = verify(bad)
+    assert not cert.ok and not cert.vertices[0], cert.problems
+    assert any(p.startswith(f"vertex {v['id']} ") for p in cert.problems), cert.problems
