@@ -232,3 +232,61 @@ def test_a_degree_four_conic_vertex_moved_with_its_edges_is_named():
     cert = verify(bad)
     assert not cert.ok and not cert.vertices[0], cert.problems
     assert any(p.startswith(f"vertex {v['id']} ") for p in cert.problems), cert.problems
+
+
+# ----------------------------------------------------------------------------- exact signs and mirrors
+
+@pytest.mark.parametrize("A, B, D, sign", [
+    (F(-2), F(1), F(4), 0),                          # −2 + √4 = 0 exactly
+    (F(2), F(-1), F(4), 0),
+    (F(-2), F(1), F(4) + F(1, 10 ** 9), 1),          # √(4 + 1e-9) > 2
+    (F(-2), F(1), F(4) - F(1, 10 ** 9), -1),
+    (F(2), F(-1), F(4) + F(1, 10 ** 9), -1),
+    (F(-3), F(2), F(9, 4), 0),                       # −3 + 2·(3/2)
+    (F(-3), F(2), F(2), -1),                         # 2√2 < 3
+    (F(0), F(-1), F(2), -1), (F(5), F(0), F(7), 1), (F(-5), F(3), F(0), -1),
+])
+def test_sign_of_a_quadratic_surd(A, B, D, sign):
+    """The sign of A + B·√D, decided by hand (perfect squares and their neighbours)."""
+    from curvedvoronoi.runtime.voronoi.verify.hull_points import _sign_quadratic
+
+    assert _sign_quadratic(A, B, D) == sign
+
+
+def _mirror_scene():
+    """Sites 0 = ellipse x²/4 + y² = 1, 2 = its translate by (6, 0) (mirror images in the line
+    6x = 18, i.e. x = 3; site 0 lies on the side x < 3), 1 = an ellipse of other axes at (0, 4)
+    (no mirror onto site 2)."""
+    from curvedvoronoi.runtime.sites.conic import Conic
+
+    sites = [Conic.ellipse(centre=(0, 0), axes=(2, 1)), Conic.ellipse(centre=(0, 4), axes=(3, 1)),
+             Conic.ellipse(centre=(6, 0), axes=(2, 1))]
+    return sites, _geoms(*sites)
+
+
+@pytest.mark.parametrize("Q, dominated", [((2, 10), True), ((3, 10), True), ((3 + F(1, 10 ** 9), 10), False),
+                                          ((4, -7), False), ((3, -50), True)])
+def test_mirror_dominates_a_segment_only_on_its_side(Q, dominated):
+    """d_0 < d_2 exactly on the open half-plane x < 3 (site 2 is site 0 reflected in x = 3): the
+    segment from P = (1, 10) to Q is dominated by site 0 iff Q has x ≤ 3 (the segment is open at
+    the mirror)."""
+    from curvedvoronoi.runtime.voronoi.verify.mirror_tail import dominated_on
+
+    sites, G = _mirror_scene()
+    P = (F(1), F(10))
+    got = dominated_on(sites, G, (0, 1), 2, P, None, Q=(F(Q[0]), F(Q[1])))
+    assert got == (0 if dominated else None)
+    # a segment lying on the mirror itself is not inside the open half-plane
+    assert dominated_on(sites, G, (0, 1), 2, (F(3), F(0)), None, Q=(F(3), F(5))) is None
+
+
+@pytest.mark.parametrize("P, d, dominated", [((1, 10), (0, 1), True), ((1, 10), (-1, 0), True),
+                                             ((1, 10), (1, 0), False), ((1, 10), (1, 1000), False),
+                                             ((3, 0), (-1, 0), False)])
+def test_mirror_dominates_a_ray_only_inside_its_half_plane(P, d, dominated):
+    """The ray P + t·d (t ≥ 0) stays in x < 3 iff P does and d_x ≤ 0."""
+    from curvedvoronoi.runtime.voronoi.verify.mirror_tail import dominated_on
+
+    sites, G = _mirror_scene()
+    got = dominated_on(sites, G, (0, 1), 2, (F(P[0]), F(P[1])), (F(d[0]), F(d[1])), ray=True)
+    assert got == (0 if dominated else None)
