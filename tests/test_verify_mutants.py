@@ -321,3 +321,33 @@ def test_polyline_bound_of_an_ellipse_bisector(n):
     bound, why = hausdorff_bound(bis, P)
     assert why is None
     assert dev <= bound <= 1.01 * dev + 1e-9, (dev, bound)
+
+
+# ----------------------------------------------------------------------------- accounting at infinity (circles)
+
+def test_circle_accounting_needs_every_unbounded_edge():
+    """Circles c0 = (0, 0) r 1, c1 = (10, 0) r 2, c2 = (4, 8) r 1/2 (pairwise disjoint, centres not
+    collinear): far in direction u the nearest site maximises c_k·u + ρ_k, and each of the three
+    sites wins an open sector of directions, so each pair has exactly one unbounded edge.  With the
+    three proved ends the accounting closes; without any one of them, between the two ends left
+    there is a sector won by the other site, which no site shared by those ends owns."""
+    from curvedvoronoi.runtime.voronoi.construction import voronoi
+    from curvedvoronoi.runtime.voronoi.verify.closure import verify_accounting
+    from curvedvoronoi.runtime.voronoi.verify.edge_checks import check_edges
+    from curvedvoronoi.runtime.voronoi.verify.edges import CircleTable
+    from curvedvoronoi.runtime.voronoi.verify.vertices import prove_vertices
+
+    D = voronoi([Circle.from_radius(0, 0, 1), Circle.from_radius(10, 0, 2), Circle.from_radius(4, 8, F(1, 2))],
+                certify=False)
+    geoms = [site_geometry(s) for s in D.sites]
+    T = CircleTable(geoms)
+    problems: list = []
+    vinfo, vok = prove_vertices(D, list(D.sites), geoms, T, problems)
+    eok, ends, _ = check_edges(D, geoms, T, vinfo, vok, problems, {})
+    assert all(eok) and not problems and len(ends) == 3, problems
+    assert sorted(tuple(sorted(int(s) for s in t[1])) for t in ends) == [(0, 1), (0, 2), (1, 2)]
+    assert verify_accounting(3, T, ends, [])
+    for a in range(3):
+        probs: list = []
+        assert not verify_accounting(3, T, ends[:a] + ends[a + 1:], probs)
+        assert any("far directions" in p or "at infinity" in p for p in probs), probs
