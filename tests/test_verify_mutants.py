@@ -351,3 +351,61 @@ def test_circle_accounting_needs_every_unbounded_edge():
         probs: list = []
         assert not verify_accounting(3, T, ends[:a] + ends[a + 1:], probs)
         assert any("far directions" in p or "at infinity" in p for p in probs), probs
+
+
+# ----------------------------------------------------------------------------- zeros of d_k − d_i on an arc
+
+@pytest.mark.parametrize("uz, lo, hi, inside", [
+    (1.0, 0.5, 2.0, True), (3.0, 0.5, 2.0, False), (0.4, 0.5, 2.0, False),
+    (0.5, 6.0, 7.0, True),                      # the arc wraps past 2π: 0.5 + 2π ∈ [6, 7]
+    (0.5 + 2 * math.pi, 6.0, 7.0, True), (1.0, 6.0, 7.0, False), (5.9, 6.0, 7.0, False),
+])
+def test_a_zero_on_an_ellipse_arc_is_found_modulo_a_turn(uz, lo, hi, inside):
+    """On an ellipse bisector (angle parameter, period 2π) the zero at angle uz lies on the arc
+    [lo, hi] iff uz ≡ some angle of [lo, hi] mod 2π; a zero on the arc means site k cuts the edge
+    (True, a problem naming the edge)."""
+    from curvedvoronoi.runtime.voronoi.verify.exact_edges import zero_on_arc
+
+    problems: list = []
+    bis = SimpleNamespace(kind="ellipse")
+    got = zero_on_arc("edge 5 (sites 0, 1)", bis, [(0.0, 0.0)], [uz], None, lo, hi, lo, hi, (0, 1, 2), problems)
+    assert got is inside
+    assert bool(problems) is inside and all(p.startswith("edge 5 ") for p in problems)
+
+
+@pytest.mark.parametrize("uz, inside", [(0.0, True), (-1e-10, True), (1.0 + 1e-10, True), (0.5, True),
+                                        (-1e-6, False), (1.0 + 1e-6, False), (-3.0, False)])
+def test_a_zero_at_the_end_of_a_hyperbola_arc_counts_as_on_it(uz, inside):
+    """Hyperbola branch, arc u ∈ [0, 1]: a zero within float noise (1e-10) of an end cannot be
+    told from the end, so it is counted on the arc (rejecting is the safe side); 1e-6 away it is
+    off the arc."""
+    from curvedvoronoi.runtime.voronoi.verify.exact_edges import zero_on_arc
+
+    bis = SimpleNamespace(kind="hyperbola")
+    assert zero_on_arc("edge 5 (sites 0, 1)", bis, [(0.0, 0.0)], [uz], None, 0.0, 1.0, 0.0, 1.0, (0, 1, 2), []) is inside
+
+
+def test_point_accounting_rejects_a_missing_or_doubled_end():
+    """Points A, B, C: the convex hull has three sides, one unbounded edge across each."""
+    from curvedvoronoi.runtime.voronoi.construction import voronoi
+    from curvedvoronoi.runtime.voronoi.verify.edge_checks import check_edges
+    from curvedvoronoi.runtime.voronoi.verify.hull_points import verify_accounting_points
+    from curvedvoronoi.runtime.voronoi.verify.vertices import prove_vertices
+
+    from curvedvoronoi.runtime.voronoi.verify.edges import CircleTable
+
+    D = voronoi([A, B, C], certify=False)
+    geoms = [site_geometry(s) for s in D.sites]
+    T = CircleTable(geoms)
+    problems: list = []
+    vinfo, vok = prove_vertices(D, list(D.sites), geoms, T, problems)
+    eok, ends, _ = check_edges(D, geoms, T, vinfo, vok, problems, {})
+    assert all(eok) and not problems and len(ends) == 3, problems
+    assert verify_accounting_points(geoms, ends, [])
+    for a in range(3):
+        probs: list = []
+        assert not verify_accounting_points(geoms, ends[:a] + ends[a + 1:], probs)
+        assert probs
+        probs = []
+        assert not verify_accounting_points(geoms, ends + [ends[a]], probs)
+        assert any(p.startswith(f"edge {ends[a][3]} ") for p in probs), probs
