@@ -409,3 +409,19 @@ def test_point_accounting_rejects_a_missing_or_doubled_end():
         probs = []
         assert not verify_accounting_points(geoms, ends + [ends[a]], probs)
         assert any(p.startswith(f"edge {ends[a][3]} ") for p in probs), probs
+
+
+def test_a_degree_four_vertex_of_circles_whose_triple_has_two_vertices():
+    """Circles i = (−2, 0), j = (2, 0) of radius 1, k = (0, 1/10) of radius 1/2 and the point
+    p = (0, 9).  On x = 0, d_i = √(4 + y²) − 1 and d_k = |y − 1/10| − 1/2 meet at y = 24/5 (radius
+    21/5) and at y = −91/30 (radius 79/30): the triple i, j, k has two Voronoi vertices.  p is at
+    distance 9 − 24/5 = 21/5 from (0, 24/5): that vertex has degree 4 (p tangent, exactly), and
+    the other vertex of the triple, 7.8 away, must not be mistaken for it."""
+    from curvedvoronoi.runtime.voronoi.verify.certificate import verify
+
+    doc = _doc([Circle.from_radius(-2, 0, 1), Circle.from_radius(2, 0, 1), Circle.from_radius(0, F(1, 10), F(1, 2)),
+                Point(0, 9)])
+    got = sorted((len(v["sites"]), round(v["y"], 9), round(v["radius"], 9)) for v in doc["vertices"])
+    assert got == [(3, round(-91 / 30, 9), round(79 / 30, 9)), (4, 4.8, 4.2)]
+    cert = verify(doc)
+    assert cert.ok and cert.complete, cert.problems
