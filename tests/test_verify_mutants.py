@@ -425,3 +425,19 @@ def test_a_degree_four_vertex_of_circles_whose_triple_has_two_vertices():
     assert got == [(3, round(-91 / 30, 9), round(79 / 30, 9)), (4, 4.8, 4.2)]
     cert = verify(doc)
     assert cert.ok and cert.complete, cert.problems
+
+
+@pytest.mark.xfail(strict=True, raises=IndexError,
+                   reason="crash (not soundness): with no bounded site, runtime/voronoi/verify/curved.py "
+                          "prove_curved_edge indexes the empty list of bounded boxes (bx[:, :2]) and verify raises")
+def test_two_parabolas_give_a_certificate_not_an_exception():
+    """Parabolas y = x² + 1 and y = −x² − 1 (disjoint, mirror images in y = 0): one edge, the line
+    y = 0 (the mirror), unbounded both ways.  verify must answer with a certificate (proved, or
+    the unproved part named), never raise."""
+    from curvedvoronoi.runtime.sites.conic import Conic
+    from curvedvoronoi.runtime.voronoi.verify.certificate import verify
+
+    doc = _doc([Conic.from_coefficients(1, 0, 0, 0, -1, 1), Conic.from_coefficients(-1, 0, 0, 0, -1, -1)])
+    assert [(sorted(e["sites"]), e["ends"]) for e in doc["edges"]] == [([0, 1], [None, None])]
+    cert = verify(doc)
+    assert cert.ok or cert.problems
