@@ -367,13 +367,11 @@ def _edge_key(pair, ends):
 
 #: cases the library does not prove yet (the tests run, and must fail, until it does: strict xfail)
 NOT_YET = {
-    "readme": "a conic among sites tangent to one line: their tie at infinity is not proved for conics "
-              "(runtime/voronoi/verify/tail.py needs the second-order term)",
 }
 
 
 #: these cases are right but not proved: only their certification is expected to fail
-ONLY_CERTIFIED = {"readme"}
+ONLY_CERTIFIED: set = set()
 
 
 def _names(test="certified"):

@@ -55,8 +55,9 @@ Let G be the true Voronoi graph and H the reported one.
    resting on one line, rows of identical shapes): far in direction θ* the nearest of them is the
    one whose support point is laterally closest, so the ends there are exactly the laterally
    consecutive pairs; decided exactly for points and circles with rational radii (the hull of the
-   points or discs, :mod:`runtime.voronoi.verify.hull_points`) and, for conics, where mirrors
-   prove the tie (:mod:`runtime.voronoi.verify.ties_at_infinity`).
+   points or discs, :mod:`runtime.voronoi.verify.hull_points`) and, for conics, where mirrors or
+   exact support levels prove the tie (:mod:`runtime.voronoi.verify.ties_at_infinity`; the tails
+   by :mod:`runtime.voronoi.verify.mirror_tail` and :mod:`runtime.voronoi.verify.tied_tail`).
    **Why nothing is missing**: H ⊂ G (steps 1–2), and H is closed under incidence in G: at a
    proved vertex of k sites listed counter-clockwise by their contact points, each of the k pairs
    of consecutive sites has exactly one edge germ (the first-order argument of

@@ -15,6 +15,7 @@ import numpy as np
 
 from ...predicates.symmetry import mirror_line
 from .mirror_tail import prove_mirror_edge, prove_mirror_tail
+from .tied_tail import prove_tied_tail
 
 __all__ = ["curved_edges", "curved_job", "curved_scale", "past"]
 
@@ -124,7 +125,12 @@ def curved_edges(curved, geoms, problems, eok, ends_inf, deadline=None, late=Non
                 ok, msg, sector = prove_tail(sup, table, pair, far["link"], scale, max_work=TAIL_WORK_MORE)
             if not ok:
                 # rows of identical shapes tie at infinity: their edges are mirror lines
-                ok2, msg2, tie = prove_mirror_tail([g.exact for g in geoms], geoms, sup, pair, far["link"])
+                ok2, tie = False, None
+                if sup.ok:       # bounded convex sites: support functions exist
+                    ok2, msg2, tie = prove_mirror_tail([g.exact for g in geoms], geoms, sup, pair, far["link"])
+                if sup.ok and not ok2:      # different shapes resting on one line
+                    ok2, msg2, tie = prove_tied_tail([g.exact for g in geoms], geoms, sup, pair, far["link"],
+                                                     np.asarray(q, float) - sup.m)
                 if ok2:
                     ok = True
                     th = math.atan2(float(tie[0][1]), float(tie[0][0])) % (2 * math.pi)

@@ -10,8 +10,9 @@ those of the pairs of T consecutive in the order of ℓ: parallel edges, as for 
 :func:`tied_sectors` checks the ends proved by :mod:`runtime.voronoi.verify.mirror_tail` in each
 such direction: T is found from the floats (h_k within the rounding bound of the maximum) and
 proved exactly tied by mirrors parallel to u between lateral neighbours (a reflection in a line
-parallel to u preserves h(u): :func:`runtime.predicates.symmetry.mirror_line`); the others are
-strictly below.  The proved ends must be exactly the consecutive pairs.  Each direction then
+parallel to u preserves h(u): :func:`runtime.predicates.symmetry.mirror_line`) or by exact
+support levels (:func:`runtime.voronoi.verify.tied_tail.support_data`); the others are strictly
+below.  The proved ends must be exactly the consecutive pairs.  Each direction then
 counts as a small sector [θ* − δ⁻, θ* + δ⁺] for the walk around the circle of directions
 (:func:`runtime.voronoi.verify.closure.verify_accounting_conics`): on (θ*, θ* + δ⁺] the tied site
 s with the largest ℓ strictly maximises h (for k ∈ T: h_s − h_k = (ℓ_s − ℓ_k)·x + ½(h_s'' − h_k'')·x²
@@ -27,14 +28,22 @@ import math
 import numpy as np
 
 from ...predicates.symmetry import mirror_line
+from .tied_tail import support_data
 
 __all__ = ["tied_sectors"]
 
 
 def _parallel_mirror(sites, a, b, u):
-    """Is there a mirror line parallel to the rational direction u mapping site a onto b?"""
+    """Is the tie of sites a and b in the rational direction u proved: by a mirror line parallel
+    to u mapping a onto b, or by exact support levels (:func:`runtime.voronoi.verify.tied_tail.
+    support_data`, when u is a unit vector and the support points are rational)?"""
     ml = mirror_line(sites[a], sites[b])
-    return ml is not None and ml[0][0] * u[0] + ml[0][1] * u[1] == 0
+    if ml is not None and ml[0][0] * u[0] + ml[0][1] * u[1] == 0:
+        return True
+    if u[0] * u[0] + u[1] * u[1] != 1:
+        return False
+    da, db = support_data(sites[a], u), support_data(sites[b], u)
+    return da is not None and db is not None and da[0] == db[0]
 
 
 def tied_sectors(sup, sites, mirror_ends, problems):
