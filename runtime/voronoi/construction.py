@@ -184,6 +184,8 @@ def build_diagram(S: SiteArrays, samples: Samples, cache: dict, notes, stats, ti
             result = _rounds(S, samples, stats, timing, deadline, cache, bar)
             D = result["diagram"]
             t0 = time.perf_counter()
+            if result.get("timed_out"):          # past the limit: the vertices only, marked partial
+                break
             D.edges = edge_polylines(S, result["tri"], D.vertices, result["edges_raw"])
             timing["edges"] = timing.get("edges", 0) + time.perf_counter() - t0
             if not certify or verify is None or result.get("timed_out") or D.problems:

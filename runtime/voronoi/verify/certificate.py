@@ -342,7 +342,7 @@ def verify(diagram, sites=None, *, deadline=None, progress=None) -> Certificate:
     elif circular:
         lines: list = []
         account_ok = verify_accounting(n, table, ends_inf, lines, unproved_ends)
-        if not account_ok and circles_disjoint(table, []):
+        if not account_ok and all(eok) and circles_disjoint(table, []):
             # ties at infinity (circles tangent to one line): the exact hull of the discs decides
             exact_lines: list = []
             exact_ok = verify_accounting_discs(geoms, ends_inf, exact_lines)

@@ -110,7 +110,7 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats, deadline=None):
     jobs = _sign_checks(jobs, table, eok, problems)
     # Lipschitz discs on the finite parts, all edges at once; then the tails
     arcs = prove_arcs(table, [(bis, job[0], job[1], job[2]) for _, _, _, _, bis, job in jobs],
-                      max_depth=SHALLOW, max_pieces=4096 + 64 * len(jobs)) if jobs else []
+                      max_depth=SHALLOW, max_pieces=4096 + 64 * len(jobs), deadline=deadline) if jobs else []
     for (pos, e, name, pair, bis, (lo, hi, exempt, tails, full_lo, full_hi, _)), (ok, det) in zip(jobs, arcs):
         if past(deadline) and (not ok or tails):     # proved finite arcs cost nothing more
             late[0] += 1

@@ -42,6 +42,7 @@ safety and the conditioning c/b of b = √(c² − a²)); every bound above is w
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -281,12 +282,14 @@ def _slope_bound(table: CircleTable, Q, ks, I, R):
     return np.where(ok & np.isfinite(L), np.minimum(L, out), out)
 
 
-def prove_arcs(table: CircleTable, jobs, init: int = 8, max_depth: int = MAX_DEPTH, max_pieces: int = 400000):
+def prove_arcs(table: CircleTable, jobs, init: int = 8, max_depth: int = MAX_DEPTH, max_pieces: int = 400000,
+               deadline=None):
     """Prove d_k > d_i (= d_j) on the bisector arc u ∈ [ua, ub] for every site k ∉ {i, j} ∪ exempt,
     for many edges at once (module docstring, item 1): ``jobs`` is a list of (Bisector, ua, ub,
     exempt).  Returns a list of (ok, detail) in the order of ``jobs``; detail is None or
     (site k, (x, y), "closer" | "undecided").  ``max_depth``: halvings of a piece before a site is
-    reported undecided; ``max_pieces``: undecided pieces (all jobs) before giving up."""
+    reported undecided; ``max_pieces``: undecided pieces (all jobs) before giving up; past
+    ``deadline`` (a :func:`time.perf_counter` value) the undecided jobs are reported "time limit"."""
     nj = len(jobs)
     out = [(True, None)] * nj
     if not nj:
@@ -320,6 +323,12 @@ def prove_arcs(table: CircleTable, jobs, init: int = 8, max_depth: int = MAX_DEP
     pp = kk = None          # candidate pairs (piece, site); children inherit only failing pairs
     for depth in range(max_depth + 1):
         if not len(job):
+            break
+        if deadline is not None and time.perf_counter() > deadline:
+            for jj in np.unique(job).tolist():       # pieces left: not decided in time
+                if alive[jj]:
+                    alive[jj] = False
+                    out[jj] = (False, (None, None, "time limit"))
             break
         npieces += len(job)
         Mid = 0.5 * (A + B)

@@ -144,7 +144,10 @@ def verify_accounting_discs(geoms, ends_inf, problems) -> bool | None:
                 # u = (δ·w + s·√Δ·rot90(w)) / |w|²; f_k = (c_k − c_a)·u + ρ_k − ρ_a ≤ 0 for all k
                 ok, touch = True, []
                 uf = (float(dl) * np.array([float(wx), float(wy)]) + s * sq * np.array([-float(wy), float(wx)])) / float(w2)
-                for k in range(n):
+                ff = (Cf - Cf[a]) @ uf + Rf - Rf[a]           # float f_k: clearly outside → no exact test
+                if (ff > 1e-9 * scale).any():
+                    continue
+                for k in np.nonzero(ff >= -1e-9 * scale)[0].tolist():
                     vx, vy = C[k][0] - C[a][0], C[k][1] - C[a][1]
                     A = dl * (vx * wx + vy * wy) / w2 + R[k] - R[a]
                     B = s * (-vx * wy + vy * wx) / w2
