@@ -26,8 +26,23 @@ from .curved_edges import curved_edges, curved_job, curved_scale, past
 __all__ = ["check_edges"]
 
 
-def _ename(e) -> str:
-    return f"edge {e.id} (sites {', '.join(str(int(s)) for s in e.sites)})"
+class _EdgeName:
+    """'edge 7 (sites 3, 5)', formatted only when a problem line uses it (most edges have none)."""
+
+    __slots__ = ("e",)
+
+    def __init__(self, e):
+        self.e = e
+
+    def __str__(self) -> str:
+        return f"edge {self.e.id} (sites {', '.join(str(int(s)) for s in self.e.sites)})"
+
+    def __format__(self, spec) -> str:
+        return format(str(self), spec)
+
+
+def _ename(e) -> _EdgeName:
+    return _EdgeName(e)
 
 
 def check_edges(D, geoms, table, vinfo, vok, problems, stats, deadline=None):
