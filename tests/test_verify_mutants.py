@@ -441,3 +441,26 @@ def test_two_parabolas_give_a_certificate_not_an_exception():
     assert [(sorted(e["sites"]), e["ends"]) for e in doc["edges"]] == [([0, 1], [None, None])]
     cert = verify(doc)
     assert cert.ok or cert.problems
+
+
+# ----------------------------------------------------------------------------- ties at infinity
+
+def test_a_row_tied_at_infinity_by_a_mirror_and_by_support_levels():
+    """Ellipses x²/4 + y² = 1 at (0, 0) and (6, 0) (mirror images in x = 3) and the unit circle at
+    (12, 0): all three touch y = 1 and y = −1, so they tie at infinity in the directions ±(0, 1)
+    (support level 1 each).  The first pair is tied by its mirror, the second (an ellipse and a
+    circle, no mirror maps one onto the other) by its exact support points (6, ±1), (12, ±1).
+    The diagram: the line x = 3 between the ellipses and one curve between the ellipse at (6, 0)
+    and the circle, both unbounded both ways (parallel ends), no vertex."""
+    from curvedvoronoi.runtime.sites.conic import Conic
+    from curvedvoronoi.runtime.voronoi.verify.certificate import verify
+
+    doc = _doc([Conic.ellipse(centre=(0, 0), axes=(2, 1)), Conic.ellipse(centre=(6, 0), axes=(2, 1)),
+                Circle.from_radius(12, 0, 1)])
+    assert not doc["vertices"]
+    assert sorted((tuple(sorted(e["sites"])), tuple(e["ends"])) for e in doc["edges"]) == \
+        [((0, 1), (None, None)), ((1, 2), (None, None))]
+    e01 = next(e for e in doc["edges"] if sorted(e["sites"]) == [0, 1])
+    assert all(abs(x - 3.0) <= 1e-9 for x, _ in e01["polyline"])
+    cert = verify(doc)
+    assert cert.ok and cert.complete, cert.problems
