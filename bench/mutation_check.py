@@ -688,6 +688,14 @@ def merge_report(first: str, after: list[str], verdicts: str | None, title: str)
         a[3] += r["final"] != "killed"
     for (p, k), a in sorted(agg.items()):
         L.append(f"| {p.replace('runtime/', '')} | {k} | {a[0]} | {a[1]} | {a[2]} | {a[3]} |")
+    L += ["", "| module | mutants | killed before | killed after | explained | open |", "|---|---|---|---|---|---|"]
+    for p in sorted({r["path"] for r in rows}):
+        rs = [r for r in rows if r["path"] == p]
+        lf = [r for r in rs if r["final"] != "killed"]
+        ex = sum(reading[r["path"] + str(r["line"]) + r["kind"] + r["what"]] in SOUND_EXPLAINED for r in lf)
+        L.append(f"| {p.replace('runtime/', '')} | {len(rs)} | {sum(r['status'] == 'killed' for r in rs)} | "
+                 f"{sum(r['final'] == 'killed' for r in rs)} | {ex} | {len(lf) - ex} |")
+    L.append(f"| **all** | {n} | {k0} | {k1} | {len(eq)} | {len(left) - len(eq)} |")
     L += ["", "| operator | mutants | killed before | killed after |", "|---|---|---|---|"]
     for k in SOUND_OPERATORS:
         rs = [r for r in rows if r["kind"] == k]

@@ -464,3 +464,20 @@ def test_a_row_tied_at_infinity_by_a_mirror_and_by_support_levels():
     assert all(abs(x - 3.0) <= 1e-9 for x, _ in e01["polyline"])
     cert = verify(doc)
     assert cert.ok and cert.complete, cert.problems
+
+
+def test_a_refusal_is_always_explained_nesting_depth_two():
+    """Circles c0 = (0, 0) r 10 ⊃ c1 = (1, 0) r 5 ⊃ c2 = (2, 0) r 1 (|c1 − c0| + 5 = 6 < 10,
+    |c2 − c1| + 1 = 2 < 5) and c3 = (30, 0) r 2 outside: the diagram is the loop around c1 in c0, the
+    loop around c2 in c1 and one unbounded edge between c0 and c3, no vertex.  Whatever the
+    verifier can prove of the nesting, a certificate that is not ok must say why."""
+    from curvedvoronoi.runtime.voronoi.verify.certificate import verify
+
+    doc = _doc([Circle.from_radius(0, 0, 10), Circle.from_radius(1, 0, 5), Circle.from_radius(2, 0, 1),
+                Circle.from_radius(30, 0, 2)])
+    assert not doc["vertices"]
+    assert sorted((tuple(sorted(e["sites"])), e["closed"]) for e in doc["edges"]) == \
+        [((0, 1), True), ((0, 3), False), ((1, 2), True)]
+    cert = verify(doc)
+    assert cert.ok or cert.problems, (cert.ok, cert.complete, cert.edges)
+    assert cert.ok == cert.complete or not all(cert.edges), (cert.ok, cert.complete)
