@@ -29,6 +29,8 @@ from __future__ import annotations
 import functools
 from fractions import Fraction
 
+from scipy.cluster.hierarchy import DisjointSet
+
 __all__ = ["site_coefficients", "equidistant_by_symmetry", "rational_candidates", "site_centre", "mirror_line"]
 
 #: the linear parts of D4: (m11, m12, m21, m22), q ↦ p + M (q − p)
@@ -110,24 +112,15 @@ def equidistant_by_symmetry(sites, p) -> bool:
     p = (_q(p[0]), _q(p[1]))
     cos = [site_coefficients(s) for s in sites]
     index = {c: t for t, c in enumerate(cos)}
-    parent = list(range(len(cos)))
-
-    def find(a):
-        while parent[a] != a:
-            parent[a] = parent[parent[a]]
-            a = parent[a]
-        return a
-
-    classes = len(cos)
+    classes = DisjointSet(range(len(cos)))
     for M in D4[1:]:
         for t, co in enumerate(cos):
             u = index.get(_image(co, M, p))
-            if u is not None and find(u) != find(t):
-                parent[find(u)] = find(t)
-                classes -= 1
-                if classes == 1:
+            if u is not None:
+                classes.merge(u, t)
+                if classes.n_subsets == 1:
                     return True
-    return classes == 1
+    return classes.n_subsets == 1
 
 
 def rational_candidates(x: float, y: float, reach: float):

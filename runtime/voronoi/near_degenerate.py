@@ -25,6 +25,7 @@ import math
 from itertools import combinations
 
 import numpy as np
+from scipy.cluster.hierarchy import DisjointSet
 
 from ..predicates.circles import decide_conflict, voronoi_vertices_circles
 from ..result import InvalidConicError, LocatorError
@@ -66,15 +67,8 @@ def near_degenerate_clusters(S: SiteArrays, clusters, empty, stats):
             bad.append((c, r, near))
     if not bad:
         return [], {}
-    # groups: candidates within NEAR·r of each other sharing sites (union-find)
-    parent = list(range(len(bad)))
-
-    def find(a):
-        while parent[a] != a:
-            parent[a] = parent[parent[a]]
-            a = parent[a]
-        return a
-
+    # groups: candidates within NEAR·r of each other sharing sites (disjoint sets)
+    joined = DisjointSet(range(len(bad)))
     for a in range(len(bad)):
         ca, ra, na = bad[a]
         for b in range(a + 1, len(bad)):
@@ -82,10 +76,8 @@ def near_degenerate_clusters(S: SiteArrays, clusters, empty, stats):
             reach = 10 * NEAR * (ra + rb)
             if (len(na & nb) >= 3 and abs(clusters[ca]["x"] - clusters[cb]["x"]) <= reach
                     and abs(clusters[ca]["y"] - clusters[cb]["y"]) <= reach):
-                parent[find(b)] = find(a)
-    members: dict = {}
-    for a in range(len(bad)):
-        members.setdefault(find(a), []).append(a)
+                joined.merge(a, b)
+    members = {min(sub): sorted(sub) for sub in joined.subsets()}
     new, groups = [], {}
     for gid, (_, idx) in enumerate(sorted(members.items())):
         K = sorted(set().union(*[bad[a][2] for a in idx]))
