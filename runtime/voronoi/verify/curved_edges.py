@@ -4,7 +4,8 @@ their unbounded ends, proved to infinity in a sector of directions
 (:func:`runtime.voronoi.verify.tail.prove_tail`) or, for mirror-image sites tied at infinity,
 along their mirror line (:func:`runtime.voronoi.verify.mirror_tail.prove_mirror_tail`).
 
-Public API: :func:`curved_edges`, :func:`curved_job`, :func:`curved_scale`, :func:`past`.
+Public API: :func:`curved_edges`, :func:`curved_job`, :func:`curved_scale`, :func:`past`,
+:func:`drawn_points`.
 """
 from __future__ import annotations
 
@@ -17,7 +18,7 @@ from ...predicates.symmetry import mirror_line
 from .mirror_tail import prove_mirror_edge, prove_mirror_tail
 from .tied_tail import prove_tied_tail
 
-__all__ = ["curved_edges", "curved_job", "curved_scale", "past"]
+__all__ = ["curved_edges", "curved_job", "curved_scale", "past", "drawn_points"]
 
 
 def past(deadline) -> bool:
@@ -66,7 +67,7 @@ def curved_edges(curved, geoms, problems, eok, ends_inf, deadline=None, late=Non
     # of the distance to it (d_i − d_j is 2-Lipschitz); one call for all edges
     rows, ks, owner = [], [], []
     for t, (_, e, _, (_, pair, P, _, _, _, _)) in enumerate(curved):
-        inner = P[_far_span(e, P)]
+        inner = P[drawn_points(e, P)]
         rows += [inner, inner]
         ks += [np.full(len(inner), pair[0]), np.full(len(inner), pair[1])]
         owner.append(len(inner))
@@ -76,13 +77,13 @@ def curved_edges(curved, geoms, problems, eok, ends_inf, deadline=None, late=Non
         Vi, Vj = (V.part(pos, pos + cnt), V.part(pos + cnt, pos + 2 * cnt)) if cnt else (None, None)
         pos += 2 * cnt
         if cnt:
-            inner = job[2][_far_span(e, job[2])]
+            inner = job[2][drawn_points(e, job[2])]
             lb = np.maximum(Vi.lo - Vj.hi, Vj.lo - Vi.hi) / 2
             tol = float(e.tolerance) if math.isfinite(e.tolerance) else math.inf
             far = np.nonzero(lb > tol * (1 + 1e-9) + 1e-12 * scale)[0]
             if len(far):
                 p = int(far[0])
-                problems.append(f"{name}: polyline point {p + _far_span(e, job[2]).start} ({inner[p, 0]:.9g}, "
+                problems.append(f"{name}: polyline point {p + drawn_points(e, job[2]).start} ({inner[p, 0]:.9g}, "
                                 f"{inner[p, 1]:.9g}) is at least {lb[p]:.3g} from the bisector (stated tolerance {tol:.3g})")
                 eok[p_e] = False
                 continue
@@ -150,8 +151,10 @@ def sup_ok(geoms) -> bool:
     return all(g.kind in ("point", "circle", "ellipse") for g in geoms)
 
 
-def _far_span(e, P) -> slice:
-    """The polyline points other than its end vertices (a far point at an end at infinity included)."""
+def drawn_points(e, P) -> slice:
+    """The polyline points that are not end vertices: all but the first and last, plus an end at
+    infinity (a far point, which must lie within the stated tolerance of the bisector too); every
+    point of a closed edge."""
     if e.closed:
         return slice(0, len(P))
     return slice(0 if e.ends[0] is None else 1, len(P) if e.ends[1] is None else len(P) - 1)

@@ -21,7 +21,7 @@ from .edges import bisector, params, prove_arcs
 from .exact_edges import SHALLOW, search_with_exact_fallback, tower_points_apart, triple_others, zero_on_arc
 from .exact_vertices import exact_tower_vertex
 from .polyline_bound import hausdorff_bounds
-from .curved_edges import curved_edges, curved_job, curved_scale, past
+from .curved_edges import curved_edges, curved_job, curved_scale, drawn_points, past
 
 __all__ = ["check_edges"]
 
@@ -194,12 +194,6 @@ def _sign_checks(jobs, table, eok, problems):
     return [jb for t, jb in enumerate(jobs) if t not in drop]
 
 
-def _span(e, P) -> slice:
-    """The polyline points that are not end vertices: all but the first and last, plus an end at
-    infinity (a far point, which must lie within the stated tolerance of the bisector too)."""
-    return slice(0 if e.ends[0] is None else 1, len(P) if e.ends[1] is None else len(P) - 1)
-
-
 def _precompute(cands, table):
     """Batched float work of the per-edge checks: parameters of the end vertices, of the polyline
     points and of the other solutions of the end triples, and the lower bounds |d_i − d_j|/2 of
@@ -214,7 +208,7 @@ def _precompute(cands, table):
                     pts.append(np.asarray(w.others, float).reshape(-1, 2))
                     idx.append([t] * len(w.others)), tags.append((t, "o" + name, len(w.others)))
         mid = P[len(P) // 2] if len(P) > 2 else 0.5 * (P[0] + P[-1])
-        inner = P if e.closed else P[_span(e, P)]
+        inner = P if e.closed else P[drawn_points(e, P)]
         pts += [P[:1], P[-1:], mid[None, :], inner]
         idx += [[t], [t], [t], [t] * len(inner)]
         tags += [(t, "first", 1), (t, "last", 1), (t, "mid", 1), (t, "inner", len(inner))]
@@ -301,8 +295,8 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
                 return None
             hi = max(hi, lo)      # a very short edge: the exact search decides its third sites
     # --- polyline points: within tolerance of the bisector and on the edge's arc
-    inner = P[_span(e, P)] if not e.closed else P
-    first = 0 if e.closed else _span(e, P).start
+    inner = P[drawn_points(e, P)] if not e.closed else P
+    first = 0 if e.closed else drawn_points(e, P).start
     if len(inner):
         lb = pre["lb"]
         tol = float(e.tolerance) if math.isfinite(e.tolerance) else math.inf
