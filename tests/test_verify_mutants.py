@@ -480,3 +480,24 @@ def test_a_refusal_is_always_explained_nesting_depth_two():
         [((0, 1), True), ((0, 3), False), ((1, 2), True)]
     cert = verify(doc)
     assert cert.ok or cert.problems, (cert.ok, cert.complete, cert.edges)
+
+
+def test_edges_whose_tails_start_after_the_deadline_are_not_proved(monkeypatch):
+    """The deadline passes between the batch search of the arcs and the tails (made deterministic
+    by replacing the clock test: not past at its first reading, past at every later one): the
+    three edges of A, B, C are unbounded, so their tails are not started and none is proved."""
+    from curvedvoronoi.runtime.voronoi.verify import edge_checks
+    from curvedvoronoi.runtime.voronoi.verify.certificate import verify
+
+    doc = _doc([A, B, C])
+    calls = []
+
+    def past(deadline):
+        calls.append(deadline)
+        return deadline is not None and len(calls) > 1
+
+    monkeypatch.setattr(edge_checks, "past", past)
+    cert = verify(doc, deadline=1e300)
+    assert len(calls) > 1
+    assert not cert.ok and not any(cert.edges), (cert.edges, cert.problems)
+    assert any("time limit reached" in p for p in cert.problems), cert.problems
