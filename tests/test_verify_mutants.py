@@ -427,9 +427,6 @@ def test_a_degree_four_vertex_of_circles_whose_triple_has_two_vertices():
     assert cert.ok and cert.complete, cert.problems
 
 
-@pytest.mark.xfail(strict=True, raises=IndexError,
-                   reason="crash (not soundness): with no bounded site, runtime/voronoi/verify/curved.py "
-                          "prove_curved_edge indexes the empty list of bounded boxes (bx[:, :2]) and verify raises")
 def test_two_parabolas_give_a_certificate_not_an_exception():
     """Parabolas y = x² + 1 and y = −x² − 1 (disjoint, mirror images in y = 0): one edge, the line
     y = 0 (the mirror), unbounded both ways.  verify must answer with a certificate (proved, or

@@ -93,6 +93,8 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, extra=No
     if far_ends:
         # an unbounded end is proved up to a point at TAIL_CUT times the scene's radius only
         fb = [g.bounding_box() for g in geoms if g.bounded]
+        if not fb:     # only unbounded sites: their tails are not proved (support functions need bounded ones)
+            return False, "an unbounded end next to unbounded sites only is not proved", None
         bx = np.array(fb, float)
         cen = 0.5 * (bx[:, :2].min(0) + bx[:, 2:].max(0))
         rad = 0.5 * float(np.hypot(*(bx[:, 2:].max(0) - bx[:, :2].min(0)))) + 1.0
