@@ -59,3 +59,15 @@ def test_a_short_edge_of_a_float_ring_removed_is_rejected():
     del bad["edges"][bounded[0]]
     cert = cv.verify(renumber(bad))
     assert not cert.ok and cert.problems
+
+
+def test_unbounded_sites_alone_or_around_a_point_give_a_diagram_not_an_exception():
+    """A point at the centre of a hyperbola (the bounded sites' box is one point: the sampling
+    window once had size 0 and qhull raised), a point beside a parabola, two parabolas: a diagram
+    comes back, with what is not proved named."""
+    C = cv.Conic
+    for sites in ([C.hyperbola(centre=(0, 0), axes=(2, 1)), (0, 0, 0)],
+                  [C.parabola(vertex=(0, 0), p=1), (-3, 0, 0)],
+                  [C.from_coefficients(1, 0, 0, 0, -1, 1), C.from_coefficients(-1, 0, 0, 0, -1, -1)]):
+        d = cv.voronoi(sites, time_limit=60)
+        assert d.edges and (d.certified or d.problems)

@@ -42,7 +42,12 @@ class SiteArrays:
             fin = np.where(np.isfinite(boxes), boxes, 0.0)
             self.C = np.column_stack([(fin[:, 0] + fin[:, 2]) / 2, (fin[:, 1] + fin[:, 3]) / 2])
             self.R = np.hypot(fin[:, 2] - fin[:, 0], fin[:, 3] - fin[:, 1]) / 2
-        b = boxes[self.bounded] if self.bounded.any() else np.zeros((1, 4))
+        # the window holds the bounded sites and the features of the unbounded ones (a hyperbola's
+        # centre and vertices, a parabola's vertex and focus): a point at a hyperbola's centre alone
+        # would otherwise give a window of size 0, with no sample of the hyperbola in it
+        feats = [_feature_box(g) for g in geoms if not g.bounded]
+        b = np.vstack([boxes[self.bounded], *[np.array([f]) for f in feats if f is not None]]) \
+            if (self.bounded.any() or any(f is not None for f in feats)) else np.zeros((1, 4))
         x0, y0, x1, y1 = b[:, 0].min(), b[:, 1].min(), b[:, 2].max(), b[:, 3].max()
         w = max(x1 - x0, y1 - y0, 1e-9 * (1 + abs(x0) + abs(y0)), 1.0 if not self.bounded.any() else 0.0)
         cx, cy = (x0 + x1) / 2, (y0 + y1) / 2
@@ -129,3 +134,15 @@ def site_groups(lab):
         if len(part):
             yield int(lab[part[0]]), part
 
+
+def _feature_box(g):
+    """A box around the features of an unbounded conic site: centre ± the semi-axes of a
+    hyperbola, vertex ± 4p of a parabola (None when not known)."""
+    tx, ty = getattr(g, "tx", None), getattr(g, "ty", None)
+    if tx is None or not (np.isfinite(tx) and np.isfinite(ty)):
+        return None
+    size = max(float(getattr(g, "a", 0.0) or 0.0), float(getattr(g, "b", 0.0) or 0.0),
+               4 * float(getattr(g, "p", 0.0) or 0.0))
+    if not size > 0 or not np.isfinite(size):
+        return None
+    return (tx - size, ty - size, tx + size, ty + size)
