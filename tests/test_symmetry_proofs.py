@@ -173,3 +173,24 @@ def test_circles_resting_on_one_line_are_certified_and_their_ends_are_the_hull_s
     for t, e in enumerate(bad["edges"]):
         e["id"] = t
     assert not cv.verify(bad).ok
+
+
+def test_a_degree_four_vertex_on_a_mirror_at_an_irrational_point():
+    """Four identical ellipses in two mirror pairs across x = 18, none of them on the line, with
+    no symmetry about a rational point: the degree-4 vertex sits on x = 18 at an irrational height.
+    Proved on the mirror line (intermediate values of d_a − d_b), independently checked here by
+    dense sampling of the four ellipses at the reported point."""
+    shapes = [((12, 0), (2, 1)), ((24, 0), (2, 1)), ((12, 8), (3, 1)), ((24, 8), (3, 1))]
+    d = cv.voronoi([ellipse(*c, *ax) for c, ax in shapes] + [ellipse(18, 20)])
+    assert d.certified, d.problems
+    deg4 = [v for v in d.vertices if v.degree == 4]
+    assert len(deg4) == 1 and sorted(deg4[0].sites) == [0, 1, 2, 3]
+    v = deg4[0]
+    assert abs(v.x - 18) < 1e-12 and 0 < v.y < 8
+    dist = [sampled_distance(shapes[s][0], shapes[s][1], (v.x, v.y)) for s in v.sites]
+    assert max(dist) - min(dist) < 1e-8 and abs(dist[0] - v.radius) < 1e-8
+    # moved off the mirror by 1e-7 (the sites kept): no longer proved
+    doc = d.to_json()
+    w = next(x for x in doc["vertices"] if len(x["sites"]) == 4)
+    w["x"] += 1e-7
+    assert not cv.verify(doc).ok

@@ -22,7 +22,7 @@ bisector of A and B is exactly ℓ.  :func:`mirror_line` finds such a line (the 
 bisector of the centres, checked exactly on the coefficients).
 
 Public API: :func:`site_coefficients`, :func:`equidistant_by_symmetry`, :func:`rational_candidates`,
-:func:`site_centre`, :func:`mirror_line`.
+:func:`site_centre`, :func:`mirror_line`, :func:`mirror_orbits`.
 """
 from __future__ import annotations
 
@@ -31,7 +31,8 @@ from fractions import Fraction
 
 from scipy.cluster.hierarchy import DisjointSet
 
-__all__ = ["site_coefficients", "equidistant_by_symmetry", "rational_candidates", "site_centre", "mirror_line"]
+__all__ = ["site_coefficients", "equidistant_by_symmetry", "rational_candidates", "site_centre", "mirror_line",
+           "mirror_orbits"]
 
 #: the linear parts of D4: (m11, m12, m21, m22), q ↦ p + M (q − p)
 D4 = ((1, 0, 0, 1), (-1, 0, 0, 1), (1, 0, 0, -1), (-1, 0, 0, -1),
@@ -155,6 +156,34 @@ def mirror_line(site_a, site_b):
     """The line ℓ = {q : n·q = k} (n, k rational) whose reflection maps site_a exactly onto site_b,
     tried as the perpendicular bisector of their centres; None if that reflection does not."""
     return _mirror(site_coefficients(site_a), site_coefficients(site_b))
+
+
+def _reflect(co, n, k):
+    """Coefficients of the reflection of a conic in the line n·q = k."""
+    nn = n[0] * n[0] + n[1] * n[1]
+    m11, m12 = 1 - 2 * n[0] * n[0] / nn, -2 * n[0] * n[1] / nn
+    m22 = 1 - 2 * n[1] * n[1] / nn
+    t = (2 * k * n[0] / nn, 2 * k * n[1] / nn)
+    return _substitute(co, (m11, m12, t[0]), (m12, m22, t[1]))
+
+
+def mirror_orbits(sites):
+    """A line n·q = k whose reflection maps the set of ``sites`` onto itself, and the orbits (sets
+    of indices; a site on the line is its own orbit), tried among the perpendicular bisectors of
+    the centres of pairs of sites; None if none does.  Points of the line are equidistant from the
+    two sites of an orbit."""
+    cos = [site_coefficients(x) for x in sites]
+    index = {c: t for t, c in enumerate(cos)}
+    for a in range(len(cos)):
+        for b in range(a + 1, len(cos)):
+            ml = _mirror(cos[a], cos[b])
+            if ml is None:
+                continue
+            image = [index.get(_reflect(co, *ml)) for co in cos]
+            if all(t is not None for t in image):
+                orbits = sorted({tuple(sorted({t, image[t]})) for t in range(len(cos))})
+                return ml, orbits
+    return None
 
 
 @functools.lru_cache(maxsize=65536)

@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from ..predicates.circles import as_circle, decide_conflict
-from ..predicates.symmetry import equidistant_by_symmetry, rational_candidates
+from ..predicates.symmetry import equidistant_by_symmetry, mirror_orbits, rational_candidates
 from ..result import InvalidConicError, LocatorError
 from .apollonius_vertices import exact_vertex
 from .site_arrays import SiteArrays
@@ -106,5 +106,15 @@ def _symmetric_tangency(S: SiteArrays, cl, undecided, stats):
             stats["symmetric_vertices"] = stats.get("symmetric_vertices", 0) + 1
             cl.update(x=float(p[0]), y=float(p[1]), symmetric=p)
             cl.setdefault("tangent", []).extend(int(k) for k in undecided)
+            return True
+    # a mirror of the sites in two orbits through the vertex: on it d_a = d_a', d_b = d_b', and the
+    # vertex (d_a = d_b) has them all at one distance (the verifier proves it on the line)
+    found = mirror_orbits(K)
+    if found is not None and len(found[1]) == 2:
+        (n, k), _ = found
+        off = abs(float(n[0]) * x + float(n[1]) * y - float(k)) / math.hypot(float(n[0]), float(n[1]))
+        if off <= reach:
+            stats["mirror_vertices"] = stats.get("mirror_vertices", 0) + 1
+            cl.setdefault("tangent", []).extend(int(t) for t in undecided)
             return True
     return None

@@ -162,6 +162,9 @@ def symmetric_vertex(v, sites, geoms, problems, VertexInfo):
     exact = [geoms[s].exact for s in sites]
     p = next((q for q in rational_candidates(v.x, v.y, reach) if equidistant_by_symmetry(exact, q)), None)
     if p is None:
+        info = mirror_vertex(v, sites, geoms, VertexInfo)
+        if info is not None:
+            return _checked_order(info, v, sites, geoms, problems)
         problems.append(f"{name}: its {len(sites)} sites are not proved equidistant (no symmetry of them "
                         "fixes the reported point)")
         return None
@@ -173,19 +176,76 @@ def symmetric_vertex(v, sites, geoms, problems, VertexInfo):
     if not lo <= hi:
         problems.append(f"{name}: the distance bounds of its sites do not overlap")
         return None
+    info = VertexInfo(v.id, tuple(sites), x, y, 0.5 * (lo + hi), h, None,
+                      key=(tuple(sorted(sites)), p))
+    info.r_hi = hi
+    info.exact_point = p
+    return _checked_order(info, v, sites, geoms, problems)
+
+
+def _checked_order(info, v, sites, geoms, problems):
+    """The vertex ``info`` if its sites are listed counter-clockwise by their float foot points,
+    else None (problem recorded)."""
+    import numpy as np
+
+    P = np.array([[info.x, info.y]])
     ang = []
     for s in sites:
         F, _ = geoms[s].foot_points(P)
-        ang.append(math.atan2(F[0, 1] - y, F[0, 0] - x))
+        ang.append(math.atan2(F[0, 1] - info.y, F[0, 0] - info.x))
     k = len(sites)
     rank = sorted(range(k), key=lambda t: ang[t])
     start = rank.index(0)
     gaps = [(ang[rank[(t + 1) % k]] - ang[rank[t]]) % (2 * math.pi) for t in range(k)]
     if [rank[(start + t) % k] for t in range(k)] != list(range(k)) or min(gaps) < 1e-6:
-        problems.append(f"{name}: its sites are not listed counter-clockwise around it")
+        problems.append(f"{vname(v)}: its sites are not listed counter-clockwise around it")
         return None
-    info = VertexInfo(v.id, tuple(sites), x, y, 0.5 * (lo + hi), h, None,
-                      key=(tuple(sorted(sites)), p))
-    info.r_hi = hi
-    info.exact_point = p
     return info
+
+
+def mirror_vertex(v, sites, geoms, VertexInfo):
+    """A reported vertex of k > 3 sites on a mirror line of theirs at an irrational point: a line
+    whose reflection maps the sites onto themselves in two orbits {a, a'}, {b, b'} makes every point
+    of it equidistant from a and a', and from b and b'; g(t) = d_a − d_b along the line changes sign
+    around the reported point (rigorous distance bounds at the two ends of a short segment), so
+    some point p of the segment has all the sites at one distance (intermediate values), within
+    the segment's half-length of the reported point.  Returns a ``VertexInfo`` (``h`` covering the
+    segment, the radius enclosed on it) or None."""
+    import numpy as np
+
+    from ...predicates.symmetry import mirror_orbits
+
+    found = mirror_orbits([geoms[s].exact for s in sites])
+    if found is None or len(found[1]) != 2:
+        return None
+    (n, k), orbits = found
+    a, b = sites[orbits[0][0]], sites[orbits[1][0]]
+    nf = np.array([float(n[0]), float(n[1])])
+    nn = float(np.hypot(*nf))
+    u = np.array([-nf[1], nf[0]]) / nn                                  # along the line
+    X = np.array([v.x, v.y], float)
+    X = X - ((X @ nf - float(k)) / nn) * (nf / nn)                      # onto the line (floats)
+    off = abs(float(np.array([v.x, v.y]) @ nf - float(k))) / nn
+    scale = 1 + abs(v.x) + abs(v.y) + abs(v.radius)
+    if off > 1e-9 * scale:
+        return None
+    for delta in (1e-12 * scale, 1e-10 * scale, 1e-8 * scale):
+        E = np.array([X - delta * u, X + delta * u])
+        # the segment's end points, as floats, are off the exact line by rounding only; the
+        # distances are 1-Lipschitz, so a sign proved at a float point within ε of the line's
+        # point holds there up to 2ε: take ε as a few ulps of the coordinates
+        eps = 8 * EPS * float(np.abs(E).max() + 1)
+        la, ha = geoms[a].distance_bounds(E)
+        lb, hb = geoms[b].distance_bounds(E)
+        g_hi, g_lo = ha - lb + 2 * eps, la - hb - 2 * eps
+        if (g_hi[0] < 0 and g_lo[1] > 0) or (g_lo[0] > 0 and g_hi[1] < 0):
+            P = X[None, :]
+            lo = max(float(geoms[s].distance_bounds(P)[0][0]) for s in sites) - delta - eps
+            hi = min(float(geoms[s].distance_bounds(P)[1][0]) for s in sites) + delta + eps
+            if not lo <= hi:
+                return None
+            info = VertexInfo(v.id, tuple(sites), float(X[0]), float(X[1]), 0.5 * (lo + hi), delta + eps, None,
+                              key=(tuple(sorted(sites)), round(float(X[0]), 9), round(float(X[1]), 9)))
+            info.r_hi = hi
+            return info
+    return None
