@@ -490,7 +490,7 @@ def _replay(allm: list[dict], path: str, statuses: set | None = None) -> list[di
     old and new text (the nearest line wins: others edit the modules meanwhile)."""
     import json
 
-    out = []
+    out, pending = [], []
     for line in Path(path).read_text().splitlines():
         r = json.loads(line)
         if statuses and r.get("status") not in statuses:
@@ -511,7 +511,23 @@ def _replay(allm: list[dict], path: str, statuses: set | None = None) -> list[di
         if not cands:
             print(f"replay: {r['path']}:{r['line']} {r['kind']} {r['what']} no longer in the source", flush=True)
             continue
-        out.append(min(cands, key=lambda m: abs(m["line"] - r["line"])))
+        same = [m for m in cands if (m["what"], m["function"]) == (r["what"], r["function"])]
+        pending.append((r, same or cands))
+    # others edit the modules meanwhile: a text that occurs once gives the file's line shift, and a
+    # text that occurs several times (a constant, `False`) is taken nearest to its shifted line
+    shifts: dict = {}
+    for r, cands in pending:
+        if len(cands) == 1:
+            shifts.setdefault(r["path"], []).append((r["line"], cands[0]["line"] - r["line"]))
+    for r, cands in pending:
+        # the shift of the nearest uniquely found mutant of the same file (edits shift a region)
+        near = min(shifts.get(r["path"], [(r["line"], 0)]), key=lambda t: abs(t[0] - r["line"]))
+        want = r["line"] + near[1]
+        best = min(cands, key=lambda m: abs(m["line"] - want))
+        if len(cands) > 1:
+            print(f"replay: {r['path']}:{r['line']} {r['kind']} {r['what']}: {len(cands)} candidates, "
+                  f"line {best['line']} taken (shift {near[1]} of the mutant at line {near[0]})", flush=True)
+        out.append(best)
     return out
 
 
@@ -655,14 +671,29 @@ def merge_report(first: str, after: list[str], verdicts: str | None, title: str)
 
     rows = [json.loads(x) for x in Path(first).read_text().splitlines()]
     later: dict[tuple, str] = {}
+    reworded: list[dict] = []
     for a in after:
         for x in Path(a).read_text().splitlines():
             r = json.loads(x)
             later[(r["path"], r["kind"], r["old"], r["new"])] = r["status"]
+            if r["kind"] == "skip-problem":
+                reworded.append(r)
     why = json.loads(Path(verdicts).read_text()) if verdicts else {}
+
+    def _later(r):
+        got = later.get((r["path"], r["kind"], r["old"], r["new"]))
+        if got is None and r["kind"] == "skip-problem":
+            # the statement was reworded meanwhile: as _replay, the same function, the nearest line
+            near = [x for x in reworded if (x["path"], x["function"]) == (r["path"], r["function"])
+                    and abs(x["line"] - r["line"]) <= 15]
+            if near:
+                import difflib
+
+                got = max(near, key=lambda x: difflib.SequenceMatcher(None, x["old"], r["old"]).ratio())["status"]
+        return got if got is not None else r["status"]
+
     for r in rows:
-        r["final"] = r["status"] if r["status"] == "killed" else later.get((r["path"], r["kind"], r["old"], r["new"]),
-                                                                           r["status"])
+        r["final"] = r["status"] if r["status"] == "killed" else _later(r)
     n = len(rows)
     k0 = sum(r["status"] == "killed" for r in rows)
     k1 = sum(r["final"] == "killed" for r in rows)
