@@ -153,10 +153,6 @@ def test_a_one_point_polyline_is_rejected():
         assert any(p.startswith(f"edge {e['id']} ") for p in cert.problems), cert.problems
 
 
-@pytest.mark.xfail(strict=True, raises=np.linalg.LinAlgError,
-                   reason="crash (not soundness): verify raises numpy LinAlgError 'Singular matrix' in "
-                          "runtime/voronoi/verify/vertices.py _fast_circle_vertices -> _krawczyk (np.linalg.inv) "
-                          "on this valid symmetric diagram of three circles")
 def test_symmetric_three_circles_verify():
     """Circles (−2, 0), (2, 0) of radius 1 and (0, 0) of radius 1/2 (disjoint: gaps 1/2): on the
     bisector x = 0 of the outer two, d_k = |y| − 1/2 = d_i = √(4 + y²) − 1 at |y| = 15/4: two

@@ -82,8 +82,10 @@ def _krawczyk(C, Rho, Z, scale):
     F = (V ** 2).sum(-1) - (r + Rho) ** 2
     J = np.concatenate([2 * V, -2 * (r + Rho)[..., None]], axis=-1)
     with np.errstate(all="ignore"):
-        Jg = np.where(np.isfinite(np.linalg.det(J))[:, None, None], J, np.eye(3))
-        Y = np.linalg.inv(Jg)
+        detJ = np.linalg.det(J)
+        invertible = np.isfinite(detJ) & (np.abs(detJ) > 1e-300) & np.isfinite(J).all(axis=(1, 2))
+        Jg = np.where(invertible[:, None, None], J, np.eye(3))
+        Y = np.linalg.inv(Jg)             # rows with a singular J are refused below (exact route)
     mag = (np.abs(q) + np.abs(C)).sum(-1) + np.abs(r) + Rho            # (n,3)
     # rounding of F (16 ops) and of the float data (centres, radii: a few ulps)
     sF = 32 * EPS * (mag ** 2) + 8 * EPS * mag * (np.abs(C).sum(-1) + Rho)
@@ -92,13 +94,14 @@ def _krawczyk(C, Rho, Z, scale):
     sI = 16 * EPS * (aY @ np.abs(J))
     base = (aY @ (np.abs(F) + sF)[..., None])[..., 0]                  # |Y|(|F| + s_F)
     ok = np.zeros(len(Z), bool)
+    ok_rows = invertible & np.isfinite(Z).all(-1)
     H = np.zeros(len(Z))
     dataJ = 8 * EPS * (mag + np.abs(C).sum(-1))[..., None]             # data rounding in J
     for mult in (4.0, 64.0, 4096.0):
         rho = np.maximum(mult * base.max(-1), 1e-15 * scale)
         dJ = 2 * rho[:, None, None] * np.ones((1, 3, 3)) + dataJ
         contr = ((np.abs(E) + sI + aY @ dJ) * rho[:, None, None]).sum(-1)
-        test = (base + contr < rho[:, None] * (1 - 1e-12)).all(-1) & np.isfinite(contr).all(-1)
+        test = (base + contr < rho[:, None] * (1 - 1e-12)).all(-1) & np.isfinite(contr).all(-1) & ok_rows
         new = test & ~ok
         H = np.where(new, rho, H)
         ok |= test
