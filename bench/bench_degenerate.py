@@ -35,6 +35,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests" / "cgal"))
 sys.path.insert(0, str(ROOT / "bench"))
+sys.path.insert(0, str(ROOT / "tests"))
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 
@@ -62,19 +63,10 @@ def ring12():
 
 
 def utm_circles(n, seed):
-    """As tests/test_degenerate_cgal.py: n random disjoint float circles near (5·10⁵, 5·10⁶)."""
-    import numpy as np
+    """The scene of tests/test_degenerate_cgal.py (one generator for tests and bench)."""
+    from test_degenerate_cgal import utm_circles as scene
 
-    rng = np.random.default_rng(seed)
-    side = 10 * math.sqrt(n)
-    out = []
-    while len(out) < n:
-        x = 500000.0 + float(rng.uniform(0, side))
-        y = 5000000.0 + float(rng.uniform(0, side))
-        r = float(rng.uniform(0.5, 3.0))
-        if all(math.hypot(x - a, y - b) > r + c + 1e-3 for a, b, c in out):
-            out.append((x, y, r))
-    return out
+    return scene(n, seed)
 
 
 def translated(seed, shift):

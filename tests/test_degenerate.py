@@ -365,20 +365,6 @@ def _edge_key(pair, ends):
     return (tuple(pair), tuple(sorted(ends, key=lambda t: (t is None, -1 if t is None else t))))
 
 
-#: cases the library does not prove yet (the tests run, and must fail, until it does: strict xfail)
-NOT_YET = {
-}
-
-
-#: these cases are right but not proved: only their certification is expected to fail
-ONLY_CERTIFIED: set = set()
-
-
-def _names(test="certified"):
-    return [pytest.param(n, marks=pytest.mark.xfail(strict=True, reason=NOT_YET[n]))
-            if n in NOT_YET and (test == "certified" or n not in ONLY_CERTIFIED) else n for n in NAMES]
-
-
 NAMES = [c.name for c in CASES]
 
 
@@ -399,14 +385,14 @@ def test_the_expectations_are_consistent():
         assert sorted({e.pair for e in case.edges}) == case.delaunay, case.name
 
 
-@pytest.mark.parametrize("name", _names())
+@pytest.mark.parametrize("name", NAMES)
 def test_certified(name):
     d = diagram(BY_NAME[name])
     assert d.certified, d.problems
     assert d.problems == []
 
 
-@pytest.mark.parametrize("name", _names("vertices"))
+@pytest.mark.parametrize("name", NAMES)
 def test_vertices(name):
     """Number of vertices, and per expected vertex: position (1e-9), radius (1e-9 relative), sites in
     counter-clockwise order starting with the smallest index, degree, certified."""
@@ -424,7 +410,7 @@ def test_vertices(name):
         assert v.certified, (v.sites, v.x, v.y)
 
 
-@pytest.mark.parametrize("name", _names("edges"))
+@pytest.mark.parametrize("name", NAMES)
 def test_edges(name):
     """The multiset of (site pair, end vertices) equals the expected one (end vertices matched by
     position, None = infinity); polylines start/end at their end vertices, their points are on the
@@ -492,7 +478,7 @@ def test_edges(name):
                 assert far_y > max(near) + 1, e.sites
 
 
-@pytest.mark.parametrize("name", _names("delaunay_edges"))
+@pytest.mark.parametrize("name", NAMES)
 def test_delaunay_edges(name):
     """Pairs sharing a Voronoi edge of positive length only: grid neighbours (no cell diagonals),
     consecutive collinear points, angularly adjacent co-circular sites."""
