@@ -97,6 +97,7 @@ _LAZY = {
     "Conic": ("runtime.sites.conic", "Conic"),
     "Circle": ("runtime.predicates.circles", "Circle"),
     "Point": ("runtime.predicates.circles", "Point"),
+    "Segment": ("runtime.sites.segment", "Segment"),
     "voronoi": ("runtime.voronoi.construction", "voronoi"),
     "Diagram": ("runtime.voronoi.structure", "Diagram"),
     "verify": ("runtime.voronoi.verify.certificate", "verify"),
