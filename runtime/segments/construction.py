@@ -1,0 +1,407 @@
+"""The Voronoi diagram of points and segments, built by sample-then-refine (thesis §1.2, §2.2).
+
+The combinatorics come from the Delaunay triangulation of labelled samples (every point site,
+and points spaced along each open segment; :class:`runtime.voronoi.sample_delaunay.
+SampleTriangulation`): a triangle with three labels is a candidate vertex, chains of two-label
+triangles are the edges.  Each candidate is then decided by the certified predicates of the
+elementary sites:
+
+1. **Vertices** (:func:`runtime.segments.vertices.prove_vertex`): Newton and Krawczyk on the
+   3 × 3 contact system; a corner of the input (three sites whose closures share a point c) is
+   the vertex c of radius 0, with every segment ending at c.
+2. **Emptiness** (:mod:`runtime.segments.emptiness`): every other site strictly farther than the
+   radius, by rigorous distance balls; sites found exactly on the circle make a vertex of
+   degree k > 3 (decided exactly).
+3. **Edges**: walks between vertices (or to infinity), drawn along the closed-form bisectors
+   (:mod:`runtime.segments.bisectors`).
+4. **Refine**: a candidate that is not a proved empty vertex, a vertex without one edge per
+   consecutive pair of its sites, or a walk that cannot be closed halves the sample spacing of
+   the sites involved, and the round is repeated.
+
+The certificate is :func:`runtime.segments.certificate.verify_segments` (independent of this
+module); ``certified`` is its verdict.
+
+Public API: :func:`segment_voronoi`, :func:`has_segments`.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..predicates.circles import Point
+from ..sites.segment import Segment, as_point_pair
+from ..threads import one_blas_thread
+from ..voronoi.sample_delaunay import SampleTriangulation
+from ..voronoi.site_input import SiteError
+from ..voronoi.structure import Diagram, DiagramEdge, DiagramVertex
+from .bisectors import bisector_kind, edge_polyline, line_direction
+from .distance import distances
+from .elementary import POINT, ElementarySites, decompose
+from .emptiness import prove_empty
+from .vertices import common_point, prove_vertex
+
+__all__ = ["segment_voronoi", "has_segments"]
+
+MAX_ROUNDS = 10
+
+
+def has_segments(sites) -> bool:
+    """True when ``sites`` holds a :class:`runtime.sites.segment.Segment`."""
+    return any(isinstance(s, Segment) for s in sites)
+
+
+@one_blas_thread
+def segment_voronoi(pieces, sources=None, *, certify: bool = True, tolerance: float | None = None,
+                    progress=None) -> Diagram:
+    """The Voronoi diagram of points and segments (``Segment``, ``Point`` or (x, y) pieces).
+
+    The diagram's ``sites`` are the elementary sites (:mod:`runtime.segments.elementary`): point
+    sites first, then the open interiors of the segments; ``sources`` maps them to the input.
+    ``tolerance``: the largest deviation of a curved edge's polyline from its parabola (default
+    10⁻⁴ of the extent of the input)."""
+    t_start = time.perf_counter()
+    pieces = [_as_piece(p, k) for k, p in enumerate(pieces)]
+    try:
+        from .crossings import check_pieces
+    except ImportError:         # pragma: no cover - the check ships with the package
+        check_pieces = None
+    if check_pieces is not None:
+        check_pieces(pieces)
+    E = decompose(pieces, sources)
+    if len(E) < 2:
+        raise ValueError(f"the Voronoi diagram needs at least 2 sites, got {len(E)}")
+    _check_junctions(E)
+    lo = np.minimum(E.A.min(axis=0), E.B.min(axis=0))
+    hi = np.maximum(E.A.max(axis=0), E.B.max(axis=0))
+    extent = float(np.max(hi - lo)) or 1.0
+    if tolerance is None:
+        tolerance = 1e-4 * extent
+    spacing = _initial_spacing(E)
+    stats: dict = {"sites": len(E), "points": E.n_points, "segments": len(E) - E.n_points, "rounds": 0}
+    for _ in range(MAX_ROUNDS):
+        stats["rounds"] += 1
+        result, refine = _build_once(E, spacing, stats)
+        if not refine:
+            break
+        idx = np.array(sorted(refine), dtype=int)
+        spacing[idx] = spacing[idx] / 2
+    vertices, walks, problems = result
+    edges = _edges(E, vertices, walks, tolerance, lo, hi)
+    D = Diagram(E.sites, vertices, edges, False, problems, stats)
+    D.sources = list(E.source)
+    D.elementary = E
+    if not certify:
+        D.problems.append("not verified (certify=False)")
+    else:
+        try:
+            from .certificate import verify_segments
+        except ImportError:
+            verify_segments = None
+        if verify_segments is None:
+            D.problems.append("the certificate of segment diagrams is not available: edges not proved")
+        else:
+            t0 = time.perf_counter()
+            cert = verify_segments(D)
+            stats["verify_seconds"] = round(time.perf_counter() - t0, 4)
+            D.certified = bool(cert.ok) and not problems
+            D.problems.extend(cert.problems)
+            for e, ok in zip(D.edges, cert.edges):
+                e.certified = bool(ok)
+            for v, ok in zip(D.vertices, cert.vertices):
+                v.certified = v.certified and bool(ok)
+    stats["seconds"] = round(time.perf_counter() - t_start, 4)
+    return D
+
+
+def _as_piece(p, k):
+    """A Segment, a Point, or an (x, y) pair made a Point."""
+    if isinstance(p, (Segment, Point)):
+        return p
+    x, y = as_point_pair(p, f"site {k}")
+    return Point(x, y)
+
+
+def _check_junctions(E: ElementarySites) -> None:
+    """A point where three or more segments meet, two of them straight through, makes a ray of
+    points equidistant from three sites: refused with the point named."""
+    for p, segs in enumerate(E.incident):
+        if len(segs) < 3:
+            continue
+        dirs = []
+        for s in segs:
+            o = int(E.ends[s, 1]) if int(E.ends[s, 0]) == p else int(E.ends[s, 0])
+            dirs.append((E.xy[o][0] - E.xy[p][0], E.xy[o][1] - E.xy[p][1]))
+        for a in range(len(dirs)):
+            for b in range(a + 1, len(dirs)):
+                (ux, uy), (vx, vy) = dirs[a], dirs[b]
+                if ux * vy - uy * vx == 0 and ux * vx + uy * vy < 0:
+                    x, y = E.xy[p]
+                    raise SiteError(f"point ({x}, {y}): segments {segs[a]} and {segs[b]} continue each other "
+                                    f"straight through a junction of {len(segs)} segments; split the "
+                                    "junction or merge the straight pair")
+
+
+# ------------------------------------------------------------------------------------ sampling
+def _initial_spacing(E: ElementarySites) -> np.ndarray:
+    """Per site: the sample spacing along a segment (∞ for a point): half its gap to the nearest
+    non-adjacent site, at most a quarter of its length."""
+    n = len(E)
+    L = np.hypot(*(E.B - E.A).T)
+    sp = np.where(E.kind == POINT, np.inf, L / 4)
+    P, lab = _samples(E, sp)
+    if len(P) < 3:
+        return sp
+    tree = cKDTree(P)
+    k = min(len(P), 12)
+    dist, idx = tree.query(P, k=k)
+    gap = np.full(n, np.inf)
+    for c in range(1, k):
+        other = lab[idx[:, c]]
+        ok = (other != lab) & ~_adjacent(E, lab, other)
+        np.minimum.at(gap, lab[ok], dist[ok, c])
+    finite = np.isfinite(gap)
+    gap[~finite] = np.median(gap[finite]) if finite.any() else 1.0
+    return np.where(E.kind == POINT, np.inf, np.minimum(L / 4, gap / 2))
+
+
+def _adjacent(E: ElementarySites, a, b):
+    """Elementwise: site a is an endpoint of segment b or vice versa, or they share an endpoint."""
+    ea, eb = E.ends[a], E.ends[b]
+    pa = np.where(E.kind[a] == POINT, a, -5)
+    pb = np.where(E.kind[b] == POINT, b, -7)
+    share = ((ea[:, :, None] == eb[:, None, :]) & (ea[:, :, None] >= 0)).any(axis=(1, 2))
+    return share | (ea == pb[:, None]).any(axis=1) | (eb == pa[:, None]).any(axis=1)
+
+
+def _samples(E: ElementarySites, spacing):
+    """Every point site, and n = ⌈L / spacing⌉ points at parameters (k + ½)/n along each segment."""
+    pts = [E.A[:E.n_points]]
+    labs = [np.arange(E.n_points)]
+    seg = np.arange(E.n_points, len(E))
+    if len(seg):
+        L = np.hypot(*(E.B[seg] - E.A[seg]).T)
+        cnt = np.maximum(1, np.ceil(L / spacing[seg]).astype(np.int64))
+        owner = np.repeat(seg, cnt)
+        start = np.repeat(np.cumsum(cnt) - cnt, cnt)
+        k = np.arange(int(cnt.sum())) - start
+        t = (k + 0.5) / np.repeat(cnt, cnt)
+        pts.append(E.A[owner] + t[:, None] * (E.B[owner] - E.A[owner]))
+        labs.append(owner)
+    return np.concatenate(pts), np.concatenate(labs)
+
+
+# ------------------------------------------------------------------------------------ one round
+def _build_once(E: ElementarySites, spacing, stats):
+    """Triangulate the samples, prove the candidate vertices, check the walks.
+    Returns ((vertices, walks, problems), {site: refine}) with walks mapped to vertex ids."""
+    P, lab = _samples(E, spacing)
+    stats["samples"] = int(len(P))
+    ghost = len(E)
+    if _flat(P):
+        # all samples on one line: qhull needs a simplex; a far ring of samples of a virtual
+        # site ``ghost`` closes the triangulation, and walks reaching it go to infinity
+        c = (P.min(axis=0) + P.max(axis=0)) / 2
+        R = 1e3 * (float(np.max(P.max(axis=0) - P.min(axis=0))) + 1.0)
+        a = np.linspace(0, 2 * np.pi, 33)[:-1] + 0.1
+        P = np.vstack([P, c + R * np.column_stack([np.cos(a), np.sin(a)])])
+        lab = np.concatenate([lab, np.full(32, ghost)])
+    tri = SampleTriangulation(P, lab)
+    raw = tri.walks()
+    threes = np.nonzero(tri.nlab == 3)[0]
+    T3 = np.sort(tri.L[threes], axis=1)
+    seeds = tri.cc[threes]
+    tree = cKDTree(P)
+    hmax = float(np.max(spacing[np.isfinite(spacing)])) if np.isfinite(spacing).any() else 0.0
+    refine: set = set()
+    problems: list[str] = []
+    vertices: list[DiagramVertex] = []
+    key_to_vid: dict = {}
+    tri_vid = {}
+    proved_cache: dict = {}
+    for t, triple, seed in zip(threes.tolist(), T3.tolist(), seeds):
+        triple = tuple(int(v) for v in triple)
+        if ghost in triple:
+            tri_vid[t] = "inf"
+            continue
+        c = common_point(E, triple)
+        if c is not None:
+            key = ("corner", c)
+            if key not in key_to_vid:
+                key_to_vid[key] = len(vertices)
+                x, y = E.xy[c]
+                vertices.append(DiagramVertex(len(vertices), _corner_order(E, c), float(x), float(y), 0.0, True))
+            tri_vid[t] = key_to_vid[key]
+            continue
+        sol = None
+        for prev in proved_cache.get(triple, []):
+            if math.hypot(prev[0].x - seed[0], prev[0].y - seed[1]) < 0.25 * max(prev[0].r, 1e-300) + hmax:
+                sol, vid = prev
+                break
+        if sol is None:
+            sol = prove_vertex(E, triple, seed)
+            vid = None
+            if sol.status == "proved":
+                empty, members, culprit = prove_empty(E, tree, lab, hmax, triple, sol)
+                if empty:
+                    key = tuple(sorted(members))
+                    if key not in key_to_vid:
+                        key_to_vid[key] = len(vertices)
+                        vertices.append(DiagramVertex(len(vertices), _contact_order(E, members, sol), sol.x, sol.y,
+                                                      sol.r, True))
+                    vid = key_to_vid[key]
+                else:
+                    refine.update(triple)
+                    if culprit is not None:
+                        refine.add(culprit)
+                        if empty is None:
+                            problems.append(f"sites {', '.join(map(str, triple))}: emptiness of the vertex at "
+                                            f"({sol.x:.6g}, {sol.y:.6g}) undecided (site {culprit})")
+            else:
+                refine.update(triple)
+            proved_cache.setdefault(triple, []).append((sol, vid))
+        if vid is None:
+            refine.update(triple)
+        else:
+            tri_vid[t] = vid
+    walks = []
+    degree: list[list] = [[] for _ in vertices]
+    for pair, start, chain, end in raw:
+        if ghost in pair:
+            continue
+        if (start is not None and start[0] == "bad") or (end is not None and end[0] == "bad") or start is None:
+            refine.update(pair)
+            continue
+        ends = []
+        ok = True
+        for e in (start, end):
+            if e[0] == "hull" or tri_vid.get(e[1]) == "inf":
+                ends.append(None)
+            else:
+                v = tri_vid.get(e[1])
+                if v is None:
+                    ok = False
+                ends.append(v)
+        if not ok:
+            refine.update(pair)
+            continue
+        if ends[0] is not None and ends[0] == ends[1]:
+            continue
+        for v in ends:
+            if v is not None:
+                degree[v].append(tuple(pair))
+        hints = [_hint(tri, e) for e in (start, end)]
+        walks.append((tuple(int(v) for v in pair), ends, hints))
+    for v in vertices:
+        want = sorted(v.site_pairs())
+        if sorted(degree[v.id]) != want:
+            refine.update(v.sites)
+            problems.append(f"sites {', '.join(map(str, v.sites))}: the vertex at ({v.x:.6g}, {v.y:.6g}) has incident "
+                            f"edges {sorted(degree[v.id])}, expected {want}")
+    # point sites are single samples: refine the segments ending at them instead
+    refine = {s for s in refine if E.kind[s] != POINT} | {s for p in refine if E.kind[p] == POINT
+                                                           for s in E.incident[p]}
+    return (vertices, walks, problems), refine
+
+
+def _hint(tri, e):
+    """A point in the direction of a walk's end (the circumcentre of the hull triangle)."""
+    if e is None or e[0] not in ("hull", "tri"):
+        return None
+    return tri.cc[e[1]] + 0.0
+
+
+def _outward(E: ElementarySites, i: int, j: int, base, d, far) -> float:
+    """+1 or −1: the way along the straight bisector of i and j, from its vertex ``base``, on
+    which i and j stay the nearest sites (the other way a third site takes over at once)."""
+    eps = 1e-6 * far
+    best, sgn = None, 1.0
+    for s in (1.0, -1.0):
+        q = base + s * eps * d
+        dd, _ = distances(E.A, E.B, np.repeat(q[None, :], len(E), axis=0))
+        own = max(dd[i], dd[j])
+        dd[[i, j]] = np.inf
+        margin = float(dd.min() - own)
+        if best is None or margin > best:
+            best, sgn = margin, s
+    return sgn
+
+
+def _flat(P) -> bool:
+    """Fewer than three samples, or all of them on one line (relative 1e-12)."""
+    if len(P) < 3:
+        return True
+    Q = P - P[0]
+    s = np.linalg.svd(Q, compute_uv=False)
+    return bool(s[1] <= 1e-12 * max(s[0], 1e-300))
+
+
+def _corner_order(E: ElementarySites, c: int) -> tuple:
+    """The sites of the corner vertex c: the segments ending at c by angle, c itself inserted in
+    the reflex gap (> 180°) if there is one; starting with the smallest index."""
+    segs = E.incident[c]
+    cx, cy = E.A[c]
+    ang = []
+    for s in segs:
+        o = int(E.ends[s, 1]) if int(E.ends[s, 0]) == c else int(E.ends[s, 0])
+        ang.append(math.atan2(E.A[o][1] - cy, E.A[o][0] - cx))
+    order = [s for _, s in sorted(zip(ang, segs))]
+    angs = sorted(ang)
+    out = list(order)
+    for k in range(len(order)):
+        gap = (angs[(k + 1) % len(order)] - angs[k]) % (2 * math.pi) if len(order) > 1 else 2 * math.pi
+        if gap > math.pi:
+            out = order[:k + 1] + [c] + order[k + 1:]
+            break
+    m = out.index(min(out))
+    return tuple(out[m:] + out[:m])
+
+
+def _contact_order(E: ElementarySites, members, sol) -> tuple:
+    """Sites sorted counter-clockwise by their contact points seen from the vertex."""
+    v = np.array([sol.x, sol.y])
+    ang = []
+    for s in members:
+        if E.kind[s] == POINT:
+            f = E.A[s]
+        else:
+            a, b = E.A[s], E.B[s]
+            d = b - a
+            f = a + np.clip(np.dot(v - a, d) / np.dot(d, d), 0, 1) * d
+        ang.append(math.atan2(f[1] - v[1], f[0] - v[0]))
+    order = [s for _, s in sorted(zip(ang, members))]
+    m = order.index(min(order))
+    return tuple(order[m:] + order[:m])
+
+
+# ------------------------------------------------------------------------------------ edges
+def _edges(E: ElementarySites, vertices, walks, tol, lo, hi):
+    """Polylines along the closed-form bisectors; infinite ends at far points in the walk's
+    direction."""
+    pts = [lo, hi] + [np.array([[v.x, v.y] for v in vertices])] if vertices else [lo, hi]
+    allp = np.vstack([np.atleast_2d(p) for p in pts])
+    centre = (allp.min(axis=0) + allp.max(axis=0)) / 2
+    far = 4 * float(np.max(allp.max(axis=0) - allp.min(axis=0)) + 1.0)
+    out = []
+    for pair, ends, hints in walks:
+        i, j = pair
+        fin = [None if e is None else np.array([vertices[e].x, vertices[e].y]) for e in ends]
+        if fin[0] is None or fin[1] is None:
+            if bisector_kind(E, i, j) not in ("points", "perpendicular"):
+                continue          # only straight bisectors reach infinity; the walk is an artefact
+            d = line_direction(E, i, j)
+            base = fin[0] if fin[0] is not None else fin[1]
+            if base is None:
+                base = (E.A[i] + E.A[j]) / 2 if bisector_kind(E, i, j) == "points" else \
+                    E.A[i if E.kind[i] == POINT else j]
+            R = far + float(np.hypot(*(base - centre)))
+            if fin[0] is None and fin[1] is None:
+                fin = [base - d * R, base + d * R]
+            else:
+                sgn = _outward(E, i, j, base, d, far)
+                fin = [base + sgn * d * R if f is None else f for f in fin]
+        poly, t = edge_polyline(E, i, j, fin[0], fin[1], tol)
+        out.append(DiagramEdge(len(out), (i, j), tuple(ends), False, poly, t, False))
+    return out

@@ -1,0 +1,76 @@
+"""Emptiness of a candidate vertex's circle among points and segments (thesis §1.2).
+
+A proved zero (x, y, r) of three sites' contact system is a Voronoi vertex when no other site
+comes closer than r.  Candidates: the sites with a sample within r + h/2 of the centre (h the
+largest sample spacing: every point of a segment lies within h/2 of one of its samples, so a site
+without such a sample is farther than r), with a rounding margin.  Each candidate is decided by a
+float filter with a rounding-error bound (:func:`runtime.segments.distance.float_error`), then
+by arb balls (:func:`runtime.segments.distance.distance_ball`), then exactly
+(:mod:`runtime.segments.exact`) when the balls cannot separate d from r: a site exactly on the
+circle is a further member of the vertex (degree k > 3).
+
+Public API: :func:`prove_empty`.
+"""
+from __future__ import annotations
+
+import numpy as np
+from flint import ctx
+
+from .distance import distance_ball, distances, float_error, foot_parameter
+from .elementary import POINT, ElementarySites
+
+__all__ = ["prove_empty"]
+
+
+def _site_segment(E: ElementarySites, k: int):
+    if E.kind[k] == POINT:
+        return E.xy[k], E.xy[k]
+    return E.xy[int(E.ends[k, 0])], E.xy[int(E.ends[k, 1])]
+
+
+def prove_empty(E: ElementarySites, tree, lab, hmax: float, triple, sol):
+    """(empty, members, culprit): empty is True (proved), False (a site enters the circle) or
+    None (undecided); members are the triple plus the sites proved exactly on the circle."""
+    x, y, r = sol.x, sol.y, sol.r
+    X, Y, R = sol.box
+    rad = max(float(X.rad()), float(Y.rad()))
+    scale = 1.0 + abs(x) + abs(y) + r
+    reach = r + hmax / 2 + 1e-9 * scale + rad
+    near = np.unique(lab[tree.query_ball_point([x, y], reach)])
+    cand = np.array([k for k in near.tolist() if k not in triple], dtype=np.int64)
+    members = list(triple)
+    if not len(cand):
+        return True, tuple(members), None
+    Q = np.repeat([[x, y]], len(cand), axis=0)
+    d, _ = distances(E.A[cand], E.B[cand], Q)
+    err = float_error(E.A[cand], E.B[cand], Q) + rad * 2 + float(R.rad()) + 1e-15 * scale
+    undecided = cand[np.abs(d - r) <= err]
+    inside = cand[d < r - err]
+    if len(inside):
+        return False, tuple(members), int(inside[np.argmin(d[d < r - err])])
+    old = ctx.prec
+    ctx.prec = 128
+    try:
+        for k in undecided.tolist():
+            a, b = _site_segment(E, k)
+            dk = distance_ball(a, b, X, Y)
+            if dk > R:
+                continue
+            if dk < R:
+                return False, tuple(members), k
+            if E.kind[k] != POINT:
+                t = foot_parameter(a, b, X, Y)
+                if t < 0 or t > 1:
+                    continue    # closest point of k is an endpoint, a site tested on its own
+            from .exact import on_circle
+            verdict = on_circle(E, triple, sol, k)
+            if verdict is None:
+                return None, tuple(members), k
+            if verdict is False:
+                return False, tuple(members), k
+            if verdict == "on":
+                members.append(k)
+            # "outside": proved farther exactly
+    finally:
+        ctx.prec = old
+    return True, tuple(members), None

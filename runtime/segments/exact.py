@@ -1,0 +1,107 @@
+"""Exact decisions at degenerate vertices of points and segments (degree k > 3, feet at ends).
+
+The contact system of three elementary sites (:mod:`runtime.segments.vertices`) is linear or
+quadratic over Q(√N₁, √N₂, √N₃) (N the squared norms of the segments' normals), so a vertex has
+closed-form coordinates in radicals.  :func:`exact_vertex` solves it with sympy, picks the root
+inside the proved box, and :func:`on_circle` decides *exactly* whether a fourth site lies on the
+vertex's circle — the zero test is ``sympy.minimal_polynomial(e) == x`` (an algebraic number is
+zero iff its minimal polynomial is x), nonzero signs by evaluation once zero is excluded.  This is
+the segment analogue of the quadratic towers of thesis §3.1.3 for circles.
+
+A segment counts as touching only through its open interior (its foot parameter in (0, 1)) or
+at an endpoint where the circle is tangent to it; a segment whose closest point is an endpoint
+beyond its strip is represented by that endpoint, a site of its own (thesis §2.2).
+
+Public API: :func:`exact_vertex`, :func:`on_circle`, :func:`exact_sign`.
+"""
+from __future__ import annotations
+
+import sympy as sp
+
+from .elementary import POINT, ElementarySites
+
+__all__ = ["exact_vertex", "on_circle", "exact_sign"]
+
+_X = sp.Symbol("_z")
+
+
+def exact_sign(e) -> int:
+    """The sign of the real algebraic number ``e`` (a sympy expression in radicals), exactly."""
+    e = sp.nsimplify(e) if not isinstance(e, sp.Basic) else e
+    if e == 0:
+        return 0
+    if e.is_Rational:
+        return int(bool(e > 0)) - int(bool(e < 0))
+    if sp.minimal_polynomial(e, _X) == _X:
+        return 0
+    v = sp.N(e, 60)
+    return 1 if v > 0 else -1
+
+
+def _q(v):
+    return sp.Rational(v.numerator, v.denominator)
+
+
+def exact_vertex(E: ElementarySites, triple, sol):
+    """(x, y, r) in radicals: the zero of the triple's contact system closest to ``sol``."""
+    x, y, r = sp.symbols("x y r", real=True)
+    pts = [int(t) for t in triple if E.kind[t] == POINT]
+    eqs = []
+    for t in triple:
+        t = int(t)
+        if E.kind[t] == POINT:
+            px, py = (_q(v) for v in E.xy[t])
+            eqs.append((x - px) ** 2 + (y - py) ** 2 - r ** 2)
+            continue
+        ia, ib = int(E.ends[t, 0]), int(E.ends[t, 1])
+        (ax, ay), (bx, by) = ((_q(v) for v in E.xy[ia]), (_q(v) for v in E.xy[ib]))
+        ends_in = [p for p in pts if p in (ia, ib)]
+        if ends_in:
+            ex, ey = (_q(v) for v in E.xy[ends_in[0]])
+            eqs.append((bx - ax) * (x - ex) + (by - ay) * (y - ey))
+            continue
+        a, b = -(by - ay), bx - ax
+        c = -(a * ax + b * ay)
+        side = 1 if float(a) * sol.x + float(b) * sol.y + float(c) >= 0 else -1
+        eqs.append(a * x + b * y + c - side * r * sp.sqrt(a * a + b * b))
+    roots = sp.solve(eqs, [x, y, r], dict=True)
+    best, bd = None, None
+    for s in roots:
+        vals = [complex(sp.N(s[v], 30)) for v in (x, y, r)]
+        if any(abs(v.imag) > 1e-20 * (1 + abs(v.real)) for v in vals):
+            continue
+        d = abs(vals[0].real - sol.x) + abs(vals[1].real - sol.y) + abs(vals[2].real - sol.r)
+        if bd is None or d < bd:
+            best, bd = (sp.radsimp(s[x]), sp.radsimp(s[y]), sp.radsimp(s[r])), d
+    if best is None or bd > 1e-6 * (1 + abs(sol.x) + abs(sol.y) + sol.r):
+        return None
+    return best
+
+
+def on_circle(E: ElementarySites, triple, sol, k: int):
+    """"on" (site k touches the vertex's circle), "outside", False (k enters it) or None
+    (not decided: no closed form found)."""
+    try:
+        v = exact_vertex(E, triple, sol)
+    except (NotImplementedError, ValueError):
+        return None
+    if v is None:
+        return None
+    X, Y, R = v
+    if E.kind[k] == POINT:
+        px, py = (_q(t) for t in E.xy[k])
+        s = exact_sign((X - px) ** 2 + (Y - py) ** 2 - R ** 2)
+        return "on" if s == 0 else ("outside" if s > 0 else False)
+    (ax, ay), (bx, by) = ((_q(t) for t in E.xy[int(E.ends[k, 0])]), (_q(t) for t in E.xy[int(E.ends[k, 1])]))
+    dx, dy = bx - ax, by - ay
+    tnum = (X - ax) * dx + (Y - ay) * dy            # foot parameter × |b − a|²
+    L2 = dx * dx + dy * dy
+    s0, s1 = exact_sign(tnum), exact_sign(tnum - L2)
+    if s0 < 0 or s1 > 0:
+        return "outside"        # closest point beyond an end: that endpoint (a site) decides
+    if s0 == 0 or s1 == 0:
+        ex, ey = (ax, ay) if s0 == 0 else (bx, by)
+        s = exact_sign((X - ex) ** 2 + (Y - ey) ** 2 - R ** 2)
+        return "on" if s == 0 else ("outside" if s > 0 else False)
+    s = exact_sign((dy * (X - ax) - dx * (Y - ay)) ** 2 - L2 * R ** 2)
+    return "on" if s == 0 else ("outside" if s > 0 else False)
