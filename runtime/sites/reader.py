@@ -9,13 +9,17 @@ the same way).  Sites are numbered from 0 in the order of the list.  A SITE is o
     {"ellipse":   {"centre": [x, y], "axes": [A, B], "rotation": ROT}}     # X²/A² + Y²/B² = 1
     {"hyperbola": {"centre": [x, y], "axes": [A, B], "rotation": ROT}}     # X²/A² − Y²/B² = 1
     {"parabola":  {"vertex": [x, y], "p": p, "rotation": ROT}}             # Y² = 2 p X
+    {"segment": [[x0, y0], [x1, y1]]}                        # the closed segment, two distinct ends
 
 Numbers are JSON numbers (floats are taken at their exact binary value) or rational strings such
 as ``"3/5"``.  ``ROT`` (optional, default 0) turns the canonical axes: an angle in **degrees**
 (multiples of 90 are exact) or an exact rational unit vector ``{"cos": "3/5", "sin": "4/5"}``.
-A site may carry a ``"label"`` string.  The canonical frames are those of thesis §5.3 (the conic
-is the canonical one moved by a rigid motion); ``A``, ``B`` are semi-axes, ``p`` the parameter of
-the parabola.
+A site may carry a ``"label"`` string and a ``"source"`` integer >= 0 (the index of the input shape
+it came from, e.g. the polygon a segment bounds: :func:`runtime.sites.shapes.pieces_from_geometry`;
+the reader accepts and ignores it, :func:`site_to_json` writes it when given).  The canonical
+frames are those of thesis §5.3 (the conic is the canonical one moved by a rigid motion); ``A``,
+``B`` are semi-axes, ``p`` the parameter of the parabola.  A segment's ends must differ; whether
+segments cross is checked by :func:`runtime.segments.crossings.check_pieces`.
 
 The document is validated against :data:`SITES_SCHEMA` with the ``jsonschema`` library; every
 problem becomes a :class:`ValueError` with one line naming the offending entry, e.g.
@@ -47,6 +51,7 @@ _RATIONAL = r"^\s*[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?(\s*/\s*[+-]?\d+)?\s*$"
 _NUM = {"type": ["number", "string"], "pattern": _RATIONAL}
 _POS = {"type": ["number", "string"], "pattern": _RATIONAL, "exclusiveMinimum": 0}
 _XY = {"type": "array", "items": {"$ref": "#/$defs/number"}, "minItems": 2, "maxItems": 2}
+_SEGMENT = {"type": "array", "items": {"$ref": "#/$defs/xy"}, "minItems": 2, "maxItems": 2}
 _ROT = {"anyOf": [{"type": "number"},
                   {"type": "object", "required": ["cos", "sin"], "additionalProperties": False,
                    "properties": {"cos": {"$ref": "#/$defs/number"}, "sin": {"$ref": "#/$defs/number"}}}]}
@@ -80,6 +85,7 @@ SITES_SCHEMA = {
             "type": "object",
             "properties": {
                 "label": {"type": "string"},
+                "source": {"type": "integer", "minimum": 0},
                 "point": {"$ref": "#/$defs/xy"},
                 "circle": {
                     "type": "object",
@@ -96,15 +102,16 @@ SITES_SCHEMA = {
                 "hyperbola": _kind_schema(_CENTRED, ["centre", "axes"]),
                 "parabola": _kind_schema({"vertex": {"$ref": "#/$defs/xy"}, "p": {"$ref": "#/$defs/positive"},
                                           "rotation": {"$ref": "#/$defs/rotation"}}, ["vertex", "p"]),
+                "segment": _SEGMENT,
             },
             "additionalProperties": False,
             "oneOf": [{"required": [k]} for k in ("point", "circle", "coefficients", "ellipse", "hyperbola",
-                                                   "parabola")],
+                                                   "parabola", "segment")],
         },
     },
 }
 
-_SHAPES = ("point", "circle", "coefficients", "ellipse", "hyperbola", "parabola")
+_SHAPES = ("point", "circle", "coefficients", "ellipse", "hyperbola", "parabola", "segment")
 
 
 # =====================================================================================
@@ -145,6 +152,8 @@ def _message(err) -> str:
             return f"{where}: needs 6 coefficients [a, b, c, d, e, f], got {len(inst)}"
         if need == 1:
             return f"{where}: the list is empty"
+        if where.endswith(".segment"):
+            return f"{where}: needs 2 endpoints [[x0, y0], [x1, y1]], got {len(inst)}"
         return f"{where}: needs {need} numbers, got {len(inst)}"
     if v == "additionalProperties" and isinstance(inst, dict):
         allowed = set(err.schema.get("properties", {}))
@@ -213,12 +222,15 @@ def _rotation(rot, where: str):
 
 def parse_site(entry, where: str = "site"):
     """One site record (see the module docstring) as a :class:`runtime.predicates.circles.Point`,
-    :class:`runtime.predicates.circles.Circle` or :class:`runtime.sites.conic.Conic`.
+    :class:`runtime.predicates.circles.Circle`, :class:`runtime.sites.conic.Conic` or
+    :class:`runtime.sites.segment.Segment` (which keeps the record's ``"label"``).  A ``"source"``
+    member is ignored.
 
     ValueError (InvalidConicError for a degenerate or imaginary conic) naming ``where``.  The
     record is assumed to have the right shape; :func:`sites_from_document` validates first."""
     from ..predicates.circles import Circle, Point
     from .conic import Conic
+    from .segment import Segment
 
     if not isinstance(entry, dict):
         raise ValueError(f"{where}: expected an object, got {entry!r}")
@@ -242,6 +254,12 @@ def parse_site(entry, where: str = "site"):
             if Fraction(r) < 0:
                 raise ValueError(f"{where}.circle.radius: {body['radius']} is less than the minimum of 0")
             return Point(cx, cy) if Fraction(r) == 0 else Circle.from_radius(cx, cy, r)
+        if kind == "segment":
+            if not isinstance(body, (list, tuple)) or len(body) != 2:
+                raise ValueError(f"{where}.segment: needs 2 endpoints [[x0, y0], [x1, y1]]")
+            ends = [tuple(parse_number(v, f"{where}.segment[{k}]") for v in e) for k, e in enumerate(body)]
+            label = entry.get("label")
+            return Segment(ends[0], ends[1], label if isinstance(label, str) else None)
         if kind == "coefficients":
             return Conic.from_coefficients(*(parse_number(v, f"{where}.coefficients") for v in body))
         rot = _rotation(body.get("rotation"), f"{where}.{kind}.rotation")
@@ -265,16 +283,24 @@ def parse_site(entry, where: str = "site"):
 
 def site_label(site, index: int) -> str:
     """``"site 3 (ellipse)"``: how messages name a site (0-based index)."""
+    from .segment import Segment
+
+    if isinstance(site, Segment):
+        return f"site {index} (segment)"
     kind = getattr(site, "kind", None) or ("point" if getattr(site, "r2", 1) == 0 else "circle")
     return f"site {index} ({kind})"
 
 
 def site_key(site) -> tuple:
     """Exact key of the curve a site describes: equal keys iff the same curve.  A circle given by
-    coefficients and the same circle given by centre and radius have the same key."""
+    coefficients and the same circle given by centre and radius have the same key; a segment's key
+    does not depend on the order of its endpoints."""
     from ..predicates.circles import Circle
     from .conic import Conic
+    from .segment import Segment
 
+    if isinstance(site, Segment):
+        return ("segment",) + tuple((str(x), str(y)) for x, y in site.key())
     if isinstance(site, Conic) and site.kind == "circle":
         site = Circle.from_coefficients(*site.coefficients)
     if isinstance(site, Circle):
@@ -387,17 +413,33 @@ def read_coefficient_lists(path: str, expected: int | None = None) -> list[list]
     return out
 
 
-def site_to_json(site) -> dict:
+def site_to_json(site, source: int | None = None) -> dict:
     """The exact JSON record of a site: ``{"point": [x, y]}``, ``{"circle": {"centre": [x, y],
-    "radius_squared": r2}}`` or ``{"coefficients": [a, b, c, d, e, f]}``, numbers as rational strings
-    (read back by :func:`parse_site` to the same site)."""
+    "radius_squared": r2}}``, ``{"coefficients": [a, b, c, d, e, f]}`` or ``{"segment": [[x0, y0],
+    [x1, y1]]}`` (with the segment's ``"label"`` when it has one), numbers as rational strings (read
+    back by :func:`parse_site` to the same site).  ``"source"`` is written when ``source`` (or else
+    the site's attribute ``source``) is not None."""
     from ..predicates.circles import Circle
     from .conic import Conic
+    from .segment import Segment
 
     if isinstance(site, Circle):
         if site.r2 == 0:
-            return {"point": [str(site.cx), str(site.cy)]}
-        return {"circle": {"centre": [str(site.cx), str(site.cy)], "radius_squared": str(site.r2)}}
-    if isinstance(site, Conic):
-        return {"coefficients": [str(v) for v in site.coefficients]}
-    raise TypeError(f"not a site: {site!r}")
+            out = {"point": [str(site.cx), str(site.cy)]}
+        else:
+            out = {"circle": {"centre": [str(site.cx), str(site.cy)], "radius_squared": str(site.r2)}}
+    elif isinstance(site, Conic):
+        out = {"coefficients": [str(v) for v in site.coefficients]}
+    elif isinstance(site, Segment):
+        out = {"segment": [[str(site.p[0]), str(site.p[1])], [str(site.q[0]), str(site.q[1])]]}
+        if site.label is not None:
+            out["label"] = str(site.label)
+    else:
+        raise TypeError(f"not a site: {site!r}")
+    if source is None:
+        source = getattr(site, "source", None)
+    if source is not None:
+        if isinstance(source, bool) or int(source) != source or source < 0:
+            raise ValueError(f"source must be an integer >= 0, got {source!r}")
+        out["source"] = int(source)
+    return out
