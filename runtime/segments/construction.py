@@ -29,7 +29,7 @@ import math
 import time
 
 import numpy as np
-from scipy.spatial import cKDTree
+from scipy.spatial import Delaunay, QhullError, cKDTree
 
 from ..predicates.circles import Point
 from ..sites.segment import Segment, as_point_pair
@@ -81,11 +81,14 @@ def segment_voronoi(pieces, sources=None, *, certify: bool = True, tolerance: fl
         tolerance = 1e-4 * extent
     spacing = _initial_spacing(E)
     stats: dict = {"sites": len(E), "points": E.n_points, "segments": len(E) - E.n_points, "rounds": 0}
+    caches: dict = {"proofs": {}, "verdicts": {}}
+    previous = None
     for _ in range(MAX_ROUNDS):
         stats["rounds"] += 1
-        result, refine = _build_once(E, spacing, stats)
-        if not refine:
-            break
+        result, refine = _build_once(E, spacing, stats, caches)
+        if not refine or result[2] == previous:
+            break            # consistent, or refining changed nothing
+        previous = result[2]
         idx = np.array(sorted(refine), dtype=int)
         spacing[idx] = spacing[idx] / 2
     vertices, walks, problems = result
@@ -194,7 +197,7 @@ def _samples(E: ElementarySites, spacing):
 
 
 # ------------------------------------------------------------------------------------ one round
-def _build_once(E: ElementarySites, spacing, stats):
+def _build_once(E: ElementarySites, spacing, stats, caches):
     """Triangulate the samples, prove the candidate vertices, check the walks.
     Returns ((vertices, walks, problems), {site: refine}) with walks mapped to vertex ids."""
     P, lab = _samples(E, spacing)
@@ -208,7 +211,7 @@ def _build_once(E: ElementarySites, spacing, stats):
         a = np.linspace(0, 2 * np.pi, 33)[:-1] + 0.1
         P = np.vstack([P, c + R * np.column_stack([np.cos(a), np.sin(a)])])
         lab = np.concatenate([lab, np.full(32, ghost)])
-    tri = SampleTriangulation(P, lab)
+    tri = _triangulation(P, lab)
     raw = tri.walks()
     threes = np.nonzero(tri.nlab == 3)[0]
     T3 = np.sort(tri.L[threes], axis=1)
@@ -220,7 +223,9 @@ def _build_once(E: ElementarySites, spacing, stats):
     vertices: list[DiagramVertex] = []
     key_to_vid: dict = {}
     tri_vid = {}
-    proved_cache: dict = {}
+    proved_cache = caches["proofs"]     # proofs and emptiness verdicts do not depend on the samples
+    verdicts = caches["verdicts"]
+    by_sites: dict = {}
     for t, triple, seed in zip(threes.tolist(), T3.tolist(), seeds):
         triple = tuple(int(v) for v in triple)
         if ghost in triple:
@@ -235,33 +240,21 @@ def _build_once(E: ElementarySites, spacing, stats):
                 vertices.append(DiagramVertex(len(vertices), _corner_order(E, c), float(x), float(y), 0.0, True))
             tri_vid[t] = key_to_vid[key]
             continue
-        sol = None
-        for prev in proved_cache.get(triple, []):
-            if math.hypot(prev[0].x - seed[0], prev[0].y - seed[1]) < 0.25 * max(prev[0].r, 1e-300) + hmax:
-                sol, vid = prev
-                break
-        if sol is None:
-            sol = prove_vertex(E, triple, seed)
-            vid = None
-            if sol.status == "proved":
-                empty, members, culprit = prove_empty(E, tree, lab, hmax, triple, sol)
-                if empty:
-                    key = tuple(sorted(members))
-                    if key not in key_to_vid:
-                        key_to_vid[key] = len(vertices)
-                        vertices.append(DiagramVertex(len(vertices), _contact_order(E, members, sol), sol.x, sol.y,
-                                                      sol.r, True))
-                    vid = key_to_vid[key]
-                else:
-                    refine.update(triple)
-                    if culprit is not None:
-                        refine.add(culprit)
-                        if empty is None:
-                            problems.append(f"sites {', '.join(map(str, triple))}: emptiness of the vertex at "
-                                            f"({sol.x:.6g}, {sol.y:.6g}) undecided (site {culprit})")
+        sol = prove_vertex(E, triple, seed, cache=proved_cache)
+        vid = None
+        if sol.status == "proved":
+            if id(sol) not in verdicts:
+                verdicts[id(sol)] = prove_empty(E, tree, lab, hmax, triple, sol)
+            empty, members, culprit = verdicts[id(sol)]
+            if empty:
+                vid = _vertex_id(vertices, by_sites, members, sol, E)
             else:
                 refine.update(triple)
-            proved_cache.setdefault(triple, []).append((sol, vid))
+                if culprit is not None:
+                    refine.add(culprit)
+                    if empty is None:
+                        problems.append(f"sites {', '.join(map(str, triple))}: emptiness of the vertex at "
+                                        f"({sol.x:.6g}, {sol.y:.6g}) undecided (site {culprit})")
         if vid is None:
             refine.update(triple)
         else:
@@ -306,6 +299,20 @@ def _build_once(E: ElementarySites, spacing, stats):
     return (vertices, walks, problems), refine
 
 
+def _vertex_id(vertices, by_sites, members, sol, E):
+    """The id of the vertex with these sites at this position (10⁻⁹ of the scale), new if none."""
+    key = tuple(sorted(members))
+    tol = 1e-9 * (1.0 + abs(sol.x) + abs(sol.y) + sol.r)
+    for vid in by_sites.get(key, []):
+        v = vertices[vid]
+        if abs(v.x - sol.x) <= tol and abs(v.y - sol.y) <= tol:
+            return vid
+    vid = len(vertices)
+    vertices.append(DiagramVertex(vid, _contact_order(E, members, sol), sol.x, sol.y, sol.r, True))
+    by_sites.setdefault(key, []).append(vid)
+    return vid
+
+
 def _hint(tri, e):
     """A point in the direction of a walk's end (the circumcentre of the hull triangle)."""
     if e is None or e[0] not in ("hull", "tri"):
@@ -327,6 +334,20 @@ def _outward(E: ElementarySites, i: int, j: int, base, d, far) -> float:
         if best is None or margin > best:
             best, sgn = margin, s
     return sgn
+
+
+def _triangulation(P, lab) -> SampleTriangulation:
+    """qhull without joggling whenever it keeps every sample (segment samples are collinear in
+    runs, which qhull's merged facets handle; joggling would flip the slivers on the hull whose
+    circumcentres are the far vertices of nearly collinear hull sites), else joggled."""
+    c = (P.min(axis=0) + P.max(axis=0)) / 2
+    try:
+        d = Delaunay(P - c, qhull_options="Qbb Qc Qz Q12")
+        if not len(d.coplanar):
+            return SampleTriangulation(P, lab, d.simplices, d.neighbors)
+    except QhullError:
+        pass
+    return SampleTriangulation(P, lab)
 
 
 def _flat(P) -> bool:

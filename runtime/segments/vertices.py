@@ -153,8 +153,11 @@ def _arb_system(eqs):
     return F, J
 
 
-def prove_vertex(E: ElementarySites, triple, seed, r_seed: float | None = None) -> VertexSolution:
-    """The vertex of ``triple`` (three elementary site indices) near ``seed`` (x, y), proved."""
+def prove_vertex(E: ElementarySites, triple, seed, r_seed: float | None = None, cache: dict | None = None
+                 ) -> VertexSolution:
+    """The vertex of ``triple`` (three elementary site indices) near ``seed`` (x, y), proved.
+    ``cache``: proofs by (triple, sides, Newton limit rounded to 10⁻⁹ of the scale), so that the
+    many sample triangles of one vertex are proved once."""
     c = common_point(E, triple)
     if c is not None:
         x, y = E.xy[c]
@@ -179,12 +182,29 @@ def prove_vertex(E: ElementarySites, triple, seed, r_seed: float | None = None) 
             return VertexSolution("undecided", float(seed[0]), float(seed[1]), 0.0, reason="Newton diverged")
         if np.max(np.abs(step)) <= 1e-15 * scale:
             break
+    key = None
+    if cache is not None:
+        sides = tuple(d[3] if k == "line" else 0 for k, d in eqs)
+        key = (tuple(triple), sides) + tuple(np.round(z / (1e-9 * scale)).astype(np.int64).tolist())
+        if key in cache:
+            return cache[key]
+    sol = _prove(E, triple, eqs, z, scale)
+    if key is not None:
+        cache[key] = sol
+    return sol
+
+
+def _prove(E: ElementarySites, triple, eqs, z, scale) -> VertexSolution:
     old = ctx.prec
     ctx.prec = PREC
     try:
         Fa, Ja = _arb_system(eqs)
         try:
-            K, _X = krawczyk_inflation(Fa, Ja, [arb(float(v)) for v in z])
+            # an isotropic first radius (2^-44 of the scale): the residuals of the point
+            # equations often cancel in Y·F(m), and a radius at the rounding floor in x, y
+            # cannot absorb the r² term of the box
+            K, _X = krawczyk_inflation(Fa, Ja, [arb(float(v)) for v in z],
+                                       floor=arb(scale + abs(float(z[2]))) * arb(2) ** -44)
         except KrawczykFailure as exc:
             return VertexSolution("undecided", *z, reason=f"Krawczyk: {exc}")
         x, y, r = K
