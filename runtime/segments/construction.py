@@ -121,8 +121,11 @@ def segment_voronoi(pieces, sources=None, *, certify: bool = True, tolerance: fl
 
 def _as_piece(p, k):
     """A Segment, a Point, or an (x, y) pair made a Point."""
-    if isinstance(p, (Segment, Point)):
+    if isinstance(p, Segment) or (isinstance(p, Point) and p.r2 == 0):
         return p
+    if hasattr(p, "r2") or hasattr(p, "coefficients"):
+        raise SiteError(f"site {k}: {p!r}: circles and conics cannot be mixed with segments yet (points and "
+                        "segments only)")
     x, y = as_point_pair(p, f"site {k}")
     return Point(x, y)
 

@@ -28,6 +28,28 @@ __all__ = ["plot_diagram", "fit_window", "COLOURS"]
 COLOURS = {"site": "black", "edge": "tab:blue", "vertex": "tab:red", "delaunay": "grey", "empty": "tab:green"}
 
 
+class _SegmentShape:
+    """What the picture needs of a segment site (thesis §2.2: drawn as the closed segment)."""
+
+    kind = "segment"
+    bounded = True
+
+    def __init__(self, seg):
+        (self.x0, self.y0), (self.x1, self.y1) = seg.float_endpoints()
+
+    def bounding_box(self):
+        return min(self.x0, self.x1), min(self.y0, self.y1), max(self.x0, self.x1), max(self.y0, self.y1)
+
+    def samples(self, spacing, window):
+        return np.array([[self.x0, self.y0], [self.x1, self.y1]])
+
+
+def _shape(site):
+    from ..sites.segment import Segment
+
+    return _SegmentShape(site) if isinstance(site, Segment) else site_geometry(site)
+
+
 def _key_points(g) -> list[tuple[float, float]]:
     """Points that stand for a site in the window: a point, the corners of a bounded site's box,
     the vertices and foci of a parabola (Y² = 2pX) or hyperbola (X²/a² − Y²/b² = 1)."""
@@ -52,7 +74,7 @@ def _internal(win):
 def fit_window(diagram, geoms=None, pad: float = 0.15) -> tuple[float, float, float, float]:
     """A square window ``(xmin, xmax, ymin, ymax)`` around the sites (see the module docstring)."""
     if geoms is None:
-        geoms = [site_geometry(s) for s in diagram.sites]
+        geoms = [_shape(s) for s in diagram.sites]
     pts = np.array([p for g in geoms for p in _key_points(g)] or [(-1.0, -1.0), (1.0, 1.0)], dtype=float)
     pts = pts[np.isfinite(pts).all(axis=1)]
     if not len(pts):
@@ -189,7 +211,7 @@ def plot_diagram(diagram, path_or_ax=None, *, empty_circles: bool = False, title
     import matplotlib.pyplot as plt
     from matplotlib.lines import Line2D
 
-    geoms = [site_geometry(s) for s in diagram.sites]
+    geoms = [_shape(s) for s in diagram.sites]
     if window is None:
         win = fit_window(diagram, geoms)
     if path_or_ax is not None and hasattr(path_or_ax, "plot"):

@@ -124,6 +124,9 @@ class Diagram:
     stats: dict = field(default_factory=dict)
     #: the construction's sampling state (not serialised), used by :meth:`delete_site`
     construction: object = field(default=None, repr=False, compare=False)
+    #: for elementary sites of points and segments (thesis §2.2): the index of the input piece
+    #: each site comes from (JSON: the ``"source"`` member of each site record); None otherwise
+    sources: list | None = field(default=None, repr=False)
 
     # ------------------------------------------------------------------ updates
     def delete_site(self, i: int, *, certify: bool = True) -> "Diagram":
@@ -160,7 +163,8 @@ class Diagram:
         from ..sites.reader import site_to_json
 
         return {"format": FORMAT,
-                "sites": [site_to_json(s) for s in self.sites],
+                "sites": [site_to_json(s, source=None if self.sources is None else self.sources[i])
+                          for i, s in enumerate(self.sites)],
                 "vertices": [v.to_json() for v in self.vertices],
                 "edges": [e.to_json() for e in self.edges],
                 "delaunay_edges": [list(p) for p in self.delaunay_edges()],
@@ -189,8 +193,11 @@ class Diagram:
                      for e in doc["edges"]]
         except (KeyError, TypeError) as exc:
             raise ValueError(f"malformed diagram document: {exc!r}") from None
+        sources = None
+        if any(isinstance(s, dict) and "source" in s for s in doc["sites"]):
+            sources = [s.get("source") if isinstance(s, dict) else None for s in doc["sites"]]
         return cls(sites, verts, edges, bool(doc.get("certified", False)),
-                   list(doc.get("problems", [])), dict(doc.get("stats", {})))
+                   list(doc.get("problems", [])), dict(doc.get("stats", {})), sources=sources)
 
     def to_geojson(self, crs: str | None = None) -> dict:
         """A GeoJSON FeatureCollection: one LineString per edge (properties ``kind="edge"``,
@@ -231,6 +238,65 @@ class Diagram:
         from .plot import plot_diagram
 
         return plot_diagram(self, path_or_ax, empty_circles=empty_circles, **kw)
+
+    # ------------------------------------------------------------------ queries and cells
+    def site_distance(self, points, sites=None, *, bounds: bool = False):
+        """(n, m) float distances from the n query points (an (n, 2) array) to the sites (or to
+        the listed ``sites``), every site kind; ``bounds=True`` gives a pair (lo, hi) of such
+        arrays, rigorous.  The result takes n·m·8 bytes (10⁴ × 10⁴: 800 MB): query in blocks
+        or pass ``sites``.  See :mod:`runtime.voronoi.queries`."""
+        from .queries import site_index
+
+        return site_index(self).distance(points, sites, bounds=bounds)
+
+    def nearest(self, points, *, prove: bool = True):
+        """The nearest site of each query point (an (n, 2) array): a
+        :class:`runtime.voronoi.queries.NearestResult` (``index``, ``distance``, ``proved``,
+        ``ties``, ``exact``).  With ``prove`` the answer is proved with rigorous distance bounds
+        and near ties decided exactly (points and circles); a tie is reported in ``ties`` with
+        ``index`` −1, never as a guessed winner.  ``prove=False``: float distances only."""
+        from .queries import site_index
+
+        return site_index(self).nearest(points, prove=prove)
+
+    @property
+    def vertex_array(self) -> np.ndarray:
+        """The vertices' coordinates, an (n, 2) float array (row t: ``vertices[t]``), as scipy's
+        ``Voronoi.vertices``."""
+        return np.array([[v.x, v.y] for v in self.vertices], dtype=float).reshape(-1, 2)
+
+    @property
+    def ridge_sites(self) -> np.ndarray:
+        """The two sites of each edge, an (m, 2) int array (row t: ``edges[t].sites``), as scipy's
+        ``Voronoi.ridge_points``."""
+        return np.array([e.sites for e in self.edges], dtype=np.int64).reshape(-1, 2)
+
+    @property
+    def ridge_vertices(self) -> np.ndarray:
+        """The end vertices of each edge as rows of :attr:`vertex_array`, an (m, 2) int array,
+        −1 for an end at infinity (as scipy's ``Voronoi.ridge_vertices``).  A closed edge (the
+        vertex-less loop around a nested site) is also [−1, −1]: tell it from an edge infinite at
+        both ends by ``edges[t].closed``."""
+        pos = {v.id: t for t, v in enumerate(self.vertices)}
+        return np.array([[-1 if u is None else pos[u] for u in e.ends] for e in self.edges],
+                        dtype=np.int64).reshape(-1, 2)
+
+    def cells(self, clip=None) -> list:
+        """One shapely geometry per site: its Voronoi region (boundary from the edges' polylines,
+        within their tolerance) clipped to ``clip``, a box (xmin, ymin, xmax, ymax) or any shapely
+        polygon (default: the sites' bounding box with a 10 % margin).  A nested site's region
+        is a hole in its container's cell; a cell that misses the clip region is an empty Polygon.
+        Needs shapely.  See :mod:`runtime.voronoi.cells`."""
+        from .cells import diagram_cells
+
+        return diagram_cells(self, clip)
+
+    def to_geopandas(self, crs=None, clip=None):
+        """Three GeoDataFrames (``cells``, ``edges``, ``sites``) in a named tuple, with ``crs``
+        passed through; ``clip`` as for :meth:`cells`.  Needs geopandas (ImportError otherwise)."""
+        from .cells import diagram_geopandas
+
+        return diagram_geopandas(self, crs=crs, clip=clip)
 
     def __repr__(self) -> str:
         return (f"Diagram({len(self.sites)} sites, {len(self.vertices)} vertices, {len(self.edges)} edges, "
