@@ -1,0 +1,209 @@
+"""The medial axis of a polygonal domain (thesis §2.3), from the Voronoi diagram of its boundary.
+
+The medial axis of a domain Ω is the closure of the set of centres of maximal inscribed discs;
+for a polygon with holes it is the part inside Ω of the Voronoi diagram of the boundary's
+elementary sites (its segments' open interiors and its corners, thesis §2.2), **without** the
+edges between a corner and a segment ending there: those are perpendiculars to the boundary at
+a reflex corner (inside Ω) or at a convex one (outside), and their points have a single nearest
+boundary point (Lee, *Medial axis transformation of a planar shape*, IEEE PAMI 1982).  Every
+other Voronoi edge lies entirely inside or entirely outside Ω (it meets the boundary only at
+corners, where the radius is 0), so one interior point of each edge decides it, by the even–odd
+rule over the boundary's segments.
+
+Thesis Fig. 2.3.1–2.3.2: a curved boundary approximated by segments has a medial axis of another
+topology (one branch per convex corner); arcs are needed for curved outlines.
+
+Public API: :func:`medial_axis`, :class:`MedialAxis`, :func:`boundary_pieces`.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..sites.segment import Segment
+from .bisectors import bisector_kind
+from .distance import distances
+
+__all__ = ["medial_axis", "MedialAxis", "MedialEdge", "boundary_pieces"]
+
+
+@dataclass
+class MedialEdge:
+    """A piece of the medial axis: the Voronoi edge ``id`` of the boundary sites ``sites``; the
+    inscribed circle centred at ``polyline[k]`` has radius ``radius[k]``."""
+
+    id: int
+    sites: tuple[int, int]
+    ends: tuple
+    polyline: np.ndarray
+    radius: np.ndarray
+    tolerance: float
+    certified: bool
+
+
+@dataclass
+class MedialAxis:
+    """The medial axis: ``edges`` (polylines with the inscribed radius along them), ``vertices``
+    (the diagram's vertices inside the domain, radius 0 at convex corners), ``certified`` (the
+    Voronoi diagram of the boundary was proved by the independent certificate) and ``diagram``
+    (that Voronoi diagram, whose sites are the boundary's elementary sites)."""
+
+    edges: list
+    vertices: list
+    certified: bool
+    diagram: object = field(repr=False)
+    problems: list = field(default_factory=list)
+
+    def __repr__(self) -> str:
+        return (f"MedialAxis({len(self.edges)} edges, {len(self.vertices)} vertices, certified={self.certified}, "
+                f"{len(self.problems)} problems)")
+
+    @property
+    def largest_inscribed_circle(self) -> tuple[float, float, float]:
+        """(x, y, r): the largest disc inside the domain (the maximum of the radius function on
+        the medial axis is at a vertex, or anywhere on an edge of constant radius)."""
+        best = max(((v.x, v.y, v.radius) for v in self.vertices), key=lambda t: t[2], default=None)
+        for e in self.edges:
+            k = int(np.argmax(e.radius))
+            if best is None or e.radius[k] > best[2]:
+                best = (float(e.polyline[k, 0]), float(e.polyline[k, 1]), float(e.radius[k]))
+        return best
+
+    def to_shapely(self):
+        """A shapely MultiLineString of the edges (needs shapely)."""
+        try:
+            from shapely.geometry import MultiLineString
+        except ImportError:
+            raise ImportError("MedialAxis.to_shapely needs shapely (pip install shapely)") from None
+        return MultiLineString([np.asarray(e.polyline, float) for e in self.edges])
+
+    def to_geojson(self, crs: str | None = None) -> dict:
+        """A FeatureCollection: one LineString per edge (properties ``sites``, ``radius`` at each
+        point, ``tolerance``, ``certified``) and one Point per vertex (``radius``)."""
+        feats = [{"type": "Feature", "id": f"edge-{e.id}",
+                  "geometry": {"type": "LineString", "coordinates": np.asarray(e.polyline, float).tolist()},
+                  "properties": {"kind": "edge", "sites": list(e.sites), "radius": np.asarray(e.radius).tolist(),
+                                 "tolerance": e.tolerance, "certified": e.certified}} for e in self.edges]
+        feats += [{"type": "Feature", "id": f"vertex-{v.id}",
+                   "geometry": {"type": "Point", "coordinates": [v.x, v.y]},
+                   "properties": {"kind": "vertex", "sites": list(v.sites), "radius": v.radius}}
+                  for v in self.vertices]
+        out = {"type": "FeatureCollection", "features": feats}
+        if crs is not None:
+            out["crs"] = {"type": "name", "properties": {"name": str(crs)}}
+        return out
+
+    def plot(self, path_or_ax=None, *, inscribed: bool = True, title: str | None = None, dpi: int = 120):
+        """Draw the boundary (black), the medial axis (blue; dotted where not certified) and the
+        largest inscribed circle (green).  Returns the matplotlib Figure."""
+        import matplotlib
+
+        if path_or_ax is None or not hasattr(path_or_ax, "plot"):
+            matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        if path_or_ax is not None and hasattr(path_or_ax, "plot"):
+            ax = path_or_ax
+            fig = ax.figure
+        else:
+            fig, ax = plt.subplots(figsize=(8, 8))
+        for s in self.diagram.sites:
+            if isinstance(s, Segment):
+                (x0, y0), (x1, y1) = s.float_endpoints()
+                ax.plot([x0, x1], [y0, y1], "-", color="black", lw=1.4)
+        for e in self.edges:
+            P = np.asarray(e.polyline)
+            ax.plot(P[:, 0], P[:, 1], "-" if e.certified else ":", color="tab:blue", lw=1.3)
+        if inscribed and (self.edges or self.vertices):
+            x, y, r = self.largest_inscribed_circle
+            t = np.linspace(0, 2 * np.pi, 400)
+            ax.plot(x + r * np.cos(t), y + r * np.sin(t), "-", color="tab:green", lw=0.8)
+        ax.set_aspect("equal")
+        status = "certified" if self.certified else "not certified"
+        ax.set_title(title or f"medial axis: {len(self.edges)} edges, {status}", fontsize=9)
+        if path_or_ax is not None and not hasattr(path_or_ax, "plot"):
+            fig.savefig(path_or_ax, dpi=dpi, bbox_inches="tight")
+            plt.close(fig)
+        return fig
+
+
+def _ring_segments(ring, where: str) -> list:
+    """A closed ring as segments: a list of Segments (a closed loop), of (x, y) vertices, a
+    shapely LinearRing/Polygon exterior or a GeoJSON ring."""
+    if isinstance(ring, (list, tuple)) and ring and all(isinstance(s, Segment) for s in ring):
+        return list(ring)
+    from ..sites.shapes import pieces_from_geometry
+
+    if isinstance(ring, (list, tuple)):
+        coords = [tuple(p) for p in ring]
+        if coords and coords[0] != coords[-1]:
+            coords.append(coords[0])
+        ring = {"type": "Polygon", "coordinates": [coords]}
+    pieces, _ = pieces_from_geometry(ring)
+    segs = [p for p in pieces if isinstance(p, Segment)]
+    if len(segs) < 3:
+        raise ValueError(f"{where}: a closed boundary needs at least 3 segments, got {len(segs)}")
+    return segs
+
+
+def boundary_pieces(outer, holes=()) -> list:
+    """The segments of the boundary of the domain: ``outer`` (a shapely Polygon — its holes are
+    taken too —, LinearRing, GeoJSON Polygon, list of vertices or closed loop of Segments) and
+    each hole in ``holes``."""
+    segs = _ring_segments(outer, "outer")
+    for k, h in enumerate(holes):
+        segs += _ring_segments(h, f"hole {k}")
+    return segs
+
+
+def _inside(boundary: np.ndarray, Q: np.ndarray) -> np.ndarray:
+    """Even–odd rule: points Q (m × 2) strictly inside the region bounded by the segments
+    ``boundary`` (k × 2 × 2) — outer ring and holes together."""
+    A, B = boundary[:, 0], boundary[:, 1]
+    x, y = Q[:, 0][:, None], Q[:, 1][:, None]
+    cond = (A[:, 1][None, :] > y) != (B[:, 1][None, :] > y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xc = A[:, 0][None, :] + (y - A[:, 1][None, :]) * (B[:, 0] - A[:, 0])[None, :] / (B[:, 1] - A[:, 1])[None, :]
+    return (np.sum(cond & (x < xc), axis=1) % 2) == 1
+
+
+def medial_axis(outer, holes=(), *, certify: bool = True, tolerance: float | None = None) -> MedialAxis:
+    """The medial axis of a polygon with holes (see the module docstring).
+
+    >>> import curvedvoronoi as cv
+    >>> m = cv.medial_axis([(0, 0), (4, 0), (4, 2), (0, 2)])
+    >>> sorted((round(v.x, 9), round(v.y, 9)) for v in m.vertices if v.radius > 0)
+    [(1.0, 1.0), (3.0, 1.0)]
+    >>> m.largest_inscribed_circle
+    (1.0, 1.0, 1.0)
+    """
+    from .construction import segment_voronoi
+
+    segs = boundary_pieces(outer, holes)
+    D = segment_voronoi(segs, certify=certify, tolerance=tolerance)
+    E = D.elementary
+    bnd = np.array([[s.float_endpoints()[0], s.float_endpoints()[1]] for s in D.sites if isinstance(s, Segment)])
+    keep = []
+    probes = []
+    for e in D.edges:
+        i, j = e.sites
+        if bisector_kind(E, i, j) == "perpendicular" or None in e.ends:
+            continue
+        P = np.asarray(e.polyline, float)
+        k = len(P) // 2
+        probes.append((P[k - 1] + P[k]) / 2 if len(P) % 2 == 0 else P[k])
+        keep.append(e)
+    inside = _inside(bnd, np.array(probes).reshape(-1, 2)) if probes else np.zeros(0, bool)
+    edges = []
+    used = set()
+    for e, ok in zip(keep, inside.tolist()):
+        if not ok:
+            continue
+        P = np.asarray(e.polyline, float)
+        i = e.sites[0]
+        r, _ = distances(np.repeat(E.A[i][None], len(P), 0), np.repeat(E.B[i][None], len(P), 0), P)
+        edges.append(MedialEdge(len(edges), e.sites, e.ends, P, r, e.tolerance, e.certified))
+        used.update(v for v in e.ends if v is not None)
+    vertices = [D.vertices[v] for v in sorted(used)]
+    return MedialAxis(edges, vertices, bool(D.certified), D, list(D.problems))
