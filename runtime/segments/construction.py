@@ -46,6 +46,8 @@ from .vertices import common_point, prove_vertex
 __all__ = ["segment_voronoi", "has_segments"]
 
 MAX_ROUNDS = 10
+#: initial sample spacing of a segment: its gap to the nearest non-adjacent site divided by this
+SPACING_PER_GAP = 4.0
 
 
 def has_segments(sites) -> bool:
@@ -90,7 +92,8 @@ def segment_voronoi(pieces, sources=None, *, certify: bool = True, tolerance: fl
             break            # consistent, or refining changed nothing
         previous = result[2]
         idx = np.array(sorted(refine), dtype=int)
-        spacing[idx] = spacing[idx] / 2
+        cap = np.array([refine[i] for i in idx.tolist()])
+        spacing[idx] = np.minimum(spacing[idx] / 2, cap)
     vertices, walks, problems = result
     edges = _edges(E, vertices, walks, tolerance, lo, hi)
     D = Diagram(E.sites, vertices, edges, False, problems, stats)
@@ -170,7 +173,7 @@ def _initial_spacing(E: ElementarySites) -> np.ndarray:
         np.minimum.at(gap, lab[ok], dist[ok, c])
     finite = np.isfinite(gap)
     gap[~finite] = np.median(gap[finite]) if finite.any() else 1.0
-    return np.where(E.kind == POINT, np.inf, np.minimum(L / 4, gap / 2))
+    return np.where(E.kind == POINT, np.inf, np.minimum(L / 4, gap / SPACING_PER_GAP))
 
 
 def _adjacent(E: ElementarySites, a, b):
@@ -221,13 +224,14 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
     seeds = tri.cc[threes]
     tree = cKDTree(P)
     hmax = float(np.max(spacing[np.isfinite(spacing)])) if np.isfinite(spacing).any() else 0.0
-    refine: set = set()
+    refine = _Refine()
     problems: list[str] = []
     vertices: list[DiagramVertex] = []
     key_to_vid: dict = {}
     tri_vid = {}
     proved_cache = caches["proofs"]     # proofs and emptiness verdicts do not depend on the samples
     verdicts = caches["verdicts"]
+    near_cache = caches.setdefault("near", {})
     by_sites: dict = {}
     for t, triple, seed in zip(threes.tolist(), T3.tolist(), seeds):
         triple = tuple(int(v) for v in triple)
@@ -243,7 +247,19 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
                 vertices.append(DiagramVertex(len(vertices), _corner_order(E, c), float(x), float(y), 0.0, True))
             tri_vid[t] = key_to_vid[key]
             continue
-        sol = prove_vertex(E, triple, seed, cache=proved_cache)
+        # a seed near a proved solution of its triple (within twice the triple's sample spacing)
+        # takes it without a new Newton run; two vertices of one triple that close make the
+        # edge checks fail, and the refinement then separates them
+        reach = 2 * max((spacing[t] for t in triple if np.isfinite(spacing[t])), default=0.0)
+        sol = None
+        for prev in near_cache.get(triple, ()):
+            if math.hypot(prev.x - seed[0], prev.y - seed[1]) <= reach:
+                sol = prev
+                break
+        if sol is None:
+            sol = prove_vertex(E, triple, seed, cache=proved_cache)
+            if sol.status == "proved":
+                near_cache.setdefault(triple, []).append(sol)
         vid = None
         if sol.status == "proved":
             if id(sol) not in verdicts:
@@ -254,7 +270,14 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
             else:
                 refine.update(triple)
                 if culprit is not None:
-                    refine.add(culprit)
+                    # a site entering a circle of radius r by δ passes between samples more than
+                    # √(2rδ) apart: that spacing puts one of its samples inside
+                    dq, _ = distances(E.A[[culprit]], E.B[[culprit]], np.array([[sol.x, sol.y]]))
+                    depth = sol.r - float(dq[0])
+                    cap = 0.9 * math.sqrt(2 * sol.r * depth) if depth > 0 else np.inf
+                    refine.add(culprit, cap)
+                    for t in triple:
+                        refine.add(t, cap)
                     if empty is None:
                         problems.append(f"sites {', '.join(map(str, triple))}: emptiness of the vertex at "
                                         f"({sol.x:.6g}, {sol.y:.6g}) undecided (site {culprit})")
@@ -297,9 +320,24 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
             problems.append(f"sites {', '.join(map(str, v.sites))}: the vertex at ({v.x:.6g}, {v.y:.6g}) has incident "
                             f"edges {sorted(degree[v.id])}, expected {want}")
     # point sites are single samples: refine the segments ending at them instead
-    refine = {s for s in refine if E.kind[s] != POINT} | {s for p in refine if E.kind[p] == POINT
-                                                           for s in E.incident[p]}
+    out: dict = {}
+    for t, cap in refine.items():
+        for s_ in ([t] if E.kind[t] != POINT else E.incident[t]):
+            out[s_] = min(out.get(s_, np.inf), cap)
+    refine = out
     return (vertices, walks, problems), refine
+
+
+class _Refine(dict):
+    """Sites to sample more densely: site -> the largest spacing wanted (∞: halve)."""
+
+    def add(self, t, cap=np.inf):
+        t = int(t)
+        self[t] = min(self.get(t, np.inf), cap)
+
+    def update(self, sites):
+        for t in sites:
+            self.add(t)
 
 
 def _vertex_id(vertices, by_sites, members, sol, E):
