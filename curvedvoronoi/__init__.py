@@ -98,6 +98,7 @@ _LAZY = {
     "Circle": ("runtime.predicates.circles", "Circle"),
     "Point": ("runtime.predicates.circles", "Point"),
     "Segment": ("runtime.sites.segment", "Segment"),
+    "Arc": ("runtime.sites.arc", "Arc"),
     "medial_axis": ("runtime.segments.medial_axis", "medial_axis"),
     "MedialAxis": ("runtime.segments.medial_axis", "MedialAxis"),
     "read_dxf": ("runtime.sites.dxf", "read_dxf"),
