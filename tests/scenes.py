@@ -1,0 +1,207 @@
+"""Random integer scenes of points and segments for the segment-site Voronoi tests and their peers
+(tests/cgal/sdg_peer.py, tests/peers_boost.py).  Every generator is deterministic in its seed
+(``random.Random(seed)``) and checks its output with exact integer orientation tests."""
+from __future__ import annotations
+
+import math
+import random
+
+MIN_LENGTH = 3          # segment lengths are uniform in [MIN_LENGTH, MAX_LENGTH] before rounding
+MAX_LENGTH = 30
+MEAN_LENGTH = (MIN_LENGTH + MAX_LENGTH) / 2
+SPREAD = 4.0            # box side = SPREAD·√n·MEAN_LENGTH: about 1/SPREAD² segments per MEAN_LENGTH²
+
+
+def orient(a, b, c) -> int:
+    """Sign of the turn a → b → c (exact on integers)."""
+    d = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    return (d > 0) - (d < 0)
+
+
+def _on_segment(a, b, p) -> bool:
+    """p (collinear with a, b) lies on the closed segment [a, b]."""
+    return min(a[0], b[0]) <= p[0] <= max(a[0], b[0]) and min(a[1], b[1]) <= p[1] <= max(a[1], b[1])
+
+
+def segments_meet(a, b, c, d) -> bool:
+    """The closed segments [a, b] and [c, d] have a common point (crossing, touching, overlap)."""
+    o1, o2, o3, o4 = orient(a, b, c), orient(a, b, d), orient(c, d, a), orient(c, d, b)
+    if o1 * o2 < 0 and o3 * o4 < 0:
+        return True
+    return ((o1 == 0 and _on_segment(a, b, c)) or (o2 == 0 and _on_segment(a, b, d))
+            or (o3 == 0 and _on_segment(c, d, a)) or (o4 == 0 and _on_segment(c, d, b)))
+
+
+def meet_only_at(s, t, p) -> bool:
+    """Segments s and t, both with the endpoint p, have no other common point."""
+    d = s[1] if s[0] == p else s[0]
+    b = t[1] if t[0] == p else t[0]
+    if orient(p, d, b) != 0:
+        return True
+    return (d[0] - p[0]) * (b[0] - p[0]) + (d[1] - p[1]) * (b[1] - p[1]) < 0
+
+
+class _Grid:
+    """Accepted segments bucketed in square cells of side ``cell`` (each segment in every cell its
+    bounding box overlaps), for the rejection tests."""
+
+    def __init__(self, cell: int):
+        self.cell = cell
+        self.buckets: dict = {}
+        self.segments: list = []
+
+    def _cells(self, a, b):
+        c = self.cell
+        for gx in range(min(a[0], b[0]) // c, max(a[0], b[0]) // c + 1):
+            for gy in range(min(a[1], b[1]) // c, max(a[1], b[1]) // c + 1):
+                yield gx, gy
+
+    def near(self, a, b):
+        found = set()
+        for g in self._cells(a, b):
+            found.update(self.buckets.get(g, ()))
+        return found
+
+    def free(self, a, b, allowed=None) -> bool:
+        """[a, b] meets no accepted segment, except those of ``allowed`` {index: common endpoint},
+        which it may meet at that endpoint only."""
+        allowed = allowed or {}
+        for i in self.near(a, b):
+            s = self.segments[i]
+            if i in allowed:
+                if not meet_only_at(s, (a, b), allowed[i]):
+                    return False
+            elif segments_meet(s[0], s[1], a, b):
+                return False
+        return True
+
+    def add(self, a, b) -> int:
+        self.segments.append((a, b))
+        i = len(self.segments) - 1
+        for g in self._cells(a, b):
+            self.buckets.setdefault(g, []).append(i)
+        return i
+
+
+def _box_side(n: int, box) -> int:
+    return int(box) if box is not None else max(2 * MAX_LENGTH, int(SPREAD * math.sqrt(n) * MEAN_LENGTH))
+
+
+def _step(rng, a, side):
+    """A random integer point at distance about U[MIN_LENGTH, MAX_LENGTH] from a, in the box, or None."""
+    ang = rng.uniform(0.0, 2.0 * math.pi)
+    r = rng.uniform(MIN_LENGTH, MAX_LENGTH)
+    b = (a[0] + round(r * math.cos(ang)), a[1] + round(r * math.sin(ang)))
+    if b == a or not (0 <= b[0] <= side and 0 <= b[1] <= side):
+        return None
+    return b
+
+
+def random_segments(n: int, seed: int, *, box=None, shared=False):
+    """n random pairwise non-crossing segments with integer endpoints, as [((x0, y0), (x1, y1))].
+
+    Lengths are uniform in [3, 30] (then rounded to the integer grid), directions uniform, and the
+    endpoints lie in the square [0, side]² with side = ``box`` or 4·√n·16.5, so the density (about
+    1/16 segment per 16.5² area) does not depend on n.  Candidates are drawn one at a time and
+    rejected when they meet an accepted segment (crossing, touching or overlapping, decided with
+    exact integer orientations); a uniform grid of cell 30 keeps this local (n = 10⁴ in about a
+    second).
+
+    ``shared=False``: the segments are pairwise disjoint (no common endpoints).
+    ``shared=True``: the segments form chains that share endpoints and are otherwise disjoint:
+    about a third of the chains are closed star-shaped polygons (3 to 8 vertices at sorted random
+    angles around a centre, radius 4 to 15), the others open polylines (random walks of 1 to 10
+    segments; a walk that cannot continue after 20 tries stops).  Consecutive segments of a chain
+    meet at their common vertex only (an angle of 180° is allowed, overlap is not); a chain's other
+    segments and other chains are not met at all.  The chain vertices are in order, segment k of a
+    polyline ends where segment k+1 starts."""
+    rng = random.Random(seed)
+    side = _box_side(n, box)
+    grid = _Grid(MAX_LENGTH)
+    out: list = []
+    tries = 0
+    while len(out) < n:
+        tries += 1
+        if tries > 1000 * n + 10000:
+            raise RuntimeError(f"box {side} too small for {n} segments")
+        a = (rng.randint(0, side), rng.randint(0, side))
+        if not shared:
+            b = _step(rng, a, side)
+            if b is not None and grid.free(a, b):
+                grid.add(a, b)
+                out.append((a, b))
+            continue
+        if rng.random() < 1 / 3 and n - len(out) >= 3:
+            poly = _star_polygon(rng, a, min(rng.randint(3, 8), n - len(out)), side)
+            if poly is None:
+                continue
+            k = len(poly)
+            edges = [(poly[j], poly[(j + 1) % k]) for j in range(k)]
+            ok = all(grid.free(*e) for e in edges)
+            # within the polygon: consecutive edges meet at their common vertex only, others not at all
+            for j in range(k):
+                for m in range(j + 1, k):
+                    if m == j + 1:
+                        ok = ok and meet_only_at(edges[j], edges[m], poly[m])
+                    elif j == 0 and m == k - 1:
+                        ok = ok and meet_only_at(edges[j], edges[m], poly[0])
+                    else:
+                        ok = ok and not segments_meet(*edges[j], *edges[m])
+            if ok:
+                for e in edges:
+                    grid.add(*e)
+                    out.append(e)
+            continue
+        steps = min(rng.randint(1, 10), n - len(out))
+        prev = None                         # index of the chain's last segment
+        for _ in range(steps):
+            for _attempt in range(20):
+                b = _step(rng, a, side)
+                if b is not None and grid.free(a, b, {prev: a} if prev is not None else None):
+                    break
+            else:
+                break
+            prev = grid.add(a, b)
+            out.append((a, b))
+            a = b
+    return out
+
+
+def _star_polygon(rng, centre, k, side):
+    """k integer vertices at sorted random angles around centre (radius 4..15), or None when two
+    vertices coincide or one leaves the box."""
+    radius = rng.uniform(4.0, 15.0)
+    angles = sorted(rng.uniform(0.0, 2.0 * math.pi) for _ in range(k))
+    pts = []
+    for t in angles:
+        r = radius * rng.uniform(0.6, 1.0)
+        p = (centre[0] + round(r * math.cos(t)), centre[1] + round(r * math.sin(t)))
+        if not (0 <= p[0] <= side and 0 <= p[1] <= side):
+            return None
+        pts.append(p)
+    if len(set(pts)) < k:
+        return None
+    return pts
+
+
+def random_points_off(segments, m: int, seed: int, *, box=None):
+    """m distinct random integer points in the bounding box of ``segments`` (or [0, box]²), none on a
+    segment (closed: endpoints excluded too), as [(x, y)]."""
+    rng = random.Random(seed)
+    if box is None:
+        xs = [c[0] for s in segments for c in s] or [0, 10]
+        ys = [c[1] for s in segments for c in s] or [0, 10]
+        lo, hi = (min(xs), min(ys)), (max(xs), max(ys))
+    else:
+        lo, hi = (0, 0), (box, box)
+    grid = _Grid(MAX_LENGTH)
+    for a, b in segments:
+        grid.add(a, b)
+    out: list = []
+    taken: set = set()
+    while len(out) < m:
+        p = (rng.randint(lo[0], hi[0]), rng.randint(lo[1], hi[1]))
+        if p not in taken and grid.free(p, p):
+            taken.add(p)
+            out.append(p)
+    return out
