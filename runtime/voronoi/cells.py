@@ -1,0 +1,198 @@
+"""The Voronoi regions of a diagram as clipped shapely polygons, and the diagram as GeoDataFrames.
+
+Construction of :func:`diagram_cells` (issue 35, item 2):
+
+1. every edge's polyline, its ends snapped onto its vertices' coordinates (so that the edges at a
+   vertex meet exactly); an end at infinity is continued straight along the polyline's last
+   segment beyond the clip region (exact for point sites, whose edges are straight; a curved edge
+   is approximated past the far point the construction drew it to, which lies far outside the
+   sites' box);
+2. the polylines that meet the clip polygon, noded with its boundary (``shapely.union_all``: the
+   crossings are computed once, so every piece ends exactly on the boundary) and polygonized; the
+   faces inside the clip polygon tile it, and a closed edge around a nested site cuts a hole in
+   the face around it;
+3. each face goes to the site nearest to a point inside it (``point_on_surface``, queried with
+   :meth:`runtime.voronoi.queries.SiteIndex.nearest`), and the faces of one site are merged.
+
+The boundary of a cell is therefore the edges' polylines, within their ``tolerance`` of the true
+curves.  A cell is a Polygon (with holes for nested sites); a clip polygon that is not convex
+can split a region, and then the cell is a MultiPolygon.
+
+Public API: :func:`diagram_cells`, :func:`default_clip`, :func:`diagram_geopandas`,
+:class:`DiagramFrames`.
+"""
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from .queries import site_index
+
+__all__ = ["DiagramFrames", "default_clip", "diagram_cells", "diagram_geopandas"]
+
+
+def _shapely():
+    try:
+        import shapely
+    except ImportError:
+        raise ImportError("Diagram.cells needs shapely (pip install shapely, or the geo extra)") from None
+    return shapely
+
+
+def default_clip(diagram, margin: float = 0.1) -> tuple[float, float, float, float]:
+    """The sites' bounding box grown by ``margin`` of its size on every side (xmin, ymin, xmax,
+    ymax).  Unbounded sites (hyperbolas, parabolas) count by their frame's origin ± their
+    semi-axes (4p for a parabola); a box of size 0 (one point) gets size 1."""
+    boxes = []
+    for g in site_index(diagram).geoms:
+        if g.bounded:
+            boxes.append(g.bounding_box())
+        else:
+            s = max(float(getattr(g, "a", 0.0) or 0.0), float(getattr(g, "b", 0.0) or 0.0),
+                    4 * float(getattr(g, "p", 0.0) or 0.0))
+            boxes.append((g.tx - s, g.ty - s, g.tx + s, g.ty + s))
+    if not boxes:
+        return (-1.0, -1.0, 1.0, 1.0)
+    B = np.array(boxes, float)
+    x0, y0, x1, y1 = B[:, 0].min(), B[:, 1].min(), B[:, 2].max(), B[:, 3].max()
+    w, h = x1 - x0, y1 - y0
+    size = max(w, h)
+    if not size > 0:
+        size = max(1.0, abs(x0), abs(y0))
+    mx, my = margin * (w if w > 0 else size), margin * (h if h > 0 else size)
+    return (float(x0 - mx), float(y0 - my), float(x1 + mx), float(y1 + my))
+
+
+def _clip_polygon(diagram, clip):
+    shapely = _shapely()
+    if clip is None:
+        clip = default_clip(diagram)
+    if isinstance(clip, shapely.Geometry):
+        if clip.geom_type not in ("Polygon", "MultiPolygon") or clip.is_empty:
+            raise ValueError(f"clip must be a box (xmin, ymin, xmax, ymax) or a non-empty polygon, got {clip.geom_type}")
+        return clip
+    try:
+        x0, y0, x1, y1 = (float(v) for v in clip)
+    except (TypeError, ValueError):
+        raise ValueError(f"clip must be a box (xmin, ymin, xmax, ymax) or a shapely polygon, got {clip!r}") from None
+    if not (x0 < x1 and y0 < y1):
+        raise ValueError(f"clip box {clip!r} is empty (need xmin < xmax and ymin < ymax)")
+    return shapely.box(x0, y0, x1, y1)
+
+
+def edge_polylines(diagram, bounds) -> list[np.ndarray]:
+    """Each edge's polyline with its ends snapped onto its vertices and its ends at infinity
+    continued straight to beyond the box ``bounds`` (xmin, ymin, xmax, ymax)."""
+    pos = {v.id: (v.x, v.y) for v in diagram.vertices}
+    x0, y0, x1, y1 = bounds
+    cx, cy, diag = (x0 + x1) / 2, (y0 + y1) / 2, math.hypot(x1 - x0, y1 - y0)
+    out = []
+    for e in diagram.edges:
+        L = np.array(e.polyline, dtype=float).reshape(-1, 2)
+        if len(L) < 2:
+            continue
+        if e.closed:
+            out.append(L)
+            continue
+        for k, end in ((0, e.ends[0]), (-1, e.ends[1])):
+            if end is not None:
+                L[k] = pos[end]
+        if e.ends[1] is None:
+            L = np.vstack([L, _beyond(L[-2], L[-1], cx, cy, diag)])
+        if e.ends[0] is None:
+            L = np.vstack([_beyond(L[1], L[0], cx, cy, diag), L])
+        out.append(L)
+    return out
+
+
+def _beyond(p, q, cx, cy, diag):
+    """A point on the ray from p through q, beyond q, outside the disc (c, diag)."""
+    u = q - p
+    n = math.hypot(*u)
+    if not n > 0:
+        return q
+    return q + u / n * (diag + math.hypot(q[0] - cx, q[1] - cy) + 1.0)
+
+
+def diagram_cells(diagram, clip=None) -> list:
+    """One shapely geometry per site, its clipped Voronoi region (see the module docstring)."""
+    shapely = _shapely()
+    region = _clip_polygon(diagram, clip)
+    m = len(diagram.sites)
+    if m == 0:
+        return []
+    lines = np.array([shapely.LineString(L) for L in edge_polylines(diagram, region.bounds)], dtype=object)
+    if len(lines):          # whole lines, noded with the boundary: clipping first would leave
+        lines = lines[shapely.intersects(lines, region)]     # ends a rounding off the boundary
+    noded = shapely.union_all(np.concatenate([np.asarray(lines, dtype=object),
+                                              np.array([region.boundary], dtype=object)]))
+    faces = np.asarray(shapely.get_parts(shapely.polygonize(shapely.get_parts(noded))), dtype=object)
+    if len(faces):
+        reps = shapely.point_on_surface(faces)
+        keep = shapely.contains(region, reps)
+        faces, reps = faces[keep], reps[keep]
+    cells = [shapely.Polygon()] * m
+    if not len(faces):
+        return cells
+    owner = site_index(diagram).nearest(shapely.get_coordinates(reps), prove=False).index
+    order = np.argsort(owner, kind="stable")
+    cuts = np.nonzero(np.diff(owner[order]))[0] + 1
+    for part in np.split(order, cuts):
+        group = faces[part]
+        cells[int(owner[part[0]])] = group[0] if len(group) == 1 else shapely.coverage_union_all(group)
+    return cells
+
+
+class DiagramFrames(NamedTuple):
+    """:meth:`Diagram.to_geopandas`: the cells, the edges and the sites as GeoDataFrames."""
+
+    cells: object
+    edges: object
+    sites: object
+
+
+def diagram_geopandas(diagram, crs=None, clip=None) -> DiagramFrames:
+    """GeoDataFrames of the diagram, ``crs`` passed through.
+
+    * ``cells``: one row per site (``site``, ``kind``, ``label``; the clipped cell);
+    * ``edges``: one row per edge (``id``, ``site_i``, ``site_j``, ``end_0``, ``end_1`` vertex
+      ids or missing at infinity, ``closed``, ``tolerance``, ``certified``; the polyline);
+    * ``sites``: one row per site (``site``, ``kind``, ``label``; a Point for a point site,
+      otherwise the curve sampled as a LineString, unbounded curves within the clip box).
+    """
+    try:
+        import geopandas as gpd
+        import pandas as pd
+    except ImportError:
+        raise ImportError("Diagram.to_geopandas needs geopandas (pip install geopandas)") from None
+    shapely = _shapely()
+    region = _clip_polygon(diagram, clip)
+    idx = site_index(diagram)
+    kinds = [g.kind for g in idx.geoms]
+    labels = [getattr(s, "label", None) for s in diagram.sites]
+    sites = list(range(len(diagram.sites)))
+    cells = gpd.GeoDataFrame({"site": sites, "kind": kinds, "label": labels},
+                             geometry=diagram_cells(diagram, region), crs=crs)
+    E = diagram.edges
+    ends = [[e.ends[k] for e in E] for k in (0, 1)]
+    edges = gpd.GeoDataFrame(
+        {"id": [e.id for e in E], "site_i": [e.sites[0] for e in E], "site_j": [e.sites[1] for e in E],
+         "end_0": pd.array(ends[0], dtype="Int64"), "end_1": pd.array(ends[1], dtype="Int64"),
+         "closed": [bool(e.closed) for e in E], "tolerance": [float(e.tolerance) for e in E],
+         "certified": [bool(e.certified) for e in E]},
+        geometry=[shapely.LineString(np.asarray(e.polyline, float)) for e in E], crs=crs)
+    window = region.bounds
+    geoms = []
+    for g in idx.geoms:
+        if g.kind == "point":
+            geoms.append(shapely.Point(g.x0, g.y0))
+            continue
+        x0, y0, x1, y1 = g.bounding_box() if g.bounded else window
+        S = g.samples(max(x1 - x0, y1 - y0) / 256, window)
+        if g.bounded:
+            S = np.vstack([S, S[:1]])
+        geoms.append(shapely.LineString(S) if len(S) >= 2 else shapely.Point(S[0]))
+    site_frame = gpd.GeoDataFrame({"site": sites, "kind": kinds, "label": labels}, geometry=geoms, crs=crs)
+    return DiagramFrames(cells, edges, site_frame)
