@@ -8,13 +8,26 @@ Thesis §2.2 (harmless sites) and §4 (generalised offsets of degree ≤ 2 here)
   directrix the line of s, restricted to the points whose foot lies in s — parametrised here
   by the foot parameter u: v(u) = f(u) + h(u)·n, f(u) = a + u (b − a), n the unit normal on p's
   side and h(u) = |f(u) − p|² / (2 n·(p − f(u)));
-* two segment interiors is a line: an angle bisector of their lines, or their mid-parallel.
+* two segment interiors is a line: an angle bisector of their lines, or their mid-parallel;
+* two curves meeting at a smooth joint j is the normal line at j;
+* an arc (centre c, radius ρ) and any other site is a conic (ch. 4: an offset of the circle
+  meets the other site's offset): parametrised by the contact angle θ on the arc,
+  v(θ) = c + (ρ + σ t) u(θ), u(θ) = (cos θ, sin θ), σ = +1 outside the circle and −1 inside, and
+  t(θ) the distance, rational in u: with a point p (D = c − p, w = u·D)
+  t = −(|D|² + 2ρw + ρ²) / (2σ(w + ρ)); with the line n·v + c₀ = τ t (n unit)
+  t = (n·c + c₀ + ρ n·u) / (τ − σ n·u); with an arc (c₂, ρ₂, σ₂) (D = c − c₂)
+  t = (ρ₂² − ρ² − |D|² − 2ρw) / (2(σw + σρ − σ₂ρ₂)).
 
 A chord of a parabola of focal distance δ (curvature ≤ 1/δ) and length L stays within L²/(8δ)
 of its arc (the sagitta bound), which sets the sampling density and the stated tolerance; line
 edges are drawn as one straight piece (tolerance: rounding of the end points).
 
-Public API: :func:`bisector_kind`, :func:`edge_polyline`, :func:`line_direction`.
+Arc bisectors are drawn by bisection of the parameter until every chord's midpoint is within
+half the tolerance of the curve's point at the middle parameter (a measured bound, twice it
+stated); their proof is the certificate's.
+
+Public API: :func:`bisector_kind`, :func:`edge_polyline`, :func:`line_direction`,
+:func:`arc_bisector_points`.
 """
 from __future__ import annotations
 
@@ -22,35 +35,95 @@ import math
 
 import numpy as np
 
-from .elementary import POINT, ElementarySites
+from .elementary import ARC, POINT, ElementarySites
 
-__all__ = ["bisector_kind", "edge_polyline", "line_direction", "parabola_points"]
+__all__ = ["bisector_kind", "edge_polyline", "line_direction", "parabola_points", "arc_bisector_points"]
 
 #: most pieces of one parabolic edge
 MAX_PIECES = 4096
 
 
+def shared_joint(E: ElementarySites, i: int, j: int) -> int | None:
+    """The smooth joint code (< −1) that curves i and j share, if any."""
+    if E.kind[i] == POINT or E.kind[j] == POINT:
+        return None
+    common = {int(v) for v in E.ends[i] if v < -1} & {int(v) for v in E.ends[j] if v < -1}
+    return common.pop() if common else None
+
+
 def bisector_kind(E: ElementarySites, i: int, j: int) -> str:
-    """"points", "perpendicular" (an endpoint and its segment), "parabola" or "segments"."""
+    """"points", "perpendicular" (an end and its curve), "joint" (two curves of a smooth joint),
+    "parabola" (a point and a segment), "segments" or "arc" (an arc and a site not touching it)."""
     ki, kj = E.kind[i], E.kind[j]
     if ki == POINT and kj == POINT:
         return "points"
     if ki == POINT or kj == POINT:
         p, s = (i, j) if ki == POINT else (j, i)
-        return "perpendicular" if E.is_endpoint(p, s) else "parabola"
-    return "segments"
+        if E.is_endpoint(p, s):
+            return "perpendicular"
+        return "arc" if E.kind[s] == ARC else "parabola"
+    if shared_joint(E, i, j) is not None:
+        return "joint"
+    return "arc" if ARC in (ki, kj) else "segments"
+
+
+def _tangent(E: ElementarySites, s: int, e_xy) -> np.ndarray:
+    """The tangent direction of curve s at its end e (floats)."""
+    if E.kind[s] == ARC:
+        r = np.asarray(e_xy, float) - E.C[s]
+        return np.array([-r[1], r[0]])
+    return E.B[s] - E.A[s]
 
 
 def line_direction(E: ElementarySites, i: int, j: int) -> np.ndarray:
-    """A unit direction of a straight bisector of kind "points" or "perpendicular"."""
+    """A unit direction of a straight bisector of kind "points", "perpendicular" or "joint"."""
     kind = bisector_kind(E, i, j)
     if kind == "points":
         d = E.A[j] - E.A[i]
+    elif kind == "perpendicular":
+        p, s = (i, j) if E.kind[i] == POINT else (j, i)
+        d = _tangent(E, s, E.A[p])
     else:
-        s = j if E.kind[j] != POINT else i
-        d = E.B[s] - E.A[s]
+        jt = shared_joint(E, i, j)
+        d = _tangent(E, i, [float(v) for v in E.xy[jt]])
     n = np.array([-d[1], d[0]])
     return n / np.hypot(*n)
+
+
+def line_point(E: ElementarySites, i: int, j: int) -> np.ndarray:
+    """A point of a straight bisector of kind "points", "perpendicular" or "joint"."""
+    kind = bisector_kind(E, i, j)
+    if kind == "points":
+        return (E.A[i] + E.A[j]) / 2
+    if kind == "perpendicular":
+        return E.A[i if E.kind[i] == POINT else j].copy()
+    return np.array([float(v) for v in E.xy[shared_joint(E, i, j)]])
+
+
+def arc_bisector_points(E: ElementarySites, s: int, other: int, sigma: int, tau: int, theta: np.ndarray):
+    """Points v(θ) of the bisector of arc s and site ``other`` (see the module docstring) and
+    their distances t; σ: the side of the arc's circle, τ: the side of a segment's line."""
+    c, rho = E.C[s], E.rho[s]
+    U = np.column_stack([np.cos(theta), np.sin(theta)])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if E.kind[other] == POINT:
+            D = c - E.A[other]
+            w = U @ D
+            t = -(D @ D + 2 * rho * w + rho * rho) / (2 * sigma * (w + rho))
+        elif E.kind[other] == ARC:
+            c2, rho2 = E.C[other], E.rho[other]
+            D = c - c2
+            w = U @ D
+            sigma2 = 1 if tau > 0 else -1
+            t = (rho2 * rho2 - rho * rho - D @ D - 2 * rho * w) / (2 * (sigma * w + sigma * rho - sigma2 * rho2))
+        else:
+            a, b = E.A[other], E.B[other]
+            d = b - a
+            n = np.array([-d[1], d[0]]) / np.hypot(*d)
+            c0 = -n @ a
+            nu = U @ n
+            t = (n @ c + c0 + rho * nu) / (tau - sigma * nu)
+    return c + (rho + sigma * t)[:, None] * U, t
 
 
 def parabola_points(E: ElementarySites, p: int, s: int, u: np.ndarray) -> np.ndarray:
@@ -72,14 +145,22 @@ def _foot(E: ElementarySites, s: int, X) -> float:
     return float(np.dot(np.asarray(X, float) - a, d) / np.dot(d, d))
 
 
-def edge_polyline(E: ElementarySites, i: int, j: int, P0, P1, tol: float):
-    """The polyline of the edge (i, j) from P0 to P1 (finite points; far points for infinite
-    ends, already on the bisector) and its deviation bound from the true arc."""
+def edge_polyline(E: ElementarySites, i: int, j: int, P0, P1, tol: float, *, far=None, centre=None,
+                  step: int = 1):
+    """The polyline of the edge (i, j) from P0 to P1 and its deviation bound from the true arc.
+
+    Straight and parabolic bisectors take finite points (far points already placed on the line for
+    infinite ends).  An arc bisector (kind "arc") takes None for an infinite end: it is drawn from
+    the finite end along the contact angle in the direction ``step`` (+1: counter-clockwise on the
+    arc) until it leaves the disc of radius ``far`` around ``centre``."""
+    kind = bisector_kind(E, i, j)
+    if kind == "arc":
+        return _arc_edge(E, i, j, P0, P1, tol, far, centre, step)
     P0 = np.asarray(P0, float)
     P1 = np.asarray(P1, float)
     scale = 1.0 + float(np.max(np.abs(np.concatenate([P0, P1]))))
     rounding = 1e-12 * scale
-    if bisector_kind(E, i, j) != "parabola":
+    if kind != "parabola":
         return np.array([P0, P1]), rounding
     p, s = (i, j) if E.kind[i] == POINT else (j, i)
     u0, u1 = _foot(E, s, P0), _foot(E, s, P1)
@@ -93,3 +174,114 @@ def edge_polyline(E: ElementarySites, i: int, j: int, P0, P1, tol: float):
     Q[0], Q[-1] = P0, P1
     chords = np.hypot(*np.diff(Q, axis=0).T)
     return Q, float(np.max(chords) ** 2 / (8 * delta)) + rounding
+
+
+def arc_sides(E: ElementarySites, s: int, other: int, P):
+    """(σ, τ) of the arc bisector through the point P: σ = +1 when P is outside the circle of
+    arc s, τ the side of P for the other site (its line's side, or its circle's)."""
+    P = np.asarray(P, float)
+    sigma = 1 if np.hypot(*(P - E.C[s])) > E.rho[s] else -1
+    if E.kind[other] == ARC:
+        tau = 1 if np.hypot(*(P - E.C[other])) > E.rho[other] else -1
+    elif E.kind[other] == POINT:
+        tau = 1
+    else:
+        a, b = E.A[other], E.B[other]
+        tau = 1 if (b[0] - a[0]) * (P[1] - a[1]) - (b[1] - a[1]) * (P[0] - a[0]) >= 0 else -1
+        # n = perp(b − a)/|b − a| points to the left, so τ = +1 on the left
+    return sigma, tau
+
+
+def arc_range(E: ElementarySites, s: int):
+    """(α, β): the start angle of arc s and its counter-clockwise span."""
+    c = E.C[s]
+    alpha = math.atan2(E.A[s][1] - c[1], E.A[s][0] - c[0])
+    beta = (math.atan2(E.B[s][1] - c[1], E.B[s][0] - c[0]) - alpha) % (2 * math.pi)
+    return alpha, beta or 2 * math.pi
+
+
+def _offset(E, s, P, alpha, beta):
+    c = E.C[s]
+    o = (math.atan2(P[1] - c[1], P[0] - c[0]) - alpha) % (2 * math.pi)
+    if o > beta:           # rounding just outside the range: the nearer end
+        o = beta if o - beta < 2 * math.pi - o else 0.0
+    return o
+
+
+def _arc_edge(E, i, j, P0, P1, tol, far, centre, step):
+    s, other = (i, j) if E.kind[i] == ARC else (j, i)
+    ref = P0 if P0 is not None else P1
+    sigma, tau = arc_sides(E, s, other, ref if ref is not None else E.C[s] + 2 * E.rho[s])
+    alpha, beta = arc_range(E, s)
+
+    def curve(o):
+        V, t = arc_bisector_points(E, s, other, sigma, tau, alpha + np.asarray(o, float))
+        return V, t
+
+    ends = []
+    for P in (P0, P1):
+        ends.append(None if P is None else _offset(E, s, np.asarray(P, float), alpha, beta))
+    if ends[0] is None and ends[1] is None:
+        o = np.linspace(0, beta, 4097)
+        V, t = curve(o)
+        ok = np.isfinite(t) & (t > 0) & (np.hypot(*(V - centre).T) < far)
+        if not ok.any():
+            return np.empty((0, 2)), 0.0
+        k = int(np.argmax(ok))
+        m = k + int(np.argmin(ok[k:])) if not ok[k:].all() else len(ok)
+        ends = [_to_far(curve, o[k], o[k - 1] if k else o[k], far, centre),
+                _to_far(curve, o[m - 1], o[m] if m < len(o) else o[m - 1], far, centre)]
+    else:
+        for k in (0, 1):
+            if ends[k] is None:
+                o0 = ends[1 - k]
+                lim = beta if step > 0 else 0.0
+                o = np.linspace(o0, lim, 4097)
+                V, t = curve(o)
+                bad = ~(np.isfinite(t) & (t > 0) & (np.hypot(*(V - centre).T) < far))
+                bad[0] = False
+                m = int(np.argmax(bad)) if bad.any() else len(o) - 1
+                ends[k] = _to_far(curve, o[m - 1], o[m], far, centre) if bad.any() else o[-1]
+    o = np.linspace(ends[0], ends[1], 33)
+    for _ in range(14):
+        V, _t = curve(o)
+        mid = (o[:-1] + o[1:]) / 2
+        Vm, _ = curve(mid)
+        dev = _chord_distance(V[:-1], V[1:], Vm)
+        big = dev > tol / 2
+        if not big.any() or len(o) > MAX_PIECES:
+            break
+        o = np.sort(np.concatenate([o, mid[big]]))
+        if ends[0] > ends[1]:
+            o = o[::-1]
+    V, _t = curve(o)
+    if P0 is not None:
+        V[0] = P0
+    if P1 is not None:
+        V[-1] = P1
+    Vm, _ = curve((o[:-1] + o[1:]) / 2)
+    dev = _chord_distance(V[:-1], V[1:], Vm)
+    scale = 1.0 + float(np.max(np.abs(V)))
+    return V, 2 * float(np.max(dev, initial=0.0)) + 1e-12 * scale
+
+
+def _to_far(curve, o_in, o_out, far, centre):
+    """The parameter between o_in (inside the far disc, valid) and o_out (outside or invalid)
+    where the curve leaves the far disc, by bisection."""
+    for _ in range(60):
+        m = (o_in + o_out) / 2
+        V, t = curve([m])
+        if np.isfinite(t[0]) and t[0] > 0 and np.hypot(*(V[0] - centre)) < far:
+            o_in = m
+        else:
+            o_out = m
+    return o_in
+
+
+def _chord_distance(A, B, M):
+    """Distance from each M to the segment [A, B] (rows)."""
+    D = B - A
+    L2 = np.einsum("ij,ij->i", D, D)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        t = np.clip(np.where(L2 > 0, np.einsum("ij,ij->i", M - A, D) / np.where(L2 > 0, L2, 1), 0), 0, 1)
+    return np.hypot(*(M - A - t[:, None] * D).T)

@@ -32,14 +32,16 @@ import numpy as np
 from scipy.spatial import Delaunay, QhullError, cKDTree
 
 from ..predicates.circles import Point
+from ..sites.arc import Arc
 from ..sites.segment import Segment, as_point_pair
 from ..threads import one_blas_thread
 from ..voronoi.sample_delaunay import SampleTriangulation
 from ..voronoi.site_input import SiteError
 from ..voronoi.structure import Diagram, DiagramEdge, DiagramVertex
-from .bisectors import bisector_kind, edge_polyline, line_direction
-from .distance import distances
-from .elementary import POINT, ElementarySites, decompose
+from .bisectors import (arc_bisector_points, arc_range, arc_sides, bisector_kind, edge_polyline, line_direction,
+                        line_point)
+from .distance import site_distances
+from .elementary import ARC, POINT, ElementarySites, decompose
 from .emptiness import prove_empty
 from .vertices import common_point, prove_vertex
 
@@ -51,8 +53,8 @@ SPACING_PER_GAP = 4.0
 
 
 def has_segments(sites) -> bool:
-    """True when ``sites`` holds a :class:`runtime.sites.segment.Segment`."""
-    return any(isinstance(s, Segment) for s in sites)
+    """True when ``sites`` holds a :class:`runtime.sites.segment.Segment` or an arc."""
+    return any(isinstance(s, (Segment, Arc)) for s in sites)
 
 
 @one_blas_thread
@@ -71,13 +73,22 @@ def segment_voronoi(pieces, sources=None, *, certify: bool = True, tolerance: fl
     except ImportError:         # pragma: no cover - the check ships with the package
         check_pieces = None
     if check_pieces is not None:
-        check_pieces(pieces)
+        try:
+            check_pieces(pieces)
+        except SiteError as exc:            # an older check without arcs: check the rest
+            if "is not a segment or a point" not in str(exc):
+                raise
+            check_pieces([p for p in pieces if not isinstance(p, Arc)])
     E = decompose(pieces, sources)
     if len(E) < 2:
         raise ValueError(f"the Voronoi diagram needs at least 2 sites, got {len(E)}")
     _check_junctions(E)
     lo = np.minimum(E.A.min(axis=0), E.B.min(axis=0))
     hi = np.maximum(E.A.max(axis=0), E.B.max(axis=0))
+    if (E.kind == ARC).any():
+        arcs = E.kind == ARC
+        lo = np.minimum(lo, (E.C[arcs] - E.rho[arcs][:, None]).min(axis=0))
+        hi = np.maximum(hi, (E.C[arcs] + E.rho[arcs][:, None]).max(axis=0))
     extent = float(np.max(hi - lo)) or 1.0
     if tolerance is None:
         tolerance = 1e-4 * extent
@@ -124,7 +135,7 @@ def segment_voronoi(pieces, sources=None, *, certify: bool = True, tolerance: fl
 
 def _as_piece(p, k):
     """A Segment, a Point, or an (x, y) pair made a Point."""
-    if isinstance(p, Segment) or (isinstance(p, Point) and p.r2 == 0):
+    if isinstance(p, (Segment, Arc)) or (isinstance(p, Point) and p.r2 == 0):
         return p
     if hasattr(p, "r2") or hasattr(p, "coefficients"):
         raise SiteError(f"site {k}: {p!r}: circles and conics cannot be mixed with segments yet (points and "
@@ -139,18 +150,23 @@ def _check_junctions(E: ElementarySites) -> None:
     for p, segs in enumerate(E.incident):
         if len(segs) < 3:
             continue
+        px, py = E.xy[p]
         dirs = []
-        for s in segs:
-            o = int(E.ends[s, 1]) if int(E.ends[s, 0]) == p else int(E.ends[s, 0])
-            dirs.append((E.xy[o][0] - E.xy[p][0], E.xy[o][1] - E.xy[p][1]))
+        for s in segs:           # exact tangent directions leaving p
+            if E.kind[s] == ARC:
+                (cx, cy), _rho = E.arc[s]
+                rx, ry = px - cx, py - cy
+                dirs.append((-ry, rx) if int(E.ends[s, 0]) == p else (ry, -rx))
+            else:
+                o = int(E.ends[s, 1]) if int(E.ends[s, 0]) == p else int(E.ends[s, 0])
+                dirs.append((E.xy[o][0] - px, E.xy[o][1] - py))
         for a in range(len(dirs)):
             for b in range(a + 1, len(dirs)):
                 (ux, uy), (vx, vy) = dirs[a], dirs[b]
                 if ux * vy - uy * vx == 0 and ux * vx + uy * vy < 0:
-                    x, y = E.xy[p]
-                    raise SiteError(f"point ({x}, {y}): segments {segs[a]} and {segs[b]} continue each other "
-                                    f"straight through a junction of {len(segs)} segments; split the "
-                                    "junction or merge the straight pair")
+                    raise SiteError(f"point ({px}, {py}): sites {segs[a]} and {segs[b]} continue each other "
+                                    f"straight (or smoothly) through a junction of {len(segs)} pieces; split the "
+                                    "junction or merge the pair")
 
 
 # ------------------------------------------------------------------------------------ sampling
@@ -158,7 +174,7 @@ def _initial_spacing(E: ElementarySites) -> np.ndarray:
     """Per site: the sample spacing along a segment (∞ for a point): half its gap to the nearest
     non-adjacent site, at most a quarter of its length."""
     n = len(E)
-    L = np.hypot(*(E.B - E.A).T)
+    L = _lengths(E)
     sp = np.where(E.kind == POINT, np.inf, L / 4)
     P, lab = _samples(E, sp)
     if len(P) < 3:
@@ -176,12 +192,20 @@ def _initial_spacing(E: ElementarySites) -> np.ndarray:
     return np.where(E.kind == POINT, np.inf, np.minimum(L / 4, gap / SPACING_PER_GAP))
 
 
+def _lengths(E: ElementarySites) -> np.ndarray:
+    """Lengths of the curves (0 for points): chords of segments, ρ·span of arcs."""
+    L = np.hypot(*(E.B - E.A).T)
+    for s in np.nonzero(E.kind == ARC)[0].tolist():
+        L[s] = E.rho[s] * arc_range(E, s)[1]
+    return L
+
+
 def _adjacent(E: ElementarySites, a, b):
-    """Elementwise: site a is an endpoint of segment b or vice versa, or they share an endpoint."""
+    """Elementwise: site a is an end of curve b or vice versa, or they share an end."""
     ea, eb = E.ends[a], E.ends[b]
     pa = np.where(E.kind[a] == POINT, a, -5)
     pb = np.where(E.kind[b] == POINT, b, -7)
-    share = ((ea[:, :, None] == eb[:, None, :]) & (ea[:, :, None] >= 0)).any(axis=(1, 2))
+    share = ((ea[:, :, None] == eb[:, None, :]) & (ea[:, :, None] != -1)).any(axis=(1, 2))
     return share | (ea == pb[:, None]).any(axis=1) | (eb == pa[:, None]).any(axis=1)
 
 
@@ -191,13 +215,21 @@ def _samples(E: ElementarySites, spacing):
     labs = [np.arange(E.n_points)]
     seg = np.arange(E.n_points, len(E))
     if len(seg):
-        L = np.hypot(*(E.B[seg] - E.A[seg]).T)
+        L = _lengths(E)[seg]
         cnt = np.maximum(1, np.ceil(L / spacing[seg]).astype(np.int64))
         owner = np.repeat(seg, cnt)
         start = np.repeat(np.cumsum(cnt) - cnt, cnt)
         k = np.arange(int(cnt.sum())) - start
         t = (k + 0.5) / np.repeat(cnt, cnt)
-        pts.append(E.A[owner] + t[:, None] * (E.B[owner] - E.A[owner]))
+        Q = E.A[owner] + t[:, None] * (E.B[owner] - E.A[owner])
+        arc = E.kind[owner] == ARC
+        if arc.any():
+            ranges = {s_: arc_range(E, s_) for s_ in np.unique(owner[arc]).tolist()}
+            al = np.array([ranges[s_][0] for s_ in owner[arc].tolist()])
+            be = np.array([ranges[s_][1] for s_ in owner[arc].tolist()])
+            th = al + t[arc] * be
+            Q[arc] = E.C[owner[arc]] + E.rho[owner[arc]][:, None] * np.column_stack([np.cos(th), np.sin(th)])
+        pts.append(Q)
         labs.append(owner)
     return np.concatenate(pts), np.concatenate(labs)
 
@@ -272,7 +304,7 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
                 if culprit is not None:
                     # a site entering a circle of radius r by δ passes between samples more than
                     # √(2rδ) apart: that spacing puts one of its samples inside
-                    dq, _ = distances(E.A[[culprit]], E.B[[culprit]], np.array([[sol.x, sol.y]]))
+                    dq = site_distances(E, [culprit], np.array([[sol.x, sol.y]]))
                     depth = sol.r - float(dq[0])
                     cap = 0.9 * math.sqrt(2 * sol.r * depth) if depth > 0 else np.inf
                     refine.add(culprit, cap)
@@ -368,7 +400,7 @@ def _outward(E: ElementarySites, i: int, j: int, base, d, far) -> float:
     best, sgn = None, 1.0
     for s in (1.0, -1.0):
         q = base + s * eps * d
-        dd, _ = distances(E.A, E.B, np.repeat(q[None, :], len(E), axis=0))
+        dd = site_distances(E, np.arange(len(E)), np.repeat(q[None, :], len(E), axis=0))
         own = max(dd[i], dd[j])
         dd[[i, j]] = np.inf
         margin = float(dd.min() - own)
@@ -391,6 +423,27 @@ def _triangulation(P, lab) -> SampleTriangulation:
     return SampleTriangulation(P, lab)
 
 
+def _arc_step(E: ElementarySites, i: int, j: int, base, far) -> int:
+    """+1 or −1: the way (counter-clockwise or not on the arc) along the arc bisector of i and j
+    from its vertex ``base`` on which i and j stay the nearest sites."""
+    s, other = (i, j) if E.kind[i] == ARC else (j, i)
+    sigma, tau = arc_sides(E, s, other, base)
+    c = E.C[s]
+    th = math.atan2(base[1] - c[1], base[0] - c[0])
+    best, out = None, 1
+    for st in (1, -1):
+        V, t = arc_bisector_points(E, s, other, sigma, tau, np.array([th + st * 1e-6]))
+        if not (np.isfinite(t[0]) and t[0] > 0):
+            continue
+        dd = site_distances(E, np.arange(len(E)), np.repeat(V, len(E), axis=0))
+        own = max(dd[i], dd[j])
+        dd[[i, j]] = np.inf
+        margin = float(dd.min() - own)
+        if best is None or margin > best:
+            best, out = margin, st
+    return out
+
+
 def _flat(P) -> bool:
     """Fewer than three samples, or all of them on one line (relative 1e-12)."""
     if len(P) < 3:
@@ -406,9 +459,14 @@ def _corner_order(E: ElementarySites, c: int) -> tuple:
     segs = E.incident[c]
     cx, cy = E.A[c]
     ang = []
-    for s in segs:
-        o = int(E.ends[s, 1]) if int(E.ends[s, 0]) == c else int(E.ends[s, 0])
-        ang.append(math.atan2(E.A[o][1] - cy, E.A[o][0] - cx))
+    for s in segs:            # the direction in which the curve leaves c
+        if E.kind[s] == ARC:
+            rx, ry = cx - E.C[s][0], cy - E.C[s][1]
+            tx, ty = (-ry, rx) if int(E.ends[s, 0]) == c else (ry, -rx)
+        else:
+            o = int(E.ends[s, 1]) if int(E.ends[s, 0]) == c else int(E.ends[s, 0])
+            tx, ty = E.A[o][0] - cx, E.A[o][1] - cy
+        ang.append(math.atan2(ty, tx))
     order = [s for _, s in sorted(zip(ang, segs))]
     angs = sorted(ang)
     out = list(order)
@@ -428,6 +486,12 @@ def _contact_order(E: ElementarySites, members, sol) -> tuple:
     for s in members:
         if E.kind[s] == POINT:
             f = E.A[s]
+        elif E.kind[s] == ARC:
+            w = v - E.C[s]
+            if np.hypot(*w) <= 1e-9 * E.rho[s]:          # the arc's centre: contact along the arc
+                al, be = arc_range(E, s)
+                w = np.array([math.cos(al + be / 2), math.sin(al + be / 2)])
+            f = E.C[s] + E.rho[s] * w / np.hypot(*w)
         else:
             a, b = E.A[s], E.B[s]
             d = b - a
@@ -450,20 +514,28 @@ def _edges(E: ElementarySites, vertices, walks, tol, lo, hi):
     for pair, ends, hints in walks:
         i, j = pair
         fin = [None if e is None else np.array([vertices[e].x, vertices[e].y]) for e in ends]
+        kind = bisector_kind(E, i, j)
+        step = 1
         if fin[0] is None or fin[1] is None:
-            if bisector_kind(E, i, j) not in ("points", "perpendicular"):
-                continue          # only straight bisectors reach infinity; the walk is an artefact
-            d = line_direction(E, i, j)
-            base = fin[0] if fin[0] is not None else fin[1]
-            if base is None:
-                base = (E.A[i] + E.A[j]) / 2 if bisector_kind(E, i, j) == "points" else \
-                    E.A[i if E.kind[i] == POINT else j]
-            R = far + float(np.hypot(*(base - centre)))
-            if fin[0] is None and fin[1] is None:
-                fin = [base - d * R, base + d * R]
+            if kind in ("parabola", "segments"):
+                continue          # these bisectors are bounded: the walk is an artefact
+            if kind == "arc":
+                base = fin[0] if fin[0] is not None else fin[1]
+                step = 1 if base is None else _arc_step(E, i, j, base, far)
             else:
-                sgn = _outward(E, i, j, base, d, far)
-                fin = [base + sgn * d * R if f is None else f for f in fin]
-        poly, t = edge_polyline(E, i, j, fin[0], fin[1], tol)
+                d = line_direction(E, i, j)
+                base = fin[0] if fin[0] is not None else fin[1]
+                if base is None:
+                    base = line_point(E, i, j)
+                R = far + float(np.hypot(*(base - centre)))
+                if fin[0] is None and fin[1] is None:
+                    fin = [base - d * R, base + d * R]
+                else:
+                    sgn = _outward(E, i, j, base, d, far)
+                    fin = [base + sgn * d * R if f is None else f for f in fin]
+        poly, t = edge_polyline(E, i, j, fin[0], fin[1], tol, far=far + float(np.hypot(*(lo - centre))),
+                                centre=centre, step=step)
+        if len(poly) < 2:
+            continue
         out.append(DiagramEdge(len(out), (i, j), tuple(ends), False, poly, t, False))
     return out

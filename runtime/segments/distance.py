@@ -6,7 +6,13 @@ harmless sites; a point site is the case a = b).  :func:`distances` evaluates it
 many (query, site) pairs; :func:`distance_ball` encloses it rigorously at a ball point with
 python-flint ``arb`` (exact rational endpoints), the only rigorous distance of the segment code.
 
-Public API: :func:`distances`, :func:`distance_ball`, :func:`float_error`, :func:`foot_parameter`.
+For an open circular arc of centre c, radius ρ, counter-clockwise from a to b, the distance is
+| |q − c| − ρ | when the direction of q − c lies in the arc's angular range, else the distance to
+the nearer end (:func:`site_distances`, :func:`arc_distance_ball`).
+
+Public API: :func:`distances`, :func:`site_distances`, :func:`distance_ball`,
+:func:`arc_distance_ball`, :func:`site_distance_ball`, :func:`float_error`, :func:`foot_parameter`,
+:func:`in_arc`.
 """
 from __future__ import annotations
 
@@ -15,7 +21,8 @@ from flint import arb
 
 from ..certify.foot import to_arb
 
-__all__ = ["distances", "distance_ball", "float_error", "foot_parameter"]
+__all__ = ["distances", "distance_ball", "float_error", "foot_parameter", "site_distances", "in_arc",
+           "arc_distance_ball", "site_distance_ball"]
 
 
 def distances(A, B, Q):
@@ -68,3 +75,75 @@ def foot_parameter(a, b, x: arb, y: arb) -> arb:
     ax, ay = to_arb(a[0]), to_arb(a[1])
     dx, dy = to_arb(b[0]) - ax, to_arb(b[1]) - ay
     return ((x - ax) * dx + (y - ay) * dy) / (dx * dx + dy * dy)
+
+
+def in_arc(C, A, B, U):
+    """Row by row: the direction U lies in the closed counter-clockwise range of the arc of centre
+    C from the point A to the point B (float arrays n × 2)."""
+    a = A - C
+    b = B - C
+    ca = a[:, 0] * U[:, 1] - a[:, 1] * U[:, 0]
+    cb = U[:, 0] * b[:, 1] - U[:, 1] * b[:, 0]
+    ab = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    small = ab > 0
+    return np.where(small, (ca >= 0) & (cb >= 0), (ca >= 0) | (cb >= 0))
+
+
+def site_distances(E, idx, Q):
+    """Distances from Q[r] to elementary site idx[r] of ``E`` (points, segments, arcs; floats)."""
+    idx = np.asarray(idx, dtype=np.int64)
+    d, _ = distances(E.A[idx], E.B[idx], Q)
+    arc = E.kind[idx] == 2
+    if arc.any():
+        C, R = E.C[idx[arc]], E.rho[idx[arc]]
+        W = Q[arc] - C
+        inside = in_arc(C, E.A[idx[arc]], E.B[idx[arc]], W)
+        ends = np.minimum(np.hypot(*(Q[arc] - E.A[idx[arc]]).T), np.hypot(*(Q[arc] - E.B[idx[arc]]).T))
+        d[arc] = np.where(inside, np.abs(np.hypot(W[:, 0], W[:, 1]) - R), ends)
+    return d
+
+
+def arc_distance_ball(c, rho, a, b, x: arb, y: arb) -> arb:
+    """An arb ball holding the distance from the ball point (x, y) to the closed arc of centre c,
+    radius ρ, counter-clockwise from a to b (exact rationals)."""
+    cx, cy = to_arb(c[0]), to_arb(c[1])
+    ux, uy = x - cx, y - cy
+    ax, ay = to_arb(a[0]) - cx, to_arb(a[1]) - cy
+    bx, by = to_arb(b[0]) - cx, to_arb(b[1]) - cy
+    ca = ax * uy - ay * ux
+    cb = ux * by - uy * bx
+    ab = (a[0] - c[0]) * (b[1] - c[1]) - (a[1] - c[1]) * (b[0] - c[0])     # exact
+    circle = abs((ux * ux + uy * uy).sqrt() - to_arb(rho))
+    da = ((x - to_arb(a[0])) ** 2 + (y - to_arb(a[1])) ** 2).sqrt()
+    db = ((x - to_arb(b[0])) ** 2 + (y - to_arb(b[1])) ** 2).sqrt()
+    if ab > 0:
+        inside = ca >= 0 and cb >= 0
+        outside = ca < 0 or cb < 0
+    else:
+        inside = ca >= 0 or cb >= 0
+        outside = ca < 0 and cb < 0
+    if inside:
+        return circle
+    if outside:
+        return _ball_min(da, db)
+    # the direction straddles an end of the range: the distance to the whole circle is a lower
+    # bound (the ends are on the circle), the nearer end an upper bound
+    return circle.lower().union(_ball_min(da, db).upper())
+
+
+def _ball_min(u: arb, v: arb) -> arb:
+    """A ball holding min(s, t) for every s in u, t in v."""
+    lo = u.lower() if u.lower() < v.lower() else v.lower()
+    hi = u.upper() if u.upper() < v.upper() else v.upper()
+    return lo.union(hi)
+
+
+def site_distance_ball(E, k: int, x: arb, y: arb) -> arb:
+    """Ball enclosure of the distance from (x, y) to elementary site k of ``E``."""
+    if E.kind[k] == 0:
+        return distance_ball(E.xy[k], E.xy[k], x, y)
+    a, b = E.xy[int(E.ends[k, 0])], E.xy[int(E.ends[k, 1])]
+    if E.kind[k] == 1:
+        return distance_ball(a, b, x, y)
+    c, rho = E.arc[k]
+    return arc_distance_ball(c, rho, a, b, x, y)

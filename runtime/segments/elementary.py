@@ -13,11 +13,17 @@ endpoint of these two only) are merged into one elementary segment and p is not 
 union is the same closed set, and the merged site keeps the bisectors linear and parabolic
 (with p as a site, the whole perpendicular at p would be equidistant from three sites).
 
+Circular arcs (:class:`runtime.sites.arc.Arc`) are split the same way.  Where exactly two
+pieces meet at p with opposite tangents but are not two segments (an arc continuing a segment or
+an arc smoothly: a fillet, a stadium), p is **not** a site: it lies in both closures, and the
+normal line at p is the bisector of the two open pieces.  Such a *smooth joint* is an end code
+−2 − node in :attr:`ElementarySites.ends` (node = index into ``nodes``).
+
 Numbering: point sites first (in order of first appearance), then segment interiors in input
 order.  ``source[i]`` is the index of the input piece that produced elementary site i (for a
 shared endpoint: the first piece ending there; for a merged segment: the first of its pieces).
 
-Public API: :class:`ElementarySites`, :func:`decompose`.
+Public API: :class:`ElementarySites`, :func:`decompose`, :data:`POINT`, :data:`SEGMENT`, :data:`ARC`.
 """
 from __future__ import annotations
 
@@ -26,120 +32,192 @@ from fractions import Fraction
 import numpy as np
 
 from ..predicates.circles import Point
+from ..sites.arc import Arc
 from ..sites.segment import Segment, as_point_pair
 
-__all__ = ["ElementarySites", "decompose", "POINT", "SEGMENT"]
+__all__ = ["ElementarySites", "decompose", "POINT", "SEGMENT", "ARC"]
 
 #: site kinds of :attr:`ElementarySites.kind`
-POINT, SEGMENT = 0, 1
+POINT, SEGMENT, ARC = 0, 1, 2
+
+
+class _Nodes:
+    """Exact coordinates by end code: a point site's index (≥ 0) or −2 − node (a smooth joint)."""
+
+    def __init__(self, nodes, site_node):
+        self.nodes, self.site_node = nodes, site_node
+
+    def __getitem__(self, k):
+        k = int(k)
+        return self.nodes[self.site_node[k]] if k >= 0 else self.nodes[-2 - k]
 
 
 class ElementarySites:
-    """Point sites and open segments, exact and as float arrays.
+    """Point sites, open segments and open circular arcs, exact and as float arrays.
 
-    ``sites``: :class:`runtime.predicates.circles.Point` and :class:`runtime.sites.segment.Segment`
-    (meaning its open interior); ``kind``: :data:`POINT` / :data:`SEGMENT` per site; ``xy``: the
-    exact coordinates of the point sites; ``ends[s]``: the site indices of the two endpoints of
-    segment site s (−1 for a point site); ``incident[p]``: the segment sites ending at point site
-    p; ``A``, ``B``: float endpoints (n × 2; A = B = the point for a point site)."""
+    ``sites``: :class:`runtime.predicates.circles.Point`, :class:`runtime.sites.segment.Segment`
+    and :class:`runtime.sites.arc.Arc` (meaning their open interiors); ``kind``: :data:`POINT` /
+    :data:`SEGMENT` / :data:`ARC` per site; ``xy[code]``: the exact coordinates of a point site
+    or of a smooth joint (``code`` < −1); ``ends[s]``: the end codes of curve s (its start and end;
+    −1 for a point site); ``incident[p]``: the curves ending at point site p; ``A``, ``B``: float
+    ends (A = B = the point for a point site); ``C``, ``rho``: centre and radius of an arc (NaN
+    otherwise); ``arc[s]``: the exact (centre, radius) of arc s; ``joints``: smooth joint node ->
+    its two curves."""
 
-    def __init__(self, points, segments, source):
-        self.xy: list[tuple[Fraction, Fraction]] = list(points)
-        self.n_points = len(points)
-        self.seg_ends: list[tuple[int, int]] = [tuple(s) for s in segments]
+    def __init__(self, nodes, point_nodes, curves, source):
+        self.nodes = list(nodes)
+        self.n_points = len(point_nodes)
+        self.xy = _Nodes(self.nodes, list(point_nodes))
+        node_site = {nd: i for i, nd in enumerate(point_nodes)}
         self.source = list(source)
-        self.sites = [Point(*p) for p in self.xy] + [Segment(self.xy[a], self.xy[b]) for a, b in self.seg_ends]
-        n = len(self.sites)
-        self.kind = np.array([POINT] * self.n_points + [SEGMENT] * len(self.seg_ends), dtype=np.int8)
+        n = self.n_points + len(curves)
+        self.kind = np.array([POINT] * self.n_points + [SEGMENT if c[0] == "segment" else ARC for c in curves],
+                             dtype=np.int8)
         self.ends = np.full((n, 2), -1, dtype=np.int64)
-        if self.seg_ends:
-            self.ends[self.n_points:] = np.array(self.seg_ends, dtype=np.int64)
+        self.arc: dict = {}
+        self.C = np.full((n, 2), np.nan)
+        self.rho = np.full(n, np.nan)
+        self.sites = [Point(*self.nodes[nd]) for nd in point_nodes]
         self.incident: list[list[int]] = [[] for _ in range(self.n_points)]
-        for s, (a, b) in enumerate(self.seg_ends):
-            self.incident[a].append(self.n_points + s)
-            self.incident[b].append(self.n_points + s)
-        P = np.array([[float(x), float(y)] for x, y in self.xy], dtype=float).reshape(-1, 2)
+        self.joints: dict = {}
+        for k, (kind, na, nb, data) in enumerate(curves):
+            s = self.n_points + k
+            codes = [node_site[nd] if nd in node_site else -2 - nd for nd in (na, nb)]
+            self.ends[s] = codes
+            for nd, code in zip((na, nb), codes):
+                if code >= 0:
+                    self.incident[code].append(s)
+                else:
+                    self.joints.setdefault(nd, []).append(s)
+            if kind == "segment":
+                self.sites.append(Segment(self.nodes[na], self.nodes[nb]))
+            else:
+                c, rho = data
+                self.sites.append(Arc(c, rho, self.nodes[na], self.nodes[nb]))
+                self.arc[s] = (c, rho)
+                self.C[s] = (float(c[0]), float(c[1]))
+                self.rho[s] = float(rho)
+        P = np.array([[float(x), float(y)] for x, y in self.nodes], dtype=float).reshape(-1, 2)
         self.A = np.empty((n, 2))
         self.B = np.empty((n, 2))
-        self.A[:self.n_points] = P
-        self.B[:self.n_points] = P
-        if self.seg_ends:
-            E = np.array(self.seg_ends)
-            self.A[self.n_points:] = P[E[:, 0]]
-            self.B[self.n_points:] = P[E[:, 1]]
+        if self.n_points:
+            self.A[:self.n_points] = P[list(point_nodes)]
+            self.B[:self.n_points] = P[list(point_nodes)]
+        for k, (kind, na, nb, data) in enumerate(curves):
+            self.A[self.n_points + k] = P[na]
+            self.B[self.n_points + k] = P[nb]
 
     def __len__(self) -> int:
         return len(self.sites)
 
     def is_endpoint(self, p: int, s: int) -> bool:
-        """Point site p is an endpoint of segment site s."""
-        return self.kind[s] == SEGMENT and p in (int(self.ends[s, 0]), int(self.ends[s, 1]))
+        """Point site p is an end of curve s."""
+        return self.kind[s] != POINT and p in (int(self.ends[s, 0]), int(self.ends[s, 1]))
+
+    def closure_points(self, t: int) -> set:
+        """End codes in the closure of site t (itself for a point site)."""
+        if self.kind[t] == POINT:
+            return {int(t)}
+        return {int(self.ends[t, 0]), int(self.ends[t, 1])}
 
 
 def decompose(pieces, sources=None) -> ElementarySites:
-    """The elementary sites of ``pieces`` (:class:`runtime.sites.segment.Segment`, point sites
-    :class:`runtime.predicates.circles.Point` or (x, y) pairs).  ``sources``: the input index of
-    each piece (default: its position).  The pieces must be admissible (no crossings, see
-    :func:`runtime.segments.crossings.check_pieces`, which the caller runs first)."""
+    """The elementary sites of ``pieces`` (:class:`runtime.sites.segment.Segment`,
+    :class:`runtime.sites.arc.Arc`, point sites :class:`runtime.predicates.circles.Point` or (x, y)
+    pairs).  ``sources``: the input index of each piece (default: its position).  The pieces must
+    be admissible (no crossings, see :func:`runtime.segments.crossings.check_pieces`, which the
+    caller runs first)."""
     if sources is None:
         sources = list(range(len(pieces)))
     index: dict = {}
-    points: list = []
-    psource: list = []
-    segs: list = []
-    ssource: list = []
+    nodes: list = []
+    nsource: list = []
+    isolated: set = set()
+    curves: list = []
+    csource: list = []
 
-    def point_id(p, src):
+    def node(p, src):
         if p not in index:
-            index[p] = len(points)
-            points.append(p)
-            psource.append(src)
+            index[p] = len(nodes)
+            nodes.append(p)
+            nsource.append(src)
         return index[p]
 
     for piece, src in zip(pieces, sources):
         if isinstance(piece, Segment):
-            segs.append((point_id(piece.p, src), point_id(piece.q, src)))
-            ssource.append(src)
+            curves.append(("segment", node(piece.p, src), node(piece.q, src), None))
+            csource.append(src)
+        elif isinstance(piece, Arc):
+            curves.append(("arc", node(piece.a, src), node(piece.b, src), (piece.c, piece.rho)))
+            csource.append(src)
         else:
-            point_id(as_point_pair(piece, f"site {src}"), src)
-    segs, ssource, points, psource = _merge_straight(segs, ssource, points, psource)
-    return ElementarySites(points, segs, psource + ssource)
+            isolated.add(node(as_point_pair(piece, f"site {src}"), src))
+    curves, csource, dead = _merge_straight(curves, csource, nodes, isolated)
+    smooth = _smooth_joints(curves, nodes, isolated) - dead
+    point_nodes = [nd for nd in range(len(nodes)) if nd not in dead and nd not in smooth]
+    return ElementarySites(nodes, point_nodes, curves, [nsource[nd] for nd in point_nodes] + csource)
 
 
-def _merge_straight(segs, ssource, points, psource):
-    """Merge the two segments of every endpoint shared by exactly two collinear, opposite
-    segments (see the module docstring); renumber the remaining points."""
+def _tangent(curve, nd, nodes):
+    """The unit-free tangent direction of a curve leaving its end node ``nd``."""
+    kind, na, nb, data = curve
+    if kind == "segment":
+        o = nb if nd == na else na
+        return (nodes[o][0] - nodes[nd][0], nodes[o][1] - nodes[nd][1])
+    (cx, cy), _ = data
+    px, py = nodes[nd]
+    rx, ry = px - cx, py - cy
+    # counter-clockwise from a to b: leaving a the tangent is +perp(r), leaving b it is −perp(r)
+    return (-ry, rx) if nd == na else (ry, -rx)
+
+
+def _incidence(curves):
     inc: dict = {}
-    for s, (a, b) in enumerate(segs):
-        inc.setdefault(a, []).append(s)
-        inc.setdefault(b, []).append(s)
-    alive = list(segs)
-    dead_point = set()
+    for k, (_, na, nb, _) in enumerate(curves):
+        inc.setdefault(na, []).append(k)
+        inc.setdefault(nb, []).append(k)
+    return inc
+
+
+def _opposite(u, v) -> bool:
+    return u[0] * v[1] - u[1] * v[0] == 0 and u[0] * v[0] + u[1] * v[1] < 0
+
+
+def _smooth_joints(curves, nodes, isolated) -> set:
+    """Nodes where exactly two curves (not both segments) meet with opposite tangents."""
+    out = set()
+    for nd, ks in _incidence(curves).items():
+        if len(ks) != 2 or nd in isolated or ks[0] == ks[1]:
+            continue
+        c1, c2 = curves[ks[0]], curves[ks[1]]
+        if _opposite(_tangent(c1, nd, nodes), _tangent(c2, nd, nodes)):
+            out.add(nd)
+    return out
+
+
+def _merge_straight(curves, csource, nodes, isolated):
+    """Merge the two segments of every node shared by exactly two collinear, opposite segments
+    (see the module docstring).  Returns (curves, sources, merged-away nodes)."""
+    alive = list(curves)
+    dead = set()
     changed = True
     while changed:
         changed = False
-        for p, ss in list(inc.items()):
-            live = [s for s in ss if alive[s] is not None]
-            if len(live) != 2 or p in dead_point:
+        for nd, ks in _incidence([c if c is not None else ("x", -1, -1, None) for c in alive]).items():
+            live = [k for k in ks if alive[k] is not None]
+            if nd < 0 or len(live) != 2 or nd in dead or nd in isolated:
                 continue
-            s1, s2 = live
-            a = alive[s1][0] if alive[s1][1] == p else alive[s1][1]
-            b = alive[s2][0] if alive[s2][1] == p else alive[s2][1]
-            (ax, ay), (px, py), (bx, by) = points[a], points[p], points[b]
-            cross = (px - ax) * (by - ay) - (py - ay) * (bx - ax)
-            dot = (px - ax) * (bx - px) + (py - ay) * (by - py)
-            if cross != 0 or dot <= 0:
+            k1, k2 = live
+            if alive[k1][0] != "segment" or alive[k2][0] != "segment":
                 continue
-            alive[s1] = (a, b)
-            alive[s2] = None
-            inc[b] = [s1 if s == s2 else s for s in inc[b]]
-            dead_point.add(p)
+            if not _opposite(_tangent(alive[k1], nd, nodes), _tangent(alive[k2], nd, nodes)):
+                continue
+            a = alive[k1][1] if alive[k1][2] == nd else alive[k1][2]
+            b = alive[k2][1] if alive[k2][2] == nd else alive[k2][2]
+            alive[k1] = ("segment", a, b, None)
+            alive[k2] = None
+            dead.add(nd)
             changed = True
-    keep = [i for i in range(len(points)) if i not in dead_point]
-    renum = {old: new for new, old in enumerate(keep)}
-    out_segs, out_src = [], []
-    for s, e in enumerate(alive):
-        if e is not None:
-            out_segs.append((renum[e[0]], renum[e[1]]))
-            out_src.append(ssource[s])
-    return out_segs, out_src, [points[i] for i in keep], [psource[i] for i in keep]
+            break
+    out = [(c, s) for c, s in zip(alive, csource) if c is not None]
+    return [c for c, _ in out], [s for _, s in out], dead

@@ -16,16 +16,23 @@ from __future__ import annotations
 import numpy as np
 from flint import ctx
 
-from .distance import distance_ball, distances, float_error, foot_parameter
-from .elementary import POINT, ElementarySites
+from ..certify.foot import to_arb
+from .distance import float_error, foot_parameter, site_distance_ball, site_distances
+from .elementary import POINT, SEGMENT, ElementarySites
+from .vertices import direction_in_arc
 
 __all__ = ["prove_empty"]
 
 
-def _site_segment(E: ElementarySites, k: int):
-    if E.kind[k] == POINT:
-        return E.xy[k], E.xy[k]
-    return E.xy[int(E.ends[k, 0])], E.xy[int(E.ends[k, 1])]
+def _closest_at_an_end(E: ElementarySites, k: int, X, Y) -> bool:
+    """Proved: the closest point of curve k to every point of the ball box is one of its ends
+    (a segment's foot parameter outside [0, 1], an arc's direction outside its range)."""
+    a, b = E.xy[int(E.ends[k, 0])], E.xy[int(E.ends[k, 1])]
+    if E.kind[k] == SEGMENT:
+        t = foot_parameter(a, b, X, Y)
+        return bool(t < 0 or t > 1)
+    (cx, cy), _rho = E.arc[k]
+    return direction_in_arc(E, k, X - to_arb(cx), Y - to_arb(cy)) is False
 
 
 def prove_empty(E: ElementarySites, tree, lab, hmax: float, triple, sol):
@@ -42,8 +49,10 @@ def prove_empty(E: ElementarySites, tree, lab, hmax: float, triple, sol):
     if not len(cand):
         return True, tuple(members), None
     Q = np.repeat([[x, y]], len(cand), axis=0)
-    d, _ = distances(E.A[cand], E.B[cand], Q)
-    err = float_error(E.A[cand], E.B[cand], Q) + rad * 2 + float(R.rad()) + 1e-15 * scale
+    d = site_distances(E, cand, Q)
+    arcs = np.nan_to_num(np.hypot(*E.C[cand].T) + E.rho[cand])
+    err = float_error(E.A[cand], E.B[cand], Q) + 64 * np.finfo(float).eps * arcs + rad * 2 + float(R.rad()) \
+        + 1e-15 * scale
     undecided = cand[np.abs(d - r) <= err]
     inside = cand[d < r - err]
     if len(inside):
@@ -52,16 +61,14 @@ def prove_empty(E: ElementarySites, tree, lab, hmax: float, triple, sol):
     ctx.prec = 128
     try:
         for k in undecided.tolist():
-            a, b = _site_segment(E, k)
-            dk = distance_ball(a, b, X, Y)
+            dk = site_distance_ball(E, k, X, Y)
             if dk > R:
                 continue
             if dk < R:
                 return False, tuple(members), k
-            if E.kind[k] != POINT:
-                t = foot_parameter(a, b, X, Y)
-                if t < 0 or t > 1:
-                    continue    # closest point of k is an endpoint, a site tested on its own
+            if E.kind[k] != POINT and _closest_at_an_end(E, k, X, Y):
+                continue    # closest point of k is an end: a site tested on its own, or a smooth
+                #             joint shared with a member (then k touches only where it does)
             from .exact import on_circle
             verdict = on_circle(E, triple, sol, k)
             if verdict is None:

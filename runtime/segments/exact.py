@@ -18,7 +18,8 @@ from __future__ import annotations
 
 import sympy as sp
 
-from .elementary import POINT, ElementarySites
+from .elementary import ARC, POINT, ElementarySites
+from .vertices import arc_centre_vertex, contact_equations
 
 __all__ = ["exact_vertex", "on_circle", "exact_sign"]
 
@@ -43,27 +44,27 @@ def _q(v):
 
 
 def exact_vertex(E: ElementarySites, triple, sol):
-    """(x, y, r) in radicals: the zero of the triple's contact system closest to ``sol``."""
+    """(x, y, r) in radicals: the zero of the triple's contact system
+    (:func:`runtime.segments.vertices.contact_equations`) closest to ``sol``."""
+    centre = arc_centre_vertex(E, triple)
+    if centre is not None:
+        (cx, cy), rho = centre
+        return _q(cx), _q(cy), _q(rho)
     x, y, r = sp.symbols("x y r", real=True)
-    pts = [int(t) for t in triple if E.kind[t] == POINT]
     eqs = []
-    for t in triple:
-        t = int(t)
-        if E.kind[t] == POINT:
-            px, py = (_q(v) for v in E.xy[t])
+    for kind, d, _t in contact_equations(E, triple, (sol.x, sol.y)):
+        if kind == "point":
+            px, py = (_q(v) for v in d)
             eqs.append((x - px) ** 2 + (y - py) ** 2 - r ** 2)
-            continue
-        ia, ib = int(E.ends[t, 0]), int(E.ends[t, 1])
-        (ax, ay), (bx, by) = ((_q(v) for v in E.xy[ia]), (_q(v) for v in E.xy[ib]))
-        ends_in = [p for p in pts if p in (ia, ib)]
-        if ends_in:
-            ex, ey = (_q(v) for v in E.xy[ends_in[0]])
-            eqs.append((bx - ax) * (x - ex) + (by - ay) * (y - ey))
-            continue
-        a, b = -(by - ay), bx - ax
-        c = -(a * ax + b * ay)
-        side = 1 if float(a) * sol.x + float(b) * sol.y + float(c) >= 0 else -1
-        eqs.append(a * x + b * y + c - side * r * sp.sqrt(a * a + b * b))
+        elif kind == "line":
+            a, b, c, side, N = d
+            eqs.append(_q(a) * x + _q(b) * y + _q(c) - side * r * sp.sqrt(_q(N)))
+        elif kind == "normal":
+            tx, ty, ex, ey = (_q(v) for v in d)
+            eqs.append(tx * (x - ex) + ty * (y - ey))
+        else:
+            cx, cy, rho, side = d
+            eqs.append((x - _q(cx)) ** 2 + (y - _q(cy)) ** 2 - (_q(rho) + side * r) ** 2)
     roots = sp.solve(eqs, [x, y, r], dict=True)
     best, bd = None, None
     for s in roots:
@@ -93,6 +94,8 @@ def on_circle(E: ElementarySites, triple, sol, k: int):
         s = exact_sign((X - px) ** 2 + (Y - py) ** 2 - R ** 2)
         return "on" if s == 0 else ("outside" if s > 0 else False)
     (ax, ay), (bx, by) = ((_q(t) for t in E.xy[int(E.ends[k, 0])]), (_q(t) for t in E.xy[int(E.ends[k, 1])]))
+    if E.kind[k] == ARC:
+        return _on_arc(E, k, X, Y, R, (ax, ay), (bx, by))
     dx, dy = bx - ax, by - ay
     tnum = (X - ax) * dx + (Y - ay) * dy            # foot parameter × |b − a|²
     L2 = dx * dx + dy * dy
@@ -104,4 +107,25 @@ def on_circle(E: ElementarySites, triple, sol, k: int):
         s = exact_sign((X - ex) ** 2 + (Y - ey) ** 2 - R ** 2)
         return "on" if s == 0 else ("outside" if s > 0 else False)
     s = exact_sign((dy * (X - ax) - dx * (Y - ay)) ** 2 - L2 * R ** 2)
+    return "on" if s == 0 else ("outside" if s > 0 else False)
+
+
+def _on_arc(E: ElementarySites, k: int, X, Y, R, a, b):
+    """:func:`on_circle` for an arc: its contact direction decided exactly, then the distance
+    | |v − c| − ρ | compared with R."""
+    (cx, cy), rho = E.arc[k]
+    cx, cy, rho = _q(cx), _q(cy), _q(rho)
+    ux, uy = X - cx, Y - cy
+    ax, ay, bx, by = a[0] - cx, a[1] - cy, b[0] - cx, b[1] - cy
+    ca, cb = exact_sign(ax * uy - ay * ux), exact_sign(ux * by - uy * bx)
+    small = ax * by - ay * bx > 0
+    inside = (ca >= 0 and cb >= 0) if small else (ca >= 0 or cb >= 0)
+    on_end = ca == 0 or cb == 0
+    if not inside:
+        return "outside"        # the closest point is an end: that end (a site) decides
+    if on_end:
+        ex, ey = (a if ca == 0 else b)
+        s = exact_sign((X - ex - cx) ** 2 + (Y - ey - cy) ** 2 - R ** 2)
+        return "on" if s == 0 else ("outside" if s > 0 else False)
+    s = exact_sign((sp.sqrt(ux ** 2 + uy ** 2) - rho) ** 2 - R ** 2)
     return "on" if s == 0 else ("outside" if s > 0 else False)

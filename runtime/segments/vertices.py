@@ -20,7 +20,8 @@ three sites when r > 0 and every interior contact has its foot parameter in [0, 
 distance to the closed segment is the line's); a foot parameter straddling 0 or 1 is a
 degeneracy (the endpoint touches too) and is reported undecided.
 
-Public API: :class:`VertexSolution`, :func:`prove_vertex`, :func:`common_point`.
+Public API: :class:`VertexSolution`, :func:`prove_vertex`, :func:`common_point`,
+:func:`contact_equations`, :func:`direction_in_arc`.
 """
 from __future__ import annotations
 
@@ -31,9 +32,10 @@ from flint import arb, ctx
 from ..certify.foot import to_arb
 from ..certify.interval_newton import KrawczykFailure, krawczyk_inflation
 from .distance import foot_parameter
-from .elementary import POINT, ElementarySites
+from .elementary import ARC, POINT, SEGMENT, ElementarySites
 
-__all__ = ["VertexSolution", "prove_vertex", "common_point"]
+__all__ = ["VertexSolution", "prove_vertex", "common_point", "contact_equations", "direction_in_arc",
+           "arc_centre_vertex"]
 
 PREC = 128
 
@@ -54,50 +56,92 @@ class VertexSolution:
 
 
 def common_point(E: ElementarySites, triple) -> int | None:
-    """The point site contained in the closures of all three sites, if any."""
+    """The end code (a point site, or a smooth joint < −1) in the closures of all three sites."""
     cands = None
     for t in triple:
-        pts = {int(t)} if E.kind[t] == POINT else {int(E.ends[t, 0]), int(E.ends[t, 1])}
+        pts = E.closure_points(t)
         cands = pts if cands is None else cands & pts
+    cands = {c for c in (cands or ()) if c != -1}
     return next(iter(cands)) if cands else None
 
 
-def _equations(E: ElementarySites, triple, seed):
-    """[(kind, data)] per site: ("point", (px, py)), ("line", (a, b, c, σ, N)), ("perp", (dx, dy, ex, ey))."""
+def arc_centre_vertex(E: ElementarySites, triple):
+    """For a triple of an arc s and two sites whose closures hold its two ends (its end points,
+    or the curves of its smooth joints): the arc's (centre, radius) — the centre is at distance
+    ρ from the whole arc (a contact along the arc, not at one point); it is a Voronoi vertex when
+    the open disc is empty.  None for other triples."""
+    for s in (int(t) for t in triple if E.kind[t] == ARC):
+        others = [int(t) for t in triple if int(t) != s]
+        ends = [int(E.ends[s, 0]), int(E.ends[s, 1])]
+        if len(others) == 2 and any(ends[0] in E.closure_points(o1) and ends[1] in E.closure_points(o2)
+                                    for o1, o2 in (others, others[::-1])):
+            return E.arc[s]
+    return None
+
+
+def _tangent_at(E: ElementarySites, t: int, e: int):
+    """The tangent direction of curve t at its end e (exact): the normal line at e is
+    {v : tangent·(v − e) = 0}."""
+    ex, ey = E.xy[e]
+    if E.kind[t] == SEGMENT:
+        (ax, ay), (bx, by) = E.xy[int(E.ends[t, 0])], E.xy[int(E.ends[t, 1])]
+        return bx - ax, by - ay
+    (cx, cy), _rho = E.arc[t]
+    return -(ey - cy), ex - cx
+
+
+def contact_equations(E: ElementarySites, triple, seed):
+    """The contact system of ``triple`` (see the module docstring): a list of
+    (kind, exact data, site) with kinds "point" (px, py), "line" (a, b, c, σ, N),
+    "normal" (tx, ty, ex, ey: the normal line at e of a curve ending there) and
+    "arc" (cx, cy, ρ, σ); None when no circle can touch the three."""
+    pts = {int(t) for t in triple if E.kind[t] == POINT}
+    curves = [int(t) for t in triple if E.kind[t] != POINT]
+    joint_of: dict = {}
+    for i, t1 in enumerate(curves):          # two curves of a smooth joint: point + normal line
+        for t2 in curves[i + 1:]:
+            shared = {int(v) for v in E.ends[t1] if v < -1} & {int(v) for v in E.ends[t2] if v < -1}
+            if shared:
+                j = shared.pop()
+                joint_of[t1] = ("point", j)
+                joint_of[t2] = ("normal", j)
     eqs = []
-    pts = [int(t) for t in triple if E.kind[t] == POINT]
-    for t in triple:
-        t = int(t)
+    for t in (int(v) for v in triple):
         if E.kind[t] == POINT:
-            eqs.append(("point", E.xy[t]))
+            eqs.append(("point", E.xy[t], t))
             continue
-        ia, ib = int(E.ends[t, 0]), int(E.ends[t, 1])
-        (ax, ay), (bx, by) = E.xy[ia], E.xy[ib]
-        ends_in = [p for p in pts if p in (ia, ib)]
+        if t in joint_of:
+            what, j = joint_of[t]
+            eqs.append(("point", E.xy[j], t) if what == "point" else ("normal", _tangent_at(E, t, j) + E.xy[j], t))
+            continue
+        ends_in = [p for p in pts if p in (int(E.ends[t, 0]), int(E.ends[t, 1]))]
         if len(ends_in) == 2:
-            return None              # both endpoints of a segment and its interior: no circle
+            return None              # both ends of a curve and its interior: no circle
         if ends_in:
-            ex, ey = E.xy[ends_in[0]]
-            eqs.append(("perp", (bx - ax, by - ay, ex, ey)))
+            e = ends_in[0]
+            eqs.append(("normal", _tangent_at(E, t, e) + E.xy[e], t))
             continue
-        a, b = -(by - ay), bx - ax
-        c = -(a * ax + b * ay)
-        side = a * seed[0] + b * seed[1] + float(c)
-        eqs.append(("line", (a, b, c, 1 if side >= 0 else -1, a * a + b * b)))
+        if E.kind[t] == SEGMENT:
+            (ax, ay), (bx, by) = E.xy[int(E.ends[t, 0])], E.xy[int(E.ends[t, 1])]
+            a, b = -(by - ay), bx - ax
+            c = -(a * ax + b * ay)
+            side = float(a) * seed[0] + float(b) * seed[1] + float(c)
+            eqs.append(("line", (a, b, c, 1 if side >= 0 else -1, a * a + b * b), t))
+        else:
+            (cx, cy), rho = E.arc[t]
+            out = (seed[0] - float(cx)) ** 2 + (seed[1] - float(cy)) ** 2 > float(rho) ** 2
+            eqs.append(("arc", (cx, cy, rho, 1 if out else -1), t))
     return eqs
 
 
 def _float_system(eqs):
     co = []
-    for kind, d in eqs:
-        if kind == "point":
-            co.append((kind, float(d[0]), float(d[1])))
-        elif kind == "line":
+    for kind, d, _t in eqs:
+        if kind == "line":
             a, b, c, s, N = d
             co.append((kind, float(a), float(b), float(c), s * float(N) ** 0.5))
         else:
-            dx, dy, ex, ey = d
-            co.append((kind, float(dx), float(dy), float(ex), float(ey)))
+            co.append((kind,) + tuple(float(v) for v in d))
 
     def F(z):
         x, y, r = z
@@ -109,21 +153,26 @@ def _float_system(eqs):
             elif e[0] == "line":
                 out.append(e[1] * x + e[2] * y + e[3] - e[4] * r)
                 J.append([e[1], e[2], -e[4]])
-            else:
+            elif e[0] == "normal":
                 out.append(e[1] * (x - e[3]) + e[2] * (y - e[4]))
                 J.append([e[1], e[2], 0.0])
+            else:
+                R = e[3] + e[4] * r
+                out.append((x - e[1]) ** 2 + (y - e[2]) ** 2 - R * R)
+                J.append([2 * (x - e[1]), 2 * (y - e[2]), -2 * e[4] * R])
         return np.array(out), np.array(J)
     return F
 
 
 def _arb_system(eqs):
     co = []
-    for kind, d in eqs:
-        if kind == "point":
-            co.append((kind, to_arb(d[0]), to_arb(d[1])))
-        elif kind == "line":
+    for kind, d, _t in eqs:
+        if kind == "line":
             a, b, c, s, N = d
             co.append((kind, to_arb(a), to_arb(b), to_arb(c), s * to_arb(N).sqrt()))
+        elif kind == "arc":
+            cx, cy, rho, s = d
+            co.append((kind, to_arb(cx), to_arb(cy), to_arb(rho), s))
         else:
             co.append((kind,) + tuple(to_arb(v) for v in d))
 
@@ -135,8 +184,11 @@ def _arb_system(eqs):
                 out.append((x - e[1]) ** 2 + (y - e[2]) ** 2 - r * r)
             elif e[0] == "line":
                 out.append(e[1] * x + e[2] * y + e[3] - e[4] * r)
-            else:
+            elif e[0] == "normal":
                 out.append(e[1] * (x - e[3]) + e[2] * (y - e[4]))
+            else:
+                R = e[3] + e[4] * r
+                out.append((x - e[1]) ** 2 + (y - e[2]) ** 2 - R * R)
         return out
 
     def J(z):
@@ -147,8 +199,10 @@ def _arb_system(eqs):
                 rows.append([2 * (x - e[1]), 2 * (y - e[2]), -2 * r])
             elif e[0] == "line":
                 rows.append([e[1], e[2], -e[4]])
-            else:
+            elif e[0] == "normal":
                 rows.append([e[1], e[2], arb(0)])
+            else:
+                rows.append([2 * (x - e[1]), 2 * (y - e[2]), -2 * e[4] * (e[3] + e[4] * r)])
         return rows
     return F, J
 
@@ -163,7 +217,11 @@ def prove_vertex(E: ElementarySites, triple, seed, r_seed: float | None = None, 
         x, y = E.xy[c]
         return VertexSolution("proved", float(x), float(y), 0.0,
                               (to_arb(x), to_arb(y), arb(0)), corner=c)
-    eqs = _equations(E, triple, seed)
+    centre = arc_centre_vertex(E, triple)
+    if centre is not None:
+        (cx, cy), rho = centre
+        return VertexSolution("proved", float(cx), float(cy), float(rho), (to_arb(cx), to_arb(cy), to_arb(rho)))
+    eqs = contact_equations(E, triple, seed)
     if eqs is None:
         return VertexSolution("invalid", float(seed[0]), float(seed[1]), 0.0, reason="a segment and both its endpoints")
     F = _float_system(eqs)
@@ -184,7 +242,7 @@ def prove_vertex(E: ElementarySites, triple, seed, r_seed: float | None = None, 
             break
     key = None
     if cache is not None:
-        sides = tuple(d[3] if k == "line" else 0 for k, d in eqs)
+        sides = tuple(d[3] if k in ("line", "arc") else 0 for k, d, _t in eqs)
         key = (tuple(triple), sides) + tuple(np.round(z / (1e-9 * scale)).astype(np.int64).tolist())
         if key in cache:
             return cache[key]
@@ -210,26 +268,74 @@ def _prove(E: ElementarySites, triple, eqs, z, scale) -> VertexSolution:
         x, y, r = K
         if not r > 0:
             return VertexSolution("invalid" if r <= 0 else "undecided", *z, box=tuple(K), reason="radius")
-        for (kind, _d), t in zip(eqs, triple):
-            if kind != "line":
-                continue
-            u = foot_parameter(E.xy[int(E.ends[int(t), 0])], E.xy[int(E.ends[int(t), 1])], x, y)
-            if u < 0 or u > 1:
-                return VertexSolution("invalid", *z, box=tuple(K), reason=f"foot outside segment {int(t)}")
-            if not (u >= 0 and u <= 1):
-                return VertexSolution("undecided", *z, box=tuple(K), reason=f"foot at an end of segment {int(t)}")
+        for kind, d, t in eqs:
+            verdict = _contact_valid(E, kind, d, t, x, y, r)
+            if verdict is not True:
+                return VertexSolution("invalid" if verdict is False else "undecided", *z, box=tuple(K),
+                                      reason=f"contact with site {t} outside its interior" if verdict is False
+                                      else f"contact with site {t} at an end")
         return VertexSolution("proved", float(x.mid()), float(y.mid()), float(r.mid()), tuple(K))
     finally:
         ctx.prec = old
 
 
+def _contact_valid(E: ElementarySites, kind, d, t, x, y, r):
+    """True when the proved zero touches site t where the equation says (a segment's foot in
+    [0, 1], an arc's contact direction in its range with ρ + σr > 0, a normal line on the side
+    of an arc's end away from the centre), False when it does not, None when undecided."""
+    if kind == "line":
+        u = foot_parameter(E.xy[int(E.ends[t, 0])], E.xy[int(E.ends[t, 1])], x, y)
+        if u < 0 or u > 1:
+            return False
+        return True if (u >= 0 and u <= 1) else None
+    if kind == "arc":
+        cx, cy, rho, s = d
+        R = to_arb(rho) + s * r
+        if R <= 0:
+            return False
+        if not R > 0:
+            return None
+        return direction_in_arc(E, t, x - to_arb(cx), y - to_arb(cy))
+    if kind == "normal" and E.kind[t] == ARC:
+        (cx, cy), _rho = E.arc[t]
+        ex, ey = d[2], d[3]
+        lam = (x - to_arb(cx)) * to_arb(ex - cx) + (y - to_arb(cy)) * to_arb(ey - cy)
+        if lam <= 0:
+            return False
+        return True if lam > 0 else None
+    return True
+
+
+def direction_in_arc(E: ElementarySites, t: int, ux: arb, uy: arb):
+    """The direction (ux, uy) from the centre in the closed range of arc t: True / False / None."""
+    (cx, cy), _rho = E.arc[t]
+    (ax, ay), (bx, by) = E.xy[int(E.ends[t, 0])], E.xy[int(E.ends[t, 1])]
+    ax, ay, bx, by = ax - cx, ay - cy, bx - cx, by - cy
+    ca = to_arb(ax) * uy - to_arb(ay) * ux
+    cb = ux * to_arb(by) - uy * to_arb(bx)
+    if ax * by - ay * bx > 0:
+        if ca >= 0 and cb >= 0:
+            return True
+        if ca < 0 or cb < 0:
+            return False
+        return None
+    if ca >= 0 or cb >= 0:
+        return True
+    if ca < 0 and cb < 0:
+        return False
+    return None
+
+
 def _r_guess(eqs, z):
     rs = []
-    for kind, d in eqs:
+    for kind, d, _t in eqs:
         if kind == "point":
             rs.append(float(np.hypot(z[0] - float(d[0]), z[1] - float(d[1]))))
         elif kind == "line":
             a, b, c, _s, N = d
             rs.append(abs(float(a) * z[0] + float(b) * z[1] + float(c)) / float(N) ** 0.5)
+        elif kind == "arc":
+            cx, cy, rho, _s = d
+            rs.append(abs(float(np.hypot(z[0] - float(cx), z[1] - float(cy))) - float(rho)))
     return float(np.mean(rs)) if rs else 1.0
 

@@ -44,9 +44,29 @@ class _SegmentShape:
         return np.array([[self.x0, self.y0], [self.x1, self.y1]])
 
 
+class _ArcShape(_SegmentShape):
+    """A circular arc site, drawn counter-clockwise from its start to its end."""
+
+    def __init__(self, arc):
+        (self.cx, self.cy), self.rho, (self.x0, self.y0), (self.x1, self.y1) = arc.float_data()
+        a0 = math.atan2(self.y0 - self.cy, self.x0 - self.cx)
+        span = (math.atan2(self.y1 - self.cy, self.x1 - self.cx) - a0) % (2 * math.pi) or 2 * math.pi
+        t = a0 + np.linspace(0, span, 200)
+        self.P = np.column_stack([self.cx + self.rho * np.cos(t), self.cy + self.rho * np.sin(t)])
+
+    def bounding_box(self):
+        return float(self.P[:, 0].min()), float(self.P[:, 1].min()), float(self.P[:, 0].max()), float(self.P[:, 1].max())
+
+    def samples(self, spacing, window):
+        return np.vstack([self.P, self.P[::-1]])
+
+
 def _shape(site):
+    from ..sites.arc import Arc
     from ..sites.segment import Segment
 
+    if isinstance(site, Arc):
+        return _ArcShape(site)
     return _SegmentShape(site) if isinstance(site, Segment) else site_geometry(site)
 
 

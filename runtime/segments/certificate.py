@@ -1,0 +1,246 @@
+"""An independent certificate for Voronoi diagrams of points and segments (thesis §1.2, §2.2).
+
+:func:`verify_segments` takes a :class:`runtime.voronoi.structure.Diagram` (or its JSON form)
+whose sites are elementary sites — :class:`runtime.predicates.circles.Point` and
+:class:`runtime.sites.segment.Segment` meaning its *open interior* — and either proves that it is
+*the* Voronoi diagram of those sites or names what failed.  It reads only the reported
+combinatorics (vertex site lists, edge pairs and ends) and uses positions and polylines to pick
+the arcs and check their stated tolerance; it imports nothing of the construction
+(:mod:`runtime.segments.vertices`, ``construction``, ``bisectors``, ``emptiness``, ``exact``;
+``tests/test_architecture.py`` enforces it).  Conventions: the distance to an open segment is
+the distance to the closed segment; a point equidistant from an endpoint e and a segment s ending
+at e belongs to e.
+
+The proof (the contract of this module)
+---------------------------------------
+Let G be the true Voronoi graph of the sites and H the reported one.
+
+1. **Sites admissible** (:mod:`runtime.segments.certificate_sites`, exact rationals): points and
+   segments only, none repeated, every segment's endpoints are point sites of the list, segments
+   meet only at common endpoints and no point lies in a segment's interior
+   (:func:`runtime.segments.crossings.check_pieces`), straight degree-2 joints are merged and no
+   junction continues straight through.  Otherwise nothing else is claimed.
+2. **Vertices** (:mod:`runtime.segments.certificate_vertices`): each reported vertex is a point at
+   distance r from each listed site (touching it at a contact point in its closure) and strictly
+   farther from every other site (by the endpoint convention for a segment whose listed endpoint
+   ties), within 10⁻¹⁰·(1 + |x| + |y| + r) of the report: corners exactly (v = c, r = 0, the listed
+   sites are c's segments by exact angle with c in the reflex gap); k = 3 by Krawczyk on a 2 × 2
+   system of touching-type distances of our own; k > 3 by the closed-form solution of three of the
+   sites and exact zero tests (sympy, :mod:`runtime.segments.certificate_exact`) for the others;
+   contacts counter-clockwise in the listed
+   order; emptiness by rigorous distance balls after a k-d tree and float pruning.
+3. **Edges** (:mod:`runtime.segments.certificate_edges`, curves and polylines in
+   :mod:`runtime.segments.certificate_curves`, the rules decided at the ends and at infinity in
+   :mod:`runtime.segments.certificate_rules`): each reported edge (i, j) is the arc of
+   the exact bisector curve (line or parabola, in closed form) between its two end vertices, or
+   from its vertex to infinity, or a whole line, and every point of the open arc is strictly closer
+   to i and j than to any other site (with the endpoint convention): piecewise rigorous lower
+   bounds, derivative signs next to end vertices where a third site ties, exact asymptotics on
+   infinite tails.  Only perpendicular bisectors of two points and perpendiculars to a segment at
+   its endpoint may reach infinity.  The polyline lies within the stated tolerance of the arc
+   (Hausdorff, chords of the parabola bounded by its curvature).  Hence each proved edge is a whole
+   edge of G (a connected component of the set of points with nearest sites exactly i and j,
+   bounded by Voronoi vertices or infinity).
+4. **Closure** (:func:`closure`, exact on the combinatorics): every vertex of degree k ≥ 3 has
+   exactly one incident edge for each of its k cyclically consecutive site pairs and no other
+   incident edge; every edge's finite ends are vertices listing both its sites.  With 2 and 3 this
+   says that H is a union of connected components of G (a proved vertex of G has exactly the k
+   edges of its consecutive pairs in G).  Two edges of one pair cannot overlap: each is a whole edge
+   of G, a repeated one is found here (vertex ends) or in 5 (infinite ends).
+5. **Completeness** (:func:`runtime.segments.certificate_sites.expected_infinite_ends`, exact):
+   the region of a point or an open segment is star-shaped with respect to its (convex) site —
+   the segment from a point of the region to its nearest site point stays in the region — hence
+   connected and simply connected; a bounded connected component of G would enclose a bounded
+   complementary domain that is a union of regions, and the region surrounding the component from
+   outside would then have a hole.  So every component of G reaches infinity, and its unbounded
+   edges are among the ends of G at infinity, which are exactly one per pair of sites consecutive
+   along a side of the (exact rational) convex hull of the point sites, going out along the side's
+   outward normal.  The reported infinite ends (pair, exact direction) must equal that list with
+   multiplicity; then every component of G has an edge in H, and by 4 lies in H: H = G.
+6. **Document** (:func:`runtime.voronoi.verify.document.check_document`): finite numbers, no
+   closed edges, the document's ``delaunay_edges`` equal to its edges' pairs.
+
+``ok`` is True only when all of this is proved; per-vertex and per-edge flags say which parts
+are; problems are :class:`runtime.voronoi.verify.problems.Problem` records naming the vertex, edge
+and sites.  Not claimed: diagrams of junctions that continue straight through (refused as sites),
+closed edges (none exist for these sites).
+
+Public API: :func:`verify_segments`, :func:`has_segment_sites`, :func:`closure`.
+"""
+from __future__ import annotations
+
+import time
+from collections import Counter
+from dataclasses import dataclass, field
+
+from ..certify.foot import working_prec
+from ..sites.segment import Segment
+from ..threads import one_blas_thread
+from ..voronoi.verify.document import check_document
+from ..voronoi.verify.problems import fault, records
+from .certificate_edges import prove_edges
+from .certificate_sites import SiteTable, admissibility, expected_infinite_ends
+from .certificate_vertices import prove_vertices
+
+__all__ = ["verify_segments", "has_segment_sites", "closure", "SegmentCertificate"]
+
+PREC = 128
+
+
+@dataclass
+class SegmentCertificate:
+    """The outcome of :func:`verify_segments`, with the fields (and JSON form) of
+    :class:`runtime.voronoi.verify.certificate.Certificate`, to which :func:`runtime.voronoi.verify.
+    certificate.verify` converts it (that module imports this one, so this one cannot import it)."""
+
+    ok: bool
+    problems: list
+    vertices: list
+    edges: list
+    complete: bool
+    delaunay_edges: list
+    hypotheses: list = field(default_factory=list)
+    stats: dict = field(default_factory=dict)
+    timings: dict = field(default_factory=dict)
+
+    def to_json(self) -> dict:
+        return {"ok": bool(self.ok), "complete": bool(self.complete), "problems": [str(p) for p in self.problems],
+                "problem_records": records(self.problems),
+                "vertices": [bool(v) for v in self.vertices], "edges": [bool(e) for e in self.edges],
+                "delaunay_edges": [list(p) for p in self.delaunay_edges],
+                "hypotheses": list(self.hypotheses), "stats": self.stats,
+                "timings": {k: round(v, 4) for k, v in self.timings.items()}}
+
+
+def has_segment_sites(diagram) -> bool:
+    """True when the diagram (or its JSON dict) has a segment site."""
+    if isinstance(diagram, dict):
+        return any(isinstance(s, dict) and "segment" in s for s in diagram.get("sites", []) or [])
+    return any(isinstance(s, Segment) for s in getattr(diagram, "sites", []) or [])
+
+
+def _as_diagram(diagram):
+    from ..voronoi.structure import Diagram
+
+    if isinstance(diagram, dict):
+        return Diagram.from_json(diagram)
+    return diagram
+
+
+def _same(a, b) -> bool:
+    if isinstance(a, Segment) or isinstance(b, Segment):
+        return isinstance(a, Segment) and isinstance(b, Segment) and a == b
+    try:
+        return (a.x, a.y) == (b.x, b.y)
+    except AttributeError:
+        return False
+
+
+@one_blas_thread
+def verify_segments(diagram, sites=None, *, deadline=None) -> SegmentCertificate:
+    """Prove that ``diagram`` is the Voronoi diagram of its elementary point and segment sites
+    (module docstring).  ``sites``: the expected elementary sites (compared exactly); ``deadline``:
+    a :func:`time.perf_counter` value after which edges are not checked (not ok)."""
+    T0 = time.perf_counter()
+    doc = diagram if isinstance(diagram, dict) else None
+    D = _as_diagram(diagram)
+    problems: list = []
+    timings: dict = {}
+    if sites is not None:
+        sites = list(sites)
+        if len(sites) != len(D.sites):
+            problems.append(fault(f"the diagram has {len(D.sites)} sites, the input {len(sites)}", kind="site"))
+        for k in range(min(len(sites), len(D.sites))):
+            if not _same(sites[k], D.sites[k]):
+                problems.append(fault(f"site {k} of the diagram differs from input site {k}", kind="site", sites=(k,)))
+    with working_prec(PREC):
+        T = SiteTable(D.sites)
+        stats = {"sites": T.n, "vertices": len(D.vertices), "edges": len(D.edges), "route": "segments"}
+        hyp = ["sites admissible (checked)", "endpoint owns ties with its segment (convention)"]
+        adm = admissibility(T)
+        problems.extend(adm)
+        check_document(D, doc, [], problems)
+        for e in D.edges:
+            if e.closed:
+                problems.append(fault(f"edge {e.id} (sites {', '.join(map(str, e.sites))}): a diagram of points "
+                                      "and segments has no closed edge", kind="edge", edge=e.id,
+                                      sites=tuple(int(s) for s in e.sites if 0 <= int(s) < T.n)))
+        timings["sites"] = time.perf_counter() - T0
+        if adm:
+            return SegmentCertificate(False, problems, [False] * len(D.vertices), [False] * len(D.edges), False, [],
+                               hyp, stats, timings)
+        t0 = time.perf_counter()
+        vproofs = prove_vertices(D, T, problems)
+        timings["vertices"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        eproofs = prove_edges(D, T, vproofs, problems, deadline=deadline)
+        timings["edges"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        closure_ok = closure(D, T.n, problems)
+        account_ok = _accounting(T, eproofs, problems)
+        timings["closure"] = time.perf_counter() - t0
+    vok = [p.ok for p in vproofs]
+    eok = [p.ok for p in eproofs]
+    complete = closure_ok and account_ok
+    ok = complete and all(vok) and all(eok) and not problems
+    pairs = sorted({tuple(sorted(int(t) for t in e.sites)) for e, f in zip(D.edges, eok) if f})
+    timings["total"] = time.perf_counter() - T0
+    return SegmentCertificate(ok, problems, vok, eok, complete, pairs, hyp, stats, timings)
+
+
+def closure(D, n: int, problems: list) -> bool:
+    """Step 4 of the module docstring (exact on the combinatorics); problems appended."""
+    ok = True
+    ids = {v.id: v for v in D.vertices}
+    if len(ids) != len(D.vertices):
+        problems.append(fault("two vertices share an id", kind="diagram"))
+        ok = False
+    at: dict = {v.id: [] for v in D.vertices}
+    for e in D.edges:
+        pair = tuple(sorted(int(s) for s in e.sites))
+        name = f"edge {e.id} (sites {', '.join(map(str, e.sites))})"
+        if len(pair) != 2 or not all(0 <= s < n for s in pair) or pair[0] == pair[1]:
+            problems.append(fault(f"{name}: not a pair of two distinct sites", kind="edge", edge=e.id))
+            ok = False
+            continue
+        for v in e.ends:
+            if v is None:
+                continue
+            if v not in ids:
+                problems.append(fault(f"{name}: its end {v} is not a vertex", kind="edge", edge=e.id, sites=pair))
+                ok = False
+                continue
+            at[v].append((e, pair))
+            if pair not in ids[v].site_pairs():
+                problems.append(fault(f"{name}: its end vertex {v} does not list its sites as consecutive",
+                                      kind="edge", edge=e.id, vertex=v, sites=pair))
+                ok = False
+    for v in D.vertices:
+        count = Counter(p for _, p in at.get(v.id, []))
+        for p in v.site_pairs():
+            if count[p] != 1:
+                what = "no incident edge" if count[p] == 0 else f"{count[p]} incident edges"
+                problems.append(fault(f"vertex {v.id} (sites {', '.join(map(str, v.sites))}): {what} between its "
+                                      f"consecutive sites {p[0]} and {p[1]}", kind="vertex", vertex=v.id, sites=p))
+                ok = False
+    return ok
+
+
+def _accounting(T: SiteTable, eproofs, problems: list) -> bool:
+    """Step 5: the reported infinite ends equal the expected ones (with multiplicity)."""
+    want = Counter(expected_infinite_ends(T))
+    got = Counter(t for p in eproofs for t in p.infinite)
+    ok = True
+    for key, m in sorted((want - got).items()):
+        (a, b), d = key
+        problems.append(fault(f"sites {a} and {b}: no edge goes to infinity between them in the direction "
+                              f"({float(d[0]):.6g}, {float(d[1]):.6g}) (consecutive on the convex hull)",
+                              kind="infinity", sites=(a, b)))
+        ok = False
+    for key, m in sorted((got - want).items()):
+        (a, b), d = key
+        problems.append(fault(f"sites {a} and {b}: {m} edge end(s) go to infinity in the direction "
+                              f"({float(d[0]):.6g}, {float(d[1]):.6g}), where the diagram has "
+                              f"{want.get(key, 0)}", kind="infinity", sites=(a, b)))
+        ok = False
+    return ok

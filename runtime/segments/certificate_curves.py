@@ -1,0 +1,251 @@
+"""Closed-form bisector curves of two elementary sites (points, open segments) for the
+point/segment certificate (:mod:`runtime.segments.certificate_edges` states what is proved with
+them), the polyline tolerance check and small arb helpers.
+
+* two points: the perpendicular bisector O + τ w, O the midpoint, w = (p_j − p_i)^⊥ (exact);
+* an endpoint e and its segment s: the perpendicular e + τ (b − a)^⊥ (exact); on it the foot on s
+  is e, so d_s = |x − e| exactly;
+* a point p and a segment s = [a, b] (p not an endpoint, not on the line of s): the parabola by
+  the foot parameter t on s, γ(t) = a + t d + d^⊥ ((t − t_p)² L² + H²) / (2 H L) with d = b − a,
+  L = |d|², H = d^⊥·(p − a), t_p the foot of p (rational coefficients); the common distance
+  ρ(t) = ((t − t_p)² L² + H²) √L / (2 |H| L);
+* two segments: the angle bisector σ_i ℓ_i = σ_j ℓ_j of their lines (ℓ the signed distances, σ the
+  sides at a proved end vertex of positive radius, where |ℓ| is the radius), through the exact
+  intersection of the lines (parallel lines: their mid-parallel through (a_i + a_j)/2).
+
+**Polyline tolerance** (:func:`polyline_bound`, a Hausdorff bound): each polyline point p_m is
+within ε_m of the arc point γ(τ_m) (τ_m its projection, clamped to the arc); the chord between two
+arc points deviates from the arc by at most Δu²/(8h) for the parabola (a graph over its directrix
+with second derivative 1/h, h the focal distance, Δu the foot distance) and 0 for a line; the
+pieces [τ_m, τ_{m+1}] cover the arc between the first and last projections (consecutive pieces
+share an end, whatever their order), so the polyline and that arc are within max ε + max sagitta
+of each other; the arc between an end vertex and the polyline's end point lies within the
+tolerance of that point (checked on the box of the arc piece).
+
+Public API: :class:`Line`, :class:`Parabola`, :func:`bisector_curve`, :func:`polyline_bound`,
+:func:`unit_normal`, :func:`exact_d2`, :func:`q_arb`, :func:`interval`, :func:`up`, :func:`down`.
+"""
+from __future__ import annotations
+
+from fractions import Fraction
+
+import numpy as np
+from flint import arb, fmpq
+
+from .certificate_sites import POINT, SiteTable, hypot, sq
+
+__all__ = ["Line", "Parabola", "bisector_curve", "polyline_bound", "unit_normal", "exact_d2", "q_arb",
+           "interval", "up", "down"]
+
+EPS = np.finfo(float).eps
+
+def q_arb(v) -> arb:
+    """A ball holding the rational v."""
+    v = Fraction(v)
+    return arb(fmpq(v.numerator, v.denominator))
+
+
+def interval(lo: float, hi: float) -> arb:
+    """The ball hull of the floats lo and hi."""
+    return arb(lo).union(arb(hi))
+
+
+def up(x: arb) -> float:
+    """A float ≥ every point of x."""
+    u = float(x.upper())
+    return u + 4 * EPS * abs(u) + 1e-300
+
+
+def down(x: arb) -> float:
+    """A float ≤ every point of x."""
+    u = float(x.lower())
+    return u - 4 * EPS * abs(u) - 1e-300
+
+
+class Line:
+    """O + τ w; ``anchor`` (a point: ρ = |x − anchor|) or ``side`` (n̂, a: ρ = n̂·(x − a))."""
+
+    def __init__(self, kind, Oq, wq=None, w=None, anchor=None, side=None):
+        self.kind = kind
+        self.Oq, self.wq = Oq, wq
+        self.O = (q_arb(Oq[0]), q_arb(Oq[1]))
+        self.w = (q_arb(wq[0]), q_arb(wq[1])) if wq is not None else w
+        self.w2 = sq(self.w[0]) + sq(self.w[1])
+        self.anchor_q = anchor
+        self.anchor = None if anchor is None else (q_arb(anchor[0]), q_arb(anchor[1]))
+        self.side = side
+
+    def xy(self, t):
+        return self.O[0] + t * self.w[0], self.O[1] + t * self.w[1]
+
+    def dxy(self, t):
+        return self.w
+
+    def param(self, X, Y):
+        return ((X - self.O[0]) * self.w[0] + (Y - self.O[1]) * self.w[1]) / self.w2
+
+    def rho(self, t, X, Y):
+        if self.anchor is not None:
+            return hypot(X - self.anchor[0], Y - self.anchor[1])
+        (nx, ny), (ax, ay) = self.side
+        return nx * (X - ax) + ny * (Y - ay)
+
+    def drho(self, t, X, Y):
+        if self.anchor is not None:
+            dx, dy = X - self.anchor[0], Y - self.anchor[1]
+            return (dx * self.w[0] + dy * self.w[1]) / hypot(dx, dy)
+        (nx, ny), _ = self.side
+        return nx * self.w[0] + ny * self.w[1]
+
+
+class Parabola:
+    """The bisector of point p and segment s, by the foot parameter t on s (module docstring)."""
+
+    kind = "parabola"
+
+    def __init__(self, T: SiteTable, p: int, s: int):
+        (ax, ay), (bx, by), (px, py) = T.a[s], T.b[s], T.a[p]
+        dx, dy = bx - ax, by - ay
+        L2 = dx * dx + dy * dy
+        H = dx * (py - ay) - dy * (px - ax)
+        self.H_exact = H
+        tp = ((px - ax) * dx + (py - ay) * dy) / L2
+        self.a = (q_arb(ax), q_arb(ay))
+        self.d = (q_arb(dx), q_arb(dy))
+        self.L2, self.H, self.tp = q_arb(L2), q_arb(H), q_arb(tp)
+        self.sqL = self.L2.sqrt()
+        self.absH = abs(self.H)
+
+    def _q_of(self, t):
+        u = t - self.tp
+        return (u * u * self.L2 * self.L2 + self.H * self.H) / (2 * self.H * self.L2)
+
+    def xy(self, t):
+        q = self._q_of(t)
+        return self.a[0] + t * self.d[0] - self.d[1] * q, self.a[1] + t * self.d[1] + self.d[0] * q
+
+    def dxy(self, t):
+        qp = (t - self.tp) * self.L2 / self.H
+        return self.d[0] - self.d[1] * qp, self.d[1] + self.d[0] * qp
+
+    def param(self, X, Y):
+        return ((X - self.a[0]) * self.d[0] + (Y - self.a[1]) * self.d[1]) / self.L2
+
+    def rho(self, t, X, Y):
+        u = t - self.tp
+        return (u * u * self.L2 * self.L2 + self.H * self.H) * self.sqL / (2 * self.absH * self.L2)
+
+    def drho(self, t, X, Y):
+        return (t - self.tp) * self.L2 * self.sqL / self.absH
+
+    def sagitta(self, dt: arb) -> arb:
+        """Chord-to-arc deviation bound of a piece of foot length dt: Δu²/(8h)."""
+        return dt * dt * self.L2 * self.sqL / (8 * self.absH)
+
+
+def bisector_curve(T: SiteTable, i, j, vps):
+    """The bisector curve of i and j, or a message.  ``vps``: proofs of the finite end vertices."""
+    ki, kj = T.kind[i], T.kind[j]
+    if ki == POINT and kj == POINT:
+        (xi, yi), (xj, yj) = T.a[i], T.a[j]
+        return Line("points", ((xi + xj) / 2, (yi + yj) / 2), wq=(-(yj - yi), xj - xi), anchor=T.a[i])
+    if ki == POINT or kj == POINT:
+        p, s = (i, j) if ki == POINT else (j, i)
+        (ax, ay), (bx, by) = T.a[s], T.b[s]
+        if T.is_endpoint(p, s):
+            return Line("perp", T.a[p], wq=(-(by - ay), bx - ax), anchor=T.a[p])
+        par = Parabola(T, p, s)
+        if par.H_exact == 0:
+            return "the point lies on the line of the segment: they have no bisector arc"
+        return par
+    # two segments
+    sides = None
+    for vp in vps:
+        if vp.r is not None and vp.r > 0:
+            sg = []
+            for s in (i, j):
+                nx, ny, ax, ay = unit_normal(T, s)
+                val = nx * (vp.x - ax) + ny * (vp.y - ay)
+                if not (val > 0 or val < 0):
+                    return "the side of a segment at an end vertex is undecided"
+                sg.append(1 if val > 0 else -1)
+            if sides is not None and sides != sg:
+                return "its end vertices lie on different bisectors of the two segments"
+            sides = sg
+    if sides is None:
+        return "no end vertex of positive radius fixes the bisector of the two segments"
+    (ai, bi), (aj, bj) = (T.a[i], T.b[i]), (T.a[j], T.b[j])
+    di = (bi[0] - ai[0], bi[1] - ai[1])
+    dj = (bj[0] - aj[0], bj[1] - aj[1])
+    ni, nj = unit_normal(T, i), unit_normal(T, j)
+    side = ((sides[0] * ni[0], sides[0] * ni[1]), (ni[2], ni[3]))
+    cr = di[0] * dj[1] - di[1] * dj[0]
+    if cr == 0:
+        same = (di[0] * dj[0] + di[1] * dj[1]) > 0      # n̂_j = ±n̂_i
+        if sides[0] == (sides[1] if same else -sides[1]):
+            return "the two segments are collinear or on one side of each other: no mid-parallel between them"
+        O = ((ai[0] + aj[0]) / 2, (ai[1] + aj[1]) / 2)
+        return Line("segments", O, wq=di, side=side)
+    # intersection of the two lines: ai + λ di
+    lam = ((aj[0] - ai[0]) * dj[1] - (aj[1] - ai[1]) * dj[0]) / cr
+    O = (ai[0] + lam * di[0], ai[1] + lam * di[1])
+    mx = sides[0] * ni[0] - sides[1] * nj[0]
+    my = sides[0] * ni[1] - sides[1] * nj[1]
+    return Line("segments", O, w=(-my, mx), side=side)
+
+
+def unit_normal(T: SiteTable, s):
+    """(n̂x, n̂y, ax, ay): the unit normal (b − a)^⊥/|b − a| and a point of segment s (arb)."""
+    ax, ay, bx, by = T.arb_ends(s)
+    nx, ny = -(by - ay), bx - ax
+    nn = (nx * nx + ny * ny).sqrt()
+    return nx / nn, ny / nn, ax, ay
+
+
+def polyline_bound(c, P, tol: float, lo, hi, end_vertices):
+    """None when the polyline P is within ``tol`` of the arc τ ∈ [lo, hi] of curve c (balls, None
+    for an infinite end; module docstring), else a message.  ``end_vertices``: the proofs of the
+    vertices at P[0] and P[-1] (None at infinity)."""
+    taus = []
+    dev = arb(0)
+    for p in P:
+        x, y = arb(float(p[0])), arb(float(p[1]))
+        t = c.param(x, y)
+        if lo is not None:
+            t = t.max(lo)
+        if hi is not None:
+            t = t.min(hi)
+        X, Y = c.xy(t)
+        dev = dev.max(hypot(X - x, Y - y))
+        taus.append(t)
+    sag = arb(0)
+    if isinstance(c, Parabola):
+        for t0, t1 in zip(taus, taus[1:]):
+            sag = sag.max(c.sagitta(t1 - t0))
+    total = dev + sag
+    if not total.upper() <= tol:
+        return (f"its polyline is not within its tolerance {tol:.3g} of the arc (bound "
+                f"{float(total.upper()):.3g})")
+    # the arc between an end vertex and the polyline's end point lies near that point
+    for end, (vp, p, t) in enumerate(((end_vertices[0], P[0], taus[0]), (end_vertices[1], P[-1], taus[-1]))):
+        if vp is None:
+            continue
+        tv = c.param(vp.x, vp.y)
+        X, Y = c.xy(tv.union(t))
+        x, y = float(p[0]), float(p[1])
+        fx, fy = arb(abs(X - x).abs_upper()), arb(abs(Y - y).abs_upper())
+        if not hypot(fx, fy).upper() <= tol:
+            return (f"its polyline does not {('start', 'end')[end]} at its end vertex (within its tolerance "
+                    f"{tol:.3g})")
+    return None
+
+
+def exact_d2(T: SiteTable, k, x) -> Fraction:
+    """The squared distance from the rational point x to site k, exactly."""
+    (ax, ay), (bx, by) = T.a[k], T.b[k]
+    dx, dy = bx - ax, by - ay
+    L2 = dx * dx + dy * dy
+    t = Fraction(0) if L2 == 0 else ((x[0] - ax) * dx + (x[1] - ay) * dy) / L2
+    t = min(max(t, Fraction(0)), Fraction(1))
+    fx, fy = ax + t * dx, ay + t * dy
+    return (x[0] - fx) ** 2 + (x[1] - fy) ** 2

@@ -1,0 +1,398 @@
+"""Edge proofs of the point/segment certificate (step 3 of :mod:`runtime.segments.certificate`).
+
+An edge (i, j) between its end vertices (proved, listing i and j) or infinity is an arc of the
+exact bisector curve of i and j, parametrised in closed form
+(:func:`runtime.segments.certificate_curves.bisector_curve`: a line, or a parabola by the foot
+parameter).  A proved end vertex lies exactly on that curve (it is equidistant from i and j with
+contacts in the closed segments; for two segments the curve is the angle bisector through the
+sides of such a vertex), so its parameter is enclosed by projecting its box.  Along the arc the
+touching-type distances are the true ones: the feet on the segment sites are affine (lines) or the
+parameter itself (parabola) and lie in [0, 1] at both ends.  So every point of the open arc is
+equidistant from i and j, and must be strictly closer to them than to every other site k, under
+the diagram's convention (a tie between an endpoint and its segment belongs to the endpoint):
+
+* **R1, R2** (k an endpoint of a segment of the edge, or a segment ending at a point of the edge):
+  decided on the affine foot parameters along lines and at infinity
+  (:mod:`runtime.segments.certificate_rules`); R2 along a parabola is proved like R3 with
+  g_k = ∓(foot of k) (beyond the endpoint).
+* **R3** any other site: g_k = d_k − ρ > 0.  The parameter interval is cut into pieces, each
+  proved by a rigorous lower bound (a float filter with rounding margins, d_k(x) ≥ d_k(q) − |x − q|
+  and ρ below its ball's upper end, then
+  :meth:`runtime.segments.certificate_sites.SiteTable.distance` on the arb box of the piece);
+  pieces that fail are halved, for the failing sites only; candidates come from a k-d tree over
+  bounding discs.  At an end vertex listing k, g_k vanishes: there g_k' > 0 (into the arc) is
+  proved on [τ*, τ* + δ] (the gradient of the distance to a closed convex set, (x − F)/|x − F|,
+  is continuous off the set), or, at a corner c of radius 0 (the curve is c + τ u), g_k(τ) ≥
+  τ (D_k − D_i) with D_i = ρ/τ and D_k the distance from u to the line of k (|u| when k leaves c
+  away from u), proved > 0 for all τ > 0.
+* **Infinite ends** (only perpendicular bisectors of points and perpendiculars at an endpoint):
+  :func:`runtime.segments.certificate_rules.prove_tail` proves s ≥ S exactly or with float margins;
+  the rest of the edge is a finite interval proved as above.
+
+The polyline lies within the stated tolerance of the arc
+(:func:`runtime.segments.certificate_curves.polyline_bound`).
+
+Public API: :class:`EdgeProof`, :func:`prove_edges`.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from flint import arb
+
+from ..voronoi.verify.problems import Problem, fault
+from .certificate_curves import Line, bisector_curve, down, interval, polyline_bound, q_arb, up
+from .certificate_rules import affine_rules, corner_ratio, prove_tail, tied
+from .certificate_sites import POINT, SEGMENT, SiteTable, direction_key, hypot
+from .distance import distances, float_error
+
+__all__ = ["EdgeProof", "prove_edges"]
+
+EPS = np.finfo(float).eps
+#: pieces of one edge before the proof gives up
+MAX_PIECES = 20000
+
+
+@dataclass
+class EdgeProof:
+    """``ok``: proved; ``infinite``: (sorted pair, direction key) of each infinite end whose
+    direction is exact (lines of points or endpoint perpendiculars)."""
+
+    ok: bool
+    infinite: list = field(default_factory=list)
+
+
+def prove_edges(D, T: SiteTable, vproofs, problems, deadline=None) -> list[EdgeProof]:
+    vindex = {v.id: n for n, v in enumerate(D.vertices)}
+    out = []
+    for e in D.edges:
+        if deadline is not None and time.perf_counter() > deadline:
+            out.append(EdgeProof(False, _directions(T, e, D, vindex, vproofs)))
+            problems.append(Problem(f"edge {e.id}: time limit reached, not checked", kind="edge", edge=e.id,
+                                    fault=False))
+            continue
+        try:
+            out.append(_EdgeProver(T, D, e, vindex, vproofs, problems).run())
+        except (ValueError, ZeroDivisionError, ArithmeticError) as exc:      # pragma: no cover - defensive
+            problems.append(Problem(f"edge {e.id}: not proved ({exc.__class__.__name__}: {exc})", kind="edge",
+                                    edge=e.id, fault=False))
+            out.append(EdgeProof(False, _directions(T, e, D, vindex, vproofs)))
+    return out
+
+
+def _directions(T, e, D, vindex, vproofs) -> list:
+    return _EdgeProver(T, D, e, vindex, vproofs, []).directions_only()
+
+
+class _EdgeProver:
+    def __init__(self, T: SiteTable, D, e, vindex, vproofs, problems):
+        self.T, self.D, self.e = T, D, e
+        self.vindex, self.vproofs, self.problems = vindex, vproofs, problems
+        self.i, self.j = (int(s) for s in e.sites) if len(e.sites) == 2 else (-1, -1)
+        self.name = f"edge {e.id} (sites {', '.join(map(str, e.sites))})"
+
+    # -------------------------------------------------------------- reporting
+    def report(self, msg, *extra):
+        self.problems.append(fault(f"{self.name}: {msg}", kind="edge", edge=self.e.id,
+                                   sites=(self.i, self.j) + tuple(extra)))
+
+    def report_limit(self, msg, *extra):
+        self.problems.append(Problem(f"{self.name}: {msg}", kind="edge", edge=self.e.id,
+                                     sites=(self.i, self.j) + tuple(extra), fault=False))
+
+    # -------------------------------------------------------------- set-up
+    def _setup(self) -> str | None:
+        T, e, i, j = self.T, self.e, self.i, self.j
+        if not (0 <= i < T.n and 0 <= j < T.n) or i == j:
+            return "needs two distinct valid sites"
+        if T.kind[i] is None or T.kind[j] is None or any(T.kind[s] == SEGMENT and T.ends[s] is None for s in (i, j)):
+            return "unsupported site"
+        if e.closed:
+            return "a diagram of points and segments has no closed edge"
+        self.P = np.asarray(e.polyline, dtype=float).reshape(-1, 2)
+        if len(self.P) < 2 or not np.isfinite(self.P).all():
+            return "needs a finite polyline of at least two points"
+        self.endv = []
+        for v in e.ends:
+            if v is None:
+                self.endv.append(None)
+                continue
+            if v not in self.vindex:
+                return f"end {v} is not a vertex of the diagram"
+            self.endv.append(self.vproofs[self.vindex[v]])
+        if e.ends[0] is not None and e.ends[0] == e.ends[1]:
+            return "both ends are the same vertex"
+        curve = bisector_curve(T, i, j, [vp for vp in self.endv if vp is not None and vp.ok])
+        if isinstance(curve, str):
+            return curve
+        self.curve = curve
+        return None
+
+    def _infinite_signs(self):
+        """+1/−1 per infinite end: the way of τ towards it (from the polyline); None for a finite end."""
+        c = self.curve
+        tau = [float(c.param(arb(float(p[0])), arb(float(p[1]))).mid()) for p in (self.P[0], self.P[-1])]
+        fin = [None if vp is None else (float(c.param(vp.x, vp.y).mid()) if vp.ok and vp.x is not None else None)
+               for vp in self.endv]
+        signs = [None, None]
+        for end in (0, 1):
+            if self.e.ends[end] is not None:
+                continue
+            other = 1 - end
+            ref = tau[other] if self.e.ends[other] is None else fin[other]
+            if ref is None:
+                ref = tau[other]
+            d = tau[end] - ref
+            signs[end] = 0 if d == 0 else (1 if d > 0 else -1)
+        return signs
+
+    def directions_only(self) -> list:
+        if self._setup() is not None or None not in self.e.ends:
+            return []
+        if not isinstance(self.curve, Line) or self.curve.wq is None:
+            return []
+        return self._dirs(self._infinite_signs())
+
+    def _dirs(self, signs):
+        pair = tuple(sorted((self.i, self.j)))
+        wq = self.curve.wq
+        return [(pair, direction_key((sg * wq[0], sg * wq[1]))) for sg in signs if sg]
+
+    # -------------------------------------------------------------- the proof
+    def run(self) -> EdgeProof:
+        msg = self._setup()
+        if msg is not None:
+            self.report(msg)
+            return EdgeProof(False)
+        c, e = self.curve, self.e
+        infinite = []
+        if None in e.ends:
+            if not (isinstance(c, Line) and c.wq is not None and c.kind in ("points", "perp")):
+                self.report("only bisectors of two points and perpendiculars at an endpoint reach infinity")
+                return EdgeProof(False)
+            signs = self._infinite_signs()
+            if 0 in signs:
+                self.report("the polyline does not show which way the edge goes to infinity")
+                return EdgeProof(False)
+            infinite = self._dirs(signs)
+        for end, vp in enumerate(self.endv):
+            if vp is None:
+                continue
+            if not vp.ok:
+                self.report_limit(f"its end vertex {e.ends[end]} is not proved")
+                return EdgeProof(False, infinite)
+            if self.i not in vp.listed or self.j not in vp.listed:
+                self.report(f"its end vertex {e.ends[end]} does not list both its sites")
+                return EdgeProof(False, infinite)
+        # ends: ("v", τ ball, proof) or ("inf", sign of τ)
+        ends = []
+        for end, vp in enumerate(self.endv):
+            if vp is None:
+                ends.append(("inf", signs[end]))
+            else:
+                ends.append(("v", c.param(vp.x, vp.y), vp, e.ends[end]))
+        if ends[0][0] == "inf" and ends[1][0] == "inf":
+            if signs[0] == signs[1]:
+                self.report("both infinite ends go the same way")
+                return EdgeProof(False, infinite)
+            lo, hi = (ends[0], ends[1]) if signs[0] < 0 else (ends[1], ends[0])
+        elif ends[0][0] == "inf" or ends[1][0] == "inf":
+            fin = ends[0] if ends[0][0] == "v" else ends[1]
+            inf = ends[1] if fin is ends[0] else ends[0]
+            lo, hi = (fin, inf) if inf[1] > 0 else (inf, fin)
+        else:
+            t0, t1 = ends[0][1], ends[1][1]
+            if t0 < t1:
+                lo, hi = ends
+            elif t1 < t0:
+                hi, lo = ends
+            else:
+                self.report("its two ends are the same point (zero length) or too close to order")
+                return EdgeProof(False, infinite)
+        self.lo, self.hi = lo, hi
+        ok = affine_rules(self)
+        ok = self._positivity() and ok
+        msg = polyline_bound(c, self.P, float(e.tolerance), lo[1] if lo[0] == "v" else None,
+                             hi[1] if hi[0] == "v" else None, self.endv)
+        if msg is not None:
+            self.report(msg)
+            ok = False
+        return EdgeProof(ok, infinite)
+
+    # -------------------------------------------------------------- R3 (and R2 on a parabola)
+    def _value_fn(self, k):
+        T, c = self.T, self.curve
+        if c.kind == "parabola" and T.kind[k] == SEGMENT and any(p in (self.i, self.j) for p in T.ends[k]):
+            p = self.i if T.kind[self.i] == POINT else self.j
+            which = T.end_index(k, p)
+            sign, shift = (-1, 0) if which == 0 else (1, 1)
+            (ax, ay), (bx, by) = T.a[k], T.b[k]
+            dx, dy = q_arb(bx - ax), q_arb(by - ay)
+            L2 = dx * dx + dy * dy
+
+            def value(t, X, Y, rho):
+                return sign * (T.foot(k, X, Y) - shift)
+
+            def deriv(t, X, Y):
+                gx, gy = c.dxy(t)
+                return sign * (gx * dx + gy * dy) / L2
+            return value, deriv
+
+        def value(t, X, Y, rho):
+            return T.distance(k, X, Y) - rho
+
+        def deriv(t, X, Y):
+            ax, ay, bx, by = T.arb_ends(k)
+            if T.kind[k] == SEGMENT:
+                u = T.foot(k, X, Y)
+                u = u.max(arb(0)).min(arb(1))
+                fx, fy = ax + u * (bx - ax), ay + u * (by - ay)
+            else:
+                fx, fy = ax, ay
+            dx, dy = X - fx, Y - fy
+            gx, gy = c.dxy(t)
+            return (dx * gx + dy * gy) / hypot(dx, dy) - c.drho(t, X, Y)
+        return value, deriv
+
+    def _tie_cover(self, k, end, at_lo: bool, deriv, span: float):
+        """The float parameter up to which (from ``end``) g_k > 0 on the open arc is proved, or None."""
+        vp = end[2]
+        t0 = end[1]
+        c = self.curve
+        if vp.corner is not None:
+            if not corner_ratio(self.T, self.curve, k, vp.corner, at_lo):
+                return None
+            return math.inf if at_lo else -math.inf
+        delta = span / 4
+        for _ in range(40):
+            J = interval(down(t0), up(t0) + delta) if at_lo else interval(down(t0) - delta, up(t0))
+            X, Y = c.xy(J)
+            g = deriv(J, X, Y)
+            if (g > 0) if at_lo else (g < 0):
+                return up(t0) + delta if at_lo else down(t0) - delta
+            delta /= 4
+            if delta < 1e-13 * (abs(float(t0.mid())) + span):
+                break
+        return None
+
+    def _positivity(self) -> bool:
+        T, c, lo, hi = self.T, self.curve, self.lo, self.hi
+        ok = True
+        # tails first: they fix the finite parameter range
+        a = down(lo[1]) if lo[0] == "v" else None
+        b = up(hi[1]) if hi[0] == "v" else None
+        if hi[0] == "inf":
+            S = prove_tail(self, +1, a if a is not None else 0.0)
+            if S is None:
+                ok = False
+                S = (a if a is not None else 0.0) + 1.0
+            b = S
+        if lo[0] == "inf":
+            S = prove_tail(self, -1, -(b if hi[0] == "v" else 0.0))
+            if S is None:
+                ok = False
+                S = 1.0 - (b if hi[0] == "v" else 0.0)
+            a = -S
+        if not ok:
+            return False
+        span = b - a
+        if not span > 0:
+            self.report("its parameter interval is empty")
+            return False
+        # competitors tied at the end vertices
+        special: dict = {}
+        listed_here = set()
+        for end, at_lo in ((lo, True), (hi, False)):
+            if end[0] == "v":
+                listed_here |= {k for k in end[2].listed if k not in (self.i, self.j) and k not in self.skip}
+        if c.kind == "parabola":
+            p = self.i if T.kind[self.i] == POINT else self.j
+            tied_r2 = [k for k in T.incident[p] if k not in (self.i, self.j)]
+        else:
+            tied_r2 = []
+        for k in listed_here | set(tied_r2):
+            value, deriv = self._value_fn(k)
+            cover_lo, cover_hi = -math.inf, math.inf
+            for end, at_lo in ((lo, True), (hi, False)):
+                if end[0] == "v" and tied(end, k):
+                    cv = self._tie_cover(k, end, at_lo, deriv, span)
+                    if cv is None:
+                        self.report(f"site {k} is not proved farther than its sites next to its end vertex "
+                                    f"{end[3]}", k)
+                        ok = False
+                        cv = -math.inf if at_lo else math.inf
+                    if at_lo:
+                        cover_lo = cv
+                    else:
+                        cover_hi = cv
+            special[k] = (value, cover_lo, cover_hi)
+        return self._pieces(a, b, special) and ok
+
+    def _pieces(self, a: float, b: float, special) -> bool:
+        T, c = self.T, self.curve
+        skip = self.skip | {self.i, self.j}
+        stack = [(a, b, None)]
+        count = 0
+        min_w = (b - a) * 2.0 ** -44
+        bad: dict = {}
+        while stack:
+            pa, pb, cands = stack.pop()
+            count += 1
+            if count > MAX_PIECES:
+                self.report_limit("too many pieces: sites too close to the edge to decide")
+                return False
+            t = interval(pa, pb)
+            X, Y = c.xy(t)
+            rho = c.rho(t, X, Y)
+            qx, qy = float(X.mid()), float(Y.mid())
+            rq = float(X.rad()) + float(Y.rad())
+            rho_hi = up(rho)
+            near = [k for k in T.near(qx, qy, rho_hi + rq) if k not in skip]
+            if cands is not None:
+                near = [k for k in near if k in cands]
+            if not near:
+                continue
+            plain = [k for k in near if k not in special]
+            failed = []
+            if plain:
+                idx = np.array(plain, dtype=int)
+                Q = np.repeat([[qx, qy]], len(idx), axis=0)
+                d, _ = distances(T.A[idx], T.B[idx], Q)
+                err = float_error(T.A[idx], T.B[idx], Q) + 8 * EPS * T.scale
+                clear = d - err - rq > rho_hi
+                for k, cl in zip(plain, clear.tolist()):
+                    if not cl and not T.distance(k, X, Y) - rho > 0:
+                        failed.append(k)
+            for k in near:
+                if k not in special:
+                    continue
+                value, cover_lo, cover_hi = special[k]
+                if pb <= cover_lo or pa >= cover_hi:
+                    continue
+                if not value(t, X, Y, rho) > 0:
+                    failed.append(k)
+            if not failed:
+                continue
+            if pb - pa <= min_w:
+                for k in failed:
+                    bad.setdefault(k, (pa, pb))
+                continue
+            m = (pa + pb) / 2
+            fs = set(failed)
+            stack.append((m, pb, fs))
+            stack.append((pa, m, fs))
+        for k, (pa, pb) in sorted(bad.items()):
+            t = arb((pa + pb) / 2)
+            X, Y = c.xy(t)
+            value = special[k][0] if k in special else (lambda t, X, Y, rho: T.distance(k, X, Y) - rho)
+            v = value(t, X, Y, c.rho(t, X, Y))
+            where = f"near ({float(X.mid()):.6g}, {float(Y.mid()):.6g})"
+            if v < 0:
+                self.report(f"site {k} is closer than its sites {where}", k)
+            else:
+                self.report(f"site {k} is too close to its sites to decide {where}", k)
+        return not bad
+
