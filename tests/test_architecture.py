@@ -143,7 +143,11 @@ def test_no_undefined_names(tmp_path):
 CONSTRUCTION = {f"runtime.voronoi.{m}" for m in (
     "construction", "sampling", "sample_delaunay", "sample_walks", "apollonius_vertices", "conic_vertices",
     "edge_polylines", "vertex_emptiness", "near_degenerate", "cocircular", "collinear_points", "deletion",
-    "site_arrays", "command")}
+    "site_arrays", "command")} | {f"runtime.segments.{m}" for m in (
+    "construction", "vertices", "bisectors", "emptiness", "exact")}
+
+#: the certificates: the curved-site verifier and the point/segment one
+VERIFIERS = ("runtime.voronoi.verify", "runtime.segments.certificate")
 
 
 def construction_reached_by_verifier(G=None) -> list[str]:
@@ -152,7 +156,7 @@ def construction_reached_by_verifier(G=None) -> list[str]:
     G = import_graph() if G is None else G
     out = []
     for m in G.nodes:
-        if m.startswith("runtime.voronoi.verify"):
+        if m.startswith(VERIFIERS):
             for r in nx.descendants(G, m) & CONSTRUCTION:
                 out.append(f"{m} -> {r}")
     return sorted(out)
@@ -171,3 +175,6 @@ def test_the_independence_check_sees_a_planted_import():
     G = import_graph()
     G.add_edge("runtime.voronoi.geometry", "runtime.voronoi.sampling")     # transitively, through the kernel
     assert any(p.endswith("-> runtime.voronoi.sampling") for p in construction_reached_by_verifier(G))
+    G = import_graph()
+    G.add_edge("runtime.segments.certificate_edges", "runtime.segments.bisectors")
+    assert "runtime.segments.certificate_edges -> runtime.segments.bisectors" in construction_reached_by_verifier(G)

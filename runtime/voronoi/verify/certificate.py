@@ -292,6 +292,12 @@ def verify(diagram, sites=None, *, deadline=None, progress=None) -> Certificate:
     >>> cv.verify(d).ok
     True
     """
+    from ...segments.certificate import has_segment_sites, verify_segments
+
+    if has_segment_sites(diagram):          # points and segments: their own certificate
+        r = verify_segments(diagram, sites, deadline=deadline)
+        return Certificate(r.ok, r.problems, r.vertices, r.edges, r.complete, r.delaunay_edges, r.hypotheses,
+                           r.stats, r.timings)
     T0 = time.perf_counter()
     timings: dict = {}
     D, sites = to_local_frame(_as_diagram(diagram), sites)
