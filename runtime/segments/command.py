@@ -451,6 +451,11 @@ def _diagram_parser() -> OneLineParser:
     return p
 
 
+def _cli_message(exc) -> str:
+    """The reader's advice in command-line terms (``skip={'TEXT'}`` is ``--skip TEXT`` here)."""
+    return re.sub(r"pass skip=\{'([^']*)'\}", r"pass --skip \1", str(exc))
+
+
 def _skip_types(text: str) -> tuple:
     return tuple(t.strip().upper() for t in text.split(",") if t.strip())
 
@@ -474,7 +479,7 @@ def diagram_main(argv=None) -> int:
             raise ShapeError(f"{args.sites}: the Voronoi diagram needs at least 2 sites, got {len(pieces)}")
         _check(pieces, names, args.sites)
     except ValueError as exc:           # ShapeError, SiteError: one line naming the entity
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"error: {_cli_message(exc)}", file=sys.stderr)
         return EXIT_BAD_INPUT
     from ..voronoi.structure import Diagram
     from .construction import segment_voronoi
@@ -584,7 +589,7 @@ def medial_axis_main(argv=None) -> int:
     try:
         outer, holes, _, sources = read_domain(args.shape, skip=_skip_types(args.skip))
     except ValueError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"error: {_cli_message(exc)}", file=sys.stderr)
         return EXIT_BAD_INPUT
     from .medial_axis import medial_axis
 

@@ -43,6 +43,7 @@ from .bisectors import (arc_bisector_points, arc_range, arc_sides, bisector_kind
 from .distance import site_distances
 from .elementary import ARC, POINT, ElementarySites, decompose
 from .emptiness import prove_empty
+from .exact import contacts_valid
 from .vertices import common_point, prove_vertex
 
 __all__ = ["segment_voronoi", "has_segments"]
@@ -290,6 +291,10 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
                 break
         if sol is None:
             sol = prove_vertex(E, triple, seed, cache=proved_cache)
+            if sol.status == "undecided" and sol.box is not None and "at an end" in sol.reason:
+                # a contact exactly at a curve's end (then that end touches too): decided exactly
+                if contacts_valid(E, triple, sol):
+                    sol.status, sol.reason = "proved", "contact at an end, exact"
             if sol.status == "proved":
                 near_cache.setdefault(triple, []).append(sol)
         vid = None
@@ -480,10 +485,14 @@ def _corner_order(E: ElementarySites, c: int) -> tuple:
 
 
 def _contact_order(E: ElementarySites, members, sol) -> tuple:
-    """Sites sorted counter-clockwise by their contact points seen from the vertex."""
+    """Sites sorted counter-clockwise by their contact points seen from the vertex.  A curve
+    touching at one of its ends shares that contact with the end's point site: it comes just
+    after it when the curve leaves the contact counter-clockwise around the vertex, just before
+    otherwise (its region lies on that side)."""
     v = np.array([sol.x, sol.y])
     ang = []
     for s in members:
+        lean = 0.0
         if E.kind[s] == POINT:
             f = E.A[s]
         elif E.kind[s] == ARC:
@@ -492,14 +501,29 @@ def _contact_order(E: ElementarySites, members, sol) -> tuple:
                 al, be = arc_range(E, s)
                 w = np.array([math.cos(al + be / 2), math.sin(al + be / 2)])
             f = E.C[s] + E.rho[s] * w / np.hypot(*w)
+            for end, P in ((0, E.A[s]), (1, E.B[s])):
+                if np.hypot(*(f - P)) <= 1e-9 * (1 + E.rho[s]):
+                    r = P - E.C[s]
+                    lean = _lean(f - v, np.array([-r[1], r[0]]) if end == 0 else np.array([r[1], -r[0]]))
         else:
             a, b = E.A[s], E.B[s]
             d = b - a
-            f = a + np.clip(np.dot(v - a, d) / np.dot(d, d), 0, 1) * d
-        ang.append(math.atan2(f[1] - v[1], f[0] - v[0]))
+            t = np.dot(v - a, d) / np.dot(d, d)
+            f = a + np.clip(t, 0, 1) * d
+            if t <= 1e-12:
+                lean = _lean(f - v, d)
+            elif t >= 1 - 1e-12:
+                lean = _lean(f - v, -d)
+        ang.append(math.atan2(f[1] - v[1], f[0] - v[0]) + lean)
     order = [s for _, s in sorted(zip(ang, members))]
     m = order.index(min(order))
     return tuple(order[m:] + order[:m])
+
+
+def _lean(radius_vector, direction) -> float:
+    """±10⁻⁹: a curve leaving its contact in ``direction`` lies counter-clockwise (+) or clockwise
+    (−) of the contact point around the vertex."""
+    return 1e-9 if radius_vector[0] * direction[1] - radius_vector[1] * direction[0] > 0 else -1e-9
 
 
 # ------------------------------------------------------------------------------------ edges

@@ -12,7 +12,7 @@ A segment counts as touching only through its open interior (its foot parameter 
 at an endpoint where the circle is tangent to it; a segment whose closest point is an endpoint
 beyond its strip is represented by that endpoint, a site of its own (thesis §2.2).
 
-Public API: :func:`exact_vertex`, :func:`on_circle`, :func:`exact_sign`.
+Public API: :func:`exact_vertex`, :func:`on_circle`, :func:`exact_sign`, :func:`contacts_valid`.
 """
 from __future__ import annotations
 
@@ -21,7 +21,7 @@ import sympy as sp
 from .elementary import ARC, POINT, ElementarySites
 from .vertices import arc_centre_vertex, contact_equations
 
-__all__ = ["exact_vertex", "on_circle", "exact_sign"]
+__all__ = ["exact_vertex", "on_circle", "exact_sign", "contacts_valid"]
 
 _X = sp.Symbol("_z")
 
@@ -129,3 +129,34 @@ def _on_arc(E: ElementarySites, k: int, X, Y, R, a, b):
         return "on" if s == 0 else ("outside" if s > 0 else False)
     s = exact_sign((sp.sqrt(ux ** 2 + uy ** 2) - rho) ** 2 - R ** 2)
     return "on" if s == 0 else ("outside" if s > 0 else False)
+
+
+def contacts_valid(E: ElementarySites, triple, sol) -> bool | None:
+    """Decide exactly, at the exact vertex of ``triple`` near ``sol``, that each interior contact
+    lies in the closed curve (a segment's foot parameter in [0, 1], an arc's direction in its
+    closed range) — the case where a contact is exactly at an end, which balls cannot decide.
+    None when no closed form is found."""
+    try:
+        v = exact_vertex(E, triple, sol)
+    except (NotImplementedError, ValueError):
+        return None
+    if v is None:
+        return None
+    X, Y, R = v
+    for kind, d, t in contact_equations(E, triple, (sol.x, sol.y)):
+        if kind == "line":
+            (ax, ay), (bx, by) = ((_q(w) for w in E.xy[int(E.ends[t, 0])]), (_q(w) for w in E.xy[int(E.ends[t, 1])]))
+            dx, dy = bx - ax, by - ay
+            tnum = (X - ax) * dx + (Y - ay) * dy
+            if exact_sign(tnum) < 0 or exact_sign(tnum - dx * dx - dy * dy) > 0:
+                return False
+        elif kind == "arc":
+            (cx, cy), _rho = E.arc[t]
+            (ax, ay), (bx, by) = ((_q(w) - _q(c) for w, c in zip(E.xy[int(E.ends[t, 0])], (cx, cy))),
+                                  (_q(w) - _q(c) for w, c in zip(E.xy[int(E.ends[t, 1])], (cx, cy))))
+            ux, uy = X - _q(cx), Y - _q(cy)
+            ca, cb = exact_sign(ax * uy - ay * ux), exact_sign(ux * by - uy * bx)
+            inside = (ca >= 0 and cb >= 0) if ax * by - ay * bx > 0 else (ca >= 0 or cb >= 0)
+            if not inside:
+                return False
+    return True
