@@ -417,3 +417,52 @@ def test_nearest_in_blocks_equals_one_block(mixed, monkeypatch):
     parts = d.nearest(P)
     assert all((getattr(whole, f) == getattr(parts, f)).all() for f in ("index", "distance", "proved", "exact"))
     assert whole.ties == parts.ties
+
+
+# ---------------------------------------------------------------- segment sites
+def _exact_segment_d2(q, a, b):
+    """Squared distance from q to the closed segment [a, b] (Fractions; a = b: a point)."""
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    L2 = dx * dx + dy * dy
+    t = min(max(((q[0] - a[0]) * dx + (q[1] - a[1]) * dy) / L2, F(0)), F(1)) if L2 else F(0)
+    return (q[0] - a[0] - t * dx) ** 2 + (q[1] - a[1] - t * dy) ** 2
+
+
+def test_nearest_on_segment_sites_with_the_endpoint_convention():
+    segs = [((F(0), F(0)), (F(4), F(0))), ((F(6), F(1)), (F(9), F(5)))]
+    pts = [s[k] for s in segs for k in (0, 1)] + [(F(2), F(3))]
+    sites = [cv.Point(*p) for p in pts] + [cv.Segment(*s) for s in segs]
+    pieces = [(p, p) for p in pts] + segs
+    d = cv.Diagram(sites)
+    rng = np.random.default_rng(9)
+    P = np.vstack([rng.uniform(-3, 12, (150, 2)), [[2.0, 1.5], [-1.0, -1.0], [4.0, 0.0], [5.0, -1.0], [2.0, -2.0]]])
+    res = d.nearest(P)
+    for row, p in enumerate(P):
+        q = (F(float(p[0])), F(float(p[1])))
+        D = [_exact_segment_d2(q, a, b) for a, b in pieces]
+        want = [j for j, v in enumerate(D) if v == min(D)]
+        # the interior of a segment tied with its own endpoint gives way to the endpoint
+        want = [j for j in want if not (j >= len(pts) and set(pieces[j]) & {pieces[i][0] for i in want if i < len(pts)})]
+        if len(want) == 1:
+            assert res.index[row] == want[0] and res.proved[row], (p, want)
+        else:
+            assert res.ties[row] == tuple(want) and res.exact[row] and res.index[row] == -1, (p, want)
+    assert res.ties == {150: (4, 5)} and res.index[151:].tolist() == [0, 1, 1, 5]
+    assert np.allclose(res.distance[150:], [1.5, math.sqrt(2), 0.0, math.sqrt(2), 2.0])
+
+
+def test_cells_of_segment_sites_tile():
+    sites = [cv.Segment((0, 0), (4, 0)), cv.Point(2, 3), cv.Segment((6, 1), (9, 5))]
+    d = cv.voronoi(sites)
+    from curvedvoronoi.runtime.voronoi.cells import default_clip
+    from curvedvoronoi.runtime.voronoi.queries import site_index
+
+    box = default_clip(d)
+    cells = d.cells()
+    tol = max(e.tolerance for e in d.edges) + 1e-9
+    _check_tiling(cells, shapely.box(*box), tol)
+    for i, g in enumerate(site_index(d).geoms):
+        S = g.samples(0.25, box)
+        if g.kind == "segment":
+            S = S[1:-1]                         # the open interior
+        assert shapely.covers(cells[i].buffer(tol), shapely.points(S)).all(), i

@@ -12,7 +12,9 @@ Construction of :func:`diagram_cells` (issue 35, item 2):
    faces inside the clip polygon tile it, and a closed edge around a nested site cuts a hole in
    the face around it;
 3. each face goes to the site nearest to a point inside it (``point_on_surface``, queried with
-   :meth:`runtime.voronoi.queries.SiteIndex.nearest`), and the faces of one site are merged.
+   :meth:`runtime.voronoi.queries.SiteIndex.nearest`, proved), and the faces of one site are
+   merged.  Segment sites (their open interiors, with their endpoints as point sites) follow the
+   diagram's convention: beyond an endpoint, the endpoint's region.
 
 The boundary of a cell is therefore the edges' polylines, within their ``tolerance`` of the true
 curves.  A cell is a Polygon (with holes for nested sites); a clip polygon that is not convex
@@ -136,7 +138,12 @@ def diagram_cells(diagram, clip=None) -> list:
     cells = [shapely.Polygon()] * m
     if not len(faces):
         return cells
-    owner = site_index(diagram).nearest(shapely.get_coordinates(reps), prove=False).index
+    idx = site_index(diagram)
+    xy = shapely.get_coordinates(reps)
+    owner = idx.nearest(xy).index
+    tied = owner < 0        # a face's inner point on a bisector (should not happen): the float answer
+    if tied.any():
+        owner[tied] = idx.nearest(xy[tied], prove=False).index
     order = np.argsort(owner, kind="stable")
     cuts = np.nonzero(np.diff(owner[order]))[0] + 1
     for part in np.split(order, cuts):
@@ -191,7 +198,7 @@ def diagram_geopandas(diagram, crs=None, clip=None) -> DiagramFrames:
             continue
         x0, y0, x1, y1 = g.bounding_box() if g.bounded else window
         S = g.samples(max(x1 - x0, y1 - y0) / 256, window)
-        if g.bounded:
+        if g.kind in ("circle", "ellipse"):
             S = np.vstack([S, S[:1]])
         geoms.append(shapely.LineString(S) if len(S) >= 2 else shapely.Point(S[0]))
     site_frame = gpd.GeoDataFrame({"site": sites, "kind": kinds, "label": labels}, geometry=geoms, crs=crs)

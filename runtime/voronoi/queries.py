@@ -7,7 +7,8 @@ vectorised and **proved**.  Every distance here comes from the one site-geometry
 many (point, site) pairs at once by giving one :class:`~runtime.voronoi.geometry.CircleGeometry`
 arrays of centres and radii (its formulas are elementwise numpy; a point is a circle of radius 0,
 with the same rounding allowance as :class:`~runtime.voronoi.geometry.PointGeometry`); conic sites
-call their own geometry, grouped by site.
+call their own geometry, grouped by site; segment sites (open interiors, thesis §2.2) the
+distance of :mod:`runtime.segments.distance` (:class:`SegmentGeometry`).
 
 :meth:`SiteIndex.nearest` (one round per query point, vectorised over the points):
 
@@ -26,9 +27,12 @@ call their own geometry, grouped by site.
    ball enclosure of :func:`runtime.sites.distance_ball.distance_ball` at rising precision.  A
    unique minimum makes the row proved; several sites at exactly equal distance are reported as
    an **exact tie**; what cannot be separated (equal distances to conics) is an undecided tie.
+   A segment's interior tied with its own endpoint gives way to the endpoint (the diagram's
+   convention, :mod:`runtime.sites.segment`).
    A tied row never has a guessed winner: ``index`` is −1 there.
 
-Public API: :class:`SiteIndex`, :class:`NearestResult`, :func:`site_index`.
+Public API: :class:`SiteIndex`, :class:`NearestResult`, :func:`site_index`, :func:`query_geometry`,
+:class:`SegmentGeometry`.
 """
 from __future__ import annotations
 
@@ -39,10 +43,12 @@ import numpy as np
 from flint import arb, fmpq
 from scipy.spatial import cKDTree
 
+from ..segments.distance import distances as segment_distances, float_error as segment_float_error
+from ..sites.segment import Segment
 from .conic_geometry import site_geometry
 from .geometry import CircleGeometry, rounding_slack
 
-__all__ = ["NearestResult", "SiteIndex", "site_index"]
+__all__ = ["NearestResult", "SegmentGeometry", "SiteIndex", "query_geometry", "site_index"]
 
 #: rows per vectorised batch (bounds the temporaries of :meth:`SiteIndex.distance`)
 _CHUNK_PAIRS = 1 << 22
@@ -78,7 +84,7 @@ class SiteIndex:
 
     def __init__(self, sites):
         self.sites = list(sites)
-        self.geoms = [site_geometry(s) for s in self.sites]
+        self.geoms = [query_geometry(s) for s in self.sites]
         m = self.m = len(self.geoms)
         kinds = [g.kind for g in self.geoms]
         self.circular = np.array([k in ("point", "circle") for k in kinds], bool)
@@ -262,7 +268,7 @@ def decide_nearest(geoms, T, x: float, y: float, precs=(128, 512, 2048)):
     exact).  One winner: proved.  Several: ``exact`` says whether their distances are proved
     equal (points and circles, rational arithmetic) or could not be separated (undecided)."""
     qx, qy = _fmpq(x), _fmpq(y)
-    circ = {j: _circle_terms(geoms[j], qx, qy) for j in T if geoms[j].kind in ("point", "circle")}
+    circ = {j: _circle_terms(geoms[j], qx, qy) for j in T if geoms[j].kind in ("point", "circle", "segment")}
     cand = list(T)
     for prec in precs:
         with flint.ctx.workprec(prec):
@@ -274,8 +280,21 @@ def decide_nearest(geoms, T, x: float, y: float, precs=(128, 512, 2048)):
         if all(j in circ for j in cand):
             ref = circ[cand[0]]
             if all(_equal_distances(ref, circ[j]) for j in cand[1:]):
+                cand = _endpoint_convention(geoms, cand)
                 return tuple(cand), True
     return tuple(cand), False
+
+
+def _endpoint_convention(geoms, cand):
+    """Thesis §2.2 (:mod:`runtime.sites.segment`): a point at equal distance from a segment's
+    interior and from its endpoint (a point site) belongs to the endpoint."""
+    ends = {(geoms[j].exact.cx, geoms[j].exact.cy) for j in cand if geoms[j].kind == "point"}
+    return [j for j in cand if not (geoms[j].kind == "segment"
+                                    and ({_fmpq_pair(geoms[j].exact.p), _fmpq_pair(geoms[j].exact.q)} & ends))]
+
+
+def _fmpq_pair(p):
+    return tuple(fmpq(v.numerator, v.denominator) for v in p)
 
 
 def _fmpq(v: float) -> fmpq:
@@ -284,8 +303,15 @@ def _fmpq(v: float) -> fmpq:
 
 
 def _circle_terms(g, qx: fmpq, qy: fmpq):
-    """(A, u) with d² = A − 2√u exactly: A = D + r², u = D·r², D = |q − c|² (exact data)."""
+    """(A, u) with d² = A − 2√u exactly: A = D + r², u = D·r², D = |q − c|² (exact data); for a
+    segment, A = the squared distance to the closed segment (rational: the foot parameter is
+    the clamped rational (q − a)·(b − a) / |b − a|²), u = 0."""
     ex = g.exact
+    if g.kind == "segment":
+        (ax, ay), (bx, by) = _fmpq_pair(ex.p), _fmpq_pair(ex.q)
+        dx, dy = bx - ax, by - ay
+        t = min(max(((qx - ax) * dx + (qy - ay) * dy) / (dx * dx + dy * dy), fmpq(0)), fmpq(1))
+        return (qx - ax - t * dx) ** 2 + (qy - ay - t * dy) ** 2, fmpq(0)
     D = (qx - ex.cx) ** 2 + (qy - ex.cy) ** 2
     r2 = fmpq(0) if g.kind == "point" else fmpq(ex.r2)
     return D + r2, D * r2
@@ -312,6 +338,54 @@ def _equal_distances(s, t) -> bool:
         return u == v
     w = (4 * u - x * x - 4 * v) / (4 * x)       # the value √v must have
     return w >= 0 and w * w == v and x + 2 * w >= 0
+
+
+class SegmentGeometry:
+    """The open interior of a :class:`runtime.sites.segment.Segment` site seen as a site geometry:
+    its distance is the distance to the closed segment, evaluated by
+    :func:`runtime.segments.distance.distances` with the rounding bound
+    :func:`runtime.segments.distance.float_error` (the float endpoints are within half an ulp of
+    the exact ones, well inside that bound)."""
+
+    kind = "segment"
+    bounded = True
+
+    def __init__(self, seg: Segment):
+        self.exact = seg
+        a, b = seg.float_endpoints()
+        self.A, self.B = np.array(a, float), np.array(b, float)
+
+    def bounding_box(self):
+        return (*np.minimum(self.A, self.B).tolist(), *np.maximum(self.A, self.B).tolist())
+
+    def _ends(self, P):
+        return np.broadcast_to(self.A, P.shape), np.broadcast_to(self.B, P.shape)
+
+    def distance(self, P):
+        P = np.asarray(P, float).reshape(-1, 2)
+        return segment_distances(*self._ends(P), P)[0]
+
+    def distance_bounds(self, P):
+        P = np.asarray(P, float).reshape(-1, 2)
+        A, B = self._ends(P)
+        d, err = segment_distances(A, B, P)[0], segment_float_error(A, B, P)
+        return np.maximum(d - err, 0.0), d + err
+
+    def samples(self, spacing, window=None):
+        n = max(2, int(np.ceil(np.hypot(*(self.B - self.A)) / max(spacing, 1e-300))) + 1)
+        t = np.linspace(0.0, 1.0, n)
+        return self.A + t[:, None] * (self.B - self.A)
+
+
+def query_geometry(site):
+    """The geometry of a site for queries: :func:`runtime.voronoi.conic_geometry.site_geometry`
+    (points, circles, conics) or :class:`SegmentGeometry`."""
+    if isinstance(site, Segment):
+        return SegmentGeometry(site)
+    try:
+        return site_geometry(site)
+    except TypeError:
+        raise TypeError(f"nearest-site queries take points, circles, conics and segments, not {site!r}") from None
 
 
 def _points(P) -> np.ndarray:
