@@ -2,7 +2,11 @@
 
 * ``locate FILE.json`` -- the Delaunay-graph conflict locator (thesis ch. 5, §3.1 for circles) on
   four sites C1..C4 = sites 0..3 of a sites file (schema: :mod:`runtime.sites.reader`); JSON out.
-* ``diagram SITES.json`` -- the Voronoi diagram / Delaunay graph of any number of sites (§1.2).
+* ``diagram SITES.json`` -- the Voronoi diagram / Delaunay graph of any number of sites (§1.2);
+  also ``diagram part.dxf`` / ``shapes.geojson``: the diagram of a drawing's segments and points
+  (§2.2, :mod:`runtime.segments.command`).
+* ``medial-axis SHAPE`` -- the medial axis of a polygon with holes from a DXF, GeoJSON or sites
+  file (§2.3, :mod:`runtime.segments.command`).
 * ``demo`` -- the locator on a built-in four-ellipse configuration (a rigid-motion version of
   thesis Fig. 5.5.1).
 * ``offsets`` -- the table of generalised offsets (thesis Table 4.1 and App. B), from the
@@ -122,9 +126,15 @@ def _demo(args) -> int:
 
 
 def _diagram(args) -> int:
-    from .voronoi.command import diagram_main
+    from .segments.command import diagram_main     # DXF / GeoJSON here, sites files to runtime.voronoi.command
 
     return diagram_main(args.rest)
+
+
+def _medial_axis(args) -> int:
+    from .segments.command import medial_axis_main
+
+    return medial_axis_main(args.rest)
 
 
 def _add_common(s, methods) -> None:
@@ -235,6 +245,10 @@ def build_parser() -> argparse.ArgumentParser:
                        add_help=False)
     s.add_argument("rest", nargs=argparse.REMAINDER)
     s.set_defaults(func=_diagram)
+    s = sub.add_parser("medial-axis", help="medial axis of a polygon with holes (SHAPE.dxf, .geojson or .json)",
+                       add_help=False)
+    s.add_argument("rest", nargs=argparse.REMAINDER)
+    s.set_defaults(func=_medial_axis)
     s = sub.add_parser("demo", help="the locator on a built-in four-ellipse configuration (thesis Fig. 5.5.1)",
                        description="Runs `locate` on four ellipses placed like thesis Fig. 5.5.1 "
                                    "(the sites are listed on stderr).")
@@ -281,9 +295,13 @@ def main(argv=None) -> int:
 def _dispatch(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv[:1] == ["diagram"]:          # its own parser (runtime.voronoi.command), incl. --help
-        from .voronoi.command import diagram_main
+        from .segments.command import diagram_main     # DXF / GeoJSON drawings; sites files go on
 
         return diagram_main(argv[1:])
+    if argv[:1] == ["medial-axis"]:      # its own parser (runtime.segments.command), incl. --help
+        from .segments.command import medial_axis_main
+
+        return medial_axis_main(argv[1:])
     args = build_parser().parse_args(argv)
     from .result import InvalidConicError, LocatorError
 

@@ -29,12 +29,14 @@ interrupted.  ``--json`` writes ``{"format": "curvedvoronoi.medial_axis/1", "cer
 sites, with the input ``source`` of each), "vertices", "edges" (polyline and radius at each point,
 tolerance, certified)}``.
 
+Length: the two commands share the drawing readers with their entity names, the domain rule and
+the output writers, hence one module over 400 lines.
+
 Public API: :func:`diagram_main`, :func:`medial_axis_main`, :func:`read_shape`,
 :func:`read_domain`, :func:`medial_axis_document`, :data:`SHAPE_SUFFIXES`.
 """
 from __future__ import annotations
 
-import argparse
 import json
 import re
 import signal
@@ -210,8 +212,11 @@ def _loops(pieces, names, path: str) -> list[list[int]]:
     at: dict = {}
     for k, p in enumerate(pieces):
         if not isinstance(p, Segment):
-            raise ShapeError(f"{path}: {names(k)}: a point is not part of a closed boundary (the medial axis "
-                             "needs closed polygons)")
+            if hasattr(p, "r2"):        # a Point
+                raise ShapeError(f"{path}: {names(k)}: a point is not part of a closed boundary (the medial axis "
+                                 "needs closed polygons)")
+            raise ShapeError(f"{path}: {names(k)}: {type(p).__name__.lower()}s in the boundary are not supported "
+                             "by the medial axis yet (line segments only)")
         for end in (p.p, p.q):
             at.setdefault(tuple(end), []).append(k)
     for pt, ks in at.items():
