@@ -45,7 +45,7 @@ from flint import arb
 
 from ..voronoi.verify.problems import Problem, fault
 from .certificate_curves import Line, bisector_curve, down, interval, polyline_bound, q_arb, up
-from .certificate_rules import affine_rules, corner_ratio, prove_tail, tied
+from .certificate_rules import affine_rules, corner_ratio, prove_tail
 from .certificate_sites import POINT, SEGMENT, SiteTable, direction_key, hypot
 from .distance import distances, float_error
 
@@ -53,7 +53,7 @@ __all__ = ["EdgeProof", "prove_edges"]
 
 EPS = np.finfo(float).eps
 #: pieces of one edge before the proof gives up
-MAX_PIECES = 20000
+MAX_PIECES = 4000
 
 
 @dataclass
@@ -258,25 +258,50 @@ class _EdgeProver:
         return value, deriv
 
     def _tie_cover(self, k, end, at_lo: bool, deriv, span: float):
-        """The float parameter up to which (from ``end``) g_k > 0 on the open arc is proved, or None."""
-        vp = end[2]
-        t0 = end[1]
-        c = self.curve
+        """The float parameter up to which (from ``end``) g_k > 0 on the open arc is proved, or None:
+        g_k(τ*) = 0 and g_k' > 0 into the arc on [τ*, τ* + δ] (the largest δ = span/4^m found)."""
+        vp, t0 = end[2], end[1]
         if vp.corner is not None:
             if not corner_ratio(self.T, self.curve, k, vp.corner, at_lo):
                 return None
             return math.inf if at_lo else -math.inf
-        delta = span / 4
-        for _ in range(40):
-            J = interval(down(t0), up(t0) + delta) if at_lo else interval(down(t0) - delta, up(t0))
-            X, Y = c.xy(J)
-            g = deriv(J, X, Y)
-            if (g > 0) if at_lo else (g < 0):
-                return up(t0) + delta if at_lo else down(t0) - delta
+        base, back = (up(t0), down(t0)) if at_lo else (down(t0), up(t0))
+        tests = [lambda J, X, Y: deriv(J, X, Y) * (1 if at_lo else -1)] + self._clamps(k)
+        delta = span
+        while delta > 1e-13 * (abs(base) + span):
+            reach = base + delta if at_lo else base - delta
+            if any(self._positive(test, back, reach) for test in tests):
+                return reach
             delta /= 4
-            if delta < 1e-13 * (abs(float(t0.mid())) + span):
-                break
         return None
+
+    def _clamps(self, k) -> list:
+        """For a segment k ending at an R1 point e: the test "k's foot is clamped beyond e" (then
+        d_k = d_e, and d_e > ρ on the open arc by R1, proved for the whole edge)."""
+        T, out = self.T, []
+        if T.kind[k] == SEGMENT:
+            for which, e in enumerate(T.ends[k]):
+                if e in self.r1:
+                    sign, shift = (-1, 0) if which == 0 else (1, 1)
+                    out.append(lambda J, X, Y, sign=sign, shift=shift: sign * (T.foot(k, X, Y) - shift))
+        return out
+
+    def _positive(self, fn, a: float, b: float, budget: int = 48) -> bool:
+        """fn(J, X, Y) > 0 on the parameter interval between a and b (adaptive bisection)."""
+        c = self.curve
+        stack = [(min(a, b), max(a, b))]
+        while stack:
+            pa, pb = stack.pop()
+            J = interval(pa, pb)
+            X, Y = c.xy(J)
+            if fn(J, X, Y) > 0:
+                continue
+            budget -= 1
+            if budget <= 0:
+                return False
+            m = (pa + pb) / 2
+            stack += [(pa, m), (m, pb)]
+        return True
 
     def _positivity(self) -> bool:
         T, c, lo, hi = self.T, self.curve, self.lo, self.hi
@@ -304,20 +329,28 @@ class _EdgeProver:
             return False
         # competitors tied at the end vertices
         special: dict = {}
-        listed_here = set()
-        for end, at_lo in ((lo, True), (hi, False)):
-            if end[0] == "v":
-                listed_here |= {k for k in end[2].listed if k not in (self.i, self.j) and k not in self.skip}
+        self.r1 = {e for s in (self.i, self.j) if T.kind[s] == SEGMENT for e in T.ends[s]} - {self.i, self.j}
         if c.kind == "parabola":
             p = self.i if T.kind[self.i] == POINT else self.j
-            tied_r2 = [k for k in T.incident[p] if k not in (self.i, self.j)]
+            tied_r2 = {k for k in T.incident[p] if k not in (self.i, self.j)}
         else:
-            tied_r2 = []
-        for k in listed_here | set(tied_r2):
+            tied_r2 = set()
+        ties: dict = {}
+        for end in (lo, hi):
+            if end[0] != "v":
+                continue
+            # g_k = 0 at the vertex for its listed sites, and may be for a segment ending at a
+            # listed point (foot clamped there); g_k ≥ 0 for every site (vertex emptiness)
+            vp = end[2]
+            near = set(vp.listed) | {s for p in vp.listed if T.kind[p] == POINT for s in T.incident[p]}
+            near = {k for k in near | tied_r2 if k not in (self.i, self.j) and k not in self.skip}
+            ties[id(end)] = {k for k in near if k in vp.listed or
+                             not self._value_fn(k)[0](end[1], vp.x, vp.y, vp.r) > 0}
+        for k in set().union(*ties.values(), tied_r2):
             value, deriv = self._value_fn(k)
             cover_lo, cover_hi = -math.inf, math.inf
             for end, at_lo in ((lo, True), (hi, False)):
-                if end[0] == "v" and tied(end, k):
+                if end[0] == "v" and k in ties[id(end)]:
                     cv = self._tie_cover(k, end, at_lo, deriv, span)
                     if cv is None:
                         self.report(f"site {k} is not proved farther than its sites next to its end vertex "
@@ -331,10 +364,23 @@ class _EdgeProver:
             special[k] = (value, cover_lo, cover_hi)
         return self._pieces(a, b, special) and ok
 
+    def _centred(self, k, t, X, Y, pa: float, pb: float) -> bool:
+        """g_k > 0 on the piece by the mean-value form g(m) + g'(piece)·(τ − m)."""
+        fns = self._fns.get(k)
+        if fns is None:
+            fns = self._fns[k] = self._value_fn(k)
+        value, deriv = fns
+        c = self.curve
+        tm = arb((pa + pb) / 2)
+        Xm, Ym = c.xy(tm)
+        g = value(tm, Xm, Ym, c.rho(tm, Xm, Ym)) + deriv(t, X, Y) * (t - tm)
+        return bool(g > 0) or any(test(t, X, Y) > 0 for test in self._clamps(k))
+
     def _pieces(self, a: float, b: float, special) -> bool:
         T, c = self.T, self.curve
         skip = self.skip | {self.i, self.j}
         stack = [(a, b, None)]
+        self._fns: dict = {}
         count = 0
         min_w = (b - a) * 2.0 ** -44
         bad: dict = {}
@@ -364,7 +410,7 @@ class _EdgeProver:
                 err = float_error(T.A[idx], T.B[idx], Q) + 8 * EPS * T.scale
                 clear = d - err - rq > rho_hi
                 for k, cl in zip(plain, clear.tolist()):
-                    if not cl and not T.distance(k, X, Y) - rho > 0:
+                    if not cl and not T.distance(k, X, Y) - rho > 0 and not self._centred(k, t, X, Y, pa, pb):
                         failed.append(k)
             for k in near:
                 if k not in special:
@@ -372,7 +418,7 @@ class _EdgeProver:
                 value, cover_lo, cover_hi = special[k]
                 if pb <= cover_lo or pa >= cover_hi:
                     continue
-                if not value(t, X, Y, rho) > 0:
+                if not value(t, X, Y, rho) > 0 and not self._centred(k, t, X, Y, pa, pb):
                     failed.append(k)
             if not failed:
                 continue

@@ -323,7 +323,10 @@ def _krawczyk(terms, xr, yr):
             break
     Fa, Ja, _ = _system(terms, _arbq)
     try:
-        K, _X = krawczyk_inflation(Fa, Ja, [arb(float(z[0])), arb(float(z[1]))])
+        # a floor of 2^-80 of the scale: a coordinate that is exact in floats (YF_i = 0) must not
+        # start at a radius below the second-order coupling of the other one
+        floor = arb(1 + float(np.max(np.abs(z)))) * arb(2) ** -80
+        K, _X = krawczyk_inflation(Fa, Ja, [arb(float(z[0])), arb(float(z[1]))], floor=floor)
     except (KrawczykFailure, ZeroDivisionError, ValueError):
         return None
     return K[0], K[1]
