@@ -96,13 +96,13 @@ def segment_voronoi(pieces, sources=None, *, certify: bool = True, tolerance: fl
     spacing = _initial_spacing(E)
     stats: dict = {"sites": len(E), "points": E.n_points, "segments": len(E) - E.n_points, "rounds": 0}
     caches: dict = {"proofs": {}, "verdicts": {}}
-    previous = None
+    history: list = []
     for _ in range(MAX_ROUNDS):
         stats["rounds"] += 1
         result, refine = _build_once(E, spacing, stats, caches)
-        if not refine or result[2] == previous:
-            break            # consistent, or refining changed nothing
-        previous = result[2]
+        history.append(result[2])
+        if not refine or (len(history) >= 3 and history[-1] == history[-2] == history[-3]):
+            break            # consistent, or two refinements changed nothing
         idx = np.array(sorted(refine), dtype=int)
         cap = np.array([refine[i] for i in idx.tolist()])
         spacing[idx] = np.minimum(spacing[idx] / 2, cap)
@@ -268,8 +268,8 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
     by_sites: dict = {}
     for t, triple, seed in zip(threes.tolist(), T3.tolist(), seeds):
         triple = tuple(int(v) for v in triple)
-        if ghost in triple:
-            tri_vid[t] = "inf"
+        if ghost in triple or not np.all(np.isfinite(seed)):
+            tri_vid[t] = "inf"      # the ghost ring, or a flat hull triangle of collinear samples
             continue
         c = common_point(E, triple)
         if c is not None:
@@ -344,6 +344,15 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
             refine.update(pair)
             continue
         if ends[0] is not None and ends[0] == ends[1]:
+            if vertices[ends[0]].radius == 0 and len(chain) >= 3:
+                # a walk from a corner back to it: the two perpendiculars of a nearly flat corner
+                # meet in the samples (at about h/δ for an angle δ between them), never in the
+                # diagram; finer samples push that point away
+                for t_ in pair:
+                    if np.isfinite(spacing[t_]):
+                        refine.add(t_, spacing[t_] / 4)
+                    else:
+                        refine.add(t_)
             continue
         for v in ends:
             if v is not None:
