@@ -54,6 +54,8 @@ __all__ = ["EdgeProof", "prove_edges"]
 EPS = np.finfo(float).eps
 #: pieces of one edge before the proof gives up
 MAX_PIECES = 4000
+#: the finite part of an edge is first cut into this many pieces
+FIRST_PIECES = 8
 
 
 @dataclass
@@ -267,13 +269,37 @@ class _EdgeProver:
             return math.inf if at_lo else -math.inf
         base, back = (up(t0), down(t0)) if at_lo else (down(t0), up(t0))
         tests = [lambda J, X, Y: deriv(J, X, Y) * (1 if at_lo else -1)] + self._clamps(k)
-        delta = span
-        while delta > 1e-13 * (abs(base) + span):
-            reach = base + delta if at_lo else base - delta
-            if any(self._positive(test, back, reach) for test in tests):
-                return reach
-            delta /= 4
-        return None
+        best = None
+        for test in tests:
+            reach = self._prefix(test, back, base, span, at_lo)
+            if reach is not None and (best is None or (reach > best if at_lo else reach < best)):
+                best = reach
+        return best
+
+    def _prefix(self, fn, back: float, base: float, span: float, at_lo: bool, budget: int = 40):
+        """A parameter ``reach`` such that fn > 0 on the interval from ``back`` (the far side of the
+        end's ball) to ``reach``: the first piece shrinks until it is proved, then the next pieces,
+        doubling, extend it while they are proved.  None if no first piece is proved."""
+        c = self.curve
+        sgn = 1 if at_lo else -1
+        width, start, reach = span / 2, back, None
+        while budget > 0 and width > 1e-14 * (abs(base) + span):
+            budget -= 1
+            end = (base if reach is None else reach) + sgn * width
+            J = interval(min(start, end), max(start, end))
+            X, Y = c.xy(J)
+            if fn(J, X, Y) > 0:
+                reach, start = end, end
+                if abs(end - base) >= span:
+                    break
+                width *= 2
+            elif reach is None:
+                width /= 4
+            else:
+                width /= 4
+                if width < abs(reach - base) / 64:
+                    break
+        return reach
 
     def _clamps(self, k) -> list:
         """For a segment k ending at an R1 point e: the test "k's foot is clamped beyond e" (then
@@ -285,23 +311,6 @@ class _EdgeProver:
                     sign, shift = (-1, 0) if which == 0 else (1, 1)
                     out.append(lambda J, X, Y, sign=sign, shift=shift: sign * (T.foot(k, X, Y) - shift))
         return out
-
-    def _positive(self, fn, a: float, b: float, budget: int = 48) -> bool:
-        """fn(J, X, Y) > 0 on the parameter interval between a and b (adaptive bisection)."""
-        c = self.curve
-        stack = [(min(a, b), max(a, b))]
-        while stack:
-            pa, pb = stack.pop()
-            J = interval(pa, pb)
-            X, Y = c.xy(J)
-            if fn(J, X, Y) > 0:
-                continue
-            budget -= 1
-            if budget <= 0:
-                return False
-            m = (pa + pb) / 2
-            stack += [(pa, m), (m, pb)]
-        return True
 
     def _positivity(self) -> bool:
         T, c, lo, hi = self.T, self.curve, self.lo, self.hi
@@ -327,6 +336,8 @@ class _EdgeProver:
         if not span > 0:
             self.report("its parameter interval is empty")
             return False
+        if isinstance(c, Line) and c.anchor is not None:
+            return self._concave()
         # competitors tied at the end vertices
         special: dict = {}
         self.r1 = {e for s in (self.i, self.j) if T.kind[s] == SEGMENT for e in T.ends[s]} - {self.i, self.j}
@@ -364,6 +375,41 @@ class _EdgeProver:
             special[k] = (value, cover_lo, cover_hi)
         return self._pieces(a, b, special) and ok
 
+    def _float_centred(self, idx, pa: float, pb: float, t, X, Y):
+        """The mean-value bound in floats, for many sites at once (True: g_k > 0 on the piece).
+
+        With q a float point within δq of γ(τ_m) (τ_m the middle parameter), R ≥ |x − q| on the
+        piece's box and u_k(q) = (q − F_k(q))/d_k(q) the gradient of d_k:
+        g_k(τ_m) ≥ d_k(q) − d_i(q) − 2δq (distances are 1-Lipschitz; ρ = d_i on the arc), and
+        |g_k'| ≤ |γ'|·(|u_k(q) − u_i(q)| + 4R/d_k(q) + 4R/d_i(q)) on the piece when both distances
+        exceed R (x − F(x) is 1-Lipschitz for the projection F on a convex set, and
+        |a/|a| − b/|b|| ≤ 2|a − b|/(|a| + |b|) in an inner-product space (Dunkl–Williams), so
+        |u_k(x) − u_k(q)| ≤ 2R/(2d_k(q) − R)); floats carry their rounding bounds
+        (:func:`runtime.segments.distance.float_error`) and a relative slack."""
+        T, c = self.T, self.curve
+        m = (pa + pb) / 2
+        hw = max(m - pa, pb - m) * (1 + 4 * EPS)
+        tm = arb(m)
+        Xm, Ym = c.xy(tm)
+        qx, qy = float(Xm.mid()), float(Ym.mid())
+        dq = float(Xm.rad()) + float(Ym.rad()) + 4 * EPS * (abs(qx) + abs(qy))
+        R = (abs(float(X.mid()) - qx) + float(X.rad()) + abs(float(Y.mid()) - qy) + float(Y.rad())) * (1 + 4 * EPS)
+        gx, gy = c.dxy(t)
+        gp = up(abs(gx) + abs(gy))
+        sites = np.concatenate([[self.i], idx])
+        A, B = T.A[sites], T.B[sites]
+        Q = np.repeat([[qx, qy]], len(sites), axis=0)
+        d, tt = distances(A, B, Q)
+        err = float_error(A, B, Q) + 8 * EPS * T.scale
+        F = A + tt[:, None] * (B - A)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            U = (Q - F) / d[:, None]
+            dlo = d - err
+            L = gp * (np.abs(U[1:] - U[0]).sum(axis=1) + 2 * R / (2 * dlo[1:] - R) + 2 * R / (2 * dlo[0] - R) + 1e-12)
+            rounding = err[1:] + err[0] + 2 * dq + 16 * EPS * (T.scale + abs(qx) + abs(qy))
+            lower = (d[1:] - d[0]) - rounding - L * hw
+        return (dlo[1:] > R) & (dlo[0] > R) & np.isfinite(lower) & (lower > 0)
+
     def _centred(self, k, t, X, Y, pa: float, pb: float) -> bool:
         """g_k > 0 on the piece by the mean-value form g(m) + g'(piece)·(τ − m)."""
         fns = self._fns.get(k)
@@ -376,10 +422,41 @@ class _EdgeProver:
         g = value(tm, Xm, Ym, c.rho(tm, Xm, Ym)) + deriv(t, X, Y) * (t - tm)
         return bool(g > 0) or any(test(t, X, Y) > 0 for test in self._clamps(k))
 
+    def _concave(self) -> bool:
+        """A line whose common distance is ρ = |x − P| for a point P (two points, or an endpoint and
+        its segment): h_k = d_k² − ρ² is concave along it (the minimum over the points p of site k
+        of |x − p|² − |x − P|², affine in x), ≥ 0 at proved end vertices (their emptiness) and > 0
+        at a proved tail start.  So h_k > 0 on the open arc unless it vanishes at both ends — only
+        for sites at the radius of both end vertices — and then (concave, ≥ 0, zero at both ends)
+        h_k > 0 inside iff it is at one interior point: the middle, in arb."""
+        T, c, lo, hi = self.T, self.curve, self.lo, self.hi
+        if lo[0] != "v" or hi[0] != "v":
+            return True
+        both = (self._at_radius(lo[2]) & self._at_radius(hi[2])) - self.skip - {self.i, self.j}
+        t = (lo[1] + hi[1]) / 2
+        X, Y = c.xy(t)
+        rho = c.rho(t, X, Y)
+        ok = True
+        for k in sorted(both):
+            if not T.distance(k, X, Y) > rho:
+                self.report(f"site {k} is at the distance of its sites at both ends and not proved "
+                            "farther in between", k)
+                ok = False
+        return ok
+
+    def _at_radius(self, vp) -> set:
+        """The sites that may be at exactly the radius of a proved vertex: its listed sites, the
+        corner point, segments ending at a listed point (foot clamped there)."""
+        T = self.T
+        out = set(vp.listed) | ({vp.corner} if vp.corner is not None else set())
+        return out | {s for p in list(out) if T.kind[p] == POINT for s in T.incident[p]}
+
     def _pieces(self, a: float, b: float, special) -> bool:
         T, c = self.T, self.curve
         skip = self.skip | {self.i, self.j}
-        stack = [(a, b, None)]
+        cuts = np.linspace(a, b, FIRST_PIECES + 1)
+        cuts[0], cuts[-1] = a, b
+        stack = [(float(cuts[m]), float(cuts[m + 1]), None) for m in range(FIRST_PIECES)][::-1]
         self._fns: dict = {}
         count = 0
         min_w = (b - a) * 2.0 ** -44
@@ -409,8 +486,15 @@ class _EdgeProver:
                 d, _ = distances(T.A[idx], T.B[idx], Q)
                 err = float_error(T.A[idx], T.B[idx], Q) + 8 * EPS * T.scale
                 clear = d - err - rq > rho_hi
-                for k, cl in zip(plain, clear.tolist()):
-                    if not cl and not T.distance(k, X, Y) - rho > 0 and not self._centred(k, t, X, Y, pa, pb):
+                # a site nearer than ρ at the piece's centre (in floats) is not tried in arb: halve
+                hopeless = d + err <= float(rho.mid()) - float(rho.rad())
+                rest = ~clear & ~hopeless
+                if rest.any():
+                    clear[rest] = self._float_centred(idx[rest], pa, pb, t, X, Y)
+                for k, cl, h in zip(plain, clear.tolist(), hopeless.tolist()):
+                    if cl:
+                        continue
+                    if h or (not T.distance(k, X, Y) - rho > 0 and not self._centred(k, t, X, Y, pa, pb)):
                         failed.append(k)
             for k in near:
                 if k not in special:
