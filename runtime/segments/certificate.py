@@ -34,9 +34,9 @@ Let G be the true Voronoi graph of the sites and H the reported one.
    :mod:`runtime.segments.certificate_rules`): each reported edge (i, j) is the arc of
    the exact bisector curve (line or parabola, in closed form) between its two end vertices, or
    from its vertex to infinity, or a whole line, and every point of the open arc is strictly closer
-   to i and j than to any other site (with the endpoint convention): piecewise rigorous lower
-   bounds, derivative signs next to end vertices where a third site ties, exact asymptotics on
-   infinite tails.  Only perpendicular bisectors of two points and perpendiculars to a segment at
+   to i and j than to any other site (with the endpoint convention): concavity of d_k² − ρ² along
+   lines of a point anchor, piecewise rigorous lower bounds along the other curves, derivative
+   signs next to end vertices where a third site ties, exact asymptotics on infinite tails.  Only perpendicular bisectors of two points and perpendiculars to a segment at
    its endpoint may reach infinity.  The polyline lies within the stated tolerance of the arc
    (Hausdorff, chords of the parabola bounded by its curvature).  Hence each proved edge is a whole
    edge of G (a connected component of the set of points with nearest sites exactly i and j,
