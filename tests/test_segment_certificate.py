@@ -376,3 +376,46 @@ def test_the_construction_on_random_scenes_is_proved(n, seed, shared, points):
     # and a corrupted copy is not: every vertex moved by 1e-6 of the scene
     D.vertices[len(D.vertices) // 2].y += 1e-6 * (1 + abs(D.vertices[len(D.vertices) // 2].y))
     assert not verify_segments(D).ok
+
+
+def test_mutations_of_a_constructed_diagram_are_rejected():
+    """Combinatorial and metric corruptions of a proved diagram: none is accepted."""
+    segment_voronoi = _construction()
+    from fractions import Fraction
+
+    from scenes import random_points_off, random_segments
+
+    segs = random_segments(12, 21, shared=True)
+    pieces = [Segment(a, b) for a, b in segs] + [Point(*p) for p in random_points_off(segs, 3, 21)]
+    D = segment_voronoi(pieces, certify=False)
+    assert verify_segments(D).ok
+    finite = next(e for e in D.edges if None not in e.ends)
+    curved = [e for e in D.edges if len(e.polyline) > 2]
+
+    def mutated(f):
+        M = copy.deepcopy(D)
+        f(M)
+        return M
+
+    def move_point(M):
+        k = next(k for k, s in enumerate(M.sites) if isinstance(s, Point))
+        old = (Fraction(int(M.sites[k].x.p), int(M.sites[k].x.q)), Fraction(int(M.sites[k].y.p), int(M.sites[k].y.q)))
+        new = (old[0] + Fraction(1, 10 ** 5), old[1])
+        M.sites[k] = Point(*new)
+        for j, s in enumerate(M.sites):
+            if isinstance(s, Segment) and old in (s.p, s.q):
+                M.sites[j] = Segment(new if s.p == old else s.p, new if s.q == old else s.q)
+
+    mutations = {
+        "ends swapped": lambda M: setattr(M.edges[finite.id], "ends", finite.ends[::-1]),
+        "edge repeated": lambda M: M.edges.append(DiagramEdge(len(M.edges), finite.sites, finite.ends, False,
+                                                              finite.polyline.copy(), finite.tolerance)),
+        "vertex dropped": lambda M: M.vertices.pop(len(M.vertices) // 2),
+        "point site moved by 1e-5": move_point,
+        "vertex radius off": lambda M: setattr(M.vertices[0], "radius", M.vertices[0].radius * (1 + 1e-7)),
+    }
+    if curved:
+        mutations["parabola polyline shifted"] = lambda M: setattr(
+            M.edges[curved[0].id], "polyline", curved[0].polyline + 3 * curved[0].tolerance)
+    for name, f in mutations.items():
+        assert not verify_segments(mutated(f)).ok, name

@@ -310,17 +310,18 @@ def _general(T: SiteTable, v, sites, problems) -> VertexProof:
 def _krawczyk(terms, xr, yr):
     Ff, Jf, _ = _system(terms, float)
     z = np.array([xr, yr])
-    for _ in range(30):
-        try:
-            f = np.array(Ff(z), dtype=float)
-            step = np.linalg.solve(np.array(Jf(z), dtype=float), f)
-        except (np.linalg.LinAlgError, ValueError, ZeroDivisionError):
-            return None
-        z = z - step
-        if not np.all(np.isfinite(z)):
-            return None
-        if np.max(np.abs(step)) <= 1e-16 * (1 + np.max(np.abs(z))):
-            break
+    with np.errstate(all="ignore"):
+        for _ in range(30):
+            try:
+                f = np.array(Ff(z), dtype=float)
+                step = np.linalg.solve(np.array(Jf(z), dtype=float), f)
+            except (np.linalg.LinAlgError, ValueError, ZeroDivisionError):
+                return None
+            z = z - step
+            if not np.all(np.isfinite(z)):
+                return None
+            if np.max(np.abs(step)) <= 1e-16 * (1 + np.max(np.abs(z))):
+                break
     Fa, Ja, _ = _system(terms, _arbq)
     try:
         # a floor of 2^-80 of the scale: a coordinate that is exact in floats (YF_i = 0) must not
