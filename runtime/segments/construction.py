@@ -29,21 +29,21 @@ import math
 import time
 
 import numpy as np
-from scipy.spatial import Delaunay, QhullError, cKDTree
+from scipy.spatial import cKDTree
 
 from ..predicates.circles import Point
 from ..sites.arc import Arc
 from ..sites.segment import Segment, as_point_pair
 from ..threads import one_blas_thread
-from ..voronoi.sample_delaunay import SampleTriangulation
 from ..voronoi.site_input import SiteError
-from ..voronoi.structure import Diagram, DiagramEdge, DiagramVertex
-from .bisectors import (arc_bisector_points, arc_range, arc_sides, bisector_kind, edge_polyline, line_direction,
-                        line_point)
+from ..voronoi.structure import Diagram, DiagramVertex
+from .contact_order import contact_order, corner_order
 from .distance import site_distances
+from .edges import edge_polylines, walk_hint
 from .elementary import ARC, POINT, ElementarySites, decompose
 from .emptiness import prove_empty
 from .exact import contacts_valid
+from .sampling import flat, initial_spacing, samples, triangulation
 from .vertices import common_point, prove_vertex
 
 __all__ = ["segment_voronoi", "has_segments"]
@@ -93,7 +93,7 @@ def segment_voronoi(pieces, sources=None, *, certify: bool = True, tolerance: fl
     extent = float(np.max(hi - lo)) or 1.0
     if tolerance is None:
         tolerance = 1e-4 * extent
-    spacing = _initial_spacing(E)
+    spacing = initial_spacing(E)
     stats: dict = {"sites": len(E), "points": E.n_points, "segments": len(E) - E.n_points, "rounds": 0}
     caches: dict = {"proofs": {}, "verdicts": {}}
     history: list = []
@@ -107,7 +107,7 @@ def segment_voronoi(pieces, sources=None, *, certify: bool = True, tolerance: fl
         cap = np.array([refine[i] for i in idx.tolist()])
         spacing[idx] = np.minimum(spacing[idx] / 2, cap)
     vertices, walks, problems = result
-    edges = _edges(E, vertices, walks, tolerance, lo, hi)
+    edges = edge_polylines(E, vertices, walks, tolerance, lo, hi)
     D = Diagram(E.sites, vertices, edges, False, problems, stats)
     D.sources = list(E.source)
     D.elementary = E
@@ -170,79 +170,14 @@ def _check_junctions(E: ElementarySites) -> None:
                                     "junction or merge the pair")
 
 
-# ------------------------------------------------------------------------------------ sampling
-def _initial_spacing(E: ElementarySites) -> np.ndarray:
-    """Per site: the sample spacing along a segment (∞ for a point): half its gap to the nearest
-    non-adjacent site, at most a quarter of its length."""
-    n = len(E)
-    L = _lengths(E)
-    sp = np.where(E.kind == POINT, np.inf, L / 4)
-    P, lab = _samples(E, sp)
-    if len(P) < 3:
-        return sp
-    tree = cKDTree(P)
-    k = min(len(P), 12)
-    dist, idx = tree.query(P, k=k)
-    gap = np.full(n, np.inf)
-    for c in range(1, k):
-        other = lab[idx[:, c]]
-        ok = (other != lab) & ~_adjacent(E, lab, other)
-        np.minimum.at(gap, lab[ok], dist[ok, c])
-    finite = np.isfinite(gap)
-    gap[~finite] = np.median(gap[finite]) if finite.any() else 1.0
-    return np.where(E.kind == POINT, np.inf, np.minimum(L / 4, gap / SPACING_PER_GAP))
-
-
-def _lengths(E: ElementarySites) -> np.ndarray:
-    """Lengths of the curves (0 for points): chords of segments, ρ·span of arcs."""
-    L = np.hypot(*(E.B - E.A).T)
-    for s in np.nonzero(E.kind == ARC)[0].tolist():
-        L[s] = E.rho[s] * arc_range(E, s)[1]
-    return L
-
-
-def _adjacent(E: ElementarySites, a, b):
-    """Elementwise: site a is an end of curve b or vice versa, or they share an end."""
-    ea, eb = E.ends[a], E.ends[b]
-    pa = np.where(E.kind[a] == POINT, a, -5)
-    pb = np.where(E.kind[b] == POINT, b, -7)
-    share = ((ea[:, :, None] == eb[:, None, :]) & (ea[:, :, None] != -1)).any(axis=(1, 2))
-    return share | (ea == pb[:, None]).any(axis=1) | (eb == pa[:, None]).any(axis=1)
-
-
-def _samples(E: ElementarySites, spacing):
-    """Every point site, and n = ⌈L / spacing⌉ points at parameters (k + ½)/n along each segment."""
-    pts = [E.A[:E.n_points]]
-    labs = [np.arange(E.n_points)]
-    seg = np.arange(E.n_points, len(E))
-    if len(seg):
-        L = _lengths(E)[seg]
-        cnt = np.maximum(1, np.ceil(L / spacing[seg]).astype(np.int64))
-        owner = np.repeat(seg, cnt)
-        start = np.repeat(np.cumsum(cnt) - cnt, cnt)
-        k = np.arange(int(cnt.sum())) - start
-        t = (k + 0.5) / np.repeat(cnt, cnt)
-        Q = E.A[owner] + t[:, None] * (E.B[owner] - E.A[owner])
-        arc = E.kind[owner] == ARC
-        if arc.any():
-            ranges = {s_: arc_range(E, s_) for s_ in np.unique(owner[arc]).tolist()}
-            al = np.array([ranges[s_][0] for s_ in owner[arc].tolist()])
-            be = np.array([ranges[s_][1] for s_ in owner[arc].tolist()])
-            th = al + t[arc] * be
-            Q[arc] = E.C[owner[arc]] + E.rho[owner[arc]][:, None] * np.column_stack([np.cos(th), np.sin(th)])
-        pts.append(Q)
-        labs.append(owner)
-    return np.concatenate(pts), np.concatenate(labs)
-
-
 # ------------------------------------------------------------------------------------ one round
 def _build_once(E: ElementarySites, spacing, stats, caches):
     """Triangulate the samples, prove the candidate vertices, check the walks.
     Returns ((vertices, walks, problems), {site: refine}) with walks mapped to vertex ids."""
-    P, lab = _samples(E, spacing)
+    P, lab = samples(E, spacing)
     stats["samples"] = int(len(P))
     ghost = len(E)
-    if _flat(P):
+    if flat(P):
         # all samples on one line: qhull needs a simplex; a far ring of samples of a virtual
         # site ``ghost`` closes the triangulation, and walks reaching it go to infinity
         c = (P.min(axis=0) + P.max(axis=0)) / 2
@@ -250,7 +185,7 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
         a = np.linspace(0, 2 * np.pi, 33)[:-1] + 0.1
         P = np.vstack([P, c + R * np.column_stack([np.cos(a), np.sin(a)])])
         lab = np.concatenate([lab, np.full(32, ghost)])
-    tri = _triangulation(P, lab)
+    tri = triangulation(P, lab)
     raw = tri.walks()
     threes = np.nonzero(tri.nlab == 3)[0]
     T3 = np.sort(tri.L[threes], axis=1)
@@ -277,7 +212,7 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
             if key not in key_to_vid:
                 key_to_vid[key] = len(vertices)
                 x, y = E.xy[c]
-                vertices.append(DiagramVertex(len(vertices), _corner_order(E, c), float(x), float(y), 0.0, True))
+                vertices.append(DiagramVertex(len(vertices), corner_order(E, c), float(x), float(y), 0.0, True))
             tri_vid[t] = key_to_vid[key]
             continue
         # a seed near a proved solution of its triple (within twice the triple's sample spacing)
@@ -357,7 +292,7 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
         for v in ends:
             if v is not None:
                 degree[v].append(tuple(pair))
-        hints = [_hint(tri, e) for e in (start, end)]
+        hints = [walk_hint(tri, e) for e in (start, end)]
         walks.append((tuple(int(v) for v in pair), ends, hints))
     for v in vertices:
         want = sorted(v.site_pairs())
@@ -395,180 +330,8 @@ def _vertex_id(vertices, by_sites, members, sol, E):
         if abs(v.x - sol.x) <= tol and abs(v.y - sol.y) <= tol:
             return vid
     vid = len(vertices)
-    vertices.append(DiagramVertex(vid, _contact_order(E, members, sol), sol.x, sol.y, sol.r, True))
+    vertices.append(DiagramVertex(vid, contact_order(E, members, sol), sol.x, sol.y, sol.r, True))
     by_sites.setdefault(key, []).append(vid)
     return vid
 
 
-def _hint(tri, e):
-    """A point in the direction of a walk's end (the circumcentre of the hull triangle)."""
-    if e is None or e[0] not in ("hull", "tri"):
-        return None
-    return tri.cc[e[1]] + 0.0
-
-
-def _outward(E: ElementarySites, i: int, j: int, base, d, far) -> float:
-    """+1 or −1: the way along the straight bisector of i and j, from its vertex ``base``, on
-    which i and j stay the nearest sites (the other way a third site takes over at once)."""
-    eps = 1e-6 * far
-    best, sgn = None, 1.0
-    for s in (1.0, -1.0):
-        q = base + s * eps * d
-        dd = site_distances(E, np.arange(len(E)), np.repeat(q[None, :], len(E), axis=0))
-        own = max(dd[i], dd[j])
-        dd[[i, j]] = np.inf
-        margin = float(dd.min() - own)
-        if best is None or margin > best:
-            best, sgn = margin, s
-    return sgn
-
-
-def _triangulation(P, lab) -> SampleTriangulation:
-    """qhull without joggling whenever it keeps every sample (segment samples are collinear in
-    runs, which qhull's merged facets handle; joggling would flip the slivers on the hull whose
-    circumcentres are the far vertices of nearly collinear hull sites), else joggled."""
-    c = (P.min(axis=0) + P.max(axis=0)) / 2
-    try:
-        d = Delaunay(P - c, qhull_options="Qbb Qc Qz Q12")
-        if not len(d.coplanar):
-            return SampleTriangulation(P, lab, d.simplices, d.neighbors)
-    except QhullError:
-        pass
-    return SampleTriangulation(P, lab)
-
-
-def _arc_step(E: ElementarySites, i: int, j: int, base, far) -> int:
-    """+1 or −1: the way (counter-clockwise or not on the arc) along the arc bisector of i and j
-    from its vertex ``base`` on which i and j stay the nearest sites."""
-    s, other = (i, j) if E.kind[i] == ARC else (j, i)
-    sigma, tau = arc_sides(E, s, other, base)
-    c = E.C[s]
-    th = math.atan2(base[1] - c[1], base[0] - c[0])
-    best, out = None, 1
-    for st in (1, -1):
-        V, t = arc_bisector_points(E, s, other, sigma, tau, np.array([th + st * 1e-6]))
-        if not (np.isfinite(t[0]) and t[0] > 0):
-            continue
-        dd = site_distances(E, np.arange(len(E)), np.repeat(V, len(E), axis=0))
-        own = max(dd[i], dd[j])
-        dd[[i, j]] = np.inf
-        margin = float(dd.min() - own)
-        if best is None or margin > best:
-            best, out = margin, st
-    return out
-
-
-def _flat(P) -> bool:
-    """Fewer than three samples, or all of them on one line (relative 1e-12)."""
-    if len(P) < 3:
-        return True
-    Q = P - P[0]
-    s = np.linalg.svd(Q, compute_uv=False)
-    return bool(s[1] <= 1e-12 * max(s[0], 1e-300))
-
-
-def _corner_order(E: ElementarySites, c: int) -> tuple:
-    """The sites of the corner vertex c: the segments ending at c by angle, c itself inserted in
-    the reflex gap (> 180°) if there is one; starting with the smallest index."""
-    segs = E.incident[c]
-    cx, cy = E.A[c]
-    ang = []
-    for s in segs:            # the direction in which the curve leaves c
-        if E.kind[s] == ARC:
-            rx, ry = cx - E.C[s][0], cy - E.C[s][1]
-            tx, ty = (-ry, rx) if int(E.ends[s, 0]) == c else (ry, -rx)
-        else:
-            o = int(E.ends[s, 1]) if int(E.ends[s, 0]) == c else int(E.ends[s, 0])
-            tx, ty = E.A[o][0] - cx, E.A[o][1] - cy
-        ang.append(math.atan2(ty, tx))
-    order = [s for _, s in sorted(zip(ang, segs))]
-    angs = sorted(ang)
-    out = list(order)
-    for k in range(len(order)):
-        gap = (angs[(k + 1) % len(order)] - angs[k]) % (2 * math.pi) if len(order) > 1 else 2 * math.pi
-        if gap > math.pi:
-            out = order[:k + 1] + [c] + order[k + 1:]
-            break
-    m = out.index(min(out))
-    return tuple(out[m:] + out[:m])
-
-
-def _contact_order(E: ElementarySites, members, sol) -> tuple:
-    """Sites sorted counter-clockwise by their contact points seen from the vertex.  A curve
-    touching at one of its ends shares that contact with the end's point site: it comes just
-    after it when the curve leaves the contact counter-clockwise around the vertex, just before
-    otherwise (its region lies on that side)."""
-    v = np.array([sol.x, sol.y])
-    ang = []
-    for s in members:
-        lean = 0.0
-        if E.kind[s] == POINT:
-            f = E.A[s]
-        elif E.kind[s] == ARC:
-            w = v - E.C[s]
-            if np.hypot(*w) <= 1e-9 * E.rho[s]:          # the arc's centre: contact along the arc
-                al, be = arc_range(E, s)
-                w = np.array([math.cos(al + be / 2), math.sin(al + be / 2)])
-            f = E.C[s] + E.rho[s] * w / np.hypot(*w)
-            for end, P in ((0, E.A[s]), (1, E.B[s])):
-                if np.hypot(*(f - P)) <= 1e-9 * (1 + E.rho[s]):
-                    r = P - E.C[s]
-                    lean = _lean(f - v, np.array([-r[1], r[0]]) if end == 0 else np.array([r[1], -r[0]]))
-        else:
-            a, b = E.A[s], E.B[s]
-            d = b - a
-            t = np.dot(v - a, d) / np.dot(d, d)
-            f = a + np.clip(t, 0, 1) * d
-            if t <= 1e-12:
-                lean = _lean(f - v, d)
-            elif t >= 1 - 1e-12:
-                lean = _lean(f - v, -d)
-        ang.append(math.atan2(f[1] - v[1], f[0] - v[0]) + lean)
-    order = [s for _, s in sorted(zip(ang, members))]
-    m = order.index(min(order))
-    return tuple(order[m:] + order[:m])
-
-
-def _lean(radius_vector, direction) -> float:
-    """±10⁻⁹: a curve leaving its contact in ``direction`` lies counter-clockwise (+) or clockwise
-    (−) of the contact point around the vertex."""
-    return 1e-9 if radius_vector[0] * direction[1] - radius_vector[1] * direction[0] > 0 else -1e-9
-
-
-# ------------------------------------------------------------------------------------ edges
-def _edges(E: ElementarySites, vertices, walks, tol, lo, hi):
-    """Polylines along the closed-form bisectors; infinite ends at far points in the walk's
-    direction."""
-    pts = [lo, hi] + [np.array([[v.x, v.y] for v in vertices])] if vertices else [lo, hi]
-    allp = np.vstack([np.atleast_2d(p) for p in pts])
-    centre = (allp.min(axis=0) + allp.max(axis=0)) / 2
-    far = 4 * float(np.max(allp.max(axis=0) - allp.min(axis=0)) + 1.0)
-    out = []
-    for pair, ends, hints in walks:
-        i, j = pair
-        fin = [None if e is None else np.array([vertices[e].x, vertices[e].y]) for e in ends]
-        kind = bisector_kind(E, i, j)
-        step = 1
-        if fin[0] is None or fin[1] is None:
-            if kind in ("parabola", "segments"):
-                continue          # these bisectors are bounded: the walk is an artefact
-            if kind == "arc":
-                base = fin[0] if fin[0] is not None else fin[1]
-                step = 1 if base is None else _arc_step(E, i, j, base, far)
-            else:
-                d = line_direction(E, i, j)
-                base = fin[0] if fin[0] is not None else fin[1]
-                if base is None:
-                    base = line_point(E, i, j)
-                R = far + float(np.hypot(*(base - centre)))
-                if fin[0] is None and fin[1] is None:
-                    fin = [base - d * R, base + d * R]
-                else:
-                    sgn = _outward(E, i, j, base, d, far)
-                    fin = [base + sgn * d * R if f is None else f for f in fin]
-        poly, t = edge_polyline(E, i, j, fin[0], fin[1], tol, far=far + float(np.hypot(*(lo - centre))),
-                                centre=centre, step=step)
-        if len(poly) < 2:
-            continue
-        out.append(DiagramEdge(len(out), (i, j), tuple(ends), False, poly, t, False))
-    return out

@@ -27,7 +27,6 @@ Public API: :class:`ElementarySites`, :func:`decompose`, :data:`POINT`, :data:`S
 """
 from __future__ import annotations
 
-from fractions import Fraction
 
 import numpy as np
 

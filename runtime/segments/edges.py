@@ -1,0 +1,105 @@
+"""Edge polylines of the segment diagram from the walks of the sample triangulation.
+
+Each walk of two-label triangles joins two vertices (or a vertex and infinity) along the bisector
+of its two sites; the polyline is drawn on the closed-form bisector
+(:func:`runtime.segments.bisectors.edge_polyline`).  An infinite end goes the way along the
+bisector on which the two sites stay the nearest (a third site takes over at once the other way),
+to a far point outside the scene.
+
+Public API: :func:`edge_polylines`, :func:`walk_hint`.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..voronoi.structure import DiagramEdge
+from .bisectors import (arc_bisector_points, arc_sides, bisector_kind, edge_polyline, line_direction,
+                        line_point)
+from .distance import site_distances
+from .elementary import ARC, ElementarySites
+
+__all__ = ["edge_polylines", "walk_hint"]
+
+
+def walk_hint(tri, e):
+    """A point in the direction of a walk's end (the circumcentre of the hull triangle)."""
+    if e is None or e[0] not in ("hull", "tri"):
+        return None
+    return tri.cc[e[1]] + 0.0
+
+
+def _outward(E: ElementarySites, i: int, j: int, base, d, far) -> float:
+    """+1 or −1: the way along the straight bisector of i and j, from its vertex ``base``, on
+    which i and j stay the nearest sites (the other way a third site takes over at once)."""
+    eps = 1e-6 * far
+    best, sgn = None, 1.0
+    for s in (1.0, -1.0):
+        q = base + s * eps * d
+        dd = site_distances(E, np.arange(len(E)), np.repeat(q[None, :], len(E), axis=0))
+        own = max(dd[i], dd[j])
+        dd[[i, j]] = np.inf
+        margin = float(dd.min() - own)
+        if best is None or margin > best:
+            best, sgn = margin, s
+    return sgn
+
+
+def _arc_step(E: ElementarySites, i: int, j: int, base, far) -> int:
+    """+1 or −1: the way (counter-clockwise or not on the arc) along the arc bisector of i and j
+    from its vertex ``base`` on which i and j stay the nearest sites."""
+    s, other = (i, j) if E.kind[i] == ARC else (j, i)
+    sigma, tau = arc_sides(E, s, other, base)
+    c = E.C[s]
+    th = math.atan2(base[1] - c[1], base[0] - c[0])
+    best, out = None, 1
+    for st in (1, -1):
+        V, t = arc_bisector_points(E, s, other, sigma, tau, np.array([th + st * 1e-6]))
+        if not (np.isfinite(t[0]) and t[0] > 0):
+            continue
+        dd = site_distances(E, np.arange(len(E)), np.repeat(V, len(E), axis=0))
+        own = max(dd[i], dd[j])
+        dd[[i, j]] = np.inf
+        margin = float(dd.min() - own)
+        if best is None or margin > best:
+            best, out = margin, st
+    return out
+
+
+def edge_polylines(E: ElementarySites, vertices, walks, tol, lo, hi):
+    """Polylines along the closed-form bisectors; infinite ends at far points in the walk's
+    direction."""
+    pts = [lo, hi] + [np.array([[v.x, v.y] for v in vertices])] if vertices else [lo, hi]
+    allp = np.vstack([np.atleast_2d(p) for p in pts])
+    centre = (allp.min(axis=0) + allp.max(axis=0)) / 2
+    far = 4 * float(np.max(allp.max(axis=0) - allp.min(axis=0)) + 1.0)
+    out = []
+    for pair, ends, hints in walks:
+        i, j = pair
+        fin = [None if e is None else np.array([vertices[e].x, vertices[e].y]) for e in ends]
+        kind = bisector_kind(E, i, j)
+        step = 1
+        if fin[0] is None or fin[1] is None:
+            if kind in ("parabola", "segments"):
+                continue          # these bisectors are bounded: the walk is an artefact
+            if kind == "arc":
+                base = fin[0] if fin[0] is not None else fin[1]
+                step = 1 if base is None else _arc_step(E, i, j, base, far)
+            else:
+                d = line_direction(E, i, j)
+                base = fin[0] if fin[0] is not None else fin[1]
+                if base is None:
+                    base = line_point(E, i, j)
+                R = far + float(np.hypot(*(base - centre)))
+                if fin[0] is None and fin[1] is None:
+                    fin = [base - d * R, base + d * R]
+                else:
+                    sgn = _outward(E, i, j, base, d, far)
+                    fin = [base + sgn * d * R if f is None else f for f in fin]
+        poly, t = edge_polyline(E, i, j, fin[0], fin[1], tol, far=far + float(np.hypot(*(lo - centre))),
+                                centre=centre, step=step)
+        if len(poly) < 2:
+            continue
+        out.append(DiagramEdge(len(out), (i, j), tuple(ends), False, poly, t, False))
+    return out
