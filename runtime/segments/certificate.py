@@ -62,8 +62,9 @@ Let G be the true Voronoi graph of the sites and H the reported one.
 
 ``ok`` is True only when all of this is proved; per-vertex and per-edge flags say which parts
 are; problems are :class:`runtime.voronoi.verify.problems.Problem` records naming the vertex, edge
-and sites.  Not claimed: diagrams of junctions that continue straight through (refused as sites),
-closed edges (none exist for these sites).
+and sites.  Not claimed: diagrams with other sites (circular arcs: reported not proved, as a limit,
+not a fault), junctions that continue straight through (refused as sites), closed edges (none
+exist for these sites).
 
 Public API: :func:`verify_segments`, :func:`has_segment_sites`, :func:`closure`.
 """

@@ -180,8 +180,8 @@ def admissibility(T: SiteTable) -> list:
     """Problems that make the sites inadmissible (module docstring); empty when admissible."""
     out = []
     for k in T.unsupported:
-        out.append(fault(f"site {k}: {type(T.sites[k]).__name__} is not a point or a segment (segment diagrams "
-                         "take points and segments only)", kind="site", sites=(k,)))
+        out.append(Problem(f"site {k}: {type(T.sites[k]).__name__} is not a point or a segment: this certificate "
+                           "proves diagrams of points and segments only", kind="site", sites=(k,), fault=False))
     for p, q in T.repeated_points:
         out.append(fault(f"sites {p} and {q}: the same point repeated", kind="site", sites=(p, q)))
     seen: dict = {}
