@@ -144,7 +144,8 @@ CONSTRUCTION = {f"runtime.voronoi.{m}" for m in (
     "construction", "sampling", "sample_delaunay", "sample_walks", "apollonius_vertices", "conic_vertices",
     "edge_polylines", "vertex_emptiness", "near_degenerate", "cocircular", "collinear_points", "deletion",
     "site_arrays", "command")} | {f"runtime.segments.{m}" for m in (
-    "construction", "vertices", "bisectors", "emptiness", "exact")}
+    "construction", "vertices", "bisectors", "emptiness", "exact", "sampling", "contact_order", "edges",
+    "command", "medial_axis")}
 
 #: the certificates: the curved-site verifier and the point/segment one
 VERIFIERS = ("runtime.voronoi.verify", "runtime.segments.certificate")
