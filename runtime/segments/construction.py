@@ -38,12 +38,11 @@ from ..threads import one_blas_thread
 from ..voronoi.site_input import SiteError
 from ..voronoi.structure import Diagram, DiagramVertex
 from .contact_order import contact_order, corner_order
-from .distance import site_distances
 from .edges import edge_polylines, walk_hint
 from .elementary import ARC, POINT, ElementarySites, decompose
 from .emptiness import prove_empty
 from .exact import contacts_valid
-from .sampling import flat, initial_spacing, samples, triangulation
+from .sampling import flat, initial_spacing, nearest_point, samples, triangulation
 from .vertices import common_point, prove_vertex
 
 __all__ = ["segment_voronoi", "has_segments"]
@@ -174,7 +173,8 @@ def _check_junctions(E: ElementarySites) -> None:
 def _build_once(E: ElementarySites, spacing, stats, caches):
     """Triangulate the samples, prove the candidate vertices, check the walks.
     Returns ((vertices, walks, problems), {site: refine}) with walks mapped to vertex ids."""
-    P, lab = samples(E, spacing)
+    extra = caches.setdefault("extra", {})
+    P, lab = samples(E, spacing, extra)
     stats["samples"] = int(len(P))
     ghost = len(E)
     if flat(P):
@@ -242,14 +242,12 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
             else:
                 refine.update(triple)
                 if culprit is not None:
-                    # a site entering a circle of radius r by δ passes between samples more than
-                    # √(2rδ) apart: that spacing puts one of its samples inside
-                    dq = site_distances(E, [culprit], np.array([[sol.x, sol.y]]))
-                    depth = sol.r - float(dq[0])
-                    cap = 0.9 * math.sqrt(2 * sol.r * depth) if depth > 0 else np.inf
-                    refine.add(culprit, cap)
-                    for t in triple:
-                        refine.add(t, cap)
+                    # a curve entering the circle passed between its samples: its point nearest
+                    # to the vertex becomes a sample (it lies inside the circle), however shallow
+                    # the intrusion; the triple's curves are sampled twice as densely
+                    if E.kind[culprit] != POINT:
+                        extra.setdefault(int(culprit), []).append(nearest_point(E, int(culprit), (sol.x, sol.y)))
+                    refine.update(triple)
                     if empty is None:
                         problems.append(f"sites {', '.join(map(str, triple))}: emptiness of the vertex at "
                                         f"({sol.x:.6g}, {sol.y:.6g}) undecided (site {culprit})")

@@ -570,7 +570,7 @@ def _sign(p, q=0, D=0) -> int:
     sq = (q > 0) - (q < 0)
     if sp == 0 or sp == sq:
         return sq
-    return sp if p * p > q * q * D else sq         # p² = q²D is impossible: √D is irrational
+    return sp        # p² = q²D is impossible: √D is irrational
 
 
 def _sqrt(v: Fraction) -> Fraction | None:

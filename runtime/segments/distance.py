@@ -50,13 +50,13 @@ def distance_ball(a, b, x: arb, y: arb) -> arb:
     segment [a, b] (exact rational pairs; a = b for a point)."""
     ax, ay = to_arb(a[0]), to_arb(a[1])
     if a == b:
-        return ((x - ax) ** 2 + (y - ay) ** 2).sqrt()
+        return _hypot(x - ax, y - ay)
     bx, by = to_arb(b[0]), to_arb(b[1])
     dx, dy = bx - ax, by - ay
     L2 = dx * dx + dy * dy
     t = ((x - ax) * dx + (y - ay) * dy) / L2
-    da = ((x - ax) ** 2 + (y - ay) ** 2).sqrt()
-    db = ((x - bx) ** 2 + (y - by) ** 2).sqrt()
+    da = _hypot(x - ax, y - ay)
+    db = _hypot(x - bx, y - by)
     line = abs((x - ax) * dy - (y - ay) * dx) / L2.sqrt()
     if t > 0 and t < 1:
         return line
@@ -68,6 +68,12 @@ def distance_ball(a, b, x: arb, y: arb) -> arb:
     lo = line.lower()
     hi = (da if t.mid() < 0.5 else db).upper()
     return lo.union(hi)
+
+
+def _hypot(u: arb, v: arb) -> arb:
+    """√(u² + v²) for balls that may contain 0 (arb's u ** 2 is NaN there, and u·u has a
+    negative part that sqrt refuses): the squares' non-negative parts."""
+    return ((u * u).nonnegative_part() + (v * v).nonnegative_part()).sqrt()
 
 
 def foot_parameter(a, b, x: arb, y: arb) -> arb:
@@ -113,9 +119,9 @@ def arc_distance_ball(c, rho, a, b, x: arb, y: arb) -> arb:
     ca = ax * uy - ay * ux
     cb = ux * by - uy * bx
     ab = (a[0] - c[0]) * (b[1] - c[1]) - (a[1] - c[1]) * (b[0] - c[0])     # exact
-    circle = abs((ux * ux + uy * uy).sqrt() - to_arb(rho))
-    da = ((x - to_arb(a[0])) ** 2 + (y - to_arb(a[1])) ** 2).sqrt()
-    db = ((x - to_arb(b[0])) ** 2 + (y - to_arb(b[1])) ** 2).sqrt()
+    circle = abs(_hypot(ux, uy) - to_arb(rho))
+    da = _hypot(x - to_arb(a[0]), y - to_arb(a[1]))
+    db = _hypot(x - to_arb(b[0]), y - to_arb(b[1]))
     if ab > 0:
         inside = ca >= 0 and cb >= 0
         outside = ca < 0 or cb < 0

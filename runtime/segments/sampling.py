@@ -7,7 +7,7 @@ spacing of a curve is its gap to the nearest non-adjacent site divided by
 :data:`SPACING_PER_GAP` (at most a quarter of its length); refinement divides it further.
 
 Public API: :func:`initial_spacing`, :func:`samples`, :func:`curve_lengths`, :func:`triangulation`,
-:func:`flat`, :data:`SPACING_PER_GAP`.
+:func:`flat`, :func:`nearest_point`, :data:`SPACING_PER_GAP`.
 """
 from __future__ import annotations
 
@@ -16,9 +16,11 @@ from scipy.spatial import Delaunay, QhullError, cKDTree
 
 from ..voronoi.sample_delaunay import SampleTriangulation
 from .bisectors import arc_range
+from .distance import in_arc
 from .elementary import ARC, POINT, ElementarySites
 
-__all__ = ["initial_spacing", "samples", "curve_lengths", "triangulation", "flat", "SPACING_PER_GAP"]
+__all__ = ["initial_spacing", "samples", "curve_lengths", "triangulation", "flat", "nearest_point",
+           "SPACING_PER_GAP"]
 
 #: initial sample spacing of a curve: its gap to the nearest non-adjacent site divided by this
 SPACING_PER_GAP = 4.0
@@ -63,8 +65,10 @@ def _adjacent(E: ElementarySites, a, b):
     return share | (ea == pb[:, None]).any(axis=1) | (eb == pa[:, None]).any(axis=1)
 
 
-def samples(E: ElementarySites, spacing):
-    """Every point site, and n = ⌈L / spacing⌉ points at parameters (k + ½)/n along each segment."""
+def samples(E: ElementarySites, spacing, extra=None):
+    """Every point site, and n = ⌈L / spacing⌉ points at parameters (k + ½)/n along each curve,
+    plus ``extra`` points {curve: [(x, y), ...]} (points of the curves added where a curve was
+    found inside a candidate's circle)."""
     pts = [E.A[:E.n_points]]
     labs = [np.arange(E.n_points)]
     seg = np.arange(E.n_points, len(E))
@@ -85,7 +89,28 @@ def samples(E: ElementarySites, spacing):
             Q[arc] = E.C[owner[arc]] + E.rho[owner[arc]][:, None] * np.column_stack([np.cos(th), np.sin(th)])
         pts.append(Q)
         labs.append(owner)
+    for t, P in (extra or {}).items():
+        pts.append(np.asarray(P, float).reshape(-1, 2))
+        labs.append(np.full(len(P), t))
     return np.concatenate(pts), np.concatenate(labs)
+
+
+def nearest_point(E: ElementarySites, t: int, q) -> tuple[float, float]:
+    """The point of curve t nearest to q (floats; an end when the foot falls outside)."""
+    q = np.asarray(q, float)
+    if E.kind[t] == ARC:
+        w = q - E.C[t]
+        u = w / max(np.hypot(*w), 1e-300)
+        f = E.C[t] + E.rho[t] * u
+        ends = [E.A[t], E.B[t]]
+        if in_arc(E.C[[t]], E.A[[t]], E.B[[t]], w[None, :])[0]:
+            return float(f[0]), float(f[1])
+        e = min(ends, key=lambda P: np.hypot(*(P - q)))
+        return float(e[0]), float(e[1])
+    a, b = E.A[t], E.B[t]
+    d = b - a
+    f = a + np.clip(np.dot(q - a, d) / np.dot(d, d), 0, 1) * d
+    return float(f[0]), float(f[1])
 
 
 def triangulation(P, lab) -> SampleTriangulation:
