@@ -181,14 +181,14 @@ def _arb_system(eqs):
         out = []
         for e in co:
             if e[0] == "point":
-                out.append((x - e[1]) ** 2 + (y - e[2]) ** 2 - r * r)
+                out.append((x - e[1]) * (x - e[1]) + (y - e[2]) * (y - e[2]) - r * r)
             elif e[0] == "line":
                 out.append(e[1] * x + e[2] * y + e[3] - e[4] * r)
             elif e[0] == "normal":
                 out.append(e[1] * (x - e[3]) + e[2] * (y - e[4]))
             else:
                 R = e[3] + e[4] * r
-                out.append((x - e[1]) ** 2 + (y - e[2]) ** 2 - R * R)
+                out.append((x - e[1]) * (x - e[1]) + (y - e[2]) * (y - e[2]) - R * R)
         return out
 
     def J(z):
