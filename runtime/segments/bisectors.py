@@ -43,12 +43,17 @@ __all__ = ["bisector_kind", "edge_polyline", "line_direction", "parabola_points"
 MAX_PIECES = 4096
 
 
-def shared_joint(E: ElementarySites, i: int, j: int) -> int | None:
-    """The smooth joint code (< −1) that curves i and j share, if any."""
+def shared_joint(E: ElementarySites, i: int, j: int, near=None) -> int | None:
+    """The smooth joint code (< −1) that curves i and j share, if any (two arcs of one circle
+    may share both their ends: then the one nearer to ``near``)."""
     if E.kind[i] == POINT or E.kind[j] == POINT:
         return None
     common = {int(v) for v in E.ends[i] if v < -1} & {int(v) for v in E.ends[j] if v < -1}
-    return common.pop() if common else None
+    if not common:
+        return None
+    if near is None or len(common) == 1:
+        return min(common)
+    return min(common, key=lambda c: (float(E.xy[c][0]) - near[0]) ** 2 + (float(E.xy[c][1]) - near[1]) ** 2)
 
 
 def bisector_kind(E: ElementarySites, i: int, j: int) -> str:
@@ -75,8 +80,9 @@ def _tangent(E: ElementarySites, s: int, e_xy) -> np.ndarray:
     return E.B[s] - E.A[s]
 
 
-def line_direction(E: ElementarySites, i: int, j: int) -> np.ndarray:
-    """A unit direction of a straight bisector of kind "points", "perpendicular" or "joint"."""
+def line_direction(E: ElementarySites, i: int, j: int, near=None) -> np.ndarray:
+    """A unit direction of a straight bisector of kind "points", "perpendicular" or "joint"
+    (``near``: a point of the edge, choosing between two joints)."""
     kind = bisector_kind(E, i, j)
     if kind == "points":
         d = E.A[j] - E.A[i]
@@ -84,20 +90,20 @@ def line_direction(E: ElementarySites, i: int, j: int) -> np.ndarray:
         p, s = (i, j) if E.kind[i] == POINT else (j, i)
         d = _tangent(E, s, E.A[p])
     else:
-        jt = shared_joint(E, i, j)
+        jt = shared_joint(E, i, j, near)
         d = _tangent(E, i, [float(v) for v in E.xy[jt]])
     n = np.array([-d[1], d[0]])
     return n / np.hypot(*n)
 
 
-def line_point(E: ElementarySites, i: int, j: int) -> np.ndarray:
+def line_point(E: ElementarySites, i: int, j: int, near=None) -> np.ndarray:
     """A point of a straight bisector of kind "points", "perpendicular" or "joint"."""
     kind = bisector_kind(E, i, j)
     if kind == "points":
         return (E.A[i] + E.A[j]) / 2
     if kind == "perpendicular":
         return E.A[i if E.kind[i] == POINT else j].copy()
-    return np.array([float(v) for v in E.xy[shared_joint(E, i, j)]])
+    return np.array([float(v) for v in E.xy[shared_joint(E, i, j, near)]])
 
 
 def arc_bisector_points(E: ElementarySites, s: int, other: int, sigma: int, tau: int, theta: np.ndarray):

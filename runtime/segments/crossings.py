@@ -570,7 +570,7 @@ def _sign(p, q=0, D=0) -> int:
     sq = (q > 0) - (q < 0)
     if sp == 0 or sp == sq:
         return sq
-    return sp        # p² = q²D is impossible: √D is irrational
+    return sp if p * p > q * q * D else sq         # p² = q²D is impossible: √D is irrational
 
 
 def _sqrt(v: Fraction) -> Fraction | None:
@@ -655,7 +655,7 @@ def _arc_segment_contact(k, arc, m, seg, pieces) -> str | None:
     lo, hi = min(k, m), max(k, m)
     if root is not None:                                        # rational meeting points
         for t in sorted({t0 - root / L, t0 + root / L}):
-            if 0 <= t <= 1:
+            if 0 < t <= 1:
                 X = (P[0] + t * d[0], P[1] + t * d[1])
                 if _in_arc(arc, (X[0] - c[0], X[1] - c[1])):
                     ends = {k: X in (arc.a, arc.b), m: t in (0, 1)}

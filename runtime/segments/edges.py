@@ -87,8 +87,8 @@ def edge_polylines(E: ElementarySites, vertices, walks, tol, lo, hi):
                 base = fin[0] if fin[0] is not None else fin[1]
                 step = 1 if base is None else _arc_step(E, i, j, base, far)
             else:
-                d = line_direction(E, i, j)
                 base = fin[0] if fin[0] is not None else fin[1]
+                d = line_direction(E, i, j, base)
                 if base is None:
                     base = line_point(E, i, j)
                 R = far + float(np.hypot(*(base - centre)))

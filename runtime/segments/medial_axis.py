@@ -21,9 +21,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..sites.arc import Arc
 from ..sites.segment import Segment
 from .bisectors import bisector_kind
-from .distance import distances
+from .distance import site_distances
 
 __all__ = ["medial_axis", "MedialAxis", "MedialEdge", "boundary_pieces"]
 
@@ -63,12 +64,14 @@ class MedialAxis:
     def largest_inscribed_circle(self) -> tuple[float, float, float]:
         """(x, y, r): the largest disc inside the domain (the maximum of the radius function on
         the medial axis is at a vertex, or anywhere on an edge of constant radius)."""
-        best = max(((v.x, v.y, v.radius) for v in self.vertices), key=lambda t: t[2], default=None)
+        cands = [(v.radius, -v.x, -v.y) for v in self.vertices]
         for e in self.edges:
             k = int(np.argmax(e.radius))
-            if best is None or e.radius[k] > best[2]:
-                best = (float(e.polyline[k, 0]), float(e.polyline[k, 1]), float(e.radius[k]))
-        return best
+            cands.append((float(e.radius[k]), -float(e.polyline[k, 0]), -float(e.polyline[k, 1])))
+        if not cands:
+            return None
+        r, mx, my = max(cands)          # ties: the lowest x, then the lowest y
+        return (-mx, -my, r)
 
     def to_shapely(self):
         """A shapely MultiLineString of the edges (needs shapely)."""
@@ -108,10 +111,8 @@ class MedialAxis:
             fig = ax.figure
         else:
             fig, ax = plt.subplots(figsize=(8, 8))
-        for s in self.diagram.sites:
-            if isinstance(s, Segment):
-                (x0, y0), (x1, y1) = s.float_endpoints()
-                ax.plot([x0, x1], [y0, y1], "-", color="black", lw=1.4)
+        for a, b in _boundary_chords(self.diagram.sites):
+            ax.plot([a[0], b[0]], [a[1], b[1]], "-", color="black", lw=1.4)
         for e in self.edges:
             P = np.asarray(e.polyline)
             ax.plot(P[:, 0], P[:, 1], "-" if e.certified else ":", color="tab:blue", lw=1.3)
@@ -129,9 +130,9 @@ class MedialAxis:
 
 
 def _ring_segments(ring, where: str) -> list:
-    """A closed ring as segments: a list of Segments (a closed loop), of (x, y) vertices, a
+    """A closed ring as pieces: a list of Segments and Arcs (a closed loop), of (x, y) vertices, a
     shapely LinearRing/Polygon exterior or a GeoJSON ring."""
-    if isinstance(ring, (list, tuple)) and ring and all(isinstance(s, Segment) for s in ring):
+    if isinstance(ring, (list, tuple)) and ring and all(isinstance(s, (Segment, Arc)) for s in ring):
         return list(ring)
     from ..sites.shapes import pieces_from_geometry
 
@@ -155,6 +156,24 @@ def boundary_pieces(outer, holes=()) -> list:
     for k, h in enumerate(holes):
         segs += _ring_segments(h, f"hole {k}")
     return segs
+
+
+def _boundary_chords(sites) -> np.ndarray:
+    """The boundary as chords (k × 2 × 2): segments, and arcs by 256 chords each (the probes
+    of :func:`medial_axis` are interior points of edges, far from the boundary at that scale)."""
+    out = []
+    for s in sites:
+        if isinstance(s, Segment):
+            out.append(s.float_endpoints())
+        elif isinstance(s, Arc):
+            (cx, cy), rho, (ax, ay), (bx, by) = s.float_data()
+            a0 = np.arctan2(ay - cy, ax - cx)
+            span = (np.arctan2(by - cy, bx - cx) - a0) % (2 * np.pi) or 2 * np.pi
+            t = a0 + np.linspace(0, span, 257)
+            P = np.column_stack([cx + rho * np.cos(t), cy + rho * np.sin(t)])
+            P[0], P[-1] = (ax, ay), (bx, by)
+            out.extend(zip(map(tuple, P[:-1]), map(tuple, P[1:])))
+    return np.array(out, dtype=float).reshape(-1, 2, 2)
 
 
 def _inside(boundary: np.ndarray, Q: np.ndarray) -> np.ndarray:
@@ -183,12 +202,12 @@ def medial_axis(outer, holes=(), *, certify: bool = True, tolerance: float | Non
     segs = boundary_pieces(outer, holes)
     D = segment_voronoi(segs, certify=certify, tolerance=tolerance)
     E = D.elementary
-    bnd = np.array([[s.float_endpoints()[0], s.float_endpoints()[1]] for s in D.sites if isinstance(s, Segment)])
+    bnd = _boundary_chords(D.sites)
     keep = []
     probes = []
     for e in D.edges:
         i, j = e.sites
-        if bisector_kind(E, i, j) == "perpendicular" or None in e.ends:
+        if bisector_kind(E, i, j) in ("perpendicular", "joint") or None in e.ends:
             continue
         P = np.asarray(e.polyline, float)
         k = len(P) // 2
@@ -202,7 +221,7 @@ def medial_axis(outer, holes=(), *, certify: bool = True, tolerance: float | Non
             continue
         P = np.asarray(e.polyline, float)
         i = e.sites[0]
-        r, _ = distances(np.repeat(E.A[i][None], len(P), 0), np.repeat(E.B[i][None], len(P), 0), P)
+        r = site_distances(E, np.full(len(P), i), P)
         edges.append(MedialEdge(len(edges), e.sites, e.ends, P, r, e.tolerance, e.certified))
         used.update(v for v in e.ends if v is not None)
     vertices = [D.vertices[v] for v in sorted(used)]

@@ -86,7 +86,11 @@ def samples(E: ElementarySites, spacing, extra=None):
             al = np.array([ranges[s_][0] for s_ in owner[arc].tolist()])
             be = np.array([ranges[s_][1] for s_ in owner[arc].tolist()])
             th = al + t[arc] * be
-            Q[arc] = E.C[owner[arc]] + E.rho[owner[arc]][:, None] * np.column_stack([np.cos(th), np.sin(th)])
+            # samples of one circle are co-circular: qhull's triangles inside the circle would all
+            # share its centre as circumcentre.  A radial jitter of 10⁻⁹ ρ (deterministic) breaks
+            # the tie; the samples only guide the combinatorics, which are proved afterwards.
+            jitter = 1 + 1e-9 * (np.arange(len(th)) % 7 - 3)
+            Q[arc] = E.C[owner[arc]] + (E.rho[owner[arc]] * jitter)[:, None] * np.column_stack([np.cos(th), np.sin(th)])
         pts.append(Q)
         labs.append(owner)
     for t, P in (extra or {}).items():

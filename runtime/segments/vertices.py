@@ -101,8 +101,8 @@ def contact_equations(E: ElementarySites, triple, seed):
     for i, t1 in enumerate(curves):          # two curves of a smooth joint: point + normal line
         for t2 in curves[i + 1:]:
             shared = {int(v) for v in E.ends[t1] if v < -1} & {int(v) for v in E.ends[t2] if v < -1}
-            if shared:
-                j = shared.pop()
+            if shared:              # two arcs of one circle share both joints: the nearer one
+                j = min(shared, key=lambda c: (float(E.xy[c][0]) - seed[0]) ** 2 + (float(E.xy[c][1]) - seed[1]) ** 2)
                 joint_of[t1] = ("point", j)
                 joint_of[t2] = ("normal", j)
     eqs = []
