@@ -655,7 +655,7 @@ def _arc_segment_contact(k, arc, m, seg, pieces) -> str | None:
     lo, hi = min(k, m), max(k, m)
     if root is not None:                                        # rational meeting points
         for t in sorted({t0 - root / L, t0 + root / L}):
-            if 0 < t <= 1:
+            if 0 <= t <= 1:
                 X = (P[0] + t * d[0], P[1] + t * d[1])
                 if _in_arc(arc, (X[0] - c[0], X[1] - c[1])):
                     ends = {k: X in (arc.a, arc.b), m: t in (0, 1)}
@@ -719,7 +719,7 @@ def _same_circle(a1, a2) -> str | None:
         return None
     # the first overlapping piece starts at a start point inside the other arc and ends at the
     # first end point met counter-clockwise
-    s = a2.a if inside(a1, a2.a) and a2.a != a1.b else a1.a
+    s = a1.a
     if a1.b == a2.b:
         t = a1.b
     else:

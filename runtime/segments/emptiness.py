@@ -66,9 +66,9 @@ def prove_empty(E: ElementarySites, tree, lab, hmax: float, triple, sol):
                 continue
             if dk < R:
                 return False, tuple(members), k
-            if E.kind[k] != POINT and _closest_at_an_end(E, k, X, Y):
-                continue    # closest point of k is an end: a site tested on its own, or a smooth
-                #             joint shared with a member (then k touches only where it does)
+            if E.kind[k] != POINT and min(E.ends[k]) >= 0 and _closest_at_an_end(E, k, X, Y):
+                continue    # closest point of k is an end: a point site tested on its own (a
+                #             smooth joint is not a site: then k is decided exactly below)
             from .exact import on_circle
             verdict = on_circle(E, triple, sol, k)
             if verdict is None:

@@ -100,13 +100,24 @@ def on_circle(E: ElementarySites, triple, sol, k: int):
     tnum = (X - ax) * dx + (Y - ay) * dy            # foot parameter × |b − a|²
     L2 = dx * dx + dy * dy
     s0, s1 = exact_sign(tnum), exact_sign(tnum - L2)
-    if s0 < 0 or s1 > 0:
-        return "outside"        # closest point beyond an end: that endpoint (a site) decides
+    if s0 < 0 or s1 > 0:        # closest point beyond an end
+        return _at_end(E, k, 0 if s0 < 0 else 1, X, Y, R)
     if s0 == 0 or s1 == 0:
         ex, ey = (ax, ay) if s0 == 0 else (bx, by)
         s = exact_sign((X - ex) ** 2 + (Y - ey) ** 2 - R ** 2)
         return "on" if s == 0 else ("outside" if s > 0 else False)
     s = exact_sign((dy * (X - ax) - dx * (Y - ay)) ** 2 - L2 * R ** 2)
+    return "on" if s == 0 else ("outside" if s > 0 else False)
+
+
+def _at_end(E: ElementarySites, k: int, end: int, X, Y, R):
+    """Curve k's closest point is its end ``end``: a point site decides for itself ("outside"
+    for k); a smooth joint (not a site) is k's own contact, compared with R exactly."""
+    code = int(E.ends[k, end])
+    if code >= 0:
+        return "outside"
+    ex, ey = (_q(t) for t in E.xy[code])
+    s = exact_sign((X - ex) ** 2 + (Y - ey) ** 2 - R ** 2)
     return "on" if s == 0 else ("outside" if s > 0 else False)
 
 
@@ -120,11 +131,14 @@ def _on_arc(E: ElementarySites, k: int, X, Y, R, a, b):
     ca, cb = exact_sign(ax * uy - ay * ux), exact_sign(ux * by - uy * bx)
     small = ax * by - ay * bx > 0
     inside = (ca >= 0 and cb >= 0) if small else (ca >= 0 or cb >= 0)
-    on_end = ca == 0 or cb == 0
-    if not inside:
-        return "outside"        # the closest point is an end: that end (a site) decides
-    if on_end:
-        ex, ey = (a if ca == 0 else b)
+    if not inside:              # the closest point is the nearer end
+        da = (X - a[0]) ** 2 + (Y - a[1]) ** 2
+        db = (X - b[0]) ** 2 + (Y - b[1]) ** 2
+        return _at_end(E, k, 0 if exact_sign(da - db) <= 0 else 1, X, Y, R)
+    at_a = ca == 0 and exact_sign(ax * ux + ay * uy) > 0     # pointing at a, not at −a
+    at_b = cb == 0 and exact_sign(bx * ux + by * uy) > 0
+    if at_a or at_b:
+        ex, ey = ((ax, ay) if at_a else (bx, by))
         s = exact_sign((X - ex - cx) ** 2 + (Y - ey - cy) ** 2 - R ** 2)
         return "on" if s == 0 else ("outside" if s > 0 else False)
     s = exact_sign((sp.sqrt(ux ** 2 + uy ** 2) - rho) ** 2 - R ** 2)
