@@ -719,7 +719,7 @@ def _same_circle(a1, a2) -> str | None:
         return None
     # the first overlapping piece starts at a start point inside the other arc and ends at the
     # first end point met counter-clockwise
-    s = a1.a
+    s = a2.a if inside(a1, a2.a) and a2.a != a1.b else a1.a
     if a1.b == a2.b:
         t = a1.b
     else:

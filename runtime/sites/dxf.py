@@ -1,30 +1,51 @@
-"""Segment and point sites from a DXF drawing (ezdxf), with exact coordinates.
+"""Segment, arc and point sites from a DXF drawing (ezdxf), with exact coordinates.
 
 :func:`read_dxf` reads the modelspace entities in file order:
 
 =============================  ===================================================================
 LINE                           one :class:`runtime.sites.segment.Segment`
+ARC                            one :class:`runtime.sites.arc.Arc` (:meth:`Arc.circular`: DXF's
+                               angles in degrees, counter-clockwise in the entity's OCS)
 POINT                          one :class:`runtime.predicates.circles.Point`
-LWPOLYLINE, POLYLINE (2-D)     a Segment per pair of consecutive distinct vertices; a closed
-                               polyline also gets its closing segment (none of length 0)
+LWPOLYLINE, POLYLINE (2-D)     a piece per pair of consecutive distinct vertices: a Segment, or an
+                               Arc where the first vertex has a nonzero bulge; a closed polyline
+                               also gets its closing piece (none of length 0)
 =============================  ===================================================================
 
 Coordinates are doubles in DXF and are taken at their exact binary value
 (:func:`runtime.sites.rationals.to_fraction`).  Each piece gets
 
 * a **source**: the index of its entity among the supported entities of the modelspace (LINE,
-  POINT, LWPOLYLINE, POLYLINE, counted from 0 in file order, skipped types not counted), so that
-  ``sources[i] == k`` maps piece i back to the k-th such entity;
-* a **label**: the entity's layer name (also the Segment's ``label``).
+  ARC, POINT, LWPOLYLINE, POLYLINE, counted from 0 in file order, skipped types not counted), so
+  that ``sources[i] == k`` maps piece i back to the k-th such entity;
+* a **label**: the entity's layer name (also the Segment's or Arc's ``label``).
+
+**Extrusion.**  ARC and 2-D polylines live in their entity's object coordinate system: extrusion
++z is the WCS; extrusion -z mirrors x (the arbitrary axis algorithm gives the OCS x axis
+(-1, 0, 0)), so the drawing's points are read as (-x, y), a bulge changes sign and an arc's
+counter-clockwise run from its start to its end angle becomes the counter-clockwise run from the
+mirrored end to the mirrored start (exactly: the arc is built in the OCS, then its rational points
+are mirrored).  Any other extrusion is refused (not in the xy plane).
+
+**Bulges.**  A bulge b = tan(θ/4) between rational vertices p, q gives a rational centre; the
+radius |q - p| (1 + b²) / (4 |b|) is rational only when |q - p| is (e.g. not for p = (0, 0),
+q = (1, 1)).  Then the arc is **snapped** rather than refused (most drawn bulges have irrational
+radii): it keeps its endpoints p and q exactly (the polyline stays connected) and its centre
+moves along the perpendicular bisector of pq to c = p + r u, u a rational unit vector within
+about 2⁻⁵⁰ radians of the direction from p to the exact centre (from t = tan(φ/2) with
+denominator at most 2⁵³), so that r = |q - p|² / (2 u·(q - p)) is rational.  The included angle
+changes by about 2⁻⁴⁹ radians, so the arc moves by about 10⁻¹⁵ |q - p|, far below the drawing's
+own precision.  Bulges too flat for this (|b| below about 2⁻⁴¹, where u·(q - p) <= 2⁻⁴⁰ |q - p|)
+are refused: draw a line segment.
 
 Refused with a one-line :class:`runtime.sites.shapes.ShapeError` naming the entity type, handle
-and layer: entities that need arcs or curves (ARC, CIRCLE, ELLIPSE, SPLINE, HATCH, a polyline
-vertex with a nonzero bulge, a curve- or spline-fit polyline) -- arcs are planned, not supported
-yet; other entity types (TEXT, INSERT, DIMENSION, ...; pass ``skip={"TEXT", ...}`` to ignore them);
+and layer: CIRCLE (a whole circle is a Circle site, not a piece of a boundary); other curves
+(ELLIPSE, SPLINE, HATCH, ..., a curve- or spline-fit polyline) -- planned, not supported yet;
+other entity types (TEXT, INSERT, DIMENSION, ...; pass ``skip={"TEXT", ...}`` to ignore them);
 polygon and polyface meshes; coordinates with z != 0 (the diagram is planar: flatten the drawing
-first; a 3-D POLYLINE is read when all its z are 0); polylines not in the xy plane (extrusion other
-than +-z); zero-length LINEs.  The pieces
-are not checked against each other here: :func:`runtime.segments.crossings.check_pieces` does it.
+first; a 3-D POLYLINE is read when all its z are 0); extrusions other than ±z; zero-length LINEs;
+ARCs of radius 0 or whose start and end angles give the same point.  The pieces are not checked
+against each other here: :func:`runtime.segments.crossings.check_pieces` does it.
 
 ezdxf is optional (``pip install ezdxf``) and imported only here, when a file is read.
 
@@ -32,6 +53,7 @@ Public API: :func:`read_dxf`.
 """
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 
 from ..result import InvalidConicError
@@ -41,9 +63,11 @@ from .shapes import ShapeError
 __all__ = ["read_dxf", "SUPPORTED", "CURVED"]
 
 #: entity types read as sites
-SUPPORTED = ("LINE", "POINT", "LWPOLYLINE", "POLYLINE")
-#: entity types refused because they need arcs or curves (planned)
-CURVED = ("ARC", "CIRCLE", "ELLIPSE", "SPLINE", "HATCH", "MPOLYGON", "HELIX", "REGION", "ARC_DIMENSION")
+SUPPORTED = ("LINE", "ARC", "POINT", "LWPOLYLINE", "POLYLINE")
+#: entity types refused because they need curves other than circular arcs (planned)
+CURVED = ("ELLIPSE", "SPLINE", "HATCH", "MPOLYGON", "HELIX", "REGION", "ARC_DIMENSION")
+_NOT_YET = ("curves other than line segments and circular arcs are not supported yet (planned); replace it by "
+            "a polyline of line segments and arcs")
 
 
 def read_dxf(path, *, skip=()) -> tuple[list, list[int], list[str]]:
@@ -51,8 +75,8 @@ def read_dxf(path, *, skip=()) -> tuple[list, list[int], list[str]]:
     docstring); ``skip``: entity types to ignore (e.g. ``{"TEXT", "MTEXT", "DIMENSION"}``).
 
     :class:`runtime.sites.shapes.ShapeError` (a ValueError) with one line, e.g.
-    ``drawing.dxf: ARC (handle 2F, layer 'walls'): arcs and curves are not supported yet (planned);
-    replace it by a polyline of line segments``; ImportError naming the pip command without ezdxf."""
+    ``drawing.dxf: SPLINE (handle 2F, layer 'walls'): curves other than line segments and circular
+    arcs are not supported yet (planned); ...``; ImportError naming the pip command without ezdxf."""
     from ..optional import require
 
     ezdxf = require("ezdxf", "reading DXF files")
@@ -73,9 +97,11 @@ def read_dxf(path, *, skip=()) -> tuple[list, list[int], list[str]]:
             continue
         where = f"{path}: {_name(e)}"
         if kind not in SUPPORTED:
+            if kind == "CIRCLE":
+                raise ShapeError(f"{where}: a whole circle is not a piece of a boundary: use the circle as a "
+                                 "Circle site; mixing circles with segments is not supported yet")
             if kind in CURVED:
-                raise ShapeError(f"{where}: arcs and curves are not supported yet (planned); replace it by a "
-                                 "polyline of line segments")
+                raise ShapeError(f"{where}: {_NOT_YET}")
             raise ShapeError(f"{where}: not a supported site entity (supported: {', '.join(SUPPORTED)}); "
                              f"remove it or pass skip={{{kind!r}}}")
         got = _entity_pieces(e, kind, where)
@@ -119,6 +145,8 @@ def _entity_pieces(e, kind: str, where: str) -> list:
         if a == b:
             raise ShapeError(f"{where}: the line has length 0 (both ends at ({a[0]}, {a[1]})); use a POINT")
         return [Segment(a, b)]
+    if kind == "ARC":
+        return [_arc_entity(e, where)]
     if kind == "LWPOLYLINE":
         flip = _ocs_flip(e, where)
         rows = e.get_points("xyb")
@@ -130,38 +158,97 @@ def _entity_pieces(e, kind: str, where: str) -> list:
         if mode not in ("AcDb2dPolyline", "AcDb3dPolyline"):
             raise ShapeError(f"{where}: a {mode} (a mesh) is not a site; only 2-D polylines are read")
         if e.dxf.get("flags", 0) & (e.CURVE_FIT_VERTICES_ADDED | e.SPLINE_FIT_VERTICES_ADDED):
-            raise ShapeError(f"{where}: a curve- or spline-fit polyline: arcs and curves are not supported yet "
-                             "(planned); replace it by a polyline of line segments")
+            raise ShapeError(f"{where}: a curve- or spline-fit polyline: {_NOT_YET}")
         flip = mode == "AcDb2dPolyline" and _ocs_flip(e, where)     # a 3-D polyline is in WCS
         elevation = e.dxf.get("elevation", None) if mode == "AcDb2dPolyline" else None
         elevation = elevation[2] if elevation is not None else 0
         closed = bool(e.is_closed)
-        verts = [(tuple(v.dxf.location), v.dxf.get("bulge", 0)) for v in e.vertices]
-    n = len(verts)
+        verts = [(tuple(v.dxf.location), v.dxf.get("bulge", 0) if mode == "AcDb2dPolyline" else 0)
+                 for v in e.vertices]
+    # (point, bulge of the edge leaving it); a repeated vertex keeps the later bulge
     pts: list = []
     for k, (loc, bulge) in enumerate(verts):
-        if bulge and (closed or k < n - 1):
-            raise ShapeError(f"{where}: vertex {k} has a nonzero bulge ({bulge:g}, an arc segment): arcs are not "
-                             "supported yet (planned); replace it by line segments")
         x, y = _xy(loc, f"{where} vertex {k}", elevation)
-        p = (-x, y) if flip else (x, y)
-        if not pts or pts[-1] != p:
-            pts.append(p)
-    if closed and len(pts) > 1 and pts[-1] == pts[0]:
+        try:
+            b = to_fraction(bulge or 0, "bulge")
+        except InvalidConicError as exc:
+            raise ShapeError(f"{where} vertex {k}: {exc}") from None
+        p, b = ((-x, y), -b) if flip else ((x, y), b)
+        if pts and pts[-1][0] == p:
+            pts[-1] = (p, b, k)
+        else:
+            pts.append((p, b, k))
+    if closed and len(pts) > 1 and pts[-1][0] == pts[0][0]:
         pts.pop()
-    if len(pts) < 2 or (closed and len(pts) < 3):
+    curved = closed and any(b for _, b, _ in pts)
+    if len(pts) < 2 or (closed and len(pts) < 3 and not curved):
         raise ShapeError(f"{where}: fewer than {3 if closed else 2} distinct vertices ({len(pts)})")
-    if closed:
-        pts.append(pts[0])
-    return [Segment(a, b) for a, b in zip(pts, pts[1:])]
+    edges = list(zip(pts, pts[1:] + pts[:1] if closed else pts[1:]))
+    return [_bulge_arc(p, q, b, f"{where} vertex {k}") if b else Segment(p, q) for (p, b, k), (q, _, _) in edges]
+
+
+def _arc_entity(e, where: str):
+    """An ARC entity as an exact Arc (built in the OCS, mirrored for extrusion -z)."""
+    from .arc import Arc
+
+    flip = _ocs_flip(e, where)
+    centre = _xy(e.dxf.center, f"{where} centre")
+    try:
+        arc = Arc.circular(centre, to_fraction(e.dxf.radius, "radius"), to_fraction(e.dxf.start_angle, "start angle"),
+                           to_fraction(e.dxf.end_angle, "end angle"))
+    except InvalidConicError as exc:
+        raise ShapeError(f"{where}: {exc}") from None
+    if not flip:
+        return arc
+    (cx, cy), (ax, ay), (bx, by) = arc.c, arc.a, arc.b
+    return Arc((-cx, cy), arc.rho, (-bx, by), (-ax, ay))
+
+
+def _bulge_arc(p, q, b: Fraction, where: str):
+    """The arc of a polyline edge from p to q with bulge b: exact when its radius is rational, else
+    snapped (module docstring)."""
+    from .arc import Arc
+
+    try:
+        return Arc.from_bulge(p, q, b)
+    except InvalidConicError as exc:
+        if "irrational" not in str(exc):
+            raise ShapeError(f"{where}: {exc}") from None
+    dx, dy = q[0] - p[0], q[1] - p[1]
+    k = (1 - b * b) / (4 * b)
+    cx, cy = (p[0] + q[0]) / 2 - k * dy, (p[1] + q[1]) / 2 + k * dx       # the exact centre (rational)
+    phi = math.atan2(float(cy - p[1]), float(cx - p[0]))
+    ux, uy = _rational_unit(phi)
+    L = dx * dx + dy * dy
+    ud = ux * dx + uy * dy
+    if ud <= 0 or not (ud * ud > L * Fraction(1, 1 << 80)):
+        r0 = math.hypot(float(cx - p[0]), float(cy - p[1]))
+        raise ShapeError(f"{where}: bulge {float(b):g} is too flat to snap its irrational radius (~{r0:.6g}) to a "
+                         "rational one; replace the arc by a line segment")
+    r = L / (2 * ud)
+    c = (p[0] + r * ux, p[1] + r * uy)
+    return Arc(c, r, p, q) if b > 0 else Arc(c, r, q, p)
+
+
+def _rational_unit(phi: float) -> tuple[Fraction, Fraction]:
+    """A rational unit vector within about 2⁻⁵⁰ radians of the direction phi: the point of t =
+    tan(φ/2), |t| <= 1 (turned by 180° when |φ| > 90°), t within 2⁻⁵³ of its float value with
+    denominator at most 2⁵³."""
+    turn = abs(phi) > math.pi / 2
+    if turn:
+        phi = phi - math.copysign(math.pi, phi)
+    t = Fraction(math.tan(phi / 2)).limit_denominator(1 << 53)
+    x, y = (1 - t * t) / (1 + t * t), 2 * t / (1 + t * t)
+    return (-x, -y) if turn else (x, y)
 
 
 def _ocs_flip(e, where: str) -> bool:
-    """A planar polyline's OCS: extrusion +z is the WCS, -z mirrors x (the arbitrary axis algorithm
+    """A planar entity's OCS: extrusion +z is the WCS, -z mirrors x (the arbitrary axis algorithm
     gives the x axis (-1, 0, 0)); anything else is not in the xy plane."""
     ex = tuple(e.dxf.get("extrusion", (0, 0, 1)))
     if ex == (0, 0, 1):
         return False
     if ex == (0, 0, -1):
         return True
-    raise ShapeError(f"{where}: extrusion {ex} (a polyline not in the xy plane) is not supported")
+    raise ShapeError(f"{where}: extrusion {ex} (an entity not in the xy plane) is not supported; only +z and -z "
+                     "are read")

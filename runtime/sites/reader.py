@@ -10,6 +10,8 @@ the same way).  Sites are numbered from 0 in the order of the list.  A SITE is o
     {"hyperbola": {"centre": [x, y], "axes": [A, B], "rotation": ROT}}     # X²/A² − Y²/B² = 1
     {"parabola":  {"vertex": [x, y], "p": p, "rotation": ROT}}             # Y² = 2 p X
     {"segment": [[x0, y0], [x1, y1]]}                        # the closed segment, two distinct ends
+    {"arc": {"centre": [x, y], "radius": r, "start": [x, y], "end": [x, y]}}     # exact endpoints
+    {"arc": {"centre": [x, y], "radius": r, "start_angle": deg, "end_angle": deg}}
 
 Numbers are JSON numbers (floats are taken at their exact binary value) or rational strings such
 as ``"3/5"``.  ``ROT`` (optional, default 0) turns the canonical axes: an angle in **degrees**
@@ -19,7 +21,13 @@ it came from, e.g. the polygon a segment bounds: :func:`runtime.sites.shapes.pie
 the reader accepts and ignores it, :func:`site_to_json` writes it when given).  The canonical
 frames are those of thesis §5.3 (the conic is the canonical one moved by a rigid motion); ``A``,
 ``B`` are semi-axes, ``p`` the parameter of the parabola.  A segment's ends must differ; whether
-segments cross is checked by :func:`runtime.segments.crossings.check_pieces`.
+segments cross is checked by :func:`runtime.segments.crossings.check_pieces`.  An arc
+(:class:`runtime.sites.arc.Arc`) runs **counter-clockwise** from its start to its end on the
+circle of rational centre and radius; its exact form gives rational endpoints that must lie on
+that circle exactly (``(x - cx)² + (y - cy)² = r²``), its DXF-like form gives angles in degrees
+realised by :meth:`runtime.sites.arc.Arc.circular` (exact at multiples of 90°, else rational
+points of the circle within about 10⁻¹⁶ of the angle); :func:`site_to_json` writes the exact
+form.  Arcs take ``"label"`` and ``"source"`` as segments do.
 
 The document is validated against :data:`SITES_SCHEMA` with the ``jsonschema`` library; every
 problem becomes a :class:`ValueError` with one line naming the offending entry, e.g.
@@ -52,6 +60,13 @@ _NUM = {"type": ["number", "string"], "pattern": _RATIONAL}
 _POS = {"type": ["number", "string"], "pattern": _RATIONAL, "exclusiveMinimum": 0}
 _XY = {"type": "array", "items": {"$ref": "#/$defs/number"}, "minItems": 2, "maxItems": 2}
 _SEGMENT = {"type": "array", "items": {"$ref": "#/$defs/xy"}, "minItems": 2, "maxItems": 2}
+_ARC = {"type": "object",
+        "properties": {"centre": {"$ref": "#/$defs/xy"}, "radius": {"$ref": "#/$defs/positive"},
+                       "start": {"$ref": "#/$defs/xy"}, "end": {"$ref": "#/$defs/xy"},
+                       "start_angle": {"$ref": "#/$defs/number"}, "end_angle": {"$ref": "#/$defs/number"}},
+        "required": ["centre", "radius"],
+        "oneOf": [{"required": ["start", "end"]}, {"required": ["start_angle", "end_angle"]}],
+        "additionalProperties": False}
 _ROT = {"anyOf": [{"type": "number"},
                   {"type": "object", "required": ["cos", "sin"], "additionalProperties": False,
                    "properties": {"cos": {"$ref": "#/$defs/number"}, "sin": {"$ref": "#/$defs/number"}}}]}
@@ -103,15 +118,17 @@ SITES_SCHEMA = {
                 "parabola": _kind_schema({"vertex": {"$ref": "#/$defs/xy"}, "p": {"$ref": "#/$defs/positive"},
                                           "rotation": {"$ref": "#/$defs/rotation"}}, ["vertex", "p"]),
                 "segment": _SEGMENT,
+                "arc": _ARC,
             },
             "additionalProperties": False,
             "oneOf": [{"required": [k]} for k in ("point", "circle", "coefficients", "ellipse", "hyperbola",
-                                                   "parabola", "segment")],
+                                                   "parabola", "segment", "arc")],
         },
     },
 }
 
-_SHAPES = ("point", "circle", "coefficients", "ellipse", "hyperbola", "parabola", "segment")
+_SHAPES = ("point", "circle", "coefficients", "ellipse", "hyperbola", "parabola", "segment", "arc")
+_ARC_FORMS = 'needs "start" and "end" (exact points of the circle) or "start_angle" and "end_angle" (degrees)'
 
 
 # =====================================================================================
@@ -134,6 +151,11 @@ def _message(err) -> str:
     if v == "oneOf" and isinstance(inst, dict):
         keys = err.validator_value
         names = [next(iter(k["required"])) for k in keys if "required" in k]
+        if where.endswith(".arc"):
+            both = [k for k in ("start", "end", "start_angle", "end_angle") if k in inst]
+            if any(k in both for k in ("start", "end")) and any(k in both for k in ("start_angle", "end_angle")):
+                return f"{where}: give either the endpoints or the angles, not both ({', '.join(map(repr, both))})"
+            return f"{where}: {_ARC_FORMS}"
         present = [n for n in names if n in inst]
         if len(present) > 1:
             return f"{where}: give only one of {', '.join(map(repr, present))}"
@@ -222,9 +244,9 @@ def _rotation(rot, where: str):
 
 def parse_site(entry, where: str = "site"):
     """One site record (see the module docstring) as a :class:`runtime.predicates.circles.Point`,
-    :class:`runtime.predicates.circles.Circle`, :class:`runtime.sites.conic.Conic` or
-    :class:`runtime.sites.segment.Segment` (which keeps the record's ``"label"``).  A ``"source"``
-    member is ignored.
+    :class:`runtime.predicates.circles.Circle`, :class:`runtime.sites.conic.Conic`,
+    :class:`runtime.sites.segment.Segment` or :class:`runtime.sites.arc.Arc` (these two keep the
+    record's ``"label"``).  A ``"source"`` member is ignored.
 
     ValueError (InvalidConicError for a degenerate or imaginary conic) naming ``where``.  The
     record is assumed to have the right shape; :func:`sites_from_document` validates first."""
@@ -260,6 +282,8 @@ def parse_site(entry, where: str = "site"):
             ends = [tuple(parse_number(v, f"{where}.segment[{k}]") for v in e) for k, e in enumerate(body)]
             label = entry.get("label")
             return Segment(ends[0], ends[1], label if isinstance(label, str) else None)
+        if kind == "arc":
+            return _parse_arc(body, f"{where}.arc", entry.get("label"))
         if kind == "coefficients":
             return Conic.from_coefficients(*(parse_number(v, f"{where}.coefficients") for v in body))
         rot = _rotation(body.get("rotation"), f"{where}.{kind}.rotation")
@@ -281,12 +305,45 @@ def parse_site(entry, where: str = "site"):
         raise type(exc)(f"{where}: {msg}") from None
 
 
+def _parse_arc(body, where: str, label):
+    """An :class:`runtime.sites.arc.Arc` from its record (either form); ValueError naming ``where``."""
+    from .arc import Arc
+
+    if not isinstance(body, dict):
+        raise ValueError(f"{where}: expected an object, got {body!r}")
+    ends = [k for k in ("start", "end") if k in body]
+    angles = [k for k in ("start_angle", "end_angle") if k in body]
+    if ends and angles:
+        raise ValueError(f"{where}: give either the endpoints or the angles, not both "
+                         f"({', '.join(map(repr, ends + angles))})")
+    if len(ends) != 2 and len(angles) != 2:
+        raise ValueError(f"{where}: {_ARC_FORMS}")
+    centre = tuple(parse_number(v, f"{where}.centre") for v in body["centre"])
+    radius = parse_number(body["radius"], f"{where}.radius")
+    if Fraction(radius) <= 0:
+        raise ValueError(f"{where}.radius: {body['radius']} must be > 0")
+    label = label if isinstance(label, str) else None
+    try:
+        if angles:
+            a0 = parse_number(body["start_angle"], f"{where}.start_angle")
+            a1 = parse_number(body["end_angle"], f"{where}.end_angle")
+            return Arc.circular(centre, radius, a0, a1, label)
+        start = tuple(parse_number(v, f"{where}.start") for v in body["start"])
+        end = tuple(parse_number(v, f"{where}.end") for v in body["end"])
+        return Arc(centre, radius, start, end, label)
+    except ValueError as exc:
+        raise type(exc)(f"{where}: {exc}") from None
+
+
 def site_label(site, index: int) -> str:
     """``"site 3 (ellipse)"``: how messages name a site (0-based index)."""
+    from .arc import Arc
     from .segment import Segment
 
     if isinstance(site, Segment):
         return f"site {index} (segment)"
+    if isinstance(site, Arc):
+        return f"site {index} (arc)"
     kind = getattr(site, "kind", None) or ("point" if getattr(site, "r2", 1) == 0 else "circle")
     return f"site {index} ({kind})"
 
@@ -296,11 +353,15 @@ def site_key(site) -> tuple:
     coefficients and the same circle given by centre and radius have the same key; a segment's key
     does not depend on the order of its endpoints."""
     from ..predicates.circles import Circle
+    from .arc import Arc
     from .conic import Conic
     from .segment import Segment
 
     if isinstance(site, Segment):
         return ("segment",) + tuple((str(x), str(y)) for x, y in site.key())
+    if isinstance(site, Arc):
+        (cx, cy), r, (ax, ay), (bx, by) = site.key()
+        return ("arc",) + tuple(map(str, (cx, cy, r, ax, ay, bx, by)))
     if isinstance(site, Conic) and site.kind == "circle":
         site = Circle.from_coefficients(*site.coefficients)
     if isinstance(site, Circle):
@@ -415,11 +476,13 @@ def read_coefficient_lists(path: str, expected: int | None = None) -> list[list]
 
 def site_to_json(site, source: int | None = None) -> dict:
     """The exact JSON record of a site: ``{"point": [x, y]}``, ``{"circle": {"centre": [x, y],
-    "radius_squared": r2}}``, ``{"coefficients": [a, b, c, d, e, f]}`` or ``{"segment": [[x0, y0],
-    [x1, y1]]}`` (with the segment's ``"label"`` when it has one), numbers as rational strings (read
-    back by :func:`parse_site` to the same site).  ``"source"`` is written when ``source`` (or else
+    "radius_squared": r2}}``, ``{"coefficients": [a, b, c, d, e, f]}``, ``{"segment": [[x0, y0],
+    [x1, y1]]}`` or ``{"arc": {"centre": [x, y], "radius": r, "start": [x, y], "end": [x, y]}}`` (the
+    exact form, with the segment's or arc's ``"label"`` when it has one), numbers as rational strings
+    (read back by :func:`parse_site` to the same site).  ``"source"`` is written when ``source`` (or else
     the site's attribute ``source``) is not None."""
     from ..predicates.circles import Circle
+    from .arc import Arc
     from .conic import Conic
     from .segment import Segment
 
@@ -432,6 +495,11 @@ def site_to_json(site, source: int | None = None) -> dict:
         out = {"coefficients": [str(v) for v in site.coefficients]}
     elif isinstance(site, Segment):
         out = {"segment": [[str(site.p[0]), str(site.p[1])], [str(site.q[0]), str(site.q[1])]]}
+        if site.label is not None:
+            out["label"] = str(site.label)
+    elif isinstance(site, Arc):
+        out = {"arc": {"centre": [str(site.c[0]), str(site.c[1])], "radius": str(site.rho),
+                       "start": [str(site.a[0]), str(site.a[1])], "end": [str(site.b[0]), str(site.b[1])]}}
         if site.label is not None:
             out["label"] = str(site.label)
     else:
