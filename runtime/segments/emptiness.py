@@ -18,7 +18,7 @@ from flint import ctx
 
 from ..certify.foot import to_arb
 from .distance import float_error, foot_parameter, site_distance_ball, site_distances
-from .elementary import POINT, SEGMENT, ElementarySites
+from .elementary import ARC, POINT, SEGMENT, ElementarySites
 from .vertices import direction_in_arc
 
 __all__ = ["prove_empty"]
@@ -35,6 +35,27 @@ def _closest_at_an_end(E: ElementarySites, k: int, X, Y) -> bool:
     return direction_in_arc(E, k, X - to_arb(cx), Y - to_arb(cy)) is False
 
 
+def _curve_enters(E: ElementarySites, triple, sol) -> bool:
+    """At an arc's centre (radius ρ, touching the whole arc) the other curves of the triple only
+    hold an end of the arc in their closure: proved True when one of them comes strictly closer
+    than ρ (then the centre is not a vertex).  Undecided cases are decided exactly."""
+    X, Y, R = sol.box
+    for t in triple:
+        if E.kind[t] == POINT:
+            continue
+        if E.kind[t] == ARC and np.hypot(*(E.C[t] - (sol.x, sol.y))) <= 1e-12 * (1 + E.rho[t]):
+            continue                          # the arc whose centre this is
+        dk = site_distance_ball(E, t, X, Y)
+        if dk < R:
+            return True
+        if not dk > R:
+            from .exact import on_circle
+            others = tuple(s_ for s_ in triple if s_ != t)
+            if on_circle(E, others + (t,), sol, t) is False:
+                return True
+    return False
+
+
 def prove_empty(E: ElementarySites, tree, lab, hmax: float, triple, sol):
     """(empty, members, culprit): empty is True (proved), False (a site enters the circle) or
     None (undecided); members are the triple plus the sites proved exactly on the circle."""
@@ -46,6 +67,8 @@ def prove_empty(E: ElementarySites, tree, lab, hmax: float, triple, sol):
     near = np.unique(lab[tree.query_ball_point([x, y], reach)])
     cand = np.array([k for k in near.tolist() if k not in triple], dtype=np.int64)
     members = list(triple)
+    if sol.reason == "arc centre" and _curve_enters(E, triple, sol):
+        return False, tuple(members), next(t for t in triple if E.kind[t] != POINT)
     if not len(cand):
         return True, tuple(members), None
     Q = np.repeat([[x, y]], len(cand), axis=0)

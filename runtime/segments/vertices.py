@@ -220,7 +220,8 @@ def prove_vertex(E: ElementarySites, triple, seed, r_seed: float | None = None, 
     centre = arc_centre_vertex(E, triple)
     if centre is not None:
         (cx, cy), rho = centre
-        return VertexSolution("proved", float(cx), float(cy), float(rho), (to_arb(cx), to_arb(cy), to_arb(rho)))
+        return VertexSolution("proved", float(cx), float(cy), float(rho), (to_arb(cx), to_arb(cy), to_arb(rho)),
+                              reason="arc centre")
     eqs = contact_equations(E, triple, seed)
     if eqs is None:
         return VertexSolution("invalid", float(seed[0]), float(seed[1]), 0.0, reason="a segment and both its endpoints")
