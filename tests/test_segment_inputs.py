@@ -201,16 +201,14 @@ def test_dxf_lines_points_and_polylines(tmp_path):
 
 
 @pytest.mark.parametrize("build, message", [
-    (lambda m: m.add_arc((0, 0), 1, 0, 90, dxfattribs={"layer": "walls"}),
-     r"ARC \(handle [0-9A-F]+, layer 'walls'\): arcs and curves are not supported yet \(planned\)"),
-    (lambda m: m.add_circle((0, 0), 1), r"CIRCLE \(handle [0-9A-F]+, layer '0'\): arcs and curves are not supported"),
-    (lambda m: m.add_lwpolyline([(0, 0, 0), (1, 0, 0.5), (1, 1, 0)], format="xyb"),
-     r"LWPOLYLINE \(handle [0-9A-F]+, layer '0'\): vertex 1 has a nonzero bulge \(0.5, an arc segment\): arcs are "
-     r"not supported yet"),
+    (lambda m: m.add_circle((0, 0), 1), r"CIRCLE \(handle [0-9A-F]+, layer '0'\): a whole circle is not a piece of a "
+                                        r"boundary"),
+    (lambda m: m.add_ellipse((0, 0), (2, 0), 0.5), r"ELLIPSE \(handle [0-9A-F]+, layer '0'\): curves other than line "
+                                                   r"segments and circular arcs are not supported yet"),
     (lambda m: m.add_line((0, 0, 0), (1, 0, 2)), r"LINE \(handle [0-9A-F]+, layer '0'\) end: z = 2 is not 0"),
     (lambda m: m.add_line((1, 1), (1, 1)), "the line has length 0"),
 ])
-def test_dxf_entities_that_need_arcs_or_3d_are_refused_in_one_line(tmp_path, build, message):
+def test_dxf_entities_that_are_not_pieces_or_3d_are_refused_in_one_line(tmp_path, build, message):
     from curvedvoronoi.runtime.sites.dxf import read_dxf
 
     path = _drawing(tmp_path, lambda m: (m.add_line((5, 5), (6, 6)), build(m)))
