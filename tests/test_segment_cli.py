@@ -4,6 +4,7 @@ line, exit codes (0 certified, 1 not certified, 2 bad input naming the entity), 
 from __future__ import annotations
 
 import json
+import math
 import os
 import re
 import subprocess
@@ -11,6 +12,7 @@ import sys
 from pathlib import Path
 
 import networkx as nx
+import numpy as np
 import pytest
 
 from curvedvoronoi.runtime.cli import main
@@ -234,8 +236,10 @@ BAD_DXF = {
     "open": (lambda msp: msp.add_lwpolyline(RECT, close=False), "LWPOLYLINE (handle 2F, layer '0') segment 0: "
                                                               "its end (0, 0) is not joined"),
     "point": (lambda msp: (closed(msp, RECT), msp.add_point((1, 1))), "POINT (handle 30"),
-    "arc": (lambda msp: (closed(msp, RECT), msp.add_arc((2, 1), 0.5, 0, 90)), "ARC (handle 30, layer '0'): arcs in "
-                                                                            "the boundary are not supported"),
+    "open arc": (lambda msp: (closed(msp, RECT), msp.add_arc((2, 1), 0.5, 0, 90)),
+                 "ARC (handle 30, layer '0'): its end (5/2, 1) is not joined to another segment or arc"),
+    "open bulge": (lambda msp: msp.add_lwpolyline([(0, 0, 1), (2, 0, 0), (2, 2, 0)], format="xyb"),
+                   "LWPOLYLINE (handle 2F, layer '0') arc 0: its end (0, 0) is not joined"),
     "touching": (lambda msp: (closed(msp, RECT), closed(msp, [(4, 2), (5, 3), (4, 3)])), "4 segments meet at (4, 2)"),
 }
 
@@ -256,13 +260,19 @@ BAD_OTHER = {
                                                          [[[1, 1], [2, 1], [2, 2]]]]}, "polygons must not overlap"),
     "open sites": ([(RECT[0], RECT[1]), (RECT[1], RECT[2])], "is not joined to another segment"),
     "crossing sites": (ring(RECT) + [((1, 1), (5, 1))], "site 1 (segment) and site 4 (segment): segments cross"),
+    "circle in sites": ([{"segment": [[0, 0], [4, 0]]}, {"circle": {"centre": [2, 5], "radius": 1}}],
+                        "site 1 (circle): a circle is not supported in the boundary of the medial axis"),
 }
 
 
 @pytest.mark.parametrize("case", sorted(BAD_OTHER))
 def test_medial_axis_bad_geojson_or_sites_exits_2_with_one_line(tmp_path, capsys, case):
     data, needle = BAD_OTHER[case]
-    src = sites_file(tmp_path, data) if isinstance(data, list) else geojson_file(tmp_path, data)
+    if isinstance(data, list) and isinstance(data[0], dict):           # records as they are
+        src = tmp_path / "sites.json"
+        src.write_text(json.dumps({"sites": data}))
+    else:
+        src = sites_file(tmp_path, data) if isinstance(data, list) else geojson_file(tmp_path, data)
     code, out, err = cli(capsys, "medial-axis", src)
     assert code == 2 and out == ""
     assert needle in one_error_line(err)
@@ -290,3 +300,150 @@ def test_the_installed_command_lists_and_runs_medial_axis(tmp_path):
     r = run("medial-axis", sites_file(tmp_path, ring(RECT)))
     edges, verts, _, certified = summary(r.stdout)
     assert r.returncode == (0 if certified else 1) and (edges, verts) == (5, 6)
+
+
+# ------------------------------------------------------------------------------------ arcs
+def arc_record(centre, radius, start, end):
+    return {"arc": {"centre": list(centre), "radius": radius, "start": list(start), "end": list(end)}}
+
+
+#: the stadium [0, 4] x [0, 2] with half discs of radius 1 at both ends, as exact sites records
+STADIUM = [{"segment": [[0, 0], [4, 0]]}, arc_record((4, 1), 1, (4, 0), (4, 2)),
+           {"segment": [[4, 2], [0, 2]]}, arc_record((0, 1), 1, (0, 2), (0, 0))]
+
+
+def stadium(msp, length=4, r=1):
+    """LINEs and ARC entities: the stadium [0, length] x [0, 2r] with half discs at both ends."""
+    msp.add_line((0, 0), (length, 0))
+    msp.add_arc((length, r), r, -90, 90)
+    msp.add_line((length, 2 * r), (0, 2 * r))
+    msp.add_arc((0, r), r, 90, 270)
+
+
+def status_agrees(code, certified, summary_line):
+    """Exit 0 when certified, else 1 with the first problem in the summary line (diagrams with
+    arcs may not be certified yet: the certificate for arcs is being extended)."""
+    assert code == (0 if certified else 1), summary_line
+    assert certified or re.search(r"certified=False; \d+ problems, first: \S", summary_line), summary_line
+
+
+def near(doc_vertices, x, y, r, tol=1e-9):
+    return [v for v in doc_vertices if abs(v["x"] - x) < tol and abs(v["y"] - y) < tol and abs(v["radius"] - r) < tol]
+
+
+def test_medial_axis_of_a_stadium_of_dxf_arc_entities(tmp_path, capsys):
+    """Closed form: the segment joining the half discs' centres (0, 1) and (4, 1), radius 1 along it."""
+    out = tmp_path / "m.json"
+    code, stdout, err = cli(capsys, "medial-axis", dxf_file(tmp_path, stadium), "--json", out)
+    edges, verts, (x, y, r), certified = summary(stdout)
+    status_agrees(code, certified, stdout)
+    doc = json.loads(out.read_text())
+    assert (edges, verts) == (1, 2) and r == pytest.approx(1) and y == pytest.approx(1)
+    assert near(doc["vertices"], 0, 1, 1) and near(doc["vertices"], 4, 1, 1)
+    P, R = np.array(doc["edges"][0]["polyline"]), np.array(doc["edges"][0]["radius"])
+    assert np.allclose(P[:, 1], 1, atol=1e-9) and np.allclose(R, 1, atol=1e-9)
+    assert sorted(P[[0, -1], 0].round(9).tolist()) == [0, 4]
+    arcs = [s for s in doc["sites"] if "arc" in s]
+    assert sorted(s["source"] for s in arcs) == [1, 3]                 # the ARC entities
+    assert {s["arc"]["radius"] for s in arcs} == {"1"}
+    # the same drawing through `diagram`: the arcs are sites there too
+    code, _, err = cli(capsys, "diagram", dxf_file(tmp_path, stadium, "d.dxf"), "--json", tmp_path / "d.json")
+    d = json.loads((tmp_path / "d.json").read_text())
+    status_agrees(code, d["certified"], err)
+    assert sum("arc" in s for s in d["sites"]) == 2
+
+
+def test_medial_axis_circular_hole_of_two_arcs_comes_first_in_the_dxf(tmp_path, capsys):
+    """A stadium of half-width 3 around [0, 8] with a hole of radius 1/2 at (4, 3) (two ARCs, drawn
+    first): the containment rule with arcs makes the stadium the outer boundary.  Closed form: the
+    centre line from (0, 3) to (1/2, 3) and from (15/2, 3) to (8, 3) (radius 3), and around the hole
+    two parabola-like branches (|v - (4, 3)| - 1/2 = distance to the straight side)."""
+    def build(msp):
+        msp.add_arc((4, 3), 0.5, 0, 180)
+        msp.add_arc((4, 3), 0.5, 180, 360)
+        stadium(msp, 8, 3)
+
+    out = tmp_path / "m.json"
+    code, stdout, err = cli(capsys, "medial-axis", dxf_file(tmp_path, build), "--json", out)
+    *_, certified = summary(stdout)
+    status_agrees(code, certified, stdout)
+    doc = json.loads(out.read_text())
+    for x in (0, 0.5, 7.5, 8):
+        assert near(doc["vertices"], x, 3, 3), x
+    G = nx.MultiGraph([tuple(e["ends"]) for e in doc["edges"]])        # two branches (0.5, 3) -- (7.5, 3)
+    assert G.number_of_edges() - G.number_of_nodes() + nx.number_connected_components(G) == 1   # around the hole
+    for e in doc["edges"]:                                              # radius = distance to the hole
+        P, R = np.array(e["polyline"]), np.array(e["radius"])
+        assert np.allclose(R, np.hypot(P[:, 0] - 4, P[:, 1] - 3) - 0.5, atol=1e-6) or np.allclose(R, 3, atol=1e-9)
+    assert {s["source"] for s in doc["sites"] if "arc" in s} == {0, 1, 3, 5}
+
+
+def test_loop_containment_uses_the_exact_arcs_not_their_chords():
+    """A hole in the bulge of a half disc, outside the polygon of the arc's endpoints."""
+    from curvedvoronoi import Arc, Segment
+    from curvedvoronoi.runtime.segments.loops import loop_contains
+
+    half_disc = [Segment((0, 2), (0, -2)), Arc((0, 0), 2, (0, -2), (0, 2))]
+    tri = [Segment((1, "-1/5"), ("199/100", 0)), Segment(("199/100", 0), (1, "1/5")), Segment((1, "1/5"), (1, "-1/5"))]
+    assert loop_contains(half_disc, tri) and not loop_contains(tri, half_disc)
+    outside = [Segment(("201/100", 0), (3, 1)), Segment((3, 1), (3, -1)), Segment((3, -1), ("201/100", 0))]
+    assert not loop_contains(half_disc, outside)
+    circle = [Arc((0, 0), 3, (3, 0), (-3, 0)), Arc((0, 0), 3, (-3, 0), (3, 0))]     # a loop of arcs only
+    assert loop_contains(circle, half_disc) and not loop_contains(half_disc, circle)
+
+
+@pytest.mark.xfail(strict=True, reason="quarter-circle bulges have irrational radii: read_dxf snaps them (joints "
+                   "then turn by ~1e-16 rad, no longer tangent) and the construction misses the branch from (2, 2) "
+                   "to the fillet centre (1, 3); the exact fillets pass (test below)")
+def test_medial_axis_of_a_dxf_rounded_rectangle_of_bulges(tmp_path, capsys):
+    """[0, 8] x [0, 4] with fillets of radius 1 (LWPOLYLINE bulges tan(22.5°)).  Closed form: the
+    middle segment from (2, 2) to (6, 2) (radius 2), and from its ends diagonal segments to the
+    fillets' centres (1, 1), (7, 1), (7, 3), (1, 3) (radius 1 there, r = 2 - |x - 2| along them)."""
+    b = math.tan(math.pi / 8)
+    pts = [(1, 0, 0), (7, 0, b), (8, 1, 0), (8, 3, b), (7, 4, 0), (1, 4, b), (0, 3, 0), (0, 1, b)]
+    dxf = dxf_file(tmp_path, lambda msp: msp.add_lwpolyline(pts, format="xyb", close=True))
+    _check_rounded_rectangle(capsys, dxf, tmp_path / "m.json")
+
+
+def test_medial_axis_of_an_exact_rounded_rectangle_in_sites_json(tmp_path, capsys):
+    """The rounded rectangle of the test above with exact fillets (arc records)."""
+    recs = [{"segment": [[1, 0], [7, 0]]}, arc_record((7, 1), 1, (7, 0), (8, 1)), {"segment": [[8, 1], [8, 3]]},
+            arc_record((7, 3), 1, (8, 3), (7, 4)), {"segment": [[7, 4], [1, 4]]}, arc_record((1, 3), 1, (1, 4), (0, 3)),
+            {"segment": [[0, 3], [0, 1]]}, arc_record((1, 1), 1, (0, 1), (1, 0))]
+    src = tmp_path / "rr.json"
+    src.write_text(json.dumps({"sites": recs}))
+    _check_rounded_rectangle(capsys, src, tmp_path / "m.json")
+
+
+def _check_rounded_rectangle(capsys, src, out):
+    code, stdout, _ = cli(capsys, "medial-axis", src, "--json", out)
+    edges, verts, (x, y, r), certified = summary(stdout)
+    status_agrees(code, certified, stdout)
+    doc = json.loads(out.read_text())
+    assert r == pytest.approx(2) and y == pytest.approx(2) and x in (pytest.approx(2), pytest.approx(6))
+    for cx, cy in ((1, 1), (7, 1), (7, 3), (1, 3)):
+        assert near(doc["vertices"], cx, cy, 1), (cx, cy)
+    assert near(doc["vertices"], 2, 2, 2) and near(doc["vertices"], 6, 2, 2)
+    assert (edges, verts) == (5, 6)
+    middle = [e for e in doc["edges"] if np.allclose(np.array(e["polyline"])[:, 1], 2, atol=1e-9)]
+    assert len(middle) == 1 and np.allclose(middle[0]["radius"], 2, atol=1e-9)
+    assert sorted(np.array(middle[0]["polyline"])[[0, -1], 0].round(9).tolist()) == [2, 6]
+    for e in doc["edges"]:                                   # r = distance to the nearest straight side
+        P, R = np.array(e["polyline"]), np.array(e["radius"])
+        assert np.allclose(R, np.minimum.reduce([P[:, 1], 4 - P[:, 1], P[:, 0], 8 - P[:, 0]]), atol=1e-9)
+
+
+def test_diagram_of_a_sites_file_with_arc_records(tmp_path, capsys):
+    """The stadium as exact segment and arc records: the arcs are sites of the diagram (written in
+    their exact form), and the half discs' centres are Voronoi vertices at distance 1."""
+    src = tmp_path / "stadium.json"
+    src.write_text(json.dumps({"sites": STADIUM}))
+    out = tmp_path / "d.json"
+    code, _, err = cli(capsys, "diagram", src, "--json", out)
+    doc = json.loads(out.read_text())
+    status_agrees(code, doc["certified"], err)
+    assert [next(iter(s)) for s in doc["sites"]] == ["segment", "arc", "segment", "arc"]
+    assert doc["sites"][1]["arc"] == {"centre": ["4", "1"], "radius": "1", "start": ["4", "0"], "end": ["4", "2"]}
+    xy = sorted((round(v["x"], 9), round(v["y"], 9)) for v in doc["vertices"])
+    assert xy == [(0, 1), (4, 1)], doc["vertices"]
+    assert re.search(r"^4 sites, 2 vertices, \d+ edges, \d+ Delaunay edges, certified=", err, re.M)
