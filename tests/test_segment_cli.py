@@ -392,9 +392,6 @@ def test_loop_containment_uses_the_exact_arcs_not_their_chords():
     assert loop_contains(circle, half_disc) and not loop_contains(half_disc, circle)
 
 
-@pytest.mark.xfail(strict=True, reason="quarter-circle bulges have irrational radii: read_dxf snaps them (joints "
-                   "then turn by ~1e-16 rad, no longer tangent) and the construction misses the branch from (2, 2) "
-                   "to the fillet centre (1, 3); the exact fillets pass (test below)")
 def test_medial_axis_of_a_dxf_rounded_rectangle_of_bulges(tmp_path, capsys):
     """[0, 8] x [0, 4] with fillets of radius 1 (LWPOLYLINE bulges tan(22.5°)).  Closed form: the
     middle segment from (2, 2) to (6, 2) (radius 2), and from its ends diagonal segments to the

@@ -13,7 +13,7 @@ In a Voronoi diagram an arc is split, like a segment, into its endpoints (point 
 open interior (:mod:`runtime.segments.elementary`); a circle touches a circular arc at most once,
 so the interior is a harmless site (Alt–Schwarzkopf, thesis §2.2) without further cuts.
 
-Public API: :class:`Arc`.
+Public API: :class:`Arc`, :func:`exact_sqrt`.
 """
 from __future__ import annotations
 
@@ -24,7 +24,7 @@ from ..result import InvalidConicError
 from .rationals import to_fraction
 from .segment import as_point_pair
 
-__all__ = ["Arc"]
+__all__ = ["Arc", "exact_sqrt"]
 
 
 def _rational_direction(deg: Fraction | float) -> tuple[Fraction, Fraction]:
@@ -103,7 +103,7 @@ class Arc:
         k = (1 - b * b) / (4 * b)
         c = (mx - k * dy, my + k * dx)
         r2 = (p[0] - c[0]) ** 2 + (p[1] - c[1]) ** 2
-        rho = _exact_sqrt(r2)
+        rho = exact_sqrt(r2)
         if rho is None:
             raise InvalidConicError(f"bulge {b}: the radius √{r2} of the arc is irrational")
         return cls(c, rho, p, q, label) if b > 0 else cls(c, rho, q, p, label)
@@ -139,7 +139,8 @@ class Arc:
                 f"to ({self.b[0]}, {self.b[1]}))")
 
 
-def _exact_sqrt(q: Fraction) -> Fraction | None:
+def exact_sqrt(q: Fraction) -> Fraction | None:
+    """The rational square root of q, or None when q is not the square of a rational."""
     n, d = q.numerator, q.denominator
     rn, rd = math.isqrt(n), math.isqrt(d)
     if rn * rn == n and rd * rd == d:

@@ -217,6 +217,9 @@ def _bulge_arc(p, q, b: Fraction, where: str):
     dx, dy = q[0] - p[0], q[1] - p[1]
     k = (1 - b * b) / (4 * b)
     cx, cy = (p[0] + q[0]) / 2 - k * dy, (p[1] + q[1]) / 2 + k * dx       # the exact centre (rational)
+    nice = _nice_centre(p, q, (cx, cy), b > 0)
+    if nice is not None:
+        return nice
     phi = math.atan2(float(cy - p[1]), float(cx - p[0]))
     ux, uy = _rational_unit(phi)
     L = dx * dx + dy * dy
@@ -228,6 +231,31 @@ def _bulge_arc(p, q, b: Fraction, where: str):
     r = L / (2 * ud)
     c = (p[0] + r * ux, p[1] + r * uy)
     return Arc(c, r, p, q) if b > 0 else Arc(c, r, q, p)
+
+
+def _nice_centre(p, q, c, ccw: bool):
+    """The arc a drawing meant: CAD programs store the bulge of a fillet (tan 22.5° for a quarter
+    circle) as a float, so the exact centre of the float bulge is a rational point next to a simple
+    one ((5, 1) for the fillet from (5, 0) to (6, 1)).  The first of the centres with denominators up
+    to 1, 10, ..., 10⁶ near it that is equidistant from p and q at a rational distance, and within
+    10⁻⁹ of the float centre relative to |q − p|, is taken; None if there is none (then the centre
+    is snapped, see the module docstring).  Exact tangency with the neighbouring pieces, which a
+    snapped centre loses by about 10⁻¹⁶ radians, is kept this way."""
+    from .arc import Arc, exact_sqrt
+
+    chord = math.hypot(float(q[0] - p[0]), float(q[1] - p[1]))
+    for k in range(7):
+        D = 10 ** k
+        cx, cy = c[0].limit_denominator(D), c[1].limit_denominator(D)
+        r2 = (p[0] - cx) ** 2 + (p[1] - cy) ** 2
+        if r2 != (q[0] - cx) ** 2 + (q[1] - cy) ** 2:
+            continue
+        if math.hypot(float(cx - c[0]), float(cy - c[1])) > 1e-9 * chord:
+            continue
+        r = exact_sqrt(r2)
+        if r is not None and r > 0:
+            return Arc((cx, cy), r, p, q) if ccw else Arc((cx, cy), r, q, p)
+    return None
 
 
 def _rational_unit(phi: float) -> tuple[Fraction, Fraction]:
