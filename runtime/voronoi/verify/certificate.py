@@ -257,6 +257,14 @@ def verify_files(diagram_path: str, sites_path: str | None = None, progress=None
 # ============================================================================ the verifier
 
 @one_blas_thread
+def _has_pieces(diagram, sites) -> bool:
+    """The diagram's (or the given) sites include segments or arcs (records "segment"/"arc")."""
+    pool = sites if sites is not None else (diagram.get("sites", []) if isinstance(diagram, dict)
+                                            else getattr(diagram, "sites", []))
+    return any((isinstance(s, dict) and ("segment" in s or "arc" in s)) or type(s).__name__ in ("Segment", "Arc")
+               for s in pool)
+
+
 def verify(diagram, sites=None, *, deadline=None, progress=None) -> Certificate:
     """Prove that ``diagram`` is the Voronoi diagram of ``sites`` (default: the diagram's own).
 
@@ -292,9 +300,9 @@ def verify(diagram, sites=None, *, deadline=None, progress=None) -> Certificate:
     >>> cv.verify(d).ok
     True
     """
-    from ...segments.certificate import has_segment_sites, verify_segments
+    if _has_pieces(diagram, sites):         # points, segments and arcs: their own certificate
+        from ...segments.certificate import verify_segments
 
-    if has_segment_sites(diagram):          # points and segments: their own certificate
         r = verify_segments(diagram, sites, deadline=deadline)
         return Certificate(r.ok, r.problems, r.vertices, r.edges, r.complete, r.delaunay_edges, r.hypotheses,
                            r.stats, r.timings)
