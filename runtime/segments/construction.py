@@ -246,7 +246,10 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
                     # to the vertex becomes a sample (it lies inside the circle), however shallow
                     # the intrusion; the triple's curves are sampled twice as densely
                     if E.kind[culprit] != POINT:
-                        extra.setdefault(int(culprit), []).append(nearest_point(E, int(culprit), (sol.x, sol.y)))
+                        f = nearest_point(E, int(culprit), (sol.x, sol.y))
+                        if not any(np.allclose(f, E.A[int(culprit)] if k_ == 0 else E.B[int(culprit)], rtol=0, atol=0)
+                                   for k_ in (0, 1)):
+                            extra.setdefault(int(culprit), []).append(f)
                     refine.update(triple)
                     if empty is None:
                         problems.append(f"sites {', '.join(map(str, triple))}: emptiness of the vertex at "

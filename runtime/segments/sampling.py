@@ -96,7 +96,14 @@ def samples(E: ElementarySites, spacing, extra=None):
     for t, P in (extra or {}).items():
         pts.append(np.asarray(P, float).reshape(-1, 2))
         labs.append(np.full(len(P), t))
-    return np.concatenate(pts), np.concatenate(labs)
+    P, lab = np.concatenate(pts), np.concatenate(labs)
+    if extra:
+        # an added point may repeat a sample; qhull would drop it as coplanar and the
+        # triangulation would fall back to joggling
+        _, keep = np.unique(P, axis=0, return_index=True)
+        keep.sort()
+        P, lab = P[keep], lab[keep]
+    return P, lab
 
 
 def nearest_point(E: ElementarySites, t: int, q) -> tuple[float, float]:
@@ -113,7 +120,8 @@ def nearest_point(E: ElementarySites, t: int, q) -> tuple[float, float]:
         return float(e[0]), float(e[1])
     a, b = E.A[t], E.B[t]
     d = b - a
-    f = a + np.clip(np.dot(q - a, d) / np.dot(d, d), 0, 1) * d
+    # strictly inside the segment: an end is a point site's sample already
+    f = a + np.clip(np.dot(q - a, d) / np.dot(d, d), 1e-6, 1 - 1e-6) * d
     return float(f[0]), float(f[1])
 
 
