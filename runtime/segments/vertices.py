@@ -70,11 +70,15 @@ def arc_centre_vertex(E: ElementarySites, triple):
     or the curves of its smooth joints): the arc's (centre, radius) — the centre is at distance
     ρ from the whole arc (a contact along the arc, not at one point); it is a Voronoi vertex when
     the open disc is empty.  None for other triples."""
+    def holds(o, e):
+        # an end that is a point site must be that site; a smooth joint, the curve continuing
+        # the arc there (tangent to its circle); a curve through a corner may enter the disc
+        return o == e if e >= 0 else (E.kind[o] != POINT and e in E.closure_points(o))
+
     for s in (int(t) for t in triple if E.kind[t] == ARC):
         others = [int(t) for t in triple if int(t) != s]
         ends = [int(E.ends[s, 0]), int(E.ends[s, 1])]
-        if len(others) == 2 and any(ends[0] in E.closure_points(o1) and ends[1] in E.closure_points(o2)
-                                    for o1, o2 in (others, others[::-1])):
+        if len(others) == 2 and any(holds(o1, ends[0]) and holds(o2, ends[1]) for o1, o2 in (others, others[::-1])):
             return E.arc[s]
     return None
 
