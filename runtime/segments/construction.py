@@ -40,10 +40,10 @@ from ..voronoi.structure import Diagram, DiagramVertex
 from .contact_order import contact_order, corner_order
 from .edges import edge_polylines, walk_hint
 from .elementary import ARC, POINT, ElementarySites, decompose
-from .emptiness import prove_empty
+from .emptiness import empty_by_filter, prove_empty
 from .exact import contacts_valid
 from .sampling import flat, initial_spacing, nearest_point, samples, triangulation
-from .vertices import common_point, prove_vertex
+from .vertices import common_point, prove_vertices
 
 __all__ = ["segment_voronoi", "has_segments"]
 
@@ -201,6 +201,7 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
     verdicts = caches["verdicts"]
     near_cache = caches.setdefault("near", {})
     by_sites: dict = {}
+    jobs = []
     for t, triple, seed in zip(threes.tolist(), T3.tolist(), seeds):
         triple = tuple(int(v) for v in triple)
         if ghost in triple or not np.all(np.isfinite(seed)):
@@ -224,21 +225,36 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
             if math.hypot(prev.x - seed[0], prev.y - seed[1]) <= reach:
                 sol = prev
                 break
-        if sol is None:
-            sol = prove_vertex(E, triple, seed, cache=proved_cache)
-            if sol.status == "undecided" and sol.box is not None and "at an end" in sol.reason:
-                # a contact exactly at a curve's end (then that end touches too): decided exactly
-                if contacts_valid(E, triple, sol):
-                    sol.status, sol.reason = "proved", "contact at an end, exact"
-            if sol.status == "proved":
-                near_cache.setdefault(triple, []).append(sol)
+        jobs.append((t, triple, sol, seed))
+    # the zeros not known yet: Newton for all of them together, then one arb proof each
+    todo = [k for k, job in enumerate(jobs) if job[2] is None]
+    fresh_sols = prove_vertices(E, [(jobs[k][1], jobs[k][3]) for k in todo], cache=proved_cache)
+    for k, sol in zip(todo, fresh_sols):
+        t, triple, _, seed = jobs[k]
+        if sol.status == "undecided" and sol.box is not None and "at an end" in sol.reason:
+            # a contact exactly at a curve's end (then that end touches too): decided exactly
+            verdict = contacts_valid(E, triple, sol)
+            if verdict:
+                sol.status, sol.reason = "proved", "contact at an end, exact"
+            elif verdict is False:
+                sol.status, sol.reason = "invalid", "contact outside a curve, exact"
+            else:
+                sol.reason = "contact at an end, no closed form"
+        if sol.status == "proved":
+            near_cache.setdefault(triple, []).append(sol)
+        jobs[k] = (t, triple, sol, seed)
+    # the float emptiness filter on all new proved zeros at once; the rest one by one below
+    fresh = {id(so): (tr, so) for _, tr, so, _ in jobs if so.status == "proved" and id(so) not in verdicts}
+    verdicts.update(empty_by_filter(E, tree, lab, hmax, list(fresh.values())))
+    orders = caches.setdefault("orders", {})
+    for t, triple, sol, _seed in jobs:
         vid = None
         if sol.status == "proved":
             if id(sol) not in verdicts:
                 verdicts[id(sol)] = prove_empty(E, tree, lab, hmax, triple, sol)
             empty, members, culprit = verdicts[id(sol)]
             if empty:
-                vid = _vertex_id(vertices, by_sites, members, sol, E)
+                vid = _vertex_id(vertices, by_sites, members, sol, E, orders)
             else:
                 refine.update(triple)
                 if culprit is not None:
@@ -322,8 +338,9 @@ class _Refine(dict):
             self.add(t)
 
 
-def _vertex_id(vertices, by_sites, members, sol, E):
-    """The id of the vertex with these sites at this position (10⁻⁹ of the scale), new if none."""
+def _vertex_id(vertices, by_sites, members, sol, E, orders):
+    """The id of the vertex with these sites at this position (10⁻⁹ of the scale), new if none;
+    ``orders`` keeps each proof's contact order across rounds."""
     key = tuple(sorted(members))
     tol = 1e-9 * (1.0 + abs(sol.x) + abs(sol.y) + sol.r)
     for vid in by_sites.get(key, []):
@@ -331,8 +348,9 @@ def _vertex_id(vertices, by_sites, members, sol, E):
         if abs(v.x - sol.x) <= tol and abs(v.y - sol.y) <= tol:
             return vid
     vid = len(vertices)
-    vertices.append(DiagramVertex(vid, contact_order(E, members, sol), sol.x, sol.y, sol.r, True))
+    if id(sol) not in orders:
+        orders[id(sol)] = contact_order(E, members, sol)
+    vertices.append(DiagramVertex(vid, orders[id(sol)], sol.x, sol.y, sol.r, True))
     by_sites.setdefault(key, []).append(vid)
     return vid
-
 

@@ -9,7 +9,11 @@ by arb balls (:func:`runtime.segments.distance.distance_ball`), then exactly
 (:mod:`runtime.segments.exact`) when the balls cannot separate d from r: a site exactly on the
 circle is a further member of the vertex (degree k > 3).
 
-Public API: :func:`prove_empty`.
+Many vertices at once: :func:`empty_by_filter` runs the float filter on all of them together
+(one k-d tree query, one vectorised distance evaluation) and answers those it proves empty;
+:func:`prove_empty` takes the rest one by one.
+
+Public API: :func:`prove_empty`, :func:`empty_by_filter`.
 """
 from __future__ import annotations
 
@@ -21,7 +25,7 @@ from .distance import float_error, foot_parameter, site_distance_ball, site_dist
 from .elementary import ARC, POINT, SEGMENT, ElementarySites
 from .vertices import direction_in_arc
 
-__all__ = ["prove_empty"]
+__all__ = ["prove_empty", "empty_by_filter"]
 
 
 def _closest_at_an_end(E: ElementarySites, k: int, X, Y) -> bool:
@@ -104,3 +108,51 @@ def prove_empty(E: ElementarySites, tree, lab, hmax: float, triple, sol):
     finally:
         ctx.prec = old
     return True, tuple(members), None
+
+
+def empty_by_filter(E: ElementarySites, tree, lab, hmax: float, jobs) -> dict:
+    """For ``jobs`` = [(triple, sol), ...] of proved zeros, the verdicts (True, triple, None) of
+    those whose every other site within reach is proved farther than r by the float filter of
+    :func:`prove_empty` (same reach, same error bound), keyed by ``id(sol)``; the others are
+    left to :func:`prove_empty` (arc centres always are)."""
+    jobs = [(t, s) for t, s in jobs if s.reason != "arc centre"]
+    if not jobs:
+        return {}
+    X = np.array([[s.x, s.y] for _, s in jobs])
+    r = np.array([s.r for _, s in jobs])
+    rad = np.array([max(float(s.box[0].rad()), float(s.box[1].rad())) for _, s in jobs])
+    Rrad = np.array([float(s.box[2].rad()) for _, s in jobs])
+    scale = 1.0 + np.abs(X).sum(axis=1) + r
+    reach = r + hmax / 2 + 1e-9 * scale + rad
+    hits = tree.query_ball_point(X, reach)
+    rows, cols = [], []
+    for i, (h, (triple, _s)) in enumerate(zip(hits, jobs)):
+        ks = np.unique(lab[h]) if len(h) else np.empty(0, np.int64)
+        ks = ks[~np.isin(ks, triple)]
+        rows.append(np.full(len(ks), i))
+        cols.append(ks)
+    rows = np.concatenate(rows).astype(np.int64) if rows else np.empty(0, np.int64)
+    cols = np.concatenate(cols).astype(np.int64) if cols else np.empty(0, np.int64)
+    ok = np.ones(len(jobs), dtype=bool)
+    if len(rows):
+        Q = X[rows]
+        d = site_distances(E, cols, Q)
+        arcs = np.nan_to_num(np.hypot(*E.C[cols].T) + E.rho[cols])
+        err = float_error(E.A[cols], E.B[cols], Q) + 64 * np.finfo(float).eps * arcs + rad[rows] * 2 + Rrad[rows] \
+            + 1e-15 * scale[rows]
+        bad = ~(d - r[rows] > err)
+        # a segment whose closest point is its end, itself a site of the triple (then d = r and
+        # that end decides, as in prove_empty): its foot parameter well outside [0, 1]
+        seg = bad & (E.kind[cols] == SEGMENT)
+        if seg.any():
+            i = np.nonzero(seg)[0]
+            A_, B_ = E.A[cols[i]], E.B[cols[i]]
+            D = B_ - A_
+            t = np.einsum("ij,ij->i", Q[i] - A_, D) / np.einsum("ij,ij->i", D, D)
+            trip = np.array([jobs[k][0] for k in rows[i]])
+            e0 = (trip == E.ends[cols[i], 0][:, None]).any(axis=1)
+            e1 = (trip == E.ends[cols[i], 1][:, None]).any(axis=1)
+            beyond = ((t < -1e-9) & e0) | ((t > 1 + 1e-9) & e1)
+            bad[i[beyond]] = False
+        ok[np.unique(rows[bad])] = False
+    return {id(s): (True, tuple(t), None) for (t, s), good in zip(jobs, ok.tolist()) if good}
