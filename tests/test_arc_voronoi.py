@@ -118,3 +118,29 @@ def test_arc_sites_in_json_and_picture(tmp_path):
 def test_bad_arcs_are_refused(bad):
     with pytest.raises(cv.InvalidConicError):
         bad()
+
+
+def test_nearest_site_with_arcs_against_the_definition():
+    d = cv.voronoi(stadium(), certify=False)
+    rng = np.random.default_rng(5)
+    Q = rng.uniform([-2, -1], [6, 3], size=(300, 2))
+
+    def dist(site, q):
+        if isinstance(site, S):
+            (ax, ay), (bx, by) = site.float_endpoints()
+            t = max(0.0, min(1.0, ((q[0] - ax) * (bx - ax) + (q[1] - ay) * (by - ay)) / ((bx - ax) ** 2 + (by - ay) ** 2)))
+            return math.hypot(q[0] - ax - t * (bx - ax), q[1] - ay - t * (by - ay))
+        (cx, cy), rho, (ax, ay), (bx, by) = site.float_data()
+        a0 = math.atan2(ay - cy, ax - cx)
+        span = (math.atan2(by - cy, bx - cx) - a0) % (2 * math.pi)
+        if (math.atan2(q[1] - cy, q[0] - cx) - a0) % (2 * math.pi) <= span:
+            return abs(math.hypot(q[0] - cx, q[1] - cy) - rho)
+        return min(math.hypot(q[0] - ax, q[1] - ay), math.hypot(q[0] - bx, q[1] - by))
+
+    res = d.nearest(Q)
+    for q, i, dd, ok in zip(Q, res.index, res.distance, res.proved):
+        ref = [dist(s, q) for s in d.sites]
+        if ok:
+            assert int(np.argmin(ref)) == i and abs(min(ref) - dd) < 1e-12
+        else:       # reported as a tie: two sites within rounding of each other
+            assert sorted(ref)[1] - min(ref) < 1e-9

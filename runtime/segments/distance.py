@@ -12,7 +12,7 @@ the nearer end (:func:`site_distances`, :func:`arc_distance_ball`).
 
 Public API: :func:`distances`, :func:`site_distances`, :func:`distance_ball`,
 :func:`arc_distance_ball`, :func:`site_distance_ball`, :func:`float_error`, :func:`foot_parameter`,
-:func:`in_arc`.
+:func:`in_arc`, :func:`arc_distances`.
 """
 from __future__ import annotations
 
@@ -21,7 +21,7 @@ from flint import arb
 
 from ..certify.foot import to_arb
 
-__all__ = ["distances", "distance_ball", "float_error", "foot_parameter", "site_distances", "in_arc",
+__all__ = ["distances", "distance_ball", "float_error", "foot_parameter", "site_distances", "in_arc", "arc_distances",
            "arc_distance_ball", "site_distance_ball"]
 
 
@@ -101,12 +101,17 @@ def site_distances(E, idx, Q):
     d, _ = distances(E.A[idx], E.B[idx], Q)
     arc = E.kind[idx] == 2
     if arc.any():
-        C, R = E.C[idx[arc]], E.rho[idx[arc]]
-        W = Q[arc] - C
-        inside = in_arc(C, E.A[idx[arc]], E.B[idx[arc]], W)
-        ends = np.minimum(np.hypot(*(Q[arc] - E.A[idx[arc]]).T), np.hypot(*(Q[arc] - E.B[idx[arc]]).T))
-        d[arc] = np.where(inside, np.abs(np.hypot(W[:, 0], W[:, 1]) - R), ends)
+        d[arc] = arc_distances(E.C[idx[arc]], E.rho[idx[arc]], E.A[idx[arc]], E.B[idx[arc]], Q[arc])
     return d
+
+
+def arc_distances(C, rho, A, B, Q):
+    """Row by row: the distance from Q to the closed counter-clockwise arc of centre C, radius
+    ρ, from A to B (floats)."""
+    W = Q - C
+    inside = in_arc(C, A, B, W)
+    ends = np.minimum(np.hypot(*(Q - A).T), np.hypot(*(Q - B).T))
+    return np.where(inside, np.abs(np.hypot(W[:, 0], W[:, 1]) - rho), ends)
 
 
 def arc_distance_ball(c, rho, a, b, x: arb, y: arb) -> arb:

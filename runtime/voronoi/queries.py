@@ -43,12 +43,13 @@ import numpy as np
 from flint import arb, fmpq
 from scipy.spatial import cKDTree
 
-from ..segments.distance import distances as segment_distances, float_error as segment_float_error
+from ..segments.distance import arc_distances, distances as segment_distances, float_error as segment_float_error
+from ..sites.arc import Arc
 from ..sites.segment import Segment
 from .conic_geometry import site_geometry
 from .geometry import CircleGeometry, rounding_slack
 
-__all__ = ["NearestResult", "SegmentGeometry", "SiteIndex", "query_geometry", "site_index"]
+__all__ = ["NearestResult", "SegmentGeometry", "ArcGeometry", "SiteIndex", "query_geometry", "site_index"]
 
 #: rows per vectorised batch (bounds the temporaries of :meth:`SiteIndex.distance`)
 _CHUNK_PAIRS = 1 << 22
@@ -377,15 +378,52 @@ class SegmentGeometry:
         return self.A + t[:, None] * (self.B - self.A)
 
 
+class ArcGeometry(SegmentGeometry):
+    """The open interior of a circular :class:`runtime.sites.arc.Arc` site: its distance is the
+    distance to the closed arc (:func:`runtime.segments.distance.arc_distances`), with the rounding
+    bound of the segments plus 64 ulps of |c| + ρ."""
+
+    kind = "arc"
+
+    def __init__(self, arc):
+        self.exact = arc
+        c, self.rho, a, b = arc.float_data()
+        self.C, self.A, self.B = np.array(c, float), np.array(a, float), np.array(b, float)
+
+    def bounding_box(self):
+        P = self.samples(self.rho / 64)
+        return (*P.min(axis=0).tolist(), *P.max(axis=0).tolist())
+
+    def distance(self, P):
+        P = np.asarray(P, float).reshape(-1, 2)
+        C = np.broadcast_to(self.C, P.shape)
+        return arc_distances(C, self.rho, *self._ends(P), P)
+
+    def distance_bounds(self, P):
+        P = np.asarray(P, float).reshape(-1, 2)
+        d = self.distance(P)
+        err = segment_float_error(*self._ends(P), P) + 64 * np.finfo(float).eps * (np.hypot(*self.C) + self.rho)
+        return np.maximum(d - err, 0.0), d + err
+
+    def samples(self, spacing, window=None):
+        a0 = np.arctan2(*(self.A - self.C)[::-1])
+        span = (np.arctan2(*(self.B - self.C)[::-1]) - a0) % (2 * np.pi) or 2 * np.pi
+        n = max(2, int(np.ceil(self.rho * span / max(spacing, 1e-300))) + 1)
+        t = a0 + np.linspace(0.0, span, n)
+        return self.C + self.rho * np.column_stack([np.cos(t), np.sin(t)])
+
+
 def query_geometry(site):
     """The geometry of a site for queries: :func:`runtime.voronoi.conic_geometry.site_geometry`
-    (points, circles, conics) or :class:`SegmentGeometry`."""
+    (points, circles, conics), :class:`SegmentGeometry` or :class:`ArcGeometry`."""
     if isinstance(site, Segment):
         return SegmentGeometry(site)
+    if isinstance(site, Arc):
+        return ArcGeometry(site)
     try:
         return site_geometry(site)
     except TypeError:
-        raise TypeError(f"nearest-site queries take points, circles, conics and segments, not {site!r}") from None
+        raise TypeError(f"nearest-site queries take points, circles, conics, segments and arcs, not {site!r}") from None
 
 
 def _points(P) -> np.ndarray:
