@@ -392,6 +392,9 @@ def test_mutations_of_a_constructed_diagram_are_rejected():
     finite = next(e for e in D.edges if None not in e.ends)
     curved = [e for e in D.edges if len(e.polyline) > 2]
 
+    def rounded(M):
+        return next(v for v in M.vertices if v.radius > 0)
+
     def mutated(f):
         M = copy.deepcopy(D)
         f(M)
@@ -412,7 +415,7 @@ def test_mutations_of_a_constructed_diagram_are_rejected():
                                                               finite.polyline.copy(), finite.tolerance)),
         "vertex dropped": lambda M: M.vertices.pop(len(M.vertices) // 2),
         "point site moved by 1e-5": move_point,
-        "vertex radius off": lambda M: setattr(M.vertices[0], "radius", M.vertices[0].radius * (1 + 1e-7)),
+        "vertex radius off": lambda M: setattr(rounded(M), "radius", rounded(M).radius * (1 + 1e-7)),
     }
     if curved:
         mutations["parabola polyline shifted"] = lambda M: setattr(

@@ -75,12 +75,15 @@ from collections import Counter
 from dataclasses import dataclass, field
 
 from ..certify.foot import working_prec
+from ..sites.arc import Arc
 from ..sites.segment import Segment
 from ..threads import one_blas_thread
 from ..voronoi.verify.document import check_document
-from ..voronoi.verify.problems import fault, records
+from ..voronoi.verify.problems import Problem, fault, records
 from .certificate_edges import prove_edges
-from .certificate_sites import SiteTable, admissibility, expected_infinite_ends
+from .certificate_hull import expected_infinite_ends
+from .certificate_admissible import admissibility
+from .certificate_sites import SiteTable
 from .certificate_vertices import prove_vertices
 
 __all__ = ["verify_segments", "has_segment_sites", "closure", "SegmentCertificate"]
@@ -114,10 +117,10 @@ class SegmentCertificate:
 
 
 def has_segment_sites(diagram) -> bool:
-    """True when the diagram (or its JSON dict) has a segment site."""
+    """True when the diagram (or its JSON dict) has a segment or an arc site."""
     if isinstance(diagram, dict):
-        return any(isinstance(s, dict) and "segment" in s for s in diagram.get("sites", []) or [])
-    return any(isinstance(s, Segment) for s in getattr(diagram, "sites", []) or [])
+        return any(isinstance(s, dict) and ("segment" in s or "arc" in s) for s in diagram.get("sites", []) or [])
+    return any(isinstance(s, (Segment, Arc)) for s in getattr(diagram, "sites", []) or [])
 
 
 def _as_diagram(diagram):
@@ -129,8 +132,8 @@ def _as_diagram(diagram):
 
 
 def _same(a, b) -> bool:
-    if isinstance(a, Segment) or isinstance(b, Segment):
-        return isinstance(a, Segment) and isinstance(b, Segment) and a == b
+    if isinstance(a, (Segment, Arc)) or isinstance(b, (Segment, Arc)):
+        return type(a) is type(b) and a == b
     try:
         return (a.x, a.y) == (b.x, b.y)
     except AttributeError:
@@ -229,19 +232,27 @@ def closure(D, n: int, problems: list) -> bool:
 
 def _accounting(T: SiteTable, eproofs, problems: list) -> bool:
     """Step 5: the reported infinite ends equal the expected ones (with multiplicity)."""
-    want = Counter(expected_infinite_ends(T))
+    expected = expected_infinite_ends(T)
+    if isinstance(expected, str):
+        problems.append(Problem(expected, kind="infinity", fault=False))
+        return False
+    want = Counter(expected)
     got = Counter(t for p in eproofs for t in p.infinite)
     ok = True
-    for key, m in sorted((want - got).items()):
+    for key, m in sorted((want - got).items(), key=str):
         (a, b), d = key
-        problems.append(fault(f"sites {a} and {b}: no edge goes to infinity between them in the direction "
-                              f"({float(d[0]):.6g}, {float(d[1]):.6g}) (consecutive on the convex hull)",
-                              kind="infinity", sites=(a, b)))
+        problems.append(fault(f"sites {a} and {b}: no edge goes to infinity between them {_dir(d)} (consecutive "
+                              "on the convex hull)", kind="infinity", sites=(a, b)))
         ok = False
-    for key, m in sorted((got - want).items()):
+    for key, m in sorted((got - want).items(), key=str):
         (a, b), d = key
-        problems.append(fault(f"sites {a} and {b}: {m} edge end(s) go to infinity in the direction "
-                              f"({float(d[0]):.6g}, {float(d[1]):.6g}), where the diagram has "
-                              f"{want.get(key, 0)}", kind="infinity", sites=(a, b)))
+        problems.append(fault(f"sites {a} and {b}: {m} edge end(s) go to infinity {_dir(d)}, where the diagram "
+                              f"has {want.get(key, 0)}", kind="infinity", sites=(a, b)))
         ok = False
     return ok
+
+
+def _dir(d) -> str:
+    if d and d[0] == "tangent":
+        return f"along their common tangent ({'left' if d[1] > 0 else 'right'})"
+    return f"in the direction ({float(d[0]):.6g}, {float(d[1]):.6g})"

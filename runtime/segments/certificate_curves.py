@@ -13,7 +13,8 @@ them), the polyline tolerance check and small arb helpers.
   sides at a proved end vertex of positive radius, where |ℓ| is the radius), through the exact
   intersection of the lines (parallel lines: their mid-parallel through (a_i + a_j)/2).
 
-**Polyline tolerance** (:func:`polyline_bound`, a Hausdorff bound): each polyline point p_m is
+**Polyline tolerance** (:func:`polyline_bound`, a Hausdorff bound; for an arc's bisector piece by
+piece against the polyline's segments, :func:`_arc_piece`): each polyline point p_m is
 within ε_m of the arc point γ(τ_m) (τ_m its projection, clamped to the arc); the chord between two
 arc points deviates from the arc by at most Δu²/(8h) for the parabola (a graph over its directrix
 with second derivative 1/h, h the focal distance, Δu the foot distance) and 0 for a line; the
@@ -32,7 +33,7 @@ from fractions import Fraction
 import numpy as np
 from flint import arb, fmpq
 
-from .certificate_sites import POINT, SiteTable, hypot, sq
+from .certificate_sites import ARC, POINT, SiteTable, hypot, sq
 
 __all__ = ["Line", "Parabola", "bisector_curve", "polyline_bound", "unit_normal", "exact_d2", "q_arb",
            "interval", "up", "down"]
@@ -65,8 +66,9 @@ def down(x: arb) -> float:
 class Line:
     """O + τ w; ``anchor`` (a point: ρ = |x − anchor|) or ``side`` (n̂, a: ρ = n̂·(x − a))."""
 
-    def __init__(self, kind, Oq, wq=None, w=None, anchor=None, side=None):
+    def __init__(self, kind, Oq, wq=None, w=None, anchor=None, side=None, valid=(None, None)):
         self.kind = kind
+        self.valid = valid
         self.Oq, self.wq = Oq, wq
         self.O = (q_arb(Oq[0]), q_arb(Oq[1]))
         self.w = (q_arb(wq[0]), q_arb(wq[1])) if wq is not None else w
@@ -96,6 +98,12 @@ class Line:
             return (dx * self.w[0] + dy * self.w[1]) / hypot(dx, dy)
         (nx, ny), _ = self.side
         return nx * self.w[0] + ny * self.w[1]
+
+    def vertex_param(self, vp):
+        return self.param(vp.x, vp.y)
+
+    def chord_bound(self, t0, t1, target: float = 0.0):
+        return arb(0)
 
 
 class Parabola:
@@ -142,9 +150,16 @@ class Parabola:
         """Chord-to-arc deviation bound of a piece of foot length dt: Δu²/(8h)."""
         return dt * dt * self.L2 * self.sqL / (8 * self.absH)
 
+    def chord_bound(self, t0, t1, target: float = 0.0):
+        return self.sagitta(t1 - t0)
 
-def bisector_curve(T: SiteTable, i, j, vps):
-    """The bisector curve of i and j, or a message.  ``vps``: proofs of the finite end vertices."""
+    def vertex_param(self, vp):
+        return self.param(vp.x, vp.y)
+
+
+def bisector_curve(T: SiteTable, i, j, vps, P=None):
+    """The bisector curve of i and j, or a message.  ``vps``: proofs of the finite end vertices;
+    ``P``: the polyline (it picks the sides of an arc's bisector that no vertex fixes)."""
     ki, kj = T.kind[i], T.kind[j]
     if ki == POINT and kj == POINT:
         (xi, yi), (xj, yj) = T.a[i], T.a[j]
@@ -153,11 +168,23 @@ def bisector_curve(T: SiteTable, i, j, vps):
         p, s = (i, j) if ki == POINT else (j, i)
         (ax, ay), (bx, by) = T.a[s], T.b[s]
         if T.is_endpoint(p, s):
+            if T.kind[s] == ARC:
+                c = T.cen[s]
+                return Line("radial", c, wq=(T.a[p][0] - c[0], T.a[p][1] - c[1]), anchor=T.a[p],
+                            valid=(Fraction(0), None))
             return Line("perp", T.a[p], wq=(-(by - ay), bx - ax), anchor=T.a[p])
+        if T.kind[s] == ARC:
+            return _arc_curve(T, s, p, vps, P)
         par = Parabola(T, p, s)
         if par.H_exact == 0:
             return "the point lies on the line of the segment: they have no bisector arc"
         return par
+    joints = T.shared_joint(i, j)
+    if joints:
+        return _joint_line(T, i, j, joints, P)
+    if ARC in (ki, kj):
+        s = min(x for x in (i, j) if T.kind[x] == ARC)
+        return _arc_curve(T, s, j if s == i else i, vps, P)
     # two segments
     sides = None
     for vp in vps:
@@ -194,6 +221,44 @@ def bisector_curve(T: SiteTable, i, j, vps):
     return Line("segments", O, w=(-my, mx), side=side)
 
 
+def _arc_curve(T, s, k, vps, P):
+    from .certificate_arcs import ArcCurve, side_of
+
+    sides = side_of(T, s, k, vps, P if P is not None else np.zeros((1, 2)))
+    if sides is None:
+        return "the sides of the arc's bisector are not decided (its end vertices disagree)"
+    return ArcCurve(T, s, k, *sides)
+
+
+def _joint_line(T, i, j, joints, P):
+    """The normal line at the smooth joint of curves i and j, restricted to the rays from the
+    arcs' centres through the joint."""
+    if len(joints) > 1 and P is not None:             # two joints (a closed pair): the one nearest
+        m = P[len(P) // 2]
+        joints = sorted(joints, key=lambda c: (float(T.pt(c)[0]) - m[0]) ** 2 + (float(T.pt(c)[1]) - m[1]) ** 2)
+    jt = joints[0]
+    jx, jy = T.pt(jt)
+    w = None
+    for s in (i, j):
+        if T.kind[s] == ARC:
+            c = T.cen[s]
+            w = (jx - c[0], jy - c[1])
+            break
+    lo, hi = None, None
+    for s in (i, j):
+        if T.kind[s] != ARC:
+            continue
+        c = T.cen[s]
+        r = (jx - c[0], jy - c[1])
+        mu = (w[0] * r[0] + w[1] * r[1]) / (r[0] * r[0] + r[1] * r[1])     # w = μ r
+        bound = -1 / mu                                                       # 1 + τμ > 0
+        if mu > 0:
+            lo = bound if lo is None else max(lo, bound)
+        else:
+            hi = bound if hi is None else min(hi, bound)
+    return Line("joint", (jx, jy), wq=w, anchor=(jx, jy), valid=(lo, hi))
+
+
 def unit_normal(T: SiteTable, s):
     """(n̂x, n̂y, ax, ay): the unit normal (b − a)^⊥/|b − a| and a point of segment s (arb)."""
     ax, ay, bx, by = T.arb_ends(s)
@@ -218,11 +283,15 @@ def polyline_bound(c, P, tol: float, lo, hi, end_vertices):
         X, Y = c.xy(t)
         dev = dev.max(hypot(X - x, Y - y))
         taus.append(t)
-    sag = arb(0)
-    if isinstance(c, Parabola):
+    if c.kind == "arc":
+        total = dev
+        for m in range(len(P) - 1):
+            total = total.max(_arc_piece(c, P[m], P[m + 1], taus[m], taus[m + 1], tol))
+    else:
+        sag = arb(0)
         for t0, t1 in zip(taus, taus[1:]):
-            sag = sag.max(c.sagitta(t1 - t0))
-    total = dev + sag
+            sag = sag.max(c.chord_bound(t0, t1))
+        total = dev + sag
     if not total.upper() <= tol:
         return (f"its polyline is not within its tolerance {tol:.3g} of the arc (bound "
                 f"{float(total.upper()):.3g})")
@@ -230,7 +299,7 @@ def polyline_bound(c, P, tol: float, lo, hi, end_vertices):
     for end, (vp, p, t) in enumerate(((end_vertices[0], P[0], taus[0]), (end_vertices[1], P[-1], taus[-1]))):
         if vp is None:
             continue
-        tv = c.param(vp.x, vp.y)
+        tv = c.vertex_param(vp)
         X, Y = c.xy(tv.union(t))
         x, y = float(p[0]), float(p[1])
         fx, fy = arb(abs(X - x).abs_upper()), arb(abs(Y - y).abs_upper())
@@ -238,6 +307,38 @@ def polyline_bound(c, P, tol: float, lo, hi, end_vertices):
             return (f"its polyline does not {('start', 'end')[end]} at its end vertex (within its tolerance "
                     f"{tol:.3g})")
     return None
+
+
+def _segment_distance(X, Y, A, B) -> arb:
+    """A ball holding the distance from the box (X, Y) to the float segment [A, B]."""
+    ax, ay = arb(float(A[0])), arb(float(A[1]))
+    dx, dy = arb(float(B[0])) - ax, arb(float(B[1])) - ay
+    L2 = dx * dx + dy * dy
+    if L2 == 0:
+        return hypot(X - ax, Y - ay)
+    u = (((X - ax) * dx + (Y - ay) * dy) / L2).max(arb(0)).min(arb(1))
+    return hypot(X - ax - u * dx, Y - ay - u * dy)
+
+
+def _arc_piece(c, A, B, t0, t1, tol: float) -> arb:
+    """A bound on the distance from the curve between the parameters t0 and t1 to the polyline
+    segment [A, B]: the curve points at n sub-parameters are within d_m of the segment, each
+    sub-piece within its chord bound δ_m of its own chord, whose points are within
+    max(d_m, d_{m+1}) of the segment (a convex set): max (max(d_m, d_{m+1}) + δ_m), n = 8, 32,
+    128 until below ``tol``.  The segment is within that of the curve too: the curve's
+    projection on the segment's line runs between those of its ends (which are within the
+    polyline points' deviation of A and B)."""
+    out = None
+    for n in (8, 32, 128):
+        step = (t1 - t0) / n
+        ths = [t0 + m * step for m in range(n)] + [t1]
+        ds = [_segment_distance(*c.xy(th), A, B) for th in ths]
+        out = arb(0)
+        for m in range(n):
+            out = out.max(ds[m].max(ds[m + 1]) + c.chord_bound_parts(ths[m], ths[m + 1], 2))
+        if out.upper() <= tol:
+            break
+    return out
 
 
 def exact_d2(T: SiteTable, k, x) -> Fraction:

@@ -1,9 +1,11 @@
-"""Vertices of degree k > 3 of the point/segment certificate, decided exactly (step 2 of
+"""Vertices of degree k > 3 of the point/segment/arc certificate, decided exactly (step 2 of
 :mod:`runtime.segments.certificate`).
 
 Each listed site gives one equation in (x, y, r) of degree ≤ 2 with coefficients in
-Q(√(a² + b²)): |v − p|² = r² for a point, a x + b y + c = σ r √(a² + b²) for a segment touched in
-its interior on the side σ, (b − a)·(v − e) = 0 for a segment touched at its listed endpoint e.
+Q(√(a² + b²)): |v − p|² = r² for a point (or a smooth joint), a x + b y + c = σ r √(a² + b²) for
+a segment touched in its interior on the side σ, |v − c|² = (ρ + σ r)² for an arc touched in its
+interior on the side σ of its circle, t·(v − e) = 0 for a curve touched at its listed end e (t its
+tangent there).
 Three equations whose Jacobian is regular at the reported vertex are solved in closed form by
 sympy (linear or quadratic); the real solution near the report is enclosed in arb from its
 radicals (:func:`to_arb_expr`, rigorous: rationals, sums, products and real radicals of
@@ -26,7 +28,8 @@ def exact_vertex(terms, v, sites, tol: float):
     """(X, Y, R) arb enclosures of the exact vertex of three of the listed ``sites`` near the
     reported vertex v (within 10³·``tol``), every other listed site proved on its circle exactly;
     or a message.  ``terms``: the touching types of :mod:`runtime.segments.certificate_vertices`
-    (("pt", px, py), ("ln", nx, ny, c, σ), ("pp", dx, dy, ex, ey, …), exact)."""
+    (("pt", px, py, …), ("ln", nx, ny, c, σ), ("arc", cx, cy, ρ, σ), ("pp", tx, ty, ex, ey, …),
+    exact)."""
     import sympy as sp
 
     X, Y, R = sp.symbols("X Y R", real=True)
@@ -37,6 +40,8 @@ def exact_vertex(terms, v, sites, tol: float):
             return (X - Q(t[1])) ** 2 + (Y - Q(t[2])) ** 2 - R ** 2
         if t[0] == "ln":
             return Q(t[1]) * X + Q(t[2]) * Y + Q(t[3]) - t[4] * R * sp.sqrt(Q(t[1] ** 2 + t[2] ** 2))
+        if t[0] == "arc":
+            return (X - Q(t[1])) ** 2 + (Y - Q(t[2])) ** 2 - (Q(t[3]) + t[4] * R) ** 2
         return Q(t[1]) * (X - Q(t[3])) + Q(t[2]) * (Y - Q(t[4]))
 
     eqs = [eq(t) for t in terms]

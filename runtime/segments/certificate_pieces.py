@@ -1,8 +1,10 @@
-"""Piecewise proofs along an edge of the point/segment certificate (rule R3 of
-:mod:`runtime.segments.certificate_edges`, for parabolas and bisectors of two segments).
+"""Piecewise proofs along an edge of the point/segment/arc certificate (rule R3 of
+:mod:`runtime.segments.certificate_edges`, for parabolas, bisectors of two segments and arcs'
+bisectors).
 
-g_k = d_k − ρ > 0 (for a segment k ending at the edge's point on a parabola: its foot
-beyond that point) on the open arc.  The parameter interval is cut into pieces, each
+g_k = d_k − ρ > 0 on the open arc, and the edge's *conditions* (each a function > 0 there: R2
+as linear functions g·x + g₀ along curves; along an arc's bisector also t > 0, the foot of a
+segment partner in (0, 1), the contact direction of an arc partner in its open range).  The parameter interval is cut into pieces, each
 proved by a rigorous lower bound (float filters with rounding margins: d_k(x) ≥ d_k(q) − |x − q|
 with ρ below its ball's upper end, and the mean-value form with Lipschitz bounds on the distance
 gradients; then :meth:`runtime.segments.certificate_sites.SiteTable.distance` and the
@@ -10,14 +12,18 @@ mean-value form in arb on the box of the piece);
 pieces that fail are halved, for the failing sites only; candidates come from a k-d tree over
 bounding discs.  At an end vertex where k is at the radius, g_k vanishes: there g_k' > 0 (into
 the arc) is proved on [τ*, τ* + δ] (the gradient of the distance to a closed convex set,
-(x − F)/|x − F|, is continuous off the set; g_k ≥ 0 at every proved vertex), or, for a segment k
+(x − F)/|x − F|, is continuous off the set; for an arc it is ±(x − c)/|x − c| where the direction
+is decided in its range, else the nearer end's; g_k ≥ 0 at every proved vertex), or, for a segment k
 ending at an R1 point e, its foot stays clamped beyond e there (then d_k = d_e > ρ by R1), or,
 at a corner c of radius 0 (the curve is c + τ u), g_k(τ) ≥
 τ (D_k − D_i) with D_i = ρ/τ and D_k the distance from u to the line of k (|u| when k leaves c
-away from u), proved > 0 for all τ > 0.
+away from u), proved > 0 for all τ > 0.  A condition vanishing at an end vertex is covered the
+same way by its derivative (a function ≥ 0 there with a positive derivative into the arc).  The
+float mean-value filter needs convex sites (the gradient of the distance to a convex set is
+Lipschitz away from it): arcs go to the balls.
 
 Public API: :class:`PieceProofs` (mixed into the edge prover, which supplies ``T``, ``curve``,
-``i``, ``j``, ``skip``, ``r1`` and ``report``).
+``i``, ``j``, ``skip``, ``r1``, ``conditions`` and ``report``).
 """
 from __future__ import annotations
 
@@ -26,9 +32,9 @@ import math
 import numpy as np
 from flint import arb
 
-from .certificate_curves import down, interval, q_arb, up
+from .certificate_curves import Line, down, interval, q_arb, up
 from .certificate_rules import corner_ratio
-from .certificate_sites import POINT, SEGMENT, hypot
+from .certificate_sites import ARC, POINT, SEGMENT, hypot
 from .distance import distances, float_error
 
 __all__ = ["PieceProofs", "MAX_PIECES", "FIRST_PIECES"]
@@ -45,49 +51,34 @@ class PieceProofs:
 
     def _value_fn(self, k):
         T, c = self.T, self.curve
-        if c.kind == "parabola" and T.kind[k] == SEGMENT and any(p in (self.i, self.j) for p in T.ends[k]):
-            p = self.i if T.kind[self.i] == POINT else self.j
-            which = T.end_index(k, p)
-            sign, shift = (-1, 0) if which == 0 else (1, 1)
-            (ax, ay), (bx, by) = T.a[k], T.b[k]
-            dx, dy = q_arb(bx - ax), q_arb(by - ay)
-            L2 = dx * dx + dy * dy
-
-            def value(t, X, Y, rho):
-                return sign * (T.foot(k, X, Y) - shift)
-
-            def deriv(t, X, Y):
-                gx, gy = c.dxy(t)
-                return sign * (gx * dx + gy * dy) / L2
-            return value, deriv
 
         def value(t, X, Y, rho):
             return T.distance(k, X, Y) - rho
 
         def deriv(t, X, Y):
-            ax, ay, bx, by = T.arb_ends(k)
-            if T.kind[k] == SEGMENT:
-                u = T.foot(k, X, Y)
-                u = u.max(arb(0)).min(arb(1))
-                fx, fy = ax + u * (bx - ax), ay + u * (by - ay)
-            else:
-                fx, fy = ax, ay
-            dx, dy = X - fx, Y - fy
             gx, gy = c.dxy(t)
-            return (dx * gx + dy * gy) / hypot(dx, dy) - c.drho(t, X, Y)
+            ux, uy = distance_gradient(T, k, X, Y)
+            return ux * gx + uy * gy - c.drho(t, X, Y)
         return value, deriv
-
 
     def _tie_cover(self, k, end, at_lo: bool, deriv, span: float):
         """The float parameter up to which (from ``end``) g_k > 0 on the open arc is proved, or None:
         g_k(τ*) = 0 and g_k' > 0 into the arc on [τ*, τ* + δ] (the largest δ = span/4^m found)."""
         vp, t0 = end[2], end[1]
+        if vp.centre_of == k and isinstance(self.curve, Line):
+            # a straight edge leaving the centre of arc k: on the whole open ray the direction from
+            # the centre misses k's open range (a condition on the direction only), so k's nearest
+            # points are its ends, and those are farther than the edge's sites (R1)
+            wx, wy = self.curve.w if at_lo else (-self.curve.w[0], -self.curve.w[1])
+            if self.T.in_range(k, wx, wy) is False and all(e in self.r1 for e in self.T.ends[k]):
+                return math.inf if at_lo else -math.inf
         if vp.corner is not None:
             if not corner_ratio(self.T, self.curve, k, vp.corner, at_lo):
                 return None
             return math.inf if at_lo else -math.inf
         base, back = (up(t0), down(t0)) if at_lo else (down(t0), up(t0))
-        tests = [lambda J, X, Y: deriv(J, X, Y) * (1 if at_lo else -1)] + self._clamps(k)
+        sgn = 1 if at_lo else -1
+        tests = [lambda J, X, Y: deriv(J, X, Y) * sgn] + self._clamps(k) + self._clamp_derivs(k, vp, sgn)
         best = None
         for test in tests:
             reach = self._prefix(test, back, base, span, at_lo)
@@ -121,7 +112,7 @@ class PieceProofs:
         return reach
 
     def _clamps(self, k) -> list:
-        """For a segment k ending at an R1 point e: the test "k's foot is clamped beyond e" (then
+        """For a curve k ending at an R1 point e: the test "k's nearest point is e alone" (then
         d_k = d_e, and d_e > ρ on the open arc by R1, proved for the whole edge)."""
         T, out = self.T, []
         if T.kind[k] == SEGMENT:
@@ -129,8 +120,51 @@ class PieceProofs:
                 if e in self.r1:
                     sign, shift = (-1, 0) if which == 0 else (1, 1)
                     out.append(lambda J, X, Y, sign=sign, shift=shift: sign * (T.foot(k, X, Y) - shift))
+        elif T.kind[k] == ARC:
+            for e in T.ends[k]:
+                if e in self.r1:
+                    out.append(lambda J, X, Y, e=e: arb(1) if T.owned_by_end(k, e, X, Y) is True else arb(-1))
         return out
 
+    def _clamp_derivs(self, k, vp, sgn) -> list:
+        """Tests for a curve k touched at a vertex exactly at its end e ∈ R1 (it is listed with e, or
+        e's joint partner): the linear function saying that its nearest point is e — a segment's
+        foot beyond e, an arc's direction outside its open range (its other end is farther anyway)
+        — vanishes there; its derivative into the arc > 0 (and the arc's other half-plane > 0 on
+        the box) keeps it positive."""
+        from .certificate_rules import linear_rule, outside_range_rule
+
+        T, c, out = self.T, self.curve, []
+        if not T.is_curve(k) or k not in vp.listed:
+            return out
+        for e in T.ends[k]:
+            if e not in self.r1:
+                continue
+            tie = {e} if e >= 0 else {o for o in T.joint_curves(e) if o != k}
+            if not (tie & set(vp.listed)) and vp.corner != e:
+                continue
+            if T.kind[k] == SEGMENT:
+                conds, mode = linear_rule(T, k, e, False), "all"
+            else:
+                mode, conds = outside_range_rule(T, k)
+                which = T.end_index(k, e)
+                if mode == "max" or len(conds) == 1:
+                    conds = [conds[which if len(conds) > 1 else 0]]
+                    mode = "all"
+            g = [tuple(q_arb(v) for v in cd) for cd in conds]
+
+            def test(J, X, Y, g=g, e=e):
+                dx, dy = c.dxy(J)
+                vals = []
+                for gx, gy, g0 in g:
+                    v0 = gx * X + gy * Y + g0
+                    vals.append(v0 if v0 > 0 else (gx * dx + gy * dy) * sgn)
+                out_v = vals[0]
+                for v in vals[1:]:
+                    out_v = out_v.min(v)
+                return out_v
+            out.append(test)
+        return out
 
     def _float_centred(self, idx, pa: float, pb: float, t, X, Y):
         """The mean-value bound in floats, for many sites at once (True: g_k > 0 on the piece).
@@ -151,9 +185,12 @@ class PieceProofs:
         qx, qy = float(Xm.mid()), float(Ym.mid())
         dq = float(Xm.rad()) + float(Ym.rad()) + 4 * EPS * (abs(qx) + abs(qy))
         R = (abs(float(X.mid()) - qx) + float(X.rad()) + abs(float(Y.mid()) - qy) + float(Y.rad())) * (1 + 4 * EPS)
+        ref = next((s for s in (self.i, self.j) if T.kind[s] != ARC), None)
+        if ref is None:
+            return np.zeros(len(idx), dtype=bool)
         gx, gy = c.dxy(t)
         gp = up(abs(gx) + abs(gy))
-        sites = np.concatenate([[self.i], idx])
+        sites = np.concatenate([[ref], idx])
         A, B = T.A[sites], T.B[sites]
         Q = np.repeat([[qx, qy]], len(sites), axis=0)
         d, tt = distances(A, B, Q)
@@ -165,7 +202,7 @@ class PieceProofs:
             L = gp * (np.abs(U[1:] - U[0]).sum(axis=1) + 2 * R / (2 * dlo[1:] - R) + 2 * R / (2 * dlo[0] - R) + 1e-12)
             rounding = err[1:] + err[0] + 2 * dq + 16 * EPS * (T.scale + abs(qx) + abs(qy))
             lower = (d[1:] - d[0]) - rounding - L * hw
-        return (dlo[1:] > R) & (dlo[0] > R) & np.isfinite(lower) & (lower > 0)
+        return (dlo[1:] > R) & (dlo[0] > R) & np.isfinite(lower) & (lower > 0) & (T.karr[idx] != ARC)
 
     def _centred(self, k, t, X, Y, pa: float, pb: float) -> bool:
         """g_k > 0 on the piece by the mean-value form g(m) + g'(piece)·(τ − m)."""
@@ -180,8 +217,11 @@ class PieceProofs:
         return bool(g > 0) or any(test(t, X, Y) > 0 for test in self._clamps(k))
 
     def _pieces(self, a: float, b: float, special) -> bool:
+        """g_k > 0 for every site near each piece, and every condition (``self.conditions``:
+        dicts with ``value``, ``lo``, ``hi`` — the covered ends — and ``name``) > 0."""
         T, c = self.T, self.curve
         skip = self.skip | {self.i, self.j}
+        conds = list(enumerate(getattr(self, "conditions", [])))
         cuts = np.linspace(a, b, FIRST_PIECES + 1)
         cuts[0], cuts[-1] = a, b
         stack = [(float(cuts[m]), float(cuts[m + 1]), None) for m in range(FIRST_PIECES)][::-1]
@@ -198,24 +238,30 @@ class PieceProofs:
             t = interval(pa, pb)
             X, Y = c.xy(t)
             rho = c.rho(t, X, Y)
-            qx, qy = float(X.mid()), float(Y.mid())
-            rq = float(X.rad()) + float(Y.rad())
-            rho_hi = up(rho)
-            near = [k for k in T.near(qx, qy, rho_hi + rq) if k not in skip]
-            if cands is not None:
-                near = [k for k in near if k in cands]
-            if not near:
-                continue
-            plain = [k for k in near if k not in special]
             failed = []
+            for m, cd in conds:
+                if (cands is not None and ("cond", m) not in cands) or pb <= cd["lo"] or pa >= cd["hi"]:
+                    continue
+                if not cd["value"](t, X, Y, rho) > 0 and not self._centred_fn(cd["fns"], t, X, Y, pa, pb):
+                    failed.append(("cond", m))
+            if not (rho.is_finite() and X.is_finite() and Y.is_finite()):
+                failed.append(("cond", -1))
+                near = []
+            else:
+                qx, qy = float(X.mid()), float(Y.mid())
+                rq = float(X.rad()) + float(Y.rad())
+                rho_hi = up(rho)
+                near = [k for k in T.near(qx, qy, rho_hi + rq) if k not in skip]
+                if cands is not None:
+                    near = [k for k in near if k in cands]
+            plain = [k for k in near if k not in special]
             if plain:
                 idx = np.array(plain, dtype=int)
                 Q = np.repeat([[qx, qy]], len(idx), axis=0)
-                d, _ = distances(T.A[idx], T.B[idx], Q)
-                err = float_error(T.A[idx], T.B[idx], Q) + 8 * EPS * T.scale
-                clear = d - err - rq > rho_hi
+                dlo, dhi = T.float_bounds(idx, Q)
+                clear = dlo - rq > rho_hi
                 # a site nearer than ρ at the piece's centre (in floats) is not tried in arb: halve
-                hopeless = d + err <= float(rho.mid()) - float(rho.rad())
+                hopeless = dhi <= float(rho.mid()) - float(rho.rad())
                 rest = ~clear & ~hopeless
                 if rest.any():
                     clear[rest] = self._float_centred(idx[rest], pa, pb, t, X, Y)
@@ -238,18 +284,69 @@ class PieceProofs:
                 for k in failed:
                     bad.setdefault(k, (pa, pb))
                 continue
-            m = (pa + pb) / 2
+            mid = (pa + pb) / 2
             fs = set(failed)
-            stack.append((m, pb, fs))
-            stack.append((pa, m, fs))
-        for k, (pa, pb) in sorted(bad.items()):
+            if ("cond", -1) in fs:
+                fs = None
+            stack.append((mid, pb, fs))
+            stack.append((pa, mid, fs))
+        for k, (pa, pb) in sorted(bad.items(), key=lambda kv: str(kv[0])):
             t = arb((pa + pb) / 2)
             X, Y = c.xy(t)
+            where = f"near ({float(X.mid()):.6g}, {float(Y.mid()):.6g})"
+            if isinstance(k, tuple):
+                name = "its curve is not proved finite" if k[1] < 0 else conds[k[1]][1]["name"]
+                self.report(f"{name} {where}")
+                continue
             value = special[k][0] if k in special else (lambda t, X, Y, rho: T.distance(k, X, Y) - rho)
             v = value(t, X, Y, c.rho(t, X, Y))
-            where = f"near ({float(X.mid()):.6g}, {float(Y.mid()):.6g})"
             if v < 0:
                 self.report(f"site {k} is closer than its sites {where}", k)
             else:
                 self.report(f"site {k} is too close to its sites to decide {where}", k)
         return not bad
+
+    def _centred_fn(self, fns, t, X, Y, pa: float, pb: float) -> bool:
+        """A condition > 0 on the piece by the mean-value form (``fns``: (value, deriv) pairs; one
+        proved positive suffices when the condition is their maximum, all when it is one)."""
+        c = self.curve
+        tm = arb((pa + pb) / 2)
+        Xm, Ym = c.xy(tm)
+        for value, deriv in fns:
+            g = value(tm, Xm, Ym, c.rho(tm, Xm, Ym)) + deriv(t, X, Y) * (t - tm)
+            if g > 0:
+                return True
+        return False
+
+
+def distance_gradient(T, k, X, Y):
+    """A ball enclosure of the gradient of d_k on the box (an infinite ball where it is not
+    decided: at a site, or where an arc's nearest point may jump)."""
+    ax, ay, bx, by = T.arb_ends(k)
+    if T.kind[k] == ARC:
+        cx, cy, rho = T.arb_arc(k)
+        wx, wy = X - cx, Y - cy
+        inr = T.in_range(k, wx, wy, closed=True)
+        if inr is True:
+            n = hypot(wx, wy)
+            side = n - rho
+            sg = 1 if side > 0 else (-1 if side < 0 else None)
+            if sg is not None:
+                return sg * wx / n, sg * wy / n
+        elif inr is False:
+            da, db = hypot(X - ax, Y - ay), hypot(X - bx, Y - by)
+            if da < db:
+                return (X - ax) / da, (Y - ay) / da
+            if db < da:
+                return (X - bx) / db, (Y - by) / db
+        big = arb("0 +/- inf")
+        return big, big
+    if T.kind[k] == SEGMENT:
+        u = T.foot(k, X, Y)
+        u = u.max(arb(0)).min(arb(1))
+        fx, fy = ax + u * (bx - ax), ay + u * (by - ay)
+    else:
+        fx, fy = ax, ay
+    dx, dy = X - fx, Y - fy
+    n = hypot(dx, dy)
+    return dx / n, dy / n

@@ -1,28 +1,18 @@
-"""The sites of a point/segment diagram as the certificate reads them: exact table, admissibility,
-and the unbounded ends every diagram of these sites has (steps 1 and 5 of
-:mod:`runtime.segments.certificate`).
+"""The sites of a point/segment/arc diagram as the certificate reads them: the exact table with its
+float and ball views (admissibility is :mod:`runtime.segments.certificate_admissible`, the
+unbounded ends :mod:`runtime.segments.certificate_hull`).
 
-**Admissible sites** (exact): every site is a :class:`runtime.predicates.circles.Point` or a
-:class:`runtime.sites.segment.Segment` (its open interior); no point or segment is repeated; both
-endpoints of every segment are point sites of the list; segments meet only at common endpoints
-and no point lies in a segment's interior (:func:`runtime.segments.crossings.check_pieces`,
-exact Fraction orientations); two segments meeting at 180° at a point of degree 2 are merged
-(the elementary decomposition of :mod:`runtime.segments.elementary`), and no junction of three or
-more segments continues straight through (there a whole ray is equidistant from three sites).
+Curve ends are *end codes*: a point site's index, or −2 − m for the m-th smooth joint (a point
+that is no site where exactly two curves, not both segments, end leaving it in opposite
+directions).  An arc runs counter-clockwise from its start a to its end b; the direction
+w from its centre is in its open range when a → w → b counter-clockwise (cross products, exact
+for rationals, decided or not for balls).  The distance to an arc is | |x − c| − ρ | when the
+direction of x − c is in its closed range, else the nearer end's; its nearest point is an end e
+alone exactly when the direction lies strictly in the half of its gap next to e (two half-planes
+through the centre: from the gap's middle to e), or on e's boundary direction.
 
-**Unbounded ends** (:func:`expected_infinite_ends`, exact rational hull of the point sites —
-every site lies in it, a segment's endpoints being point sites): far away in a direction u the
-nearest sites are those with the largest support h(u) = max over the site of u·p; it is a single
-point site for u inside the normal cone of a hull vertex (a segment ending there ties with it,
-but its foot is clamped to that endpoint, which by convention owns the tie), and for u the outward
-normal of a hull side it is every site on that side's line.  Those sites, sorted along the line
-(points and the interiors of segments lying on it between their endpoints), cut the far region
-into slabs perpendicular to the line, so each consecutive pair has exactly one edge going to
-infinity in direction u (a perpendicular bisector, or the perpendicular to a segment at its
-endpoint), and there are no others.  All sites on one line: the two normals.
-
-Public API: :class:`SiteTable`, :func:`admissibility`, :func:`expected_infinite_ends`,
-:func:`direction_key`.
+Public API: :class:`SiteTable`, :func:`direction_key`, :data:`POINT`, :data:`SEGMENT`,
+:data:`ARC`, :func:`sq`, :func:`hypot`.
 """
 from __future__ import annotations
 
@@ -34,13 +24,14 @@ from scipy.spatial import cKDTree
 
 from ..certify.foot import to_arb
 from ..predicates.circles import Point
+from ..sites.arc import Arc
 from ..sites.segment import Segment
-from ..voronoi.verify.problems import Problem, fault
+from .distance import distances, float_error
 
-__all__ = ["SiteTable", "admissibility", "expected_infinite_ends", "direction_key", "POINT", "SEGMENT", "sq",
-           "hypot"]
+__all__ = ["SiteTable", "direction_key", "POINT", "SEGMENT", "ARC", "sq", "hypot"]
 
-POINT, SEGMENT = 0, 1
+POINT, SEGMENT, ARC = 0, 1, 2
+EPS = np.finfo(float).eps
 
 
 def sq(x: arb) -> arb:
@@ -62,25 +53,50 @@ def _frac(v) -> Fraction:
     return Fraction(v)
 
 
+def _cross(u, v):
+    return u[0] * v[1] - u[1] * v[0]
+
+
+def _opposite(u, v) -> bool:
+    return _cross(u, v) == 0 and u[0] * v[0] + u[1] * v[1] < 0
+
+
+def direction_key(v) -> tuple:
+    """A rational direction up to positive scaling, as an exact hashable key."""
+    x, y = Fraction(v[0]), Fraction(v[1])
+    m = max(abs(x), abs(y))
+    return (x / m, y / m) if m else (Fraction(0), Fraction(0))
+
+
 class SiteTable:
     """Exact and float views of the elementary sites.
 
-    ``kind[k]``: POINT / SEGMENT (None for an unsupported site); ``a[k]``, ``b[k]``: exact endpoint
-    pairs (a = b for a point); ``ends[k]``: the point-site indices of a segment's endpoints (None
-    when an endpoint is not a point site); ``incident[p]``: segments ending at point site p;
-    ``A``, ``B``: float endpoints; a k-d tree over the midpoints with the largest half-length
-    ``hmax`` (d(q, S) ≥ |q − mid(S)| − half(S))."""
+    ``kind[k]``: POINT / SEGMENT / ARC (None for an unsupported site); ``a[k]``, ``b[k]``: exact
+    ends (a = b for a point; an arc runs counter-clockwise from a to b); ``cen[k]``, ``rad[k]``:
+    an arc's centre and radius; ``ends[k]``: the *end codes* of a curve — a point-site index, or
+    −2 − m for the smooth joint ``joints[m]`` = (point, (curve, curve)) — None when an end is
+    neither; ``incident[p]``: curves ending at point site p; ``A``, ``B``, ``C``, ``R``: float
+    ends, centres and radii; a k-d tree over bounding discs (a chord's disc for an arc of at most
+    180°, the circle's disc otherwise) with the largest radius ``hmax``."""
 
     def __init__(self, sites):
         self.sites = list(sites)
-        n = len(self.sites)
-        self.n = n
+        n = self.n = len(self.sites)
         self.kind: list = []
         self.a: list = []
         self.b: list = []
+        self.cen: dict = {}
+        self.rad: dict = {}
         self.unsupported: list[int] = []
+        zero = (Fraction(0), Fraction(0))
         for k, s in enumerate(self.sites):
-            if isinstance(s, Segment):
+            if isinstance(s, Arc):
+                self.kind.append(ARC)
+                self.a.append(tuple(map(_frac, s.a)))
+                self.b.append(tuple(map(_frac, s.b)))
+                self.cen[k] = tuple(map(_frac, s.c))
+                self.rad[k] = _frac(s.rho)
+            elif isinstance(s, Segment):
                 self.kind.append(SEGMENT)
                 self.a.append(tuple(map(_frac, s.p)))
                 self.b.append(tuple(map(_frac, s.q)))
@@ -92,8 +108,9 @@ class SiteTable:
             else:
                 self.kind.append(None)
                 self.unsupported.append(k)
-                self.a.append((Fraction(0), Fraction(0)))
-                self.b.append((Fraction(0), Fraction(0)))
+                self.a.append(zero)
+                self.b.append(zero)
+        self.has_arcs = bool(self.cen)
         self.point_index: dict = {}
         self.repeated_points: list = []
         for k in range(n):
@@ -102,37 +119,219 @@ class SiteTable:
                     self.repeated_points.append((self.point_index[self.a[k]], k))
                 else:
                     self.point_index[self.a[k]] = k
+        self._ends_and_joints()
+        self._floats()
+        self._arb: dict = {}
+
+    # ------------------------------------------------------------------ ends, joints
+    def is_curve(self, k: int) -> bool:
+        return self.kind[k] in (SEGMENT, ARC)
+
+    def _ends_and_joints(self):
+        n = self.n
         self.ends: list = [None] * n
         self.incident: dict = {k: [] for k in range(n) if self.kind[k] == POINT}
         self.segment_of: dict = {}
+        self.joints: list = []
+        self.bad_ends: list = []
+        loose: dict = {}
         for k in range(n):
-            if self.kind[k] == SEGMENT:
-                ia, ib = self.point_index.get(self.a[k]), self.point_index.get(self.b[k])
-                if ia is not None and ib is not None:
-                    self.ends[k] = (ia, ib)
-                    self.incident[ia].append(k)
-                    self.incident[ib].append(k)
-                    self.segment_of.setdefault(frozenset((ia, ib)), k)
-        self.A = np.array([[float(p[0]), float(p[1])] for p in self.a], dtype=float).reshape(-1, 2)
-        self.B = np.array([[float(p[0]), float(p[1])] for p in self.b], dtype=float).reshape(-1, 2)
-        self.mid = (self.A + self.B) / 2
-        self.half = np.hypot(*(self.B - self.A).T) / 2 if n else np.zeros(0)
-        self.hmax = float(self.half.max()) if n else 0.0
-        self.scale = 1.0 + (float(np.max(np.abs(np.concatenate([self.A, self.B])))) if n else 0.0)
-        self.tree = cKDTree(self.mid) if n else None
-        self._arb: dict = {}
+            if self.is_curve(k):
+                for which, p in enumerate((self.a[k], self.b[k])):
+                    if p not in self.point_index:
+                        loose.setdefault(p, []).append((k, which))
+        code_of: dict = {}
+        for p, lst in loose.items():
+            if len(lst) == 2 and lst[0][0] != lst[1][0]:
+                (k1, w1), (k2, w2) = lst
+                both_segments = self.kind[k1] == SEGMENT and self.kind[k2] == SEGMENT
+                if not both_segments and _opposite(self._tangent(k1, w1), self._tangent(k2, w2)):
+                    code = -2 - len(self.joints)
+                    self.joints.append((p, (k1, k2)))
+                    code_of[(k1, w1)] = code_of[(k2, w2)] = code
+                    continue
+            for k, which in lst:
+                self.bad_ends.append((k, p))
+        for k in range(n):
+            if not self.is_curve(k):
+                continue
+            codes = []
+            for which, p in enumerate((self.a[k], self.b[k])):
+                codes.append(self.point_index[p] if p in self.point_index else code_of.get((k, which)))
+            if None in codes:
+                continue
+            self.ends[k] = tuple(codes)
+            for c in codes:
+                if c >= 0:
+                    self.incident[c].append(k)
+            if self.kind[k] == SEGMENT and min(codes) >= 0:
+                self.segment_of.setdefault(frozenset(codes), k)
+
+    def _tangent(self, k: int, which: int):
+        """The exact direction in which curve k leaves its start (which = 0) or end (1)."""
+        if self.kind[k] == SEGMENT:
+            (ax, ay), (bx, by) = self.a[k], self.b[k]
+            return (bx - ax, by - ay) if which == 0 else (ax - bx, ay - by)
+        (cx, cy), (px, py) = self.cen[k], (self.a[k] if which == 0 else self.b[k])
+        rx, ry = px - cx, py - cy
+        return (-ry, rx) if which == 0 else (ry, -rx)
+
+    def which_end(self, s: int, code: int) -> int:
+        """0 when the end code is curve s's start, 1 when it is its end."""
+        return 0 if self.ends[s][0] == code else 1
+
+    def leaving(self, s: int, code: int):
+        """The exact direction in which curve s leaves its end ``code``."""
+        return self._tangent(s, self.which_end(s, code))
+
+    def curvature(self, s: int, code: int) -> Fraction:
+        """The signed curvature of curve s leaving its end ``code`` (left turn > 0)."""
+        if self.kind[s] != ARC:
+            return Fraction(0)
+        return (1 if self.which_end(s, code) == 0 else -1) / self.rad[s]
+
+    def pt(self, code: int):
+        """Exact coordinates of a point site (code ≥ 0) or a smooth joint (code ≤ −2)."""
+        return self.a[code] if code >= 0 else self.joints[-2 - code][0]
+
+    def pt_arb(self, code: int):
+        return tuple(to_arb(v) for v in self.pt(code))
+
+    def joint_curves(self, code: int):
+        return self.joints[-2 - code][1]
+
+    def shared_joint(self, i: int, j: int):
+        """The smooth joint codes curves i and j share (a list, usually of one)."""
+        if not (self.is_curve(i) and self.is_curve(j)) or self.ends[i] is None or self.ends[j] is None:
+            return []
+        return [c for c in set(self.ends[i]) & set(self.ends[j]) if c <= -2]
 
     def is_point(self, k: int) -> bool:
         return self.kind[k] == POINT
 
     def is_endpoint(self, p: int, s: int) -> bool:
-        """Point site p is an endpoint of segment site s."""
-        return self.kind[s] == SEGMENT and self.ends[s] is not None and p in self.ends[s]
+        """Point site p is an end of curve s."""
+        return p >= 0 and self.is_curve(s) and self.ends[s] is not None and p in self.ends[s]
 
     def end_index(self, s: int, p: int) -> int:
-        """0 when point site p is the endpoint a of segment s, 1 when it is b."""
+        """0 when the end code p is the start a of curve s, 1 when it is b."""
         return 0 if self.ends[s][0] == p else 1
 
+    # ------------------------------------------------------------------ arcs
+    def arc_mid(self, k: int):
+        """An exact direction of the angular middle of arc k (not normalised)."""
+        (cx, cy) = self.cen[k]
+        ua = (self.a[k][0] - cx, self.a[k][1] - cy)
+        ub = (self.b[k][0] - cx, self.b[k][1] - cy)
+        cr = _cross(ua, ub)
+        if cr == 0:
+            return (-ua[1], ua[0])
+        s = 1 if cr > 0 else -1
+        return (s * (ua[0] + ub[0]), s * (ua[1] + ub[1]))
+
+    def in_range(self, k: int, wx, wy, closed: bool = False):
+        """The direction (wx, wy) from arc k's centre lies in its open (or closed) angular range:
+        True / False, or None when balls do not decide.  Exact for rationals."""
+        (cx, cy) = self.cen[k]
+        ua = (self.a[k][0] - cx, self.a[k][1] - cy)
+        ub = (self.b[k][0] - cx, self.b[k][1] - cy)
+        ab = _cross(ua, ub)
+        if isinstance(wx, arb) or isinstance(wy, arb):
+            ua = (to_arb(ua[0]), to_arb(ua[1]))
+            ub = (to_arb(ub[0]), to_arb(ub[1]))
+        ca = ua[0] * wy - ua[1] * wx
+        cb = wx * ub[1] - wy * ub[0]
+
+        def pos(v):
+            if closed:
+                return True if v >= 0 else (False if v < 0 else None)
+            return True if v > 0 else (False if v <= 0 else None)
+
+        pa, pb = pos(ca), pos(cb)
+        if ab == 0:
+            return pa
+        if ab > 0:
+            if pa is False or pb is False:
+                return False
+            return True if (pa and pb) else None
+        if pa or pb:
+            return True
+        if pa is False and pb is False:
+            return False
+        return None
+
+    def arb_arc(self, k: int):
+        key = ("arc", k)
+        v = self._arb.get(key)
+        if v is None:
+            v = tuple(to_arb(c) for c in self.cen[k]) + (to_arb(self.rad[k]),)
+            self._arb[key] = v
+        return v
+
+    # ------------------------------------------------------------------ floats
+    def _floats(self):
+        n = self.n
+        self.A = np.array([[float(p[0]), float(p[1])] for p in self.a], dtype=float).reshape(-1, 2)
+        self.B = np.array([[float(p[0]), float(p[1])] for p in self.b], dtype=float).reshape(-1, 2)
+        self.C = np.full((n, 2), np.nan)
+        self.R = np.full(n, np.nan)
+        self.karr = np.array([-1 if k is None else k for k in self.kind], dtype=np.int8)
+        self.mid = (self.A + self.B) / 2
+        self.half = np.hypot(*(self.B - self.A).T) / 2 if n else np.zeros(0)
+        for k in self.cen:
+            self.C[k] = (float(self.cen[k][0]), float(self.cen[k][1]))
+            self.R[k] = float(self.rad[k])
+            ua = np.array(self.A[k]) - self.C[k]
+            ub = np.array(self.B[k]) - self.C[k]
+            if ua[0] * ub[1] - ua[1] * ub[0] < 0:           # more than a half circle
+                self.mid[k], self.half[k] = self.C[k], self.R[k]
+            self.half[k] = self.half[k] * (1 + 1e-12) + 1e-300
+        self.hmax = float(self.half.max()) if n else 0.0
+        mags = [np.abs(self.A).max(initial=0.0), np.abs(self.B).max(initial=0.0)]
+        if self.cen:
+            arcs = list(self.cen)
+            mags.append(float((np.abs(self.C[arcs]).max(axis=1) + self.R[arcs]).max()))
+        self.scale = 1.0 + float(max(mags))
+        self.tree = cKDTree(self.mid) if n else None
+
+    def float_bounds(self, idx, Q):
+        """Float lower and upper bounds of the distances from Q[r] to site idx[r] (rigorous up to
+        the rounding margins of :func:`runtime.segments.distance.float_error`)."""
+        idx = np.asarray(idx, dtype=np.int64)
+        A, B = self.A[idx], self.B[idx]
+        d, _ = distances(A, B, Q)
+        err = float_error(A, B, Q) + 8 * EPS * self.scale
+        lo, hi = d - err, d + err
+        arc = self.karr[idx] == ARC
+        if arc.any():
+            C, R = self.C[idx[arc]], self.R[idx[arc]]
+            Qa, Aa, Ba = Q[arc], A[arc], B[arc]
+            W = Qa - C
+            nw = np.hypot(W[:, 0], W[:, 1])
+            circle = np.abs(nw - R)
+            ends = np.minimum(np.hypot(*(Qa - Aa).T), np.hypot(*(Qa - Ba).T))
+            ua, ub = Aa - C, Ba - C
+            ca = ua[:, 0] * W[:, 1] - ua[:, 1] * W[:, 0]
+            cb = W[:, 0] * ub[:, 1] - W[:, 1] * ub[:, 0]
+            ab = ua[:, 0] * ub[:, 1] - ua[:, 1] * ub[:, 0]
+            m = 64 * EPS * (np.abs(Qa).max(axis=1) + np.abs(C).max(axis=1) + R + 1.0) ** 2
+            sure_in = np.where(ab > m, (ca > m) & (cb > m), np.where(ab < -m, (ca > m) | (cb > m), False))
+            sure_out = np.where(ab > m, (ca < -m) | (cb < -m), np.where(ab < -m, (ca < -m) & (cb < -m), False))
+            e = 64 * EPS * (np.abs(Qa).max(axis=1) + np.abs(C).max(axis=1) + R + 1.0) + 8 * EPS * self.scale
+            lo_a = np.where(sure_in, circle, np.where(sure_out, ends, np.minimum(circle, ends))) - e
+            hi_a = np.where(sure_in, circle, ends) + e
+            lo[arc], hi[arc] = lo_a, hi_a
+        return lo, hi
+
+    def near(self, x: float, y: float, radius: float) -> list[int]:
+        """Every site whose distance from (x, y) may be ≤ ``radius`` (a superset: the k-d tree
+        query is widened by the largest bounding radius and a rounding margin)."""
+        if self.tree is None or not np.isfinite(radius) or not (np.isfinite(x) and np.isfinite(y)):
+            return list(range(self.n))
+        r = radius + self.hmax + 1e-9 * (self.scale + abs(x) + abs(y) + radius)
+        return self.tree.query_ball_point([x, y], r)
+
+    # ------------------------------------------------------------------ balls
     def arb_ends(self, k: int):
         """(ax, ay, bx, by) as arb balls (cached; the working precision is the certificate's)."""
         v = self._arb.get(k)
@@ -141,20 +340,25 @@ class SiteTable:
             self._arb[k] = v
         return v
 
-    def near(self, x: float, y: float, radius: float) -> list[int]:
-        """Every site whose distance from (x, y) may be ≤ ``radius`` (a superset: the k-d tree
-        query is widened by the largest half-length and a rounding margin)."""
-        if self.tree is None or not np.isfinite(radius) or not (np.isfinite(x) and np.isfinite(y)):
-            return list(range(self.n))
-        r = radius + self.hmax + 1e-9 * (self.scale + abs(x) + abs(y) + radius)
-        return self.tree.query_ball_point([x, y], r)
-
     def distance(self, k: int, X: arb, Y: arb) -> arb:
-        """A ball holding the distance from every point of the box (X, Y) to the closed site k
-        (the closed segment for a segment site)."""
+        """A ball holding the distance from every point of the box (X, Y) to the closed site k."""
         ax, ay, bx, by = self.arb_ends(k)
         if self.kind[k] == POINT:
             return hypot(X - ax, Y - ay)
+        if self.kind[k] == ARC:
+            cx, cy, rho = self.arb_arc(k)
+            wx, wy = X - cx, Y - cy
+            inside = self.in_range(k, wx, wy, closed=True)
+            circle = abs(hypot(wx, wy) - rho)
+            if inside is True:
+                return circle
+            da, db = hypot(X - ax, Y - ay), hypot(X - bx, Y - by)
+            lo = da.lower() if da.lower() < db.lower() else db.lower()
+            hi = da.upper() if da.upper() < db.upper() else db.upper()
+            if inside is False:
+                return arb(lo).union(arb(hi))
+            lo = lo if lo < circle.lower() else circle.lower()
+            return arb(lo).union(arb(hi))
         dx, dy = bx - ax, by - ay
         L2 = dx * dx + dy * dy
         t = ((X - ax) * dx + (Y - ay) * dy) / L2
@@ -164,7 +368,6 @@ class SiteTable:
             return hypot(X - ax, Y - ay)
         if t >= 1:
             return hypot(X - bx, Y - by)
-        # the foot straddles an end: between the line's distance and the nearer end's
         line = abs((X - ax) * dy - (Y - ay) * dx) / L2.sqrt()
         end = hypot(X - ax, Y - ay) if t.mid() < 0.5 else hypot(X - bx, Y - by)
         return line.lower().union(end.upper())
@@ -175,127 +378,26 @@ class SiteTable:
         dx, dy = bx - ax, by - ay
         return ((X - ax) * dx + (Y - ay) * dy) / (dx * dx + dy * dy)
 
-
-def admissibility(T: SiteTable) -> list:
-    """Problems that make the sites inadmissible (module docstring); empty when admissible."""
-    out = []
-    for k in T.unsupported:
-        out.append(Problem(f"site {k}: {type(T.sites[k]).__name__} is not a point or a segment: this certificate "
-                           "proves diagrams of points and segments only", kind="site", sites=(k,), fault=False))
-    for p, q in T.repeated_points:
-        out.append(fault(f"sites {p} and {q}: the same point repeated", kind="site", sites=(p, q)))
-    seen: dict = {}
-    for k in range(T.n):
-        if T.kind[k] != SEGMENT:
-            continue
-        for end in (T.a[k], T.b[k]):
-            if end not in T.point_index:
-                out.append(fault(f"site {k}: the endpoint ({end[0]}, {end[1]}) of the segment is not a point "
-                                 "site of the diagram (every endpoint is its own site)", kind="site", sites=(k,)))
-        key = frozenset((T.a[k], T.b[k]))
-        if key in seen:
-            out.append(fault(f"sites {seen[key]} and {k}: the same segment repeated", kind="site",
-                             sites=(seen[key], k)))
-        seen.setdefault(key, k)
-    if out:
-        return out
-    try:
-        from .crossings import check_pieces
-        from ..voronoi.site_input import SiteError
-    except ImportError:                       # pragma: no cover - ships with the package
-        return [Problem("sites: the crossing check (runtime.segments.crossings) is not available", kind="site", fault=False)]
-    try:
-        check_pieces([s for s in T.sites])
-    except SiteError as exc:
-        return [fault(f"sites not admissible: {exc}", kind="site")]
-    for p, segs in T.incident.items():
-        dirs = [_out_dir(T, s, p) for s in segs]
-        for x in range(len(dirs)):
-            for y in range(x + 1, len(dirs)):
-                (ux, uy), (vx, vy) = dirs[x], dirs[y]
-                if ux * vy - uy * vx == 0 and ux * vx + uy * vy < 0:
-                    what = ("two segments meeting at 180 degrees at a point of degree 2 are one elementary "
-                            "site (merge them)") if len(segs) == 2 else \
-                        "a junction of three or more segments continues straight through (a ray equidistant from three sites)"
-                    out.append(fault(f"point site {p}: segments {segs[x]} and {segs[y]}: {what}", kind="site",
-                                     sites=(p, segs[x], segs[y])))
-    return out
-
-
-def _out_dir(T: SiteTable, s: int, p: int):
-    """The direction of segment s leaving its endpoint p (exact)."""
-    o = T.b[s] if T.ends[s][0] == p else T.a[s]
-    return (o[0] - T.a[p][0], o[1] - T.a[p][1])
-
-
-def direction_key(v) -> tuple:
-    """A rational direction up to positive scaling, as an exact hashable key."""
-    x, y = Fraction(v[0]), Fraction(v[1])
-    m = max(abs(x), abs(y))
-    return (x / m, y / m) if m else (Fraction(0), Fraction(0))
-
-
-def _cross(o, a, b) -> Fraction:
-    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-
-
-def _hull(pts: list) -> list:
-    """Strict convex hull (no collinear points), counter-clockwise, exact (Andrew's monotone chain)."""
-    pts = sorted(set(pts))
-    if len(pts) <= 2:
-        return pts
-    lower: list = []
-    for p in pts:
-        while len(lower) >= 2 and _cross(lower[-2], lower[-1], p) <= 0:
-            lower.pop()
-        lower.append(p)
-    upper: list = []
-    for p in reversed(pts):
-        while len(upper) >= 2 and _cross(upper[-2], upper[-1], p) <= 0:
-            upper.pop()
-        upper.append(p)
-    return lower[:-1] + upper[:-1]
-
-
-def expected_infinite_ends(T: SiteTable) -> list[tuple[tuple[int, int], tuple]]:
-    """The (sorted site pair, direction key) of every unbounded end of the true diagram (module
-    docstring), with multiplicity."""
-    pts = list(T.point_index)
-    if len(pts) < 2:
-        return []
-    hull = _hull(pts)
-    if len(hull) == 2:                       # all sites on one line: both sides
-        p, q = hull
-        d = (q[0] - p[0], q[1] - p[1])
-        sides = [(p, q, (d[1], -d[0])), (p, q, (-d[1], d[0]))]
-    else:
-        sides = []
-        for m in range(len(hull)):
-            p, q = hull[m], hull[(m + 1) % len(hull)]
-            sides.append((p, q, (q[1] - p[1], -(q[0] - p[0]))))
-    P = np.array([[float(x), float(y)] for x, y in pts])
-    keys = list(T.point_index.values())
-    out = []
-    for p, q, u in sides:
-        d = (q[0] - p[0], q[1] - p[1])
-        # float filter: points clearly off the side's line are skipped; the rest decided exactly
-        fd = np.array([float(d[0]), float(d[1])])
-        cr = (P[:, 0] - float(p[0])) * fd[1] - (P[:, 1] - float(p[1])) * fd[0]
-        mag = (np.abs(P).max(axis=1) + abs(float(p[0])) + abs(float(p[1])) + 1.0) * (np.abs(fd).max() + 1.0)
-        cand = np.nonzero(np.abs(cr) <= 1e-9 * mag)[0]
-        on = []
-        for c in cand:
-            x = pts[c]
-            if _cross(p, q, x) == 0:
-                s = (x[0] - p[0]) * d[0] + (x[1] - p[1]) * d[1]
-                on.append((s, keys[c]))
-        on.sort()
-        key = direction_key(u)
-        for (_, k0), (_, k1) in zip(on, on[1:]):
-            seg = T.segment_of.get(frozenset((k0, k1)))
-            if seg is None:
-                out.append((tuple(sorted((k0, k1))), key))
-            else:
-                out.append((tuple(sorted((k0, seg))), key))
-                out.append((tuple(sorted((seg, k1))), key))
-    return out
+    def owned_by_end(self, k: int, e: int, X: arb, Y: arb):
+        """Curve k's nearest point to every point of the box is its end e alone (the tie then
+        belongs to e): True / False / None.  Segment: the foot beyond e (or at e); arc: the
+        direction from the centre in the half of the gap next to e."""
+        if self.kind[k] == SEGMENT:
+            u = self.foot(k, X, Y)
+            if self.end_index(k, e) == 0:
+                return True if u <= 0 else (False if u > 0 else None)
+            return True if u >= 1 else (False if u < 1 else None)
+        cx, cy, _ = self.arb_arc(k)
+        wx, wy = X - cx, Y - cy
+        g = self.arc_mid(k)
+        gx, gy = -to_arb(g[0]), -to_arb(g[1])
+        ex, ey = (to_arb(v - c) for v, c in zip(self.pt(e), self.cen[k]))
+        if self.end_index(k, e) == 0:             # from the gap's middle counter-clockwise to a
+            p, q = gx * wy - gy * wx, wx * ey - wy * ex
+        else:                                     # from b counter-clockwise to the gap's middle
+            p, q = ex * wy - ey * wx, wx * gy - wy * gx
+        if p > 0 and q > 0:
+            return True
+        if p < 0 or q < 0:
+            return False
+        return None

@@ -1,43 +1,38 @@
-"""Vertex proofs of the point/segment certificate (step 2 of :mod:`runtime.segments.certificate`),
-independent of the construction's vertex code.
+"""Vertex proofs of the point/segment/arc certificate (step 2 of
+:mod:`runtime.segments.certificate`), independent of the construction's vertex code.
 
 A reported vertex v (sites s_0 … s_{k−1}, position, radius) is proved as follows.
 
-* **Corner** (the closures of all listed sites share a point site c): v = c exactly, radius 0.
-  The sites at distance 0 from c are c and the segments ending at c; the listed sites must be
-  exactly those segments sorted counter-clockwise by their exact directions (half-plane and
-  cross-product comparisons of rationals), with c inserted between the two segments bounding the
-  reflex angle (> 180°) when there is one.  Emptiness is admissibility: no other site contains c.
+* **Corner** (the closures of all listed sites share a point site) and **arc centre** (a listed
+  arc whose centre is the reported position): decided exactly in rationals
+  (:mod:`runtime.segments.certificate_corners`).
 * **k = 3**: each listed site contributes a *touching-type* distance: |v − p| for a point, the
   signed distance σ·ℓ(v) to the line of a segment touched in its interior (σ: the side of the
-  reported position), and for a segment s whose endpoint e is also listed the circle touches s at
-  e, so v lies on the perpendicular to s at e: the equation (b − a)·(v − e) = 0 (a circle through e
-  tangent to the line of s elsewhere would meet that line twice).  The k − 1 = 2 equations
-  (perpendiculars, and d_{D0} − d_{Dj} over the distance-carrying sites) in (x, y) are solved by
-  float Newton from the reported position and proved by Krawczyk
-  (:func:`runtime.certify.interval_newton.krawczyk_inflation`) at 128 bits: one zero in a small
-  box K, r = d_{D0}(K).  It is a vertex of the three sites when r > 0 and the foot parameter of
-  every interior contact is in (0, 1) (then the line's distance is the closed segment's).
-* **k > 3**: three sites whose equations (|v − p|² = r², a x + b y + c = σ r √(a² + b²), the
-  perpendicular) have a regular Jacobian at the report are solved in closed form by sympy; the
-  solution near the report is enclosed in arb from its radicals, and every other listed site's
-  equation is proved to vanish exactly (``sympy.minimal_polynomial(residual) == z``).
+  reported position), σ (|v − c| − ρ) for an arc touched in its interior (σ = +1 outside its
+  circle, −1 inside), and for a curve s whose end e is also listed (or whose smooth-joint partner
+  is listed, e the joint) the circle touches s at e, so v lies on the normal line of s at e: the
+  equation t·(v − e) = 0, t the tangent of s at e (a circle through e tangent to s elsewhere would
+  meet it twice); of the two curves of a joint one carries the distance |v − e|, the other the
+  normal line.  The k − 1 = 2 equations (normal lines, and d_{D0} − d_{Dj} over the
+  distance-carrying sites) in (x, y) are solved by float Newton from the reported position and
+  proved by Krawczyk (:func:`runtime.certify.interval_newton.krawczyk_inflation`) at 128 bits: one
+  zero in a small box K, r = d_{D0}(K).  It is a vertex of the sites when r > 0, the foot of every
+  segment touched inside is in (0, 1), the direction from the centre of every arc touched inside is
+  in its open range (then the circle's distance is the arc's), and v lies on the ray from an arc's
+  centre through its end e when the arc is touched at e ((e − c)·(v − c) > 0).
+* **k > 3**: three sites whose equations (|v − p|² = r², a x + b y + c = σ r √(a² + b²),
+  |v − c|² = (ρ + σ r)², the normal lines) have a regular Jacobian at the report are solved in
+  closed form by sympy; the solution near the report is enclosed in arb from its radicals, and
+  every other listed site's equation is proved to vanish exactly
+  (:mod:`runtime.segments.certificate_exact`); the same contact conditions follow.
 * The reported position and radius are within :data:`VERTEX_TOL`·(1 + |x| + |y| + r) of the proved
-  ones, and the contacts are counter-clockwise in the listed order: the counter-clockwise angles
-  between consecutive contact points are enclosed in (0, 2π) and their sum (a multiple of 2π) is
-  below 4π.  A segment touched at its listed endpoint e has e's contact point; for k ≥ 4 the pair
-  is ordered as s just after e when s leaves e counter-clockwise around v.
-* **Emptiness**: every other site is strictly farther than r (rigorous
-  :meth:`runtime.segments.certificate_sites.SiteTable.distance` lower bound above the radius; sites far from v
-  are excluded by a k-d tree over bounding discs and a float filter with rounding margins), except
-  a segment with a listed endpoint e, which is always within r of v: its foot on it must be clamped
-  strictly beyond e (then its distance is e's and the tie is e's by convention).
+  ones, the contacts turn counter-clockwise in the listed order and the circle is empty
+  (:mod:`runtime.segments.certificate_contacts`).
 
 Public API: :class:`VertexProof`, :func:`prove_vertices`, :data:`VERTEX_TOL`.
 """
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass
 
@@ -46,11 +41,12 @@ from flint import arb, fmpq
 
 from ..certify.interval_newton import KrawczykFailure, krawczyk_inflation
 from ..voronoi.verify.problems import Problem, fault
+from .certificate_contacts import ccw, empty
+from .certificate_corners import prove_arc_centre, prove_corner
 from .certificate_exact import exact_vertex
-from .certificate_sites import POINT, SEGMENT, SiteTable, hypot
-from .distance import distances, float_error
+from .certificate_sites import ARC, POINT, SEGMENT, SiteTable, hypot
 
-__all__ = ["VertexProof", "prove_vertices", "VERTEX_TOL", "exact_direction_order"]
+__all__ = ["VertexProof", "prove_vertices", "VERTEX_TOL"]
 
 #: reported vertex positions and radii must be this close (relative) to the proved ones
 VERTEX_TOL = 1e-10
@@ -59,7 +55,8 @@ VERTEX_TOL = 1e-10
 @dataclass
 class VertexProof:
     """``ok``: the vertex is proved; ``x``, ``y``, ``r``: arb enclosures of the exact vertex;
-    ``corner``: the point site at a radius-0 vertex; ``listed``: its sites."""
+    ``corner``: the point site at a radius-0 vertex; ``listed``: its sites; ``centre_of``: the arc
+    whose centre it is."""
 
     ok: bool
     x: arb | None = None
@@ -67,6 +64,7 @@ class VertexProof:
     r: arb | None = None
     corner: int | None = None
     listed: frozenset = frozenset()
+    centre_of: int | None = None
 
 
 def prove_vertices(D, T: SiteTable, problems: list) -> list[VertexProof]:
@@ -103,128 +101,99 @@ def _prove(T: SiteTable, v, problems) -> VertexProof:
         return VertexProof(False)
     if not all(math.isfinite(float(t)) for t in (v.x, v.y, v.radius)):
         return VertexProof(False)
-    if any(T.kind[s] is None or (T.kind[s] == SEGMENT and T.ends[s] is None) for s in sites):
+    if any(T.kind[s] is None or (T.is_curve(s) and T.ends[s] is None) for s in sites):
         return VertexProof(False)
     common = None
     for s in sites:
-        pts = {s} if T.kind[s] == POINT else set(T.ends[s])
+        pts = {s} if T.kind[s] == POINT else {e for e in T.ends[s] if e >= 0}
         common = pts if common is None else common & pts
     if common:
-        return _corner(T, v, sites, next(iter(common)), problems)
+        return prove_corner(T, v, sites, next(iter(common)), problems, _tol(v), name, VertexProof)
+    scale = 1.0 + abs(float(v.x)) + abs(float(v.y)) + abs(float(v.radius))
+    for s in sites:
+        if T.kind[s] == ARC:
+            c = T.C[s]
+            if abs(float(v.x) - c[0]) + abs(float(v.y) - c[1]) <= 1e-6 * scale:
+                pr = prove_arc_centre(T, v, sites, s, problems, _tol(v), name, VertexProof)
+                if pr.ok:
+                    pr.centre_of = s
+                return pr
     return _general(T, v, sites, problems)
 
 
-# ------------------------------------------------------------------------------------ corners
-def _half(d) -> int:
-    return 0 if (d[1] > 0 or (d[1] == 0 and d[0] > 0)) else 1
-
-
-def _cmp(d, e) -> int:
-    h, g = _half(d), _half(e)
-    if h != g:
-        return h - g
-    c = d[0] * e[1] - d[1] * e[0]
-    return -1 if c > 0 else (1 if c < 0 else 0)
-
-
-def exact_direction_order(T: SiteTable, c: int) -> list:
-    """The corner list of point site c: its segments counter-clockwise by exact direction, c
-    inserted in the reflex gap (> 180°) if there is one."""
-    segs = list(T.incident[c])
-    pc = T.a[c]
-
-    def out_dir(s):
-        o = T.b[s] if T.ends[s][0] == c else T.a[s]
-        return (o[0] - pc[0], o[1] - pc[1])
-
-    order = sorted(segs, key=functools.cmp_to_key(lambda s, t: _cmp(out_dir(s), out_dir(t))))
-    m = len(order)
-    if m == 1:
-        return order + [c]
-    for t in range(m):
-        d, e = out_dir(order[t]), out_dir(order[(t + 1) % m])
-        if d[0] * e[1] - d[1] * e[0] < 0:
-            return order[:t + 1] + [c] + order[t + 1:]
-    return order
-
-
-def _same_cycle(a, b) -> bool:
-    if len(a) != len(b) or set(a) != set(b):
-        return False
-    m = list(b).index(a[0])
-    return list(a) == list(b[m:]) + list(b[:m])
-
-
-def _corner(T: SiteTable, v, sites, c, problems) -> VertexProof:
-    name = _name(v)
-    want = exact_direction_order(T, c)
-    if set(sites) != set(want):
-        problems.append(fault(f"{name}: the sites at distance 0 from the corner point site {c} are "
-                              f"{sorted(want)}, the vertex lists {sorted(sites)}", kind="vertex", vertex=v.id,
-                              sites=sites))
-        return VertexProof(False)
-    if not _same_cycle(sites, want):
-        problems.append(fault(f"{name}: the sites of the corner {c} are not listed counter-clockwise "
-                              f"(expected the cyclic order {tuple(want)})", kind="vertex", vertex=v.id, sites=sites))
-        return VertexProof(False)
-    x, y = T.a[c]
-    tol = _tol(v)
-    if not (abs(float(v.x) - float(x)) <= tol and abs(float(v.y) - float(y)) <= tol and abs(float(v.radius)) <= tol):
-        problems.append(fault(f"{name}: the corner vertex is the point site {c} at ({x}, {y}) with radius 0, "
-                              f"reported at ({v.x!r}, {v.y!r}) with radius {v.radius!r}", kind="vertex",
-                              vertex=v.id, sites=sites))
-        return VertexProof(False)
-    return VertexProof(True, T.arb_ends(c)[0], T.arb_ends(c)[1], arb(0), c, frozenset(sites))
-
-
-# ------------------------------------------------------------------------------------ general
+# ------------------------------------------------------------------------------------ terms
 def _terms(T: SiteTable, sites, xr, yr):
-    """Per listed site: ("pt", px, py) | ("ln", nx, ny, c, σ) | ("pp", dx, dy, ex, ey, e, s) with
-    exact Fractions; None when a segment lists both its endpoints or σ is undecided."""
-    out = []
+    """Per listed site: ("pt", px, py, joint) | ("ln", nx, ny, c, σ) | ("arc", cx, cy, ρ, σ) |
+    ("pp", tx, ty, ex, ey, e, s) with exact Fractions (joint: (code, curve) when the point is a
+    smooth joint carrying curve's distance); None when a curve lists both its ends or a side is
+    undecided."""
     listed = set(sites)
+    partner: dict = {}
+    for s in sites:
+        if T.is_curve(s):
+            for code in T.ends[s]:
+                if code <= -2 and any(o in listed and o != s for o in T.joint_curves(code)):
+                    partner.setdefault(s, []).append(code)
+    out = []
     for s in sites:
         if T.kind[s] == POINT:
-            out.append(("pt",) + T.a[s])
+            out.append(("pt",) + T.a[s] + (None,))
             continue
-        ends = [e for e in T.ends[s] if e in listed]
-        (ax, ay), (bx, by) = T.a[s], T.b[s]
+        ends = [e for e in T.ends[s] if e >= 0 and e in listed] + partner.get(s, [])
         if len(ends) == 2:
             return None
         if ends:
-            ex, ey = T.a[ends[0]]
-            out.append(("pp", bx - ax, by - ay, ex, ey, ends[0], s))
+            e = ends[0]
+            if e <= -2 and s == min(T.joint_curves(e)):
+                out.append(("pt",) + T.pt(e) + ((e, s),))
+            else:
+                t = T.leaving(s, e)
+                out.append(("pp", t[0], t[1]) + T.pt(e) + (e, s))
             continue
-        nx, ny = -(by - ay), bx - ax
-        c = -(nx * ax + ny * ay)
-        side = float(nx) * xr + float(ny) * yr + float(c)
-        if side == 0:
-            return None
-        out.append(("ln", nx, ny, c, 1 if side > 0 else -1))
+        if T.kind[s] == SEGMENT:
+            (ax, ay), (bx, by) = T.a[s], T.b[s]
+            nx, ny = -(by - ay), bx - ax
+            c = -(nx * ax + ny * ay)
+            side = float(nx) * xr + float(ny) * yr + float(c)
+            if side == 0:
+                return None
+            out.append(("ln", nx, ny, c, 1 if side > 0 else -1))
+        else:
+            (cx, cy), rho = T.cen[s], T.rad[s]
+            d = math.hypot(xr - float(cx), yr - float(cy)) - float(rho)
+            if d == 0:
+                return None
+            out.append(("arc", cx, cy, rho, 1 if d > 0 else -1))
     return out
 
 
 def _value(term, x, y, num):
-    """The touching-type distance (or the perpendicular's residual) at (x, y); ``num`` converts
+    """The touching-type distance (or the normal line's residual) at (x, y); ``num`` converts
     exact coefficients (float or arb)."""
+    fl = num is float
     if term[0] == "pt":
-        return math.hypot(x - num(term[1]), y - num(term[2])) if num is float else \
-            hypot(x - num(term[1]), y - num(term[2]))
+        return math.hypot(x - num(term[1]), y - num(term[2])) if fl else hypot(x - num(term[1]), y - num(term[2]))
     if term[0] == "ln":
         nx, ny, c, sg = num(term[1]), num(term[2]), num(term[3]), term[4]
-        nn = (nx * nx + ny * ny) ** 0.5 if num is float else (nx * nx + ny * ny).sqrt()
+        nn = (nx * nx + ny * ny) ** 0.5 if fl else (nx * nx + ny * ny).sqrt()
         return sg * (nx * x + ny * y + c) / nn
+    if term[0] == "arc":
+        dx, dy = x - num(term[1]), y - num(term[2])
+        d = math.hypot(dx, dy) if fl else hypot(dx, dy)
+        return term[4] * (d - num(term[3]))
     return num(term[1]) * (x - num(term[3])) + num(term[2]) * (y - num(term[4]))
 
 
 def _grad(term, x, y, num):
-    if term[0] == "pt":
+    fl = num is float
+    if term[0] in ("pt", "arc"):
         dx, dy = x - num(term[1]), y - num(term[2])
-        d = math.hypot(dx, dy) if num is float else hypot(dx, dy)
-        return dx / d, dy / d
+        d = math.hypot(dx, dy) if fl else hypot(dx, dy)
+        sg = term[4] if term[0] == "arc" else 1
+        return sg * dx / d, sg * dy / d
     if term[0] == "ln":
         nx, ny, sg = num(term[1]), num(term[2]), term[4]
-        nn = (nx * nx + ny * ny) ** 0.5 if num is float else (nx * nx + ny * ny).sqrt()
+        nn = (nx * nx + ny * ny) ** 0.5 if fl else (nx * nx + ny * ny).sqrt()
         return sg * nx / nn, sg * ny / nn
     return num(term[1]), num(term[2])
 
@@ -234,7 +203,7 @@ def _arbq(q):
 
 
 def _system(terms, num):
-    """F, J of the k − 1 equations: perpendiculars, then d_{D0} − d_{Dj}."""
+    """F, J of the k − 1 equations: normal lines, then d_{D0} − d_{Dj}."""
     perps = [t for t in terms if t[0] == "pp"]
     dist = [t for t in terms if t[0] != "pp"]
 
@@ -255,13 +224,14 @@ def _system(terms, num):
     return F, J, dist[0]
 
 
+# ------------------------------------------------------------------------------------ general
 def _general(T: SiteTable, v, sites, problems) -> VertexProof:
     name = _name(v)
     xr, yr = float(v.x), float(v.y)
     terms = _terms(T, sites, xr, yr)
     if terms is None or not any(t[0] != "pp" for t in terms):
-        problems.append(fault(f"{name}: no circle of positive radius touches these sites there (a segment and "
-                              "both its endpoints, or a site through the reported centre)", kind="vertex",
+        problems.append(fault(f"{name}: no circle of positive radius touches these sites there (a curve and "
+                              "both its ends, or a site through the reported centre)", kind="vertex",
                               vertex=v.id, sites=sites))
         return VertexProof(False)
     if len(sites) == 3:
@@ -284,27 +254,53 @@ def _general(T: SiteTable, v, sites, problems) -> VertexProof:
         problems.append(fault(f"{name}: the equidistant point has no positive radius", kind="vertex", vertex=v.id,
                               sites=sites))
         return VertexProof(False)
-    for s, t in zip(sites, terms):
-        if t[0] == "ln":
-            u = T.foot(s, X, Y)
-            if not (u > 0 and u < 1):
-                what = "outside" if (u < 0 or u > 1) else "at an end of"
-                problems.append(fault(f"{name}: the circle touches the line of segment {s} {what} the segment",
-                                      kind="vertex", vertex=v.id, sites=sites))
-                return VertexProof(False)
+    msg = _contacts_valid(T, sites, terms, X, Y, R)
+    if msg is not None:
+        problems.append(fault(f"{name}: {msg}", kind="vertex", vertex=v.id, sites=sites))
+        return VertexProof(False)
     tol = _tol(v)
     if not ((X - xr).abs_upper() <= tol and (Y - yr).abs_upper() <= tol and (R - float(v.radius)).abs_upper() <= tol):
         problems.append(fault(f"{name}: the proved vertex is at ({float(X.mid())!r}, {float(Y.mid())!r}) radius "
                               f"{float(R.mid())!r}, reported at ({xr!r}, {yr!r}) radius {float(v.radius)!r}",
                               kind="vertex", vertex=v.id, sites=sites))
         return VertexProof(False)
-    if not _ccw(T, sites, terms, X, Y):
+    if not ccw(T, sites, terms, X, Y):
         problems.append(fault(f"{name}: the sites are not listed counter-clockwise by their contact points",
                               kind="vertex", vertex=v.id, sites=sites))
         return VertexProof(False)
-    if not _empty(T, v, sites, X, Y, R, problems):
+    if not empty(T, v, sites, X, Y, R, problems, name):
         return VertexProof(False)
     return VertexProof(True, X, Y, R, None, frozenset(sites))
+
+
+def _contacts_valid(T: SiteTable, sites, terms, X, Y, R):
+    """None when every contact is where its equation says (module docstring), else a message."""
+    for s, t in zip(sites, terms):
+        if t[0] == "ln":
+            u = T.foot(s, X, Y)
+            if not (u > 0 and u < 1):
+                what = "outside" if (u < 0 or u > 1) else "at an end of"
+                return f"the circle touches the line of segment {s} {what} the segment"
+        elif t[0] == "arc":
+            cx, cy, rho = T.arb_arc(s)
+            inr = T.in_range(s, X - cx, Y - cy)
+            if inr is not True or not (rho + t[4] * R > 0):
+                what = "outside" if inr is False else "at an end of"
+                return f"the circle touches the circle of arc {s} {what} the arc"
+        if T.kind[s] == ARC and (t[0] == "pp" or (t[0] == "pt" and t[3] is not None)):
+            e = t[5] if t[0] == "pp" else t[3][0]
+            cx, cy, _ = T.arb_arc(s)
+            ex, ey = T.pt_arb(e)
+            if not ((ex - cx) * (X - cx) + (ey - cy) * (Y - cy) > 0):
+                return f"the vertex is not on the ray from the centre of arc {s} through its end {e}"
+        if t[0] == "pt" and t[3] is not None:
+            other = [o for o in T.joint_curves(t[3][0]) if o != s][0]
+            if T.kind[other] == ARC:
+                cx, cy, _ = T.arb_arc(other)
+                ex, ey = T.pt_arb(t[3][0])
+                if not ((ex - cx) * (X - cx) + (ey - cy) * (Y - cy) > 0):
+                    return f"the vertex is not on the ray from the centre of arc {other} through its joint"
+    return None
 
 
 def _krawczyk(terms, xr, yr):
@@ -331,87 +327,3 @@ def _krawczyk(terms, xr, yr):
     except (KrawczykFailure, ZeroDivisionError, ValueError):
         return None
     return K[0], K[1]
-
-
-# ------------------------------------------------------------------------------------ order
-def _ccw(T: SiteTable, sites, terms, X, Y) -> bool:
-    k = len(sites)
-    C = []
-    for s, t in zip(sites, terms):
-        ax, ay, bx, by = T.arb_ends(s)
-        if t[0] == "pt":
-            C.append((ax, ay, None))
-        elif t[0] == "ln":
-            u = T.foot(s, X, Y)
-            C.append((ax + u * (bx - ax), ay + u * (by - ay), None))
-        else:
-            e = t[5]
-            ex, ey = T.arb_ends(e)[:2]
-            o = T.ends[s][1] if T.ends[s][0] == e else T.ends[s][0]
-            ox, oy = T.arb_ends(o)[:2]
-            C.append((ex, ey, (e, ox - ex, oy - ey)))
-    total = arb(0)
-    two_pi = 2 * arb.pi()
-    for m in range(k):
-        s, s2 = sites[m], sites[(m + 1) % k]
-        c, c2 = C[m], C[(m + 1) % k]
-        tie = (c[2] is not None and c[2][0] == s2) or (c2[2] is not None and c2[2][0] == s)
-        if tie:
-            if k >= 4:
-                seg_first = c[2] is not None and c[2][0] == s2
-                ex, ey, (e, ox, oy) = (c if seg_first else c2)
-                cr = (ex - X) * oy - (ey - Y) * ox
-                if not ((cr < 0) if seg_first else (cr > 0)):
-                    return False
-            continue
-        ux, uy, vx, vy = c[0] - X, c[1] - Y, c2[0] - X, c2[1] - Y
-        cr = ux * vy - uy * vx
-        dt = ux * vx + uy * vy
-        if cr > 0:
-            total += arb.atan2(cr, dt)
-        elif cr < 0:
-            total += arb.atan2(cr, dt) + two_pi
-        elif dt < 0:
-            total += arb.pi() + (cr / dt).atan()
-        else:
-            return False
-    return bool(total < 2 * two_pi)
-
-
-# ------------------------------------------------------------------------------------ emptiness
-def _empty(T: SiteTable, v, sites, X, Y, R, problems) -> bool:
-    listed = set(sites)
-    name = _name(v)
-    cx, cy = float(X.mid()), float(Y.mid())
-    rad = float(X.rad()) + float(Y.rad())
-    r_hi = float(R.upper())
-    cand = [k for k in T.near(cx, cy, r_hi + 2 * rad) if k not in listed]
-    if not cand:
-        return True
-    cand = np.array(cand, dtype=int)
-    Q = np.repeat([[cx, cy]], len(cand), axis=0)
-    d, _ = distances(T.A[cand], T.B[cand], Q)
-    err = float_error(T.A[cand], T.B[cand], Q) + 8 * np.finfo(float).eps * T.scale
-    clear = d - err - 2 * rad > r_hi * (1 + 1e-12) + 1e-300
-    ok = True
-    for k, c in zip(cand.tolist(), clear.tolist()):
-        if c:
-            continue
-        if T.kind[k] == SEGMENT:
-            le = [e for e in T.ends[k] if e in listed]
-            if le:
-                u = T.foot(k, X, Y)
-                good = len(le) == 1 and ((u < 0) if T.ends[k][0] == le[0] else (u > 1))
-                if not good:
-                    problems.append(fault(f"{name}: segment {k} is closer than the radius (its nearest point is "
-                                          f"not its listed endpoint {le[0]}), or too close to decide",
-                                          kind="vertex", vertex=v.id, sites=tuple(sites) + (k,)))
-                    ok = False
-                continue
-        dk = T.distance(k, X, Y)
-        if not dk > R:
-            what = "inside the circle" if dk < R else "too close to decide (on the circle?)"
-            problems.append(fault(f"{name}: site {k} is {what}", kind="vertex", vertex=v.id,
-                                  sites=tuple(sites) + (k,)))
-            ok = False
-    return ok

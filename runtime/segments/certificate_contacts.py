@@ -1,0 +1,123 @@
+"""Contact order and emptiness of a proved vertex (step 2 of :mod:`runtime.segments.certificate`).
+
+**Order**: the contact point of each listed site seen from the vertex — a point, the foot on a
+segment, c + ρ (v − c)/|v − c| on an arc, the end e (or smooth joint) where a curve touches at
+its end — must turn once counter-clockwise in the listed order (the angles between consecutive
+contacts, each in (0, 2π), sum to 2π).  Two consecutive sites sharing a contact (an end and its
+curve, the two curves of a joint) are ordered by the side the curve leaves the contact to (after
+when it leaves counter-clockwise around the vertex); for k = 3 every pair is consecutive anyway.
+
+**Emptiness**: every other site is strictly farther than the radius (rigorous balls after a k-d
+tree and a float filter), except a curve ending at a listed point e whose nearest point is e
+alone, strictly beyond it (the foot beyond e, an arc's direction in the half of its gap next to
+e): the tie is e's.
+
+Public API: :func:`ccw`, :func:`empty`.
+"""
+from __future__ import annotations
+
+import numpy as np
+from flint import arb
+
+from ..certify.foot import to_arb
+from ..voronoi.verify.problems import fault
+from .certificate_sites import ARC, SEGMENT, SiteTable, hypot
+
+__all__ = ["ccw", "empty"]
+
+
+def _contacts(T: SiteTable, sites, terms, X, Y):
+    """Per listed site: (x, y, tie key, leaving direction or None)."""
+    out = []
+    for s, t in zip(sites, terms):
+        if t[0] == "pt":
+            if t[3] is None:
+                ax, ay = T.arb_ends(s)[:2]
+                out.append((ax, ay, s, None))
+            else:
+                code, curve = t[3]
+                jx, jy = T.pt_arb(code)
+                out.append((jx, jy, code, T.leaving(curve, code)))
+        elif t[0] == "ln":
+            ax, ay, bx, by = T.arb_ends(s)
+            u = T.foot(s, X, Y)
+            out.append((ax + u * (bx - ax), ay + u * (by - ay), None, None))
+        elif t[0] == "arc":
+            cx, cy, rho = T.arb_arc(s)
+            wx, wy = X - cx, Y - cy
+            n = hypot(wx, wy)
+            out.append((cx + rho * wx / n, cy + rho * wy / n, None, None))
+        else:
+            e = t[5]
+            ex, ey = T.pt_arb(e)
+            out.append((ex, ey, e, T.leaving(s, e)))
+    return out
+
+
+def ccw(T: SiteTable, sites, terms, X, Y) -> bool:
+    k = len(sites)
+    C = _contacts(T, sites, terms, X, Y)
+    total = arb(0)
+    two_pi = 2 * arb.pi()
+    for m in range(k):
+        c, c2 = C[m], C[(m + 1) % k]
+        if c[2] is not None and c[2] == c2[2]:
+            if k >= 4:
+                side = []
+                for d in (c, c2):
+                    if d[3] is None:
+                        side.append(0)
+                        continue
+                    lx, ly = to_arb(d[3][0]), to_arb(d[3][1])
+                    cr = (d[0] - X) * ly - (d[1] - Y) * lx
+                    side.append(1 if cr > 0 else (-1 if cr < 0 else None))
+                if None in side or not side[0] < side[1]:
+                    return False
+            continue
+        ux, uy, vx, vy = c[0] - X, c[1] - Y, c2[0] - X, c2[1] - Y
+        cr = ux * vy - uy * vx
+        dt = ux * vx + uy * vy
+        if cr > 0:
+            total += arb.atan2(cr, dt)
+        elif cr < 0:
+            total += arb.atan2(cr, dt) + two_pi
+        elif dt < 0:
+            total += arb.pi() + (cr / dt).atan()
+        else:
+            return False
+    return bool(total < 2 * two_pi)
+
+
+def empty(T: SiteTable, v, sites, X, Y, R, problems, name: str) -> bool:
+    listed = set(sites)
+    cx, cy = float(X.mid()), float(Y.mid())
+    rad = float(X.rad()) + float(Y.rad())
+    r_hi = float(R.upper())
+    cand = [k for k in T.near(cx, cy, r_hi + 2 * rad) if k not in listed]
+    if not cand:
+        return True
+    cand = np.array(cand, dtype=int)
+    Q = np.repeat([[cx, cy]], len(cand), axis=0)
+    lo, _ = T.float_bounds(cand, Q)
+    clear = lo - 2 * rad > r_hi * (1 + 1e-12) + 1e-300
+    ok = True
+    for k, c in zip(cand.tolist(), clear.tolist()):
+        if c:
+            continue
+        if T.kind[k] in (SEGMENT, ARC):
+            le = [e for e in T.ends[k] if e >= 0 and e in listed]
+            if le:
+                good = len(le) == 1 and T.owned_by_end(k, le[0], X, Y) is True
+                if not good:
+                    problems.append(fault(f"{name}: curve {k} is closer than the radius (its nearest point is "
+                                          f"not its listed endpoint {le[0]} alone), or too close to decide",
+                                          kind="vertex", vertex=v.id, sites=tuple(sites) + (k,)))
+                    ok = False
+                continue
+        dk = T.distance(k, X, Y)
+        if not dk > R:
+            what = "inside the circle" if dk < R else "too close to decide (on the circle?)"
+            problems.append(fault(f"{name}: site {k} is {what}", kind="vertex", vertex=v.id,
+                                  sites=tuple(sites) + (k,)))
+            ok = False
+    return ok

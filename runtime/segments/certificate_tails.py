@@ -1,0 +1,244 @@
+"""Infinite ends of an arc's bisector (the hyperbola-like branch of an arc s and a point p, or of
+two arcs, outside their circles), proved up to the pole (for
+:mod:`runtime.segments.certificate_edges`).
+
+The branch is x(θ) = c + (ρ + t) u(φ), φ = α + θ, t = N/Δ (:mod:`runtime.segments.
+certificate_arcs`), for θ between a start θ_S and the pole θ∞ where Δ vanishes; a = u(φ∞) is its
+asymptotic direction.  With δ = φ − φ∞ and φ_m = (φ + φ∞)/2, u(φ) − a = 2 sin(δ/2) u^⊥(φ_m) and
+Δ = 2 sin(δ/2) E with E = d₁·u^⊥(φ_m): every quantity below is a smooth function on the compact
+interval [θ_S, θ∞] (θ∞ an arb ball) and is bounded there by interval arithmetic (with subdivision).
+
+1. **t > 0 up to the pole**: 1/t = 2 sin(δ/2) E/N, sin(δ/2) has the sign of θ − θ∞, so
+   (θ∞ − θ)-sign · E/N > 0 on the interval.
+2. **Every other site k farther** (the support witness): for any unit vector u,
+   d_k(x) ≥ u·x − h_k(u) (h_k the support of k), and u(φ)·x = u·c + ρ + t; so
+   d_k − t ≥ G_k(θ) = u·c + ρ − h_k(u(φ)) with h_k ≤ the support of a point, a segment's ends, an
+   arc's circle (its ends' when the directions miss its open range).  G_k > 0 on [θ_S, θ∞] for
+   every k whose support at a is below the arc's.  A site tying at a (on the asymptote's support
+   line) is handled exactly: a point q with (c − q)·a + ρ = 0 (q on the tangent from p: rationals
+   and squares) has G_q = 2 sin(δ/2) (c − q)·u^⊥(φ_m), proved of the right sign; otherwise, for a
+   point partner p, d_q > d_p ⟺ (x − (p + q)/2)·(p − q) > 0, which is
+   (c − m)·(p − q) + ρ u·(p − q) + N u^⊥(φ_m)·(p − q)/E (q and p on one support line); ties of arcs
+   and of two arcs' branches are a limit.
+3. **Conditions** (R2 for curves ending at p, an arc partner's range) are linear g·x + g₀ > 0;
+   times 1/t > 0 they are (g·c + g₀ + ρ g·u)/t + g·u, smooth up to the pole (g·a > 0 needed).
+
+The start θ_S moves towards the pole (halving) until all of this is proved; the finite part is
+proved with the pieces.  The end's key is ("tangent", sign) of :func:`runtime.segments.
+certificate_hull.tangent_sign` at a.
+
+Public API: :func:`arc_tail`, :func:`arc_pole`.
+"""
+from __future__ import annotations
+
+from flint import arb
+
+from ..certify.foot import to_arb
+from .certificate_curves import down, up
+from .certificate_hull import tangent_sign
+from .certificate_rules import range_lines
+from .certificate_sites import ARC, POINT, SEGMENT
+
+__all__ = ["arc_tail", "arc_pole"]
+
+DEPTH = 10
+
+
+def arc_pole(c, theta_fin, sg: int, other=None):
+    """The pole reached from θ_fin going the way sg (θ_fin None: the pole of that side), or None."""
+    poles = [p for p in c.poles() if p > 0 and p < c.beta or p.overlaps(c.beta) or p.overlaps(arb(0))]
+    if theta_fin is not None:
+        poles = [p for p in poles if (p > theta_fin if sg > 0 else p < theta_fin)]
+    if not poles:
+        return None
+    poles.sort(key=lambda p: float(p.mid()))
+    return poles[0] if sg > 0 else poles[-1]
+
+
+def _positive(fn, J: arb, depth: int = DEPTH) -> bool:
+    """fn(ball) > 0 on the parameter ball J (bisection)."""
+    stack = [(J, 0)]
+    while stack:
+        K, d = stack.pop()
+        v = fn(K)
+        if v > 0:
+            continue
+        if d >= depth:
+            return False
+        lo, hi = K.lower(), K.upper()
+        m = (lo + hi) / 2
+        stack.append((arb(lo).union(arb(m)), d + 1))
+        stack.append((arb(m).union(arb(hi)), d + 1))
+    return True
+
+
+class _Branch:
+    """Smooth pieces of the branch near its pole (module docstring)."""
+
+    def __init__(self, c, pole, sg):
+        self.c, self.pole, self.sg = c, pole, sg
+        self.phi_inf = c.alpha + pole
+
+    def parts(self, th):
+        c = self.c
+        ph = c.alpha + th
+        ux, uy = ph.cos(), ph.sin()
+        pm = (ph + self.phi_inf) / 2
+        wx, wy = -pm.sin(), pm.cos()                  # u^⊥(φ_m)
+        sh = ((ph - self.phi_inf) / 2).sin()
+        N = c.n0 + c.n1[0] * ux + c.n1[1] * uy
+        E = c.d1[0] * wx + c.d1[1] * wy
+        return ux, uy, wx, wy, sh, N, E
+
+    def inv_t(self, th):
+        _, _, _, _, sh, N, E = self.parts(th)
+        return 2 * sh * E / N
+
+
+def arc_tail(pr, sg: int, pole: arb, theta_fin):
+    """Prove the branch from a start θ_S to the pole (sg = +1: θ grows to it); returns (θ_S as a
+    float, key) or None (problems reported)."""
+    c, T = pr.curve, pr.T
+    if c.sigma != 1 or (T.kind[c.k] == ARC and c.tau != 1) or T.kind[c.k] == SEGMENT:
+        pr.report("an arc's bisector inside a circle or with a segment does not reach infinity")
+        return None
+    a = c.u(pole)
+    key = tangent_sign(T, pr.i, pr.j, a[0], a[1])
+    if key is None:
+        pr.report_limit("the direction of its infinite end is not decided")
+        return None
+    br = _Branch(c, pole, sg)
+    base = theta_fin if theta_fin is not None else (arb(0) if sg > 0 else c.beta)
+    gap = float((pole - base).mid()) * sg
+    if not gap > 0:
+        pr.report("its infinite end is not beyond its finite end")
+        return None
+    sites = [k for k in range(T.n) if k not in pr.skip and k not in (pr.i, pr.j)]
+    delta = gap / 2
+    last = None
+    for _ in range(40):
+        th_s = float(pole.mid()) - sg * delta
+        J = arb(th_s).union(pole)
+        last = _tail_ok(pr, br, J, sites)
+        if last is None:
+            return th_s, ("tangent", key)
+        delta /= 2
+        if delta < 1e-12 * (1 + abs(float(pole.mid()))):
+            break
+    k = last
+    if isinstance(k, int):
+        pr.report(f"site {k} is not proved farther than its sites along the infinite end", k)
+    else:
+        pr.report_limit(f"its infinite end is not proved ({k})")
+    return None
+
+
+def _tail_ok(pr, br, J, sites):
+    """None when the tail on J is proved, else the first failing site (or a message)."""
+    c, T, sg = br.c, pr.T, br.sg
+    if not _positive(lambda th: -sg * br.parts(th)[6] / br.parts(th)[5], J):
+        return "t > 0 up to the pole"
+    p = c.k if T.kind[c.k] == POINT else None
+    for k in sites:
+        if not _far(T, c, br, J, k, p):
+            return k
+    for k, mode, conds in getattr(pr, "linear", []):
+        if mode == "max":
+            def fmax(th, conds=conds):
+                vals = [_cond_scaled(c, br, th, g) for g in conds]
+                return vals[0].max(vals[1]) if len(vals) > 1 else vals[0]
+            if not _positive(fmax, J):
+                return k
+            continue
+        for g in conds:
+            if not _positive(lambda th, g=g: _cond_scaled(c, br, th, g), J):
+                return k
+    if T.kind[c.k] == ARC:
+        if not _positive(lambda th: _partner_range(T, c, br, th), J):
+            return "the partner arc's range"
+    return None
+
+
+def _cond_scaled(c, br, th, g):
+    gx, gy, g0 = (to_arb(v) for v in g)
+    ux, uy, *_ = br.parts(th)
+    s = br.inv_t(th)
+    return (gx * c.c[0] + gy * c.c[1] + g0 + c.r * (gx * ux + gy * uy)) * s + gx * ux + gy * uy
+
+
+def _partner_range(T, c, br, th):
+    k = c.k
+    ga, gb = range_lines(T, k)
+    va, vb = _cond_scaled(c, br, th, ga), _cond_scaled(c, br, th, gb)
+    (cx, cy) = T.cen[k]
+    ab = (T.a[k][0] - cx) * (T.b[k][1] - cy) - (T.a[k][1] - cy) * (T.b[k][0] - cx)
+    if ab > 0:
+        return va.min(vb)
+    if ab < 0:
+        return va.max(vb)
+    return va
+
+
+def _support(T, k, ux, uy):
+    ax, ay, bx, by = T.arb_ends(k)
+    h = (ux * ax + uy * ay).max(ux * bx + uy * by)
+    if T.kind[k] == ARC:
+        cx, cy, rho = T.arb_arc(k)
+        inr = T.in_range(k, ux, uy, closed=False)
+        if inr is not False:
+            h = h.max(ux * cx + uy * cy + rho)
+    return h
+
+
+def _far(T, c, br, J, k, p) -> bool:
+    """d_k − t > 0 on the tail (module docstring, 2)."""
+    def G(th):
+        ux, uy, *_ = br.parts(th)
+        return ux * c.c[0] + uy * c.c[1] + c.r - _support(T, k, ux, uy)
+    if _positive(G, J):
+        return True
+    if T.kind[k] == ARC:
+        return False
+    pts = [T.a[k]] if T.kind[k] == POINT else [T.a[k], T.b[k]]
+    for q in pts:
+        if not _far_point(T, c, br, J, q, p):
+            return False
+    return True
+
+
+def _far_point(T, c, br, J, q, p) -> bool:
+    qa = (to_arb(q[0]), to_arb(q[1]))
+
+    def G(th):
+        ux, uy, *_ = br.parts(th)
+        return ux * (c.c[0] - qa[0]) + uy * (c.c[1] - qa[1]) + c.r
+    if _positive(G, J):
+        return True
+    ph = c.alpha + br.pole
+    bracket = ph.cos() * (c.c[0] - qa[0]) + ph.sin() * (c.c[1] - qa[1]) + c.r
+    if p is not None and not (bracket > 0 or bracket < 0) and _on_tangent(T, c, p, q):
+        def Gf(th):                                  # G = 2 sin(δ/2) (c − q)·u^⊥(φ_m)
+            _, _, wx, wy, sh, _, _ = br.parts(th)
+            return -br.sg * ((c.c[0] - qa[0]) * wx + (c.c[1] - qa[1]) * wy)
+        if _positive(Gf, J):
+            return True
+        pa = T.arb_ends(p)[:2]
+        mx, my = (pa[0] + qa[0]) / 2, (pa[1] + qa[1]) / 2
+        dx, dy = pa[0] - qa[0], pa[1] - qa[1]
+
+        def L(th):                                   # (x − m)·(p − q), x = c + (ρ + t) u
+            ux, uy, wx, wy, sh, N, E = br.parts(th)
+            return ((c.c[0] - mx) * dx + (c.c[1] - my) * dy + c.r * (ux * dx + uy * dy) +
+                    N * (wx * dx + wy * dy) / E)
+        return _positive(L, J)
+    return False
+
+
+def _on_tangent(T, c, p, q) -> bool:
+    """q lies on a tangent line from point p to the circle of the arc (exact)."""
+    (px, py), (cx, cy), rho = T.a[p], T.cen[c.s], T.rad[c.s]
+    w = (q[0] - px, q[1] - py)
+    if w == (0, 0):
+        return False
+    cr = (cx - px) * w[1] - (cy - py) * w[0]
+    return cr * cr == rho * rho * (w[0] * w[0] + w[1] * w[1])
