@@ -538,7 +538,7 @@ def main():
         lines += ["", "| function | cumulative s | calls |", "|---|---|---|"]
         lines += [f"| {name} | {c:.2f} | {n} |" for c, name, n in prof["top_cumulative"]]
         lines.append("")
-    cert_t = [(r["spec"].get("n", "gear"), r["cert_timings"]) for r in seg_rows + arc_rows + gear_rows if r.get("cert_timings")]
+    cert_t = [(_label(r["spec"]), r["cert_timings"]) for r in seg_rows + arc_rows + gear_rows if r.get("cert_timings")]
     if cert_t:
         lines += ["Certificate phases (s, `verify_segments(...).timings`): " +
                   "; ".join(f"{n}: {t}" for n, t in cert_t), ""]
@@ -551,10 +551,22 @@ def main():
             fh.write(text + "\n")
 
 
+def _label(spec: dict) -> str:
+    if spec["kind"] == "gear":
+        return "gear with arcs" if spec["arcs"] else "gear"
+    return f"{spec['kind']} {spec['n']}"
+
+
 def _git_head() -> str:
+    """The commit, with "+ local changes" when the checkout differs from it (others' edits)."""
     try:
-        return subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True,
-                              text=True).stdout.strip() or "?"
+        head = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True,
+                              text=True).stdout.strip()
+        if not head:
+            return "not a git checkout"
+        dirty = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain", "--untracked-files=no", "--",
+                                "runtime", "curvedvoronoi"], capture_output=True, text=True).stdout.strip()
+        return head + (" + uncommitted changes in runtime/" if dirty else "")
     except OSError:
         return "?"
 
