@@ -1,70 +1,96 @@
-"""An independent certificate for Voronoi diagrams of points and segments (thesis §1.2, §2.2).
+"""An independent certificate for Voronoi diagrams of points, segments and circular arcs
+(thesis §1.2, §2.2).
 
 :func:`verify_segments` takes a :class:`runtime.voronoi.structure.Diagram` (or its JSON form)
-whose sites are elementary sites — :class:`runtime.predicates.circles.Point` and
-:class:`runtime.sites.segment.Segment` meaning its *open interior* — and either proves that it is
-*the* Voronoi diagram of those sites or names what failed.  It reads only the reported
-combinatorics (vertex site lists, edge pairs and ends) and uses positions and polylines to pick
-the arcs and check their stated tolerance; it imports nothing of the construction
-(:mod:`runtime.segments.vertices`, ``construction``, ``bisectors``, ``emptiness``, ``exact``;
-``tests/test_architecture.py`` enforces it).  Conventions: the distance to an open segment is
-the distance to the closed segment; a point equidistant from an endpoint e and a segment s ending
-at e belongs to e.
+whose sites are elementary sites — :class:`runtime.predicates.circles.Point`,
+:class:`runtime.sites.segment.Segment` and :class:`runtime.sites.arc.Arc` meaning their *open
+interiors* — and either proves that it is *the* Voronoi diagram of those sites or names what
+failed.  It reads only the reported combinatorics (vertex site lists, edge pairs and ends) and uses
+positions and polylines to pick the arcs and check their stated tolerance; it imports nothing of
+the construction (:mod:`runtime.segments.vertices`, ``construction``, ``bisectors``,
+``emptiness``, ``exact``, …; ``tests/test_architecture.py`` enforces it).  Conventions: the
+distance to an open curve is the distance to the closed curve; a point whose nearest points on a
+curve are only ends that are point sites belongs to those ends (a point equidistant from an end e
+and a curve ending at e, with e as the curve's nearest point, belongs to e).  A **smooth joint**
+— a curve end that is no site, where exactly two curves (not both segments) continue each other
+with opposite tangents — belongs to both curves' closures; their bisector there is the normal
+line.
 
 The proof (the contract of this module)
 ---------------------------------------
-Let G be the true Voronoi graph of the sites and H the reported one.
+Let G be the true Voronoi graph of the sites (the complement of the union of the open regions)
+and H the reported one.
 
-1. **Sites admissible** (:mod:`runtime.segments.certificate_sites`, exact rationals): points and
-   segments only, none repeated, every segment's endpoints are point sites of the list, segments
-   meet only at common endpoints and no point lies in a segment's interior
-   (:func:`runtime.segments.crossings.check_pieces`), straight degree-2 joints are merged and no
-   junction continues straight through.  Otherwise nothing else is claimed.
+1. **Sites admissible** (:mod:`runtime.segments.certificate_admissible`, exact rationals): points,
+   segments and arcs only, none repeated, every curve end a point site or a smooth joint, curves
+   meeting only at common ends and no point inside a curve
+   (:func:`runtime.segments.crossings.check_pieces`), no two curves leaving a point site in
+   opposite directions (merge them; a junction continuing straight or smoothly through); two
+   curves leaving it in the same direction are a limit.  Otherwise nothing else is claimed.
 2. **Vertices** (:mod:`runtime.segments.certificate_vertices`): each reported vertex is a point at
-   distance r from each listed site (touching it at a contact point in its closure) and strictly
-   farther from every other site (by the endpoint convention for a segment whose listed endpoint
-   ties), within 10⁻¹⁰·(1 + |x| + |y| + r) of the report: corners exactly (v = c, r = 0, the listed
-   sites are c's segments by exact angle with c in the reflex gap); k = 3 by Krawczyk on a 2 × 2
-   system of touching-type distances of our own; k > 3 by the closed-form solution of three of the
-   sites and exact zero tests (sympy, :mod:`runtime.segments.certificate_exact`) for the others;
-   contacts counter-clockwise in the listed
-   order; emptiness by rigorous distance balls after a k-d tree and float pruning.
+   distance r from each listed site (touching it at a contact in its closure) and strictly
+   farther from every other site (up to the convention), within 10⁻¹⁰·(1 + |x| + |y| + r) of the
+   report: corners exactly (v = c, r = 0, the curves at c by exact tangent and curvature order,
+   c in the reflex gap); an arc's centre exactly (:mod:`runtime.segments.certificate_corners`:
+   every listed site at distance ρ in rationals and squares, the open disc empty, contacts ordered
+   with the arc along its whole range after the site at its start and before the site at its end);
+   k = 3 by Krawczyk on a 2 × 2 system of touching-type distances of our own (points, lines of
+   segments, σ(|v − c| − ρ) for arcs, normal lines at listed ends and joints), with the contact
+   direction of an arc proved in its open range, its side σ, the ray from its centre through a
+   listed end; k > 3 by the closed-form solution of three of the sites and exact zero tests (sympy,
+   :mod:`runtime.segments.certificate_exact`) for the others; contacts counter-clockwise in the
+   listed order; emptiness by rigorous distance balls after a k-d tree over bounding discs and
+   float pruning (:mod:`runtime.segments.certificate_contacts`).
 3. **Edges** (:mod:`runtime.segments.certificate_edges`, curves and polylines in
-   :mod:`runtime.segments.certificate_curves`, the rules decided at the ends and at infinity in
-   :mod:`runtime.segments.certificate_rules`): each reported edge (i, j) is the arc of
-   the exact bisector curve (line or parabola, in closed form) between its two end vertices, or
-   from its vertex to infinity, or a whole line, and every point of the open arc is strictly closer
-   to i and j than to any other site (with the endpoint convention): concavity of d_k² − ρ² along
-   lines of a point anchor, piecewise rigorous lower bounds along the other curves, derivative
-   signs next to end vertices where a third site ties, exact asymptotics on infinite tails.  Only perpendicular bisectors of two points and perpendiculars to a segment at
-   its endpoint may reach infinity.  The polyline lies within the stated tolerance of the arc
-   (Hausdorff, chords of the parabola bounded by its curvature).  Hence each proved edge is a whole
-   edge of G (a connected component of the set of points with nearest sites exactly i and j,
-   bounded by Voronoi vertices or infinity).
+   :mod:`runtime.segments.certificate_curves` and :mod:`runtime.segments.certificate_arcs`, the
+   rules decided at the ends in :mod:`runtime.segments.certificate_rules`, conditions along curves
+   in :mod:`runtime.segments.certificate_edge_conditions`, tails in
+   :mod:`runtime.segments.certificate_tails`): each reported edge (i, j) is the arc of the exact
+   bisector curve (line, parabola, an arc's bisector by its contact angle, the radial ray of an
+   arc's end, a joint's normal line) between its two end vertices, or from its vertex to infinity,
+   or a whole line or branch, and every point of the open arc is strictly closer to i and j than to
+   any other site (up to the convention): concavity of d_k² − ρ² along lines of a point anchor,
+   piecewise rigorous lower bounds along the other curves (with conditions: t > 0, a segment
+   partner's foot in (0, 1), an arc partner's contact in its range, a curve ending at the edge's
+   point owned by it), derivative signs next to end vertices where a third site ties, exact
+   asymptotics on straight tails, and on an arc's hyperbola-like branch support witnesses up to the
+   pole.  The polyline lies within the stated tolerance of the arc (Hausdorff; for an arc's
+   bisector piece by piece against the polyline's segments with curvature bounds).  Hence each
+   proved edge is a whole edge of G (a connected component of the set of points with nearest sites
+   exactly i and j, bounded by Voronoi vertices or infinity).
 4. **Closure** (:func:`closure`, exact on the combinatorics): every vertex of degree k ≥ 3 has
    exactly one incident edge for each of its k cyclically consecutive site pairs and no other
    incident edge; every edge's finite ends are vertices listing both its sites.  With 2 and 3 this
    says that H is a union of connected components of G (a proved vertex of G has exactly the k
    edges of its consecutive pairs in G).  Two edges of one pair cannot overlap: each is a whole edge
    of G, a repeated one is found here (vertex ends) or in 5 (infinite ends).
-5. **Completeness** (:func:`runtime.segments.certificate_sites.expected_infinite_ends`, exact):
-   the region of a point or an open segment is star-shaped with respect to its (convex) site —
-   the segment from a point of the region to its nearest site point stays in the region — hence
-   connected and simply connected; a bounded connected component of G would enclose a bounded
-   complementary domain that is a union of regions, and the region surrounding the component from
-   outside would then have a hole.  So every component of G reaches infinity, and its unbounded
-   edges are among the ends of G at infinity, which are exactly one per pair of sites consecutive
-   along a side of the (exact rational) convex hull of the point sites, going out along the side's
-   outward normal.  The reported infinite ends (pair, exact direction) must equal that list with
-   multiplicity; then every component of G has an edge in H, and by 4 lies in H: H = G.
+5. **Completeness** (:mod:`runtime.segments.certificate_hull`, exact or proved): every region is
+   contractible.  The region of a point is star-shaped with respect to it (also with the clamped
+   zones of its curves: "nearest point e alone" is preserved along segments towards e); the region
+   of an open segment is star-shaped with respect to the segment; the region of an open arc is *not*
+   star-shaped with respect to a convex set, but every point x of it has its nearest point f(x) in
+   the open arc, the segment [x, f(x)] stays in the region (d_s drops by the distance moved, every
+   other distance by at most that, the ends' ties too), f is continuous there (the centre is not in
+   the region: it is at distance ρ from the ends or the joint curves), so x ↦ (1 − λ) x + λ f(x)
+   retracts the region onto the open arc.  So no region has a hole.  A bounded connected component
+   C of G would separate the plane (a tree would leave the one region around it adjacent to itself
+   across an edge of two distinct sites); the region meeting a small loop around C from outside
+   lies outside C and winds around a bounded complementary domain of C: a hole.  So every
+   component of G reaches infinity, and its unbounded edges are among the ends of G at infinity:
+   one per pair of sites consecutive along a support line of the sites' convex hull (points,
+   segments and arcs by their support functions; ties where several sites touch the support line
+   of a direction), going out in that direction (a tangent's, for a point or an arc and an arc).
+   The reported infinite ends (pair, exact key) must equal that list with multiplicity; then every
+   component of G has an edge in H, and by 4 lies in H: H = G.
 6. **Document** (:func:`runtime.voronoi.verify.document.check_document`): finite numbers, no
    closed edges, the document's ``delaunay_edges`` equal to its edges' pairs.
 
 ``ok`` is True only when all of this is proved; per-vertex and per-edge flags say which parts
 are; problems are :class:`runtime.voronoi.verify.problems.Problem` records naming the vertex, edge
-and sites.  Not claimed: diagrams with other sites (circular arcs: reported not proved, as a limit,
-not a fault), junctions that continue straight through (refused as sites), closed edges (none
-exist for these sites).
+and sites (``fault`` False for a limit of the certificate).  Not claimed: diagrams with other sites
+(circles, conics), curves tangent at a common point site, collinear ties on an irrational common
+tangent, junctions that continue straight through (refused as sites), closed edges (none exist
+for these sites: an edge with no end vertex is a line or a branch to infinity).
 
 Public API: :func:`verify_segments`, :func:`has_segment_sites`, :func:`closure`.
 """
@@ -142,7 +168,7 @@ def _same(a, b) -> bool:
 
 @one_blas_thread
 def verify_segments(diagram, sites=None, *, deadline=None) -> SegmentCertificate:
-    """Prove that ``diagram`` is the Voronoi diagram of its elementary point and segment sites
+    """Prove that ``diagram`` is the Voronoi diagram of its elementary point, segment and arc sites
     (module docstring).  ``sites``: the expected elementary sites (compared exactly); ``deadline``:
     a :func:`time.perf_counter` value after which edges are not checked (not ok)."""
     T0 = time.perf_counter()
@@ -160,14 +186,14 @@ def verify_segments(diagram, sites=None, *, deadline=None) -> SegmentCertificate
     with working_prec(PREC):
         T = SiteTable(D.sites)
         stats = {"sites": T.n, "vertices": len(D.vertices), "edges": len(D.edges), "route": "segments"}
-        hyp = ["sites admissible (checked)", "endpoint owns ties with its segment (convention)"]
+        hyp = ["sites admissible (checked)", "an end owns the ties of its curves (convention)"]
         adm = admissibility(T)
         problems.extend(adm)
         check_document(D, doc, [], problems)
         for e in D.edges:
             if e.closed:
-                problems.append(fault(f"edge {e.id} (sites {', '.join(map(str, e.sites))}): a diagram of points "
-                                      "and segments has no closed edge", kind="edge", edge=e.id,
+                problems.append(fault(f"edge {e.id} (sites {', '.join(map(str, e.sites))}): a diagram of points, "
+                                      "segments and arcs has no closed edge", kind="edge", edge=e.id,
                                       sites=tuple(int(s) for s in e.sites if 0 <= int(s) < T.n)))
         timings["sites"] = time.perf_counter() - T0
         if adm:

@@ -18,7 +18,9 @@ derivatives are closed forms (u' = u^⊥, u'' = −u): with R = ρ + σt, v' = R
 v'' = (R'' − R) u + 2R' u^⊥, so a chord of a piece of parameter length Δθ stays within
 Δθ²/8 · max(|R'' − R| + 2|R'|) of the curve.  σ, τ and σ₂ are read at a proved end vertex (an
 edge never crosses a circle or a line it is equidistant from: t > 0 on it); an edge with no
-finite end is a whole branch outside both circles (σ = σ₂ = +1, k a point or an arc).
+finite end is a whole branch outside both circles (σ = σ₂ = +1, k a point or an arc).  Two arcs
+of equal radii seen from the same side have the perpendicular bisector of their centres as
+bisector (d₀ = 0): ``straight``, its chords are the curve.
 
 Where Δ vanishes the curve goes to infinity (the pole, a hyperbola-like branch of a point or an
 arc outside the circle): Δ(φ) = d₁·(u(φ) − u(φ∞)) = 2 sin(δ/2) E(φ) with δ = φ − φ∞,
@@ -32,7 +34,7 @@ from __future__ import annotations
 from flint import arb
 
 from ..certify.foot import to_arb
-from .certificate_sites import ARC, POINT, SEGMENT, SiteTable, sq
+from .certificate_sites import ARC, POINT, SEGMENT, SiteTable, hypot, sq
 
 __all__ = ["ArcCurve", "normalise", "side_of"]
 
@@ -60,6 +62,8 @@ class ArcCurve:
 
     def __init__(self, T: SiteTable, s: int, k: int, sigma: int, tau: int = 1):
         self.T, self.s, self.k, self.sigma, self.tau = T, s, k, sigma, tau
+        #: two arcs seen from the same side with equal radii: the bisector of their centres
+        self.straight = T.kind[k] == ARC and sigma * T.rad[s] == tau * T.rad[k]
         cx, cy, rho = T.arb_arc(s)
         self.c, self.r = (cx, cy), rho
         (qcx, qcy) = T.cen[s]
@@ -166,8 +170,8 @@ class ArcCurve:
         for m in range(parts):
             K = (arb(lo_t) + m * step).union(arb(lo_t) + (m + 1) * step)
             (ax, ay), (bx, by) = self._derivs(K)
-            b1 = b1.max(arb((sq(bx) + sq(by)).sqrt().upper()))
-            sp = (sq(ax) + sq(ay)).sqrt()
+            b1 = b1.max(arb(hypot(bx, by).upper()))
+            sp = hypot(ax, ay)
             length += step * arb(sp.upper())
             lo = sp.lower()
             if lo > 0:
@@ -182,8 +186,11 @@ class ArcCurve:
         return b1
 
     def param(self, X, Y):
-        ph = arb.atan2(Y - self.c[1], X - self.c[0]) - self.alpha
-        return normalise(ph, self.beta)
+        """θ of the direction of (X, Y) from the centre, measured from the arc's middle direction m
+        (atan2 of (m × w, m·w): its cut, the gap's middle, is far from the range) plus β/2."""
+        mx, my = (to_arb(v) for v in self.T.arc_mid(self.s))
+        wx, wy = X - self.c[0], Y - self.c[1]
+        return arb.atan2(mx * wy - my * wx, mx * wx + my * wy) + self.beta / 2
 
     def vertex_param(self, vp):
         """θ of a proved end vertex: exactly 0 (β) when it lists the site at the arc's start (end),

@@ -10,7 +10,9 @@ when it leaves counter-clockwise around the vertex); for k = 3 every pair is con
 **Emptiness**: every other site is strictly farther than the radius (rigorous balls after a k-d
 tree and a float filter), except a curve ending at a listed point e whose nearest point is e
 alone, strictly beyond it (the foot beyond e, an arc's direction in the half of its gap next to
-e): the tie is e's.
+e), or an arc whose direction from its centre is strictly in its gap (its nearest points are
+ends; an end at the radius that is not listed is a site or a joint whose other curve the same
+check finds too close): the tie is the ends'.
 
 Public API: :func:`ccw`, :func:`empty`.
 """
@@ -108,6 +110,9 @@ def empty(T: SiteTable, v, sites, X, Y, R, problems, name: str) -> bool:
             le = [e for e in T.ends[k] if e >= 0 and e in listed]
             if le:
                 good = len(le) == 1 and T.owned_by_end(k, le[0], X, Y) is True
+                if T.kind[k] == ARC and not good:       # strictly in its gap: its nearest points are ends
+                    cx_, cy_, _ = T.arb_arc(k)
+                    good = T.in_range(k, X - cx_, Y - cy_, closed=True) is False
                 if not good:
                     problems.append(fault(f"{name}: curve {k} is closer than the radius (its nearest point is "
                                           f"not its listed endpoint {le[0]} alone), or too close to decide",

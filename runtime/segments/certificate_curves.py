@@ -324,20 +324,30 @@ def _arc_piece(c, A, B, t0, t1, tol: float) -> arb:
     """A bound on the distance from the curve between the parameters t0 and t1 to the polyline
     segment [A, B]: the curve points at n sub-parameters are within d_m of the segment, each
     sub-piece within its chord bound δ_m of its own chord, whose points are within
-    max(d_m, d_{m+1}) of the segment (a convex set): max (max(d_m, d_{m+1}) + δ_m), n = 8, 32,
-    128 until below ``tol``.  The segment is within that of the curve too: the curve's
+    max(d_m, d_{m+1}) of the segment (a convex set): max (max(d_m, d_{m+1}) + δ_m), sub-pieces
+    halved while above ``tol``.  The segment is within that of the curve too: the curve's
     projection on the segment's line runs between those of its ends (which are within the
     polyline points' deviation of A and B)."""
-    out = None
-    for n in (8, 32, 128):
-        step = (t1 - t0) / n
-        ths = [t0 + m * step for m in range(n)] + [t1]
-        ds = [_segment_distance(*c.xy(th), A, B) for th in ths]
-        out = arb(0)
-        for m in range(n):
-            out = out.max(ds[m].max(ds[m + 1]) + c.chord_bound_parts(ths[m], ths[m + 1], 2))
-        if out.upper() <= tol:
-            break
+    if c.straight:                                   # a line: the piece is the chord of its ends
+        return _segment_distance(*c.xy(t0), A, B).max(_segment_distance(*c.xy(t1), A, B))
+    out = arb(0)
+    dist = {}
+
+    def d(th):
+        key = (float(th.mid()), float(th.rad()))
+        if key not in dist:
+            dist[key] = _segment_distance(*c.xy(th), A, B)
+        return dist[key]
+    stack, count = [(t0, t1, 0)], 0
+    while stack:                                     # adaptive: halve the sub-pieces above tol
+        a, b, depth = stack.pop()
+        count += 1
+        bound = d(a).max(d(b)) + c.chord_bound_parts(a, b, 2)
+        if bound.upper() > tol and depth < 40 and count < 4000:
+            m = (a + b) / 2
+            stack += [(a, m, depth + 1), (m, b, depth + 1)]
+            continue
+        out = out.max(bound)
     return out
 
 

@@ -97,8 +97,8 @@ def arc_conditions(pr, only_linear: bool = False) -> list:
             out += [_cond(name, [fa]), _cond(name, [fb])]
         elif ab < 0:
             out.append(_cond(name, [fa, fb], "max"))
-        else:
-            out.append(_cond(name, [fa]))
+        else:                                               # a half circle: ca vanishes at both ends
+            out.append(_cond(name, [fa[:2] + (fa[2] | fb[2],)]))
         if c.tau < 0:
             r2 = to_arb(T.rad[k])
             out.append(_cond(f"the circle of arc {k} is not proved touched from inside",
@@ -120,8 +120,7 @@ def cover_conditions(pr, span: float) -> bool:
             if end[0] != "v":
                 continue
             vp, t0 = end[2], end[1]
-            if cd["value"](t0, vp.x, vp.y, vp.r) > 0:
-                continue
+            positive = bool(cd["value"](t0, vp.x, vp.y, vp.r) > 0)  # a cover still helps when tiny
             base, back = (up(t0), down(t0)) if at_lo else (down(t0), up(t0))
             best = None
             for fv, fd, tie in cd["fns"]:
@@ -133,8 +132,9 @@ def cover_conditions(pr, span: float) -> bool:
                 if reach is not None and (best is None or (reach > best if at_lo else reach < best)):
                     best = reach
             if best is None:
-                pr.report(f"{cd['name']} next to its end vertex {end[3]}")
-                ok = False
+                if not positive:
+                    pr.report(f"{cd['name']} next to its end vertex {end[3]}")
+                    ok = False
                 continue
             if at_lo:
                 cd["lo"] = max(cd["lo"], best)

@@ -263,8 +263,11 @@ class _EdgeProver(PieceProofs):
         c, lo, hi = self.curve, self.lo, self.hi
         if isinstance(c, Line):
             vlo, vhi = c.valid
-            if (vlo is not None and lo[0] == "v" and not lo[1] >= q_arb(vlo)) or \
-                    (vhi is not None and hi[0] == "v" and not hi[1] <= q_arb(vhi)):
+
+            def centre(end):                       # the ray's origin: an arc's centre vertex
+                return end[0] == "v" and end[2].centre_of in (self.i, self.j)
+            if (vlo is not None and lo[0] == "v" and not centre(lo) and not lo[1] >= q_arb(vlo)) or \
+                    (vhi is not None and hi[0] == "v" and not centre(hi) and not hi[1] <= q_arb(vhi)):
                 self.report("it leaves the ray from an arc's centre on which its line is the bisector")
                 return False
             return True

@@ -214,7 +214,34 @@ class PieceProofs:
         tm = arb((pa + pb) / 2)
         Xm, Ym = c.xy(tm)
         g = value(tm, Xm, Ym, c.rho(tm, Xm, Ym)) + deriv(t, X, Y) * (t - tm)
-        return bool(g > 0) or any(test(t, X, Y) > 0 for test in self._clamps(k))
+        if g > 0 or any(test(t, X, Y) > 0 for test in self._clamps(k)):
+            return True
+        T = self.T
+        if c.kind == "arc" and c.sigma == 1:
+            # the support witness: d_k − t ≥ u·c + ρ − h_k(u) for the contact direction u (far
+            # parts of a branch, where the boxes are large)
+            from .certificate_tails import support_bound
+
+            ux, uy = c.u(t)
+            if ux * c.c[0] + uy * c.c[1] + c.r - support_bound(T, k, ux, uy) > 0:
+                return True
+        if T.kind[k] == ARC:
+            # outside the arc's closed range on the whole box its distance is its nearer end's:
+            # both ends farther, each by the mean-value form of a point
+            cx, cy, _ = T.arb_arc(k)
+            if T.in_range(k, X - cx, Y - cy, closed=True) is False:
+                rm = c.rho(tm, Xm, Ym)
+                return all(self._point_centred(T.pt_arb(e), t, X, Y, tm, Xm, Ym, rm) for e in T.ends[k])
+        return False
+
+    def _point_centred(self, e, t, X, Y, tm, Xm, Ym, rm) -> bool:
+        c = self.curve
+        ex, ey = e
+        gx, gy = c.dxy(t)
+        dx, dy = X - ex, Y - ey
+        d = hypot(dx, dy)
+        g = hypot(Xm - ex, Ym - ey) - rm + ((dx * gx + dy * gy) / d - c.drho(t, X, Y)) * (t - tm)
+        return bool(g > 0)
 
     def _pieces(self, a: float, b: float, special) -> bool:
         """g_k > 0 for every site near each piece, and every condition (``self.conditions``:

@@ -180,8 +180,8 @@ def _affine_ok(pr, conds, k) -> bool:
             v = q_arb(gx) * vp.x + q_arb(gy) * vp.y + q_arb(g0)
             if v > 0:
                 vals.append(1)
-            elif tied(end, k):
-                vals.append(0)
+            elif tied(end, k) or (pr.T.kind[k] == ARC and all(e in vp.listed for e in pr.T.ends[k])):
+                vals.append(0)                    # an arc's two listed ends: on its gap's middle
             else:
                 what = "is closer than its sites at an end vertex" if v < 0 else \
                     "is too close to decide at an end vertex"

@@ -21,13 +21,16 @@ interval [θ_S, θ∞] (θ∞ an arb ball) and is bounded there by interval arit
    (c − m)·(p − q) + ρ u·(p − q) + N u^⊥(φ_m)·(p − q)/E (q and p on one support line); ties of arcs
    and of two arcs' branches are a limit.
 3. **Conditions** (R2 for curves ending at p, an arc partner's range) are linear g·x + g₀ > 0;
-   times 1/t > 0 they are (g·c + g₀ + ρ g·u)/t + g·u, smooth up to the pole (g·a > 0 needed).
+   times 1/t > 0 they are (g·c + g₀ + ρ g·u)/t + g·u, smooth up to the pole (g·a > 0 needed);
+   when g·a = 0 exactly (a rational asymptote, found from the float direction and checked on the
+   pole's equation in rationals), divided by 2 sin(δ/2) too: (g·c + g₀ + ρ g·u) E/N + g·u^⊥(φ_m)
+   with the sign of θ∞ − θ.
 
-The start θ_S moves towards the pole (halving) until all of this is proved; the finite part is
-proved with the pieces.  The end's key is ("tangent", sign) of :func:`runtime.segments.
+The start θ_S is where t first exceeds twice the scene's extent (then four times that, …) until
+all of this is proved; the finite part is proved with the pieces.  The end's key is ("tangent", sign) of :func:`runtime.segments.
 certificate_hull.tangent_sign` at a.
 
-Public API: :func:`arc_tail`, :func:`arc_pole`.
+Public API: :func:`arc_tail`, :func:`arc_pole`, :func:`support_bound`.
 """
 from __future__ import annotations
 
@@ -39,7 +42,7 @@ from .certificate_hull import tangent_sign
 from .certificate_rules import range_lines
 from .certificate_sites import ARC, POINT, SEGMENT
 
-__all__ = ["arc_tail", "arc_pole"]
+__all__ = ["arc_tail", "arc_pole", "support_bound"]
 
 DEPTH = 10
 
@@ -114,17 +117,24 @@ def arc_tail(pr, sg: int, pole: arb, theta_fin):
         pr.report("its infinite end is not beyond its finite end")
         return None
     sites = [k for k in range(T.n) if k not in pr.skip and k not in (pr.i, pr.j)]
-    delta = gap / 2
+    target = 2 * T.scale                     # the tail starts where t exceeds this, then farther
+    tiny = 1e-12 * (1 + abs(float(pole.mid())))
     last = None
-    for _ in range(40):
+    for _ in range(20):
+        delta = gap / 2
+        while delta > tiny:
+            t = c.t(arb(float(pole.mid()) - sg * delta))
+            if t.is_finite() and t > target:
+                break
+            delta /= 2
+        if delta <= tiny:
+            break
         th_s = float(pole.mid()) - sg * delta
         J = arb(th_s).union(pole)
         last = _tail_ok(pr, br, J, sites)
         if last is None:
             return th_s, ("tangent", key)
-        delta /= 2
-        if delta < 1e-12 * (1 + abs(float(pole.mid()))):
-            break
+        target *= 4
     k = last
     if isinstance(k, int):
         pr.report(f"site {k} is not proved farther than its sites along the infinite end", k)
@@ -143,15 +153,17 @@ def _tail_ok(pr, br, J, sites):
         if not _far(T, c, br, J, k, p):
             return k
     for k, mode, conds in getattr(pr, "linear", []):
+        def one(th, g):
+            return _cond_scaled(c, br, th, g, _on_asymptote(T, c, br, g))
         if mode == "max":
             def fmax(th, conds=conds):
-                vals = [_cond_scaled(c, br, th, g) for g in conds]
+                vals = [one(th, g) for g in conds]
                 return vals[0].max(vals[1]) if len(vals) > 1 else vals[0]
             if not _positive(fmax, J):
                 return k
             continue
         for g in conds:
-            if not _positive(lambda th, g=g: _cond_scaled(c, br, th, g), J):
+            if not _positive(lambda th, g=g: one(th, g), J):
                 return k
     if T.kind[c.k] == ARC:
         if not _positive(lambda th: _partner_range(T, c, br, th), J):
@@ -159,17 +171,51 @@ def _tail_ok(pr, br, J, sites):
     return None
 
 
-def _cond_scaled(c, br, th, g):
+def _cond_scaled(c, br, th, g, flat: bool = False):
+    """(g·x + g₀)/t on the branch; ``flat``: g·a = 0 exactly, then g·u = 2 sin(δ/2) g·u^⊥(φ_m) and
+    the value divided by 2 sin(δ/2) > 0 (of the sign −sg) is returned."""
     gx, gy, g0 = (to_arb(v) for v in g)
-    ux, uy, *_ = br.parts(th)
+    ux, uy, wx, wy, sh, N, E = br.parts(th)
+    if flat:
+        return -br.sg * ((gx * c.c[0] + gy * c.c[1] + g0 + c.r * (gx * ux + gy * uy)) * E / N + gx * wx + gy * wy)
     s = br.inv_t(th)
     return (gx * c.c[0] + gy * c.c[1] + g0 + c.r * (gx * ux + gy * uy)) * s + gx * ux + gy * uy
+
+
+def _rational_asymptote(T, c, br):
+    """The asymptotic direction as an exact rational vector when it is one (an axis, a simple
+    slope: checked exactly on the pole's equation), else None."""
+    if hasattr(br, "_ra"):
+        return br._ra
+    from fractions import Fraction
+
+    br._ra = None
+    ux, uy = (float(v.mid()) for v in c.u(br.pole))
+    m = max(abs(ux), abs(uy))
+    u = (Fraction(ux / m).limit_denominator(1000), Fraction(uy / m).limit_denominator(1000))
+    cs, rs = T.cen[c.s], T.rad[c.s]
+    if T.kind[c.k] == POINT:
+        z, rho = T.a[c.k], rs                 # (p − c)·u = ρ|u|
+    else:
+        z, rho = T.cen[c.k], rs - T.rad[c.k]  # (c₂ − c)·u = (ρ − ρ₂)|u|
+    ku = (z[0] - cs[0]) * u[0] + (z[1] - cs[1]) * u[1]
+    if ku * rho >= 0 and ku * ku == rho * rho * (u[0] * u[0] + u[1] * u[1]):
+        if (ux * float(u[0]) + uy * float(u[1])) > 0:
+            br._ra = u
+    return br._ra
+
+
+def _on_asymptote(T, c, br, g) -> bool:
+    """g·a = 0 exactly for the linear function g (a rational asymptote perpendicular to it)."""
+    u = _rational_asymptote(T, c, br)
+    return u is not None and g[0] * u[0] + g[1] * u[1] == 0
 
 
 def _partner_range(T, c, br, th):
     k = c.k
     ga, gb = range_lines(T, k)
-    va, vb = _cond_scaled(c, br, th, ga), _cond_scaled(c, br, th, gb)
+    va = _cond_scaled(c, br, th, ga, _on_asymptote(T, c, br, ga))
+    vb = _cond_scaled(c, br, th, gb, _on_asymptote(T, c, br, gb))
     (cx, cy) = T.cen[k]
     ab = (T.a[k][0] - cx) * (T.b[k][1] - cy) - (T.a[k][1] - cy) * (T.b[k][0] - cx)
     if ab > 0:
@@ -179,7 +225,8 @@ def _partner_range(T, c, br, th):
     return va
 
 
-def _support(T, k, ux, uy):
+def support_bound(T, k, ux, uy):
+    """An upper bound of the support of site k in the directions of the balls (ux, uy)."""
     ax, ay, bx, by = T.arb_ends(k)
     h = (ux * ax + uy * ay).max(ux * bx + uy * by)
     if T.kind[k] == ARC:
@@ -194,7 +241,7 @@ def _far(T, c, br, J, k, p) -> bool:
     """d_k − t > 0 on the tail (module docstring, 2)."""
     def G(th):
         ux, uy, *_ = br.parts(th)
-        return ux * c.c[0] + uy * c.c[1] + c.r - _support(T, k, ux, uy)
+        return ux * c.c[0] + uy * c.c[1] + c.r - support_bound(T, k, ux, uy)
     if _positive(G, J):
         return True
     if T.kind[k] == ARC:

@@ -319,11 +319,14 @@ def _krawczyk(terms, xr, yr):
             if np.max(np.abs(step)) <= 1e-16 * (1 + np.max(np.abs(z))):
                 break
     Fa, Ja, _ = _system(terms, _arbq)
-    try:
-        # a floor of 2^-80 of the scale: a coordinate that is exact in floats (YF_i = 0) must not
-        # start at a radius below the second-order coupling of the other one
-        floor = arb(1 + float(np.max(np.abs(z)))) * arb(2) ** -80
-        K, _X = krawczyk_inflation(Fa, Ja, [arb(float(z[0])), arb(float(z[1]))], floor=floor)
-    except (KrawczykFailure, ZeroDivisionError, ValueError):
-        return None
-    return K[0], K[1]
+    # a floor of 2^-80 of the scale: a coordinate that is exact in floats (YF_i = 0) must not
+    # start at a radius below the second-order coupling of the other one; an ill-conditioned
+    # system (a far vertex sliding along its bisector) needs a wider first box
+    for e in (80, 60, 44):
+        try:
+            floor = arb(1 + float(np.max(np.abs(z)))) * arb(2) ** -e
+            K, _X = krawczyk_inflation(Fa, Ja, [arb(float(z[0])), arb(float(z[1]))], floor=floor)
+            return K[0], K[1]
+        except (KrawczykFailure, ZeroDivisionError, ValueError):
+            continue
+    return None
