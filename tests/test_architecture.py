@@ -144,7 +144,7 @@ CONSTRUCTION = {f"runtime.voronoi.{m}" for m in (
     "construction", "sampling", "sample_delaunay", "sample_walks", "apollonius_vertices", "conic_vertices",
     "edge_polylines", "vertex_emptiness", "near_degenerate", "cocircular", "collinear_points", "deletion",
     "site_arrays", "command")} | {f"runtime.segments.{m}" for m in (
-    "construction", "vertices", "bisectors", "emptiness", "exact", "sampling", "contact_order", "edges",
+    "construction", "vertices", "newton", "bisectors", "emptiness", "exact", "sampling", "contact_order", "edges", "loops",
     "command", "medial_axis")}
 
 #: the certificates: the curved-site verifier and the point/segment one

@@ -43,7 +43,8 @@ from .elementary import ARC, POINT, ElementarySites, decompose
 from .emptiness import empty_by_filter, prove_empty
 from .exact import contacts_valid
 from .sampling import flat, initial_spacing, nearest_point, samples, triangulation
-from .vertices import common_point, prove_vertices
+from .newton import prove_vertices
+from .vertices import common_point
 
 __all__ = ["segment_voronoi", "has_segments"]
 

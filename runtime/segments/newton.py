@@ -1,0 +1,134 @@
+"""Newton's method on many contact systems at once, before their proofs (thesis §3.3.3).
+
+A round of the construction (:mod:`runtime.segments.construction`) meets thousands of candidate
+vertices.  Their 3 × 3 contact systems (:func:`runtime.segments.vertices.contact_equations`) are
+coded as arrays — a kind per equation (point, line, normal line, arc) and its parameters — and
+Newton's iteration runs on all of them together with numpy, each 3 × 3 step by cofactors; a row
+whose Jacobian is numerically singular or whose iterate leaves the floats is left undecided.
+Each limit is then proved one by one by :func:`runtime.segments.vertices.prove_zero` (the arb
+Krawczyk test), with the same cache as :func:`runtime.segments.vertices.prove_vertex`.
+
+Public API: :func:`prove_vertices`.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .elementary import ElementarySites
+from .vertices import VertexSolution, arc_centre_vertex, common_point, contact_equations, prove_vertex, prove_zero
+
+__all__ = ["prove_vertices"]
+
+
+_KINDS = {"point": 0, "line": 1, "normal": 2, "arc": 3}
+
+
+def prove_vertices(E: ElementarySites, items, cache: dict | None = None) -> list:
+    """:func:`prove_vertex` for many (triple, seed) items: the float Newton iterations of all of
+    them run together (numpy, 3 × 3 systems inverted by cofactors), then each limit is proved
+    by the arb Krawczyk test of :func:`prove_vertex` (cached the same way)."""
+    out: list = [None] * len(items)
+    rows, systems = [], []
+    for n, (triple, seed) in enumerate(items):
+        if common_point(E, triple) is not None or arc_centre_vertex(E, triple) is not None:
+            out[n] = prove_vertex(E, triple, seed, cache=cache)
+            continue
+        eqs = contact_equations(E, triple, seed)
+        if eqs is None:
+            out[n] = VertexSolution("invalid", float(seed[0]), float(seed[1]), 0.0,
+                                    reason="a segment and both its endpoints")
+            continue
+        rows.append(n)
+        systems.append(eqs)
+    if not rows:
+        return out
+    m = len(rows)
+    K = np.zeros((m, 3), dtype=np.int64)
+    Pm = np.zeros((m, 3, 4))
+    for i, eqs in enumerate(systems):
+        for j, (kind, d, _t) in enumerate(eqs):
+            K[i, j] = _KINDS[kind]
+            if kind == "line":
+                a, b, c, sgn, N = d
+                Pm[i, j] = (float(a), float(b), float(c), sgn * float(N) ** 0.5)
+            else:
+                vals = [float(v) for v in d]
+                Pm[i, j, :len(vals)] = vals
+    Z = np.array([[items[n][1][0], items[n][1][1], 0.0] for n in rows], dtype=float)
+    Z[:, 2] = _r_guess_many(K, Pm, Z)
+    scale = 1.0 + float(np.max(np.abs(E.A)) if len(E.A) else 0.0)
+    alive = np.ones(m, dtype=bool)
+    failed = np.zeros(m, dtype=bool)
+    for _ in range(40):
+        idx = np.nonzero(alive)[0]
+        if not len(idx):
+            break
+        F, J = _residuals(K[idx], Pm[idx], Z[idx])
+        step, ok = _solve3(J, F)
+        failed[idx[~ok]] = True
+        alive[idx[~ok]] = False
+        Z[idx[ok]] -= step[ok]
+        done = ok & (np.max(np.abs(step), axis=1) <= 1e-15 * scale)
+        bad = ok & ~np.isfinite(Z[idx]).all(axis=1)
+        failed[idx[bad]] = True
+        alive[idx[done | bad]] = False
+    for i, n in enumerate(rows):
+        triple, seed = items[n]
+        if failed[i]:
+            out[n] = VertexSolution("undecided", float(seed[0]), float(seed[1]), 0.0, reason="Newton failed")
+            continue
+        z, eqs = Z[i], systems[i]
+        key = None
+        if cache is not None:
+            sides = tuple(d[3] if k in ("line", "arc") else 0 for k, d, _t in eqs)
+            key = (tuple(triple), sides) + tuple(np.round(z / (1e-9 * scale)).astype(np.int64).tolist())
+            if key in cache:
+                out[n] = cache[key]
+                continue
+        sol = prove_zero(E, triple, eqs, z, scale)
+        if key is not None:
+            cache[key] = sol
+        out[n] = sol
+    return out
+
+
+def _residuals(K, Pm, Z):
+    """F (m × 3) and J (m × 3 × 3) of the contact systems coded by kinds K and parameters Pm."""
+    x, y, r = Z[:, 0:1], Z[:, 1:2], Z[:, 2:3]
+    p0, p1, p2, p3 = Pm[..., 0], Pm[..., 1], Pm[..., 2], Pm[..., 3]
+    dx, dy = x - p0, y - p1
+    R = p2 + p3 * r                                     # arcs: ρ + σ r
+    F = np.select([K == 0, K == 1, K == 2, K == 3],
+                  [dx * dx + dy * dy - r * r, p0 * x + p1 * y + p2 - p3 * r,
+                   p0 * (x - p2) + p1 * (y - p3), dx * dx + dy * dy - R * R])
+    J = np.empty(K.shape + (3,))
+    J[..., 0] = np.select([K == 0, K == 1, K == 2, K == 3], [2 * dx, p0, p0, 2 * dx])
+    J[..., 1] = np.select([K == 0, K == 1, K == 2, K == 3], [2 * dy, p1, p1, 2 * dy])
+    J[..., 2] = np.select([K == 0, K == 1, K == 2, K == 3], [-2 * r + 0 * p0, -p3, 0 * p0, -2 * p3 * R])
+    return F, J
+
+
+def _solve3(J, F):
+    """J⁻¹F row by row by cofactors; ok = False where J is (numerically) singular."""
+    a, b, c = J[:, 0], J[:, 1], J[:, 2]
+    cof0 = np.cross(b, c)
+    det = np.einsum("ij,ij->i", a, cof0)
+    cof1 = np.cross(c, a)
+    cof2 = np.cross(a, b)
+    norm = np.abs(J).reshape(len(J), -1).max(axis=1) + 1e-300
+    ok = np.abs(det) > 1e-14 * norm ** 3
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv_t = np.stack([cof0, cof1, cof2], axis=1) / np.where(ok, det, 1.0)[:, None, None]
+        step = np.einsum("kji,kj->ki", inv_t, F)
+    return step, ok
+
+
+def _r_guess_many(K, Pm, Z):
+    x, y = Z[:, 0:1], Z[:, 1:2]
+    p0, p1, p2, p3 = Pm[..., 0], Pm[..., 1], Pm[..., 2], Pm[..., 3]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        guess = np.select([K == 0, K == 1, K == 3],
+                          [np.hypot(x - p0, y - p1), np.abs(p0 * x + p1 * y + p2) / np.abs(p3),
+                           np.abs(np.hypot(x - p0, y - p1) - p2)], np.nan)
+    g = np.nanmean(guess, axis=1)
+    return np.where(np.isfinite(g), g, 1.0)
