@@ -152,7 +152,7 @@ def _foot(E: ElementarySites, s: int, X) -> float:
 
 
 def edge_polyline(E: ElementarySites, i: int, j: int, P0, P1, tol: float, *, far=None, centre=None,
-                  step: int = 1):
+                  step: int = 1, sides=None):
     """The polyline of the edge (i, j) from P0 to P1 and its deviation bound from the true arc.
 
     Straight and parabolic bisectors take finite points (far points already placed on the line for
@@ -161,7 +161,7 @@ def edge_polyline(E: ElementarySites, i: int, j: int, P0, P1, tol: float, *, far
     arc) until it leaves the disc of radius ``far`` around ``centre``."""
     kind = bisector_kind(E, i, j)
     if kind == "arc":
-        return _arc_edge(E, i, j, P0, P1, tol, far, centre, step)
+        return _arc_edge(E, i, j, P0, P1, tol, far, centre, step, sides)
     P0 = np.asarray(P0, float)
     P1 = np.asarray(P1, float)
     scale = 1.0 + float(np.max(np.abs(np.concatenate([P0, P1]))))
@@ -214,10 +214,13 @@ def _offset(E, s, P, alpha, beta):
     return o
 
 
-def _arc_edge(E, i, j, P0, P1, tol, far, centre, step):
+def _arc_edge(E, i, j, P0, P1, tol, far, centre, step, sides=None):
     s, other = (i, j) if E.kind[i] == ARC else (j, i)
-    ref = P0 if P0 is not None else P1
-    sigma, tau = arc_sides(E, s, other, ref if ref is not None else E.C[s] + 2 * E.rho[s])
+    # the sides from the finite end farthest from the arc's circle: an end at a corner lies on
+    # the circle (and on the other site), where the sides are not defined
+    ends_ = [np.asarray(P, float) for P in (P0, P1) if P is not None]
+    ref = max(ends_, key=lambda P: abs(np.hypot(*(P - E.C[s])) - E.rho[s])) if ends_ else None
+    sigma, tau = sides if sides is not None else arc_sides(E, s, other, ref if ref is not None else E.C[s] + 2 * E.rho[s])
     alpha, beta = arc_range(E, s)
 
     def curve(o):

@@ -46,24 +46,29 @@ def _outward(E: ElementarySites, i: int, j: int, base, d, far) -> float:
     return sgn
 
 
-def _arc_step(E: ElementarySites, i: int, j: int, base, far) -> int:
-    """+1 or −1: the way (counter-clockwise or not on the arc) along the arc bisector of i and j
-    from its vertex ``base`` on which i and j stay the nearest sites."""
+def _arc_step(E: ElementarySites, i: int, j: int, base, far):
+    """(step, (σ, τ)): the way (+1 counter-clockwise on the arc, −1 not) and the sides of the arc
+    bisector of i and j leaving its vertex ``base`` on which i and j stay the nearest sites.  At
+    a corner the vertex lies on both sites and does not tell the sides: all four are tried."""
     s, other = (i, j) if E.kind[i] == ARC else (j, i)
-    sigma, tau = arc_sides(E, s, other, base)
     c = E.C[s]
     th = math.atan2(base[1] - c[1], base[0] - c[0])
-    best, out = None, 1
-    for st in (1, -1):
-        V, t = arc_bisector_points(E, s, other, sigma, tau, np.array([th + st * 1e-6]))
-        if not (np.isfinite(t[0]) and t[0] > 0):
-            continue
-        dd = site_distances(E, np.arange(len(E)), np.repeat(V, len(E), axis=0))
-        own = max(dd[i], dd[j])
-        dd[[i, j]] = np.inf
-        margin = float(dd.min() - own)
-        if best is None or margin > best:
-            best, out = margin, st
+    own_sides = arc_sides(E, s, other, base)
+    tries = [own_sides] + [(a, b) for a in (1, -1) for b in (1, -1) if (a, b) != own_sides]
+    best, out = None, (1, own_sides)
+    for sides in tries:
+        for st in (1, -1):
+            V, t = arc_bisector_points(E, s, other, sides[0], sides[1], np.array([th + st * 1e-6]))
+            if not (np.isfinite(t[0]) and t[0] > 0) or np.hypot(*(V[0] - base)) > 1e-3 * far:
+                continue
+            dd = site_distances(E, np.arange(len(E)), np.repeat(V, len(E), axis=0))
+            if abs(dd[i] - dd[j]) > 1e-9 * (1 + t[0]):
+                continue            # not a point of this bisector branch
+            own = max(dd[i], dd[j])
+            dd[[i, j]] = np.inf
+            margin = float(dd.min() - own)
+            if best is None or margin > best:
+                best, out = margin, (st, sides)
     return out
 
 
@@ -79,13 +84,13 @@ def edge_polylines(E: ElementarySites, vertices, walks, tol, lo, hi):
         i, j = pair
         fin = [None if e is None else np.array([vertices[e].x, vertices[e].y]) for e in ends]
         kind = bisector_kind(E, i, j)
-        step = 1
+        step, sides = 1, None
         if fin[0] is None or fin[1] is None:
             if kind in ("parabola", "segments"):
                 continue          # these bisectors are bounded: the walk is an artefact
             if kind == "arc":
                 base = fin[0] if fin[0] is not None else fin[1]
-                step = 1 if base is None else _arc_step(E, i, j, base, far)
+                step, sides = (1, None) if base is None else _arc_step(E, i, j, base, far)
             else:
                 base = fin[0] if fin[0] is not None else fin[1]
                 d = line_direction(E, i, j, base)
@@ -97,7 +102,7 @@ def edge_polylines(E: ElementarySites, vertices, walks, tol, lo, hi):
                 else:
                     sgn = _outward(E, i, j, base, d, far)
                     fin = [base + sgn * d * R if f is None else f for f in fin]
-        poly, t = edge_polyline(E, i, j, fin[0], fin[1], tol, far=far + float(np.hypot(*(lo - centre))),
+        poly, t = edge_polyline(E, i, j, fin[0], fin[1], tol, far=far + float(np.hypot(*(lo - centre))), sides=sides,
                                 centre=centre, step=step)
         if len(poly) < 2:
             continue
