@@ -196,11 +196,14 @@ class ArcCurve:
         """θ of a proved end vertex: exactly 0 (β) when it lists the site at the arc's start (end),
         where the contact is that end; else from its box."""
         T, s = self.T, self.s
+        raw = self.param(vp.x, vp.y)
         for which, code in enumerate(T.ends[s]):
             site = code if code >= 0 else next((o for o in T.joint_curves(code) if o != s), None)
-            if site in vp.listed and s in vp.listed:
-                return arb(0) if which == 0 else self.beta
-        return self.param(vp.x, vp.y)
+            exact = arb(0) if which == 0 else self.beta
+            # listed with the site at that end, and there (a closed pair of arcs has both)
+            if site in vp.listed and s in vp.listed and abs(float((raw - exact).mid())) < 1e-6:
+                return exact
+        return raw
 
     # ------------------------------------------------------------------ the pole
     def poles(self):

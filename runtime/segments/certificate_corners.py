@@ -212,6 +212,8 @@ def prove_arc_centre(T: SiteTable, v, sites, s, problems, tol: float, name: str,
             continue
         if sign == 0 and clamped and contact[2] is not None and contact[2] in listed:
             continue
+        if sign == 0 and T.kind[k] == ARC and contact[1] is None and all(e in listed for e in T.ends[k]):
+            continue                      # an arc whose nearest points are its two listed ends
         what = "inside the circle" if sign < 0 else "on the circle and not listed"
         problems.append(fault(f"{name}: site {k} is {what}", kind="vertex", vertex=v.id, sites=tuple(sites) + (k,)))
         ok = False

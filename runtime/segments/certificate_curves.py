@@ -1,6 +1,6 @@
-"""Closed-form bisector curves of two elementary sites (points, open segments) for the
-point/segment certificate (:mod:`runtime.segments.certificate_edges` states what is proved with
-them), the polyline tolerance check and small arb helpers.
+"""Closed-form bisector curves of two elementary sites (points, open segments, open arcs) for the
+certificate (:mod:`runtime.segments.certificate_edges` states what is proved with them), the
+polyline tolerance check and small arb helpers.
 
 * two points: the perpendicular bisector O + τ w, O the midpoint, w = (p_j − p_i)^⊥ (exact);
 * an endpoint e and its segment s: the perpendicular e + τ (b − a)^⊥ (exact); on it the foot on s
@@ -11,7 +11,14 @@ them), the polyline tolerance check and small arb helpers.
   ρ(t) = ((t − t_p)² L² + H²) √L / (2 |H| L);
 * two segments: the angle bisector σ_i ℓ_i = σ_j ℓ_j of their lines (ℓ the signed distances, σ the
   sides at a proved end vertex of positive radius, where |ℓ| is the radius), through the exact
-  intersection of the lines (parallel lines: their mid-parallel through (a_i + a_j)/2).
+  intersection of the lines (parallel lines: their mid-parallel through (a_i + a_j)/2);
+* an end e of an arc (centre c) and the arc: the radial ray c + τ (e − c), τ > 0 (the direction
+  e − c is the range's boundary: d_s = | |x − c| − ρ | = |x − e|);
+* the two curves of a smooth joint j: the normal line j + τ w (w = j − c for an arc of the pair),
+  restricted to the rays from the arcs' centres through j (1 + τ μ > 0 for w = μ (j − c)); two
+  half circles of one circle joined at both ends: the whole line, ρ = |x − j| on each ray from the
+  centre to its joint j;
+* an arc and another site: :class:`runtime.segments.certificate_arcs.ArcCurve`.
 
 **Polyline tolerance** (:func:`polyline_bound`, a Hausdorff bound; for an arc's bisector piece by
 piece against the polyline's segments, :func:`_arc_piece`): each polyline point p_m is
@@ -69,6 +76,7 @@ class Line:
     def __init__(self, kind, Oq, wq=None, w=None, anchor=None, side=None, valid=(None, None)):
         self.kind = kind
         self.valid = valid
+        self.anchor2 = self.split = None
         self.Oq, self.wq = Oq, wq
         self.O = (q_arb(Oq[0]), q_arb(Oq[1]))
         self.w = (q_arb(wq[0]), q_arb(wq[1])) if wq is not None else w
@@ -238,6 +246,15 @@ def _joint_line(T, i, j, joints, P):
         joints = sorted(joints, key=lambda c: (float(T.pt(c)[0]) - m[0]) ** 2 + (float(T.pt(c)[1]) - m[1]) ** 2)
     jt = joints[0]
     jx, jy = T.pt(jt)
+    if len(joints) == 2 and ARC == T.kind[i] == T.kind[j] and T.cen[i] == T.cen[j]:
+        kx, ky = T.pt(joints[1])
+        c = T.cen[i]
+        if (jx + kx, jy + ky) == (2 * c[0], 2 * c[1]):
+            # two half circles of one circle: the rays from the centre through the two joints make
+            # a line, ρ = |x − j₁| on the first (τ ≥ −1), |x − j₂| on the second
+            line = Line("joint", (jx, jy), wq=(jx - c[0], jy - c[1]), anchor=(jx, jy))
+            line.anchor2, line.split = (kx, ky), Fraction(-1)
+            return line
     w = None
     for s in (i, j):
         if T.kind[s] == ARC:

@@ -5,7 +5,8 @@ functions that must be > 0 on the open arc, proved with the pieces
 * R2 along a parabola or an arc's bisector: a curve k ending at the edge's point p has p alone
   as its nearest point — linear functions g·x + g₀ (:func:`runtime.segments.certificate_rules.
   linear_rule`);
-* along an arc's bisector (:mod:`runtime.segments.certificate_arcs`): t > 0; a segment partner's
+* along an arc's bisector (:mod:`runtime.segments.certificate_arcs`): t > 0 (and t < ρ inside the
+  circle, so that v = c + (ρ − t) u has its contact at u); a segment partner's
   foot in (0, 1) (two linear functions; then its line's distance is the segment's); an arc
   partner's contact direction in its open range (two linear functions — cross products with its
   ends' directions — both > 0 for an arc of at most 180°, one of them for a larger one: their
@@ -78,6 +79,10 @@ def arc_conditions(pr, only_linear: bool = False) -> list:
         return out
     out.append(_cond("its distance is not proved positive", [(lambda t, X, Y, rho: rho,
                                                              lambda t, X, Y: c.drho(t, X, Y), "corner")]))
+    if c.sigma < 0:                          # inside the circle: v = c + (ρ − t) u needs t < ρ
+        r = to_arb(T.rad[c.s])
+        out.append(_cond(f"the centre of arc {c.s} is not proved off the edge",
+                         [(lambda t, X, Y, rho: r - rho, lambda t, X, Y: -c.drho(t, X, Y), set())]))
     k = c.k
     if T.kind[k] == SEGMENT:
         for e in T.ends[k]:

@@ -50,9 +50,10 @@ from flint import arb
 from ..voronoi.verify.problems import Problem, fault
 from .certificate_curves import Line, bisector_curve, down, polyline_bound, q_arb, up
 from .certificate_edge_conditions import arc_conditions, cover_conditions
+from .certificate_lines import LineProofs
 from .certificate_pieces import PieceProofs
 from .certificate_rules import affine_rules, prove_tail
-from .certificate_sites import ARC, POINT, SEGMENT, SiteTable, direction_key
+from .certificate_sites import POINT, SiteTable, direction_key
 from .certificate_tails import arc_pole, arc_tail
 
 __all__ = ["EdgeProof", "prove_edges"]
@@ -87,7 +88,7 @@ def prove_edges(D, T: SiteTable, vproofs, problems, deadline=None) -> list[EdgeP
     return out
 
 
-class _EdgeProver(PieceProofs):
+class _EdgeProver(PieceProofs, LineProofs):
     def __init__(self, T: SiteTable, D, e, vindex, vproofs, problems):
         self.T, self.D, self.e = T, D, e
         self.vindex, self.vproofs, self.problems = vindex, vproofs, problems
@@ -281,7 +282,7 @@ class _EdgeProver(PieceProofs):
 
     # -------------------------------------------------------------- R3 (and conditions)
     def _positivity(self):
-        T, c, lo, hi = self.T, self.curve, self.lo, self.hi
+        c, lo, hi = self.curve, self.lo, self.hi
         ok = True
         a = down(lo[1]) if lo[0] == "v" else None
         b = up(hi[1]) if hi[0] == "v" else None
@@ -362,27 +363,3 @@ class _EdgeProver(PieceProofs):
                         cover_hi = cv
             special[k] = (value, cover_lo, cover_hi)
         return special if ok else None
-
-    def _concave(self) -> bool:
-        """Concavity of h_k = d_k² − ρ² along a line of a point anchor (module docstring)."""
-        T, c, lo, hi = self.T, self.curve, self.lo, self.hi
-        if lo[0] != "v" or hi[0] != "v":
-            return True
-        both = (self._at_radius(lo[2]) & self._at_radius(hi[2])) - self.skip - {self.i, self.j}
-        t = (lo[1] + hi[1]) / 2
-        X, Y = c.xy(t)
-        rho = c.rho(t, X, Y)
-        ok = True
-        for k in sorted(both):
-            if not T.distance(k, X, Y) > rho:
-                self.report(f"site {k} is at the distance of its sites at both ends and not proved "
-                            "farther in between", k)
-                ok = False
-        return ok
-
-    def _at_radius(self, vp) -> set:
-        """The sites that may be at exactly the radius of a proved vertex: its listed sites, the
-        corner point, curves ending at a listed point (nearest point clamped there)."""
-        T = self.T
-        out = set(vp.listed) | ({vp.corner} if vp.corner is not None else set())
-        return out | {s for p in list(out) if T.kind[p] == POINT for s in T.incident[p]}

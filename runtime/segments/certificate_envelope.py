@@ -12,7 +12,7 @@ import numpy as np
 from flint import arb
 
 from ..certify.foot import to_arb
-from .certificate_sites import ARC, POINT, SEGMENT, SiteTable, direction_key
+from .certificate_sites import POINT, SEGMENT, SiteTable, direction_key
 
 __all__ = ["envelope_directions", "tangent_ties", "Undecided"]
 

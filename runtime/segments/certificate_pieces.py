@@ -34,7 +34,7 @@ from flint import arb
 
 from .certificate_curves import Line, down, interval, q_arb, up
 from .certificate_rules import corner_ratio
-from .certificate_sites import ARC, POINT, SEGMENT, hypot
+from .certificate_sites import ARC, SEGMENT, hypot
 from .distance import distances, float_error
 
 __all__ = ["PieceProofs", "MAX_PIECES", "FIRST_PIECES"]

@@ -242,7 +242,7 @@ def prove_tail(pr, sgn: int, s_min: float):
     T, c = pr.T, pr.curve
     (ox, oy), (wx, wy) = c.Oq, c.wq
     wx, wy = sgn * wx, sgn * wy
-    px, py = c.anchor_q
+    px, py = c.anchor_q if (sgn > 0 or c.anchor2 is None) else c.anchor2
     idx = np.array([k for k in range(T.n) if k not in pr.skip and k not in (pr.i, pr.j)], dtype=int)
     if len(idx) == 0:
         return max(s_min, 0.0) + 1.0

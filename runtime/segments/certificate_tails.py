@@ -37,7 +37,6 @@ from __future__ import annotations
 from flint import arb
 
 from ..certify.foot import to_arb
-from .certificate_curves import down, up
 from .certificate_hull import tangent_sign
 from .certificate_rules import range_lines
 from .certificate_sites import ARC, POINT, SEGMENT
@@ -47,9 +46,26 @@ __all__ = ["arc_tail", "arc_pole", "support_bound"]
 DEPTH = 10
 
 
+def _tangent_at_end(c, which: int) -> bool:
+    """The asymptote touches the arc exactly at its start (0) or end (1): the point partner lies
+    on the tangent line there, or the arc partner's circle touches it (rationals and squares)."""
+    T = c.T
+    (cx, cy), rho = T.cen[c.s], T.rad[c.s]
+    e = T.a[c.s] if which == 0 else T.b[c.s]
+    r = (e[0] - cx, e[1] - cy)
+    if T.kind[c.k] == POINT:
+        p = T.a[c.k]
+        return (p[0] - e[0]) * r[0] + (p[1] - e[1]) * r[1] == 0
+    (kx, ky), r2 = T.cen[c.k], T.rad[c.k]
+    h = (kx - e[0]) * r[0] + (ky - e[1]) * r[1]           # −ρ·(distance of c₂ below the tangent)
+    return h <= 0 and h * h == r2 * r2 * rho * rho
+
+
 def arc_pole(c, theta_fin, sg: int, other=None):
-    """The pole reached from θ_fin going the way sg (θ_fin None: the pole of that side), or None."""
-    poles = [p for p in c.poles() if p > 0 and p < c.beta or p.overlaps(c.beta) or p.overlaps(arb(0))]
+    """The pole reached from θ_fin going the way sg (θ_fin None: the pole of that side), or None;
+    only poles in the arc's closed range (at an end exactly, decided in rationals)."""
+    poles = [p for p in c.poles() if (p > 0 and p < c.beta) or (p.overlaps(c.beta) and _tangent_at_end(c, 1))
+             or (p.overlaps(arb(0)) and _tangent_at_end(c, 0))]
     if theta_fin is not None:
         poles = [p for p in poles if (p > theta_fin if sg > 0 else p < theta_fin)]
     if not poles:

@@ -134,6 +134,10 @@ def _terms(T: SiteTable, sites, xr, yr):
             for code in T.ends[s]:
                 if code <= -2 and any(o in listed and o != s for o in T.joint_curves(code)):
                     partner.setdefault(s, []).append(code)
+            if len(partner.get(s, ())) == 2 and len({o for c_ in partner[s] for o in T.joint_curves(c_)}) == 2:
+                # two curves joined at both ends (a closed pair): the joint nearer the report
+                partner[s] = [min(partner[s], key=lambda c_: (float(T.pt(c_)[0]) - xr) ** 2 +
+                                  (float(T.pt(c_)[1]) - yr) ** 2)]
     out = []
     for s in sites:
         if T.kind[s] == POINT:
