@@ -51,6 +51,7 @@ sys.path.insert(0, str(ROOT / "tests"))
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 NOT_VERIFIED = "not verified (certify=False)"
+_ITEM = __import__("re").compile(r"(edge|vertex|site) \d+")      # the item a certificate problem is about
 
 
 # ----------------------------------------------------------------------------- scenes
@@ -174,6 +175,7 @@ def _certify(out: dict, d, limit: float, rss0: float) -> None:
                rss_cert_mb=_maxrss_mb() - rss0, cert_ok=bool(cert.ok),
                certified=bool(cert.ok) and not construction_problems,
                cert_problems=len(cert.problems), first_cert_problem=str(cert.problems[0])[:160] if cert.problems else "",
+               cert_items=len({m.group(0) for m in map(_ITEM.match, map(str, cert.problems)) if m}),
                cert_timings={k: round(v, 3) for k, v in (cert.timings or {}).items()},
                edges_certified=sum(bool(e) for e in cert.edges), deadline_hit=cert.timings.get("total", 0) >= limit)
 
@@ -395,7 +397,8 @@ def _outcome(r: dict) -> str:
     if r.get("construction_problems"):
         bits.append(f"{r['construction_problems']} construction problems, first: {r['first_construction_problem']}")
     if r.get("cert_problems"):
-        bits.append(f"certificate: {r['cert_problems']} problems, first: {r['first_cert_problem']}")
+        bits.append(f"certificate: {r['cert_problems']} problems on {r.get('cert_items', '?')} edges/vertices/sites, "
+                    f"first: {r['first_cert_problem']}")
     if r.get("deadline_hit"):
         bits.append("certificate deadline reached")
     return "; ".join(bits) or "-"
