@@ -38,6 +38,7 @@ import json
 import math
 import os
 import random
+import re
 import resource
 import subprocess
 import sys
@@ -51,7 +52,7 @@ sys.path.insert(0, str(ROOT / "tests"))
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 NOT_VERIFIED = "not verified (certify=False)"
-_ITEM = __import__("re").compile(r"(edge|vertex|site) \d+")      # the item a certificate problem is about
+_ITEM = re.compile(r"(edge|vertex|site) \d+")      # the item a certificate problem is about
 
 
 # ----------------------------------------------------------------------------- scenes
@@ -174,7 +175,8 @@ def _certify(out: dict, d, limit: float, rss0: float) -> None:
     out.update(cert_seconds=time.perf_counter() - t0, cert_cpu=time.process_time() - c0,
                rss_cert_mb=_maxrss_mb() - rss0, cert_ok=bool(cert.ok),
                certified=bool(cert.ok) and not construction_problems,
-               cert_problems=len(cert.problems), first_cert_problem=str(cert.problems[0])[:160] if cert.problems else "",
+               cert_problems=len(cert.problems),
+               first_cert_problem=str(cert.problems[0])[:160] if cert.problems else "",
                cert_items=len({m.group(0) for m in map(_ITEM.match, map(str, cert.problems)) if m}),
                cert_timings={k: round(v, 3) for k, v in (cert.timings or {}).items()},
                edges_certified=sum(bool(e) for e in cert.edges), deadline_hit=cert.timings.get("total", 0) >= limit)
@@ -405,8 +407,9 @@ def _outcome(r: dict) -> str:
 
 
 def segments_table(rows) -> list[str]:
-    lines = ["| N | seed | samples | rounds | construction s (CPU) | certificate s | total s | peak RSS MB constr. / +cert. "
-             "| Boost s | CGAL s | constr./Boost | total/Boost | = CGAL | = Boost | certified | load (start → end) | outcome |",
+    lines = ["| N | seed | samples | rounds | construction s (CPU) | certificate s | total s | "
+             "peak RSS MB constr. / +cert. | Boost s | CGAL s | constr./Boost | total/Boost | = CGAL | = Boost | "
+             "certified | load (start → end) | outcome |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         s = r["spec"]
@@ -419,11 +422,16 @@ def segments_table(rows) -> list[str]:
         cert = r.get("cert_seconds")
         total = r["seconds"] + cert if cert is not None else None
         b = r.get("boost_seconds")
-        eqc = _yn(r.get("eq_cgal")) + ("" if r.get("eq_cgal", True) else f" (−{r['cgal_not_ours']} +{r['ours_not_cgal']})")
-        eqb = _yn(r.get("eq_boost")) + ("" if r.get("eq_boost", True) else f" (−{r['boost_not_ours']} +{r['ours_not_boost']})")
+        eqc = _yn(r.get("eq_cgal"))
+        if not r.get("eq_cgal", True):
+            eqc += f" (−{r['cgal_not_ours']} +{r['ours_not_cgal']})"
+        eqb = _yn(r.get("eq_boost"))
+        if not r.get("eq_boost", True):
+            eqb += f" (−{r['boost_not_ours']} +{r['ours_not_boost']})"
         lines.append(
-            f"| {r['n']} | {s['seed']} | {st.get('samples', '-')} | {st.get('rounds', '-')} | {r['seconds']:.2f} ({r['cpu']:.2f}) | "
-            f"{_f(cert)} | {_f(total)} | {r['rss_build_mb']:.0f} / {_f(r.get('rss_cert_mb'), '.0f')} | {_f(b, '.4f')} | "
+            f"| {r['n']} | {s['seed']} | {st.get('samples', '-')} | {st.get('rounds', '-')} | "
+            f"{r['seconds']:.2f} ({r['cpu']:.2f}) | {_f(cert)} | {_f(total)} | "
+            f"{r['rss_build_mb']:.0f} / {_f(r.get('rss_cert_mb'), '.0f')} | {_f(b, '.4f')} | "
             f"{_f(r.get('cgal_seconds'), '.4f')} | {_f(r['seconds'] / b if b else None, '.0f')}× | "
             f"{_f(total / b if b and total else None, '.0f')}× | {eqc} | {eqb} | {_yn(r.get('certified'))} | {load} | "
             f"{_cell(_outcome(r))} |")
@@ -441,9 +449,11 @@ def arcs_table(rows) -> list[str]:
             lines.append(f"| {s['n']} | {s['seed']} | - | - | - | - | - | - | - | no | {load} | {_cell(r['error'])} |")
             continue
         st = r["stats"]
-        lines.append(f"| {r['n']} | {s['seed']} | {st.get('samples', '-')} | {st.get('rounds', '-')} | {r['vertices']} | "
+        lines.append(f"| {r['n']} | {s['seed']} | {st.get('samples', '-')} | {st.get('rounds', '-')} | "
+                     f"{r['vertices']} | "
                      f"{r['edges']} | {r['seconds']:.2f} ({r['cpu']:.2f}) | {_f(r.get('cert_seconds'))} | "
-                     f"{r['rss_build_mb']:.0f} / {_f(r.get('rss_cert_mb'), '.0f')} | {_yn(r.get('certified'))} | {load} | "
+                     f"{r['rss_build_mb']:.0f} / {_f(r.get('rss_cert_mb'), '.0f')} | {_yn(r.get('certified'))} | "
+                     f"{load} | "
                      f"{_cell(_outcome(r))} |")
     return lines
 
@@ -458,7 +468,8 @@ def gear_table(rows) -> list[str]:
         name = "gear, bulge arcs" if s["arcs"] else "gear, segments"
         load = f"{s['load_start'].split()[0]} → {r['load_end'].split()[0]}"
         if "error" in r:
-            lines.append(f"| {name} | - | - | - | - | - | - | - | no | - | - | - | - | - | {load} | {_cell(r['error'])} |")
+            lines.append(f"| {name} | - | - | - | - | - | - | - | no | - | - | - | - | - | {load} | "
+                         f"{_cell(r['error'])} |")
             continue
         st = r["stats"]
         lines.append(f"| {name} | {r['segments']} + {r['arcs']} | {r['read_seconds']:.2f} | {_cell(r['domain'])} | "
