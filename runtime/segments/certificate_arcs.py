@@ -193,8 +193,8 @@ class ArcCurve:
         return arb.atan2(mx * wy - my * wx, mx * wx + my * wy) + self.beta / 2
 
     def vertex_param(self, vp):
-        """θ of a proved end vertex: exactly 0 (β) when it lists the site at the arc's start (end),
-        where the contact is that end; else from its box."""
+        """θ of a proved end vertex: exactly 0 (β) when it lists the site at the arc's start (end)
+        and is there, or is the corner at that end; else from its box."""
         T, s = self.T, self.s
         raw = self.param(vp.x, vp.y)
         for which, code in enumerate(T.ends[s]):
@@ -202,6 +202,8 @@ class ArcCurve:
             exact = arb(0) if which == 0 else self.beta
             # listed with the site at that end, and there (a closed pair of arcs has both)
             if site in vp.listed and s in vp.listed and abs(float((raw - exact).mid())) < 1e-6:
+                return exact
+            if vp.corner is not None and vp.corner == code:         # the corner at that end
                 return exact
         return raw
 

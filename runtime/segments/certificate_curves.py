@@ -360,7 +360,7 @@ def _arc_piece(c, A, B, t0, t1, tol: float) -> arb:
         a, b, depth = stack.pop()
         count += 1
         bound = d(a).max(d(b)) + c.chord_bound_parts(a, b, 2)
-        if bound.upper() > tol and depth < 40 and count < 4000:
+        if not bound.upper() <= tol and depth < 40 and count < 4000:      # NaN/∞ near a pole too
             m = (a + b) / 2
             stack += [(a, m, depth + 1), (m, b, depth + 1)]
             continue

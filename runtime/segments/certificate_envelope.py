@@ -113,15 +113,17 @@ def _transition(T, X, Y):
         _fail(f"no common tangent of {X} and {Y}")
     phi = _angle(*K) - ratio.acos()
     out = dict(phi=phi, u=None, ref=None, K=K, C=C, atoms=(X, Y))
-    # a tangent from a point that happens to be rational (an axis, a simple slope): exact ties
+    # a tangent that happens to be rational (an axis, a simple slope, two equal radii): exact ties
     P = X if X[0] == "p" else (Y if Y[0] == "p" else None)
-    if P is not None:
+    if C == 0:
+        u = (K[1], -K[0])
+    else:
         ux, uy = float(phi.cos().mid()), float(phi.sin().mid())
         m = max(abs(ux), abs(uy))
         u = (Fraction(ux / m).limit_denominator(1000), Fraction(uy / m).limit_denominator(1000))
-        ku = K[0] * u[0] + K[1] * u[1]
-        if ku * C <= 0 and ku * ku == C * C * (u[0] * u[0] + u[1] * u[1]) and K[0] * (-u[1]) + K[1] * u[0] > 0:
-            out.update(u=u, ref=P[1])               # the root where h_Y − h_X increases
+    ku = K[0] * u[0] + K[1] * u[1]
+    if ku * C <= 0 and ku * ku == C * C * (u[0] * u[0] + u[1] * u[1]) and K[0] * (-u[1]) + K[1] * u[0] > 0:
+        out.update(u=u, ref=P[1] if P is not None else ("arc", X[1]))  # the root where h_Y − h_X grows
     return out
 
 

@@ -144,24 +144,37 @@ def _support_floats(T: SiteTable, u):
     return h, 1e-9 * mag
 
 
-def _rational_ties(T: SiteTable, u, p_ref) -> list:
-    """Sites whose support in the rational direction u equals u·p_ref (p_ref rational)."""
-    h_ref = u[0] * p_ref[0] + u[1] * p_ref[1]
-    hf, m = _support_floats(T, u)
-    cand = np.nonzero(np.abs(hf - float(h_ref)) <= m)[0].tolist()
+def _on_support(T: SiteTable, u, q, r, pt) -> bool:
+    """u·pt equals the support q + r|u| (q, r rationals, r ≥ 0), exactly."""
+    d = u[0] * pt[0] + u[1] * pt[1] - q
+    return d == 0 if r == 0 else (d > 0 and d * d == r * r * (u[0] * u[0] + u[1] * u[1]))
+
+
+def _rational_ties(T: SiteTable, u, ref) -> list:
+    """Sites whose support in the rational direction u equals the reference's: a rational point
+    (support u·p) or ("arc", k) (support u·c_k + ρ_k|u|, an arc on a tangent of rational
+    direction)."""
+    if isinstance(ref[0], str):
+        q, r = u[0] * T.cen[ref[1]][0] + u[1] * T.cen[ref[1]][1], T.rad[ref[1]]
+    else:
+        q, r = u[0] * ref[0] + u[1] * ref[1], Fraction(0)
     n2 = u[0] * u[0] + u[1] * u[1]
+    hf, m = _support_floats(T, u)
+    cand = np.nonzero(np.abs(hf - (float(q) + float(r) * math.sqrt(float(n2)))) <= m)[0].tolist()
     out = []
     for k in cand:
         if T.kind[k] == POINT:
-            if u[0] * T.a[k][0] + u[1] * T.a[k][1] == h_ref:
+            if _on_support(T, u, q, r, T.a[k]):
                 out.append(k)
         elif T.kind[k] == SEGMENT:
-            if all(u[0] * q[0] + u[1] * q[1] == h_ref for q in (T.a[k], T.b[k])):
+            if all(_on_support(T, u, q, r, p) for p in (T.a[k], T.b[k])):
                 out.append(k)
         else:
             c, rho = T.cen[k], T.rad[k]
-            gap = h_ref - (u[0] * c[0] + u[1] * c[1])          # = ρ|u| exactly for a tie
-            if gap > 0 and gap * gap == rho * rho * n2 and T.in_range(k, u[0], u[1], closed=True):
+            # u·c + ρ|u| = q + r|u|  ⟺  u·c − q = (r − ρ)|u|
+            d, e = u[0] * c[0] + u[1] * c[1] - q, r - rho
+            tie = d == 0 if e == 0 else (d * e > 0 and d * d == e * e * n2)
+            if tie and T.in_range(k, u[0], u[1], closed=True):
                 out.append(k)
     return out
 
@@ -243,7 +256,8 @@ def _consecutive_ok(T, i, j) -> bool:
 
 
 def _side_pairs(T: SiteTable, u, p_ref):
-    """The consecutive pairs of tie sites in the rational direction u (support u·p_ref)."""
+    """The consecutive pairs of tie sites in the rational direction u (support of the reference:
+    a point, or ("arc", k))."""
     ties = _rational_ties(T, u, p_ref)
     if not T.has_arcs:
         return _points_segments(T, ties, u, p_ref)

@@ -72,11 +72,18 @@ class PieceProofs:
             wx, wy = self.curve.w if at_lo else (-self.curve.w[0], -self.curve.w[1])
             if self.T.in_range(k, wx, wy) is False and all(e in self.r1 for e in self.T.ends[k]):
                 return math.inf if at_lo else -math.inf
-        if vp.corner is not None:
-            if not corner_ratio(self.T, self.curve, k, vp.corner, at_lo):
-                return None
-            return math.inf if at_lo else -math.inf
         base, back = (up(t0), down(t0)) if at_lo else (down(t0), up(t0))
+        if vp.corner is not None:
+            if isinstance(self.curve, Line):
+                other = self.hi if at_lo else self.lo
+                far = (other[2].x, other[2].y) if other[0] == "v" else None
+                if not corner_ratio(self.T, self.curve, k, vp.corner, at_lo, far):
+                    return None
+                return math.inf if at_lo else -math.inf
+            from .certificate_corner_curves import curve_corner_test
+
+            test = curve_corner_test(self, k, vp.corner, 1 if at_lo else -1)
+            return None if test is None else self._prefix(test, back, base, span, at_lo)
         sgn = 1 if at_lo else -1
         tests = [lambda J, X, Y: deriv(J, X, Y) * sgn] + self._clamps(k) + self._clamp_derivs(k, vp, sgn)
         best = None
@@ -351,23 +358,30 @@ def distance_gradient(T, k, X, Y):
     decided: at a site, or where an arc's nearest point may jump)."""
     ax, ay, bx, by = T.arb_ends(k)
     if T.kind[k] == ARC:
+        # the gradient is continuous across the range's boundary (there (x − e)/|x − e| is
+        # ±(x − c)/|x − c|): where the box straddles it, the hull of both formulas
         cx, cy, rho = T.arb_arc(k)
         wx, wy = X - cx, Y - cy
         inr = T.in_range(k, wx, wy, closed=True)
-        if inr is True:
+        cands = []
+        if inr is not False:
             n = hypot(wx, wy)
             side = n - rho
             sg = 1 if side > 0 else (-1 if side < 0 else None)
-            if sg is not None:
-                return sg * wx / n, sg * wy / n
-        elif inr is False:
+            if sg is None:
+                big = arb("0 +/- inf")
+                return big, big
+            cands.append((sg * wx / n, sg * wy / n))
+        if inr is not True:
             da, db = hypot(X - ax, Y - ay), hypot(X - bx, Y - by)
-            if da < db:
-                return (X - ax) / da, (Y - ay) / da
-            if db < da:
-                return (X - bx) / db, (Y - by) / db
-        big = arb("0 +/- inf")
-        return big, big
+            if not da > db:
+                cands.append(((X - ax) / da, (Y - ay) / da))
+            if not db > da:
+                cands.append(((X - bx) / db, (Y - by) / db))
+        gx, gy = cands[0]
+        for hx, hy in cands[1:]:
+            gx, gy = gx.union(hx), gy.union(hy)
+        return gx, gy
     if T.kind[k] == SEGMENT:
         u = T.foot(k, X, Y)
         u = u.max(arb(0)).min(arb(1))

@@ -33,8 +33,8 @@ squares).
 **Corners** (:func:`corner_ratio`): at a corner vertex c of radius 0 the curve is the line
 c + τ u; a curve k through c is farther than the edge's sites on the whole ray when
 D_k − D_i > 0 (ρ = τ D_i exactly; d_k ≥ τ D_k with D_k the distance from u to the line of a
-segment, |u| when it leaves c away from u, and u·n̂ for an arc when u leaves its circle outwards,
-n̂ its outer normal at c).
+segment, |u| when it leaves c away from u or the ray stays in the half of an arc's gap next to
+c, and u·n̂ for an arc when u leaves its circle outwards, n̂ its outer normal at c).
 
 Along curves an arc k ending at e needs only its direction outside its open range: its other
 end is farther than the edge's sites anyway (an end of the edge's curves, R1; a site, R3; a joint
@@ -293,20 +293,26 @@ def prove_tail(pr, sgn: int, s_min: float):
     return S
 
 
-def corner_ratio(T, c, k: int, cpt: int, at_lo: bool) -> bool:
+def corner_ratio(T, c, k: int, cpt: int, at_lo: bool, far=None) -> bool:
     """Curve k (through the corner point site ``cpt``, the origin O of the line c) is strictly
     farther than the edge's sites on the whole ray from the corner into the arc (``at_lo``: the
-    arc has τ > 0): g_k(c + τ u) ≥ τ (D_k − D_i) (module docstring)."""
+    arc has τ > 0; ``far``: the point box of the arc's other end, None at infinity):
+    g_k(c + τ u) ≥ τ (D_k − D_i) (module docstring)."""
     if not (isinstance(c, Line) and tuple(c.Oq) == tuple(T.a[cpt])) or not T.is_curve(k):
         return False
     ux, uy = c.w if at_lo else (-c.w[0], -c.w[1])
     norm_u = (ux * ux + uy * uy).sqrt()
     (cx, cy) = T.a[cpt]
     if T.kind[k] == ARC:
+        from .certificate_corner_curves import ray_in_gap_half
+
         (kx, ky), rho = T.cen[k], T.rad[k]
-        Dk = (ux * q_arb(cx - kx) + uy * q_arb(cy - ky)) / q_arb(rho)
-        if not Dk > 0:
-            return False
+        if ray_in_gap_half(T, k, cpt, ux, uy, far):
+            Dk = norm_u                       # the corner is the arc's nearest point on the ray
+        else:
+            Dk = (ux * q_arb(cx - kx) + uy * q_arb(cy - ky)) / q_arb(rho)
+            if not Dk > 0:
+                return False
     else:
         o = T.ends[k][1] if T.ends[k][0] == cpt else T.ends[k][0]
         (ox, oy) = T.pt(o)
