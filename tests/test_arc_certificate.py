@@ -222,6 +222,19 @@ def test_an_infinite_end_going_the_wrong_way_is_rejected():
     assert not c.ok and faults(c, "infinity")
 
 
+def test_a_branch_to_infinity_drawn_the_other_way_is_rejected():
+    """The hyperbola-like branch of an arc and a point outside its circle, turned back at its
+    vertex: its polyline no longer goes towards the pole of the way it is drawn."""
+    D = _build(SCENES["branch to infinity"])
+    assert verify_segments(D).ok
+    e = next(e for e in D.edges if None in e.ends and len(e.polyline) > 2)
+    P = e.polyline if e.ends[1] is None else e.polyline[::-1]
+    Q = np.array([P[0], 2 * P[0] - P[-1]])
+    e.polyline = Q if e.ends[1] is None else Q[::-1]
+    c = verify_segments(D)
+    assert not c.ok and not c.edges[e.id] and faults(c, "edge", edge=e.id)
+
+
 def test_a_vertex_moved_along_an_arc_bisector_is_rejected():
     D = point_inside()
     D.vertices[0].x += 1e-6
