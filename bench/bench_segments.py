@@ -137,6 +137,15 @@ def _maxrss_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0      # KiB on Linux
 
 
+_T0 = time.perf_counter()
+
+
+def _phase(name: str) -> None:
+    """A progress line on stderr: the driver names the phase of a case that is killed or fails."""
+    print(f"PHASE {name} (from {time.perf_counter() - _T0:.0f} s of the case, peak RSS so far "
+          f"{_maxrss_mb() / 1024:.1f} GiB)", file=sys.stderr, flush=True)
+
+
 def _setup():
     import importlib
 
@@ -165,6 +174,7 @@ def _certify(out: dict, d, limit: float, rss0: float) -> None:
     if verify is None:
         out.update(certificate_error=err, certified=False)
         return
+    _phase("certificate")
     t0, c0 = time.perf_counter(), time.process_time()
     try:
         cert = verify(d, deadline=time.perf_counter() + limit)
@@ -203,6 +213,7 @@ def run_segments(spec: dict) -> dict:
     rss0 = _maxrss_mb()
     out["rss_baseline_mb"] = rss0
     t0, c0 = time.perf_counter(), time.process_time()
+    _phase("construction")
     d = segment_voronoi(pieces, certify=False)
     out.update(seconds=time.perf_counter() - t0, cpu=time.process_time() - c0, rss_build_mb=_maxrss_mb() - rss0,
                stats=d.stats, vertices=len(d.vertices), edges=len(d.edges))
@@ -217,6 +228,7 @@ def run_segments(spec: dict) -> dict:
             return sdg_peer.segment_key(site.p, site.q)
         return sdg_peer.point_key(Fraction(str(site.x)), Fraction(str(site.y)))
 
+    _phase("peers")
     keys = [key(s) for s in d.sites]
     ours = {frozenset((keys[i], keys[j])) for i, j in d.delaunay_edges()}
     out["delaunay"] = len(ours)
@@ -257,6 +269,7 @@ def run_arcs(spec: dict) -> dict:
     rss0 = _maxrss_mb()
     out["rss_baseline_mb"] = rss0
     t0, c0 = time.perf_counter(), time.process_time()
+    _phase("construction")
     d = cv.voronoi(arcs, certify=False)
     out.update(seconds=time.perf_counter() - t0, cpu=time.process_time() - c0, rss_build_mb=_maxrss_mb() - rss0,
                stats=d.stats, vertices=len(d.vertices), edges=len(d.edges))
@@ -301,6 +314,7 @@ def run_gear(spec: dict) -> dict:
     rss0 = _maxrss_mb()
     out["rss_baseline_mb"] = rss0
     t0, c0 = time.perf_counter(), time.process_time()
+    _phase("construction")
     m = cv.medial_axis(outer, holes, certify=False)
     out.update(seconds=time.perf_counter() - t0, cpu=time.process_time() - c0, rss_build_mb=_maxrss_mb() - rss0,
                stats=m.diagram.stats, medial_edges=len(m.edges), medial_vertices=len(m.vertices),
@@ -360,19 +374,48 @@ def _loadavg() -> str:
         return " ".join(f"{v:.2f}" for v in os.getloadavg())
 
 
-def run_case(spec: dict) -> dict:
+def _rss_gb(pid: int) -> float:
+    try:
+        for ln in Path(f"/proc/{pid}/status").read_text().splitlines():
+            if ln.startswith("VmRSS:"):
+                return int(ln.split()[1]) / 2 ** 20
+    except (OSError, ValueError):
+        pass
+    return 0.0
+
+
+def run_case(spec: dict, max_rss_gb: float) -> dict:
+    """One case in a subprocess, killed after ``spec["timeout"]`` s or above ``max_rss_gb`` GiB of RSS
+    (the machine is shared); a failure names the phase it happened in (the case's PHASE lines)."""
+    import tempfile
+
     t0 = time.perf_counter()
     spec = dict(spec, load_start=_loadavg())
-    try:
-        res = subprocess.run([sys.executable, __file__, "--case", json.dumps(spec)], capture_output=True, text=True,
-                             timeout=spec["timeout"], env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
-        if res.returncode != 0:
-            r = {"error": (res.stderr.strip().splitlines() or ["?"])[-1][:200]}
-        else:
-            r = json.loads(res.stdout.strip().splitlines()[-1])
-    except subprocess.TimeoutExpired:
-        r = {"error": f"no return after {time.perf_counter() - t0:.0f} s (subprocess timeout {spec['timeout']} s)"}
-    r.update(spec=spec, load_end=_loadavg(), wall_case=time.perf_counter() - t0)
+    killed, peak = None, 0.0
+    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
+        proc = subprocess.Popen([sys.executable, __file__, "--case", json.dumps(spec)], stdout=out, stderr=err,
+                                text=True, env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
+        while proc.poll() is None:
+            time.sleep(1.0)
+            peak = max(peak, _rss_gb(proc.pid))
+            if time.perf_counter() - t0 > spec["timeout"]:
+                killed = f"no return after {time.perf_counter() - t0:.0f} s (subprocess timeout {spec['timeout']} s)"
+            elif peak > max_rss_gb:
+                killed = (f"killed at {peak:.1f} GiB RSS (limit --max-rss-gb {max_rss_gb:g}) after "
+                          f"{time.perf_counter() - t0:.0f} s")
+            if killed:
+                proc.kill()
+                proc.wait()
+        out.seek(0)
+        err.seek(0)
+        stdout, stderr = out.read(), err.read()
+    phases = [ln for ln in stderr.splitlines() if ln.startswith("PHASE ")]
+    if killed or proc.returncode != 0:
+        msg = killed or ([ln for ln in stderr.strip().splitlines() if not ln.startswith("PHASE ")] or ["?"])[-1][:200]
+        r = {"error": msg + (f"; in {phases[-1][6:]}" if phases else "")}
+    else:
+        r = json.loads(stdout.strip().splitlines()[-1])
+    r.update(spec=spec, load_end=_loadavg(), wall_case=time.perf_counter() - t0, peak_rss_gb=round(peak, 2))
     print(spec["kind"], spec.get("n", spec.get("arcs")), {k: v for k, v in r.items() if k not in ("spec",)},
           file=sys.stderr, flush=True)
     return r
@@ -487,6 +530,8 @@ def main():
     ap.add_argument("--only", nargs="*", choices=sorted(RUNNERS), help="run only these parts")
     ap.add_argument("--sizes", nargs="*", type=int, help="segment sizes (default 1000 10000, + 100000 with --big)")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--max-rss-gb", type=float, default=12.0,
+                    help="kill a case whose resident memory exceeds this (GiB; the machine is shared)")
     ap.add_argument("--no-write", action="store_true")
     args = ap.parse_args()
     if args.case:
@@ -502,16 +547,19 @@ def main():
     if "segments" in parts:
         for n in sizes:
             to, cl = limits.get(n, (14400, 7200))
-            seg_rows.append(run_case({"kind": "segments", "n": n, "seed": args.seed, "timeout": to, "cert_limit": cl}))
+            spec = {"kind": "segments", "n": n, "seed": args.seed, "timeout": to, "cert_limit": cl}
+            seg_rows.append(run_case(spec, args.max_rss_gb))
     if "arcs" in parts:
         for n in [1000] + ([10000] if args.big else []):
             to, cl = limits[n]
-            arc_rows.append(run_case({"kind": "arcs", "n": n, "seed": args.seed, "timeout": to, "cert_limit": cl}))
+            spec = {"kind": "arcs", "n": n, "seed": args.seed, "timeout": to, "cert_limit": cl}
+            arc_rows.append(run_case(spec, args.max_rss_gb))
     if "gear" in parts:
         for arcs in (False, True):
-            gear_rows.append(run_case({"kind": "gear", "arcs": arcs, "timeout": 900, "cert_limit": 300}))
+            spec = {"kind": "gear", "arcs": arcs, "timeout": 900, "cert_limit": 300}
+            gear_rows.append(run_case(spec, args.max_rss_gb))
     if "profile" in parts:
-        prof = run_case({"kind": "profile", "n": min(sizes), "seed": args.seed, "timeout": 900})
+        prof = run_case({"kind": "profile", "n": min(sizes), "seed": args.seed, "timeout": 900}, args.max_rss_gb)
 
     pools = next((r["threadpools"] for r in seg_rows + arc_rows + gear_rows if "threadpools" in r), "?")
     cmd = "OPENBLAS_NUM_THREADS=1 python bench/bench_segments.py " + " ".join(sys.argv[1:])
