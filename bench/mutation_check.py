@@ -240,6 +240,8 @@ _CERTIFY_TESTS = ["tests/test_certify.py", "tests/test_certify_chart.py", "tests
                   "tests/test_certify_dimension.py", "tests/test_certify_fast_system.py",
                   "tests/test_certify_boundaries.py", "tests/test_locator_certified.py",
                   "tests/test_interval_newton.py", "tests/test_voronoi_vertex.py"]
+_SEGMENT_CERT_TESTS = ["tests/test_segment_certificate_mutants.py", "tests/test_segment_certificate.py",
+                       "tests/test_arc_certificate.py", "tests/test_segment_voronoi.py"]
 #: module prefix -> test files run against its mutants (first match wins); files that do not exist
 #: in the copy are left out
 SOUND_TESTS: list[tuple[str, list[str]]] = [
@@ -249,6 +251,8 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
     ("runtime/certify/foot.py", _CERTIFY_TESTS + ["tests/test_voronoi_verify.py"]),
     ("runtime/certify/interval_newton.py", _CERTIFY_TESTS + ["tests/test_voronoi_verify.py"]),
     ("runtime/certify/", _CERTIFY_TESTS),
+    # the segment/arc certificate (verify_segments)
+    ("runtime/segments/certificate", _SEGMENT_CERT_TESTS),
 ]
 
 #: operand names that read as a width, a slack, an error term or a safety margin (drop-term)
@@ -414,10 +418,15 @@ def apply_span(src: str, m: dict) -> str:
     return "".join(lines[:a]) + head + m["new"] + tail + "".join(lines[b + 1:])
 
 
-def sample_stratified(muts: list[dict], n: int, seed: int) -> list[dict]:
+def sample_stratified(muts: list[dict], n: int, seed: int, spread: bool = False) -> list[dict]:
     """``n`` mutants spread evenly over the strata (module, operator): each stratum gets
     floor(n / strata) or one more, a small stratum gives its spare quota to the others; within a
-    stratum a seeded sample.  Deterministic for a given candidate list and seed."""
+    stratum a seeded sample.  Deterministic for a given candidate list and seed.
+
+    With fewer mutants than strata the strata served first are, by default, the first in
+    alphabetical order (the last modules get none); ``spread`` serves them round-robin over the
+    modules instead (each module's operators in a seeded order), so every module gets about
+    n / modules mutants."""
     rng = random.Random(seed)
     strata: dict[tuple[str, str], list[dict]] = {}
     for m in muts:
@@ -425,6 +434,14 @@ def sample_stratified(muts: list[dict], n: int, seed: int) -> list[dict]:
     keys = sorted(strata)
     for k in keys:
         rng.shuffle(strata[k])
+    if spread:
+        by_mod: dict[str, list] = {}
+        for k in keys:
+            by_mod.setdefault(k[0], []).append(k)
+        for ks in by_mod.values():
+            rng.shuffle(ks)
+        keys = [ks[i] for i in range(max(map(len, by_mod.values()), default=0))
+                for ks in by_mod.values() if i < len(ks)]
     quota = {k: 0 for k in keys}
     left = min(n, len(muts))
     while left > 0:
@@ -553,7 +570,7 @@ def main_soundness(args) -> int:
     if args.replay:
         chosen = _replay(allm, args.replay, set(args.replay_status.split(",")) if args.replay_status else None)
     else:
-        chosen = sample_stratified(allm, args.max_mutants, args.seed)
+        chosen = sample_stratified(allm, args.max_mutants, args.seed, spread=args.spread)
     print(f"{len(allm)} candidate mutants in {len(rels)} modules; sample of {len(chosen)} (seed {args.seed})", flush=True)
     subsets = sorted({tuple(_tests_for(m["path"], tree)) for m in chosen})
     deselect: dict[tuple, list[str]] = {}
@@ -765,6 +782,8 @@ def main(argv=None) -> int:
     ap.add_argument("--modules", nargs="*", default=None, metavar="GLOB",
                     help="soundness mode: mutate these modules (globs; none given: " + " ".join(SOUND_MODULES) + ")")
     ap.add_argument("--max-mutants", type=int, default=200, help="soundness mode: size of the stratified sample")
+    ap.add_argument("--spread", action="store_true",
+                    help="soundness mode: with fewer mutants than strata, serve the strata round-robin over modules")
     ap.add_argument("--jobs", type=int, default=1, help="soundness mode: mutants run side by side (one copy each)")
     ap.add_argument("--list", action="store_true", help="soundness mode: only list the candidate mutants")
     ap.add_argument("--replay", default=None, metavar="JSONL",

@@ -494,3 +494,72 @@ def test_edges_whose_tails_start_after_the_deadline_are_not_proved(monkeypatch):
     assert len(calls) > 1
     assert not cert.ok and not any(cert.edges), (cert.edges, cert.problems)
     assert any("time limit reached" in p for p in cert.problems), cert.problems
+
+
+# ----------------------------------------------------------------------------- a mirror ray's support bound
+
+@pytest.mark.parametrize("kx, clear", [(F(1, 2), False), (F(3, 10), False), (F(-1, 2), True), (F(-1), True)])
+def test_mirror_ray_support_bound_keeps_its_curvature_term(kx, clear):
+    """Circles i: centre (0, 2), j: centre (0, −2), radius 1 (mirror images in y = 0), and the
+    point k = (κ, 0) on the mirror.  The ray of the mirror from P = (2, 0) along u = (1, 0): the
+    foot of i from P is F = (0, 2) + (2, −2)/(2√2) = (1/√2, 2 − 1/√2), so a = (P − F)·u = 2 − 1/√2,
+    b = (P − F)·u⊥ = −(2 − 1/√2) and d_i(P) = 2√2 − 1.
+
+    κ = 1/2: d_k(P) = 3/2 < 2√2 − 1 (25/4 < 8), so k is strictly closer than i at the ray's start
+    and the ray is NOT part of the edge (i, j): the verdict must be False.  Yet (F − k)·u =
+    1/√2 − 1/2 > 0, i.e. k lies behind F: only the term b²/(2a) ≈ 0.65 of the support bound
+    d_i(P + t·u) ≤ a + t + b²/(2a) keeps k among the sites still to prove; κ = 3/10 likewise
+    (d_k(P) = 17/10 < 2√2 − 1).
+
+    κ = −1/2 and −1: d_k(P + t·u) = 2 − κ + t ≥ 5/2 + t while d_i = √((2 + t)² + 4) − 1 ≤ 2 + t
+    (√(x² + 4) ≤ x + 1 for x ≥ 3/2): k is farther on the whole ray, and (κ − F_x) ≤ −1/2 − 1/√2
+    < −b²/(2a) ≈ −0.65 is within the support bound's reach: proved."""
+    from curvedvoronoi.runtime.voronoi.verify.mirror_tail import ray_clear
+    from curvedvoronoi.runtime.voronoi.verify.support import SupportTable
+
+    sites = [Circle(0, 2, 1), Circle(0, -2, 1), Point(kx, 0)]
+    G = _geoms(*sites)
+    ok, msg, end = ray_clear(sites, G, SupportTable(G), (0, 1), (F(2), F(0)), (F(1), F(0)))
+    assert ok is clear, msg
+    if clear:
+        assert end == ((F(1), F(0)), 0.0)          # direction u, lateral coordinate of the mirror y = 0
+    else:
+        assert "site 2" in msg
+
+
+# ----------------------------------------------------------------------------- the sector of a tie at infinity
+
+def test_a_tied_sector_stays_where_its_extreme_sites_lead():
+    """Ellipse E: x²/100² + y² = 1 and the point K = (20, 1) (outside E: 20²/100² + 1 > 1) tie at
+    infinity in the direction u = (0, 1): both support levels are exactly 1.  At θ = π/2 − x,
+    h_E = √(100² sin²x + cos²x) and h_K = 20 sin x + cos x; h_K > h_E iff (20 s + c)² > 100² s² + c²
+    iff 40 c > (100² − 20²) s (s > 0), i.e. iff tan x < 40/9600: K leads only on
+    0 < x < atan(1/240) ≈ 0.00417, E on x < 0 (where h_K < cos x ≤ h_E).  To first order K leads
+    (its support point lies 20 farther along u⊥), but E's radius of curvature at its support
+    point is 100²/1 = 10⁴: h_E − h_K ≈ −20x + ½(10⁴ − 0)·x² turns positive at x ≈ 0.004.
+
+    The sector [θ* − δ⁻, θ* + δ⁺] that the accounting walks must lie where the claimed extreme
+    sites lead: h_K > h_E on [θ* − δ⁻, θ*) and h_E > h_K on (θ*, θ* + δ⁺] (checked on the closed
+    forms at 401 angles).  A half-width that drops the curvature term of
+    h_s − h_k = (ℓ_s − ℓ_k)·x + ½(h_s'' − h_k'')·x² (|h''| ≤ ρ + W, ρ ≤ 10⁴, W ≈ 100) reaches
+    about 0.05, past the crossing."""
+    from curvedvoronoi.runtime.sites.conic import Conic
+    from curvedvoronoi.runtime.voronoi.verify.support import SupportTable
+    from curvedvoronoi.runtime.voronoi.verify.ties_at_infinity import tied_sectors
+
+    sites = [Conic.ellipse(centre=(0, 0), axes=(100, 1)), Point(20, 1)]
+    G = _geoms(*sites)
+    problems: list = []
+    got = tied_sectors(SupportTable(G), sites, [(math.pi / 2, (0, 1), ("mirror", (F(0), F(1)), 0.0), 7)], problems)
+    assert got is not None, problems
+    (a0, a1, first, eid, last), = got
+    assert (first, eid, last) == ((0, 1), 7, (0, 1))
+    assert a0 < math.pi / 2 < a1
+
+    def lead(t):                                    # h_K − h_E at θ = t
+        return 20 * math.cos(t) + math.sin(t) - math.sqrt(100 ** 2 * math.cos(t) ** 2 + math.sin(t) ** 2)
+
+    below = np.linspace(a0, math.pi / 2, 401)[:-1]
+    above = np.linspace(math.pi / 2, a1, 401)[1:]
+    assert min(lead(t) for t in below) > 0
+    assert max(lead(t) for t in above) < 0
