@@ -17,22 +17,9 @@ from typing import Iterable, Mapping, Sequence
 
 from flint import arb, fmpq, fmpq_mpoly_ctx
 
+from ..sites.rationals import to_fraction
+
 Exponent = tuple
-
-
-def _frac(c) -> Fraction:
-    if isinstance(c, Fraction):
-        return c
-    if isinstance(c, int):
-        return Fraction(c)
-    if isinstance(c, fmpq):
-        return Fraction(int(c.p), int(c.q))
-    if isinstance(c, float):
-        return Fraction(c)
-    try:  # sympy Rational / Integer, flint fmpz
-        return Fraction(str(c))
-    except Exception as exc:  # noqa: BLE001
-        raise ValueError(f"coefficient {c!r} is not an exact rational") from exc
 
 
 class Poly:
@@ -48,7 +35,7 @@ class Poly:
             e = tuple(int(k) for k in e)
             if len(e) != n:
                 raise ValueError(f"exponent {e} does not match variables {self.names}")
-            c = _frac(c)
+            c = to_fraction(c, "coefficient")
             if c:
                 clean[e] = clean.get(e, Fraction(0)) + c
                 if not clean[e]:
@@ -70,14 +57,14 @@ class Poly:
         p = sympy.Poly(sympy.expand(expr), *syms)
         if not p.domain.is_QQ and not p.domain.is_ZZ:
             raise ValueError(f"polynomial {expr} must have rational coefficients in {names}")
-        return cls(names, {tuple(m): Fraction(int(c.p), int(c.q)) for m, c in p.terms()})
+        return cls(names, {tuple(m): to_fraction(c) for m, c in p.terms()})
 
     @classmethod
     def from_flint(cls, mpoly, names: Sequence[str] | None = None) -> "Poly":
         ctx = mpoly.context()
         gens = tuple(str(g) for g in ctx.names()) if hasattr(ctx, "names") else None
         names = tuple(names) if names is not None else gens
-        return cls(names, {tuple(e): _frac(c) for e, c in mpoly.to_dict().items()})
+        return cls(names, {tuple(e): to_fraction(c, "coefficient") for e, c in mpoly.to_dict().items()})
 
     @classmethod
     def constant(cls, names, c) -> "Poly":

@@ -48,6 +48,7 @@ import json
 import math
 from fractions import Fraction
 from .conic import SCALE_LIMIT
+from .rationals import to_fraction
 
 __all__ = ["SITES_SCHEMA", "SCALE_LIMIT", "parse_number", "parse_site", "sites_from_document",
            "read_sites", "read_coefficient_lists", "check_distinct", "check_scale", "site_key",
@@ -211,19 +212,13 @@ def _is_shape_choice(err) -> bool:
 # Parsing
 # =====================================================================================
 
-def parse_number(x, where: str = "value"):
-    """A JSON number stays as it is (floats are taken exactly later); a string must be rational.
-    NaN and infinities are refused."""
+def parse_number(x, where: str = "value") -> Fraction:
+    """A JSON number or rational string as an exact Fraction (:func:`runtime.sites.rationals.to_fraction`:
+    a float at its exact binary value).  Only what JSON holds is accepted -- int, float, str --
+    bools, NaN and infinities are refused (ValueError naming ``where``)."""
     if isinstance(x, bool) or not isinstance(x, (int, float, str)):
         raise ValueError(f"{where}: {x!r} is not a number or a rational string")
-    if isinstance(x, str):
-        try:
-            return Fraction(x.strip())
-        except (ValueError, ZeroDivisionError):
-            raise ValueError(f"{where}: {x!r} is not a rational number") from None
-    if isinstance(x, float) and not math.isfinite(x):
-        raise ValueError(f"{where}: {x!r} is not finite")
-    return x
+    return to_fraction(x, where)
 
 
 def _rotation(rot, where: str):

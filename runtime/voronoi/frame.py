@@ -57,6 +57,7 @@ from scipy.spatial import cKDTree
 
 from ..predicates.circles import Circle, Point
 from ..sites.conic import Conic
+from ..sites.rationals import parse_rational, to_fraction
 from .conic_geometry import site_geometry
 from ..result import NumericalRefusal
 from .site_input import SiteError, as_site
@@ -69,25 +70,16 @@ MAX_RANGE = 2.0 ** 22
 FAR = 4.0
 
 
-def _fmpq(t) -> fmpq:
-    return fmpq(int(t.numerator), int(t.denominator)) if hasattr(t, "denominator") else fmpq(Fraction(t).numerator,
-                                                                                           Fraction(t).denominator)
-
-
-def _frac(t) -> Fraction:
-    return Fraction(int(t.numerator), int(t.denominator)) if hasattr(t, "denominator") else Fraction(t)
-
-
 def translate_site(site, tx, ty):
     """The site moved by (−tx, −ty), exactly (tx, ty rational): a circle's or point's centre, a
     conic's coefficients by substituting x → x + tx, y → y + ty."""
     if isinstance(site, Point):
-        return Point(site.cx - _fmpq(tx), site.cy - _fmpq(ty))
+        return Point(site.cx - parse_rational(tx, "tx"), site.cy - parse_rational(ty, "ty"))
     if isinstance(site, Circle):
-        return Circle(site.cx - _fmpq(tx), site.cy - _fmpq(ty), site.r2)
+        return Circle(site.cx - parse_rational(tx, "tx"), site.cy - parse_rational(ty, "ty"), site.r2)
     if isinstance(site, Conic):
         a, b, c, d, e, f = site.coefficients
-        tx, ty = _frac(tx), _frac(ty)
+        tx, ty = to_fraction(tx, "tx"), to_fraction(ty, "ty")
         return Conic.from_coefficients(a, b, c, 2 * a * tx + b * ty + d, b * tx + 2 * c * ty + e,
                                        a * tx * tx + b * tx * ty + c * ty * ty + d * tx + e * ty + f)
     raise SiteError(f"not a site: {site!r}")
@@ -152,7 +144,7 @@ class LocalFrame:
     frame to the local one: local = global − t."""
 
     def __init__(self, tx: fmpq, ty: fmpq):
-        self.tx, self.ty = _fmpq(tx), _fmpq(ty)
+        self.tx, self.ty = parse_rational(tx, "tx"), parse_rational(ty, "ty")
         self.t = np.array([float(self.tx), float(self.ty)])
 
     def local_sites(self, sites):

@@ -43,13 +43,14 @@ from functools import lru_cache
 
 import numpy as np
 import flint
-from flint import arb, arb_mat, fmpq
+from flint import arb, arb_mat
 
 from ..certify.foot import normalised_coefficients, to_arb, working_prec
 from ..certify.interval_newton import krawczyk_inflation
 from ..certify.krawczyk import FootSystem, KrawczykFailure
 from ..predicates.circles import Circle
 from ..sites.conic import Conic
+from ..sites.rationals import to_fraction
 from .conic_geometry import site_geometry
 
 __all__ = ["VertexProof", "refine_vertex", "certify_vertex", "certify_empty", "classify_others",
@@ -147,23 +148,17 @@ def _fl_hi(v: arb) -> float:
     return math.nextafter(float(v.upper()), math.inf)
 
 
-def _frac(q) -> Fraction:
-    if isinstance(q, fmpq):
-        return Fraction(int(q.p), int(q.q))
-    return Fraction(q)
-
-
 def _site_record(site):
     """('point', px, py) | ('circle', cx, cy, r2) | ('conic', coeffs) with exact Fractions."""
     if isinstance(site, Circle):
-        cx, cy, r2 = _frac(site.cx), _frac(site.cy), _frac(site.r2)
+        cx, cy, r2 = to_fraction(site.cx), to_fraction(site.cy), to_fraction(site.r2)
         if r2 == 0:
             return ("point", cx, cy)
         return ("circle", cx, cy, r2)
     if isinstance(site, Conic):
         if site.kind == "circle":
             c = Circle.from_coefficients(*site.coefficients)
-            return ("circle", _frac(c.cx), _frac(c.cy), _frac(c.r2))
+            return ("circle", to_fraction(c.cx), to_fraction(c.cy), to_fraction(c.r2))
         return ("conic", tuple(site.coefficients))
     raise TypeError(f"not a site: {site!r} (expected a Point, a Circle or a Conic)")
 
