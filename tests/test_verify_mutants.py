@@ -563,3 +563,30 @@ def test_a_tied_sector_stays_where_its_extreme_sites_lead():
     above = np.linspace(math.pi / 2, a1, 401)[1:]
     assert min(lead(t) for t in below) > 0
     assert max(lead(t) for t in above) < 0
+
+
+# ----------------------------------------------------------------------------- the link of a tail
+
+@pytest.mark.parametrize("x0, nx, linked", [(0.0, -1.0, True), (0.0, 1.0, True), (3.0, -1.0, False),
+                                            (3.0, 1.0, False), (-3.0, -1.0, False), (-3.0, 1.0, False)])
+def test_a_tail_links_only_to_a_rectangle_that_the_bisector_crosses(x0, nx, linked):
+    """Points i = (−100, 0), j = (100, 0), k = (0, −200): the edge (i, j) is the ray x = 0 from
+    the vertex (0, −75) upwards (on x = 0, d_i² = 10⁴ + y² and d_k² = (y + 200)² are equal at
+    y = −75, and k is farther above).  The tail
+    beyond the rectangle {x0 + λ·nx, 1000 + s : s ∈ [0, 10], |λ| ≤ 1} (link circle through
+    (x0, 1005)) is proved only if the bisector crosses that rectangle: for x0 = 0 it does (the
+    true edge), for x0 = ±3 the rectangle lies wholly on one side of x = 0 (f = d_i − d_j has
+    one sign on it), so the chain ∪ tail would not be one curve: not proved, whatever side n
+    points to."""
+    from curvedvoronoi.runtime.voronoi.verify.site_table import SiteTable
+    from curvedvoronoi.runtime.voronoi.verify.support import SupportTable
+    from curvedvoronoi.runtime.voronoi.verify.tail import prove_tail
+
+    G = _geoms(Point(-100, 0), Point(100, 0), Point(0, -200))
+    link = (np.array([x0, 1000.0]), np.array([0.0, 1.0]), np.array([nx, 0.0]), 10.0, 1.0, 5.0)
+    ok, msg, J = prove_tail(SupportTable(G), SiteTable(G, 1000.0), (0, 1), link, 1000.0)
+    assert ok is linked, msg
+    if linked:
+        assert J[0] < math.pi / 2 < J[1]            # the asymptotic direction u = (0, 1)
+    else:
+        assert "crossing of the link circle" in msg
