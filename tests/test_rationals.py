@@ -117,3 +117,11 @@ def test_the_frame_translation_is_exact_for_float_offsets():
     a, b, cc, d, ee, f = e.coefficients
     x = Fraction(-1, 3) + 1                                          # (x + 1/3)² = 1 at y = 0
     assert a * x * x + d * x + f == 0
+
+
+def test_doctests():
+    import doctest
+
+    from curvedvoronoi.runtime.sites import rationals
+
+    assert doctest.testmod(rationals).failed == 0

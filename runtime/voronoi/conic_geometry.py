@@ -68,6 +68,7 @@ import numpy as np
 
 from ..predicates.circles import Circle
 from ..sites.conic import Conic
+from ..sites.kinds import SiteKind
 from ..sites.intersection import conic_value, exact_coefficients
 from ..sites.foot_points import ellipse_feet, ellipse_foot_points, feet_to_world, hyperbola_feet, parabola_feet
 from .geometry import EPS, CircleGeometry, PointGeometry, SiteGeometry, rounding_slack
@@ -88,7 +89,7 @@ class ConicGeometry(SiteGeometry):
             raise TypeError(f"expected a Conic, got {conic!r}")
         self.exact = conic
         fr = conic.frame
-        self.kind = fr.kind
+        self.kind = SiteKind.of(fr.kind).label
         self.c, self.s, self.tx, self.ty = float(fr.cos), float(fr.sin), float(fr.tx), float(fr.ty)
         self.params = {k: float(v) for k, v in fr.params.items()}
         #: statistics: how many points needed the ball route
@@ -391,13 +392,9 @@ def conic_geometry(conic) -> SiteGeometry:
     """The :class:`SiteGeometry` of a conic site (circles go to ``CircleGeometry``)."""
     if not isinstance(conic, Conic):
         raise TypeError(f"expected a Conic, got {conic!r}")
-    if conic.kind == "ellipse":
-        return EllipseGeometry(conic)
-    if conic.kind == "hyperbola":
-        return HyperbolaGeometry(conic)
-    if conic.kind == "parabola":
-        return ParabolaGeometry(conic)
-    return site_geometry(conic)
+    make = {SiteKind.ELLIPSE: EllipseGeometry, SiteKind.HYPERBOLA: HyperbolaGeometry,
+            SiteKind.PARABOLA: ParabolaGeometry}.get(SiteKind.of(conic.kind))
+    return site_geometry(conic) if make is None else make(conic)
 
 
 def site_inside(A, B) -> bool:
@@ -420,19 +417,20 @@ def site_inside(A, B) -> bool:
         pts = [(ca[1], ca[2])]
     else:
         geo = site_geometry(A)
-        if geo.kind == "circle":
+        kind = SiteKind.of(geo.kind)
+        if kind is SiteKind.CIRCLE:
             P = np.array([[geo.cx + geo.rho, geo.cy]])
-        elif geo.kind == "hyperbola":
+        elif kind is SiteKind.HYPERBOLA:
             P = np.vstack([geo.from_canonical(np.array([geo.a]), np.array([0.0])),
                            geo.from_canonical(np.array([-geo.a]), np.array([0.0]))])
-        elif geo.kind == "ellipse":
+        elif kind is SiteKind.ELLIPSE:
             P = geo.from_canonical(np.array([geo.a]), np.array([0.0]))
         else:
             P = geo.from_canonical(np.array([0.0]), np.array([0.0]))
         pts = [(Fraction(float(p[0])), Fraction(float(p[1]))) for p in P]
     # sign convention: s·f_B < 0 on the convex side; reference point certainly there: the
     # centre (ellipse/circle), a point of the axis beyond the vertex (parabola, hyperbola)
-    if isinstance(B, Conic) and B.kind in ("ellipse", "circle"):
+    if isinstance(B, Conic) and SiteKind.of(B.kind).bounded:         # an ellipse or a circle
         den = 4 * a * c - b * b
         ref = ((b * e - 2 * c * d) / den, (b * d - 2 * a * e) / den)
     elif not isinstance(B, Conic):
@@ -451,7 +449,7 @@ def site_geometry(site) -> SiteGeometry:
     if isinstance(site, Circle):
         return PointGeometry(site) if site.r2 == 0 else CircleGeometry(site)
     if isinstance(site, Conic):
-        if site.kind == "circle":
+        if SiteKind.of(site.kind) is SiteKind.CIRCLE:
             a, _, _, d, e, f = site.coefficients
             return CircleGeometry(Circle.from_coefficients(a, 0, a, d, e, f))
         return conic_geometry(site)

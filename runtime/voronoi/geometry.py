@@ -26,6 +26,8 @@ from abc import ABC, abstractmethod
 
 import numpy as np
 
+from ..sites.kinds import SiteKind
+
 __all__ = ["SiteGeometry", "PointGeometry", "CircleGeometry", "rounding_slack"]
 
 #: unit roundoff of IEEE double
@@ -47,7 +49,8 @@ class SiteGeometry(ABC):
     Attributes
     ----------
     kind : str
-        ``"point"``, ``"circle"``, ``"ellipse"``, ``"hyperbola"`` or ``"parabola"``.
+        The :attr:`runtime.sites.kinds.SiteKind.label` of the site: ``"point"``, ``"circle"``,
+        ``"ellipse"``, ``"hyperbola"`` or ``"parabola"`` (:attr:`site_kind` is the enum member).
     exact : object
         The exact site: :class:`runtime.predicates.circles.Circle` (points: r2 = 0) or
         :class:`runtime.sites.conic.Conic`; certification routes use it.
@@ -57,8 +60,12 @@ class SiteGeometry(ABC):
     exact: object
 
     @property
+    def site_kind(self) -> SiteKind:
+        return SiteKind.of(self.kind)
+
+    @property
     def bounded(self) -> bool:
-        return self.kind in ("point", "circle", "ellipse")
+        return SiteKind.of(self.kind).bounded
 
     @abstractmethod
     def bounding_box(self) -> tuple[float, float, float, float]:
@@ -91,7 +98,7 @@ class SiteGeometry(ABC):
 class PointGeometry(SiteGeometry):
     """A point site (x0, y0): d(q) = |q − (x0, y0)|."""
 
-    kind = "point"
+    kind = SiteKind.POINT.label
 
     def __init__(self, exact, x0: float | None = None, y0: float | None = None):
         self.exact = exact
@@ -127,7 +134,7 @@ class PointGeometry(SiteGeometry):
 class CircleGeometry(SiteGeometry):
     """A circle site |q − c| = ρ, ρ > 0: d(q) = | |q − c| − ρ | (thesis §3.1)."""
 
-    kind = "circle"
+    kind = SiteKind.CIRCLE.label
 
     def __init__(self, exact, cx: float | None = None, cy: float | None = None, rho: float | None = None):
         self.exact = exact

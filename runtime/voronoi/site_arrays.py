@@ -13,6 +13,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..sites.foot_points import ellipse_foot_points
+from ..sites.kinds import SiteKind
 from .conic_geometry import EllipseGeometry
 from .geometry import rounding_slack
 
@@ -27,7 +28,7 @@ class SiteArrays:
         self.sites = sites
         self.geoms = geoms
         self.n = len(geoms)
-        self.all_circles = all(g.kind in ("point", "circle") for g in geoms)
+        self.all_circles = all(SiteKind.of(g.kind).circular for g in geoms)
         boxes = np.array([g.bounding_box() for g in geoms], dtype=float)
         self.boxes = boxes
         self.bounded = np.array([g.bounded for g in geoms])
@@ -36,8 +37,9 @@ class SiteArrays:
         self.ellipse_frames = tuple(np.array([getattr(g, k) if isinstance(g, EllipseGeometry) else np.nan
                                               for g in geoms]) for k in ("a", "b", "c", "s", "tx", "ty"))
         if self.all_circles:
-            self.C = np.array([[g.cx, g.cy] if g.kind == "circle" else [g.x0, g.y0] for g in geoms])
-            self.R = np.array([g.rho if g.kind == "circle" else 0.0 for g in geoms])
+            circle = [SiteKind.of(g.kind) is SiteKind.CIRCLE for g in geoms]
+            self.C = np.array([[g.cx, g.cy] if c else [g.x0, g.y0] for g, c in zip(geoms, circle)])
+            self.R = np.array([g.rho if c else 0.0 for g, c in zip(geoms, circle)])
         else:
             fin = np.where(np.isfinite(boxes), boxes, 0.0)
             self.C = np.column_stack([(fin[:, 0] + fin[:, 2]) / 2, (fin[:, 1] + fin[:, 3]) / 2])
