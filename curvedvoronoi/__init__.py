@@ -9,8 +9,9 @@ Conic
     A non-degenerate real conic ``a x² + b xy + c y² + d x + e y + f = 0`` with exact rational
     coefficients: ``Conic.from_coefficients(a, b, c, d, e, f)``, ``Conic.ellipse(centre, axes,
     rotation)``, ``Conic.hyperbola(...)``, ``Conic.parabola(vertex, p, rotation)``,
-    ``Conic.circle(centre, radius)``.  ``rotation`` is an exact ``(cos, sin)`` pair or an angle in
-    radians.
+    ``Conic.circle(centre, radius)``.  A rotation is ``rotation=(cos, sin)`` (a unit vector,
+    exact when rational), ``degrees=`` or ``radians=``; a bare number above 2π as ``rotation``
+    is refused (ValueError) as ambiguous.
 Circle
     A circle site with exact centre and *squared* radius: build it with
     ``Circle.from_radius(cx, cy, radius)``; ``Circle(cx, cy, r2)`` takes r2 = radius².
@@ -22,19 +23,30 @@ Computations
 locate_conflicts(c1, c2, c3, c4, method="auto")
     The Delaunay-graph conflict locator (thesis §1.2, ch. 5): the true Voronoi vertices of
     C1, C2, C3 (centres of empty circles tangent to the three) and whether C4 enters them.
-    Sites are Conic, Circle or Point objects: four circles or points go to the exact locator of
-    thesis §3.1, a point among conics to the proved diagram of C1, C2, C3, anything else to the
-    conic locator.
+    Sites are Conic, Circle or Point objects, (x, y) points or (cx, cy, r) circles: four
+    circles or points go to the exact locator of thesis §3.1, a point among conics to the proved
+    diagram of C1, C2, C3, anything else to the conic locator.
     Returns a :class:`LocatorResult`; ``certified`` is True only for a proved answer.
 voronoi(sites)
     The Voronoi diagram / Delaunay graph of any number of sites (thesis §1.2), a ``Diagram``.
+    A site is a Conic, Circle, Point, Segment or Arc, an ``(x, y)`` pair (a point) or an
+    ``(cx, cy, r)`` triple (a circle of radius r; r = 0 is a point).
 load_offset(family)
     The generalised offset of a conic family (thesis ch. 4, App. B), from verified artefacts.
 read_sites(path)
     Sites from a JSON file (schema in ``curvedvoronoi.runtime.sites.reader``), validated.
 
 Errors are ``ValueError`` subclasses with one-line messages: :class:`InvalidConicError` (the
-input is not a proper real conic), :class:`LocatorError` (no trustworthy answer).
+input is not a proper real conic), :class:`SiteError` (sites that intersect or repeat),
+:class:`LocatorError` (no trustworthy answer), :class:`NumericalRefusal` (a numeric route refuses
+valid input; :class:`RangeRefusal`: coordinates too far apart for the diagram's local frame);
+:class:`ArtefactError` (a generated artefact fails its check) is a ``RuntimeError``.
+
+Result types: :class:`LocatorResult` with :class:`VoronoiVertex`; :class:`Diagram` with
+:class:`DiagramVertex`, :class:`DiagramEdge`, :class:`NearestResult` (``Diagram.nearest``) and
+:class:`DiagramFrames` (``Diagram.to_geopandas``); :class:`Certificate` (``verify``);
+:class:`MedialAxis` with :class:`MedialEdge`; :class:`AlgebraicOffset` (``offset``), :class:`OffsetPolynomial`
+(``load_offset``).
 
 Examples
 --------
@@ -122,6 +134,11 @@ _LAZY = {
     "Certificate": ("runtime.voronoi.verify.certificate", "Certificate"),
     "DiagramVertex": ("runtime.voronoi.structure", "DiagramVertex"),
     "DiagramEdge": ("runtime.voronoi.structure", "DiagramEdge"),
+    "NearestResult": ("runtime.voronoi.queries", "NearestResult"),
+    "DiagramFrames": ("runtime.voronoi.cells", "DiagramFrames"),
+    "MedialEdge": ("runtime.segments.medial_axis", "MedialEdge"),
+    "AlgebraicOffset": ("runtime.algebra.algebraic_offset", "AlgebraicOffset"),
+    "OffsetPolynomial": ("runtime.artefacts", "OffsetPolynomial"),
     "load_offset": ("runtime.artefacts", "load_offset"),
     "ArtefactError": ("runtime.artefacts", "ArtefactError"),
 }

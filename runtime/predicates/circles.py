@@ -49,14 +49,14 @@ SIGN_SYSTEMS = ((1, 1, 1), (1, 1, -1), (1, -1, 1), (1, -1, -1))
 class Circle:
     """A circle site (x - cx)² + (y - cy)² = r2, exact rational cx, cy and **squared** radius r2 ≥ 0.
 
-    The usual constructor is :meth:`from_radius` (centre and radius);
-    ``Circle(cx, cy, r2)`` takes the squared radius, which need not be a perfect square (a circle
-    from coefficients x²+y²+dx+ey+f = 0 has r2 = (d²+e²)/4 − f, see :meth:`from_coefficients`).
+    Build it with :meth:`from_radius` (centre and radius).  ``Circle(cx, cy, r2=...)`` takes the
+    **squared** radius, which need not be a perfect square (a circle from coefficients
+    x²+y²+dx+ey+f = 0 has r2 = (d²+e²)/4 − f, see :meth:`from_coefficients`).
     r2 = 0 is a point site (:class:`Point`).
 
     >>> Circle.from_radius(1, 2, 3)
     Circle(centre=(1, 2), radius_squared=9)
-    >>> Circle(0, 0, 2).radius_squared, round(Circle(0, 0, 2).rho, 6)
+    >>> Circle(0, 0, r2=2).radius_squared, round(Circle(0, 0, r2=2).rho, 6)
     (2, 1.414214)
     """
 
@@ -134,13 +134,16 @@ class Point(Circle):
 
 
 def as_circle(c) -> Circle:
-    """Accept a Circle or a triple (centre_x, centre_y, radius)."""
+    """Accept a Circle, a pair (x, y) (a point) or a triple (centre_x, centre_y, radius)."""
     if isinstance(c, Circle):
         return c
+    if isinstance(c, (tuple, list)) and len(c) == 2:
+        return Point(*c)
     try:
         cx, cy, rho = c
     except (TypeError, ValueError):
-        raise InvalidConicError(f"a circle is Circle(cx, cy, r2) or a triple (cx, cy, radius), got {c!r}") from None
+        raise InvalidConicError(f"a circle is Circle.from_radius(cx, cy, radius), a triple (cx, cy, radius) or a "
+                                f"point (x, y), got {c!r}") from None
     return Circle.from_radius(cx, cy, rho)
 
 

@@ -37,7 +37,8 @@ from .frame import FRAME_PREC, CanonicalFrame, ExactField, canonical_frame, frac
 from .rationals import to_fraction  # noqa: F401  (re-exported: part of this module's API)
 from ..result import InvalidConicError
 
-__all__ = ["Conic", "CanonicalFrame", "KINDS", "to_fraction", "fraction_sqrt"]
+__all__ = ["Conic", "CanonicalFrame", "KINDS", "to_fraction", "fraction_sqrt", "rotation_from_degrees",
+           "rotation_from_radians"]
 
 KINDS = ("ellipse", "circle", "hyperbola", "parabola")
 _PARAM_NAMES = {"ellipse": ("A2", "B2"), "hyperbola": ("A2", "B2"), "parabola": ("p",), "circle": ("r2",)}
@@ -172,58 +173,76 @@ class Conic:
         return cs, sn
 
     @classmethod
-    def _rotation_arg(cls, rotation) -> tuple[Any, Any]:
+    def _rotation_arg(cls, rotation=None, degrees=None, radians=None) -> tuple[Any, Any]:
+        given = [k for k, v in (("rotation", rotation), ("degrees", degrees), ("radians", radians)) if v is not None]
+        if len(given) > 1:
+            raise InvalidConicError(f"give one of rotation=(cos, sin), degrees= or radians=, got {' and '.join(given)}")
+        if degrees is not None:
+            return rotation_from_degrees(degrees)
+        if radians is not None:
+            return rotation_from_radians(radians)
         if rotation is None:
             return 1, 0
         if isinstance(rotation, (tuple, list)):
             if len(rotation) != 2:
-                raise InvalidConicError("rotation must be (cos, sin) or an angle in radians")
+                raise InvalidConicError("rotation must be a (cos, sin) pair; give angles as degrees= or radians=")
             return rotation[0], rotation[1]
         if isinstance(rotation, numbers.Real) and not isinstance(rotation, bool):
             th = float(rotation)
-            if not math.isfinite(th):
-                raise InvalidConicError(f"rotation angle {rotation!r} is not finite")
-            return math.cos(th), math.sin(th)
-        raise InvalidConicError(f"rotation must be (cos, sin) or an angle in radians, got {rotation!r}")
+            if math.isfinite(th) and abs(th) > 2 * math.pi:
+                raise InvalidConicError(
+                    f"rotation={rotation!r} is a bare angle above 2π: pass degrees={rotation!r} for an angle in "
+                    f"degrees or radians={rotation!r} for one in radians (rotation= takes a (cos, sin) pair)")
+            return rotation_from_radians(rotation)
+        raise InvalidConicError(f"rotation must be a (cos, sin) pair (or give degrees= or radians=), got {rotation!r}")
 
     @classmethod
-    def ellipse(cls, centre=(0, 0), axes=(1, 1), rotation=None) -> "Conic":
+    def ellipse(cls, centre=(0, 0), axes=(1, 1), rotation=None, *, degrees=None, radians=None) -> "Conic":
         """Ellipse X²/A² + Y²/B² = 1 with semi-axes ``axes = (A, B)`` (A along the rotated X axis).
 
-        ``rotation`` turns the X axis counter-clockwise from the x axis: either an exact unit
-        vector ``(cos, sin)`` (rationals such as ``("3/5", "4/5")`` keep the conic exact; floats
-        must satisfy cos² + sin² = 1 to 1e-12) or an angle in **radians** (a float; its cos and
-        sin are then taken at their exact binary values, which gives long integer coefficients).
-        ``None`` (default) means no rotation.  Equal semi-axes give a circle.
+        The rotation turns the X axis counter-clockwise from the x axis; give at most one of
+
+        * ``rotation=(cos, sin)``, a unit vector: rationals such as ``("3/5", "4/5")`` keep the
+          conic exact; floats must satisfy cos² + sin² = 1 to 1e-12;
+        * ``degrees=`` an angle in degrees (multiples of 90 are exact, as in the JSON sites
+          format of :mod:`runtime.sites.reader`);
+        * ``radians=`` an angle in radians.
+
+        A float angle's cos and sin are taken at their exact binary values, which gives long
+        integer coefficients.  A bare number as ``rotation`` is read as radians when
+        |θ| ≤ 2π (``rotation=90`` raises a ValueError asking for ``degrees=`` or ``radians=``).
+        No rotation by default.  Equal semi-axes give a circle.
 
         >>> Conic.ellipse(centre=(0, 0), axes=(2, 1), rotation=("3/5", "4/5"))
         Conic(ellipse: 73, -72, 52, 0, 0, -100)
+        >>> Conic.ellipse(centre=(0, 0), axes=(2, 1), degrees=90)
+        Conic(ellipse: 4, 0, 1, 0, 0, -4)
         """
         A, B = (to_fraction(v, "semi-axis") for v in axes)
         if A <= 0 or B <= 0:
             raise InvalidConicError(f"semi-axes must be > 0, got {axes!r}")
-        cs, sn = cls._rotation_arg(rotation)
+        cs, sn = cls._rotation_arg(rotation, degrees, radians)
         kind = "circle" if A == B else "ellipse"
         if kind == "circle":
             return cls.from_canonical("circle", 1, 0, centre[0], centre[1], r2=A * A)
         return cls.from_canonical("ellipse", cs, sn, centre[0], centre[1], A2=A * A, B2=B * B)
 
     @classmethod
-    def hyperbola(cls, centre=(0, 0), axes=(1, 1), rotation=None) -> "Conic":
+    def hyperbola(cls, centre=(0, 0), axes=(1, 1), rotation=None, *, degrees=None, radians=None) -> "Conic":
         """Hyperbola X²/A² − Y²/B² = 1 with ``axes = (A, B)``, opening along the rotated X axis;
-        ``rotation`` as in :meth:`ellipse` (``(cos, sin)`` or an angle in radians)."""
+        the rotation as in :meth:`ellipse` (``rotation=(cos, sin)``, ``degrees=`` or ``radians=``)."""
         A, B = (to_fraction(v, "semi-axis") for v in axes)
         if A <= 0 or B <= 0:
             raise InvalidConicError(f"semi-axes must be > 0, got {axes!r}")
-        cs, sn = cls._rotation_arg(rotation)
+        cs, sn = cls._rotation_arg(rotation, degrees, radians)
         return cls.from_canonical("hyperbola", cs, sn, centre[0], centre[1], A2=A * A, B2=B * B)
 
     @classmethod
-    def parabola(cls, vertex=(0, 0), p=1, rotation=None) -> "Conic":
+    def parabola(cls, vertex=(0, 0), p=1, rotation=None, *, degrees=None, radians=None) -> "Conic":
         """Parabola Y² = 2pX (opening along the rotated +X axis) with vertex ``vertex`` and
-        parameter ``p > 0`` (the focus is at distance p/2 from the vertex); ``rotation`` as in
-        :meth:`ellipse` (``(cos, sin)`` or an angle in radians)."""
-        cs, sn = cls._rotation_arg(rotation)
+        parameter ``p > 0`` (the focus is at distance p/2 from the vertex); the rotation as in
+        :meth:`ellipse` (``rotation=(cos, sin)``, ``degrees=`` or ``radians=``)."""
+        cs, sn = cls._rotation_arg(rotation, degrees, radians)
         return cls.from_canonical("parabola", cs, sn, vertex[0], vertex[1], p=p)
 
     @classmethod
@@ -435,3 +454,21 @@ def _primitive(co: Iterable[Fraction]) -> list[int]:
     for v in ints:
         g = math.gcd(g, v)
     return [v // g for v in ints] if g else ints
+
+
+def rotation_from_degrees(angle) -> tuple[Any, Any]:
+    """(cos, sin) of an angle in degrees: exact for multiples of 90 (an int, a rational string or
+    a float with an integer value), otherwise the floats ``cos``/``sin`` of ``math.radians``."""
+    q = to_fraction(angle, "degrees")
+    if q.denominator == 1 and q.numerator % 90 == 0:
+        return ((1, 0), (0, 1), (-1, 0), (0, -1))[(q.numerator // 90) % 4]
+    th = math.radians(float(q))
+    return math.cos(th), math.sin(th)
+
+
+def rotation_from_radians(angle) -> tuple[Any, Any]:
+    """(cos, sin) of an angle in radians (0 exact, otherwise floats)."""
+    th = float(to_fraction(angle, "radians"))
+    if th == 0:
+        return 1, 0
+    return math.cos(th), math.sin(th)

@@ -28,20 +28,29 @@ class SiteError(InvalidConicError):
 
 
 def as_site(s):
-    """A user site as an exact site: Circle / Point / Conic pass through; a tuple (cx, cy, r)
-    is a circle of radius r (r = 0: a point); a list of six numbers is the coefficient list of a
-    conic; a dict is a site record of :func:`runtime.sites.reader.parse_site`."""
+    """A user site as an exact site: Circle / Point / Conic pass through; a pair (x, y) is a
+    point; a triple (cx, cy, r) is a circle of radius r (r = 0: a point, thesis §3.1.2); a list
+    of six numbers is the coefficient list of a conic; a dict is a site record of
+    :func:`runtime.sites.reader.parse_site`.  Pairs and triples may be tuples, lists or numpy
+    arrays; numbers are taken exactly (floats at their binary value)."""
     if isinstance(s, (Circle, Conic)):
         return s
     if isinstance(s, dict):
         from ..sites.reader import parse_site
         return parse_site(s)
+    if isinstance(s, (str, bytes)):
+        raise InvalidConicError(f"not a site: {s!r} (expected Circle, Point, Conic, (x, y) or (cx, cy, r))")
     if isinstance(s, (list, tuple)) and len(s) == 6:
         return Conic.from_coefficients(*s)
     try:
-        cx, cy, r = s
-    except (TypeError, ValueError):
-        raise InvalidConicError(f"not a site: {s!r} (expected Circle, Point, Conic or (cx, cy, r))") from None
+        vals = tuple(s)
+    except TypeError:
+        vals = ()
+    if len(vals) == 2:
+        return Point(*vals)
+    if len(vals) != 3:
+        raise InvalidConicError(f"not a site: {s!r} (expected Circle, Point, Conic, (x, y) or (cx, cy, r))")
+    cx, cy, r = vals
     if r == 0:
         return Point(cx, cy)
     return as_circle((cx, cy, r))
