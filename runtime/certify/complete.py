@@ -59,7 +59,8 @@ from .dimension import zero_dimensional
 from .root_bound import count_bound
 from .offset_system import (OffsetSystem, exact_offset_terms, framed_offset_system,  # noqa: F401 (re-exported)
                             inside_disc, krawczyk_complex, newton_track, scene_frame)
-from .interval_newton import krawczyk_image
+from .interval_newton import (UNDERFLOW, UNIT_ROUNDOFF, abs_upper, float_contraction_bound, float_inverse,
+                              float_krawczyk_test, float_residual_bound, gamma, krawczyk_image, round_up)
 
 __all__ = ["clear_certification_caches", "certify_completeness", "completeness_with_vertices", "completeness_exact",
            "OffsetSystem", "certify_solutions", "exact_offset_terms"]
@@ -75,46 +76,28 @@ __all__ = ["clear_certification_caches", "certify_completeness", "completeness_w
 #  satisfies fl(ab) = ab(1 + δ) + η, |δ| ≤ √2·γ₂ < 3u (no FMA) or √5·u (FMA), |η| ≤ 2^-1072
 #  (underflow); so ε_c := 4u and η_c := 2^-1000 are safe.  Hence for a ∈ (â, ρa), b ∈ (b̂, ρb):
 #       |ab − fl(âb̂)| ≤ |â|ρb + ρa|b̂| + ρaρb + ε_c|â||b̂| + η_c.
-#  Radii are computed in round-to-nearest and then passed through _up(t) = fl(t·(1+2^-40)) + 2^-1000,
-#  which dominates the (≤ 16 relative roundings of size u, and underflow) lost while computing t
-#  from non-negative terms.  |z| is bounded above by _absup(z) = fl(fl(|Re z|+|Im z|)·(1+2^-50)) ≥ |z|.
+#  Radii are computed in round-to-nearest and then passed through round_up(t) = fl(t·(1+2^-40))
+#  + 2^-1000, which dominates the (≤ 16 relative roundings of size u, and underflow) lost while computing t
+#  from non-negative terms.  |z| is bounded above by abs_upper(z) = fl(fl(|Re z|+|Im z|)·(1+2^-50)).
 #  Overflow produces inf/nan, which makes every test below False (fallback to arb).
 # *Polynomials.*  p = Σ_t c_t x^{α_t} with exact rational c_t; c̃_t = float(c_t) (correctly
 #  rounded) and the exact |c_t − c̃_t| rounded up is its radius.  Monomials are disc products of
 #  disc powers.  The sum Σ c̃_t M̂_t is a real dot product (Re, Im separately) whose error, for any
 #  summation order / FMA use, is ≤ γ_T Σ|c̃_t||Re M̂_t| (same for Im), so ≤ √2·γ_T Σ|c̃_t||M̂_t|.
-# *Krawczyk in norm form* (polydisc X = {|x_i − m_i| ≤ r_i}, Y any float matrix): with
-#  g(x) = x − Y F(x), b ≥ |Y F(m)| and Δ ≥ |I − Y M| (entrywise) for every M whose entries lie in
-#  the discs enclosing ∂F_i/∂x_j over X (convex, so they contain the segment averages of the
-#  mean-value theorem for holomorphic F): if b + Δ r < r then g(X) ⊂ X (Brouwer: a fixed point),
-#  ρ(Δ) < 1 (Perron–Frobenius, Δ ≥ 0, r > 0), so I − Y J(x) has spectral radius < 1, Y and J(x) are
-#  nonsingular on X: the fixed point is a zero of F, it is simple, and it is the only one in X
-#  (two zeros would satisfy |x − x'| ≤ Δ|x − x'| ⇒ x = x').  The zero lies in |x − m| ≤ b + Δr.
-#  If m is real, X is conjugation-symmetric and F has real coefficients: the zero is real.
+# *Krawczyk in norm form* (polydisc X = {|x_i − m_i| ≤ r_i}, Y any float matrix): the test
+#  b + Δ r < r with b ≥ |Y F(m)| and Δ ≥ |I − Y M| for every M in the disc enclosures of the
+#  Jacobian over X is :func:`runtime.certify.interval_newton.float_krawczyk_test`, with its proof
+#  (one zero, simple, the only one in X, within b + Δ r of m; real if m is real, as X is then
+#  conjugation-symmetric and F has real coefficients) and the bounds b, Δ computed there.
 
-_U = 2.0 ** -53
-_EPS_C = 4 * _U
-_ETA = 2.0 ** -1000
-_UP = 1 + 2.0 ** -40
-
-
-def _up(t):
-    return t * _UP + _ETA
-
-
-def _absup(z):
-    return (np.abs(z.real) + np.abs(z.imag)) * (1 + 2.0 ** -50)
-
-
-def _gamma(n: int) -> float:
-    return n * _U / (1 - n * _U) * (1 + 2.0 ** -40)
+_EPS_C = 4 * UNIT_ROUNDOFF
 
 
 def _dmul(am, ar, bm, br):
     """Disc product (midpoint, radius) of discs (am, ar) and (bm, br); arrays broadcast."""
     cm = am * bm
-    aa, ab = _absup(am), _absup(bm)
-    return cm, _up(aa * br + ar * ab + ar * br + _EPS_C * aa * ab + _ETA)
+    aa, ab = abs_upper(am), abs_upper(bm)
+    return cm, round_up(aa * br + ar * ab + ar * br + _EPS_C * aa * ab + UNDERFLOW)
 
 
 class _FastSystem:
@@ -125,7 +108,7 @@ class _FastSystem:
         # of o_i are exact rationals: the ball arb(c) at 53 bits has a midpoint c̃ of 53 bits (a
         # double, exactly, in the normal range checked below) and a rigorous radius ≥ |c − c̃|
         # (rounded up by _up).  A derivative coefficient e·c (e ≥ 1 an exponent) is stored as
-        # fl(e·c̃), with radius _up(e·|c − c̃| + u·|fl(e·c̃)|·(1 + 2^-50)) ≥ |e·c − fl(e·c̃)| (one
+        # fl(e·c̃), with radius round_up(e·|c − c̃| + u·|fl(e·c̃)|·(1 + 2^-50)) ≥ |e·c − fl(e·c̃)| (one
         # rounding of the product, |e·c̃| ≤ |fl(e·c̃)|/(1 − u); _up covers the roundings of the bound).
         isfinite = math.isfinite
         exps, cols, vals, rads = [], [], [], []
@@ -149,7 +132,7 @@ class _FastSystem:
             cols.append(np.full(len(ex), q))
             vals.append(f)
             # the radius of an arb is a 30-bit upper bound, exact as a double; _up adds margin
-            rads.append(_up(err))
+            rads.append(round_up(err))
         for q, (ex, f, err) in enumerate(base):
             for var in range(3):
                 m = ex[:, var] > 0
@@ -162,7 +145,7 @@ class _FastSystem:
                 exps.append(exd)
                 cols.append(np.full(len(exd), 3 + 3 * q + var))
                 vals.append(fd)
-                rads.append(_up(e * err[m] + _U * (1 + 2.0 ** -50) * np.abs(fd)))
+                rads.append(round_up(e * err[m] + UNIT_ROUNDOFF * (1 + 2.0 ** -50) * np.abs(fd)))
         allex = np.concatenate(exps) if exps else np.zeros((0, 3), dtype=np.int64)
         keys, inv = np.unique(_monomial_keys(allex), return_inverse=True)
         monos = _monomials_from_keys(keys)       # sorted lexicographically, like sorted tuples
@@ -174,7 +157,7 @@ class _FastSystem:
         C[rows, cols] = np.concatenate(vals) if vals else 0.0
         R[rows, cols] = np.concatenate(rads) if rads else 0.0
         self.C, self.R, self.absC = C, R, np.abs(C)
-        self.gT = _gamma(len(monos) + 2)
+        self.gT = gamma(len(monos) + 2)
 
     def eval(self, mid, rad):
         """Discs of the 12 polynomials at the polydiscs (mid[n], rad[n]) (shape N×3): (N×12, N×12)."""
@@ -190,10 +173,10 @@ class _FastSystem:
         am, ar = _dmul(am, ar, pm[E[:, 1], :, 1].T, pr[E[:, 1], :, 1].T)
         am, ar = _dmul(am, ar, pm[E[:, 2], :, 2].T, pr[E[:, 2], :, 2].T)
         vm = am.real @ self.C + 1j * (am.imag @ self.C)
-        aa = _absup(am)
+        aa = abs_upper(am)
         # the three float dot products of non-negative numbers may round down by ≤ γ_T (relative)
-        vr = _up((np.sqrt(2) * 1.0000001 * self.gT * (aa @ self.absC) + ar @ (self.absC + self.R)
-                  + aa @ self.R + 4 * _ETA * E.shape[0]) * (1 + 2 * self.gT))
+        vr = round_up((np.sqrt(2) * 1.0000001 * self.gT * (aa @ self.absC) + ar @ (self.absC + self.R)
+                  + aa @ self.R + 4 * UNDERFLOW * E.shape[0]) * (1 + 2 * self.gT))
         return vm, vr
 
 
@@ -214,14 +197,6 @@ def _monomials_from_keys(keys):
     return np.stack([keys >> (2 * _KEY_BITS), (keys >> _KEY_BITS) & mask, keys & mask], axis=1)
 
 
-def _mat3_mul_bound(Y, M):
-    """Float product Y·M of batched complex 3×3 matrices and an entrywise bound on |Y|·|M|."""
-    P = Y[:, :, :, None] * M[:, None, :, :]
-    S = P[:, :, 0] + P[:, :, 1] + P[:, :, 2]
-    A = _absup(Y)[:, :, :, None] * _absup(M)[:, None, :, :]
-    return S, A[:, :, 0] + A[:, :, 1] + A[:, :, 2]
-
-
 def _fast_krawczyk(fs: _FastSystem, m, attempts: int = 6):
     """Batched rigorous Krawczyk (norm form, module comment above) around float points m (N×3).
 
@@ -234,29 +209,19 @@ def _fast_krawczyk(fs: _FastSystem, m, attempts: int = 6):
     ok = np.zeros(N, dtype=bool)
     rad = np.full((N, 3), np.inf)
     rr = np.full((N, 3), np.inf)
+    Y, good = float_inverse(J)
+    b = float_residual_bound(Y, Fm, Fr)                                        # ≥ |Y F(m)|
     with np.errstate(all="ignore"):
-        good = np.isfinite(J).all(axis=(1, 2)) & (np.abs(np.linalg.det(J)) > 0)
-        Y = np.zeros_like(J)
-        if good.any():
-            Y[good] = np.linalg.inv(J[good])
-        aY = _absup(Y)
-        b = _up((aY * (_absup(Fm) + Fr)[:, None, :]).sum(axis=2))            # ≥ |Y F(m)|
         scale = np.abs(m).max(axis=1) + 1.0
         r = np.maximum(4 * b, (np.abs(m) + 1.0) * 2.0 ** -40)
         active = good & np.isfinite(b).all(axis=1)
-        I3 = np.eye(3)
         for _ in range(attempts):
             ids = np.nonzero(active & ~ok)[0]
             if not len(ids):
                 break
             vmX, vrX = fs.eval(m[ids], r[ids])
             JX, JXr = vmX[:, 3:].reshape(-1, 3, 3), vrX[:, 3:].reshape(-1, 3, 3)
-            YJ, aYaJ = _mat3_mul_bound(Y[ids], JX)
-            Cm = I3 - YJ
-            Delta = _up(_absup(Cm) * (1 + 4 * _U) + 8 * _U * aYaJ
-                        + (aY[ids][:, :, :, None] * JXr[:, None, :, :]).sum(axis=2))
-            lhs = _up(b[ids] + (Delta * r[ids][:, None, :]).sum(axis=2))
-            win = (lhs < r[ids]).all(axis=1)
+            win, lhs = float_krawczyk_test(b[ids], float_contraction_bound(Y[ids], JX, JXr), r[ids])
             ok[ids[win]] = True
             rad[ids[win]] = lhs[win]
             rr[ids[win]] = r[ids][win]
@@ -332,7 +297,7 @@ def _nearly_real(S):
 
 
 def _certify_fast(c1, c2, c3, S, frame=None):
-    """Batched fast path of :func:`certify_solutions` (proof in the comment above _U), on the
+    """Batched fast path of :func:`certify_solutions` (proof in the comment above UNIT_ROUNDOFF), on the
     system in the coordinates of ``frame`` (None: world coordinates) at points S in those coordinates."""
     S = np.asarray(S, dtype=complex).reshape(-1, 3)
     out = [(None, None)] * len(S)

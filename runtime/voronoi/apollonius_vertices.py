@@ -1,10 +1,11 @@
 """Voronoi vertices of three circles or points (Apollonius vertices), refined and proved.
 
 The candidate vertices of a triple are refined by vectorised Newton steps on d_a = d_b = d_c and
-*proved* by an error-bounded float Krawczyk test (existence and uniqueness of the equidistant
-point in a box; Moore, Kearfott & Cloud, *Introduction to Interval Analysis*, §8.2).  When the
-filter cannot decide, the exact route of thesis §3.1.3
-(:func:`runtime.predicates.circles.voronoi_vertices_circles`) decides.  Several candidates near
+*proved* by Krawczyk's test (existence and uniqueness of the equidistant point in a box; Moore,
+Kearfott & Cloud, *Introduction to Interval Analysis*, §8.2) in the kernel's float form
+(:func:`runtime.certify.interval_newton.float_krawczyk_test`, every rounding bounded); this module
+only supplies the enclosures of the distance system.  When the float test cannot decide, the exact
+route of thesis §3.1.3 (:func:`runtime.predicates.circles.voronoi_vertices_circles`) decides.  Several candidates near
 one true vertex are merged by their triple and a proof (one Krawczyk box holding all their Newton
 points), never by a float tolerance alone.
 
@@ -17,6 +18,8 @@ import math
 
 import numpy as np
 
+from ..certify.interval_newton import (UNIT_ROUNDOFF, float_contraction_bound, float_inverse, float_krawczyk_test,
+                                       float_residual_bound, round_up)
 from ..predicates.circles import voronoi_vertices_circles
 from ..result import InvalidConicError, LocatorError
 from .geometry import rounding_slack
@@ -62,45 +65,53 @@ def newton_vertices(S: SiteArrays, T3, Q, iters=30):
 
 
 def krawczyk_circles(S: SiteArrays, T3, M, h):
-    """Error-bounded float Krawczyk test for d_a = d_b = d_c on the boxes |q − M|∞ ≤ h (circles and
-    points; the box must not meet any of the three sites, so each d is smooth there).
+    """Krawczyk's test for F = (d_a − d_b, d_a − d_c) = 0 on the squares |q − M|∞ ≤ h (circles and
+    points a, b, c = T3 columns), decided by the kernel's float test
+    :func:`runtime.certify.interval_newton.float_krawczyk_test` (Krawczyk 1969; Moore, Kearfott &
+    Cloud §8.2; its proof and rounding model there).  Returns (ok, rlo, rhi): where ok, the square
+    holds exactly one equidistant point, simple, and the radius of its empty circle is in
+    [rlo, rhi].
 
-    With Y = J(M)⁻¹: K(B) = M − Y·F(M) + (I − Y·J(B))·(B − M); K(B) ⊂ int B proves a unique zero in
-    B (Krawczyk 1969; Moore–Kearfott–Cloud §8.2).  The gradient u = (q − c)/|q − c| of a distance
-    to a centre is 1/|q − c|-Lipschitz, so over B (radius ρB = h√2) each gradient moves by at most
-    ρB / (|M − c| − ρB): this bounds J(B) − J(M).  Returns (ok, rlo, rhi), the radius of the empty
-    circle enclosed."""
+    The enclosures handed to the test, each with its rounding (u = 2^-53, ρB = h√2 the radius of
+    the square's circumscribed disc, n = |M − c| and g = n − ρ in floats, both within
+    s = :func:`runtime.voronoi.geometry.rounding_slack` of their values for the exact site):
+
+    * the square meets no site and holds no centre (|g| > ρB + s, n > ρB + s + δ), so each
+      d = |g| is smooth on it, with gradient U = ±(q − c)/|q − c|;
+    * F(M) is within s_a + s_b + u|F̃| of its float value F̃;
+    * the float gradient at M is within 8u of U(M) per component for the float centre C (a
+      correctly rounded subtraction, hypot within 2u, a division), the exact centre c is within
+      δ = 8u(|C_x| + |C_y|) of C, and U is 1/|q − c|-Lipschitz, so over the square every
+      component of U is within L = (ρB + δ) / (n − s − ρB − δ) + 8u of the float one; a row of
+      the Jacobian (U_a − U_b) is then within L_a + L_b + 2u|J̃| of the float row J̃.
+    """
+    u = UNIT_ROUNDOFF
     rB = h * math.sqrt(2)
     ds, Us, slack, lip = [], [], [], []
     ok = np.ones(len(M), bool)
-    for col in range(3):
-        s = T3[:, col]
-        V = M - S.C[s]
-        n = np.hypot(V[:, 0], V[:, 1])
-        g = n - S.R[s]
-        sl = rounding_slack(np.abs(M).sum(axis=1) + np.abs(S.C[s]).sum(axis=1) + S.R[s])
-        ok &= (np.abs(g) > rB + sl) & (n > rB + sl)
-        sig = np.where(g >= 0, 1.0, -1.0)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            Us.append(sig[:, None] * V / n[:, None])
-            lip.append(rB / (n - rB) + 4e-16)
-        ds.append(np.abs(g))
-        slack.append(sl)
-    F = np.column_stack([ds[0] - ds[1], ds[0] - ds[2]])
-    eF = np.column_stack([slack[0] + slack[1], slack[0] + slack[2]]) * 1.01 + 1e-300
-    J = np.stack([Us[0] - Us[1], Us[0] - Us[2]], axis=1)
-    E = np.column_stack([lip[0] + lip[1], lip[0] + lip[2]])      # per row, every entry
-    det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
     with np.errstate(divide="ignore", invalid="ignore"):
-        Y = np.stack([np.stack([J[:, 1, 1], -J[:, 0, 1]], 1), np.stack([-J[:, 1, 0], J[:, 0, 0]], 1)], 1) / det[:, None, None]
-    aY = np.abs(Y)
-    YF = np.abs(np.einsum("nij,nj->ni", Y, F))
-    I_YJ = np.abs(np.eye(2)[None] - np.einsum("nij,njk->nik", Y, J)) + 1e-15 * np.einsum("nij,njk->nik", aY, np.abs(J))
-    # |Y|·E with E[r, :] = E[:, r]: (|Y| E)_{ik} = sum_j |Y_ij| E_j
-    YE = (aY * E[:, None, :]).sum(axis=2)[:, :, None] * np.ones((1, 1, 2))
-    bound = YF + np.einsum("nij,nj->ni", aY, eF) + np.einsum("nij,nj->ni", I_YJ + YE, np.column_stack([h, h]))
-    bound *= 1 + 1e-12
-    ok &= np.isfinite(bound).all(axis=1) & (bound < h[:, None]).all(axis=1) & np.isfinite(det) & (det != 0)
+        for col in range(3):
+            s = T3[:, col]
+            V = M - S.C[s]
+            n = np.hypot(V[:, 0], V[:, 1])
+            g = n - S.R[s]
+            sl = rounding_slack(np.abs(M).sum(axis=1) + np.abs(S.C[s]).sum(axis=1) + S.R[s])
+            delta = 8 * u * np.abs(S.C[s]).sum(axis=1)
+            ok &= (np.abs(g) > rB + sl) & (n > rB + sl + delta)
+            sig = np.where(g >= 0, 1.0, -1.0)
+            Us.append(sig[:, None] * V / n[:, None])
+            lip.append(round_up((rB + delta) / (n - sl - rB - delta) + 8 * u))
+            ds.append(np.abs(g))
+            slack.append(sl)
+        F = np.column_stack([ds[0] - ds[1], ds[0] - ds[2]])
+        F_rad = round_up(np.column_stack([slack[0] + slack[1], slack[0] + slack[2]]) + u * np.abs(F))
+        J = np.stack([Us[0] - Us[1], Us[0] - Us[2]], axis=1)
+        L = np.column_stack([lip[0] + lip[1], lip[0] + lip[2]])          # per row, every entry
+        J_rad = round_up(L[:, :, None] + 2 * u * np.abs(J))
+        Y, invertible = float_inverse(J)
+        proved, _ = float_krawczyk_test(float_residual_bound(Y, F, F_rad), float_contraction_bound(Y, J, J_rad),
+                                        np.column_stack([h, h]))
+    ok &= proved & invertible
     rlo = ds[0] - slack[0] - rB
     rhi = ds[0] + slack[0] + rB
     return ok, rlo, rhi
