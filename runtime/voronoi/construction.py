@@ -59,6 +59,7 @@ from .conic_vertices import conic_vertices
 from .deletion import delete_site
 from .edge_polylines import edge_polylines
 from .frame import local_frame
+from .insertion import insert_site
 from .near_degenerate import near_degenerate_clusters
 from .sampling import Samples, hull_neighbours, initial_spacing
 from .site_arrays import SiteArrays
@@ -73,11 +74,12 @@ __all__ = ["voronoi", "build_diagram", "ConstructionState", "as_site", "check_di
 class ConstructionState:
     """What :func:`runtime.voronoi.deletion.delete_site` needs: site arrays, samples, conic vertex
     cache, the entry points ``build`` (:func:`build_diagram`) and ``scratch`` (:func:`voronoi`), so
-    that it imports nothing of this module, and ``delete`` itself for the diagram.  Not serialised."""
+    that it imports nothing of this module, and ``delete`` and ``insert``
+    (:func:`runtime.voronoi.insertion.insert_site`) for the diagram.  Not serialised."""
 
     def __init__(self, S, samples, cache):
         self.S, self.samples, self.cache = S, samples, cache
-        self.build, self.scratch, self.delete = build_diagram, voronoi, delete_site
+        self.build, self.scratch, self.delete, self.insert = build_diagram, voronoi, delete_site, insert_site
 
 MAX_ROUNDS = 8
 #: rebuilds driven by the verifier's problems (sites it names are sampled 4x finer)

@@ -1,4 +1,23 @@
-"""Deletion of a site from a Voronoi diagram, updating the sample triangulation locally.
+"""Deletion of a site from a Voronoi diagram: locally, re-proving only what changed.
+
+**Circles and points** (thesis §1.2; Karavelas & Yvinec, ESA 2002, for the deletion in additively
+weighted Voronoi diagrams; CGAL's ``Apollonius_graph_2::remove``): the region of site i is shared
+among its Delaunay neighbours and nothing else changes.  The vertices of i (their circles touch i)
+and the edges of i and at those vertices are removed; the diagram of i's neighbours and their
+neighbours is built and its vertices inside i's old region (their circles reach site i) and the
+edges ending there are spliced in (:func:`runtime.voronoi.insertion.delete_local`).  Why the kept
+part keeps its proof: a kept vertex's circle was empty of all the old sites, so of the remaining
+ones; a kept edge was a whole edge of the old diagram (every point strictly closer to its two sites
+than to any other old site, ends at vertices), and neither end is a removed vertex, so it is a
+whole edge of the new diagram; the new vertices and edges and the closure at the vertices whose
+edges changed are proved now, against every site that can reach them.  At infinity nothing changes
+when i had no unbounded edge (its support function was strictly below the others' maximum in every
+direction, by the old proof); otherwise the new diagram is verified whole.  ``certified`` is True
+only when the original diagram was certified and the changed part is proved.
+``stats["deletion"]``: "local", "local, full verification" or, when the local splice does not
+apply (conics, nested sites, a splice that does not close), the sample-based route below.
+
+**Sample-based route** (every site kind), updating the sample triangulation locally.
 
 When site i is deleted, its region is shared among its Delaunay neighbours and nothing else
 changes (thesis §1.2: a point's nearest sites among the others are unchanged unless its nearest
@@ -18,8 +37,12 @@ of site i is a vertex of the sample hull (removing it changes the hull: the loca
 point sites only are rebuilt from scratch (their collinear case has its own path).  A diagram
 read from JSON has no construction state: :class:`ValueError` (build it with ``voronoi`` first).
 
-Indices: the remaining sites are **renumbered** — site j > i becomes j − 1 — so the result is
-exactly the diagram of ``sites[:i] + sites[i+1:]``.
+Indices: by default (``renumber="shift"``) the remaining sites are **renumbered** — site j > i
+becomes j − 1 — so the result is exactly the diagram of ``sites[:i] + sites[i+1:]``; relabelling
+every vertex and edge with a site above i costs O(N).  With ``renumber="last"`` the last site
+N − 1 takes index i (the diagram of ``sites[:i] + [sites[-1]] + sites[i+1:-1]``), and only its own
+vertices and edges are relabelled.  Vertex and edge ids stay their positions in the lists (a
+removed one's slot takes a new one or the last one), so ids of kept parts may change.
 
 Public API: :func:`delete_site`.
 """
@@ -30,6 +53,7 @@ import time
 import numpy as np
 
 from ..threads import one_blas_thread
+from .insertion import delete_local
 from .sample_delaunay import SampleTriangulation
 from .sampling import Samples
 from .site_arrays import SiteArrays
@@ -38,24 +62,33 @@ __all__ = ["delete_site"]
 
 
 @one_blas_thread
-def delete_site(diagram, i: int, *, certify: bool = True):
-    """The Voronoi diagram of ``diagram``'s sites without site ``i`` (renumbered: j > i becomes
-    j − 1); ``diagram`` is left unchanged.  ``stats["deletion"]`` says "local" (sample
-    triangulation updated around site i), "local triangulation declined" (samples re-triangulated
-    by qhull, the rounds reused) or "rebuild".  The construction functions come from the diagram's
-    state (:class:`runtime.voronoi.construction.ConstructionState`)."""
+def delete_site(diagram, i: int, *, certify: bool = True, renumber: str = "shift"):
+    """The Voronoi diagram of ``diagram``'s sites without site ``i`` (``renumber="shift"``: j > i
+    becomes j − 1; ``"last"``: site N − 1 becomes i); ``diagram`` is left unchanged.
+    ``stats["deletion"]`` says "local" or "local, full verification" (circles and points, module
+    docstring), "local sample triangulation" (the sample triangulation updated around site i, all
+    vertices proved again), "local triangulation declined" (samples re-triangulated by qhull, the
+    rounds reused) or "rebuild".  The construction functions come from the diagram's state
+    (:class:`runtime.voronoi.construction.ConstructionState`)."""
     n = len(diagram.sites)
     i = int(i)
     if not 0 <= i < n:
         raise IndexError(f"no site {i}: the diagram has {n} sites")
+    if renumber not in ("shift", "last"):
+        raise ValueError(f'renumber must be "shift" or "last", not {renumber!r}')
     rest = [s for k, s in enumerate(diagram.sites) if k != i]
+    if renumber == "last" and i < n - 1:
+        rest = list(diagram.sites[:i]) + [diagram.sites[-1]] + list(diagram.sites[i + 1:-1])
     if len(rest) < 2:
         raise ValueError(f"the Voronoi diagram needs at least 2 sites, {len(rest)} would remain")
     st = diagram.construction
     if st is None:
         raise ValueError("this diagram has no construction state (read from JSON?): build the diagram of the "
                          "remaining sites with voronoi(...)")
-    if st.samples.tri is None:
+    local = delete_local(diagram, i, certify=certify, renumber=renumber)
+    if local is not None:
+        return local
+    if st.samples is None or st.samples.tri is None or (renumber == "last" and i < n - 1):
         D = st.scratch(rest, certify=certify)
         D.stats["deletion"] = "rebuild"
         return D
@@ -80,7 +113,7 @@ def delete_site(diagram, i: int, *, certify: bool = True):
         moved = SampleTriangulation(tri.P, new_index[tri.lab], tri.simp, tri.nb, tri.cc, tri.seed)
         moved.prior_edge_memo = tri.prior_edge_memo
         samples.tri, samples.sampled = moved, old.sampled[keep].copy()
-        how = "local"
+        how = "local sample triangulation"
     cache = {}
     for tr, found in st.cache.items():
         if i not in tr:

@@ -129,15 +129,34 @@ class Diagram:
     sources: list | None = field(default=None, repr=False)
 
     # ------------------------------------------------------------------ updates
-    def delete_site(self, i: int, *, certify: bool = True) -> "Diagram":
-        """The diagram of the other sites, renumbered (site j > i becomes j − 1); this diagram is
-        left unchanged.  Needs the construction state of a diagram built by ``voronoi`` (not one
+    def delete_site(self, i: int, *, certify: bool = True, renumber: str = "shift") -> "Diagram":
+        """The diagram of the other sites, renumbered (``renumber="shift"``: site j > i becomes
+        j − 1; ``"last"``: the last site takes index i, which keeps a deletion local); this diagram
+        is left unchanged.  Needs the construction state of a diagram built by ``voronoi`` (not one
         read from JSON).  See :func:`runtime.voronoi.deletion.delete_site` (reached through the
         construction state, so that this data module imports nothing of the construction)."""
         if self.construction is None:
             raise ValueError("this diagram has no construction state (read from JSON?): build the diagram of "
                              "the remaining sites with voronoi(...)")
-        return self.construction.delete(self, i, certify=certify)
+        return self.construction.delete(self, i, certify=certify, renumber=renumber)
+
+    def insert(self, site, *, certify: bool = True) -> "Diagram":
+        """The diagram with ``site`` (a circle or point) added as site N; this diagram is left
+        unchanged.  Only the part of the diagram the new site touches is rebuilt and proved (thesis
+        §1.2); ``certified`` needs this diagram certified.  See
+        :func:`runtime.voronoi.insertion.insert_site` (conic sites: NotImplementedError), reached
+        through the construction state like :meth:`delete_site`."""
+        if self.construction is None:
+            raise ValueError("this diagram has no construction state (read from JSON?): build the diagram of "
+                             "the new list of sites with voronoi(...)")
+        return self.construction.insert(self, site, certify=certify)
+
+    def insert_many(self, sites, *, certify: bool = True) -> "Diagram":
+        """:meth:`insert` each of ``sites`` (any iterable) in turn."""
+        d = self
+        for s in sites:
+            d = d.insert(s, certify=certify)
+        return d
 
     # ------------------------------------------------------------------ graph views
     def delaunay_edges(self) -> list[tuple[int, int]]:

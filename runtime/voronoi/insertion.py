@@ -1,0 +1,842 @@
+"""Local insertion (and the local part of deletion) of a circle or point site, thesis §1.2.
+
+Thesis §1.2 maintains the diagram as sites arrive: a new site s only takes points from the regions
+it touches.  For circles and points (additively weighted points, thesis §3.1) the *conflict region*
+of s — the points of the old Voronoi skeleton strictly closer to s than to their nearest sites —
+is connected and meets the boundary of the region of the site nearest to the centre of s
+(Karavelas & Yvinec, *Dynamic additively weighted Voronoi diagrams in 2D*, ESA 2002, §3; the
+same structure as CGAL's ``Apollonius_graph_2::insert``; for abstract Voronoi diagrams Klein,
+Mehlhorn & Meiser, CGTA 3 (1993)).  The update here:
+
+1. **Locate.**  The sites nearest to the centre of s (rigorous distance bounds from a k-d tree
+   over the centres, kept between updates); their vertices are tested against s, and the
+   conflict is grown through adjacent vertices (breadth first).  A vertex is *kept* only when
+   d(v, s) > r_v is proved with rigorous float bounds, with the verifier's vertex tolerance
+   (:data:`runtime.voronoi.verify.vertices.VERTEX_TOL`) around the reported position and radius;
+   an undecided vertex is treated as in conflict (removed, and rebuilt if it is still a vertex).
+2. **Rebuild locally.**  The diagram of s, the sites of the conflicting vertices (or, when no
+   vertex conflicts, the nearest sites) and their Delaunay neighbours is built with the
+   construction (:func:`runtime.voronoi.construction.voronoi`, reached through the diagram's
+   construction state).  Its vertices with s, or equal to a removed vertex, replace the removed
+   vertices; its edges with an end at such a vertex replace the removed edges (those at a removed
+   vertex, and an old edge cut in two by s).  If the splice does not close (a vertex without
+   exactly one edge per consecutive pair of its sites) or a proof fails, one more ring of
+   neighbours is taken; then the whole diagram is rebuilt.
+3. **Prove only what changed** (``certify=True``): the new vertices and edges, and the kept
+   vertices they end at, are proved by the verifier's own routines
+   (:func:`runtime.voronoi.verify.vertices.prove_vertices`,
+   :func:`runtime.voronoi.verify.edge_checks.check_edges`) against every site that can reach
+   them: all sites whose disc comes within R of the centre of s, where R bounds |q − c_s| + r(q)
+   over the changed vertices (r: their radius) and the points q of the changed edges (r(q): the
+   distance to the edge's sites; the arc lies within the proved tolerance of its polyline, and
+   distances are 1-Lipschitz).  A site farther away cannot enter any of their empty circles.
+   The closure of step 3 of :mod:`runtime.voronoi.verify.certificate` is checked at every vertex
+   whose edges changed.
+
+Why the result is proved (H the reported graph after the update, G the true one):
+
+* A **kept vertex** v was proved a vertex of the old sites: its circle is empty of them.  If it
+  was tested, d(v, s) > r_v was proved, so the circle is empty of s too.  If it was not tested,
+  it is not in conflict: the conflict region is connected and meets the region of the nearest
+  site, the breadth-first search started at every vertex of that region that may conflict and
+  stopped only at vertices proved outside, and a path along the skeleton leaves the set of
+  conflicting vertices only through such a vertex.  (With no conflicting vertex, the conflict lies
+  inside one edge of the nearest site, the edge that is cut.)
+* A **kept edge** (i, j) was proved a whole edge of the old diagram: every point of its open arc
+  strictly closer to i and j than to the other old sites, its ends vertices.  It has no end at a
+  removed vertex and is not the cut edge, so by the connectedness above no point of it is in
+  conflict with s: it is a whole edge of the new diagram with the same ends.
+* **New** vertices and edges are proved now, as in a full verification.
+* **Closure**: unchanged at untouched vertices (inherited), checked at the others.
+* **Components at infinity** (step 4 of the certificate): when no changed edge is unbounded and
+  the disc of s lies strictly inside the convex hull of its neighbours' centres, the support
+  function of s, h_s(θ) = c_s·e(θ) + ρ_s, is below max_k h_k(θ) in every direction, so the
+  unbounded ends, their order and the sites leading between them are those of the old proof.
+  Otherwise (a site on or near the hull) the whole new diagram is verified
+  (:func:`runtime.voronoi.verify.certificate.verify`, linear in N): ``stats["update"]`` says so.
+
+Hence ``certified`` is True only when the old diagram was certified (its proofs are reused) and
+everything new is proved now.  Nested sites (closed edges), far-from-origin scenes and conic
+sites are outside this argument: conics raise :class:`NotImplementedError` naming the kind,
+nesting and far scenes rebuild the diagram.
+
+The adjacency (vertices and edges of each site, edges of each vertex, the k-d tree) is kept in a
+:class:`DynamicState` that **moves** to the result: a chain of updates costs what changes, the
+first update of a diagram builds it once (O(N)).  Vertex and edge ids stay positions: a removed
+one's slot takes a new one or the last one.  The new site gets index N (the last).
+
+Public API: :func:`insert_site`, :func:`insert_many`, :func:`delete_local`, :func:`local_update`, :class:`DynamicState`,
+:class:`LocalState`.
+
+Length: one argument (locate, splice, prove) shared by insertion and deletion; splitting the splice
+from its soundness proof would separate the code from the docstring that justifies it.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from .conic_geometry import site_geometry
+from .geometry import rounding_slack
+from .site_input import SiteError, as_site, check_disjoint
+from .verify.edge_checks import check_edges
+from .verify.edges import CircleTable
+from .verify.vertices import VERTEX_TOL, prove_vertices
+
+__all__ = ["insert_site", "insert_many", "delete_local", "local_update", "DynamicState", "LocalState"]
+
+EPS = 2.0 ** -53
+#: coordinates beyond this are built in a local frame by the construction: such scenes are rebuilt
+FAR = 1e6
+
+
+class LocalState:
+    """The construction state of a diagram made by a local update: the entry points (``scratch``:
+    :func:`runtime.voronoi.construction.voronoi`, ``delete``) and the :class:`DynamicState`.  It has
+    no sample triangulation (``samples`` is None): a deletion that cannot be local rebuilds."""
+
+    samples = None
+
+    def __init__(self, scratch, delete, dynamic):
+        self.scratch, self.delete, self.dynamic = scratch, delete, dynamic
+        self.insert = insert_site
+
+
+class DynamicState:
+    """Adjacency of a diagram of circle/point sites: per site its vertex ids and edge ids, per
+    vertex its edge ids, the sites' float centres and radii with a k-d tree (sites added since it
+    was built are scanned linearly until it is rebuilt)."""
+
+    def __init__(self, D):
+        n = len(D.sites)
+        self.geoms = [site_geometry(s) for s in D.sites]
+        self.unsupported = next((g.kind for g in self.geoms if g.kind not in ("point", "circle")), None)
+        self.ids_ok = all(v.id == t for t, v in enumerate(D.vertices)) and all(e.id == t for t, e in enumerate(D.edges))
+        if self.unsupported:
+            return
+        self.C = np.array([[g.x0, g.y0] if g.kind == "point" else [g.cx, g.cy] for g in self.geoms], float).reshape(-1, 2)
+        self.R = np.array([0.0 if g.kind == "point" else g.rho for g in self.geoms], float)
+        self.site_v = [set() for _ in range(n)]
+        self.site_e = [set() for _ in range(n)]
+        self.v_e = [[] for _ in D.vertices]
+        for v in D.vertices:
+            for s in v.sites:
+                self.site_v[s].add(v.id)
+        self.closed = 0
+        self.unbounded = {e.id for e in D.edges if None in e.ends}
+        self.renumber = "shift"
+        for e in D.edges:
+            self.closed += bool(e.closed)
+            for s in e.sites:
+                self.site_e[s].add(e.id)
+            for w in e.ends:
+                if w is not None:
+                    self.v_e[w].append(e.id)
+        self._rebuild_tree()
+
+    def _rebuild_tree(self):
+        n = len(self.C)
+        self.tree = cKDTree(self.C) if n else None
+        self.slot = np.arange(n)            # tree slot -> site index (-1: deleted)
+        self.extra: list[int] = []          # sites added since
+        self.rmax = float(self.R.max()) if n else 0.0
+
+    def near(self, X, radius):
+        """Site indices whose centre lies within ``radius`` of X (a superset is fine)."""
+        out = []
+        if self.tree is not None:
+            got = self.slot[np.asarray(self.tree.query_ball_point(X, radius * (1 + 1e-12)), dtype=int)]
+            out = got[got >= 0].tolist()
+        for k in self.extra:
+            if math.hypot(self.C[k, 0] - X[0], self.C[k, 1] - X[1]) <= radius * (1 + 1e-12):
+                out.append(k)
+        return sorted(set(out))
+
+    def add_site(self, site, g):
+        self.geoms.append(g)
+        c = [g.x0, g.y0] if g.kind == "point" else [g.cx, g.cy]
+        self.C = np.vstack([self.C, c])
+        self.R = np.append(self.R, 0.0 if g.kind == "point" else g.rho)
+        self.rmax = max(self.rmax, float(self.R[-1]))
+        self.site_v.append(set())
+        self.site_e.append(set())
+        self.extra.append(len(self.C) - 1)
+        if len(self.extra) > 64 + 2 * math.sqrt(len(self.C)):
+            self._rebuild_tree()
+
+    def remove_site(self, i, renumber):
+        """Drop site i: ``renumber="shift"`` (j > i becomes j − 1) or ``"last"`` (site N − 1
+        becomes i)."""
+        n = len(self.C)
+        if renumber == "last" and i != n - 1:
+            last = n - 1
+            self.C[i], self.R[i] = self.C[last], self.R[last]
+            self.geoms[i] = self.geoms[last]
+            self.site_v[i], self.site_e[i] = self.site_v[last], self.site_e[last]
+            self.slot[self.slot == i] = -1
+            self.slot[self.slot == last] = i
+            self.extra = [i if k == last else k for k in self.extra if k != i]
+            i = last
+        else:
+            self.slot[self.slot == i] = -1
+            self.slot[self.slot > i] -= 1
+            self.extra = [k - (k > i) for k in self.extra if k != i]
+        self.C = np.delete(self.C, i, axis=0)
+        self.R = np.delete(self.R, i)
+        del self.geoms[i], self.site_v[i], self.site_e[i]
+
+
+def dynamic_state(D):
+    """The diagram's :class:`DynamicState`, built on first use; taken away from ``D``'s
+    construction state (it moves to the updated diagram)."""
+    st = D.construction
+    dyn = getattr(st, "dynamic", None)
+    if dyn is None or len(dyn.C if not dyn.unsupported else dyn.geoms) != len(D.sites):
+        dyn = DynamicState(D)
+    st.dynamic = None
+    return dyn
+
+
+# ============================================================================ insertion
+
+def insert_site(D, site, *, certify: bool = True):
+    """The Voronoi diagram of ``D.sites + [site]``; ``D`` is left unchanged (its adjacency state
+    moves to the result).  ``site``: a circle or point in any form :func:`runtime.voronoi.site_input.as_site`
+    reads.  A site meeting an existing one raises :class:`SiteError` naming the pair, as the batch
+    build does; conic sites raise :class:`NotImplementedError`.  ``stats["update"]`` says "local",
+    "local, full verification" (the site touches the convex hull) or "rebuild"."""
+    st = D.construction
+    if st is None:
+        raise ValueError("this diagram has no construction state (read from JSON?): build the diagram of "
+                         "the new list of sites with voronoi(...)")
+    t0 = time.perf_counter()
+    s = as_site(site)
+    g = site_geometry(s)
+    if g.kind not in ("point", "circle"):
+        raise NotImplementedError(f"local insertion of a {g.kind} site is not implemented (circles and points "
+                                  "only): build the diagram with voronoi(sites + [site])")
+    dyn = dynamic_state(D)
+    if dyn.unsupported:
+        st.dynamic = dyn
+        raise NotImplementedError(f"local insertion into a diagram with a {dyn.unsupported} site is not "
+                                  "implemented (circles and points only): build it with voronoi(sites + [site])")
+    n = len(D.sites)
+    cs = np.array([g.x0, g.y0] if g.kind == "point" else [g.cx, g.cy], float)
+    rs = 0.0 if g.kind == "point" else g.rho
+    scale = float(np.abs(dyn.C).max() + dyn.rmax + 1.0) if n else 1.0
+    cand = dyn.near(cs, rs + dyn.rmax + 1e-9 * scale)
+    try:
+        check_disjoint([D.sites[k] for k in cand] + [s], [dyn.geoms[k] for k in cand] + [g])
+    except SiteError as exc:
+        msg = str(exc)
+        if "same site" in msg:
+            k = next(k for k in cand if _same(D.sites[k], s))
+            raise SiteError(f"site {k} and site {n} are the same site (repeated): remove one") from None
+        k = next(k for k in cand if _meet(D.sites[k], s))
+        raise SiteError(f"site {k} and site {n} intersect: the Voronoi diagram needs disjoint sites") from None
+    nested = any(math.hypot(*(dyn.C[k] - cs)) < abs(dyn.R[k] - rs) + 1e-9 * scale for k in cand)
+    sites2 = list(D.sites) + [s]
+    if nested or dyn.closed or not dyn.ids_ok or n < 3 or not D.vertices or scale > FAR:
+        st.dynamic = dyn
+        return _rebuild(D, st, sites2, certify, "rebuild", t0)
+    dyn.add_site(s, g)
+    # the sites nearest to the centre of s (rigorous bounds, ties kept)
+    kq = min(8, n)
+    dist, idx = dyn.tree.query(cs, k=kq) if dyn.tree is not None else ([], [])
+    pool = set(int(k) for k in np.atleast_1d(idx) if 0 <= k < len(dyn.slot) and dyn.slot[k] >= 0)
+    pool = sorted({int(dyn.slot[k]) for k in pool} | {k for k in dyn.extra if k < n})
+    d = np.hypot(*(dyn.C[pool] - cs).T) - dyn.R[pool]
+    slack = rounding_slack(np.abs(dyn.C[pool]).sum(axis=1) + np.abs(cs).sum() + dyn.R[pool]) + 1e-12 * scale
+    hi = float((d + slack).min())
+    pool = [k for k in dyn.near(cs, hi + dyn.rmax + 2e-12 * scale) if k < n]
+    d = np.hypot(*(dyn.C[pool] - cs).T) - dyn.R[pool]
+    slack = rounding_slack(np.abs(dyn.C[pool]).sum(axis=1) + np.abs(cs).sum() + dyn.R[pool]) + 1e-12 * scale
+    hi = float((d + slack).min())
+    A0 = [k for k, lo in zip(pool, (d - slack).tolist()) if lo <= hi]
+    # breadth-first growth of the conflicting vertices
+    verts, edges = D.vertices, D.edges
+    tested: dict = {}
+    X: set = set()
+    layer = sorted({v for a in A0 for v in dyn.site_v[a]})
+    while layer:
+        layer = [v for v in layer if v not in tested]
+        out = _outside(verts, layer, cs, rs)
+        nxt = set()
+        for v, o in zip(layer, out.tolist()):
+            tested[v] = o
+            if not o:
+                X.add(v)
+                for e in dyn.v_e[v]:
+                    for w in edges[e].ends:
+                        if w is not None and w not in tested:
+                            nxt.add(w)
+        layer = sorted(nxt)
+    A = set(A0) | {t for v in X for t in verts[v].sites}
+    out = local_update(D, st, dyn, sites2, A, X, set(), "insert", n, certify, t0)
+    if out is not None:
+        return out
+    dyn.remove_site(n, "shift")       # the splice did not close: D keeps its state, rebuild
+    st.dynamic = dyn
+    return _rebuild(D, st, sites2, certify, "rebuild (the local splice did not close)", t0)
+
+
+def delete_local(D, i, *, certify: bool = True, renumber: str = "shift"):
+    """The local deletion of site i (module docstring; same splice and proofs as an insertion:
+    the removed vertices are those of site i, the new ones lie in its old region and their circles
+    reach it), or None when it does not apply (conic sites, nesting, fewer than 4 sites, a far
+    scene, or a splice that does not close): the caller then uses the construction.  Numbering:
+    ``renumber="shift"`` (site j > i becomes j − 1, every part with such a site is relabelled, O(N))
+    or ``"last"`` (site N − 1 takes index i, only its parts are relabelled)."""
+    st = D.construction
+    t0 = time.perf_counter()
+    dyn = dynamic_state(D)
+    n = len(D.sites)
+    scale = float(np.abs(dyn.C).max() + dyn.rmax + 1.0) if not dyn.unsupported and n else 0.0
+    if dyn.unsupported or dyn.closed or not dyn.ids_ok or n < 5 or not D.vertices or scale > FAR:
+        st.dynamic = dyn
+        return None
+    X = set(dyn.site_v[i])
+    rm_edges = set(dyn.site_e[i])
+    dyn.gone = (dyn.C[i].copy(), float(dyn.R[i]))
+    dyn.gone_unbounded = any(None in D.edges[e].ends for e in rm_edges)
+    if renumber == "last":
+        def new_index(t):
+            return i if t == n - 1 else t
+
+        def old_index(t):
+            return n - 1 if t == i else t
+        sites2 = list(D.sites)
+        sites2[i] = sites2[-1]
+        sites2.pop()
+    else:
+        def new_index(t):
+            return t - (t > i)
+
+        def old_index(t):
+            return t + (t >= i)
+        sites2 = [s for k, s in enumerate(D.sites) if k != i]
+    A = {new_index(t) for v in X for t in D.vertices[v].sites if t != i}
+    A |= {new_index(t) for e in rm_edges for t in D.edges[e].sites if t != i}
+    out = local_update(D, st, dyn, sites2, A, X, rm_edges, "delete", i, certify, t0, renumber, old_index, new_index)
+    if out is None:
+        st.dynamic = dyn
+    return out
+
+
+def insert_many(D, sites, *, certify: bool = True):
+    """Insert ``sites`` one after the other (each with :func:`insert_site`); any iterable."""
+    for s in sites:
+        D = insert_site(D, s, certify=certify)
+    return D
+
+
+# ============================================================================ the splice
+
+def local_update(D, st, dyn, sites2, A, X, rm_edges, op, special, certify, t0, renumber="shift",
+                 old_index=None, new_index=None):
+    """Replace the vertices ``X`` (ids) and the edges ``rm_edges`` (plus the edges at X) of ``D`` by
+    the local diagram of the sites ``A`` and their neighbours (indices of ``sites2``, the new site
+    list), then prove the changed part.  ``op`` is "insert" (``special``: the index of the new
+    site) or "delete" (``special``: the deleted index in ``D``'s numbering); ``old_index`` and
+    ``new_index`` map site indices between the new and ``D``'s numbering.  Returns None when the
+    splice does not close with one or two rings of neighbours (the caller rebuilds)."""
+    old_index = old_index or (lambda t: t)
+    new_index = new_index or (lambda t: t)
+    for ring in (1, 2):
+        L = set(A)
+        for _ in range(ring):
+            L |= {new_index(t) for a in list(L) for e in dyn.site_e[old_index(a)] for t in D.edges[e].sites
+                  if not (op == "delete" and t == special)}
+        if op == "insert":
+            L.add(special)
+        L = sorted(L)
+        res = _splice(D, st, dyn, sites2, L, X, rm_edges, op, special, old_index)
+        if res is None:
+            continue
+        res["sites2"] = sites2
+        dyn.renumber = renumber
+        chk = _check(D, dyn, res, op, special, certify, old_index, new_index)
+        if chk is None or not chk["ok"]:
+            continue        # the splice is wrong or unproved: one more ring, then a rebuild
+        return _finish(D, st, dyn, res, op, special, certify, t0, ring, renumber, chk)
+    return None
+
+
+def _splice(D, st, dyn, sites2, L, X, rm_edges, op, special, old_index):
+    """The local diagram of sites ``L`` (new numbering) spliced in; None when it does not close."""
+    loc = st.scratch([sites2[k] for k in L], certify=False)
+    if loc.problems and any(not p.startswith("not verified") for p in loc.problems):
+        return None
+    verts = D.vertices
+    kept_match = {}
+    new_v = []          # (local vertex, global sites tuple)
+    lv_map = {}         # local vertex id -> ("new", k) or ("old", id)
+    for lv in loc.vertices:
+        gs = tuple(L[t] for t in lv.sites)
+        r = gs.index(min(gs))
+        gs = gs[r:] + gs[:r]
+        match = None
+        for vid in dyn.site_v[old_index(gs[0])] if (op == "delete" or gs[0] != special) else ():
+            v = verts[vid]
+            if sorted(old_index(t) for t in gs) == sorted(v.sites) and _close(v, lv):
+                match = vid
+                break
+        if op == "insert":
+            fresh = special in gs or (match is not None and match in X)
+        else:
+            fresh = match is None and _reaches(dyn, special, lv)
+            if match is not None and match in X:
+                match = None
+        if fresh:
+            lv_map[lv.id] = ("new", len(new_v))
+            new_v.append((lv, gs))
+        elif match is not None and match not in X:
+            lv_map[lv.id] = ("old", match)
+            kept_match[lv.id] = match
+    rm_e = set(rm_edges) | {e for v in X for e in dyn.v_e[v]}
+    new_e = []
+    for le in loc.edges:
+        if le.closed:
+            return None
+        ends = [None if w is None else lv_map.get(w, "?") for w in le.ends]
+        pair = tuple(sorted(L[t] for t in le.sites))
+        has_new = any(isinstance(x, tuple) and x[0] == "new" for x in ends)
+        if not has_new:
+            if op == "delete" and all(x is None or isinstance(x, tuple) for x in ends) and any(x is not None for x in ends):
+                # an edge extended across the removed region between two kept vertices
+                lost = [x[1] for x in ends if x is not None and any(
+                    tuple(sorted(old_index(t) for t in pair)) == tuple(D.edges[e].sites) for e in dyn.v_e[x[1]] if e in rm_e)]
+                if lost and not _has_edge(D, dyn, pair, ends, rm_e, old_index):
+                    new_e.append((le, pair, ends))
+            continue
+        if "?" in ends:
+            return None
+        new_e.append((le, pair, ends))
+    # old edges of a pair ending at a kept vertex where a new edge of that pair ends (cut in two)
+    for le, pair, ends in new_e:
+        opair = tuple(sorted(old_index(t) for t in pair))
+        for x in ends:
+            if isinstance(x, tuple) and x[0] == "old":
+                for e in dyn.v_e[x[1]]:
+                    if tuple(D.edges[e].sites) == opair:
+                        rm_e.add(e)
+    return {"loc": loc, "L": L, "new_v": new_v, "new_e": new_e, "rm_v": set(X), "rm_e": rm_e}
+
+
+def _has_edge(D, dyn, pair, ends, rm_e, old_index):
+    opair = tuple(sorted(old_index(t) for t in pair))
+    want = sorted((-1 if x is None else x[1]) for x in ends)
+    w = next(x[1] for x in ends if x is not None)
+    return any(tuple(D.edges[e].sites) == opair and sorted(-1 if u is None else u for u in D.edges[e].ends) == want
+               for e in dyn.v_e[w] if e not in rm_e)
+
+
+def _close(v, lv) -> bool:
+    tol = 1e-9 * (1 + abs(v.x) + abs(v.y) + abs(v.radius))
+    return abs(v.x - lv.x) <= tol and abs(v.y - lv.y) <= tol and abs(v.radius - lv.radius) <= tol
+
+
+def _reaches(dyn, i_old, lv) -> bool:
+    """The circle of local vertex ``lv`` reaches the deleted site (kept in ``dyn.gone``)."""
+    c, r = dyn.gone
+    d = abs(math.hypot(lv.x - c[0], lv.y - c[1]) - r)
+    return d < lv.radius * (1 + 1e-9)
+
+
+def _outside(verts, ids, cs, rs):
+    """Proved d(v, s) > r_v for each vertex id (rigorous float bounds, the verifier's vertex
+    tolerance twice around the reported position and radius)."""
+    if not ids:
+        return np.zeros(0, bool)
+    P = np.array([[verts[v].x, verts[v].y] for v in ids], float)
+    r = np.array([verts[v].radius for v in ids], float)
+    tol = 2 * VERTEX_TOL * (1 + np.abs(P).sum(axis=1) + np.abs(r)) + 16 * EPS * np.abs(P).sum(axis=1)
+    d = np.abs(np.hypot(P[:, 0] - cs[0], P[:, 1] - cs[1]) - rs)
+    slack = rounding_slack(np.abs(P).sum(axis=1) + abs(cs[0]) + abs(cs[1]) + rs)
+    return d - slack - tol > r + tol + rounding_slack(r)
+
+
+# ============================================================================ apply + prove
+
+def _check(D, dyn, res, op, special, certify, old_index, new_index):
+    """Closure and proofs of the splice ``res`` before anything is changed (provisional ids above
+    the current ones).  Returns None when the splice is wrong (retry or rebuild), else a dict with
+    the new parts' flags, ``ok`` (everything proved), ``how`` and ``problems``."""
+    NV, NE = len(D.vertices), len(D.edges)
+    proto_v, proto_e = D.vertices[0], D.edges[0]
+    rm_v, rm_e = res["rm_v"], res["rm_e"]
+    pv = [dataclasses.replace(proto_v, id=NV + k, sites=gs, x=lv.x, y=lv.y, radius=lv.radius, certified=False)
+          for k, (lv, gs) in enumerate(res["new_v"])]
+
+    def pend(x):
+        return None if x is None else (NV + x[1] if x[0] == "new" else x[1])
+
+    pe = [dataclasses.replace(proto_e, id=NE + k, sites=pair, ends=tuple(pend(x) for x in ends), closed=False,
+                              polyline=le.polyline, tolerance=le.tolerance, certified=False)
+          for k, (le, pair, ends) in enumerate(res["new_e"])]
+
+    def vert(vid):
+        if vid >= NV:
+            return pv[vid - NV]
+        v = D.vertices[vid]
+        return v if op == "insert" else dataclasses.replace(v, sites=_rot(tuple(new_index(t) for t in v.sites)))
+
+    def old_pair(e):
+        return tuple(sorted(new_index(t) for t in D.edges[e].sites))
+
+    # closure at every vertex whose edges changed; every local site keeps an edge
+    changed = {v.id for v in pv} | {w for e in pe for w in e.ends if w is not None}
+    changed |= {w for e in rm_e for w in D.edges[e].ends if w is not None and w not in rm_v}
+    problems: list = []
+    for vid in sorted(changed):
+        v = vert(vid)
+        k = len(v.sites)
+        want = sorted({tuple(sorted((v.sites[t], v.sites[(t + 1) % k]))) for t in range(k)})
+        got = [old_pair(e) for e in dyn.v_e[vid] if e not in rm_e] if vid < NV else []
+        got = sorted(got + [tuple(e.sites) for e in pe if vid in e.ends])
+        if got != want:
+            return None
+    for t in res["L"]:
+        if not any(t in e.sites for e in pe) and not (dyn.site_e[old_index(t)] - rm_e if not (
+                op == "insert" and t == special) else set()):
+            return None
+    ok = True
+    flags_v, flags_e = {}, {}
+    how = "local"
+    full = certify and D.certified
+    bounded = [e for e in pe if None not in e.ends] if full else []
+    ok &= _prove_sub(D, dyn, pv, bounded, vert, op, special, new_index, problems, flags_v, flags_e)
+    if full:
+        infinity = (any(None in e.ends for e in pe) or any(None in D.edges[e].ends for e in rm_e)
+                    or (op == "insert" and not _inside_hull(dyn, special, res))
+                    or (op == "delete" and dyn.gone_unbounded))
+        if infinity:
+            how = "local, unbounded edges and accounting at infinity re-proved"
+            ok &= _prove_infinity(D, dyn, pe, rm_e, vert, op, special, problems, flags_v, flags_e)
+    return {"ok": bool(ok) and not problems, "problems": problems, "flags_v": flags_v, "flags_e": flags_e,
+            "how": how, "full": full}
+
+
+def _finish(D, st, dyn, res, op, special, certify, t0, ring, renumber, chk):
+    """Write the checked splice into new lists (ids stay positions) and move ``dyn`` to the result."""
+    sites2 = res["sites2"]
+    verts, edges = list(D.vertices), list(D.edges)
+    proto_v, proto_e = D.vertices[0], D.edges[0]
+    NV, NE = len(D.vertices), len(D.edges)
+    rm_v, rm_e = sorted(res["rm_v"]), sorted(res["rm_e"])
+    # detach removed parts from the adjacency (in D's numbering), then renumber after a deletion
+    for e in rm_e:
+        for t in edges[e].sites:
+            dyn.site_e[t].discard(e)
+        for w in edges[e].ends:
+            if w is not None and w not in res["rm_v"]:
+                dyn.v_e[w].remove(e)
+        dyn.unbounded.discard(e)
+    for v in rm_v:
+        for t in verts[v].sites:
+            dyn.site_v[t].discard(v)
+        dyn.v_e[v] = []
+    if op == "delete":
+        dyn.remove_site(special, renumber)
+        verts, edges = _renumber_sites(D, dyn, verts, edges, special, renumber, res)
+    # vertices: new ones into the holes, then the last ones moved into what is left
+    vid_new = rm_v[:len(res["new_v"])] + list(range(len(verts), len(verts) + max(0, len(res["new_v"]) - len(rm_v))))
+    while len(verts) < (max(vid_new) + 1 if vid_new else 0):
+        verts.append(None)
+        dyn.v_e.append([])
+    vremap = {}
+    holes = rm_v[len(res["new_v"]):]
+    _compact(verts, holes, lambda old, new: _move_vertex(verts, edges, dyn, old, new, vremap, proto_v))
+    new_vobjs = []
+    for k, (lv, gs) in enumerate(res["new_v"]):
+        v = dataclasses.replace(proto_v, id=vid_new[k], sites=gs, x=lv.x, y=lv.y, radius=lv.radius,
+                                certified=chk["flags_v"].get(NV + k, False))
+        verts[v.id] = v
+        new_vobjs.append(v)
+        for t in gs:
+            dyn.site_v[t].add(v.id)
+
+    def end_id(x):
+        if x is None:
+            return None
+        return vid_new[x[1]] if x[0] == "new" else vremap.get(x[1], x[1])
+
+    eid_new = rm_e[:len(res["new_e"])] + list(range(len(edges), len(edges) + max(0, len(res["new_e"]) - len(rm_e))))
+    while len(edges) < (max(eid_new) + 1 if eid_new else 0):
+        edges.append(None)
+    _compact(edges, rm_e[len(res["new_e"]):], lambda old, new: _move_edge(edges, dyn, old, new, proto_e))
+    for k, (le, pair, ends) in enumerate(res["new_e"]):
+        e = dataclasses.replace(proto_e, id=eid_new[k], sites=pair, ends=tuple(end_id(x) for x in ends),
+                                closed=False, polyline=le.polyline, tolerance=le.tolerance,
+                                certified=chk["flags_e"].get(NE + k, False))
+        edges[e.id] = e
+        for t in pair:
+            dyn.site_e[t].add(e.id)
+        for w in e.ends:
+            if w is not None:
+                dyn.v_e[w].append(e.id)
+        if None in e.ends:
+            dyn.unbounded.add(e.id)
+    out = dataclasses.replace(D, sites=sites2, vertices=verts, edges=edges, certified=False, problems=[], stats={})
+    out.construction = LocalState(st.scratch, st.delete, dyn)
+    problems = list(chk["problems"])
+    if not certify:
+        problems.append("not verified (certify=False)")
+    elif not D.certified:
+        problems.append("not certified: the diagram it was updated from was not certified")
+    out.certified = bool(chk["full"] and chk["ok"]) and not problems
+    out.problems = problems
+    out.stats = {"sites": len(sites2), "update": chk["how"], "rings": ring,
+                 "changed": {"vertices_removed": len(rm_v), "vertices_new": len(new_vobjs),
+                             "edges_removed": len(rm_e), "edges_new": len(res["new_e"]), "local_sites": len(res["L"])},
+                 "seconds": {"total": round(time.perf_counter() - t0, 6)}}
+    if op == "delete":
+        out.stats["deletion"] = chk["how"]
+    return out
+
+
+def _compact(lst, holes, move):
+    """Fill ``holes`` (sorted positions of removed items) by moving the last items; trailing
+    holes are dropped."""
+    holes = sorted(holes)
+    hs = set(holes)
+    while holes:
+        last = len(lst) - 1
+        if last in hs:
+            lst.pop()
+            hs.discard(last)
+            holes.remove(last)
+            continue
+        h = holes.pop(0)
+        hs.discard(h)
+        move(last, h)
+        lst.pop()
+
+
+def _move_vertex(verts, edges, dyn, old, new, vremap, proto):
+    v = dataclasses.replace(verts[old], id=new)
+    verts[new] = v
+    for t in v.sites:
+        dyn.site_v[t].discard(old)
+        dyn.site_v[t].add(new)
+    for e in dyn.v_e[old]:
+        edges[e] = dataclasses.replace(edges[e], ends=tuple(new if w == old else w for w in edges[e].ends))
+    dyn.v_e[new] = dyn.v_e[old]
+    dyn.v_e.pop()
+    for k, w in list(vremap.items()):
+        if w == old:
+            vremap[k] = new
+    vremap[old] = new
+
+
+def _move_edge(edges, dyn, old, new, proto):
+    e = dataclasses.replace(edges[old], id=new)
+    edges[new] = e
+    if old in dyn.unbounded:
+        dyn.unbounded.discard(old)
+        dyn.unbounded.add(new)
+    for t in e.sites:
+        dyn.site_e[t].discard(old)
+        dyn.site_e[t].add(new)
+    for w in e.ends:
+        if w is not None:
+            lst = dyn.v_e[w]
+            lst[lst.index(old)] = new
+
+
+def _renumber_sites(D, dyn, verts, edges, i, renumber, res):
+    """Vertices and edges of the other sites renumbered after deleting site i (``dyn`` already
+    renumbered): "shift" rewrites every part with a site above i, "last" only those of site N − 1."""
+    n = len(D.sites)
+    if renumber == "last":
+        f = {n - 1: i}
+        touched_v = dyn.site_v[i] if i < len(dyn.site_v) else set()
+        touched_e = dyn.site_e[i] if i < len(dyn.site_e) else set()
+    else:
+        def fn(t):
+            return t - (t > i)
+        touched_v = range(len(verts))
+        touched_e = range(len(edges))
+    for v in list(touched_v):
+        if v in res["rm_v"]:
+            continue
+        old = verts[v]
+        sites = tuple(f.get(t, t) for t in old.sites) if renumber == "last" else tuple(fn(t) for t in old.sites)
+        if sites != tuple(old.sites):
+            r = sites.index(min(sites))
+            verts[v] = dataclasses.replace(old, sites=sites[r:] + sites[:r])
+    for e in list(touched_e):
+        if e in res["rm_e"]:
+            continue
+        old = edges[e]
+        pair = tuple(f.get(t, t) for t in old.sites) if renumber == "last" else tuple(fn(t) for t in old.sites)
+        if pair != tuple(old.sites):
+            edges[e] = dataclasses.replace(old, sites=tuple(sorted(pair)))
+    return verts, edges
+
+
+def _inside_hull(dyn, s, res):
+    """The disc of site s lies strictly inside the convex hull of its neighbours' centres (with a
+    rounding margin): then h_s(θ) < max_k h_k(θ) for every direction θ."""
+    nb = sorted({t for _, gs in res["new_v"] for t in gs if t != s})
+    if len(nb) < 3:
+        return False
+    from scipy.spatial import ConvexHull
+    P = dyn.C[nb]
+    try:
+        H = ConvexHull(P)
+    except Exception:
+        return False
+    c, r = dyn.C[s], dyn.R[s]
+    scale = float(np.abs(P).max() + np.abs(c).max() + r + 1.0)
+    # facets: n·x + b <= 0 inside, n unit
+    dist = -(H.equations[:, :2] @ c + H.equations[:, 2])
+    return bool((dist > r + 1e-9 * scale).all())
+
+
+def _new_numbering(dyn, op, special, renumber):
+    """(centres, radii, geometries) of the sites in the new numbering (dyn is still in the old)."""
+    if op == "insert":
+        return dyn.C, dyn.R, dyn.geoms
+    i, n = special, len(dyn.C)
+    if renumber == "last" and i < n - 1:
+        C, R, G = dyn.C.copy(), dyn.R.copy(), list(dyn.geoms)
+        C[i], R[i], G[i] = C[-1], R[-1], G[-1]
+        return C[:-1], R[:-1], G[:-1]
+    return np.delete(dyn.C, i, axis=0), np.delete(dyn.R, i), dyn.geoms[:i] + dyn.geoms[i + 1:]
+
+
+def _table(C, R):
+    """A verifier :class:`runtime.voronoi.verify.edges.CircleTable` from float arrays (the
+    attributes its constructor sets from the geometries)."""
+    t = CircleTable.__new__(CircleTable)
+    t.C, t.R, t.n = np.asarray(C, float).reshape(-1, 2), np.asarray(R, float), len(R)
+    t.tree = cKDTree(t.C)
+    t.rmax = float(t.R.max()) if t.n else 0.0
+    t.scale = float(np.abs(t.C).max() + t.rmax + 1.0) if t.n else 1.0
+    return t
+
+
+def _prove_sub(D, dyn, pv, pe, vert, op, special, new_index, problems, flags_v, flags_e) -> bool:
+    """Prove the new vertices and the bounded new edges ``pe`` (with the kept vertices they end at)
+    against every site that can reach them (module docstring, step 3)."""
+    vids = sorted({v.id for v in pv} | {w for e in pe for w in e.ends})
+    if not vids:
+        return True
+    V = [vert(v) for v in vids]
+    X0 = np.mean([[v.x, v.y] for v in V], axis=0)
+    M = 0.0
+    for w in V:
+        M = max(M, math.hypot(w.x - X0[0], w.y - X0[1]) + w.radius + 4 * VERTEX_TOL * (1 + abs(w.x) + abs(w.y) + w.radius))
+    for e in pe:
+        P = np.asarray(e.polyline, float)
+        i = e.sites[0]
+        g = dyn.geoms[_old(i, op, special, dyn)]
+        c = np.array([g.x0, g.y0] if g.kind == "point" else [g.cx, g.cy])
+        d_i = np.abs(np.hypot(*(P - c).T) - (0.0 if g.kind == "point" else g.rho))
+        seg = float(np.hypot(*np.diff(P, axis=0).T).max()) if len(P) > 1 else 0.0
+        M = max(M, float((np.hypot(*(P - X0).T) + d_i).max()) + 2 * (e.tolerance + seg))
+    M = M * (1 + 1e-9) + 1e-9 * float(np.abs(X0).sum() + 1)
+    near = dyn.near(X0, M + dyn.rmax)
+    Lp = {new_index(t) for t in near if not (op == "delete" and t == special)}
+    Lp = sorted(Lp | {t for v in V for t in v.sites})
+    pos = {g: t for t, g in enumerate(Lp)}
+    sub_v = [dataclasses.replace(v, sites=_rot(tuple(pos[t] for t in v.sites))) for v in V]
+    sub_e = [dataclasses.replace(e, sites=tuple(sorted(pos[t] for t in e.sites))) for e in pe]
+    geoms = [dyn.geoms[_old(g, op, special, dyn)] for g in Lp]
+    sub = dataclasses.replace(D, sites=[g.exact for g in geoms], vertices=sub_v, edges=sub_e, construction=None)
+    table = CircleTable(geoms)
+    local: list = []
+    vinfo, vok = prove_vertices(sub, sub.sites, geoms, table, local)
+    eok, _, _ = check_edges(sub, geoms, table, vinfo, vok, local, {}) if sub_e else ([], None, None)
+    for v, f in zip(V, vok):
+        flags_v[v.id] = bool(f)
+    for e, f in zip(pe, eok):
+        flags_e[e.id] = bool(f)
+    problems.extend(f"local proof (sites {Lp[:12]}{'...' if len(Lp) > 12 else ''} numbered 0, 1, ...): {p}"
+                    for p in local)
+    return all(vok) and all(eok) and not local
+
+
+def _old(g, op, special, dyn):
+    """Index in dyn (old numbering) of new-numbering site g; dyn.renumber says how (deletion)."""
+    if op == "insert":
+        return g
+    if dyn.renumber == "last":
+        return len(dyn.C) - 1 if g == special else g
+    return g + (g >= special)
+
+
+def _prove_infinity(D, dyn, pe, rm_e, vert, op, special, problems, flags_v, flags_e) -> bool:
+    """Step 4a of the certificate after the update: every unbounded edge (kept or new) proved
+    against all sites, then the accounting of the ends at infinity (as in
+    :func:`runtime.voronoi.verify.certificate.verify` for circles and points)."""
+    from .verify.closure import circles_disjoint, verify_accounting
+    from .verify.hull_points import verify_accounting_discs, verify_accounting_points
+
+    C, R, G = _new_numbering(dyn, op, special, dyn.renumber)
+    table = _table(C, R)
+    kept = [e for e in sorted(dyn.unbounded) if e not in rm_e]
+    E = [dataclasses.replace(D.edges[e], sites=tuple(sorted(_new(t, op, special, dyn) for t in D.edges[e].sites)))
+         for e in kept] if op == "delete" else [D.edges[e] for e in kept]
+    E += [e for e in pe if None in e.ends]
+    vids = sorted({w for e in E for w in e.ends if w is not None})
+    V = [vert(v) for v in vids]
+    sub = dataclasses.replace(D, sites=[g.exact for g in G], vertices=V, edges=E, construction=None)
+    local: list = []
+    vinfo, vok = prove_vertices(sub, sub.sites, G, table, local)
+    eok, ends_inf, _ = check_edges(sub, G, table, vinfo, vok, local, {})
+    for v, f in zip(V, vok):
+        flags_v[v.id] = flags_v.get(v.id, True) and bool(f)
+    for e, f in zip(E, eok):
+        if e.id >= len(D.edges):
+            flags_e[e.id] = bool(f)
+    if all(g.kind == "point" for g in G):
+        acc = verify_accounting_points(G, ends_inf, local)
+    elif len({g.exact.r2 for g in G}) == 1:
+        acc = circles_disjoint(table, local) and verify_accounting_points(G, ends_inf, local)
+    else:
+        lines: list = []
+        acc = verify_accounting(len(G), table, ends_inf, lines)
+        if not acc and all(eok):
+            exact_lines: list = []
+            got = verify_accounting_discs(G, ends_inf, exact_lines)
+            if got is not None:
+                acc, lines = got, exact_lines
+        local.extend(lines)
+    problems.extend(local)
+    return all(vok) and all(eok) and acc and not local
+
+
+def _new(t, op, special, dyn):
+    """New-numbering index of old site t (not the deleted one)."""
+    if op == "insert":
+        return t
+    if dyn.renumber == "last":
+        return special if t == len(dyn.C) - 1 else t
+    return t - (t > special)
+
+
+def _rot(t):
+    r = t.index(min(t))
+    return t[r:] + t[:r]
+
+
+def _rebuild(D, st, sites2, certify, how, t0):
+    out = st.scratch(sites2, certify=certify)
+    out.stats["update"] = how
+    out.stats.setdefault("seconds", {})["update_total"] = round(time.perf_counter() - t0, 6)
+    return out
+
+
+def _same(a, b) -> bool:
+    return (a.cx, a.cy, a.r2) == (b.cx, b.cy, b.r2)
+
+
+def _meet(a, b) -> bool:
+    from ..sites.intersection import circles_meet
+    return _same(a, b) or circles_meet((a.cx, a.cy, a.r2), (b.cx, b.cy, b.r2))
