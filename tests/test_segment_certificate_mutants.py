@@ -1,0 +1,78 @@
+"""Predicates of the point/segment/arc certificate (runtime/segments/certificate*.py) at their
+boundaries, with exact inputs and verdicts derived by hand below.
+
+The quarter arc A of radius 2 centred at the origin runs counter-clockwise from a = (2, 0) to
+b = (0, 2); its angular range is [0°, 90°], its gap (90°, 360°), the gap's middle direction
+g = (−1, −1) (225°).  For a point x with direction φ from the centre:
+
+* φ in the closed range: d(x, A) = | |x| − 2 |;
+* φ in the gap: d(x, A) = min(|x − a|, |x − b|), and |x − a| < |x − b| exactly when x is on a's
+  side of the bisector y = x of a and b, i.e. φ ∈ (225°, 360°) (mod 360°): there a is A's only
+  nearest point ("the half of the gap next to a"); at φ = 225° both ends are nearest.
+"""
+from __future__ import annotations
+
+import pytest
+from flint import arb
+
+from curvedvoronoi.runtime.predicates.circles import Point
+from curvedvoronoi.runtime.segments.certificate_sites import SiteTable
+from curvedvoronoi.runtime.sites.arc import Arc
+from curvedvoronoi.runtime.sites.segment import Segment
+
+
+def _quarter():
+    """Sites 0 = a = (2, 0), 1 = b = (0, 2), 2 = the quarter arc A (module docstring)."""
+    return SiteTable([Point(2, 0), Point(0, 2), Arc((0, 0), 2, (2, 0), (0, 2))])
+
+
+# ----------------------------------------------------------------------------- owned_by_end
+
+@pytest.mark.parametrize("x, y, end, owned", [
+    (3, 3, 0, False),        # φ = 45°, in the range: nearest point (√2, √2), 3√2 − 2 < √10 = |x − a|
+    (3, 3, 1, False),
+    (1, -1, 0, True),        # φ = 315°, in the half of the gap next to a
+    (1, -1, 1, False),
+    (-1, -3, 0, True),       # φ ≈ 251.6° > 225°: still a's half (|x − a|² = 18 < 26 = |x − b|²)
+    (-3, -1, 0, False),      # φ ≈ 198.4° < 225°: b's half (|x − a|² = 26 > 18)
+    (-3, -1, 1, True),
+    (-1, 5, 1, True),        # φ ≈ 101.3° ∈ (90°, 225°): b's half (|x − b|² = 10 < 34 = |x − a|²)
+    (-1, 5, 0, False),
+])
+def test_an_arc_end_owns_exactly_the_half_of_the_gap_next_to_it(x, y, end, owned):
+    """A's nearest point to x is its end ``end`` alone iff x's direction lies strictly in the half
+    of the gap next to that end (module docstring); inside the range the nearest point is interior."""
+    T = _quarter()
+    assert T.owned_by_end(2, end, arb(x), arb(y)) is owned
+
+
+@pytest.mark.parametrize("x, y, end, owned", [(3, 1, 1, True), (3, 1, 0, False), (-1, 1, 0, True),
+                                              (-1, 1, 1, False), (1, 1, 0, False), (1, 1, 1, False)])
+def test_a_segment_end_owns_exactly_the_points_beyond_it(x, y, end, owned):
+    """Segment from (0, 0) (site 0) to (2, 0) (site 1): its nearest point to x is the end (0, 0)
+    alone iff the foot parameter x/2 ≤ 0, the end (2, 0) alone iff x/2 ≥ 1."""
+    T = SiteTable([Point(0, 0), Point(2, 0), Segment((0, 0), (2, 0))])
+    assert T.owned_by_end(2, end, arb(x), arb(y)) is owned
+
+
+# ----------------------------------------------------------------------------- ray_in_gap_half
+
+@pytest.mark.parametrize("u, far, stays", [
+    ((0, -1), None, True),          # (2, −τ): φ from 360° down to 270°
+    ((-1, -2), None, True),         # φ → atan2(−2, −1) ≈ 243.4° > 225°, monotonically
+    ((-2, -1), None, False),        # φ → ≈ 206.6° < 225°: the ray leaves a's half (at τ = 2)
+    ((-2, -1), (0, -1), True),      # τ = 1: (0, −1), φ = 270°
+    ((-2, -1), (-2, -2), False),    # τ = 2: φ = 225° exactly, both ends nearest (boundary, margin 0)
+    ((-2, -1), (-4, -3), False),    # τ = 3: φ ≈ 216.9°, past the boundary
+    ((0, 1), None, False),          # (2, τ): into the range, where A's nearest points are interior
+])
+def test_a_ray_from_an_arc_end_stays_in_the_half_of_its_gap(u, far, stays):
+    """The ray a + τ·u (0 < τ, up to ``far``) stays where a is A's only nearest point iff every
+    point of it has its direction in (225°, 360°) (module docstring); the cross product of
+    g = (−1, −1) with a + τ·u = (2 + τ u_x, τ u_y) is 2 + τ(u_x − u_y), so with u = (−2, −1) it
+    is 2 − τ: > 0 for τ < 2, 0 at τ = 2 (the bisector y = x of a and b)."""
+    from curvedvoronoi.runtime.segments.certificate_corner_curves import ray_in_gap_half
+
+    T = _quarter()
+    f = None if far is None else (arb(far[0]), arb(far[1]))
+    assert ray_in_gap_half(T, 2, 0, arb(u[0]), arb(u[1]), f) is stays
