@@ -76,3 +76,23 @@ def test_a_ray_from_an_arc_end_stays_in_the_half_of_its_gap(u, far, stays):
     T = _quarter()
     f = None if far is None else (arb(far[0]), arb(far[1]))
     assert ray_in_gap_half(T, 2, 0, arb(u[0]), arb(u[1]), f) is stays
+
+
+# ----------------------------------------------------------------------------- distance enclosures
+
+def test_the_distance_to_an_arc_from_a_box_in_its_gap_holds_every_point_of_the_box():
+    """The box [7/4, 9/4] × [−5/4, −3/4] around (2, −1): every direction from the centre lies in
+    (270°, 360°), a's half of the gap, so d(x, A) = |x − a| ∈ [3/4, √(1/16 + 25/16)] (the box's
+    nearest and farthest points from a = (2, 0)), far below |x − b| ≥ √(49/16 + 121/16) ≈ 3.26.
+    The ball returned for the box must hold the distance of every point of the box: checked at
+    its corners, its centre and the point (2, −3/4) nearest to a (distance 3/4 exactly)."""
+    import math
+
+    T = _quarter()
+    X, Y = arb(2, 0.25), arb(-1, 0.25)
+    d = T.distance(2, X, Y)
+    for x, y in [(1.75, -1.25), (1.75, -0.75), (2.25, -1.25), (2.25, -0.75), (2, -1), (2, -0.75)]:
+        true = math.hypot(x - 2, y)
+        assert d.lower() <= true <= d.upper(), (x, y, true, d)
+    # and it is an enclosure of the distance to the nearer end only (not a mix of both ends)
+    assert d.upper() < math.hypot(1.75, -0.75 - 2)
