@@ -106,10 +106,34 @@ def test_geojson_feature_ids_are_unique_and_the_crs_is_written():
     d = cv.voronoi([(0, 0, 1), (4, 0, 1), (2, 4, 0)])
     gj = d.to_geojson(crs="EPSG:32633")
     ids = [f["id"] for f in gj["features"]]
-    assert len(ids) == len(set(ids)) == len(d.edges) + len(d.vertices)
+    assert len(ids) == len(set(ids)) == len(d.edges) + len(d.vertices) + len(d.sites)
     assert gj["crs"] == {"type": "name", "properties": {"name": "EPSG:32633"}}
-    assert "crs" not in d.to_geojson()
+    assert not any("id" in f["properties"] for f in gj["features"])    # GDAL would take it for the feature id
+    assert "crs" not in d.to_geojson(crs=False)
+
+
+def test_short_reprs():
+    d = cv.voronoi([(0, 0, 1), (4, 0, 1), (2, 4, 0)])
+    for obj in [d, d.vertices[0], d.edges[0], d.sites[0], d.sites[2], cv.Conic.ellipse((0, 0), (2, 1)),
+                cv.Segment((0, 0), (1, 0)), cv.Arc.circular((0, 0), 1, 0, 90)]:
+        text = repr(obj)
+        assert len(text) < 200 and "\n" not in text and text.startswith(type(obj).__name__)
+    assert repr(d.edges[0]).count(",") < 12          # the polyline is counted, not listed
 
 
 def test_the_package_ships_type_information():
+    import tomllib
+
     assert (Path(cv.__file__).parent / "py.typed").exists()
+    pyproject = Path(__file__).resolve().parents[1] / "pyproject.toml"
+    assert "py.typed" in tomllib.loads(pyproject.read_text())["tool"]["setuptools"]["package-data"]["curvedvoronoi"]
+
+
+def test_labels_are_carried_but_not_compared():
+    a, b = cv.Circle.from_radius(0, 0, 1, label="well"), cv.Circle.from_radius(0, 0, 1)
+    assert a == b and hash(a) == hash(b) and (a.label, b.label) == ("well", None)
+    assert cv.Point(1, 2, label="p").label == "p" and cv.Circle(0, 0, r2=2, label="c").label == "c"
+    e = cv.Conic.ellipse((0, 0), (2, 1), degrees=30, label="lake")
+    assert e.label == "lake" and e == cv.Conic.ellipse((0, 0), (2, 1), degrees=30)
+    assert copy.deepcopy(e).label == "lake"
+    assert cv.parse_site({"point": [1, 2], "label": "p"}).label == "p"

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import lru_cache
 
 from flint import ctx, fmpq
@@ -52,7 +52,8 @@ class Circle:
     Build it with :meth:`from_radius` (centre and radius).  ``Circle(cx, cy, r2=...)`` takes the
     **squared** radius, which need not be a perfect square (a circle from coefficients
     x²+y²+dx+ey+f = 0 has r2 = (d²+e²)/4 − f, see :meth:`from_coefficients`).
-    r2 = 0 is a point site (:class:`Point`).
+    r2 = 0 is a point site (:class:`Point`).  ``label``: an optional string kept through the
+    diagram's JSON and GeoJSON, not part of equality.
 
     >>> Circle.from_radius(1, 2, 3)
     Circle(centre=(1, 2), radius_squared=9)
@@ -63,8 +64,10 @@ class Circle:
     cx: fmpq
     cy: fmpq
     r2: fmpq
+    label: str | None = field(default=None, compare=False, repr=False)
 
-    def __init__(self, cx, cy, r2):
+    def __init__(self, cx, cy, r2, label: str | None = None):
+        object.__setattr__(self, "label", label)
         object.__setattr__(self, "cx", parse_rational(cx, "circle centre x"))
         object.__setattr__(self, "cy", parse_rational(cy, "circle centre y"))
         r2q = parse_rational(r2, "circle squared radius")
@@ -73,12 +76,12 @@ class Circle:
         object.__setattr__(self, "r2", r2q)
 
     @classmethod
-    def from_radius(cls, cx, cy, rho) -> "Circle":
+    def from_radius(cls, cx, cy, rho, label: str | None = None) -> "Circle":
         """The circle of centre (cx, cy) and radius ``rho`` ≥ 0 (exact; floats at their binary value)."""
         r = parse_rational(rho, "circle radius")
         if r < 0:
             raise InvalidConicError(f"circle radius {rho!r} is negative")
-        return cls(cx, cy, r * r)
+        return cls(cx, cy, r * r, label)
 
     @classmethod
     def from_coefficients(cls, a, b, c, d, e, f) -> "Circle":
@@ -118,8 +121,8 @@ class Point(Circle):
     """A point site (x, y): a circle of radius 0 (thesis §3.1.2, additively weighted points of
     weight 0).  Every circle routine accepts it."""
 
-    def __init__(self, x, y):
-        super().__init__(x, y, 0)
+    def __init__(self, x, y, label: str | None = None):
+        super().__init__(x, y, 0, label)
 
     @property
     def x(self) -> fmpq:

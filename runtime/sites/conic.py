@@ -48,6 +48,11 @@ _PARAM_NAMES = {"ellipse": ("A2", "B2"), "hyperbola": ("A2", "B2"), "parabola": 
 #: coefficients of degree up to 8 in them (thesis App. B).
 SCALE_LIMIT = 1e30
 
+#: a pair of numbers (int, Fraction, rational string, float: see :func:`to_fraction`)
+Pair = tuple[Any, Any]
+#: ``rotation=``: a (cos, sin) pair, or a bare angle in radians of at most 2π, or None
+Rotation = tuple[Any, Any] | float | None
+
 
 # --------------------------------------------------------------------------- conic
 
@@ -57,18 +62,22 @@ class Conic:
     Build with :meth:`from_coefficients` or the geometric constructors; see the module
     docstring for the canonical frame convention.  Instances are immutable and hashable;
     two conics compare equal iff their coefficient vectors are proportional (same curve).
+    Every constructor takes an optional ``label`` (a string kept through the diagram's JSON and
+    GeoJSON; not part of equality).
     """
 
     __slots__ = ("_coefficients", "_kind", "_det", "__dict__")
 
     # ---------------------------------------------------------------- construction
-    def __init__(self, coefficients: tuple[Fraction, ...], kind: str, det: Fraction):
+    def __init__(self, coefficients: tuple[Fraction, ...], kind: str, det: Fraction, label: str | None = None):
         self._coefficients = coefficients
         self._kind = kind
         self._det = det
+        self.label = label
 
     @classmethod
-    def from_coefficients(cls, a, b, c, d, e, f) -> "Conic":
+    def from_coefficients(cls, a: Any, b: Any, c: Any, d: Any, e: Any, f: Any, *,
+                          label: str | None = None) -> "Conic":
         """Validate and classify ``a x² + b xy + c y² + d x + e y + f = 0``.
 
         Raises :class:`InvalidConicError` (a ValueError) naming the reason: non-finite or
@@ -99,12 +108,13 @@ class Conic:
             kind = "parabola"
         else:
             kind = "hyperbola"
-        obj = cls(co, kind, det)
+        obj = cls(co, kind, det, label)
         obj._check_float_range()
         return obj
 
     @classmethod
-    def from_canonical(cls, kind: str, cos=1, sin=0, tx=0, ty=0, **params) -> "Conic":
+    def from_canonical(cls, kind: str, cos: Any = 1, sin: Any = 0, tx: Any = 0, ty: Any = 0, *,
+                       label: str | None = None, **params: Any) -> "Conic":
         """Conic with canonical frame (cos, sin, tx, ty) and parameters A2, B2 / p / r2.
 
         Exact inputs (int, Fraction, rational strings) give exact, primitive integer
@@ -155,7 +165,7 @@ class Conic:
             co[4] += w * q_
             co[5] += w * r_
         co[5] += const
-        return cls.from_coefficients(*_primitive(co))
+        return cls.from_coefficients(*_primitive(co), label=label)
 
     @staticmethod
     def _rotation(cos, sin) -> tuple[Fraction, Fraction]:
@@ -197,7 +207,8 @@ class Conic:
         raise InvalidConicError(f"rotation must be a (cos, sin) pair (or give degrees= or radians=), got {rotation!r}")
 
     @classmethod
-    def ellipse(cls, centre=(0, 0), axes=(1, 1), rotation=None, *, degrees=None, radians=None) -> "Conic":
+    def ellipse(cls, centre: Pair = (0, 0), axes: Pair = (1, 1), rotation: Rotation = None, *,
+                degrees: Any = None, radians: Any = None, label: str | None = None) -> "Conic":
         """Ellipse X²/A² + Y²/B² = 1 with semi-axes ``axes = (A, B)`` (A along the rotated X axis).
 
         The rotation turns the X axis counter-clockwise from the x axis; give at most one of
@@ -224,29 +235,32 @@ class Conic:
         cs, sn = cls._rotation_arg(rotation, degrees, radians)
         kind = "circle" if A == B else "ellipse"
         if kind == "circle":
-            return cls.from_canonical("circle", 1, 0, centre[0], centre[1], r2=A * A)
-        return cls.from_canonical("ellipse", cs, sn, centre[0], centre[1], A2=A * A, B2=B * B)
+            return cls.from_canonical("circle", 1, 0, centre[0], centre[1], r2=A * A, label=label)
+        return cls.from_canonical("ellipse", cs, sn, centre[0], centre[1], A2=A * A, B2=B * B, label=label)
 
     @classmethod
-    def hyperbola(cls, centre=(0, 0), axes=(1, 1), rotation=None, *, degrees=None, radians=None) -> "Conic":
+    def hyperbola(cls, centre: Pair = (0, 0), axes: Pair = (1, 1), rotation: Rotation = None, *,
+                  degrees: Any = None, radians: Any = None, label: str | None = None) -> "Conic":
         """Hyperbola X²/A² − Y²/B² = 1 with ``axes = (A, B)``, opening along the rotated X axis;
         the rotation as in :meth:`ellipse` (``rotation=(cos, sin)``, ``degrees=`` or ``radians=``)."""
         A, B = (to_fraction(v, "semi-axis") for v in axes)
         if A <= 0 or B <= 0:
             raise InvalidConicError(f"semi-axes must be > 0, got {axes!r}")
         cs, sn = cls._rotation_arg(rotation, degrees, radians)
-        return cls.from_canonical("hyperbola", cs, sn, centre[0], centre[1], A2=A * A, B2=B * B)
+        return cls.from_canonical("hyperbola", cs, sn, centre[0], centre[1], A2=A * A, B2=B * B, label=label)
 
     @classmethod
-    def parabola(cls, vertex=(0, 0), p=1, rotation=None, *, degrees=None, radians=None) -> "Conic":
+    def parabola(cls, vertex: Pair = (0, 0), p: Any = 1, rotation: Rotation = None, *,
+                 degrees: Any = None, radians: Any = None, label: str | None = None) -> "Conic":
         """Parabola Y² = 2pX (opening along the rotated +X axis) with vertex ``vertex`` and
         parameter ``p > 0`` (the focus is at distance p/2 from the vertex); the rotation as in
         :meth:`ellipse` (``rotation=(cos, sin)``, ``degrees=`` or ``radians=``)."""
         cs, sn = cls._rotation_arg(rotation, degrees, radians)
-        return cls.from_canonical("parabola", cs, sn, vertex[0], vertex[1], p=p)
+        return cls.from_canonical("parabola", cs, sn, vertex[0], vertex[1], p=p, label=label)
 
     @classmethod
-    def circle(cls, centre=(0, 0), radius=None, r2=None) -> "Conic":
+    def circle(cls, centre: Pair = (0, 0), radius: Any = None, r2: Any = None, *,
+               label: str | None = None) -> "Conic":
         """Circle of centre ``centre`` and radius ``radius`` (or squared radius ``r2``)."""
         if (radius is None) == (r2 is None):
             raise InvalidConicError("give exactly one of radius= or r2=")
@@ -255,7 +269,7 @@ class Conic:
             if rq <= 0:
                 raise InvalidConicError(f"radius must be > 0, got {radius!r}")
             r2 = rq * rq
-        return cls.from_canonical("circle", 1, 0, centre[0], centre[1], r2=r2)
+        return cls.from_canonical("circle", 1, 0, centre[0], centre[1], r2=r2, label=label)
 
     # ---------------------------------------------------------------- properties
     @property

@@ -106,8 +106,10 @@ def read_dxf(path, *, skip=()) -> tuple[list, list[int], list[str]]:
                              f"remove it or pass skip={{{kind!r}}}")
         got = _entity_pieces(e, kind, where)
         layer = str(e.dxf.get("layer", "0"))
-        for p in got:
-            if hasattr(p, "label"):
+        for k, p in enumerate(got):
+            if hasattr(p, "r2"):                 # a Point is frozen: the same point with the label
+                got[k] = type(p)(p.cx, p.cy, layer)
+            elif hasattr(p, "label"):
                 p.label = layer
         pieces += got
         sources += [index] * len(got)

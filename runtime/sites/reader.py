@@ -16,7 +16,8 @@ the same way).  Sites are numbered from 0 in the order of the list.  A SITE is o
 Numbers are JSON numbers (floats are taken at their exact binary value) or rational strings such
 as ``"3/5"``.  ``ROT`` (optional, default 0) turns the canonical axes: an angle in **degrees**
 (multiples of 90 are exact) or an exact rational unit vector ``{"cos": "3/5", "sin": "4/5"}``.
-A site may carry a ``"label"`` string and a ``"source"`` integer >= 0 (the index of the input shape
+A site may carry a ``"label"`` string (kept on the site object as ``label``, written back by
+:func:`site_to_json`) and a ``"source"`` integer >= 0 (the index of the input shape
 it came from, e.g. the polygon a segment bounds: :func:`runtime.sites.shapes.pieces_from_geometry`;
 the reader accepts and ignores it, :func:`site_to_json` writes it when given).  The canonical
 frames are those of thesis §5.3 (the conic is the canonical one moved by a rigid motion); ``A``,
@@ -240,8 +241,8 @@ def _rotation(rot, where: str):
 def parse_site(entry, where: str = "site"):
     """One site record (see the module docstring) as a :class:`runtime.predicates.circles.Point`,
     :class:`runtime.predicates.circles.Circle`, :class:`runtime.sites.conic.Conic`,
-    :class:`runtime.sites.segment.Segment` or :class:`runtime.sites.arc.Arc` (these two keep the
-    record's ``"label"``).  A ``"source"`` member is ignored.
+    :class:`runtime.sites.segment.Segment` or :class:`runtime.sites.arc.Arc`, with the record's
+    ``"label"`` as its ``label``.  A ``"source"`` member is ignored.
 
     ValueError (InvalidConicError for a degenerate or imaginary conic) naming ``where``.  The
     record is assumed to have the right shape; :func:`sites_from_document` validates first."""
@@ -256,9 +257,11 @@ def parse_site(entry, where: str = "site"):
         raise ValueError(f"{where}: needs exactly one of {', '.join(map(repr, _SHAPES))}")
     kind = shapes[0]
     body = entry[kind]
+    label = entry.get("label")
+    label = label if isinstance(label, str) else None
     try:
         if kind == "point":
-            return Point(*(parse_number(v, f"{where}.point") for v in body))
+            return Point(*(parse_number(v, f"{where}.point") for v in body), label=label)
         if kind == "circle":
             cx, cy = (parse_number(v, f"{where}.circle.centre") for v in body["centre"])
             if "radius_squared" in body:
@@ -266,31 +269,31 @@ def parse_site(entry, where: str = "site"):
                 if Fraction(r2) < 0:
                     raise ValueError(f"{where}.circle.radius_squared: {body['radius_squared']} is less than "
                                      "the minimum of 0")
-                return Point(cx, cy) if Fraction(r2) == 0 else Circle(cx, cy, r2)
+                return Point(cx, cy, label) if Fraction(r2) == 0 else Circle(cx, cy, r2, label)
             r = parse_number(body["radius"], f"{where}.circle.radius")
             if Fraction(r) < 0:
                 raise ValueError(f"{where}.circle.radius: {body['radius']} is less than the minimum of 0")
-            return Point(cx, cy) if Fraction(r) == 0 else Circle.from_radius(cx, cy, r)
+            return Point(cx, cy, label) if Fraction(r) == 0 else Circle.from_radius(cx, cy, r, label)
         if kind == "segment":
             if not isinstance(body, (list, tuple)) or len(body) != 2:
                 raise ValueError(f"{where}.segment: needs 2 endpoints [[x0, y0], [x1, y1]]")
             ends = [tuple(parse_number(v, f"{where}.segment[{k}]") for v in e) for k, e in enumerate(body)]
-            label = entry.get("label")
-            return Segment(ends[0], ends[1], label if isinstance(label, str) else None)
+            return Segment(ends[0], ends[1], label)
         if kind == "arc":
-            return _parse_arc(body, f"{where}.arc", entry.get("label"))
+            return _parse_arc(body, f"{where}.arc", label)
         if kind == "coefficients":
-            return Conic.from_coefficients(*(parse_number(v, f"{where}.coefficients") for v in body))
+            return Conic.from_coefficients(*(parse_number(v, f"{where}.coefficients") for v in body), label=label)
         rot = _rotation(body.get("rotation"), f"{where}.{kind}.rotation")
         if kind == "parabola":
             vx, vy = (parse_number(v, f"{where}.parabola.vertex") for v in body["vertex"])
-            return Conic.parabola(vertex=(vx, vy), p=parse_number(body["p"], f"{where}.parabola.p"), rotation=rot)
+            return Conic.parabola(vertex=(vx, vy), p=parse_number(body["p"], f"{where}.parabola.p"), rotation=rot,
+                                  label=label)
         centre = tuple(parse_number(v, f"{where}.{kind}.centre") for v in body["centre"])
         axes = tuple(parse_number(v, f"{where}.{kind}.axes") for v in body["axes"])
         if any(Fraction(a) <= 0 for a in axes):
             raise ValueError(f"{where}.{kind}.axes: {body['axes']} must be > 0")
         make = Conic.ellipse if kind == "ellipse" else Conic.hyperbola
-        return make(centre=centre, axes=axes, rotation=rot)
+        return make(centre=centre, axes=axes, rotation=rot, label=label)
     except (KeyError, TypeError) as exc:
         raise ValueError(f"{where}.{kind}: malformed record ({exc})") from None
     except ValueError as exc:
@@ -473,7 +476,7 @@ def site_to_json(site, source: int | None = None) -> dict:
     """The exact JSON record of a site: ``{"point": [x, y]}``, ``{"circle": {"centre": [x, y],
     "radius_squared": r2}}``, ``{"coefficients": [a, b, c, d, e, f]}``, ``{"segment": [[x0, y0],
     [x1, y1]]}`` or ``{"arc": {"centre": [x, y], "radius": r, "start": [x, y], "end": [x, y]}}`` (the
-    exact form, with the segment's or arc's ``"label"`` when it has one), numbers as rational strings
+    exact form, with the site's ``"label"`` when it has one), numbers as rational strings
     (read back by :func:`parse_site` to the same site).  ``"source"`` is written when ``source`` (or else
     the site's attribute ``source``) is not None."""
     from ..predicates.circles import Circle
@@ -490,15 +493,14 @@ def site_to_json(site, source: int | None = None) -> dict:
         out = {"coefficients": [str(v) for v in site.coefficients]}
     elif isinstance(site, Segment):
         out = {"segment": [[str(site.p[0]), str(site.p[1])], [str(site.q[0]), str(site.q[1])]]}
-        if site.label is not None:
-            out["label"] = str(site.label)
     elif isinstance(site, Arc):
         out = {"arc": {"centre": [str(site.c[0]), str(site.c[1])], "radius": str(site.rho),
                        "start": [str(site.a[0]), str(site.a[1])], "end": [str(site.b[0]), str(site.b[1])]}}
-        if site.label is not None:
-            out["label"] = str(site.label)
     else:
         raise TypeError(f"not a site: {site!r}")
+    label = getattr(site, "label", None)
+    if label is not None:
+        out["label"] = str(label)
     if source is None:
         source = getattr(site, "source", None)
     if source is not None:

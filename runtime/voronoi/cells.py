@@ -21,7 +21,7 @@ curves.  A cell is a Polygon (with holes for nested sites); a clip polygon that 
 can split a region, and then the cell is a MultiPolygon.
 
 Public API: :func:`diagram_cells`, :func:`default_clip`, :func:`diagram_geopandas`,
-:class:`DiagramFrames`.
+:func:`site_outlines`, :class:`DiagramFrames`.
 """
 from __future__ import annotations
 
@@ -32,7 +32,7 @@ import numpy as np
 
 from .queries import site_index
 
-__all__ = ["DiagramFrames", "default_clip", "diagram_cells", "diagram_geopandas"]
+__all__ = ["DiagramFrames", "default_clip", "diagram_cells", "diagram_geopandas", "site_outlines"]
 
 
 def _shapely():
@@ -190,16 +190,40 @@ def diagram_geopandas(diagram, crs=None, clip=None) -> DiagramFrames:
          "closed": [bool(e.closed) for e in E], "tolerance": [float(e.tolerance) for e in E],
          "certified": [bool(e.certified) for e in E]},
         geometry=[shapely.LineString(np.asarray(e.polyline, float)) for e in E], crs=crs)
-    window = region.bounds
     geoms = []
-    for g in idx.geoms:
-        if g.kind == "point":
-            geoms.append(shapely.Point(g.x0, g.y0))
-            continue
-        x0, y0, x1, y1 = g.bounding_box() if g.bounded else window
-        S = g.samples(max(x1 - x0, y1 - y0) / 256, window)
-        if g.kind in ("circle", "ellipse"):
-            S = np.vstack([S, S[:1]])
-        geoms.append(shapely.LineString(S) if len(S) >= 2 else shapely.Point(S[0]))
+    for parts in site_outlines(diagram, region.bounds):
+        if not parts:
+            geoms.append(None)
+        elif len(parts) > 1:
+            geoms.append(shapely.MultiLineString(parts))
+        else:
+            geoms.append(shapely.LineString(parts[0]) if len(parts[0]) >= 2 else shapely.Point(parts[0][0]))
     site_frame = gpd.GeoDataFrame({"site": sites, "kind": kinds, "label": labels}, geometry=geoms, crs=crs)
     return DiagramFrames(cells, edges, site_frame)
+
+
+def site_outlines(diagram, window=None, pieces: int = 256) -> list[list[np.ndarray]]:
+    """Each site as a list of polylines ((n, 2) float arrays): one single-row array for a point
+    site; otherwise the curve sampled with spacing 1/``pieces`` of its size (of the window's for an
+    unbounded curve, kept within ``window`` = (xmin, ymin, xmax, ymax), default
+    :func:`default_clip`), closed curves (circles, ellipses) ending at their first point, one
+    polyline per piece inside the window (the two branches of a hyperbola are two pieces).  An
+    unbounded curve missing the window has no polyline.  The samples lie on the curve (to float
+    rounding); between them the polyline is a chord, as for the edges."""
+    if window is None:
+        window = default_clip(diagram)
+    out = []
+    for g in site_index(diagram).geoms:
+        if g.kind == "point":
+            out.append([np.array([[g.x0, g.y0]], dtype=float)])
+            continue
+        x0, y0, x1, y1 = g.bounding_box() if g.bounded else window
+        spacing = max(x1 - x0, y1 - y0) / pieces
+        S = np.asarray(g.samples(spacing, window), dtype=float).reshape(-1, 2)
+        if g.kind in ("circle", "ellipse"):
+            out.append([np.vstack([S, S[:1]])] if len(S) else [])
+            continue
+        # samples are at most `spacing` apart along the curve: a longer step leaves the window
+        cut = np.nonzero(np.hypot(*np.diff(S, axis=0).T) > 3 * spacing)[0] + 1
+        out.append([P for P in np.split(S, cut) if len(P) >= 2] or ([S] if len(S) == 1 else []))
+    return out

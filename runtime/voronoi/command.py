@@ -1,11 +1,14 @@
 """The ``diagram`` command: ``python -m curvedvoronoi diagram SITES.json [--json OUT.json]
-[--png OUT.png] [--geojson OUT.geojson] [--window=XMIN,XMAX,YMIN,YMAX] [--quiet] [--time-limit S]
-[--no-certify] [--empty-circles]``.
+[--png OUT.png] [--geojson OUT.geojson] [--crs CRS] [--window=XMIN,XMAX,YMIN,YMAX] [--quiet]
+[--time-limit S] [--no-certify] [--empty-circles]``.
 
 SITES.json is ``{"sites": [...]}`` with the records of :func:`runtime.sites.reader.parse_site`
 (``{"point": [x, y]}``, ``{"circle": {"centre": [x, y], "radius": r}}``,
 ``{"coefficients": [a, b, c, d, e, f]}``) or the older ``{"conics": [{"coefficients": ...}]}``.
 Prints a summary (the diagram JSON on stdout when no ``--json`` is given and not ``--quiet``).
+``--geojson`` writes the edges, vertices and sites (:mod:`runtime.voronoi.geojson`) with the
+``crs`` member GDAL reads: ``--crs`` (e.g. ``EPSG:32633``), by default a planar engineering CRS
+(``--crs none``: no member, which GIS tools read as longitude/latitude).
 
 Exit status (the requested outputs are written whenever a diagram exists):
 
@@ -79,7 +82,11 @@ def _parser():
     p.add_argument("--window", type=parse_window, metavar="XMIN,XMAX,YMIN,YMAX",
                    help="the picture's window (default: fitted to the sites); write --window=-1,1,-1,1 "
                         "when the first number is negative")
-    p.add_argument("--geojson", help="write the edges and vertices as GeoJSON here")
+    p.add_argument("--geojson", help="write the edges, vertices and sites as GeoJSON here")
+    p.add_argument("--crs", default=None,
+                   help="the sites' coordinate reference system for --geojson, e.g. EPSG:32633 (default: a "
+                        "planar engineering CRS, so that GIS tools do not read longitude/latitude; 'none': "
+                        "no crs member)")
     p.add_argument("--empty-circles", action="store_true", help="draw the vertices' empty circles")
     p.add_argument("--quiet", action="store_true", help="no summary, no progress bar")
     p.add_argument("--time-limit", type=float, default=None, help="stop after S seconds (partial result)")
@@ -176,7 +183,8 @@ def diagram_main(argv=None) -> int:
             if args.json_out:
                 _write(args.json_out, json.dumps(doc, indent=1), "diagram JSON")
             if args.geojson:
-                _write(args.geojson, json.dumps(d.to_geojson()), "GeoJSON")
+                crs = False if (args.crs or "").lower() == "none" else args.crs
+                _write(args.geojson, json.dumps(d.to_geojson(crs=crs)), "GeoJSON")
             if args.png:
                 _picture(d, args)
         except OSError as exc:

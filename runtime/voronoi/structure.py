@@ -100,6 +100,11 @@ class DiagramEdge:
 
     __hash__ = None
 
+    def __repr__(self) -> str:
+        ends = "closed" if self.closed else f"ends={tuple(self.ends)}"
+        return (f"DiagramEdge(id={self.id}, sites={tuple(self.sites)}, {ends}, {len(self.polyline)} points, "
+                f"tolerance={self.tolerance:.3g}, certified={self.certified})")
+
     def to_json(self) -> dict:
         return {"id": self.id, "sites": list(self.sites), "ends": list(self.ends),
                 "closed": self.closed,
@@ -218,30 +223,19 @@ class Diagram:
         return cls(sites, verts, edges, bool(doc.get("certified", False)),
                    list(doc.get("problems", [])), dict(doc.get("stats", {})), sources=sources)
 
-    def to_geojson(self, crs: str | None = None) -> dict:
+    def to_geojson(self, crs=None, *, sites: bool = True) -> dict:
         """A GeoJSON FeatureCollection: one LineString per edge (properties ``kind="edge"``,
-        ``id``, ``sites``, ``ends``, ``closed``, ``tolerance``, ``certified``) and one Point per
-        vertex (``kind="vertex"``, ``id``, ``sites``, ``radius``, ``certified``).  Feature ids are
-        unique (``"edge-3"``, ``"vertex-3"``).  ``crs``: the coordinate reference system of the
-        sites (e.g. ``"EPSG:32633"``), written as the collection's ``crs`` member (the form GDAL
-        reads), so that GIS tools do not take planar coordinates for longitude and latitude."""
-        feats = []
-        for e in self.edges:
-            feats.append({"type": "Feature", "id": f"edge-{e.id}",
-                          "geometry": {"type": "LineString",
-                                       "coordinates": np.asarray(e.polyline, float).tolist()},
-                          "properties": {"kind": "edge", "id": e.id, "sites": list(e.sites),
-                                         "ends": list(e.ends), "closed": e.closed,
-                                         "tolerance": e.tolerance, "certified": e.certified}})
-        for v in self.vertices:
-            feats.append({"type": "Feature", "id": f"vertex-{v.id}",
-                          "geometry": {"type": "Point", "coordinates": [v.x, v.y]},
-                          "properties": {"kind": "vertex", "id": v.id, "sites": list(v.sites),
-                                         "radius": v.radius, "certified": v.certified}})
-        out = {"type": "FeatureCollection", "features": feats}
-        if crs is not None:
-            out["crs"] = {"type": "name", "properties": {"name": str(crs)}}
-        return out
+        ``number``, ``sites``, ``ends``, ``closed``, ``tolerance``, ``certified``), one Point per
+        vertex (``kind="vertex"``, ``number``, ``sites``, ``radius``, ``certified``) and one feature
+        per site (``kind="site"``, ``number``, ``shape``, ``label``; a Point, or the curve sampled
+        as a LineString).  Feature ids are unique (``"edge-3"``, ``"vertex-3"``, ``"site-3"``).
+        ``crs``: the coordinate reference system of the sites (e.g. ``"EPSG:32633"``), written as
+        the collection's ``crs`` member (the form GDAL reads); by default a planar engineering CRS,
+        so that GIS tools do not take the coordinates for longitude and latitude; ``False``: no
+        member.  See :mod:`runtime.voronoi.geojson`."""
+        from .geojson import diagram_geojson
+
+        return diagram_geojson(self, crs, sites=sites)
 
     def to_shapely(self):
         """The edges as a list of :class:`shapely.geometry.LineString` (needs shapely)."""
