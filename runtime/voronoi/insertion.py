@@ -14,6 +14,10 @@ Mehlhorn & Meiser, CGTA 3 (1993)).  The update here:
    d(v, s) > r_v is proved with rigorous float bounds, with the verifier's vertex tolerance
    (:data:`runtime.voronoi.verify.vertices.VERTEX_TOL`) around the reported position and radius;
    an undecided vertex is treated as in conflict (removed, and rebuilt if it is still a vertex).
+   The point at infinity is a vertex of the skeleton as well (the unbounded edges meet there):
+   when the disc of s is not strictly inside the convex hull of the centres of the sites with
+   unbounded edges, s may lead in some direction, and those sites and the finite ends of the
+   unbounded edges join the search.
 2. **Rebuild locally.**  The diagram of s, the sites of the conflicting vertices (or, when no
    vertex conflicts, the nearest sites) and their Delaunay neighbours is built with the
    construction (:func:`runtime.voronoi.construction.voronoi`, reached through the diagram's
@@ -41,7 +45,9 @@ Why the result is proved (H the reported graph after the update, G the true one)
   site, the breadth-first search started at every vertex of that region that may conflict and
   stopped only at vertices proved outside, and a path along the skeleton leaves the set of
   conflicting vertices only through such a vertex.  (With no conflicting vertex, the conflict lies
-  inside one edge of the nearest site, the edge that is cut.)
+  inside one edge of the nearest site, the edge that is cut.)  A path through the point at
+  infinity runs along unbounded edges: when s may lead at infinity they are all proved again
+  (below), so a missed conflict there fails a proof and the update is redone larger or rebuilt.
 * A **kept edge** (i, j) was proved a whole edge of the old diagram: every point of its open arc
   strictly closer to i and j than to the other old sites, its ends vertices.  It has no end at a
   removed vertex and is not the cut edge, so by the connectedness above no point of it is in
@@ -217,12 +223,12 @@ def insert_site(D, site, *, certify: bool = True):
     s = as_site(site)
     g = site_geometry(s)
     if g.kind not in ("point", "circle"):
-        raise NotImplementedError(f"local insertion of a {g.kind} site is not implemented (circles and points "
+        raise NotImplementedError(f"local insertion of {_a(g.kind)} site is not implemented (circles and points "
                                   "only): build the diagram with voronoi(sites + [site])")
     dyn = dynamic_state(D)
     if dyn.unsupported:
         st.dynamic = dyn
-        raise NotImplementedError(f"local insertion into a diagram with a {dyn.unsupported} site is not "
+        raise NotImplementedError(f"local insertion into a diagram with {_a(dyn.unsupported)} site is not "
                                   "implemented (circles and points only): build it with voronoi(sites + [site])")
     n = len(D.sites)
     cs = np.array([g.x0, g.y0] if g.kind == "point" else [g.cx, g.cy], float)
@@ -261,7 +267,16 @@ def insert_site(D, site, *, certify: bool = True):
     verts, edges = D.vertices, D.edges
     tested: dict = {}
     X: set = set()
-    layer = sorted({v for a in A0 for v in dyn.site_v[a]})
+    layer = {v for a in A0 for v in dyn.site_v[a]}
+    # the point at infinity is a vertex of the skeleton too: when s may lead in some direction
+    # (its disc not strictly inside the hull of the centres of the sites with unbounded edges) the
+    # conflict may reach the unbounded edges there, so their sites and finite ends join the search
+    hull_sites = sorted({t for e in dyn.unbounded for t in edges[e].sites})
+    at_infinity = not _disc_inside(dyn.C[hull_sites], cs, rs)
+    if at_infinity:
+        A0 = sorted(set(A0) | set(hull_sites))
+        layer |= {w for e in dyn.unbounded for w in edges[e].ends if w is not None}
+    layer = sorted(layer)
     while layer:
         layer = [v for v in layer if v not in tested]
         out = _outside(verts, layer, cs, rs)
@@ -368,9 +383,9 @@ def local_update(D, st, dyn, sites2, A, X, rm_edges, op, special, certify, t0, r
 
 def _splice(D, st, dyn, sites2, L, X, rm_edges, op, special, old_index):
     """The local diagram of sites ``L`` (new numbering) spliced in; None when it does not close."""
+    # the local diagram's own problems concern its outskirts (sites missing there) or are notes
+    # (a local frame): what is spliced in is checked and proved below, whatever they say
     loc = st.scratch([sites2[k] for k in L], certify=False)
-    if loc.problems and any(not p.startswith("not verified") for p in loc.problems):
-        return None
     verts = D.vertices
     kept_match = {}
     new_v = []          # (local vertex, global sites tuple)
@@ -683,18 +698,22 @@ def _inside_hull(dyn, s, res):
     """The disc of site s lies strictly inside the convex hull of its neighbours' centres (with a
     rounding margin): then h_s(θ) < max_k h_k(θ) for every direction θ."""
     nb = sorted({t for _, gs in res["new_v"] for t in gs if t != s})
-    if len(nb) < 3:
+    return _disc_inside(dyn.C[nb], dyn.C[s], dyn.R[s])
+
+
+def _disc_inside(P, c, r) -> bool:
+    """The disc (c, r) lies strictly inside the convex hull of the points P, with a margin of
+    1e-9 of the coordinates (False when it cannot be shown)."""
+    if len(P) < 3:
         return False
     from scipy.spatial import ConvexHull
-    P = dyn.C[nb]
     try:
         H = ConvexHull(P)
     except Exception:
         return False
-    c, r = dyn.C[s], dyn.R[s]
     scale = float(np.abs(P).max() + np.abs(c).max() + r + 1.0)
-    # facets: n·x + b <= 0 inside, n unit
-    dist = -(H.equations[:, :2] @ c + H.equations[:, 2])
+    # facets n·x + b <= 0 inside, n a unit vector
+    dist = -(H.equations[:, :2] @ np.asarray(c, float) + H.equations[:, 2])
     return bool((dist > r + 1e-9 * scale).all())
 
 
@@ -840,3 +859,7 @@ def _same(a, b) -> bool:
 def _meet(a, b) -> bool:
     from ..sites.intersection import circles_meet
     return _same(a, b) or circles_meet((a.cx, a.cy, a.r2), (b.cx, b.cy, b.r2))
+
+
+def _a(kind: str) -> str:
+    return ("an " if kind[0] in "aeiou" else "a ") + kind

@@ -1,0 +1,50 @@
+"""Build and run the CGAL Apollonius-graph dynamic peer (apollonius_dynamic.cpp: insertions and
+removals), shared by tests/test_insertion.py and bench/bench_dynamic.py.  The binary is cached in
+the temp directory, keyed by the source hash, like :mod:`cgal_peer`."""
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+
+from cgal_peer import HEADER, PeerMissing
+
+SOURCE = Path(__file__).with_name("apollonius_dynamic.cpp")
+
+
+def build() -> Path:
+    """Compile the peer once (about 20 s of CPU) and return the path of the binary."""
+    gxx = shutil.which("g++")
+    if gxx is None:
+        raise PeerMissing("g++ not found (apt-get install g++)")
+    if not os.path.exists(HEADER):
+        raise PeerMissing("CGAL headers not found (apt-get install libcgal-dev)")
+    digest = hashlib.sha256(SOURCE.read_bytes()).hexdigest()[:16]
+    out = Path(tempfile.gettempdir()) / f"curvedvoronoi_cgal_agdyn_{digest}"
+    if not out.exists():
+        tmp = out.with_suffix(f".{os.getpid()}.tmp")
+        subprocess.run([gxx, "-O2", "-std=c++17", "-DNDEBUG", "-o", str(tmp), str(SOURCE)], check=True,
+                       capture_output=True, text=True)
+        os.replace(tmp, out)
+    return out
+
+
+def run(circles, ops):
+    """Build CGAL's Apollonius graph of ``circles`` ((x, y, r) floats), then apply ``ops``: ("+", (x, y, r))
+    inserts (the new site is last), ("-", k) removes site k (j > k becomes j − 1), ("L", k) removes
+    site k (the last site takes index k).  Returns (build seconds, seconds per op, hidden count,
+    sorted Delaunay edges of the final graph in the final numbering)."""
+    binary = build()
+    lines = [str(len(circles))] + [f"{x!r} {y!r} {r!r}" for x, y, r in circles] + [str(len(ops))]
+    for op, arg in ops:
+        lines.append(f"+ {arg[0]!r} {arg[1]!r} {arg[2]!r}" if op == "+" else f"{op} {int(arg)}")
+    res = subprocess.run([str(binary)], input="\n".join(lines) + "\n", capture_output=True, text=True, check=True)
+    out = res.stdout.split("\n")
+    build_s = float(out[0].split()[1])
+    op_s = [float(ln.split()[1]) for ln in out[1:1 + len(ops)]]
+    hidden = int(out[1 + len(ops)].split()[1])
+    edges = sorted(tuple(int(t) for t in ln.split()) for ln in out[2 + len(ops):] if ln.strip())
+    return build_s, op_s, hidden, edges
