@@ -1,7 +1,7 @@
 """Benchmark: the diagram verifier (runtime.voronoi.verify.certificate) against the construction.
 
-For random disjoint circles (N = 100, 300, 1000) and random disjoint ellipses (N = 32, 128, 512,
-the generator of bench/bench_voronoi.py) and the mixed conics of bench/bench_voronoi.py (N = 100:
+For random disjoint circles (N = 100, 300, 1000) and random disjoint ellipses (N = 32, 128, 512;
+both scenes drawn by tests/scenes.py, as in the tests) and the mixed conics of bench/bench_voronoi.py (N = 100:
 ellipses, circles, points, two parabolas and a hyperbola; the counts of proved vertices and edges
 are reported, tails and accounting with unbounded sites being not proved) the diagram is built by
 ``runtime.voronoi.construction.voronoi(certify=False)`` and then verified in the same process; for
@@ -26,28 +26,10 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "bench"))
+sys.path.insert(0, str(ROOT / "tests"))
 
 import numpy as np  # noqa: E402
-
-
-def random_disjoint_circles(seed: int, n: int):
-    """n disjoint circles, radii in [0.2, 1.5], density ~ 1 circle per 10 square units."""
-    rng = np.random.default_rng(seed)
-    box = float(np.sqrt(10.0 * n))
-    out = []
-    pts = np.zeros((0, 2))
-    rad = np.zeros(0)
-    while len(out) < n:
-        x, y = rng.uniform(0, box, 2)
-        r = rng.uniform(0.2, 1.5)
-        if len(pts):
-            d = np.hypot(pts[:, 0] - x, pts[:, 1] - y)
-            if np.any(d <= rad + r + 0.1):
-                continue
-        pts = np.vstack([pts, [x, y]])
-        rad = np.append(rad, r)
-        out.append((float(x), float(y), float(r)))
-    return out
+import scenes  # noqa: E402  (the scenes of the tests)
 
 
 def qhull_points_diagram(P, far=50.0):
@@ -97,7 +79,8 @@ def main(argv=None) -> int:
     msizes = [int(s) for s in args.mixed.split(",") if s]
     rows = []
     for n in sizes:
-        sites = random_disjoint_circles(n, n)
+        # radii in [0.2, 1.5], gaps above 0.1, ~1 circle per 10 square units
+        sites = scenes.random_disjoint_circles(n, n, rmin=0.2, rmax=1.5, gap=0.1, side=float(np.sqrt(10.0 * n)))
         t, c = time.perf_counter(), time.process_time()
         D = voronoi(sites, certify=False)
         tc, cc = time.perf_counter() - t, time.process_time() - c

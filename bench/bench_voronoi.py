@@ -32,33 +32,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests" / "cgal"))
+sys.path.insert(0, str(ROOT / "tests"))
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-# rational rotations (Pythagorean triples) keep the ellipses exact
-ROTATIONS = [(Fraction(1), Fraction(0)), (Fraction(3, 5), Fraction(4, 5)), (Fraction(5, 13), Fraction(12, 13)),
-             (Fraction(8, 17), Fraction(15, 17)), (Fraction(4, 5), Fraction(-3, 5)), (Fraction(0), Fraction(1))]
-
-
-def random_ellipses(n: int, seed: int, rotations=None):
-    """n ellipses with disjoint circumscribed discs (hence disjoint), exact rational coefficients."""
-    from curvedvoronoi.runtime.sites.conic import Conic
-
-    rotations = rotations or ROTATIONS
-    rng = random.Random(seed)
-    side = 8.0 * math.sqrt(n)
-    placed = []
-    out = []
-    while len(out) < n:
-        cx = Fraction(round(rng.uniform(0, side) * 64), 64)
-        cy = Fraction(round(rng.uniform(0, side) * 64), 64)
-        a = Fraction(round(rng.uniform(1.0, 3.0) * 16), 16)
-        b = a * Fraction(round(rng.uniform(0.3, 0.9) * 16), 16)
-        if any(math.hypot(float(cx) - x, float(cy) - y) <= float(a) + r + 0.05 for x, y, r in placed):
-            continue
-        c, s = rng.choice(rotations)
-        out.append(Conic.ellipse(centre=(cx, cy), axes=(a, b), rotation=(c, s)))
-        placed.append((float(cx), float(cy), float(a)))
-    return out
+from scenes import ROTATIONS, random_ellipses  # noqa: E402  (the scenes of the tests: tests/scenes.py)
 
 
 def grid_ellipses(n: int, seed: int):

@@ -1,10 +1,17 @@
-"""Random integer scenes of points and segments for the segment-site Voronoi tests and their peers
-(tests/cgal/sdg_peer.py, tests/peers_boost.py).  Every generator is deterministic in its seed
-(``random.Random(seed)``) and checks its output with exact integer orientation tests."""
+"""The random scenes of the tests and the benchmarks, one generator per scene.
+
+Points and segments (integer coordinates) for the segment-site Voronoi tests and their peers
+(tests/cgal/sdg_peer.py, tests/peers_boost.py), checked with exact integer orientation tests;
+disjoint circles (for the curved-site tests, the CGAL peer tests/cgal/cgal_peer.py and
+bench/bench_voronoi.py, bench/bench_verify.py, bench/bench_degenerate.py) and disjoint ellipses
+with exact rational data.  Every generator is deterministic in its seed (``random.Random(seed)``).
+Benchmarks import this module (their scripts put ``tests/`` on ``sys.path``), so a test and a
+benchmark of the same scene draw the same sites."""
 from __future__ import annotations
 
 import math
 import random
+from fractions import Fraction
 
 MIN_LENGTH = 3          # segment lengths are uniform in [MIN_LENGTH, MAX_LENGTH] before rounding
 MAX_LENGTH = 30
@@ -204,4 +211,54 @@ def random_points_off(segments, m: int, seed: int, *, box=None):
         if p not in taken and grid.free(p, p):
             taken.add(p)
             out.append(p)
+    return out
+
+
+def random_disjoint_circles(n: int, seed: int, *, rmin=0.5, rmax=3.0, gap=1e-3, side=None):
+    """n random pairwise disjoint (not nested) circles (x, y, r) in floats, at distance more than
+    ``gap`` apart, radii uniform in [rmin, rmax], centres uniform in a square of side ``side``
+    (default 10·√n), by rejection with a uniform grid of cell 2·rmax + gap."""
+    rng = random.Random(seed)
+    side = 10.0 * math.sqrt(n) if side is None else float(side)
+    cell = 2 * rmax + gap
+    grid: dict = {}
+    out: list[tuple[float, float, float]] = []
+    while len(out) < n:
+        x, y, r = rng.uniform(0, side), rng.uniform(0, side), rng.uniform(rmin, rmax)
+        gx, gy = int(x // cell), int(y // cell)
+        if any(math.hypot(x - out[i][0], y - out[i][1]) <= r + out[i][2] + gap
+               for dx in (-1, 0, 1) for dy in (-1, 0, 1) for i in grid.get((gx + dx, gy + dy), ())):
+            continue
+        grid.setdefault((gx, gy), []).append(len(out))
+        out.append((x, y, r))
+    return out
+
+
+#: rational rotations (cos, sin) from Pythagorean triples: they keep rotated ellipses exact
+ROTATIONS = [(Fraction(1), Fraction(0)), (Fraction(3, 5), Fraction(4, 5)), (Fraction(5, 13), Fraction(12, 13)),
+             (Fraction(8, 17), Fraction(15, 17)), (Fraction(4, 5), Fraction(-3, 5)), (Fraction(0), Fraction(1))]
+
+
+def random_ellipses(n: int, seed: int, rotations=None, *, side=None):
+    """n ellipses with disjoint circumscribed discs (hence disjoint), exact rational coefficients:
+    centres on the grid 1/64 in a square of side ``side`` (default 8·√n), major semi-axis in
+    [1, 3] and ratio in [0.3, 0.9] on the grid 1/16, a rotation from ``rotations`` (default
+    :data:`ROTATIONS`)."""
+    from curvedvoronoi.runtime.sites.conic import Conic
+
+    rotations = rotations or ROTATIONS
+    rng = random.Random(seed)
+    side = 8.0 * math.sqrt(n) if side is None else float(side)
+    placed = []
+    out = []
+    while len(out) < n:
+        cx = Fraction(round(rng.uniform(0, side) * 64), 64)
+        cy = Fraction(round(rng.uniform(0, side) * 64), 64)
+        a = Fraction(round(rng.uniform(1.0, 3.0) * 16), 16)
+        b = a * Fraction(round(rng.uniform(0.3, 0.9) * 16), 16)
+        if any(math.hypot(float(cx) - x, float(cy) - y) <= float(a) + r + 0.05 for x, y, r in placed):
+            continue
+        c, s = rng.choice(rotations)
+        out.append(Conic.ellipse(centre=(cx, cy), axes=(a, b), rotation=(c, s)))
+        placed.append((float(cx), float(cy), float(a)))
     return out

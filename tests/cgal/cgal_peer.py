@@ -6,8 +6,12 @@ import hashlib
 import os
 import shutil
 import subprocess
+import sys
 import tempfile
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))     # tests/: the shared scenes
+from scenes import random_disjoint_circles  # noqa: E402,F401  (re-exported: the peer's scenes are the tests')
 
 SOURCE = Path(__file__).with_name("apollonius_edges.cpp")
 HEADER = "/usr/include/CGAL/Apollonius_graph_2.h"
@@ -70,23 +74,3 @@ def delaunay_edges_nondegenerate(circles):
     return edges, seconds, hidden, raw
 
 
-def random_disjoint_circles(n: int, seed: int, *, rmin=0.5, rmax=3.0, gap=1e-3):
-    """n random pairwise disjoint (not nested) circles in a square of side 10·√n (floats), by
-    rejection with a uniform grid of cell 2·rmax + gap."""
-    import math
-    import random
-
-    rng = random.Random(seed)
-    side = 10.0 * math.sqrt(n)
-    cell = 2 * rmax + gap
-    grid: dict = {}
-    out: list[tuple[float, float, float]] = []
-    while len(out) < n:
-        x, y, r = rng.uniform(0, side), rng.uniform(0, side), rng.uniform(rmin, rmax)
-        gx, gy = int(x // cell), int(y // cell)
-        if any(math.hypot(x - out[i][0], y - out[i][1]) <= r + out[i][2] + gap
-               for dx in (-1, 0, 1) for dy in (-1, 0, 1) for i in grid.get((gx + dx, gy + dy), ())):
-            continue
-        grid.setdefault((gx, gy), []).append(len(out))
-        out.append((x, y, r))
-    return out
