@@ -490,9 +490,17 @@ def _check(D, dyn, res, op, special, certify, old_index, new_index):
     def pend(x):
         return None if x is None else (NV + x[1] if x[0] == "new" else x[1])
 
-    pe = [dataclasses.replace(proto_e, id=NE + k, sites=pair, ends=tuple(pend(x) for x in ends), closed=False,
-                              polyline=le.polyline, tolerance=le.tolerance, certified=False)
-          for k, (le, pair, ends) in enumerate(res["new_e"])]
+    pe = []
+    for k, (le, pair, ends) in enumerate(res["new_e"]):
+        # a kept end vertex: the polyline ends exactly at its reported position (the local build's
+        # own float position of that vertex may differ in the last bits)
+        P = np.array(le.polyline, float)
+        for side, x in ((0, ends[0]), (-1, ends[1])):
+            if x is not None and x[0] == "old":
+                P[side] = (D.vertices[x[1]].x, D.vertices[x[1]].y)
+        le.polyline = P
+        pe.append(dataclasses.replace(proto_e, id=NE + k, sites=pair, ends=tuple(pend(x) for x in ends), closed=False,
+                                      polyline=P, tolerance=le.tolerance, certified=False))
 
     def vert(vid):
         if vid >= NV:
