@@ -233,3 +233,23 @@ def test_the_rule_fails_on_planted_copies(tmp_path):
     # the real modules pass: the kernel may do what its copies may not
     assert not one_of_each_findings({KRAWCZYK_KERNEL: copies["runtime.voronoi.kernel_copy"],
                                      RATIONALS: copies["runtime.voronoi.rationals_copy"]})
+
+
+# ----------------------------------------------------------------------------- one generator per scene
+
+#: the random scenes drawn in tests/scenes.py, which tests and benchmarks import
+SCENES = ("random_disjoint_circles", "random_ellipses", "random_segments", "random_points_off")
+
+
+def scene_copies(files) -> list[tuple[str, str]]:
+    """(file name, generator) for each definition of a scene generator of tests/scenes.py outside it."""
+    return [(f.name, node.name) for f in files for node in ast.walk(ast.parse(f.read_text()))
+            if isinstance(node, ast.FunctionDef) and node.name in SCENES]
+
+
+def test_tests_and_benchmarks_draw_each_scene_from_one_generator(tmp_path):
+    files = [f for d in ("tests", "bench") for f in (ROOT / d).rglob("*.py") if f.name != "scenes.py"]
+    assert len(files) > 50 and not scene_copies(files), scene_copies(files)
+    planted = tmp_path / "bench_planted.py"                 # the check is not vacuous
+    planted.write_text("import scenes\n\ndef random_ellipses(n, seed):\n    return scenes.random_ellipses(n, seed)\n")
+    assert scene_copies([planted]) == [("bench_planted.py", "random_ellipses")]
