@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 
 from .cells import site_outlines
+from .queries import site_index
 
 __all__ = ["diagram_geojson", "crs_member", "PLANAR_CRS_WKT"]
 
@@ -67,15 +68,6 @@ def _site_geometry(parts: list[np.ndarray]) -> dict | None:
     return {"type": "MultiLineString", "coordinates": [P.tolist() for P in parts]}
 
 
-def _shape(site) -> str:
-    kind = getattr(site, "kind", None)
-    if kind:
-        return str(kind)
-    if hasattr(site, "r2"):
-        return "point" if site.r2 == 0 else "circle"
-    return type(site).__name__.lower()
-
-
 def diagram_geojson(diagram, crs: Any = None, *, sites: bool = True) -> dict:
     """A GeoJSON FeatureCollection of the diagram (see the module docstring).
 
@@ -103,10 +95,11 @@ def diagram_geojson(diagram, crs: Any = None, *, sites: bool = True) -> dict:
                       "properties": {"kind": "vertex", "number": v.id, "sites": [int(t) for t in v.sites],
                                      "radius": float(v.radius), "certified": bool(v.certified)}})
     if sites and diagram.sites:
+        geoms = site_index(diagram).geoms
         for i, (s, parts) in enumerate(zip(diagram.sites, site_outlines(diagram))):
             label = getattr(s, "label", None)
             feats.append({"type": "Feature", "id": f"site-{i}", "geometry": _site_geometry(parts),
-                          "properties": {"kind": "site", "number": i, "shape": _shape(s),
+                          "properties": {"kind": "site", "number": i, "shape": geoms[i].kind,
                                          "label": None if label is None else str(label)}})
     out: dict = {"type": "FeatureCollection"}
     member = crs_member(crs)

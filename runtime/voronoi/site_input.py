@@ -9,6 +9,7 @@ Public API: :func:`as_site`, :func:`check_disjoint`, :func:`sites_equal`, :class
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -27,7 +28,7 @@ class SiteError(InvalidConicError):
 
 
 
-def as_site(s):
+def as_site(s: Any) -> Circle | Conic:
     """A user site as an exact site: Circle / Point / Conic pass through; a pair (x, y) is a
     point; a triple (cx, cy, r) is a circle of radius r (r = 0: a point, thesis §3.1.2); a list
     of six numbers is the coefficient list of a conic; a dict is a site record of

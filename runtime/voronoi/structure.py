@@ -30,8 +30,13 @@ Public API: :class:`DiagramVertex`, :class:`DiagramEdge`, :class:`Diagram`.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+if TYPE_CHECKING:                      # annotations only: the data module imports no heavy module
+    from .cells import DiagramFrames
+    from .queries import NearestResult
 
 __all__ = ["DiagramVertex", "DiagramEdge", "Diagram", "FORMAT", "READABLE_FORMATS"]
 
@@ -90,7 +95,7 @@ class DiagramEdge:
     tolerance: float
     certified: bool = False
 
-    def __eq__(self, other) -> bool:
+    def __eq__(self, other: object) -> bool:
         if not isinstance(other, DiagramEdge):
             return NotImplemented
         return (self.id == other.id and tuple(self.sites) == tuple(other.sites) and tuple(self.ends) == tuple(other.ends)
@@ -168,7 +173,7 @@ class Diagram:
         """The Delaunay graph: sorted pairs (i, j), i < j, of sites sharing a Voronoi edge."""
         return sorted({tuple(e.sites) for e in self.edges})
 
-    def to_networkx(self):
+    def to_networkx(self) -> Any:
         """A :class:`networkx.MultiGraph`: nodes = site indices (attribute ``site``), one edge per
         Voronoi edge (attributes ``id``, ``ends``, ``closed``, ``polyline``, ``tolerance``,
         ``certified``)."""
@@ -223,7 +228,7 @@ class Diagram:
         return cls(sites, verts, edges, bool(doc.get("certified", False)),
                    list(doc.get("problems", [])), dict(doc.get("stats", {})), sources=sources)
 
-    def to_geojson(self, crs=None, *, sites: bool = True) -> dict:
+    def to_geojson(self, crs: Any = None, *, sites: bool = True) -> dict:
         """A GeoJSON FeatureCollection: one LineString per edge (properties ``kind="edge"``,
         ``number``, ``sites``, ``ends``, ``closed``, ``tolerance``, ``certified``), one Point per
         vertex (``kind="vertex"``, ``number``, ``sites``, ``radius``, ``certified``) and one feature
@@ -237,7 +242,7 @@ class Diagram:
 
         return diagram_geojson(self, crs, sites=sites)
 
-    def to_shapely(self):
+    def to_shapely(self) -> list:
         """The edges as a list of :class:`shapely.geometry.LineString` (needs shapely)."""
         try:
             from shapely.geometry import LineString
@@ -245,7 +250,7 @@ class Diagram:
             raise ImportError("Diagram.to_shapely needs shapely (pip install shapely)") from None
         return [LineString(np.asarray(e.polyline, float)) for e in self.edges]
 
-    def plot(self, path_or_ax=None, *, empty_circles: bool = False, **kw):
+    def plot(self, path_or_ax: Any = None, *, empty_circles: bool = False, **kw: Any) -> Any:
         """Draw the diagram (sites, curved edges, vertices, dashed Delaunay graph); save to a path
         or draw on a matplotlib Axes.  Returns the Figure."""
         from .plot import plot_diagram
@@ -253,7 +258,8 @@ class Diagram:
         return plot_diagram(self, path_or_ax, empty_circles=empty_circles, **kw)
 
     # ------------------------------------------------------------------ queries and cells
-    def site_distance(self, points, sites=None, *, bounds: bool = False):
+    def site_distance(self, points: Any, sites: Any = None, *,
+                      bounds: bool = False) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
         """(n, m) float distances from the n query points (an (n, 2) array) to the sites (or to
         the listed ``sites``), every site kind; ``bounds=True`` gives a pair (lo, hi) of such
         arrays, rigorous.  The result takes n·m·8 bytes (10⁴ × 10⁴: 800 MB): query in blocks
@@ -262,7 +268,7 @@ class Diagram:
 
         return site_index(self).distance(points, sites, bounds=bounds)
 
-    def nearest(self, points, *, prove: bool = True):
+    def nearest(self, points: Any, *, prove: bool = True) -> NearestResult:
         """The nearest site of each query point (an (n, 2) array): a
         :class:`runtime.voronoi.queries.NearestResult` (``index``, ``distance``, ``proved``,
         ``ties``, ``exact``).  With ``prove`` the answer is proved with rigorous distance bounds
@@ -294,7 +300,7 @@ class Diagram:
         return np.array([[-1 if u is None else pos[u] for u in e.ends] for e in self.edges],
                         dtype=np.int64).reshape(-1, 2)
 
-    def cells(self, clip=None) -> list:
+    def cells(self, clip: Any = None) -> list:
         """One shapely geometry per site: its Voronoi region (boundary from the edges' polylines,
         within their tolerance) clipped to ``clip``, a box (xmin, ymin, xmax, ymax) or any shapely
         polygon (default: the sites' bounding box with a 10 % margin).  A nested site's region
@@ -304,7 +310,7 @@ class Diagram:
 
         return diagram_cells(self, clip)
 
-    def to_geopandas(self, crs=None, clip=None):
+    def to_geopandas(self, crs: Any = None, clip: Any = None) -> DiagramFrames:
         """Three GeoDataFrames (``cells``, ``edges``, ``sites``) in a named tuple, with ``crs``
         passed through; ``clip`` as for :meth:`cells`.  Needs geopandas (ImportError otherwise)."""
         from .cells import diagram_geopandas
