@@ -26,21 +26,21 @@ from abc import ABC, abstractmethod
 
 import numpy as np
 
+from ..certify.interval_newton import UNIT_ROUNDOFF, gamma
 from ..sites.kinds import SiteKind
 
 __all__ = ["SiteGeometry", "PointGeometry", "CircleGeometry", "rounding_slack"]
 
-#: unit roundoff of IEEE double
-EPS = 2.0 ** -53
+#: unit roundoff of IEEE double (the kernel's rounding model, :mod:`runtime.certify.interval_newton`)
+EPS = UNIT_ROUNDOFF
 
 
 def rounding_slack(scale, ops: int = 16):
     """A bound on the accumulated rounding error of a float expression of ``ops`` basic
     operations whose intermediate magnitudes are at most ``scale`` (Higham, *Accuracy and
-    Stability of Numerical Algorithms*, 2nd ed., §3.1: |error| ≤ γ_n·scale, γ_n = nu/(1−nu)),
-    doubled for safety.  Works elementwise on arrays."""
-    g = ops * EPS / (1.0 - ops * EPS)
-    return 2.0 * g * np.asarray(scale, dtype=float)
+    Stability of Numerical Algorithms*, 2nd ed., §3.1: |error| ≤ γ_n·scale, γ_n = nu/(1−nu),
+    :func:`runtime.certify.interval_newton.gamma`), doubled for safety.  Works elementwise on arrays."""
+    return 2.0 * gamma(ops) * np.asarray(scale, dtype=float)
 
 
 class SiteGeometry(ABC):
