@@ -369,12 +369,17 @@ def local_update(D, st, dyn, sites2, A, X, rm_edges, op, special, certify, t0, r
         if op == "insert":
             L.add(special)
         L = sorted(L)
+        t1 = time.perf_counter()
         res = _splice(D, st, dyn, sites2, L, X, rm_edges, op, special, old_index)
+        t2 = time.perf_counter()
         if res is None:
             continue
         res["sites2"] = sites2
         dyn.renumber = renumber
         chk = _check(D, dyn, res, op, special, certify, old_index, new_index)
+        if chk is not None:
+            chk["seconds"] = {"locate": round(t1 - t0, 6), "local build": round(t2 - t1, 6),
+                              "prove": round(time.perf_counter() - t2, 6)}
         if chk is None or not chk["ok"]:
             continue        # the splice is wrong or unproved: one more ring, then a rebuild
         return _finish(D, st, dyn, res, op, special, certify, t0, ring, renumber, chk)
@@ -616,7 +621,7 @@ def _finish(D, st, dyn, res, op, special, certify, t0, ring, renumber, chk):
     out.stats = {"sites": len(sites2), "update": chk["how"], "rings": ring,
                  "changed": {"vertices_removed": len(rm_v), "vertices_new": len(new_vobjs),
                              "edges_removed": len(rm_e), "edges_new": len(res["new_e"]), "local_sites": len(res["L"])},
-                 "seconds": {"total": round(time.perf_counter() - t0, 6)}}
+                 "seconds": dict(chk.get("seconds", {}), total=round(time.perf_counter() - t0, 6))}
     if op == "delete":
         out.stats["deletion"] = chk["how"]
     return out

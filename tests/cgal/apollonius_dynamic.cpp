@@ -6,9 +6,11 @@
 //   "+ x y r"   insert a circle; it becomes the last site
 //   "- k"       remove site k; sites j > k become j - 1
 //   "L k"       remove site k; the last site takes index k
-// Output (stdout): "build T" (seconds of the batch insertion), one line "op T" per operation (its
-// seconds), "hidden H", then one line "i j" per edge of the final Apollonius graph (0-based current
-// indices, i < j; pairs of circles sharing a Voronoi edge).
+// then optionally q and q lines "x y": nearest-site queries (Apollonius_graph_2::nearest_neighbor).
+// Output (stdout): "build T" (seconds of the insertions), one line "op T" per operation (its
+// seconds), "hidden H", with queries "queries T" (seconds of all q queries) and one line "nearest k"
+// per query, then one line "i j" per edge of the final Apollonius graph (0-based current indices,
+// i < j; pairs of circles sharing a Voronoi edge).
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Apollonius_graph_2.h>
 #include <CGAL/Apollonius_graph_filtered_traits_2.h>
@@ -75,6 +77,22 @@ int main() {
     else index[handle[i]] = i;
   }
   std::printf("hidden %d\n", hidden);
+  int q;
+  if (std::scanf("%d", &q) == 1 && q > 0) {
+    std::vector<Point> pts;
+    for (int t = 0; t < q; ++t) {
+      double x, y;
+      if (std::scanf("%lf %lf", &x, &y) != 2) return 2;
+      pts.push_back(Point(x, y));
+    }
+    std::vector<AG::Vertex_handle> got(q);
+    auto a = std::chrono::steady_clock::now();
+    AG::Vertex_handle hint;
+    for (int t = 0; t < q; ++t) got[t] = hint = ag.nearest_neighbor(pts[t], hint);
+    auto b = std::chrono::steady_clock::now();
+    std::printf("queries %.9f\n", std::chrono::duration<double>(b - a).count());
+    for (int t = 0; t < q; ++t) std::printf("nearest %d\n", index[got[t]]);
+  }
   std::set<std::pair<int, int>> edges;
   for (auto e = ag.finite_edges_begin(); e != ag.finite_edges_end(); ++e) {
     AG::Face_handle f = e->first;

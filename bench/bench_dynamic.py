@@ -1,0 +1,256 @@
+"""Benchmark of the dynamic diagram (issue 35): local insertion and deletion of one circle, and
+proved nearest-site queries, against CGAL's Apollonius_graph_2 and scipy in the same run.
+
+Rows (one subprocess per N, so each N has its own peak RSS):
+* random disjoint circles (tests/cgal/cgal_peer.random_disjoint_circles, N + K drawn, the first N
+  built with ``cv.voronoi`` and certified); then, one after the other: K insertions of the K
+  remaining circles (``d.insert``), K deletions with ``renumber="last"`` and K with the default
+  ``renumber="shift"`` (``d.delete_site``), each certified=True.  Reported: the first update
+  separately (it builds the adjacency state once, O(N)), then median / max time per operation
+  (wall and CPU), how many updates were proved locally, how many re-proved the unbounded edges and
+  the accounting at infinity (a site on or near the convex hull) or were rebuilt, and whether every
+  result was certified.  The final diagram's Delaunay graph is compared with CGAL's after the same
+  operations (tests/cgal/apollonius_dynamic.cpp: CGAL's insert and remove on the same doubles) and
+  verified with ``cv.verify`` (the independent verifier, once, at the end).  CGAL's median time per
+  operation and the ratio.
+* nearest-site queries on point sites (N = 10⁴ random points): ``d.nearest`` proved and unproved,
+  ``scipy.spatial.cKDTree.query`` and CGAL's ``Apollonius_graph_2::nearest_neighbor`` (with the
+  previous answer as hint) on the same 10⁵ random query points, queries per second, and whether the
+  answers agree.
+
+One BLAS thread (threadpoolctl and OPENBLAS_NUM_THREADS=1); thread settings and the load average
+(/proc/loadavg) are in the table header: the machine is shared, wall times are noisy under load.
+
+Run:  OPENBLAS_NUM_THREADS=1 python bench/bench_dynamic.py [--sizes 1000 10000] [--big] [--k 20]
+      (--big adds N = 10⁵: about 12 GB and several minutes for the batch build; appends a table
+      to bench/results/dynamic.md)
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import random
+import resource
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "tests" / "cgal"))
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+
+def _threads():
+    import numpy  # noqa: F401 - load the BLAS before asking threadpoolctl about it
+    from threadpoolctl import threadpool_info, threadpool_limits
+
+    threadpool_limits(limits=1)
+    return [(p["internal_api"], p["num_threads"]) for p in threadpool_info()]
+
+
+def _loadavg() -> str:
+    try:
+        return Path("/proc/loadavg").read_text().split()[0]
+    except OSError:
+        return f"{os.getloadavg()[0]:.2f}"
+
+
+def circles_case(n: int, k: int, seed: int = 1) -> dict:
+    import cgal_peer
+    import curvedvoronoi as cv
+
+    threads = _threads()
+    circles = cgal_peer.random_disjoint_circles(n + k, seed)
+    base, extra = circles[:n], circles[n:]
+    t0, c0 = time.perf_counter(), time.process_time()
+    d = cv.voronoi(base, progress=False)
+    out = {"case": "circles", "N": n, "K": k, "threads": threads, "build_s": time.perf_counter() - t0,
+           "build_cpu_s": time.process_time() - c0, "build_certified": bool(d.certified)}
+    rng = random.Random(seed)
+    cur = list(base)
+    ops, rows = [], []
+
+    def timed(kind, fn):
+        nonlocal d
+        t, c = time.perf_counter(), time.process_time()
+        d = fn()
+        rows.append({"op": kind, "wall": time.perf_counter() - t, "cpu": time.process_time() - c,
+                     "how": d.stats.get("update", d.stats.get("deletion")), "certified": bool(d.certified),
+                     "split": d.stats.get("seconds", {}), "changed": d.stats.get("changed", {})})
+
+    for c in extra:
+        timed("insert", lambda c=c: d.insert(c))
+        cur.append(c)
+        ops.append(("+", c))
+    for mode in ("last", "shift"):
+        for _ in range(k):
+            i = rng.randrange(len(cur))
+            timed(f"delete ({mode})", lambda i=i, mode=mode: d.delete_site(i, renumber=mode))
+            if mode == "shift":
+                cur.pop(i)
+                ops.append(("-", i))
+            else:
+                cur[i] = cur[-1]
+                cur.pop()
+                ops.append(("L", i))
+    t = time.perf_counter()
+    cert = cv.verify(d, progress=False)
+    out["final_verify_s"] = time.perf_counter() - t
+    out["final_verified"] = bool(cert.ok)
+    out["final_sites_as_expected"] = [(float(s.cx), float(s.cy)) for s in d.sites] == [(x, y) for x, y, _ in cur]
+    try:
+        import cgal_dynamic
+
+        _, cg_ops, hidden, edges = cgal_dynamic.run(base, ops)
+        out["cgal_op_s"] = cg_ops
+        out["cgal_same_graph"] = d.delaunay_edges() == edges and hidden == 0
+    except Exception as exc:  # noqa: BLE001 - PeerMissing or a build failure
+        out["cgal_error"] = f"{type(exc).__name__}: {exc}"
+    out["rows"] = rows
+    out["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    return out
+
+
+def nearest_case(n: int, q: int, seed: int = 2) -> dict:
+    import numpy as np
+    from scipy.spatial import cKDTree
+
+    import curvedvoronoi as cv
+
+    threads = _threads()
+    rng = np.random.default_rng(seed)
+    side = 10.0 * np.sqrt(n)
+    P = rng.uniform(0, side, (n, 2))
+    Q = rng.uniform(0, side, (q, 2))
+    d = cv.voronoi([(float(x), float(y), 0) for x, y in P], certify=False, progress=False)
+    out = {"case": "nearest", "N": n, "Q": q, "threads": threads}
+    d.nearest(Q[:10])                                       # the site index is built once
+    t = time.perf_counter()
+    r = d.nearest(Q)
+    out["proved_qps"] = q / (time.perf_counter() - t)
+    out["proved_fraction"] = float(np.mean(r.proved))
+    t = time.perf_counter()
+    r2 = d.nearest(Q, prove=False)
+    out["float_qps"] = q / (time.perf_counter() - t)
+    tree = cKDTree(P)
+    t = time.perf_counter()
+    _, idx = tree.query(Q)
+    out["scipy_qps"] = q / (time.perf_counter() - t)
+    ok = r.index >= 0
+    out["same_as_scipy"] = bool(np.array_equal(r.index[ok], idx[ok]))
+    out["float_same_as_scipy"] = float(np.mean(r2.index == idx))
+    try:
+        import cgal_dynamic
+
+        _, _, _, _, q_s, near = cgal_dynamic.run([(float(x), float(y), 0.0) for x, y in P], [], Q)
+        out["cgal_qps"] = q / q_s
+        out["cgal_same"] = bool(np.array_equal(np.asarray(near)[ok], r.index[ok]))
+    except Exception as exc:  # noqa: BLE001
+        out["cgal_error"] = f"{type(exc).__name__}: {exc}"
+    return out
+
+
+def _fmt(x, nd=4):
+    return "-" if x is None else f"{x:.{nd}f}"
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--case", help=argparse.SUPPRESS)
+    ap.add_argument("--sizes", nargs="*", type=int, default=[1000, 10000])
+    ap.add_argument("--big", action="store_true", help="add N = 100000 (about 12 GB, minutes)")
+    ap.add_argument("--k", type=int, default=20, help="insertions (and deletions of each kind) per N")
+    ap.add_argument("--queries", type=int, default=100000)
+    ap.add_argument("--no-write", action="store_true")
+    args = ap.parse_args()
+    if args.case:
+        kind, n = args.case.split(":")
+        res = circles_case(int(n), args.k) if kind == "circles" else nearest_case(int(n), args.queries)
+        print(json.dumps(res))
+        return
+    sizes = list(args.sizes) + ([100000] if args.big else [])
+    load0 = _loadavg()
+    results = []
+    for case in [f"circles:{n}" for n in sizes] + ["nearest:10000"]:
+        t0 = time.perf_counter()
+        res = subprocess.run([sys.executable, __file__, "--case", case, "--k", str(args.k),
+                              "--queries", str(args.queries)], capture_output=True, text=True,
+                             env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
+        if res.returncode != 0:
+            r = {"case": case, "error": (res.stderr.strip().splitlines() or ["?"])[-1][:200]}
+        else:
+            r = json.loads(res.stdout.strip().splitlines()[-1])
+        r["case_seconds"] = time.perf_counter() - t0
+        results.append(r)
+        print(case, {k: v for k, v in r.items() if k != "rows"}, file=sys.stderr, flush=True)
+    threads = next((r["threads"] for r in results if "threads" in r), None)
+    commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True,
+                            text=True).stdout.strip()
+    lines = [f"## bench_dynamic {time.strftime('%Y-%m-%d %H:%M')}  commit {commit}  OPENBLAS_NUM_THREADS="
+             f"{os.environ.get('OPENBLAS_NUM_THREADS')}  threadpools={threads}  cpus={os.cpu_count()}  "
+             f"load (/proc/loadavg, 1 min)={load0} (start) {_loadavg()} (end)", "",
+             f"Random disjoint circles: batch build of N (certified), then K = {args.k} insertions, K deletions "
+             "with renumber=\"last\", K with renumber=\"shift\" (certify=True each). \"first\" = the first update "
+             "(builds the adjacency state, O(N)); median/max over the others. local = proved locally; infinity = the "
+             "unbounded edges and the accounting at infinity re-proved (site on or near the hull); rebuild = the local "
+             "splice did not close. CGAL = Apollonius_graph_2 insert/remove on the same doubles, same operations "
+             "(tests/cgal/apollonius_dynamic.cpp). final verify = cv.verify on the last diagram.", "",
+             "| N | op | first s | median s (CPU) | max s | local / infinity / rebuild | all certified | "
+             "median split (locate / local build / prove) | CGAL median s | ratio | build s | final verify | "
+             "graph = CGAL | peak RSS MB |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in results:
+        if r.get("case", "").startswith("nearest") or str(r.get("case")).startswith("nearest"):
+            continue
+        if "error" in r:
+            lines.append(f"| {r['case']} | error: {r['error']} |" + " |" * 12)
+            continue
+        cg = r.get("cgal_op_s")
+        k = r["K"]
+        for kind, lo, hi in (("insert", 0, k), ("delete (last)", k, 2 * k), ("delete (shift)", 2 * k, 3 * k)):
+            rows = [x for x in r["rows"] if x["op"] == kind]
+            first = rows[0]["wall"] if kind == "insert" else None
+            rest = rows[1:] if kind == "insert" else rows
+            med = statistics.median(x["wall"] for x in rest)
+            medc = statistics.median(x["cpu"] for x in rest)
+            mx = max(x["wall"] for x in rest)
+            hows = [x["how"] or "" for x in rows]
+            n_inf = sum("infinity" in h for h in hows)
+            n_reb = sum(h.startswith("rebuild") or h in ("local triangulation declined", "local sample triangulation")
+                        for h in hows)
+            n_loc = len(hows) - n_inf - n_reb
+            spl = [x["split"] for x in rest if "prove" in x["split"]]
+            split = " / ".join(_fmt(statistics.median(s.get(key, 0) for s in spl)) for key in
+                               ("locate", "local build", "prove")) if spl else "-"
+            cgm = statistics.median(cg[lo:hi]) if cg else None
+            ratio = f"{med / cgm:.0f}×" if cgm else "-"
+            lines.append(f"| {r['N']} | {kind} | {_fmt(first)} | {_fmt(med)} ({_fmt(medc)}) | {_fmt(mx)} | "
+                         f"{n_loc} / {n_inf} / {n_reb} | {all(x['certified'] for x in rows)} | {split} | "
+                         f"{_fmt(cgm, 6)} | {ratio} | {r['build_s']:.1f} | "
+                         f"{'yes' if r['final_verified'] else 'NO'} ({r['final_verify_s']:.1f} s) | "
+                         f"{r.get('cgal_same_graph', r.get('cgal_error', '-'))} | {r['peak_rss_mb']:.0f} |")
+    for r in results:
+        if str(r.get("case")) != "nearest" or "error" in r:
+            if "error" in r and "nearest" in r.get("case", ""):
+                lines += ["", f"nearest: error {r['error']}"]
+            continue
+        lines += ["", f"Nearest-site queries, N = {r['N']} random points, {r['Q']} random queries (queries/s):", "",
+                  "| d.nearest proved | proved rows | d.nearest(prove=False) | scipy cKDTree.query | "
+                  "CGAL nearest_neighbor | proved answers = scipy's | = CGAL's |",
+                  "|---|---|---|---|---|---|---|",
+                  f"| {r['proved_qps']:.3g} | {r['proved_fraction']:.4f} | {r['float_qps']:.3g} | {r['scipy_qps']:.3g} | "
+                  f"{r.get('cgal_qps', 0):.3g} | {r['same_as_scipy']} | {r.get('cgal_same', r.get('cgal_error'))} |"]
+    text = "\n".join(lines) + "\n"
+    print(text)
+    if not args.no_write:
+        out = ROOT / "bench" / "results" / "dynamic.md"
+        with open(out, "a") as fh:
+            fh.write(("\n" if out.exists() and out.stat().st_size else "") + text)
+
+
+if __name__ == "__main__":
+    main()
