@@ -240,6 +240,9 @@ _CERTIFY_TESTS = ["tests/test_certify.py", "tests/test_certify_chart.py", "tests
                   "tests/test_certify_dimension.py", "tests/test_certify_fast_system.py",
                   "tests/test_certify_boundaries.py", "tests/test_locator_certified.py",
                   "tests/test_interval_newton.py", "tests/test_voronoi_vertex.py"]
+#: the proof kernel's own boundary tests first (Krawczyk on balls and on float batches)
+_KERNEL_TESTS = ["tests/test_certify_kernel_boundaries.py", "tests/test_certify_boundaries.py",
+                 "tests/test_float_krawczyk.py", "tests/test_interval_newton.py"]
 _SEGMENT_CERT_TESTS = ["tests/test_segment_certificate_mutants.py", "tests/test_segment_certificate.py",
                        "tests/test_arc_certificate.py", "tests/test_segment_voronoi.py"]
 #: module prefix -> test files run against its mutants (first match wins); files that do not exist
@@ -247,9 +250,9 @@ _SEGMENT_CERT_TESTS = ["tests/test_segment_certificate_mutants.py", "tests/test_
 SOUND_TESTS: list[tuple[str, list[str]]] = [
     ("runtime/voronoi/verify/", _VERIFY_TESTS),
     # krawczyk / foot / interval_newton serve the diagram's vertex proofs too (runtime/voronoi/vertex.py)
-    ("runtime/certify/krawczyk.py", _CERTIFY_TESTS + ["tests/test_voronoi_verify.py"]),
+    ("runtime/certify/krawczyk.py", _KERNEL_TESTS + _CERTIFY_TESTS + ["tests/test_voronoi_verify.py"]),
     ("runtime/certify/foot.py", _CERTIFY_TESTS + ["tests/test_voronoi_verify.py"]),
-    ("runtime/certify/interval_newton.py", _CERTIFY_TESTS + ["tests/test_voronoi_verify.py"]),
+    ("runtime/certify/interval_newton.py", _KERNEL_TESTS + _CERTIFY_TESTS + ["tests/test_voronoi_verify.py"]),
     ("runtime/certify/", _CERTIFY_TESTS),
     # the segment/arc certificate (verify_segments)
     ("runtime/segments/certificate", _SEGMENT_CERT_TESTS),

@@ -1,0 +1,150 @@
+"""The proof kernel of the certification stage against exact rational arithmetic.
+
+* The foot-point system of :mod:`runtime.certify.krawczyk` (thesis §6.1, App. D.1): with
+  z = (x, y, x1, y1, x2, y2, x3, y3) and conics f_i = a x² + b xy + c y² + d x + e y + f,
+
+      f_i(p_i) = 0,   (x − x_i) ∂_y f_i(p_i) − (y − y_i) ∂_x f_i(p_i) = 0      (i = 1, 2, 3)
+      |q − p_1|² − |q − p_2|² = 0,   |q − p_1|² − |q − p_3|² = 0.
+
+  Every equation is a polynomial of degree ≤ 2 in z, so the central difference
+  (F(z + h e_j) − F(z − h e_j)) / 2h is EXACTLY ∂F/∂z_j at z for any h ≠ 0: the balls of
+  ``residual`` and ``jacobian`` at a rational point must contain the values computed here in
+  Fractions from the equations above.
+* Krawczyk's test on balls (:func:`runtime.certify.interval_newton.krawczyk_inflation`) and on
+  float batches (:func:`float_krawczyk_test`): a simple zero is proved inside the returned box,
+  and boxes holding two zeros or none are refused, at the boundary of the contraction (a box
+  whose radius is exactly the distance to the second zero).
+"""
+from __future__ import annotations
+
+from fractions import Fraction as Q
+
+import numpy as np
+import pytest
+from flint import arb
+
+CONICS = [
+    (Q(1), Q(0), Q(4), Q(-2), Q(0), Q(-3)),          # (x − 1)² + 4y² = 4
+    (Q(2), Q(1), Q(3), Q(0), Q(-5), Q(1, 2)),        # a rotated ellipse
+    (Q(1), Q(0), Q(-1), Q(0), Q(0), Q(-7)),          # a hyperbola x² − y² = 7
+]
+Z = [Q(3, 7), Q(-5, 3), Q(2), Q(1, 9), Q(-4, 5), Q(11, 4), Q(6), Q(-1, 8)]
+
+
+def _exact_residual(z):
+    x, y = z[0], z[1]
+    out, sq = [], []
+    for i, (a, b, c, d, e, f) in enumerate(CONICS):
+        xi, yi = z[2 + 2 * i], z[3 + 2 * i]
+        fx, fy = 2 * a * xi + b * yi + d, b * xi + 2 * c * yi + e
+        out.append(a * xi * xi + b * xi * yi + c * yi * yi + d * xi + e * yi + f)
+        out.append((x - xi) * fy - (y - yi) * fx)
+        sq.append((x - xi) ** 2 + (y - yi) ** 2)
+    return out + [sq[0] - sq[1], sq[0] - sq[2]]
+
+
+def _contains(ball: arb, q: Q) -> bool:
+    """q ∈ ball, with q as a ball of radius ~2^-400 (so only q's own position matters)."""
+    import flint
+
+    old = flint.ctx.prec
+    flint.ctx.prec = 400
+    try:
+        qb = arb(q.numerator) / q.denominator
+    finally:
+        flint.ctx.prec = old
+    return bool(ball.contains(qb))
+
+
+def test_foot_system_residual_is_the_system():
+    from curvedvoronoi.runtime.certify.krawczyk import FootSystem
+
+    S = FootSystem(CONICS)
+    got = S.residual([arb(v.numerator) / v.denominator for v in Z])
+    want = _exact_residual(Z)
+    assert len(got) == 8
+    for g, w in zip(got, want):
+        assert _contains(g, w), (g, w)
+
+
+def test_foot_system_jacobian_is_the_exact_derivative():
+    """Central differences of a degree-2 polynomial are its derivative exactly (module docstring)."""
+    from curvedvoronoi.runtime.certify.krawczyk import FootSystem
+
+    S = FootSystem(CONICS)
+    J = S.jacobian([arb(v.numerator) / v.denominator for v in Z])
+    h = Q(1, 3)
+    for j in range(8):
+        zp, zm = list(Z), list(Z)
+        zp[j] += h
+        zm[j] -= h
+        col = [(p - m) / (2 * h) for p, m in zip(_exact_residual(zp), _exact_residual(zm))]
+        for i in range(8):
+            assert _contains(J[i, j], col[i]), (i, j, J[i, j], col[i])
+
+
+def test_foot_system_krawczyk_encloses_the_exact_foot_vertex():
+    """Three unit circles centred at (0, 0), (4, 0), (0, 4) as conics: the vertex is (2, 2)
+    (equidistant from the three centres, radius 2√2 − 1), the feet are the centres moved by 1
+    towards it.  The proved box (at 53 bits) must contain the exact vertex (2, 2) and the feet, e.g.
+    p_1 = (1/√2, 1/√2), from a start 1e-3 off."""
+    from curvedvoronoi.runtime.certify.krawczyk import FootSystem
+
+    circ = [(Q(1), Q(0), Q(1), Q(-2 * cx), Q(-2 * cy), Q(cx * cx + cy * cy - 1)) for cx, cy in ((0, 0), (4, 0), (0, 4))]
+    S = FootSystem(circ)
+    s = 2 ** -0.5
+    start = [2.001, 1.999, s, s, 4 - s, s, s, 4 - s]
+    m = S.newton([arb(v) for v in start], 100)
+    box = S.krawczyk(m)
+    assert box[0].contains(arb(2)) and box[1].contains(arb(2))
+    r = arb(2).sqrt() / 2
+    for v, w in zip(box[2:], [r, r, 4 - r, r, r, 4 - r]):
+        assert v.overlaps(w)
+    assert all(float(b.rad()) < 1e-9 for b in box)          # a proof, not a vague box
+
+
+# ----------------------------------------------------------------------------- balls
+
+@pytest.mark.parametrize("c, proved", [(Q(1, 10 ** 6), True), (Q(0), False), (Q(-1, 10 ** 6), False)])
+def test_krawczyk_inflation_near_a_double_zero(c, proved):
+    """F(x) = x² − c with the candidate m = √c (or 0): for c > 0 the zeros ±√c are simple and
+    2√c apart, and the box around √c must hold exactly one (√(1e-6) = 1e-3, provable); c = 0 is a
+    double zero (F' = 0 there: no contraction), c < 0 no real zero: both refused."""
+    from curvedvoronoi.runtime.certify.interval_newton import KrawczykFailure, krawczyk_inflation
+
+    m0 = arb(c.numerator) / c.denominator
+    m = [m0.sqrt() if c > 0 else arb(0)]
+
+    def F(z):
+        return [z[0] * z[0] - m0]
+
+    def J(z):
+        return [[2 * z[0]]]
+    if proved:
+        K, X = krawczyk_inflation(F, J, m)
+        assert K[0].contains(m0.sqrt())
+        assert not X[0].contains(-m0.sqrt())      # the box of uniqueness excludes the other zero
+    else:
+        with pytest.raises(KrawczykFailure):
+            krawczyk_inflation(F, J, m)
+
+
+# ----------------------------------------------------------------------------- float batches
+
+@pytest.mark.parametrize("r, proved", [(0.5, True), (0.999, True), (2.0, False), (3.0, False)])
+def test_float_krawczyk_proves_one_zero_and_never_two(r, proved):
+    """F(x) = x² − 1 around m = 1 with Y = 1/2 (= 1/F'(1)): on the box |x − 1| ≤ r the
+    Jacobian 2x lies in [2 − 2r, 2 + 2r], so |1 − Y J| ≤ r and b = |Y F(1)| = 0: the norm test
+    b + Δ r < r reads r² < r and proves the zero 1 for r < 1 (its enclosure then has radius
+    below r).  For r ≥ 2 the box holds both zeros −1 and 1, so any success would be a false
+    claim of uniqueness: refused.  The bounds are the kernel's, from the enclosures."""
+    from curvedvoronoi.runtime.certify.interval_newton import (float_contraction_bound, float_krawczyk_test,
+                                                               float_residual_bound)
+
+    Y = np.array([[[0.5]]])
+    b = float_residual_bound(Y, np.array([[0.0]]), np.array([[0.0]]))
+    D = float_contraction_bound(Y, np.array([[[2.0]]]), np.array([[[2.0 * r]]]))
+    ok, rad = float_krawczyk_test(b, D, np.array([[r]]))
+    assert bool(ok[0]) is proved
+    if proved:
+        assert 0 <= rad[0, 0] < r
