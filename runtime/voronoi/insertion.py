@@ -119,7 +119,9 @@ class DynamicState:
 
     def __init__(self, D):
         n = len(D.sites)
-        self.geoms = [site_geometry(s) for s in D.sites]
+        S = getattr(D.construction, "S", None)         # the construction's own geometries, when it has them
+        geoms = getattr(S, "geoms", None)
+        self.geoms = list(geoms) if geoms is not None and len(geoms) == n else [site_geometry(s) for s in D.sites]
         self.unsupported = next((g.kind for g in self.geoms if g.kind not in ("point", "circle")), None)
         self.ids_ok = all(v.id == t for t, v in enumerate(D.vertices)) and all(e.id == t for t, e in enumerate(D.edges))
         if self.unsupported:
@@ -678,33 +680,41 @@ def _move_edge(edges, dyn, old, new, proto):
 
 def _renumber_sites(D, dyn, verts, edges, i, renumber, res):
     """Vertices and edges of the other sites renumbered after deleting site i (``dyn`` already
-    renumbered): "shift" rewrites every part with a site above i, "last" only those of site N − 1."""
+    renumbered): "shift" rewrites every part with a site above i (O(N)), "last" only those of site
+    N − 1.  The renumbered parts are new objects (``D`` keeps its own)."""
     n = len(D.sites)
+    rm_v, rm_e = res["rm_v"], res["rm_e"]
     if renumber == "last":
-        f = {n - 1: i}
-        touched_v = dyn.site_v[i] if i < len(dyn.site_v) else set()
-        touched_e = dyn.site_e[i] if i < len(dyn.site_e) else set()
-    else:
-        def fn(t):
-            return t - (t > i)
-        touched_v = range(len(verts))
-        touched_e = range(len(edges))
-    for v in list(touched_v):
-        if v in res["rm_v"]:
-            continue
-        old = verts[v]
-        sites = tuple(f.get(t, t) for t in old.sites) if renumber == "last" else tuple(fn(t) for t in old.sites)
-        if sites != tuple(old.sites):
-            r = sites.index(min(sites))
-            verts[v] = dataclasses.replace(old, sites=sites[r:] + sites[:r])
-    for e in list(touched_e):
-        if e in res["rm_e"]:
-            continue
-        old = edges[e]
-        pair = tuple(f.get(t, t) for t in old.sites) if renumber == "last" else tuple(fn(t) for t in old.sites)
-        if pair != tuple(old.sites):
-            edges[e] = dataclasses.replace(old, sites=tuple(sorted(pair)))
+        if i == n - 1:
+            return verts, edges
+        for v in dyn.site_v[i]:
+            if v not in rm_v:
+                old = verts[v]
+                verts[v] = _clone(old, sites=_rot(tuple(i if t == n - 1 else t for t in old.sites)))
+        for e in dyn.site_e[i]:
+            if e not in rm_e:
+                old = edges[e]
+                edges[e] = _clone(old, sites=tuple(sorted(i if t == n - 1 else t for t in old.sites)))
+        return verts, edges
+    for v, old in enumerate(verts):
+        if max(old.sites) > i and v not in rm_v:
+            sites = tuple(t - (t > i) for t in old.sites)
+            verts[v] = _clone(old, sites=sites if min(old.sites) != i else _rot(sites))
+    for e, old in enumerate(edges):
+        if old.sites[1] > i and e not in rm_e:
+            edges[e] = _clone(old, sites=(old.sites[0] - (old.sites[0] > i), old.sites[1] - 1))
     return verts, edges
+
+
+def _clone(obj, **changes):
+    """A shallow copy of a vertex or edge with ``changes`` (cheaper than dataclasses.replace, which
+    re-runs the constructor: the "shift" renumbering copies half of all parts)."""
+    if not hasattr(obj, "__dict__"):
+        return dataclasses.replace(obj, **changes)
+    new = object.__new__(type(obj))
+    new.__dict__.update(obj.__dict__)
+    new.__dict__.update(changes)
+    return new
 
 
 def _inside_hull(dyn, s, res):
