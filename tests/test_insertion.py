@@ -179,3 +179,21 @@ def test_hull_insertions_reprove_infinity():
     _check(d, circles + far)
     d = d.delete_site(len(circles))                      # a hull site again
     _check(d, circles + far[1:])
+
+
+def test_degree_four_vertices_grid_and_ring():
+    """Exactly co-circular sites: the centre of a 5 x 5 grid of points inserted (four vertices of
+    degree 4 appear), then a corner-adjacent point deleted; a ring of 12 circles from cos/sin
+    (nearly co-circular, decided exactly) completed by its last circle."""
+    import math
+
+    grid = [(i, j, 0) for i in range(5) for j in range(5)]
+    centre = grid.pop(12)
+    d = cv.voronoi(grid).insert(centre)
+    ref = cv.voronoi(grid + [centre], certify=False)
+    assert sorted(v.degree for v in d.vertices) == sorted(v.degree for v in ref.vertices) == [4] * 16
+    _check(d, grid + [centre])
+    rest = (grid + [centre])[:7] + (grid + [centre])[8:]
+    _check(d.delete_site(7), rest)
+    ring = [(10 * math.cos(2 * math.pi * k / 12), 10 * math.sin(2 * math.pi * k / 12), 1.0) for k in range(12)]
+    _check(cv.voronoi(ring[:11]).insert(ring[11]), ring)

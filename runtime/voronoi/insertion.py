@@ -21,7 +21,8 @@ Mehlhorn & Meiser, CGTA 3 (1993)).  The update here:
 2. **Rebuild locally.**  The diagram of s, the sites of the conflicting vertices (or, when no
    vertex conflicts, the nearest sites) and their Delaunay neighbours is built with the
    construction (:func:`runtime.voronoi.construction.voronoi`, reached through the diagram's
-   construction state).  Its vertices with s, or equal to a removed vertex, replace the removed
+   construction state); first with only the sites of the removed vertices' neighbour vertices.
+   Its vertices with s, or equal to a removed vertex, replace the removed
    vertices; its edges with an end at such a vertex replace the removed edges (those at a removed
    vertex, and an old edge cut in two by s).  If the splice does not close (a vertex without
    exactly one edge per consecutive pair of its sites) or a proof fails, one more ring of
@@ -360,11 +361,19 @@ def local_update(D, st, dyn, sites2, A, X, rm_edges, op, special, certify, t0, r
     list), then prove the changed part.  ``op`` is "insert" (``special``: the index of the new
     site) or "delete" (``special``: the deleted index in ``D``'s numbering); ``old_index`` and
     ``new_index`` map site indices between the new and ``D``'s numbering.  Returns None when the
-    splice does not close with one or two rings of neighbours (the caller rebuilds)."""
+    splice does not close with the sites next to the removed vertices, nor with one or two rings of
+    neighbours (the caller rebuilds)."""
     old_index = old_index or (lambda t: t)
     new_index = new_index or (lambda t: t)
-    for ring in (1, 2):
+    for ring in (0, 1, 2):
         L = set(A)
+        if ring == 0:
+            # the tightest set: the sites of the removed vertices and of the vertices next to them
+            # (the ends of their edges), which the kept edges there need; enough in general
+            if not X:
+                continue
+            L |= {new_index(t) for v in X for e in dyn.v_e[v] for w in D.edges[e].ends if w is not None
+                  for t in D.vertices[w].sites if not (op == "delete" and t == special)}
         for _ in range(ring):
             L |= {new_index(t) for a in list(L) for e in dyn.site_e[old_index(a)] for t in D.edges[e].sites
                   if not (op == "delete" and t == special)}
