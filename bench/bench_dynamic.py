@@ -242,7 +242,8 @@ def main():
                   "| d.nearest proved | proved rows | d.nearest(prove=False) | scipy cKDTree.query | "
                   "CGAL nearest_neighbor | proved answers = scipy's | = CGAL's |",
                   "|---|---|---|---|---|---|---|",
-                  f"| {r['proved_qps']:.3g} | {r['proved_fraction']:.4f} | {r['float_qps']:.3g} | {r['scipy_qps']:.3g} | "
+                  f"| {r['proved_qps']:.3g} | {r['proved_fraction']:.4f} | {r['float_qps']:.3g} | "
+                  f"{r['scipy_qps']:.3g} | "
                   f"{r.get('cgal_qps', 0):.3g} | {r['same_as_scipy']} | {r.get('cgal_same', r.get('cgal_error'))} |"]
     text = "\n".join(lines) + "\n"
     print(text)

@@ -25,16 +25,18 @@ Mehlhorn & Meiser, CGTA 3 (1993)).  The update here:
    Its vertices with s, or equal to a removed vertex, replace the removed
    vertices; its edges with an end at such a vertex replace the removed edges (those at a removed
    vertex, and an old edge cut in two by s).  If the splice does not close (a vertex without
-   exactly one edge per consecutive pair of its sites) or a proof fails, one more ring of
-   neighbours is taken; then the whole diagram is rebuilt.
+   exactly one edge per consecutive pair of its sites) or a proof fails, nothing is changed and
+   the local set grows by a ring of Delaunay neighbours (twice); then the whole diagram is rebuilt
+   (``stats["update"]`` = "rebuild ...").
 3. **Prove only what changed** (``certify=True``): the new vertices and edges, and the kept
    vertices they end at, are proved by the verifier's own routines
    (:func:`runtime.voronoi.verify.vertices.prove_vertices`,
    :func:`runtime.voronoi.verify.edge_checks.check_edges`) against every site that can reach
-   them: all sites whose disc comes within R of the centre of s, where R bounds |q − c_s| + r(q)
-   over the changed vertices (r: their radius) and the points q of the changed edges (r(q): the
-   distance to the edge's sites; the arc lies within the proved tolerance of its polyline, and
-   distances are 1-Lipschitz).  A site farther away cannot enter any of their empty circles.
+   them: all sites whose disc comes within R of a centre X0 (the mean of the changed vertices),
+   where R bounds |q − X0| + r(q) over the changed vertices (r: their radius) and the points q of
+   the changed bounded edges (r(q): the distance to the edge's sites; the arc lies within the
+   proved tolerance of its polyline, and distances are 1-Lipschitz).  A site k farther away has
+   d(q, S_k) ≥ |c_k − X0| − ρ_k − |q − X0| > r(q): it cannot enter any of their empty circles.
    The closure of step 3 of :mod:`runtime.voronoi.verify.certificate` is checked at every vertex
    whose edges changed.
 
@@ -59,8 +61,12 @@ Why the result is proved (H the reported graph after the update, G the true one)
   the disc of s lies strictly inside the convex hull of its neighbours' centres, the support
   function of s, h_s(θ) = c_s·e(θ) + ρ_s, is below max_k h_k(θ) in every direction, so the
   unbounded ends, their order and the sites leading between them are those of the old proof.
-  Otherwise (a site on or near the hull) the whole new diagram is verified
-  (:func:`runtime.voronoi.verify.certificate.verify`, linear in N): ``stats["update"]`` says so.
+  Otherwise (a site on or near the hull) every unbounded edge of the new diagram, kept or new, is
+  proved again against all sites (the verifier's edge routine with a k-d tree over all centres:
+  O(N) numpy work, O(hull) proofs) and the accounting at infinity is redone with the verifier's
+  routines (:func:`runtime.voronoi.verify.closure.verify_accounting`, or the exact
+  :mod:`runtime.voronoi.verify.hull_points` for points, equal radii and ties);
+  ``stats["update"]`` says so.
 
 Hence ``certified`` is True only when the old diagram was certified (its proofs are reused) and
 everything new is proved now.  Nested sites (closed edges), far-from-origin scenes and conic
@@ -72,8 +78,8 @@ The adjacency (vertices and edges of each site, edges of each vertex, the k-d tr
 first update of a diagram builds it once (O(N)).  Vertex and edge ids stay positions: a removed
 one's slot takes a new one or the last one.  The new site gets index N (the last).
 
-Public API: :func:`insert_site`, :func:`insert_many`, :func:`delete_local`, :func:`local_update`, :class:`DynamicState`,
-:class:`LocalState`.
+Public API: :func:`insert_site`, :func:`insert_many`, :func:`delete_local`, :func:`local_update`,
+:class:`DynamicState`, :class:`LocalState`.
 
 Length: one argument (locate, splice, prove) shared by insertion and deletion; splitting the splice
 from its soundness proof would separate the code from the docstring that justifies it.
@@ -127,7 +133,8 @@ class DynamicState:
         self.ids_ok = all(v.id == t for t, v in enumerate(D.vertices)) and all(e.id == t for t, e in enumerate(D.edges))
         if self.unsupported:
             return
-        self.C = np.array([[g.x0, g.y0] if g.kind == "point" else [g.cx, g.cy] for g in self.geoms], float).reshape(-1, 2)
+        self.C = np.array([[g.x0, g.y0] if g.kind == "point" else [g.cx, g.cy] for g in self.geoms],
+                          float).reshape(-1, 2)
         self.R = np.array([0.0 if g.kind == "point" else g.rho for g in self.geoms], float)
         self.site_v = [set() for _ in range(n)]
         self.site_e = [set() for _ in range(n)]
@@ -419,7 +426,7 @@ def _splice(D, st, dyn, sites2, L, X, rm_edges, op, special, old_index):
         if op == "insert":
             fresh = special in gs or (match is not None and match in X)
         else:
-            fresh = match is None and _reaches(dyn, special, lv)
+            fresh = match is None and _reaches(dyn, lv)
             if match is not None and match in X:
                 match = None
         if fresh:
@@ -437,10 +444,12 @@ def _splice(D, st, dyn, sites2, L, X, rm_edges, op, special, old_index):
         pair = tuple(sorted(L[t] for t in le.sites))
         has_new = any(isinstance(x, tuple) and x[0] == "new" for x in ends)
         if not has_new:
-            if op == "delete" and all(x is None or isinstance(x, tuple) for x in ends) and any(x is not None for x in ends):
+            if (op == "delete" and all(x is None or isinstance(x, tuple) for x in ends)
+                    and any(x is not None for x in ends)):
                 # an edge extended across the removed region between two kept vertices
                 lost = [x[1] for x in ends if x is not None and any(
-                    tuple(sorted(old_index(t) for t in pair)) == tuple(D.edges[e].sites) for e in dyn.v_e[x[1]] if e in rm_e)]
+                    tuple(sorted(old_index(t) for t in pair)) == tuple(D.edges[e].sites)
+                    for e in dyn.v_e[x[1]] if e in rm_e)]
                 if lost and not _has_edge(D, dyn, pair, ends, rm_e, old_index):
                     new_e.append((le, pair, ends))
             continue
@@ -471,7 +480,7 @@ def _close(v, lv) -> bool:
     return abs(v.x - lv.x) <= tol and abs(v.y - lv.y) <= tol and abs(v.radius - lv.radius) <= tol
 
 
-def _reaches(dyn, i_old, lv) -> bool:
+def _reaches(dyn, lv) -> bool:
     """The circle of local vertex ``lv`` reaches the deleted site (kept in ``dyn.gone``)."""
     c, r = dyn.gone
     d = abs(math.hypot(lv.x - c[0], lv.y - c[1]) - r)
@@ -782,7 +791,8 @@ def _prove_sub(D, dyn, pv, pe, vert, op, special, new_index, problems, flags_v, 
     X0 = np.mean([[v.x, v.y] for v in V], axis=0)
     M = 0.0
     for w in V:
-        M = max(M, math.hypot(w.x - X0[0], w.y - X0[1]) + w.radius + 4 * VERTEX_TOL * (1 + abs(w.x) + abs(w.y) + w.radius))
+        M = max(M, math.hypot(w.x - X0[0], w.y - X0[1]) + w.radius
+                + 4 * VERTEX_TOL * (1 + abs(w.x) + abs(w.y) + w.radius))
     for e in pe:
         P = np.asarray(e.polyline, float)
         i = e.sites[0]
