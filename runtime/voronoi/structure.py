@@ -157,8 +157,8 @@ class Diagram:
         :func:`runtime.voronoi.insertion.insert_site` (conic sites: NotImplementedError), reached
         through the construction state like :meth:`delete_site`."""
         if self.construction is None:
-            raise ValueError("this diagram has no construction state (read from JSON?): build the diagram of "
-                             "the new list of sites with voronoi(...)")
+            raise ValueError("this diagram has no construction state (read from JSON, or collinear points?): "
+                             "build the diagram of the new list of sites with voronoi(...)")
         return self.construction.insert(self, site, certify=certify)
 
     def insert_many(self, sites, *, certify: bool = True) -> "Diagram":
