@@ -238,9 +238,9 @@ def locate_conflicts(c1, c2, c3, c4, method: str = "auto", *, certify: bool = Tr
     if method not in METHODS:
         raise LocatorError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
     sites = (c1, c2, c3, c4)
-    if any(isinstance(c, (tuple, list)) for c in sites):     # (x, y) points, (cx, cy, r) circles
+    if any(isinstance(c, (tuple, list)) and len(c) in (2, 3) for c in sites):   # (x, y) points, (cx, cy, r) circles
         from ..voronoi.site_input import as_site
-        sites = tuple(as_site(c) if isinstance(c, (tuple, list)) else c for c in sites)
+        sites = tuple(as_site(c) if isinstance(c, (tuple, list)) and len(c) in (2, 3) else c for c in sites)
     all_circles = all(_circle_like(c) for c in sites)
     auto = method == "auto"
     if auto and all_circles:
