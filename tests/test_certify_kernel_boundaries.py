@@ -148,3 +148,54 @@ def test_float_krawczyk_proves_one_zero_and_never_two(r, proved):
     assert bool(ok[0]) is proved
     if proved:
         assert 0 <= rad[0, 0] < r
+
+
+# ----------------------------------------------------------------------------- feet on a symmetry axis
+
+@pytest.mark.parametrize("co, q, rot, shift", [
+    ((1, 0, 4, 0, 0, -4), (Q(1, 2), Q(0)), (1, 0), (0, 0)),                  # x²/4 + y² = 1
+    ((1, 0, 4, -2, 0, -3), (Q(3, 2), Q(0)), (1, 0), (1, 0)),                 # the same, centred at (1, 0)
+    ((73, -72, 52, 0, 0, -100), (Q(3, 10), Q(2, 5)), (Q(3, 5), Q(4, 5)), (0, 0)),   # turned by (3/5, 4/5)
+])
+def test_feet_from_a_point_on_the_major_axis(co, q, rot, shift):
+    """The ellipse X²/4 + Y² = 1 (in its own frame: turned by ``rot``, centred at ``shift``) seen
+    from the point of its major axis at X = 1/2: the normal at (2 cos t, sin t) meets the axis at
+    X = (4 − 1)/2 · cos t, so cos t = 1/3 and the feet are (2/3, ±2√2/3) at squared distance
+    (2/3 − 1/2)² + 8/9 = 11/12, besides the vertices (±2, 0) at 9/4 and 25/4.  On the axis the foot
+    polynomial has a double root at a singular multiplier (the conjugate pair of feet): the balls
+    of the cluster route must hold the exact feet."""
+    from flint import arb as arb_
+
+    from curvedvoronoi.runtime.certify.foot import foot_polynomial, real_feet_ball, working_prec
+
+    fp = foot_polynomial(tuple(Q(v) for v in co))
+    with working_prec(128):
+        feet = real_feet_ball(fp, arb_(q[0].numerator) / q[0].denominator, arb_(q[1].numerator) / q[1].denominator)
+        s = arb_(8).sqrt() / 3
+        c, sn = (arb_(Q(v).numerator) / Q(v).denominator for v in rot)
+        want = []
+        for X, Y, D in ((arb_(2) / 3, s, arb_(11) / 12), (arb_(2) / 3, -s, arb_(11) / 12),
+                        (arb_(2), arb_(0), arb_(9) / 4), (arb_(-2), arb_(0), arb_(25) / 4)):
+            want.append((c * X - sn * Y + shift[0], sn * X + c * Y + shift[1], D))
+    assert len(feet) == 4
+    for x, y, D in want:
+        assert any(f.px.overlaps(x) and f.py.overlaps(y) and f.D.overlaps(D) and float(f.D.rad()) < 1e-6
+                   for f in feet), (x, y, D)
+
+
+# ----------------------------------------------------------------------------- zero-dimensionality
+
+def test_a_vanishing_equation_never_passes_the_top_form_test():
+    """With one polynomial identically 0 the system in (x, y, T) is two equations in three
+    unknowns: its zero set has positive dimension (a curve at least), so the sufficient test
+    'the top forms have a constant gcd' must not pass, whatever the two others are (here
+    xy + 1 and x² + y, whose tops xy and x² share x, and x² + y, y² + x, coprime tops)."""
+    from curvedvoronoi.runtime.certify import dimension as d
+
+    P = d.DIMENSION_PRIME
+    for rest in ([{(1, 1, 0): 1, (0, 0, 0): 1}, {(2, 0, 0): 1, (0, 1, 0): 1}],
+                 [{(2, 0, 0): 1, (0, 1, 0): 1}, {(0, 2, 0): 1, (1, 0, 0): 1}]):
+        for at in range(3):
+            polys = list(rest)
+            polys.insert(at, {})
+            assert d._top_forms_coprime(polys, P) is False
