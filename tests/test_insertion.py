@@ -151,6 +151,10 @@ def test_nested_site_is_rebuilt_and_json_diagrams_refused():
     assert d2.stats["update"] == "rebuild" and d2.certified
     assert d2.delaunay_edges() == cv.voronoi(d.sites + [cv.Circle.from_radius(5, 3, 0.5)],
                                              certify=False).delaunay_edges()
+    d3 = d.insert((5, 3, 3))                            # contains site 3: rebuilt too
+    assert d3.stats["update"] == "rebuild" and d3.certified
+    assert d3.delaunay_edges() == cv.voronoi(d.sites + [cv.Circle.from_radius(5, 3, 3)],
+                                             certify=False).delaunay_edges()
     with pytest.raises(ValueError, match="no construction state"):
         cv.Diagram.from_json(d.to_json()).insert((20, 20, 1))
 
