@@ -201,3 +201,13 @@ def test_degree_four_vertices_grid_and_ring():
     _check(d.delete_site(7), rest)
     ring = [(10 * math.cos(2 * math.pi * k / 12), 10 * math.sin(2 * math.pi * k / 12), 1.0) for k in range(12)]
     _check(cv.voronoi(ring[:11]).insert(ring[11]), ring)
+
+
+def test_far_scene_is_rebuilt_in_its_frame():
+    """Sites near (10⁶, 10⁶) are built in a translated frame; the local update does not apply there
+    (its proofs are in the user's floats): the diagram is rebuilt, and is the batch build's."""
+    sites = [(x + 1e6, y + 1e6, r) for x, y, r in cgal_peer.random_disjoint_circles(30, 3)]
+    d = cv.voronoi(sites[:29]).insert(sites[29])
+    assert d.stats["update"] == "rebuild" and d.certified
+    assert d.delaunay_edges() == cv.voronoi(sites, certify=False).delaunay_edges()
+    assert all(abs(v.x - 1e6) < 1e3 for v in d.vertices if v.radius < 100)

@@ -126,8 +126,10 @@ class DynamicState:
 
     def __init__(self, D):
         n = len(D.sites)
-        S = getattr(D.construction, "S", None)         # the construction's own geometries, when it has them
-        geoms = getattr(S, "geoms", None)
+        # the construction's own geometries, when it has them in the user's frame (a far scene is
+        # built in a translated frame: its geometries are not the sites')
+        S = getattr(D.construction, "S", None)
+        geoms = getattr(S, "geoms", None) if "frame" not in D.stats else None
         self.geoms = list(geoms) if geoms is not None and len(geoms) == n else [site_geometry(s) for s in D.sites]
         self.unsupported = next((g.kind for g in self.geoms if g.kind not in ("point", "circle")), None)
         self.ids_ok = all(v.id == t for t, v in enumerate(D.vertices)) and all(e.id == t for t, e in enumerate(D.edges))
