@@ -746,18 +746,38 @@ def _inside_hull(dyn, s, res):
 
 def _disc_inside(P, c, r) -> bool:
     """The disc (c, r) lies strictly inside the convex hull of the points P, with a margin of
-    1e-9 of the coordinates (False when it cannot be shown)."""
+    1e-9 of the coordinates (False when it cannot be shown).  The polygon tested is the monotone
+    chain of P (Andrew 1979): its vertices are points of P, and a disc on the inner side of every
+    one of its edges lies in its kernel, hence in the hull, even if rounding made a chain vertex
+    not extreme."""
+    P = np.asarray(P, float).reshape(-1, 2)
     if len(P) < 3:
         return False
-    from scipy.spatial import ConvexHull
-    try:
-        H = ConvexHull(P)
-    except Exception:
+    pts = sorted(set(map(tuple, P.tolist())))
+    if len(pts) < 3:
         return False
-    scale = float(np.abs(P).max() + np.abs(c).max() + r + 1.0)
-    # facets n·x + b <= 0 inside, n a unit vector
-    dist = -(H.equations[:, :2] @ np.asarray(c, float) + H.equations[:, 2])
-    return bool((dist > r + 1e-9 * scale).all())
+
+    def cross(o, a, b):
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    lower, upper = [], []
+    for p in pts:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
+            lower.pop()
+        lower.append(p)
+    for p in reversed(pts):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
+            upper.pop()
+        upper.append(p)
+    H = np.array(lower[:-1] + upper[:-1])             # counter-clockwise
+    if len(H) < 3:
+        return False
+    E = np.roll(H, -1, axis=0) - H
+    L = np.hypot(E[:, 0], E[:, 1])
+    c = np.asarray(c, float)
+    dist = (E[:, 0] * (c[1] - H[:, 1]) - E[:, 1] * (c[0] - H[:, 0])) / L     # > 0: inner side
+    scale = float(np.abs(H).max() + np.abs(c).max() + r + 1.0)
+    return bool((L > 0).all() and (dist > r + 1e-9 * scale).all())
 
 
 def _new_numbering(dyn, op, special, renumber):
