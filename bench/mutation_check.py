@@ -721,13 +721,15 @@ def merge_report(first: str, after: list[str], verdicts: str | None, title: str)
     reading = {r["path"] + str(r["line"]) + r["kind"] + r["what"]: why.get(_mkey(r), "").split(":")[0].strip() or "unread"
                for r in left}
     eq = [r for r in left if reading[r["path"] + str(r["line"]) + r["kind"] + r["what"]] in SOUND_EXPLAINED]
+    rnd = [r for r in left if reading[r["path"] + str(r["line"]) + r["kind"] + r["what"]] == "rounding"]
     counts: dict = {}
     for v in reading.values():
         counts[v] = counts.get(v, 0) + 1
     L = [f"## {title}", "",
          f"**Before the new tests: {k0} of {n} killed ({100 * k0 / max(1, n):.0f} %).  After: {k1} of {n} killed "
          f"({100 * k1 / max(1, n):.0f} %); of the {len(left)} left, {len(eq)} are explained as equivalent for "
-         f"soundness ({' / '.join(SOUND_EXPLAINED)}), {len(left) - len(eq)} are open.**  Readings of the survivors: "
+         f"soundness ({' / '.join(SOUND_EXPLAINED)}), {len(rnd)} are rounding slacks (explained, no test reaches "
+         f"them), {len(left) - len(eq) - len(rnd)} are open.**  Readings of the survivors: "
          + ", ".join(f"{k} {v}" for k, v in sorted(counts.items(), key=lambda kv: (-kv[1], kv[0]))) + ".", "",
          "| module | operator | mutants | killed before | killed after | left |", "|---|---|---|---|---|---|"]
     agg: dict = {}
@@ -739,14 +741,16 @@ def merge_report(first: str, after: list[str], verdicts: str | None, title: str)
         a[3] += r["final"] != "killed"
     for (p, k), a in sorted(agg.items()):
         L.append(f"| {p.replace('runtime/', '')} | {k} | {a[0]} | {a[1]} | {a[2]} | {a[3]} |")
-    L += ["", "| module | mutants | killed before | killed after | explained | open |", "|---|---|---|---|---|---|"]
+    L += ["", "| module | mutants | killed before | killed after | explained | rounding | open |",
+          "|---|---|---|---|---|---|---|"]
     for p in sorted({r["path"] for r in rows}):
         rs = [r for r in rows if r["path"] == p]
         lf = [r for r in rs if r["final"] != "killed"]
         ex = sum(reading[r["path"] + str(r["line"]) + r["kind"] + r["what"]] in SOUND_EXPLAINED for r in lf)
+        rd = sum(reading[r["path"] + str(r["line"]) + r["kind"] + r["what"]] == "rounding" for r in lf)
         L.append(f"| {p.replace('runtime/', '')} | {len(rs)} | {sum(r['status'] == 'killed' for r in rs)} | "
-                 f"{sum(r['final'] == 'killed' for r in rs)} | {ex} | {len(lf) - ex} |")
-    L.append(f"| **all** | {n} | {k0} | {k1} | {len(eq)} | {len(left) - len(eq)} |")
+                 f"{sum(r['final'] == 'killed' for r in rs)} | {ex} | {rd} | {len(lf) - ex - rd} |")
+    L.append(f"| **all** | {n} | {k0} | {k1} | {len(eq)} | {len(rnd)} | {len(left) - len(eq) - len(rnd)} |")
     L += ["", "| operator | mutants | killed before | killed after |", "|---|---|---|---|"]
     for k in SOUND_OPERATORS:
         rs = [r for r in rows if r["kind"] == k]

@@ -96,3 +96,38 @@ def test_the_distance_to_an_arc_from_a_box_in_its_gap_holds_every_point_of_the_b
         assert d.lower() <= true <= d.upper(), (x, y, true, d)
     # and it is an enclosure of the distance to the nearer end only (not a mix of both ends)
     assert d.upper() < math.hypot(1.75, -0.75 - 2)
+
+
+# ----------------------------------------------------------------------------- corner_ratio
+
+def _corner_scene():
+    """Sites 0 = the corner c = (0, 0), 1 = (1, 1), 2 = the arc K of the circle of centre (0, 1)
+    and radius 1 from c (direction 270° from the centre) counter-clockwise to (1, 1) (0°): its
+    gap is (0°, 270°), the gap's middle 135°, and c is K's only nearest point from directions
+    (135°, 270°)."""
+    return SiteTable([Point(0, 0), Point(1, 1), Arc((0, 1), 1, (0, 0), (1, 1))])
+
+
+@pytest.mark.parametrize("u, side, farther", [
+    ((0, 1), None, False),            # (0, τ), τ ≤ 1: d_K = 1 − (1 − τ) = τ = |x − c| (nearest point c): a tie
+    ((1, 2), None, False),            # (τ, 2τ) inside K's circle: d_K = 1 − √(1 − 4τ + 5τ²) ≈ 2τ < √5 τ
+    ((-1, 0), ((-3, 4), 5), True),    # (−τ, 0): d_K = τ (direction from (0, 1) in (180°, 270°)) > ρ = 3τ/5
+    ((-1, 0), None, False),           # the same ray against ρ = |x − c| = τ: a tie, not farther
+])
+def test_a_curve_through_a_corner_is_farther_on_the_ray_only_when_it_is(u, side, farther):
+    """The edge from the corner c is the ray c + τ·u with ρ = |x − c| (the corner's own distance)
+    or ρ = n̂·x for a unit normal n̂ (a segment's side); K is strictly farther than ρ on the whole
+    ray exactly in the cases marked (distances by hand in the parametrisation)."""
+    from fractions import Fraction
+
+    from curvedvoronoi.runtime.segments.certificate_curves import Line, q_arb
+    from curvedvoronoi.runtime.segments.certificate_rules import corner_ratio
+
+    T = _corner_scene()
+    O = (Fraction(0), Fraction(0))
+    if side is None:
+        c = Line("perp", O, wq=u, anchor=O)
+    else:
+        (nx, ny), d = side
+        c = Line("segments", O, wq=u, side=((q_arb(Fraction(nx, d)), q_arb(Fraction(ny, d))), (q_arb(0), q_arb(0))))
+    assert corner_ratio(T, c, 2, 0, True) is farther
