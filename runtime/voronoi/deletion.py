@@ -12,10 +12,12 @@ than to any other old site, ends at vertices), and neither end is a removed vert
 whole edge of the new diagram; the new vertices and edges and the closure at the vertices whose
 edges changed are proved now, against every site that can reach them.  At infinity nothing changes
 when i had no unbounded edge (its support function was strictly below the others' maximum in every
-direction, by the old proof); otherwise the new diagram is verified whole.  ``certified`` is True
-only when the original diagram was certified and the changed part is proved.
-``stats["deletion"]``: "local", "local, full verification" or, when the local splice does not
-apply (conics, nested sites, a splice that does not close), the sample-based route below.
+direction, by the old proof); otherwise every unbounded edge is proved again against all sites and
+the accounting at infinity is redone with the verifier's routines.  ``certified`` is True only
+when the original diagram was certified and the changed part is proved.
+``stats["deletion"]``: "local", "local, unbounded edges and accounting at infinity re-proved" or,
+when the local splice does not apply (conic sites, nested sites, fewer than 5 sites, a far scene,
+a splice that does not close or is not proved), the sample-based route below.
 
 **Sample-based route** (every site kind), updating the sample triangulation locally.
 
@@ -65,10 +67,10 @@ __all__ = ["delete_site"]
 def delete_site(diagram, i: int, *, certify: bool = True, renumber: str = "shift"):
     """The Voronoi diagram of ``diagram``'s sites without site ``i`` (``renumber="shift"``: j > i
     becomes j − 1; ``"last"``: site N − 1 becomes i); ``diagram`` is left unchanged.
-    ``stats["deletion"]`` says "local" or "local, full verification" (circles and points, module
-    docstring), "local sample triangulation" (the sample triangulation updated around site i, all
-    vertices proved again), "local triangulation declined" (samples re-triangulated by qhull, the
-    rounds reused) or "rebuild".  The construction functions come from the diagram's state
+    ``stats["deletion"]`` says "local" or "local, unbounded edges and accounting at infinity
+    re-proved" (circles and points, module docstring), "local sample triangulation" (the sample
+    triangulation updated around site i, all vertices proved again), "local triangulation
+    declined" (samples re-triangulated by qhull, the rounds reused) or "rebuild".  The construction functions come from the diagram's state
     (:class:`runtime.voronoi.construction.ConstructionState`)."""
     n = len(diagram.sites)
     i = int(i)
