@@ -131,3 +131,20 @@ def test_a_curve_through_a_corner_is_farther_on_the_ray_only_when_it_is(u, side,
         (nx, ny), d = side
         c = Line("segments", O, wq=u, side=((q_arb(Fraction(nx, d)), q_arb(Fraction(ny, d))), (q_arb(0), q_arb(0))))
     assert corner_ratio(T, c, 2, 0, True) is farther
+
+
+# ----------------------------------------------------------------------------- pairs at infinity
+
+def test_a_point_and_a_segment_not_ending_at_it_never_share_an_unbounded_edge():
+    """Far out in a direction u the sites touching the support line with normal u follow each
+    other along it, and a segment's neighbours there are its own ends (point sites: where the
+    foot of a far point is clamped, the end ties with the segment and keeps the region), so a
+    point p and a segment s with p not an end of s are never consecutive: here p = (0, 5) and
+    s = [(−1, 0), (1, 0)]; its end (−1, 0) with s, and two points, may be."""
+    from curvedvoronoi.runtime.segments.certificate_hull import _consecutive_ok
+
+    T = SiteTable([Point(0, 5), Point(-1, 0), Point(1, 0), Segment((-1, 0), (1, 0))])
+    assert _consecutive_ok(T, 0, 3) is False
+    assert _consecutive_ok(T, 3, 0) is False
+    assert _consecutive_ok(T, 1, 3) is True and _consecutive_ok(T, 3, 2) is True
+    assert _consecutive_ok(T, 0, 1) is True
