@@ -211,3 +211,24 @@ def test_far_scene_is_rebuilt_in_its_frame():
     assert d.stats["update"] == "rebuild" and d.certified
     assert d.delaunay_edges() == cv.voronoi(sites, certify=False).delaunay_edges()
     assert all(abs(v.x - 1e6) < 1e3 for v in d.vertices if v.radius < 100)
+
+
+@settings(max_examples=10, deadline=None)
+@given(cells=st.sets(st.tuples(st.integers(0, 7), st.integers(0, 7)), min_size=10, max_size=24),
+       k=st.integers(1, 4), radius=st.sampled_from([0, 1, "3/8"]), data=st.data())
+def test_degenerate_integer_scenes_any_order(cells, k, radius, data):
+    """Points, or equal circles, on an integer grid (many co-circular sites: vertices of degree
+    k > 3, ties at infinity), inserted in any order and then one deleted: the batch build's
+    Delaunay graph, proved by the verifier."""
+    from fractions import Fraction
+
+    cells = data.draw(st.permutations(sorted(cells)))
+    r = Fraction(radius)
+    sites = [(3 * x, 3 * y, r) for x, y in cells]
+    d = cv.voronoi(sites[:-k])
+    for s in sites[-k:]:
+        d = d.insert(s)
+    _check(d, sites)
+    i = data.draw(st.integers(0, len(sites) - 1))
+    _check(d.delete_site(i, renumber="last"), sites[:i] + sites[-1:] + sites[i + 1:-1] if i < len(sites) - 1
+           else sites[:-1])
