@@ -57,23 +57,10 @@ _ITEM = re.compile(r"(edge|vertex|site) \d+")      # the item a certificate prob
 
 # ----------------------------------------------------------------------------- scenes
 def random_arcs(n: int, seed: int, cell: int = 40):
-    """n circular arcs, one in each of n random cells of a ⌈√n⌉ × ⌈√n⌉ grid of cells of side
-    ``cell``: integer centre and radius (3 to cell/2 − 4) with the disc inside the cell (so the arcs
-    are pairwise disjoint), integer start angle and span (10° to 180°) in degrees."""
-    import curvedvoronoi as cv
+    """tests/scenes.py ``random_arcs`` (one generator for tests and benchmarks)."""
+    import scenes
 
-    rng = random.Random(seed)
-    side = math.ceil(math.sqrt(n))
-    out = []
-    for k in rng.sample(range(side * side), n):
-        gx, gy = k % side, k // side
-        r = rng.randint(3, cell // 2 - 4)
-        slack = cell // 2 - 1 - r
-        cx = cell * gx + cell // 2 + rng.randint(-slack, slack)
-        cy = cell * gy + cell // 2 + rng.randint(-slack, slack)
-        a0 = rng.randint(0, 359)
-        out.append(cv.Arc.circular((cx, cy), r, a0, a0 + rng.randint(10, 180)))
-    return out
+    return scenes.random_arcs(n, seed, cell)
 
 
 GEAR_TEETH, GEAR_R, GEAR_DEPTH, BORE_R = 50, 50000, 4000, 10000

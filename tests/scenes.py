@@ -262,3 +262,26 @@ def random_ellipses(n: int, seed: int, rotations=None, *, side=None):
         out.append(Conic.ellipse(centre=(cx, cy), axes=(a, b), rotation=(c, s)))
         placed.append((float(cx), float(cy), float(a)))
     return out
+
+
+def random_arcs(n: int, seed: int, cell: int = 40):
+    """n circular arcs, one in each of n random cells of a ⌈√n⌉ × ⌈√n⌉ grid of cells of side
+    ``cell``: integer centre and radius (3 to cell/2 − 4) with the disc inside the cell (so the arcs
+    are pairwise disjoint), integer start angle and span (10° to 180°) in degrees."""
+    import math
+    import random
+
+    import curvedvoronoi as cv
+
+    rng = random.Random(seed)
+    side = math.ceil(math.sqrt(n))
+    out = []
+    for k in rng.sample(range(side * side), n):
+        gx, gy = k % side, k // side
+        r = rng.randint(3, cell // 2 - 4)
+        slack = cell // 2 - 1 - r
+        cx = cell * gx + cell // 2 + rng.randint(-slack, slack)
+        cy = cell * gy + cell // 2 + rng.randint(-slack, slack)
+        a0 = rng.randint(0, 359)
+        out.append(cv.Arc.circular((cx, cy), r, a0, a0 + rng.randint(10, 180)))
+    return out

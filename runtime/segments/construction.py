@@ -39,10 +39,10 @@ from ..voronoi.site_input import SiteError
 from ..voronoi.structure import Diagram, DiagramVertex
 from .contact_order import contact_order, corner_order
 from .edges import edge_polylines, walk_hint
-from .elementary import ARC, POINT, ElementarySites, decompose
+from .elementary import ARC, POINT, SEGMENT, ElementarySites, decompose
 from .emptiness import empty_by_filter, prove_empty
 from .exact import contacts_valid
-from .sampling import flat, initial_spacing, nearest_point, samples, triangulation
+from .sampling import GRADING_FLOOR, end_points, flat, initial_spacing, nearest_point, samples, triangulation
 from .newton import prove_vertices
 from .vertices import common_point
 
@@ -175,6 +175,7 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
     """Triangulate the samples, prove the candidate vertices, check the walks.
     Returns ((vertices, walks, problems), {site: refine}) with walks mapped to vertex ids."""
     extra = caches.setdefault("extra", {})
+    graded = caches.setdefault("graded", set())
     P, lab = samples(E, spacing, extra)
     stats["samples"] = int(len(P))
     ghost = len(E)
@@ -278,7 +279,10 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
     walks = []
     degree: list[list] = [[] for _ in vertices]
     for pair, start, chain, end in raw:
-        if ghost in pair:
+        if ghost in pair or _segment_ends(E, pair):
+            # the two ends of a segment are never neighbours (a circle through both meets the
+            # open segment); their samples' cells touch far out when the segment's samples fall
+            # a rounding inside the hull edge between its ends
             continue
         if (start is not None and start[0] == "bad") or (end is not None and end[0] == "bad") or start is None:
             refine.update(pair)
@@ -316,6 +320,20 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
         want = sorted(v.site_pairs())
         if sorted(degree[v.id]) != want:
             refine.update(v.sites)
+            # an edge missing at a vertex of a point site p and a curve t ending at p: the edge
+            # leaves the vertex where t's nearest point is a hair away from p (a hull tangent
+            # next to an arc's end, a nearly flat corner), closer than t's first sample.
+            # Samples of t graded towards p, 2^-j of its spacing for j = 1 .. 24, resolve it.
+            for p_ in v.sites:
+                if E.kind[p_] != POINT:
+                    continue
+                for t in v.sites:
+                    if E.is_endpoint(p_, t) and np.isfinite(spacing[t]) and (t, p_) not in graded:
+                        graded.add((t, p_))
+                        scale = GRADING_FLOOR * (1.0 + float(np.max(np.abs(E.A[p_]))))
+                        dist = [d_ for d_ in spacing[t] * 0.5 ** np.arange(1, 25) if d_ > scale]
+                        if dist:
+                            extra.setdefault(int(t), []).extend(end_points(E, int(t), int(p_), dist))
             problems.append(f"sites {', '.join(map(str, v.sites))}: the vertex at ({v.x:.6g}, {v.y:.6g}) has incident "
                             f"edges {sorted(degree[v.id])}, expected {want}")
     # point sites are single samples: refine the segments ending at them instead
@@ -355,3 +373,11 @@ def _vertex_id(vertices, by_sites, members, sol, E, orders):
     by_sites.setdefault(key, []).append(vid)
     return vid
 
+
+
+def _segment_ends(E: ElementarySites, pair) -> bool:
+    """Both sites of ``pair`` are the two ends of one segment."""
+    a, b = int(pair[0]), int(pair[1])
+    if E.kind[a] != POINT or E.kind[b] != POINT:
+        return False
+    return any(E.kind[s] == SEGMENT and b in (int(E.ends[s, 0]), int(E.ends[s, 1])) for s in E.incident[a])

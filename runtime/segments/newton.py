@@ -109,7 +109,11 @@ def _residuals(K, Pm, Z):
 
 
 def _solve3(J, F):
-    """J⁻¹F row by row by cofactors; ok = False where J is (numerically) singular."""
+    """J⁻¹F row by row by cofactors; ok = False where J is (numerically) singular.  The rows
+    are scaled to a largest entry of 1 first (a point's row grows with the radius, a line's
+    does not: a far vertex of nearly parallel lines is not singular)."""
+    w = np.abs(J).max(axis=2, keepdims=True) + 1e-300
+    J, F = J / w, F / w[..., 0]
     a, b, c = J[:, 0], J[:, 1], J[:, 2]
     cof0 = np.cross(b, c)
     det = np.einsum("ij,ij->i", a, cof0)

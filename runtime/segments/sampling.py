@@ -7,7 +7,7 @@ spacing of a curve is its gap to the nearest non-adjacent site divided by
 :data:`SPACING_PER_GAP` (at most a quarter of its length); refinement divides it further.
 
 Public API: :func:`initial_spacing`, :func:`samples`, :func:`curve_lengths`, :func:`triangulation`,
-:func:`flat`, :func:`nearest_point`, :data:`SPACING_PER_GAP`.
+:func:`flat`, :func:`nearest_point`, :func:`corner_grading`, :func:`end_points`, :data:`SPACING_PER_GAP`.
 """
 from __future__ import annotations
 
@@ -19,9 +19,11 @@ from .bisectors import arc_range
 from .distance import in_arc
 from .elementary import ARC, POINT, ElementarySites
 
-__all__ = ["initial_spacing", "samples", "curve_lengths", "triangulation", "flat", "nearest_point",
+__all__ = ["initial_spacing", "samples", "curve_lengths", "triangulation", "flat", "nearest_point", "corner_grading", "end_points", "GRADING_FLOOR",
            "SPACING_PER_GAP"]
 
+#: graded samples stay this far (relative to the coordinates) from a curve's end
+GRADING_FLOOR = 1e-6
 #: initial sample spacing of a curve: its gap to the nearest non-adjacent site divided by this
 SPACING_PER_GAP = 4.0
 
@@ -32,7 +34,7 @@ def initial_spacing(E: ElementarySites) -> np.ndarray:
     n = len(E)
     L = curve_lengths(E)
     sp = np.where(E.kind == POINT, np.inf, L / 4)
-    P, lab = samples(E, sp)
+    P, lab = samples(E, sp, graded=False)
     if len(P) < 3:
         return sp
     tree = cKDTree(P)
@@ -65,12 +67,13 @@ def _adjacent(E: ElementarySites, a, b):
     return share | (ea == pb[:, None]).any(axis=1) | (eb == pa[:, None]).any(axis=1)
 
 
-def samples(E: ElementarySites, spacing, extra=None):
+def samples(E: ElementarySites, spacing, extra=None, graded: bool = True):
     """Every point site, and n = ⌈L / spacing⌉ points at parameters (k + ½)/n along each curve,
     plus ``extra`` points {curve: [(x, y), ...]} (points of the curves added where a curve was
-    found inside a candidate's circle)."""
+    found inside a candidate's circle) and, with ``graded``, the samples of :func:`corner_grading`."""
     pts = [E.A[:E.n_points]]
     labs = [np.arange(E.n_points)]
+    grade, graded = graded, False
     seg = np.arange(E.n_points, len(E))
     if len(seg):
         L = curve_lengths(E)[seg]
@@ -93,17 +96,83 @@ def samples(E: ElementarySites, spacing, extra=None):
             Q[arc] = E.C[owner[arc]] + (E.rho[owner[arc]] * jitter)[:, None] * np.column_stack([np.cos(th), np.sin(th)])
         pts.append(Q)
         labs.append(owner)
+        G, glab = corner_grading(E, spacing) if grade else (np.empty((0, 2)), None)
+        if len(G):
+            graded = True
+            pts.append(G)
+            labs.append(glab)
     for t, P in (extra or {}).items():
         pts.append(np.asarray(P, float).reshape(-1, 2))
         labs.append(np.full(len(P), t))
     P, lab = np.concatenate(pts), np.concatenate(labs)
-    if extra:
+    if extra or graded:
         # an added point may repeat a sample; qhull would drop it as coplanar and the
         # triangulation would fall back to joggling
         _, keep = np.unique(P, axis=0, return_index=True)
         keep.sort()
         P, lab = P[keep], lab[keep]
     return P, lab
+
+
+def corner_grading(E: ElementarySites, spacing):
+    """Samples graded towards the nearly flat corners: (points, labels).
+
+    At a corner p where curves a and b leave at an angle π − δ, the samples nearest to p at
+    distance σ along a and b and p itself have their circumcentre at σ / (2 sin(δ/2)) from p, on
+    the side where the true bisector of a and b starts.  Up to there the sample triangulation
+    gives p a spike of region that separates a from b, so that the edge (a, b) at the corner is
+    missing (for δ = 0.005 and σ = 50: a spike of 10⁴).  Samples at σ_j = 2^j σ₀ from p, with
+    σ₀ = 2 sin(δ/2) h (h the curve's spacing, at most a quarter of its gap to other sites),
+    shorten the spike to h; σ₀ is kept above :data:`GRADING_FLOOR` of the corner's coordinates
+    (closer samples make qhull drop points as coplanar)."""
+    out, lab = [], []
+    L = curve_lengths(E)
+    for p, curves in enumerate(E.incident):
+        if len(curves) < 2:
+            continue
+        c = E.A[p]
+        dirs = []
+        for s in curves:
+            if E.kind[s] == ARC:
+                r = c - E.C[s]
+                u = np.array([-r[1], r[0]]) if int(E.ends[s, 0]) == p else np.array([r[1], -r[0]])
+            else:
+                u = (E.B[s] if int(E.ends[s, 0]) == p else E.A[s]) - c
+            dirs.append(u / max(np.hypot(*u), 1e-300))
+        for k, s in enumerate(curves):
+            h = spacing[s]
+            if not np.isfinite(h):
+                continue
+            cos_max = max(float(np.dot(dirs[k], dirs[j])) for j in range(len(curves)) if j != k)
+            half = np.sqrt(max(0.0, (1 + cos_max) / 2))        # sin(δ/2), δ = π − angle
+            n = max(1, int(np.ceil(L[s] / h)))
+            first = L[s] / (2 * n)
+            sigma = max(2 * half * h, GRADING_FLOOR * (1 + float(np.max(np.abs(c)))))
+            dist = []
+            while sigma < 0.7 * first and len(dist) < 60:
+                dist.append(sigma)
+                sigma *= 2
+            if not dist:
+                continue
+            out.append(end_points(E, s, p, np.array(dist)))
+            lab.append(np.full(len(dist), s))
+    if not out:
+        return np.empty((0, 2)), np.empty(0, dtype=np.int64)
+    return np.concatenate(out), np.concatenate(lab)
+
+
+def end_points(E: ElementarySites, s: int, p: int, dist) -> np.ndarray:
+    """The points of curve s at arc lengths ``dist`` from its end p (floats, (k, 2))."""
+    c = E.A[p]
+    dist = np.asarray(dist, float)
+    if E.kind[s] == ARC:
+        r = c - E.C[s]
+        sgn = 1.0 if int(E.ends[s, 0]) == p else -1.0
+        th = np.arctan2(r[1], r[0]) + sgn * dist / E.rho[s]
+        jitter = 1 + 1e-9 * (np.arange(len(th)) % 7 - 3)       # co-circular samples, see samples()
+        return E.C[s] + (E.rho[s] * jitter)[:, None] * np.column_stack([np.cos(th), np.sin(th)])
+    u = (E.B[s] if int(E.ends[s, 0]) == p else E.A[s]) - c
+    return c + dist[:, None] * (u / max(np.hypot(*u), 1e-300))
 
 
 def nearest_point(E: ElementarySites, t: int, q) -> tuple[float, float]:

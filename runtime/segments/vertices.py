@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 import numpy as np
-from flint import arb, ctx
+from flint import arb, arb_mat, ctx
 
 from ..certify.foot import to_arb
 from ..certify.interval_newton import KrawczykFailure, krawczyk_inflation
@@ -264,14 +264,24 @@ def prove_zero(E: ElementarySites, triple, eqs, z, scale) -> VertexSolution:
     ctx.prec = PREC
     try:
         Fa, Ja = _arb_system(eqs)
+        m = [arb(float(v)) for v in z]
         try:
             # an isotropic first radius (2^-44 of the scale): the residuals of the point
             # equations often cancel in Y·F(m), and a radius at the rounding floor in x, y
             # cannot absorb the r² term of the box
-            K, _X = krawczyk_inflation(Fa, Ja, [arb(float(v)) for v in z],
-                                       floor=arb(scale + abs(float(z[2]))) * arb(2) ** -44)
+            K, _X = krawczyk_inflation(Fa, Ja, m, floor=arb(scale + abs(float(z[2]))) * arb(2) ** -44)
         except KrawczykFailure as exc:
-            return VertexSolution("undecided", *z, reason=f"Krawczyk: {exc}")
+            # an ill-conditioned system (three nearly collinear contacts: a circle of radius
+            # 10⁶ over sites 10³ apart) leaves the float zero too far off for the box: Newton
+            # steps at the working precision first, then a box at 2^-100 of the scale
+            try:
+                for _ in range(4):
+                    Y = arb_mat(Ja(m)).mid().inv().mid()
+                    step = Y * arb_mat([[v] for v in Fa(m)])
+                    m = [(m[i] - step[i, 0]).mid() for i in range(3)]
+                K, _X = krawczyk_inflation(Fa, Ja, m, floor=arb(scale + abs(float(z[2]))) * arb(2) ** -100)
+            except (KrawczykFailure, ZeroDivisionError):
+                return VertexSolution("undecided", *z, reason=f"Krawczyk: {exc}")
         x, y, r = K
         if not r > 0:
             return VertexSolution("invalid" if r <= 0 else "undecided", *z, box=tuple(K), reason="radius")
