@@ -112,9 +112,9 @@ def krawczyk_circles(S: SiteArrays, T3, M, h):
         proved, _ = float_krawczyk_test(float_residual_bound(Y, F, F_rad), float_contraction_bound(Y, J, J_rad),
                                         np.column_stack([h, h]))
     ok &= proved & invertible
-    rlo = ds[0] - slack[0] - rB
-    rhi = ds[0] + slack[0] + rB
-    return ok, rlo, rhi
+    # the zero is within ρB of M and d_a is 1-Lipschitz; the sums below round by at most 4u·d_a
+    pad = round_up(slack[0] + rB + 4 * u * ds[0])
+    return ok, ds[0] - pad, ds[0] + pad
 
 
 def apollonius_vertices(S: SiteArrays, T3, seeds, stats, known=None):
