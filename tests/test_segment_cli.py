@@ -92,7 +92,7 @@ def test_diagram_of_a_dxf_drawing_outputs_and_sources(tmp_path, capsys):
     assert len(doc["sites"]) == 7
     seg_sources = sorted(s["source"] for s in doc["sites"] if "segment" in s)
     assert seg_sources == [0, 1, 2]
-    assert {"point": ["10", "10"], "source": 3} in doc["sites"]
+    assert {"point": ["10", "10"], "label": "0", "source": 3} in doc["sites"]      # the label: its layer
     assert re.search(r"^7 sites, \d+ vertices, \d+ edges, \d+ Delaunay edges, certified=", err, re.M)
 
 

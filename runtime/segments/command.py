@@ -2,7 +2,8 @@
 
 ``curvedvoronoi diagram part.dxf`` (or ``shapes.geojson``) -- the Voronoi diagram of the drawing's
 segments, arcs and points (thesis §2.2; DXF ARC entities and polyline bulges are arcs), with the
-options, outputs and exit codes of the ``diagram`` command (:mod:`runtime.voronoi.command`), plus
+options, outputs and exit codes of the ``diagram`` command (:mod:`runtime.voronoi.command`: ``--crs CRS``
+is the drawing's coordinate reference system, written as GDAL's ``crs`` member of the GeoJSON), plus
 ``--skip TYPES`` (DXF entity types to ignore, e.g. ``TEXT,MTEXT,DIMENSION``).  A sites file
 (``.json`` with ``{"sites": [...]}``, segment and arc records included) goes to
 :func:`runtime.voronoi.command.diagram_main` unchanged; a ``.json`` file that holds GeoJSON (a
@@ -10,7 +11,7 @@ top-level ``"type"``) is read as GeoJSON.  Still refused, with one line naming t
 CIRCLE, ELLIPSE, SPLINE and the other curves (:mod:`runtime.sites.dxf`), pieces that cross.
 
 ``curvedvoronoi medial-axis shape.{dxf,geojson,json} [--png OUT.png] [--geojson OUT.geojson]
-[--json OUT.json]`` -- the medial axis of a domain bounded by closed loops of segments and arcs
+[--crs CRS] [--json OUT.json]`` -- the medial axis of a domain bounded by closed loops of segments and arcs
 (thesis §2.3, :func:`runtime.segments.medial_axis.medial_axis`), one summary line on stdout.  The
 domain: GeoJSON polygons (first ring outer, the others holes), or the DXF / sites-JSON pieces
 joined end to end into closed loops, **the loop containing all the others being the outer
@@ -77,6 +78,12 @@ def medial_axis_document(m, sources=None) -> dict:
                        "tolerance": float(e.tolerance), "certified": bool(e.certified)} for e in m.edges]}
 
 
+def _crs(text):
+    """``--crs``: the CRS name for :func:`runtime.voronoi.geojson.crs_member` (None: the planar
+    engineering CRS; ``none``: False, no member)."""
+    return False if (text or "").lower() == "none" else text
+
+
 def _write(path, text, what) -> None:
     try:
         with open(path, "w") as fh:
@@ -114,7 +121,11 @@ def _diagram_parser() -> OneLineParser:
     p.add_argument("--window", type=parse_window, metavar="XMIN,XMAX,YMIN,YMAX",
                    help="the picture's window (default: fitted to the sites); write --window=-1,1,-1,1 "
                         "when the first number is negative")
-    p.add_argument("--geojson", help="write the edges and vertices as GeoJSON here")
+    p.add_argument("--geojson", help="write the edges, vertices and sites as GeoJSON here")
+    p.add_argument("--crs", default=None,
+                   help="the drawing's coordinate reference system for --geojson, e.g. EPSG:32633 (default: a "
+                        "planar engineering CRS, so that GIS tools do not read longitude/latitude; 'none': "
+                        "no crs member)")
     p.add_argument("--empty-circles", action="store_true", help="draw the vertices' empty circles")
     p.add_argument("--quiet", action="store_true", help="no summary, no progress bar")
     p.add_argument("--time-limit", type=float, default=None,
@@ -188,7 +199,7 @@ def diagram_main(argv=None) -> int:
         if args.json_out:
             _write(args.json_out, json.dumps(doc, indent=1), "diagram JSON")
         if args.geojson:
-            _write(args.geojson, json.dumps(d.to_geojson()), "GeoJSON")
+            _write(args.geojson, json.dumps(d.to_geojson(crs=_crs(args.crs))), "GeoJSON")
         if args.png:
             _draw(d, args.png, empty_circles=args.empty_circles, window=args.window)
     except OSError as exc:
@@ -240,7 +251,12 @@ def _medial_parser() -> OneLineParser:
     p.add_argument("shape", help="the domain: a DXF drawing (.dxf), GeoJSON (.geojson, or .json with a "
                                  "top-level \"type\") or a sites file with segment and arc records (.json)")
     p.add_argument("--png", help="write a picture here (boundary, medial axis, largest inscribed circle)")
-    p.add_argument("--geojson", help="write the medial axis as GeoJSON here (radius along each edge)")
+    p.add_argument("--geojson", help="write the medial axis and its boundary sites as GeoJSON here (radius "
+                                     "along each edge)")
+    p.add_argument("--crs", default=None,
+                   help="the drawing's coordinate reference system for --geojson, e.g. EPSG:32633 (default: a "
+                        "planar engineering CRS, so that GIS tools do not read longitude/latitude; 'none': "
+                        "no crs member)")
     p.add_argument("--json", dest="json_out", help=f"write the medial axis ({MEDIAL_AXIS_FORMAT}) here")
     p.add_argument("--no-certify", action="store_true",
                    help="skip the certificate (never certified; exit 0 when the construction ran to its end)")
@@ -261,7 +277,7 @@ def medial_axis_summary(m) -> str:
 
 
 def medial_axis_main(argv=None) -> int:
-    """``medial-axis SHAPE [--png OUT.png] [--geojson OUT.geojson] [--json OUT.json]``."""
+    """``medial-axis SHAPE [--png OUT.png] [--geojson OUT.geojson] [--crs CRS] [--json OUT.json]``."""
     args = _medial_parser().parse_args(argv)
     try:
         outer, holes, _, sources = read_domain(args.shape, skip=_skip_types(args.skip))
@@ -292,7 +308,7 @@ def medial_axis_main(argv=None) -> int:
             src = None if src is None else [sources[k] for k in src]
             _write(args.json_out, json.dumps(medial_axis_document(m, src), indent=1), "medial axis JSON")
         if args.geojson:
-            _write(args.geojson, json.dumps(m.to_geojson()), "GeoJSON")
+            _write(args.geojson, json.dumps(m.to_geojson(crs=_crs(args.crs))), "GeoJSON")
         if args.png:
             _draw(m, args.png)
     except OSError as exc:

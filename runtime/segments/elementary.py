@@ -22,6 +22,8 @@ normal line at p is the bisector of the two open pieces.  Such a *smooth joint* 
 Numbering: point sites first (in order of first appearance), then segment interiors in input
 order.  ``source[i]`` is the index of the input piece that produced elementary site i (for a
 shared endpoint: the first piece ending there; for a merged segment: the first of its pieces).
+Each elementary site carries the ``label`` of that same piece (None when it has none), so labels
+reach the diagram's JSON, GeoJSON and GeoDataFrames.
 
 Public API: :class:`ElementarySites`, :func:`decompose`, :data:`POINT`, :data:`SEGMENT`, :data:`ARC`.
 """
@@ -61,22 +63,23 @@ class ElementarySites:
     −1 for a point site); ``incident[p]``: the curves ending at point site p; ``A``, ``B``: float
     ends (A = B = the point for a point site); ``C``, ``rho``: centre and radius of an arc (NaN
     otherwise); ``arc[s]``: the exact (centre, radius) of arc s; ``joints``: smooth joint node ->
-    its two curves."""
+    its two curves; ``labels[i]``: the label of site i's source piece (also ``sites[i].label``)."""
 
-    def __init__(self, nodes, point_nodes, curves, source):
+    def __init__(self, nodes, point_nodes, curves, source, labels=None):
         self.nodes = list(nodes)
         self.n_points = len(point_nodes)
         self.xy = _Nodes(self.nodes, list(point_nodes))
         node_site = {nd: i for i, nd in enumerate(point_nodes)}
         self.source = list(source)
         n = self.n_points + len(curves)
+        self.labels = [None] * n if labels is None else list(labels)
         self.kind = np.array([POINT] * self.n_points + [SEGMENT if c[0] == "segment" else ARC for c in curves],
                              dtype=np.int8)
         self.ends = np.full((n, 2), -1, dtype=np.int64)
         self.arc: dict = {}
         self.C = np.full((n, 2), np.nan)
         self.rho = np.full(n, np.nan)
-        self.sites = [Point(*self.nodes[nd]) for nd in point_nodes]
+        self.sites = [Point(*self.nodes[nd], label=self.labels[i]) for i, nd in enumerate(point_nodes)]
         self.incident: list[list[int]] = [[] for _ in range(self.n_points)]
         self.joints: dict = {}
         for k, (kind, na, nb, data) in enumerate(curves):
@@ -89,10 +92,10 @@ class ElementarySites:
                 else:
                     self.joints.setdefault(nd, []).append(s)
             if kind == "segment":
-                self.sites.append(Segment(self.nodes[na], self.nodes[nb]))
+                self.sites.append(Segment(self.nodes[na], self.nodes[nb], self.labels[s]))
             else:
                 c, rho = data
-                self.sites.append(Arc(c, rho, self.nodes[na], self.nodes[nb]))
+                self.sites.append(Arc(c, rho, self.nodes[na], self.nodes[nb], self.labels[s]))
                 self.arc[s] = (c, rho)
                 self.C[s] = (float(c[0]), float(c[1]))
                 self.rho[s] = float(rho)
@@ -123,7 +126,8 @@ class ElementarySites:
 def decompose(pieces, sources=None) -> ElementarySites:
     """The elementary sites of ``pieces`` (:class:`runtime.sites.segment.Segment`,
     :class:`runtime.sites.arc.Arc`, point sites :class:`runtime.predicates.circles.Point` or (x, y)
-    pairs).  ``sources``: the input index of each piece (default: its position).  The pieces must
+    pairs).  ``sources``: the input index of each piece (default: its position); each elementary
+    site takes the ``label`` of the piece it is attributed to (see the module docstring).  The pieces must
     be admissible (no crossings, see :func:`runtime.segments.crossings.check_pieces`, which the
     caller runs first)."""
     if sources is None:
@@ -131,30 +135,37 @@ def decompose(pieces, sources=None) -> ElementarySites:
     index: dict = {}
     nodes: list = []
     nsource: list = []
+    nlabel: list = []
     isolated: set = set()
     curves: list = []
     csource: list = []
+    clabel: list = []
 
-    def node(p, src):
+    def node(p, src, label):
         if p not in index:
             index[p] = len(nodes)
             nodes.append(p)
             nsource.append(src)
+            nlabel.append(label)
         return index[p]
 
     for piece, src in zip(pieces, sources):
+        label = getattr(piece, "label", None)
         if isinstance(piece, Segment):
-            curves.append(("segment", node(piece.p, src), node(piece.q, src), None))
-            csource.append(src)
+            curves.append(("segment", node(piece.p, src, label), node(piece.q, src, label), None))
         elif isinstance(piece, Arc):
-            curves.append(("arc", node(piece.a, src), node(piece.b, src), (piece.c, piece.rho)))
-            csource.append(src)
+            curves.append(("arc", node(piece.a, src, label), node(piece.b, src, label), (piece.c, piece.rho)))
         else:
-            isolated.add(node(as_point_pair(piece, f"site {src}"), src))
-    curves, csource, dead = _merge_straight(curves, csource, nodes, isolated)
+            isolated.add(node(as_point_pair(piece, f"site {src}"), src, label))
+            continue
+        csource.append(src)
+        clabel.append(label)
+    curves, kept, dead = _merge_straight(curves, list(range(len(curves))), nodes, isolated)
     smooth = _smooth_joints(curves, nodes, isolated) - dead
     point_nodes = [nd for nd in range(len(nodes)) if nd not in dead and nd not in smooth]
-    return ElementarySites(nodes, point_nodes, curves, [nsource[nd] for nd in point_nodes] + csource)
+    return ElementarySites(nodes, point_nodes, curves,
+                           [nsource[nd] for nd in point_nodes] + [csource[k] for k in kept],
+                           [nlabel[nd] for nd in point_nodes] + [clabel[k] for k in kept])
 
 
 def _tangent(curve, nd, nodes):

@@ -18,6 +18,7 @@ Public API: :func:`medial_axis`, :class:`MedialAxis`, :func:`boundary_pieces`.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -81,20 +82,46 @@ class MedialAxis:
             raise ImportError("MedialAxis.to_shapely needs shapely (pip install shapely)") from None
         return MultiLineString([np.asarray(e.polyline, float) for e in self.edges])
 
-    def to_geojson(self, crs: str | None = None) -> dict:
-        """A FeatureCollection: one LineString per edge (properties ``sites``, ``radius`` at each
-        point, ``tolerance``, ``certified``) and one Point per vertex (``radius``)."""
-        feats = [{"type": "Feature", "id": f"edge-{e.id}",
+    def to_geojson(self, crs: Any = None, *, sites: bool = True) -> dict:
+        """A GeoJSON (RFC 7946) FeatureCollection of the medial axis and its boundary.
+
+        * one LineString per edge: id ``"medial-edge-N"``, properties ``kind="edge"``, ``number``
+          (N), ``sites``, ``ends``, ``radius`` (the inscribed radius at each point), ``tolerance``,
+          ``certified``;
+        * one Point per vertex: id ``"medial-vertex-N"``, ``kind="vertex"``, ``number`` (the
+          vertex's id in the diagram), ``sites``, ``radius``, ``certified``;
+        * unless ``sites=False``, the boundary's elementary sites as in
+          :meth:`runtime.voronoi.structure.Diagram.to_geojson`: id ``"site-N"``, ``kind="site"``,
+          ``number``, ``shape`` (point, segment, arc) and ``label`` (the label of the boundary
+          piece, e.g. the DXF layer; or null).
+
+        Ids are unique across kinds (GDAL renumbers repeated feature ids).  ``crs``: the
+        coordinate reference system of the boundary (``"EPSG:32633"``, a pyproj CRS), written as
+        the ``crs`` member GDAL reads (:func:`runtime.voronoi.geojson.crs_member`); by default a
+        planar engineering CRS, so that GIS tools do not take the coordinates for longitude and
+        latitude; ``False``: no member."""
+        from ..voronoi.geojson import crs_member, diagram_geojson
+
+        feats = [{"type": "Feature", "id": f"medial-edge-{e.id}",
                   "geometry": {"type": "LineString", "coordinates": np.asarray(e.polyline, float).tolist()},
-                  "properties": {"kind": "edge", "sites": list(e.sites), "radius": np.asarray(e.radius).tolist(),
-                                 "tolerance": e.tolerance, "certified": e.certified}} for e in self.edges]
-        feats += [{"type": "Feature", "id": f"vertex-{v.id}",
-                   "geometry": {"type": "Point", "coordinates": [v.x, v.y]},
-                   "properties": {"kind": "vertex", "sites": list(v.sites), "radius": v.radius}}
+                  "properties": {"kind": "edge", "number": int(e.id), "sites": [int(t) for t in e.sites],
+                                 "ends": [None if t is None else int(t) for t in e.ends],
+                                 "radius": np.asarray(e.radius, float).tolist(),
+                                 "tolerance": float(e.tolerance), "certified": bool(e.certified)}}
+                 for e in self.edges]
+        feats += [{"type": "Feature", "id": f"medial-vertex-{v.id}",
+                   "geometry": {"type": "Point", "coordinates": [float(v.x), float(v.y)]},
+                   "properties": {"kind": "vertex", "number": int(v.id), "sites": [int(t) for t in v.sites],
+                                  "radius": float(v.radius), "certified": bool(v.certified)}}
                   for v in self.vertices]
-        out = {"type": "FeatureCollection", "features": feats}
-        if crs is not None:
-            out["crs"] = {"type": "name", "properties": {"name": str(crs)}}
+        if sites:
+            feats += [f for f in diagram_geojson(self.diagram, False)["features"]
+                      if f["properties"]["kind"] == "site"]
+        out: dict = {"type": "FeatureCollection"}
+        member = crs_member(crs)
+        if member is not None:
+            out["crs"] = member
+        out["features"] = feats
         return out
 
     def plot(self, path_or_ax=None, *, inscribed: bool = True, title: str | None = None, dpi: int = 120):

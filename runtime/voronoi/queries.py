@@ -27,8 +27,12 @@ distance of :mod:`runtime.segments.distance` (:class:`SegmentGeometry`).
    ball enclosure of :func:`runtime.sites.distance_ball.distance_ball` at rising precision.  A
    unique minimum makes the row proved; several sites at exactly equal distance are reported as
    an **exact tie**; what cannot be separated (equal distances to conics) is an undecided tie.
-   A segment's interior tied with its own endpoint gives way to the endpoint (the diagram's
-   convention, :mod:`runtime.sites.segment`).
+   Segments and circular arcs are decided exactly too: the squared distance to a closed segment
+   is rational (the clamped rational foot parameter), and the distance to a closed arc of centre
+   c and radius ρ is |‖q − c‖ − ρ| when the direction q − c lies in the arc's angular range (an
+   exact orientation test), so d² = D + ρ² − 2·√(D·ρ²) as for a circle, else the distance to the
+   nearer end (rational d²).  A segment's or arc's interior tied with its own endpoint gives way
+   to the endpoint (the diagram's convention, :mod:`runtime.sites.segment`).
    A tied row never has a guessed winner: ``index`` is −1 there.
 
 Public API: :class:`SiteIndex`, :class:`NearestResult`, :func:`site_index`, :func:`query_geometry`,
@@ -264,12 +268,16 @@ class SiteIndex:
             exact[r] = is_exact
 
 
+#: site kinds whose distance to a rational point is decided in exact arithmetic (d² = A − 2√u)
+_EXACT_KINDS = ("point", "circle", "segment", "arc")
+
+
 def decide_nearest(geoms, T, x: float, y: float, precs=(128, 512, 2048)):
     """The nearest among the sites T of the query point (x, y) (taken exactly): (winners,
     exact).  One winner: proved.  Several: ``exact`` says whether their distances are proved
     equal (points and circles, rational arithmetic) or could not be separated (undecided)."""
     qx, qy = _fmpq(x), _fmpq(y)
-    circ = {j: _circle_terms(geoms[j], qx, qy) for j in T if geoms[j].kind in ("point", "circle", "segment")}
+    circ = {j: _circle_terms(geoms[j], qx, qy) for j in T if geoms[j].kind in _EXACT_KINDS}
     cand = list(T)
     for prec in precs:
         with flint.ctx.workprec(prec):
@@ -287,11 +295,17 @@ def decide_nearest(geoms, T, x: float, y: float, precs=(128, 512, 2048)):
 
 
 def _endpoint_convention(geoms, cand):
-    """Thesis §2.2 (:mod:`runtime.sites.segment`): a point at equal distance from a segment's
-    interior and from its endpoint (a point site) belongs to the endpoint."""
+    """Thesis §2.2 (:mod:`runtime.sites.segment`): a point at equal distance from a segment's or
+    an arc's interior and from its endpoint (a point site) belongs to the endpoint."""
     ends = {(geoms[j].exact.cx, geoms[j].exact.cy) for j in cand if geoms[j].kind == "point"}
-    return [j for j in cand if not (geoms[j].kind == "segment"
-                                    and ({_fmpq_pair(geoms[j].exact.p), _fmpq_pair(geoms[j].exact.q)} & ends))]
+    return [j for j in cand if not (geoms[j].kind in ("segment", "arc") and (_curve_ends(geoms[j].exact) & ends))]
+
+
+def _curve_ends(curve) -> set:
+    """The two ends of a Segment or an Arc, as fmpq pairs."""
+    if isinstance(curve, Arc):
+        return {_fmpq_pair(curve.a), _fmpq_pair(curve.b)}
+    return {_fmpq_pair(curve.p), _fmpq_pair(curve.q)}
 
 
 def _fmpq_pair(p):
@@ -306,8 +320,10 @@ def _fmpq(v: float) -> fmpq:
 def _circle_terms(g, qx: fmpq, qy: fmpq):
     """(A, u) with d² = A − 2√u exactly: A = D + r², u = D·r², D = |q − c|² (exact data); for a
     segment, A = the squared distance to the closed segment (rational: the foot parameter is
-    the clamped rational (q − a)·(b − a) / |b − a|²), u = 0."""
+    the clamped rational (q − a)·(b − a) / |b − a|²), u = 0; for an arc see :func:`_arc_terms`."""
     ex = g.exact
+    if g.kind == "arc":
+        return _arc_terms(ex, qx, qy)
     if g.kind == "segment":
         (ax, ay), (bx, by) = _fmpq_pair(ex.p), _fmpq_pair(ex.q)
         dx, dy = bx - ax, by - ay
@@ -316,6 +332,26 @@ def _circle_terms(g, qx: fmpq, qy: fmpq):
     D = (qx - ex.cx) ** 2 + (qy - ex.cy) ** 2
     r2 = fmpq(0) if g.kind == "point" else fmpq(ex.r2)
     return D + r2, D * r2
+
+
+def _arc_terms(arc, qx: fmpq, qy: fmpq):
+    """(A, u) with d² = A − 2√u exactly for the closed counter-clockwise arc of centre c, radius
+    ρ from a to b: when w = q − c lies in the arc's angular range (closed; decided by the exact
+    signs of the cross products a × w, w × b and a × b, with a, b taken from c) the nearest point
+    is c + ρ·w/‖w‖ and d = |‖w‖ − ρ|, i.e. A = ‖w‖² + ρ², u = ‖w‖²·ρ² (w = 0: every point of the
+    arc is at ρ, the same formula); otherwise the nearest point is an end: A = min ‖q − end‖², u = 0."""
+    cx, cy = _fmpq_pair(arc.c)
+    (ax, ay), (bx, by) = _fmpq_pair(arc.a), _fmpq_pair(arc.b)
+    wx, wy = qx - cx, qy - cy
+    ux, uy, vx, vy = ax - cx, ay - cy, bx - cx, by - cy
+    ca, cb, ab = ux * wy - uy * wx, wx * vy - wy * vx, ux * vy - uy * vx
+    zero = fmpq(0)
+    inside = (ca >= zero and cb >= zero) if ab > zero else (ca >= zero or cb >= zero)
+    if inside:
+        D = wx * wx + wy * wy
+        r2 = fmpq(arc.rho.numerator, arc.rho.denominator) ** 2
+        return D + r2, D * r2
+    return min((qx - ax) ** 2 + (qy - ay) ** 2, (qx - bx) ** 2 + (qy - by) ** 2), zero
 
 
 def _enclosure(g, terms, x, y, prec) -> arb:

@@ -176,6 +176,11 @@ class Certificate:
                 "hypotheses": list(self.hypotheses), "stats": self.stats,
                 "timings": {k: round(v, 4) for k, v in self.timings.items()}}
 
+    def __repr__(self) -> str:
+        """One line: ``Certificate(ok=True, 27/27 vertices, 48/48 edges proved, 0 problems)``."""
+        return (f"Certificate(ok={bool(self.ok)}, {sum(map(bool, self.vertices))}/{len(self.vertices)} vertices, "
+                f"{sum(map(bool, self.edges))}/{len(self.edges)} edges proved, {len(self.problems)} problems)")
+
 
 # ============================================================================ input
 
@@ -190,16 +195,19 @@ def _as_diagram(diagram):
 
 
 def _as_site(s):
-    """A Point / Circle / Conic as is; a tuple (x, y, r) as a circle (r = 0: a point)."""
+    """A Point / Circle / Conic as is; a pair (x, y) as a point; a tuple (x, y, r) as a circle
+    (r = 0: a point) -- the forms :func:`runtime.voronoi.construction.voronoi` takes."""
     from ...predicates.circles import Circle, Point
     from ...sites.conic import Conic
 
     if isinstance(s, (Circle, Conic)):
         return s
+    if isinstance(s, (tuple, list)) and len(s) == 2:
+        return Point(*s)
     if isinstance(s, (tuple, list)) and len(s) == 3:
         x, y, r = s
         return Point(x, y) if r == 0 else Circle.from_radius(x, y, r)
-    raise ValueError(f"not a site: {s!r} (expected a Point, Circle, Conic or (x, y, r))")
+    raise ValueError(f"not a site: {s!r} (expected a Point, Circle, Conic, (x, y) or (x, y, r))")
 
 
 def _same_site(a, b) -> bool:
