@@ -42,7 +42,7 @@ from .edges import edge_polylines, walk_hint
 from .elementary import ARC, POINT, SEGMENT, ElementarySites, decompose
 from .emptiness import empty_by_filter, prove_empty
 from .exact import contacts_valid
-from .sampling import GRADING_FLOOR, end_points, flat, initial_spacing, nearest_point, samples, triangulation
+from .sampling import flat, initial_spacing, nearest_point, samples, triangulation
 from .newton import prove_vertices
 from .vertices import common_point
 
@@ -176,7 +176,7 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
     Returns ((vertices, walks, problems), {site: refine}) with walks mapped to vertex ids."""
     extra = caches.setdefault("extra", {})
     graded = caches.setdefault("graded", set())
-    P, lab = samples(E, spacing, extra)
+    P, lab = samples(E, spacing, extra, ends=graded)
     stats["samples"] = int(len(P))
     ghost = len(E)
     if flat(P):
@@ -279,7 +279,7 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
     walks = []
     degree: list[list] = [[] for _ in vertices]
     for pair, start, chain, end in raw:
-        if ghost in pair or _segment_ends(E, pair):
+        if ghost in pair or _segment_ends(E, pair) or _long_side(tri, pair, start, end, tri_vid):
             # the two ends of a segment are never neighbours (a circle through both meets the
             # open segment); their samples' cells touch far out when the segment's samples fall
             # a rounding inside the hull edge between its ends
@@ -322,18 +322,11 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
             refine.update(v.sites)
             # an edge missing at a vertex of a point site p and a curve t ending at p: the edge
             # leaves the vertex where t's nearest point is a hair away from p (a hull tangent
-            # next to an arc's end, a nearly flat corner), closer than t's first sample.
-            # Samples of t graded towards p, 2^-j of its spacing for j = 1 .. 24, resolve it.
+            # next to an arc's end, a nearly flat corner), closer than t's first sample:
+            # samples of t graded towards p (sampling.corner_grading) resolve it
             for p_ in v.sites:
-                if E.kind[p_] != POINT:
-                    continue
-                for t in v.sites:
-                    if E.is_endpoint(p_, t) and np.isfinite(spacing[t]) and (t, p_) not in graded:
-                        graded.add((t, p_))
-                        scale = GRADING_FLOOR * (1.0 + float(np.max(np.abs(E.A[p_]))))
-                        dist = [d_ for d_ in spacing[t] * 0.5 ** np.arange(1, 25) if d_ > scale]
-                        if dist:
-                            extra.setdefault(int(t), []).extend(end_points(E, int(t), int(p_), dist))
+                if E.kind[p_] == POINT:
+                    graded.update((int(t), int(p_)) for t in v.sites if E.is_endpoint(p_, t))
             problems.append(f"sites {', '.join(map(str, v.sites))}: the vertex at ({v.x:.6g}, {v.y:.6g}) has incident "
                             f"edges {sorted(degree[v.id])}, expected {want}")
     # point sites are single samples: refine the segments ending at them instead
@@ -381,3 +374,20 @@ def _segment_ends(E: ElementarySites, pair) -> bool:
     if E.kind[a] != POINT or E.kind[b] != POINT:
         return False
     return any(E.kind[s] == SEGMENT and b in (int(E.ends[s, 0]), int(E.ends[s, 1])) for s in E.incident[a])
+
+
+def _long_side(tri, pair, start, end, tri_vid) -> bool:
+    """The walk leaves a flat three-label triangle (collinear samples, circumcentre at infinity)
+    through its longest side: the middle sample is nearer than the two outer ones to every point
+    of their bisector, so that side bounds no cell of the samples at all."""
+    for e in (start, end):
+        if e is None or e[0] != "tri" or tri_vid.get(e[1]) != "inf":
+            continue
+        t = e[1]
+        idx = tri.simp[t]
+        Q = tri.P[idx]
+        lengths = [float(np.hypot(*(Q[(k + 1) % 3] - Q[(k + 2) % 3]))) for k in range(3)]
+        k = int(np.argmax(lengths))              # side k is opposite vertex k, the middle one
+        if int(tri.lab[idx[k]]) not in pair:
+            return True
+    return False

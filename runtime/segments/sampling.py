@@ -67,10 +67,11 @@ def _adjacent(E: ElementarySites, a, b):
     return share | (ea == pb[:, None]).any(axis=1) | (eb == pa[:, None]).any(axis=1)
 
 
-def samples(E: ElementarySites, spacing, extra=None, graded: bool = True):
+def samples(E: ElementarySites, spacing, extra=None, graded: bool = True, ends=()):
     """Every point site, and n = ⌈L / spacing⌉ points at parameters (k + ½)/n along each curve,
     plus ``extra`` points {curve: [(x, y), ...]} (points of the curves added where a curve was
-    found inside a candidate's circle) and, with ``graded``, the samples of :func:`corner_grading`."""
+    found inside a candidate's circle) and, with ``graded``, the samples of :func:`corner_grading`
+    (``ends``: its pairs graded to the floor)."""
     pts = [E.A[:E.n_points]]
     labs = [np.arange(E.n_points)]
     grade, graded = graded, False
@@ -96,7 +97,7 @@ def samples(E: ElementarySites, spacing, extra=None, graded: bool = True):
             Q[arc] = E.C[owner[arc]] + (E.rho[owner[arc]] * jitter)[:, None] * np.column_stack([np.cos(th), np.sin(th)])
         pts.append(Q)
         labs.append(owner)
-        G, glab = corner_grading(E, spacing) if grade else (np.empty((0, 2)), None)
+        G, glab = corner_grading(E, spacing, ends) if grade else (np.empty((0, 2)), None)
         if len(G):
             graded = True
             pts.append(G)
@@ -114,21 +115,26 @@ def samples(E: ElementarySites, spacing, extra=None, graded: bool = True):
     return P, lab
 
 
-def corner_grading(E: ElementarySites, spacing):
-    """Samples graded towards the nearly flat corners: (points, labels).
+def corner_grading(E: ElementarySites, spacing, ends=()):
+    """Samples graded towards curve ends: (points, labels).
 
     At a corner p where curves a and b leave at an angle π − δ, the samples nearest to p at
     distance σ along a and b and p itself have their circumcentre at σ / (2 sin(δ/2)) from p, on
     the side where the true bisector of a and b starts.  Up to there the sample triangulation
     gives p a spike of region that separates a from b, so that the edge (a, b) at the corner is
-    missing (for δ = 0.005 and σ = 50: a spike of 10⁴).  Samples at σ_j = 2^j σ₀ from p, with
-    σ₀ = 2 sin(δ/2) h (h the curve's spacing, at most a quarter of its gap to other sites),
-    shorten the spike to h; σ₀ is kept above :data:`GRADING_FLOOR` of the corner's coordinates
-    (closer samples make qhull drop points as coplanar)."""
+    missing (for δ = 0.005 and σ = 50: a spike of 10⁴).  Samples at σ_j = f 2^-j from p (f the
+    distance of the curve's first regular sample), down to σ₀ = 2 sin(δ/2) h (h the curve's
+    spacing, at most a quarter of its gap to other sites), shorten the spike to h.  The pairs
+    (curve, point site) in ``ends`` are graded down to the floor: the construction asks for them
+    where a vertex of p and the curve misses an edge.  Every σ_j stays above
+    :data:`GRADING_FLOOR` of the end's coordinates (closer samples make qhull drop points as
+    coplanar); one sequence per end, so that no two graded samples nearly coincide."""
     out, lab = [], []
     L = curve_lengths(E)
+    ends = set(ends)
     for p, curves in enumerate(E.incident):
-        if len(curves) < 2:
+        asked = [s for s in curves if (s, p) in ends]
+        if len(curves) < 2 and not asked:
             continue
         c = E.A[p]
         dirs = []
@@ -139,22 +145,25 @@ def corner_grading(E: ElementarySites, spacing):
             else:
                 u = (E.B[s] if int(E.ends[s, 0]) == p else E.A[s]) - c
             dirs.append(u / max(np.hypot(*u), 1e-300))
+        floor = GRADING_FLOOR * (1 + float(np.max(np.abs(c))))
         for k, s in enumerate(curves):
             h = spacing[s]
             if not np.isfinite(h):
                 continue
-            cos_max = max(float(np.dot(dirs[k], dirs[j])) for j in range(len(curves)) if j != k)
-            half = np.sqrt(max(0.0, (1 + cos_max) / 2))        # sin(δ/2), δ = π − angle
+            if s in asked:
+                sigma0 = floor
+            elif len(curves) >= 2:
+                cos_max = max(float(np.dot(dirs[k], dirs[j])) for j in range(len(curves)) if j != k)
+                sigma0 = max(2 * np.sqrt(max(0.0, (1 + cos_max) / 2)) * h, floor)     # 2 sin(δ/2) h
+            else:
+                continue
             n = max(1, int(np.ceil(L[s] / h)))
             first = L[s] / (2 * n)
-            sigma = max(2 * half * h, GRADING_FLOOR * (1 + float(np.max(np.abs(c)))))
-            dist = []
-            while sigma < 0.7 * first and len(dist) < 60:
-                dist.append(sigma)
-                sigma *= 2
-            if not dist:
+            dist = first * 0.5 ** np.arange(1, 61)
+            dist = dist[dist >= sigma0]
+            if not len(dist):
                 continue
-            out.append(end_points(E, s, p, np.array(dist)))
+            out.append(end_points(E, s, p, dist))
             lab.append(np.full(len(dist), s))
     if not out:
         return np.empty((0, 2)), np.empty(0, dtype=np.int64)
