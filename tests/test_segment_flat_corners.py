@@ -111,3 +111,32 @@ def test_arcs_with_a_hull_edge_ending_at_a_far_vertex():
         else:
             dist = math.hypot(v.x - float(s.x), v.y - float(s.y))
         assert abs(dist - v.radius) < 1e-6 * v.radius
+
+
+def _dist_to_site(site, P):
+    """Distances from the points P (n, 2) to a point or a closed segment, by the definitions."""
+    if isinstance(site, cv.Segment):
+        a = np.array([float(site.p[0]), float(site.p[1])])
+        b = np.array([float(site.q[0]), float(site.q[1])])
+        d = b - a
+        t = np.clip(((P - a) @ d) / (d @ d), 0.0, 1.0)
+        return np.hypot(*(P - (a + t[:, None] * d)).T)
+    return np.hypot(P[:, 0] - float(site.x), P[:, 1] - float(site.y))
+
+
+@pytest.mark.parametrize("radius,m,a0", [(50000, 10, -math.pi / 2 + 0.003), (50021, 10, -math.pi / 2 + 0.003)])
+def test_tooth_edges_lie_where_their_sites_are_nearest(radius, m, a0):
+    # every polyline point, infinite ends included (drawn far out along the ray), is equidistant
+    # from the edge's two sites and no other site is nearer; the ray of points 1 and 3 below the
+    # tip of radius 50021 leaves a vertex at 6.7·10⁶ downwards, not back through the tooth
+    segs = tooth(radius, 4000, 0.0377, m, a0)
+    d = cv.voronoi([cv.Segment(*s) for s in segs], certify=False)
+    for e in d.edges:
+        P = e.polyline
+        D = np.column_stack([_dist_to_site(s, P) for s in d.sites])
+        i, j = e.sites
+        own = np.maximum(D[:, i], D[:, j])
+        scale = 1e-9 * (1 + np.abs(P).max(axis=1) + own)
+        assert np.all(np.abs(D[:, i] - D[:, j]) <= 1e-6 * (1 + own)), e
+        others = np.delete(D, [i, j], axis=1).min(axis=1)
+        assert np.all(others >= own - 1e-6 * (1 + own) - scale), (e.sites, e.ends)

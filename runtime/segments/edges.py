@@ -18,7 +18,7 @@ from ..voronoi.structure import DiagramEdge
 from .bisectors import (arc_bisector_points, arc_sides, bisector_kind, edge_polyline, line_direction,
                         line_point)
 from .distance import site_distances
-from .elementary import ARC, ElementarySites
+from .elementary import ARC, POINT, ElementarySites
 
 __all__ = ["edge_polylines", "walk_hint"]
 
@@ -33,12 +33,18 @@ def walk_hint(tri, e):
 def _outward(E: ElementarySites, i: int, j: int, base, d, far) -> float:
     """+1 or −1: the way along the straight bisector of i and j, from its vertex ``base``, on
     which i and j stay the nearest sites (the other way a third site takes over at once)."""
-    eps = 1e-6 * far
+    eps = 1e-6 * max(far, float(np.hypot(*base)))
+    # a curve ending at i (or j) is exactly as near as its end wherever its foot is clamped
+    # there: such ties say nothing about the way
+    tied = [s for p in (i, j) if E.kind[p] == POINT for s in E.incident[p]]
     best, sgn = None, 1.0
     for s in (1.0, -1.0):
         q = base + s * eps * d
         dd = site_distances(E, np.arange(len(E)), np.repeat(q[None, :], len(E), axis=0))
         own = max(dd[i], dd[j])
+        for t in tied:
+            if dd[t] >= own - 1e-12 * (1.0 + own):
+                dd[t] = np.inf
         dd[[i, j]] = np.inf
         margin = float(dd.min() - own)
         if best is None or margin > best:
