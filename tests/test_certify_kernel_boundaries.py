@@ -199,3 +199,46 @@ def test_a_vanishing_equation_never_passes_the_top_form_test():
             polys = list(rest)
             polys.insert(at, {})
             assert d._top_forms_coprime(polys, P) is False
+
+
+# ----------------------------------------------------------------------------- rounding bounds at their limits
+
+def test_residual_and_contraction_bounds_under_catastrophic_cancellation():
+    """Y's first row (1, 1, 1) against F, a permutation of (1, 2⁻⁶⁰, −1): the exact (Y F)_0 is 2⁻⁶⁰,
+    but a float sum that adds 2⁻⁶⁰ to ±1 first gives 0 (which order the dot product uses is not
+    ours to choose: every order is tried); only the rounding term 2γ_{k+1}·Σ|y||f| (≈ 2⁻⁴⁹ here)
+    covers it.  The same column as a Jacobian column gives the exact off-diagonal
+    |0 − (Y M)_01| = 2⁻⁶⁰."""
+    import itertools
+
+    from curvedvoronoi.runtime.certify.interval_newton import float_contraction_bound, float_residual_bound
+
+    Y = np.array([[[1.0, 1.0, 1.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]])
+    for perm in itertools.permutations((1.0, 2.0 ** -60, -1.0)):
+        F = np.array([perm])
+        b = float_residual_bound(Y, F, np.zeros((1, 3)))
+        assert Q(b[0, 0]) >= Q(2) ** -60, perm
+        J = np.zeros((1, 3, 3))
+        J[0, :, 1] = F[0]
+        D = float_contraction_bound(Y, J, np.zeros((1, 3, 3)))
+        assert Q(D[0, 0, 1]) >= Q(2) ** -60, perm
+
+
+def test_residual_bound_covers_products_that_underflow():
+    """y = f = 2⁻⁶⁰⁰: the product 2⁻¹²⁰⁰ underflows to 0 in binary64; the exact |Y F| is not 0 and
+    the bound must cover it (the absolute allowance for underflow)."""
+    from curvedvoronoi.runtime.certify.interval_newton import float_residual_bound
+
+    Y = np.array([[[2.0 ** -600, 0.0], [0.0, 1.0]]])
+    F = np.array([[2.0 ** -600, 0.0]])
+    b = float_residual_bound(Y, F, np.zeros((1, 2)))
+    assert Q(b[0, 0]) >= Q(2) ** -1200 > 0
+
+
+def test_the_modulus_bound_of_a_nearly_real_number():
+    """z = 1 + 2⁻⁶⁰ i: |z| = √(1 + 2⁻¹²⁰) > 1, while |Re z| + |Im z| = 1 + 2⁻⁶⁰ rounds to 1.0 in
+    binary64: the upper bound of |z| must still be ≥ |z| (checked on squares, exactly)."""
+    from curvedvoronoi.runtime.certify.interval_newton import abs_upper
+
+    z = np.array([1.0 + 1j * 2.0 ** -60])
+    assert Q(abs_upper(z)[0]) ** 2 >= 1 + Q(2) ** -120
