@@ -33,7 +33,7 @@ import numpy as np
 from flint import arb
 
 from .certificate_curves import Line, down, interval, q_arb, up
-from .certificate_rules import corner_ratio
+from .certificate_rules import convex_tangents, corner_ratio
 from .certificate_sites import ARC, SEGMENT, hypot
 from .distance import distances, float_error
 
@@ -260,6 +260,8 @@ class PieceProofs:
         cuts[0], cuts[-1] = a, b
         stack = [(float(cuts[m]), float(cuts[m + 1]), None) for m in range(FIRST_PIECES)][::-1]
         self._fns: dict = {}
+        self._convex: dict = {}
+        cleared: set = set()
         count = 0
         min_w = (b - a) * 2.0 ** -44
         bad: dict = {}
@@ -285,7 +287,7 @@ class PieceProofs:
                 qx, qy = float(X.mid()), float(Y.mid())
                 rq = float(X.rad()) + float(Y.rad())
                 rho_hi = up(rho)
-                near = [k for k in T.near(qx, qy, rho_hi + rq) if k not in skip]
+                near = [k for k in T.near(qx, qy, rho_hi + rq) if k not in skip and k not in cleared]
                 if cands is not None:
                     near = [k for k in near if k in cands]
             plain = [k for k in near if k not in special]
@@ -303,7 +305,10 @@ class PieceProofs:
                     if cl:
                         continue
                     if h or (not T.distance(k, X, Y) - rho > 0 and not self._centred(k, t, X, Y, pa, pb)):
-                        failed.append(k)
+                        if not h and self._convex_clear(k, a, b):
+                            cleared.add(k)
+                        else:
+                            failed.append(k)
             for k in near:
                 if k not in special:
                     continue
@@ -339,6 +344,16 @@ class PieceProofs:
             else:
                 self.report(f"site {k} is too close to its sites to decide {where}", k)
         return not bad
+
+    def _convex_clear(self, k, a: float, b: float) -> bool:
+        """g_k > 0 on the whole straight edge by :func:`runtime.segments.certificate_rules.
+        convex_tangents` (cached per site)."""
+        if k not in self._convex:
+            fns = self._fns.get(k)
+            if fns is None:
+                fns = self._fns[k] = self._value_fn(k)
+            self._convex[k] = convex_tangents(self.T, self.curve, k, fns, a, b)
+        return self._convex[k]
 
     def _centred_fn(self, fns, t, X, Y, pa: float, pb: float) -> bool:
         """A condition > 0 on the piece by the mean-value form (``fns``: (value, deriv) pairs; one

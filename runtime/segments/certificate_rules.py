@@ -45,14 +45,16 @@ Public API: :func:`affine_rules`, :func:`linear_rule`, :func:`outside_range_rule
 """
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 
 import numpy as np
+from flint import arb
 
 from .certificate_curves import Line, exact_d2, q_arb
 from .certificate_sites import ARC, POINT, SEGMENT
 
-__all__ = ["affine_rules", "linear_rule", "outside_range_rule", "range_lines", "prove_tail", "tied", "corner_ratio",
+__all__ = ["convex_tangents", "affine_rules", "linear_rule", "outside_range_rule", "range_lines", "prove_tail", "tied", "corner_ratio",
            "exact_gt"]
 
 #: float margin (relative) above which a float sign is trusted
@@ -325,3 +327,29 @@ def corner_ratio(T, c, k: int, cpt: int, at_lo: bool, far=None) -> bool:
         (nx, ny), _ = c.side
         Di = nx * ux + ny * uy
     return bool(Dk - Di > 0)
+
+
+def convex_tangents(T, c, k: int, fns, a: float, b: float) -> bool:
+    """g_k = d_k − ρ > 0 on the whole straight edge c(τ), τ ∈ [a, b], by convexity.
+
+    Along a bisector of two lines ρ is affine, and the distance to a point or a segment (a convex
+    set) is convex, so g_k is convex and lies above its tangents at a and b.  With g_k(a),
+    g_k(b) > 0 the tangent at a is positive up to a + g(a)/(−g'(a)) and the tangent at b from
+    b − g(b)/g'(b) on: the two ranges cover [a, b] when the first ends after the second starts,
+    or when a tangent's slope points away from its zero.  Nearly parallel segments make edges
+    10⁶ long whose clearance changes by 10⁻⁵ per unit: pieces cannot cover them, two tangents
+    do.  ``fns``: the (value, derivative) functions of g_k on balls."""
+    if not (isinstance(c, Line) and c.anchor is None and T.kind[k] != ARC and math.isfinite(a)
+            and math.isfinite(b) and b > a):
+        return False
+    value, deriv = fns
+    ends = []
+    for tau in (arb(a), arb(b)):
+        X, Y = c.xy(tau)
+        ends.append((value(tau, X, Y, c.rho(tau, X, Y)), deriv(tau, X, Y)))
+    (ga, da), (gb, db) = ends
+    if not (ga > 0 and gb > 0 and da.is_finite() and db.is_finite()):
+        return False
+    if da >= 0 or db <= 0:
+        return True
+    return bool(da < 0 and db > 0 and arb(a) - ga / da > arb(b) - gb / db)
