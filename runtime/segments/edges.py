@@ -34,22 +34,27 @@ def _outward(E: ElementarySites, i: int, j: int, base, d, far) -> float:
     """+1 or −1: the way along the straight bisector of i and j, from its vertex ``base``, on
     which i and j stay the nearest sites (the other way a third site takes over at once)."""
     eps = 1e-6 * max(far, float(np.hypot(*base)))
-    # a curve ending at i (or j) is exactly as near as its end wherever its foot is clamped
-    # there: such ties say nothing about the way
-    tied = [s for p in (i, j) if E.kind[p] == POINT for s in E.incident[p]]
     best, sgn = None, 1.0
     for s in (1.0, -1.0):
         q = base + s * eps * d
         dd = site_distances(E, np.arange(len(E)), np.repeat(q[None, :], len(E), axis=0))
         own = max(dd[i], dd[j])
-        for t in tied:
-            if dd[t] >= own - 1e-12 * (1.0 + own):
-                dd[t] = np.inf
+        _drop_ties(E, i, j, dd, own)
         dd[[i, j]] = np.inf
         margin = float(dd.min() - own)
         if best is None or margin > best:
             best, sgn = margin, s
     return sgn
+
+
+def _drop_ties(E: ElementarySites, i: int, j: int, dd, own) -> None:
+    """A curve ending at point site i (or j) is exactly as near as that end wherever its nearest
+    point is the end: such ties say nothing about the way along a bisector (set to ∞ in ``dd``)."""
+    for p in (i, j):
+        if E.kind[p] == POINT:
+            for t in E.incident[p]:
+                if dd[t] >= own - 1e-12 * (1.0 + own):
+                    dd[t] = np.inf
 
 
 def _arc_step(E: ElementarySites, i: int, j: int, base, far):
@@ -71,6 +76,7 @@ def _arc_step(E: ElementarySites, i: int, j: int, base, far):
             if abs(dd[i] - dd[j]) > 1e-9 * (1 + t[0]):
                 continue            # not a point of this bisector branch
             own = max(dd[i], dd[j])
+            _drop_ties(E, i, j, dd, own)
             dd[[i, j]] = np.inf
             margin = float(dd.min() - own)
             if best is None or margin > best:
