@@ -76,7 +76,6 @@ def _arc_step(E: ElementarySites, i: int, j: int, base, far):
             if abs(dd[i] - dd[j]) > 1e-9 * (1 + t[0]):
                 continue            # not a point of this bisector branch
             own = max(dd[i], dd[j])
-            _drop_ties(E, i, j, dd, own)
             dd[[i, j]] = np.inf
             margin = float(dd.min() - own)
             if best is None or margin > best:
