@@ -145,7 +145,7 @@ CONSTRUCTION = {f"runtime.voronoi.{m}" for m in (
     "edge_polylines", "vertex_emptiness", "near_degenerate", "cocircular", "collinear_points", "deletion",
     "site_arrays", "command")} | {f"runtime.segments.{m}" for m in (
     "construction", "vertices", "newton", "bisectors", "emptiness", "exact", "sampling", "contact_order", "edges", "loops",
-    "command", "medial_axis")}
+    "command", "medial_axis", "walk_checks")}
 
 #: the certificates: the curved-site verifier and the point/segment one
 VERIFIERS = ("runtime.voronoi.verify", "runtime.segments.certificate")

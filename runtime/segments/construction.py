@@ -39,10 +39,11 @@ from ..voronoi.site_input import SiteError
 from ..voronoi.structure import Diagram, DiagramVertex
 from .contact_order import contact_order, corner_order
 from .edges import edge_polylines, walk_hint
-from .elementary import ARC, POINT, SEGMENT, ElementarySites, decompose
+from .elementary import ARC, POINT, ElementarySites, decompose
 from .emptiness import empty_by_filter, prove_empty
 from .exact import contacts_valid
 from .sampling import flat, initial_spacing, nearest_point, samples, triangulation
+from .walk_checks import far_ends, long_side, segment_ends
 from .newton import prove_vertices
 from .vertices import common_point
 
@@ -100,6 +101,8 @@ def segment_voronoi(pieces, sources=None, *, certify: bool = True, tolerance: fl
     for _ in range(MAX_ROUNDS):
         stats["rounds"] += 1
         result, refine = _build_once(E, spacing, stats, caches)
+        if not refine:
+            refine = far_ends(E, result, tolerance, lo, hi, caches)
         history.append(result[2])
         if not refine or (len(history) >= 3 and history[-1] == history[-2] == history[-3]):
             break            # consistent, or two refinements changed nothing
@@ -279,7 +282,7 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
     walks = []
     degree: list[list] = [[] for _ in vertices]
     for pair, start, chain, end in raw:
-        if ghost in pair or _segment_ends(E, pair) or _long_side(tri, pair, start, end, tri_vid):
+        if ghost in pair or segment_ends(E, pair) or long_side(tri, pair, start, end, tri_vid):
             # the two ends of a segment are never neighbours (a circle through both meets the
             # open segment); their samples' cells touch far out when the segment's samples fall
             # a rounding inside the hull edge between its ends
@@ -367,27 +370,3 @@ def _vertex_id(vertices, by_sites, members, sol, E, orders):
     return vid
 
 
-
-def _segment_ends(E: ElementarySites, pair) -> bool:
-    """Both sites of ``pair`` are the two ends of one segment."""
-    a, b = int(pair[0]), int(pair[1])
-    if E.kind[a] != POINT or E.kind[b] != POINT:
-        return False
-    return any(E.kind[s] == SEGMENT and b in (int(E.ends[s, 0]), int(E.ends[s, 1])) for s in E.incident[a])
-
-
-def _long_side(tri, pair, start, end, tri_vid) -> bool:
-    """The walk leaves a flat three-label triangle (collinear samples, circumcentre at infinity)
-    through its longest side: the middle sample is nearer than the two outer ones to every point
-    of their bisector, so that side bounds no cell of the samples at all."""
-    for e in (start, end):
-        if e is None or e[0] != "tri" or tri_vid.get(e[1]) != "inf":
-            continue
-        t = e[1]
-        idx = tri.simp[t]
-        Q = tri.P[idx]
-        lengths = [float(np.hypot(*(Q[(k + 1) % 3] - Q[(k + 2) % 3]))) for k in range(3)]
-        k = int(np.argmax(lengths))              # side k is opposite vertex k, the middle one
-        if int(tri.lab[idx[k]]) not in pair:
-            return True
-    return False

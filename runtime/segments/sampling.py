@@ -128,13 +128,17 @@ def corner_grading(E: ElementarySites, spacing, ends=()):
     (curve, point site) in ``ends`` are graded down to the floor: the construction asks for them
     where a vertex of p and the curve misses an edge.  Every σ_j stays above
     :data:`GRADING_FLOOR` of the end's coordinates (closer samples make qhull drop points as
-    coplanar); one sequence per end, so that no two graded samples nearly coincide."""
+    coplanar); one sequence per end, so that no two graded samples nearly coincide.  Arcs' ends
+    are graded too (the turn of the sampled end ray, see below)."""
     out, lab = [], []
     L = curve_lengths(E)
     ends = set(ends)
+    lo = np.minimum(E.A.min(axis=0), E.B.min(axis=0)) if len(E) else np.zeros(2)
+    hi = np.maximum(E.A.max(axis=0), E.B.max(axis=0)) if len(E) else np.zeros(2)
+    extent = float(np.max(hi - lo)) or 1.0
     for p, curves in enumerate(E.incident):
         asked = [s for s in curves if (s, p) in ends]
-        if len(curves) < 2 and not asked:
+        if len(curves) < 2 and not asked and not any(E.kind[s] == ARC for s in curves):
             continue
         c = E.A[p]
         dirs = []
@@ -150,12 +154,18 @@ def corner_grading(E: ElementarySites, spacing, ends=()):
             h = spacing[s]
             if not np.isfinite(h):
                 continue
+            sigma0 = np.inf
             if s in asked:
                 sigma0 = floor
             elif len(curves) >= 2:
                 cos_max = max(float(np.dot(dirs[k], dirs[j])) for j in range(len(curves)) if j != k)
                 sigma0 = max(2 * np.sqrt(max(0.0, (1 + cos_max) / 2)) * h, floor)     # 2 sin(δ/2) h
-            else:
+            if E.kind[s] == ARC:
+                # the ray of an arc's end (from the centre through p) is drawn by the samples as
+                # the bisector of p and the nearest sample, turned by σ/(2ρ): a sample at
+                # σ = 2ρh / extent keeps the turn within h across the scene
+                sigma0 = min(sigma0, max(2 * float(E.rho[s]) * h / extent, floor))
+            if not np.isfinite(sigma0):
                 continue
             n = max(1, int(np.ceil(L[s] / h)))
             first = L[s] / (2 * n)
