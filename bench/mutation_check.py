@@ -236,7 +236,7 @@ SOUND_MODULES = ["runtime/voronoi/verify/**/*.py", "runtime/certify/**/*.py"]
 _VERIFY_TESTS = ["tests/test_verify_boundaries.py", "tests/test_verify_mutants.py", "tests/test_polyline_bound.py",
                  "tests/test_degenerate.py", "tests/test_symmetry_proofs.py", "tests/test_degenerate_cgal.py",
                  "tests/test_voronoi_verify.py"]
-_CERTIFY_TESTS = ["tests/test_certify.py", "tests/test_certify_chart.py", "tests/test_certify_conjugates.py",
+_CERTIFY_TESTS = ["tests/test_certify_kernel_boundaries.py", "tests/test_certify.py", "tests/test_certify_chart.py", "tests/test_certify_conjugates.py",
                   "tests/test_certify_dimension.py", "tests/test_certify_fast_system.py",
                   "tests/test_certify_boundaries.py", "tests/test_locator_certified.py",
                   "tests/test_interval_newton.py", "tests/test_voronoi_vertex.py"]
