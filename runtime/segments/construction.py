@@ -178,7 +178,7 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
     """Triangulate the samples, prove the candidate vertices, check the walks.
     Returns ((vertices, walks, problems), {site: refine}) with walks mapped to vertex ids."""
     extra = caches.setdefault("extra", {})
-    graded = caches.setdefault("graded", set())
+    graded = caches.setdefault("graded", {})
     P, lab = samples(E, spacing, extra, ends=graded)
     stats["samples"] = int(len(P))
     ghost = len(E)
@@ -326,10 +326,13 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
             # an edge missing at a vertex of a point site p and a curve t ending at p: the edge
             # leaves the vertex where t's nearest point is a hair away from p (a hull tangent
             # next to an arc's end, a nearly flat corner), closer than t's first sample:
-            # samples of t graded towards p (sampling.corner_grading) resolve it
+            # samples of t graded towards p (sampling.corner_grading), 8 times finer at each
+            # request, resolve it
             for p_ in v.sites:
                 if E.kind[p_] == POINT:
-                    graded.update((int(t), int(p_)) for t in v.sites if E.is_endpoint(p_, t))
+                    for t in v.sites:
+                        if E.is_endpoint(p_, t):
+                            graded[(int(t), int(p_))] = graded.get((int(t), int(p_)), 0) + 1
             problems.append(f"sites {', '.join(map(str, v.sites))}: the vertex at ({v.x:.6g}, {v.y:.6g}) has incident "
                             f"edges {sorted(degree[v.id])}, expected {want}")
     # point sites are single samples: refine the segments ending at them instead

@@ -71,7 +71,7 @@ def samples(E: ElementarySites, spacing, extra=None, graded: bool = True, ends=(
     """Every point site, and n = ⌈L / spacing⌉ points at parameters (k + ½)/n along each curve,
     plus ``extra`` points {curve: [(x, y), ...]} (points of the curves added where a curve was
     found inside a candidate's circle) and, with ``graded``, the samples of :func:`corner_grading`
-    (``ends``: its pairs graded to the floor)."""
+    (``ends``: {(curve, point site): level} graded further)."""
     pts = [E.A[:E.n_points]]
     labs = [np.arange(E.n_points)]
     grade, graded = graded, False
@@ -125,14 +125,15 @@ def corner_grading(E: ElementarySites, spacing, ends=()):
     missing (for δ = 0.005 and σ = 50: a spike of 10⁴).  Samples at σ_j = f 2^-j from p (f the
     distance of the curve's first regular sample), down to σ₀ = 2 sin(δ/2) h (h the curve's
     spacing, at most a quarter of its gap to other sites), shorten the spike to h.  The pairs
-    (curve, point site) in ``ends`` are graded down to the floor: the construction asks for them
-    where a vertex of p and the curve misses an edge.  Every σ_j stays above
+    (curve, point site) in ``ends`` (a dict: pair -> level ℓ) are graded down to f 8^-ℓ: the
+    construction asks for them where a vertex of p and the curve misses an edge, once more at
+    each round that it still does.  Every σ_j stays above
     :data:`GRADING_FLOOR` of the end's coordinates (closer samples make qhull drop points as
     coplanar); one sequence per end, so that no two graded samples nearly coincide.  Arcs' ends
     are graded too (the turn of the sampled end ray, see below)."""
     out, lab = [], []
     L = curve_lengths(E)
-    ends = set(ends)
+    ends = dict(ends) if isinstance(ends, dict) else {e: 60 for e in ends}
     lo = np.minimum(E.A.min(axis=0), E.B.min(axis=0)) if len(E) else np.zeros(2)
     hi = np.maximum(E.A.max(axis=0), E.B.max(axis=0)) if len(E) else np.zeros(2)
     extent = float(np.max(hi - lo)) or 1.0
@@ -154,12 +155,14 @@ def corner_grading(E: ElementarySites, spacing, ends=()):
             h = spacing[s]
             if not np.isfinite(h):
                 continue
+            n = max(1, int(np.ceil(L[s] / h)))
+            first = L[s] / (2 * n)
             sigma0 = np.inf
             if s in asked:
-                sigma0 = floor
-            elif len(curves) >= 2:
+                sigma0 = max(floor, first * 8.0 ** -ends[(s, p)])
+            if len(curves) >= 2:
                 cos_max = max(float(np.dot(dirs[k], dirs[j])) for j in range(len(curves)) if j != k)
-                sigma0 = max(2 * np.sqrt(max(0.0, (1 + cos_max) / 2)) * h, floor)     # 2 sin(δ/2) h
+                sigma0 = min(sigma0, max(2 * np.sqrt(max(0.0, (1 + cos_max) / 2)) * h, floor))  # 2 sin(δ/2) h
             if E.kind[s] == ARC:
                 # the ray of an arc's end (from the centre through p) is drawn by the samples as
                 # the bisector of p and the nearest sample, turned by σ/(2ρ): a sample at
@@ -167,8 +170,6 @@ def corner_grading(E: ElementarySites, spacing, ends=()):
                 sigma0 = min(sigma0, max(2 * float(E.rho[s]) * h / extent, floor))
             if not np.isfinite(sigma0):
                 continue
-            n = max(1, int(np.ceil(L[s] / h)))
-            first = L[s] / (2 * n)
             dist = first * 0.5 ** np.arange(1, 61)
             dist = dist[dist >= sigma0]
             if not len(dist):

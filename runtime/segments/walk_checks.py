@@ -60,7 +60,7 @@ def far_ends(E: ElementarySites, result, tolerance, lo, hi, caches) -> dict:
     n = len(E)
     D = site_distances(E, np.tile(np.arange(n), len(Q)), np.repeat(Q, n, axis=0)).reshape(len(Q), n)
     out: dict = {}
-    graded = caches.setdefault("graded", set())
+    graded = caches.setdefault("graded", {})
     for e, row in zip(edges, D):
         i, j = e.sites
         own = max(row[i], row[j])
@@ -74,5 +74,5 @@ def far_ends(E: ElementarySites, result, tolerance, lo, hi, caches) -> dict:
                     out[int(s_)] = np.inf
             for p_, t in ((i, j), (j, i)):
                 if E.kind[p_] == POINT and E.is_endpoint(p_, t):
-                    graded.add((int(t), int(p_)))
+                    graded[(int(t), int(p_))] = graded.get((int(t), int(p_)), 0) + 1
     return out
