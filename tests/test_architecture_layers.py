@@ -130,16 +130,11 @@ RATIONALS = "runtime.sites.rationals"
 RATIONAL_CALLS = {"to_fraction", "parse_rational"}
 PARSER_NAME = re.compile(r"^(to_|as_|parse_)?(frac|fraction|fmpq|rational|number|q)$")
 
-_VERIFY = ("the verifier (runtime/voronoi/verify/) was edited by other work when the kernel test moved: "
-           "build the enclosures there and call float_krawczyk_test")
 _SEGMENTS = "runtime/segments/ was edited by other work when the parser moved: call to_fraction"
 _ELSEWHERE = "not moved yet (outside the modules changed with the parser): call to_fraction / parse_rational"
 
 #: places that still break the rule, each with why; remove an entry when its place is moved
 NOT_YET_MOVED = {
-    "runtime.voronoi.verify.vertices:_krawczyk: a Krawczyk test of its own": _VERIFY,
-    "runtime.voronoi.verify.vertices:_krawczyk: forms I - Y.J": _VERIFY,
-    "runtime.voronoi.verify.conic_vertices:prove_conic_vertices: forms I - Y.J": _VERIFY,
     "runtime.segments.certificate_sites:_frac: a rational parser of its own": _SEGMENTS,
     "runtime.segments.exact:_q: a rational parser of its own": _SEGMENTS + " (its target is a SymPy Rational)",
     "runtime.voronoi.queries:_fmpq: a rational parser of its own": _ELSEWHERE,

@@ -8,17 +8,16 @@ ellipses, parabolas) and q outside their convex hulls the distance functions are
 ∇d = (q − p)/|q − p|, enclosed on a disc by
 :func:`runtime.voronoi.verify.site_table.gradient_enclosure`.
 
-**Krawczyk's test** (Moore, Kearfott & Cloud, *Introduction to Interval Analysis*, SIAM 2009,
-§8.2; Rump, Acta Numerica 19 (2010), §13) on the square B = c + [−ρ, ρ]²: with J̃ the float
-Jacobian at c (rows G_i − G_j, G_i − G_k), Y a float inverse of it, F(c) enclosed by the
-rigorous distance bounds and every Jacobian J(q), q ∈ B, within E of J̃ entrywise (E_row = the
-sum of the two gradient slacks on the disc B(c, ρ√2)),
-
-    |K(B) − c| ≤ |Y|·|F(c)| + (|I − Y·J̃| + |Y|·E)·ρ·(1, 1)ᵀ  <  ρ   (componentwise)
-
-proves that F has exactly one zero in B (the mean-value form: F(q) − F(c) = J̄(q − c) with J̄
-an average of Jacobians on the segment, within E of J̃ since the enclosures are balls).  The
-float products are widened by a relative 1e-9 and 1e-300.  Vertices whose sites are not all
+**Krawczyk's test** (Krawczyk 1969; Moore, Kearfott & Cloud, *Introduction to Interval
+Analysis*, SIAM 2009, §8.2) on the square B = c + [−ρ, ρ]², decided by the kernel's float test
+:func:`runtime.certify.interval_newton.float_krawczyk_test` (its proof and rounding model, Higham
+§3.1, there).  The enclosures handed to it: F(c) within Fa of 0, Fa from the rigorous distance
+bounds (|d_i − d_j| ≤ max(|lo_i − hi_j|, |hi_i − lo_j|)); with J̃ the float Jacobian at c (rows
+G_i − G_j, G_i − G_k), every Jacobian J(q), q ∈ B, within E_b + 2u|J̃| of J̃ entrywise in row b
+(E_b the sum of the two gradient slacks on the circumscribed disc B(c, ρ√2), a bound of the row's
+2-norm deviation and so of each entry's; u|J̃| the float subtraction).  The mean-value form of the
+kernel's proof needs only these (F(q) − F(c) = J̄(q − c) with J̄ an average of Jacobians on the
+segment [c, q] ⊂ B, the enclosures being convex).  Vertices whose sites are not all
 convex, or where the test fails for every tried ρ, are left to the exact route
 (:func:`runtime.voronoi.vertex.certify_vertex`, arb Krawczyk on the foot-point system).
 """
@@ -26,6 +25,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...certify.interval_newton import (UNIT_ROUNDOFF, float_contraction_bound, float_inverse, float_krawczyk_test,
+                                        float_residual_bound, round_up)
 from .site_table import SiteTable, gradient_enclosure
 
 __all__ = ["prove_conic_vertices"]
@@ -80,23 +81,20 @@ def prove_conic_vertices(geoms, triples, X, scale):
         Gi, si, vi = gradient_enclosure(c, Vi, Rd, scale)
         Gj, sj, vj = gradient_enclosure(c, Vj, Rd, scale)
         Gk, sk, vk = gradient_enclosure(c, Vk, Rd, scale)
-        # F(c) enclosed; |F(c)| ≤ Fa
+        # F(c) enclosed by the distance bounds: |F_b(c)| ≤ Fa_b (one rounded subtraction each)
         F1a = np.maximum(np.abs(Vi.lo - Vj.hi), np.abs(Vi.hi - Vj.lo))
         F2a = np.maximum(np.abs(Vi.lo - Vk.hi), np.abs(Vi.hi - Vk.lo))
         A = np.stack([Gi - Gj, Gi - Gk], axis=1)            # (m, 2, 2) float Jacobian at c
-        # row b of every J(q), q ∈ B, is within E_b of row b of J̃ (2-norm), so the row's two
-        # entries deviate by at most √2·E_b in sum: |Y|·|ΔJ|·(1, 1)ᵀ ≤ |Y|·(√2·E)
-        E = np.sqrt(2.0) * np.column_stack([si + sj, si + sk])
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            det = A[:, 0, 0] * A[:, 1, 1] - A[:, 0, 1] * A[:, 1, 0]
-            Y = np.stack([np.stack([A[:, 1, 1], -A[:, 0, 1]], 1), np.stack([-A[:, 1, 0], A[:, 0, 0]], 1)], 1)
-            Y = Y / det[:, None, None]                      # any float matrix will do (Krawczyk)
-            aY = np.abs(Y)
-            IYJ = np.abs(np.eye(2)[None] - Y @ A) + 8 * 2.0 ** -53 * (aY @ np.abs(A) + 1.0)
-            lhs = (aY @ np.column_stack([F1a, F2a])[:, :, None])[:, :, 0]
-            lhs += IYJ.sum(2) * rho[:, None] + (aY @ E[:, :, None])[:, :, 0] * rho[:, None]
-            lhs = lhs * (1 + 1e-9) + 1e-300
-        proved = vi & vj & vk & np.isfinite(lhs).all(1) & (lhs < rho[:, None]).all(1)
+            F_rad = round_up(np.column_stack([F1a, F2a]))
+            # row b of every J(q), q ∈ B, is within E_b of the exact G_i − G_j (2-norm), so
+            # each of its entries is; the float subtraction adds u·|A| (Higham §2.2)
+            E = np.column_stack([si + sj, si + sk])
+            J_rad = round_up(E[:, :, None] + 2 * UNIT_ROUNDOFF * np.abs(A))
+            Y, invertible = float_inverse(A)                 # any float matrix will do (Krawczyk)
+            b = float_residual_bound(Y, np.zeros_like(F_rad), F_rad)
+            won, _ = float_krawczyk_test(b, float_contraction_bound(Y, A, J_rad), np.column_stack([rho, rho]))
+        proved = vi & vj & vk & invertible & won
         for t in np.nonzero(proved)[0]:
             r_lo = max(float(Vi.lo[t]) - float(Rd[t]), 0.0)
             r_hi = float(Vi.hi[t]) + float(Rd[t])

@@ -32,6 +32,7 @@ import math
 
 import numpy as np
 
+from ...sites.kinds import SiteKind
 from .site_table import run_lockstep
 from .strips import StripsJob, prove_strips, prove_strips_many, rot90
 
@@ -77,7 +78,7 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, extra=No
     geoms = table.geoms
     S = np.array(P, float)
     for h in pair:
-        if table.kind[h] == 3:
+        if table.kind[h] == SiteKind.HYPERBOLA:
             # a strip across the conjugate axis X = 0 always holds a piece whose disc reaches it,
             # where the gradient enclosures stop (the nearer branch switches: a corner of β)
             X0, _ = geoms[h].to_canonical(S)

@@ -59,6 +59,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ...sites.foot_points import ellipse_feet
+from ...sites.kinds import SiteKind
 from ..geometry import EPS, rounding_slack
 
 __all__ = ["SiteTable", "SiteValues", "gradient_enclosure", "run_lockstep"]
@@ -101,25 +102,23 @@ class SiteTable:
         self.scale = float(scale)
         n = len(geoms)
         self.n = n
-        self.kind = np.zeros(n, int)          # 0 point, 1 circle, 2 ellipse, 3 hyperbola, 4 parabola
+        self.kind = np.zeros(n, int)          # SiteKind codes (int(SiteKind.POINT) = 0)
         self.cx, self.cy, self.rho = np.zeros(n), np.zeros(n), np.zeros(n)
         self.a, self.b, self.c, self.s = np.ones(n), np.ones(n), np.ones(n), np.zeros(n)
         for k, g in enumerate(geoms):
-            if g.kind == "point":
+            kind = SiteKind.of(g.kind)
+            if kind not in (SiteKind.POINT, SiteKind.CIRCLE, SiteKind.ELLIPSE, SiteKind.HYPERBOLA, SiteKind.PARABOLA):
+                raise ValueError(f"site {k}: the site table holds points and conics, not a {kind.label}")
+            self.kind[k] = kind
+            if kind == SiteKind.POINT:
                 self.cx[k], self.cy[k] = g.x0, g.y0
-            elif g.kind == "circle":
-                self.kind[k] = 1
+            elif kind == SiteKind.CIRCLE:
                 self.cx[k], self.cy[k], self.rho[k] = g.cx, g.cy, g.rho
-            elif g.kind == "ellipse":
-                self.kind[k] = 2
+            elif kind == SiteKind.ELLIPSE:
                 self.cx[k], self.cy[k], self.a[k], self.b[k], self.c[k], self.s[k] = g.tx, g.ty, g.a, g.b, g.c, g.s
-            elif g.kind == "parabola":
-                self.kind[k] = 4
-            else:
-                self.kind[k] = 3
         # convex K (the inside of an ellipse, the focus side of a parabola; not a hyperbola's two
         # regions): the site is the boundary of one convex set
-        self.convex = self.kind != 3
+        self.convex = self.kind != SiteKind.HYPERBOLA
         # reach of the boundary from inside (Federer): b²/a for an ellipse (a ≥ b: the ends of
         # the medial axis are the centres of curvature at the major vertices), r for a circle;
         # b²/a for a hyperbola branch X²/a² − Y²/b² = 1 and p for a parabola Y² = 2pX (the
@@ -127,7 +126,8 @@ class SiteTable:
         # the axis ray from that centre of curvature: the depth is concave on the convex side,
         # unbounded along the ray, hence non-decreasing there)
         lo_ax, hi_ax = np.minimum(self.a, self.b), np.maximum(self.a, self.b)
-        self.reach = np.where(self.kind == 2, lo_ax * lo_ax / hi_ax, np.where(self.kind == 1, self.rho, 0.0))
+        self.reach = np.where(self.kind == SiteKind.ELLIPSE, lo_ax * lo_ax / hi_ax,
+                              np.where(self.kind == SiteKind.CIRCLE, self.rho, 0.0))
         for k, g in enumerate(geoms):
             if g.kind == "hyperbola":
                 self.reach[k] = g.b * g.b / g.a
@@ -162,7 +162,7 @@ class SiteTable:
         kind = self.kind[K]
         x, y = Q[:, 0], Q[:, 1]
         # ---- points and circles
-        r = np.nonzero(kind <= 1)[0]
+        r = np.nonzero((kind == SiteKind.POINT) | (kind == SiteKind.CIRCLE))[0]
         if len(r):
             k = K[r]
             cx, cy, rho = self.cx[k], self.cy[k], self.rho[k]
@@ -177,11 +177,11 @@ class SiteTable:
             base[r] = nv > rho * (1 + 1e-12)
             inner[r] = nv < rho * (1 - 1e-12)
         # ---- ellipses
-        r = np.nonzero(kind == 2)[0]
+        r = np.nonzero(kind == SiteKind.ELLIPSE)[0]
         if len(r):
             loose[r] = self._ellipses(r, K[r], x[r], y[r], lo, hi, F, d, base, inner)
         # ---- the site geometries' own bounds where the table is not tight or not applicable
-        bad = (kind >= 3) | loose
+        bad = (kind == SiteKind.HYPERBOLA) | (kind == SiteKind.PARABOLA) | loose
         if bad.any():
             idx = np.nonzero(bad)[0]
             for k in np.unique(K[idx]):
@@ -190,18 +190,18 @@ class SiteTable:
                 g = self.geoms[k]
                 lo_, hi_ = g.distance_bounds(Q[sel])
                 lo[sel], hi[sel] = lo_, hi_
-                if kind[sel[0]] >= 3 or not np.isfinite(F[sel]).all():
+                if kind[sel[0]] in (SiteKind.HYPERBOLA, SiteKind.PARABOLA) or not np.isfinite(F[sel]).all():
                     F_, _ = g.foot_points(Q[sel])
                     F[sel] = F_
                     d[sel] = np.hypot(*(Q[sel] - F_).T)
-                if kind[sel[0]] == 4:
+                if kind[sel[0]] == SiteKind.PARABOLA:
                     # outside / inside the focus side Y² ≤ 2pX (canonical frame; margin far
                     # above rounding)
                     X0, Y0 = g.to_canonical(Q[sel])
                     gv = Y0 * Y0 - 2 * g.p * X0
                     mg = 1e-9 * (Y0 * Y0 + 2 * g.p * np.abs(X0)) + 1e-300
                     base[sel], inner[sel] = gv > mg, gv < -mg
-                elif kind[sel[0]] == 3:
+                elif kind[sel[0]] == SiteKind.HYPERBOLA:
                     # between the branches (1 − X²/a² + Y²/b² > 0) or inside the branch of
                     # sign X; the nearest branch is the one of sign X (mirror X ↦ −X), so the
                     # values are those of one convex set on discs that do not reach X = 0

@@ -7,14 +7,11 @@ Circle and point triples (thesis §3.1.2–3.1.3).  A vertex outside the three d
 and then d(q, S_l) = |q − c_l| − ρ_l = r.  Subtracting F_0 makes two equations linear in q, so
 q = q0 − r·q1 when the centres are not collinear, and F_0 becomes a quadratic in r: the system
 has at most **two** solutions.  Both are proved, in a batch over all vertices, by **Krawczyk's
-test in floating point with error bounds** (Moore, Kearfott & Cloud, *Introduction to Interval
-Analysis*, SIAM 2009, §8.2; Rump, Acta Numerica 19 (2010), §13): with z̃ a float point, Y a float
-inverse of J(z̃) and Z = z̃ + [−ρ, ρ]³,
-
-    |K(Z) − z̃| ≤ |Y|·(|F(z̃)| + s_F) + (|I − Y·J(z̃)| + s_I + |Y|·ΔJ)·ρ  <  ρ (componentwise)
-
-proves a unique zero in Z (s_F bounds the rounding of F and the rounding of the float data of
-the exact sites, ΔJ ≥ |J(z) − J(z̃)| on Z plus data rounding, s_I the rounding of I − YJ).  Two
+test in floating point with error bounds** (Krawczyk 1969; Moore, Kearfott & Cloud,
+*Introduction to Interval Analysis*, SIAM 2009, §8.2), decided by the kernel's
+:func:`runtime.certify.interval_newton.float_krawczyk_test` on a cube z̃ + [−ρ, ρ]³ from the
+enclosures of F(z̃) (its rounding and the rounding of the float data of the exact sites) and of
+the Jacobian over the cube (:func:`_krawczyk`): a unique zero in the cube.  Two
 disjoint boxes then hold *all* solutions of the system, which the edge proofs use (the zeros of
 d_k − d_i on the bisector of i, j are the solutions with r > 0).  Triples that are not pairwise
 exterior, collinear centres and failed tests go to the exact route of thesis §3.1.3
@@ -35,6 +32,8 @@ import math
 
 import numpy as np
 
+from ...certify.interval_newton import (float_contraction_bound, float_inverse, float_krawczyk_test,
+                                        float_residual_bound, round_up)
 from .problems import fault
 from .exact_vertices import cocircular_vertex, exact_emptiness
 
@@ -66,7 +65,22 @@ def vname(v) -> str:
 
 def _krawczyk(C, Rho, Z, scale):
     """Batch float Krawczyk for F_l = |q − c_l|² − (r + ρ_l)².  C (n,3,2), Rho (n,3), Z (n,3).
-    Returns (ok mask, refined Z, box half-width)."""
+    Returns (ok mask, refined Z, box half-width).
+
+    The test is the kernel's :func:`runtime.certify.interval_newton.float_krawczyk_test`
+    (Krawczyk 1969; Moore, Kearfott & Cloud §8.2; its proof and rounding model, Higham §3.1,
+    there) on the cube Z̃ + [−ρ, ρ]³.  The enclosures handed to it, with u = 2^-53 and
+    m_l = |x| + |y| + |c_l| + |r| + ρ_l (floats of the exact centres and radii, each within a
+    few ulps of the exact data):
+
+    * F(Z̃) for the exact data within 32u·m_l² (the float evaluation of F, about 16
+      operations) + 8u·m_l·(|c_l| + ρ_l) (the data's rounding: ∂F/∂c = −2(q − c),
+      ∂F/∂ρ = −2(r + ρ)) of the float F̃;
+    * every Jacobian on the cube within 2ρ (the rows 2(q − c_l), −2(r + ρ_l) move by at most 2ρ
+      per entry) + 8u·(m_l + |c_l|) (the rounding of the float row and the data's) of the
+      float J̃ at Z̃, entrywise.
+    """
+    u = EPS
     for _ in range(3):                                   # Newton polish
         q, r = Z[:, None, :2], Z[:, 2:3]
         V = q - C
@@ -78,30 +92,24 @@ def _krawczyk(C, Rho, Z, scale):
             Jg = np.where(good[:, None, None], J, np.eye(3))
             Z = Z - np.where(good[:, None], np.linalg.solve(Jg, F[..., None])[..., 0], 0.0)
     q, r = Z[:, None, :2], Z[:, 2:3]
-    V = q - C
-    F = (V ** 2).sum(-1) - (r + Rho) ** 2
-    J = np.concatenate([2 * V, -2 * (r + Rho)[..., None]], axis=-1)
     with np.errstate(all="ignore"):
-        detJ = np.linalg.det(J)
-        invertible = np.isfinite(detJ) & (np.abs(detJ) > 1e-300) & np.isfinite(J).all(axis=(1, 2))
-        Jg = np.where(invertible[:, None, None], J, np.eye(3))
-        Y = np.linalg.inv(Jg)             # rows with a singular J are refused below (exact route)
-    mag = (np.abs(q) + np.abs(C)).sum(-1) + np.abs(r) + Rho            # (n,3)
-    # rounding of F (16 ops) and of the float data (centres, radii: a few ulps)
-    sF = 32 * EPS * (mag ** 2) + 8 * EPS * mag * (np.abs(C).sum(-1) + Rho)
-    aY = np.abs(Y)
-    E = np.eye(3) - Y @ J
-    sI = 16 * EPS * (aY @ np.abs(J))
-    base = (aY @ (np.abs(F) + sF)[..., None])[..., 0]                  # |Y|(|F| + s_F)
+        V = q - C
+        F = (V ** 2).sum(-1) - (r + Rho) ** 2
+        J = np.concatenate([2 * V, -2 * (r + Rho)[..., None]], axis=-1)
+        Y, invertible = float_inverse(J)  # rows with a singular J are refused (exact route)
+        mag = (np.abs(q) + np.abs(C)).sum(-1) + np.abs(r) + Rho            # (n,3)
+        F_rad = round_up(32 * u * (mag ** 2) + 8 * u * mag * (np.abs(C).sum(-1) + Rho))
+        dataJ = round_up(8 * u * (mag + np.abs(C).sum(-1)))[..., None]     # (n,3,1): per row
+        b = float_residual_bound(Y, F, F_rad)                              # ≥ |Y F(Z̃)|
     ok = np.zeros(len(Z), bool)
     ok_rows = invertible & np.isfinite(Z).all(-1)
     H = np.zeros(len(Z))
-    dataJ = 8 * EPS * (mag + np.abs(C).sum(-1))[..., None]             # data rounding in J
     for mult in (4.0, 64.0, 4096.0):
-        rho = np.maximum(mult * base.max(-1), 1e-15 * scale)
-        dJ = 2 * rho[:, None, None] * np.ones((1, 3, 3)) + dataJ
-        contr = ((np.abs(E) + sI + aY @ dJ) * rho[:, None, None]).sum(-1)
-        test = (base + contr < rho[:, None] * (1 - 1e-12)).all(-1) & np.isfinite(contr).all(-1) & ok_rows
+        with np.errstate(all="ignore"):
+            rho = np.maximum(mult * b.max(-1), 1e-15 * scale)
+            J_rad = round_up(2 * rho[:, None, None] + dataJ) * np.ones((1, 3, 3))
+            test, _ = float_krawczyk_test(b, float_contraction_bound(Y, J, J_rad), rho[:, None] * np.ones((1, 3)))
+        test &= ok_rows
         new = test & ~ok
         H = np.where(new, rho, H)
         ok |= test
@@ -138,7 +146,8 @@ def _fast_circle_vertices(items, table):
         r_sum = -qb / qa                                               # r1 + r2
         r_other = r_sum - Z1[:, 2]
     quad = regular & (np.abs(qa) > 1e-9 * (np.abs(q1) ** 2).sum(-1).clip(1.0)) & np.isfinite(r_other)
-    Zo = np.column_stack([q0 - r_other[:, None] * q1 + C[:, 0], r_other])
+    with np.errstate(all="ignore"):                                    # rows without a second root: NaN, zeroed
+        Zo = np.column_stack([q0 - r_other[:, None] * q1 + C[:, 0], r_other])
     Zo = np.where(np.isfinite(Zo), Zo, 0.0)
     ok2, Z2, H2 = _krawczyk(C, Rho, Zo, scale)
     apart = (np.abs(Z1 - Z2) > (H1 + H2)[:, None]).any(-1)
