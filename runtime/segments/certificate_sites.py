@@ -26,6 +26,7 @@ from ..certify.foot import to_arb
 from ..predicates.circles import Point
 from ..sites.arc import Arc
 from ..sites.segment import Segment
+from ..sites.rationals import to_fraction
 from .distance import distances, float_error
 
 __all__ = ["SiteTable", "direction_key", "POINT", "SEGMENT", "ARC", "sq", "hypot"]
@@ -43,14 +44,6 @@ def sq(x: arb) -> arb:
 def hypot(dx: arb, dy: arb) -> arb:
     """√(dx² + dy²), also for balls around 0."""
     return (sq(dx) + sq(dy)).nonnegative_part().sqrt()
-
-
-def _frac(v) -> Fraction:
-    if isinstance(v, Fraction):
-        return v
-    if hasattr(v, "p") and hasattr(v, "q"):          # flint fmpq
-        return Fraction(int(v.p), int(v.q))
-    return Fraction(v)
 
 
 def _cross(u, v):
@@ -92,17 +85,17 @@ class SiteTable:
         for k, s in enumerate(self.sites):
             if isinstance(s, Arc):
                 self.kind.append(ARC)
-                self.a.append(tuple(map(_frac, s.a)))
-                self.b.append(tuple(map(_frac, s.b)))
-                self.cen[k] = tuple(map(_frac, s.c))
-                self.rad[k] = _frac(s.rho)
+                self.a.append(tuple(map(to_fraction, s.a)))
+                self.b.append(tuple(map(to_fraction, s.b)))
+                self.cen[k] = tuple(map(to_fraction, s.c))
+                self.rad[k] = to_fraction(s.rho)
             elif isinstance(s, Segment):
                 self.kind.append(SEGMENT)
-                self.a.append(tuple(map(_frac, s.p)))
-                self.b.append(tuple(map(_frac, s.q)))
+                self.a.append(tuple(map(to_fraction, s.p)))
+                self.b.append(tuple(map(to_fraction, s.q)))
             elif isinstance(s, Point):
                 self.kind.append(POINT)
-                p = (_frac(s.x), _frac(s.y))
+                p = (to_fraction(s.x), to_fraction(s.y))
                 self.a.append(p)
                 self.b.append(p)
             else:
