@@ -92,11 +92,11 @@ def agree(points, segments):
 
 # ---------------------------------------------------------------- scenes (no peer needed)
 
-@pytest.mark.parametrize("shared", [False, True])
-def test_random_segments_valid_and_deterministic(shared):
-    segs = scenes.random_segments(300, 4, shared=shared)
-    assert len(segs) == 300 and segs == scenes.random_segments(300, 4, shared=shared)
-    assert segs != scenes.random_segments(300, 5, shared=shared)
+@pytest.mark.parametrize("joined", [False, True])
+def test_random_segments_valid_and_deterministic(joined):
+    segs = scenes.random_segments(300, 4, shared=joined)
+    assert len(segs) == 300 and segs == scenes.random_segments(300, 4, shared=joined)
+    assert segs != scenes.random_segments(300, 5, shared=joined)
     assert all(isinstance(c, int) for s in segs for p in s for c in p)
     assert len({S(*s) for s in segs}) == 300
     side = scenes._box_side(300, None)
@@ -105,12 +105,12 @@ def test_random_segments_valid_and_deterministic(shared):
         for t in segs[:i]:
             common = set(s) & set(t)
             if common:
-                assert shared and len(common) == 1
+                assert joined and len(common) == 1
                 assert scenes.meet_only_at(s, t, common.pop())
             else:
                 assert not scenes.segments_meet(*s, *t), (s, t)
     ends = [p for s in segs for p in s]
-    assert (len(set(ends)) < len(ends)) == shared
+    assert (len(set(ends)) < len(ends)) == joined
 
 
 def test_random_points_off_segments():
@@ -246,9 +246,9 @@ def test_keys_are_exact(peers):
     assert all(isinstance(c, Fraction) for k in keys if k[0] == "p" for c in k[1:])
 
 
-@pytest.mark.parametrize("shared", [False, True])
-def test_ten_thousand_segments(peers, shared):
-    agree([], scenes.random_segments(10 ** 4, 7, shared=shared))
+@pytest.mark.parametrize("joined", [False, True])
+def test_ten_thousand_segments(peers, joined):
+    agree([], scenes.random_segments(10 ** 4, 7, shared=joined))
 
 
 @pytest.mark.slow
