@@ -100,7 +100,7 @@ class MedialAxis:
         the ``crs`` member GDAL reads (:func:`runtime.voronoi.geojson.crs_member`); by default a
         planar engineering CRS, so that GIS tools do not take the coordinates for longitude and
         latitude; ``False``: no member."""
-        from ..voronoi.geojson import crs_member, diagram_geojson
+        from ..voronoi.geojson import diagram_geojson, feature_collection
 
         feats = [{"type": "Feature", "id": f"medial-edge-{e.id}",
                   "geometry": {"type": "LineString", "coordinates": np.asarray(e.polyline, float).tolist()},
@@ -117,12 +117,7 @@ class MedialAxis:
         if sites:
             feats += [f for f in diagram_geojson(self.diagram, False)["features"]
                       if f["properties"]["kind"] == "site"]
-        out: dict = {"type": "FeatureCollection"}
-        member = crs_member(crs)
-        if member is not None:
-            out["crs"] = member
-        out["features"] = feats
-        return out
+        return feature_collection(feats, crs)
 
     def plot(self, path_or_ax=None, *, inscribed: bool = True, title: str | None = None, dpi: int = 120):
         """Draw the boundary (black), the medial axis (blue; dotted where not certified) and the

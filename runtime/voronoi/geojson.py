@@ -21,7 +21,7 @@ Points (point sites) or LineStrings / MultiLineStrings sampled along the curve
 an unbounded conic is cut to a window around the sites, the two branches of a hyperbola are two
 lines), with their ``label`` and ``shape``.
 
-Public API: :func:`diagram_geojson`, :func:`crs_member`, :data:`PLANAR_CRS_WKT`.
+Public API: :func:`diagram_geojson`, :func:`feature_collection`, :func:`crs_member`, :data:`PLANAR_CRS_WKT`.
 """
 from __future__ import annotations
 
@@ -32,7 +32,7 @@ import numpy as np
 from .cells import site_outlines
 from .queries import site_index
 
-__all__ = ["diagram_geojson", "crs_member", "PLANAR_CRS_WKT"]
+__all__ = ["diagram_geojson", "feature_collection", "crs_member", "PLANAR_CRS_WKT"]
 
 #: a local Cartesian plane (x east, y north), unit-less: the CRS written when the user gives none
 PLANAR_CRS_WKT = ('ENGCRS["curvedvoronoi planar coordinates",EDATUM["unknown"],CS[Cartesian,2],'
@@ -101,9 +101,15 @@ def diagram_geojson(diagram, crs: Any = None, *, sites: bool = True) -> dict:
             feats.append({"type": "Feature", "id": f"site-{i}", "geometry": _site_geometry(parts),
                           "properties": {"kind": "site", "number": i, "shape": geoms[i].kind,
                                          "label": None if label is None else str(label)}})
+    return feature_collection(feats, crs)
+
+
+def feature_collection(features: list, crs: Any = None) -> dict:
+    """A GeoJSON FeatureCollection (RFC 7946) of ``features`` with GDAL's ``crs`` member for
+    ``crs`` (:func:`crs_member`)."""
     out: dict = {"type": "FeatureCollection"}
     member = crs_member(crs)
     if member is not None:
         out["crs"] = member
-    out["features"] = feats
+    out["features"] = features
     return out

@@ -3,33 +3,17 @@ removals), shared by tests/test_insertion.py and bench/bench_dynamic.py.  The bi
 the temp directory, keyed by the source hash, like :mod:`cgal_peer`."""
 from __future__ import annotations
 
-import hashlib
-import os
-import shutil
 import subprocess
-import tempfile
 from pathlib import Path
 
-from cgal_peer import HEADER, PeerMissing
+from cgal_peer import PeerMissing, compile_peer  # noqa: F401  (PeerMissing: re-exported)
 
 SOURCE = Path(__file__).with_name("apollonius_dynamic.cpp")
 
 
 def build() -> Path:
     """Compile the peer once (about 20 s of CPU) and return the path of the binary."""
-    gxx = shutil.which("g++")
-    if gxx is None:
-        raise PeerMissing("g++ not found (apt-get install g++)")
-    if not os.path.exists(HEADER):
-        raise PeerMissing("CGAL headers not found (apt-get install libcgal-dev)")
-    digest = hashlib.sha256(SOURCE.read_bytes()).hexdigest()[:16]
-    out = Path(tempfile.gettempdir()) / f"curvedvoronoi_cgal_agdyn_{digest}"
-    if not out.exists():
-        tmp = out.with_suffix(f".{os.getpid()}.tmp")
-        subprocess.run([gxx, "-O2", "-std=c++17", "-DNDEBUG", "-o", str(tmp), str(SOURCE)], check=True,
-                       capture_output=True, text=True)
-        os.replace(tmp, out)
-    return out
+    return compile_peer(SOURCE, "agdyn")
 
 
 def run(circles, ops, queries=None):

@@ -23,16 +23,22 @@ class PeerMissing(RuntimeError):
 
 def build() -> Path:
     """Compile the peer once (about 20 s of CPU) and return the path of the binary."""
+    return compile_peer(SOURCE, "ag")
+
+
+def compile_peer(source: Path, tag: str) -> Path:
+    """Compile a CGAL peer program once per source hash (g++ -O2, into the temporary directory,
+    atomically renamed) and return the path of the binary; ``PeerMissing`` without g++ or CGAL."""
     gxx = shutil.which("g++")
     if gxx is None:
         raise PeerMissing("g++ not found (apt-get install g++)")
     if not os.path.exists(HEADER):
         raise PeerMissing("CGAL headers not found (apt-get install libcgal-dev)")
-    digest = hashlib.sha256(SOURCE.read_bytes()).hexdigest()[:16]
-    out = Path(tempfile.gettempdir()) / f"curvedvoronoi_cgal_ag_{digest}"
+    digest = hashlib.sha256(source.read_bytes()).hexdigest()[:16]
+    out = Path(tempfile.gettempdir()) / f"curvedvoronoi_cgal_{tag}_{digest}"
     if not out.exists():
         tmp = out.with_suffix(f".{os.getpid()}.tmp")
-        subprocess.run([gxx, "-O2", "-std=c++17", "-DNDEBUG", "-o", str(tmp), str(SOURCE)], check=True,
+        subprocess.run([gxx, "-O2", "-std=c++17", "-DNDEBUG", "-o", str(tmp), str(source)], check=True,
                        capture_output=True, text=True)
         os.replace(tmp, out)
     return out
