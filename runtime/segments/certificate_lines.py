@@ -26,7 +26,7 @@ class LineProofs:
 
     def _concave(self) -> bool:
         """Concavity of h_k = d_k² − ρ² along a line of a point anchor (module docstring)."""
-        T, c, lo, hi = self.T, self.curve, self.lo, self.hi
+        c, lo, hi = self.curve, self.lo, self.hi
         if c.anchor2 is not None:
             return self._split_line()
         if lo[0] != "v" or hi[0] != "v":
@@ -35,13 +35,7 @@ class LineProofs:
         t = (lo[1] + hi[1]) / 2
         X, Y = c.xy(t)
         rho = c.rho(t, X, Y)
-        ok = True
-        for k in sorted(both):
-            if not T.distance(k, X, Y) > rho:
-                self.report(f"site {k} is at the distance of its sites at both ends and not proved "
-                            "farther in between", k)
-                ok = False
-        return ok
+        return self._farther_between(both, X, Y, rho)
 
     def _split_line(self) -> bool:
         """The line through the centre of two half circles: ρ = |x − j| on each ray from the
@@ -65,8 +59,14 @@ class LineProofs:
         both = (self._at_radius(lo[2]) & self._at_radius(hi[2])) - self.skip - {self.i, self.j}
         X, Y = c.xy((lo[1] + hi[1]) / 2)
         rho = hypot(X - anchor[0], Y - anchor[1])
+        return self._farther_between(both, X, Y, rho)
+
+    def _farther_between(self, both, X, Y, rho) -> bool:
+        """Every site of ``both`` (at the radius at both end vertices) strictly farther than ρ at
+        the middle point (X, Y); the others are reported."""
+        ok = True
         for k in sorted(both):
-            if not T.distance(k, X, Y) > rho:
+            if not self.T.distance(k, X, Y) > rho:
                 self.report(f"site {k} is at the distance of its sites at both ends and not proved "
                             "farther in between", k)
                 ok = False
