@@ -150,6 +150,182 @@ def _lift(sites, Q: Box, r, region: Box, stats: dict):
     return None, "lift-krawczyk-failed"
 
 
+class _Search:
+    """The data of one locator call: the parsed sites, the search domain ``dom`` (a Box), the proved
+    vertex bound (or None), a region of radius ``g`` around the domain that holds every site point
+    relevant to a vertex of the domain (its empty circles have radius at most ``rho``), the site
+    samples, and the running account (``stats``, ``notes``, ``complete``, ``uncertain_points``)."""
+
+    def __init__(self, curves, domain):
+        self.sites = [parse_curve(c, f"C{i + 1}") for i, c in enumerate(curves)]
+        default, self.bound = search_domain(self.sites)
+        dom_t = tuple(float(v) for v in (default if domain is None else domain))
+        self.dom = _domain_box(dom_t)
+        diam = float(max(self.dom.width))
+        sreg = (dom_t[0] - diam, dom_t[1] + diam, dom_t[2] - diam, dom_t[3] + diam)
+        samples = _samples(self.sites, sreg)
+        # r = d(q, C_i)² ≤ rmax on the domain, so every empty circle of a vertex in it has radius ≤ rho,
+        # and the region (the domain grown by g ≥ 2 rho) holds every site point that circle can touch.
+        self.rmax = _r_max(samples, self.dom)
+        self.rho = math.sqrt(self.rmax)
+        g = max(self.rho, diam) * 2
+        self.region = Box(np.array([self.dom.lo[0] - g, self.dom.lo[1] - g]),
+                          np.array([self.dom.hi[0] + g, self.dom.hi[1] + g]))
+        self.allsamples = np.concatenate([s for s in samples if s.size] or [np.zeros((0, 4))])
+        self.bounded = self.bound is not None and self.bound.inside(dom_t)
+        self.notes = [_domain_note(dom_t, self.bound, self.bounded)]
+        self.stats = {"boxes": 0, "systems": 0, "undecided_boxes": 0, "rejected": {}}
+        self.complete = True
+        self.uncertain_points: list = []
+
+    def record(self, sysm, res, max_boxes: int):
+        """Account for one branch-and-prune run: an incomplete run (undecided boxes, exhausted budget)
+        makes the whole answer incomplete."""
+        self.stats["boxes"] += res.boxes
+        self.stats["systems"] += 1
+        self.stats.setdefault("solver", []).append({"label": sysm.label, **res.stats, "boxes": res.boxes,
+                                                    "seconds": res.seconds})
+        if not res.complete:
+            self.complete = False
+            self.stats["undecided_boxes"] += len(res.undecided)
+            self.uncertain_points += [b.mid[:2].tolist() for b in res.undecided[:20]]
+            if res.exhausted:
+                self.notes.append(f"{sysm.label}: box budget {max_boxes} exhausted")
+
+    def reject(self, why: str):
+        self.stats["rejected"][why] = self.stats["rejected"].get(why, 0) + 1
+
+
+def _domain_note(dom_t, bound, bounded: bool) -> str:
+    box_text = f"x in [{dom_t[0]:.6g}, {dom_t[1]:.6g}], y in [{dom_t[2]:.6g}, {dom_t[3]:.6g}]"
+    if bounded:
+        return (f"search domain {box_text} contains the proved bound on all vertices (disk of radius "
+                f"{bound.radius:.6g} around ({bound.centre[0]:.6g}, {bound.centre[1]:.6g}))")
+    if bound is None:
+        return (f"search domain {box_text}; no bound on the vertices is proved for these sites (unbounded "
+                "site, or bisectors that meet at infinity): complete=False, vertices outside are not searched")
+    return (f"search domain {box_text} does not contain the proved bound on all vertices (disk of radius "
+            f"{bound.radius:.6g} around ({bound.centre[0]:.6g}, {bound.centre[1]:.6g})): complete=False")
+
+
+def _search_original(sr: _Search, opts: SolverOptions, use_samples: bool) -> list[_Candidate]:
+    """§6.1: the 8-unknown system (q, p_1, p_2, p_3) for every combination of site features (normal
+    foot, end point, singular point); solutions in (or overlapping) the domain are candidates."""
+    feats = []
+    for c in sr.sites[:3]:
+        ep, sing, nts = special_points(c, sr.region)
+        sr.notes.extend(nts)
+        feats.append(site_features(c, ep, sing))
+    hooks = [sample_hook(sr.allsamples, r_lower_original)] if use_samples else []
+    cands = []
+    for combo in itertools.product(*feats):
+        box8 = original_domain(sr.sites, sr.dom, sr.rho)
+        if box8 is None:
+            continue
+        sysm = original_system(sr.sites, combo, hooks)
+        res = solve(sysm, box8, opts)
+        sr.record(sysm, res, opts.max_boxes)
+        for s in res.solutions:
+            if sr.dom.contains_point(s.tight.mid[:2]) or sr.dom.overlaps(Box(s.tight.lo[:2], s.tight.hi[:2])):
+                cands.append(_Candidate(s, combo))
+    return cands
+
+
+def _search_offset(sr: _Search, opts: SolverOptions, use_samples: bool, timings: dict) -> list[_Candidate]:
+    """§6.3: the 3-unknown system (q, r) of generalised offsets; each solution is lifted to a
+    certified solution of the original system (:func:`_lift`) or rejected with a reason; a solution
+    neither lifted nor proved absent (blocked, no real foot) makes the answer incomplete."""
+    hooks = [sample_hook(sr.allsamples, r_lower_offset)] if use_samples else []
+    sysm = offset_system(sr.sites, hooks)
+    box3 = Box(np.array([sr.dom.lo[0], sr.dom.lo[1], 0.0]), np.array([sr.dom.hi[0], sr.dom.hi[1], sr.rmax]))
+    t1 = time.perf_counter()
+    res = solve(sysm, box3, opts)
+    sr.record(sysm, res, opts.max_boxes)
+    timings["search"] = time.perf_counter() - t1
+    t2 = time.perf_counter()
+    cands = []
+    for s in res.solutions:
+        Q = Box(s.tight.lo[:2].copy(), s.tight.hi[:2].copy())
+        r = s.tight.arbs()[2]
+        if arb_hi(r) <= 0:
+            continue
+        sol8, why = _lift(sr.sites, Q, r, sr.region, sr.stats)
+        sr.reject(why)
+        if sol8 is not None:
+            cands.append(_Candidate(sol8, (("normal",),) * 3))
+        elif why not in ("blocked", "no-real-foot"):
+            sr.complete = False
+            sr.uncertain_points.append(Q.mid.tolist())
+    timings["lift"] = time.perf_counter() - t2
+    return cands
+
+
+def _own_statuses(sr: _Search, cd: _Candidate) -> list[str] | None:
+    """The true-vertex test of a candidate against its own three sites (:func:`.verify.site_status`;
+    an arc's foot outside its ``where`` set blocks it): None when some site point is proved strictly
+    inside the empty circle, else one status per site ("clear" when proved empty)."""
+    statuses = []
+    for i in range(3):
+        kind = cd.features[i][0]
+        own_kind = "point" if kind == "point" else "normal"
+        site = sr.sites[i]
+        if site.where and kind == "normal":
+            pa = cd.P[i].arbs()
+            where = site.where_status(pa[0], pa[1])
+            if where == "out":
+                return None
+            if where == "unknown":
+                statuses.append("unknown")
+                continue
+        st, _info = site_status(site, cd.Q, cd.r, cd.P[i], sr.region, own_kind)
+        if st == "blocked":
+            return None
+        statuses.append(st)
+    return statuses
+
+
+def _vertex(sr: _Search, cd: _Candidate, statuses: list[str]) -> VoronoiVertex:
+    """A located vertex and its conflict with C4 (Thm 5.2.2): certified when the true-vertex test
+    and the conflict decision are both proved; otherwise the numerical answer, with a note."""
+    true_v = all(s == "clear" for s in statuses)
+    conf = conflict_status(sr.sites[3], cd.Q, cd.r, sr.region)
+    radius = math.sqrt(max(0.0, float(cd.r.mid())))
+    dist = distance_to(sr.sites[3], cd.Q, arb_hi(cd.r), sr.region)
+    d4 = None if dist is None else 0.5 * (dist[0] + dist[1])
+    in_conf = d4 < radius if conf is None and dist is not None else conf
+    q = cd.Q.mid
+    if not true_v:
+        sr.notes.append(f"vertex near ({q[0]:.6g}, {q[1]:.6g}): true-vertex test undecided")
+    if conf is None:
+        sr.notes.append(f"vertex near ({q[0]:.6g}, {q[1]:.6g}): conflict with C4 undecided by intervals "
+                        "(tangent or nearly tangent fourth site); numerical answer given")
+    return VoronoiVertex(
+        x=float(q[0]), y=float(q[1]), radius=radius, distance_to_fourth=d4, in_conflict=in_conf,
+        certified=bool(true_v and conf is not None),
+        tangent=False,
+        info={"q_width": float(max(cd.Q.width)), "r_lo": arb_lo(cd.r), "r_hi": arb_hi(cd.r),
+              "true_vertex": "proved" if true_v else "undecided", "conflict": "proved" if conf is not None
+              else "numerical", "features": [f[0] for f in cd.features],
+              "foot_points": [p.mid.tolist() for p in cd.P]})
+
+
+def _judge(sr: _Search, cands: list[_Candidate]) -> list[VoronoiVertex]:
+    """Candidates to vertices: overlapping copies are dropped, candidates proved blocked are rejected."""
+    vertices: list[VoronoiVertex] = []
+    seen: list[Box] = []
+    for cd in cands:
+        if any(o.overlaps(cd.Q) for o in seen):
+            continue
+        statuses = _own_statuses(sr, cd)
+        if statuses is None:
+            sr.reject("not-true-vertex")
+            continue
+        seen.append(cd.Q)
+        vertices.append(_vertex(sr, cd, statuses))
+    vertices.sort(key=lambda v: (v.x, v.y))
+    return vertices
+
+
 def locate_conflicts_semialgebraic(curves, domain=None, formulation: str = "original", max_boxes: int = 300_000,
                                    progress=None, verbose: bool = False, bisection: str = "smear",
                                    shave_3b: bool = False, use_samples: bool = True) -> LocatorResult:
@@ -163,6 +339,10 @@ def locate_conflicts_semialgebraic(curves, domain=None, formulation: str = "orig
     proved bound and the whole domain was processed with no undecided box.
     ``formulation``: "original" (8 unknowns, §6.1) or
     "offset" (3 unknowns, generalised offsets of conics, §6.3).
+
+    Steps: the search data (:class:`_Search`), the branch-and-prune search of one formulation
+    (:func:`_search_original`, :func:`_search_offset`), the true-vertex and conflict decisions of
+    each candidate (:func:`_judge`).
     """
     if formulation not in FORMULATIONS:
         raise ValueError(f"formulation must be one of {FORMULATIONS}, got {formulation!r}")
@@ -170,160 +350,28 @@ def locate_conflicts_semialgebraic(curves, domain=None, formulation: str = "orig
     if len(curves) != 4:
         raise LocatorError(f"the conflict locator takes four sites C1..C4, got {len(curves)}")
     t0 = time.perf_counter()
-    sites = [parse_curve(c, f"C{i + 1}") for i, c in enumerate(curves)]
-    default, bound = search_domain(sites)
-    if domain is None:
-        domain = default
-    dom_t = tuple(float(v) for v in domain)
-    dom = _domain_box(dom_t)
-    diam = float(max(dom.width))
-    sreg = (dom_t[0] - diam, dom_t[1] + diam, dom_t[2] - diam, dom_t[3] + diam)
-    samples = _samples(sites, sreg)
-    rmax = _r_max(samples, dom)
-    rho = math.sqrt(rmax)
-    g = max(rho, diam) * 2
-    region = Box(np.array([dom.lo[0] - g, dom.lo[1] - g]), np.array([dom.hi[0] + g, dom.hi[1] + g]))
-    allsamples = np.concatenate([s for s in samples if s.size] or [np.zeros((0, 4))])
-    box_text = f"x in [{dom_t[0]:.6g}, {dom_t[1]:.6g}], y in [{dom_t[2]:.6g}, {dom_t[3]:.6g}]"
-    bounded = bound is not None and bound.inside(dom_t)
-    if bounded:
-        notes = [f"search domain {box_text} contains the proved bound on all vertices (disk of radius "
-                 f"{bound.radius:.6g} around ({bound.centre[0]:.6g}, {bound.centre[1]:.6g}))"]
-    elif bound is None:
-        notes = [f"search domain {box_text}; no bound on the vertices is proved for these sites (unbounded "
-                 "site, or bisectors that meet at infinity): complete=False, vertices outside are not searched"]
-    else:
-        notes = [f"search domain {box_text} does not contain the proved bound on all vertices (disk of radius "
-                 f"{bound.radius:.6g} around ({bound.centre[0]:.6g}, {bound.centre[1]:.6g})): complete=False"]
+    sr = _Search(curves, domain)
     opts = SolverOptions(bisection=bisection, shave_3b=shave_3b, max_boxes=max_boxes, progress=progress,
                          verbose=verbose)
-    timings = {}
-    stats = {"boxes": 0, "systems": 0, "undecided_boxes": 0, "rejected": {}}
-    complete = True
-    cands: list[_Candidate] = []
-    uncertain_points = []
-
+    timings: dict = {}
     t1 = time.perf_counter()
     if formulation == "original":
-        feats = []
-        for c in sites[:3]:
-            ep, sing, nts = special_points(c, region)
-            notes.extend(nts)
-            feats.append(site_features(c, ep, sing))
-        hooks = [sample_hook(allsamples, r_lower_original)] if use_samples else []
-        for combo in itertools.product(*feats):
-            box8 = original_domain(sites, dom, rho)
-            if box8 is None:
-                continue
-            sysm = original_system(sites, combo, hooks)
-            res = solve(sysm, box8, opts)
-            stats["boxes"] += res.boxes
-            stats["systems"] += 1
-            stats.setdefault("solver", []).append({"label": sysm.label, **res.stats, "boxes": res.boxes,
-                                                   "seconds": res.seconds})
-            if not res.complete:
-                complete = False
-                stats["undecided_boxes"] += len(res.undecided)
-                uncertain_points += [b.mid[:2].tolist() for b in res.undecided[:20]]
-                if res.exhausted:
-                    notes.append(f"{sysm.label}: box budget {max_boxes} exhausted")
-            for s in res.solutions:
-                if dom.contains_point(s.tight.mid[:2]) or dom.overlaps(Box(s.tight.lo[:2], s.tight.hi[:2])):
-                    cands.append(_Candidate(s, combo))
+        cands = _search_original(sr, opts, use_samples)
     else:
-        hooks = [sample_hook(allsamples, r_lower_offset)] if use_samples else []
-        sysm = offset_system(sites, hooks)
-        box3 = Box(np.array([dom.lo[0], dom.lo[1], 0.0]), np.array([dom.hi[0], dom.hi[1], rmax]))
-        res = solve(sysm, box3, opts)
-        stats["boxes"] += res.boxes
-        stats["systems"] += 1
-        stats["solver"] = [{"label": sysm.label, **res.stats, "boxes": res.boxes, "seconds": res.seconds}]
-        if not res.complete:
-            complete = False
-            stats["undecided_boxes"] += len(res.undecided)
-            uncertain_points += [b.mid[:2].tolist() for b in res.undecided[:20]]
-            if res.exhausted:
-                notes.append(f"offset: box budget {max_boxes} exhausted")
-        timings["search"] = time.perf_counter() - t1
-        t2 = time.perf_counter()
-        for s in res.solutions:
-            Q = Box(s.tight.lo[:2].copy(), s.tight.hi[:2].copy())
-            r = s.tight.arbs()[2]
-            if arb_hi(r) <= 0:
-                continue
-            sol8, why = _lift(sites, Q, r, region, stats)
-            stats["rejected"][why] = stats["rejected"].get(why, 0) + 1
-            if sol8 is not None:
-                cands.append(_Candidate(sol8, (("normal",),) * 3))
-            elif why not in ("blocked", "no-real-foot"):
-                complete = False
-                uncertain_points.append(Q.mid.tolist())
-        timings["lift"] = time.perf_counter() - t2
+        cands = _search_offset(sr, opts, use_samples, timings)
     timings.setdefault("search", time.perf_counter() - t1)
-
     t3 = time.perf_counter()
-    vertices: list[VoronoiVertex] = []
-    seen: list[Box] = []
-    for cd in cands:
-        if any(o.overlaps(cd.Q) for o in seen):
-            continue
-        statuses = []
-        blocked = False
-        for i in range(3):
-            kind = cd.features[i][0]
-            own_kind = "point" if kind == "point" else "normal"
-            if sites[i].where and kind == "normal":
-                pa = cd.P[i].arbs()
-                if sites[i].where_status(pa[0], pa[1]) == "out":
-                    blocked = True
-                    break
-                if sites[i].where_status(pa[0], pa[1]) == "unknown":
-                    statuses.append("unknown")
-                    continue
-            st, _info = site_status(sites[i], cd.Q, cd.r, cd.P[i], region, own_kind)
-            if st == "blocked":
-                blocked = True
-                break
-            statuses.append(st)
-        if blocked:
-            stats["rejected"]["not-true-vertex"] = stats["rejected"].get("not-true-vertex", 0) + 1
-            continue
-        seen.append(cd.Q)
-        true_v = all(s == "clear" for s in statuses)
-        conf = conflict_status(sites[3], cd.Q, cd.r, region)
-        radius = math.sqrt(max(0.0, float(cd.r.mid())))
-        dist = distance_to(sites[3], cd.Q, arb_hi(cd.r), region)
-        d4 = None if dist is None else 0.5 * (dist[0] + dist[1])
-        if conf is None and dist is not None:
-            in_conf = d4 < radius
-        else:
-            in_conf = conf
-        q = cd.Q.mid
-        vertices.append(VoronoiVertex(
-            x=float(q[0]), y=float(q[1]), radius=radius, distance_to_fourth=d4, in_conflict=in_conf,
-            certified=bool(true_v and conf is not None),
-            tangent=False,
-            info={"q_width": float(max(cd.Q.width)), "r_lo": arb_lo(cd.r), "r_hi": arb_hi(cd.r),
-                  "true_vertex": "proved" if true_v else "undecided", "conflict": "proved" if conf is not None
-                  else "numerical", "features": [f[0] for f in cd.features],
-                  "foot_points": [p.mid.tolist() for p in cd.P]}))
-        if not true_v:
-            complete = complete  # listed but uncertified
-            notes.append(f"vertex near ({q[0]:.6g}, {q[1]:.6g}): true-vertex test undecided")
-        if conf is None:
-            notes.append(f"vertex near ({q[0]:.6g}, {q[1]:.6g}): conflict with C4 undecided by intervals "
-                         "(tangent or nearly tangent fourth site); numerical answer given")
-    vertices.sort(key=lambda v: (v.x, v.y))
+    vertices = _judge(sr, cands)
     timings["verify"] = time.perf_counter() - t3
     timings["total"] = time.perf_counter() - t0
-    if not bounded:
-        complete = False
-    if uncertain_points:
-        notes.append(f"{stats['undecided_boxes']} undecided boxes / unresolved candidates near "
-                     + ", ".join(f"({p[0]:.4g}, {p[1]:.4g})" for p in uncertain_points[:5]))
-    notes.append(f"stats: boxes={stats['boxes']} systems={stats['systems']} rejected={stats['rejected']}")
+    complete = sr.complete and sr.bounded
+    if sr.uncertain_points:
+        sr.notes.append(f"{sr.stats['undecided_boxes']} undecided boxes / unresolved candidates near "
+                        + ", ".join(f"({p[0]:.4g}, {p[1]:.4g})" for p in sr.uncertain_points[:5]))
+    sr.notes.append(f"stats: boxes={sr.stats['boxes']} systems={sr.stats['systems']} "
+                    f"rejected={sr.stats['rejected']}")
     return LocatorResult(conflict=any(v.in_conflict for v in vertices), vertices=vertices,
-                         method=f"interval-{formulation}", timings=timings, complete=complete, notes=notes)
+                         method=f"interval-{formulation}", timings=timings, complete=complete, notes=sr.notes)
 
 
 def locate_conflicts_interval(c1, c2, c3, c4, formulation: str = "offset", domain=None, **kw) -> LocatorResult:
