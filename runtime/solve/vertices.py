@@ -673,14 +673,18 @@ def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = 
     modulo a prime decides at once whether it is non-generic; if it is generic, the exact solve is
     started in the background (:func:`runtime.solve.exact.start_solve_exact`), at most
     ``QUICK_EXTRA_DEGREE`` larger degrees are tried, and the attempts stop as soon as the exact
-    solve has answered."""
+    solve has answered.
+
+    Steps: the plan of attempts (:func:`_attempt_plan`), each attempt solved and refined
+    (:func:`_solve_attempt`), the decisions after a refusal (:func:`_after_refusal`), the homotopy
+    when every attempt refused (:func:`_homotopy_fallback`)."""
     conics = [c1, c2, c3]
     offs = [CanonicalOffset(c) for c in conics]
     first = max(range(3), key=lambda i: (offs[i].wdeg, -i))
     wf = working_frame(conics, conics[first])
     t0 = time.perf_counter()
     polys = [compose_offset(o, wf) for o in offs]
-    t_compose = time.perf_counter() - t0
+    total: dict[str, float] = {"fill": time.perf_counter() - t0}
     fams = tuple(sorted(o.family for o in offs))
     d0, expected, hint = config_entry(fams)
     if degree is not None:
@@ -690,18 +694,10 @@ def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = 
     if quick:
         # measured on 99 rigid configurations: no success at d0 + 2 after refusals at d0 and d0 + 1
         max_extra_degree = min(max_extra_degree, QUICK_EXTRA_DEGREE)
-    attempts = [(sc, d, top) for sc in SCALES for d in range(d0, d0 + max_extra_degree + 1)
-                for top in (TOP_DEGREES, 0)] if solver in ("auto", "nullspace") else []
-    if expected is not None and solver in ("auto", "toric"):
-        # the toric null space in circle space right after the first weighted attempt (it finds
-        # the far vertices that the weighted closure lumps with its curve at infinity), or first
-        # for small sites far apart, where the weighted attempt usually refuses
-        first_toric = not attempts or scene_to_site_ratio(conics, wf) >= TORIC_FIRST_RATIO
-        attempts.insert(0 if first_toric else 1, TORIC)
+    attempts = _attempt_plan(solver, d0, max_extra_degree, expected, conics, wf)
     if solver in ("nullspace", "toric"):
         homotopy = False
-    errors = []
-    total: dict[str, float] = {"fill": t_compose}
+    errors: list[str] = []
     wf0 = wf
     if quick and expected is not None and solver == "auto" and _shared_shape(conics):
         # two sites of one shape and orientation (translated or scaled copies, parallel parabolas):
@@ -722,60 +718,13 @@ def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = 
             polys = [compose_offset(o, wf) for o in offs]
             total["fill"] += time.perf_counter() - t0
         try:
-            wf_roots = wf
-            if attempt is TORIC:
-                roots_w, info, wf_roots = _toric_attempt(polys, offs, expected, wf)
-            else:
-                roots_w, info = solve_nullspace(polys, [o.wdeg for o in offs], d, eigen=eigen, top=top,
-                                                gap_hint=hint + (d - d0))
-            _add_timings(total, info.timings)
-            if expected is not None and info.n_finite != expected:
-                # fewer: solutions far away lumped with those at infinity, or a non-generic
-                # configuration (e.g. parallel parabola axes); completeness is not established
-                raise _CountMismatch(f"{info.n_finite} finite solutions found, the generic count for {fams} "
-                                   f"is {expected}")
-            t1 = time.perf_counter()
-            x, y = wf_roots.to_world(roots_w[:, 0], roots_w[:, 1])
-            pts = np.stack([x, y, roots_w[:, 2] * wf_roots.L ** 2], axis=1)
-            # the toric roots are Newton-refined in circle space already: Newton in (x, y, R) can
-            # move a far vertex to a point of smaller residual but farther from it
-            if attempt is TORIC:
-                pts, res, cond = _refine_toric_roots(offs, pts, info.root_residuals, wf.L)
-                tol = TORIC_DISTINCT_TOL
-            else:
-                pts, res, cond, fe = newton_refine(offs, pts, scale=wf.L, forward_error=True)
-                # two points closer than 10 times their forward-error estimates are one root: a far
-                # root evaluated with heavy cancellation is reached by two starts 4e-8 of its size
-                # apart, both with backward error 1e-16, while another root is missing (measured on
-                # two triples 100× apart: estimates 6e-4 and 3e-3 against separations 2e-4 and
-                # 4e-5; elsewhere the estimates are below 1e-9 and no pair is within them)
-                tol = np.maximum(DISTINCT_TOL, 10 * fe)
-            try:
-                # toric roots are deduplicated in circle space at the accuracy Newton reached there;
-                # near-double roots closer than 1e-8 of the frame stay apart (certification proves
-                # them distinct, or the counting proof fails and the exact route answers)
-                pts, res, cond, n_deflated = _complete_by_deflation(offs, pts, res, cond, wf.L, tol=tol,
-                                                                    repeated=info.padded)
-            finally:
-                total["refine"] = total.get("refine", 0.0) + time.perf_counter() - t1
+            pts, res, cond, info, n_deflated = _solve_attempt(
+                attempt, polys, offs, wf, expected, fams, total, eigen=eigen, gap_hint=hint + (d - d0))
         except LocatorError as exc:
             errors.append(f"toric null space: {exc}" if attempt is TORIC else
                           f"scale {sc}, degree {d} ({'projected' if top else 'full'} null space): {exc}")
             if quick and len(errors) == 1 and expected is not None:
-                # is the member non-generic?  msolve's parametrisation degree over F_p (~0.03 s)
-                # counts its complex solutions; fewer than the generic count: further degrees
-                # (~1 s each, measured up to 11 s in all) cannot succeed, the exact route answers
-                n_member = _modular_count(c1, c2, c3)
-                if n_member is not None and n_member != expected:
-                    errors.append(f"msolve modulo a prime: {n_member} complex solutions, generic count "
-                                  f"{expected}: non-generic configuration")
-                    raise LocatorError("; ".join(errors)) from None
-            if quick and expected is not None and len(errors) == 1:
-                # a generic member that the first attempt did not solve (typically vertices far
-                # outside the scene): the toric null space usually answers next, in 0.1-0.4 s; the
-                # exact route starts now on the other core for the few it refuses (clusters of
-                # ill-conditioned solutions) and is stopped when a numeric attempt succeeds
-                start_solve_exact(c1, c2, c3)
+                _after_refusal(c1, c2, c3, expected, errors)
             continue
         if quick and errors and not info.provisional:
             # answered after all: the background solve is waste (a provisional list keeps it: if
@@ -792,6 +741,80 @@ def generalised_vertices(c1, c2, c3, *, degree: int | None = None, eigen: str = 
     info.n_deflated = n_deflated
     info.failed_attempts = errors
     return TripleSolution(pts, res, cond, info, wf, first)
+
+
+def _attempt_plan(solver: str, d0: int, max_extra_degree: int, expected, conics, wf) -> list:
+    """The attempts of :func:`generalised_vertices` in order: (scale, Macaulay degree, top degrees
+    projected or 0) for the weighted null space, and :data:`TORIC` for the toric null space."""
+    attempts: list = [(sc, d, top) for sc in SCALES for d in range(d0, d0 + max_extra_degree + 1)
+                      for top in (TOP_DEGREES, 0)] if solver in ("auto", "nullspace") else []
+    if expected is not None and solver in ("auto", "toric"):
+        # the toric null space in circle space right after the first weighted attempt (it finds
+        # the far vertices that the weighted closure lumps with its curve at infinity), or first
+        # for small sites far apart, where the weighted attempt usually refuses
+        first_toric = not attempts or scene_to_site_ratio(conics, wf) >= TORIC_FIRST_RATIO
+        attempts.insert(0 if first_toric else 1, TORIC)
+    return attempts
+
+
+def _solve_attempt(attempt, polys, offs, wf, expected, fams, total: dict, *, eigen: str, gap_hint: int):
+    """One attempt: the roots of the null space (weighted or toric), checked against the generic
+    count, Newton-refined, completed by deflation; (pts, res, cond, info, n_deflated) or
+    LocatorError."""
+    wf_roots = wf
+    if attempt is TORIC:
+        roots_w, info, wf_roots = _toric_attempt(polys, offs, expected, wf)
+    else:
+        _sc, d, top = attempt
+        roots_w, info = solve_nullspace(polys, [o.wdeg for o in offs], d, eigen=eigen, top=top,
+                                        gap_hint=gap_hint)
+    _add_timings(total, info.timings)
+    if expected is not None and info.n_finite != expected:
+        # fewer: solutions far away lumped with those at infinity, or a non-generic
+        # configuration (e.g. parallel parabola axes); completeness is not established
+        raise _CountMismatch(f"{info.n_finite} finite solutions found, the generic count for {fams} "
+                             f"is {expected}")
+    t1 = time.perf_counter()
+    x, y = wf_roots.to_world(roots_w[:, 0], roots_w[:, 1])
+    pts = np.stack([x, y, roots_w[:, 2] * wf_roots.L ** 2], axis=1)
+    try:
+        # the toric roots are Newton-refined in circle space already: Newton in (x, y, R) can
+        # move a far vertex to a point of smaller residual but farther from it
+        if attempt is TORIC:
+            pts, res, cond = _refine_toric_roots(offs, pts, info.root_residuals, wf.L)
+            tol = TORIC_DISTINCT_TOL
+        else:
+            pts, res, cond, fe = newton_refine(offs, pts, scale=wf.L, forward_error=True)
+            # two points closer than 10 times their forward-error estimates are one root: a far
+            # root evaluated with heavy cancellation is reached by two starts 4e-8 of its size
+            # apart, both with backward error 1e-16, while another root is missing (measured on
+            # two triples 100× apart: estimates 6e-4 and 3e-3 against separations 2e-4 and
+            # 4e-5; elsewhere the estimates are below 1e-9 and no pair is within them)
+            tol = np.maximum(DISTINCT_TOL, 10 * fe)
+        # toric roots are deduplicated in circle space at the accuracy Newton reached there;
+        # near-double roots closer than 1e-8 of the frame stay apart (certification proves
+        # them distinct, or the counting proof fails and the exact route answers)
+        pts, res, cond, n_deflated = _complete_by_deflation(offs, pts, res, cond, wf.L, tol=tol,
+                                                            repeated=info.padded)
+    finally:
+        total["refine"] = total.get("refine", 0.0) + time.perf_counter() - t1
+    return pts, res, cond, info, n_deflated
+
+
+def _after_refusal(c1, c2, c3, expected: int, errors: list[str]) -> None:
+    """After the first refusal with the exact route behind (``quick``): is the member non-generic?
+    msolve's parametrisation degree over F_p (~0.03 s) counts its complex solutions; fewer than
+    the generic count: further degrees (~1 s each, measured up to 11 s in all) cannot succeed, and
+    LocatorError sends the triple to the exact route.  A generic member that the first attempt
+    did not solve (typically vertices far outside the scene): the toric null space usually answers
+    next, in 0.1-0.4 s; the exact route starts now on the other core for the few it refuses
+    (clusters of ill-conditioned solutions) and is stopped when a numeric attempt succeeds."""
+    n_member = _modular_count(c1, c2, c3)
+    if n_member is not None and n_member != expected:
+        errors.append(f"msolve modulo a prime: {n_member} complex solutions, generic count "
+                      f"{expected}: non-generic configuration")
+        raise LocatorError("; ".join(errors)) from None
+    start_solve_exact(c1, c2, c3)
 
 
 def _shared_shape(conics) -> bool:
