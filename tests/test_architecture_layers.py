@@ -130,19 +130,11 @@ RATIONALS = "runtime.sites.rationals"
 RATIONAL_CALLS = {"to_fraction", "parse_rational"}
 PARSER_NAME = re.compile(r"^(to_|as_|parse_)?(frac|fraction|fmpq|rational|number|q)$")
 
-_SEGMENTS = "runtime/segments/ was edited by other work when the parser moved: call to_fraction"
 _ELSEWHERE = "not moved yet (outside the modules changed with the parser): call to_fraction / parse_rational"
 
 #: places that still break the rule, each with why; remove an entry when its place is moved
 NOT_YET_MOVED = {
-    "runtime.segments.exact:_q: a rational parser of its own": _SEGMENTS + " (its target is a SymPy Rational)",
     "runtime.voronoi.queries:_fmpq: a rational parser of its own": _ELSEWHERE,
-    "runtime.certify.offset_system:_fmpq: a rational parser of its own": _ELSEWHERE,
-    "runtime.predicates.symmetry:_q: a rational parser of its own": _ELSEWHERE,
-    "runtime.algebra.quadtower:to_fmpq: a rational parser of its own": _ELSEWHERE,
-    "runtime.sites.frame:to_fmpq: a rational parser of its own": _ELSEWHERE + " (it takes a Fraction only)",
-    "runtime.certify.conflicts:_to_fraction: a rational parser of its own":
-        "the rational end points of a ball, not a parser of input: rename it (e.g. ball_end_points)",
 }
 
 

@@ -23,24 +23,13 @@ from __future__ import annotations
 from fractions import Fraction
 from typing import Union
 
-from flint import arb, ctx, fmpq, fmpz
+from flint import arb, ctx, fmpq
 
 Elem = Union[fmpq, tuple]
 
 ZERO = fmpq(0)
 ONE = fmpq(1)
 _FILTER_PREC = 128
-
-
-def to_fmpq(v) -> fmpq:
-    """Exact conversion of int / Fraction / fmpq / fmpz to fmpq (floats: see circles.parse_rational)."""
-    if isinstance(v, fmpq):
-        return v
-    if isinstance(v, (int, fmpz)):
-        return fmpq(v)
-    if isinstance(v, Fraction):
-        return fmpq(v.numerator, v.denominator)
-    raise TypeError(f"cannot convert {type(v).__name__} to an exact rational")
 
 
 def rational_sqrt(q: fmpq) -> fmpq | None:

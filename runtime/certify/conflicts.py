@@ -169,7 +169,8 @@ def simplest_rational(lo: Fraction, hi: Fraction, max_terms: int = 400) -> Fract
     return None
 
 
-def _to_fraction(x: arb) -> tuple[Fraction, Fraction]:
+def _ball_end_points(x: arb) -> tuple[Fraction, Fraction]:
+    """The rational end points (lower, upper) of a real ball."""
     lo, hi = x.lower().fmpq(), x.upper().fmpq()
     return Fraction(int(lo.p), int(lo.q)), Fraction(int(hi.p), int(hi.q))
 
@@ -315,7 +316,7 @@ def _exact_path(box, fps, fp4, prec: int, max_prec: int, ubox=None):
     bound = 2 ** max(prec // 3, 16)
     vals = []
     for ball in (box[0], box[1], box[-1]):
-        lo, hi = _to_fraction(ball)
+        lo, hi = _ball_end_points(ball)
         r = simplest_rational(lo, hi)
         if r is None or r.denominator > bound:
             return None, "vertex not recognised as rational"

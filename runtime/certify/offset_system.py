@@ -18,6 +18,7 @@ import flint
 from flint import acb, acb_mat, arb
 
 from ..artefacts import load_offset
+from ..sites.rationals import parse_rational
 from .foot import normalised_coefficients
 from .interval_newton import KrawczykFailure, krawczyk_inflation, strictly_inside
 
@@ -187,7 +188,7 @@ def _framed_terms(co: tuple[Fraction, ...], px: Fraction, py: Fraction, s: Fract
 
 
 def _fmpq(c):
-    return c if isinstance(c, flint.fmpq) else flint.fmpq(c.numerator, c.denominator)
+    return parse_rational(c)
 
 
 def framed_offset_system(conics, frame) -> OffsetSystem:

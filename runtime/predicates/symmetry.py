@@ -31,6 +31,8 @@ from fractions import Fraction
 
 from scipy.cluster.hierarchy import DisjointSet
 
+from ..sites.rationals import to_fraction
+
 __all__ = ["site_coefficients", "equidistant_by_symmetry", "rational_candidates", "site_centre", "mirror_line",
            "mirror_orbits"]
 
@@ -40,11 +42,7 @@ D4 = ((1, 0, 0, 1), (-1, 0, 0, 1), (1, 0, 0, -1), (-1, 0, 0, -1),
 
 
 def _q(v) -> Fraction:
-    if isinstance(v, Fraction):
-        return v
-    if hasattr(v, "p") and hasattr(v, "q"):            # flint.fmpq
-        return Fraction(int(v.p), int(v.q))
-    return Fraction(v)
+    return to_fraction(v)
 
 
 def site_coefficients(site) -> tuple[Fraction, ...]:

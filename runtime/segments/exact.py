@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ..sites.rationals import to_fraction
 from .elementary import ARC, POINT, ElementarySites
 from .vertices import arc_centre_vertex, contact_equations
 
@@ -39,8 +40,10 @@ def exact_sign(e) -> int:
     return 1 if v > 0 else -1
 
 
-def _q(v):
-    return sp.Rational(v.numerator, v.denominator)
+def _srat(v) -> sp.Rational:
+    """The SymPy Rational of an exact site coordinate."""
+    f = to_fraction(v)
+    return sp.Rational(f.numerator, f.denominator)
 
 
 def exact_vertex(E: ElementarySites, triple, sol):
@@ -49,22 +52,22 @@ def exact_vertex(E: ElementarySites, triple, sol):
     centre = arc_centre_vertex(E, triple)
     if centre is not None:
         (cx, cy), rho = centre
-        return _q(cx), _q(cy), _q(rho)
+        return _srat(cx), _srat(cy), _srat(rho)
     x, y, r = sp.symbols("x y r", real=True)
     eqs = []
     for kind, d, _t in contact_equations(E, triple, (sol.x, sol.y)):
         if kind == "point":
-            px, py = (_q(v) for v in d)
+            px, py = (_srat(v) for v in d)
             eqs.append((x - px) ** 2 + (y - py) ** 2 - r ** 2)
         elif kind == "line":
-            a, b, c, side, N = d
-            eqs.append(_q(a) * x + _q(b) * y + _q(c) - side * r * sp.sqrt(_q(N)))
+            a, b, c, N = (_srat(v) for v in (d[0], d[1], d[2], d[4]))
+            eqs.append(a * x + b * y + c - d[3] * r * sp.sqrt(N))
         elif kind == "normal":
-            tx, ty, ex, ey = (_q(v) for v in d)
+            tx, ty, ex, ey = (_srat(v) for v in d)
             eqs.append(tx * (x - ex) + ty * (y - ey))
         else:
-            cx, cy, rho, side = d
-            eqs.append((x - _q(cx)) ** 2 + (y - _q(cy)) ** 2 - (_q(rho) + side * r) ** 2)
+            cx, cy, rho = (_srat(v) for v in d[:3])
+            eqs.append((x - cx) ** 2 + (y - cy) ** 2 - (rho + d[3] * r) ** 2)
     roots = sp.solve(eqs, [x, y, r], dict=True)
     best, bd = None, None
     for s in roots:
@@ -90,10 +93,10 @@ def on_circle(E: ElementarySites, triple, sol, k: int):
         return None
     X, Y, R = v
     if E.kind[k] == POINT:
-        px, py = (_q(t) for t in E.xy[k])
+        px, py = (_srat(t) for t in E.xy[k])
         s = exact_sign((X - px) ** 2 + (Y - py) ** 2 - R ** 2)
         return "on" if s == 0 else ("outside" if s > 0 else False)
-    (ax, ay), (bx, by) = ((_q(t) for t in E.xy[int(E.ends[k, 0])]), (_q(t) for t in E.xy[int(E.ends[k, 1])]))
+    (ax, ay), (bx, by) = ((_srat(t) for t in E.xy[int(E.ends[k, 0])]), (_srat(t) for t in E.xy[int(E.ends[k, 1])]))
     if E.kind[k] == ARC:
         return _on_arc(E, k, X, Y, R, (ax, ay), (bx, by))
     dx, dy = bx - ax, by - ay
@@ -116,7 +119,7 @@ def _at_end(E: ElementarySites, k: int, end: int, X, Y, R):
     code = int(E.ends[k, end])
     if code >= 0:
         return "outside"
-    ex, ey = (_q(t) for t in E.xy[code])
+    ex, ey = (_srat(t) for t in E.xy[code])
     s = exact_sign((X - ex) ** 2 + (Y - ey) ** 2 - R ** 2)
     return "on" if s == 0 else ("outside" if s > 0 else False)
 
@@ -125,7 +128,7 @@ def _on_arc(E: ElementarySites, k: int, X, Y, R, a, b):
     """:func:`on_circle` for an arc: its contact direction decided exactly, then the distance
     | |v − c| − ρ | compared with R."""
     (cx, cy), rho = E.arc[k]
-    cx, cy, rho = _q(cx), _q(cy), _q(rho)
+    cx, cy, rho = _srat(cx), _srat(cy), _srat(rho)
     ux, uy = X - cx, Y - cy
     ax, ay, bx, by = a[0] - cx, a[1] - cy, b[0] - cx, b[1] - cy
     ca, cb = exact_sign(ax * uy - ay * ux), exact_sign(ux * by - uy * bx)
@@ -159,16 +162,16 @@ def contacts_valid(E: ElementarySites, triple, sol) -> bool | None:
     X, Y, R = v
     for kind, d, t in contact_equations(E, triple, (sol.x, sol.y)):
         if kind == "line":
-            (ax, ay), (bx, by) = ((_q(w) for w in E.xy[int(E.ends[t, 0])]), (_q(w) for w in E.xy[int(E.ends[t, 1])]))
+            (ax, ay), (bx, by) = ((_srat(w) for w in E.xy[int(E.ends[t, 0])]), (_srat(w) for w in E.xy[int(E.ends[t, 1])]))
             dx, dy = bx - ax, by - ay
             tnum = (X - ax) * dx + (Y - ay) * dy
             if exact_sign(tnum) < 0 or exact_sign(tnum - dx * dx - dy * dy) > 0:
                 return False
         elif kind == "arc":
             (cx, cy), _rho = E.arc[t]
-            (ax, ay), (bx, by) = ((_q(w) - _q(c) for w, c in zip(E.xy[int(E.ends[t, 0])], (cx, cy))),
-                                  (_q(w) - _q(c) for w, c in zip(E.xy[int(E.ends[t, 1])], (cx, cy))))
-            ux, uy = X - _q(cx), Y - _q(cy)
+            (ax, ay), (bx, by) = ((_srat(w) - _srat(c) for w, c in zip(E.xy[int(E.ends[t, 0])], (cx, cy))),
+                                  (_srat(w) - _srat(c) for w, c in zip(E.xy[int(E.ends[t, 1])], (cx, cy))))
+            ux, uy = X - _srat(cx), Y - _srat(cy)
             ca, cb = exact_sign(ax * uy - ay * ux), exact_sign(ux * by - uy * bx)
             inside = (ca >= 0 and cb >= 0) if ax * by - ay * bx > 0 else (ca >= 0 or cb >= 0)
             if not inside:

@@ -15,6 +15,8 @@ from typing import Any, Callable
 
 import flint
 
+from .rationals import parse_rational
+
 __all__ = ["CanonicalFrame", "ExactField", "FRAME_PREC", "canonical_frame", "fraction_sqrt", "sign",
            "to_arb_ball", "to_fmpq"]
 
@@ -44,7 +46,7 @@ def fraction_sqrt(q: Fraction) -> Fraction | None:
 
 
 def to_fmpq(q: Fraction) -> flint.fmpq:
-    return flint.fmpq(q.numerator, q.denominator)
+    return parse_rational(q)
 
 
 def to_arb_ball(q: Fraction) -> flint.arb:
