@@ -42,7 +42,7 @@ from ..result import InvalidConicError, NumericalRefusal
 from ..sites.shapes import ShapeError
 from ..voronoi.command import (EXIT_BAD_INPUT, EXIT_CERTIFIED, EXIT_INTERRUPTED, EXIT_NOT_CERTIFIED,
                                EXIT_NUMERICAL_REFUSAL, OneLineParser, diagram_main as sites_diagram_main,
-                               parse_window)
+                               diagram_parser)
 from .loops import check_named, read_domain, read_shape, shape_kind
 
 __all__ = ["diagram_main", "medial_axis_main", "read_shape", "read_domain", "medial_axis_document",
@@ -108,31 +108,12 @@ def _draw(obj, path, **kw) -> None:
 # =====================================================================================
 
 def _diagram_parser() -> OneLineParser:
-    p = OneLineParser(prog="curvedvoronoi diagram",
-                      description="Voronoi diagram / Delaunay graph of disjoint circles, points and conics, or of "
-                                  "the segments, arcs and points of a DXF drawing or GeoJSON document (thesis §1.2, "
-                                  "§2.2), certified by an independent verifier.",
-                      epilog="Exit status: 0 certified (with --no-certify: ran to the end, not verified on "
-                             "request), 1 not certified or failed, 2 bad input, 3 numerical refusal, "
-                             "130 interrupted.")
-    p.add_argument("sites", help='sites file {"sites": [...]} (.json), a DXF drawing (.dxf) or GeoJSON (.geojson)')
-    p.add_argument("--json", dest="json_out", help="write the diagram (curvedvoronoi.diagram/1) here")
-    p.add_argument("--png", help="write a picture here")
-    p.add_argument("--window", type=parse_window, metavar="XMIN,XMAX,YMIN,YMAX",
-                   help="the picture's window (default: fitted to the sites); write --window=-1,1,-1,1 "
-                        "when the first number is negative")
-    p.add_argument("--geojson", help="write the edges, vertices and sites as GeoJSON here")
-    p.add_argument("--crs", default=None,
-                   help="the drawing's coordinate reference system for --geojson, e.g. EPSG:32633 (default: a "
-                        "planar engineering CRS, so that GIS tools do not read longitude/latitude; 'none': "
-                        "no crs member)")
-    p.add_argument("--empty-circles", action="store_true", help="draw the vertices' empty circles")
-    p.add_argument("--quiet", action="store_true", help="no summary, no progress bar")
-    p.add_argument("--time-limit", type=float, default=None,
-                   help="stop after S seconds (partial result; not used by segment diagrams yet)")
-    p.add_argument("--no-certify", action="store_true",
-                   help="skip the verifier (never certified; exit 0 when the construction ran to its end)")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p = diagram_parser("Voronoi diagram / Delaunay graph of disjoint circles, points and conics, or of "
+                       "the segments, arcs and points of a DXF drawing or GeoJSON document (thesis §1.2, "
+                       "§2.2), certified by an independent verifier.",
+                       'sites file {"sites": [...]} (.json), a DXF drawing (.dxf) or GeoJSON (.geojson)',
+                       interrupted="", crs_of="the drawing's",
+                       time_limit_help="stop after S seconds (partial result; not used by segment diagrams yet)")
     p.add_argument("--skip", default="", metavar="TYPES",
                    help="DXF entity types to ignore, comma-separated (e.g. TEXT,MTEXT,DIMENSION)")
     return p

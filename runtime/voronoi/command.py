@@ -69,14 +69,15 @@ def parse_window(text: str) -> tuple[float, float, float, float]:
     return vals
 
 
-def _parser():
-    p = OneLineParser(prog="curvedvoronoi diagram",
-                      description="Voronoi diagram / Delaunay graph of disjoint circles, points and "
-                                  "conics (thesis §1.2), certified by an independent verifier.",
+def diagram_parser(description: str, sites_help: str, *, interrupted: str, crs_of: str,
+                   time_limit_help: str) -> OneLineParser:
+    """The ``curvedvoronoi diagram`` options shared by every site kind (the segment diagram adds its
+    DXF options to it)."""
+    p = OneLineParser(prog="curvedvoronoi diagram", description=description,
                       epilog="Exit status: 0 certified (with --no-certify: ran to the end, not verified on "
                              "request), 1 not certified or failed, 2 bad input, 3 numerical refusal, "
-                             "130 interrupted (partial result written, not certified).")
-    p.add_argument("sites", help='JSON file {"sites": [...]} or {"conics": [{"coefficients": [...]}, ...]}')
+                             f"130 interrupted{interrupted}.")
+    p.add_argument("sites", help=sites_help)
     p.add_argument("--json", dest="json_out", help="write the diagram (curvedvoronoi.diagram/1) here")
     p.add_argument("--png", help="write a picture here")
     p.add_argument("--window", type=parse_window, metavar="XMIN,XMAX,YMIN,YMAX",
@@ -84,16 +85,24 @@ def _parser():
                         "when the first number is negative")
     p.add_argument("--geojson", help="write the edges, vertices and sites as GeoJSON here")
     p.add_argument("--crs", default=None,
-                   help="the sites' coordinate reference system for --geojson, e.g. EPSG:32633 (default: a "
+                   help=f"{crs_of} coordinate reference system for --geojson, e.g. EPSG:32633 (default: a "
                         "planar engineering CRS, so that GIS tools do not read longitude/latitude; 'none': "
                         "no crs member)")
     p.add_argument("--empty-circles", action="store_true", help="draw the vertices' empty circles")
     p.add_argument("--quiet", action="store_true", help="no summary, no progress bar")
-    p.add_argument("--time-limit", type=float, default=None, help="stop after S seconds (partial result)")
+    p.add_argument("--time-limit", type=float, default=None, help=time_limit_help)
     p.add_argument("--no-certify", action="store_true",
                    help="skip the verifier (never certified; exit 0 when the construction ran to its end)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     return p
+
+
+def _parser():
+    return diagram_parser("Voronoi diagram / Delaunay graph of disjoint circles, points and "
+                          "conics (thesis §1.2), certified by an independent verifier.",
+                          'JSON file {"sites": [...]} or {"conics": [{"coefficients": [...]}, ...]}',
+                          interrupted=" (partial result written, not certified)", crs_of="the sites'",
+                          time_limit_help="stop after S seconds (partial result)")
 
 
 def _write(path, text, what):
