@@ -42,7 +42,7 @@ from ..result import InvalidConicError, NumericalRefusal
 from ..sites.shapes import ShapeError
 from ..voronoi.command import (EXIT_BAD_INPUT, EXIT_CERTIFIED, EXIT_INTERRUPTED, EXIT_NOT_CERTIFIED,
                                EXIT_NUMERICAL_REFUSAL, OneLineParser, diagram_main as sites_diagram_main,
-                               diagram_parser)
+                               diagram_parser, print_summary, run_construction)
 from .loops import check_named, read_domain, read_shape, shape_kind
 
 __all__ = ["diagram_main", "medial_axis_main", "read_shape", "read_domain", "medial_axis_document",
@@ -155,25 +155,16 @@ def diagram_main(argv=None) -> int:
     if args.time_limit is not None and not args.quiet:
         print("note: --time-limit is not used by segment diagrams yet", file=sys.stderr)
     interrupted = False
+    progress = None if not (args.quiet or args.no_progress) else False
     try:
-        progress = None if not (args.quiet or args.no_progress) else False
-        d = segment_voronoi(pieces, sources, certify=not args.no_certify, progress=progress)
+        d, status = run_construction(lambda: segment_voronoi(pieces, sources, certify=not args.no_certify,
+                                                             progress=progress),
+                                     bad_input_prefix=f"{args.sites}: ")
     except KeyboardInterrupt:
         interrupted = True
-        d = Diagram(pieces, [], [], False, ["interrupted (Ctrl-C): no diagram computed"], {})
-    except NumericalRefusal as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return EXIT_NUMERICAL_REFUSAL
-    except InvalidConicError as exc:
-        print(f"error: {args.sites}: {exc}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    except (ImportError, MemoryError):
-        raise
-    except Exception as exc:  # noqa: BLE001 - valid input the construction failed on: one line, exit 1
-        msg = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
-        print(f"error: the construction failed on this input ({type(exc).__name__}"
-              + (f": {msg}" if msg else "") + "); please report it", file=sys.stderr)
-        return EXIT_NOT_CERTIFIED
+        d, status = Diagram(pieces, [], [], False, ["interrupted (Ctrl-C): no diagram computed"], {}), None
+    if status is not None:
+        return status
     previous = _ignore_sigint()
     try:
         doc = d.to_json()
@@ -188,12 +179,7 @@ def diagram_main(argv=None) -> int:
         return EXIT_NOT_CERTIFIED
     finally:
         _restore_sigint(previous)
-    if not args.quiet:
-        if not args.json_out:
-            print(json.dumps(doc, indent=1))
-        print(f"{len(d.sites)} sites, {len(d.vertices)} vertices, {len(d.edges)} edges, "
-              f"{len(d.delaunay_edges())} Delaunay edges, certified={d.certified}"
-              + (f"; {len(d.problems)} problems, first: {d.problems[0]}" if d.problems else ""), file=sys.stderr)
+    print_summary(d, doc, args)
     if interrupted:
         return EXIT_INTERRUPTED
     if d.certified or args.no_certify:

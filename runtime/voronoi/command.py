@@ -105,6 +105,40 @@ def _parser():
                           time_limit_help="stop after S seconds (partial result)")
 
 
+def run_construction(build, *, bad_input_prefix: str = ""):
+    """``(build(), None)``, or ``(None, exit status)`` after one line on stderr: a numerical refusal
+    (3), bad input found by the construction — intersecting or repeated sites, a degenerate conic
+    (2) — or any other failure on valid input (1, "please report it").  Ctrl-C, ImportError and
+    MemoryError pass through to the caller."""
+    try:
+        return build(), None
+    except NumericalRefusal as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return None, EXIT_NUMERICAL_REFUSAL
+    except InvalidConicError as exc:
+        print(f"error: {bad_input_prefix}{exc}", file=sys.stderr)
+        return None, EXIT_BAD_INPUT
+    except (ImportError, MemoryError, KeyboardInterrupt):
+        raise
+    except Exception as exc:  # noqa: BLE001 - valid input the construction failed on: one line, exit 1
+        msg = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
+        print(f"error: the construction failed on this input ({type(exc).__name__}"
+              + (f": {msg}" if msg else "") + "); please report it", file=sys.stderr)
+        return None, EXIT_NOT_CERTIFIED
+
+
+def print_summary(d, doc: dict, args) -> None:
+    """Unless ``--quiet``: the diagram document on stdout (when not written to ``--json``) and one
+    summary line on stderr."""
+    if args.quiet:
+        return
+    if not args.json_out:
+        print(json.dumps(doc, indent=1))
+    print(f"{len(d.sites)} sites, {len(d.vertices)} vertices, {len(d.edges)} edges, "
+          f"{len(d.delaunay_edges())} Delaunay edges, certified={d.certified}"
+          + (f"; {len(d.problems)} problems, first: {d.problems[0]}" if d.problems else ""), file=sys.stderr)
+
+
 def _write(path, text, what):
     try:
         with open(path, "w") as fh:
@@ -165,23 +199,13 @@ def diagram_main(argv=None) -> int:
     try:
         progress = None if not (args.quiet or args.no_progress) else False
         try:
-            d = voronoi(sites, certify=not args.no_certify, progress=progress, time_limit=args.time_limit)
+            d, status = run_construction(lambda: voronoi(sites, certify=not args.no_certify, progress=progress,
+                                                         time_limit=args.time_limit))
         except KeyboardInterrupt:
             state["interrupted"] = True
-            d = Diagram(sites, [], [], False, [f"{INTERRUPTED_NOTE}: no diagram computed"], {})
-        except NumericalRefusal as exc:
-            print(f"error: {exc}", file=sys.stderr)
-            return EXIT_NUMERICAL_REFUSAL
-        except InvalidConicError as exc:   # intersecting or repeated sites, a degenerate conic
-            print(f"error: {exc}", file=sys.stderr)
-            return EXIT_BAD_INPUT
-        except (ImportError, MemoryError):
-            raise
-        except Exception as exc:  # noqa: BLE001 - valid input the construction failed on: one line, exit 1
-            msg = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
-            print(f"error: the construction failed on this input ({type(exc).__name__}"
-                  + (f": {msg}" if msg else "") + "); please report it", file=sys.stderr)
-            return EXIT_NOT_CERTIFIED
+            d, status = Diagram(sites, [], [], False, [f"{INTERRUPTED_NOTE}: no diagram computed"], {}), None
+        if status is not None:
+            return status
         if state["interrupted"] and not any(p.startswith("interrupted") for p in d.problems):
             d.problems.append(f"{INTERRUPTED_NOTE}: partial diagram")
         if state["interrupted"]:
@@ -206,10 +230,5 @@ def diagram_main(argv=None) -> int:
     finally:
         if previous is not None:
             signal.signal(signal.SIGINT, previous)
-    if not args.quiet:
-        if not args.json_out:
-            print(json.dumps(doc, indent=1))
-        print(f"{len(d.sites)} sites, {len(d.vertices)} vertices, {len(d.edges)} edges, "
-              f"{len(d.delaunay_edges())} Delaunay edges, certified={d.certified}"
-              + (f"; {len(d.problems)} problems, first: {d.problems[0]}" if d.problems else ""), file=sys.stderr)
+    print_summary(d, doc, args)
     return _exit_status(d, not args.no_certify, state["interrupted"])
