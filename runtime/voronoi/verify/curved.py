@@ -122,6 +122,13 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, extra=No
             Xn, dev = yield from _project(S[ks], dirs, pair)
             okn = np.isfinite(dev) & np.isfinite(Xn).all(1)
             S[ks[okn]] = Xn[okn]
+            # an inner node that does not project onto β is dropped (a misplaced point: the
+            # midpoint of the chord that replaces it is projected by _adapt)
+            drop = ks[~okn]
+            if not closed:
+                drop = drop[(drop > 0) & (drop < len(S) - 1)]
+            if len(drop) and len(S) - len(drop) >= (4 if closed else 2):
+                S = np.delete(S, drop, axis=0)
         for _ in range(len(S)):
             # drop inner nodes where the guide turns back (off-bisector or misplaced points)
             if len(S) < 3:
@@ -143,6 +150,15 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, extra=No
     h0 = (v0.h * 2 + v0.tol) if v0 is not None else 0.0
     h1 = (v1.h * 2 + v1.tol) if v1 is not None else 0.0
     S_guide = S
+    # half-widths at most w_v + s·sin θ / 2 at arc length s from a vertex (θ: the angle there
+    # between β and the bisector of a third site; :func:`_vertex_taper`)
+    tapers = []
+    for v, ks_ in ((v0, k0), (v1, k1)):
+        tapers.append(None if v is None or not ks_ else (yield from _vertex_taper(v, pair, ks_)))
+    # the guide must follow β within the narrowest strips tried at the vertices (below)
+    guide_ends = tuple(None if v is None else max(min(1e-5 * (v.r + 1.0), tp[1] if tp else math.inf),
+                                                  8 * h + 1e-12 * scale)
+                       for v, h, tp in ((v0, h0, tapers[0]), (v1, h1, tapers[1])))
     budget = [EDGE_WORK]
     topped = False
     # strip half-widths ~ 3·wtol: the stated tolerance, or more on a long edge (bounded piece count)
@@ -155,7 +171,7 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, extra=No
             if refine:      # the polyline is only a guide: halve its segments, nodes moved onto β
                 S = yield from _refine(S, pair)
             # split where the arc strays from the chord by more than a fraction of the strip width
-            S = yield from _adapt(S, pair, 0.1 * narrow, wtol, scale)
+            S = yield from _adapt(S, pair, 0.1 * narrow, wtol, scale, ends=guide_ends)
             seg = S[1:] - S[:-1]
             L = np.hypot(seg[:, 0], seg[:, 1])
             if np.any(L <= 1e-12 * scale):
@@ -179,8 +195,13 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, extra=No
             # node half-widths: about 3x the stated tolerance, at most a quarter of the adjacent segments
             Lmin = np.minimum(np.concatenate([[L[-1] if closed else L[0]], L]),
                               np.concatenate([L, [L[0] if closed else L[-1]]]))
+            arc = np.concatenate([[0.0], np.cumsum(L)])
+            cap = np.full(len(S), np.inf)
+            for tp, sv in ((tapers[0], arc), (tapers[1], arc[-1] - arc)):
+                if tp is not None:
+                    cap = np.minimum(cap, tp[1] + 0.5 * tp[0] * sv)
             for wfac, endfac in ((1.0, 1e-3), (0.3, 1e-5), (3.0, 1e-3)):
-                W = np.minimum(0.25 * Lmin, wnode * wfac)
+                W = np.minimum(np.minimum(0.25 * Lmin, wnode * wfac), cap)
                 W = np.maximum(W, 1e-12 * scale)
                 # narrow at the vertices: the transversality test (T3) needs the gradient enclosures
                 # (slack ~ 2R/d) well below the angle between the bisectors
@@ -227,6 +248,38 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, extra=No
             break
     return False, last_msg, None
 
+
+
+def _vertex_taper(v, pair, ks):
+    """(sin θ, w_v) at the vertex v of the edge of ``pair`` = (i, j) with the third sites ``ks``
+    (float, only to choose strip widths): θ the smallest angle between ∇d_i − ∇d_j and
+    ∇d_k − ∇d_i, w_v = d·|∇d_k − ∇d_i|·|∇d_i − ∇d_j|·sin θ / (8 (|∇d_k − ∇d_i| + |∇d_i − ∇d_j|)).
+    The transversality test (T3) of :mod:`runtime.voronoi.verify.strips` holds on a piece of
+    radius R when its error, about (4R/d)(|∇d_k − ∇d_i| + |∇d_i − ∇d_j|) (gradient slack 2R/d
+    per site), is below |∇d_k − ∇d_i|·|∇d_i − ∇d_j|·sin θ: R about w_v.  Away from the vertex
+    d_k − d_i grows like s·|∇d_k − ∇d_i|·sin θ, so the first-order test (T2) takes over for R
+    below s·sin θ.  At a vertex 10³ scene units out, θ is of the order of (site gap)/d and a
+    fixed fraction of d (the strips' other narrowing) is far too wide.  None when undefined.
+    Generator."""
+    i, j = pair
+    K = [i, j] + [int(k) for k in ks]
+    X = np.repeat([[float(v.x), float(v.y)]], len(K), axis=0)
+    V = yield (X, np.array(K))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        G = (X - V.F) / V.d[:, None]
+        Df = G[0] - G[1]
+        nf = math.hypot(*Df)
+        best = None
+        for t in range(2, len(K)):
+            Dg = G[t] - G[0]
+            ng = math.hypot(*Dg)
+            sin_t = abs(Df[0] * Dg[1] - Df[1] * Dg[0]) / (nf * ng)
+            wv = min(V.d[0], V.d[1]) * ng * nf * sin_t / (8 * (ng + nf))
+            if not (math.isfinite(sin_t) and math.isfinite(wv) and wv > 0):
+                return None
+            if best is None or wv < best[1]:
+                best = (min(sin_t, 1.0), wv)
+    return best
 
 
 def _cut_outside(S, cen, Rc):
@@ -337,12 +390,20 @@ def _node_width(X, pair, tol, scale):
     """Strip half-width wanted at the polyline nodes X: about 3x the stated tolerance, at most a
     small fraction of d·|∇d_i − ∇d_j| (the gradient enclosures of the monotonicity test
     have slack ~ 2R/d).  Generator."""
+    return (yield from _node_frame(X, pair, tol, scale))[0]
+
+
+def _node_frame(X, pair, tol, scale):
+    """(:func:`_node_width` at the nodes X, the unit normals ∇f/|∇f| of the bisector there; NaN
+    where undefined).  Generator."""
     X = np.asarray(X, float).reshape(-1, 2)
     _, D, di, dj = yield from _fgrad(X, pair)
-    with np.errstate(invalid="ignore"):
-        c = 0.03 * np.minimum(di, dj) * np.hypot(D[:, 0], D[:, 1])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        nD = np.hypot(D[:, 0], D[:, 1])
+        c = 0.03 * np.minimum(di, dj) * nD
+        U = D / nD[:, None]
     c = np.where(np.isfinite(c), c, 0.0)
-    return np.maximum(np.minimum(max(3 * tol, 1e-6 * scale), c), 1e-9 * scale)
+    return np.maximum(np.minimum(max(3 * tol, 1e-6 * scale), c), 1e-9 * scale), U
 
 
 def _refine(S, pair, sel=None):
@@ -362,20 +423,37 @@ def _insert(S, sel, Mn):
     return out
 
 
-def _adapt(S, pair, frac, tol, scale, rounds=12, cap=4000):
+def _adapt(S, pair, frac, tol, scale, rounds=12, cap=4000, ends=(None, None)):
     """Split the segments whose bisector arc strays more than ``frac`` times the wanted strip
-    half-width from the chord (offset of the projected midpoint, float), to a bounded depth: the
-    strips must contain the arc.  Only the new segments are projected again.  Only a guide; the
-    proof decides.  Generator."""
+    half-width from the chord, to a bounded depth: the strips must contain the arc.  Two float
+    estimates: the offset of the projected midpoint, and L·sin α with α the angle between the
+    chord and the bisector's tangent at either end (the arc of a segment where β turns by less
+    than a right angle lies in the triangle of the chord and the end tangents, within s·tan α of
+    the chord at distance s from that end: the midpoint alone misses a bend near one end, as
+    next to a vertex near the sites on an edge running 10³ scene units out).  ``ends``: the
+    half-widths wanted at the first and last node (the strips narrowed at the vertices), or None.
+    Only the new segments are projected again.  Only a guide; the proof decides.  Generator."""
     Mn, dev = yield from _project_mid(S[:-1], S[1:], pair)
-    tn = frac * (yield from _node_width(S, pair, tol, scale))
+    tn, U = yield from _node_frame(S, pair, tol, scale)
+    tn = frac * tn
     for _ in range(rounds):
-        Ls = np.hypot(*(S[1:] - S[:-1]).T)
-        sel = (dev > np.minimum(tn[:-1], tn[1:])) & (dev < 0.25 * Ls)     # else the projection is not trusted
+        for t, w_end in ((0, ends[0]), (-1, ends[1])):
+            if w_end is not None:
+                tn[t] = min(tn[t], frac * w_end)
+        seg = S[1:] - S[:-1]
+        Ls = np.hypot(seg[:, 0], seg[:, 1])
+        Tc = seg / np.maximum(Ls, 1e-300)[:, None]
+        with np.errstate(invalid="ignore"):
+            sin_end = np.maximum(np.abs((Tc * U[:-1]).sum(1)), np.abs((Tc * U[1:]).sum(1)))
+        tmin = np.minimum(tn[:-1], tn[1:])
+        bend = np.where(np.isfinite(sin_end), Ls * sin_end > 4 * tmin, False)
+        sel = ((dev > tmin) | bend) & (dev < 0.25 * Ls)     # else the projection is not trusted
         if not sel.any() or len(S) + int(sel.sum()) > cap:
             break
         S = _insert(S, sel, Mn[sel])
-        tn = _insert(tn[:, None], sel, frac * (yield from _node_width(Mn[sel], pair, tol, scale))[:, None])[:, 0]
+        tw, Uw = yield from _node_frame(Mn[sel], pair, tol, scale)
+        tn = _insert(tn[:, None], sel, frac * tw[:, None])[:, 0]
+        U = _insert(U, sel, Uw)
         fresh = np.repeat(sel, 1 + sel)          # the two halves of every split segment
         Mn, dev = np.repeat(Mn, 1 + sel, axis=0), np.repeat(dev, 1 + sel)
         Mf, df = yield from _project_mid(S[:-1][fresh], S[1:][fresh], pair)
