@@ -82,13 +82,23 @@ def exact_vertex(E: ElementarySites, triple, sol):
     return best
 
 
+def _closed_form(E: ElementarySites, triple, sol):
+    """:func:`exact_vertex`, or None when no closed form is found."""
+    try:
+        return exact_vertex(E, triple, sol)
+    except (NotImplementedError, ValueError):
+        return None
+
+
+def _end_points(E: ElementarySites, k: int):
+    """The exact end points of curve k, as SymPy rationals."""
+    return tuple(tuple(_srat(t) for t in E.xy[int(E.ends[k, i])]) for i in (0, 1))
+
+
 def on_circle(E: ElementarySites, triple, sol, k: int):
     """"on" (site k touches the vertex's circle), "outside", False (k enters it) or None
     (not decided: no closed form found)."""
-    try:
-        v = exact_vertex(E, triple, sol)
-    except (NotImplementedError, ValueError):
-        return None
+    v = _closed_form(E, triple, sol)
     if v is None:
         return None
     X, Y, R = v
@@ -96,7 +106,7 @@ def on_circle(E: ElementarySites, triple, sol, k: int):
         px, py = (_srat(t) for t in E.xy[k])
         s = exact_sign((X - px) ** 2 + (Y - py) ** 2 - R ** 2)
         return "on" if s == 0 else ("outside" if s > 0 else False)
-    (ax, ay), (bx, by) = ((_srat(t) for t in E.xy[int(E.ends[k, 0])]), (_srat(t) for t in E.xy[int(E.ends[k, 1])]))
+    (ax, ay), (bx, by) = _end_points(E, k)
     if E.kind[k] == ARC:
         return _on_arc(E, k, X, Y, R, (ax, ay), (bx, by))
     dx, dy = bx - ax, by - ay
@@ -153,16 +163,13 @@ def contacts_valid(E: ElementarySites, triple, sol) -> bool | None:
     lies in the closed curve (a segment's foot parameter in [0, 1], an arc's direction in its
     closed range) — the case where a contact is exactly at an end, which balls cannot decide.
     None when no closed form is found."""
-    try:
-        v = exact_vertex(E, triple, sol)
-    except (NotImplementedError, ValueError):
-        return None
+    v = _closed_form(E, triple, sol)
     if v is None:
         return None
     X, Y, R = v
     for kind, d, t in contact_equations(E, triple, (sol.x, sol.y)):
         if kind == "line":
-            (ax, ay), (bx, by) = ((_srat(w) for w in E.xy[int(E.ends[t, 0])]), (_srat(w) for w in E.xy[int(E.ends[t, 1])]))
+            (ax, ay), (bx, by) = _end_points(E, t)
             dx, dy = bx - ax, by - ay
             tnum = (X - ax) * dx + (Y - ay) * dy
             if exact_sign(tnum) < 0 or exact_sign(tnum - dx * dx - dy * dy) > 0:

@@ -138,77 +138,59 @@ def contact_equations(E: ElementarySites, triple, seed):
     return eqs
 
 
-def _float_system(eqs):
+def _coefficients(eqs, num, sqrt) -> list[tuple]:
+    """The contact equations' coefficients in one arithmetic (``num``: float or arb; a line's
+    r-coefficient is side·√(a² + b²))."""
     co = []
     for kind, d, _t in eqs:
         if kind == "line":
             a, b, c, s, N = d
-            co.append((kind, float(a), float(b), float(c), s * float(N) ** 0.5))
+            co.append((kind, num(a), num(b), num(c), s * sqrt(num(N))))
+        elif kind == "arc":
+            cx, cy, rho, s = d
+            co.append((kind, num(cx), num(cy), num(rho), s))
         else:
-            co.append((kind,) + tuple(float(v) for v in d))
+            co.append((kind,) + tuple(num(v) for v in d))
+    return co
+
+
+def _contact_residuals(co, z, zero):
+    """Values and Jacobian rows in (x, y, r) of the contact equations at ``z``, in the arithmetic of
+    ``co`` and ``z`` (the same expressions for the float Newton steps and the arb Krawczyk proof):
+    point |q − p|² − r², line a·x + b·y + c − side·|(a, b)|·r, normal t·(q − e), arc
+    |q − c|² − (ρ + side·r)²."""
+    x, y, r = z
+    out, J = [], []
+    for e in co:
+        if e[0] == "point":
+            dx, dy = x - e[1], y - e[2]
+            out.append(dx * dx + dy * dy - r * r)
+            J.append([2 * dx, 2 * dy, -2 * r])
+        elif e[0] == "line":
+            out.append(e[1] * x + e[2] * y + e[3] - e[4] * r)
+            J.append([e[1], e[2], -e[4]])
+        elif e[0] == "normal":
+            out.append(e[1] * (x - e[3]) + e[2] * (y - e[4]))
+            J.append([e[1], e[2], zero])
+        else:
+            dx, dy, R = x - e[1], y - e[2], e[3] + e[4] * r
+            out.append(dx * dx + dy * dy - R * R)
+            J.append([2 * dx, 2 * dy, -2 * e[4] * R])
+    return out, J
+
+
+def _float_system(eqs):
+    co = _coefficients(eqs, float, lambda v: v ** 0.5)
 
     def F(z):
-        x, y, r = z
-        out, J = [], []
-        for e in co:
-            if e[0] == "point":
-                out.append((x - e[1]) ** 2 + (y - e[2]) ** 2 - r * r)
-                J.append([2 * (x - e[1]), 2 * (y - e[2]), -2 * r])
-            elif e[0] == "line":
-                out.append(e[1] * x + e[2] * y + e[3] - e[4] * r)
-                J.append([e[1], e[2], -e[4]])
-            elif e[0] == "normal":
-                out.append(e[1] * (x - e[3]) + e[2] * (y - e[4]))
-                J.append([e[1], e[2], 0.0])
-            else:
-                R = e[3] + e[4] * r
-                out.append((x - e[1]) ** 2 + (y - e[2]) ** 2 - R * R)
-                J.append([2 * (x - e[1]), 2 * (y - e[2]), -2 * e[4] * R])
+        out, J = _contact_residuals(co, z, 0.0)
         return np.array(out), np.array(J)
     return F
 
 
 def _arb_system(eqs):
-    co = []
-    for kind, d, _t in eqs:
-        if kind == "line":
-            a, b, c, s, N = d
-            co.append((kind, to_arb(a), to_arb(b), to_arb(c), s * to_arb(N).sqrt()))
-        elif kind == "arc":
-            cx, cy, rho, s = d
-            co.append((kind, to_arb(cx), to_arb(cy), to_arb(rho), s))
-        else:
-            co.append((kind,) + tuple(to_arb(v) for v in d))
-
-    def F(z):
-        x, y, r = z
-        out = []
-        for e in co:
-            if e[0] == "point":
-                out.append((x - e[1]) * (x - e[1]) + (y - e[2]) * (y - e[2]) - r * r)
-            elif e[0] == "line":
-                out.append(e[1] * x + e[2] * y + e[3] - e[4] * r)
-            elif e[0] == "normal":
-                out.append(e[1] * (x - e[3]) + e[2] * (y - e[4]))
-            else:
-                R = e[3] + e[4] * r
-                out.append((x - e[1]) * (x - e[1]) + (y - e[2]) * (y - e[2]) - R * R)
-        return out
-
-    def J(z):
-        x, y, r = z
-        rows = []
-        for e in co:
-            if e[0] == "point":
-                rows.append([2 * (x - e[1]), 2 * (y - e[2]), -2 * r])
-            elif e[0] == "line":
-                rows.append([e[1], e[2], -e[4]])
-            elif e[0] == "normal":
-                rows.append([e[1], e[2], arb(0)])
-            else:
-                rows.append([2 * (x - e[1]), 2 * (y - e[2]), -2 * e[4] * (e[3] + e[4] * r)])
-        return rows
-    return F, J
+    co = _coefficients(eqs, to_arb, lambda v: v.sqrt())
+    return (lambda z: _contact_residuals(co, z, arb(0))[0]), (lambda z: _contact_residuals(co, z, arb(0))[1])
 
 
 def prove_vertex(E: ElementarySites, triple, seed, r_seed: float | None = None, cache: dict | None = None
