@@ -1,7 +1,8 @@
 """Deletion of a site from a Voronoi diagram: locally, re-proving only what changed.
 
-**Circles and points** (thesis §1.2; Karavelas & Yvinec, ESA 2002, for the deletion in additively
-weighted Voronoi diagrams; CGAL's ``Apollonius_graph_2::remove``): the region of site i is shared
+**Points, circles and ellipses** (thesis §1.2; Karavelas & Yvinec, ESA 2002, for the deletion in
+additively weighted Voronoi diagrams, CGAL's ``Apollonius_graph_2::remove``; disjoint convex sites
+form an abstract Voronoi diagram, Klein, Mehlhorn & Meiser, CGTA 3 (1993), where the same holds): the region of site i is shared
 among its Delaunay neighbours and nothing else changes.  The vertices of i (their circles touch i)
 and the edges of i and at those vertices are removed; the diagram of i's neighbours and their
 neighbours is built and its vertices inside i's old region (their circles reach site i) and the
@@ -16,7 +17,7 @@ direction, by the old proof); otherwise every unbounded edge is proved again aga
 the accounting at infinity is redone with the verifier's routines.  ``certified`` is True only
 when the original diagram was certified and the changed part is proved.
 ``stats["deletion"]``: "local", "local, unbounded edges and accounting at infinity re-proved" or,
-when the local splice does not apply (conic sites, nested sites, fewer than 5 sites, a far scene,
+when the local splice does not apply (parabola or hyperbola sites, nested sites, fewer than 5 sites, a far scene,
 a splice that does not close or is not proved), the sample-based route below.
 
 **Sample-based route** (every site kind), updating the sample triangulation locally.
@@ -68,7 +69,7 @@ def delete_site(diagram, i: int, *, certify: bool = True, renumber: str = "shift
     """The Voronoi diagram of ``diagram``'s sites without site ``i`` (``renumber="shift"``: j > i
     becomes j − 1; ``"last"``: site N − 1 becomes i); ``diagram`` is left unchanged.
     ``stats["deletion"]`` says "local" or "local, unbounded edges and accounting at infinity
-    re-proved" (circles and points, module docstring), "local sample triangulation" (the sample
+    re-proved" (points, circles, ellipses: module docstring), "local sample triangulation" (the sample
     triangulation updated around site i, all vertices proved again), "local triangulation
     declined" (samples re-triangulated by qhull, the rounds reused) or "rebuild".  The construction functions come from the diagram's state
     (:class:`runtime.voronoi.construction.ConstructionState`)."""

@@ -1,18 +1,21 @@
-"""Local insertion (and the local part of deletion) of a circle or point site, thesis §1.2.
+"""Local insertion (and the local part of deletion) of a point, circle or ellipse site, thesis §1.2.
 
 Thesis §1.2 maintains the diagram as sites arrive: a new site s only takes points from the regions
-it touches.  For circles and points (additively weighted points, thesis §3.1) the *conflict region*
-of s — the points of the old Voronoi skeleton strictly closer to s than to their nearest sites —
-is connected and meets the boundary of the region of the site nearest to the centre of s
-(Karavelas & Yvinec, *Dynamic additively weighted Voronoi diagrams in 2D*, ESA 2002, §3; the
-same structure as CGAL's ``Apollonius_graph_2::insert``; for abstract Voronoi diagrams Klein,
-Mehlhorn & Meiser, CGTA 3 (1993)).  The update here:
+it touches.  For pairwise-disjoint, non-nested bounded convex sites (points, circles, ellipses)
+the distances form an abstract Voronoi diagram (Klein, Mehlhorn & Meiser, CGTA 3 (1993); for
+circles, additively weighted points, Karavelas & Yvinec, *Dynamic additively weighted Voronoi
+diagrams in 2D*, ESA 2002, §3, the structure of CGAL's ``Apollonius_graph_2::insert``): the
+*conflict region* of s — the points of the old Voronoi skeleton strictly closer to s than to
+their nearest sites — is connected and meets the boundary of the old region of the site nearest
+to any point of the new region (:mod:`runtime.voronoi.conflict`).  The update here:
 
-1. **Locate.**  The sites nearest to the centre of s (rigorous distance bounds from a k-d tree
-   over the centres, kept between updates); their vertices are tested against s, and the
+1. **Locate.**  The old sites nearest to a point of the new region (the centre of a circle, the
+   end of an ellipse's major axis; rigorous distance bounds from a k-d tree over the centres of
+   the sites' bounding discs, kept between updates); their vertices are tested against s, and the
    conflict is grown through adjacent vertices (breadth first).  A vertex is *kept* only when
-   d(v, s) > r_v is proved with rigorous float bounds, with the verifier's vertex tolerance
-   (:data:`runtime.voronoi.verify.vertices.VERTEX_TOL`) around the reported position and radius;
+   d(v, s) > r_v is proved with rigorous float bounds (an ellipse's own ``distance_bounds``), with
+   the verifier's vertex tolerance (:data:`runtime.voronoi.verify.vertices.VERTEX_TOL`) around the
+   reported position and radius;
    an undecided vertex is treated as in conflict (removed, and rebuilt if it is still a vertex).
    The point at infinity is a vertex of the skeleton as well (the unbounded edges meet there):
    when the disc of s is not strictly inside the convex hull of the centres of the sites with
@@ -69,9 +72,21 @@ Why the result is proved (H the reported graph after the update, G the true one)
   ``stats["update"]`` says so.
 
 Hence ``certified`` is True only when the old diagram was certified (its proofs are reused) and
-everything new is proved now.  Nested sites (closed edges), far-from-origin scenes and conic
-sites are outside this argument: conics raise :class:`NotImplementedError` naming the kind,
-nesting and far scenes rebuild the diagram.
+everything new is proved now.  Nested sites (closed edges), far-from-origin scenes and unbounded
+conics are outside this argument: parabolas and hyperbolas (no support function, so no proof at
+infinity) raise :class:`NotImplementedError` naming the kind, nesting and far scenes rebuild the
+diagram.
+
+**Ellipses** (with circles and points).  The same argument holds word for word in the abstract
+Voronoi diagram: kept vertices and edges keep their proofs, the new site's region is connected.
+The new vertices (:mod:`runtime.voronoi.verify.conic_vertices`, else the foot-point proof) and
+edges (the chains of strips of :mod:`runtime.voronoi.verify.curved`) are proved by the
+verifier's routines against **all** sites rather than the sites within reach: the strips around
+an arc are the verifier's own, so no reach radius is derived from the polyline (the site table is
+built once per update, vectorised numpy, O(N) with a small constant).  At infinity the disc test
+uses the bounding discs (h_s(θ) ≤ c_s·e(θ) + a_s, the centre of every site lying in it) and the
+accounting is :func:`runtime.voronoi.verify.closure.verify_accounting_conics`.  Nesting of an
+ellipse is decided exactly (:func:`runtime.voronoi.conic_geometry.site_inside`) and rebuilds.
 
 The adjacency (vertices and edges of each site, edges of each vertex, the k-d tree) is kept in a
 :class:`DynamicState` that **moves** to the result: a chain of updates costs what changes, the
@@ -93,9 +108,11 @@ import time
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .conic_geometry import site_geometry
+from .conic_geometry import site_geometry, site_inside
 from .geometry import rounding_slack
-from .site_input import SiteError, as_site, check_disjoint
+from ..sites.intersection import sites_intersect
+from .conflict import LOCAL_KINDS, disc_inside, nearest_old_sites, outside, site_disc
+from .site_input import SiteError, as_site, check_disjoint, sites_equal
 from .verify.edge_checks import check_edges
 from .verify.edges import CircleTable
 from .verify.vertices import VERTEX_TOL, prove_vertices
@@ -120,9 +137,11 @@ class LocalState:
 
 
 class DynamicState:
-    """Adjacency of a diagram of circle/point sites: per site its vertex ids and edge ids, per
-    vertex its edge ids, the sites' float centres and radii with a k-d tree (sites added since it
-    was built are scanned linearly until it is rebuilt)."""
+    """Adjacency of a diagram of point, circle and ellipse sites: per site its vertex ids and edge
+    ids, per vertex its edge ids, the sites' bounding discs (:func:`runtime.voronoi.conflict.site_disc`:
+    float centres ``C`` and radii ``R``, a circle's own) with a k-d tree over the centres (sites
+    added since it was built are scanned linearly until it is rebuilt); the proofs differ when an ellipse is
+    among the sites (``ellipses`` counts them)."""
 
     def __init__(self, D):
         n = len(D.sites)
@@ -131,13 +150,14 @@ class DynamicState:
         S = getattr(D.construction, "S", None)
         geoms = getattr(S, "geoms", None) if "frame" not in D.stats else None
         self.geoms = list(geoms) if geoms is not None and len(geoms) == n else [site_geometry(s) for s in D.sites]
-        self.unsupported = next((g.kind for g in self.geoms if g.kind not in ("point", "circle")), None)
+        self.unsupported = next((g.kind for g in self.geoms if g.kind not in LOCAL_KINDS), None)
         self.ids_ok = all(v.id == t for t, v in enumerate(D.vertices)) and all(e.id == t for t, e in enumerate(D.edges))
         if self.unsupported:
             return
-        self.C = np.array([[g.x0, g.y0] if g.kind == "point" else [g.cx, g.cy] for g in self.geoms],
-                          float).reshape(-1, 2)
-        self.R = np.array([0.0 if g.kind == "point" else g.rho for g in self.geoms], float)
+        discs = [site_disc(g) for g in self.geoms]
+        self.C = np.array([c for c, _ in discs], float).reshape(-1, 2)
+        self.R = np.array([r for _, r in discs], float)
+        self.ellipses = sum(g.kind == "ellipse" for g in self.geoms)
         self.site_v = [set() for _ in range(n)]
         self.site_e = [set() for _ in range(n)]
         self.v_e = [[] for _ in D.vertices]
@@ -176,9 +196,10 @@ class DynamicState:
 
     def add_site(self, site, g):
         self.geoms.append(g)
-        c = [g.x0, g.y0] if g.kind == "point" else [g.cx, g.cy]
+        c, r = site_disc(g)
         self.C = np.vstack([self.C, c])
-        self.R = np.append(self.R, 0.0 if g.kind == "point" else g.rho)
+        self.R = np.append(self.R, r)
+        self.ellipses += g.kind == "ellipse"
         self.rmax = max(self.rmax, float(self.R[-1]))
         self.site_v.append(set())
         self.site_e.append(set())
@@ -190,6 +211,7 @@ class DynamicState:
         """Drop site i: ``renumber="shift"`` (j > i becomes j − 1) or ``"last"`` (site N − 1
         becomes i)."""
         n = len(self.C)
+        self.ellipses -= self.geoms[i].kind == "ellipse"
         if renumber == "last" and i != n - 1:
             last = n - 1
             self.C[i], self.R[i] = self.C[last], self.R[last]
@@ -223,10 +245,11 @@ def dynamic_state(D):
 
 def insert_site(D, site, *, certify: bool = True):
     """The Voronoi diagram of ``D.sites + [site]``; ``D`` is left unchanged (its adjacency state
-    moves to the result).  ``site``: a circle or point in any form :func:`runtime.voronoi.site_input.as_site`
-    reads.  A site meeting an existing one raises :class:`SiteError` naming the pair, as the batch
-    build does; conic sites raise :class:`NotImplementedError`.  ``stats["update"]`` says "local",
-    "local, full verification" (the site touches the convex hull) or "rebuild"."""
+    moves to the result).  ``site``: a point, circle or ellipse in any form
+    :func:`runtime.voronoi.site_input.as_site` reads.  A site meeting an existing one raises
+    :class:`SiteError` naming the pair, as the batch build does; parabolas and hyperbolas raise
+    :class:`NotImplementedError`.  ``stats["update"]`` says "local", "local, unbounded edges and
+    accounting at infinity re-proved" (the site on or near the convex hull) or "rebuild ..."."""
     st = D.construction
     if st is None:
         raise ValueError("this diagram has no construction state (read from JSON?): build the diagram of "
@@ -234,17 +257,18 @@ def insert_site(D, site, *, certify: bool = True):
     t0 = time.perf_counter()
     s = as_site(site)
     g = site_geometry(s)
-    if g.kind not in ("point", "circle"):
-        raise NotImplementedError(f"local insertion of {_a(g.kind)} site is not implemented (circles and points "
-                                  "only): build the diagram with voronoi(sites + [site])")
+    if g.kind not in LOCAL_KINDS:
+        raise NotImplementedError(f"local insertion of {_a(g.kind)} site is not implemented (points, circles and "
+                                  "ellipses only): build the diagram with voronoi(sites + [site])")
     dyn = dynamic_state(D)
     if dyn.unsupported:
         st.dynamic = dyn
         raise NotImplementedError(f"local insertion into a diagram with {_a(dyn.unsupported)} site is not "
-                                  "implemented (circles and points only): build it with voronoi(sites + [site])")
+                                  "implemented (points, circles and ellipses only): build it with "
+                                  "voronoi(sites + [site])")
     n = len(D.sites)
-    cs = np.array([g.x0, g.y0] if g.kind == "point" else [g.cx, g.cy], float)
-    rs = 0.0 if g.kind == "point" else g.rho
+    c_disc, rs = site_disc(g)
+    cs = np.array(c_disc, float)
     scale = float(np.abs(dyn.C).max() + dyn.rmax + 1.0) if n else 1.0
     cand = dyn.near(cs, rs + dyn.rmax + 1e-9 * scale)
     try:
@@ -252,29 +276,22 @@ def insert_site(D, site, *, certify: bool = True):
     except SiteError as exc:
         msg = str(exc)
         if "same site" in msg:
-            k = next(k for k in cand if _same(D.sites[k], s))
+            k = next(k for k in cand if sites_equal(D.sites[k], s))
             raise SiteError(f"site {k} and site {n} are the same site (repeated): remove one") from None
-        k = next(k for k in cand if _meet(D.sites[k], s))
+        k = next(k for k in cand if sites_equal(D.sites[k], s) or sites_intersect(D.sites[k], s))
         raise SiteError(f"site {k} and site {n} intersect: the Voronoi diagram needs disjoint sites") from None
-    nested = any(math.hypot(*(dyn.C[k] - cs)) < abs(dyn.R[k] - rs) + 1e-9 * scale for k in cand)
+    nested = any(_nested(D.sites[k], dyn.geoms[k], dyn.C[k], dyn.R[k], s, g, cs, rs, scale) for k in cand)
     sites2 = list(D.sites) + [s]
     if nested or dyn.closed or not dyn.ids_ok or n < 3 or not D.vertices or scale > FAR:
         st.dynamic = dyn
         return _rebuild(D, st, sites2, certify, "rebuild", t0)
     dyn.add_site(s, g)
-    # the sites nearest to the centre of s (rigorous bounds, ties kept)
-    kq = min(8, n)
-    dist, idx = dyn.tree.query(cs, k=kq) if dyn.tree is not None else ([], [])
-    pool = set(int(k) for k in np.atleast_1d(idx) if 0 <= k < len(dyn.slot) and dyn.slot[k] >= 0)
-    pool = sorted({int(dyn.slot[k]) for k in pool} | {k for k in dyn.extra if k < n})
-    d = np.hypot(*(dyn.C[pool] - cs).T) - dyn.R[pool]
-    slack = rounding_slack(np.abs(dyn.C[pool]).sum(axis=1) + np.abs(cs).sum() + dyn.R[pool]) + 1e-12 * scale
-    hi = float((d + slack).min())
-    pool = [k for k in dyn.near(cs, hi + dyn.rmax + 2e-12 * scale) if k < n]
-    d = np.hypot(*(dyn.C[pool] - cs).T) - dyn.R[pool]
-    slack = rounding_slack(np.abs(dyn.C[pool]).sum(axis=1) + np.abs(cs).sum() + dyn.R[pool]) + 1e-12 * scale
-    hi = float((d + slack).min())
-    A0 = [k for k, lo in zip(pool, (d - slack).tolist()) if lo <= hi]
+    # the old sites nearest to a point of the new region (rigorous bounds, ties kept)
+    A0 = nearest_old_sites(dyn, g, n, scale)
+    if A0 is None:
+        dyn.remove_site(n, "shift")
+        st.dynamic = dyn
+        return _rebuild(D, st, sites2, certify, "rebuild (the new site's region not located)", t0)
     # breadth-first growth of the conflicting vertices
     verts, edges = D.vertices, D.edges
     tested: dict = {}
@@ -284,14 +301,14 @@ def insert_site(D, site, *, certify: bool = True):
     # (its disc not strictly inside the hull of the centres of the sites with unbounded edges) the
     # conflict may reach the unbounded edges there, so their sites and finite ends join the search
     hull_sites = sorted({t for e in dyn.unbounded for t in edges[e].sites})
-    at_infinity = not _disc_inside(dyn.C[hull_sites], cs, rs)
+    at_infinity = not disc_inside(dyn.C[hull_sites], cs, rs)
     if at_infinity:
         A0 = sorted(set(A0) | set(hull_sites))
         layer |= {w for e in dyn.unbounded for w in edges[e].ends if w is not None}
     layer = sorted(layer)
     while layer:
         layer = [v for v in layer if v not in tested]
-        out = _outside(verts, layer, cs, rs)
+        out = outside(verts, layer, g)
         nxt = set()
         for v, o in zip(layer, out.tolist()):
             tested[v] = o
@@ -314,7 +331,7 @@ def insert_site(D, site, *, certify: bool = True):
 def delete_local(D, i, *, certify: bool = True, renumber: str = "shift"):
     """The local deletion of site i (module docstring; same splice and proofs as an insertion:
     the removed vertices are those of site i, the new ones lie in its old region and their circles
-    reach it), or None when it does not apply (conic sites, nesting, fewer than 4 sites, a far
+    reach it), or None when it does not apply (parabola or hyperbola sites, nesting, fewer than 4 sites, a far
     scene, or a splice that does not close): the caller then uses the construction.  Numbering:
     ``renumber="shift"`` (site j > i becomes j − 1, every part with such a site is relabelled, O(N))
     or ``"last"`` (site N − 1 takes index i, only its parts are relabelled)."""
@@ -328,7 +345,7 @@ def delete_local(D, i, *, certify: bool = True, renumber: str = "shift"):
         return None
     X = set(dyn.site_v[i])
     rm_edges = set(dyn.site_e[i])
-    dyn.gone = (dyn.C[i].copy(), float(dyn.R[i]))
+    dyn.gone = dyn.geoms[i]
     dyn.gone_unbounded = any(None in D.edges[e].ends for e in rm_edges)
     if renumber == "last":
         def new_index(t):
@@ -483,23 +500,9 @@ def _close(v, lv) -> bool:
 
 
 def _reaches(dyn, lv) -> bool:
-    """The circle of local vertex ``lv`` reaches the deleted site (kept in ``dyn.gone``)."""
-    c, r = dyn.gone
-    d = abs(math.hypot(lv.x - c[0], lv.y - c[1]) - r)
+    """The circle of local vertex ``lv`` reaches the deleted site (its geometry is ``dyn.gone``)."""
+    d = float(dyn.gone.distance(np.array([[lv.x, lv.y]], float))[0])
     return d < lv.radius * (1 + 1e-9)
-
-
-def _outside(verts, ids, cs, rs):
-    """Proved d(v, s) > r_v for each vertex id (rigorous float bounds, the verifier's vertex
-    tolerance twice around the reported position and radius)."""
-    if not ids:
-        return np.zeros(0, bool)
-    P = np.array([[verts[v].x, verts[v].y] for v in ids], float)
-    r = np.array([verts[v].radius for v in ids], float)
-    tol = 2 * VERTEX_TOL * (1 + np.abs(P).sum(axis=1) + np.abs(r)) + 16 * EPS * np.abs(P).sum(axis=1)
-    d = np.abs(np.hypot(P[:, 0] - cs[0], P[:, 1] - cs[1]) - rs)
-    slack = rounding_slack(np.abs(P).sum(axis=1) + abs(cs[0]) + abs(cs[1]) + rs)
-    return d - slack - tol > r + tol + rounding_slack(r)
 
 
 # ============================================================================ apply + prove
@@ -741,43 +744,7 @@ def _inside_hull(dyn, s, res):
     """The disc of site s lies strictly inside the convex hull of its neighbours' centres (with a
     rounding margin): then h_s(θ) < max_k h_k(θ) for every direction θ."""
     nb = sorted({t for _, gs in res["new_v"] for t in gs if t != s})
-    return _disc_inside(dyn.C[nb], dyn.C[s], dyn.R[s])
-
-
-def _disc_inside(P, c, r) -> bool:
-    """The disc (c, r) lies strictly inside the convex hull of the points P, with a margin of
-    1e-9 of the coordinates (False when it cannot be shown).  The polygon tested is the monotone
-    chain of P (Andrew 1979): its vertices are points of P, and a disc on the inner side of every
-    one of its edges lies in its kernel, hence in the hull, even if rounding made a chain vertex
-    not extreme."""
-    P = np.asarray(P, float).reshape(-1, 2)
-    if len(P) < 3:
-        return False
-    pts = sorted(set(map(tuple, P.tolist())))
-    if len(pts) < 3:
-        return False
-
-    def cross(o, a, b):
-        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-
-    lower, upper = [], []
-    for p in pts:
-        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
-            lower.pop()
-        lower.append(p)
-    for p in reversed(pts):
-        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
-            upper.pop()
-        upper.append(p)
-    H = np.array(lower[:-1] + upper[:-1])             # counter-clockwise
-    if len(H) < 3:
-        return False
-    E = np.roll(H, -1, axis=0) - H
-    L = np.hypot(E[:, 0], E[:, 1])
-    c = np.asarray(c, float)
-    dist = (E[:, 0] * (c[1] - H[:, 1]) - E[:, 1] * (c[0] - H[:, 0])) / L     # > 0: inner side
-    scale = float(np.abs(H).max() + np.abs(c).max() + r + 1.0)
-    return bool((L > 0).all() and (dist > r + 1e-9 * scale).all())
+    return disc_inside(dyn.C[nb], dyn.C[s], dyn.R[s])
 
 
 def _new_numbering(dyn, op, special, renumber):
@@ -810,6 +777,8 @@ def _prove_sub(D, dyn, pv, pe, vert, op, special, new_index, problems, flags_v, 
     if not vids:
         return True
     V = [vert(v) for v in vids]
+    if dyn.ellipses:
+        return _prove_all_sites(D, dyn, V, pe, op, special, problems, flags_v, flags_e)
     X0 = np.mean([[v.x, v.y] for v in V], axis=0)
     M = 0.0
     for w in V:
@@ -845,6 +814,24 @@ def _prove_sub(D, dyn, pv, pe, vert, op, special, new_index, problems, flags_v, 
     return all(vok) and all(eok) and not local
 
 
+def _prove_all_sites(D, dyn, V, pe, op, special, problems, flags_v, flags_e) -> bool:
+    """Step 3 with an ellipse among the sites: the new vertices and edges proved by the verifier's
+    routines against **all** sites (its vertex proofs and chains of strips,
+    :mod:`runtime.voronoi.verify.curved`, exclude the far sites themselves: no reach bound is
+    needed, and the strips around an arc are not known outside the verifier)."""
+    _, _, G = _new_numbering(dyn, op, special, dyn.renumber)
+    sub = dataclasses.replace(D, sites=[g.exact for g in G], vertices=V, edges=list(pe), construction=None)
+    local: list = []
+    vinfo, vok = prove_vertices(sub, sub.sites, G, None, local)
+    eok = check_edges(sub, G, None, vinfo, vok, local, {})[0] if pe else []
+    for v, f in zip(V, vok):
+        flags_v[v.id] = bool(f)
+    for e, f in zip(pe, eok):
+        flags_e[e.id] = bool(f)
+    problems.extend(f"local proof: {p}" for p in local)
+    return all(vok) and all(eok) and not local
+
+
 def _old(g, op, special, dyn):
     """Index in dyn (old numbering) of new-numbering site g; dyn.renumber says how (deletion)."""
     if op == "insert":
@@ -858,11 +845,13 @@ def _prove_infinity(D, dyn, pe, rm_e, vert, op, special, problems, flags_v, flag
     """Step 4a of the certificate after the update: every unbounded edge (kept or new) proved
     against all sites, then the accounting of the ends at infinity (as in
     :func:`runtime.voronoi.verify.certificate.verify` for circles and points)."""
-    from .verify.closure import circles_disjoint, verify_accounting
+    from .verify.closure import circles_disjoint, verify_accounting, verify_accounting_conics
+    from .verify.support import SupportTable
     from .verify.hull_points import verify_accounting_discs, verify_accounting_points
 
     C, R, G = _new_numbering(dyn, op, special, dyn.renumber)
-    table = _table(C, R)
+    conic = any(g.kind == "ellipse" for g in G)
+    table = None if conic else _table(C, R)
     kept = [e for e in sorted(dyn.unbounded) if e not in rm_e]
     E = [dataclasses.replace(D.edges[e], sites=tuple(sorted(_new(t, op, special, dyn) for t in D.edges[e].sites)))
          for e in kept] if op == "delete" else [D.edges[e] for e in kept]
@@ -878,7 +867,12 @@ def _prove_infinity(D, dyn, pe, rm_e, vert, op, special, problems, flags_v, flag
     for e, f in zip(E, eok):
         if e.id >= len(D.edges):
             flags_e[e.id] = bool(f)
-    if all(g.kind == "point" for g in G):
+    if conic:
+        proved = {t[-1] for t in ends_inf}
+        acc = verify_accounting_conics(len(G), SupportTable(G), ends_inf, local,
+                                       unproved_ends=[e.id for e in E if e.id not in proved],
+                                       sites=[g.exact for g in G])
+    elif all(g.kind == "point" for g in G):
         acc = verify_accounting_points(G, ends_inf, local)
     elif len({g.exact.r2 for g in G}) == 1:
         acc = circles_disjoint(table, local) and verify_accounting_points(G, ends_inf, local)
@@ -916,13 +910,13 @@ def _rebuild(D, st, sites2, certify, how, t0):
     return out
 
 
-def _same(a, b) -> bool:
-    return (a.cx, a.cy, a.r2) == (b.cx, b.cy, b.r2)
-
-
-def _meet(a, b) -> bool:
-    from ..sites.intersection import circles_meet
-    return _same(a, b) or circles_meet((a.cx, a.cy, a.r2), (b.cx, b.cy, b.r2))
+def _nested(site_k, g_k, c_k, r_k, s, g, cs, rs, scale) -> bool:
+    """Old site k and the new site s (disjoint) are nested, one inside the other."""
+    if g_k.kind in ("point", "circle") and g.kind in ("point", "circle"):
+        return math.hypot(*(c_k - cs)) < abs(r_k - rs) + 1e-9 * scale
+    if not math.hypot(*(c_k - cs)) < r_k + rs + 1e-9 * scale:
+        return False                # disjoint bounding discs
+    return site_inside(site_k, s) or site_inside(s, site_k)
 
 
 def _a(kind: str) -> str:

@@ -1,0 +1,147 @@
+"""The locate step of a local insertion (thesis §1.2): where a new site starts to conflict.
+
+A new site s takes from the old diagram exactly the points strictly closer to s than to their
+nearest old site.  For pairwise-disjoint bounded convex sites (points, circles, ellipses) with
+no nesting these distances form an abstract Voronoi diagram (Klein, Mehlhorn & Meiser, CGTA 3
+(1993); for circles Karavelas & Yvinec, ESA 2002), in which the region R(s) of the new site is
+connected and contains s.  The *conflict region* R(s) ∩ (old skeleton) is then connected, and
+when it is not empty it meets the boundary of the old region of the site nearest to any point p
+of R(s) (a path inside R(s) from p to the conflict region leaves that old region through its
+boundary, which is skeleton).  :func:`nearest_old_sites` returns every old site that may be the
+nearest to such a point p (rigorous distance bounds, ties kept):
+
+* a circle or a point: p is its centre, with the additively weighted distance |p − c_k| − ρ_k
+  (d(c_s, S_k) for a site k outside s; c_s ∈ R(s) since the discs are disjoint and not nested);
+* an ellipse: p is the end of its major axis, a point of s to rounding; p ∈ R(s) is checked,
+  hi_s(p) < lo_k(p) for every old site k (the sites' own ``distance_bounds``), else None.
+
+:func:`outside` is the vertex test of the breadth-first growth: d(v, s) > r_v proved with the
+verifier's vertex tolerance around the reported position and radius.  :func:`disc_inside` is
+the test at infinity: a disc strictly inside the convex hull of points (for a site, its centre
+and a bounding radius: h_s(θ) ≤ c_s·e(θ) + R_s < max_k c_k·e(θ) ≤ max_k h_k(θ), the centre of a
+convex site lying in it).
+
+Public API: :func:`site_disc`, :func:`nearest_old_sites`, :func:`outside`, :func:`disc_inside`.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .geometry import rounding_slack
+from .verify.vertices import VERTEX_TOL
+
+__all__ = ["site_disc", "nearest_old_sites", "outside", "disc_inside", "LOCAL_KINDS"]
+
+EPS = 2.0 ** -53
+#: the site kinds a diagram can be edited locally with (bounded convex sites)
+LOCAL_KINDS = ("point", "circle", "ellipse")
+
+
+def site_disc(g):
+    """(centre, radius) of a disc containing the site whose centre lies in the site's convex hull:
+    a point itself, a circle's disc, an ellipse's circumscribed disc (centre, major semi-axis)."""
+    if g.kind == "point":
+        return (g.x0, g.y0), 0.0
+    if g.kind == "circle":
+        return (g.cx, g.cy), g.rho
+    if g.kind == "ellipse":
+        return (g.tx, g.ty), g.a * (1 + 4 * EPS) + rounding_slack(abs(g.tx) + abs(g.ty) + g.a)
+    raise ValueError(f"no bounding disc for a {g.kind} site")
+
+
+def _candidates(dyn, X, n):
+    """The old sites (index < n) whose centres are among the 8 nearest to X, and the sites added
+    since the k-d tree was built."""
+    kq = min(8, n)
+    _, idx = dyn.tree.query(X, k=kq) if dyn.tree is not None else ([], [])
+    pool = set(int(k) for k in np.atleast_1d(idx) if 0 <= k < len(dyn.slot) and dyn.slot[k] >= 0)
+    return sorted({int(dyn.slot[k]) for k in pool} | {k for k in dyn.extra if k < n})
+
+
+def nearest_old_sites(dyn, g, n, scale):
+    """Every old site (index < n) that may be nearest to the point p of R(s) chosen for the new
+    site s of geometry g (module docstring); None when p ∈ R(s) cannot be shown (the caller
+    rebuilds)."""
+    if g.kind in ("point", "circle"):
+        (cx, cy), _ = site_disc(g)
+        cs = np.array([cx, cy], float)
+
+        def bounds(pool):
+            d = np.hypot(*(dyn.C[pool] - cs).T) - dyn.R[pool]
+            slack = rounding_slack(np.abs(dyn.C[pool]).sum(axis=1) + np.abs(cs).sum() + dyn.R[pool]) + 1e-12 * scale
+            return d - slack, d + slack
+        p = cs
+    else:
+        p = np.asarray(g.from_canonical(np.array([g.a]), np.array([0.0])), float).reshape(-1, 2)[0]
+
+        def bounds(pool):
+            lo, hi = np.empty(len(pool)), np.empty(len(pool))
+            for t, k in enumerate(pool):
+                lo_k, hi_k = dyn.geoms[k].distance_bounds(p[None, :])
+                lo[t], hi[t] = float(lo_k[0]), float(hi_k[0])
+            return lo, hi
+    pool = _candidates(dyn, p, n)
+    _, hi = bounds(pool)
+    pool = [k for k in dyn.near(p, float(hi.min()) + dyn.rmax + 2e-12 * scale) if k < n]
+    lo, hi = bounds(pool)
+    h = float(hi.min())
+    if g.kind not in ("point", "circle"):
+        # p is a point of s to rounding: it lies in the new region when no old site is as near
+        # (sites outside the pool are farther than h ≥ min lo)
+        _, hs = g.distance_bounds(p[None, :])
+        if not float(hs[0]) < float(lo.min()):
+            return None
+    return [k for k, l in zip(pool, lo.tolist()) if l <= h]
+
+
+def outside(verts, ids, g):
+    """Proved d(v, s) > r_v for each vertex id (rigorous bounds, the verifier's vertex tolerance
+    twice around the reported position and radius; distances are 1-Lipschitz)."""
+    if not ids:
+        return np.zeros(0, bool)
+    P = np.array([[verts[v].x, verts[v].y] for v in ids], float)
+    r = np.array([verts[v].radius for v in ids], float)
+    tol = 2 * VERTEX_TOL * (1 + np.abs(P).sum(axis=1) + np.abs(r)) + 16 * EPS * np.abs(P).sum(axis=1)
+    if g.kind in ("point", "circle"):
+        (cx, cy), rs = site_disc(g)
+        d = np.abs(np.hypot(P[:, 0] - cx, P[:, 1] - cy) - rs)
+        lo = d - rounding_slack(np.abs(P).sum(axis=1) + abs(cx) + abs(cy) + rs)
+    else:
+        lo, _ = g.distance_bounds(P)
+    return lo - tol > r + tol + rounding_slack(r)
+
+
+def disc_inside(P, c, r) -> bool:
+    """The disc (c, r) lies strictly inside the convex hull of the points P, with a margin of
+    1e-9 of the coordinates (False when it cannot be shown).  The polygon tested is the monotone
+    chain of P (Andrew 1979): its vertices are points of P, and a disc on the inner side of every
+    one of its edges lies in its kernel, hence in the hull, even if rounding made a chain vertex
+    not extreme."""
+    P = np.asarray(P, float).reshape(-1, 2)
+    if len(P) < 3:
+        return False
+    pts = sorted(set(map(tuple, P.tolist())))
+    if len(pts) < 3:
+        return False
+
+    def cross(o, a, b):
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    lower, upper = [], []
+    for p in pts:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
+            lower.pop()
+        lower.append(p)
+    for p in reversed(pts):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
+            upper.pop()
+        upper.append(p)
+    H = np.array(lower[:-1] + upper[:-1])             # counter-clockwise
+    if len(H) < 3:
+        return False
+    E = np.roll(H, -1, axis=0) - H
+    L = np.hypot(E[:, 0], E[:, 1])
+    c = np.asarray(c, float)
+    dist = (E[:, 0] * (c[1] - H[:, 1]) - E[:, 1] * (c[0] - H[:, 0])) / L     # > 0: inner side
+    scale = float(np.abs(H).max() + np.abs(c).max() + r + 1.0)
+    return bool((L > 0).all() and (dist > r + 1e-9 * scale).all())
