@@ -38,11 +38,10 @@ import sys
 
 import numpy as np
 
-from ..result import InvalidConicError, NumericalRefusal
 from ..sites.shapes import ShapeError
 from ..voronoi.command import (EXIT_BAD_INPUT, EXIT_CERTIFIED, EXIT_INTERRUPTED, EXIT_NOT_CERTIFIED,
-                               EXIT_NUMERICAL_REFUSAL, OneLineParser, diagram_main as sites_diagram_main,
-                               diagram_parser, print_summary, run_construction)
+                               OneLineParser, diagram_main as sites_diagram_main, diagram_parser, print_summary,
+                               run_construction)
 from .loops import check_named, read_domain, read_shape, shape_kind
 
 __all__ = ["diagram_main", "medial_axis_main", "read_shape", "read_domain", "medial_axis_document",
@@ -253,21 +252,10 @@ def medial_axis_main(argv=None) -> int:
         return EXIT_BAD_INPUT
     from .medial_axis import medial_axis
 
-    try:
-        m = medial_axis(outer, holes, certify=not args.no_certify)
-    except NumericalRefusal as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return EXIT_NUMERICAL_REFUSAL
-    except InvalidConicError as exc:
-        print(f"error: {args.shape}: {exc}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    except (ImportError, MemoryError, KeyboardInterrupt):
-        raise
-    except Exception as exc:  # noqa: BLE001 - valid input the construction failed on: one line, exit 1
-        msg = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
-        print(f"error: the medial axis failed on this input ({type(exc).__name__}"
-              + (f": {msg}" if msg else "") + "); please report it", file=sys.stderr)
-        return EXIT_NOT_CERTIFIED
+    m, status = run_construction(lambda: medial_axis(outer, holes, certify=not args.no_certify),
+                                 bad_input_prefix=f"{args.shape}: ", what="the medial axis")
+    if status is not None:
+        return status
     previous = _ignore_sigint()
     try:
         if args.json_out:

@@ -105,7 +105,7 @@ def _parser():
                           time_limit_help="stop after S seconds (partial result)")
 
 
-def run_construction(build, *, bad_input_prefix: str = ""):
+def run_construction(build, *, bad_input_prefix: str = "", what: str = "the construction"):
     """``(build(), None)``, or ``(None, exit status)`` after one line on stderr: a numerical refusal
     (3), bad input found by the construction — intersecting or repeated sites, a degenerate conic
     (2) — or any other failure on valid input (1, "please report it").  Ctrl-C, ImportError and
@@ -122,7 +122,7 @@ def run_construction(build, *, bad_input_prefix: str = ""):
         raise
     except Exception as exc:  # noqa: BLE001 - valid input the construction failed on: one line, exit 1
         msg = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
-        print(f"error: the construction failed on this input ({type(exc).__name__}"
+        print(f"error: {what} failed on this input ({type(exc).__name__}"
               + (f": {msg}" if msg else "") + "); please report it", file=sys.stderr)
         return None, EXIT_NOT_CERTIFIED
 
