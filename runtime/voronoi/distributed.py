@@ -1,0 +1,213 @@
+"""The Voronoi diagram built tile by tile, in one process or on a Dask cluster.
+
+:func:`tiled_voronoi` cuts the plane into tiles, gives each a halo of neighbouring sites large
+enough by the locality lemma of :mod:`runtime.voronoi.tiling` (checked before the tile is built,
+and again at every vertex the tile reports; a halo too small is doubled and the tile rebuilt, as
+Peterka, Morozov and Phillips grow their ghost zones, SC14), builds the tiles' diagrams with
+:func:`runtime.voronoi.construction.voronoi` -- one Dask task per tile when a
+``distributed.Client`` is given, else one after the other in this process -- stitches them
+(:func:`runtime.voronoi.tiling.stitch`) and proves the stitched diagram with the independent
+verifier (:func:`runtime.voronoi.verify.certificate.verify`, run once on the whole diagram, in
+this process).  The result is a :class:`runtime.voronoi.structure.Diagram` on the input's site
+indices, ``certified`` only when the verifier proves it.
+
+Scenes the tiling does not cover are built by :func:`runtime.voronoi.construction.voronoi` in one
+process, and ``stats["tiling"]["single_process"]`` says why: fewer sites than two tiles hold, a
+site inside another (nesting), an unbounded site, segments or arcs, or a tile whose diagram has
+an edge without vertex (sites in a row).  Interrupted (Ctrl-C), the finished tiles are stitched
+and returned, not certified.
+
+Public API: :func:`tiled_voronoi`.
+"""
+from __future__ import annotations
+
+import time
+
+from ..threads import one_blas_thread
+from .site_input import as_site, check_disjoint
+from .tiling import MARGIN, Rim, build_tile, grow_halo, nested_pair, site_discs, stitch, tile_grid, tile_input
+
+__all__ = ["tiled_voronoi"]
+
+#: rebuilds of one tile with a grown halo before the tiling gives up on it
+MAX_REBUILDS = 8
+
+
+def _single(sites, reason, certify, progress, t0):
+    from .construction import voronoi
+
+    d = voronoi(sites, certify=certify, progress=progress)
+    d.stats["tiling"] = {"single_process": reason}
+    d.stats.setdefault("seconds", {})["tiled_total"] = round(time.perf_counter() - t0, 4)
+    return d
+
+
+def _tasks(client, jobs, bar):
+    """Yield (job key, report) as the tile builds finish: Dask futures gathered as completed, or
+    the jobs run one by one here."""
+    if client is None:
+        for key, args in jobs:
+            rep = build_tile(*args)
+            if bar is not None:
+                bar.update(1)
+            yield key, rep
+        return
+    from distributed import as_completed
+
+    futures = {client.submit(build_tile, *args, pure=False, key=f"curvedvoronoi-tile-{key}-{time.time_ns()}"): key
+               for key, args in jobs}
+    try:
+        for fut in as_completed(list(futures)):
+            rep = fut.result()
+            if bar is not None:
+                bar.update(1)
+            yield futures[fut], rep
+    finally:
+        for fut in futures:
+            if not fut.done():
+                fut.cancel()
+
+
+@one_blas_thread
+def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float | None = None,
+                  certify: bool = True, progress=None, tile_certify: bool = False):
+    """The Voronoi diagram of ``sites`` (thesis §1.2) built tile by tile.
+
+    Parameters
+    ----------
+    sites : list
+        Points, circles, ellipses (any form :func:`runtime.voronoi.construction.voronoi` takes).
+    client : distributed.Client, optional
+        One task per tile on its workers; None: the tiles are built here, one after the other.
+    sites_per_tile : int
+        About how many sites a tile holds (its halo adds more).
+    halo : float, optional
+        The initial halo (default: three times the mean spacing of the sites); each tile's is
+        doubled until the locality lemma holds (``stats["tiling"]["halo_growths"]``).
+    certify : bool
+        Prove the stitched diagram with the verifier; ``certified`` is its verdict.
+    tile_certify : bool
+        Also run the verifier on each tile's own diagram (its problems drive the construction's
+        refinement); the stitched diagram's proof is the global verification either way.
+    progress : bool or None
+        A tqdm bar over the tiles (None: for more than 2000 sites).
+
+    Examples
+    --------
+    >>> import curvedvoronoi as cv
+    >>> sites = [(3 * i + (j % 2), 3 * j + 0.1 * i, 0.5) for i in range(8) for j in range(8)]
+    >>> d = cv.tiled_voronoi(sites, sites_per_tile=20)
+    >>> d.certified, d.stats["tiling"]["tiles"]
+    (True, 4)
+    """
+    t0 = time.perf_counter()
+    sites = [as_site(s) for s in sites] if not any(type(s).__name__ in ("Segment", "Arc") for s in sites) else sites
+    if any(type(s).__name__ in ("Segment", "Arc") for s in sites):
+        return _single(sites, "segments or arcs", certify, progress, t0)
+    if len(sites) < 2 * sites_per_tile:
+        return _single(sites, f"{len(sites)} sites: fewer than two tiles of {sites_per_tile}", certify, progress, t0)
+    try:
+        D = site_discs(sites)
+    except ValueError as exc:
+        return _single(sites, str(exc), certify, progress, t0)
+    check_disjoint(sites)
+    nest = nested_pair(D)
+    if nest is not None:
+        return _single(sites, f"site {nest[1]} may lie inside site {nest[0]} (nesting)", certify, progress, t0)
+    margin = MARGIN * D.scale
+    tiles = tile_grid(D, sites_per_tile, halo)
+    for t in tiles:
+        grow_halo(D, t, margin)
+    a_priori = sum(t.growths for t in tiles)
+    if progress is None:
+        progress = len(sites) > 2000
+    bar = None
+    if progress:
+        try:
+            from tqdm import tqdm
+            bar = tqdm(total=len(tiles) + 1, desc="voronoi tiles", unit="tile", leave=False)
+        except ImportError:
+            bar = None
+
+    rim = Rim(D.bound(), min(t.halo for t in tiles))
+    regions = {t.index: t for t in tiles}
+    regions[rim.index] = rim
+
+    def job(t):
+        idx = t.sites(D) if t is rim else tile_input(D, t)
+        return t.index, ([sites[i] for i in idx.tolist()], idx, t, margin, tile_certify)
+
+    reports: dict = {}
+    rebuilds = 0
+    interrupted = False
+    t_build = time.perf_counter()
+    pending = [rim, *tiles]
+    try:
+        while pending:
+            again = []
+            for key, rep in _tasks(client, [job(t) for t in pending], bar):
+                region = regions[key]
+                if rep["vertexless"]:
+                    raise _Vertexless(key)
+                out = rep["grow"]
+                if out > 0:                  # an empty circle leaves T_h: grow the halo, rebuild
+                    if region.growths >= MAX_REBUILDS + a_priori:
+                        raise _Vertexless(key, "halo keeps growing")
+                    if region is rim:
+                        rim.width = max(2 * rim.width, rim.width + out)
+                        rim.growths += 1
+                    else:
+                        grow_halo(D, region, margin, at_least=region.halo + out)
+                    again.append(region)
+                    rebuilds += 1
+                    if bar is not None:
+                        bar.total += 1
+                    continue
+                reports[key] = rep
+            pending = again
+    except _Vertexless as exc:
+        if bar is not None:
+            bar.close()
+        return _single(sites, exc.reason, certify, progress, t0)
+    except KeyboardInterrupt:
+        interrupted = True
+    finally:
+        if bar is not None:
+            bar.close()
+    t_stitch = time.perf_counter()
+    diagram, info = stitch(sites, list(reports.values()), D.scale)
+    seconds = {"tiles": round(t_stitch - t_build, 4), "stitch": round(time.perf_counter() - t_stitch, 4)}
+    info.update({"tiles": len(tiles), "tiles_built": len(reports) - (rim.index in reports),
+                 "rim_width": rim.width, "rim_sites": reports[rim.index]["sites"] if rim.index in reports else None, "halo_growths": sum(t.growths for t in tiles),
+                 "halo_growths_a_priori": a_priori, "rebuilds": rebuilds,
+                 "halos": [t.halo for t in tiles], "tile_sites": [reports[k]["sites"] for k in sorted(reports) if k >= 0],
+                 "tile_seconds": [round(reports[k]["seconds"], 3) for k in sorted(reports)],
+                 "client": None if client is None else str(client.scheduler.address)})
+    diagram.stats.update({"sites": len(sites), "tiling": info})
+    if interrupted:
+        diagram.problems.append(f"interrupted (Ctrl-C): {len(reports)} of {len(tiles) + 1} regions stitched, "
+                                "partial diagram")
+    elif certify:
+        from .verify.certificate import verify
+
+        t1 = time.perf_counter()
+        cert = verify(diagram, progress=progress)
+        seconds["verify"] = round(time.perf_counter() - t1, 4)
+        diagram.problems.extend(cert.problems)
+        for e, ok in zip(diagram.edges, cert.edges):
+            e.certified = bool(ok)
+        for v, ok in zip(diagram.vertices, cert.vertices):
+            v.certified = bool(ok)
+        diagram.certified = bool(cert.ok) and not diagram.problems
+    else:
+        diagram.problems.append("not verified (certify=False)")
+    seconds["total"] = round(time.perf_counter() - t0, 4)
+    diagram.stats["seconds"] = seconds
+    return diagram
+
+
+class _Vertexless(Exception):
+    def __init__(self, key, why="an edge without vertex (sites in a row)"):
+        super().__init__(why)
+        self.reason = f"tile {key}: {why}"
+
