@@ -285,3 +285,24 @@ def random_arcs(n: int, seed: int, cell: int = 40):
         a0 = rng.randint(0, 359)
         out.append(cv.Arc.circular((cx, cy), r, a0, a0 + rng.randint(10, 180)))
     return out
+
+
+def clustered_circles(n: int, seed: int, *, cluster: float = 0.3, big: float | None = None):
+    """n pairwise disjoint (not nested) circles (x, y, r): a uniform background
+    (:func:`random_disjoint_circles`, side 10·√n), a dense cluster of ``cluster``·n small circles
+    (radii in [0.02, 0.1]) in a square of side √n about the centre of the scene (where the lines of
+    a 2 × 2 grid of tiles cross), and one circle of radius ``big`` (default 0.2 of the side: larger
+    than a tile of a 3 × 3 grid) centred at (side/4, 3·side/4); background circles meeting the cluster's square or the
+    big circle are dropped, so the scene has about n sites."""
+    side = 10.0 * math.sqrt(n)
+    m = int(cluster * n)
+    small = random_disjoint_circles(m, seed + 1, rmin=0.02, rmax=0.1, gap=1e-3, side=math.sqrt(n))
+    c0 = side / 2 - math.sqrt(n) / 2
+    small = [(x + c0, y + c0, r) for x, y, r in small]
+    R = 0.2 * side if big is None else float(big)
+    bx, by = side / 4, 3 * side / 4
+    bg = random_disjoint_circles(n - m, seed, side=side)
+    lo, hi = c0 - 4.0, c0 + math.sqrt(n) + 4.0
+    keep = [(x, y, r) for x, y, r in bg
+            if not (lo < x < hi and lo < y < hi) and math.hypot(x - bx, y - by) > R + r + 0.5]
+    return keep + small + [(bx, by, R)]

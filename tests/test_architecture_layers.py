@@ -224,7 +224,7 @@ def test_the_rule_fails_on_planted_copies(tmp_path):
 # ----------------------------------------------------------------------------- one generator per scene
 
 #: the random scenes drawn in tests/scenes.py, which tests and benchmarks import
-SCENES = ("random_disjoint_circles", "random_ellipses", "random_segments", "random_points_off")
+SCENES = ("random_disjoint_circles", "random_ellipses", "random_segments", "random_points_off", "clustered_circles")
 
 
 def scene_copies(files) -> list[tuple[str, str]]:
