@@ -48,8 +48,9 @@ __all__ = ["Line", "Parabola", "bisector_curve", "polyline_bound", "unit_normal"
 EPS = np.finfo(float).eps
 
 def q_arb(v) -> arb:
-    """A ball holding the rational v."""
-    v = Fraction(v)
+    """A ball holding the rational v (a Fraction or an int; exact when it fits the precision)."""
+    if type(v) is not Fraction:
+        v = Fraction(v)
     return arb(fmpq(v.numerator, v.denominator))
 
 

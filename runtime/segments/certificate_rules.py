@@ -70,7 +70,16 @@ def tied(end, k) -> bool:
 
 def linear_rule(T, k, e, away: bool) -> list:
     """The linear conditions (gx, gy, g0) — each g·x + g₀ > 0 — saying that curve k's nearest
-    point is not its end e (``away``, R1: a segment's foot) or is e alone (R2)."""
+    point is not its end e (``away``, R1: a segment's foot) or is e alone (R2).  Exact rationals
+    that depend on the sites only: computed once per (k, e, away) for the site table."""
+    key = (k, e, away)
+    rules = T.rule_cache.get(key)
+    if rules is None:
+        rules = T.rule_cache[key] = tuple(_linear_rule(T, k, e, away))
+    return list(rules)
+
+
+def _linear_rule(T, k, e, away: bool) -> list:
     which = T.end_index(k, e)
     if T.kind[k] == SEGMENT:
         (ax, ay), (bx, by) = T.a[k], T.b[k]

@@ -75,6 +75,8 @@ class SiteTable:
     def __init__(self, sites):
         self.sites = list(sites)
         n = self.n = len(self.sites)
+        #: exact conditions derived from the sites alone (certificate_rules.linear_rule), by key
+        self.rule_cache: dict = {}
         self.kind: list = []
         self.a: list = []
         self.b: list = []
