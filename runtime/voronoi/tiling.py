@@ -82,6 +82,8 @@ SLACK = 1e-12
 MARGIN = 1e-7
 #: grid spacing of the halo bound, as a fraction of the halo
 GRID_FRACTION = 6.0
+#: the largest grid of the halo bound; a finer one (a halo below 1/80 of the tile) is not checked
+MAX_NODES = 250_000
 
 
 class StitchError(ValueError):
@@ -242,6 +244,8 @@ def halo_holds(D: SiteDiscs, tile: Tile, margin: float) -> bool:
     delta = tile.halo / GRID_FRACTION
     nx = max(1, math.ceil((x1 - x0 + 2 * margin) / delta))
     ny = max(1, math.ceil((y1 - y0 + 2 * margin) / delta))
+    if (nx + 1) * (ny + 1) > MAX_NODES:
+        return False                       # a halo this small next to the tile: grow it (not proved)
     gx = np.linspace(x0 - margin, x1 + margin, nx + 1)
     gy = np.linspace(y0 - margin, y1 + margin, ny + 1)
     step = max((x1 - x0 + 2 * margin) / nx, (y1 - y0 + 2 * margin) / ny) * (1 + 1e-12)
@@ -336,7 +340,8 @@ def build_tile(sites, index, region, margin: float, certify: bool = False) -> di
     for (a tile: in its cell grown by ``margin`` and passing :func:`local_vertex`; the rim:
     outside B and passing :meth:`Rim.outside`), ``grow``: how far the empty circle of a vertex
     the region must report sticks out (> 0: grow and rebuild), the edges with at least one
-    vouched end (with both ends' site sets and positions), the problems and timings.  Runs in
+    vouched end (with both ends' site sets and positions; the rim reports the edges to infinity,
+    whose finite end must pass :meth:`Rim.outside`), the problems and timings.  Runs in
     a worker: arguments and result are plain data."""
     from .construction import voronoi
 
@@ -375,6 +380,11 @@ def build_tile(sites, index, region, margin: float, certify: bool = False) -> di
         if None in e.ends:
             if not rim:
                 continue                    # an end at infinity: the rim's to report
+            v = pos[e.ends[0] if e.ends[1] is None else e.ends[1]]
+            out = region.outside(v.x, v.y, v.radius)
+            if out > 0:                     # the finite end is not vouched for: grow the rim
+                grow = max(grow, out)
+                continue
         elif not any(u in verts for u in e.ends):
             continue
         ends = tuple(None if u is None else (tuple(int(index[s]) for s in pos[u].sites), pos[u].x, pos[u].y)
