@@ -31,6 +31,9 @@ voronoi(sites)
     The Voronoi diagram / Delaunay graph of any number of sites (thesis §1.2), a ``Diagram``.
     A site is a Conic, Circle, Point, Segment or Arc, an ``(x, y)`` pair (a point) or an
     ``(cx, cy, r)`` triple (a circle of radius r; r = 0 is a point).
+tiled_voronoi(sites, client=None)
+    The same diagram built tile by tile (one Dask task per tile with a ``distributed.Client``),
+    stitched and proved by the verifier; see docs/distributed.md.
 load_offset(family)
     The generalised offset of a conic family (thesis ch. 4, App. B), from verified artefacts.
 read_sites(path)
@@ -116,6 +119,7 @@ _LAZY = {
     "read_dxf": ("runtime.sites.dxf", "read_dxf"),
     "pieces_from_geometry": ("runtime.sites.shapes", "pieces_from_geometry"),
     "voronoi": ("runtime.voronoi.construction", "voronoi"),
+    "tiled_voronoi": ("runtime.voronoi.distributed", "tiled_voronoi"),
     "Diagram": ("runtime.voronoi.structure", "Diagram"),
     "verify": ("runtime.voronoi.verify.certificate", "verify"),
     "offset": ("runtime.algebra.algebraic_offset", "offset"),

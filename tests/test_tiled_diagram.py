@@ -1,4 +1,4 @@
-"""Tiled Voronoi diagrams (runtime/voronoi/tiling.py, runtime/voronoi/distributed.py) against the
+"""Tiled Voronoi diagrams (runtime/voronoi/tiling.py, stitch.py, distributed.py) against the
 single-process construction, CGAL's Apollonius graph (an independent exact peer, tests/cgal/),
 scipy's Delaunay triangulation of points, and a brute-force check of the locality lemma."""
 from __future__ import annotations
@@ -15,7 +15,7 @@ sys.path.insert(0, str(Path(__file__).with_name("cgal")))
 import cgal_peer  # noqa: E402
 from scenes import clustered_circles, random_disjoint_circles, random_ellipses  # noqa: E402
 
-from curvedvoronoi.runtime.voronoi import tiling  # noqa: E402
+from curvedvoronoi.runtime.voronoi import stitch, tiling  # noqa: E402
 from curvedvoronoi.runtime.voronoi.construction import voronoi  # noqa: E402
 from curvedvoronoi.runtime.voronoi.distributed import tiled_voronoi  # noqa: E402
 from curvedvoronoi.runtime.voronoi.site_input import as_site  # noqa: E402
@@ -108,7 +108,7 @@ def test_small_halo_fails_the_bound_and_a_vertex_outside_it_is_refused():
     inner = max(tiles, key=lambda t: sum(t.interior))
     assert not tiling.halo_holds(D, inner, margin)
     idx = tiling.tile_input(D, inner)
-    rep = tiling.build_tile([sites[i] for i in idx], idx, inner, margin)
+    rep = stitch.build_tile([sites[i] for i in idx], idx, inner, margin)
     assert rep["grow"] > 0
     tiling.grow_halo(D, inner, margin)
     assert tiling.halo_holds(D, inner, margin) and inner.growths > 0
@@ -146,11 +146,11 @@ def test_a_stitch_missing_a_vertex_is_refused_by_the_certificate():
     reports = []
     for t in [*tiles, rim]:
         idx = rim.sites(D) if t is rim else tiling.tile_input(D, t)
-        reports.append(tiling.build_tile([sites[i] for i in idx], idx, t, margin))
-    good, _ = tiling.stitch(sites, reports, D.scale)
+        reports.append(stitch.build_tile([sites[i] for i in idx], idx, t, margin))
+    good, _ = stitch.stitch(sites, reports, D.scale)
     assert verify(good).ok
     reports[1]["vertices"].pop(len(reports[1]["vertices"]) // 2)     # a tile loses one vertex
-    bad, _ = tiling.stitch(sites, reports, D.scale)
+    bad, _ = stitch.stitch(sites, reports, D.scale)
     assert len(bad.vertices) == len(good.vertices) - 1
     cert = verify(bad)
     assert not cert.ok and cert.problems

@@ -6,7 +6,7 @@ and again at every vertex the tile reports; a halo too small is doubled and the 
 Peterka, Morozov and Phillips grow their ghost zones, SC14), builds the tiles' diagrams with
 :func:`runtime.voronoi.construction.voronoi` -- one Dask task per tile when a
 ``distributed.Client`` is given, else one after the other in this process -- stitches them
-(:func:`runtime.voronoi.tiling.stitch`) and proves the stitched diagram with the independent
+(:func:`runtime.voronoi.stitch.stitch`) and proves the stitched diagram with the independent
 verifier (:func:`runtime.voronoi.verify.certificate.verify`, run once on the whole diagram, in
 this process).  The result is a :class:`runtime.voronoi.structure.Diagram` on the input's site
 indices, ``certified`` only when the verifier proves it.
@@ -25,7 +25,8 @@ import time
 
 from ..threads import one_blas_thread
 from .site_input import as_site, check_disjoint
-from .tiling import MARGIN, Rim, build_tile, grow_halo, nested_pair, site_discs, stitch, tile_grid, tile_input
+from .stitch import build_tile, stitch
+from .tiling import MARGIN, Rim, grow_halo, nested_pair, site_discs, tile_grid, tile_input
 
 __all__ = ["tiled_voronoi"]
 

@@ -28,7 +28,7 @@ of x in S and in S_T coincide, at the same distance.  Hence, if this holds at ev
 region Q, the diagram of S and that of S_T are equal on Q, vertex for vertex (same sites, same
 empty circle) and edge piece for edge piece.
 
-**The halo bound** (checked before a tile is built, :func:`halo_holds`).  Q = T⁺, the tile
+**The halo bound** (checked before a tile is built, :func:`halo_holds`; lemma of the Peterka et al. ghost zone).  Q = T⁺, the tile
 grown by a margin μ (so that a vertex on a tile side is found by both neighbours within float
 error).  Cover Q by a grid of nodes g of spacing δ: every x ∈ Q is within ε = δ/√2 of a node.
 For each node, U(g) ≥ min_s d̂_s(g) is a rigorous upper bound taken from a few sites near g
@@ -38,43 +38,37 @@ for near sites needs no proof).  The distance d̂ is 1-Lipschitz and a is 1-Lips
 
     U(g) + 2ε ≤ h + a(g)          at every node g,
 
-the lemma's hypothesis holds at every x ∈ Q with ρ = U(g) + ε.  When it fails, h is doubled
-(and the grid redrawn) until it holds; h ≥ the diameter of B always passes, so this ends.
+the lemma's hypothesis holds at every x ∈ Q with ρ = U(g) + ε (U(g) + ε bounds d̂_s(x) for the
+site s that gave U(g), and U(g) + ε ≤ h + a(g) − ε ≤ h + a(x)).  When it fails, h is doubled
+(and the grid redrawn) until it holds; h ≥ 2·diam(B) always passes (U ≤ diam(B) + μ), so this
+ends.  The bound proves more than needed near the tile's centre and is about the largest empty
+circle near its sides, as in Peterka et al.'s criterion.
 
-**Vertices** (:func:`local_vertex`).  A vertex v of the diagram of S_T with radius r (float,
-proved by the tile's construction or certificate to 1e-10 relative) is a vertex of the diagram
-of S when the disc D(v, r + η) meets B only in T_h (the same argument at one point), which is
-how a vertex outside B, where the grid does not reach, is accepted; otherwise the tile's halo
-is grown to reach it and the tile rebuilt.
+**One point** (:func:`local_vertex`).  A vertex v of the diagram of S_T with radius r (float;
+the construction proves it to 1e-10 relative, η covers that) is a vertex of the diagram of S,
+with the same sites, when the bounding box of D(v, r + η) ∩ B lies in T_h: a site outside S_T
+misses T_h, hence the disc, so the circle stays empty.  Outside B the grid does not reach, and
+the region there is the **rim** (:class:`Rim`): the sites meeting B ∖ int(B_w), B_w the box B
+shrunk by w; a vertex whose disc D(v, r + η) misses B_w is a vertex of the diagram of S by the
+same argument (every site lies in B, and those meeting B ∖ B_w are the rim's).  Far outside B
+the empty circles are huge but meet B only in a thin cap along its side, so w of a few spacings
+suffices; when a vertex the rim must report fails, w is doubled and the rim rebuilt.
 
-**Stitch** (:func:`stitch`).  Each tile reports the vertices whose float position lies in its
-grid cell grown by μ (boundary cells extend to infinity), and the edges with at least one such
-end.  By the lemma every vertex of the diagram of S in B is reported by the tile containing it,
-so the union, with copies merged by their site set and position (the copies must agree within
-tolerance, else the stitch is refused), misses no vertex of B and holds none twice.  An edge is
-keyed by its site pair and its two end vertices (None: to infinity); copies are merged.  Edges
-without vertices (two sites, sites in a row) are not stitched (the caller builds such scenes in
-one process).
+The tiles' diagrams are built and stitched by :mod:`runtime.voronoi.stitch`.
 
-**Certificate.**  The stitched diagram is a :class:`runtime.voronoi.structure.Diagram` on the
-global site indices; the caller (:mod:`runtime.voronoi.distributed`) hands it to the independent
-verifier (:func:`runtime.voronoi.verify.certificate.verify`), which proves every vertex and
-edge and that nothing is missing (closure and accounting at infinity).  The lemma is what makes
-the stitched combinatorics right; the proof of the result is the verifier's.
-
-Public API: :class:`Tile`, :func:`tile_grid`, :func:`site_discs`, :func:`halo_holds`,
-:func:`grow_halo`, :func:`tile_input`, :func:`build_tile`, :func:`local_vertex`, :func:`stitch`.
+Public API: :class:`Tile`, :class:`Rim`, :class:`SiteDiscs`, :func:`tile_grid`, :func:`site_discs`,
+:func:`nested_pair`, :func:`upper_distance`, :func:`halo_holds`, :func:`grow_halo`,
+:func:`tile_input`, :func:`local_vertex`.
 """
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Tile", "Rim", "tile_grid", "site_discs", "halo_holds", "grow_halo", "tile_input", "build_tile",
-           "local_vertex", "stitch", "SiteDiscs", "StitchError"]
+__all__ = ["Tile", "Rim", "SiteDiscs", "tile_grid", "site_discs", "nested_pair", "upper_distance", "halo_holds",
+           "grow_halo", "tile_input", "local_vertex", "MARGIN"]
 
 #: relative slack on float distances (a few roundings of hypot and subtraction, generously)
 SLACK = 1e-12
@@ -84,10 +78,6 @@ MARGIN = 1e-7
 GRID_FRACTION = 6.0
 #: the largest grid of the halo bound; a finer one (a halo below 1/80 of the tile) is not checked
 MAX_NODES = 250_000
-
-
-class StitchError(ValueError):
-    """Two tiles report incompatible copies of one vertex or edge."""
 
 
 @dataclass
@@ -328,123 +318,3 @@ class Rim:
             return -math.inf
         d = math.hypot(max(ix0 - x, x - ix1, 0.0), max(iy0 - y, y - iy1, 0.0)) * (1 - 1e-12)
         return r + 1e-8 * (1 + abs(x) + abs(y) + abs(r)) - d
-
-
-def _inside(cell, x, y) -> bool:
-    return cell[0] <= x <= cell[2] and cell[1] <= y <= cell[3]
-
-
-def build_tile(sites, index, region, margin: float, certify: bool = False) -> dict:
-    """Build the diagram of a region's input (``sites``, global ``index``; the region a
-    :class:`Tile` or the :class:`Rim`) and report, on global indices: the vertices it vouches
-    for (a tile: in its cell grown by ``margin`` and passing :func:`local_vertex`; the rim:
-    outside B and passing :meth:`Rim.outside`), ``grow``: how far the empty circle of a vertex
-    the region must report sticks out (> 0: grow and rebuild), the edges with at least one
-    vouched end (with both ends' site sets and positions; the rim reports the edges to infinity,
-    whose finite end must pass :meth:`Rim.outside`), the problems and timings.  Runs in
-    a worker: arguments and result are plain data."""
-    from .construction import voronoi
-
-    t0 = time.perf_counter()
-    index = np.asarray(index, dtype=np.int64)
-    d = voronoi(list(sites), certify=certify, progress=False)
-    verts = {}
-    grow = 0.0
-    rim = isinstance(region, Rim)
-    if not rim:
-        cell = region.cell(margin)
-        bx0, by0, bx1, by1 = region.bound
-        inner_b = (bx0 - margin, by0 - margin, bx1 + margin, by1 + margin)
-    for v in d.vertices:
-        if rim:
-            if not region.reports(v.x, v.y):
-                continue
-            out = region.outside(v.x, v.y, v.radius)
-        else:
-            if not _inside(cell, v.x, v.y):
-                continue
-            out = local_vertex(region, v.x, v.y, v.radius)
-            if out > 0 and not _inside(inner_b, v.x, v.y):
-                continue                    # outside B: the rim's to vouch for
-        if out > 0:
-            grow = max(grow, out)
-            continue
-        verts[v.id] = (tuple(int(index[s]) for s in v.sites), v.x, v.y, v.radius, bool(v.certified))
-    pos = {v.id: v for v in d.vertices}
-    edges = []
-    vertexless = 0
-    for e in d.edges:
-        if e.ends[0] is None and e.ends[1] is None:
-            vertexless += 1
-            continue
-        if None in e.ends:
-            if not rim:
-                continue                    # an end at infinity: the rim's to report
-            v = pos[e.ends[0] if e.ends[1] is None else e.ends[1]]
-            out = region.outside(v.x, v.y, v.radius)
-            if out > 0:                     # the finite end is not vouched for: grow the rim
-                grow = max(grow, out)
-                continue
-        elif not any(u in verts for u in e.ends):
-            continue
-        ends = tuple(None if u is None else (tuple(int(index[s]) for s in pos[u].sites), pos[u].x, pos[u].y)
-                     for u in e.ends)
-        edges.append((tuple(int(index[s]) for s in e.sites), ends, np.asarray(e.polyline, float),
-                      float(e.tolerance), bool(e.certified)))
-    return {"tile": region.index, "vertices": list(verts.values()), "edges": edges, "vertexless": vertexless,
-            "grow": grow, "certified": bool(d.certified), "problems": list(d.problems)[:5], "sites": len(index),
-            "seconds": time.perf_counter() - t0, "construction": d.stats.get("seconds", {})}
-
-
-def _merge_key(sites_, x, y, tol, table):
-    """The global id of the vertex with site set ``sites_`` near (x, y) in ``table`` (a dict
-    frozenset -> list of (x, y, id)), or None."""
-    for (px, py, gid) in table.get(frozenset(sites_), ()):
-        if abs(px - x) <= tol and abs(py - y) <= tol:
-            return gid
-    return None
-
-
-def stitch(sites, reports, scale: float):
-    """The diagram of all ``sites`` from the tiles' ``reports`` (:func:`build_tile`): vertices
-    merged by site set and position, edges by site pair and end vertices.  Returns a
-    :class:`runtime.voronoi.structure.Diagram` (not certified) and stitch statistics.
-    :class:`StitchError` when two copies disagree (a vertex's cyclic order, an edge's ends)."""
-    from .structure import Diagram, DiagramEdge, DiagramVertex
-
-    tol = 1e-7 * scale
-    table: dict = {}
-    vertices: list = []
-    copies = 0
-    for rep in sorted(reports, key=lambda r: r["tile"]):
-        for (vs, x, y, r, ok) in rep["vertices"]:
-            gid = _merge_key(vs, x, y, tol, table)
-            if gid is not None:
-                copies += 1
-                w = vertices[gid]
-                if tuple(w.sites) != tuple(vs) or abs(w.radius - r) > tol:
-                    raise StitchError(f"tiles disagree on the vertex of sites {vs} near ({x:.6g}, {y:.6g})")
-                w.certified = w.certified and ok
-                continue
-            table.setdefault(frozenset(vs), []).append((x, y, len(vertices)))
-            vertices.append(DiagramVertex(len(vertices), tuple(vs), float(x), float(y), float(r), ok))
-    edges: list = []
-    seen: dict = {}
-    unmatched = 0
-    for rep in sorted(reports, key=lambda r: r["tile"]):
-        for (pair, ends, poly, tolerance, ok) in rep["edges"]:
-            gends = []
-            for end in ends:
-                gends.append(None if end is None else _merge_key(end[0], end[1], end[2], tol, table))
-            if any(end is not None and g is None for end, g in zip(ends, gends)):
-                unmatched += 1          # an end outside every reporting cell: another copy has it
-                continue
-            key = (tuple(pair), frozenset(gends) if None not in gends else (tuple(g for g in gends if g is not None),))
-            if key in seen:
-                continue
-            seen[key] = len(edges)
-            edges.append(DiagramEdge(len(edges), tuple(sorted(pair)), tuple(gends), False, poly, tolerance, ok))
-    # a polyline runs from ends[0] to ends[1]: pairs are stored sorted, as the construction does
-    D = Diagram(list(sites), vertices, edges, False, [], {})
-    return D, {"vertex_copies_merged": copies, "edge_copies_unmatched": unmatched,
-               "vertices": len(vertices), "edges": len(edges)}
