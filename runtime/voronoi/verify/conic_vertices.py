@@ -29,7 +29,7 @@ from ...certify.interval_newton import (UNIT_ROUNDOFF, float_contraction_bound, 
                                         float_residual_bound, round_up)
 from .site_table import SiteTable, gradient_enclosure
 
-__all__ = ["prove_conic_vertices"]
+__all__ = ["prove_conic_vertices", "vertex_enclosures"]
 
 #: half-widths of the tried boxes, relative to 1 + |x| + |y| + r (below the verifier's vertex tolerance)
 RHOS = (2e-11, 1e-12, 4e-11)
@@ -74,33 +74,54 @@ def prove_conic_vertices(geoms, triples, X, scale):
         m = len(todo)
         i_, j_, k_ = I[todo], J[todo], K[todo]
         V = table.evaluate(np.concatenate([c, c, c]), np.concatenate([i_, j_, k_]))
-        Vi, Vj, Vk = V.part(0, m), V.part(m, 2 * m), V.part(2 * m, 3 * m)
+        Vi = V.part(0, m)
         r0 = Vi.d
         rho = rel * (1 + np.abs(c).sum(1) + np.where(np.isfinite(r0), r0, 0.0))
-        Rd = rho * np.sqrt(2.0) * (1 + 1e-12)
-        Gi, si, vi = gradient_enclosure(c, Vi, Rd, scale)
-        Gj, sj, vj = gradient_enclosure(c, Vj, Rd, scale)
-        Gk, sk, vk = gradient_enclosure(c, Vk, Rd, scale)
-        # F(c) enclosed by the distance bounds: |F_b(c)| ≤ Fa_b (one rounded subtraction each)
-        F1a = np.maximum(np.abs(Vi.lo - Vj.hi), np.abs(Vi.hi - Vj.lo))
-        F2a = np.maximum(np.abs(Vi.lo - Vk.hi), np.abs(Vi.hi - Vk.lo))
-        A = np.stack([Gi - Gj, Gi - Gk], axis=1)            # (m, 2, 2) float Jacobian at c
+        A, F_rad, J_rad, valid, Rd = _enclosures(c, V, m, rho, scale)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            F_rad = round_up(np.column_stack([F1a, F2a]))
-            # row b of every J(q), q ∈ B, is within E_b of the exact G_i − G_j (2-norm), so
-            # each of its entries is; the float subtraction adds u·|A| (Higham §2.2)
-            E = np.column_stack([si + sj, si + sk])
-            J_rad = round_up(E[:, :, None] + 2 * UNIT_ROUNDOFF * np.abs(A))
             Y, invertible = float_inverse(A)                 # any float matrix will do (Krawczyk)
             b = float_residual_bound(Y, np.zeros_like(F_rad), F_rad)
             won, _ = float_krawczyk_test(b, float_contraction_bound(Y, A, J_rad), np.column_stack([rho, rho]))
-        proved = vi & vj & vk & invertible & won
+        proved = valid & invertible & won
         for t in np.nonzero(proved)[0]:
             r_lo = max(float(Vi.lo[t]) - float(Rd[t]), 0.0)
             r_hi = float(Vi.hi[t]) + float(Rd[t])
             out[int(idx[todo[t]])] = (float(c[t, 0]), float(c[t, 1]), float(rho[t]), r_lo, r_hi)
         todo = todo[~proved]
     return out
+
+
+def vertex_enclosures(table, c, triples, rho, scale):
+    """The enclosures handed to the kernel's Krawczyk test on the squares c + [−ρ, ρ]² (module
+    docstring) for the rows (c, (i, j, k), ρ): (A, F_rad, J_rad, valid) with A the float
+    Jacobian at c, |F(c)| ≤ F_rad and |J(q) − A| ≤ J_rad entrywise for every q of the square,
+    where ``valid`` (the gradient enclosures hold on the square's circumscribed disc)."""
+    c = np.asarray(c, float).reshape(-1, 2)
+    T = np.asarray(triples, int).reshape(-1, 3)
+    m = len(c)
+    V = table.evaluate(np.concatenate([c, c, c]), np.concatenate([T[:, 0], T[:, 1], T[:, 2]]))
+    A, F_rad, J_rad, valid, _ = _enclosures(c, V, m, np.asarray(rho, float).reshape(-1), scale)
+    return A, F_rad, J_rad, valid
+
+
+def _enclosures(c, V, m, rho, scale):
+    """(A, F_rad, J_rad, valid, Rd) from the table's values V at the rows (c, i), (c, j), (c, k)."""
+    Vi, Vj, Vk = V.part(0, m), V.part(m, 2 * m), V.part(2 * m, 3 * m)
+    Rd = rho * np.sqrt(2.0) * (1 + 1e-12)
+    Gi, si, vi = gradient_enclosure(c, Vi, Rd, scale)
+    Gj, sj, vj = gradient_enclosure(c, Vj, Rd, scale)
+    Gk, sk, vk = gradient_enclosure(c, Vk, Rd, scale)
+    # F(c) enclosed by the distance bounds: |F_b(c)| ≤ Fa_b (one rounded subtraction each)
+    F1a = np.maximum(np.abs(Vi.lo - Vj.hi), np.abs(Vi.hi - Vj.lo))
+    F2a = np.maximum(np.abs(Vi.lo - Vk.hi), np.abs(Vi.hi - Vk.lo))
+    A = np.stack([Gi - Gj, Gi - Gk], axis=1)            # (m, 2, 2) float Jacobian at c
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        F_rad = round_up(np.column_stack([F1a, F2a]))
+        # row b of every J(q), q ∈ B, is within E_b of the exact G_i − G_j (2-norm), so
+        # each of its entries is; the float subtraction adds u·|A| (Higham §2.2)
+        E = np.column_stack([si + sj, si + sk])
+        J_rad = round_up(E[:, :, None] + 2 * UNIT_ROUNDOFF * np.abs(A))
+    return A, F_rad, J_rad, vi & vj & vk, Rd
 
 
 def _unit(C, V):
