@@ -108,6 +108,11 @@ class ElementarySites:
         for k, (kind, na, nb, data) in enumerate(curves):
             self.A[self.n_points + k] = P[na]
             self.B[self.n_points + k] = P[nb]
+        #: the pairs (p, q), both orders, of point sites that are the two ends of one segment
+        self.segment_end_pairs = {(int(a), int(b)) for s in range(self.n_points, n) if self.kind[s] == SEGMENT
+                                  for a, b in (self.ends[s], self.ends[s][::-1]) if a >= 0 and b >= 0}
+        #: memo of :func:`runtime.segments.vertices.common_point` by triple (it depends on the sites only)
+        self.common_points: dict = {}
 
     def __len__(self) -> int:
         return len(self.sites)

@@ -57,12 +57,16 @@ class VertexSolution:
 
 def common_point(E: ElementarySites, triple) -> int | None:
     """The end code (a point site, or a smooth joint < −1) in the closures of all three sites."""
+    key = tuple(triple)
+    if key in E.common_points:
+        return E.common_points[key]
     cands = None
     for t in triple:
         pts = E.closure_points(t)
         cands = pts if cands is None else cands & pts
     cands = {c for c in (cands or ()) if c != -1}
-    return next(iter(cands)) if cands else None
+    E.common_points[key] = out = next(iter(cands)) if cands else None
+    return out
 
 
 def arc_centre_vertex(E: ElementarySites, triple):

@@ -14,17 +14,14 @@ import numpy as np
 
 from .distance import site_distances
 from .edges import edge_polylines
-from .elementary import POINT, SEGMENT, ElementarySites
+from .elementary import POINT, ElementarySites
 
 __all__ = ["segment_ends", "long_side", "far_ends"]
 
 
 def segment_ends(E: ElementarySites, pair) -> bool:
     """Both sites of ``pair`` are the two ends of one segment."""
-    a, b = int(pair[0]), int(pair[1])
-    if E.kind[a] != POINT or E.kind[b] != POINT:
-        return False
-    return any(E.kind[s] == SEGMENT and b in (int(E.ends[s, 0]), int(E.ends[s, 1])) for s in E.incident[a])
+    return (int(pair[0]), int(pair[1])) in E.segment_end_pairs
 
 
 def long_side(tri, pair, start, end, tri_vid) -> bool:
