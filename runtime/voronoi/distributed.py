@@ -96,7 +96,10 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
     Examples
     --------
     >>> import curvedvoronoi as cv
-    >>> sites = [(3 * i + (j % 2), 3 * j + 0.1 * i, 0.5) for i in range(8) for j in range(8)]
+    >>> import random
+    >>> rng = random.Random(1)
+    >>> sites = [(10 * i + rng.uniform(0, 5), 10 * j + rng.uniform(0, 5), rng.uniform(0.5, 2))
+    ...          for i in range(8) for j in range(8)]
     >>> d = cv.tiled_voronoi(sites, sites_per_tile=20)
     >>> d.certified, d.stats["tiling"]["tiles"]
     (True, 4)
