@@ -1,0 +1,137 @@
+"""Benchmark: the diagram of many circles in one process against the tiled diagram
+(runtime/voronoi/distributed.py) built sequentially and on a distributed.LocalCluster of 1 and 2
+worker processes.
+
+Scene: random disjoint circles of tests/scenes.py (``random_disjoint_circles(n, 1)``).  Each row
+runs in a fresh Python process (so peak RSS is the row's own): construction seconds (one
+process: ``voronoi(certify=False)``; tiled: the tiles and the stitch), certificate seconds
+(``verify`` on the result, in the driver process, for every row), the driver's peak RSS and the
+largest worker's peak RSS, the number of tiles and halo growths, and whether the Delaunay graph
+equals the one-process graph.  LocalCluster start-up is not counted (it is reported apart).
+
+Run:  python bench/bench_scale.py [--sizes 10000,100000] [--modes single,tiled,cluster1,cluster2]
+(writes bench/results/scale.md).  One BLAS thread (OPENBLAS_NUM_THREADS=1 and threadpoolctl inside
+the calls); workers have one thread each.  Other processes on the machine make figures noisy: the
+load average is recorded before and after.
+"""
+from __future__ import annotations
+
+import argparse
+import hashlib
+import json
+import os
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "tests"))
+
+
+def sites_per_tile(n: int) -> int:
+    """About 16 tiles from 10⁵ sites, 4 from 10⁴ (a few tiles per worker)."""
+    return max(2000, n // 16) if n >= 40000 else max(1000, n // 4)
+
+
+def _rss_mb() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def one(mode: str, n: int) -> dict:
+    """One row, in this process."""
+    import scenes
+    import curvedvoronoi as cv
+
+    sites = scenes.random_disjoint_circles(n, 1)
+    out = {"mode": mode, "n": n}
+    client = cluster = None
+    if mode.startswith("cluster"):
+        from distributed import Client, LocalCluster
+
+        t = time.perf_counter()
+        cluster = LocalCluster(n_workers=int(mode[-1]), threads_per_worker=1, processes=True,
+                               dashboard_address=None, env={"OPENBLAS_NUM_THREADS": "1"})
+        client = Client(cluster)
+        out["startup"] = time.perf_counter() - t
+    t = time.perf_counter()
+    if mode == "single":
+        d = cv.voronoi(sites, certify=False, progress=False)
+    else:
+        d = cv.tiled_voronoi(sites, client=client, sites_per_tile=sites_per_tile(n), certify=False, progress=False)
+        info = d.stats["tiling"]
+        out["tiles"], out["growths"], out["rim_sites"] = info.get("tiles"), info.get("halo_growths"), info.get("rim_sites")
+    out["construction"] = time.perf_counter() - t
+    t = time.perf_counter()
+    cert = cv.verify(d, progress=False)
+    out["certificate"] = time.perf_counter() - t
+    out["certified"] = bool(cert.ok)
+    out["graph"] = hashlib.sha256(json.dumps(d.delaunay_edges()).encode()).hexdigest()[:12]
+    out["rss_driver"] = _rss_mb()
+    if client is not None:
+        out["rss_worker"] = max(client.run(_rss_mb).values())
+        client.close()
+        cluster.close()
+    return out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--sizes", default="10000,100000")
+    ap.add_argument("--modes", default="single,tiled,cluster1,cluster2")
+    ap.add_argument("--one", nargs=2, metavar=("MODE", "N"))
+    ap.add_argument("--out", default=str(ROOT / "bench" / "results" / "scale.md"))
+    a = ap.parse_args()
+    if a.one:
+        print(json.dumps(one(a.one[0], int(a.one[1]))))
+        return
+    load0 = os.getloadavg()
+    started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
+    rows = []
+    for n in [int(s) for s in a.sizes.split(",")]:
+        for mode in a.modes.split(","):
+            r = subprocess.run([sys.executable, __file__, "--one", mode, str(n)], capture_output=True, text=True,
+                               env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
+            if r.returncode != 0:
+                print(r.stderr[-3000:], file=sys.stderr)
+                rows.append({"mode": mode, "n": n, "error": r.stderr.strip().splitlines()[-1][:120]})
+                continue
+            rows.append(json.loads(r.stdout.strip().splitlines()[-1]))
+            print(rows[-1], flush=True)
+    load1 = os.getloadavg()
+    base = {r["n"]: r for r in rows if r["mode"] == "single" and "error" not in r}
+    lines = ["# Tiled diagrams: one process, tiles in sequence, LocalCluster of 1 and 2 workers", "",
+             f"Command: `OPENBLAS_NUM_THREADS=1 .venv/bin/python bench/bench_scale.py --sizes {a.sizes} "
+             f"--modes {a.modes}`", "",
+             f"Date: {started}; machine: {os.cpu_count()} cores shared with other jobs; load average "
+             f"{load0[0]:.2f} before, {load1[0]:.2f} after.  One BLAS thread; LocalCluster(processes=True, "
+             "threads_per_worker=1); every row in a fresh process; scene `random_disjoint_circles(n, 1)`.",
+             "Construction: `voronoi(certify=False)` or `tiled_voronoi(certify=False)` (tiles + stitch); "
+             "certificate: `verify` of the result in the driver process (serial in every row).", "",
+             "| n | mode | tiles | halo growths | rim sites | construction s | vs one process | certificate s | "
+             "certified | same graph | driver RSS MB | worker RSS MB | cluster start s |",
+             "|---:|---|---:|---:|---:|---:|---:|---:|---|---|---:|---:|---:|"]
+    for r in rows:
+        if "error" in r:
+            lines.append(f"| {r['n']} | {r['mode']} | error: {r['error']} |" + " |" * 10)
+            continue
+        b = base.get(r["n"])
+        ratio = f"{r['construction'] / b['construction']:.2f}" if b else "-"
+        same = ("yes" if r["graph"] == b["graph"] else "NO") if b else "-"
+        lines.append(f"| {r['n']} | {r['mode']} | {r.get('tiles', 1)} | {r.get('growths', '-')} | "
+                     f"{r.get('rim_sites') or '-'} | {r['construction']:.1f} | {ratio} | {r['certificate']:.1f} | "
+                     f"{'yes' if r['certified'] else 'no'} | {same} | {r['rss_driver']:.0f} | "
+                     f"{r['rss_worker']:.0f} | {r['startup']:.1f} |".replace("| None |", "| - |")
+                     if "rss_worker" in r else
+                     f"| {r['n']} | {r['mode']} | {r.get('tiles', 1)} | {r.get('growths', '-')} | "
+                     f"{r.get('rim_sites') or '-'} | {r['construction']:.1f} | {ratio} | {r['certificate']:.1f} | "
+                     f"{'yes' if r['certified'] else 'no'} | {same} | {r['rss_driver']:.0f} | - | - |")
+    Path(a.out).write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
