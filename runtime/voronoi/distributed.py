@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import time
 
+import numpy as np
+
 from ..threads import one_blas_thread
 from .site_input import as_site, check_disjoint
 from .stitch import build_tile, stitch
@@ -32,6 +34,8 @@ __all__ = ["tiled_voronoi"]
 
 #: rebuilds of one tile with a grown halo before the tiling gives up on it
 MAX_REBUILDS = 8
+#: verifications of the stitched diagram (the tiles its faults name are rebuilt in between)
+VERIFY_ROUNDS = 2
 
 
 def _single(sites, reason, certify, progress, t0):
@@ -136,17 +140,19 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
     rim = Rim(D.bound(), min(t.halo for t in tiles))
     regions = {t.index: t for t in tiles}
     regions[rim.index] = rim
+    inputs: dict = {}
+    proving = {key: tile_certify for key in regions}      # regions built with their own verifier
 
     def job(t):
         idx = t.sites(D) if t is rim else tile_input(D, t)
-        return t.index, ([sites[i] for i in idx.tolist()], idx, t, margin, tile_certify)
+        inputs[t.index] = idx
+        return t.index, ([sites[i] for i in idx.tolist()], idx, t, margin, proving[t.index])
 
     reports: dict = {}
-    rebuilds = 0
-    interrupted = False
-    t_build = time.perf_counter()
-    pending = [rim, *tiles]
-    try:
+    count = {"rebuilds": 0, "refined": 0}
+
+    def build(pending):
+        """Build the regions, growing and rebuilding those whose vertices leave their halo."""
         while pending:
             again = []
             for key, rep in _tasks(client, [job(t) for t in pending], bar):
@@ -163,27 +169,57 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
                     else:
                         grow_halo(D, region, margin, at_least=region.halo + out)
                     again.append(region)
-                    rebuilds += 1
+                    count["rebuilds"] += 1
                     if bar is not None:
                         bar.total += 1
                     continue
                 reports[key] = rep
             pending = again
-    except _Vertexless as exc:
+
+    seconds: dict = {"tiles": 0.0, "stitch": 0.0, "verify": 0.0}
+    interrupted = False
+    pending = [rim, *tiles]
+    cert = None
+    for vround in range(VERIFY_ROUNDS):
+        t1 = time.perf_counter()
+        try:
+            build(pending)
+        except _Vertexless as exc:
+            if bar is not None:
+                bar.close()
+            return _single(sites, exc.reason, certify, progress, t0)
+        except KeyboardInterrupt:
+            interrupted = True
+        t2 = time.perf_counter()
+        diagram, info = stitch(sites, list(reports.values()), D.scale)
+        t3 = time.perf_counter()
+        seconds["tiles"] += t2 - t1
+        seconds["stitch"] += t3 - t2
+        if interrupted or not certify:
+            break
+        from .verify.certificate import verify
+
+        cert = verify(diagram, progress=progress)
+        seconds["verify"] += time.perf_counter() - t3
+        named = _named_sites(cert.problems, diagram) if not cert.ok else set()
+        if cert.ok or not named:
+            break
+        # the verifier names what a tile's sampling missed: rebuild the tiles holding those sites
+        # with their own verifier, whose problems refine the construction (as voronoi does)
+        hit = np.zeros(len(sites), dtype=bool)
+        hit[sorted(named)] = True
+        pending = [regions[k] for k, idx in inputs.items() if hit[idx].any()]
+        for t in pending:
+            proving[t.index] = True
+        count["refined"] += len(pending)
         if bar is not None:
-            bar.close()
-        return _single(sites, exc.reason, certify, progress, t0)
-    except KeyboardInterrupt:
-        interrupted = True
-    finally:
-        if bar is not None:
-            bar.close()
-    t_stitch = time.perf_counter()
-    diagram, info = stitch(sites, list(reports.values()), D.scale)
-    seconds = {"tiles": round(t_stitch - t_build, 4), "stitch": round(time.perf_counter() - t_stitch, 4)}
+            bar.total += len(pending)
+    if bar is not None:
+        bar.close()
     info.update({"tiles": len(tiles), "tiles_built": len(reports) - (rim.index in reports),
-                 "rim_width": rim.width, "rim_sites": reports[rim.index]["sites"] if rim.index in reports else None, "halo_growths": sum(t.growths for t in tiles),
-                 "halo_growths_a_priori": a_priori, "rebuilds": rebuilds,
+                 "rim_width": rim.width, "rim_sites": reports[rim.index]["sites"] if rim.index in reports else None,
+                 "halo_growths": sum(t.growths for t in tiles), "halo_growths_a_priori": a_priori,
+                 "rebuilds": count["rebuilds"], "refined_by_verifier": count["refined"],
                  "halos": [t.halo for t in tiles], "tile_sites": [reports[k]["sites"] for k in sorted(reports) if k >= 0],
                  "tile_seconds": [round(reports[k]["seconds"], 3) for k in sorted(reports)],
                  "client": None if client is None else str(client.scheduler.address)})
@@ -191,12 +227,7 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
     if interrupted:
         diagram.problems.append(f"interrupted (Ctrl-C): {len(reports)} of {len(tiles) + 1} regions stitched, "
                                 "partial diagram")
-    elif certify:
-        from .verify.certificate import verify
-
-        t1 = time.perf_counter()
-        cert = verify(diagram, progress=progress)
-        seconds["verify"] = round(time.perf_counter() - t1, 4)
+    elif cert is not None:
         diagram.problems.extend(cert.problems)
         for e, ok in zip(diagram.edges, cert.edges):
             e.certified = bool(ok)
@@ -205,9 +236,24 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
         diagram.certified = bool(cert.ok) and not diagram.problems
     else:
         diagram.problems.append("not verified (certify=False)")
-    seconds["total"] = round(time.perf_counter() - t0, 4)
-    diagram.stats["seconds"] = seconds
+    seconds["total"] = time.perf_counter() - t0
+    diagram.stats["seconds"] = {k: round(v, 4) for k, v in seconds.items()}
     return diagram
+
+
+def _named_sites(problems, diagram) -> set:
+    """The sites of the verifier's faults (:class:`runtime.voronoi.verify.problems.Problem`: its
+    sites and those of the edge or vertex it names); limits of the proof name none."""
+    out: set = set()
+    for p in problems:
+        if not getattr(p, "fault", False):
+            continue
+        out.update(t for t in p.sites if 0 <= t < len(diagram.sites))
+        if p.edge is not None and 0 <= p.edge < len(diagram.edges):
+            out.update(diagram.edges[p.edge].sites)
+        if p.vertex is not None and 0 <= p.vertex < len(diagram.vertices):
+            out.update(diagram.vertices[p.vertex].sites)
+    return out
 
 
 class _Vertexless(Exception):
