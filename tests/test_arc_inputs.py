@@ -168,9 +168,8 @@ def test_dxf_extrusion_minus_z_mirrors_arcs_and_bulges(tmp_path):
 
 
 @pytest.mark.parametrize("build, message", [
-    (lambda m: m.add_circle((0, 0), 1, dxfattribs={"layer": "walls"}),
-     r"CIRCLE \(handle [0-9A-F]+, layer 'walls'\): a whole circle is not a piece of a boundary: use the circle as "
-     r"a Circle site; mixing circles with segments is not supported yet"),
+    (lambda m: m.add_circle((0, 0), 0, dxfattribs={"layer": "walls"}),
+     r"CIRCLE \(handle [0-9A-F]+, layer 'walls'\): the circle has radius 0; use a POINT"),
     (lambda m: m.add_ellipse((0, 0), (2, 0), 0.5), r"ELLIPSE .*: curves other than line segments and circular arcs "
                                                    r"are not supported yet \(planned\)"),
     (lambda m: m.add_spline([(0, 0), (1, 1), (2, 0), (3, 1)]), r"SPLINE .*: curves other than line segments"),

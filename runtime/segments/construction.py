@@ -32,12 +32,14 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..predicates.circles import Point
-from ..sites.arc import Arc
+from ..sites.arc import Arc, circle_halves
+from ..sites.rationals import to_fraction
 from ..sites.segment import Segment, as_point_pair
 from ..threads import one_blas_thread
 from ..voronoi.site_input import SiteError
 from ..voronoi.structure import Diagram, DiagramVertex
 from .contact_order import contact_order, corner_order
+from .crossings import check_pieces, renamed
 from .edges import edge_polylines, walk_hint
 from .elementary import ARC, POINT, ElementarySites, decompose
 from .emptiness import empty_by_filter, prove_empty
@@ -69,18 +71,19 @@ def segment_voronoi(pieces, sources=None, *, certify: bool = True, tolerance: fl
     ``tolerance``: the largest deviation of a curved edge's polyline from its parabola (default
     10⁻⁴ of the extent of the input)."""
     t_start = time.perf_counter()
-    pieces = [_as_piece(p, k) for k, p in enumerate(pieces)]
+    pieces = list(pieces)
+    sources = list(range(len(pieces))) if sources is None else list(sources)
+    expanded = [_as_pieces(p, k) for k, p in enumerate(pieces)]
+    first = [k for k, got in enumerate(expanded) for _ in got]      # piece -> input site
+    pieces = [q for got in expanded for q in got]
+    sources = [src for src, got in zip(sources, expanded) for _ in got]
     try:
-        from .crossings import check_pieces
-    except ImportError:         # pragma: no cover - the check ships with the package
-        check_pieces = None
-    if check_pieces is not None:
-        try:
-            check_pieces(pieces)
-        except SiteError as exc:            # an older check without arcs: check the rest
-            if "is not a segment or a point" not in str(exc):
-                raise
-            check_pieces([p for p in pieces if not isinstance(p, Arc)])
+        check_pieces(pieces)
+    except SiteError as exc:
+        if len(first) == len(expanded):
+            raise
+        # circles became two pieces each: name the input's sites
+        raise SiteError(renamed(str(exc), lambda k: f"site {first[k]}")) from None
     E = decompose(pieces, sources)
     if len(E) < 2:
         raise ValueError(f"the Voronoi diagram needs at least 2 sites, got {len(E)}")
@@ -137,15 +140,26 @@ def segment_voronoi(pieces, sources=None, *, certify: bool = True, tolerance: fl
     return D
 
 
-def _as_piece(p, k):
-    """A Segment, a Point, or an (x, y) pair made a Point."""
+def _as_pieces(p, k) -> list:
+    """The pieces of input site k: a Segment, Arc or Point itself; an (x, y) pair a Point; a circle
+    of rational radius (a Circle, or an (x, y, r) triple with r > 0) its two half arcs
+    (:func:`runtime.sites.arc.circle_halves`); other conics are refused."""
     if isinstance(p, (Segment, Arc)) or (isinstance(p, Point) and p.r2 == 0):
-        return p
-    if hasattr(p, "r2") or hasattr(p, "coefficients"):
-        raise SiteError(f"site {k}: {p!r}: circles and conics cannot be mixed with segments yet (points and "
-                        "segments only)")
+        return [p]
+    if hasattr(p, "r2"):
+        return circle_halves((p.cx, p.cy), p.r2, getattr(p, "label", None), what=f"site {k}")
+    if hasattr(p, "coefficients"):
+        raise SiteError(f"site {k}: {p!r}: conics other than circles cannot be mixed with segments yet "
+                        "(points, segments, circular arcs and circles of rational radius)")
+    if isinstance(p, (tuple, list)) and len(p) == 3:
+        r = to_fraction(p[2], f"site {k} radius")
+        if r < 0:
+            raise SiteError(f"site {k}: radius {p[2]!r} is negative")
+        if r > 0:
+            return circle_halves((p[0], p[1]), r * r, what=f"site {k}")
+        p = p[:2]
     x, y = as_point_pair(p, f"site {k}")
-    return Point(x, y)
+    return [Point(x, y)]
 
 
 def _check_junctions(E: ElementarySites) -> None:

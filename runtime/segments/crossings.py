@@ -93,6 +93,7 @@ Public API: :func:`check_pieces`.
 from __future__ import annotations
 
 import math
+import re
 from fractions import Fraction
 
 import numpy as np
@@ -113,6 +114,18 @@ _ARC4 = 2.0 ** -38           # arc filter: margin of degree-4 quantities, relati
 _ARC_LO, _ARC_HI = 2.0 ** -200, 2.0 ** 200
 
 _POINT, _SEG, _ARC = 0, 1, 2
+
+
+def renamed(message: str, names) -> str:
+    """A message of :func:`check_pieces` with each piece index k written ``names(k)`` (the pieces
+    as the input names them: a DXF entity, a polyline's edge, a circle of the input); the wording
+    of the messages is this module's, so is this reading of them."""
+    m = re.match(r"sites (\d+) and (\d+): (.*)$", message, re.S)
+    if m:
+        a, b, rest = int(m.group(1)), int(m.group(2)), m.group(3)
+        rest = re.sub(r"\b(?:site|segment|arc) (\d+)\b", lambda mm: names(int(mm.group(1))), rest)
+        return f"{names(a)} and {names(b)}: {rest}"
+    return re.sub(r"^site (\d+):", lambda mm: names(int(mm.group(1))) + ":", message)
 
 
 def check_pieces(pieces, *, float_filter: bool = True) -> None:

@@ -149,20 +149,12 @@ def read_shape(path: str, *, skip=()) -> tuple[list, list[int], object]:
 
 def check_named(pieces, names, path: str) -> None:
     """:func:`runtime.segments.crossings.check_pieces` with the pieces named as in the input."""
-    from .crossings import check_pieces
+    from .crossings import check_pieces, renamed
 
     try:
         check_pieces(pieces)
     except InvalidConicError as exc:
-        msg = str(exc)
-        m = re.match(r"sites (\d+) and (\d+): (.*)$", msg, re.S)
-        if m:
-            a, b, rest = int(m.group(1)), int(m.group(2)), m.group(3)
-            rest = re.sub(r"\b(?:site|segment|arc) (\d+)\b", lambda mm: names(int(mm.group(1))), rest)
-            msg = f"{names(a)} and {names(b)}: {rest}"
-        else:
-            msg = re.sub(r"^site (\d+):", lambda mm: names(int(mm.group(1))) + ":", msg)
-        raise ShapeError(f"{path}: {msg}") from None
+        raise ShapeError(f"{path}: {renamed(str(exc), names)}") from None
 
 
 # =====================================================================================

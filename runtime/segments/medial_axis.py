@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from ..sites.arc import Arc
+from ..sites.arc import Arc, circle_halves
 from ..sites.segment import Segment
 from .bisectors import bisector_kind
 from .distance import site_distances
@@ -152,10 +152,13 @@ class MedialAxis:
 
 
 def _ring_segments(ring, where: str) -> list:
-    """A closed ring as pieces: a list of Segments and Arcs (a closed loop), of (x, y) vertices, a
-    shapely LinearRing/Polygon exterior or a GeoJSON ring."""
+    """A closed ring as pieces: a list of Segments and Arcs (a closed loop), a Circle of rational
+    radius (two half arcs), a list of (x, y) vertices, a shapely LinearRing/Polygon exterior or a
+    GeoJSON ring."""
     if isinstance(ring, (list, tuple)) and ring and all(isinstance(s, (Segment, Arc)) for s in ring):
         return list(ring)
+    if hasattr(ring, "r2"):                     # a Circle: its two half arcs
+        return circle_halves((ring.cx, ring.cy), ring.r2, getattr(ring, "label", None), what=where)
     from ..sites.shapes import pieces_from_geometry
 
     if isinstance(ring, (list, tuple)):

@@ -13,7 +13,11 @@ In a Voronoi diagram an arc is split, like a segment, into its endpoints (point 
 open interior (:mod:`runtime.segments.elementary`); a circle touches a circular arc at most once,
 so the interior is a harmless site (Alt–Schwarzkopf, thesis §2.2) without further cuts.
 
-Public API: :class:`Arc`, :func:`exact_sqrt`.
+A whole circle of rational radius enters a diagram of pieces as its two halves
+(:func:`circle_halves`): two arcs meeting at smooth joints, the union of which is the circle (the
+same distance function); inside the disc their bisector is the diameter through the joints.
+
+Public API: :class:`Arc`, :func:`exact_sqrt`, :func:`circle_halves`.
 """
 from __future__ import annotations
 
@@ -24,7 +28,7 @@ from ..result import InvalidConicError
 from .rationals import to_fraction
 from .segment import as_point_pair
 
-__all__ = ["Arc", "exact_sqrt"]
+__all__ = ["Arc", "exact_sqrt", "circle_halves"]
 
 
 def _rational_direction(deg: Fraction | float) -> tuple[Fraction, Fraction]:
@@ -146,3 +150,20 @@ def exact_sqrt(q: Fraction) -> Fraction | None:
     if rn * rn == n and rd * rd == d:
         return Fraction(rn, rd)
     return None
+
+
+def circle_halves(centre, radius_squared, label: str | None = None, what: str = "circle") -> list[Arc]:
+    """The circle of ``centre`` and squared radius ``radius_squared`` as two counter-clockwise
+    half arcs, from (cx + ρ, cy) to (cx − ρ, cy) and back, the radius ρ rational.
+
+    >>> circle_halves((0, 0), 4)
+    [Arc(centre=(0, 0), radius=2, from (2, 0) to (-2, 0)), Arc(centre=(0, 0), radius=2, from (-2, 0) to (2, 0))]
+    """
+    cx, cy = as_point_pair(centre, f"{what} centre")
+    r2 = to_fraction(radius_squared, f"{what} squared radius")
+    rho = exact_sqrt(r2) if r2 > 0 else None
+    if rho is None:
+        raise InvalidConicError(f"{what}: the radius √{r2} is not rational (or not positive); a circle among "
+                                "segments and arcs needs a rational radius: give it with Circle.from_radius")
+    east, west = (cx + rho, cy), (cx - rho, cy)
+    return [Arc((cx, cy), rho, east, west, label), Arc((cx, cy), rho, west, east, label)]

@@ -6,6 +6,8 @@
 LINE                           one :class:`runtime.sites.segment.Segment`
 ARC                            one :class:`runtime.sites.arc.Arc` (:meth:`Arc.circular`: DXF's
                                angles in degrees, counter-clockwise in the entity's OCS)
+CIRCLE                         its two half arcs (:func:`runtime.sites.arc.circle_halves`), one
+                               source: the whole circle is the site, its radius the float's value
 POINT                          one :class:`runtime.predicates.circles.Point`
 LWPOLYLINE, POLYLINE (2-D)     a piece per pair of consecutive distinct vertices: a Segment, or an
                                Arc where the first vertex has a nonzero bulge; a closed polyline
@@ -16,7 +18,7 @@ Coordinates are doubles in DXF and are taken at their exact binary value
 (:func:`runtime.sites.rationals.to_fraction`).  Each piece gets
 
 * a **source**: the index of its entity among the supported entities of the modelspace (LINE,
-  ARC, POINT, LWPOLYLINE, POLYLINE, counted from 0 in file order, skipped types not counted), so
+  ARC, CIRCLE, POINT, LWPOLYLINE, POLYLINE, counted from 0 in file order, skipped types not counted), so
   that ``sources[i] == k`` maps piece i back to the k-th such entity;
 * a **label**: the entity's layer name (also the Segment's or Arc's ``label``).
 
@@ -39,8 +41,8 @@ own precision.  Bulges too flat for this (|b| below about 2⁻⁴¹, where u·(q
 are refused: draw a line segment.
 
 Refused with a one-line :class:`runtime.sites.shapes.ShapeError` naming the entity type, handle
-and layer: CIRCLE (a whole circle is a Circle site, not a piece of a boundary); other curves
-(ELLIPSE, SPLINE, HATCH, ..., a curve- or spline-fit polyline) -- planned, not supported yet;
+and layer: curves other than lines and circles (ELLIPSE, SPLINE, HATCH, ..., a curve- or
+spline-fit polyline) -- planned, not supported yet;
 other entity types (TEXT, INSERT, DIMENSION, ...; pass ``skip={"TEXT", ...}`` to ignore them);
 polygon and polyface meshes; coordinates with z != 0 (the diagram is planar: flatten the drawing
 first; a 3-D POLYLINE is read when all its z are 0); extrusions other than ±z; zero-length LINEs;
@@ -63,7 +65,7 @@ from .shapes import ShapeError
 __all__ = ["read_dxf", "SUPPORTED", "CURVED"]
 
 #: entity types read as sites
-SUPPORTED = ("LINE", "ARC", "POINT", "LWPOLYLINE", "POLYLINE")
+SUPPORTED = ("LINE", "ARC", "CIRCLE", "POINT", "LWPOLYLINE", "POLYLINE")
 #: entity types refused because they need curves other than circular arcs (planned)
 CURVED = ("ELLIPSE", "SPLINE", "HATCH", "MPOLYGON", "HELIX", "REGION", "ARC_DIMENSION")
 _NOT_YET = ("curves other than line segments and circular arcs are not supported yet (planned); replace it by "
@@ -97,9 +99,6 @@ def read_dxf(path, *, skip=()) -> tuple[list, list[int], list[str]]:
             continue
         where = f"{path}: {_name(e)}"
         if kind not in SUPPORTED:
-            if kind == "CIRCLE":
-                raise ShapeError(f"{where}: a whole circle is not a piece of a boundary: use the circle as a "
-                                 "Circle site; mixing circles with segments is not supported yet")
             if kind in CURVED:
                 raise ShapeError(f"{where}: {_NOT_YET}")
             raise ShapeError(f"{where}: not a supported site entity (supported: {', '.join(SUPPORTED)}); "
@@ -149,6 +148,8 @@ def _entity_pieces(e, kind: str, where: str) -> list:
         return [Segment(a, b)]
     if kind == "ARC":
         return [_arc_entity(e, where)]
+    if kind == "CIRCLE":
+        return _circle_entity(e, where)
     if kind == "LWPOLYLINE":
         flip = _ocs_flip(e, where)
         rows = e.get_points("xyb")
@@ -204,6 +205,20 @@ def _arc_entity(e, where: str):
         return arc
     (cx, cy), (ax, ay), (bx, by) = arc.c, arc.a, arc.b
     return Arc((-cx, cy), arc.rho, (-bx, by), (-ax, ay))
+
+
+def _circle_entity(e, where: str) -> list:
+    """A CIRCLE entity as its two half arcs (:func:`runtime.sites.arc.circle_halves`; the radius is
+    the float's exact value, so rational; an extrusion −z mirrors the centre)."""
+    from .arc import circle_halves
+
+    cx, cy = _xy(e.dxf.center, f"{where} centre")
+    if _ocs_flip(e, where):
+        cx = -cx
+    r = to_fraction(e.dxf.radius, "radius")
+    if not r > 0:
+        raise ShapeError(f"{where}: the circle has radius {r}; use a POINT")
+    return circle_halves((cx, cy), r * r, what=where)
 
 
 def _bulge_arc(p, q, b: Fraction, where: str):
