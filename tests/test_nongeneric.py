@@ -179,6 +179,13 @@ def test_far_vertex_matched_by_a_tighter_vertex_box():
 
     ok, note = completeness_with_vertices(*a, max_prec=kw["max_prec"], retighten=shifted)
     assert not ok and "neither matches" in note
+    # a vertex whose certificate is not proven (its conflict sign undecided) is never a match,
+    # however close its box: completeness is then not claimed
+    import dataclasses
+
+    unproven = [dataclasses.replace(cv, proven=False) for cv in a[5]]
+    ok, note = completeness_with_vertices(*a[:5], unproven, *a[6:], max_prec=kw["max_prec"], retighten=kw["retighten"])
+    assert not ok and "neither matches" in note
 
 
 @pytest.mark.parametrize("kind,seed", [("axis-aligned ellipses", 4)])
