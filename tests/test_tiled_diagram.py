@@ -74,19 +74,46 @@ def test_points_equal_scipy_delaunay():
     assert d.delaunay_edges() == expected
 
 
-def test_local_cluster_of_two_workers_equals_one_process():
+@pytest.fixture(scope="module")
+def client():
     """A distributed.LocalCluster of 2 workers (threads, processes=False: the workers share this
-    process, which keeps the test fast; bench/bench_scale.py runs processes=True), started and
-    stopped here."""
+    process, which keeps the tests fast; bench/bench_scale.py runs processes=True), started and
+    stopped by the tests."""
     distributed = pytest.importorskip("distributed")
-    sites = random_disjoint_circles(1500, 5)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
-        d = tiled_voronoi(sites, client=client, sites_per_tile=300, progress=False)
-    assert d.certified and d.stats["tiling"]["client"] is not None
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as c:
+        yield c
+
+
+def test_local_cluster_of_two_workers_equals_one_process(client):
+    sites = random_disjoint_circles(1500, 5)
+    d = tiled_voronoi(sites, client=client, sites_per_tile=300, progress=False)
+    info = d.stats["tiling"]
+    assert d.certified and info["client"] is not None
+    assert info["certificate"] == "chunks"            # proved chunk by chunk on the workers
     single = voronoi(sites, certify=True, progress=False)
     assert single.certified
     assert_same_diagram(d, single)
+
+
+def test_chunked_certificate_refuses_a_lost_vertex(client):
+    from curvedvoronoi.runtime.voronoi.chunked_certificate import chunked_verify
+    from curvedvoronoi.runtime.voronoi.structure import Diagram, DiagramEdge, DiagramVertex
+
+    sites = random_disjoint_circles(400, 25)
+    d = tiled_voronoi(sites, sites_per_tile=100, certify=False, progress=False)
+    chunks = [list(range(0, len(d.edges), 2)), list(range(1, len(d.edges), 2))]
+    assert chunked_verify(d, chunks, client).ok
+    # a vertex dropped with its edges: every other vertex and edge is still proved, the closure fails
+    gone = 7
+    keep = [e for e in d.edges if gone not in e.ends]
+    vmap = {v.id: k for k, v in enumerate(v for v in d.vertices if v.id != gone)}
+    verts = [DiagramVertex(vmap[v.id], v.sites, v.x, v.y, v.radius) for v in d.vertices if v.id != gone]
+    edges = [DiagramEdge(k, e.sites, tuple(None if u is None else vmap[u] for u in e.ends), e.closed, e.polyline,
+                         e.tolerance) for k, e in enumerate(keep)]
+    bad = Diagram(d.sites, verts, edges)
+    cc = chunked_verify(bad, [list(range(len(edges)))], client)
+    assert not cc.ok and all(cc.vertices) and all(cc.edges) and any("ends here" in str(p) for p in cc.problems)
 
 
 def test_planted_small_halo_is_detected_and_grown():

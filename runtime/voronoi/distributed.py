@@ -7,9 +7,14 @@ Peterka, Morozov and Phillips grow their ghost zones, SC14), builds the tiles' d
 :func:`runtime.voronoi.construction.voronoi` -- one Dask task per tile when a
 ``distributed.Client`` is given, else one after the other in this process -- stitches them
 (:func:`runtime.voronoi.stitch.stitch`) and proves the stitched diagram with the independent
-verifier (:func:`runtime.voronoi.verify.certificate.verify`, run once on the whole diagram, in
-this process).  The result is a :class:`runtime.voronoi.structure.Diagram` on the input's site
-indices, ``certified`` only when the verifier proves it.
+verifier (:func:`runtime.voronoi.verify.certificate.verify`): with a client, its vertex and
+edge proofs chunk by chunk on the workers and the closure and the ends at infinity here
+(:mod:`runtime.voronoi.chunked_certificate`), else (or when that refuses) once on the whole
+diagram here.  When the verifier finds faults, the tiles holding the sites it names are rebuilt
+with their own verifier, whose problems refine their construction (as
+:func:`runtime.voronoi.construction.voronoi` does), and the stitch is verified again.  The
+result is a :class:`runtime.voronoi.structure.Diagram` on the input's site indices,
+``certified`` only when the verifier proves it.
 
 Scenes the tiling does not cover are built by :func:`runtime.voronoi.construction.voronoi` in one
 process, and ``stats["tiling"]["single_process"]`` says why: fewer sites than two tiles hold, a
@@ -27,6 +32,7 @@ import numpy as np
 
 from ..threads import one_blas_thread
 from .site_input import as_site, check_disjoint
+from .chunked_certificate import chunked_verify
 from .stitch import build_tile, stitch
 from .tiling import MARGIN, Rim, grow_halo, nested_pair, site_discs, tile_grid, tile_input
 
@@ -75,7 +81,7 @@ def _tasks(client, jobs, bar):
 
 @one_blas_thread
 def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float | None = None,
-                  certify: bool = True, progress=None, tile_certify: bool = False):
+                  certify: bool = True, progress=None, tile_certify: bool = False, certificate: str = "chunks"):
     """The Voronoi diagram of ``sites`` (thesis §1.2) built tile by tile.
 
     Parameters
@@ -96,6 +102,12 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
         refinement); the stitched diagram's proof is the global verification either way.
     progress : bool or None
         A tqdm bar over the tiles (None: for more than 2000 sites).
+    certificate : {"chunks", "whole"}
+        With a client, ``"chunks"`` proves the vertices and edges chunk by chunk on the workers
+        and the closure and the ends at infinity here
+        (:func:`runtime.voronoi.chunked_certificate.chunked_verify`); when that refuses, and
+        always without a client or with ``"whole"``, the verifier runs on the whole diagram here
+        (``stats["tiling"]["certificate"]`` says which proved it).
 
     Examples
     --------
@@ -199,6 +211,18 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
             break
         from .verify.certificate import verify
 
+        if client is not None and certificate == "chunks":
+            workers = max(1, len(client.scheduler_info().get("workers", {})))
+            cc = chunked_verify(diagram, _chunks(diagram, tiles, 2 * workers), client)
+            seconds["verify"] += time.perf_counter() - t3
+            info["certificate"] = "chunks"
+            info["chunk_seconds"] = {k: round(v, 3) for k, v in cc.seconds.items()}
+            if cc.ok:
+                cert = cc
+                break
+            info["chunks_refused"] = [str(p) for p in cc.problems[:5]]
+            t3 = time.perf_counter()
+        info["certificate"] = "whole"
         cert = verify(diagram, progress=progress)
         seconds["verify"] += time.perf_counter() - t3
         named = _named_sites(cert.problems, diagram) if not cert.ok else set()
@@ -239,6 +263,27 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
     seconds["total"] = time.perf_counter() - t0
     diagram.stats["seconds"] = {k: round(v, 4) for k, v in seconds.items()}
     return diagram
+
+
+def _chunks(diagram, tiles, count: int) -> list[list[int]]:
+    """The edges grouped by the tile whose cell holds their first finite end, the tiles (in grid
+    order) merged into at most ``count`` chunks of about equal size: the spatial chunks of
+    :func:`runtime.voronoi.chunked_certificate.chunked_verify` (each chunk's verifier run has a
+    cost in the number of sites, so a few chunks per worker)."""
+    xs = np.unique([t.box[0] for t in tiles])[1:]
+    ys = np.unique([t.box[1] for t in tiles])[1:]
+    cells: dict = {}
+    for e in diagram.edges:
+        v = diagram.vertices[e.ends[0] if e.ends[0] is not None else e.ends[1]]
+        key = (int(np.searchsorted(ys, v.y, side="right")), int(np.searchsorted(xs, v.x, side="right")))
+        cells.setdefault(key, []).append(e.id)
+    size = -(-len(diagram.edges) // max(1, count))
+    out: list = [[]]
+    for k in sorted(cells):
+        if len(out[-1]) >= size:
+            out.append([])
+        out[-1].extend(cells[k])
+    return out
 
 
 def _named_sites(problems, diagram) -> set:

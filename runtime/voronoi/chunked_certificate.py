@@ -1,0 +1,129 @@
+"""The verifier run on pieces of a diagram on Dask workers, and why the pieces prove the whole.
+
+:func:`runtime.voronoi.verify.certificate.verify` proves a reported diagram H equal to the true
+diagram G in four steps (its module docstring): (1) every vertex is a true vertex, (2) every edge
+is a whole true edge between its proved ends, (3) closure: each vertex has exactly one edge per
+pair of cyclically consecutive sites, every site has an edge, and (4) the ends at infinity are
+all there; then H ⊂ G is closed under incidence, so H is a union of components of G, and every
+component of G (sites not nested: every component is unbounded, thesis Prop. 1.2.1) has an
+unbounded end, which (4) places in H.
+
+Steps (1) and (2) are local: a vertex's proof reads its sites and the sites near its circle, an
+edge's proof its two sites, its end vertices and the sites near its arc, never another edge.
+So :func:`chunked_verify` hands the edges, in spatial chunks (one per tile), each with the
+vertices it ends at, to the verifier on the workers; a vertex or an edge proved in its chunk is
+proved.  Step (3) is run here on the whole diagram
+(:func:`runtime.voronoi.verify.closure.verify_closure`: combinatorics only).  Step (4) is the
+verifier run on the sub-diagram of the unbounded edges and their end vertices: its accounting
+reads exactly the ends at infinity, which are those of H; in that run the closure of the
+sub-diagram fails by construction (its vertices lack their bounded edges), so its lines of that
+kind -- a vertex's missing edge of a pair, a site without an edge -- are set aside, and any
+other line refuses the certificate.  Two reported vertices with the same sites closer than
+1e-6 of the scene's size (one vertex reported twice) also refuse it: the closure does not see a
+duplicate, and the verifier's overlap check of edges of one pair runs in one chunk only.
+
+A refusal is not a disproof: the caller then runs the verifier on the whole diagram, whose
+problems name what to rebuild.
+
+Public API: :func:`chunked_verify`, :class:`ChunkedCertificate`.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["chunked_verify", "ChunkedCertificate"]
+
+
+@dataclass
+class ChunkedCertificate:
+    """``ok`` when every vertex and edge is proved in its chunk, the closure holds and the
+    accounting at infinity is proved; ``problems`` says what refused it; ``vertices`` and ``edges``
+    are the flags in diagram order; ``seconds`` the wall time of the chunks, the closure and
+    the accounting."""
+
+    ok: bool
+    problems: list
+    vertices: list
+    edges: list
+    seconds: dict = field(default_factory=dict)
+
+
+def _sub_diagram(D, edge_ids):
+    """The edges ``edge_ids`` of D with the vertices they end at, renumbered; and the maps back."""
+    from .structure import Diagram, DiagramEdge, DiagramVertex
+
+    vids = sorted({u for t in edge_ids for u in D.edges[t].ends if u is not None})
+    new = {u: k for k, u in enumerate(vids)}
+    verts = [DiagramVertex(k, tuple(D.vertices[u].sites), D.vertices[u].x, D.vertices[u].y, D.vertices[u].radius)
+             for k, u in enumerate(vids)]
+    edges = [DiagramEdge(k, tuple(D.edges[t].sites), tuple(None if u is None else new[u] for u in D.edges[t].ends),
+                         D.edges[t].closed, D.edges[t].polyline, D.edges[t].tolerance)
+             for k, t in enumerate(edge_ids)]
+    return Diagram(list(D.sites), verts, edges), vids
+
+
+def verify_chunk(sub) -> tuple[list, list, list]:
+    """The verifier on one chunk (runs in a worker): vertex flags, edge flags, problem records."""
+    from .verify.certificate import verify
+    from .verify.problems import records
+
+    cert = verify(sub, progress=False)
+    return [bool(v) for v in cert.vertices], [bool(e) for e in cert.edges], records(cert.problems)
+
+
+def _expected_in_part(rec) -> bool:
+    """A closure line that a sub-diagram fails by construction (module docstring)."""
+    msg = rec.get("message", "")
+    return ((rec.get("kind") == "vertex" and msg.rstrip().endswith("here"))
+            or (rec.get("kind") == "site" and "has no edge" in msg))
+
+
+def chunked_verify(D, chunks, client) -> ChunkedCertificate:
+    """Prove D (module docstring): ``chunks`` is a list of lists of edge indices covering every
+    edge; one verifier task per chunk on ``client``'s workers."""
+    from distributed import as_completed
+    from .verify.closure import verify_closure
+
+    t0 = time.perf_counter()
+    problems: list = []
+    vflag = np.zeros(len(D.vertices), bool)
+    eflag = np.zeros(len(D.edges), bool)
+    futures = {}
+    for c, ids in enumerate(chunks):
+        if ids:
+            sub, vids = _sub_diagram(D, ids)
+            futures[client.submit(verify_chunk, sub, pure=False)] = (ids, vids)
+    for fut in as_completed(list(futures)):
+        ids, vids = futures[fut]
+        vok, eok, _ = fut.result()
+        vflag[np.asarray(vids, dtype=np.int64)[np.asarray(vok, bool)]] = True
+        eflag[np.asarray(ids, dtype=np.int64)[np.asarray(eok, bool)]] = True
+    t1 = time.perf_counter()
+    if not vflag.all():
+        problems.append(f"{int((~vflag).sum())} vertices not proved in their chunks")
+    if not eflag.all():
+        problems.append(f"{int((~eflag).sum())} edges not proved in their chunks")
+    closure: list = []
+    if not verify_closure(D, len(D.sites), closure, {}):
+        problems.extend(closure or ["closure not proved"])
+    scale = 1.0 + max((abs(v.x) + abs(v.y) for v in D.vertices), default=0.0)
+    seen: dict = {}
+    for v in D.vertices:
+        for (x, y) in seen.get(frozenset(v.sites), ()):
+            if abs(x - v.x) + abs(y - v.y) <= 1e-6 * scale:
+                problems.append(f"vertex of sites {tuple(v.sites)} near ({v.x:.6g}, {v.y:.6g}) reported twice")
+        seen.setdefault(frozenset(v.sites), []).append((v.x, v.y))
+    t2 = time.perf_counter()
+    unbounded = [e.id for e in D.edges if None in e.ends]
+    sub, _ = _sub_diagram(D, unbounded)
+    _, eok, recs = verify_chunk(sub)
+    if not all(eok):
+        problems.append("an unbounded edge is not proved")
+    problems.extend(f"accounting at infinity: {r['message']}" for r in recs if not _expected_in_part(r))
+    t3 = time.perf_counter()
+    ok = not problems
+    return ChunkedCertificate(ok, problems, vflag.tolist(), eflag.tolist(),
+                              {"chunks": t1 - t0, "closure": t2 - t1, "accounting": t3 - t2})
