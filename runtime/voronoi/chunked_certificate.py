@@ -18,7 +18,10 @@ verifier run on the sub-diagram of the unbounded edges and their end vertices: i
 reads exactly the ends at infinity, which are those of H; in that run the closure of the
 sub-diagram fails by construction (its vertices lack their bounded edges), so its lines of that
 kind -- a vertex's missing edge of a pair, a site without an edge -- are set aside, and any
-other line refuses the certificate.  Two reported vertices with the same sites closer than
+other line refuses the certificate.  This reads the accounting's verdict from its lines: every
+refusal of the accounting functions (:mod:`runtime.voronoi.verify.closure`,
+:mod:`runtime.voronoi.verify.hull_points`) appends a line before returning False (checked by
+reading them; a verdict field in the certificate would make this direct).  Two reported vertices with the same sites closer than
 1e-6 of the scene's size (one vertex reported twice) also refuse it: the closure does not see a
 duplicate, and the verifier's overlap check of edges of one pair runs in one chunk only.
 
