@@ -33,7 +33,7 @@ import numpy as np
 from ..threads import one_blas_thread
 from .site_input import as_site, check_disjoint
 from .chunked_certificate import chunked_verify
-from .stitch import build_tile, stitch
+from .stitch import StitchError, build_tile, stitch
 from .tiling import MARGIN, Rim, grow_halo, nested_pair, site_discs, tile_grid, tile_input
 
 __all__ = ["tiled_voronoi"]
@@ -121,9 +121,10 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
     (True, 4)
     """
     t0 = time.perf_counter()
-    sites = [as_site(s) for s in sites] if not any(type(s).__name__ in ("Segment", "Arc") for s in sites) else sites
+    sites = list(sites)
     if any(type(s).__name__ in ("Segment", "Arc") for s in sites):
         return _single(sites, "segments or arcs", certify, progress, t0)
+    sites = [as_site(s) for s in sites]
     if len(sites) < 2 * sites_per_tile:
         return _single(sites, f"{len(sites)} sites: fewer than two tiles of {sites_per_tile}", certify, progress, t0)
     try:
@@ -161,7 +162,7 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
         return t.index, ([sites[i] for i in idx.tolist()], idx, t, margin, proving[t.index])
 
     reports: dict = {}
-    count = {"rebuilds": 0, "refined": 0}
+    count: dict = {"rebuilds": 0, "refined": 0, "by_region": {}}
 
     def build(pending):
         """Build the regions, growing and rebuilding those whose vertices leave their halo."""
@@ -173,8 +174,9 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
                     raise _Vertexless(key)
                 out = rep["grow"]
                 if out > 0:                  # an empty circle leaves T_h: grow the halo, rebuild
-                    if region.growths >= MAX_REBUILDS + a_priori:
+                    if count["by_region"].get(key, 0) >= MAX_REBUILDS:
                         raise _Vertexless(key, "halo keeps growing")
+                    count["by_region"][key] = count["by_region"].get(key, 0) + 1
                     if region is rim:
                         rim.width = max(2 * rim.width, rim.width + out)
                         rim.growths += 1
@@ -203,7 +205,10 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
         except KeyboardInterrupt:
             interrupted = True
         t2 = time.perf_counter()
-        diagram, info = stitch(sites, list(reports.values()), D.scale)
+        try:
+            diagram, info = stitch(sites, list(reports.values()), D.scale)
+        except StitchError as exc:
+            return _single(sites, f"stitch refused: {exc}", certify, progress, t0)
         t3 = time.perf_counter()
         seconds["tiles"] += t2 - t1
         seconds["stitch"] += t3 - t2
@@ -302,6 +307,8 @@ def _named_sites(problems, diagram) -> set:
 
 
 class _Vertexless(Exception):
+    """A region the tiling does not handle: the scene is built in one process."""
+
     def __init__(self, key, why="an edge without vertex (sites in a row)"):
         super().__init__(why)
         self.reason = f"tile {key}: {why}"
