@@ -213,3 +213,20 @@ def test_two_thousand_ellipses_tiled_equal_one_process():
     single = voronoi(sites, certify=False, progress=False)
     assert d.delaunay_edges() == single.delaunay_edges()
     assert d.certified == bool(verify(single).ok)
+
+
+def test_ctrl_c_keeps_the_finished_tiles(monkeypatch):
+    import curvedvoronoi.runtime.voronoi.distributed as dist
+
+    real, calls = dist.build_tile, []
+
+    def interrupted_after_three(*args):
+        calls.append(1)
+        if len(calls) > 3:
+            raise KeyboardInterrupt
+        return real(*args)
+
+    monkeypatch.setattr(dist, "build_tile", interrupted_after_three)
+    d = dist.tiled_voronoi(random_disjoint_circles(600, 26), sites_per_tile=100, progress=False)
+    assert not d.certified and any("interrupted" in p for p in d.problems)
+    assert d.stats["tiling"]["tiles_built"] == 2 and len(d.vertices) > 100    # the rim and two tiles
