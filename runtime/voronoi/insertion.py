@@ -72,7 +72,9 @@ Why the result is proved (H the reported graph after the update, G the true one)
   ``stats["update"]`` says so.
 
 Hence ``certified`` is True only when the old diagram was certified (its proofs are reused) and
-everything new is proved now.  Nested sites (closed edges), far-from-origin scenes and unbounded
+everything new is proved now.  Updating an uncertified diagram with ``certify=True`` still proves
+the new vertices and bounded edges (their ``certified`` flags; failures are listed in
+``problems``), but the result is not certified.  Nested sites (closed edges), far-from-origin scenes and unbounded
 conics are outside this argument: parabolas and hyperbolas (no support function, so no proof at
 infinity) raise :class:`NotImplementedError` naming the kind, nesting and far scenes rebuild the
 diagram.
@@ -108,7 +110,10 @@ import time
 import numpy as np
 from scipy.spatial import cKDTree
 
+from .collinear_points import collinear
 from .conic_geometry import site_geometry, site_inside
+from .sampling import Samples, initial_spacing
+from .site_arrays import SiteArrays
 from .geometry import rounding_slack
 from ..sites.intersection import sites_intersect
 from .conflict import LOCAL_KINDS, disc_inside, nearest_old_sites, outside, site_disc
@@ -117,11 +122,15 @@ from .verify.edge_checks import check_edges
 from .verify.edges import CircleTable
 from .verify.vertices import VERTEX_TOL, prove_vertices
 
-__all__ = ["insert_site", "insert_many", "delete_local", "local_update", "DynamicState", "LocalState"]
+__all__ = ["insert_site", "insert_many", "delete_local", "local_update", "local_diagram", "DynamicState", "LocalState"]
 
 EPS = 2.0 ** -53
 #: coordinates beyond this are built in a local frame by the construction: such scenes are rebuilt
 FAR = 1e6
+#: the local diagram of an update is built where its sites are when their centre is within this
+#: many times their extent of the origin (the batch build of the scene works there too), else in
+#: the construction's local frame
+LOCAL_FRAME = 1024.0
 
 
 class LocalState:
@@ -131,8 +140,8 @@ class LocalState:
 
     samples = None
 
-    def __init__(self, scratch, delete, dynamic):
-        self.scratch, self.delete, self.dynamic = scratch, delete, dynamic
+    def __init__(self, scratch, delete, dynamic, build):
+        self.scratch, self.delete, self.dynamic, self.build = scratch, delete, dynamic, build
         self.insert = insert_site
 
 
@@ -427,7 +436,7 @@ def _splice(D, st, dyn, sites2, L, X, rm_edges, op, special, old_index):
     """The local diagram of sites ``L`` (new numbering) spliced in; None when it does not close."""
     # the local diagram's own problems concern its outskirts (sites missing there) or are notes
     # (a local frame): what is spliced in is checked and proved below, whatever they say
-    loc = st.scratch([sites2[k] for k in L], certify=False)
+    loc = local_diagram(st, [sites2[k] for k in L], [dyn.geoms[old_index(k)] for k in L])
     verts = D.vertices
     kept_match = {}
     new_v = []          # (local vertex, global sites tuple)
@@ -484,6 +493,24 @@ def _splice(D, st, dyn, sites2, L, X, rm_edges, op, special, old_index):
                     if tuple(D.edges[e].sites) == opair:
                         rm_e.add(e)
     return {"loc": loc, "L": L, "new_v": new_v, "new_e": new_e, "rm_v": set(X), "rm_e": rm_e}
+
+
+def local_diagram(st, sites, geoms):
+    """The diagram of a few sites of the scene (not verified), built where they are: the
+    construction's rounds (``st.build``, :func:`runtime.voronoi.construction.build_diagram`) from
+    the known geometries, without the entry checks of ``voronoi`` (the sites are disjoint and
+    within range: they are sites of the diagram, and the new one was checked).  They are built in
+    the scene's frame unless they lie more than :data:`LOCAL_FRAME` times their extent from the
+    origin (then, and for collinear points, ``st.scratch``: :func:`runtime.voronoi.construction.voronoi`,
+    which builds far sites in a local frame, :mod:`runtime.voronoi.frame`)."""
+    box = np.array([g.bounding_box() for g in geoms], float)
+    lo, hi = box[:, :2].min(axis=0), box[:, 2:].max(axis=0)
+    S = SiteArrays(sites, geoms)
+    if (not np.abs((lo + hi) / 2).max() <= LOCAL_FRAME * float((hi - lo).max())
+            or (S.all_circles and not S.R.any() and collinear(S.C))):
+        return st.scratch(sites, certify=False)
+    return st.build(S, Samples(S, initial_spacing(S)), {}, [], {"sites": len(sites), "rounds": 0, "samples": 0},
+                    {"input": 0.0}, certify=False)
 
 
 def _has_edge(D, dyn, pair, ends, rm_e, old_index):
@@ -561,8 +588,16 @@ def _check(D, dyn, res, op, special, certify, old_index, new_index):
     flags_v, flags_e = {}, {}
     how = "local"
     full = certify and D.certified
-    bounded = [e for e in pe if None not in e.ends] if full else []
-    ok &= _prove_sub(D, dyn, pv, bounded, vert, op, special, new_index, problems, flags_v, flags_e)
+    bounded = [e for e in pe if None not in e.ends] if certify else []
+    notes: list = []
+    if full:
+        ok &= _prove_sub(D, dyn, pv, bounded, vert, op, special, new_index, problems, flags_v, flags_e)
+    else:
+        # the result cannot be certified (certify=False, or an uncertified diagram): the new
+        # vertices must still be proved (else the splice is redone); with certify=True the new
+        # bounded edges are proved too, their flags kept and their failures noted
+        _prove_sub(D, dyn, pv, bounded, vert, op, special, new_index, notes, flags_v, flags_e)
+        ok &= all(flags_v.get(v.id, False) for v in pv)
     if full:
         infinity = (any(None in e.ends for e in pe) or any(None in D.edges[e].ends for e in rm_e)
                     or (op == "insert" and not _inside_hull(dyn, special, res))
@@ -571,7 +606,7 @@ def _check(D, dyn, res, op, special, certify, old_index, new_index):
             how = "local, unbounded edges and accounting at infinity re-proved"
             ok &= _prove_infinity(D, dyn, pe, rm_e, vert, op, special, problems, flags_v, flags_e)
     return {"ok": bool(ok) and not problems, "problems": problems, "flags_v": flags_v, "flags_e": flags_e,
-            "how": how, "full": full}
+            "how": how, "full": full, "notes": notes}
 
 
 def _finish(D, st, dyn, res, op, special, certify, t0, ring, renumber, chk):
@@ -635,8 +670,8 @@ def _finish(D, st, dyn, res, op, special, certify, t0, ring, renumber, chk):
         if None in e.ends:
             dyn.unbounded.add(e.id)
     out = dataclasses.replace(D, sites=sites2, vertices=verts, edges=edges, certified=False, problems=[], stats={})
-    out.construction = LocalState(st.scratch, st.delete, dyn)
-    problems = list(chk["problems"])
+    out.construction = LocalState(st.scratch, st.delete, dyn, st.build)
+    problems = list(chk["problems"]) + list(chk["notes"])
     if not certify:
         problems.append("not verified (certify=False)")
     elif not D.certified:
