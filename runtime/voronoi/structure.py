@@ -151,10 +151,10 @@ class Diagram:
         return self.construction.delete(self, i, certify=certify, renumber=renumber)
 
     def insert(self, site, *, certify: bool = True) -> "Diagram":
-        """The diagram with ``site`` (a circle or point) added as site N; this diagram is left
-        unchanged.  Only the part of the diagram the new site touches is rebuilt and proved (thesis
-        §1.2); ``certified`` needs this diagram certified.  See
-        :func:`runtime.voronoi.insertion.insert_site` (conic sites: NotImplementedError), reached
+        """The diagram with ``site`` (a point, circle or ellipse) added as site N; this diagram is
+        left unchanged.  Only the part of the diagram the new site touches is rebuilt and proved
+        (thesis §1.2); ``certified`` needs this diagram certified.  See
+        :func:`runtime.voronoi.insertion.insert_site` (parabolas, hyperbolas: NotImplementedError), reached
         through the construction state like :meth:`delete_site`."""
         if self.construction is None:
             raise ValueError("this diagram has no construction state (read from JSON, or collinear points?): "
