@@ -1,4 +1,4 @@
-"""Benchmark of the dynamic diagram (issue 35): local insertion and deletion of one circle, and
+"""Benchmark of the dynamic diagram: local insertion and deletion of one circle or ellipse, and
 proved nearest-site queries, against CGAL's Apollonius_graph_2 and scipy in the same run.
 
 Rows (one subprocess per N, so each N has its own peak RSS):
@@ -13,6 +13,11 @@ Rows (one subprocess per N, so each N has its own peak RSS):
   operations (tests/cgal/apollonius_dynamic.cpp: CGAL's insert and remove on the same doubles) and
   verified with ``cv.verify`` (the independent verifier, once, at the end).  CGAL's median time per
   operation and the ratio.
+* random disjoint ellipses (tests/scenes.random_ellipses; N = 10³ built certified, 10⁴ built with
+  certify=False: the verifier needs about a minute per 10³ ellipses): K insertions, K deletions of
+  each numbering, each with certify=True (the changed part is proved either way; the result is
+  certified only when the batch build was).  No peer handles ellipses: the final Delaunay graph is
+  compared with a batch build of the final list of sites.
 * nearest-site queries on point sites (N = 10⁴ random points): ``d.nearest`` proved and unproved,
   ``scipy.spatial.cKDTree.query`` and CGAL's ``Apollonius_graph_2::nearest_neighbor`` (with the
   previous answer as hint) on the same 10⁵ random query points, queries per second, and whether the
@@ -22,6 +27,7 @@ One BLAS thread (threadpoolctl and OPENBLAS_NUM_THREADS=1); thread settings and 
 (/proc/loadavg) are in the table header: the machine is shared, wall times are noisy under load.
 
 Run:  OPENBLAS_NUM_THREADS=1 python bench/bench_dynamic.py [--sizes 1000 10000] [--big] [--k 20]
+          [--ellipses 1000 10000] [--ellipse-k 10]
       (--big adds N = 10⁵: about 12 GB and several minutes for the batch build; appends a table
       to bench/results/dynamic.md)
 """
@@ -116,6 +122,60 @@ def circles_case(n: int, k: int, seed: int = 1, certify: bool = True) -> dict:
     return out
 
 
+def ellipses_case(n: int, k: int, seed: int = 1, certify_build: bool = True) -> dict:
+    """Random disjoint ellipses (tests/scenes.random_ellipses, N + K drawn): the batch build of
+    the first N (certified when ``certify_build``), then K insertions, K deletions with
+    renumber="last" and K with "shift", each with certify=True (the changed part proved; the
+    result is certified only when the batch build was).  No peer: the final Delaunay graph is
+    compared with a batch build of the final list of sites (certify=False)."""
+    sys.path.insert(0, str(ROOT / "tests"))
+    from scenes import random_ellipses
+
+    import curvedvoronoi as cv
+
+    threads = _threads()
+    sites = random_ellipses(n + k, seed)
+    base, extra = sites[:n], sites[n:]
+    t0, c0 = time.perf_counter(), time.process_time()
+    d = cv.voronoi(base, progress=False, certify=certify_build)
+    out = {"case": "ellipses", "N": n, "K": k, "threads": threads, "build_s": time.perf_counter() - t0,
+           "build_cpu_s": time.process_time() - c0, "build_certified": bool(d.certified), "certify": certify_build}
+    rng = random.Random(seed)
+    cur = list(base)
+    rows = []
+
+    def timed(kind, fn):
+        nonlocal d
+        t, c = time.perf_counter(), time.process_time()
+        d = fn()
+        new_e = [e for e in d.edges if not e.certified]
+        rows.append({"op": kind, "wall": time.perf_counter() - t, "cpu": time.process_time() - c,
+                     "how": d.stats.get("update", d.stats.get("deletion")), "certified": bool(d.certified),
+                     "split": d.stats.get("seconds", {}), "changed": d.stats.get("changed", {}),
+                     "unproved_parts": len(new_e) if certify_build else None})
+
+    for s in extra:
+        timed("insert", lambda s=s: d.insert(s))
+        cur.append(s)
+    for mode in ("last", "shift"):
+        for _ in range(k):
+            i = rng.randrange(len(cur))
+            timed(f"delete ({mode})", lambda i=i, mode=mode: d.delete_site(i, renumber=mode))
+            if mode == "shift":
+                cur.pop(i)
+            else:
+                cur[i] = cur[-1]
+                cur.pop()
+    out["final_sites_as_expected"] = all(a is b for a, b in zip(d.sites, cur)) and len(d.sites) == len(cur)
+    t = time.perf_counter()
+    ref = cv.voronoi(cur, progress=False, certify=False)
+    out["batch_same_graph"] = d.delaunay_edges() == ref.delaunay_edges()
+    out["batch_check_s"] = time.perf_counter() - t
+    out["rows"] = rows
+    out["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    return out
+
+
 def nearest_case(n: int, q: int, seed: int = 2) -> dict:
     import numpy as np
     from scipy.spatial import cKDTree
@@ -165,6 +225,42 @@ def _fmt(x, nd=4):
     return "-" if x is None else f"{x:.{nd}f}"
 
 
+def _ellipse_table(results, args) -> list:
+    rs = [r for r in results if str(r.get("case")).startswith("ellipses")]
+    if not rs:
+        return []
+    lines = ["", f"Random disjoint ellipses (tests/scenes.random_ellipses): batch build of N, then K = {args.ellipse_k} "
+             "insertions, K deletions with renumber=\"last\", K with \"shift\", each with certify=True (the changed "
+             "part proved by the verifier's routines against all sites). The batch build is certified for N ≤ "
+             f"{args.certify_ellipses_up_to} (\"build certified\"); an update of an uncertified diagram proves the same "
+             "parts but is never certified. No peer: \"graph = batch\" compares the final Delaunay graph with a batch "
+             "build of the final sites.", "",
+             "| N | op | first s | median s (CPU) | max s | local / infinity / rebuild | all certified | "
+             "median split (locate / local build / prove) | build s | build certified | graph = batch | peak RSS MB |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rs:
+        if "error" in r:
+            lines.append(f"| {r['case']} | error: {r['error']} |" + " |" * 10)
+            continue
+        for kind in ("insert", "delete (last)", "delete (shift)"):
+            rows = [x for x in r["rows"] if x["op"] == kind]
+            first = rows[0]["wall"] if kind == "insert" else None
+            rest = rows[1:] if kind == "insert" else rows
+            hows = [x["how"] or "" for x in rows]
+            n_inf = sum("infinity" in h for h in hows)
+            n_reb = sum(h.startswith("rebuild") or h in ("local triangulation declined", "local sample triangulation")
+                        for h in hows)
+            spl = [x["split"] for x in rest if "prove" in x["split"]]
+            split = " / ".join(_fmt(statistics.median(s.get(key, 0) for s in spl)) for key in
+                               ("locate", "local build", "prove")) if spl else "-"
+            lines.append(f"| {r['N']} | {kind} | {_fmt(first)} | {_fmt(statistics.median(x['wall'] for x in rest))} "
+                         f"({_fmt(statistics.median(x['cpu'] for x in rest))}) | {_fmt(max(x['wall'] for x in rest))} | "
+                         f"{len(hows) - n_inf - n_reb} / {n_inf} / {n_reb} | {all(x['certified'] for x in rows)} | "
+                         f"{split} | {r['build_s']:.1f} | {r['build_certified']} | {r['batch_same_graph']} | "
+                         f"{r['peak_rss_mb']:.0f} |")
+    return lines
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--case", help=argparse.SUPPRESS)
@@ -172,6 +268,11 @@ def main():
     ap.add_argument("--big", action="store_true", help="add N = 100000 (about 12 GB, minutes)")
     ap.add_argument("--k", type=int, default=20, help="insertions (and deletions of each kind) per N")
     ap.add_argument("--queries", type=int, default=100000)
+    ap.add_argument("--ellipses", nargs="*", type=int, default=[1000, 10000],
+                    help="N of the ellipse rows (none: skip them)")
+    ap.add_argument("--ellipse-k", type=int, default=10, help="insertions (and deletions of each kind) per ellipse N")
+    ap.add_argument("--certify-ellipses-up-to", type=int, default=1000,
+                    help="ellipse batch builds certified up to this N (the verifier takes ~1 min per 10^3 ellipses)")
     ap.add_argument("--uncertified", action="store_true",
                     help="build and update with certify=False (vertices proved, no edge proofs, never certified): "
                          "for N too large for the verifier's memory")
@@ -179,17 +280,25 @@ def main():
     args = ap.parse_args()
     if args.case:
         kind, n = args.case.split(":")
-        res = circles_case(int(n), args.k, certify=not args.uncertified) if kind == "circles" else \
-            nearest_case(int(n), args.queries)
+        if kind == "circles":
+            res = circles_case(int(n), args.k, certify=not args.uncertified)
+        elif kind == "ellipses":
+            res = ellipses_case(int(n), args.ellipse_k, certify_build=int(n) <= args.certify_ellipses_up_to)
+        else:
+            res = nearest_case(int(n), args.queries)
         print(json.dumps(res))
         return
     sizes = list(args.sizes) + ([100000] if args.big else [])
     load0 = _loadavg()
     results = []
-    for case in [f"circles:{n}" for n in sizes] + ([] if args.uncertified else ["nearest:10000"]):
+    cases = [f"circles:{n}" for n in sizes] + ([] if args.uncertified else ["nearest:10000"])
+    cases += [] if args.uncertified else [f"ellipses:{n}" for n in args.ellipses]
+    for case in cases:
         t0 = time.perf_counter()
         res = subprocess.run([sys.executable, __file__, "--case", case, "--k", str(args.k),
-                              "--queries", str(args.queries)] + (["--uncertified"] if args.uncertified else []),
+                              "--queries", str(args.queries), "--ellipse-k", str(args.ellipse_k),
+                              "--certify-ellipses-up-to", str(args.certify_ellipses_up_to)]
+                             + (["--uncertified"] if args.uncertified else []),
                              capture_output=True, text=True,
                              env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
         if res.returncode != 0:
@@ -216,7 +325,7 @@ def main():
              "graph = CGAL | peak RSS MB |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in results:
-        if r.get("case", "").startswith("nearest") or str(r.get("case")).startswith("nearest"):
+        if not str(r.get("case")).startswith("circles"):
             continue
         if "error" in r:
             lines.append(f"| {r['case']} | error: {r['error']} |" + " |" * 12)
@@ -257,6 +366,7 @@ def main():
                   f"| {r['proved_qps']:.3g} | {r['proved_fraction']:.4f} | {r['float_qps']:.3g} | "
                   f"{r['scipy_qps']:.3g} | "
                   f"{r.get('cgal_qps', 0):.3g} | {r['same_as_scipy']} | {r.get('cgal_same', r.get('cgal_error'))} |"]
+    lines += _ellipse_table(results, args)
     text = "\n".join(lines) + "\n"
     print(text)
     if not args.no_write:
