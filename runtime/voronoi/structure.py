@@ -146,6 +146,7 @@ class Diagram:
         read from JSON).  See :func:`runtime.voronoi.deletion.delete_site` (reached through the
         construction state, so that this data module imports nothing of the construction)."""
         if self.construction is None:
+            _no_pieces(self.sites, "deletion")
             raise ValueError("this diagram has no construction state (read from JSON?): build the diagram of "
                              "the remaining sites with voronoi(...)")
         return self.construction.delete(self, i, certify=certify, renumber=renumber)
@@ -157,6 +158,7 @@ class Diagram:
         :func:`runtime.voronoi.insertion.insert_site` (parabolas, hyperbolas: NotImplementedError), reached
         through the construction state like :meth:`delete_site`."""
         if self.construction is None:
+            _no_pieces(list(self.sites) + [site], "insertion")
             raise ValueError("this diagram has no construction state (read from JSON, or collinear points?): "
                              "build the diagram of the new list of sites with voronoi(...)")
         return self.construction.insert(self, site, certify=certify)
@@ -332,3 +334,12 @@ def _jsonable(x):
     if isinstance(x, np.ndarray):
         return x.tolist()
     return x
+
+
+def _no_pieces(sites, what) -> None:
+    """Segments and arcs (the diagrams of thesis §2.2) have no local update: NotImplementedError
+    naming the kind."""
+    kinds = sorted({type(s).__name__ for s in sites if type(s).__name__ in ("Segment", "Arc")})
+    if kinds:
+        raise NotImplementedError(f"local {what} with {' and '.join(k.lower() + ' sites' for k in kinds)} is not "
+                                  "implemented: build the diagram of the new list of sites with voronoi(...)")
