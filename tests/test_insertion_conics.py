@@ -225,3 +225,15 @@ def test_site_errors_and_nesting():
     d2 = d.insert(inner)
     assert d2.stats["update"] == "rebuild"
     assert d2.delaunay_edges() == cv.voronoi(sites + [inner], certify=False).delaunay_edges()
+
+
+def test_unsupported_kinds_are_named():
+    d = cv.voronoi([(0, 0, 1), (6, 0, 1), (3, 5, 1)])
+    with pytest.raises(NotImplementedError, match="hyperbola"):
+        d.insert(cv.Conic.hyperbola(centre=(40, 40), axes=(1, 1), rotation=(1, 0)))
+    s = cv.voronoi([cv.Segment((0, 0), (1, 0)), cv.Segment((0, 2), (1, 3)), cv.Segment((3, 0), (4, 1))],
+                   certify=False)
+    with pytest.raises(NotImplementedError, match="segment"):
+        s.insert(cv.Segment((5, 5), (6, 5)))
+    with pytest.raises(NotImplementedError, match="segment"):
+        s.delete_site(0)
