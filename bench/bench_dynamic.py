@@ -236,11 +236,12 @@ def _ellipse_table(results, args) -> list:
              "parts but is never certified. No peer: \"graph = batch\" compares the final Delaunay graph with a batch "
              "build of the final sites.", "",
              "| N | op | first s | median s (CPU) | max s | local / infinity / rebuild | all certified | "
-             "median split (locate / local build / prove) | build s | build certified | graph = batch | peak RSS MB |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "new parts not proved | median split (locate / local build / prove) | build s | build certified | "
+             "graph = batch | peak RSS MB |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rs:
         if "error" in r:
-            lines.append(f"| {r['case']} | error: {r['error']} |" + " |" * 10)
+            lines.append(f"| {r['case']} | error: {r['error']} |" + " |" * 11)
             continue
         for kind in ("insert", "delete (last)", "delete (shift)"):
             rows = [x for x in r["rows"] if x["op"] == kind]
@@ -256,7 +257,7 @@ def _ellipse_table(results, args) -> list:
             lines.append(f"| {r['N']} | {kind} | {_fmt(first)} | {_fmt(statistics.median(x['wall'] for x in rest))} "
                          f"({_fmt(statistics.median(x['cpu'] for x in rest))}) | {_fmt(max(x['wall'] for x in rest))} | "
                          f"{len(hows) - n_inf - n_reb} / {n_inf} / {n_reb} | {all(x['certified'] for x in rows)} | "
-                         f"{split} | {r['build_s']:.1f} | {r['build_certified']} | {r['batch_same_graph']} | "
+                         f"{sum(x['changed'].get('new_unproved', 0) for x in rows)} | {split} | {r['build_s']:.1f} | {r['build_certified']} | {r['batch_same_graph']} | "
                          f"{r['peak_rss_mb']:.0f} |")
     return lines
 

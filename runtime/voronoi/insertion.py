@@ -680,7 +680,9 @@ def _finish(D, st, dyn, res, op, special, certify, t0, ring, renumber, chk):
     out.problems = problems
     out.stats = {"sites": len(sites2), "update": chk["how"], "rings": ring,
                  "changed": {"vertices_removed": len(rm_v), "vertices_new": len(new_vobjs),
-                             "edges_removed": len(rm_e), "edges_new": len(res["new_e"]), "local_sites": len(res["L"])},
+                             "edges_removed": len(rm_e), "edges_new": len(res["new_e"]), "local_sites": len(res["L"]),
+                             "new_unproved": sum(not v.certified for v in new_vobjs)
+                             + sum(not edges[e].certified for e in eid_new)},
                  "seconds": dict(chk.get("seconds", {}), total=round(time.perf_counter() - t0, 6))}
     if op == "delete":
         out.stats["deletion"] = chk["how"]
