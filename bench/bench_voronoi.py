@@ -15,6 +15,9 @@ certify=False; the verifier (runtime.voronoi.verify.certificate) is timed separa
 CPU time per site against N.
 
 Run:  python bench/bench_voronoi.py [--quick]      (writes bench/results/voronoi.md and the PNG)
+      python bench/bench_voronoi.py --circles 10000 30000   (circles only, built and verified)
+Memory: "kB/site above input" is (peak RSS − RSS once the sites are made) / N, after the build
+and (in brackets) after the verification.
 """
 from __future__ import annotations
 
@@ -120,9 +123,11 @@ def run_case(kind: str, n: int, seed: int, verify: bool) -> dict:
     from curvedvoronoi.runtime.voronoi.construction import voronoi
 
     sites = make_sites(kind, n, seed)
+    base = max(resident_mb(), resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
     t0, c0 = time.perf_counter(), time.process_time()
     d = voronoi(sites, certify=False)
     t1, c1 = time.perf_counter(), time.process_time()
+    build_peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     out = {"kind": kind, "n": n, "seconds": t1 - t0, "cpu_seconds": c1 - c0, "vertices": len(d.vertices), "edges": len(d.edges),
            "vertices_certified": sum(v.certified for v in d.vertices),
            "problems": [p for p in d.problems if "certify=False" not in p][:3],
@@ -161,11 +166,27 @@ def run_case(kind: str, n: int, seed: int, verify: bool) -> dict:
         from curvedvoronoi.runtime.voronoi.verify.certificate import verify as verify_fn
 
         t2 = time.perf_counter()
+        c2 = time.process_time()
         cert = verify_fn(d, [d.sites[i] for i in range(len(d.sites))])
         out["verify_seconds"] = time.perf_counter() - t2
+        out["verify_cpu_seconds"] = time.process_time() - c2
         out["verified"] = bool(cert.ok)
     out["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    out["input_rss_mb"] = base
+    out["build_kb_per_site"] = (build_peak - base) * 1024 / n
+    out["peak_kb_per_site"] = (out["peak_rss_mb"] - base) * 1024 / n
     return out
+
+
+def resident_mb() -> float:
+    """Resident set of this process now (Linux /proc; else 0)."""
+    import resource
+
+    try:
+        with open("/proc/self/statm") as fh:
+            return int(fh.read().split()[1]) * resource.getpagesize() / 2 ** 20
+    except OSError:
+        return 0.0
 
 
 def per_site_plot(rows, path):
@@ -197,6 +218,8 @@ def main():
     ap.add_argument("--case", nargs=4, metavar=("KIND", "N", "SEED", "VERIFY"))
     ap.add_argument("--quick", action="store_true", help="small sizes only")
     ap.add_argument("--only", nargs="*", help="run only these kinds (no PNG)")
+    ap.add_argument("--circles", nargs="*", type=int, metavar="N",
+                    help="only random circles of these sizes, built and verified (no PNG)")
     args = ap.parse_args()
     if args.case:
         kind, n, seed, ver = args.case
@@ -216,6 +239,9 @@ def main():
                 ("ellipses-axis", 128, False), ("ellipses-axis", 512, False), ("mixed", 100, True)]
     if args.only:
         plan = [p for p in plan if p[0] in args.only]
+    if args.circles:
+        plan = [("circles", n, True) for n in args.circles]
+        args.only = ["circles"]
     rows = []
     for kind, n, ver in plan:
         seed = 1
@@ -254,12 +280,12 @@ def main():
              "(all rounds); full: exact all-vertex solves of a triple (fallback).",
              "",
              "| sites | N | construction s (wall) | CPU s | CPU µs/site | rounds | samples | vertices (proved) | "
-             "triple solves (full) | verify s | CGAL s | ratio wall (CPU) | Delaunay graph = CGAL | peak RSS MB | "
-             "problems |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "triple solves (full) | verify s (CPU s) | CGAL s | ratio wall (CPU) | Delaunay graph = CGAL | peak RSS MB | "
+             "kB/site above input: build (with verify) | problems |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         if "error" in r:
-            lines.append(f"| {r['kind']} | {r['n']} | error: {r['error']} |||||||||||||")
+            lines.append(f"| {r['kind']} | {r['n']} | error: {r['error']} ||||||||||||||")
             continue
         cg = r.get("cgal_seconds")
         if r["kind"] == "circles-delete":
@@ -271,12 +297,16 @@ def main():
             wall, cpu = r["seconds"], r["cpu_seconds"]
             ratio = f"{wall / cg:.0f}x ({cpu / cg:.0f}x)" if cg else "-"
             per_site = f"{1e6 * cpu / r['n']:.0f}"
+        vcpu = f" ({r['verify_cpu_seconds']:.2f})" if "verify_cpu_seconds" in r else ""
         lines.append(
             f"| {r['kind']} | {r['n']} | {wall:.3f} | {cpu:.3f} | {per_site} | {r['rounds']} | "
             f"{r['samples']} | {r['vertices']} ({r['vertices_certified']}) | "
             f"{r.get('triple_solves', 0)} ({r.get('full_triple_solves', 0)}) | "
-            f"{r.get('verify_seconds', float('nan')):.2f}{' ok' if r.get('verified') else (' not ok' if 'verified' in r else '')} | "
+            f"{r.get('verify_seconds', float('nan')):.2f}"
+            f"{vcpu}"
+            f"{' ok' if r.get('verified') else (' not ok' if 'verified' in r else '')} | "
             f"{cg if cg is None else f'{cg:.4f}'} | {ratio} | {r.get('cgal_same', '-')} | {r['peak_rss_mb']:.0f} | "
+            f"{r.get('build_kb_per_site', float('nan')):.1f} ({r.get('peak_kb_per_site', float('nan')):.1f}) | "
             f"{'; '.join(r['problems']) or '-'} |")
     if not args.only:
         per_site_plot(rows, ROOT / "bench" / "results" / "voronoi_per_site.png")

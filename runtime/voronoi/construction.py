@@ -252,6 +252,7 @@ def _rounds(S, samples, stats, timing, deadline, cache, bar):
             result["timed_out"] = True      # the refinement would start after the time limit
             break
         stats["rounds"] = stats.get("rounds", 0) + 1
+        result = None           # the last round's diagram and walks are not needed by the next
         result, refine = _build_once(S, samples, stats, timing, deadline, cache)
         if bar is not None:
             bar.update(1)

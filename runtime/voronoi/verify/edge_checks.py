@@ -17,7 +17,8 @@ import math
 import numpy as np
 
 from .problems import fault
-from .edges import bisector, params, prove_arcs
+from .arc_search import prove_arcs
+from .edges import bisector, params
 from .exact_edges import SHALLOW, search_with_exact_fallback, tower_points_apart, triple_others, zero_on_arc
 from .exact_vertices import exact_tower_vertex
 from .polyline_bound import hausdorff_bounds
@@ -271,7 +272,12 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
             problems.append(f"{name}: cannot tell which way the edge goes to infinity from its polyline")
             return None
         sigma = 1 if uf > u0 else -1
-        U = u0 + sigma * 1.0
+        # the finite part: an arc of length at most the vertex's distance to its sites (the
+        # tail's bound takes every site at once beyond it; a long finite arc far from the
+        # sites would meet many candidate sites in the disc search)
+        w = v0 if v1 is None else v1
+        r_v = abs(math.hypot(w.x - table.C[i, 0], w.y - table.C[i, 1]) - table.R[i])
+        U = u0 + sigma * min(1.0, max(abs(math.asinh(math.sinh(u0) + sigma * r_v / bis.c) - u0), 1e-3))
         lo, hi = (u0, U) if sigma > 0 else (U, u0)
         tails = [(U, sigma)]
     else:

@@ -14,10 +14,10 @@ distance to a circle is | |q − c| − ρ |, additively weighted points are cir
 
 An edge (i, j) is a parameter interval of this curve.  It is proved free of third sites by
 
-1. **Discs** on finite sub-intervals [u_a, u_b]: the arc lies in the disc of centre q(u_m) and
-   radius R = the larger arc length from q(u_m) to an end (|q'(u)| ≤ c·cosh u for the hyperbola,
-   ≤ A for the ellipse), enlarged by a rounding bound of the float curve.  Every distance
-   function is 1-Lipschitz, so d_k − d_i ≥ lo_k(q_m) − hi_i(q_m) − 2R there; sharper, along the
+1. **Discs** (:mod:`runtime.voronoi.verify.arc_search`) on finite sub-intervals [u_a, u_b]: the
+   arc lies in the disc of centre q(u_m) and radius R = the larger arc length from q(u_m) to an
+   end (|q'(u)| ≤ c·cosh u for the hyperbola, ≤ A for the ellipse), enlarged by a rounding bound
+   of the float curve.  Every distance function is 1-Lipschitz, so d_k − d_i ≥ lo_k(q_m) − hi_i(q_m) − 2R there; sharper, along the
    arc d_k − d_i changes by at most L·(arc length) with L ≥ |∇d_k − ∇d_i| on the disc (for a
    circle the gradient is the unit vector ±(q − c)/|q − c|, which turns by at most R/(|q_m − c| − R)
    on the disc).  Intervals that do not decide are halved (capped depth); a half only re-tests
@@ -42,14 +42,13 @@ safety and the conditioning c/b of b = √(c² − a²)); every bound above is w
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 from scipy.spatial import cKDTree
 
 from ..geometry import rounding_slack
 
-__all__ = ["CircleTable", "Bisector", "bisector", "prove_arcs", "prove_tail", "params"]
+__all__ = ["CircleTable", "Bisector", "bisector", "prove_tail", "params", "EPS", "MAX_DEPTH"]
 
 EPS = 2.0 ** -53
 MAX_DEPTH = 48
@@ -179,7 +178,9 @@ def prove_tail(table: CircleTable, bis: Bisector, U: float, sigma: int, exempt=(
     tauU = math.exp(-sigma * U)
     if not math.isfinite(tauU) or tauU > 1e300:
         return False, (None, None, "tail parameter out of range")
-    ks = np.array([k for k in range(table.n) if k not in (i, j) and k not in set(exempt)], int)
+    others = np.ones(table.n, bool)
+    others[[i, j, *exempt]] = False
+    ks = np.nonzero(others)[0]
     if not len(ks):
         return True, None
     Cr = table.C - bis.m
@@ -260,134 +261,6 @@ def _tail_point(bis: Bisector, tau: float, sigma: int):
         return (math.inf, math.inf)
     u = -sigma * math.log(tau)
     return tuple(float(v) for v in bis.point(np.array([u]))[0])
-
-
-def _slope_bound(table: CircleTable, Q, ks, I, R):
-    """Bound on |∇d_k − ∇d_i| over the discs B(Q, R) (first-order enclosure along the arc): for
-    a circle/point site the gradient of d is the unit vector ±(q − c)/|q − c|, which moves by at
-    most R/(|Q − c| − R) over the disc when the disc stays on one side of the circle; otherwise
-    the Lipschitz constant 2."""
-    out = np.full(len(Q), 2.0)
-    dirs, ok, lip = [], np.ones(len(Q), bool), np.zeros(len(Q))
-    for s in (ks, I):
-        V = Q - table.C[s]
-        nv = np.hypot(V[:, 0], V[:, 1])
-        side = nv - table.R[s]
-        ok &= (np.abs(side) > R * (1 + 1e-9)) & (nv > R * (1 + 1e-9))
-        with np.errstate(divide="ignore", invalid="ignore"):
-            dirs.append(np.sign(side)[:, None] * V / nv[:, None])
-            lip += R / (nv - R)
-    with np.errstate(invalid="ignore"):
-        L = np.hypot(*(dirs[0] - dirs[1]).T) * (1 + 1e-12) + 1e-15 + lip * (1 + 1e-12)
-    return np.where(ok & np.isfinite(L), np.minimum(L, out), out)
-
-
-def prove_arcs(table: CircleTable, jobs, init: int = 8, max_depth: int = MAX_DEPTH, max_pieces: int = 400000,
-               deadline=None):
-    """Prove d_k > d_i (= d_j) on the bisector arc u ∈ [ua, ub] for every site k ∉ {i, j} ∪ exempt,
-    for many edges at once (module docstring, item 1): ``jobs`` is a list of (Bisector, ua, ub,
-    exempt).  Returns a list of (ok, detail) in the order of ``jobs``; detail is None or
-    (site k, (x, y), "closer" | "undecided").  ``max_depth``: halvings of a piece before a site is
-    reported undecided; ``max_pieces``: undecided pieces (all jobs) before giving up; past
-    ``deadline`` (a :func:`time.perf_counter` value) the undecided jobs are reported "time limit"."""
-    nj = len(jobs)
-    out = [(True, None)] * nj
-    if not nj:
-        return out
-    hyp = np.array([b.kind == "hyperbola" for b, *_ in jobs])
-    M0 = np.array([b.m for b, *_ in jobs])
-    EX = np.array([b.ex for b, *_ in jobs])
-    EY = np.array([b.ey for b, *_ in jobs])
-    Aa = np.array([b.a for b, *_ in jobs])
-    Bb = np.array([b.b for b, *_ in jobs])
-    Cc = np.array([b.c for b, *_ in jobs])
-    E0 = np.array([b.err0 for b, *_ in jobs])
-    I = np.array([b.i for b, *_ in jobs])
-    J = np.array([b.j for b, *_ in jobs])
-    X = np.full((nj, max([2] + [len(j[3]) for j in jobs])), -1, int)
-    for t, (_, _, _, ex) in enumerate(jobs):
-        ex = sorted(ex)
-        X[t, :len(ex)] = ex
-    # initial pieces
-    f = np.linspace(0.0, 1.0, init + 1)
-    ua = np.array([j[1] for j in jobs])
-    ub = np.array([j[2] for j in jobs])
-    sa, sb = np.sinh(np.where(hyp, ua, 0.0)), np.sinh(np.where(hyp, ub, 0.0))
-    K = np.where(hyp[:, None], np.arcsinh(sa[:, None] + f[None, :] * (sb - sa)[:, None]),
-                 ua[:, None] + f[None, :] * (ub - ua)[:, None])
-    K[:, 0], K[:, -1] = ua, ub
-    job = np.repeat(np.arange(nj), init)
-    A, B = K[:, :-1].ravel(), K[:, 1:].ravel()
-    alive = np.ones(nj, bool)
-    npieces = 0
-    pp = kk = None          # candidate pairs (piece, site); children inherit only failing pairs
-    for depth in range(max_depth + 1):
-        if not len(job):
-            break
-        if deadline is not None and time.perf_counter() > deadline:
-            for jj in np.unique(job).tolist():       # pieces left: not decided in time
-                if alive[jj]:
-                    alive[jj] = False
-                    out[jj] = (False, (None, None, "time limit"))
-            break
-        npieces += len(job)
-        Mid = 0.5 * (A + B)
-        h = hyp[job]
-        with np.errstate(over="ignore"):
-            Xc = np.where(h, Aa[job] * np.cosh(np.where(h, Mid, 0.0)), Aa[job] * np.cos(Mid))
-            Yc = np.where(h, Bb[job] * np.sinh(np.where(h, Mid, 0.0)), Bb[job] * np.sin(Mid))
-        Q = M0[job] + Xc[:, None] * EX[job] + Yc[:, None] * EY[job]
-        amax = np.maximum(np.abs(A), np.abs(B))
-        with np.errstate(over="ignore"):
-            Rh = Cc[job] * np.maximum(np.sinh(np.where(h, Mid, 0.0)) - np.sinh(np.where(h, A, 0.0)),
-                                      np.sinh(np.where(h, B, 0.0)) - np.sinh(np.where(h, Mid, 0.0)))
-            err = 4 * E0[job] * np.where(h, np.cosh(np.where(h, np.minimum(amax, 700.0), 0.0)), 1.0)
-        Re = np.maximum(Aa[job], Bb[job]) * 0.5 * (B - A)
-        err = err + 16 * EPS * (np.abs(Q).sum(axis=1) + 1.0)          # evaluation of q(u_m)
-        Rarc = np.where(h, Rh, Re) * (1 + 1e-12)
-        R = Rarc + err
-        lo_i, hi_i = table.bounds(Q, I[job])
-        lo_j, hi_j = table.bounds(Q, J[job])
-        hi = np.minimum(hi_i, hi_j)
-        if pp is None:
-            rows, ks = table.near(Q, hi + 2 * R)
-            jr = job[rows]
-            keep = (ks != I[jr]) & (ks != J[jr]) & ~(X[jr] == ks[:, None]).any(axis=1)
-            pp, kk = rows[keep], ks[keep]
-        rows, ks = pp, kk
-        if not len(rows):
-            break
-        lo_k, hi_k = table.bounds(Q[rows], ks)
-        closer = hi_k + R[rows] < np.maximum(lo_i, lo_j)[rows] - R[rows]
-        for t in np.nonzero(closer)[0]:
-            jj = int(job[rows[t]])
-            if alive[jj]:
-                alive[jj] = False
-                out[jj] = (False, (int(ks[t]), tuple(Q[rows[t]]), "closer"))
-        fail = lo_k - hi[rows] - 2 * R[rows] <= 0
-        if fail.any():
-            fr = np.nonzero(fail)[0]
-            slope = _slope_bound(table, Q[rows[fr]], ks[fr], I[job[rows[fr]]], R[rows[fr]])
-            fail[fr] = lo_k[fr] - hi_i[rows[fr]] - slope * Rarc[rows[fr]] - 2 * err[rows[fr]] <= 0
-        fail &= alive[job[rows]]
-        if not fail.any():
-            break
-        pf, kf = rows[fail], ks[fail]
-        bad_pieces, inv = np.unique(pf, return_inverse=True)
-        if depth == max_depth or len(bad_pieces) > max_pieces:
-            for t in range(len(pf)):
-                jj = int(job[pf[t]])
-                if alive[jj]:
-                    alive[jj] = False
-                    out[jj] = (False, (int(kf[t]), tuple(Q[pf[t]]), "undecided"))
-            break
-        nb = len(bad_pieces)
-        job = np.concatenate([job[bad_pieces], job[bad_pieces]])
-        A, B = np.concatenate([A[bad_pieces], Mid[bad_pieces]]), np.concatenate([Mid[bad_pieces], B[bad_pieces]])
-        pp = np.concatenate([inv, inv + nb])
-        kk = np.concatenate([kf, kf])
-    prove_arcs.last_pieces = npieces
-    return out
 
 
 def params(biss, idx, P):

@@ -29,7 +29,8 @@ import math
 from fractions import Fraction
 
 from .problems import fault
-from .edges import prove_arcs, prove_tail
+from .arc_search import prove_arcs
+from .edges import prove_tail
 from .exact_vertices import exact_tower_vertex
 
 __all__ = ["point_edge_clear", "circle_edge_clear", "branch_order", "circumcentre", "triple_others",
@@ -281,7 +282,7 @@ def search_with_exact_fallback(table, geoms, vinfo, e, pair, bis, lo, hi, exempt
     (result ``ok, det``): the tails, then, while a site stays undecided, the exact route
     (:func:`exact_third_site_clear`: the site is proved farther and the search repeated without
     it), else one full-depth float search.  Returns (ok, detail) as
-    :func:`runtime.voronoi.verify.edges.prove_arcs`."""
+    :func:`runtime.voronoi.verify.arc_search.prove_arcs`."""
     deep = False
     while True:
         if ok:

@@ -73,9 +73,22 @@ def hausdorff_bound(bis, P, closed=False):
     return float(hausdorff_bounds([bis], [P])[0]), None
 
 
+#: edges bounded together (the temporaries of a group take O(its points) memory)
+GROUP = 2048
+
+
 def hausdorff_bounds(biss, polys):
     """:func:`hausdorff_bound` of many edges at once (array of bounds; inf for a polyline of fewer
-    than two points)."""
+    than two points), in groups of :data:`GROUP` edges."""
+    polys = list(polys)
+    if len(polys) <= GROUP:
+        return _group_bounds(biss, polys)
+    return np.concatenate([_group_bounds(biss[s:s + GROUP], polys[s:s + GROUP])
+                           for s in range(0, len(polys), GROUP)])
+
+
+def _group_bounds(biss, polys):
+    """:func:`hausdorff_bounds` of one group of edges."""
     polys = [np.asarray(P, float).reshape(-1, 2) for P in polys]
     lens = np.array([len(P) for P in polys], int)
     out = np.full(len(polys), math.inf)
