@@ -1,0 +1,67 @@
+"""The disc search over long bisector arcs (runtime/voronoi/verify/arc_search.py), against distances
+computed directly.
+
+Circles of radius 5 centred at (±10, 0) have the line x = 0 as bisector, y = 10·sinh u, and
+d_i = √(100 + y²) − 5 on it.  A point site at (0, 3) is nearer exactly for y ∈ (−9/4, 24)
+(|y − 3| < √(100 + y²) − 5), a bounded stretch in the middle of the arc y ∈ [−3, 1000]: the
+search halves that arc's long pieces before it lists their candidate sites, and a search that
+dropped any part of the arc could miss the stretch.  A point at (0, −30) is farther on the whole
+arc (y + 30 > |y| + 5 ≥ d_i)."""
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+from curvedvoronoi.runtime.predicates.circles import Circle, Point
+from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+from curvedvoronoi.runtime.voronoi.verify import arc_search
+from curvedvoronoi.runtime.voronoi.verify.arc_search import prove_arcs
+from curvedvoronoi.runtime.voronoi.verify.edges import CircleTable, bisector
+
+
+def _table(py):
+    sites = [Circle(-10, 0, 25), Circle(10, 0, 25), Point(0, Fraction(py))]
+    return CircleTable([site_geometry(s) for s in sites])
+
+
+def _d_circle(y):
+    return math.hypot(10.0, y) - 5.0
+
+
+def _job(table, y0, y1=1000.0):
+    bis = bisector(table, 0, 1)
+    assert bis.kind == "hyperbola" and bis.a == 0 and bis.b == 10     # the line x = 0
+    return (bis, math.asinh(y0 / 10), math.asinh(y1 / 10), ())
+
+
+def test_a_nearer_point_in_the_middle_of_a_long_arc_is_found():
+    table = _table(3)
+    ok, (k, q, why) = prove_arcs(table, [_job(table, -3.0)])[0]
+    assert not ok and k == 2 and why == "closer"
+    # the reported point is on the line, in the stretch where the point site is nearer
+    assert abs(q[0]) < 1e-9 and -2.25 < q[1] < 24
+    assert math.hypot(q[0], q[1] - 3) < _d_circle(q[1])
+
+
+def test_the_arc_is_proved_when_the_point_is_farther_everywhere():
+    table = _table(-30)
+    assert prove_arcs(table, [_job(table, -3.0)]) == [(True, None)]
+
+
+@pytest.mark.parametrize("pairs, batch", [(3, 7), (50, 2), (1 << 16, 4096)])
+def test_verdicts_match_direct_distances_whatever_the_groups(monkeypatch, pairs, batch):
+    """Arcs y ∈ [y0, 1000]: not proved exactly when y0 < 24 (direct distances on a fine grid
+    agree), however the jobs and the (piece, candidate) pairs are grouped."""
+    table = _table(3)
+    starts = [-3.0, -1.0, 0.0, 5.0, 10.0, 20.0, 23.0, 25.0, 30.0, 40.0, 100.0, 500.0]
+    ys = [np.linspace(y0, 1000.0, 200001) for y0 in starts]
+    direct = [bool(np.all(np.abs(y - 3) > np.hypot(10.0, y) - 5.0)) for y in ys]
+    assert direct == [y0 >= 24 for y0 in starts]
+    monkeypatch.setattr(arc_search, "PAIRS", pairs)
+    monkeypatch.setattr(arc_search, "BATCH", batch)
+    res = prove_arcs(table, [_job(table, y0) for y0 in starts])
+    assert [ok for ok, _ in res] == direct
+    assert all(det[2] == "closer" and det[0] == 2 for ok, det in res if not ok)
