@@ -5,11 +5,12 @@ worker processes.
 Scene: random disjoint circles of tests/scenes.py (``random_disjoint_circles(n, 1)``).  Each row
 runs in a fresh Python process (so peak RSS is the row's own) and builds the certified diagram:
 ``voronoi(certify=True)`` or ``tiled_voronoi(certify=True)``.  Certificate seconds: the
-verifier's time (``stats["seconds"]["verify"]``, in the driver process, serial in every row;
-with the rebuilds it drives, the sum of its runs); construction seconds: the rest of the wall
-time (tiles, stitch, refinement rebuilds).  Also the driver's and the largest worker's peak RSS,
-the number of tiles, halo growths and tiles the verifier sent back, and whether the Delaunay
-graph equals the one-process graph.  LocalCluster start-up is not counted (it is reported apart).
+verifier's time (``stats["seconds"]["verify"]``; with the rebuilds it drives, the sum of its
+runs), in the driver process or, on a cluster, in chunks on the workers (column "route");
+construction seconds: the rest of the wall time (tiles, stitch, refinement rebuilds).  Also the
+driver's and the largest worker's peak RSS, the number of tiles, halo growths, and whether the
+Delaunay graph equals the one-process graph.  LocalCluster start-up is not counted (it is
+reported apart).
 
 Run:  python bench/bench_scale.py [--sizes 10000,100000] [--modes single,tiled,cluster1,cluster2]
 (writes bench/results/scale.md).  One BLAS thread (OPENBLAS_NUM_THREADS=1 and threadpoolctl inside
@@ -67,6 +68,7 @@ def one(mode: str, n: int) -> dict:
         info = d.stats["tiling"]
         out["tiles"], out["growths"], out["rim_sites"] = info.get("tiles"), info.get("halo_growths"), info.get("rim_sites")
         out["refined"] = info.get("refined_by_verifier")
+        out["route"] = info.get("certificate", "whole")
     total = time.perf_counter() - t
     out["certificate"] = float(d.stats["seconds"].get("verify", 0.0))
     out["construction"] = total - out["certificate"]
@@ -112,10 +114,11 @@ def main() -> None:
              f"{load0[0]:.2f} before, {load1[0]:.2f} after.  One BLAS thread; LocalCluster(processes=True, "
              "threads_per_worker=1); every row in a fresh process; scene `random_disjoint_circles(n, 1)`.",
              "Rows: `voronoi(certify=True)` or `tiled_voronoi(certify=True)`; certificate s = the verifier's time "
-             "(driver process, serial in every row); construction s = the rest of the wall time.", "",
+             "(route `whole`: in the driver process; `chunks`: vertex and edge proofs on the workers, closure here); "
+             "construction s = the rest of the wall time.", "",
              "| n | mode | tiles | halo growths | rim sites | construction s | vs one process | certificate s | "
-             "certified | same graph | driver RSS MB | worker RSS MB | cluster start s |",
-             "|---:|---|---:|---:|---:|---:|---:|---:|---|---|---:|---:|---:|"]
+             "certificate route | certified | same graph | driver RSS MB | worker RSS MB | cluster start s |",
+             "|---:|---|---:|---:|---:|---:|---:|---:|---|---|---|---:|---:|---:|"]
     for r in rows:
         if "error" in r:
             lines.append(f"| {r['n']} | {r['mode']} | error: {r['error']} |" + " |" * 10)
@@ -125,12 +128,12 @@ def main() -> None:
         same = ("yes" if r["graph"] == b["graph"] else "NO") if b else "-"
         lines.append(f"| {r['n']} | {r['mode']} | {r.get('tiles', 1)} | {r.get('growths', '-')} | "
                      f"{r.get('rim_sites') or '-'} | {r['construction']:.1f} | {ratio} | {r['certificate']:.1f} | "
-                     f"{'yes' if r['certified'] else 'no'} | {same} | {r['rss_driver']:.0f} | "
+                     f"{r.get('route', 'whole')} | {'yes' if r['certified'] else 'no'} | {same} | {r['rss_driver']:.0f} | "
                      f"{r['rss_worker']:.0f} | {r['startup']:.1f} |".replace("| None |", "| - |")
                      if "rss_worker" in r else
                      f"| {r['n']} | {r['mode']} | {r.get('tiles', 1)} | {r.get('growths', '-')} | "
                      f"{r.get('rim_sites') or '-'} | {r['construction']:.1f} | {ratio} | {r['certificate']:.1f} | "
-                     f"{'yes' if r['certified'] else 'no'} | {same} | {r['rss_driver']:.0f} | - | - |")
+                     f"{r.get('route', 'whole')} | {'yes' if r['certified'] else 'no'} | {same} | {r['rss_driver']:.0f} | - | - |")
     Path(a.out).write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
 
