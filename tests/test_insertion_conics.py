@@ -237,3 +237,29 @@ def test_unsupported_kinds_are_named():
         s.insert(cv.Segment((5, 5), (6, 5)))
     with pytest.raises(NotImplementedError, match="segment"):
         s.delete_site(0)
+
+
+def test_cell_radius_bounds_every_dominated_point():
+    # brute force: every grid point at least as near to disc i as to each disc of T (the bounds
+    # |q − c| − R ≤ d ≤ |q − c| + R) lies within the returned radius; open sides give None
+    from curvedvoronoi.runtime.voronoi.conflict import cell_radius
+
+    rng = np.random.default_rng(8)
+    for _ in range(20):
+        C = rng.uniform(-10, 10, (14, 2))
+        R = rng.uniform(0.1, 1.0, 14)
+        C[0] = (0.0, 0.0)
+        keep = [0] + [k for k in range(1, 14) if np.hypot(*C[k]) > R[0] + R[k] + 0.05]
+        C, R = C[keep], R[keep]
+        T = list(range(1, len(C)))
+        rho = cell_radius(C, R, 0, T)
+        g = np.linspace(-60, 60, 601)
+        X, Y = np.meshgrid(g, g)
+        Q = np.stack([X.ravel(), Y.ravel()], 1)
+        lhs = np.hypot(*Q.T) - R[0]
+        dom = np.all(lhs[:, None] <= np.hypot(Q[:, None, 0] - C[T, 0], Q[:, None, 1] - C[T, 1]) + R[T], axis=1)
+        if rho is None:
+            continue
+        assert np.hypot(*Q[dom].T).max() <= rho
+    # discs on one side only: the region is unbounded
+    assert cell_radius(np.array([[0.0, 0.0], [5.0, 0.0], [5.0, 3.0]]), np.array([1.0, 1.0, 1.0]), 0, [1, 2]) is None

@@ -21,7 +21,12 @@ the test at infinity: a disc strictly inside the convex hull of points (for a si
 and a bounding radius: h_s(θ) ≤ c_s·e(θ) + R_s < max_k c_k·e(θ) ≤ max_k h_k(θ), the centre of a
 convex site lying in it).
 
-Public API: :func:`site_disc`, :func:`nearest_old_sites`, :func:`outside`, :func:`disc_inside`.
+:func:`cell_radius` bounds a Voronoi region from bounding discs alone: the proofs of an update
+with ellipses need the sites that can reach a new edge's arc, and the arc lies in the regions of
+its two sites.
+
+Public API: :func:`site_disc`, :func:`nearest_old_sites`, :func:`outside`, :func:`disc_inside`,
+:func:`cell_radius`.
 """
 from __future__ import annotations
 
@@ -30,7 +35,7 @@ import numpy as np
 from .geometry import rounding_slack
 from .verify.vertices import VERTEX_TOL
 
-__all__ = ["site_disc", "nearest_old_sites", "outside", "disc_inside", "LOCAL_KINDS"]
+__all__ = ["site_disc", "nearest_old_sites", "outside", "disc_inside", "cell_radius", "LOCAL_KINDS"]
 
 EPS = 2.0 ** -53
 #: the site kinds a diagram can be edited locally with (bounded convex sites)
@@ -109,6 +114,35 @@ def outside(verts, ids, g):
     else:
         lo, _ = g.distance_bounds(P)
     return lo - tol > r + tol + rounding_slack(r)
+
+
+def cell_radius(C, R, i, T, sectors: int = 64):
+    """A radius ρ such that every point q with |q − c_i| − R_i ≤ |q − c_k| + R_k for all k in T
+    lies within ρ of c_i (C, R: centres and radii of discs containing the sites), or None when
+    the discs T do not surround disc i.  Since d(q, S_i) ≥ |q − c_i| − R_i and
+    d(q, S_k) ≤ |q − c_k| + R_k, every point of the plane at least as near to site i as to each
+    site of T — every point of i's Voronoi region among any sites including T — lies within ρ.
+
+    For q = c_i + t·u (|u| = 1), w = c_k − c_i, s = R_i + R_k: when u·w > s, the inequality fails
+    for t > (|w|² − s²) / (2 (u·w − s)) (square t − s > |t·u − w|).  Over a sector of directions
+    of angle Δ around u_m, u·w ≥ u_m·w − |w|·Δ/2 (|u − u_m| ≤ Δ/2); ρ is the largest over the
+    sectors of the smallest such bound over T (rounding: relative margins of 1e-9 and 1e-6)."""
+    T = np.asarray(T, dtype=int)
+    if not len(T):
+        return None
+    W = np.asarray(C, float)[T] - np.asarray(C, float)[i]
+    s = np.asarray(R, float)[T] + float(R[i])
+    nw = np.hypot(W[:, 0], W[:, 1])
+    th = (np.arange(sectors) + 0.5) * (2 * np.pi / sectors)
+    U = np.column_stack([np.cos(th), np.sin(th)])
+    lb = U @ W.T - nw[None, :] * (np.pi / sectors) - 1e-9 * (nw[None, :] + s[None, :] + 1.0)
+    gap = lb - s[None, :] * (1 + 1e-9)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tb = np.where(gap > 0, (nw ** 2 - s ** 2)[None, :] / (2 * gap), np.inf)
+    per = tb.min(axis=1)
+    if not np.isfinite(per).all():
+        return None
+    return float(per.max()) * (1 + 1e-6) + 1e-9 * (float(np.abs(W).max()) + 1.0)
 
 
 def disc_inside(P, c, r) -> bool:

@@ -116,7 +116,7 @@ from .sampling import Samples, initial_spacing
 from .site_arrays import SiteArrays
 from .geometry import rounding_slack
 from ..sites.intersection import sites_intersect
-from .conflict import LOCAL_KINDS, disc_inside, nearest_old_sites, outside, site_disc
+from .conflict import LOCAL_KINDS, cell_radius, disc_inside, nearest_old_sites, outside, site_disc
 from .site_input import SiteError, as_site, check_disjoint, sites_equal
 from .verify.edge_checks import check_edges
 from .verify.edges import CircleTable
@@ -815,7 +815,10 @@ def _prove_sub(D, dyn, pv, pe, vert, op, special, new_index, problems, flags_v, 
         return True
     V = [vert(v) for v in vids]
     if dyn.ellipses:
-        return _prove_all_sites(D, dyn, V, pe, op, special, problems, flags_v, flags_e)
+        near = _conic_reach(dyn, V, pe, op, special)
+        if near is None:
+            return _prove_all_sites(D, dyn, V, pe, op, special, problems, flags_v, flags_e)
+        return _prove_among(D, dyn, V, pe, near, op, special, new_index, problems, flags_v, flags_e)
     X0 = np.mean([[v.x, v.y] for v in V], axis=0)
     M = 0.0
     for w in V:
@@ -830,7 +833,52 @@ def _prove_sub(D, dyn, pv, pe, vert, op, special, new_index, problems, flags_v, 
         seg = float(np.hypot(*np.diff(P, axis=0).T).max()) if len(P) > 1 else 0.0
         M = max(M, float((np.hypot(*(P - X0).T) + d_i).max()) + 2 * (e.tolerance + seg))
     M = M * (1 + 1e-9) + 1e-9 * float(np.abs(X0).sum() + 1)
-    near = dyn.near(X0, M + dyn.rmax)
+    return _prove_among(D, dyn, V, pe, dyn.near(X0, M + dyn.rmax), op, special, new_index, problems, flags_v,
+                        flags_e)
+
+
+def _conic_reach(dyn, V, pe, op, special):
+    """With an ellipse among the sites: the old indices of every site that can reach the vertices
+    ``V`` or the arcs of the bounded edges ``pe`` (module docstring, ellipses), or None when a
+    site of an edge is not surrounded (:func:`runtime.voronoi.conflict.cell_radius`)."""
+    out: set = set()
+    for w in V:
+        rad = w.radius + 4 * VERTEX_TOL * (1 + abs(w.x) + abs(w.y) + w.radius)
+        out.update(dyn.near((w.x, w.y), rad * (1 + 1e-9) + dyn.rmax))
+    for e in pe:
+        best = None
+        for t in e.sites:
+            o = _old(t, op, special, dyn)
+            T = _surrounding(dyn, o, op, special)
+            rho = cell_radius(dyn.C, dyn.R, o, T)
+            if rho is not None and (best is None or 2 * rho + dyn.R[o] < best[0]):
+                best = (2 * rho + dyn.R[o], o, T)
+        if best is None:
+            return None
+        reach, o, T = best
+        out.update(T)
+        out.update(dyn.near(dyn.C[o], reach * (1 + 1e-9) + dyn.rmax))
+    if op == "delete":
+        out.discard(special)
+    return out
+
+
+def _surrounding(dyn, o, op, special, k=24):
+    """The old sites with the k centres nearest to site o's (and those added since the k-d tree
+    was built), without o and a deleted site."""
+    n = len(dyn.slot)
+    _, idx = dyn.tree.query(dyn.C[o], k=min(k, n))
+    got = {int(dyn.slot[t]) for t in np.atleast_1d(idx) if 0 <= t < n and dyn.slot[t] >= 0}
+    got.update(dyn.extra)
+    got.discard(o)
+    if op == "delete":
+        got.discard(special)
+    return sorted(got)
+
+
+def _prove_among(D, dyn, V, pe, near, op, special, new_index, problems, flags_v, flags_e) -> bool:
+    """Prove the vertices ``V`` and the bounded edges ``pe`` with the verifier's routines against
+    the sites ``near`` (old indices, every site that can reach them) and their own sites."""
     Lp = {new_index(t) for t in near if not (op == "delete" and t == special)}
     Lp = sorted(Lp | {t for v in V for t in v.sites})
     pos = {g: t for t, g in enumerate(Lp)}
@@ -838,7 +886,7 @@ def _prove_sub(D, dyn, pv, pe, vert, op, special, new_index, problems, flags_v, 
     sub_e = [dataclasses.replace(e, sites=tuple(sorted(pos[t] for t in e.sites))) for e in pe]
     geoms = [dyn.geoms[_old(g, op, special, dyn)] for g in Lp]
     sub = dataclasses.replace(D, sites=[g.exact for g in geoms], vertices=sub_v, edges=sub_e, construction=None)
-    table = CircleTable(geoms)
+    table = CircleTable(geoms) if all(g.kind in ("point", "circle") for g in geoms) else None
     local: list = []
     vinfo, vok = prove_vertices(sub, sub.sites, geoms, table, local)
     eok, _, _ = check_edges(sub, geoms, table, vinfo, vok, local, {}) if sub_e else ([], None, None)
