@@ -15,7 +15,7 @@ certify=False; the verifier (runtime.voronoi.verify.certificate) is timed separa
 CPU time per site against N.
 
 Run:  python bench/bench_voronoi.py [--quick]      (writes bench/results/voronoi.md and the PNG)
-      python bench/bench_voronoi.py --circles 10000 30000   (circles only, built and verified)
+      python bench/bench_voronoi.py --circles 10000 30000 [--seed 0]   (circles only, built and verified)
 Memory: "kB/site above input" is (peak RSS − RSS once the sites are made) / N, after the build
 and (in brackets) after the verification.
 """
@@ -220,6 +220,7 @@ def main():
     ap.add_argument("--only", nargs="*", help="run only these kinds (no PNG)")
     ap.add_argument("--circles", nargs="*", type=int, metavar="N",
                     help="only random circles of these sizes, built and verified (no PNG)")
+    ap.add_argument("--seed", type=int, default=1, help="seed of the random scenes (default 1)")
     args = ap.parse_args()
     if args.case:
         kind, n, seed, ver = args.case
@@ -244,7 +245,7 @@ def main():
         args.only = ["circles"]
     rows = []
     for kind, n, ver in plan:
-        seed = 1
+        seed = args.seed
         res = subprocess.run([sys.executable, __file__, "--case", kind, str(n), str(seed), "1" if ver else "0"],
                              capture_output=True, text=True, env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
         if res.returncode != 0:
@@ -264,7 +265,7 @@ def main():
                 r["cgal_same"] = str(exc)
         rows.append(r)
         print(kind, n, {k: v for k, v in r.items() if k != "delaunay_edges"}, file=sys.stderr)
-    lines = [f"## bench_voronoi {time.strftime('%Y-%m-%d %H:%M')}  OPENBLAS_NUM_THREADS=1  "
+    lines = [f"## bench_voronoi {time.strftime('%Y-%m-%d %H:%M')}  seed={args.seed}  OPENBLAS_NUM_THREADS=1  "
              f"threadpools={rows[0].get('threadpools')}  cpus={os.cpu_count()}  load={os.getloadavg()[0]:.1f}",
              "",
              "Construction = `voronoi(sites, certify=False)` (sampling, qhull Delaunay with local Bowyer–Watson "

@@ -17,9 +17,10 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 N = 5000
-#: kB per circle above the footprint with the input: build, then verification (measured 2026-11-27:
-#: about 20 kB at 5 000 and 10 000 circles, both stages)
-BOUND_KB = 45
+#: kB per circle above the footprint with the input: build, then build and verification (measured
+#: 2026-11-27 at 5 000 circles: about 21 and 41 kB; at 10 000: 19–22 and 34–38 kB; before the
+#: verifier searched in bounded groups: 36 and 116 kB at 10 000)
+BOUND_KB = 64
 
 PROBE = r"""
 import json, resource, sys
