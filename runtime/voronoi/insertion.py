@@ -83,20 +83,28 @@ diagram.
 Voronoi diagram: kept vertices and edges keep their proofs, the new site's region is connected.
 The new vertices (:mod:`runtime.voronoi.verify.conic_vertices`, else the foot-point proof) and
 edges (the chains of strips of :mod:`runtime.voronoi.verify.curved`) are proved by the
-verifier's routines against **all** sites rather than the sites within reach: the strips around
-an arc are the verifier's own, so no reach radius is derived from the polyline (the site table is
-built once per update, vectorised numpy, O(N) with a small constant).  At infinity the disc test
-uses the bounding discs (h_s(θ) ≤ c_s·e(θ) + a_s, the centre of every site lying in it) and the
-accounting is :func:`runtime.voronoi.verify.closure.verify_accounting_conics`.  Nesting of an
-ellipse is decided exactly (:func:`runtime.voronoi.conic_geometry.site_inside`) and rebuilds.
+verifier's routines against every site that can reach them.  The reach of an arc is not read
+from its polyline (for conics the verifier bounds the polyline's distance to the bisector, not
+the arc's distance to the polyline) but from the regions: every point q of the open arc of an
+edge (i, j), proved against a set of sites containing T (the 24 sites nearest to i), satisfies
+d_i(q) ≤ d_k(q) for k ∈ T, hence |q − c_i| − R_i ≤ |q − c_k| + R_k (bounding discs), and
+:func:`runtime.voronoi.conflict.cell_radius` gives ρ with |q − c_i| ≤ ρ on that set.  Then
+r(q) = d_i(q) ≤ ρ + R_i, and a site whose disc stays farther than 2ρ + R_i from c_i cannot
+enter the empty circle of any point of the arc: the verifier is handed T and the sites within
+that reach of the better of the edge's two sites, and the sites within r_v of each vertex.  When
+neither site of an edge is surrounded by its T (a site on the hull), all sites are used.  At
+infinity the disc test uses the bounding discs (h_s(θ) ≤ c_s·e(θ) + R_s, the centre of every
+site lying in it) and the accounting is
+:func:`runtime.voronoi.verify.closure.verify_accounting_conics`.  Nesting of an ellipse is
+decided exactly (:func:`runtime.voronoi.conic_geometry.site_inside`) and rebuilds.
 
 The adjacency (vertices and edges of each site, edges of each vertex, the k-d tree) is kept in a
-:class:`DynamicState` that **moves** to the result: a chain of updates costs what changes, the
-first update of a diagram builds it once (O(N)).  Vertex and edge ids stay positions: a removed
+:class:`runtime.voronoi.adjacency.DynamicState` that **moves** to the result: a chain of updates
+costs what changes, the first update of a diagram builds it once (O(N)).  Vertex and edge ids stay positions: a removed
 one's slot takes a new one or the last one.  The new site gets index N (the last).
 
 Public API: :func:`insert_site`, :func:`insert_many`, :func:`delete_local`, :func:`local_update`,
-:class:`DynamicState`, :class:`LocalState`.
+:func:`local_diagram`, :class:`LocalState`.
 
 Length: one argument (locate, splice, prove) shared by insertion and deletion; splitting the splice
 from its soundness proof would separate the code from the docstring that justifies it.
@@ -114,17 +122,16 @@ from .collinear_points import collinear
 from .conic_geometry import site_geometry, site_inside
 from .sampling import Samples, initial_spacing
 from .site_arrays import SiteArrays
-from .geometry import rounding_slack
 from ..sites.intersection import sites_intersect
+from .adjacency import dynamic_state
 from .conflict import LOCAL_KINDS, cell_radius, disc_inside, nearest_old_sites, outside, site_disc
 from .site_input import SiteError, as_site, check_disjoint, sites_equal
 from .verify.edge_checks import check_edges
 from .verify.edges import CircleTable
 from .verify.vertices import VERTEX_TOL, prove_vertices
 
-__all__ = ["insert_site", "insert_many", "delete_local", "local_update", "local_diagram", "DynamicState", "LocalState"]
+__all__ = ["insert_site", "insert_many", "delete_local", "local_update", "local_diagram", "LocalState"]
 
-EPS = 2.0 ** -53
 #: coordinates beyond this are built in a local frame by the construction: such scenes are rebuilt
 FAR = 1e6
 #: the local diagram of an update is built where its sites are when their centre is within this
@@ -135,119 +142,15 @@ LOCAL_FRAME = 1024.0
 
 class LocalState:
     """The construction state of a diagram made by a local update: the entry points (``scratch``:
-    :func:`runtime.voronoi.construction.voronoi`, ``delete``) and the :class:`DynamicState`.  It has
-    no sample triangulation (``samples`` is None): a deletion that cannot be local rebuilds."""
+    :func:`runtime.voronoi.construction.voronoi`, ``build``, ``delete``) and the
+    :class:`runtime.voronoi.adjacency.DynamicState`.  It has no sample triangulation (``samples``
+    is None): a deletion that cannot be local rebuilds."""
 
     samples = None
 
     def __init__(self, scratch, delete, dynamic, build):
         self.scratch, self.delete, self.dynamic, self.build = scratch, delete, dynamic, build
         self.insert = insert_site
-
-
-class DynamicState:
-    """Adjacency of a diagram of point, circle and ellipse sites: per site its vertex ids and edge
-    ids, per vertex its edge ids, the sites' bounding discs (:func:`runtime.voronoi.conflict.site_disc`:
-    float centres ``C`` and radii ``R``, a circle's own) with a k-d tree over the centres (sites
-    added since it was built are scanned linearly until it is rebuilt); the proofs differ when an ellipse is
-    among the sites (``ellipses`` counts them)."""
-
-    def __init__(self, D):
-        n = len(D.sites)
-        # the construction's own geometries, when it has them in the user's frame (a far scene is
-        # built in a translated frame: its geometries are not the sites')
-        S = getattr(D.construction, "S", None)
-        geoms = getattr(S, "geoms", None) if "frame" not in D.stats else None
-        self.geoms = list(geoms) if geoms is not None and len(geoms) == n else [site_geometry(s) for s in D.sites]
-        self.unsupported = next((g.kind for g in self.geoms if g.kind not in LOCAL_KINDS), None)
-        self.ids_ok = all(v.id == t for t, v in enumerate(D.vertices)) and all(e.id == t for t, e in enumerate(D.edges))
-        if self.unsupported:
-            return
-        discs = [site_disc(g) for g in self.geoms]
-        self.C = np.array([c for c, _ in discs], float).reshape(-1, 2)
-        self.R = np.array([r for _, r in discs], float)
-        self.ellipses = sum(g.kind == "ellipse" for g in self.geoms)
-        self.site_v = [set() for _ in range(n)]
-        self.site_e = [set() for _ in range(n)]
-        self.v_e = [[] for _ in D.vertices]
-        for v in D.vertices:
-            for s in v.sites:
-                self.site_v[s].add(v.id)
-        self.closed = 0
-        self.unbounded = {e.id for e in D.edges if None in e.ends}
-        self.renumber = "shift"
-        for e in D.edges:
-            self.closed += bool(e.closed)
-            for s in e.sites:
-                self.site_e[s].add(e.id)
-            for w in e.ends:
-                if w is not None:
-                    self.v_e[w].append(e.id)
-        self._rebuild_tree()
-
-    def _rebuild_tree(self):
-        n = len(self.C)
-        self.tree = cKDTree(self.C) if n else None
-        self.slot = np.arange(n)            # tree slot -> site index (-1: deleted)
-        self.extra: list[int] = []          # sites added since
-        self.rmax = float(self.R.max()) if n else 0.0
-
-    def near(self, X, radius):
-        """Site indices whose centre lies within ``radius`` of X (a superset is fine)."""
-        out = []
-        if self.tree is not None:
-            got = self.slot[np.asarray(self.tree.query_ball_point(X, radius * (1 + 1e-12)), dtype=int)]
-            out = got[got >= 0].tolist()
-        for k in self.extra:
-            if math.hypot(self.C[k, 0] - X[0], self.C[k, 1] - X[1]) <= radius * (1 + 1e-12):
-                out.append(k)
-        return sorted(set(out))
-
-    def add_site(self, site, g):
-        self.geoms.append(g)
-        c, r = site_disc(g)
-        self.C = np.vstack([self.C, c])
-        self.R = np.append(self.R, r)
-        self.ellipses += g.kind == "ellipse"
-        self.rmax = max(self.rmax, float(self.R[-1]))
-        self.site_v.append(set())
-        self.site_e.append(set())
-        self.extra.append(len(self.C) - 1)
-        if len(self.extra) > 64 + 2 * math.sqrt(len(self.C)):
-            self._rebuild_tree()
-
-    def remove_site(self, i, renumber):
-        """Drop site i: ``renumber="shift"`` (j > i becomes j − 1) or ``"last"`` (site N − 1
-        becomes i)."""
-        n = len(self.C)
-        self.ellipses -= self.geoms[i].kind == "ellipse"
-        if renumber == "last" and i != n - 1:
-            last = n - 1
-            self.C[i], self.R[i] = self.C[last], self.R[last]
-            self.geoms[i] = self.geoms[last]
-            self.site_v[i], self.site_e[i] = self.site_v[last], self.site_e[last]
-            self.slot[self.slot == i] = -1
-            self.slot[self.slot == last] = i
-            self.extra = [i if k == last else k for k in self.extra if k != i]
-            i = last
-        else:
-            self.slot[self.slot == i] = -1
-            self.slot[self.slot > i] -= 1
-            self.extra = [k - (k > i) for k in self.extra if k != i]
-        self.C = np.delete(self.C, i, axis=0)
-        self.R = np.delete(self.R, i)
-        del self.geoms[i], self.site_v[i], self.site_e[i]
-
-
-def dynamic_state(D):
-    """The diagram's :class:`DynamicState`, built on first use; taken away from ``D``'s
-    construction state (it moves to the updated diagram)."""
-    st = D.construction
-    dyn = getattr(st, "dynamic", None)
-    if dyn is None or len(dyn.C if not dyn.unsupported else dyn.geoms) != len(D.sites):
-        dyn = DynamicState(D)
-    st.dynamic = None
-    return dyn
 
 
 # ============================================================================ insertion
@@ -900,10 +803,10 @@ def _prove_among(D, dyn, V, pe, near, op, special, new_index, problems, flags_v,
 
 
 def _prove_all_sites(D, dyn, V, pe, op, special, problems, flags_v, flags_e) -> bool:
-    """Step 3 with an ellipse among the sites: the new vertices and edges proved by the verifier's
-    routines against **all** sites (its vertex proofs and chains of strips,
-    :mod:`runtime.voronoi.verify.curved`, exclude the far sites themselves: no reach bound is
-    needed, and the strips around an arc are not known outside the verifier)."""
+    """Step 3 with an ellipse among the sites when a site of a new edge is not surrounded: the new
+    vertices and edges proved by the verifier's routines against **all** sites (its vertex proofs
+    and chains of strips, :mod:`runtime.voronoi.verify.curved`, exclude the far sites themselves;
+    O(N) set-up)."""
     _, _, G = _new_numbering(dyn, op, special, dyn.renumber)
     sub = dataclasses.replace(D, sites=[g.exact for g in G], vertices=V, edges=list(pe), construction=None)
     local: list = []
