@@ -194,7 +194,7 @@ def test_scenes_the_tiling_does_not_cover_are_built_in_one_process():
 @pytest.mark.slow
 def test_twenty_thousand_circles_on_two_workers_equal_one_process_and_cgal(cgal_peer_program):
     distributed = pytest.importorskip("distributed")
-    sites = clustered_circles(20000, 31)
+    sites = clustered_circles(20000, 31, cluster=0.1)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster, distributed.Client(cluster) as client:
         d = tiled_voronoi(sites, client=client, sites_per_tile=2500, progress=False)
