@@ -231,7 +231,7 @@ def _ellipse_table(results, args) -> list:
         return []
     lines = ["", f"Random disjoint ellipses (tests/scenes.random_ellipses): batch build of N, then K = {args.ellipse_k} "
              "insertions, K deletions with renumber=\"last\", K with \"shift\", each with certify=True (the changed "
-             "part proved by the verifier's routines against all sites). The batch build is certified for N ≤ "
+             "part proved by the verifier's routines against the sites within reach). The batch build is certified for N ≤ "
              f"{args.certify_ellipses_up_to} (\"build certified\"); an update of an uncertified diagram proves the same "
              "parts but is never certified. No peer: \"graph = batch\" compares the final Delaunay graph with a batch "
              "build of the final sites.", "",
