@@ -198,11 +198,47 @@ def _circle_tolerances(S: SiteArrays, edges_raw, todo, polys, tol):
     es = [e for e in todo.tolist() if e in polys]
     biss = [bisector(table, *edges_raw[e][0]) for e in es]
     good = [t for t, b in enumerate(biss) if not isinstance(b, str)]
+    _along_the_branch([biss[t] for t in good], [es[t] for t in good], polys)
     hb = hausdorff_bounds([biss[t] for t in good], [polys[es[t]] for t in good])
     bound = dict(zip([es[t] for t in good], hb.tolist()))
     for e in es:
         allowance = 1e-10 * (1 + float(np.abs(polys[e]).max()))
         tol[e] = max(2 * tol[e] + allowance, bound.get(e, 0.0) * (1 + 1e-9) + allowance)
+
+
+def _along_the_branch(biss, es, polys):
+    """On a hyperbola branch (exterior circle/point pairs), the interior points of polyline e in the
+    order of their parameter from its first point to its last, without those whose parameter is not
+    strictly between the ends' (the circumcentres of a walk can zig-zag along the edge, and one past
+    an end vertex is not on the edge's arc).  Ellipse (nested) edges are left as they are."""
+    from .verify.edges import params
+
+    hyp = [t for t, b in enumerate(biss) if b.kind == "hyperbola" and len(polys[es[t]]) > 2]
+    if not hyp:
+        return
+    P = np.concatenate([polys[es[t]] for t in hyp])
+    lens = np.array([len(polys[es[t]]) for t in hyp])
+    own = np.repeat(np.arange(len(hyp)), lens)
+    u = params([biss[t] for t in hyp], own, P)
+    first = np.cumsum(lens) - lens
+    last = first + lens - 1
+    u0, u1 = u[first][own], u[last][own]
+    sgn = np.sign(u1 - u0)
+    key = (u - u0) * sgn                       # 0 at the first point, > 0 towards the last
+    inner = (key > 0) & (key < (u1 - u0) * sgn)
+    key[first], key[last] = -np.inf, np.inf
+    keep = inner | np.isin(np.arange(len(P)), np.concatenate([first, last]))
+    keep &= sgn != 0
+    order = np.lexsort((key, own))
+    moved = (order != np.arange(len(P))) | ~keep
+    if not moved.any():
+        return
+    order = order[keep[order]]
+    cuts = np.searchsorted(own[order], np.arange(len(hyp) + 1))
+    for m in np.unique(own[moved]).tolist():
+        e = es[hyp[m]]
+        if sgn[first[m]] != 0:
+            polys[e] = P[order[cuts[m]:cuts[m + 1]]]
 
 
 def _point_loops(S: SiteArrays, Q, own, sub, PI, PJ, n=LOOP_RAYS):
