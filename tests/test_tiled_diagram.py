@@ -87,7 +87,7 @@ def client():
 
 def test_local_cluster_of_two_workers_equals_one_process(client):
     sites = random_disjoint_circles(1500, 5)
-    d = tiled_voronoi(sites, client=client, sites_per_tile=300, progress=False)
+    d = tiled_voronoi(sites, client=client, sites_per_tile=300, progress=False, certificate="chunks")
     info = d.stats["tiling"]
     assert d.certified and info["client"] is not None
     assert info["certificate"] == "chunks"            # proved chunk by chunk on the workers

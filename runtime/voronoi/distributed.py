@@ -7,10 +7,9 @@ Peterka, Morozov and Phillips grow their ghost zones, SC14), builds the tiles' d
 :func:`runtime.voronoi.construction.voronoi` -- one Dask task per tile when a
 ``distributed.Client`` is given, else one after the other in this process -- stitches them
 (:func:`runtime.voronoi.stitch.stitch`) and proves the stitched diagram with the independent
-verifier (:func:`runtime.voronoi.verify.certificate.verify`): with a client, its vertex and
-edge proofs chunk by chunk on the workers and the closure and the ends at infinity here
-(:mod:`runtime.voronoi.chunked_certificate`), else (or when that refuses) once on the whole
-diagram here.  When the verifier finds faults, the tiles holding the sites it names are rebuilt
+verifier (:func:`runtime.voronoi.verify.certificate.verify`) once on the whole diagram here, or
+(``certificate="chunks"``, with a client) its vertex and edge proofs chunk by chunk on the
+workers and the closure and the ends at infinity here (:mod:`runtime.voronoi.chunked_certificate`).  When the verifier finds faults, the tiles holding the sites it names are rebuilt
 with their own verifier, whose problems refine their construction (as
 :func:`runtime.voronoi.construction.voronoi` does), and the stitch is verified again.  The
 result is a :class:`runtime.voronoi.structure.Diagram` on the input's site indices,
@@ -81,7 +80,7 @@ def _tasks(client, jobs, bar):
 
 @one_blas_thread
 def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float | None = None,
-                  certify: bool = True, progress=None, tile_certify: bool = False, certificate: str = "chunks"):
+                  certify: bool = True, progress=None, tile_certify: bool = False, certificate: str = "whole"):
     """The Voronoi diagram of ``sites`` (thesis §1.2) built tile by tile.
 
     Parameters
@@ -102,12 +101,13 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
         refinement); the stitched diagram's proof is the global verification either way.
     progress : bool or None
         A tqdm bar over the tiles (None: for more than 2000 sites).
-    certificate : {"chunks", "whole"}
-        With a client, ``"chunks"`` proves the vertices and edges chunk by chunk on the workers
-        and the closure and the ends at infinity here
-        (:func:`runtime.voronoi.chunked_certificate.chunked_verify`); when that refuses, and
-        always without a client or with ``"whole"``, the verifier runs on the whole diagram here
-        (``stats["tiling"]["certificate"]`` says which proved it).
+    certificate : {"whole", "chunks"}
+        ``"whole"``: the verifier runs on the whole stitched diagram here.  ``"chunks"`` (with a
+        client): its vertex and edge proofs run chunk by chunk on the workers and the closure and
+        the ends at infinity here (:func:`runtime.voronoi.chunked_certificate.chunked_verify`),
+        and the whole verifier only when that refuses; each chunk repeats the verifier's set-up
+        over all n sites, so with two workers this was slower than ``"whole"``
+        (bench/results/scale.md).  ``stats["tiling"]["certificate"]`` says which proved it.
 
     Examples
     --------
