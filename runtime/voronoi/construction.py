@@ -200,7 +200,8 @@ def build_diagram(S: SiteArrays, samples: Samples, cache: dict, notes, stats, ti
             cert = verify(D, sites, deadline=deadline)
             timing["verify"] = timing.get("verify", 0) + time.perf_counter() - t0
             result["certificate"] = cert
-            named = _sites_named(cert.problems, D) if not cert.ok else set()
+            from .verify.problems import faulted_sites
+            named = faulted_sites(cert.problems, D) if not cert.ok else set()
             if cert.ok or not named or (deadline is not None and time.perf_counter() > deadline):
                 break
             # the verifier found what the sampling missed: refine the sites it names and rebuild
@@ -262,21 +263,6 @@ def _rounds(S, samples, stats, timing, deadline, cache, bar):
         cap = np.array([refine[i] for i in idx.tolist()])
         samples.refine(idx, np.minimum(samples.spacing[idx] / 2, cap))
     return result
-
-
-def _sites_named(problems, D):
-    """The sites of the verifier's faults (:class:`runtime.voronoi.verify.problems.Problem` with
-    ``fault``: its sites, and those of the edge or vertex it names); limits are not refined."""
-    out: set = set()
-    for p in problems:
-        if not getattr(p, "fault", False):
-            continue
-        out.update(t for t in p.sites if 0 <= t < len(D.sites))
-        if p.edge is not None and 0 <= p.edge < len(D.edges):
-            out.update(D.edges[p.edge].sites)
-        if p.vertex is not None and 0 <= p.vertex < len(D.vertices):
-            out.update(D.vertices[p.vertex].sites)
-    return out
 
 
 def _build_once(S: SiteArrays, samples: Samples, stats, timing, deadline, cache):

@@ -230,7 +230,8 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
         info["certificate"] = "whole"
         cert = verify(diagram, progress=progress)
         seconds["verify"] += time.perf_counter() - t3
-        named = _named_sites(cert.problems, diagram) if not cert.ok else set()
+        from .verify.problems import faulted_sites
+        named = faulted_sites(cert.problems, diagram) if not cert.ok else set()
         if cert.ok or not named:
             break
         # the verifier names what a tile's sampling missed: rebuild the tiles holding those sites
@@ -288,21 +289,6 @@ def _chunks(diagram, tiles, count: int) -> list[list[int]]:
         if len(out[-1]) >= size:
             out.append([])
         out[-1].extend(cells[k])
-    return out
-
-
-def _named_sites(problems, diagram) -> set:
-    """The sites of the verifier's faults (:class:`runtime.voronoi.verify.problems.Problem`: its
-    sites and those of the edge or vertex it names); limits of the proof name none."""
-    out: set = set()
-    for p in problems:
-        if not getattr(p, "fault", False):
-            continue
-        out.update(t for t in p.sites if 0 <= t < len(diagram.sites))
-        if p.edge is not None and 0 <= p.edge < len(diagram.edges):
-            out.update(diagram.edges[p.edge].sites)
-        if p.vertex is not None and 0 <= p.vertex < len(diagram.vertices):
-            out.update(diagram.vertices[p.vertex].sites)
     return out
 
 

@@ -13,7 +13,7 @@ Public API: :class:`Problem`, :func:`fault`, :func:`records`.
 """
 from __future__ import annotations
 
-__all__ = ["Problem", "fault", "records"]
+__all__ = ["Problem", "fault", "records", "faulted_sites"]
 
 
 class Problem(str):
@@ -48,3 +48,19 @@ def records(problems) -> list[dict]:
     return [p.to_json() if isinstance(p, Problem) else
             {"kind": "diagram", "sites": [], "vertex": None, "edge": None, "fault": False, "message": str(p)}
             for p in problems]
+
+
+def faulted_sites(problems, diagram) -> set:
+    """The sites of the faults among ``problems`` (:class:`Problem` with ``fault``: its sites, and
+    those of the edge or vertex it names) — where a construction refines; limits of the proof
+    name none."""
+    out: set = set()
+    for p in problems:
+        if not getattr(p, "fault", False):
+            continue
+        out.update(t for t in p.sites if 0 <= t < len(diagram.sites))
+        if p.edge is not None and 0 <= p.edge < len(diagram.edges):
+            out.update(diagram.edges[p.edge].sites)
+        if p.vertex is not None and 0 <= p.vertex < len(diagram.vertices):
+            out.update(diagram.vertices[p.vertex].sites)
+    return out
