@@ -248,7 +248,13 @@ _SEGMENT_CERT_TESTS = ["tests/test_segment_certificate_mutants.py", "tests/test_
 #: module prefix -> test files run against its mutants (first match wins); files that do not exist
 #: in the copy are left out
 SOUND_TESTS: list[tuple[str, list[str]]] = [
+    # the verifier's newer modules: their own tests first (arc_search: the batched disc search of
+    # an arc's third sites; polyline_bound: the Hausdorff bound of an edge's polyline)
+    ("runtime/voronoi/verify/arc_search.py", ["tests/test_arc_search.py"] + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/polyline_bound.py", ["tests/test_polyline_bound.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/", _VERIFY_TESTS),
+    # the verifier run chunk by chunk on Dask workers (a LocalCluster of threads in the tests)
+    ("runtime/voronoi/chunked_certificate.py", ["tests/test_chunked_certificate_mutants.py"]),
     # krawczyk / foot / interval_newton serve the diagram's vertex proofs too (runtime/voronoi/vertex.py)
     ("runtime/certify/krawczyk.py", _KERNEL_TESTS + _CERTIFY_TESTS + ["tests/test_voronoi_verify.py"]),
     ("runtime/certify/foot.py", _CERTIFY_TESTS + ["tests/test_voronoi_verify.py"]),

@@ -242,3 +242,23 @@ def test_the_modulus_bound_of_a_nearly_real_number():
 
     z = np.array([1.0 + 1j * 2.0 ** -60])
     assert Q(abs_upper(z)[0]) ** 2 >= 1 + Q(2) ** -120
+
+
+@pytest.mark.parametrize("k", [1, 64, 4000])
+def test_round_up_bounds_a_float_sum_that_rounds_down_at_every_step(k):
+    """``round_up`` (interval_newton) bounds the exact value of a non-negative float expression of
+    at most a few thousand operations.  1 + d with d = 2⁻⁵³ − 2⁻⁶⁰ (below half an ulp of 1, and
+    its float sum stays 1) rounds down to 1 at every one of k additions, so the float sum is 1
+    while the exact sum is 1 + k·d, a relative error of about k·2⁻⁵³ (≈ 2⁻⁴¹ for k = 4000): its
+    round_up must reach the exact value (the relative 2⁻⁴⁰ does; a relative 2⁻⁸⁰, which is
+    absorbed by the rounding of 1 + 2⁻⁸⁰, does not).  Checked in Fractions."""
+    from curvedvoronoi.runtime.certify.interval_newton import round_up
+
+    d = 2.0 ** -53 - 2.0 ** -60
+    s = 1.0
+    for _ in range(k):
+        s = s + d
+    assert s == 1.0                                   # every addition rounded down
+    exact = Q(1) + k * Q(d)
+    assert Q(float(round_up(s))) >= exact
+    assert Q(float(round_up(np.float64(s)))) >= exact
