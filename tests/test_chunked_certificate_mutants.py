@@ -1,0 +1,128 @@
+"""The verifier run chunk by chunk (runtime/voronoi/chunked_certificate.py) refuses what the
+whole verifier refuses, on small diagrams whose faults are built by hand.
+
+The chunked certificate proves vertices and edges in chunks, sets aside only the closure lines that
+a sub-diagram fails by construction (a vertex's missing edge of a pair, a site without an edge),
+runs the closure once on the whole diagram, and reads the accounting at infinity from every chunk
+(each chunk holds every unbounded edge).  Each test below plants one fault that exactly one of
+those parts sees:
+
+* a bounded edge dropped: every chunk sets its vertex lines aside, only the closure of the whole
+  diagram names the vertices left without an edge of that pair;
+* a bisector line of collinear points dropped (points (0,0), (1,0), (2,0), (3,0): the diagram is
+  the three lines x = 1/2, 3/2, 5/2, with no vertex): every other line is a proved whole edge,
+  every site keeps an edge and there is no vertex, so the closure holds; only the accounting at
+  infinity sees that sites 1 and 2, consecutive on the hull, have no unbounded edge between them;
+* the bisector of two points reported twice: no vertex, both sites have an edge; the overlap of the
+  two copies (and the accounting, which counts the ends at infinity) refuses it;
+* a vertex moved off the Voronoi vertex: not proved in its chunk.
+
+The workers are a LocalCluster of threads (processes=False), as in tests/test_tiled_diagram.py.
+"""
+from __future__ import annotations
+
+import pytest
+
+from curvedvoronoi.runtime.voronoi.chunked_certificate import chunked_verify
+from curvedvoronoi.runtime.voronoi.construction import voronoi
+from curvedvoronoi.runtime.voronoi.structure import Diagram, DiagramEdge, DiagramVertex
+
+#: four points in general position: vertices (0, 1, 2) and (1, 3, 2), one bounded edge (1, 2)
+FOUR = [(0, 0, 0), (4, 1, 0), (1, 5, 0), (5, 6, 0)]
+
+
+@pytest.fixture(scope="module")
+def client():
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as c:
+        yield c
+
+
+def _rebuild(d, vertices, edges) -> Diagram:
+    """A diagram of d's sites with the given vertices and edges, renumbered in order."""
+    vmap = {v.id: k for k, v in enumerate(vertices)}
+    verts = [DiagramVertex(vmap[v.id], tuple(v.sites), v.x, v.y, v.radius) for v in vertices]
+    es = [DiagramEdge(k, tuple(e.sites), tuple(None if u is None else vmap[u] for u in e.ends), e.closed,
+                      e.polyline, e.tolerance) for k, e in enumerate(edges)]
+    return Diagram(list(d.sites), verts, es)
+
+
+def _one_edge_per_chunk(d):
+    return [[k] for k in range(len(d.edges))]
+
+
+@pytest.fixture(scope="module")
+def four():
+    d = voronoi(FOUR, progress=False)
+    assert d.certified and len(d.vertices) == 2 and len(d.edges) == 5
+    return d
+
+
+def test_a_true_diagram_is_proved_chunk_by_chunk(four, client):
+    cc = chunked_verify(four, _one_edge_per_chunk(four), client)
+    assert cc.ok and cc.problems == [] and all(cc.vertices) and all(cc.edges)
+
+
+def test_a_dropped_bounded_edge_is_seen_by_the_closure_of_the_whole(four, client):
+    """Without the edge (1, 2) between the two vertices each vertex has no edge of the pair
+    (1, 2): the chunks set those lines aside (a chunk lacks other chunks' edges by construction),
+    the closure of the whole diagram must refuse."""
+    keep = [e for e in four.edges if sorted(e.sites) != [1, 2]]
+    bad = _rebuild(four, list(four.vertices), keep)
+    cc = chunked_verify(bad, _one_edge_per_chunk(bad), client)
+    assert all(cc.vertices) and all(cc.edges)          # what is left is true
+    assert not cc.ok
+    assert any("(1, 2) ends here" in str(p) for p in cc.problems)
+
+
+def test_a_missing_line_of_collinear_points_is_seen_at_infinity(client):
+    """Points 0..3 on the x-axis: the true diagram is the lines x = 1/2, 3/2, 5/2.  Without the
+    line of (1, 2) each remaining line is a whole true edge, every site keeps an edge and there
+    is no vertex (the closure holds); sites 1 and 2 are consecutive on the hull (a segment) with
+    no unbounded edge between them, which only the accounting at infinity, read from the
+    chunks, sees."""
+    d = voronoi([(0, 0, 0), (1, 0, 0), (2, 0, 0), (3, 0, 0)], progress=False)
+    assert d.certified and len(d.edges) == 3 and not d.vertices
+    keep = [e for e in d.edges if sorted(e.sites) != [1, 2]]
+    bad = _rebuild(d, [], keep)
+    cc = chunked_verify(bad, _one_edge_per_chunk(bad), client)
+    assert all(cc.edges)
+    assert not cc.ok
+    assert any("sites 1, 2" in str(p) for p in cc.problems)
+
+
+def test_a_bisector_reported_twice_is_refused(client):
+    d = voronoi([(0, 0, 0), (4, 1, 0)], progress=False)
+    assert d.certified and len(d.edges) == 1
+    e = d.edges[0]
+    bad = _rebuild(d, [], [e, DiagramEdge(1, e.sites, e.ends, e.closed, e.polyline, e.tolerance)])
+    cc = chunked_verify(bad, [[0], [1]], client)
+    assert not cc.ok
+
+
+def test_a_whole_diagram_reported_twice_is_refused(client):
+    """Three points: one vertex and three rays, reported twice (same sites, same coordinates):
+    each copy alone is a true diagram and the closure of each vertex holds."""
+    d = voronoi([(0, 0, 0), (4, 1, 0), (1, 5, 0)], progress=False)
+    assert d.certified and len(d.vertices) == 1 and len(d.edges) == 3
+    v = d.vertices[0]
+    v2 = DiagramVertex(1, tuple(v.sites), v.x, v.y, v.radius)
+    edges = list(d.edges) + [DiagramEdge(3 + k, e.sites, tuple(None if u is None else 1 for u in e.ends),
+                                         e.closed, e.polyline, e.tolerance) for k, e in enumerate(d.edges)]
+    bad = Diagram(list(d.sites), [v, v2], edges)
+    cc = chunked_verify(bad, [[0, 1, 2], [3, 4, 5]], client)
+    assert not cc.ok
+
+
+def test_a_vertex_moved_off_its_place_is_not_proved(four, client):
+    """Vertex 0 moved by 10⁻³ (its true position is the circumcentre (59/38, 87/38) of points
+    0, 1, 2, far above the vertex tolerance): its chunk cannot prove it, and the edges that end
+    there no longer end on it."""
+    verts = list(four.vertices)
+    v = verts[0]
+    verts[0] = DiagramVertex(v.id, tuple(v.sites), v.x + 1e-3, v.y, v.radius)
+    bad = _rebuild(four, verts, list(four.edges))
+    cc = chunked_verify(bad, _one_edge_per_chunk(bad), client)
+    assert not cc.vertices[0] and cc.vertices[1]
+    assert not cc.ok
