@@ -40,8 +40,8 @@ import numpy as np
 
 from ..sites.shapes import ShapeError
 from ..voronoi.command import (EXIT_BAD_INPUT, EXIT_CERTIFIED, EXIT_INTERRUPTED, EXIT_NOT_CERTIFIED,
-                               OneLineParser, diagram_main as sites_diagram_main, diagram_parser, print_summary,
-                               run_construction)
+                               OneLineParser, crs_option, diagram_main as sites_diagram_main, diagram_parser,
+                               draw_picture, print_summary, run_construction, write_text)
 from .loops import check_named, read_domain, read_shape, shape_kind
 
 __all__ = ["diagram_main", "medial_axis_main", "read_shape", "read_domain", "medial_axis_document",
@@ -75,31 +75,6 @@ def medial_axis_document(m, sources=None) -> dict:
                        "polyline": np.asarray(e.polyline, float).tolist(),
                        "radius": np.asarray(e.radius, float).tolist(),
                        "tolerance": float(e.tolerance), "certified": bool(e.certified)} for e in m.edges]}
-
-
-def _crs(text):
-    """``--crs``: the CRS name for :func:`runtime.voronoi.geojson.crs_member` (None: the planar
-    engineering CRS; ``none``: False, no member)."""
-    return False if (text or "").lower() == "none" else text
-
-
-def _write(path, text, what) -> None:
-    try:
-        with open(path, "w") as fh:
-            fh.write(text)
-    except OSError as exc:
-        raise OSError(f"cannot write the {what} {path}: {exc.strerror}") from None
-
-
-def _draw(obj, path, **kw) -> None:
-    try:
-        obj.plot(path, **kw)
-    except (ImportError, KeyboardInterrupt):
-        raise
-    except OSError as exc:
-        raise OSError(f"cannot write the picture {path}: {exc.strerror or exc}") from None
-    except Exception as exc:  # noqa: BLE001 - the JSON outputs are written; say what the picture hit
-        raise OSError(f"cannot draw the picture {path}: {type(exc).__name__}: {exc}") from None
 
 
 # =====================================================================================
@@ -168,11 +143,11 @@ def diagram_main(argv=None) -> int:
     try:
         doc = d.to_json()
         if args.json_out:
-            _write(args.json_out, json.dumps(doc, indent=1), "diagram JSON")
+            write_text(args.json_out, json.dumps(doc, indent=1), "diagram JSON")
         if args.geojson:
-            _write(args.geojson, json.dumps(d.to_geojson(crs=_crs(args.crs))), "GeoJSON")
+            write_text(args.geojson, json.dumps(d.to_geojson(crs=crs_option(args.crs))), "GeoJSON")
         if args.png:
-            _draw(d, args.png, empty_circles=args.empty_circles, window=args.window)
+            draw_picture(d, args.png, empty_circles=args.empty_circles, window=args.window)
     except OSError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_NOT_CERTIFIED
@@ -261,11 +236,11 @@ def medial_axis_main(argv=None) -> int:
         if args.json_out:
             src = getattr(m.diagram, "sources", None)        # elementary site -> boundary piece
             src = None if src is None else [sources[k] for k in src]
-            _write(args.json_out, json.dumps(medial_axis_document(m, src), indent=1), "medial axis JSON")
+            write_text(args.json_out, json.dumps(medial_axis_document(m, src), indent=1), "medial axis JSON")
         if args.geojson:
-            _write(args.geojson, json.dumps(m.to_geojson(crs=_crs(args.crs))), "GeoJSON")
+            write_text(args.geojson, json.dumps(m.to_geojson(crs=crs_option(args.crs))), "GeoJSON")
         if args.png:
-            _draw(m, args.png)
+            draw_picture(m, args.png)
     except OSError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_NOT_CERTIFIED

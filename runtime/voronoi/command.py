@@ -139,7 +139,14 @@ def print_summary(d, doc: dict, args) -> None:
           + (f"; {len(d.problems)} problems, first: {d.problems[0]}" if d.problems else ""), file=sys.stderr)
 
 
-def _write(path, text, what):
+def crs_option(text):
+    """``--crs``: the CRS name for :func:`runtime.voronoi.geojson.crs_member` (None: the planar
+    engineering CRS; ``none``: False, no member)."""
+    return False if (text or "").lower() == "none" else text
+
+
+def write_text(path, text, what) -> None:
+    """Write an output file; an OSError becomes one line naming the output (``what``) and the path."""
     try:
         with open(path, "w") as fh:
             fh.write(text)
@@ -147,17 +154,17 @@ def _write(path, text, what):
         raise OSError(f"cannot write the {what} {path}: {exc.strerror}") from None
 
 
-def _picture(d, args) -> None:
+def draw_picture(obj, path, **kw) -> None:
     """``--png``: any failure of the drawing becomes OSError (one line), except a missing matplotlib
     (ImportError, reported by :func:`runtime.cli.main` with the package to install)."""
     try:
-        d.plot(args.png, empty_circles=args.empty_circles, window=args.window)
+        obj.plot(path, **kw)
     except (ImportError, KeyboardInterrupt):
         raise
     except OSError as exc:
-        raise OSError(f"cannot write the picture {args.png}: {exc.strerror or exc}") from None
+        raise OSError(f"cannot write the picture {path}: {exc.strerror or exc}") from None
     except Exception as exc:  # noqa: BLE001 - the JSON outputs are written; say what the picture hit
-        raise OSError(f"cannot draw the picture {args.png}: {type(exc).__name__}: {exc}") from None
+        raise OSError(f"cannot draw the picture {path}: {type(exc).__name__}: {exc}") from None
 
 
 def _exit_status(d, certify: bool, interrupted: bool) -> int:
@@ -214,12 +221,11 @@ def diagram_main(argv=None) -> int:
         try:
             doc = d.to_json()
             if args.json_out:
-                _write(args.json_out, json.dumps(doc, indent=1), "diagram JSON")
+                write_text(args.json_out, json.dumps(doc, indent=1), "diagram JSON")
             if args.geojson:
-                crs = False if (args.crs or "").lower() == "none" else args.crs
-                _write(args.geojson, json.dumps(d.to_geojson(crs=crs)), "GeoJSON")
+                write_text(args.geojson, json.dumps(d.to_geojson(crs=crs_option(args.crs))), "GeoJSON")
             if args.png:
-                _picture(d, args)
+                draw_picture(d, args.png, empty_circles=args.empty_circles, window=args.window)
         except OSError as exc:
             print(f"error: {exc}", file=sys.stderr)
             return EXIT_NOT_CERTIFIED
