@@ -34,6 +34,7 @@ from .site_input import as_site, check_disjoint
 from .chunked_certificate import chunked_verify
 from .stitch import StitchError, build_tile, stitch
 from .tiling import MARGIN, Rim, grow_halo, nested_pair, site_discs, tile_grid, tile_input
+from .verify.problems import faulted_sites
 
 __all__ = ["tiled_voronoi"]
 
@@ -121,92 +122,29 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
     (True, 4)
     """
     t0 = time.perf_counter()
-    sites = list(sites)
-    if any(type(s).__name__ in ("Segment", "Arc") for s in sites):
-        return _single(sites, "segments or arcs", certify, progress, t0)
-    sites = [as_site(s) for s in sites]
-    if len(sites) < 2 * sites_per_tile:
-        return _single(sites, f"{len(sites)} sites: fewer than two tiles of {sites_per_tile}", certify, progress, t0)
-    try:
-        D = site_discs(sites)
-    except ValueError as exc:
-        return _single(sites, str(exc), certify, progress, t0)
-    check_disjoint(sites)
-    nest = nested_pair(D)
-    if nest is not None:
-        return _single(sites, f"site {nest[1]} may lie inside site {nest[0]} (nesting)", certify, progress, t0)
-    margin = MARGIN * D.scale
-    tiles = tile_grid(D, sites_per_tile, halo)
-    for t in tiles:
-        grow_halo(D, t, margin)
-    a_priori = sum(t.growths for t in tiles)
+    plan = _plan(sites, sites_per_tile, halo)
+    if isinstance(plan, str):
+        return _single(sites, plan, certify, progress, t0)
+    sites, D, tiles = plan
     if progress is None:
         progress = len(sites) > 2000
-    bar = None
-    if progress:
-        try:
-            from tqdm import tqdm
-            bar = tqdm(total=len(tiles) + 1, desc="voronoi tiles", unit="tile", leave=False)
-        except ImportError:
-            bar = None
-
-    rim = Rim(D.bound(), min(t.halo for t in tiles))
-    regions = {t.index: t for t in tiles}
-    regions[rim.index] = rim
-    inputs: dict = {}
-    proving = {key: tile_certify for key in regions}      # regions built with their own verifier
-
-    def job(t):
-        idx = t.sites(D) if t is rim else tile_input(D, t)
-        inputs[t.index] = idx
-        return t.index, ([sites[i] for i in idx.tolist()], idx, t, margin, proving[t.index])
-
-    reports: dict = {}
-    count: dict = {"rebuilds": 0, "refined": 0, "by_region": {}}
-
-    def build(pending):
-        """Build the regions, growing and rebuilding those whose vertices leave their halo."""
-        while pending:
-            again = []
-            for key, rep in _tasks(client, [job(t) for t in pending], bar):
-                region = regions[key]
-                if rep["vertexless"]:
-                    raise _Vertexless(key)
-                out = rep["grow"]
-                if out > 0:                  # an empty circle leaves T_h: grow the halo, rebuild
-                    if count["by_region"].get(key, 0) >= MAX_REBUILDS:
-                        raise _Vertexless(key, "halo keeps growing")
-                    count["by_region"][key] = count["by_region"].get(key, 0) + 1
-                    if region is rim:
-                        rim.width = max(2 * rim.width, rim.width + out)
-                        rim.growths += 1
-                    else:
-                        grow_halo(D, region, margin, at_least=region.halo + out)
-                    again.append(region)
-                    count["rebuilds"] += 1
-                    if bar is not None:
-                        bar.total += 1
-                    continue
-                reports[key] = rep
-            pending = again
-
+    run = _Regions(sites, D, tiles, client, tile_certify, _progress_bar(progress, len(tiles) + 1))
     seconds: dict = {"tiles": 0.0, "stitch": 0.0, "verify": 0.0}
     interrupted = False
-    pending = [rim, *tiles]
+    pending = [run.rim, *tiles]
     cert = None
-    for vround in range(VERIFY_ROUNDS):
+    for _ in range(VERIFY_ROUNDS):
         t1 = time.perf_counter()
         try:
-            build(pending)
+            run.build(pending)
         except _Vertexless as exc:
-            if bar is not None:
-                bar.close()
+            run.close()
             return _single(sites, exc.reason, certify, progress, t0)
         except KeyboardInterrupt:
             interrupted = True
         t2 = time.perf_counter()
         try:
-            diagram, info = stitch(sites, list(reports.values()), D.scale)
+            diagram, info = stitch(sites, list(run.reports.values()), D.scale)
         except StitchError as exc:
             return _single(sites, f"stitch refused: {exc}", certify, progress, t0)
         t3 = time.perf_counter()
@@ -214,49 +152,157 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
         seconds["stitch"] += t3 - t2
         if interrupted or not certify:
             break
-        from .verify.certificate import verify
-
-        if client is not None and certificate == "chunks":
-            workers = max(1, len(client.scheduler_info().get("workers", {})))
-            cc = chunked_verify(diagram, _chunks(diagram, tiles, 2 * workers), client)
-            seconds["verify"] += time.perf_counter() - t3
-            info["certificate"] = "chunks"
-            info["chunk_seconds"] = {k: round(v, 3) for k, v in cc.seconds.items()}
-            if cc.ok:
-                cert = cc
-                break
-            info["chunks_refused"] = [str(p) for p in cc.problems[:5]]
-            t3 = time.perf_counter()
-        info["certificate"] = "whole"
-        cert = verify(diagram, progress=progress)
+        cert = _prove(diagram, info, client, certificate, tiles, progress)
         seconds["verify"] += time.perf_counter() - t3
-        from .verify.problems import faulted_sites
         named = faulted_sites(cert.problems, diagram) if not cert.ok else set()
         if cert.ok or not named:
             break
-        # the verifier names what a tile's sampling missed: rebuild the tiles holding those sites
-        # with their own verifier, whose problems refine the construction (as voronoi does)
-        hit = np.zeros(len(sites), dtype=bool)
-        hit[sorted(named)] = True
-        pending = [regions[k] for k, idx in inputs.items() if hit[idx].any()]
-        for t in pending:
-            proving[t.index] = True
-        count["refined"] += len(pending)
-        if bar is not None:
-            bar.total += len(pending)
-    if bar is not None:
-        bar.close()
-    info.update({"tiles": len(tiles), "tiles_built": len(reports) - (rim.index in reports),
-                 "rim_width": rim.width, "rim_sites": reports[rim.index]["sites"] if rim.index in reports else None,
-                 "halo_growths": sum(t.growths for t in tiles), "halo_growths_a_priori": a_priori,
-                 "rebuilds": count["rebuilds"], "refined_by_verifier": count["refined"],
-                 "halos": [t.halo for t in tiles], "tile_sites": [reports[k]["sites"] for k in sorted(reports) if k >= 0],
-                 "tile_seconds": [round(reports[k]["seconds"], 3) for k in sorted(reports)],
-                 "client": None if client is None else str(client.scheduler.address)})
+        pending = run.refine(named)
+    run.close()
+    info.update(run.summary())
     diagram.stats.update({"sites": len(sites), "tiling": info})
+    _record_verdict(diagram, cert, interrupted, f"{len(run.reports)} of {len(tiles) + 1} regions stitched")
+    seconds["total"] = time.perf_counter() - t0
+    diagram.stats["seconds"] = {k: round(v, 4) for k, v in seconds.items()}
+    return diagram
+
+
+def _plan(sites, sites_per_tile: int, halo):
+    """The sites as site objects, their discs and the tiles with halos grown a priori by the
+    locality lemma; or, for a scene the tiling does not cover, the reason (a string)."""
+    sites = list(sites)
+    if any(type(s).__name__ in ("Segment", "Arc") for s in sites):
+        return "segments or arcs"
+    sites = [as_site(s) for s in sites]
+    if len(sites) < 2 * sites_per_tile:
+        return f"{len(sites)} sites: fewer than two tiles of {sites_per_tile}"
+    try:
+        D = site_discs(sites)
+    except ValueError as exc:
+        return str(exc)
+    check_disjoint(sites)
+    nest = nested_pair(D)
+    if nest is not None:
+        return f"site {nest[1]} may lie inside site {nest[0]} (nesting)"
+    tiles = tile_grid(D, sites_per_tile, halo)
+    for t in tiles:
+        grow_halo(D, t, MARGIN * D.scale)
+    return sites, D, tiles
+
+
+def _progress_bar(progress: bool, total: int):
+    if not progress:
+        return None
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        return None
+    return tqdm(total=total, desc="voronoi tiles", unit="tile", leave=False)
+
+
+class _Regions:
+    """The tiles and the rim of one tiled build: their inputs (the sites of each region with its
+    halo), their reports, and the halo growths and rebuilds (:meth:`build`, :meth:`refine`)."""
+
+    def __init__(self, sites, D, tiles, client, tile_certify: bool, bar):
+        self.sites, self.D, self.tiles, self.client, self.bar = sites, D, tiles, client, bar
+        self.margin = MARGIN * D.scale
+        self.a_priori = sum(t.growths for t in tiles)
+        self.rim = Rim(D.bound(), min(t.halo for t in tiles))
+        self.regions = {t.index: t for t in tiles}
+        self.regions[self.rim.index] = self.rim
+        self.inputs: dict = {}
+        self.proving = {key: tile_certify for key in self.regions}   # regions built with their own verifier
+        self.reports: dict = {}
+        self.rebuilds = 0
+        self.refined = 0
+        self.by_region: dict = {}
+
+    def job(self, t):
+        idx = t.sites(self.D) if t is self.rim else tile_input(self.D, t)
+        self.inputs[t.index] = idx
+        return t.index, ([self.sites[i] for i in idx.tolist()], idx, t, self.margin, self.proving[t.index])
+
+    def build(self, pending) -> None:
+        """Build the regions, growing and rebuilding those whose vertices leave their halo."""
+        while pending:
+            again = []
+            for key, rep in _tasks(self.client, [self.job(t) for t in pending], self.bar):
+                if rep["vertexless"]:
+                    raise _Vertexless(key)
+                if rep["grow"] > 0:                  # an empty circle leaves T_h: grow the halo, rebuild
+                    again.append(self.grow(key, rep["grow"]))
+                    continue
+                self.reports[key] = rep
+            pending = again
+
+    def grow(self, key, out: float):
+        region = self.regions[key]
+        if self.by_region.get(key, 0) >= MAX_REBUILDS:
+            raise _Vertexless(key, "halo keeps growing")
+        self.by_region[key] = self.by_region.get(key, 0) + 1
+        if region is self.rim:
+            self.rim.width = max(2 * self.rim.width, self.rim.width + out)
+            self.rim.growths += 1
+        else:
+            grow_halo(self.D, region, self.margin, at_least=region.halo + out)
+        self.rebuilds += 1
+        if self.bar is not None:
+            self.bar.total += 1
+        return region
+
+    def refine(self, named) -> list:
+        """The verifier names what a tile's sampling missed: the regions holding those sites, to
+        be rebuilt with their own verifier, whose problems refine the construction (as
+        :func:`runtime.voronoi.construction.voronoi` does)."""
+        hit = np.zeros(len(self.sites), dtype=bool)
+        hit[sorted(named)] = True
+        pending = [self.regions[k] for k, idx in self.inputs.items() if hit[idx].any()]
+        for t in pending:
+            self.proving[t.index] = True
+        self.refined += len(pending)
+        if self.bar is not None:
+            self.bar.total += len(pending)
+        return pending
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+
+    def summary(self) -> dict:
+        reports, rim, tiles = self.reports, self.rim, self.tiles
+        return {"tiles": len(tiles), "tiles_built": len(reports) - (rim.index in reports),
+                "rim_width": rim.width, "rim_sites": reports[rim.index]["sites"] if rim.index in reports else None,
+                "halo_growths": sum(t.growths for t in tiles), "halo_growths_a_priori": self.a_priori,
+                "rebuilds": self.rebuilds, "refined_by_verifier": self.refined,
+                "halos": [t.halo for t in tiles], "tile_sites": [reports[k]["sites"] for k in sorted(reports) if k >= 0],
+                "tile_seconds": [round(reports[k]["seconds"], 3) for k in sorted(reports)],
+                "client": None if self.client is None else str(self.client.scheduler.address)}
+
+
+def _prove(diagram, info, client, certificate: str, tiles, progress):
+    """The verifier's certificate of the stitched diagram: chunk by chunk on the workers first
+    when asked (``certificate="chunks"``), the whole verifier here otherwise or when that refuses."""
+    from .verify.certificate import verify
+
+    if client is not None and certificate == "chunks":
+        workers = max(1, len(client.scheduler_info().get("workers", {})))
+        t0 = time.perf_counter()
+        cc = chunked_verify(diagram, _chunks(diagram, tiles, 2 * workers), client)
+        info["certificate"] = "chunks"
+        info["chunk_seconds"] = {k: round(v, 3) for k, v in cc.seconds.items()}
+        if cc.ok:
+            return cc
+        info["chunks_refused"] = [str(p) for p in cc.problems[:5]]
+        info["chunks_refused_seconds"] = round(time.perf_counter() - t0, 3)
+    info["certificate"] = "whole"
+    return verify(diagram, progress=progress)
+
+
+def _record_verdict(diagram, cert, interrupted: bool, done: str) -> None:
+    """Carry the certificate's verdicts onto the diagram (``certified`` only when proved)."""
     if interrupted:
-        diagram.problems.append(f"interrupted (Ctrl-C): {len(reports)} of {len(tiles) + 1} regions stitched, "
-                                "partial diagram")
+        diagram.problems.append(f"interrupted (Ctrl-C): {done}, partial diagram")
     elif cert is not None:
         diagram.problems.extend(cert.problems)
         for e, ok in zip(diagram.edges, cert.edges):
@@ -266,9 +312,6 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
         diagram.certified = bool(cert.ok) and not diagram.problems
     else:
         diagram.problems.append("not verified (certify=False)")
-    seconds["total"] = time.perf_counter() - t0
-    diagram.stats["seconds"] = {k: round(v, 4) for k, v in seconds.items()}
-    return diagram
 
 
 def _chunks(diagram, tiles, count: int) -> list[list[int]]:
