@@ -34,6 +34,8 @@ voronoi(sites)
 tiled_voronoi(sites, client=None)
     The same diagram built tile by tile (one Dask task per tile with a ``distributed.Client``),
     stitched and proved by the verifier; see docs/distributed.md.
+read_geoparquet_sites(path), write_geoparquet(diagram, directory)
+    Point and circle sites from GeoParquet; a diagram as GeoParquet datasets partitioned by region.
 load_offset(family)
     The generalised offset of a conic family (thesis ch. 4, App. B), from verified artefacts.
 read_sites(path)
@@ -120,6 +122,8 @@ _LAZY = {
     "pieces_from_geometry": ("runtime.sites.shapes", "pieces_from_geometry"),
     "voronoi": ("runtime.voronoi.construction", "voronoi"),
     "tiled_voronoi": ("runtime.voronoi.distributed", "tiled_voronoi"),
+    "read_geoparquet_sites": ("runtime.voronoi.geoparquet", "read_geoparquet_sites"),
+    "write_geoparquet": ("runtime.voronoi.geoparquet", "write_geoparquet"),
     "Diagram": ("runtime.voronoi.structure", "Diagram"),
     "verify": ("runtime.voronoi.verify.certificate", "verify"),
     "offset": ("runtime.algebra.algebraic_offset", "offset"),

@@ -41,7 +41,7 @@ import numpy as np
 from ..sites.shapes import ShapeError
 from ..voronoi.command import (EXIT_BAD_INPUT, EXIT_CERTIFIED, EXIT_INTERRUPTED, EXIT_NOT_CERTIFIED,
                                OneLineParser, crs_option, diagram_main as sites_diagram_main, diagram_parser,
-                               draw_picture, print_summary, run_construction, write_text)
+                               draw_picture, is_geoparquet, print_summary, run_construction, write_text)
 from .loops import check_named, read_domain, read_shape, shape_kind
 
 __all__ = ["diagram_main", "medial_axis_main", "read_shape", "read_domain", "medial_axis_document",
@@ -108,13 +108,15 @@ def diagram_main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = _diagram_parser()
     args, unknown = parser.parse_known_args(argv)      # sites files: the options are checked there
-    if shape_kind(args.sites) == "sites":
+    if is_geoparquet(args.sites) or shape_kind(args.sites) == "sites":
         if args.skip:
             print("error: --skip applies to DXF drawings only", file=sys.stderr)
             return EXIT_BAD_INPUT
         return sites_diagram_main(argv)
     if unknown:
         parser.error(f"unrecognized arguments: {' '.join(unknown)}")
+    if args.out or args.scheduler or args.sites_per_tile:
+        parser.error("--out, --scheduler and --sites-per-tile apply to sites files (JSON, GeoParquet) only")
     try:
         pieces, sources, names = read_shape(args.sites, skip=_skip_types(args.skip))
         if len(pieces) < 2:

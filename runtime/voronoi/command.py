@@ -1,6 +1,7 @@
 """The ``diagram`` command: ``python -m curvedvoronoi diagram SITES.json [--json OUT.json]
 [--png OUT.png] [--geojson OUT.geojson] [--crs CRS] [--window=XMIN,XMAX,YMIN,YMAX] [--quiet]
-[--time-limit S] [--no-certify] [--empty-circles]``.
+[--time-limit S] [--no-certify] [--empty-circles] [--out DIR] [--scheduler ADDRESS]
+[--sites-per-tile N]``.
 
 SITES.json is ``{"sites": [...]}`` with the records of :func:`runtime.sites.reader.parse_site`
 (``{"point": [x, y]}``, ``{"circle": {"centre": [x, y], "radius": r}}``,
@@ -9,6 +10,14 @@ Prints a summary (the diagram JSON on stdout when no ``--json`` is given and not
 ``--geojson`` writes the edges, vertices and sites (:mod:`runtime.voronoi.geojson`) with the
 ``crs`` member GDAL reads: ``--crs`` (e.g. ``EPSG:32633``), by default a planar engineering CRS
 (``--crs none``: no member, which GIS tools read as longitude/latitude).
+
+SITES may also be GeoParquet (a ``.parquet`` file or a directory of part files: Points, with an
+optional ``radius`` column; :mod:`runtime.voronoi.geoparquet`), whose CRS the outputs carry unless
+``--crs`` says otherwise.  ``--out DIR`` writes the diagram as GeoParquet datasets partitioned by
+region.  ``--scheduler ADDRESS`` builds the diagram tile by tile on a Dask cluster
+(:func:`runtime.voronoi.distributed.tiled_voronoi`; ``local`` or ``local:N`` starts a local
+cluster of N worker processes); ``--sites-per-tile N`` sets the tiles' size (alone: tiles built one
+after the other here).
 
 Exit status (the requested outputs are written whenever a diagram exists):
 
@@ -30,6 +39,7 @@ import json
 import math
 import signal
 import sys
+from pathlib import Path
 
 from ..result import InvalidConicError, NumericalRefusal
 from ..sites.reader import read_sites
@@ -94,6 +104,14 @@ def diagram_parser(description: str, sites_help: str, *, interrupted: str, crs_o
     p.add_argument("--no-certify", action="store_true",
                    help="skip the verifier (never certified; exit 0 when the construction ran to its end)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--out", metavar="DIR",
+                   help="write the edges, vertices, cells and sites as GeoParquet datasets (part files grouped "
+                        "by region) and diagram.json here (needs geopandas and pyarrow)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="build tile by tile on this Dask scheduler (tcp://host:port), or 'local' / 'local:N' for "
+                        "a local cluster of N worker processes (default 2); needs dask[distributed]")
+    p.add_argument("--sites-per-tile", type=int, default=None, metavar="N",
+                   help="build tile by tile with about N sites a tile (default with --scheduler: 2000)")
     return p
 
 
@@ -167,6 +185,15 @@ def draw_picture(obj, path, **kw) -> None:
         raise OSError(f"cannot draw the picture {path}: {type(exc).__name__}: {exc}") from None
 
 
+def _write_parquet(d, directory, crs) -> None:
+    from .geoparquet import write_geoparquet
+
+    try:
+        write_geoparquet(d, directory, crs=None if crs is False else crs)
+    except OSError as exc:
+        raise OSError(f"cannot write the GeoParquet datasets in {directory}: {exc.strerror or exc}") from None
+
+
 def _exit_status(d, certify: bool, interrupted: bool) -> int:
     if interrupted:
         return EXIT_INTERRUPTED
@@ -177,10 +204,70 @@ def _exit_status(d, certify: bool, interrupted: bool) -> int:
     return EXIT_NOT_CERTIFIED
 
 
+def is_geoparquet(path: str) -> bool:
+    """A GeoParquet input: a ``.parquet`` file or a directory of part files."""
+    p = Path(path)
+    return p.suffix.lower() in (".parquet", ".geoparquet") or (p.is_dir() and any(p.glob("*.parquet")))
+
+
+def _read_input(args):
+    """The sites and the CRS the outputs should carry (``--crs``, else a GeoParquet file's own)."""
+    crs = crs_option(args.crs)
+    if is_geoparquet(args.sites):
+        from .geoparquet import read_geoparquet_sites
+
+        sites, file_crs = read_geoparquet_sites(args.sites)
+        return sites, (file_crs if args.crs is None else crs)
+    return read_sites(args.sites), crs
+
+
+def _client(address: str):
+    """A ``distributed.Client`` on ``address``; ``local`` / ``local:N``: a LocalCluster of N worker
+    processes (one thread each) started here and closed with the client."""
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        raise ImportError("--scheduler needs dask[distributed] (pip install \"dask[distributed]\")") from None
+    if address == "local" or address.startswith("local:"):
+        n = int(address.split(":", 1)[1]) if ":" in address else 2
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None)
+        return Client(cluster)
+    return Client(address)
+
+
+def _build(sites, args, progress):
+    """The construction the options ask for: tile by tile (``--scheduler``, ``--sites-per-tile``) or
+    in one process."""
+    certify = not args.no_certify
+    if args.scheduler is None and args.sites_per_tile is None:
+        from .construction import voronoi
+
+        return voronoi(sites, certify=certify, progress=progress, time_limit=args.time_limit)
+    from .distributed import tiled_voronoi
+
+    client = None if args.scheduler is None else _client(args.scheduler)
+    try:
+        return tiled_voronoi(sites, client=client, certify=certify, progress=progress,
+                             sites_per_tile=args.sites_per_tile or 2000)
+    finally:
+        if client is not None:
+            cluster = client.cluster if args.scheduler.startswith("local") else None
+            client.close()
+            if cluster is not None:
+                cluster.close()
+
+
 def diagram_main(argv=None) -> int:
     args = _parser().parse_args(argv)
+    if args.sites_per_tile is not None and args.sites_per_tile < 1:
+        print(f"error: --sites-per-tile {args.sites_per_tile}: expected a positive number", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    if args.scheduler is not None and args.time_limit is not None:
+        print("error: --time-limit is not available with --scheduler (interrupt with Ctrl-C: the finished tiles "
+              "are kept)", file=sys.stderr)
+        return EXIT_BAD_INPUT
     try:
-        sites = read_sites(args.sites)
+        sites, crs = _read_input(args)
     except ValueError as exc:          # unreadable file, schema, NaN, repeated sites, ...
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
@@ -188,7 +275,6 @@ def diagram_main(argv=None) -> int:
         print(f"error: {args.sites}: the Voronoi diagram needs at least 2 sites, got {len(sites)}", file=sys.stderr)
         return EXIT_BAD_INPUT
 
-    from .construction import voronoi
     from .structure import Diagram
 
     # Ctrl-C: record it, then let the construction stop (it returns its last finished round)
@@ -206,8 +292,7 @@ def diagram_main(argv=None) -> int:
     try:
         progress = None if not (args.quiet or args.no_progress) else False
         try:
-            d, status = run_construction(lambda: voronoi(sites, certify=not args.no_certify, progress=progress,
-                                                         time_limit=args.time_limit))
+            d, status = run_construction(lambda: _build(sites, args, progress))
         except KeyboardInterrupt:
             state["interrupted"] = True
             d, status = Diagram(sites, [], [], False, [f"{INTERRUPTED_NOTE}: no diagram computed"], {}), None
@@ -223,9 +308,11 @@ def diagram_main(argv=None) -> int:
             if args.json_out:
                 write_text(args.json_out, json.dumps(doc, indent=1), "diagram JSON")
             if args.geojson:
-                write_text(args.geojson, json.dumps(d.to_geojson(crs=crs_option(args.crs))), "GeoJSON")
+                write_text(args.geojson, json.dumps(d.to_geojson(crs=crs)), "GeoJSON")
             if args.png:
                 draw_picture(d, args.png, empty_circles=args.empty_circles, window=args.window)
+            if args.out:
+                _write_parquet(d, args.out, crs)
         except OSError as exc:
             print(f"error: {exc}", file=sys.stderr)
             return EXIT_NOT_CERTIFIED
