@@ -1,0 +1,57 @@
+"""The disc search of runtime/voronoi/verify/arc_search.py refuses an arc that a third site
+reaches, where its first-order (slope) bound would be wrong.
+
+Sites i, j: points (∓10, 0), or circles of radius 5 centred there; their bisector is the line
+x = 0 (y = b·sinh u with b = 10, resp. b = √(100 − 0) = 10 for equal radii: the hyperbola with
+a = 0).  A third point k = (0, y_k) ON that line, with y_k inside the arc's range [y_0, y_1], has
+d_k = 0 at (0, y_k) while d_i = √(100 + y_k²) − r > 0 there: k is strictly nearer than i and j at a
+point of the arc, so the arc is not a Voronoi edge of (i, j) and ``prove_arcs`` must refuse it.
+
+This is where the slope bound ``_slope_bound`` (|∇d_k − ∇d_i| ≤ |G_k − G_i| + R/(|Q − c_k| − R) + …
+over the disc B(Q, R) of a piece) stops holding: when the disc holds the point k
+(|Q − c_k| < R), ∇d_k is discontinuous there and R/(|Q − c_k| − R) is negative, so the bound
+must not be used (the search then takes the Lipschitz constant 2).  The arcs below were chosen so
+that some piece's disc holds k with |Q − c_k| just below R (a weakened bound then proves the
+arc); the verdict does not depend on the pieces.
+"""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from curvedvoronoi.runtime.predicates.circles import Circle, Point
+from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+from curvedvoronoi.runtime.voronoi.verify.arc_search import prove_arcs
+from curvedvoronoi.runtime.voronoi.verify.edges import CircleTable, bisector
+
+
+@pytest.mark.parametrize("r, yk, y0, y1", [
+    (0, 23, -50, 50), (0, 24, -50, 50), (0, 25, -50, 50), (0, 24, -75, 25), (0, 29, -80, 30),
+    (0, 43, -55, 45), (5, 28, -70, 30), (5, 48, -50, 50),
+])
+def test_a_third_point_on_the_arc_is_never_proved_farther(r, yk, y0, y1):
+    ij = [Circle(-10, 0, r * r), Circle(10, 0, r * r)] if r else [Point(-10, 0), Point(10, 0)]
+    table = CircleTable([site_geometry(s) for s in ij + [Point(0, yk)]])
+    bis = bisector(table, 0, 1)
+    assert bis.kind == "hyperbola" and bis.a == 0 and bis.b == 10        # the line x = 0, y = 10 sinh u
+    assert y0 < yk < y1 and math.hypot(10, yk) - r > 0                    # k on the arc, nearer there
+    (ok, detail), = prove_arcs(table, [(bis, math.asinh(y0 / 10), math.asinh(y1 / 10), ())])
+    assert not ok
+    assert detail[0] == 2
+
+
+@pytest.mark.parametrize("r, yk, y0, y1", [(0, 24, -50, 50), (5, 28, -70, 30)])
+def test_the_same_point_off_the_arc_is_proved_farther(r, yk, y0, y1):
+    """The counterpart: k moved to (0, y_1 + 60), beyond the arc's end on the same line.  On the
+    arc d_k − d_i = g(y) = (y_k − y) − (√(100 + y²) − r), a linear function minus a convex one:
+    concave, so its minimum over [y_0, y_1] is at an end, where it is positive (checked below):
+    k is farther on the whole arc and the search must prove it."""
+    yk = y1 + 60
+    ij = [Circle(-10, 0, r * r), Circle(10, 0, r * r)] if r else [Point(-10, 0), Point(10, 0)]
+    table = CircleTable([site_geometry(s) for s in ij + [Point(0, yk)]])
+    bis = bisector(table, 0, 1)
+    for y in (y0, y1):
+        assert (yk - y) - (math.hypot(10, y) - r) > 1
+    (ok, detail), = prove_arcs(table, [(bis, math.asinh(y0 / 10), math.asinh(y1 / 10), ())])
+    assert ok and detail is None
