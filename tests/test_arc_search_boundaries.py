@@ -55,3 +55,19 @@ def test_the_same_point_off_the_arc_is_proved_farther(r, yk, y0, y1):
         assert (yk - y) - (math.hypot(10, y) - r) > 1
     (ok, detail), = prove_arcs(table, [(bis, math.asinh(y0 / 10), math.asinh(y1 / 10), ())])
     assert ok and detail is None
+
+
+@pytest.mark.parametrize("y1, proved", [(50, False), (49, False), (48, True), (45, True)])
+def test_a_point_nearer_only_near_the_end_of_the_arc(y1, proved):
+    """Points i, j = (∓10, 0) (bisector x = 0) and k = (48, 60): on x = 0,
+    d_k² − d_i² = 48² + (y − 60)² − (100 + y²) = 5804 − 120 y, so k is nearer exactly for
+    y > 5804/120 = 48.36…  On the arc y ∈ [−50, y_1] it is nearer on (48.36…, y_1] when y_1 ≥ 49
+    (not an edge: refused, however far k is at the pieces' mid points), and farther on the whole arc
+    when y_1 ≤ 48 (d_k² − d_i² ≥ 5804 − 5760 = 44 > 0: proved)."""
+    table = CircleTable([site_geometry(s) for s in (Point(-10, 0), Point(10, 0), Point(48, 60))])
+    bis = bisector(table, 0, 1)
+    assert bis.kind == "hyperbola" and bis.a == 0 and bis.b == 10
+    (ok, detail), = prove_arcs(table, [(bis, math.asinh(-5.0), math.asinh(y1 / 10), ())])
+    assert ok is proved
+    if not proved:
+        assert detail[0] == 2 and detail[1][1] > 48
