@@ -55,12 +55,9 @@ def site_disc(g):
 
 
 def _candidates(dyn, X, n):
-    """The old sites (index < n) whose centres are among the 8 nearest to X, and the sites added
-    since the k-d tree was built."""
-    kq = min(8, n)
-    _, idx = dyn.tree.query(X, k=kq) if dyn.tree is not None else ([], [])
-    pool = set(int(k) for k in np.atleast_1d(idx) if 0 <= k < len(dyn.slot) and dyn.slot[k] >= 0)
-    return sorted({int(dyn.slot[k]) for k in pool} | {k for k in dyn.extra if k < n})
+    """About 8 old sites (index < n) with the centres nearest to X (any non-empty set is sound:
+    it only sets the search radius of :func:`nearest_old_sites`)."""
+    return sorted(k for k in dyn.nearest(X, 9) if k < n)
 
 
 def nearest_old_sites(dyn, g, n, scale):

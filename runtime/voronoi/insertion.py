@@ -181,7 +181,7 @@ def insert_site(D, site, *, certify: bool = True):
     n = len(D.sites)
     c_disc, rs = site_disc(g)
     cs = np.array(c_disc, float)
-    scale = float(np.abs(dyn.C).max() + dyn.rmax + 1.0) if n else 1.0
+    scale = dyn.scale if n else 1.0
     cand = dyn.near(cs, rs + dyn.rmax + 1e-9 * scale)
     try:
         check_disjoint([D.sites[k] for k in cand] + [s], [dyn.geoms[k] for k in cand] + [g])
@@ -251,7 +251,7 @@ def delete_local(D, i, *, certify: bool = True, renumber: str = "shift"):
     t0 = time.perf_counter()
     dyn = dynamic_state(D)
     n = len(D.sites)
-    scale = float(np.abs(dyn.C).max() + dyn.rmax + 1.0) if not dyn.unsupported and n else 0.0
+    scale = dyn.scale if not dyn.unsupported and n else 0.0
     if dyn.unsupported or dyn.closed or not dyn.ids_ok or n < 5 or not D.vertices or scale > FAR:
         st.dynamic = dyn
         return None
@@ -767,12 +767,10 @@ def _conic_reach(dyn, V, pe, op, special):
 
 
 def _surrounding(dyn, o, op, special, k=24):
-    """The old sites with the k centres nearest to site o's (and those added since the k-d tree
-    was built), without o and a deleted site."""
-    n = len(dyn.slot)
-    _, idx = dyn.tree.query(dyn.C[o], k=min(k, n))
-    got = {int(dyn.slot[t]) for t in np.atleast_1d(idx) if 0 <= t < n and dyn.slot[t] >= 0}
-    got.update(dyn.extra)
+    """About k old sites with the centres nearest to site o's, without o and a deleted site (any
+    set of sites is sound for :func:`runtime.voronoi.conflict.cell_radius`; the nearest make ρ
+    small)."""
+    got = set(dyn.nearest(dyn.C[o], k + 2))
     got.discard(o)
     if op == "delete":
         got.discard(special)
