@@ -14,9 +14,9 @@ import random
 
 import numpy as np
 
-from runtime.voronoi.adjacency import DynamicState
-from runtime.voronoi.conic_geometry import site_geometry
-from runtime.voronoi.site_input import as_site
+from curvedvoronoi.runtime.voronoi.adjacency import DynamicState
+from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+from curvedvoronoi.runtime.voronoi.site_input import as_site
 
 import curvedvoronoi as cv
 

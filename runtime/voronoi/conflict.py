@@ -21,12 +21,47 @@ the test at infinity: a disc strictly inside the convex hull of points (for a si
 and a bounding radius: h_s(θ) ≤ c_s·e(θ) + R_s < max_k c_k·e(θ) ≤ max_k h_k(θ), the centre of a
 convex site lying in it).
 
-:func:`cell_radius` bounds a Voronoi region from bounding discs alone: the proofs of an update
-with ellipses need the sites that can reach a new edge's arc, and the arc lies in the regions of
-its two sites.
+**The reach of an arc** (:func:`cell_radius`, :func:`arc_reach`): the proofs of an update with
+ellipses need every site that can enter the empty circle of a point of a new edge's arc, read from
+the regions, not from the polyline.  Let every site k lie in a disc (c_k, R_k) (:func:`site_disc`),
+so that for every point q
+
+    |q − c_k| − R_k  ≤  d(q, S_k)  ≤  |q − c_k| + R_k.                                    (1)
+
+*Region.*  If d(q, S_i) ≤ d(q, S_k) for every k of a set T, then by (1)
+|q − c_i| − R_i ≤ |q − c_k| + R_k for k ∈ T.  Write q = c_i + t·u (|u| = 1, t ≥ 0), w = c_k − c_i,
+s = R_i + R_k.  For t > s, squaring (t − s)² ≤ |t·u − w|² gives 2t(u·w − s) ≤ |w|² − s², so when
+u·w > s
+
+    t  ≤  t_k(u) = (|w|² − s²) / (2 (u·w − s))                                            (2)
+
+(and t ≤ s ≤ t_k(u) otherwise, since u·w > s forces |w| > s and t_k(u) ≥ (|w| + s)/2 ≥ s).
+Over a sector of directions of angle Δ around u_m, |u − u_m| ≤ Δ/2, hence u·w ≥ u_m·w − |w|Δ/2 =: g_k
+and t ≤ (|w|² − s²) / (2 (g_k − s)) whenever g_k > s.  :func:`cell_radius` returns ρ, the largest
+over 64 sectors of the smallest such bound over T (None when a sector has none: T does not
+surround site i), so |q − c_i| ≤ ρ on the region of i among T — and on its region among any set
+of sites containing T.
+
+*Reach.*  Let q be a point of the arc of an edge (i, j) proved (by the verifier, against a set of
+sites containing T) nearer to i and j than to those sites, so q lies in that region and, by (1),
+its empty circle has radius r(q) = d(q, S_i) ≤ |q − c_i| + R_i ≤ ρ + R_i.  A site k that enters
+it has |q − c_k| − R_k ≤ d(q, S_k) < r(q), so
+
+    |c_k − c_i|  ≤  |c_k − q| + |q − c_i|  <  2ρ + R_i + R_k  =  arc_reach + R_k.          (3)
+
+Every site with its centre within :func:`arc_reach` + max_k R_k of c_i is therefore handed to the
+proof, which makes it complete: a site outside cannot reach any point of the arc.  (3) is tight
+when q is the farthest point of the region in the direction of c_k (t = ρ) and S_i, S_k meet their
+discs' far sides (tests/test_insertion_reach.py builds that configuration.)
+
+*Rounding.*  The margins cover the float evaluation: u·w and |w| carry relative errors of a few
+units in the last place of |w| + |c_i| (the differences w = c_k − c_i are rounded; scenes whose
+coordinates exceed 10⁶ are rebuilt, not updated, so these stay below 10⁻⁹ (|w| + s + 1)); the
+quotient (2) is taken only when g_k − s exceeds |w|·Δ/2 ≈ 0.05 |w|, so |w|² − s² ≥ 0.05 |w|² has no
+cancellation, and ρ is enlarged by a relative 10⁻⁶ and an absolute 10⁻⁹ (max |w| + 1).
 
 Public API: :func:`site_disc`, :func:`nearest_old_sites`, :func:`outside`, :func:`disc_inside`,
-:func:`cell_radius`.
+:func:`cell_radius`, :func:`arc_reach`.
 """
 from __future__ import annotations
 
@@ -35,7 +70,7 @@ import numpy as np
 from .geometry import rounding_slack
 from .verify.vertices import VERTEX_TOL
 
-__all__ = ["site_disc", "nearest_old_sites", "outside", "disc_inside", "cell_radius", "LOCAL_KINDS"]
+__all__ = ["site_disc", "nearest_old_sites", "outside", "disc_inside", "cell_radius", "arc_reach", "LOCAL_KINDS"]
 
 EPS = 2.0 ** -53
 #: the site kinds a diagram can be edited locally with (bounded convex sites)
@@ -116,14 +151,9 @@ def outside(verts, ids, g):
 def cell_radius(C, R, i, T, sectors: int = 64):
     """A radius ρ such that every point q with |q − c_i| − R_i ≤ |q − c_k| + R_k for all k in T
     lies within ρ of c_i (C, R: centres and radii of discs containing the sites), or None when
-    the discs T do not surround disc i.  Since d(q, S_i) ≥ |q − c_i| − R_i and
-    d(q, S_k) ≤ |q − c_k| + R_k, every point of the plane at least as near to site i as to each
-    site of T — every point of i's Voronoi region among any sites including T — lies within ρ.
-
-    For q = c_i + t·u (|u| = 1), w = c_k − c_i, s = R_i + R_k: when u·w > s, the inequality fails
-    for t > (|w|² − s²) / (2 (u·w − s)) (square t − s > |t·u − w|).  Over a sector of directions
-    of angle Δ around u_m, u·w ≥ u_m·w − |w|·Δ/2 (|u − u_m| ≤ Δ/2); ρ is the largest over the
-    sectors of the smallest such bound over T (rounding: relative margins of 1e-9 and 1e-6)."""
+    the discs T do not surround disc i: by (1) of the module docstring, every point at least as
+    near to site i as to each site of T (i's Voronoi region among any sites including T) lies
+    within ρ.  Bound (2) of the module docstring over ``sectors`` sectors of directions."""
     T = np.asarray(T, dtype=int)
     if not len(T):
         return None
@@ -140,6 +170,14 @@ def cell_radius(C, R, i, T, sectors: int = 64):
     if not np.isfinite(per).all():
         return None
     return float(per.max()) * (1 + 1e-6) + 1e-9 * (float(np.abs(W).max()) + 1.0)
+
+
+def arc_reach(C, R, i, T, sectors: int = 64):
+    """2ρ + R_i (ρ = :func:`cell_radius`): every site k that can enter the empty circle of a point
+    of site i's region among T (among any sites including T) has |c_k − c_i| < arc_reach + R_k
+    (inequality (3) of the module docstring); None when T does not surround site i."""
+    rho = cell_radius(C, R, i, T, sectors)
+    return None if rho is None else 2.0 * rho + float(np.asarray(R, float)[i])
 
 
 def disc_inside(P, c, r) -> bool:

@@ -85,13 +85,13 @@ The new vertices (:mod:`runtime.voronoi.verify.conic_vertices`, else the foot-po
 edges (the chains of strips of :mod:`runtime.voronoi.verify.curved`) are proved by the
 verifier's routines against every site that can reach them.  The reach of an arc is not read
 from its polyline (for conics the verifier bounds the polyline's distance to the bisector, not
-the arc's distance to the polyline) but from the regions: every point q of the open arc of an
-edge (i, j), proved against a set of sites containing T (the 24 sites nearest to i), satisfies
-d_i(q) ≤ d_k(q) for k ∈ T, hence |q − c_i| − R_i ≤ |q − c_k| + R_k (bounding discs), and
-:func:`runtime.voronoi.conflict.cell_radius` gives ρ with |q − c_i| ≤ ρ on that set.  Then
-r(q) = d_i(q) ≤ ρ + R_i, and a site whose disc stays farther than 2ρ + R_i from c_i cannot
-enter the empty circle of any point of the arc: the verifier is handed T and the sites within
-that reach of the better of the edge's two sites, and the sites within r_v of each vertex.  When
+the arc's distance to the polyline) but from the regions (:mod:`runtime.voronoi.conflict`, inequalities
+(1)–(3)): every point q of the open arc of an edge (i, j), proved against a set of sites
+containing T (about 24 sites nearest to i), lies in i's region among T, hence within ρ of c_i
+(:func:`runtime.voronoi.conflict.cell_radius`), its empty circle has radius r(q) ≤ ρ + R_i, and a
+site k entering it has |c_k − c_i| < 2ρ + R_i + R_k (:func:`runtime.voronoi.conflict.arc_reach`):
+the verifier is handed T and the sites within that reach of the better of the edge's two sites,
+and the sites within r_v of each vertex.  When
 neither site of an edge is surrounded by its T (a site on the hull), all sites are used.  At
 infinity the disc test uses the bounding discs (h_s(θ) ≤ c_s·e(θ) + R_s, the centre of every
 site lying in it) and the accounting is
@@ -124,7 +124,7 @@ from .sampling import Samples, initial_spacing
 from .site_arrays import SiteArrays
 from ..sites.intersection import sites_intersect
 from .adjacency import dynamic_state
-from .conflict import LOCAL_KINDS, cell_radius, disc_inside, nearest_old_sites, outside, site_disc
+from .conflict import LOCAL_KINDS, arc_reach, disc_inside, nearest_old_sites, outside, site_disc
 from .site_input import SiteError, as_site, check_disjoint, sites_equal
 from .verify.edge_checks import check_edges
 from .verify.edges import CircleTable
@@ -743,7 +743,7 @@ def _prove_sub(D, dyn, pv, pe, vert, op, special, new_index, problems, flags_v, 
 def _conic_reach(dyn, V, pe, op, special):
     """With an ellipse among the sites: the old indices of every site that can reach the vertices
     ``V`` or the arcs of the bounded edges ``pe`` (module docstring, ellipses), or None when a
-    site of an edge is not surrounded (:func:`runtime.voronoi.conflict.cell_radius`)."""
+    site of an edge is not surrounded (:func:`runtime.voronoi.conflict.arc_reach`)."""
     out: set = set()
     for w in V:
         rad = w.radius + 4 * VERTEX_TOL * (1 + abs(w.x) + abs(w.y) + w.radius)
@@ -753,9 +753,9 @@ def _conic_reach(dyn, V, pe, op, special):
         for t in e.sites:
             o = _old(t, op, special, dyn)
             T = _surrounding(dyn, o, op, special)
-            rho = cell_radius(dyn.C, dyn.R, o, T)
-            if rho is not None and (best is None or 2 * rho + dyn.R[o] < best[0]):
-                best = (2 * rho + dyn.R[o], o, T)
+            reach = arc_reach(dyn.C, dyn.R, o, T)
+            if reach is not None and (best is None or reach < best[0]):
+                best = (reach, o, T)
         if best is None:
             return None
         reach, o, T = best
