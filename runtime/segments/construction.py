@@ -40,12 +40,12 @@ from ..voronoi.site_input import SiteError
 from ..voronoi.structure import Diagram, DiagramVertex
 from .contact_order import contact_order, corner_order
 from .crossings import check_pieces, renamed
-from .edges import edge_polylines, walk_hint
+from .edges import edge_polylines
 from .elementary import ARC, POINT, ElementarySites, decompose
 from .emptiness import empty_by_filter, prove_empty
 from .exact import contacts_valid
-from .sampling import flat, initial_spacing, nearest_point, samples, triangulation
-from .walk_checks import far_ends, long_side, segment_ends
+from .sampling import flat, initial_spacing, nearest_point, retriangulation, samples, triangulation
+from .walk_checks import far_ends, long_side
 from .newton import prove_vertices
 from .vertices import common_point
 
@@ -190,7 +190,11 @@ def _check_junctions(E: ElementarySites) -> None:
 # ------------------------------------------------------------------------------------ one round
 def _build_once(E: ElementarySites, spacing, stats, caches):
     """Triangulate the samples, prove the candidate vertices, check the walks.
-    Returns ((vertices, walks, problems), {site: refine}) with walks mapped to vertex ids."""
+    Returns ((vertices, walks, problems), {site: refine}) with walks mapped to vertex ids.
+
+    Rounds are local: the triangulation of the previous round is updated where samples changed
+    (:func:`runtime.segments.sampling.retriangulation`), and the proofs, emptiness verdicts and
+    contact orders of earlier rounds are reused (they do not depend on the samples)."""
     extra = caches.setdefault("extra", {})
     graded = caches.setdefault("graded", {})
     P, lab = samples(E, spacing, extra, ends=graded)
@@ -204,11 +208,24 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
         a = np.linspace(0, 2 * np.pi, 33)[:-1] + 0.1
         P = np.vstack([P, c + R * np.column_stack([np.cos(a), np.sin(a)])])
         lab = np.concatenate([lab, np.full(32, ghost)])
-    tri = triangulation(P, lab)
+        tri = triangulation(P, lab)
+        caches.pop("tri", None)
+    else:
+        prev = caches.pop("tri", None)
+        tri = retriangulation(prev, P, lab) if prev is not None else None
+        if tri is None:
+            tri = triangulation(P, lab)
+        else:
+            stats["local_rounds"] = stats.get("local_rounds", 0) + 1
+        caches["tri"] = tri
+    P, lab = tri.P, tri.lab            # an updated triangulation keeps its own sample order
     raw = tri.walks()
     threes = np.nonzero(tri.nlab == 3)[0]
     T3 = np.sort(tri.L[threes], axis=1)
     seeds = tri.cc[threes]
+    skip = (T3 == ghost).any(axis=1) | ~np.isfinite(seeds).all(axis=1)
+    fin_spacing = np.where(np.isfinite(spacing), spacing, 0.0)
+    reaches = 2 * fin_spacing[np.minimum(T3, len(E) - 1)].max(axis=1)
     tree = cKDTree(P)
     hmax = float(np.max(spacing[np.isfinite(spacing)])) if np.isfinite(spacing).any() else 0.0
     refine = _Refine()
@@ -221,12 +238,14 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
     near_cache = caches.setdefault("near", {})
     by_sites: dict = {}
     jobs = []
-    for t, triple, seed in zip(threes.tolist(), T3.tolist(), seeds):
-        triple = tuple(int(v) for v in triple)
-        if ghost in triple or not np.all(np.isfinite(seed)):
+    corners = E.common_points
+    for t, triple, seed, sk, reach in zip(threes.tolist(), T3.tolist(), seeds.tolist(), skip.tolist(),
+                                         reaches.tolist()):
+        if sk:
             tri_vid[t] = "inf"      # the ghost ring, or a flat hull triangle of collinear samples
             continue
-        c = common_point(E, triple)
+        triple = tuple(triple)
+        c = corners[triple] if triple in corners else common_point(E, triple)
         if c is not None:
             key = ("corner", c)
             if key not in key_to_vid:
@@ -238,11 +257,10 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
         # a seed near a proved solution of its triple (within twice the triple's sample spacing)
         # takes it without a new Newton run; two vertices of one triple that close make the
         # edge checks fail, and the refinement then separates them
-        reach = 2 * max((spacing[t] for t in triple if np.isfinite(spacing[t])), default=0.0)
         sol = None
-        for prev in near_cache.get(triple, ()):
-            if math.hypot(prev.x - seed[0], prev.y - seed[1]) <= reach:
-                sol = prev
+        for prev_sol in near_cache.get(triple, ()):
+            if math.hypot(prev_sol.x - seed[0], prev_sol.y - seed[1]) <= reach:
+                sol = prev_sol
                 break
         jobs.append((t, triple, sol, seed))
     # the zeros not known yet: Newton for all of them together, then one arb proof each
@@ -260,20 +278,27 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
             else:
                 sol.reason = "contact at an end, no closed form"
         if sol.status == "proved":
-            near_cache.setdefault(triple, []).append(sol)
+            near = near_cache.setdefault(triple, [])
+            if not any(prev_sol is sol for prev_sol in near):
+                near.append(sol)
         jobs[k] = (t, triple, sol, seed)
     # the float emptiness filter on all new proved zeros at once; the rest one by one below
     fresh = {id(so): (tr, so) for _, tr, so, _ in jobs if so.status == "proved" and id(so) not in verdicts}
     verdicts.update(empty_by_filter(E, tree, lab, hmax, list(fresh.values())))
     orders = caches.setdefault("orders", {})
+    sol_vid: dict = {}                  # id(sol) -> its vertex in this round
     for t, triple, sol, _seed in jobs:
         vid = None
         if sol.status == "proved":
+            vid = sol_vid.get(id(sol))
+            if vid is not None:
+                tri_vid[t] = vid
+                continue
             if id(sol) not in verdicts:
                 verdicts[id(sol)] = prove_empty(E, tree, lab, hmax, triple, sol)
             empty, members, culprit = verdicts[id(sol)]
             if empty:
-                vid = _vertex_id(vertices, by_sites, members, sol, E, orders)
+                vid = sol_vid[id(sol)] = _vertex_id(vertices, by_sites, members, sol, E, orders)
             else:
                 refine.update(triple)
                 if culprit is not None:
@@ -295,25 +320,27 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
             tri_vid[t] = vid
     walks = []
     degree: list[list] = [[] for _ in vertices]
+    flat_tris = {t for t, v in tri_vid.items() if v == "inf"}
+    end_pairs = E.segment_end_pairs
     for pair, start, chain, end in raw:
-        if ghost in pair or segment_ends(E, pair) or long_side(tri, pair, start, end, tri_vid):
+        if ghost in pair or pair in end_pairs:
             # the two ends of a segment are never neighbours (a circle through both meets the
             # open segment); their samples' cells touch far out when the segment's samples fall
             # a rounding inside the hull edge between its ends
             continue
-        if (start is not None and start[0] == "bad") or (end is not None and end[0] == "bad") or start is None:
+        if flat_tris and ((start is not None and start[0] == "tri" and start[1] in flat_tris)
+                          or (end is not None and end[0] == "tri" and end[1] in flat_tris)) \
+                and long_side(tri, pair, start, end, tri_vid):
+            continue
+        if start is None or start[0] == "bad" or (end is not None and end[0] == "bad"):
             refine.update(pair)
             continue
         ends = []
         ok = True
         for e in (start, end):
-            if e[0] == "hull" or tri_vid.get(e[1]) == "inf":
-                ends.append(None)
-            else:
-                v = tri_vid.get(e[1])
-                if v is None:
-                    ok = False
-                ends.append(v)
+            v = None if e[0] == "hull" else tri_vid.get(e[1], -1)
+            ok = ok and v != -1
+            ends.append(None if v == "inf" else v)
         if not ok:
             refine.update(pair)
             continue
@@ -330,11 +357,11 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
             continue
         for v in ends:
             if v is not None:
-                degree[v].append(tuple(pair))
-        hints = [walk_hint(tri, e) for e in (start, end)]
-        walks.append((tuple(int(v) for v in pair), ends, hints))
+                degree[v].append(pair)
+        walks.append((pair, ends, (None, None)))
     for v in vertices:
-        want = sorted(v.site_pairs())
+        s_ = v.sites
+        want = sorted((a, b) if a < b else (b, a) for a, b in zip(s_, s_[1:] + s_[:1]))
         if sorted(degree[v.id]) != want:
             refine.update(v.sites)
             # an edge missing at a vertex of a point site p and a curve t ending at p: the edge

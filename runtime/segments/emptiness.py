@@ -125,14 +125,17 @@ def empty_by_filter(E: ElementarySites, tree, lab, hmax: float, jobs) -> dict:
     scale = 1.0 + np.abs(X).sum(axis=1) + r
     reach = r + hmax / 2 + 1e-9 * scale + rad
     hits = tree.query_ball_point(X, reach)
-    rows, cols = [], []
-    for i, (h, (triple, _s)) in enumerate(zip(hits, jobs)):
-        ks = np.unique(lab[h]) if len(h) else np.empty(0, np.int64)
-        ks = ks[~np.isin(ks, triple)]
-        rows.append(np.full(len(ks), i))
-        cols.append(ks)
-    rows = np.concatenate(rows).astype(np.int64) if rows else np.empty(0, np.int64)
-    cols = np.concatenate(cols).astype(np.int64) if cols else np.empty(0, np.int64)
+    lens = np.fromiter((len(h) for h in hits), dtype=np.int64, count=len(hits))
+    if lens.sum():
+        rows = np.repeat(np.arange(len(jobs), dtype=np.int64), lens)
+        cols = lab[np.concatenate([np.asarray(h, dtype=np.int64) for h in hits if len(h)])].astype(np.int64)
+        T = np.array([tuple(t) for t, _s in jobs], dtype=np.int64).reshape(len(jobs), -1)
+        keep = ~(cols[:, None] == T[rows]).any(axis=1)
+        # one row per (job, site): the distinct sites within reach, other than the triple's
+        key = np.unique(rows[keep] * (int(lab.max()) + 1) + cols[keep])
+        rows, cols = key // (int(lab.max()) + 1), key % (int(lab.max()) + 1)
+    else:
+        rows = cols = np.empty(0, np.int64)
     ok = np.ones(len(jobs), dtype=bool)
     if len(rows):
         Q = X[rows]

@@ -7,6 +7,7 @@ spacing of a curve is its gap to the nearest non-adjacent site divided by
 :data:`SPACING_PER_GAP` (at most a quarter of its length); refinement divides it further.
 
 Public API: :func:`initial_spacing`, :func:`samples`, :func:`curve_lengths`, :func:`triangulation`,
+:func:`retriangulation`,
 :func:`flat`, :func:`nearest_point`, :func:`corner_grading`, :func:`end_points`, :data:`SPACING_PER_GAP`.
 """
 from __future__ import annotations
@@ -19,7 +20,7 @@ from .bisectors import arc_range
 from .distance import in_arc
 from .elementary import ARC, POINT, ElementarySites
 
-__all__ = ["initial_spacing", "samples", "curve_lengths", "triangulation", "flat", "nearest_point", "corner_grading", "end_points", "GRADING_FLOOR",
+__all__ = ["initial_spacing", "samples", "curve_lengths", "triangulation", "retriangulation", "flat", "nearest_point", "corner_grading", "end_points", "GRADING_FLOOR",
            "SPACING_PER_GAP"]
 
 #: graded samples stay this far (relative to the coordinates) from a curve's end
@@ -226,6 +227,46 @@ def triangulation(P, lab) -> SampleTriangulation:
     except QhullError:
         pass
     return SampleTriangulation(P, lab)
+
+
+#: a local update of the triangulation is tried when at most this fraction of the samples changed
+LOCAL_FRACTION = 0.5
+#: ... and when the hull-side by new-sample test of the update stays below this many entries
+LOCAL_HULL_WORK = 20_000_000
+
+
+def retriangulation(prev: SampleTriangulation, P, lab) -> SampleTriangulation | None:
+    """The triangulation of the samples ``P`` (labels ``lab``) from ``prev``, the triangulation of
+    the previous round's samples, by removing the samples that are gone and inserting the new
+    ones (:meth:`runtime.voronoi.sample_delaunay.SampleTriangulation.update`, a batch
+    Bowyer–Watson step): refinement changes the samples of a few sites only, and the rest of the
+    triangulation stays as it is.  Samples are matched by their exact coordinates (a sample of a
+    site whose spacing did not change is recomputed bit for bit).  The result's samples are in
+    its own order (kept ones, then new ones).  None when a full triangulation is the better
+    choice (too many changes, a relabelled sample) or the update refuses."""
+    old = np.ascontiguousarray(prev.P, dtype=float).view(np.complex128).ravel()
+    cur = np.ascontiguousarray(P, dtype=float).view(np.complex128).ravel()
+    if len(np.unique(cur)) != len(cur):
+        return None
+    keep = np.isin(old, cur)
+    add = ~np.isin(cur, old)
+    n_change = int((~keep).sum() + add.sum())
+    if n_change == 0:
+        return prev
+    if n_change > LOCAL_FRACTION * len(cur):
+        return None
+    # a kept sample must keep its label
+    order = np.argsort(cur)
+    at = order[np.searchsorted(cur, old[keep], sorter=order)]
+    if not np.array_equal(lab[at], prev.lab[keep]):
+        return None
+    hull_sides = int((prev.nb == -1).sum())
+    if hull_sides * int(add.sum()) > LOCAL_HULL_WORK:
+        return None
+    try:
+        return prev.update(np.nonzero(~keep)[0], P[add], lab[add])
+    except (ValueError, IndexError, QhullError):
+        return None
 
 
 def flat(P) -> bool:

@@ -18,6 +18,9 @@ from .elementary import POINT, ElementarySites
 
 __all__ = ["segment_ends", "long_side", "far_ends"]
 
+#: far points times sites per block of distances in :func:`far_ends` (bounds its memory)
+FAR_CHUNK = 2_000_000
+
 
 def segment_ends(E: ElementarySites, pair) -> bool:
     """Both sites of ``pair`` are the two ends of one segment."""
@@ -55,10 +58,16 @@ def far_ends(E: ElementarySites, result, tolerance, lo, hi, caches) -> dict:
         return {}
     Q = np.array([e.polyline[-1] if e.ends[1] is None else e.polyline[0] for e in edges])
     n = len(E)
-    D = site_distances(E, np.tile(np.arange(n), len(Q)), np.repeat(Q, n, axis=0)).reshape(len(Q), n)
     out: dict = {}
     graded = caches.setdefault("graded", {})
-    for e, row in zip(edges, D):
+    rows = max(1, FAR_CHUNK // max(n, 1))           # distances to all sites, a few far points at a time
+    D = iter(())
+    for m, e in enumerate(edges):
+        if m % rows == 0:
+            block = Q[m:m + rows]
+            D = iter(site_distances(E, np.tile(np.arange(n), len(block)),
+                                    np.repeat(block, n, axis=0)).reshape(len(block), n))
+        row = next(D)
         i, j = e.sites
         own = max(row[i], row[j])
         row = row.copy()
