@@ -28,8 +28,11 @@ One BLAS thread (threadpoolctl and OPENBLAS_NUM_THREADS=1); thread settings and 
 
 Run:  OPENBLAS_NUM_THREADS=1 python bench/bench_dynamic.py [--sizes 1000 10000] [--big] [--k 20]
           [--ellipses 1000 10000] [--ellipse-k 10]
-      (--big adds N = 10⁵: about 12 GB and several minutes for the batch build; appends a table
-      to bench/results/dynamic.md)
+          [--cache DIR] [--max-rss-gb 6]
+      (--big adds N = 10⁵, built by tiles: about 2.5 GB and 15 min on an idle machine, kept in
+      --cache DIR for the next run; appends a table to bench/results/dynamic.md)
+* nearest-site queries on the circle diagrams of N ≥ 10⁴ (proved, right after the build) against
+  CGAL's ``nearest_neighbor`` on the same circles, queries per second.
 """
 from __future__ import annotations
 
@@ -65,17 +68,73 @@ def _loadavg() -> str:
         return f"{os.getloadavg()[0]:.2f}"
 
 
-def circles_case(n: int, k: int, seed: int = 1, certify: bool = True) -> dict:
+def _circles_build(base, n, k, seed, certify, cache):
+    """The batch build of the N circles: ``cv.voronoi`` up to 2·10⁴ sites; above, the tiled build
+    (``cv.tiled_voronoi``, certified by the whole-diagram verifier: one process runs out of memory at
+    10⁵), kept in ``cache`` (a pickle keyed by N, K and the seed) so that a second run does not
+    build again.  A tiled diagram carries no construction state: it is given one (the sites'
+    arrays, no sample triangulation), which is all that local updates need."""
+    import pickle
+
+    import curvedvoronoi as cv
+
+    if n <= 20000:
+        t0, c0 = time.perf_counter(), time.process_time()
+        d = cv.voronoi(base, progress=False, certify=certify)
+        return d, time.perf_counter() - t0, time.process_time() - c0, "voronoi"
+    from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+    from curvedvoronoi.runtime.voronoi.construction import ConstructionState
+    from curvedvoronoi.runtime.voronoi.site_arrays import SiteArrays
+
+    path = Path(cache) / f"circles_{n}_{k}_{seed}_{'c' if certify else 'u'}.pkl" if cache else None
+    if path is not None and path.exists():
+        with open(path, "rb") as fh:
+            got = pickle.load(fh)
+        d, build_s, build_cpu_s, how = got["diagram"], got["build_s"], got["build_cpu_s"], "tiled_voronoi (cached)"
+    else:
+        t0, c0 = time.perf_counter(), time.process_time()
+        d = cv.tiled_voronoi(base, progress=False, certify=certify)
+        build_s, build_cpu_s, how = time.perf_counter() - t0, time.process_time() - c0, "tiled_voronoi"
+        d.construction = None
+        if path is not None:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            with open(path, "wb") as fh:
+                pickle.dump({"diagram": d, "build_s": build_s, "build_cpu_s": build_cpu_s}, fh, protocol=5)
+    d.construction = ConstructionState(SiteArrays(d.sites, [site_geometry(s) for s in d.sites]), None, {})
+    return d, build_s, build_cpu_s, how
+
+
+def circles_case(n: int, k: int, seed: int = 1, certify: bool = True, queries: int = 0, cache=None) -> dict:
     import cgal_peer
     import curvedvoronoi as cv
 
     threads = _threads()
     circles = cgal_peer.random_disjoint_circles(n + k, seed)
     base, extra = circles[:n], circles[n:]
-    t0, c0 = time.perf_counter(), time.process_time()
-    d = cv.voronoi(base, progress=False, certify=certify)
-    out = {"case": "circles", "N": n, "K": k, "threads": threads, "build_s": time.perf_counter() - t0,
-           "build_cpu_s": time.process_time() - c0, "build_certified": bool(d.certified), "certify": certify}
+    d, build_s, build_cpu_s, how = _circles_build(base, n, k, seed, certify, cache)
+    out = {"case": "circles", "N": n, "K": k, "threads": threads, "build_s": build_s, "build_how": how,
+           "build_cpu_s": build_cpu_s, "build_certified": bool(d.certified), "certify": certify}
+    if n >= 10000 and queries:
+        # proved nearest-site queries on the built circle diagram, against CGAL's nearest_neighbor
+        # on the same circles (the Apollonius graph's walk, the previous answer as hint)
+        import numpy as np
+
+        C = np.array([(x, y) for x, y, _ in base])
+        Q = np.random.default_rng(seed + 7).uniform(C.min(axis=0), C.max(axis=0), (queries, 2))
+        d.nearest(Q[:10])                                   # the site index is built once
+        t = time.perf_counter()
+        r = d.nearest(Q)
+        out["nearest_qps"] = queries / (time.perf_counter() - t)
+        out["nearest_proved"] = float(np.mean(r.proved))
+        try:
+            import cgal_dynamic
+
+            _, _, _, _, q_s, near = cgal_dynamic.run(base, [], Q)
+            ok = r.index >= 0
+            out["cgal_nearest_qps"] = queries / q_s
+            out["cgal_nearest_same"] = bool(np.array_equal(np.asarray(near)[ok], r.index[ok]))
+        except Exception as exc:  # noqa: BLE001 - PeerMissing or a build failure
+            out["cgal_nearest_error"] = f"{type(exc).__name__}: {exc}"
     rng = random.Random(seed)
     cur = list(base)
     ops, rows = [], []
@@ -266,7 +325,8 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--case", help=argparse.SUPPRESS)
     ap.add_argument("--sizes", nargs="*", type=int, default=[1000, 10000])
-    ap.add_argument("--big", action="store_true", help="add N = 100000 (about 12 GB, minutes)")
+    ap.add_argument("--big", action="store_true",
+                    help="add N = 100000 (tiled build: about 2.5 GB and 15 min on an idle machine; see --cache)")
     ap.add_argument("--k", type=int, default=20, help="insertions (and deletions of each kind) per N")
     ap.add_argument("--queries", type=int, default=100000)
     ap.add_argument("--ellipses", nargs="*", type=int, default=[1000, 10000],
@@ -278,11 +338,19 @@ def main():
                     help="build and update with certify=False (vertices proved, no edge proofs, never certified): "
                          "for N too large for the verifier's memory")
     ap.add_argument("--no-write", action="store_true")
+    ap.add_argument("--max-rss-gb", type=float, default=None,
+                    help="address-space limit of each case's process (GB): a case past it stops with MemoryError")
+    ap.add_argument("--cache", default=None,
+                    help="directory keeping the tiled builds of N > 2·10⁴ circles between runs (pickles)")
     args = ap.parse_args()
     if args.case:
+        if args.max_rss_gb:
+            lim = int(args.max_rss_gb * 2 ** 30)
+            resource.setrlimit(resource.RLIMIT_AS, (lim, lim))
         kind, n = args.case.split(":")
         if kind == "circles":
-            res = circles_case(int(n), args.k, certify=not args.uncertified)
+            res = circles_case(int(n), args.k, certify=not args.uncertified, queries=args.queries,
+                               cache=args.cache)
         elif kind == "ellipses":
             res = ellipses_case(int(n), args.ellipse_k, certify_build=int(n) <= args.certify_ellipses_up_to)
         else:
@@ -299,7 +367,9 @@ def main():
         res = subprocess.run([sys.executable, __file__, "--case", case, "--k", str(args.k),
                               "--queries", str(args.queries), "--ellipse-k", str(args.ellipse_k),
                               "--certify-ellipses-up-to", str(args.certify_ellipses_up_to)]
-                             + (["--uncertified"] if args.uncertified else []),
+                             + (["--uncertified"] if args.uncertified else [])
+                             + (["--cache", args.cache] if args.cache else [])
+                             + (["--max-rss-gb", str(args.max_rss_gb)] if args.max_rss_gb else []),
                              capture_output=True, text=True,
                              env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
         if res.returncode != 0:
@@ -355,6 +425,17 @@ def main():
                          f"{_fmt(cgm, 6)} | {ratio} | {r['build_s']:.1f} | "
                          f"{_verified(r)} | "
                          f"{r.get('cgal_same_graph', r.get('cgal_error', '-'))} | {r['peak_rss_mb']:.0f} |")
+    qrows = [r for r in results if str(r.get("case")).startswith("circles") and "nearest_qps" in r]
+    if qrows:
+        lines += ["", f"Nearest-site queries on the circle diagrams above (right after the build), {args.queries} "
+                  "random query points in the box of the centres (queries/s); CGAL = Apollonius_graph_2::nearest_neighbor "
+                  "on the same circles:", "",
+                  "| N | build | d.nearest proved | proved rows | CGAL nearest_neighbor | proved answers = CGAL's |",
+                  "|---|---|---|---|---|---|"]
+        for r in qrows:
+            lines.append(f"| {r['N']} | {r.get('build_how', 'voronoi')} | {r['nearest_qps']:.3g} | "
+                         f"{r['nearest_proved']:.4f} | {r.get('cgal_nearest_qps', 0):.3g} | "
+                         f"{r.get('cgal_nearest_same', r.get('cgal_nearest_error'))} |")
     for r in results:
         if str(r.get("case")) != "nearest" or "error" in r:
             if "error" in r and "nearest" in r.get("case", ""):
