@@ -3,7 +3,9 @@
 Every site has a geometry (:mod:`runtime.voronoi.geometry`, :mod:`runtime.voronoi.conic_geometry`)
 giving float distances, foot points and rigorous distance bounds; when every site is a circle or
 a point the distances are evaluated on arrays of centres and radii at once.  The neighbour query
-(k-d tree on bounding discs, "big" sites checked one by one) serves the emptiness proofs.
+(k-d tree on bounding discs, "big" sites checked one by one) serves the emptiness proofs; its
+bounded form (:meth:`SiteArrays.nearest_sites`) looks at the k nearest centres only and says when
+that is all.
 
 Public API: :class:`SiteArrays`, :func:`site_groups`.
 """
@@ -17,7 +19,11 @@ from ..sites.kinds import SiteKind
 from .conic_geometry import EllipseGeometry
 from .geometry import rounding_slack
 
-__all__ = ["SiteArrays", "site_groups"]
+__all__ = ["SiteArrays", "site_groups", "NEAREST"]
+
+#: small sites looked up per query by :meth:`SiteArrays.nearest_sites` (an empty circle's disc,
+#: widened by the largest small radius, meets a few sites; more means a wide query)
+NEAREST = 32
 
 
 class SiteArrays:
@@ -104,6 +110,45 @@ class SiteArrays:
             lo[rows], hi[rows] = self.geoms[s].distance_bounds(P[rows])
         return lo, hi
 
+    def nearest_sites(self, Q, reach, k: int = NEAREST):
+        """The sites of :meth:`near_sites` found among the ``k`` small sites with the nearest
+        centres (and every big site), in memory O(k) per query whatever the reach -- a candidate
+        vertex far outside the sites may have a circle holding all of them.  Returns flat arrays
+        (m, site) and ``complete[m]``: True when those are *all* the sites of :meth:`near_sites`
+        for Q[m] (the k-th nearest centre is beyond reach[m] + the largest small radius, so no
+        further small site's bounding disc meets the disc (Q[m], reach[m]))."""
+        Q = np.asarray(Q, float).reshape(-1, 2)
+        reach = np.asarray(reach, float)
+        rows, cols = [], []
+        complete = np.ones(len(Q), bool)
+        if self.small_tree is not None and len(Q):
+            kk = min(int(k), len(self.small))
+            dd, jj = self.small_tree.query(Q, k=kk)
+            dd, jj = dd.reshape(len(Q), kk), jj.reshape(len(Q), kk)
+            r = reach + self.small_rmax
+            complete = (kk == len(self.small)) | (dd[:, -1] > r)
+            m, t = np.nonzero(dd <= r[:, None])
+            rows.append(m)
+            cols.append(self.small[jj[m, t]])
+        big_rows, big_cols = self._near_big(Q, reach)
+        rows += big_rows
+        cols += big_cols
+        if not rows:
+            return np.zeros(0, int), np.zeros(0, int), complete
+        return np.concatenate(rows), np.concatenate(cols), complete
+
+    def _near_big(self, Q, reach):
+        rows, cols = [], []
+        for b in self.big:
+            if self.bounded[b]:
+                dd = np.hypot(Q[:, 0] - self.C[b, 0], Q[:, 1] - self.C[b, 1])
+                m = np.nonzero(dd <= reach + self.R[b] + 1e-12 * self.scale)[0]
+            else:
+                m = np.arange(len(Q))
+            rows.append(m)
+            cols.append(np.full(len(m), b))
+        return rows, cols
+
     def near_sites(self, Q, reach):
         """For each query point Q[m], the sites whose bounding disc meets the disc (Q[m], reach[m]):
         returns flat arrays (m, site)."""
@@ -114,14 +159,9 @@ class SiteArrays:
             if lens.sum():
                 rows.append(np.repeat(np.arange(len(Q)), lens))
                 cols.append(self.small[np.concatenate([np.asarray(x, int) for x in lists if len(x)])])
-        for b in self.big:
-            if self.bounded[b]:
-                dd = np.hypot(Q[:, 0] - self.C[b, 0], Q[:, 1] - self.C[b, 1])
-                m = np.nonzero(dd <= reach + self.R[b] + 1e-12 * self.scale)[0]
-            else:
-                m = np.arange(len(Q))
-            rows.append(m)
-            cols.append(np.full(len(m), b))
+        big_rows, big_cols = self._near_big(Q, reach)
+        rows += big_rows
+        cols += big_cols
         if not rows:
             return np.zeros(0, int), np.zeros(0, int)
         return np.concatenate(rows), np.concatenate(cols)

@@ -1,6 +1,8 @@
 """Emptiness of the circle of a proved vertex: no site enters it (thesis §5.2, the vertex condition).
 
-Rigorous distance lower bounds to every site whose bounding disc can reach the circle (k-d tree);
+Rigorous distance lower bounds to every site whose bounding disc can reach the circle (k-d tree:
+the nearest centres first, all sites in bounded batches only for a wide disc with no conflict
+among them);
 undecided circle/point cases go to the exact conflict test of thesis §3.1.3
 (:func:`runtime.predicates.circles.decide_conflict`).
 
@@ -18,13 +20,22 @@ from ..result import InvalidConicError, LocatorError
 from .apollonius_vertices import exact_vertex
 from .site_arrays import SiteArrays
 
-__all__ = ["prove_empty"]
+__all__ = ["prove_empty", "PAIRS_PER_BATCH"]
+
+#: (vertex, site) pairs listed at a time for the wide discs of :func:`prove_empty`
+PAIRS_PER_BATCH = 1 << 20
 
 
 def prove_empty(S: SiteArrays, clusters, stats):
     """Prove that no site enters the empty circle of each proved vertex; returns, per cluster,
     True (empty, proved), False (a site enters: not a Voronoi vertex) or None (undecided), and the
-    conflicting site."""
+    conflicting site.
+
+    The sites that may enter are first looked up among the nearest centres
+    (:meth:`runtime.voronoi.site_arrays.SiteArrays.nearest_sites`); a circle whose disc meets
+    more sites than that (a candidate far outside the sites, whose circle may hold all of them)
+    is not empty when one of those nearest sites provably enters, and otherwise every site that
+    may enter is listed, :data:`PAIRS_PER_BATCH` (vertex, site) pairs at a time."""
     idx = [c for c, cl in enumerate(clusters) if cl["ok"]]
     res = [None] * len(clusters)
     culprit = [None] * len(clusters)
@@ -35,28 +46,48 @@ def prove_empty(S: SiteArrays, clusters, stats):
     RLO = np.array([clusters[c]["rlo"] for c in idx])
     RHI = np.array([clusters[c]["rhi"] for c in idx])
     TT = np.array([clusters[c]["triple"] for c in idx])
-    rows, cols = S.near_sites(M, RHI + H)
-    keep = (cols != TT[rows, 0]) & (cols != TT[rows, 1]) & (cols != TT[rows, 2])
-    rows, cols = rows[keep], cols[keep]
-    lo, hi = S.dist_bounds(M[rows], cols)
-    lo, hi = lo - H[rows], hi + H[rows]
-    safe = lo > RHI[rows]
-    conflict = hi < RLO[rows]
     bad = np.zeros(len(idx), bool)
     und = np.zeros(len(idx), bool)
-    np.logical_or.at(bad, rows[conflict], True)
-    undecided = ~safe & ~conflict
-    np.logical_or.at(und, rows[undecided], True)
-    first_bad = {}
-    depth = (RLO[rows] - hi)[conflict]
-    for r, c, dp in zip(rows[conflict].tolist(), cols[conflict].tolist(), depth.tolist()):
-        if r not in first_bad or dp < clusters[idx[r]].get("intrusion", np.inf):
-            first_bad[r] = c
-            clusters[idx[r]]["intrusion"] = dp
+    first_bad: dict = {}
     und_pairs: dict = {}
-    for r, c in zip(rows[undecided].tolist(), cols[undecided].tolist()):
-        und_pairs.setdefault(r, []).append(c)
-    stats["emptiness_pairs"] = stats.get("emptiness_pairs", 0) + int(len(rows))
+
+    def classify(rows, cols):
+        """Distance bounds of the (vertex, site) pairs: conflicts and undecided pairs recorded."""
+        keep = (cols != TT[rows, 0]) & (cols != TT[rows, 1]) & (cols != TT[rows, 2])
+        rows, cols = rows[keep], cols[keep]
+        lo, hi = S.dist_bounds(M[rows], cols)
+        lo, hi = lo - H[rows], hi + H[rows]
+        safe = lo > RHI[rows]
+        conflict = hi < RLO[rows]
+        np.logical_or.at(bad, rows[conflict], True)
+        undecided = ~safe & ~conflict
+        np.logical_or.at(und, rows[undecided], True)
+        depth = (RLO[rows] - hi)[conflict]
+        for r, c, dp in zip(rows[conflict].tolist(), cols[conflict].tolist(), depth.tolist()):
+            if r not in first_bad or dp < clusters[idx[r]].get("intrusion", np.inf):
+                first_bad[r] = c
+                clusters[idx[r]]["intrusion"] = dp
+        for r, c in zip(rows[undecided].tolist(), cols[undecided].tolist()):
+            und_pairs.setdefault(r, []).append(c)
+        stats["emptiness_pairs"] = stats.get("emptiness_pairs", 0) + int(len(rows))
+
+    reach = RHI + H
+    rows, cols, complete = S.nearest_sites(M, reach)
+    classify(rows, cols)
+    del rows, cols
+    # wide discs with no conflict among the nearest sites: all sites that may enter, in batches
+    wide = np.nonzero(~complete & ~bad)[0]
+    if len(wide):
+        stats["wide_emptiness_queries"] = stats.get("wide_emptiness_queries", 0) + int(len(wide))
+        und[wide] = False                    # listed again in full below
+        for r in wide.tolist():
+            und_pairs.pop(r, None)
+        step = max(1, PAIRS_PER_BATCH // max(S.n, 1))
+        for b0 in range(0, len(wide), step):
+            part = wide[b0:b0 + step]
+            rows, cols = S.near_sites(M[part], reach[part])
+            classify(part[rows], cols)
+            del rows, cols
     for a, c in enumerate(idx):
         if bad[a]:
             res[c], culprit[c] = False, first_bad[a]
