@@ -187,6 +187,31 @@ def test_hull_insertions_reprove_infinity():
     _check(d, circles + far[1:])
 
 
+def test_hull_insertions_prove_infinity_among_the_leaders():
+    """Sites inserted just outside and far outside the hull of a scene, in eight directions, and
+    one well inside: the unbounded edges and the accounting at infinity are proved among the old
+    leaders and the new site (the kept unbounded edges against those, the new ones against all
+    sites); every result is certified, and the last is verified by the independent verifier and
+    has the batch build's Delaunay graph."""
+    import math
+
+    circles = cgal_peer.random_disjoint_circles(60, 4)
+    xs, ys = [c[0] for c in circles], [c[1] for c in circles]
+    cx, cy = (max(xs) + min(xs)) / 2, (max(ys) + min(ys)) / 2
+    half = max(max(xs) - min(xs), max(ys) - min(ys)) / 2
+    new = []
+    for k in range(8):
+        a = 2 * math.pi * k / 8 + 0.3
+        dist = half * (1.25 if k % 2 else 3.0)
+        new.append((cx + dist * math.cos(a), cy + dist * math.sin(a), [0.0, 0.7, 2.5][k % 3]))
+    d = cv.voronoi(circles)
+    for c in new:
+        d = d.insert(c)
+        assert d.stats["update"] == "local, unbounded edges and accounting at infinity re-proved", d.stats
+        assert d.certified, d.problems[:3]
+    _check(d, circles + new)
+
+
 def test_degree_four_vertices_grid_and_ring():
     """Exactly co-circular sites: the centre of a 5 x 5 grid of points inserted (four vertices of
     degree 4 appear), then a corner-adjacent point deleted; a ring of 12 circles from cos/sin

@@ -64,12 +64,18 @@ Why the result is proved (H the reported graph after the update, G the true one)
   the disc of s lies strictly inside the convex hull of its neighbours' centres, the support
   function of s, h_s(θ) = c_s·e(θ) + ρ_s, is below max_k h_k(θ) in every direction, so the
   unbounded ends, their order and the sites leading between them are those of the old proof.
-  Otherwise (a site on or near the hull) every unbounded edge of the new diagram, kept or new, is
-  proved again against all sites (the verifier's edge routine with a k-d tree over all centres:
-  O(N) numpy work, O(hull) proofs) and the accounting at infinity is redone with the verifier's
-  routines (:func:`runtime.voronoi.verify.closure.verify_accounting`, or the exact
-  :mod:`runtime.voronoi.verify.hull_points` for points, equal radii and ties);
-  ``stats["update"]`` says so.
+  Otherwise (a site on or near the hull) the unbounded edges and the accounting at infinity are
+  proved again with the verifier's routines (:func:`runtime.voronoi.verify.closure.verify_accounting`,
+  or the exact :mod:`runtime.voronoi.verify.hull_points` for points, equal radii and ties);
+  ``stats["update"]`` says so.  After inserting a circle or a point this is done among the
+  *leaders* (the old sites with an unbounded edge), the new site and the sites of the vertices the
+  unbounded edges end at: the old accounting proved every other site strictly below the leaders'
+  maximum support function in every direction, and a new site only raises it, so an accounting
+  proved among them holds among all sites; the kept unbounded edges (proved against every old
+  site) are proved again against that set, the new ones against all sites
+  (:func:`_prove_infinity_leaders`).  Otherwise (deletions, ellipses) every unbounded edge, kept
+  or new, is proved against all sites and the accounting runs over all sites (O(N) numpy work,
+  O(hull) proofs).
 
 Hence ``certified`` is True only when the old diagram was certified (its proofs are reused) and
 everything new is proved now.  Updating an uncertified diagram with ``certify=True`` still proves
@@ -835,6 +841,10 @@ def _prove_infinity(D, dyn, pe, rm_e, vert, op, special, problems, flags_v, flag
     from .verify.support import SupportTable
     from .verify.hull_points import verify_accounting_discs, verify_accounting_points
 
+    if op == "insert" and not dyn.ellipses:
+        got = _prove_infinity_leaders(D, dyn, pe, rm_e, vert, special, problems, flags_v, flags_e)
+        if got is not None:
+            return got
     C, R, G = _new_numbering(dyn, op, special, dyn.renumber)
     conic = any(g.kind == "ellipse" for g in G)
     table = None if conic else _table(C, R)
@@ -873,6 +883,84 @@ def _prove_infinity(D, dyn, pe, rm_e, vert, op, special, problems, flags_v, flag
         local.extend(lines)
     problems.extend(local)
     return all(vok) and all(eok) and acc and not local
+
+
+def _prove_infinity_leaders(D, dyn, pe, rm_e, vert, x, problems, flags_v, flags_e):
+    """Step 4a after inserting the circle or point x into a certified diagram of circles and
+    points, without the work over all N sites that the kept part does not need.
+
+    Leaders: the old sites with an unbounded edge.  The old certificate proved the accounting at
+    infinity: between consecutive unbounded ends one site strictly maximises the support function
+    h_k(θ) = c_k·e(θ) + ρ_k over every other old site, so every other old site k has
+    h_k(θ) < max over the leaders for every θ (strictly, ties at the ends being between the two
+    sites of that end's edge, both leaders).  Inserting x only raises the maximum, so the sites
+    that can lead in the new diagram are among H = leaders ∪ {x} (with the sites of the vertices
+    the unbounded edges end at), and an accounting proved among H (consecutive ends sharing a site
+    that strictly leads among H) holds among all sites: a site outside H stays strictly below the
+    maximum over H.  The kept unbounded edges were proved whole edges against every old site;
+    proving them again against H (which holds x) proves them against every site.  New unbounded
+    edges are proved against all sites (the full k-d tree: O(N log N) numpy, not O(N) proofs).
+    Returns None when a new unbounded edge has a site outside H (then the caller re-proves
+    everything against all sites)."""
+    from .verify.closure import circles_disjoint, verify_accounting
+    from .verify.hull_points import verify_accounting_discs, verify_accounting_points
+
+    kept = [D.edges[e] for e in sorted(dyn.unbounded) if e not in rm_e]
+    new = [e for e in pe if None in e.ends]
+    ends_v = sorted({w for e in kept + new for w in e.ends if w is not None})
+    H = sorted({t for e in dyn.unbounded for t in D.edges[e].sites} | {x}
+               | {t for w in ends_v for t in vert(w).sites})
+    pos = {t: k for k, t in enumerate(H)}
+    if any(t not in pos for e in new for t in e.sites):
+        return None
+    GH = [dyn.geoms[t] for t in H]
+    tableH = _table(dyn.C[H], dyn.R[H])
+    local: list = []
+    ends_H: list = []
+    ok = True
+    # kept unbounded edges (old proofs against the old sites) proved against H, which holds x
+    vk = sorted({w for e in kept for w in e.ends if w is not None})
+    Vk = [dataclasses.replace(vert(w), sites=_rot(tuple(pos[t] for t in vert(w).sites))) for w in vk]
+    Ek = [dataclasses.replace(e, sites=tuple(sorted(pos[t] for t in e.sites))) for e in kept]
+    if Ek:
+        sub = dataclasses.replace(D, sites=[g.exact for g in GH], vertices=Vk, edges=Ek, construction=None)
+        vinfo, vok = prove_vertices(sub, sub.sites, GH, tableH, local)
+        eok, ends, _ = check_edges(sub, GH, tableH, vinfo, vok, local, {})
+        ok &= all(vok) and all(eok)
+        ends_H += ends
+        for w, f in zip(vk, vok):
+            flags_v[w] = flags_v.get(w, True) and bool(f)
+    # new unbounded edges against all sites
+    if new:
+        vn = sorted({w for e in new for w in e.ends if w is not None})
+        Vn = [vert(w) for w in vn]
+        sub = dataclasses.replace(D, sites=[g.exact for g in dyn.geoms], vertices=Vn, edges=new, construction=None)
+        table = _table(dyn.C, dyn.R)
+        vinfo, vok = prove_vertices(sub, sub.sites, dyn.geoms, table, local)
+        eok, ends, _ = check_edges(sub, dyn.geoms, table, vinfo, vok, local, {})
+        ok &= all(vok) and all(eok)
+        ends_H += [(th, tuple(sorted(pos[t] for t in pair)), sigma, eid) for th, pair, sigma, eid in ends]
+        for w, f in zip(vn, vok):
+            flags_v[w] = flags_v.get(w, True) and bool(f)
+        for e, f in zip(new, eok):
+            flags_e[e.id] = bool(f)
+    # the accounting among H
+    if all(g.kind == "point" for g in GH):
+        acc = verify_accounting_points(GH, ends_H, local)
+    elif len({g.exact.r2 for g in GH}) == 1:
+        acc = circles_disjoint(tableH, local) and verify_accounting_points(GH, ends_H, local)
+    else:
+        lines: list = []
+        acc = verify_accounting(len(GH), tableH, ends_H, lines)
+        if not acc and ok:
+            exact_lines: list = []
+            got = verify_accounting_discs(GH, ends_H, exact_lines)
+            if got is not None:
+                acc, lines = got, exact_lines
+        local.extend(lines)
+    problems.extend(f"at infinity (sites {H[:12]}{'...' if len(H) > 12 else ''} numbered 0, 1, ...): {p}"
+                    for p in local)
+    return bool(ok and acc and not local)
 
 
 def _new(t, op, special, dyn):
