@@ -145,7 +145,7 @@ def structure_variant(conf: str, variant: str):
 def structure_note(conf: str) -> str:
     """How E relates to the weighted-degree (1,1,2) Macaulay support: E − (1,1,1) vs the monomials
     of weighted degree ≤ D."""
-    from curvedvoronoi.runtime.solve.vertices import monomials
+    from curvedvoronoi.runtime.solve.macaulay import monomials
     E = load_structure(conf)["E"]
     Q = E - 1
     D = int((Q @ np.array([1, 1, 2])).max())

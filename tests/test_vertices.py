@@ -25,7 +25,8 @@ from curvedvoronoi.runtime.sites.conic import Conic
 from curvedvoronoi.runtime.algebra.polyalg import CanonicalOffset, WorkingFrame, compose_offset, eval_dict, working_frame
 from curvedvoronoi.runtime.result import LocatorError
 from curvedvoronoi.runtime.artefacts import load_root_counts
-from curvedvoronoi.runtime.solve.vertices import generalised_vertices, monomials, macaulay_matrix, voronoi_vertices_triple
+from curvedvoronoi.runtime.solve.macaulay import macaulay_matrix, monomials
+from curvedvoronoi.runtime.solve.vertices import generalised_vertices, voronoi_vertices_triple
 
 DATA = _validation_path()
 CASES = json.loads(DATA.read_text())["cases"]
@@ -240,7 +241,7 @@ def test_projected_nullspace_matches_explicit_householder_q(shape):
     subspace as the textbook construction with the full orthogonal factors formed explicitly,
     for a tall and a wide top-degree block of a rank-deficient matrix."""
     import scipy.linalg as sla
-    from curvedvoronoi.runtime.solve.vertices import _nullspace
+    from curvedvoronoi.runtime.solve.macaulay import _nullspace
     m, n_hi, n_lo = shape
     rng = np.random.default_rng(5)
     r = min(m, n_hi) - 6                                 # rank-deficient top block, generic rest

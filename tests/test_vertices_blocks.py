@@ -7,7 +7,7 @@ import numpy as np
 
 from curvedvoronoi.runtime.algebra.polyalg import CanonicalOffset, compose_offset, working_frame
 from curvedvoronoi.runtime.predicates.locator import demo_configuration
-from curvedvoronoi.runtime.solve.vertices import (TOP_DEGREES, macaulay_blocks, macaulay_matrix, monomials,
+from curvedvoronoi.runtime.solve.macaulay import (TOP_DEGREES, macaulay_blocks, macaulay_matrix, monomials,
                                                   solve_nullspace)
 
 
