@@ -126,3 +126,41 @@ def test_a_vertex_moved_off_its_place_is_not_proved(four, client):
     cc = chunked_verify(bad, _one_edge_per_chunk(bad), client)
     assert not cc.vertices[0] and cc.vertices[1]
     assert not cc.ok
+
+
+#: a circle of radius 20 around three unit circles: every edge is bounded (the outer circle owns
+#: all of the plane outside it), so the diagram has no end at infinity
+NESTED = [(0, 0, 20), (-5, -3, 1), (5, -3, 1), (0, 6, 1)]
+
+
+@pytest.mark.parametrize("shift", [0.0, 1e-10])
+def test_a_bounded_diagram_reported_twice_is_refused(client, shift):
+    """NESTED has no unbounded edge, so a second copy of the whole diagram (its vertices moved by
+    ``shift``, far below their proved tolerance) in a chunk of its own is proved in that chunk,
+    every vertex of either copy has its edges (closure), and the accounting at infinity has no
+    end to count: only the check for a vertex reported twice sees it."""
+    d = voronoi(NESTED, progress=False)
+    assert d.certified and d.edges and all(None not in e.ends for e in d.edges)
+    nv, ne = len(d.vertices), len(d.edges)
+    verts = list(d.vertices) + [DiagramVertex(nv + v.id, tuple(v.sites), v.x + shift, v.y, v.radius)
+                                for v in d.vertices]
+    edges = list(d.edges) + [DiagramEdge(ne + e.id, tuple(e.sites), tuple(nv + u for u in e.ends), e.closed,
+                                         e.polyline, e.tolerance) for e in d.edges]
+    bad = Diagram(list(d.sites), verts, edges)
+    cc = chunked_verify(bad, [list(range(ne)), list(range(ne, 2 * ne))], client)
+    assert all(cc.vertices) and all(cc.edges)          # each copy alone is the true diagram
+    assert not cc.ok
+    assert any("reported twice" in str(p) for p in cc.problems)
+
+
+def test_two_vertices_of_one_triple_are_not_a_duplicate(client):
+    """Circles of radius 5 at (∓6, 0) and one of radius 1/2 at the origin between them: the small
+    circle's region is bounded by its bisectors with the two large ones, which meet at two
+    vertices (0, ±7/4) of the same three sites (|v − c| − r equal: √(36 + 49/16) − 5 = 25/4 − 5 =
+    5/4 = 7/4 − 1/2).  Two vertices of one triple far apart are not one vertex reported twice."""
+    d = voronoi([(-6, 0, 5), (6, 0, 5), (0, 0, 0.5)], progress=False)
+    assert d.certified and len(d.vertices) == 2
+    assert {frozenset(v.sites) for v in d.vertices} == {frozenset((0, 1, 2))}
+    assert sorted(round(v.y, 12) for v in d.vertices) == [-1.75, 1.75]
+    cc = chunked_verify(d, _one_edge_per_chunk(d), client)
+    assert cc.ok and cc.problems == []
