@@ -688,9 +688,10 @@ def write_sound_report(rows, args, total, n_candidates, baseline_notes) -> None:
 #: readings of a surviving mutant that cannot turn a wrong diagram into a proved one (merge_report):
 #: equivalent (no verdict can change), heuristic (numerical steering before a proof), unreachable
 #: (needs an input excluded earlier), redundant (another check rejects the same inputs), stricter
-#: (the mutant only rejects more), message (verdict unchanged, only the problem text is lost).
+#: (the mutant only rejects more), message (verdict unchanged, only the problem text is lost), sound
+#: (a weaker bound or test that is still a valid one: it accepts more, never a wrong diagram).
 #: ``rounding`` (a slack of a few ulps) and ``OPEN`` are counted as open.
-SOUND_EXPLAINED = ("equivalent", "heuristic", "unreachable", "redundant", "stricter", "message")
+SOUND_EXPLAINED = ("equivalent", "heuristic", "unreachable", "redundant", "stricter", "message", "sound")
 
 
 def _mkey(r: dict) -> str:
