@@ -61,6 +61,7 @@ from scipy.spatial import cKDTree
 from ...sites.foot_points import ellipse_feet
 from ...sites.kinds import SiteKind
 from ..geometry import EPS, rounding_slack
+from .ellipse_normal import ellipse_normal_enclosure, frame_errors, tight_gradients
 
 __all__ = ["SiteTable", "SiteValues", "gradient_enclosure", "run_lockstep"]
 
@@ -75,22 +76,26 @@ class SiteValues:
     F, q between the branches), ``inner``: q proved inside the convex region of a circle,
     ellipse, parabola or hyperbola branch whose boundary has reach ``reach``, ``sep``: a lower
     bound of the distance from q to the line where the nearest branch of a hyperbola may switch
-    (its conjugate axis; +inf for the other kinds).  Gradient enclosures hold on discs of
-    radius R < ``sep`` (module docstring)."""
+    (its conjugate axis; +inf for the other kinds), ``K`` the site of each row and ``table``
+    the :class:`SiteTable` (for the tight ellipse gradients of :func:`gradient_enclosure`).
+    Gradient enclosures hold on discs of radius R < ``sep`` (module docstring)."""
 
-    __slots__ = ("lo", "hi", "F", "d", "base", "inner", "reach", "sep")
+    __slots__ = ("lo", "hi", "F", "d", "base", "inner", "reach", "sep", "K", "table")
 
-    def __init__(self, lo, hi, F, d, base, inner, reach, sep):
+    def __init__(self, lo, hi, F, d, base, inner, reach, sep, K=None, table=None):
         self.lo, self.hi, self.F, self.d, self.base, self.inner, self.reach = lo, hi, F, d, base, inner, reach
         self.sep = sep
+        self.K, self.table = K, table
 
     def part(self, a, b):
         return SiteValues(self.lo[a:b], self.hi[a:b], self.F[a:b], self.d[a:b], self.base[a:b],
-                          self.inner[a:b], self.reach[a:b], self.sep[a:b])
+                          self.inner[a:b], self.reach[a:b], self.sep[a:b],
+                          None if self.K is None else self.K[a:b], self.table)
 
     def take(self, idx):
         return SiteValues(self.lo[idx], self.hi[idx], self.F[idx], self.d[idx], self.base[idx],
-                          self.inner[idx], self.reach[idx], self.sep[idx])
+                          self.inner[idx], self.reach[idx], self.sep[idx],
+                          None if self.K is None else self.K[idx], self.table)
 
 
 class SiteTable:
@@ -145,6 +150,23 @@ class SiteTable:
         self.tree = cKDTree(self.box_centre) if len(bx) else None
         self.calls = 0
         self.fallbacks = 0
+        self.tight_rows = 0
+        self._frame_err = {}
+
+    # ------------------------------------------------------------------ tight ellipse gradients
+    def ellipse_normals(self, Q, K, F):
+        """(G, e, ok): |∇d(q, S_k) − G| ≤ e at the float points Q[m] outside the ellipses
+        K[m] where ok (:func:`runtime.voronoi.verify.ellipse_normal.ellipse_normal_enclosure`;
+        F: float foot points, a start only)."""
+        K = np.asarray(K, int)
+        for k in np.unique(K):
+            if k not in self._frame_err:
+                g = self.geoms[k]
+                self._frame_err[k] = frame_errors(g.exact, g.c, g.s, g.tx, g.ty, g.a, g.b)
+        errs = np.array([self._frame_err[k] for k in K.tolist()], float).reshape(-1, 6)
+        self.tight_rows += len(K)
+        return ellipse_normal_enclosure(Q, F, self.a[K], self.b[K], self.c[K], self.s[K], self.cx[K],
+                                        self.cy[K], errs)
 
     # ------------------------------------------------------------------ rigorous values
     def evaluate(self, Q, K) -> SiteValues:
@@ -212,7 +234,7 @@ class SiteTable:
                     base[sel], inner[sel] = gv > mg, gv < -mg
                     sep[sel] = np.abs(X0) * (1 - 1e-9) - 1e-9 * (np.abs(Q[sel]).sum(1) + abs(g.tx) + abs(g.ty)
                                                               + np.abs(Y0) + g.a + g.b)
-        return SiteValues(lo, hi, F, d, base, inner, self.reach[K], sep)
+        return SiteValues(lo, hi, F, d, base, inner, self.reach[K], sep, K, self)
 
     def _ellipses(self, r, k, x, y, lo, hi, F, d, base, inner):
         a, b, c, s, tx, ty = self.a[k], self.b[k], self.c[k], self.s[k], self.cx[k], self.cy[k]
@@ -290,8 +312,14 @@ class SiteTable:
 
 def gradient_enclosure(Q, V: SiteValues, R, scale):
     """(G, slack, valid): |∇d(q) − G| ≤ slack for every q in B(Q, R) where valid (module
-    docstring).  ``V`` are the table's values at Q."""
+    docstring).  ``V`` are the table's values at Q.  Outside a point or a circle of centre c,
+    ∇d(Q) = (Q − c)/|Q − c| to a few units in the last place.  Outside an ellipse, where the foot-point
+    term e_F/lo of the cheap enclosure dominates the disc's 2R/(lo − R), ∇d(Q) is enclosed
+    through the foot point's Lagrange multiplier instead
+    (:mod:`runtime.voronoi.verify.ellipse_normal`, error e_N ≈ 10⁻¹⁴), and the slack is
+    e_N + 2R/(lo − R) on the disc (lo > 2R: the disc stays outside the convex K)."""
     Q = np.asarray(Q, float).reshape(-1, 2)
+    R = np.broadcast_to(np.asarray(R, float), (len(Q),))
     W = Q - V.F
     dF = np.hypot(W[:, 0], W[:, 1])
     size = np.abs(Q).sum(1) + scale
@@ -302,7 +330,8 @@ def gradient_enclosure(Q, V: SiteValues, R, scale):
         eF = np.sqrt(gap) + 1e-12 * size
         near = V.sep > R        # hyperbola: one branch is nearest on the whole disc
         valid = V.base & near & (V.lo > 2 * R + eF) & (dF > 0)
-        slack = eF / V.lo + 2 * R / (V.lo - R) + 1e-12
+        disc = 2 * R / (V.lo - R)
+        slack = eF / V.lo + disc + 1e-12
         # inside a circle / ellipse, at depth t < reach r on the disc: the foot map is
         # r/(r − t)-Lipschitz and |F − p|² ≤ (|c − F|² − d²)/(1 − d/r) (Federer, reach)
         t = V.hi + R
@@ -313,7 +342,10 @@ def gradient_enclosure(Q, V: SiteValues, R, scale):
         slack_i = eFi / V.lo + (1 + L) * R / (V.lo - R) + 1e-12
         G = W / dF[:, None]
     slack = np.where(valid, slack, np.where(valid_i, slack_i, np.inf))
-    return G, slack, valid | valid_i
+    valid = valid | valid_i
+    if V.table is not None and V.K is not None:
+        G, slack, valid = tight_gradients(Q, V, V.table, R, disc, G, slack, valid)
+    return G, slack, valid
 
 
 def run_lockstep(gens, table: SiteTable, collective=None, deadline=None):

@@ -7,7 +7,9 @@ differ) Π = {P_l + s·t + λ·n : s ∈ [−e, L + e], |λ| ≤ w(s)} (e covers
 segment and the vertex boxes).  With f = d_i − d_j:
 
 (T1) **monotone**: (∇d_i − ∇d_j)·n has one strict sign σ on Π;
-(T4) **crossing**: σ·f > 0 on the side λ = +w and σ·f < 0 on the side λ = −w.
+(T4) **crossing**: σ·f > 0 on the side λ = +w and σ·f < 0 on the side λ = −w (to first order
+     along each side, or to second order, :func:`side_second_order`, where the disc terms of the
+     gradient enclosures exceed |∇f|, far from the sites).
 
 Then every cross-section s = const meets the bisector β exactly once, so β ∩ Π is one arc, a
 graph over s (implicit function theorem).  The arc leaves Π through the cap s = L + e at
@@ -20,7 +22,8 @@ open and closed in β, hence a whole component of β.  Along it:
      of radius R covering the piece; d is 1-Lipschitz), or to first order
      d_k − d_i ≥ (lo_k − hi_i)(C) − R·(|G_k − G_i| + s_k + s_i) > 0 with the gradient enclosures
      G ± s on the disc (far from the sites all gradients are nearly equal, so the pieces may be
-     much larger than the margin d_k − d_i); the same with j (d_i = d_j on β); sites whose
+     much larger than the margin d_k − d_i), or to second order
+     (:func:`runtime.voronoi.verify.distance_gap.gap_lower`); the same with j (d_i = d_j on β); sites whose
      bounding box is farther than min(hi_i, hi_j) + 2R from the piece's centre pass without
      evaluation;
 (T3) or, for a site k0 tied at the first vertex (k1 at the last; one at a simple vertex, k − 2 at
@@ -44,9 +47,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..geometry import EPS
+from .distance_gap import gap_lower
 from .site_table import gradient_enclosure
 
-__all__ = ["StripsJob", "prove_strips", "prove_strips_many", "rot90"]
+__all__ = ["StripsJob", "prove_strips", "prove_strips_many", "rot90", "side_second_order"]
 
 MAX_DEPTH = 40
 STALL = 3           # rounds of halving without progress before giving up
@@ -74,6 +79,34 @@ def prove_strips(S, T, N, L, e_lo, e_hi, W, pair, k0, k1, budget):
     the job to :func:`runtime.voronoi.verify.site_table.run_lockstep`, which proves all pending
     jobs together with :func:`prove_strips_many`; returns (ok, message or None)."""
     return (yield StripsJob(S, T, N, L, e_lo, e_hi, W, pair, k0, k1, budget))
+
+
+def side_second_order(Qs, t, h, fval, Vi, Vj, Gi, si, Gj, sj, scale):
+    """(T4') on the sides {Qs + s·t : |s| ≤ h} where ``fval`` is a lower bound of ς·f at the
+    midpoint Qs (f = d_i − d_j, ς = ±1 the sign wanted on that side; every other term is
+    symmetric in i, j): True where ς·f > 0 on the whole side.
+
+    Outside a convex set K with nearest point p(q) and unit normal n = ∇d, the Hessian is
+    ∇²d = τ τᵀ/(d + ρ) with τ ⟂ n and ρ ≥ 0 the radius of curvature at p (∇²d = (I − Dp − n nᵀ)/d
+    and Dp = ρ/(ρ + d)·τ τᵀ, the projection's derivative; a.e. for a corner, where d is still
+    C^{1,1}).  So along the side d_k'' ∈ [0, M_k], M_k = (|t × G_k| + s_k)²/(lo_k − h), with the
+    disc enclosures G_k ± s_k of ∇d_k on B(Qs, h) (d_k ≥ lo_k − h there), and
+    |f''| ≤ max(M_i, M_j).  Taylor at the midpoint: ς·f(Qs + s·t) ≥ fval − h·|∇f(Qs)·t| − h²/2·max M,
+    with ∇f(Qs) from the point enclosures (radius 0).  Needs Qs's disc outside both convex sets
+    (``base``; a hyperbola: one branch nearest on the disc, ``sep`` > h)."""
+    G0i, s0i, v0i = gradient_enclosure(Qs, Vi, 0.0, scale)
+    G0j, s0j, v0j = gradient_enclosure(Qs, Vj, 0.0, scale)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        first = (np.abs(((G0i - G0j) * t).sum(1)) + s0i + s0j) * (1 + 1e-12)
+        out = (Vi.base & Vj.base & (Vi.sep > h) & (Vj.sep > h) & (Vi.lo > 2 * h) & (Vj.lo > 2 * h)
+               & v0i & v0j)
+        ci = np.minimum(np.abs(Gi[:, 0] * t[:, 1] - Gi[:, 1] * t[:, 0]) + si, 1.0)
+        cj = np.minimum(np.abs(Gj[:, 0] * t[:, 1] - Gj[:, 1] * t[:, 0]) + sj, 1.0)
+        M = np.maximum(ci * ci / (Vi.lo - h), cj * cj / (Vj.lo - h)) * (1 + 1e-12)
+        # rounding of fval = lo − hi: half an ulp of the larger operand
+        rnd = 2 * EPS * (np.abs(Vi.lo) + np.abs(Vi.hi) + np.abs(Vj.lo) + np.abs(Vj.hi))
+        low = fval - rnd - h * first * (1 + 1e-12) - 0.5 * h * h * M * (1 + 1e-12)
+    return out & np.isfinite(low) & (low > 0)
 
 
 def prove_strips_many(table, jobs):
@@ -163,7 +196,17 @@ def prove_strips_many(table, jobs):
             rate = np.abs(((Gis - Gjs) * tside).sum(1)) + sis + sjs
             rate = np.where(vis & vjs & np.isfinite(rate), np.minimum(rate, 2.0), 2.0) * (1 + 1e-12)
             pos_f = sg * sg_p > 0
-            side_ok &= np.where(pos_f, Vis.lo - Vjs.hi, Vjs.lo - Vis.hi) - rate * side_len > 0
+            fval = np.where(pos_f, Vis.lo - Vjs.hi, Vjs.lo - Vis.hi)
+            okb = fval - rate * side_len > 0
+            # (T4') second order where the first order fails (far from the sites the gradients'
+            # disc terms 2R/d exceed |∇f|): d_k'' = (t·τ_k)²/(d_k + ρ_k) ∈ [0, (t·τ_k)²/d_k] along
+            # the side, outside the convex K_k (module docstring)
+            redo = np.nonzero(~okb & vis & vjs)[0]
+            if len(redo):
+                okb[redo] = side_second_order(Qs[redo], tside[redo], side_len[redo], fval[redo],
+                                              Vis.take(redo), Vjs.take(redo), Gis[redo], sis[redo],
+                                              Gjs[redo], sjs[redo], scale)
+            side_ok &= okb
         # (T2)/(T3) third sites, only where (T1) and (T4) hold
         third_ok = np.ones(p, bool)
         pre = t1 & side_ok & vi & vj
@@ -181,6 +224,12 @@ def prove_strips_many(table, jobs):
                 lip = np.hypot(*(GK - G_[rows]).T) + SK + s_[rows]
                 lip = np.where(VK & v_[rows] & np.isfinite(lip), np.minimum(lip, 2.0), 2.0) * (1 + 1e-12)
                 okk |= Vk.lo - h_[rows] - lip * Rr > 0
+            # (T2'') second order (distance_gap.gap_lower), where the first order fails
+            left = np.nonzero(~okk)[0]
+            if len(left):
+                Cl, Vl = C[rows[left]], Vk.take(left)
+                for Vx in (Vi, Vj):
+                    okk[left] |= gap_lower(Cl, Vl, Vx.take(rows[left]), Rr[left], scale) > 0
             jr = jb[rows]
             pos = start[seg[rows]] + sm[rows]
             for KK, OTHER, want in ((K0, K1, 1.0), (K1, K0, -1.0)):

@@ -25,7 +25,8 @@ On the sector Σ = {t ≥ T, θ ∈ [θa, θb]} ∋ θ*, with f = d_i − d_j �
 (F) f has one strict sign on the cell (β does not meet it), or
 (A)+(M) every other site k is farther than d_i = d_j on the cell (max(h_i − e_i, h_j − e_j) > h_k,
     or the distance bounds on the cell's disc as in (T2), or to first order
-    d_k − d_i ≥ lo_k(C) − hi_i(C) − R·(|G_k − G_i| + s_k + s_i) with the gradient enclosures) and
+    d_k − d_i ≥ lo_k(C) − hi_i(C) − R·(|G_k − G_i| + s_k + s_i) with the gradient enclosures, or
+    to second order, :func:`runtime.voronoi.verify.distance_gap.gap_lower`) and
     σ·∂f/∂θ > 0 on it (the enclosure above, or the gradient enclosures on the cell's disc);
 
 and on the rays θa, θb: σ·f < 0, resp. > 0, for all t ≥ T (τ-intervals, same bounds).  Then on
@@ -51,6 +52,7 @@ import math
 
 import numpy as np
 
+from .distance_gap import gap_lower
 from .site_table import gradient_enclosure
 
 __all__ = ["prove_tail", "TAIL_WORK", "TAIL_WORK_MORE", "MORE_TAILS"]
@@ -358,6 +360,11 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
             lip = np.hypot(*(Gk - Gi[rows]).T) + sk + si[rows]
             lip = np.where(vk & vi[rows] & np.isfinite(lip), np.minimum(lip, 2.0), 2.0) * (1 + 1e-12)
             okk |= Vk.lo - hi_i[rows] - lip * R[rows] > 0
+            # to second order (distance_gap.gap_lower), where the first order fails
+            left = np.nonzero(~okk & fin[rows])[0]
+            if len(left):
+                Cl, Vl = Cf[rows[left]], Vk.take(left)
+                okk[left] |= gap_lower(Cl, Vl, Vi.take(rows[left]), R[rows[left]], scale) > 0
             np.logical_and.at(okA, rows, okk)
         # (M) σ·∂f/∂θ > 0: support-point enclosure (module docstring) or gradient enclosures on the disc
         Wt = W * tb

@@ -1,0 +1,60 @@
+"""Second-order lower bounds of d_k − d_i on a disc, for the third-site tests of the verifier.
+
+Far from the sites every gradient ∇d is nearly the same, and the margin by which a third site k
+is farther than the pair (i, j) on β is small compared with the first-order loss of a disc of
+radius R, R·(s_k + s_i) with s ≈ 2R/d (:func:`runtime.voronoi.verify.site_table.gradient_enclosure`).
+The convexity of the distance to a convex set gives a bound whose loss is R²/(2d) instead
+(:func:`gap_lower`); used by (T2) of :mod:`runtime.voronoi.verify.strips` and (A) of
+:mod:`runtime.voronoi.verify.tail`.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..geometry import EPS
+from .site_table import SiteValues, gradient_enclosure
+
+__all__ = ["convex_side", "gap_lower"]
+
+
+def convex_side(V: SiteValues, R):
+    """Rows whose disc B(Q, R) lies outside the convex set K of the site (a hyperbola: of the
+    branch nearest on the whole disc), where d = d_K is convex with ∇²d = ττᵀ/(d + ρ) ≤ ττᵀ/d
+    (τ ⟂ ∇d, ρ ≥ 0 the radius of curvature at the foot; :func:`gap_lower`)."""
+    R = np.broadcast_to(np.asarray(R, float), V.lo.shape)
+    return V.base & (V.sep > R) & (V.lo > 2 * R)
+
+
+def gap_lower(Q, Vk, Vi, R, scale):
+    """A lower bound of d_k − d_i on the disc B(Q, R) (−inf where not proved), to second order.
+
+    Outside a convex set K, d = d_K is convex and ∇d = (q − p)/d with p the projection; its
+    Hessian (a.e.; d is C^{1,1} there) is (I − Dp − n nᵀ)/d with Dp symmetric, 0 ≤ Dp ≤ I and
+    Dp·n = 0 (the projection's derivative), so 0 ≤ ∇²d ≤ 1/d.  Hence on the disc, with
+    G ± s the point enclosures of the gradients at Q (:func:`gradient_enclosure`, radius 0):
+    d_k(q) ≥ d_k(Q) + ∇d_k(Q)·(q − Q) (convex) and d_i(q) ≤ d_i(Q) + ∇d_i(Q)·(q − Q) +
+    |q − Q|²/(2(lo_i − R)), so
+
+        d_k − d_i ≥ lo_k − hi_i − R·(|G_k − G_i| + s_k + s_i) − R²/(2(lo_i − R)),
+
+    the second-order term R²/(2d) in place of the first-order bound's R·(s_k + s_i) ≈ 4R²/d
+    (:mod:`runtime.voronoi.verify.strips` (T2)), and the gradients at Q to 10⁻¹⁴ for ellipses."""
+    Q = np.asarray(Q, float).reshape(-1, 2)
+    R = np.broadcast_to(np.asarray(R, float), (len(Q),))
+    out = np.full(len(Q), -np.inf)
+    ok = convex_side(Vk, R) & convex_side(Vi, R)
+    rows = np.nonzero(ok)[0]
+    if not len(rows):
+        return out
+    Vk_, Vi_ = Vk.take(rows), Vi.take(rows)
+    zero = np.zeros(len(rows))
+    Gk, sk, vk = gradient_enclosure(Q[rows], Vk_, zero, scale)
+    Gi, si, vi = gradient_enclosure(Q[rows], Vi_, zero, scale)
+    Rr = R[rows]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        first = (np.hypot(*(Gk - Gi).T) + sk + si) * (1 + 1e-12)
+        second = Rr * Rr / (2 * (Vi_.lo - Rr)) * (1 + 1e-12)
+        rnd = 2 * EPS * (np.abs(Vk_.lo) + np.abs(Vi_.hi))
+        low = Vk_.lo - Vi_.hi - rnd - Rr * first * (1 + 1e-12) - second
+    out[rows] = np.where(vk & vi & np.isfinite(low), low, -np.inf)
+    return out

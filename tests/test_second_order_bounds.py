@@ -1,0 +1,119 @@
+"""The verifier's second-order bounds at the boundaries of their inequalities, with exact expected
+verdicts derived here (runtime/voronoi/verify/distance_gap.py, (T4') of
+runtime/voronoi/verify/strips.py).
+
+**gap_lower** (d_k − d_i ≥ lo_k − hi_i − R·(|G_k − G_i| + s) − R²/(2(lo_i − R)) on B(Q, R)):
+point sites i = (0, 0), k = (−1, 0) and Q = (X, 0), X > 0.  Then d_k(Q) − d_i(Q) = 1 exactly,
+both gradients are (1, 0) (the first-order term vanishes), d_i(Q) = X, and the documented bound
+is 1 − R²/(2(X − R)).  With R = 4 it is 0 at X = 12 (16/(2·8) = 1), and its derivative in X is
+R²/(2(X − R)²) = 1/8, so X = 12 ± 2⁻²⁶ gives ±1.9·10⁻⁹ (the enclosures' own slack is below
+10⁻¹¹ here): proved at 12 + 2⁻²⁶, not at 12 (margin 0) nor at 12 − 2⁻²⁶.
+Exact truth on the sound side: k = (0, 1), i = (0, −1), Q = (10, −1/2): on B(Q, 1/2), which
+touches the bisector y = 0 at (10, 0), min(d_k − d_i) = 0, and on B(Q, 1/2 + 2⁻³⁰) it is < 0:
+neither may be proved.
+
+**(T4')** (ς·f ≥ fval − h·|∇f(Qs)·t| − h²/2·max_k min(|t × G_k| + s_k, 1)²/(lo_k − h) on the
+side {Qs + s·t : |s| ≤ h}, G_k ± s_k the enclosure of ∇d_k on the disc B(Qs, h), s_k = 2h/(d_k − h)
+for a point up to rounding): i = (3, 4), j = (5, 12) (points), Qs = (0, 0), t = (1, 0), h = 1:
+d_i = 5, d_j = 13, ∇d_i = (−3/5, −4/5), ∇d_j = (−5/13, −12/13), ∇f·t = −3/5 + 5/13 = −14/65;
+|t × ∇d_i| + s_i = 4/5 + 1/2 ≥ 1 and |t × ∇d_j| + s_j = 12/13 + 1/6 ≥ 1 (capped at 1), so
+M = max(1/4, 1/12) = 1/4 and the bound is fval − 14/65 − 1/8 = fval − 177/520: a midpoint bound
+fval = 177/520 + 10⁻⁹ proves the side, 177/520 (margin 0) and 177/520 − 10⁻⁹ do not.
+Soundness against dense sampling: with
+fval = d_j(Qs) − d_i(Qs) = 8 the bound never exceeds min over the side of d_j − d_i (the side
+here: |s| ≤ h for h = 1/2, 1, 2, M computed as documented with the exact gradients' cross
+products widened by the disc terms).
+"""
+from __future__ import annotations
+
+from fractions import Fraction as Fr
+
+import numpy as np
+import pytest
+
+from curvedvoronoi.runtime.predicates.circles import Circle, Point
+from curvedvoronoi.runtime.sites.conic import Conic
+from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+from curvedvoronoi.runtime.voronoi.verify.distance_gap import gap_lower
+from curvedvoronoi.runtime.voronoi.verify.site_table import SiteTable
+from curvedvoronoi.runtime.voronoi.verify.strips import side_second_order
+from curvedvoronoi.runtime.voronoi.verify.site_table import gradient_enclosure
+
+
+def table_of(*sites):
+    return SiteTable([site_geometry(s) for s in sites], 20.0)
+
+
+def gap(table, Q, k, i, R):
+    Q = np.array([Q], float)
+    return float(gap_lower(Q, table.evaluate(Q, [k]), table.evaluate(Q, [i]), np.array([R]), 20.0)[0])
+
+
+@pytest.mark.parametrize("X, proved", [(12.0 + 2.0 ** -26, True), (12.0, False), (12.0 - 2.0 ** -26, False)])
+def test_gap_lower_at_its_boundary(X, proved):
+    """1 − R²/(2(X − R)) with R = 4: +1.9e-9, 0, −1.9e-9 (module docstring)."""
+    t = table_of(Point(0, 0), Point(-1, 0))
+    g = gap(t, (X, 0.0), 1, 0, 4.0)
+    assert (g > 0) is proved
+    assert abs(g - (1 - 16 / (2 * (X - 4)))) < 1e-10
+
+
+@pytest.mark.parametrize("R", [0.5, 0.5 + 2.0 ** -30])
+def test_gap_lower_never_proves_a_disc_touching_the_bisector(R):
+    """k = (0, 1), i = (0, −1), Q = (10, −1/2): min of d_k − d_i on the disc is 0, resp. < 0."""
+    t = table_of(Point(0, -1), Point(0, 1))
+    assert not gap(t, (10.0, -0.5), 1, 0, R) > 0
+
+
+def test_gap_lower_is_below_the_sampled_minimum_for_ellipses():
+    """Ellipses far out (the case it is made for): the bound never exceeds the minimum of
+    d_k − d_i over 400 points of the disc (float distances, 1e-9 allowance)."""
+    e1 = Conic.ellipse(centre=(Fr(0), Fr(0)), axes=(Fr(2), Fr(1)), rotation=(Fr(3, 5), Fr(4, 5)))
+    e2 = Conic.ellipse(centre=(Fr(-3), Fr(1, 4)), axes=(Fr(3, 2), Fr(1)), rotation=(Fr(1), Fr(0)))
+    t = table_of(e1, e2)
+    rng = np.random.default_rng(3)
+    seen = 0
+    for _ in range(40):
+        ang = rng.uniform(-0.3, 0.3)
+        dist = 10 ** rng.uniform(1.5, 4)
+        Q = (dist * np.cos(ang), dist * np.sin(ang))
+        R = dist * 10 ** rng.uniform(-4, -1)
+        g = gap(t, Q, 1, 0, R)
+        a = rng.uniform(0, 2 * np.pi, 400)
+        rr = R * np.sqrt(rng.uniform(0, 1, 400))
+        P = np.column_stack([Q[0] + rr * np.cos(a), Q[1] + rr * np.sin(a)])
+        P = np.vstack([P, np.array(Q)[None, :] + R * np.column_stack([np.cos(a), np.sin(a)])])
+        diff = t.geoms[1].distance(P) - t.geoms[0].distance(P)
+        assert g <= diff.min() + 1e-9 * dist, (Q, R, g, diff.min())
+        seen += g > 0
+    assert seen >= 5          # the bound decides a fair share of these discs
+
+
+def side(fval, h=1.0):
+    t = table_of(Point(3, 4), Point(5, 12))
+    Qs = np.array([[0.0, 0.0]])
+    Vi, Vj = t.evaluate(Qs, [0]), t.evaluate(Qs, [1])
+    hh = np.array([h])
+    Gi, si, _ = gradient_enclosure(Qs, Vi, hh, 20.0)
+    Gj, sj, _ = gradient_enclosure(Qs, Vj, hh, 20.0)
+    return bool(side_second_order(Qs, np.array([[1.0, 0.0]]), hh, np.array([fval]), Vi, Vj, Gi, si, Gj, sj, 20.0)[0])
+
+
+@pytest.mark.parametrize("fval, proved", [(177 / 520 + 1e-9, True), (177 / 520, False), (177 / 520 - 1e-9, False)])
+def test_side_second_order_at_its_boundary(fval, proved):
+    """fval − 177/520 decides (module docstring)."""
+    assert side(fval) is proved
+
+
+def test_side_second_order_is_sound_along_the_side():
+    """The documented bound with fval = 8 (= d_j − d_i at Qs) against d_j − d_i on 2001 points of
+    the side: where it proves the side, the sampled minimum is positive, and the bound is below it."""
+    i, j = np.array([3.0, 4.0]), np.array([5.0, 12.0])
+    for h in (0.5, 1.0, 2.0):
+        s = np.linspace(-h, h, 2001)
+        P = np.column_stack([s, np.zeros_like(s)])
+        f = np.hypot(*(P - j).T) - np.hypot(*(P - i).T)
+        M = max(min(0.8 + 2 * h / (5 - h), 1) ** 2 / (5 - h), min(12 / 13 + 2 * h / (13 - h), 1) ** 2 / (13 - h))
+        bound = 8 - h * 14 / 65 - h * h / 2 * M
+        assert bound <= f.min() + 1e-12
+        assert side(8.0, h) and f.min() > 0
