@@ -148,3 +148,43 @@ def test_a_point_and_a_segment_not_ending_at_it_never_share_an_unbounded_edge():
     assert _consecutive_ok(T, 3, 0) is False
     assert _consecutive_ok(T, 1, 3) is True and _consecutive_ok(T, 3, 2) is True
     assert _consecutive_ok(T, 0, 1) is True
+
+
+# ----------------------------------------------------------------------------- arc_pole
+
+def _pole_case(p):
+    from curvedvoronoi.runtime.segments.certificate_arcs import ArcCurve
+
+    T = SiteTable([Point(2, 0), Point(0, 2), Arc((0, 0), 2, (2, 0), (0, 2)), Point(*p)])
+    return ArcCurve(T, 2, 3, 1)          # p outside the arc's circle: side σ = +1
+
+
+def test_a_pole_outside_the_arcs_range_is_never_its_pole():
+    """The quarter arc A of radius 2 (range θ ∈ [0, π/2]) and the point p = (2, 5), which lies on
+    A's tangent line x = 2 at its start (2, 0).  Their bisector x = (2 + t)·u(θ) (|x − p| = t) has
+    t·Δ(θ) = N(θ) with Δ(θ) = 2ρ + 2(c − p)·u(θ) = 4 − 4 cos θ − 10 sin θ: a pole (the branch goes
+    to infinity in the direction u(θ)) where Δ = 0, i.e. tan(θ/2)·(4 tan(θ/2) − 10) = 0:
+    θ = 0 (the start, p on the tangent there) and θ = 2·atan(5/2) ≈ 136.4°, outside the range.
+    ``arc_pole`` keeps the poles in the closed range only: the one at the start (decided in
+    rationals), never 136.4° -- from θ_fin = 1 going up there is none."""
+    from curvedvoronoi.runtime.segments.certificate_tails import arc_pole
+
+    c = _pole_case((2, 5))
+    far = 2 * arb(5 / 2).atan()
+    poles = c.poles()
+    assert any(q.overlaps(arb(0)) for q in poles) and any(q.overlaps(far) for q in poles)
+    for sg in (1, -1):
+        got = arc_pole(c, None, sg)
+        assert got is not None and got.overlaps(arb(0)) and not got.overlaps(far)
+    assert arc_pole(c, arb(1), 1) is None
+    assert arc_pole(c, arb(1), -1).overlaps(arb(0))
+
+
+def test_an_arc_with_both_poles_outside_its_range_has_none():
+    """p = (3, 5) (not on a tangent at an end): Δ = 4 − 2(3 cos θ + 5 sin θ) vanishes where
+    3 cos θ + 5 sin θ = 2, at θ ≈ −10.9° and θ ≈ 129.0°, both outside [0°, 90°]: no pole."""
+    from curvedvoronoi.runtime.segments.certificate_tails import arc_pole
+
+    c = _pole_case((3, 5))
+    assert len(c.poles()) == 2
+    assert arc_pole(c, None, 1) is None and arc_pole(c, None, -1) is None
