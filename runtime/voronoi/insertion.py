@@ -106,7 +106,12 @@ decided exactly (:func:`runtime.voronoi.conic_geometry.site_inside`) and rebuild
 
 The adjacency (vertices and edges of each site, edges of each vertex, the k-d tree) is kept in a
 :class:`runtime.voronoi.adjacency.DynamicState` that **moves** to the result: a chain of updates
-costs what changes, the first update of a diagram builds it once (O(N)).  Vertex and edge ids stay positions: a removed
+costs what changes, the first update of a diagram builds it once (O(N)).  What stays linear in N
+per update: the result's lists of sites, vertices and edges are new lists (the old diagram is
+left unchanged), a copy of pointers (about 0.3 ms per 3·10⁵ parts); ``renumber="shift"`` relabels
+every part with a later site; the k-d tree over the centres is rebuilt after 64 + 2√N additions
+(amortised O(√N log N)); and deletions and ellipse updates near the hull re-prove the unbounded
+edges and the accounting at infinity over all sites.  Vertex and edge ids stay positions: a removed
 one's slot takes a new one or the last one.  The new site gets index N (the last).
 
 Public API: :func:`insert_site`, :func:`insert_many`, :func:`delete_local`, :func:`local_update`,
