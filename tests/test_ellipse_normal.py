@@ -162,3 +162,17 @@ def test_gradient_enclosure_on_a_disc_uses_the_tight_route_and_holds():
             for q in Qc[0] + r * np.column_stack([np.cos(ang), np.sin(ang)]):
                 n = reference_gradient(5, 2, q, centre=(3, -2), rot=(Fr(3, 5), Fr(4, 5)))
                 assert np.hypot(*(G[0] - n)) <= slack[0]
+
+
+def test_frame_errors_widen_the_enclosure():
+    """With the semi-axis a known only within ±10⁻¹⁰ (a frame error handed in), the enclosure at
+    q = (6, 10) must hold ∇d for every ellipse of the box: for a = 5 ± 9·10⁻¹¹ (exact rationals)
+    the mpmath gradients differ from (3, 8)/√73 by about 10⁻¹¹, and each lies within e of G."""
+    _, g = canonical_case()
+    errs = np.array([[0.0, 0.0, 0.0, 0.0, 1e-10, 0.0]])
+    G, e, ok = enclose(g, [[6.0, 10.0]], errs)
+    assert ok[0]
+    for a in (Fr(5) - Fr(9, 10 ** 11), Fr(5) + Fr(9, 10 ** 11)):
+        n = reference_gradient(a, Fr(5, 2), (6.0, 10.0))
+        assert np.hypot(*(G[0] - n)) <= e[0]
+        assert np.hypot(*(n - np.array([3.0, 8.0]) / np.sqrt(73.0))) > 1e-12

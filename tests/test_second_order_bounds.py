@@ -117,3 +117,12 @@ def test_side_second_order_is_sound_along_the_side():
         bound = 8 - h * 14 / 65 - h * h / 2 * M
         assert bound <= f.min() + 1e-12
         assert side(8.0, h) and f.min() > 0
+
+
+def test_gap_lower_refuses_discs_that_reach_a_site():
+    """k = the circle of radius 1 at the origin, i = the point (1.1, 0), Q = (1.5, 0), R = 1: the
+    disc holds (1, 0) on the circle, where d_k − d_i = 0 − 0.1 < 0, so no lower bound may be
+    positive.  (At Q, d_k − d_i = 0.5 − 0.4 > 0 and both gradients are (1, 0); the second-order
+    term needs d_i ≥ lo_i − R > 0 on the disc, here lo_i = 0.4 < R.)"""
+    t = table_of(Circle(0, 0, 1), Point(Fr(11, 10), 0))
+    assert not gap(t, (1.5, 0.0), 0, 1, 1.0) > 0
