@@ -16,15 +16,21 @@ elementary sites:
    (:mod:`runtime.segments.bisectors`).
 4. **Refine**: a candidate that is not a proved empty vertex, a vertex without one edge per
    consecutive pair of its sites, or a walk that cannot be closed halves the sample spacing of
-   the sites involved, and the round is repeated.
+   the sites involved, and the round is repeated: the sample triangulation is updated where
+   samples changed, and the proofs of earlier rounds are kept.
 
 The certificate is :func:`runtime.segments.certificate.verify_segments` (independent of this
 module); ``certified`` is its verdict.
+
+Length: one round's steps (candidate vertices, proofs, emptiness, walks, degree checks and the
+refinement they ask for) read and write the same per-round tables (triangle → vertex, proof →
+vertex, the caches kept across rounds); split apart they would pass all of them around.
 
 Public API: :func:`segment_voronoi`, :func:`has_segments`.
 """
 from __future__ import annotations
 
+import gc
 import math
 import time
 
@@ -100,20 +106,15 @@ def segment_voronoi(pieces, sources=None, *, certify: bool = True, tolerance: fl
     spacing = initial_spacing(E)
     stats: dict = {"sites": len(E), "points": E.n_points, "segments": len(E) - E.n_points, "rounds": 0}
     caches: dict = {"proofs": {}, "verdicts": {}}
-    history: list = []
-    for _ in range(MAX_ROUNDS):
-        stats["rounds"] += 1
-        result, refine = _build_once(E, spacing, stats, caches)
-        if not refine:
-            refine = far_ends(E, result, tolerance, lo, hi, caches)
-        history.append(result[2])
-        if not refine or (len(history) >= 3 and history[-1] == history[-2] == history[-3]):
-            break            # consistent, or two refinements changed nothing
-        idx = np.array(sorted(refine), dtype=int)
-        cap = np.array([refine[i] for i in idx.tolist()])
-        spacing[idx] = np.minimum(spacing[idx] / 2, cap)
-    vertices, walks, problems = result
-    edges = edge_polylines(E, vertices, walks, tolerance, lo, hi)
+    # the rounds make millions of small objects (proofs, walks) and no reference cycles: the
+    # cyclic collector's full passes over them cost more than the rounds themselves
+    collecting = gc.isenabled()
+    gc.disable()
+    try:
+        vertices, walks, problems, edges = _rounds(E, spacing, stats, caches, tolerance, lo, hi)
+    finally:
+        if collecting:
+            gc.enable()
     D = Diagram(E.sites, vertices, edges, False, problems, stats)
     D.sources = list(E.source)
     D.elementary = E
@@ -138,6 +139,28 @@ def segment_voronoi(pieces, sources=None, *, certify: bool = True, tolerance: fl
                 v.certified = v.certified and bool(ok)
     stats["seconds"] = round(time.perf_counter() - t_start, 4)
     return D
+
+
+def _rounds(E: ElementarySites, spacing, stats, caches, tolerance, lo, hi):
+    """Sample, triangulate, prove and refine until a round is consistent (or stalls): the
+    vertices, walks, problems and edge polylines of the last round."""
+    history: list = []
+    for _ in range(MAX_ROUNDS):
+        stats["rounds"] += 1
+        t0 = time.process_time()
+        result, refine = _build_once(E, spacing, stats, caches)
+        if not refine:
+            refine = far_ends(E, result, tolerance, lo, hi, caches)
+        stats.setdefault("round_cpu_seconds", []).append(round(time.process_time() - t0, 3))
+        history.append(result[2])
+        if not refine or (len(history) >= 3 and history[-1] == history[-2] == history[-3]):
+            break            # consistent, or two refinements changed nothing
+        idx = np.array(sorted(refine), dtype=int)
+        cap = np.array([refine[i] for i in idx.tolist()])
+        spacing[idx] = np.minimum(spacing[idx] / 2, cap)
+    vertices, walks, problems = result
+    edges = edge_polylines(E, vertices, walks, tolerance, lo, hi)
+    return vertices, walks, problems, edges
 
 
 def _as_pieces(p, k) -> list:
@@ -399,18 +422,17 @@ class _Refine(dict):
 
 def _vertex_id(vertices, by_sites, members, sol, E, orders):
     """The id of the vertex with these sites at this position (10⁻⁹ of the scale), new if none;
-    ``orders`` keeps each proof's contact order across rounds."""
-    key = tuple(sorted(members))
-    tol = 1e-9 * (1.0 + abs(sol.x) + abs(sol.y) + sol.r)
-    for vid in by_sites.get(key, []):
+    ``orders`` keeps each proof's sites, tolerance and contact order across rounds."""
+    known = orders.get(id(sol))
+    if known is None:
+        known = orders[id(sol)] = (tuple(sorted(members)), 1e-9 * (1.0 + abs(sol.x) + abs(sol.y) + sol.r),
+                                   contact_order(E, members, sol))
+    key, tol, order = known
+    for vid in by_sites.get(key, ()):
         v = vertices[vid]
         if abs(v.x - sol.x) <= tol and abs(v.y - sol.y) <= tol:
             return vid
     vid = len(vertices)
-    if id(sol) not in orders:
-        orders[id(sol)] = contact_order(E, members, sol)
-    vertices.append(DiagramVertex(vid, orders[id(sol)], sol.x, sol.y, sol.r, True))
+    vertices.append(DiagramVertex(vid, order, sol.x, sol.y, sol.r, True))
     by_sites.setdefault(key, []).append(vid)
     return vid
-
-
