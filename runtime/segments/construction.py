@@ -148,6 +148,7 @@ def _rounds(E: ElementarySites, spacing, stats, caches, tolerance, lo, hi):
     for _ in range(MAX_ROUNDS):
         stats["rounds"] += 1
         t0 = time.process_time()
+        result = None                  # the previous round's tables are not needed any more
         result, refine = _build_once(E, spacing, stats, caches)
         if not refine:
             refine = far_ends(E, result, tolerance, lo, hi, caches)
@@ -236,6 +237,7 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
     else:
         prev = caches.pop("tri", None)
         tri = retriangulation(prev, P, lab) if prev is not None else None
+        del prev                       # one triangulation alive at a time
         if tri is None:
             tri = triangulation(P, lab)
         else:
