@@ -23,8 +23,11 @@ of its arc (the sagitta bound), which sets the sampling density and the stated t
 edges are drawn as one straight piece (tolerance: rounding of the end points).
 
 Arc bisectors are drawn by bisection of the parameter until every chord's midpoint is within
-half the tolerance of the curve's point at the middle parameter (a measured bound, twice it
-stated); their proof is the certificate's.
+half the tolerance of the curve's point at the middle parameter; the stated bound is the requested
+tolerance (twice the measured deviation where the bisection stopped above it), not the measured
+deviation itself: near a hyperbola-like branch's pole the chords' true deviation exceeds the
+midpoints' (a far end point off the curve along its asymptote), and a bound stated at the
+measurement would leave the proof no room.  Its proof is the certificate's.
 
 Public API: :func:`bisector_kind`, :func:`edge_polyline`, :func:`line_direction`,
 :func:`arc_bisector_points`.
@@ -271,7 +274,7 @@ def _arc_edge(E, i, j, P0, P1, tol, far, centre, step, sides=None):
     Vm, _ = curve((o[:-1] + o[1:]) / 2)
     dev = _chord_distance(V[:-1], V[1:], Vm)
     scale = 1.0 + float(np.max(np.abs(V)))
-    return V, 2 * float(np.max(dev, initial=0.0)) + 1e-12 * scale
+    return V, max(tol, 2 * float(np.max(dev, initial=0.0))) + 1e-12 * scale
 
 
 def _to_far(curve, o_in, o_out, far, centre):

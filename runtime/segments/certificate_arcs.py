@@ -38,6 +38,9 @@ from .certificate_sites import ARC, POINT, SEGMENT, SiteTable, hypot, sq
 
 __all__ = ["ArcCurve", "normalise", "side_of"]
 
+#: most sub-pieces of one chord bound (:meth:`ArcCurve.chord_bound_parts`)
+SUB_PIECES = 64
+
 
 def normalise(ph: arb, beta: arb) -> arb:
     """The representative of the angle offset ``ph`` in [(β − 2π)/2, (β + 2π)/2): the arc's
@@ -73,30 +76,66 @@ class ArcCurve:
         while beta <= 0:
             beta += tp
         self.beta = beta
-        sg = sigma
+        self.n0, self.n1, self.d0, self.d1 = self._coefficients(k, tau)
+        self._partners: dict = {}
+
+    def _coefficients(self, k: int, tau: int):
+        """(n₀, n₁, d₀, d₁) of the bisector of s (on the side σ) and site k (side τ of its line or
+        circle; module docstring)."""
+        T, sg, rho = self.T, self.sigma, self.r
+        cx, cy = self.c
         if T.kind[k] == POINT:
             px, py = T.arb_ends(k)[:2]
             Dx, Dy = cx - px, cy - py
-            self.n0 = -(sq(Dx) + sq(Dy) + rho * rho)
-            self.n1 = (-2 * rho * Dx, -2 * rho * Dy)
-            self.d0 = 2 * sg * rho
-            self.d1 = (2 * sg * Dx, 2 * sg * Dy)
-        elif T.kind[k] == SEGMENT:
+            return (-(sq(Dx) + sq(Dy) + rho * rho), (-2 * rho * Dx, -2 * rho * Dy), 2 * sg * rho,
+                    (2 * sg * Dx, 2 * sg * Dy))
+        if T.kind[k] == SEGMENT:
             ax, ay, bx, by = T.arb_ends(k)
             L = ((bx - ax) * (bx - ax) + (by - ay) * (by - ay)).sqrt()
             nx, ny = -(by - ay) / L, (bx - ax) / L
             c0 = -(nx * ax + ny * ay)
-            self.n0 = nx * cx + ny * cy + c0
-            self.n1 = (rho * nx, rho * ny)
-            self.d0 = arb(tau)
-            self.d1 = (-sg * nx, -sg * ny)
-        else:
-            c2x, c2y, r2 = T.arb_arc(k)
-            Dx, Dy = cx - c2x, cy - c2y
-            self.n0 = r2 * r2 - rho * rho - sq(Dx) - sq(Dy)
-            self.n1 = (-2 * rho * Dx, -2 * rho * Dy)
-            self.d0 = 2 * (sg * rho - tau * r2)
-            self.d1 = (2 * sg * Dx, 2 * sg * Dy)
+            return nx * cx + ny * cy + c0, (rho * nx, rho * ny), arb(tau), (-sg * nx, -sg * ny)
+        c2x, c2y, r2 = T.arb_arc(k)
+        Dx, Dy = cx - c2x, cy - c2y
+        return (r2 * r2 - rho * rho - sq(Dx) - sq(Dy), (-2 * rho * Dx, -2 * rho * Dy), 2 * (sg * rho - tau * r2),
+                (2 * sg * Dx, 2 * sg * Dy))
+
+    # ------------------------------------------------------------------ other sites, algebraically
+    def farther(self, k: int, th, tau: int = 1, deriv: bool = False):
+        """A ball whose positivity on the parameter ball θ proves d_k > t at the curve's points
+        there (t > 0 being a condition of the edge), or with ``deriv`` its θ-derivative.
+
+        Written with the pair's own algebra: for a point k, |x − p|² − t² = tΔ_k − N_k on the
+        curve (x = c + (ρ + σt)u; the bisector of s and k is N_k = tΔ_k); for an arc k,
+        |x − c_k|² − (t + ρ_k)² = tΔ_k − N_k with its outer side (then d_k ≥ |x − c_k| − ρ_k > t);
+        for a segment k, τ(n̂·x + c₀) − t = τ(N_k − tΔ_k) with τ = ±1 (d_k ≥ τ(n̂·x + c₀)).  With
+        t = N/Δ these are (NΔ_k − N_kΔ)/Δ, resp. τ(N_kΔ − NΔ_k)/Δ: the numerator, a
+        trigonometric polynomial of degree 2 in θ, times the sign of Δ (decided on the ball, else
+        the result is not positive).  Smooth up to the pole, unlike d_k − t on boxes of the far
+        curve (where the sites look alike and the margins are tiny)."""
+        key = (k, tau)
+        co = self._partners.get(key)
+        if co is None:
+            co = self._partners[key] = self._coefficients(k, tau if self.T.kind[k] == SEGMENT else 1)
+        n0, n1, d0, d1 = co
+        ux, uy, N, Dn, N1, D1 = self._nd(th)
+        sgn = 1 if Dn > 0 else (-1 if Dn < 0 else 0)
+        if sgn == 0:
+            return arb(-1)
+        Nk = n0 + n1[0] * ux + n1[1] * uy
+        Dk = d0 + d1[0] * ux + d1[1] * uy
+        side = sgn if self.T.kind[k] != SEGMENT else -sgn * tau
+        if not deriv:
+            return side * (N * Dk - Nk * Dn)
+        Nk1 = -n1[0] * uy + n1[1] * ux
+        Dk1 = -d1[0] * uy + d1[1] * ux
+        return side * (N1 * Dk + N * Dk1 - Nk1 * Dn - Nk * D1)
+
+    def farther_centred(self, k: int, th, pa: float, pb: float, tau: int = 1) -> bool:
+        """:meth:`farther` > 0 on [pa, pb] ⊆ θ by the mean-value form."""
+        tm = arb((pa + pb) / 2)
+        g = self.farther(k, tm, tau) + self.farther(k, th, tau, deriv=True) * (th - tm)
+        return bool(g > 0)
 
     # ------------------------------------------------------------------ evaluation
     def u(self, th):
@@ -136,15 +175,16 @@ class ArcCurve:
         R, R1 = self.r + self.sigma * t, self.sigma * t1
         return R1 * ux - R * uy, R1 * uy + R * ux
 
-    def _derivs(self, th):
-        """(v', v'') on the parameter ball θ."""
+    def _frame_derivs(self, th):
+        """(|v'|, |v''|, v' × v'') on the parameter ball θ, from the coordinates in the orthonormal
+        frame (u, u^⊥): v' = (R', R), v'' = (R'' − R, 2R'), so |v'|² = R'² + R², |v''|² =
+        (R'' − R)² + 4R'², v' × v'' = 2R'² − R(R'' − R) (no cancellation between the frame's
+        components, which a ball of θ would blur)."""
         ux, uy, t, t1, N, Dn, N1, D1 = self._t1(th)
         N2, D2 = self.n0 - N, self.d0 - Dn          # N'' = −n₁·u = n₀ − N
         t2 = (N2 - t * D2 - 2 * t1 * D1) / Dn
         R, R1, R2 = self.r + self.sigma * t, self.sigma * t1, self.sigma * t2
-        v1 = (R1 * ux - R * uy, R1 * uy + R * ux)
-        v2 = ((R2 - R) * ux - 2 * R1 * uy, (R2 - R) * uy + 2 * R1 * ux)
-        return v1, v2
+        return hypot(R1, R), hypot(R2 - R, 2 * R1), 2 * sq(R1) - R * (R2 - R)
 
     def chord_bound(self, t0: arb, t1: arb, target: float = 0.0) -> arb:
         """:meth:`chord_bound_parts` with 8, 32, 128, 512 sub-pieces until below ``target``."""
@@ -156,39 +196,76 @@ class ArcCurve:
             parts *= 4
 
     def chord_bound_parts(self, t0: arb, t1: arb, parts: int = 8) -> arb:
-        """Chord-to-curve deviation bound of the piece between the parameters t0 and t1: the
-        smaller of Δθ²/8 · max|v''| and ℓ² κ/8 (ℓ ≤ Σ δθ max|v'| its length over ``parts``
-        sub-pieces, κ its largest curvature |v' × v''|/|v'|³; a curve of curvature ≤ κ
-        parametrised by length s stays within s(ℓ − s) κ/2 of its chord)."""
+        """Chord-to-curve deviation bound of the piece between the parameters t0 and t1, over
+        ``parts`` sub-pieces m of parameter length δθ (lengths ℓ_m ≤ δθ max|v'|, curvatures
+        κ_m ≤ max|v' × v''| / min|v'|³): the smallest of
+
+        * Δθ²/8 · max|v''| (the distance from v(θ) to the linear interpolation of its ends);
+        * ℓ²κ/8 (ℓ = Σ ℓ_m, κ = max κ_m) and Σ_m ℓ_m κ_m w_m with w_m = 1/(1/S_m + 1/S'_m)
+          (S_m = Σ_{k≤m} ℓ_k, S'_m = Σ_{k≥m} ℓ_k), when the total turning Σ ℓ_m κ_m is below
+          π/2.  For the arc-length parametrisation, the signed distance h(s) from the chord's
+          line has h(0) = h(ℓ) = 0 and |h''| ≤ κ(s), so |h(s)| ≤ ∫ G(s, σ) κ(σ) dσ with the
+          Green function G(s, σ) ≤ σ(ℓ − σ)/ℓ = 1/(1/σ + 1/(ℓ − σ)) ≤ w_m on sub-piece m (and
+          ≤ s(ℓ − s)κ/2 for a constant bound κ).  The turning below π/2 keeps every tangent within
+          π/2 of the chord's direction (a mean of the tangents), so the projection on the chord
+          is monotone and the nearest point of the chord's line lies on the chord itself.  The
+          weighted form is what proves the far pieces of a hyperbola-like branch, long but
+          nearly straight (κ decays like the cube of the distance)."""
         lo_t, hi_t = t0.union(t1).lower(), t0.union(t1).upper()
         dt = arb(hi_t) - arb(lo_t)
         step = dt / parts
         b1 = arb(0)
-        length = arb(0)
-        kappa = arb(0)
+        lens, kaps = [], []
         curved = True
-        for m in range(parts):
-            K = (arb(lo_t) + m * step).union(arb(lo_t) + (m + 1) * step)
-            (ax, ay), (bx, by) = self._derivs(K)
-            b1 = b1.max(arb(hypot(bx, by).upper()))
-            sp = hypot(ax, ay)
-            length += step * arb(sp.upper())
+        # sub-pieces in order; one where |v'| varies by more than a factor 2 is halved (near a
+        # pole |v'| grows like 1/δ²: the halving there is geometric), up to SUB_PIECES in all
+        todo = [(arb(lo_t) + m * step, arb(lo_t) + (m + 1) * step) for m in range(parts)][::-1]
+        count = parts
+        while todo:
+            ka, kb = todo.pop()
+            K = ka.union(kb)
+            sp, acc, cross = self._frame_derivs(K)
             lo = sp.lower()
+            if count < SUB_PIECES and not (lo > 0 and sp.upper() <= 2 * lo):
+                km = (ka + kb) / 2
+                todo += [(km, kb), (ka, km)]
+                count += 1
+                continue
+            b1 = b1.max(arb(acc.upper()))
+            lens.append(arb(((kb - ka) * arb(sp.upper())).upper()))
             if lo > 0:
-                kappa = kappa.max(arb((abs(ax * by - ay * bx) / (arb(lo) ** 3)).upper()))
+                kaps.append(arb((abs(cross) / (arb(lo) ** 3)).upper()))
             else:
                 curved = False
         b1 = dt * dt * b1 / 8
-        if curved:
-            b2 = length * length * kappa / 8
-            if b2.upper() < b1.upper():
-                return b2
-        return b1
+        if not curved:
+            return b1
+        length = sum(lens, arb(0))
+        kappa = arb(0)
+        turning = arb(0)
+        for ln, kp in zip(lens, kaps):
+            kappa = kappa.max(kp)
+            turning += ln * kp
+        if not turning < arb.pi() / 2:
+            return b1
+        best = b1
+        b2 = length * length * kappa / 8
+        if b2.upper() < best.upper():
+            best = b2
+        before = arb(0)
+        b3 = arb(0)
+        for m, (ln, kp) in enumerate(zip(lens, kaps)):
+            before += ln
+            after = length - before + ln
+            b3 += ln * kp / (1 / before + 1 / after)
+        if b3.upper() < best.upper():
+            best = b3
+        return best
 
     def param(self, X, Y):
         """θ of the direction of (X, Y) from the centre, measured from the arc's middle direction m
         (atan2 of (m × w, m·w): its cut, the gap's middle, is far from the range) plus β/2."""
-        mx, my = (to_arb(v) for v in self.T.arc_mid(self.s))
+        mx, my = self.T.arc_mid_arb(self.s)
         wx, wy = X - self.c[0], Y - self.c[1]
         return arb.atan2(mx * wy - my * wx, mx * wx + my * wy) + self.beta / 2
 

@@ -19,8 +19,16 @@ at a corner c of radius 0 (the curve is c + τ u), g_k(τ) ≥
 τ (D_k − D_i) with D_i = ρ/τ and D_k the distance from u to the line of k (|u| when k leaves c
 away from u), proved > 0 for all τ > 0.  A condition vanishing at an end vertex is covered the
 same way by its derivative (a function ≥ 0 there with a positive derivative into the arc).  The
-float mean-value filter needs convex sites (the gradient of the distance to a convex set is
-Lipschitz away from it): arcs go to the balls.
+float mean-value filter needs functions with Lipschitz unit gradients: distances to convex sets
+(points, segments) and, for arcs, their circles' signed distances (a lower bound of d_k).  Along an
+arc's bisector a site may also be proved farther by the pair's algebra
+(:meth:`runtime.segments.certificate_arcs.ArcCurve.farther`: a trigonometric polynomial in the
+contact angle, smooth up to the pole, so the far parts of a branch near a far vertex — where all
+sites look alike and margins decay like 1/ρ — need few pieces), with its derivative as the cover
+at a vertex where it is ≥ 0.
+
+Length: one mixin holding the piecewise proof's state (pieces, covers, filters); its filters share
+that state and are split only by method.
 
 Public API: :class:`PieceProofs` (mixed into the edge prover, which supplies ``T``, ``curve``,
 ``i``, ``j``, ``skip``, ``r1``, ``conditions`` and ``report``).
@@ -34,7 +42,7 @@ from flint import arb
 
 from .certificate_curves import Line, down, interval, q_arb, up
 from .certificate_rules import convex_tangents, corner_ratio
-from .certificate_sites import ARC, SEGMENT, hypot
+from .certificate_sites import ARC, POINT, SEGMENT, hypot
 from .distance import distances, float_error
 
 __all__ = ["PieceProofs", "MAX_PIECES", "FIRST_PIECES"]
@@ -86,6 +94,14 @@ class PieceProofs:
             return None if test is None else self._prefix(test, back, base, span, at_lo)
         sgn = 1 if at_lo else -1
         tests = [lambda J, X, Y: deriv(J, X, Y) * sgn] + self._clamps(k) + self._clamp_derivs(k, vp, sgn)
+        if self._farther_at_vertex(k, vp):
+            # the algebraic margin of ArcCurve.farther is ≥ 0 at the vertex: its derivative
+            tests.append(lambda J, X, Y: self.curve.farther(k, J, deriv=True) * sgn)
+        if self.curve.kind == "arc" and self.T.kind[k] == ARC and vp.ok and vp.x is not None:
+            # k's nearest point is its end e on the box (d_k = d_e), e's margin ≥ 0 at the vertex
+            for e in (e for e in self.T.ends[k] if e >= 0):
+                tests.append(lambda J, X, Y, e=e: self.curve.farther(e, J, deriv=True) * sgn
+                             if self.T.owned_by_end(k, e, X, Y) is True else arb(-1))
         best = None
         for test in tests:
             reach = self._prefix(test, back, base, span, at_lo)
@@ -117,6 +133,40 @@ class PieceProofs:
                 if width < abs(reach - base) / 64:
                     break
         return reach
+
+    def _farther_at_vertex(self, k, vp) -> bool:
+        """:meth:`runtime.segments.certificate_arcs.ArcCurve.farther` (outer side) is ≥ 0 at the
+        proved vertex: k a point (d_k ≥ r there), or an arc whose circle's outside holds the vertex
+        with its direction in k's closed range (then d_k = |x − c_k| − ρ_k ≥ r)."""
+        T, c = self.T, self.curve
+        if c.kind != "arc" or not vp.ok or vp.x is None:
+            return False
+        if T.kind[k] == POINT:
+            return True
+        if T.kind[k] != ARC:
+            return False
+        cx, cy, rho = T.arb_arc(k)
+        wx, wy = vp.x - cx, vp.y - cy
+        return bool(hypot(wx, wy) > rho) and T.in_range(k, wx, wy, closed=True) is True
+
+    def _farther(self, k, t, pa: float, pb: float, qx: float, qy: float, X=None, Y=None) -> bool:
+        """d_k > ρ on the piece by the curve's algebraic margin (arcs' bisectors; for a segment k
+        on the side of its line where the piece's centre (qx, qy) lies; for an arc k by its
+        circle, or by its end e where that is its nearest point on the box (X, Y))."""
+        T, c = self.T, self.curve
+        if c.kind != "arc" or T.kind[k] is None:
+            return False
+        tau = 1
+        if T.kind[k] == SEGMENT:
+            (ax, ay), (bx, by) = T.A[k], T.B[k]
+            tau = 1 if (bx - ax) * (qy - ay) - (by - ay) * (qx - ax) >= 0 else -1
+        if c.farther(k, t, tau) > 0 or c.farther_centred(k, t, pa, pb, tau):
+            return True
+        if T.kind[k] == ARC and X is not None:
+            for e in T.ends[k]:
+                if e >= 0 and T.owned_by_end(k, e, X, Y) is True:
+                    return self._farther(e, t, pa, pb, qx, qy)
+        return False
 
     def _clamps(self, k) -> list:
         """For a curve k ending at an R1 point e: the test "k's nearest point is e alone" (then
@@ -176,14 +226,19 @@ class PieceProofs:
     def _float_centred(self, idx, pa: float, pb: float, t, X, Y):
         """The mean-value bound in floats, for many sites at once (True: g_k > 0 on the piece).
 
-        With q a float point within δq of γ(τ_m) (τ_m the middle parameter), R ≥ |x − q| on the
-        piece's box and u_k(q) = (q − F_k(q))/d_k(q) the gradient of d_k:
-        g_k(τ_m) ≥ d_k(q) − d_i(q) − 2δq (distances are 1-Lipschitz; ρ = d_i on the arc), and
-        |g_k'| ≤ |γ'|·(|u_k(q) − u_i(q)| + 4R/d_k(q) + 4R/d_i(q)) on the piece when both distances
-        exceed R (x − F(x) is 1-Lipschitz for the projection F on a convex set, and
-        |a/|a| − b/|b|| ≤ 2|a − b|/(|a| + |b|) in an inner-product space (Dunkl–Williams), so
-        |u_k(x) − u_k(q)| ≤ 2R/(2d_k(q) − R)); floats carry their rounding bounds
-        (:func:`runtime.segments.distance.float_error`) and a relative slack."""
+        Each site k enters by a function h_k ≤ d_k with a unit gradient u_k of known variation:
+        a point or a segment by its distance (the projection F_k on a convex set: u_k =
+        (x − F_k(x))/d_k), an arc by its circle's signed distance σ_k(|x − c_k| − ρ_k) ≤ d_k (σ_k
+        the side of q; u_k = σ_k (x − c_k)/|x − c_k|).  The edge's own distance ρ is that of its
+        non-arc site, or, along the bisector of two arcs, exactly σ(|x − c| − ρ_s) of its arc s.  With q a
+        float point within δq of γ(τ_m) (τ_m the middle parameter), R ≥ |x − q| on the piece's
+        box: h_k(τ_m) − ρ(τ_m) ≥ h_k(q) − ρ(q) − 2δq (1-Lipschitz functions), and
+        |(h_k − ρ)'| ≤ |γ'|·(|u_k(q) − u_0(q)| + 2R/(2e_k − R) + 2R/(2e_0 − R)) on the piece when
+        every e = |q − F(q)| (|q − c| for a circle) exceeds R (x − F(x) is 1-Lipschitz for the
+        projection on a convex set, x − c trivially, and |a/|a| − b/|b|| ≤ 2|a − b|/(|a| + |b|)
+        in an inner-product space (Dunkl–Williams), so |u(x) − u(q)| ≤ 2R/(2e − R)); floats carry
+        their rounding bounds (:func:`runtime.segments.distance.float_error`, 64 ulp of the
+        magnitudes for a circle) and a relative slack."""
         T, c = self.T, self.curve
         m = (pa + pb) / 2
         hw = max(m - pa, pb - m) * (1 + 4 * EPS)
@@ -193,23 +248,28 @@ class PieceProofs:
         dq = float(Xm.rad()) + float(Ym.rad()) + 4 * EPS * (abs(qx) + abs(qy))
         R = (abs(float(X.mid()) - qx) + float(X.rad()) + abs(float(Y.mid()) - qy) + float(Y.rad())) * (1 + 4 * EPS)
         ref = next((s for s in (self.i, self.j) if T.kind[s] != ARC), None)
+        ref_side = None
         if ref is None:
-            return np.zeros(len(idx), dtype=bool)
+            if c.kind != "arc":
+                return np.zeros(len(idx), dtype=bool)
+            ref, ref_side = c.s, c.sigma
         gx, gy = c.dxy(t)
         gp = up(abs(gx) + abs(gy))
         sites = np.concatenate([[ref], idx])
-        A, B = T.A[sites], T.B[sites]
         Q = np.repeat([[qx, qy]], len(sites), axis=0)
-        d, tt = distances(A, B, Q)
-        err = float_error(A, B, Q) + 8 * EPS * T.scale
-        F = A + tt[:, None] * (B - A)
+        if not (np.isfinite(qx) and np.isfinite(qy) and np.isfinite(R) and np.isfinite(gp)):
+            return np.zeros(len(idx), dtype=bool)
+        d, U, e, err = _float_models(T, sites, Q)
+        if ref_side is not None:                   # the edge's own arc: its side, not q's
+            with np.errstate(divide="ignore", invalid="ignore"):
+                d[0] = ref_side * (e[0] - T.R[ref])
+                U[0] = ref_side * (Q[0] - T.C[ref]) / e[0]
         with np.errstate(divide="ignore", invalid="ignore"):
-            U = (Q - F) / d[:, None]
-            dlo = d - err
-            L = gp * (np.abs(U[1:] - U[0]).sum(axis=1) + 2 * R / (2 * dlo[1:] - R) + 2 * R / (2 * dlo[0] - R) + 1e-12)
+            L = gp * (np.abs(U[1:] - U[0]).sum(axis=1) + 2 * R / (2 * (e[1:] - err[1:]) - R) +
+                      2 * R / (2 * (e[0] - err[0]) - R) + 1e-12)
             rounding = err[1:] + err[0] + 2 * dq + 16 * EPS * (T.scale + abs(qx) + abs(qy))
             lower = (d[1:] - d[0]) - rounding - L * hw
-        return (dlo[1:] > R) & (dlo[0] > R) & np.isfinite(lower) & (lower > 0) & (T.karr[idx] != ARC)
+        return (e[1:] - err[1:] > R) & (e[0] - err[0] > R) & np.isfinite(lower) & (lower > 0)
 
     def _centred(self, k, t, X, Y, pa: float, pb: float) -> bool:
         """g_k > 0 on the piece by the mean-value form g(m) + g'(piece)·(τ − m)."""
@@ -304,7 +364,8 @@ class PieceProofs:
                 for k, cl, h in zip(plain, clear.tolist(), hopeless.tolist()):
                     if cl:
                         continue
-                    if h or (not T.distance(k, X, Y) - rho > 0 and not self._centred(k, t, X, Y, pa, pb)):
+                    if h or (not self._farther(k, t, pa, pb, qx, qy, X, Y) and not T.distance(k, X, Y) - rho > 0
+                             and not self._centred(k, t, X, Y, pa, pb)):
                         if not h and self._convex_clear(k, a, b):
                             cleared.add(k)
                         else:
@@ -315,7 +376,8 @@ class PieceProofs:
                 value, cover_lo, cover_hi = special[k]
                 if pb <= cover_lo or pa >= cover_hi:
                     continue
-                if not value(t, X, Y, rho) > 0 and not self._centred(k, t, X, Y, pa, pb):
+                if not value(t, X, Y, rho) > 0 and not self._centred(k, t, X, Y, pa, pb) and \
+                        not self._farther(k, t, pa, pb, qx, qy, X, Y):
                     failed.append(k)
             if not failed:
                 continue
@@ -406,3 +468,30 @@ def distance_gradient(T, k, X, Y):
     dx, dy = X - fx, Y - fy
     n = hypot(dx, dy)
     return dx / n, dy / n
+
+
+def _float_models(T, sites, Q):
+    """Per row: a float lower-bound function h ≤ d_site at Q[r] (the distance for points and
+    segments, the circle's signed distance σ(|q − c| − ρ) on q's side σ for arcs), its unit
+    gradient, the distance e from Q[r] to the point its gradient is taken from (the foot F or the
+    centre c) and a rounding bound for h and e (:meth:`PieceProofs._float_centred`)."""
+    A, B = T.A[sites], T.B[sites]
+    d, tt = distances(A, B, Q)
+    err = float_error(A, B, Q) + 8 * EPS * T.scale
+    F = A + tt[:, None] * (B - A)
+    arc = T.karr[sites] == ARC
+    if arc.any():
+        F[arc] = T.C[sites[arc]]
+        W = Q[arc] - F[arc]
+        n = np.hypot(W[:, 0], W[:, 1])
+        rad = T.R[sites[arc]]
+        side = np.where(n >= rad, 1.0, -1.0)
+        d[arc] = side * (n - rad)
+        err[arc] = 64 * EPS * (np.abs(Q[arc]).max(axis=1) + np.abs(F[arc]).max(axis=1) + rad + 1.0) + 8 * EPS * T.scale
+    V = Q - F
+    e = np.hypot(V[:, 0], V[:, 1])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        U = V / e[:, None]
+    if arc.any():
+        U[arc] *= side[:, None]
+    return d, U, e, err

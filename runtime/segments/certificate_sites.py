@@ -190,7 +190,7 @@ class SiteTable:
         return self.a[code] if code >= 0 else self.joints[-2 - code][0]
 
     def pt_arb(self, code: int):
-        return tuple(to_arb(v) for v in self.pt(code))
+        return self._cached(("pt", code), lambda: tuple(to_arb(c) for c in self.pt(code)))
 
     def joint_curves(self, code: int):
         return self.joints[-2 - code][1]
@@ -213,8 +213,21 @@ class SiteTable:
         return 0 if self.ends[s][0] == p else 1
 
     # ------------------------------------------------------------------ arcs
+    def _cached(self, key, make):
+        v = self._arb.get(key)
+        if v is None:
+            v = self._arb[key] = make()
+        return v
+
     def arc_mid(self, k: int):
-        """An exact direction of the angular middle of arc k (not normalised)."""
+        """An exact direction of the angular middle of arc k (not normalised; cached)."""
+        return self._cached(("mid", k), lambda: self._arc_mid(k))
+
+    def arc_mid_arb(self, k: int):
+        """:meth:`arc_mid` as balls (cached)."""
+        return self._cached(("mid_arb", k), lambda: tuple(to_arb(c) for c in self.arc_mid(k)))
+
+    def _arc_mid(self, k: int):
         (cx, cy) = self.cen[k]
         ua = (self.a[k][0] - cx, self.a[k][1] - cy)
         ub = (self.b[k][0] - cx, self.b[k][1] - cy)
@@ -224,16 +237,21 @@ class SiteTable:
         s = 1 if cr > 0 else -1
         return (s * (ua[0] + ub[0]), s * (ua[1] + ub[1]))
 
+    def _range_data(self, k: int):
+        """(a − c, b − c, their cross product, and the first two as balls) of arc k, cached."""
+        def make():
+            (cx, cy) = self.cen[k]
+            ua = (self.a[k][0] - cx, self.a[k][1] - cy)
+            ub = (self.b[k][0] - cx, self.b[k][1] - cy)
+            return ua, ub, _cross(ua, ub), (to_arb(ua[0]), to_arb(ua[1])), (to_arb(ub[0]), to_arb(ub[1]))
+        return self._cached(("range", k), make)
+
     def in_range(self, k: int, wx, wy, closed: bool = False):
         """The direction (wx, wy) from arc k's centre lies in its open (or closed) angular range:
         True / False, or None when balls do not decide.  Exact for rationals."""
-        (cx, cy) = self.cen[k]
-        ua = (self.a[k][0] - cx, self.a[k][1] - cy)
-        ub = (self.b[k][0] - cx, self.b[k][1] - cy)
-        ab = _cross(ua, ub)
+        ua, ub, ab, ua_b, ub_b = self._range_data(k)
         if isinstance(wx, arb) or isinstance(wy, arb):
-            ua = (to_arb(ua[0]), to_arb(ua[1]))
-            ub = (to_arb(ub[0]), to_arb(ub[1]))
+            ua, ub = ua_b, ub_b
         ca = ua[0] * wy - ua[1] * wx
         cb = wx * ub[1] - wy * ub[0]
 
@@ -384,8 +402,8 @@ class SiteTable:
             return True if u >= 1 else (False if u < 1 else None)
         cx, cy, _ = self.arb_arc(k)
         wx, wy = X - cx, Y - cy
-        g = self.arc_mid(k)
-        gx, gy = -to_arb(g[0]), -to_arb(g[1])
+        g = self.arc_mid_arb(k)
+        gx, gy = -g[0], -g[1]
         ex, ey = (to_arb(v - c) for v, c in zip(self.pt(e), self.cen[k]))
         if self.end_index(k, e) == 0:             # from the gap's middle counter-clockwise to a
             p, q = gx * wy - gy * wx, wx * ey - wy * ex

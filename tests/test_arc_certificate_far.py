@@ -1,0 +1,88 @@
+"""Circular arcs whose diagram has a far vertex and long hyperbola-like branches.
+
+Five arcs of the random 1000-arc scene (tests/scenes.py random_arcs(1000, 1), inputs 442, 446, 673,
+192, 746) reduced from its uncertified edges: three arcs nearly in a row give a vertex at radius
+about 1.08·10⁶ (the sites look alike from there: the fourth site is 0.045 farther), so every
+infinite branch is drawn out to about 4·10⁶, where a chord of the polyline spans the whole tail of
+a hyperbola-like branch.  Checked against tests/arc_reference.py (mpmath distances from the
+definitions, no runtime code): the far vertex, and every polyline lying within its stated
+tolerance of the true bisector.
+"""
+from __future__ import annotations
+
+import sys
+from fractions import Fraction
+from pathlib import Path
+
+import mpmath
+import numpy as np
+import pytest
+
+import curvedvoronoi as cv
+from curvedvoronoi.runtime.segments.certificate import verify_segments
+
+sys.path.insert(0, str(Path(__file__).parent))
+from arc_reference import bisector_offset, distance, mp, nearest_margin, site_data  # noqa: E402
+
+FAR_ARCS = [((851, 1266), 10, 34, 194), ((1064, 1267), 11, 162, 284), ((779, 1264), 14, 76, 93),
+            ((55, 16), 14, 103, 257), ((20, 19), 16, 49, 79)]
+
+
+@pytest.fixture(scope="module")
+def far_diagram():
+    return cv.voronoi([cv.Arc.circular(c, r, a0, a1) for c, r, a0, a1 in FAR_ARCS])
+
+
+def test_far_vertex_scene_is_certified(far_diagram):
+    d = far_diagram
+    assert d.certified, d.problems[:3]
+    assert verify_segments(d).ok
+
+
+def test_far_vertex_against_the_reference(far_diagram):
+    d = far_diagram
+    far = max(d.vertices, key=lambda v: v.radius)
+    assert far.radius > 1e6
+    S = [site_data(s) for s in d.sites]
+    with mpmath.workdps(40):
+        x = (mp(far.x), mp(far.y))
+        ds = [distance(s, x) for s in S]
+        own = [ds[k] for k in far.sites]
+        # equidistant to float precision at 10⁶, and its sites are the nearest
+        assert max(own) - min(own) < 1e-6
+        others = [ds[k] for k in range(len(S)) if k not in far.sites]
+        assert min(others) > min(own) - 1e-6
+        assert abs(min(own) - mp(far.radius)) < 1e-6
+
+
+def _sample_parameters(length: float):
+    """Where to test a polyline segment: its middle and, on long chords, points geometrically
+    close to both ends (where a chord of a branch's tail deviates most)."""
+    us = [Fraction(1, 2)]
+    if length > 1e3:
+        us += [Fraction(1, 2 ** k) for k in range(2, 24, 3)] + [1 - Fraction(1, 2 ** k) for k in (2, 8)]
+    return us
+
+
+def test_far_polylines_within_their_tolerance_of_the_true_bisector(far_diagram):
+    d = far_diagram
+    S = [site_data(s) for s in d.sites]
+    far = [e for e in d.edges
+           if any(hasattr(d.sites[s], "rho") and hasattr(d.sites[s], "c") for s in e.sites)
+           and float(np.abs(np.asarray(e.polyline)).max()) > 1e5]
+    assert len(far) >= 4
+    for e in far:
+        i, j = e.sites
+        P = np.asarray(e.polyline, dtype=float)
+        tol = float(e.tolerance)
+        for m in range(len(P) - 1):
+            (x0, y0), (x1, y1) = P[m], P[m + 1]
+            L = float(np.hypot(x1 - x0, y1 - y0))
+            if L == 0:
+                continue
+            for u in _sample_parameters(L):
+                q = (mp(x0) + mp(u) * (mp(x1) - mp(x0)), mp(y0) + mp(u) * (mp(y1) - mp(y0)))
+                off, z = bisector_offset(S[i], S[j], q, (-(y1 - y0), x1 - x0), 2 * tol, steps=8)
+                assert off is not None and off <= tol, (e.id, m, float(u), off, tol)
+                # the bisector point found is on this edge: no third site nearer (to 2·tol)
+                assert nearest_margin(S, i, j, z) > -2 * tol, (e.id, m, float(u))
