@@ -13,7 +13,11 @@ Delaunay graph equals the one-process graph.  LocalCluster start-up is not count
 reported apart).
 
 Run:  python bench/bench_scale.py [--sizes 10000,100000] [--modes single,tiled,cluster1,cluster2]
-(writes bench/results/scale.md).  One BLAS thread (OPENBLAS_NUM_THREADS=1 and threadpoolctl inside
+(writes bench/results/scale.md).  ``--scene clustered`` uses ``clustered_circles(n, 31, cluster=0.1)``
+(a dense cluster, one circle larger than a tile); ``--cgal`` also builds CGAL's Apollonius graph
+(tests/cgal/cgal_peer.py) in the row's process and reports whether the Delaunay graph equals it;
+``--max-rss-gb G`` caps each row's address space (RLIMIT_AS) at G GB; ``--append`` adds a dated
+section to the results file instead of replacing it.  One BLAS thread (OPENBLAS_NUM_THREADS=1 and threadpoolctl inside
 the calls); workers have one thread each.  Other processes on the machine make figures noisy: the
 load average is recorded before and after.
 """
@@ -44,13 +48,25 @@ def _rss_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
-def one(mode: str, n: int) -> dict:
-    """One row, in this process."""
+def scene(name: str, n: int):
     import scenes
+
+    if name == "clustered":
+        return scenes.clustered_circles(n, 31, cluster=0.1)
+    return scenes.random_disjoint_circles(n, 1)
+
+
+def one(mode: str, n: int, scene_name: str = "random", cgal: bool = False) -> dict:
+    """One row, in this process."""
     import curvedvoronoi as cv
 
-    sites = scenes.random_disjoint_circles(n, 1)
-    out = {"mode": mode, "n": n}
+    sites = scene(scene_name, n)
+    out = {"mode": mode, "n": n, "sites": len(sites), "scene": scene_name}
+    if cgal:
+        sys.path.insert(0, str(ROOT / "tests" / "cgal"))
+        import cgal_peer
+
+        expected, out["cgal_seconds"], _ = cgal_peer.delaunay_edges(sites)
     client = cluster = None
     if mode.startswith("cluster"):
         from distributed import Client, LocalCluster
@@ -74,6 +90,11 @@ def one(mode: str, n: int) -> dict:
     out["construction"] = total - out["certificate"]
     out["certified"] = bool(d.certified)
     out["graph"] = hashlib.sha256(json.dumps(d.delaunay_edges()).encode()).hexdigest()[:12]
+    out["rounds"] = d.stats.get("rounds")
+    if cgal:
+        got = d.delaunay_edges()
+        out["equals_cgal"] = got == expected
+        out["missing_vs_cgal"] = len(set(map(tuple, expected)) - set(map(tuple, got)))
     out["rss_driver"] = _rss_mb()
     if client is not None:
         out["rss_worker"] = max(client.run(_rss_mb).values())
@@ -88,31 +109,48 @@ def main() -> None:
     ap.add_argument("--modes", default="single,tiled,cluster1,cluster2")
     ap.add_argument("--one", nargs=2, metavar=("MODE", "N"))
     ap.add_argument("--out", default=str(ROOT / "bench" / "results" / "scale.md"))
+    ap.add_argument("--scene", choices=("random", "clustered"), default="random")
+    ap.add_argument("--cgal", action="store_true")
+    ap.add_argument("--max-rss-gb", type=float, default=None)
+    ap.add_argument("--append", action="store_true")
     a = ap.parse_args()
     if a.one:
-        print(json.dumps(one(a.one[0], int(a.one[1]))))
+        if a.max_rss_gb:
+            cap = int(a.max_rss_gb * 2 ** 30)
+            resource.setrlimit(resource.RLIMIT_AS, (cap, cap))
+        print(json.dumps(one(a.one[0], int(a.one[1]), a.scene, a.cgal)))
         return
     load0 = os.getloadavg()
     started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     rows = []
     for n in [int(s) for s in a.sizes.split(",")]:
         for mode in a.modes.split(","):
-            r = subprocess.run([sys.executable, __file__, "--one", mode, str(n)], capture_output=True, text=True,
+            extra = ["--scene", a.scene] + (["--cgal"] if a.cgal else []) + \
+                (["--max-rss-gb", str(a.max_rss_gb)] if a.max_rss_gb else [])
+            t_row = time.strftime("%H:%M", time.gmtime())
+            load_row = os.getloadavg()[0]
+            r = subprocess.run([sys.executable, __file__, "--one", mode, str(n), *extra], capture_output=True, text=True,
                                env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
             if r.returncode != 0:
                 print(r.stderr[-3000:], file=sys.stderr)
-                rows.append({"mode": mode, "n": n, "error": r.stderr.strip().splitlines()[-1][:120]})
+                rows.append({"mode": mode, "n": n, "error": r.stderr.strip().splitlines()[-1][:120],
+                             "started": t_row, "load": load_row})
                 continue
             rows.append(json.loads(r.stdout.strip().splitlines()[-1]))
+            rows[-1].update(started=t_row, load=load_row)
             print(rows[-1], flush=True)
     load1 = os.getloadavg()
     base = {r["n"]: r for r in rows if r["mode"] == "single" and "error" not in r}
-    lines = ["# Tiled diagrams: one process, tiles in sequence, LocalCluster of 1 and 2 workers", "",
+    flags = (f" --scene {a.scene}" if a.scene != "random" else "") + (" --cgal" if a.cgal else "") + \
+        (f" --max-rss-gb {a.max_rss_gb:g}" if a.max_rss_gb else "") + (" --append" if a.append else "")
+    lines = ["# Tiled diagrams: one process, tiles in sequence, LocalCluster of 1 and 2 workers"
+             if not a.append else f"## Run of {started}: {a.scene} circles", "",
              f"Command: `OPENBLAS_NUM_THREADS=1 .venv/bin/python bench/bench_scale.py --sizes {a.sizes} "
-             f"--modes {a.modes}`", "",
+             f"--modes {a.modes}{flags}`", "",
              f"Date: {started}; machine: {os.cpu_count()} cores shared with other jobs; load average "
              f"{load0[0]:.2f} before, {load1[0]:.2f} after.  One BLAS thread; LocalCluster(processes=True, "
-             "threads_per_worker=1); every row in a fresh process; scene `random_disjoint_circles(n, 1)`.",
+             "threads_per_worker=1); every row in a fresh process; scene "
+             f"`{'clustered_circles(n, 31, cluster=0.1)' if a.scene == 'clustered' else 'random_disjoint_circles(n, 1)'}`.",
              "Rows: `voronoi(certify=True)` or `tiled_voronoi(certify=True)`; certificate s = the verifier's time "
              "(route `whole`: in the driver process; `chunks`: vertex and edge proofs on the workers, closure here); "
              "construction s = the rest of the wall time.", "",
@@ -134,7 +172,23 @@ def main() -> None:
                      f"| {r['n']} | {r['mode']} | {r.get('tiles', 1)} | {r.get('growths', '-')} | "
                      f"{r.get('rim_sites') or '-'} | {r['construction']:.1f} | {ratio} | {r['certificate']:.1f} | "
                      f"{r.get('route', 'whole')} | {'yes' if r['certified'] else 'no'} | {same} | {r['rss_driver']:.0f} | - | - |")
-    Path(a.out).write_text("\n".join(lines) + "\n")
+    if a.cgal or a.append:
+        lines += ["", "Per row: sites, refinement rounds, CGAL `Apollonius_graph_2` build seconds and whether the "
+                  "Delaunay graph equals CGAL's (missing edges), row start (UTC) and load average then.", "",
+                  "| n | mode | sites | rounds | CGAL s | = CGAL | missing | started | load |",
+                  "|---:|---|---:|---:|---:|---|---:|---|---:|"]
+        for r in rows:
+            eq = r.get("equals_cgal")
+            lines.append(f"| {r['n']} | {r['mode']} | {r.get('sites', '-')} | {r.get('rounds', '-')} | "
+                         f"{r['cgal_seconds']:.2f} | " if "cgal_seconds" in r else
+                         f"| {r['n']} | {r['mode']} | {r.get('sites', '-')} | {r.get('rounds', '-')} | - | ")
+            lines[-1] += (f"{'-' if eq is None else ('yes' if eq else 'NO')} | {r.get('missing_vs_cgal', '-')} | "
+                          f"{r.get('started', '-')} | {r.get('load', 0):.2f} |")
+    if a.append:
+        with open(a.out, "a") as fh:
+            fh.write("\n" + "\n".join(lines) + "\n")
+    else:
+        Path(a.out).write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
 
 
