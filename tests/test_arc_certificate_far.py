@@ -10,6 +10,7 @@ tolerance of the true bisector.
 """
 from __future__ import annotations
 
+import copy
 import sys
 from fractions import Fraction
 from pathlib import Path
@@ -86,3 +87,44 @@ def test_far_polylines_within_their_tolerance_of_the_true_bisector(far_diagram):
                 assert off is not None and off <= tol, (e.id, m, float(u), off, tol)
                 # the bisector point found is on this edge: no third site nearer (to 2·tol)
                 assert nearest_margin(S, i, j, z) > -2 * tol, (e.id, m, float(u))
+
+
+def _reference_chord_deviation(si, sj, A, B, tol):
+    """The largest reference offset (:func:`arc_reference.bisector_offset`) over points of the
+    chord [A, B] geometrically close to A (where a chord over a branch's tail deviates most)."""
+    worst = mpmath.mpf(0)
+    for k in range(1, 40):
+        u = mpmath.mpf(2) ** (-k / mpmath.mpf(2))
+        q = (mp(A[0]) + u * (mp(B[0]) - mp(A[0])), mp(A[1]) + u * (mp(B[1]) - mp(A[1])))
+        off, _ = bisector_offset(si, sj, q, (-(B[1] - A[1]), B[0] - A[0]), 50 * tol, steps=50)
+        assert off is not None
+        worst = max(worst, off)
+    return worst
+
+
+def test_far_chord_over_a_branch_tail_is_proved_or_rejected_as_the_reference_says():
+    # the hyperbola-like branch of the arc centred at (55, 16) and a point: its polyline with
+    # its last interior point dropped stays within the tolerance (by the reference) and must be
+    # proved; with its last three dropped it does not, and must be rejected
+    d = cv.voronoi([cv.Arc.circular(c, r, a0, a1) for c, r, a0, a1 in FAR_ARCS], certify=False)
+    S = [site_data(s) for s in d.sites]
+
+    def is_arc55(s):
+        return isinstance(s, cv.Arc) and (s.c[0], s.c[1]) == (55, 16)
+    edge = next(e for e in d.edges if None in e.ends and len(e.polyline) > 8 and
+                any(is_arc55(d.sites[s]) for s in e.sites) and
+                any(not isinstance(d.sites[s], cv.Arc) for s in e.sites) and
+                float(np.abs(np.asarray(e.polyline)).max()) > 1e5)
+    P = np.asarray(edge.polyline)
+    assert None is edge.ends[1] or None is edge.ends[0]
+    if edge.ends[0] is None:          # the far point last
+        P = P[::-1]
+    tol = float(edge.tolerance)
+    si, sj = S[edge.sites[0]], S[edge.sites[1]]
+    for dropped, within in ((1, True), (3, False)):
+        Q = np.vstack([P[:len(P) - 1 - dropped], P[-1:]])
+        dev = _reference_chord_deviation(si, sj, Q[-2], Q[-1], tol)
+        assert (dev <= tol) is within, (dropped, dev, tol)
+        D = copy.deepcopy(d)
+        D.edges[edge.id].polyline = Q if edge.ends[1] is None else Q[::-1]
+        assert verify_segments(D).ok is within, dropped
