@@ -828,11 +828,12 @@ def score_table(results: Path) -> str:
     std = json.loads((results / "mutation_standard.json").read_text()) \
         if (results / "mutation_standard.json").exists() else {}
     L = ["| group | mutants | killed | equivalent | not equivalent, sound (stricter / heuristic / other) | "
-         "rounding | open | raw killed / mutants | standard: killed / (mutants − equivalent) |",
-         "|---|---|---|---|---|---|---|---|---|"]
+         "rounding | open | raw killed / mutants | standard: killed / (mutants − equivalent) | "
+         "killed + explained for soundness |",
+         "|---|---|---|---|---|---|---|---|---|---|"]
     for name, first, rerun, verdicts, key in SCORE_GROUPS:
         if not (results / first).exists():
-            L.append(f"| {name} | not run | | | | | | | |")
+            L.append(f"| {name} | not run | | | | | | | | |")
             continue
         rows = final_rows(str(results / first), sorted(str(p) for p in results.glob(rerun)))
         why = json.loads((results / verdicts).read_text()) if (results / verdicts).exists() else {}
@@ -857,7 +858,7 @@ def score_table(results: Path) -> str:
             else:
                 opn += 1
         L.append(f"| {name} | {n} | {k} | {eq} | {sound} | {rnd} | {opn} | {100 * k / max(1, n):.0f} % | "
-                 f"**{100 * k / max(1, n - eq):.0f} %** |")
+                 f"**{100 * k / max(1, n - eq):.0f} %** | {100 * (k + eq + sound) / max(1, n):.0f} % |")
     return "\n".join(L) + "\n"
 
 
