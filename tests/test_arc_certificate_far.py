@@ -128,3 +128,31 @@ def test_far_chord_over_a_branch_tail_is_proved_or_rejected_as_the_reference_say
         D = copy.deepcopy(d)
         D.edges[edge.id].polyline = Q if edge.ends[1] is None else Q[::-1]
         assert verify_segments(D).ok is within, dropped
+
+
+def test_a_tight_tolerance_on_a_branch_tail_is_proved():
+    # the same branch with its stated tolerance lowered to 1.1× the reference's deviation (its
+    # last chord, densely near its start, and the middles of the others): still a true statement,
+    # proved only with chord bounds that stay sharp near the pole (the construction stated twice
+    # the midpoints' deviation here before, and the proof failed with a bound of 4·10³)
+    d = cv.voronoi([cv.Arc.circular(c, r, a0, a1) for c, r, a0, a1 in FAR_ARCS], certify=False)
+    S = [site_data(s) for s in d.sites]
+    edge = next(e for e in d.edges if None in e.ends and len(e.polyline) > 8 and
+                any(isinstance(d.sites[s], cv.Arc) and (d.sites[s].c[0], d.sites[s].c[1]) == (55, 16)
+                    for s in e.sites) and
+                any(not isinstance(d.sites[s], cv.Arc) for s in e.sites) and
+                float(np.abs(np.asarray(e.polyline)).max()) > 1e5)
+    P = np.asarray(edge.polyline)
+    if edge.ends[0] is None:
+        P = P[::-1]
+    si, sj = S[edge.sites[0]], S[edge.sites[1]]
+    tol = float(edge.tolerance)
+    dev = _reference_chord_deviation(si, sj, P[-2], P[-1], tol)
+    for m in range(len(P) - 2):
+        q = ((mp(P[m][0]) + mp(P[m + 1][0])) / 2, (mp(P[m][1]) + mp(P[m + 1][1])) / 2)
+        off, _ = bisector_offset(si, sj, q, (-(P[m + 1][1] - P[m][1]), P[m + 1][0] - P[m][0]), 2 * tol, steps=8)
+        dev = max(dev, off)
+    assert dev < tol / 2
+    D = copy.deepcopy(d)
+    D.edges[edge.id].tolerance = 1.1 * float(dev)
+    assert verify_segments(D).ok
