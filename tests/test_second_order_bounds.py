@@ -126,3 +126,22 @@ def test_gap_lower_refuses_discs_that_reach_a_site():
     term needs d_i ≥ lo_i − R > 0 on the disc, here lo_i = 0.4 < R.)"""
     t = table_of(Circle(0, 0, 1), Point(Fr(11, 10), 0))
     assert not gap(t, (1.5, 0.0), 0, 1, 1.0) > 0
+
+
+def test_support_range_to_second_order_at_a_maximum():
+    """Points (±100, 0): about m = (0, 0), h_0(θ) = 100·cos θ exactly, maximal at θ = 0 (h' = 0,
+    h'' = −h, ρ = 0).  On [−0.01, 0.01] the true minimum is 100·cos 0.01 = 100 − 0.005 +
+    4.2·10⁻⁷; the second-order enclosure 100 ± (0·0.01 + (0 + W)·0.01²/2) reaches down to
+    100 − 0.005 (W = 100 up to 10⁻⁹ relative), below the true minimum by only 4.2·10⁻⁷, and the
+    first-order one (W·0.01 = 1) is 200 times wider.  A bound halving the second-order term
+    (100 − 0.0025) would exclude the true minimum."""
+    from curvedvoronoi.runtime.voronoi.verify.support import SupportTable
+
+    sup = SupportTable([site_geometry(Point(100, 0)), site_geometry(Point(-100, 0))])
+    lo, hi = sup.h_range(0, 0.0, 0.01)
+    true_min = 100 * np.cos(0.01)
+    assert lo <= true_min and hi >= 100.0
+    assert true_min - lo < 1e-6
+    # the same at the interval's end: h' = −100·sin θ there, and the range holds θ = 0 (h = 100)
+    lo, hi = sup.h_range(0, 0.01, 0.01)
+    assert lo <= 100 * np.cos(0.02) and hi >= 100.0

@@ -43,6 +43,7 @@ def gap_lower(Q, Vk, Vi, R, scale):
     R = np.broadcast_to(np.asarray(R, float), (len(Q),))
     out = np.full(len(Q), -np.inf)
     ok = convex_side(Vk, R) & convex_side(Vi, R)
+    ok &= Vk.lo - Vi.hi > 0         # the bound is below lo_k − hi_i: the others need no gradients
     rows = np.nonzero(ok)[0]
     if not len(rows):
         return out

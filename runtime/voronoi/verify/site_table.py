@@ -151,7 +151,7 @@ class SiteTable:
         self.calls = 0
         self.fallbacks = 0
         self.tight_rows = 0
-        self._frame_err = {}
+        self._frame_err = np.full((n, 6), np.nan)     # frame_errors of the ellipses, when needed
 
     # ------------------------------------------------------------------ tight ellipse gradients
     def ellipse_normals(self, Q, K, F):
@@ -159,11 +159,10 @@ class SiteTable:
         K[m] where ok (:func:`runtime.voronoi.verify.ellipse_normal.ellipse_normal_enclosure`;
         F: float foot points, a start only)."""
         K = np.asarray(K, int)
-        for k in np.unique(K):
-            if k not in self._frame_err:
-                g = self.geoms[k]
-                self._frame_err[k] = frame_errors(g.exact, g.c, g.s, g.tx, g.ty, g.a, g.b)
-        errs = np.array([self._frame_err[k] for k in K.tolist()], float).reshape(-1, 6)
+        for k in np.unique(K[np.isnan(self._frame_err[K, 0])]):
+            g = self.geoms[k]
+            self._frame_err[k] = frame_errors(g.exact, g.c, g.s, g.tx, g.ty, g.a, g.b)
+        errs = self._frame_err[K]
         self.tight_rows += len(K)
         return ellipse_normal_enclosure(Q, F, self.a[K], self.b[K], self.c[K], self.s[K], self.cx[K],
                                         self.cy[K], errs)

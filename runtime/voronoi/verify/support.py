@@ -101,7 +101,12 @@ class SupportTable:
         return v + np.where(a > 0, w, 0.0)
 
     def h_range(self, k, thc, half):
-        """Enclosure of h_k on [θc − half, θc + half] (|h'| ≤ W)."""
+        """Enclosure of h_k on [θc − half, θc + half]: |h'| ≤ W, or to second order (Taylor at θc
+        with h' Lipschitz, |h''| = |ρ_k(θ) − h_k| ≤ ρ_k + W a.e.)
+        h_k(θc) ± (|h_k'(θc)|·half + (ρ_k + W)·half²/2), the float values within mu."""
         v = self.h(k, thc)
-        r = self.W * half + self.mu
+        half = np.asarray(half, float)
+        r1 = self.W * half
+        r2 = (np.abs(self.hp(k, thc)) + self.mu) * half + 0.5 * (self.rcurv[k] + self.W) * half * half
+        r = np.minimum(r1, r2) * (1 + 1e-12) + self.mu
         return v - r, v + r

@@ -340,7 +340,7 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
         rows = np.zeros(0, int)
         if len(oth) and len(need):
             # support bounds: h_k below max(h_i − e_i, h_j − e_j) on the cell
-            hk = sup.h(oth[:, None], thc[need][None, :]) + (W * half[need] + mu)[None, :]
+            hk = sup.h_range(oth[:, None], thc[need][None, :], half[need][None, :])[1]
             fail = ~(hmax_lo[need][None, :] - hk > 0)
             okA[need] &= ~(fail & ~fin[need][None, :]).any(0)
             kk, cc = np.nonzero(fail & fin[need][None, :])
