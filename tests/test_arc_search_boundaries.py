@@ -71,3 +71,26 @@ def test_a_point_nearer_only_near_the_end_of_the_arc(y1, proved):
     assert ok is proved
     if not proved:
         assert detail[0] == 2 and detail[1][1] > 48
+
+
+@pytest.mark.parametrize("delta", [0.2, 0.3, 0.5])
+def test_a_concentric_circle_nearer_on_an_arc_inside_it_is_found(delta):
+    """Nested sites: i the circle of radius 10 about the origin, j the point (99/10, 0) inside it,
+    k the circle of radius 19/2 about the origin (inside i, j outside k).  The bisector of i and j
+    is the ellipse |q − j| = 10 − |q| (foci 0 and j, semi-axes 5 and √(25 − 4.95²)), whose point of
+    parameter π is (−1/20, 0).  Its arc t ∈ [π − δ, π + δ] (δ ≤ 1/2) has x ∈ [−1/20, 0.57] and
+    |y| < 0.71, so it lies inside k's circle, where d_k = 19/2 − |q| = d_i − 1/2: k is nearer by
+    exactly 1/2 on the whole arc, which is therefore not an edge of (i, j).
+
+    The pieces' discs there hold the common centre of i and k and lie inside both circles, where
+    the gradient of d is discontinuous: the slope bound R/(|Q − c| − R) (negative) must not be
+    used."""
+    from fractions import Fraction
+
+    table = CircleTable([site_geometry(s) for s in (Circle(0, 0, 100), Point(Fraction(99, 10), 0),
+                                                    Circle(0, 0, Fraction(361, 4)))])
+    bis = bisector(table, 0, 1)
+    assert bis.kind == "ellipse" and bis.a == 5
+    (ok, detail), = prove_arcs(table, [(bis, math.pi - delta, math.pi + delta, ())])
+    assert not ok
+    assert detail[0] == 2
