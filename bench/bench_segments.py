@@ -204,6 +204,10 @@ def run_segments(spec: dict) -> dict:
     d = segment_voronoi(pieces, certify=False)
     out.update(seconds=time.perf_counter() - t0, cpu=time.process_time() - c0, rss_build_mb=_maxrss_mb() - rss0,
                stats=d.stats, vertices=len(d.vertices), edges=len(d.edges))
+    # the construction's figures go into the phase line: a case killed in the certificate keeps them
+    _phase(f"certificate; construction done: {out['seconds']:.1f} s ({out['cpu']:.1f} s CPU), "
+           f"{d.stats.get('rounds')} rounds, {d.stats.get('samples')} samples, {len(d.vertices)} vertices, "
+           f"{len(d.edges)} edges, RSS +{out['rss_build_mb']:.0f} MB")
     _certify(out, d, spec["cert_limit"], rss0)
     # peers, after our measurements (Boost runs in this process; CGAL in its own)
     from fractions import Fraction
@@ -260,6 +264,10 @@ def run_arcs(spec: dict) -> dict:
     d = cv.voronoi(arcs, certify=False)
     out.update(seconds=time.perf_counter() - t0, cpu=time.process_time() - c0, rss_build_mb=_maxrss_mb() - rss0,
                stats=d.stats, vertices=len(d.vertices), edges=len(d.edges))
+    # the construction's figures go into the phase line: a case killed in the certificate keeps them
+    _phase(f"certificate; construction done: {out['seconds']:.1f} s ({out['cpu']:.1f} s CPU), "
+           f"{d.stats.get('rounds')} rounds, {d.stats.get('samples')} samples, {len(d.vertices)} vertices, "
+           f"{len(d.edges)} edges, RSS +{out['rss_build_mb']:.0f} MB")
     _certify(out, d, spec["cert_limit"], rss0)
     return out
 
@@ -519,6 +527,8 @@ def main():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--max-rss-gb", type=float, default=12.0,
                     help="kill a case whose resident memory exceeds this (GiB; the machine is shared)")
+    ap.add_argument("--cert-limit", type=float,
+                    help="certificate deadline in s for every segment size (default 300, 1200, 7200 s by size)")
     ap.add_argument("--no-write", action="store_true")
     args = ap.parse_args()
     if args.case:
@@ -534,6 +544,7 @@ def main():
     if "segments" in parts:
         for n in sizes:
             to, cl = limits.get(n, (14400, 7200))
+            cl = args.cert_limit if args.cert_limit is not None else cl
             spec = {"kind": "segments", "n": n, "seed": args.seed, "timeout": to, "cert_limit": cl}
             seg_rows.append(run_case(spec, args.max_rss_gb))
     if "arcs" in parts:
