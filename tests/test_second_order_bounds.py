@@ -145,3 +145,75 @@ def test_support_range_to_second_order_at_a_maximum():
     # the same at the interval's end: h' = −100·sin θ there, and the range holds θ = 0 (h = 100)
     lo, hi = sup.h_range(0, 0.01, 0.01)
     assert lo <= 100 * np.cos(0.02) and hi >= 100.0
+
+
+def bgap(table, Q, k, i, j, R):
+    from curvedvoronoi.runtime.voronoi.verify.distance_gap import bisector_gap_lower
+
+    Q = np.array([Q], float)
+    return float(bisector_gap_lower(Q, table.evaluate(Q, [k]), table.evaluate(Q, [i]), table.evaluate(Q, [j]),
+                                    np.array([R]), 20.0)[0])
+
+
+@pytest.mark.parametrize("da, proved", [(1e-9, True), (0.0, False), (-1e-9, False)])
+def test_bisector_gap_lower_at_its_boundary(da, proved):
+    """On β = {d_i = d_j} of i = (0, −3), j = (0, 3) (the x-axis), k = (−a, 0), Q = (4, 0), R = 1:
+    d_i = d_j = 5, d_k = 4 + a, ∇d_i = (4, 3)/5, ∇d_j = (4, −3)/5, ∇d_k = (1, 0); the λ that
+    cancels ∇(d_k − d_i) along ∇(d_i − d_j) = (0, 6/5) is −1/2, so g_λ = d_k − d_i/2 − d_j/2 with
+    g_λ(Q) = a − 1, |∇g_λ(Q)| = |(1, 0) − (4/5, 0)| = 1/5 and the concave part
+    R²/2·(1/2 + 1/2)/(5 − R) = 1/8: the bound is a − 1 − 1/5 − 1/8 = a − 53/40.  a = 53/40 + δ
+    decides: proved for δ = 10⁻⁹, not for 0 or −10⁻⁹."""
+    a = 53 / 40 + da
+    t = table_of(Point(0, -3), Point(0, 3), Point(-a, 0))
+    g = bgap(t, (4.0, 0.0), 2, 0, 1, 1.0)
+    assert (g > 0) is proved
+    assert abs(g - da) < 1e-10
+
+
+def test_bisector_gap_lower_holds_on_the_bisector_only():
+    """The same sites with a = 1.5 (k = (−1.5, 0)): at q = (4, 1), in the disc, d_k − d_i =
+    √31.25 − √32 < 0, so no bound on the whole disc (gap_lower) may be positive; on β (the
+    x-axis) d_k − d_i = x + 1.5 − √(x² + 9) > 0 for x ∈ [3, 5], and the bound on β is
+    a − 53/40 = 0.175."""
+    t = table_of(Point(0, -3), Point(0, 3), Point(-1.5, 0))
+    assert not gap(t, (4.0, 0.0), 2, 0, 1.0) > 0
+    assert bgap(t, (4.0, 0.0), 2, 0, 1, 1.0) > 0.17
+    x = np.linspace(3, 5, 201)
+    assert (x + 1.5 - np.sqrt(x * x + 9) > 0).all()
+
+
+def test_bisector_gap_lower_is_below_the_minimum_on_the_bisector():
+    """Ellipses i, j and a third ellipse k: wherever the bound is positive on a disc, d_k − d_i is
+    positive at the points of β in the disc (β found by bisection on 60 chords across it; float
+    distances, 10⁻⁹ allowance), and the bound is below their minimum."""
+    ei = Conic.ellipse(centre=(Fr(0), Fr(-2)), axes=(Fr(2), Fr(1)), rotation=(Fr(3, 5), Fr(4, 5)))
+    ej = Conic.ellipse(centre=(Fr(0), Fr(3)), axes=(Fr(3, 2), Fr(1)), rotation=(Fr(1), Fr(0)))
+    ek = Conic.ellipse(centre=(Fr(-5), Fr(1, 2)), axes=(Fr(2), Fr(3, 2)), rotation=(Fr(0), Fr(1)))
+    t = table_of(ei, ej, ek)
+    gi, gj, gk = t.geoms
+    seen = 0
+    for x0 in (10.0, 40.0, 150.0, 600.0):
+        # a point of β near (x0, ·) by bisection on the vertical line
+        lo_y, hi_y = -50.0, 50.0
+        for _ in range(80):
+            m = 0.5 * (lo_y + hi_y)
+            f = gi.distance(np.array([[x0, m]]))[0] - gj.distance(np.array([[x0, m]]))[0]
+            lo_y, hi_y = (m, hi_y) if f < 0 else (lo_y, m)
+        Q = (x0, 0.5 * (lo_y + hi_y))
+        for R in (0.01 * x0, 0.1 * x0):
+            g = bgap(t, Q, 2, 0, 1, R)
+            vals = []
+            for xs in np.linspace(Q[0] - R, Q[0] + R, 60):
+                a_, b_ = Q[1] - R, Q[1] + R
+                fa = gi.distance(np.array([[xs, a_]]))[0] - gj.distance(np.array([[xs, a_]]))[0]
+                for _ in range(80):
+                    m = 0.5 * (a_ + b_)
+                    fm = gi.distance(np.array([[xs, m]]))[0] - gj.distance(np.array([[xs, m]]))[0]
+                    a_, b_ = (m, b_) if np.sign(fm) == np.sign(fa) else (a_, m)
+                q = np.array([[xs, 0.5 * (a_ + b_)]])
+                if np.hypot(*(q[0] - Q)) <= R:
+                    vals.append(gk.distance(q)[0] - gi.distance(q)[0])
+            if vals:
+                assert g <= min(vals) + 1e-9 * x0, (Q, R, g, min(vals))
+                seen += g > 0
+    assert seen >= 2

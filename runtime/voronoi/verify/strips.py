@@ -23,7 +23,8 @@ open and closed in β, hence a whole component of β.  Along it:
      d_k − d_i ≥ (lo_k − hi_i)(C) − R·(|G_k − G_i| + s_k + s_i) > 0 with the gradient enclosures
      G ± s on the disc (far from the sites all gradients are nearly equal, so the pieces may be
      much larger than the margin d_k − d_i), or to second order
-     (:func:`runtime.voronoi.verify.distance_gap.gap_lower`); the same with j (d_i = d_j on β); sites whose
+     (:func:`runtime.voronoi.verify.distance_gap.gap_lower`, and on β only
+     :func:`runtime.voronoi.verify.distance_gap.bisector_gap_lower`); the same with j (d_i = d_j on β); sites whose
      bounding box is farther than min(hi_i, hi_j) + 2R from the piece's centre pass without
      evaluation;
 (T3) or, for a site k0 tied at the first vertex (k1 at the last; one at a simple vertex, k − 2 at
@@ -48,7 +49,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..geometry import EPS
-from .distance_gap import gap_lower
+from .distance_gap import bisector_gap_lower, gap_lower
 from .site_table import gradient_enclosure
 
 __all__ = ["StripsJob", "prove_strips", "prove_strips_many", "rot90", "side_second_order"]
@@ -230,6 +231,9 @@ def prove_strips_many(table, jobs):
                 Cl, Vl = C[rows[left]], Vk.take(left)
                 for Vx in (Vi, Vj):
                     okk[left] |= gap_lower(Cl, Vl, Vx.take(rows[left]), Rr[left], scale) > 0
+                left = left[~okk[left]]
+                okk[left] |= bisector_gap_lower(C[rows[left]], Vk.take(left), Vi.take(rows[left]),
+                                                Vj.take(rows[left]), Rr[left], scale) > 0
             jr = jb[rows]
             pos = start[seg[rows]] + sm[rows]
             for KK, OTHER, want in ((K0, K1, 1.0), (K1, K0, -1.0)):

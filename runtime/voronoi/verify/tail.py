@@ -26,7 +26,8 @@ On the sector Σ = {t ≥ T, θ ∈ [θa, θb]} ∋ θ*, with f = d_i − d_j �
 (A)+(M) every other site k is farther than d_i = d_j on the cell (max(h_i − e_i, h_j − e_j) > h_k,
     or the distance bounds on the cell's disc as in (T2), or to first order
     d_k − d_i ≥ lo_k(C) − hi_i(C) − R·(|G_k − G_i| + s_k + s_i) with the gradient enclosures, or
-    to second order, :func:`runtime.voronoi.verify.distance_gap.gap_lower`) and
+    to second order, :func:`runtime.voronoi.verify.distance_gap.gap_lower`, or on β only,
+    :func:`runtime.voronoi.verify.distance_gap.bisector_gap_lower`) and
     σ·∂f/∂θ > 0 on it (the enclosure above, or the gradient enclosures on the cell's disc);
 
 and on the rays θa, θb: σ·f < 0, resp. > 0, for all t ≥ T (τ-intervals, same bounds).  Then on
@@ -52,7 +53,7 @@ import math
 
 import numpy as np
 
-from .distance_gap import gap_lower
+from .distance_gap import bisector_gap_lower, gap_lower
 from .site_table import gradient_enclosure
 
 __all__ = ["prove_tail", "TAIL_WORK", "TAIL_WORK_MORE", "MORE_TAILS"]
@@ -365,6 +366,9 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
             if len(left):
                 Cl, Vl = Cf[rows[left]], Vk.take(left)
                 okk[left] |= gap_lower(Cl, Vl, Vi.take(rows[left]), R[rows[left]], scale) > 0
+                left = left[~okk[left]]
+                okk[left] |= bisector_gap_lower(Cf[rows[left]], Vk.take(left), Vi.take(rows[left]),
+                                                Vj.take(rows[left]), R[rows[left]], scale) > 0
             np.logical_and.at(okA, rows, okk)
         # (M) σ·∂f/∂θ > 0: support-point enclosure (module docstring) or gradient enclosures on the disc
         Wt = W * tb
