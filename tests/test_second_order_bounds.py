@@ -217,3 +217,29 @@ def test_bisector_gap_lower_is_below_the_minimum_on_the_bisector():
                 assert g <= min(vals) + 1e-9 * x0, (Q, R, g, min(vals))
                 seen += g > 0
     assert seen >= 2
+
+
+def test_bisector_gap_lower_refuses_a_disc_holding_a_site_of_the_pair():
+    """i = (0, −3), j = (0, 3), k = (25/8, −3/4), Q = (−1, 13/8), R = 9/4: the disc holds j
+    (|Q − j| = √2.890625 < 9/4) and the point q = (1/2, 0) of β ((3/2)² + (13/8)² = 4.890625 ≤
+    5.0625), where d_k − d_i = √7.453125 − √9.25 = −0.31 < 0: not proved."""
+    t = table_of(Point(0, -3), Point(0, 3), Point(Fr(25, 8), Fr(-3, 4)))
+    assert np.sqrt(7.453125) - np.sqrt(9.25) < 0
+    assert not bgap(t, (-1.0, 1.625), 2, 0, 1, 2.25) > 0
+
+
+def test_bisector_gap_lower_uses_the_worst_ends_of_the_enclosures():
+    """The configuration of the boundary test with a = 53/40 + 5·10⁻⁷ (g_λ's bound with exact
+    distances: +5·10⁻⁷) and every distance enclosure widened to ±10⁻⁶ (still valid): the true
+    distances may then be d_k − 10⁻⁶, d_i + 10⁻⁶, d_j + 10⁻⁶, for which g_λ's bound is
+    5·10⁻⁷ − (1 + 1/2 + 1/2)·10⁻⁶ < 0, so it must not be proved."""
+    from curvedvoronoi.runtime.voronoi.verify.distance_gap import bisector_gap_lower
+
+    a = 53 / 40 + 5e-7
+    t = table_of(Point(0, -3), Point(0, 3), Point(-a, 0))
+    Q = np.array([[4.0, 0.0]])
+    Vs = [t.evaluate(Q, [k]) for k in (2, 0, 1)]
+    assert bisector_gap_lower(Q, *Vs, np.array([1.0]), 20.0)[0] > 0     # exact-width enclosures
+    for V in Vs:
+        V.lo, V.hi = V.lo - 1e-6, V.hi + 1e-6
+    assert not bisector_gap_lower(Q, *Vs, np.array([1.0]), 20.0)[0] > 0
