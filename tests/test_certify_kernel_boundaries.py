@@ -281,3 +281,26 @@ def test_foot_system_newton_reaches_the_foot_vertex_from_a_rough_start():
     assert max(abs(float(a.mid()) - b) for a, b in zip(m, exact)) < 1e-12
     box = S.krawczyk(m)
     assert box[0].contains(arb(2)) and box[1].contains(arb(2))
+
+
+@pytest.mark.parametrize("attempts", [1, 6])
+def test_krawczyk_inflation_from_a_rough_candidate(attempts):
+    """F(x) = x² − 7/10 from the candidate m = 1 (the zero is √0.7 ≈ 0.837): Y = 1/F'(1) = 1/2 and
+    Y·F(m) = 3/20, so the first box of the ε-inflation (Rump), radius 4·|Y F(m)| = 3/5, is
+    X = [2/5, 8/5].  There J(X) = 2X = [4/5, 16/5], C = 1 − Y·J(X) = [−3/5, 3/5] and
+    K(X) − m = −3/20 + C·[−3/5, 3/5] ⊂ [−0.51, 0.21], strictly inside [−3/5, 3/5]: the zero is
+    proved in X at the first attempt, and X excludes the other zero −√0.7 and the critical point 0
+    (a box reaching 0, e.g. of radius 8·|Y F(m)| = 6/5, holds a singular Jacobian: no contraction
+    there nor in any larger box)."""
+    from curvedvoronoi.runtime.certify.interval_newton import krawczyk_inflation
+
+    c = arb(7) / 10
+
+    def F(z):
+        return [z[0] * z[0] - c]
+
+    def J(z):
+        return [[2 * z[0]]]
+    K, X = krawczyk_inflation(F, J, [arb(1)], attempts=attempts)
+    assert K[0].contains(c.sqrt())
+    assert X[0].lower() > 0 and not X[0].contains(-c.sqrt())
