@@ -259,7 +259,8 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
     # an arc's third sites; polyline_bound: the Hausdorff bound of an edge's polyline)
     ("runtime/voronoi/verify/arc_search.py", ["tests/test_arc_search_boundaries.py", "tests/test_arc_search.py"]
      + _VERIFY_TESTS),
-    ("runtime/voronoi/verify/polyline_bound.py", ["tests/test_polyline_bound.py"] + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/polyline_bound.py", ["tests/test_polyline_bound_boundaries.py", "tests/test_polyline_bound.py"]
+     + _VERIFY_TESTS),
     ("runtime/voronoi/verify/", _VERIFY_TESTS),
     # the verifier run chunk by chunk on Dask workers (a LocalCluster of threads in the tests)
     ("runtime/voronoi/chunked_certificate.py", ["tests/test_chunked_certificate_mutants.py"]),
