@@ -706,17 +706,35 @@ def final_rows(first: str, after: list[str]) -> list[dict]:
     import json
 
     rows = [json.loads(x) for x in Path(first).read_text().splitlines()]
-    later: dict[tuple, str] = {}
+    # a re-run record is the same mutant when module, operator, old and new text agree, within the
+    # same function, at the nearest line (a constant such as `4` or `2` recurs in a module)
+    later: dict[tuple, list] = {}
     reworded: list[dict] = []
     for a in after:
         for x in Path(a).read_text().splitlines():
             r = json.loads(x)
-            later[(r["path"], r["kind"], r["old"], r["new"])] = r["status"]
+            later.setdefault((r["path"], r["kind"], r["old"], r["new"]), []).append(r)
             if r["kind"] == "skip-problem":
                 reworded.append(r)
 
+    twins: dict[tuple, int] = {}
+    for r in rows:
+        k5 = (r["path"], r["kind"], r["old"], r["new"], r["function"])
+        twins[k5] = twins.get(k5, 0) + 1
+
+    def _same(r):
+        cands = [x for x in later.get((r["path"], r["kind"], r["old"], r["new"]), [])
+                 if x["function"] == r["function"]]
+        if not cands:
+            return None
+        if twins[(r["path"], r["kind"], r["old"], r["new"], r["function"])] > 1:
+            # the same text twice in one function: the re-runs nearest to this line
+            d = min(abs(x["line"] - r["line"]) for x in cands)
+            cands = [x for x in cands if abs(x["line"] - r["line"]) == d]
+        return "killed" if any(x["status"] == "killed" for x in cands) else cands[-1]["status"]
+
     def _later(r):
-        got = later.get((r["path"], r["kind"], r["old"], r["new"]))
+        got = _same(r)
         if got is None and r["kind"] == "skip-problem":
             # the statement was reworded meanwhile: as _replay, the same function, the nearest line
             near = [x for x in reworded if (x["path"], x["function"]) == (r["path"], r["function"])
