@@ -311,10 +311,10 @@ def test_the_float_test_proves_a_box_whose_margin_exceeds_one_rounding_allowance
     [0, 1]] give Y J = I exactly, and F = (2²⁰, −1) gives (Y F)_0 = 0 exactly, so the exact Krawczyk
     quantities of the box are b = (0, 1), |I − Y J| = 0.  The float bounds add, per dot product
     of length k = 2, the rounding allowance 2γ₃·Σ|y||f| of the module docstring: 2γ₃·2²¹ ≈ 1.4e-9
-    in the first row (times r₁ = 2 in Δ), the 2⁻⁴⁰ of round_up being far smaller.  A first
-    component of radius 4e-9 (residual) and a margin of 6e-9 on r₀ = 1 (contraction) exceed that
-    allowance about 1.5 times: both boxes must be proved; a bound charging the rounding twice
-    (≈ 2.8e-9, 5.6e-9) would not prove them."""
+    in the first row (2.8e-9 once multiplied by r₁ = 2 in Δ r), the 2⁻⁴⁰ of round_up being far
+    smaller.  A first component of radius 2e-9 (residual) and a margin of 4e-9 on r₀ = 1
+    (contraction) exceed those allowances 1.43 times: both boxes must be proved; a bound charging
+    the rounding twice (2.8e-9 > 2e-9, 5.6e-9 > 4e-9) would not prove them."""
     from curvedvoronoi.runtime.certify.interval_newton import (float_contraction_bound, float_krawczyk_test,
                                                                float_residual_bound)
 
@@ -325,10 +325,10 @@ def test_the_float_test_proves_a_box_whose_margin_exceeds_one_rounding_allowance
     F = np.array([[2.0 ** 20, -1.0]])
     b = float_residual_bound(Y, F, np.zeros((1, 2)))
     assert Q(b[0, 0]) >= 0 and b[0, 1] >= 1
-    ok, rad = float_krawczyk_test(b, np.zeros((1, 2, 2)), np.array([[4e-9, 2.0]]))
+    ok, rad = float_krawczyk_test(b, np.zeros((1, 2, 2)), np.array([[2e-9, 2.0]]))
     assert ok[0]
     # the contraction: Δ_01 carries the rounding of (Y J)_01 = 1·(−2²⁰) + 2²⁰·1 = 0
     D = float_contraction_bound(Y, J, np.zeros((1, 2, 2)))
     r = np.array([[1.0, 2.0]])
-    ok, rad = float_krawczyk_test(np.array([[1.0 - 6e-9, 0.5]]), D, r)
+    ok, rad = float_krawczyk_test(np.array([[1.0 - 4e-9, 0.5]]), D, r)
     assert ok[0]
