@@ -104,7 +104,8 @@ def _circles_build(base, n, k, seed, certify, cache):
     return d, build_s, build_cpu_s, how
 
 
-def circles_case(n: int, k: int, seed: int = 1, certify: bool = True, queries: int = 0, cache=None) -> dict:
+def circles_case(n: int, k: int, seed: int = 1, certify: bool = True, queries: int = 0, cache=None,
+                 inplace: bool = False) -> dict:
     import cgal_peer
     import curvedvoronoi as cv
 
@@ -148,13 +149,14 @@ def circles_case(n: int, k: int, seed: int = 1, certify: bool = True, queries: i
                      "split": d.stats.get("seconds", {}), "changed": d.stats.get("changed", {})})
 
     for c in extra:
-        timed("insert", lambda c=c: d.insert(c, certify=certify))
+        timed("insert", lambda c=c: d.insert(c, certify=certify, inplace=inplace))
         cur.append(c)
         ops.append(("+", c))
     for mode in ("last", "shift"):
         for _ in range(k):
             i = rng.randrange(len(cur))
-            timed(f"delete ({mode})", lambda i=i, mode=mode: d.delete_site(i, renumber=mode, certify=certify))
+            timed(f"delete ({mode})", lambda i=i, mode=mode: d.delete_site(i, renumber=mode, certify=certify,
+                                                                        inplace=inplace))
             if mode == "shift":
                 cur.pop(i)
                 ops.append(("-", i))
@@ -338,6 +340,8 @@ def main():
                     help="build and update with certify=False (vertices proved, no edge proofs, never certified): "
                          "for N too large for the verifier's memory")
     ap.add_argument("--no-write", action="store_true")
+    ap.add_argument("--inplace", action="store_true",
+                    help="circle updates with inplace=True (the diagram updated in place: no O(N) copy of its lists)")
     ap.add_argument("--max-rss-gb", type=float, default=None,
                     help="address-space limit of each case's process (GB): a case past it stops with MemoryError")
     ap.add_argument("--cache", default=None,
@@ -350,7 +354,7 @@ def main():
         kind, n = args.case.split(":")
         if kind == "circles":
             res = circles_case(int(n), args.k, certify=not args.uncertified, queries=args.queries,
-                               cache=args.cache)
+                               cache=args.cache, inplace=args.inplace)
         elif kind == "ellipses":
             res = ellipses_case(int(n), args.ellipse_k, certify_build=int(n) <= args.certify_ellipses_up_to)
         else:
@@ -369,6 +373,7 @@ def main():
                               "--certify-ellipses-up-to", str(args.certify_ellipses_up_to)]
                              + (["--uncertified"] if args.uncertified else [])
                              + (["--cache", args.cache] if args.cache else [])
+                             + (["--inplace"] if args.inplace else [])
                              + (["--max-rss-gb", str(args.max_rss_gb)] if args.max_rss_gb else []),
                              capture_output=True, text=True,
                              env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
@@ -386,7 +391,8 @@ def main():
              f"{os.environ.get('OPENBLAS_NUM_THREADS')}  threadpools={threads}  cpus={os.cpu_count()}  "
              f"load (/proc/loadavg, 1 min)={load0} (start) {_loadavg()} (end)", "",
              f"Random disjoint circles: batch build of N (certified), then K = {args.k} insertions, K deletions "
-             "with renumber=\"last\", K with renumber=\"shift\" (certify=True each). \"first\" = the first update "
+             "with renumber=\"last\", K with renumber=\"shift\" (certify=True each"
+             f"{', inplace=True' if args.inplace else ''}). \"first\" = the first update "
              "(builds the adjacency state, O(N)); median/max over the others. local = proved locally; infinity = the "
              "unbounded edges and the accounting at infinity re-proved (site on or near the hull); rebuild = the local "
              "splice did not close. CGAL = Apollonius_graph_2 insert/remove on the same doubles, same operations "

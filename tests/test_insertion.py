@@ -259,3 +259,38 @@ def test_degenerate_integer_scenes_any_order(cells, k, radius, data):
     i = data.draw(st.integers(0, len(sites) - 1))
     _check(d.delete_site(i, renumber="last"), sites[:i] + sites[-1:] + sites[i + 1:-1] if i < len(sites) - 1
            else sites[:-1])
+
+
+def test_inplace_updates_equal_the_copying_ones():
+    """``inplace=True`` updates the diagram itself (no copy of its lists) and gives the same
+    diagram as the copying update: same sites, vertices, edges and certificate, through local
+    insertions, a hull insertion, deletions with both numberings and a rebuild (a nested circle);
+    the copying update leaves its input unchanged."""
+    circles = cgal_peer.random_disjoint_circles(40, 9)
+    base = circles[:34]
+    a = cv.voronoi(base)
+    b = cv.voronoi(base)
+    snapshot = (list(a.sites), list(a.vertices), list(a.edges))
+    ops = [("+", c) for c in circles[34:38]] + [("+", (500.0, 500.0, 1.0)), ("L", 3), ("-", 5), ("L", 36)]
+    cx, cy, r = circles[0]
+    ops.append(("+", (cx, cy, r / 3)))                    # inside site 0: nested, rebuilt
+    for op, arg in ops:
+        if op == "+":
+            a2 = a.insert(arg)
+            b2 = b.insert(arg, inplace=True)
+        else:
+            mode = "last" if op == "L" else "shift"
+            a2 = a.delete_site(arg, renumber=mode)
+            b2 = b.delete_site(arg, renumber=mode, inplace=True)
+        assert b2 is b
+        assert a2.stats.get("update", a2.stats.get("deletion")) == b.stats.get("update", b.stats.get("deletion"))
+        if a is not None and snapshot is not None:
+            assert (a.sites, a.vertices, a.edges) == snapshot          # the copying update left it alone
+            snapshot = None
+        a = a2
+        assert a.sites == b.sites and a.vertices == b.vertices and a.edges == b.edges
+        assert a.certified == b.certified and a.problems == b.problems
+    assert b.certified
+    assert cv.verify(b).ok
+    many = cv.voronoi(base).insert_many(circles[34:38])
+    assert many.delaunay_edges() == cv.voronoi(circles[:38], certify=False).delaunay_edges() and many.certified

@@ -51,6 +51,7 @@ Public API: :func:`delete_site`.
 """
 from __future__ import annotations
 
+import dataclasses
 import time
 
 import numpy as np
@@ -65,9 +66,10 @@ __all__ = ["delete_site"]
 
 
 @one_blas_thread
-def delete_site(diagram, i: int, *, certify: bool = True, renumber: str = "shift"):
+def delete_site(diagram, i: int, *, certify: bool = True, renumber: str = "shift", inplace: bool = False):
     """The Voronoi diagram of ``diagram``'s sites without site ``i`` (``renumber="shift"``: j > i
-    becomes j − 1; ``"last"``: site N − 1 becomes i); ``diagram`` is left unchanged.
+    becomes j − 1; ``"last"``: site N − 1 becomes i); ``diagram`` is left unchanged, or with
+    ``inplace=True`` it is updated and returned (no copy of its lists when the deletion is local).
     ``stats["deletion"]`` says "local" or "local, unbounded edges and accounting at infinity
     re-proved" (points, circles, ellipses: module docstring), "local sample triangulation" (the sample
     triangulation updated around site i, all vertices proved again), "local triangulation
@@ -79,18 +81,28 @@ def delete_site(diagram, i: int, *, certify: bool = True, renumber: str = "shift
         raise IndexError(f"no site {i}: the diagram has {n} sites")
     if renumber not in ("shift", "last"):
         raise ValueError(f'renumber must be "shift" or "last", not {renumber!r}')
-    rest = [s for k, s in enumerate(diagram.sites) if k != i]
-    if renumber == "last" and i < n - 1:
-        rest = list(diagram.sites[:i]) + [diagram.sites[-1]] + list(diagram.sites[i + 1:-1])
-    if len(rest) < 2:
-        raise ValueError(f"the Voronoi diagram needs at least 2 sites, {len(rest)} would remain")
+    if n - 1 < 2:
+        raise ValueError(f"the Voronoi diagram needs at least 2 sites, {n - 1} would remain")
     st = diagram.construction
     if st is None:
         raise ValueError("this diagram has no construction state (read from JSON?): build the diagram of the "
                          "remaining sites with voronoi(...)")
-    local = delete_local(diagram, i, certify=certify, renumber=renumber)
+    local = delete_local(diagram, i, certify=certify, renumber=renumber, inplace=inplace)
     if local is not None:
         return local
+    out = _delete_by_construction(diagram, st, i, n, certify, renumber)
+    if inplace:
+        for f in dataclasses.fields(diagram):
+            setattr(diagram, f.name, getattr(out, f.name))
+        return diagram
+    return out
+
+
+def _delete_by_construction(diagram, st, i, n, certify, renumber):
+    """The sample-based route of the module docstring (or a rebuild)."""
+    rest = [s for k, s in enumerate(diagram.sites) if k != i]
+    if renumber == "last" and i < n - 1:
+        rest = list(diagram.sites[:i]) + [diagram.sites[-1]] + list(diagram.sites[i + 1:-1])
     if st.samples is None or st.samples.tri is None or (renumber == "last" and i < n - 1):
         D = st.scratch(rest, certify=certify)
         D.stats["deletion"] = "rebuild"

@@ -139,21 +139,22 @@ class Diagram:
     sources: list | None = field(default=None, repr=False)
 
     # ------------------------------------------------------------------ updates
-    def delete_site(self, i: int, *, certify: bool = True, renumber: str = "shift") -> "Diagram":
+    def delete_site(self, i: int, *, certify: bool = True, renumber: str = "shift", inplace: bool = False) -> "Diagram":
         """The diagram of the other sites, renumbered (``renumber="shift"``: site j > i becomes
         j − 1; ``"last"``: the last site takes index i, which keeps a deletion local); this diagram
-        is left unchanged.  Needs the construction state of a diagram built by ``voronoi`` (not one
+        is left unchanged (``inplace=True``: this diagram is updated and returned, without copying its
+        lists: the part of a local update linear in N).  Needs the construction state of a diagram built by ``voronoi`` (not one
         read from JSON).  See :func:`runtime.voronoi.deletion.delete_site` (reached through the
         construction state, so that this data module imports nothing of the construction)."""
         if self.construction is None:
             _no_pieces(self.sites, "deletion")
             raise ValueError("this diagram has no construction state (read from JSON?): build the diagram of "
                              "the remaining sites with voronoi(...)")
-        return self.construction.delete(self, i, certify=certify, renumber=renumber)
+        return self.construction.delete(self, i, certify=certify, renumber=renumber, inplace=inplace)
 
-    def insert(self, site, *, certify: bool = True) -> "Diagram":
+    def insert(self, site, *, certify: bool = True, inplace: bool = False) -> "Diagram":
         """The diagram with ``site`` (a point, circle or ellipse) added as site N; this diagram is
-        left unchanged.  Only the part of the diagram the new site touches is rebuilt and proved
+        left unchanged (``inplace=True``: it is updated and returned, as :meth:`delete_site`).  Only the part of the diagram the new site touches is rebuilt and proved
         (thesis §1.2); ``certified`` needs this diagram certified.  See
         :func:`runtime.voronoi.insertion.insert_site` (parabolas, hyperbolas: NotImplementedError), reached
         through the construction state like :meth:`delete_site`."""
@@ -161,13 +162,14 @@ class Diagram:
             _no_pieces(list(self.sites) + [site], "insertion")
             raise ValueError("this diagram has no construction state (read from JSON, or collinear points?): "
                              "build the diagram of the new list of sites with voronoi(...)")
-        return self.construction.insert(self, site, certify=certify)
+        return self.construction.insert(self, site, certify=certify, inplace=inplace)
 
     def insert_many(self, sites, *, certify: bool = True) -> "Diagram":
-        """:meth:`insert` each of ``sites`` (any iterable) in turn."""
+        """:meth:`insert` each of ``sites`` (any iterable) in turn; this diagram is left unchanged
+        (the first insertion makes a new diagram, which the others update in place)."""
         d = self
-        for s in sites:
-            d = d.insert(s, certify=certify)
+        for k, s in enumerate(sites):
+            d = d.insert(s, certify=certify, inplace=k > 0)
         return d
 
     # ------------------------------------------------------------------ graph views
