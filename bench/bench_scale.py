@@ -17,7 +17,7 @@ Run:  python bench/bench_scale.py [--sizes 10000,100000] [--modes single,tiled,c
 (a dense cluster, one circle larger than a tile); ``--cgal`` also builds CGAL's Apollonius graph
 (tests/cgal/cgal_peer.py) in the row's process and reports whether the Delaunay graph equals it;
 ``--max-rss-gb G`` caps each row's address space (RLIMIT_AS) at G GB; ``--append`` adds a dated
-section to the results file instead of replacing it.  One BLAS thread (OPENBLAS_NUM_THREADS=1 and threadpoolctl inside
+section to the results file instead of replacing it; ``--no-certify`` times the construction only.  One BLAS thread (OPENBLAS_NUM_THREADS=1 and threadpoolctl inside
 the calls); workers have one thread each.  Other processes on the machine make figures noisy: the
 load average is recorded before and after.
 """
@@ -56,7 +56,7 @@ def scene(name: str, n: int):
     return scenes.random_disjoint_circles(n, 1)
 
 
-def one(mode: str, n: int, scene_name: str = "random", cgal: bool = False) -> dict:
+def one(mode: str, n: int, scene_name: str = "random", cgal: bool = False, certify: bool = True) -> dict:
     """One row, in this process."""
     import curvedvoronoi as cv
 
@@ -78,9 +78,10 @@ def one(mode: str, n: int, scene_name: str = "random", cgal: bool = False) -> di
         out["startup"] = time.perf_counter() - t
     t = time.perf_counter()
     if mode == "single":
-        d = cv.voronoi(sites, certify=True, progress=False)
+        d = cv.voronoi(sites, certify=certify, progress=False)
     else:
-        d = cv.tiled_voronoi(sites, client=client, sites_per_tile=sites_per_tile(n), certify=True, progress=False)
+        d = cv.tiled_voronoi(sites, client=client, sites_per_tile=sites_per_tile(n), certify=certify,
+                             progress=False)
         info = d.stats["tiling"]
         out["tiles"], out["growths"], out["rim_sites"] = info.get("tiles"), info.get("halo_growths"), info.get("rim_sites")
         out["refined"] = info.get("refined_by_verifier")
@@ -113,12 +114,13 @@ def main() -> None:
     ap.add_argument("--cgal", action="store_true")
     ap.add_argument("--max-rss-gb", type=float, default=None)
     ap.add_argument("--append", action="store_true")
+    ap.add_argument("--no-certify", action="store_true", help="construction only (certified is then 'no')")
     a = ap.parse_args()
     if a.one:
         if a.max_rss_gb:
             cap = int(a.max_rss_gb * 2 ** 30)
             resource.setrlimit(resource.RLIMIT_AS, (cap, cap))
-        print(json.dumps(one(a.one[0], int(a.one[1]), a.scene, a.cgal)))
+        print(json.dumps(one(a.one[0], int(a.one[1]), a.scene, a.cgal, not a.no_certify)))
         return
     load0 = os.getloadavg()
     started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
@@ -126,7 +128,8 @@ def main() -> None:
     for n in [int(s) for s in a.sizes.split(",")]:
         for mode in a.modes.split(","):
             extra = ["--scene", a.scene] + (["--cgal"] if a.cgal else []) + \
-                (["--max-rss-gb", str(a.max_rss_gb)] if a.max_rss_gb else [])
+                (["--max-rss-gb", str(a.max_rss_gb)] if a.max_rss_gb else []) + \
+                (["--no-certify"] if a.no_certify else [])
             t_row = time.strftime("%H:%M", time.gmtime())
             load_row = os.getloadavg()[0]
             r = subprocess.run([sys.executable, __file__, "--one", mode, str(n), *extra], capture_output=True, text=True,
@@ -142,7 +145,8 @@ def main() -> None:
     load1 = os.getloadavg()
     base = {r["n"]: r for r in rows if r["mode"] == "single" and "error" not in r}
     flags = (f" --scene {a.scene}" if a.scene != "random" else "") + (" --cgal" if a.cgal else "") + \
-        (f" --max-rss-gb {a.max_rss_gb:g}" if a.max_rss_gb else "") + (" --append" if a.append else "")
+        (f" --max-rss-gb {a.max_rss_gb:g}" if a.max_rss_gb else "") + (" --append" if a.append else "") + \
+        (" --no-certify" if a.no_certify else "")
     lines = ["# Tiled diagrams: one process, tiles in sequence, LocalCluster of 1 and 2 workers"
              if not a.append else f"## Run of {started}: {a.scene} circles", "",
              f"Command: `OPENBLAS_NUM_THREADS=1 .venv/bin/python bench/bench_scale.py --sizes {a.sizes} "
