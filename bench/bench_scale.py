@@ -17,8 +17,9 @@ Run:  python bench/bench_scale.py [--sizes 10000,100000] [--modes single,tiled,c
 (a dense cluster, one circle larger than a tile); ``--cgal`` also builds CGAL's Apollonius graph
 (tests/cgal/cgal_peer.py) in the row's process and reports whether the Delaunay graph equals it;
 ``--max-rss-gb G`` caps each row's address space (RLIMIT_AS) at G GB; ``--append`` adds a dated
-section to the results file instead of replacing it; ``--no-certify`` times the construction only.  One BLAS thread (OPENBLAS_NUM_THREADS=1 and threadpoolctl inside
-the calls); workers have one thread each.  Other processes on the machine make figures noisy: the
+section to the results file instead of replacing it; ``--no-certify`` times the construction only.
+One BLAS thread (OPENBLAS_NUM_THREADS=1 and threadpoolctl inside the calls); workers have one thread
+each.  Other processes on the machine make figures noisy: the
 load average is recorded before and after.
 """
 from __future__ import annotations
