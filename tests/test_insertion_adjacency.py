@@ -61,3 +61,19 @@ def test_bounding_discs_and_searches_follow_a_random_chain_of_updates():
             got = dyn.nearest(X, k)
             assert len(got) == k == len(set(got))
             assert np.allclose(np.sort(dist[got]), np.sort(dist)[:k], rtol=1e-12, atol=0)
+
+
+def test_site_list_views_equal_the_lists_they_stand_for():
+    from curvedvoronoi.runtime.voronoi.insertion import SiteList
+
+    base = list("abcdefg")
+    for i in range(len(base)):
+        want = base[:i] + [base[-1]] + base[i + 1:-1] if i < len(base) - 1 else base[:-1]
+        v = SiteList(list(base), swap=i)
+        assert len(v) == len(want) and list(v) == want and [v[k] for k in range(-len(want), 0)] == want
+        assert v.realize(False) == want
+        b = list(base)
+        assert SiteList(b, swap=i).realize(True) is b and b == want
+    v = SiteList(base, append="z")
+    assert list(v) == base + ["z"] and v[-1] == "z" and len(v) == 8
+    assert v.realize(False) == base + ["z"] and base == list("abcdefg")
