@@ -125,7 +125,22 @@ def prove_tail(sup, table, pair, link, scale, max_work: int = TAIL_WORK):
         if len(ch):
             break
     else:
-        return False, "no direction where its two sites lead the support functions", None
+        # a lead narrower than the grid (a near-tie at infinity with a third site): each sign
+        # change of g refined to its root, kept where i, j lead there (float, only a guide)
+        ch = []
+        for c in np.nonzero(np.sign(g[:-1]) != np.sign(g[1:]))[0]:
+            a_, b_ = grid[c], grid[c + 1]
+            ga = sup.h(i, a_) - sup.h(j, a_)
+            for _ in range(60):
+                mid = 0.5 * (a_ + b_)
+                gm = sup.h(i, mid) - sup.h(j, mid)
+                a_, b_, ga = (mid, b_, gm) if np.sign(gm) == np.sign(ga) else (a_, mid, ga)
+            th_ = 0.5 * (a_ + b_)
+            if len(oth) and float(sup.h(i, th_)) > float(sup.h(oth, th_).max()):
+                ch.append(c)
+        ch = np.array(ch, int)
+        if not len(ch):
+            return False, "no direction where its two sites lead the support functions", None
     c0 = int(ch[np.argmin(np.abs(grid[ch] - thX))])
     a_, b_ = grid[c0], grid[c0 + 1]
     ga = sup.h(i, a_) - sup.h(j, a_)
