@@ -22,17 +22,21 @@ Rows (one subprocess per N, so each N has its own peak RSS):
   ``scipy.spatial.cKDTree.query`` and CGAL's ``Apollonius_graph_2::nearest_neighbor`` (with the
   previous answer as hint) on the same 10⁵ random query points, queries per second, and whether the
   answers agree.
+* nearest-site queries on the circle diagrams of N ≥ 10⁴ (proved, right after the build) against
+  CGAL's ``nearest_neighbor`` on the same circles, queries per second.
+
+N = 10⁵ circles (``--big``) are built by tiles (``cv.tiled_voronoi``, certified by the verifier;
+one process runs out of memory), kept in ``--cache DIR`` between runs.  ``--inplace`` makes the
+circle updates with ``inplace=True`` (no O(N) copy of the diagram's lists).
 
 One BLAS thread (threadpoolctl and OPENBLAS_NUM_THREADS=1); thread settings and the load average
 (/proc/loadavg) are in the table header: the machine is shared, wall times are noisy under load.
 
 Run:  OPENBLAS_NUM_THREADS=1 python bench/bench_dynamic.py [--sizes 1000 10000] [--big] [--k 20]
           [--ellipses 1000 10000] [--ellipse-k 10]
-          [--cache DIR] [--max-rss-gb 6]
-      (--big adds N = 10⁵, built by tiles: about 2.5 GB and 15 min on an idle machine, kept in
-      --cache DIR for the next run; appends a table to bench/results/dynamic.md)
-* nearest-site queries on the circle diagrams of N ≥ 10⁴ (proved, right after the build) against
-  CGAL's ``nearest_neighbor`` on the same circles, queries per second.
+          [--cache DIR] [--max-rss-gb 6] [--inplace]
+      (--big adds N = 10⁵: about 2.8 GB, 15–20 min for the tiled build and as long again for the
+      final verification under load; appends a table to bench/results/dynamic.md)
 """
 from __future__ import annotations
 
