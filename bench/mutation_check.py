@@ -16,6 +16,15 @@ Run::
     OPENBLAS_NUM_THREADS=1 python bench/mutation_check.py [--per-file 6] [--seed 1] [--timeout 300]
 
 writes bench/results/mutation.md (the table, the seed, the thread setting and the survivors).
+
+The soundness mode (``--modules``, issue 31 item 3) samples operators that weaken a proof, re-runs
+survivors after new tests (``--replay``), merges a sample with its re-runs and readings (``--merge``)
+and prints the summary of every sampled group with the standard score killed / (mutants −
+equivalent) (``--score``).
+
+Length: one benchmark driver holding two mutation modes (the core predicates' token flips and the
+soundness operators) with their sampling, replay, merge and score reports, which share the tree copy
+and the test runner; split, the pieces would import each other's private helpers.
 """
 from __future__ import annotations
 
