@@ -290,6 +290,7 @@ def polyline_bound(c, P, tol: float, lo, hi, end_vertices):
     for an infinite end; module docstring), else a message.  ``end_vertices``: the proofs of the
     vertices at P[0] and P[-1] (None at infinity)."""
     taus = []
+    points = []
     dev = arb(0)
     for p in P:
         x, y = arb(float(p[0])), arb(float(p[1]))
@@ -301,10 +302,11 @@ def polyline_bound(c, P, tol: float, lo, hi, end_vertices):
         X, Y = c.xy(t)
         dev = dev.max(hypot(X - x, Y - y))
         taus.append(t)
+        points.append((X, Y))
     if c.kind == "arc":
         total = dev
         for m in range(len(P) - 1):
-            total = total.max(_arc_piece(c, P[m], P[m + 1], taus[m], taus[m + 1], tol))
+            total = total.max(_arc_piece(c, P[m], P[m + 1], taus[m], taus[m + 1], tol, points[m], points[m + 1]))
     else:
         sag = arb(0)
         for t0, t1 in zip(taus, taus[1:]):
@@ -338,7 +340,7 @@ def _segment_distance(X, Y, A, B) -> arb:
     return hypot(X - ax - u * dx, Y - ay - u * dy)
 
 
-def _arc_piece(c, A, B, t0, t1, tol: float) -> arb:
+def _arc_piece(c, A, B, t0, t1, tol: float, v0=None, v1=None) -> arb:
     """A bound on the distance from the curve between the parameters t0 and t1 to the polyline
     segment [A, B]: the curve points at n sub-parameters are within d_m of the segment, each
     sub-piece within its chord bound δ_m of its own chord, whose points are within
@@ -346,10 +348,12 @@ def _arc_piece(c, A, B, t0, t1, tol: float) -> arb:
     halved while above ``tol``.  The segment is within that of the curve too: the curve's
     projection on the segment's line runs between those of its ends (which are within the
     polyline points' deviation of A and B)."""
+    v0 = c.xy(t0) if v0 is None else v0              # the curve's points at t0, t1 (given: reused)
+    v1 = c.xy(t1) if v1 is None else v1
     if c.straight:                                   # a line: the piece is the chord of its ends
-        return _segment_distance(*c.xy(t0), A, B).max(_segment_distance(*c.xy(t1), A, B))
+        return _segment_distance(*v0, A, B).max(_segment_distance(*v1, A, B))
     out = arb(0)
-    dist = {}
+    dist = {(float(t.mid()), float(t.rad())): _segment_distance(*v, A, B) for t, v in ((t0, v0), (t1, v1))}
 
     def d(th):
         key = (float(th.mid()), float(th.rad()))

@@ -136,6 +136,8 @@ def cover_conditions(pr, span: float) -> bool:
                 reach = pr._prefix(lambda J, X, Y, fd=fd: fd(J, X, Y) * sgn, back, base, span, at_lo)
                 if reach is not None and (best is None or (reach > best if at_lo else reach < best)):
                     best = reach
+                    if abs(best - base) >= span:       # the whole edge: no other does better
+                        break
             if best is None:
                 if not positive:
                     pr.report(f"{cd['name']} next to its end vertex {end[3]}")

@@ -93,10 +93,11 @@ class PieceProofs:
             test = curve_corner_test(self, k, vp.corner, 1 if at_lo else -1)
             return None if test is None else self._prefix(test, back, base, span, at_lo)
         sgn = 1 if at_lo else -1
-        tests = [lambda J, X, Y: deriv(J, X, Y) * sgn] + self._clamps(k) + self._clamp_derivs(k, vp, sgn)
+        tests = []
         if self._farther_at_vertex(k, vp):
             # the algebraic margin of ArcCurve.farther is ≥ 0 at the vertex: its derivative
             tests.append(lambda J, X, Y: self.curve.farther(k, J, deriv=True) * sgn)
+        tests += [lambda J, X, Y: deriv(J, X, Y) * sgn] + self._clamps(k) + self._clamp_derivs(k, vp, sgn)
         if self.curve.kind == "arc" and self.T.kind[k] == ARC and vp.ok and vp.x is not None:
             # k's nearest point is its end e on the box (d_k = d_e), e's margin ≥ 0 at the vertex
             for e in (e for e in self.T.ends[k] if e >= 0):
@@ -107,6 +108,8 @@ class PieceProofs:
             reach = self._prefix(test, back, base, span, at_lo)
             if reach is not None and (best is None or (reach > best if at_lo else reach < best)):
                 best = reach
+                if abs(best - base) >= span:           # the whole edge: no test does better
+                    break
         return best
 
     def _prefix(self, fn, back: float, base: float, span: float, at_lo: bool, budget: int = 40):

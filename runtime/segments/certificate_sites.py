@@ -404,7 +404,7 @@ class SiteTable:
         wx, wy = X - cx, Y - cy
         g = self.arc_mid_arb(k)
         gx, gy = -g[0], -g[1]
-        ex, ey = (to_arb(v - c) for v, c in zip(self.pt(e), self.cen[k]))
+        ex, ey = self._cached(("end_dir", k, e), lambda: tuple(to_arb(v - c) for v, c in zip(self.pt(e), self.cen[k])))
         if self.end_index(k, e) == 0:             # from the gap's middle counter-clockwise to a
             p, q = gx * wy - gy * wx, wx * ey - wy * ex
         else:                                     # from b counter-clockwise to the gap's middle
