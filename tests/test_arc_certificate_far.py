@@ -156,3 +156,28 @@ def test_a_tight_tolerance_on_a_branch_tail_is_proved():
     D = copy.deepcopy(d)
     D.edges[edge.id].tolerance = 1.03 * float(dev)
     assert verify_segments(D).ok
+
+
+def test_a_vertex_at_radius_three_million_is_proved_where_the_reference_puts_it():
+    # inputs 2166, 3265 and 8535 of random_arcs(10000, 1): nearly in a column (x = 3984, 3985,
+    # 3986), a vertex at radius 2.87·10⁶; its first Krawczyk box (from a float Newton start that
+    # slides along the bisector) was wider than the reported position's tolerance, so the
+    # certificate said the vertex was elsewhere
+    arcs = [cv.Arc.circular((3984, 1416), 15, 230, 345), cv.Arc.circular((3985, 219), 14, 204, 374),
+            cv.Arc.circular((3986, 3106), 13, 173, 346)]
+    d = cv.voronoi(arcs)
+    assert d.certified, d.problems[:3]
+    v = max(d.vertices, key=lambda v: v.radius)
+    assert v.radius > 2e6
+    S = [site_data(s) for s in d.sites]
+    i, j, k = v.sites
+    with mpmath.workdps(40):
+        def f(x, y):
+            return [distance(S[i], (x, y)) - distance(S[j], (x, y)), distance(S[i], (x, y)) - distance(S[k], (x, y))]
+        z = mpmath.findroot(f, (mp(v.x), mp(v.y)))
+        scale = 1 + abs(v.x) + abs(v.y) + v.radius
+        assert abs(z[0] - mp(v.x)) < 1e-12 * scale and abs(z[1] - mp(v.y)) < 1e-12 * scale
+        assert abs(distance(S[i], (z[0], z[1])) - mp(v.radius)) < 1e-12 * scale
+        # no site nearer (the arcs' end points tie with their arcs at most)
+        others = [distance(S[m], (z[0], z[1])) for m in range(len(S)) if m not in v.sites]
+        assert min(others) >= distance(S[i], (z[0], z[1])) - mpmath.mpf(10) ** -25 * scale

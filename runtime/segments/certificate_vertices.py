@@ -307,6 +307,25 @@ def _contacts_valid(T: SiteTable, sites, terms, X, Y, R):
     return None
 
 
+def _narrow(Fa, Ja, K, scale: float):
+    """A proved box K of a far vertex (an ill-conditioned system: the float start is off along
+    its bisector) can be wider than the reported position's tolerance although that position is
+    right: from K's midpoint, Newton steps with balls at the working precision (a numerical start
+    only) and a new Krawczyk test, whose box — proved on its own — is kept when it succeeds."""
+    if max(float(K[0].rad()), float(K[1].rad())) <= VERTEX_TOL * (1 + scale) / 64:
+        return K[0], K[1]
+    m = [K[0].mid(), K[1].mid()]
+    try:
+        for _ in range(3):
+            Y = arb_mat(Ja(m)).mid().inv().mid()
+            step = Y * arb_mat([[v] for v in Fa(m)])
+            m = [(m[i] - step[i, 0]).mid() for i in range(2)]
+        K2, _X = krawczyk_inflation(Fa, Ja, m, floor=arb(1 + scale) * arb(2) ** -100)
+        return K2[0], K2[1]
+    except (KrawczykFailure, ZeroDivisionError, ValueError):
+        return K[0], K[1]
+
+
 def _krawczyk(terms, xr, yr):
     Ff, Jf, _ = _system(terms, float)
     z = np.array([xr, yr])
@@ -331,7 +350,7 @@ def _krawczyk(terms, xr, yr):
         try:
             floor = arb(1 + float(np.max(np.abs(z)))) * arb(2) ** -e
             K, _X = krawczyk_inflation(Fa, Ja, m, floor=floor)
-            return K[0], K[1]
+            return _narrow(Fa, Ja, K, float(np.max(np.abs(z))))
         except (KrawczykFailure, ZeroDivisionError, ValueError):
             continue
     # three nearly collinear contacts (a vertex 10³ times farther than the sites' spread): the
