@@ -156,7 +156,8 @@ def main() -> None:
              f"{load0[0]:.2f} before, {load1[0]:.2f} after.  One BLAS thread; LocalCluster(processes=True, "
              "threads_per_worker=1); every row in a fresh process; scene "
              f"`{'clustered_circles(n, 31, cluster=0.1)' if a.scene == 'clustered' else 'random_disjoint_circles(n, 1)'}`.",
-             "Rows: `voronoi(certify=True)` or `tiled_voronoi(certify=True)`; certificate s = the verifier's time "
+             f"Rows: `voronoi(certify={not a.no_certify})` or `tiled_voronoi(certify={not a.no_certify})`; "
+             "certificate s = the verifier's time "
              "(route `whole`: in the driver process; `chunks`: vertex and edge proofs on the workers, closure here); "
              "construction s = the rest of the wall time.", "",
              "| n | mode | tiles | halo growths | rim sites | construction s | vs one process | certificate s | "
