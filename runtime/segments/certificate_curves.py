@@ -364,7 +364,10 @@ def _arc_piece(c, A, B, t0, t1, tol: float, v0=None, v1=None) -> arb:
     while stack:                                     # adaptive: halve the sub-pieces above tol
         a, b, depth = stack.pop()
         count += 1
-        bound = d(a).max(d(b)) + c.chord_bound_parts(a, b, 2)
+        ends = d(a).max(d(b))
+        bound = ends + c.chord_bound_parts(a, b, 1)          # one sub-piece suffices mostly
+        if not bound.upper() <= tol:
+            bound = ends + c.chord_bound_parts(a, b, 2)
         if not bound.upper() <= tol and depth < 40 and count < 4000:      # NaN/∞ near a pole too
             m = (a + b) / 2
             stack += [(a, m, depth + 1), (m, b, depth + 1)]
