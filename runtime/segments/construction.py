@@ -239,7 +239,7 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
         tri = retriangulation(prev, P, lab) if prev is not None else None
         del prev                       # one triangulation alive at a time
         if tri is None:
-            tri = triangulation(P, lab)
+            tri = triangulation(P, lab, droppable=lab >= E.n_points)
         else:
             stats["local_rounds"] = stats.get("local_rounds", 0) + 1
         caches["tri"] = tri

@@ -13,7 +13,7 @@ Many vertices at once: :func:`empty_by_filter` runs the float filter on all of t
 (one k-d tree query, one vectorised distance evaluation) and answers those it proves empty;
 :func:`prove_empty` takes the rest one by one.
 
-Public API: :func:`prove_empty`, :func:`empty_by_filter`.
+Public API: :func:`prove_empty`, :func:`empty_by_filter`, :func:`filter_block`.
 """
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ from .distance import float_error, foot_parameter, site_distance_ball, site_dist
 from .elementary import ARC, POINT, SEGMENT, ElementarySites
 from .vertices import direction_in_arc
 
-__all__ = ["prove_empty", "empty_by_filter"]
+__all__ = ["prove_empty", "empty_by_filter", "filter_block"]
 
 
 def _closest_at_an_end(E: ElementarySites, k: int, X, Y) -> bool:
@@ -110,7 +110,19 @@ def prove_empty(E: ElementarySites, tree, lab, hmax: float, triple, sol):
     return True, tuple(members), None
 
 
+#: jobs per block of :func:`empty_by_filter` (the k-d tree's hit lists are Python lists)
+FILTER_BLOCK = 20000
+
+
 def empty_by_filter(E: ElementarySites, tree, lab, hmax: float, jobs) -> dict:
+    """:func:`filter_block` on blocks of :data:`FILTER_BLOCK` jobs (bounded memory)."""
+    out: dict = {}
+    for k in range(0, len(jobs), FILTER_BLOCK):
+        out.update(filter_block(E, tree, lab, hmax, jobs[k:k + FILTER_BLOCK]))
+    return out
+
+
+def filter_block(E: ElementarySites, tree, lab, hmax: float, jobs) -> dict:
     """For ``jobs`` = [(triple, sol), ...] of proved zeros, the verdicts (True, triple, None) of
     those whose every other site within reach is proved farther than r by the float filter of
     :func:`prove_empty` (same reach, same error bound), keyed by ``id(sol)``; the others are

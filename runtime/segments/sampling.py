@@ -215,15 +215,30 @@ def nearest_point(E: ElementarySites, t: int, q) -> tuple[float, float]:
     return float(f[0]), float(f[1])
 
 
-def triangulation(P, lab) -> SampleTriangulation:
+def triangulation(P, lab, droppable=None) -> SampleTriangulation:
     """qhull without joggling whenever it keeps every sample (segment samples are collinear in
     runs, which qhull's merged facets handle; joggling would flip the slivers on the hull whose
-    circumcentres are the far vertices of nearly collinear hull sites), else joggled."""
+    circumcentres are the far vertices of nearly collinear hull sites), else joggled.
+
+    ``droppable`` (a mask of the samples, e.g. those of curves, not point sites): samples that
+    qhull leaves out as coplanar (a rounding away from another sample) may be dropped instead,
+    when all of them are droppable; the triangulation is then that of the other samples, without
+    joggling (joggling a million samples can take minutes).  The samples only guide the
+    combinatorics, which are proved afterwards; the result's ``P`` and ``lab`` are its own."""
     c = (P.min(axis=0) + P.max(axis=0)) / 2
     try:
         d = Delaunay(P - c, qhull_options="Qbb Qc Qz Q12")
         if not len(d.coplanar):
             return SampleTriangulation(P, lab, d.simplices, d.neighbors)
+        gone = np.unique(d.coplanar[:, 0])
+        if droppable is not None and droppable[gone].all():
+            keep = np.ones(len(P), bool)
+            keep[gone] = False
+            del d
+            P, lab = P[keep], lab[keep]
+            d = Delaunay(P - c, qhull_options="Qbb Qc Qz Q12")
+            if not len(d.coplanar):
+                return SampleTriangulation(P, lab, d.simplices, d.neighbors)
     except QhullError:
         pass
     return SampleTriangulation(P, lab)
