@@ -110,3 +110,37 @@ class SupportTable:
         r2 = (np.abs(self.hp(k, thc)) + self.mu) * half + 0.5 * (self.rcurv[k] + self.W) * half * half
         r = np.minimum(r1, r2) * (1 + 1e-12) + self.mu
         return v - r, v + r
+
+    def _root(self, i, j, a_, b_):
+        """Float bisection of g = h_i − h_j on [a_, b_] (a sign change)."""
+        ga = self.h(i, a_) - self.h(j, a_)
+        for _ in range(60):
+            mid = 0.5 * (a_ + b_)
+            gm = self.h(i, mid) - self.h(j, mid)
+            a_, b_, ga = (mid, b_, gm) if np.sign(gm) == np.sign(ga) else (a_, mid, ga)
+        return 0.5 * (a_ + b_)
+
+    def lead_direction(self, i, j, thX):
+        """A float zero θ of h_i − h_j where i and j lead every other site's support function,
+        the nearest to thX (a float guide for the tail of the edge (i, j)), or None.  A scan of
+        4097, then 65537 directions; a lead narrower than that grid (a near-tie at infinity with
+        a third site): each sign change refined to its root, kept where i, j lead there."""
+        oth = np.array([k for k in range(self.n) if k not in (i, j)], int)
+        for npts in (4097, 65537):
+            grid = thX + np.linspace(-math.pi, math.pi, npts)
+            hi_, hj_ = self.h(i, grid), self.h(j, grid)
+            g = hi_ - hj_
+            hij = np.maximum(hi_, hj_)
+            ch = np.nonzero(np.sign(g[:-1]) != np.sign(g[1:]))[0]
+            if len(ch) and len(oth):
+                both = np.concatenate([ch, ch + 1])
+                top = self.h(oth[:, None], grid[both][None, :]).max(0)
+                lead = hij[both] > top
+                ch = ch[lead[:len(ch)] & lead[len(ch):]]
+            if len(ch):
+                c0 = int(ch[np.argmin(np.abs(grid[ch] - thX))])
+                return self._root(i, j, grid[c0], grid[c0 + 1])
+        roots = [self._root(i, j, grid[c], grid[c + 1]) for c in np.nonzero(np.sign(g[:-1]) != np.sign(g[1:]))[0]]
+        roots = [t for t in roots if not len(oth) or float(self.h(i, t)) > float(self.h(oth, t).max())]
+        return min(roots, key=lambda t: abs(t - thX)) if roots else None
+

@@ -110,48 +110,9 @@ def prove_tail(sup, table, pair, link, scale, max_work: int = TAIL_WORK):
         return False, "the proved part does not reach far enough for the tail argument", None
     thX = math.atan2(X[1] - m[1], X[0] - m[0])
     # ---- the asymptotic direction: a zero of g = h_i − h_j where i, j are the two largest
-    for npts in (4097, 65537):
-        grid = thX + np.linspace(-math.pi, math.pi, npts)
-        hi_, hj_ = sup.h(i, grid), sup.h(j, grid)
-        g = hi_ - hj_
-        hij = np.maximum(hi_, hj_)
-        ch = np.nonzero(np.sign(g[:-1]) != np.sign(g[1:]))[0]
-        oth = np.array([k for k in range(sup.n) if k not in pair], int)
-        if len(ch) and len(oth):     # where i, j lead the others (float scan, only a guide)
-            both = np.concatenate([ch, ch + 1])
-            top = sup.h(oth[:, None], grid[both][None, :]).max(0)
-            lead = hij[both] > top
-            ch = ch[lead[:len(ch)] & lead[len(ch):]]
-        if len(ch):
-            break
-    else:
-        # a lead narrower than the grid (a near-tie at infinity with a third site): each sign
-        # change of g refined to its root, kept where i, j lead there (float, only a guide)
-        ch = []
-        for c in np.nonzero(np.sign(g[:-1]) != np.sign(g[1:]))[0]:
-            a_, b_ = grid[c], grid[c + 1]
-            ga = sup.h(i, a_) - sup.h(j, a_)
-            for _ in range(60):
-                mid = 0.5 * (a_ + b_)
-                gm = sup.h(i, mid) - sup.h(j, mid)
-                a_, b_, ga = (mid, b_, gm) if np.sign(gm) == np.sign(ga) else (a_, mid, ga)
-            th_ = 0.5 * (a_ + b_)
-            if len(oth) and float(sup.h(i, th_)) > float(sup.h(oth, th_).max()):
-                ch.append(c)
-        ch = np.array(ch, int)
-        if not len(ch):
-            return False, "no direction where its two sites lead the support functions", None
-    c0 = int(ch[np.argmin(np.abs(grid[ch] - thX))])
-    a_, b_ = grid[c0], grid[c0 + 1]
-    ga = sup.h(i, a_) - sup.h(j, a_)
-    for _ in range(60):
-        mid = 0.5 * (a_ + b_)
-        gm = sup.h(i, mid) - sup.h(j, mid)
-        if np.sign(gm) == np.sign(ga):
-            a_, ga = mid, gm
-        else:
-            b_ = mid
-    ths = 0.5 * (a_ + b_)
+    ths = sup.lead_direction(i, j, thX)
+    if ths is None:
+        return False, "no direction where its two sites lead the support functions", None
     # centre on the normal line of site i's support point in the asymptotic direction: there
     # h_i' ≈ 0, which makes the upper bound d_i ≤ t − h_i + h_i'²/(2(t − W)) sharp (module docstring)
     m = m + float(sup.hp(i, ths)) * np.array([-math.sin(ths), math.cos(ths)])
