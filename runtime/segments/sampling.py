@@ -266,8 +266,6 @@ def retriangulation(prev: SampleTriangulation, P, lab) -> SampleTriangulation | 
     keep = np.isin(old, cur)
     add = ~np.isin(cur, old)
     n_change = int((~keep).sum() + add.sum())
-    if n_change == 0:
-        return prev
     if n_change > LOCAL_FRACTION * len(cur):
         return None
     # a kept sample must keep its label
@@ -275,6 +273,8 @@ def retriangulation(prev: SampleTriangulation, P, lab) -> SampleTriangulation | 
     at = order[np.searchsorted(cur, old[keep], sorter=order)]
     if not np.array_equal(lab[at], prev.lab[keep]):
         return None
+    if n_change == 0:
+        return prev
     hull_sides = int((prev.nb == -1).sum())
     if hull_sides * int(add.sum()) > LOCAL_HULL_WORK:
         return None
