@@ -13,6 +13,10 @@ through the centre: from the gap's middle to e), or on e's boundary direction.
 
 Public API: :class:`SiteTable`, :func:`direction_key`, :data:`POINT`, :data:`SEGMENT`,
 :data:`ARC`, :func:`sq`, :func:`hypot`.
+
+Length: one table (the exact sites, their float and ball views and the cached arc ranges, ends
+and end directions that every proof of the certificate reads); splitting it would pass the same
+caches between modules.
 """
 from __future__ import annotations
 
