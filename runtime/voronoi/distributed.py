@@ -161,6 +161,7 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
     run.close()
     info.update(run.summary())
     diagram.stats.update({"sites": len(sites), "tiling": info})
+    diagram.construction = _editing_state(sites)
     _record_verdict(diagram, cert, interrupted, f"{len(run.reports)} of {len(tiles) + 1} regions stitched")
     seconds["total"] = time.perf_counter() - t0
     diagram.stats["seconds"] = {k: round(v, 4) for k, v in seconds.items()}
@@ -297,6 +298,18 @@ def _prove(diagram, info, client, certificate: str, tiles, progress):
         info["chunks_refused_seconds"] = round(time.perf_counter() - t0, 3)
     info["certificate"] = "whole"
     return verify(diagram, progress=progress)
+
+
+def _editing_state(sites):
+    """The state :meth:`runtime.voronoi.structure.Diagram.insert` and ``delete_site`` need (the
+    sites' arrays; no samples): the local updates of :mod:`runtime.voronoi.insertion` and
+    :mod:`runtime.voronoi.deletion` rebuild the changed region from its sites, so a stitched
+    diagram is edited as one built in one process."""
+    from .conic_geometry import site_geometry
+    from .construction import ConstructionState
+    from .site_arrays import SiteArrays
+
+    return ConstructionState(SiteArrays(sites, [site_geometry(s) for s in sites]), None, {})
 
 
 def _record_verdict(diagram, cert, interrupted: bool, done: str) -> None:
