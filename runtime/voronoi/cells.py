@@ -20,8 +20,9 @@ The boundary of a cell is therefore the edges' polylines, within their ``toleran
 curves.  A cell is a Polygon (with holes for nested sites); a clip polygon that is not convex
 can split a region, and then the cell is a MultiPolygon.
 
-Public API: :func:`diagram_cells`, :func:`default_clip`, :func:`diagram_geopandas`,
-:func:`site_outlines`, :class:`DiagramFrames`.
+Public API: :func:`diagram_cells`, :func:`default_clip`, :func:`diagram_geopandas` (with its three
+frames :func:`cell_frame`, :func:`edge_frame`, :func:`site_frame`), :func:`site_outlines`,
+:class:`DiagramFrames`.
 """
 from __future__ import annotations
 
@@ -32,7 +33,8 @@ import numpy as np
 
 from .queries import site_index
 
-__all__ = ["DiagramFrames", "default_clip", "diagram_cells", "diagram_geopandas", "site_outlines"]
+__all__ = ["DiagramFrames", "default_clip", "diagram_cells", "diagram_geopandas", "cell_frame", "edge_frame",
+           "site_frame", "site_outlines"]
 
 
 def _shapely():
@@ -169,51 +171,90 @@ def diagram_geopandas(diagram, crs=None, clip=None) -> DiagramFrames:
     * ``sites``: one row per site (``site``, ``kind``, ``label``; a Point for a point site,
       otherwise the curve sampled as a LineString, unbounded curves within the clip box).
     """
+    region = _clip_polygon(diagram, clip)
+    return DiagramFrames(cell_frame(diagram, crs, region), edge_frame(diagram, crs),
+                         site_frame(diagram, crs, region.bounds))
+
+
+def _geopandas():
     try:
         import geopandas as gpd
         import pandas as pd
     except ImportError:
         raise ImportError("Diagram.to_geopandas needs geopandas (pip install geopandas)") from None
-    shapely = _shapely()
-    region = _clip_polygon(diagram, clip)
+    return gpd, pd
+
+
+def cell_frame(diagram, crs=None, clip=None):
+    """The ``cells`` GeoDataFrame of :func:`diagram_geopandas` (``clip`` as in :func:`diagram_cells`)."""
+    gpd, _ = _geopandas()
     idx = site_index(diagram)
-    kinds = [g.kind for g in idx.geoms]
     labels = [getattr(s, "label", None) for s in diagram.sites]
-    sites = list(range(len(diagram.sites)))
-    cells = gpd.GeoDataFrame({"site": sites, "kind": kinds, "label": labels},
-                             geometry=diagram_cells(diagram, region), crs=crs)
+    return gpd.GeoDataFrame({"site": list(range(len(diagram.sites))), "kind": [g.kind for g in idx.geoms],
+                             "label": labels},
+                            geometry=diagram_cells(diagram, _clip_polygon(diagram, clip)), crs=crs)
+
+
+def edge_frame(diagram, crs=None):
+    """The ``edges`` GeoDataFrame of :func:`diagram_geopandas`."""
+    gpd, pd = _geopandas()
+    shapely = _shapely()
     E = diagram.edges
     ends = [[e.ends[k] for e in E] for k in (0, 1)]
-    edges = gpd.GeoDataFrame(
+    return gpd.GeoDataFrame(
         {"id": [e.id for e in E], "site_i": [e.sites[0] for e in E], "site_j": [e.sites[1] for e in E],
          "end_0": pd.array(ends[0], dtype="Int64"), "end_1": pd.array(ends[1], dtype="Int64"),
          "closed": [bool(e.closed) for e in E], "tolerance": [float(e.tolerance) for e in E],
          "certified": [bool(e.certified) for e in E]},
         geometry=[shapely.LineString(np.asarray(e.polyline, float)) for e in E], crs=crs)
-    geoms = []
-    for parts in site_outlines(diagram, region.bounds):
+
+
+def site_frame(diagram, crs=None, window=None, *, circles_as_points: bool = False):
+    """The ``sites`` GeoDataFrame of :func:`diagram_geopandas`.  ``circles_as_points``: a circle
+    site is its centre (a Point) and the column ``radius`` its radius (0 for point sites, missing
+    for other kinds), the form GeoParquet input takes; other sites are sampled curves."""
+    gpd, _ = _geopandas()
+    shapely = _shapely()
+    idx = site_index(diagram)
+    kinds = [g.kind for g in idx.geoms]
+    if window is None:
+        window = default_clip(diagram)
+    round_ = [k in ("point", "circle") for k in kinds] if circles_as_points else [False] * len(kinds)
+    outlines = iter(site_outlines(diagram, window, which=[i for i, r in enumerate(round_) if not r]))
+    geoms, radius = [], []
+    for g, r in zip(idx.geoms, round_):
+        if r:
+            geoms.append(shapely.Point(g.x0, g.y0) if g.kind == "point" else shapely.Point(g.cx, g.cy))
+            radius.append(0.0 if g.kind == "point" else float(g.rho))
+            continue
+        radius.append(math.nan)
+        parts = next(outlines)
         if not parts:
             geoms.append(None)
         elif len(parts) > 1:
             geoms.append(shapely.MultiLineString(parts))
         else:
             geoms.append(shapely.LineString(parts[0]) if len(parts[0]) >= 2 else shapely.Point(parts[0][0]))
-    site_frame = gpd.GeoDataFrame({"site": sites, "kind": kinds, "label": labels}, geometry=geoms, crs=crs)
-    return DiagramFrames(cells, edges, site_frame)
+    cols = {"site": list(range(len(kinds))), "kind": kinds, "label": [getattr(s, "label", None) for s in diagram.sites]}
+    if circles_as_points:
+        cols["radius"] = radius
+    return gpd.GeoDataFrame(cols, geometry=geoms, crs=crs)
 
 
-def site_outlines(diagram, window=None, pieces: int = 256) -> list[list[np.ndarray]]:
+def site_outlines(diagram, window=None, pieces: int = 256, which=None) -> list[list[np.ndarray]]:
     """Each site as a list of polylines ((n, 2) float arrays): one single-row array for a point
     site; otherwise the curve sampled with spacing 1/``pieces`` of its size (of the window's for an
     unbounded curve, kept within ``window`` = (xmin, ymin, xmax, ymax), default
     :func:`default_clip`), closed curves (circles, ellipses) ending at their first point, one
     polyline per piece inside the window (the two branches of a hyperbola are two pieces).  An
     unbounded curve missing the window has no polyline.  The samples lie on the curve (to float
-    rounding); between them the polyline is a chord, as for the edges."""
+    rounding); between them the polyline is a chord, as for the edges.  ``which``: only these
+    sites (indices, in order)."""
     if window is None:
         window = default_clip(diagram)
     out = []
-    for g in site_index(diagram).geoms:
+    geoms = site_index(diagram).geoms
+    for g in (geoms if which is None else [geoms[i] for i in which]):
         if g.kind == "point":
             out.append([np.array([[g.x0, g.y0]], dtype=float)])
             continue

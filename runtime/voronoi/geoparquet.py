@@ -13,8 +13,9 @@ grid over the plane, so that a part covers one region, as the tiles of
 :func:`runtime.voronoi.distributed.tiled_voronoi` do), readable by ``geopandas.read_parquet``
 and, part by part, by ``dask_geopandas.read_parquet``; and ``diagram.json`` with ``certified``,
 the problems and the statistics.  The columns are those of
-:meth:`runtime.voronoi.structure.Diagram.to_geopandas`; vertices have ``id``, ``sites`` (a list),
-``radius``, ``certified``.  The CRS is passed through: the input's CRS when the diagram was read
+:meth:`runtime.voronoi.structure.Diagram.to_geopandas`, except that point and circle sites are
+written as their centres with a ``radius`` column (the input form, so ``sites/`` reads back as
+sites); vertices have ``id``, ``sites`` (a list), ``radius``, ``certified``.  The CRS is passed through: the input's CRS when the diagram was read
 from GeoParquet.  The diagram is held in memory while it is written (the parts bound what a
 reader loads at once, not what this process holds).
 
@@ -33,6 +34,7 @@ import numpy as np
 
 from ..result import InvalidConicError
 from ..predicates.circles import Circle, Point
+from .cells import cell_frame, edge_frame, site_frame
 
 __all__ = ["read_geoparquet_sites", "write_geoparquet", "GeoParquetSites", "PART_ROWS"]
 
@@ -48,11 +50,12 @@ class GeoParquetSites(NamedTuple):
 
 
 def _geopandas():
-    try:
-        import geopandas as gpd
-        import pyarrow  # noqa: F401 - geopandas reads and writes Parquet through it
-    except ImportError:
-        raise ImportError("GeoParquet needs geopandas and pyarrow (pip install geopandas pyarrow)") from None
+    import importlib.util
+
+    if importlib.util.find_spec("geopandas") is None or importlib.util.find_spec("pyarrow") is None:
+        raise ImportError("GeoParquet needs geopandas and pyarrow (pip install geopandas pyarrow)")
+    import geopandas as gpd
+
     return gpd
 
 
@@ -141,16 +144,17 @@ def write_geoparquet(diagram, directory, crs: Any = None, *, clip: Any = None, p
 
     out = Path(directory)
     out.mkdir(parents=True, exist_ok=True)
-    frames = diagram.to_geopandas(crs=crs, clip=clip)
     V = diagram.vertices
     vertices = gpd.GeoDataFrame(
         {"id": [v.id for v in V], "sites": [list(map(int, v.sites)) for v in V],
          "radius": [float(v.radius) for v in V], "certified": [bool(v.certified) for v in V]},
         geometry=shapely.points(np.array([[v.x, v.y] for v in V], dtype=float).reshape(-1, 2)), crs=crs)
     written = {}
-    for name, frame in (("edges", frames.edges), ("vertices", vertices), ("cells", frames.cells),
-                        ("sites", frames.sites)):
-        written[name] = _write_dataset(frame, out / name, part_rows)
+    builders = (("edges", lambda: edge_frame(diagram, crs)), ("vertices", lambda: vertices),
+                ("cells", lambda: cell_frame(diagram, crs, clip)),
+                ("sites", lambda: site_frame(diagram, crs, circles_as_points=True)))
+    for name, build in builders:                      # one frame alive at a time
+        written[name] = _write_dataset(build(), out / name, part_rows)
     summary = {"format": "curvedvoronoi.geoparquet/1", "certified": bool(diagram.certified),
                "problems": [str(p) for p in diagram.problems], "datasets": written,
                "stats": json.loads(json.dumps(diagram.stats, default=_plain))}
