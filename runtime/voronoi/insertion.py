@@ -129,7 +129,6 @@ import math
 import time
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from .collinear_points import collinear
 from .conic_geometry import site_geometry, site_inside
@@ -728,12 +727,7 @@ def _new_numbering(dyn, op, special, renumber):
 def _table(C, R):
     """A verifier :class:`runtime.voronoi.verify.edges.CircleTable` from float arrays (the
     attributes its constructor sets from the geometries)."""
-    t = CircleTable.__new__(CircleTable)
-    t.C, t.R, t.n = np.asarray(C, float).reshape(-1, 2), np.asarray(R, float), len(R)
-    t.tree = cKDTree(t.C)
-    t.rmax = float(t.R.max()) if t.n else 0.0
-    t.scale = float(np.abs(t.C).max() + t.rmax + 1.0) if t.n else 1.0
-    return t
+    return CircleTable.from_arrays(C, R)
 
 
 def _prove_sub(D, dyn, pv, pe, vert, op, special, new_index, problems, flags_v, flags_e) -> bool:

@@ -157,15 +157,23 @@ def circles_disjoint(table, problems) -> bool:
     separated counts as meeting)?"""
     C, R = table.C, table.R
     tol = 1e-12 * table.scale
-    for a, js in enumerate(table.tree.query_ball_point(C, R + table.rmax + tol)):
-        for b in js:
-            if b <= a:
-                continue
-            dd = math.hypot(*(C[a] - C[b]))
-            if dd <= R[a] + R[b] + tol and dd >= abs(R[a] - R[b]) - tol:
-                problems.append(fault(f"sites {a} and {b} intersect or touch (or are too close to decide): "
-                                      "the diagram of non-disjoint sites is not proved", kind="site", sites=(a, b)))
-                return False
+    # candidate pairs (a, b): b within R_a + R_b + tol of a; b small (R_b <= r_small) through the
+    # tree, b big (table.big) one by one
+    A, B = table.big_near(C, R + tol)
+    lists = table.tree.query_ball_point(C, R + table.r_small + tol)
+    counts = np.fromiter((len(js) for js in lists), int, len(lists))
+    A = np.concatenate([A, np.repeat(np.arange(len(lists)), counts)]).astype(int)
+    B = np.concatenate([B, np.fromiter((b for js in lists for b in js), int, int(counts.sum()))]).astype(int)
+    keep = A != B
+    A, B = np.minimum(A[keep], B[keep]), np.maximum(A[keep], B[keep])
+    dd = np.hypot(C[A, 0] - C[B, 0], C[A, 1] - C[B, 1])
+    meet = (dd <= R[A] + R[B] + tol) & (dd >= np.abs(R[A] - R[B]) - tol)
+    if meet.any():
+        first = np.lexsort((B[meet], A[meet]))[0]
+        a, b = int(A[meet][first]), int(B[meet][first])
+        problems.append(fault(f"sites {a} and {b} intersect or touch (or are too close to decide): "
+                              "the diagram of non-disjoint sites is not proved", kind="site", sites=(a, b)))
+        return False
     return True
 
 

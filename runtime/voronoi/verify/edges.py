@@ -54,17 +54,61 @@ EPS = 2.0 ** -53
 MAX_DEPTH = 48
 
 
+#: the largest circles (at most this many) searched one by one, so that the k-d tree's queries are
+#: widened only by the largest radius among the others (a few big circles among many small ones
+#: would otherwise widen every query to thousands of sites)
+BIG_SITES = 64
+
+
 class CircleTable:
     """Flat arrays of circle/point sites (centre, radius) with a k-d tree on the centres, and
-    rigorous vectorised distance bounds (the formula of :class:`geometry.CircleGeometry`)."""
+    rigorous vectorised distance bounds (the formula of :class:`geometry.CircleGeometry`).
+
+    ``big``: the indices of the (at most :data:`BIG_SITES`) largest circles when their radii
+    exceed twice ``r_small``, the largest radius of the other sites (else empty and ``r_small`` =
+    ``rmax``): searches list the others through the tree widened by ``r_small`` and the big ones
+    by their own radii."""
 
     def __init__(self, geoms):
-        self.C = np.array([[g.cx, g.cy] if g.kind == "circle" else [g.x0, g.y0] for g in geoms], float)
-        self.R = np.array([g.rho if g.kind == "circle" else 0.0 for g in geoms], float)
-        self.n = len(geoms)
+        self._setup(np.array([[g.cx, g.cy] if g.kind == "circle" else [g.x0, g.y0] for g in geoms], float),
+                    np.array([g.rho if g.kind == "circle" else 0.0 for g in geoms], float))
+
+    @classmethod
+    def from_arrays(cls, C, R) -> "CircleTable":
+        """The table of the circles of centres C (n, 2) and radii R (n,) (0: a point)."""
+        t = cls.__new__(cls)
+        t._setup(np.asarray(C, float).reshape(-1, 2), np.asarray(R, float))
+        return t
+
+    def _setup(self, C, R):
+        self.C, self.R, self.n = C, R, len(R)
         self.tree = cKDTree(self.C)
         self.rmax = float(self.R.max()) if self.n else 0.0
         self.scale = float(np.abs(self.C).max() + self.rmax + 1.0) if self.n else 1.0
+        self.big, self.r_small = np.zeros(0, int), self.rmax
+        if self.n > 2 * BIG_SITES:
+            order = np.argsort(self.R)
+            r_small = float(self.R[order[-BIG_SITES - 1]])
+            if self.rmax > 2 * r_small:
+                self.big = np.sort(order[-BIG_SITES:][self.R[order[-BIG_SITES:]] > r_small])
+                self.r_small = r_small
+        self.is_big = np.zeros(self.n, bool)
+        self.is_big[self.big] = True
+
+    def big_near(self, Q, reach):
+        """Flat (row, site) pairs of the big sites whose disc may come within ``reach[row]`` of
+        Q[row] (|q − c_k| ≤ (reach + ρ_k)(1 + 1e-12) + 1e-12·scale: rounding of a few ulps)."""
+        rows, cols = [np.zeros(0, int)], [np.zeros(0, int)]
+        if not len(self.big):
+            return rows[0], cols[0]
+        for start in range(0, len(Q), 4096):
+            q = Q[start:start + 4096]
+            D = np.hypot(q[:, None, 0] - self.C[self.big, 0], q[:, None, 1] - self.C[self.big, 1])
+            lim = (reach[start:start + 4096, None] + self.R[self.big]) * (1 + 1e-12) + 1e-12 * self.scale
+            r, c = np.nonzero(D <= lim)
+            rows.append(start + r)
+            cols.append(self.big[c])
+        return np.concatenate(rows), np.concatenate(cols)
 
     def bounds(self, P, k):
         """(lo, hi) of d(P[m], site k[m]), rigorous."""
@@ -78,8 +122,10 @@ class CircleTable:
         """Flat (row, site) pairs: sites whose disc may come within ``reach[row]`` of Q[row]
         (fixed-size k-nearest queries, widened where they may have missed a site)."""
         Q = np.asarray(Q, float)
-        reach = np.asarray(reach, float) + self.rmax
-        rows_all, cols_all = [], []
+        reach0 = np.broadcast_to(np.asarray(reach, float), (len(Q),))
+        brows, bcols = self.big_near(Q, reach0)
+        reach = reach0 + self.r_small                 # every site not in `big` has radius <= r_small
+        rows_all, cols_all = [brows], [bcols]
         order = np.argsort(reach)
         for chunk in np.array_split(order, max(1, len(order) // 512)):
             todo = chunk
@@ -91,14 +137,12 @@ class CircleTable:
                 hit = dist <= reach[todo][:, None] * (1 + 1e-12)
                 r, c = np.nonzero(hit)
                 full = hit[:, -1] if kq < self.n else np.zeros(len(todo), bool)
-                keep = ~full[r]
+                keep = ~full[r] & ~self.is_big[np.minimum(ind[r, c], self.n - 1)]
                 rows_all.append(todo[r[keep]])
                 cols_all.append(ind[r[keep], c[keep]])
                 todo = todo[full]
                 kq = min(kq * 4, self.n)
-        if not rows_all:
-            return np.zeros(0, int), np.zeros(0, int)
-        return np.concatenate(rows_all), np.concatenate(cols_all).astype(int)
+        return np.concatenate(rows_all).astype(int), np.concatenate(cols_all).astype(int)
 
 
 class Bisector:
