@@ -51,6 +51,12 @@ def test_a_big_circle_meeting_a_small_one_is_found():
     C2[len(g)] = [2000.0 + 100.2, 2000.0]              # 100.2 - 0.5 < 100 + ... : meets the rim
     assert circles_disjoint(CircleTable.from_arrays(C2, R), probs) is False
     assert f"sites 0 and {len(g)}" in str(probs[0])
+    # two big circles meeting each other (each beyond the other's tree query R + r_small): found
+    C4 = np.vstack([C, [[2000.0 + 180.0, 2000.0]]])
+    R4 = np.concatenate([R, [90.0]])
+    probs = []
+    assert circles_disjoint(CircleTable.from_arrays(C4, R4), probs) is False
+    assert f"sites 0 and {len(C)}" in str(probs[0])
     # a small circle just outside (gap 1e-6 of the scale): disjoint
     C3 = C.copy()
     C3[len(g)] = [2000.0 + 100.5 + 1e-3, 2000.0]
