@@ -197,7 +197,7 @@ def build_diagram(S: SiteArrays, samples: Samples, cache: dict, notes, stats, ti
             if not certify or verify is None or result.get("timed_out") or D.problems:
                 break
             t0 = time.perf_counter()
-            cert = verify(D, sites, deadline=deadline)
+            cert = verify(D, sites, deadline=deadline, progress=progress)
             timing["verify"] = timing.get("verify", 0) + time.perf_counter() - t0
             result["certificate"] = cert
             from .verify.problems import faulted_sites
