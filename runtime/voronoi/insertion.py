@@ -851,9 +851,8 @@ def _prove_infinity(D, dyn, pe, rm_e, vert, op, special, problems, flags_v, flag
     """Step 4a of the certificate after the update: every unbounded edge (kept or new) proved
     against all sites, then the accounting of the ends at infinity (as in
     :func:`runtime.voronoi.verify.certificate.verify` for circles and points)."""
-    from .verify.closure import circles_disjoint, verify_accounting, verify_accounting_conics
+    from .verify.closure import verify_accounting_conics
     from .verify.support import SupportTable
-    from .verify.hull_points import verify_accounting_discs, verify_accounting_points
 
     if op == "insert" and not dyn.ellipses:
         got = _prove_infinity_leaders(D, dyn, pe, rm_e, vert, special, problems, flags_v, flags_e)
@@ -882,19 +881,8 @@ def _prove_infinity(D, dyn, pe, rm_e, vert, op, special, problems, flags_v, flag
         acc = verify_accounting_conics(len(G), SupportTable(G), ends_inf, local,
                                        unproved_ends=[e.id for e in E if e.id not in proved],
                                        sites=[g.exact for g in G])
-    elif all(g.kind == "point" for g in G):
-        acc = verify_accounting_points(G, ends_inf, local)
-    elif len({g.exact.r2 for g in G}) == 1:
-        acc = circles_disjoint(table, local) and verify_accounting_points(G, ends_inf, local)
     else:
-        lines: list = []
-        acc = verify_accounting(len(G), table, ends_inf, lines)
-        if not acc and all(eok):
-            exact_lines: list = []
-            got = verify_accounting_discs(G, ends_inf, exact_lines)
-            if got is not None:
-                acc, lines = got, exact_lines
-        local.extend(lines)
+        acc = _accounting_discs(G, table, ends_inf, local, all(eok))
     problems.extend(local)
     return all(vok) and all(eok) and acc and not local
 
@@ -916,9 +904,6 @@ def _prove_infinity_leaders(D, dyn, pe, rm_e, vert, x, problems, flags_v, flags_
     edges are proved against all sites (the full k-d tree: O(N log N) numpy, not O(N) proofs).
     Returns None when a new unbounded edge has a site outside H (then the caller re-proves
     everything against all sites)."""
-    from .verify.closure import circles_disjoint, verify_accounting
-    from .verify.hull_points import verify_accounting_discs, verify_accounting_points
-
     kept = [D.edges[e] for e in sorted(dyn.unbounded) if e not in rm_e]
     new = [e for e in pe if None in e.ends]
     ends_v = sorted({w for e in kept + new for w in e.ends if w is not None})
@@ -959,22 +944,32 @@ def _prove_infinity_leaders(D, dyn, pe, rm_e, vert, x, problems, flags_v, flags_
         for e, f in zip(new, eok):
             flags_e[e.id] = bool(f)
     # the accounting among H
-    if all(g.kind == "point" for g in GH):
-        acc = verify_accounting_points(GH, ends_H, local)
-    elif len({g.exact.r2 for g in GH}) == 1:
-        acc = circles_disjoint(tableH, local) and verify_accounting_points(GH, ends_H, local)
-    else:
-        lines: list = []
-        acc = verify_accounting(len(GH), tableH, ends_H, lines)
-        if not acc and ok:
-            exact_lines: list = []
-            got = verify_accounting_discs(GH, ends_H, exact_lines)
-            if got is not None:
-                acc, lines = got, exact_lines
-        local.extend(lines)
+    acc = _accounting_discs(GH, tableH, ends_H, local, ok)
     problems.extend(f"at infinity (sites {H[:12]}{'...' if len(H) > 12 else ''} numbered 0, 1, ...): {p}"
                     for p in local)
     return bool(ok and acc and not local)
+
+
+def _accounting_discs(G, table, ends, local: list, edges_ok: bool) -> bool:
+    """The accounting of the ends at infinity among the point and circle sites G (the verifier's
+    routes: points, equal radii, the float route, then the exact one when every edge is proved);
+    its problems are appended to ``local``."""
+    from .verify.closure import circles_disjoint, verify_accounting
+    from .verify.hull_points import verify_accounting_discs, verify_accounting_points
+
+    if all(g.kind == "point" for g in G):
+        return verify_accounting_points(G, ends, local)
+    if len({g.exact.r2 for g in G}) == 1:
+        return circles_disjoint(table, local) and verify_accounting_points(G, ends, local)
+    lines: list = []
+    acc = verify_accounting(len(G), table, ends, lines)
+    if not acc and edges_ok:
+        exact_lines: list = []
+        got = verify_accounting_discs(G, ends, exact_lines)
+        if got is not None:
+            acc, lines = got, exact_lines
+    local.extend(lines)
+    return acc
 
 
 def _new(t, op, special, dyn):
