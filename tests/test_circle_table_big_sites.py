@@ -57,6 +57,12 @@ def test_a_big_circle_meeting_a_small_one_is_found():
     probs = []
     assert circles_disjoint(CircleTable.from_arrays(C4, R4), probs) is False
     assert f"sites 0 and {len(C)}" in str(probs[0])
+    # two small circles crossing, neither centre inside the other disc (centres 0.9 apart, radii 0.5)
+    C5 = C.copy()
+    C5[2] = C5[1] + [0.9, 0.0]
+    probs = []
+    assert circles_disjoint(CircleTable.from_arrays(C5, R), probs) is False
+    assert "sites 1 and 2" in str(probs[0])
     # a small circle just outside (gap 1e-6 of the scale): disjoint
     C3 = C.copy()
     C3[len(g)] = [2000.0 + 100.5 + 1e-3, 2000.0]
