@@ -30,7 +30,6 @@ Public API: :func:`segment_voronoi`, :func:`has_segments`.
 """
 from __future__ import annotations
 
-import gc
 import math
 import time
 
@@ -41,7 +40,7 @@ from ..predicates.circles import Point
 from ..sites.arc import Arc, circle_halves
 from ..sites.rationals import to_fraction
 from ..sites.segment import Segment, as_point_pair
-from ..threads import one_blas_thread
+from ..threads import one_blas_thread, without_cyclic_gc
 from ..voronoi.site_input import SiteError
 from ..voronoi.structure import Diagram, DiagramVertex
 from .contact_order import contact_order, corner_order
@@ -106,15 +105,7 @@ def segment_voronoi(pieces, sources=None, *, certify: bool = True, tolerance: fl
     spacing = initial_spacing(E)
     stats: dict = {"sites": len(E), "points": E.n_points, "segments": len(E) - E.n_points, "rounds": 0}
     caches: dict = {"proofs": {}, "verdicts": {}}
-    # the rounds make millions of small objects (proofs, walks) and no reference cycles: the
-    # cyclic collector's full passes over them cost more than the rounds themselves
-    collecting = gc.isenabled()
-    gc.disable()
-    try:
-        vertices, walks, problems, edges = _rounds(E, spacing, stats, caches, tolerance, lo, hi)
-    finally:
-        if collecting:
-            gc.enable()
+    vertices, walks, problems, edges = without_cyclic_gc(_rounds)(E, spacing, stats, caches, tolerance, lo, hi)
     D = Diagram(E.sites, vertices, edges, False, problems, stats)
     D.sources = list(E.source)
     D.elementary = E

@@ -43,14 +43,12 @@ Public API: :func:`voronoi`, :func:`as_site`, :func:`check_disjoint`, :func:`sit
 """
 from __future__ import annotations
 
-import functools
-import gc
 import math
 import time
 
 import numpy as np
 
-from ..threads import one_blas_thread
+from ..threads import one_blas_thread, without_cyclic_gc
 from .apollonius_vertices import apollonius_vertices
 from .cocircular import assemble_vertices, consecutive_pairs, contact_order_triples
 from .collinear_points import collinear, collinear_points_diagram
@@ -86,24 +84,8 @@ MAX_ROUNDS = 8
 VERIFY_ROUNDS = 3
 
 
-def _without_cyclic_gc(fn):
-    """Run ``fn`` with CPython's cyclic garbage collector paused: the construction allocates
-    millions of small objects (walks, chains, clusters) and makes no reference cycles, and the
-    collector's repeated traversals of them cost about a quarter of the time at 10⁴ sites."""
-    @functools.wraps(fn)
-    def run(*args, **kw):
-        was = gc.isenabled()
-        gc.disable()
-        try:
-            return fn(*args, **kw)
-        finally:
-            if was:
-                gc.enable()
-    return run
-
-
 @one_blas_thread
-@_without_cyclic_gc
+@without_cyclic_gc
 def voronoi(sites, *, certify: bool = True, progress=None, time_limit: float | None = None) -> Diagram:
     """The Voronoi diagram of ``sites`` (thesis §1.2, §5.1–5.2), built by sample-then-refine.
 
@@ -159,7 +141,7 @@ def voronoi(sites, *, certify: bool = True, progress=None, time_limit: float | N
                          deadline=deadline, time_limit=time_limit, t_start=t_start)
 
 
-@_without_cyclic_gc
+@without_cyclic_gc
 def build_diagram(S: SiteArrays, samples: Samples, cache: dict, notes, stats, timing, *, certify=True,
                   progress=None, deadline=None, time_limit=None, t_start=None) -> Diagram:
     """The rounds of :func:`voronoi` from a sampling state (``samples``, whose triangulation may
