@@ -71,8 +71,10 @@ def prove_arcs(table: CircleTable, jobs, init: int = 4, max_depth: int = MAX_DEP
         ctx = _Curves(table, jobs[s:s + BATCH])
         job, A, B = ctx.pieces(init)
         _, Q, _, _, R = ctx.discs(job, A, B)
-        reach = np.minimum(table.bounds(Q, ctx.I[job])[1], table.bounds(Q, ctx.J[job])[1]) + 2 * R + table.rmax
-        count = table.tree.query_ball_point(Q, reach * (1 + 1e-9), return_length=True) + 1
+        # the number of candidate sites of each piece, to group the pieces (an estimate: the big
+        # circles of the table count for all, the others through the tree as CircleTable.near does)
+        reach = np.minimum(table.bounds(Q, ctx.I[job])[1], table.bounds(Q, ctx.J[job])[1]) + 2 * R + table.r_small
+        count = table.tree.query_ball_point(Q, reach * (1 + 1e-9), return_length=True) + 1 + len(table.big)
         ends = np.searchsorted(np.cumsum(count), np.arange(PAIRS, int(count.sum()) + PAIRS, PAIRS), side="right")
         start, alive, res = 0, np.ones(ctx.n, bool), [(True, None)] * ctx.n
         budget = max(1, max_pieces * ctx.n // nj)
