@@ -1,0 +1,35 @@
+"""The point/segment/arc certificate (runtime/segments/certificate*.py) on exact inputs at the
+float boundaries of its filters: large, non-dyadic coordinates, where a float filter without the
+scene's scale would drop the exact candidates.
+
+Every verdict is derived in the docstrings from the closed form of the diagram (a translation
+moves the Voronoi diagram with the sites and leaves every direction at infinity unchanged)."""
+from __future__ import annotations
+
+from fractions import Fraction as F
+
+from curvedvoronoi.runtime.predicates.circles import Point
+from curvedvoronoi.runtime.segments.certificate_hull import expected_infinite_ends
+from curvedvoronoi.runtime.segments.certificate_sites import SiteTable
+from curvedvoronoi.runtime.sites.arc import Arc
+
+
+def _quarter_at(cx, cy):
+    """The quarter arc of radius 2 centred at (cx, cy) from its end e0 = c + (2, 0) to e1 = c + (0, 2)
+    (counter-clockwise) with both ends as point sites: sites 0 = e0, 1 = e1, 2 = the arc."""
+    e0, e1 = (cx + 2, cy), (cx, cy + 2)
+    return SiteTable([Point(*e0), Point(*e1), Arc((cx, cy), 2, e0, e1)])
+
+
+def test_the_ends_at_infinity_of_a_far_translated_quarter_arc():
+    """The quarter arc centred at the origin has three unbounded edges (test_arc_certificate's closed
+    form): the radial rays through its ends, e0 with the arc in direction (1, 0) and e1 with the arc in
+    direction (0, 1), and the bisector of e0 and e1 in direction (−1, −1).  Far away in a direction u
+    the nearest sites are those of largest support u·p, and a translation by t adds u·t to every
+    site's support, so the ties -- and the three ends -- are the same for the arc centred at
+    t = (10⁹ + 1/3, −3·10⁹ + 3/4).  There the supports are about 10⁹·|u| and their floats are off by
+    about 10⁻⁷ (t is not a double): the float filter of the ties must allow for the scene's size."""
+    T = _quarter_at(F(10 ** 9) + F(1, 3), F(-3 * 10 ** 9) + F(3, 4))
+    ends = expected_infinite_ends(T)
+    assert not isinstance(ends, str), ends
+    assert sorted(ends) == sorted([((0, 1), (-1, -1)), ((0, 2), (1, 0)), ((1, 2), (0, 1))])
