@@ -255,9 +255,9 @@ _CERTIFY_TESTS = ["tests/test_certify_kernel_boundaries.py", "tests/test_certify
                   # only proven vertex certificates match a solution (complete.py's completeness count)
                   "tests/test_nongeneric.py::test_far_vertex_matched_by_a_tighter_vertex_box"]
 #: the proof kernel's own boundary tests first (Krawczyk on balls and on float batches)
-_KERNEL_TESTS = ["tests/test_certify_kernel_boundaries.py", "tests/test_certify_boundaries.py",
+_KERNEL_TESTS = ["tests/test_certify_inflation_boundaries.py", "tests/test_certify_kernel_boundaries.py", "tests/test_certify_boundaries.py",
                  "tests/test_float_krawczyk.py", "tests/test_interval_newton.py"]
-_SEGMENT_CERT_TESTS = ["tests/test_segment_certificate_mutants.py", "tests/test_segment_certificate.py",
+_SEGMENT_CERT_TESTS = ["tests/test_segment_certificate_boundaries.py", "tests/test_segment_certificate_mutants.py", "tests/test_segment_certificate.py",
                        "tests/test_arc_certificate.py", "tests/test_segment_voronoi.py",
                        # whole circles as two half arcs (kills certificate_arcs.py's start-parameter match)
                        "tests/test_segment_circles.py"]
