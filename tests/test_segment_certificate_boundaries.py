@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from fractions import Fraction as F
 
+import pytest
+
 from curvedvoronoi.runtime.predicates.circles import Point
 from curvedvoronoi.runtime.segments.certificate_hull import expected_infinite_ends
 from curvedvoronoi.runtime.segments.certificate_sites import SiteTable
@@ -33,3 +35,20 @@ def test_the_ends_at_infinity_of_a_far_translated_quarter_arc():
     ends = expected_infinite_ends(T)
     assert not isinstance(ends, str), ends
     assert sorted(ends) == sorted([((0, 1), (-1, -1)), ((0, 2), (1, 0)), ((1, 2), (0, 1))])
+
+
+@pytest.mark.parametrize("gap", [F(1, 10 ** 15), F(1, 10 ** 20)])
+def test_an_arc_a_hair_inside_a_triangle_leaves_the_triangles_ends(gap):
+    """The points 0 = (−2, 0), 1 = (6, 0), 2 = (2, 6) span a triangle; the half circle of radius 1
+    centred at c = (2, 1 + gap) below its diameter (counter-clockwise from (1, 1 + gap) to (3, 1 + gap),
+    through (2, gap)) lies strictly inside it: its lowest point is gap > 0 above the side y = 0, and
+    the other sides are farther than 1 from c.  So no direction has the arc (or its ends 3, 4) among
+    the sites of largest support, and the unbounded edges are those of the three points alone: the
+    perpendicular bisectors of the hull's sides, in the directions of their outward normals (0, −1)
+    for 0–1, (6, 4) ~ (1, 2/3) for 1–2 and (−6, 4) ~ (−1, 2/3) for 0–2.  The gap (10⁻¹⁵, 10⁻²⁰) is
+    below the float resolution of the scene: only exact arithmetic separates the arc from the side."""
+    cy = 1 + gap
+    T = SiteTable([Point(-2, 0), Point(6, 0), Point(2, 6), Point(1, cy), Point(3, cy), Arc((2, cy), 1, (1, cy), (3, cy))])
+    ends = expected_infinite_ends(T)
+    assert not isinstance(ends, str), ends
+    assert sorted(ends) == sorted([((0, 1), (0, -1)), ((1, 2), (1, F(2, 3))), ((0, 2), (-1, F(2, 3)))])
