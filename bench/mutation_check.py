@@ -242,7 +242,8 @@ SOUND_MODULES = ["runtime/voronoi/verify/**/*.py", "runtime/certify/**/*.py"]
 #: killed mutant costs little; a survivor runs all of it, ~15 s unmutated on the shared machine).
 #: The 2026-11 run (seed 32) used this list; the first run (seed 31) had test_voronoi_verify first and
 #: test_symmetry instead of test_symmetry_proofs / test_polyline_bound.
-_VERIFY_TESTS = ["tests/test_verify_boundaries.py", "tests/test_verify_mutants.py", "tests/test_polyline_bound.py",
+_VERIFY_TESTS = ["tests/test_verify_boundaries.py", "tests/test_verify_mutants.py", "tests/test_verify_float_boundaries.py",
+                 "tests/test_polyline_bound.py",
                  "tests/test_degenerate.py", "tests/test_symmetry_proofs.py", "tests/test_degenerate_cgal.py",
                  "tests/test_voronoi_verify.py",
                  # the vertex enclosures against high-precision values (hand mutants of vertices.py and
@@ -266,7 +267,8 @@ _SEGMENT_CERT_TESTS = ["tests/test_segment_certificate_boundaries.py", "tests/te
 SOUND_TESTS: list[tuple[str, list[str]]] = [
     # the verifier's newer modules: their own tests first (arc_search: the batched disc search of
     # an arc's third sites; polyline_bound: the Hausdorff bound of an edge's polyline)
-    ("runtime/voronoi/verify/arc_search.py", ["tests/test_arc_search_boundaries.py", "tests/test_arc_search.py"]
+    ("runtime/voronoi/verify/arc_search.py", ["tests/test_arc_search_boundaries.py", "tests/test_arc_search_resolution.py",
+                                              "tests/test_arc_search.py"]
      + _VERIFY_TESTS),
     ("runtime/voronoi/verify/polyline_bound.py", ["tests/test_polyline_bound_boundaries.py", "tests/test_polyline_bound.py"]
      + _VERIFY_TESTS),

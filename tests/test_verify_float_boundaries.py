@@ -1,0 +1,58 @@
+"""Completeness of the diagram verifier (runtime/voronoi/verify/) at its float resolution: true
+diagrams, reported with the rounding a float construction leaves, that the verifier must prove, and
+the same reports moved farther, which it must refuse.
+
+Each diagram is a closed form (an exact symmetry of the sites), never our construction's output
+taken as the reference.
+"""
+from __future__ import annotations
+
+import copy
+from fractions import Fraction as F
+
+import pytest
+
+import curvedvoronoi as cv
+
+
+def _pinwheel(s, centre=(0, 0)):
+    """Four ellipses (axes 2s, s) centred at (3s, s) and its images under the quarter turns about
+    ``centre``, each tilted by the rational rotation (3/5, 4/5) turned with it.  The quarter turn
+    maps the set onto itself (site t onto site t + 1), so every site is at one distance from the
+    centre, which is therefore a Voronoi vertex of degree 4; no reflection maps the set onto itself
+    (the tilt is not a multiple of π/4), so no mirror line proves it."""
+    out, (c, sn), (x, y) = [], (F(3, 5), F(4, 5)), (3 * s, s)
+    for _ in range(4):
+        out.append(cv.Conic.ellipse(centre=(centre[0] + x, centre[1] + y), axes=(2 * s, s), rotation=(c, sn)))
+        x, y, c, sn = -y, x, -sn, c
+    return out
+
+
+@pytest.fixture(scope="module")
+def pinwheel():
+    d = cv.voronoi(_pinwheel(1000))
+    assert d.certified, d.problems
+    return d
+
+
+def test_the_pinwheel_vertex_is_its_centre(pinwheel):
+    v, = pinwheel.vertices
+    assert (v.x, v.y, v.degree) == (0, 0, 4)
+
+
+@pytest.mark.parametrize("dx, ok", [(1e-10, True), (1e-9, True), (1e-6, False)])
+def test_a_far_symmetric_vertex_reported_within_rounding_of_its_radius_is_proved(pinwheel, dx, ok):
+    """The degree-4 vertex of the pinwheel of size s = 1000 is the origin, at distance
+    r ≈ 1558 from its sites.  Moved by 10⁻¹⁰ or 10⁻⁹ (at most 6.5·10⁻¹³ r: the rounding of a float
+    solve at that distance), it is still the true diagram up to that rounding, and the symmetry
+    fixing the origin proves it (exact_vertices.symmetric_vertex: the rational point sought within
+    10⁻¹² of the vertex's size 1 + |x| + |y| + r of the report).  Moved by 10⁻⁶ (6.4·10⁻¹⁰ r) it is
+    not a float report of the vertex, and no other route proves four sites equidistant there."""
+    doc = copy.deepcopy(pinwheel.to_json())
+    v = doc["vertices"][0]
+    assert 1557 < v["radius"] < 1559 and dx < 6.5e-13 * v["radius"] or not ok
+    v["x"] += dx
+    cert = cv.verify(doc)
+    assert cert.ok is ok, cert.problems
+    if not ok:
+        assert any("vertex 0" in p for p in cert.problems)
