@@ -52,3 +52,16 @@ def test_an_arc_a_hair_inside_a_triangle_leaves_the_triangles_ends(gap):
     ends = expected_infinite_ends(T)
     assert not isinstance(ends, str), ends
     assert sorted(ends) == sorted([((0, 1), (0, -1)), ((1, 2), (1, F(2, 3))), ((0, 2), (-1, F(2, 3)))])
+
+
+def test_two_distinct_unsupported_sites_are_a_limit_not_a_repeated_curve():
+    """Two different whole circles (radius 1 at the origin, radius 2 at (5, 0)) are sites this
+    certificate does not prove (its docstring: points, segments and arcs only): each is a limit of the
+    certificate (``fault`` False), and since they are different curves no problem may call them the
+    same curve repeated (a fault, which would send a construction refining a correct diagram)."""
+    from curvedvoronoi.runtime.predicates.circles import Circle
+    from curvedvoronoi.runtime.segments.certificate_admissible import admissibility
+
+    problems = admissibility(SiteTable([Circle(0, 0, 1), Circle(5, 0, 2), Point(10, 10)]))
+    assert sorted(p.sites for p in problems) == [(0,), (1,)]
+    assert not any(p.fault for p in problems)
