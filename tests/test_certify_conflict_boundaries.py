@@ -49,3 +49,25 @@ def test_a_fourth_circle_equal_to_the_empty_circle_is_never_a_crash():
     assert cv.true_vertex is True
     assert cv.box is not None and all(_holds(b, q) for b, q in zip(cv.box, Q))
     assert not cv.proven or cv.sign == 0
+
+
+def test_a_candidate_where_no_vertex_lies_is_never_certified():
+    """(5, 5) is no Voronoi vertex of the three circles: its distances | |p − c_i| − s_i | to them differ
+    (checked below).  ``certify_result`` on the true vertex Q and that candidate may not certify
+    the candidate, whatever it decides for Q (Q's certificate needs Q told apart from every other
+    kept candidate, and the candidate has no proved box to be told apart by)."""
+    import math
+
+    from curvedvoronoi.runtime.certify.conflicts import certify_result
+    from curvedvoronoi.runtime.result import LocatorResult, VoronoiVertex
+
+    centres = [(Q[0] + (RHO + s) * u[0], Q[1] + (RHO + s) * u[1]) for u, s in zip(DIRS, SIZES)]
+    d = [abs(math.hypot(5 - float(c[0]), 5 - float(c[1])) - float(s)) for c, s in zip(centres, SIZES)]
+    assert max(d) - min(d) > 1
+    c4 = _circle((Fr(10), Fr(10)), Fr(1))
+    res = LocatorResult(conflict=False, vertices=[VoronoiVertex(float(Q[0]), float(Q[1]), float(RHO)),
+                                                  VoronoiVertex(5.0, 5.0, 1.0)], method="test")
+    out = certify_result(res, *_touching_circles(), c4)
+    bogus = [v for v in out.vertices if (v.x, v.y) == (5.0, 5.0)]
+    assert not any(v.certified for v in bogus)
+    assert all(not v.certified or abs(v.x - float(Q[0])) < 1e-12 for v in out.vertices)
