@@ -249,7 +249,7 @@ _VERIFY_TESTS = ["tests/test_verify_boundaries.py", "tests/test_verify_mutants.p
                  # the vertex enclosures against high-precision values (hand mutants of vertices.py and
                  # conic_vertices.py that survive the rest)
                  "tests/test_circle_vertex_boxes.py", "tests/test_conic_vertex_enclosures.py"]
-_CERTIFY_TESTS = ["tests/test_certify_conflict_boundaries.py", "tests/test_certify_kernel_boundaries.py", "tests/test_certify.py", "tests/test_certify_chart.py", "tests/test_certify_conjugates.py",
+_CERTIFY_TESTS = ["tests/test_certify_conflict_boundaries.py", "tests/test_certify_completeness_boundaries.py", "tests/test_certify_kernel_boundaries.py", "tests/test_certify.py", "tests/test_certify_chart.py", "tests/test_certify_conjugates.py",
                   "tests/test_certify_dimension.py", "tests/test_certify_fast_system.py",
                   "tests/test_certify_boundaries.py", "tests/test_locator_certified.py",
                   "tests/test_interval_newton.py", "tests/test_voronoi_vertex.py",
