@@ -1,5 +1,6 @@
 """Completeness of a certified vertex list (runtime/certify/complete.py,
-``completeness_with_vertices``) when a certificate's box is looser than the solution's enclosure.
+``completeness_with_vertices``) when a certificate's box is looser than the solution's enclosure,
+and the chart test that encloses the solutions (runtime/certify/chart.py) from non-real starts.
 
 A certificate box is any proved enclosure of its vertex: widening it (here by ±10⁻¹⁰ in x, y and R)
 keeps it an enclosure of the same vertex, so the vertex list is exactly as complete as before.  The
@@ -13,6 +14,7 @@ from fractions import Fraction
 
 from flint import arb
 
+from curvedvoronoi.runtime.certify.chart import certify_in_chart
 from curvedvoronoi.runtime.certify.complete import completeness_with_vertices
 from curvedvoronoi.runtime.certify.conflicts import certify_vertex
 from curvedvoronoi.runtime.sites.conic import Conic
@@ -20,17 +22,38 @@ from curvedvoronoi.runtime.solve.vertices import generalised_vertices
 from curvedvoronoi.runtime.validation import required_cases_path
 
 
+def _mixed_case():
+    cases = json.loads(required_cases_path().read_text())["cases"]
+    case = next(c for c in cases if c["group"] == "mixed" and len(c["vertices"]) == 3)
+    return case, [Conic.from_coefficients(*e["coefficients"]) for e in case["conics"]]
+
+
 def test_a_looser_certificate_box_still_matches_its_solution():
     """Each of the three validation vertices is certified; with every certificate box widened by
     ±10⁻¹⁰ the boxes no longer lie inside the solutions' enclosures but overlap them, and the list is
     still proved complete (the overlap is closed by Krawczyk's test on a box holding both, which
     holds one zero of the offset system), without any retightening."""
-    cases = json.loads(required_cases_path().read_text())["cases"]
-    case = next(c for c in cases if c["group"] == "mixed" and len(c["vertices"]) == 3)
-    c1, c2, c3, c4 = [Conic.from_coefficients(*e["coefficients"]) for e in case["conics"]]
+    case, (c1, c2, c3, c4) = _mixed_case()
     sol = generalised_vertices(c1, c2, c3)
     certs = [certify_vertex(c1, c2, c3, v["x"], v["y"], Fraction(v["radius"]) ** 2, c4) for v in case["vertices"]]
     assert all(c.proven and c.true_vertex for c in certs)
     loose = [dataclasses.replace(c, box=tuple(b + arb(0, 1e-10) for b in c.box)) for c in certs]
     ok, note = completeness_with_vertices(c1, c2, c3, sol.points, sol.info.expected, loose, retighten=None)
     assert ok, note
+
+
+def test_a_real_zero_reached_from_a_nonreal_start_is_never_called_nonreal():
+    """Started 10⁻⁴ off the real axis next to a real vertex (x, y, R) of the validation data, the
+    chart's complex Newton converges to that real zero (the 60 solutions are simple and far apart),
+    and Krawczyk's complex box around it meets the real axis in every component.  Such a box holds
+    one zero, real or not -- it may be reported 'real' (proved otherwise) or given up, never 'nonreal'
+    when it lies on the real vertex."""
+    case, cs = _mixed_case()
+    for v in case["vertices"]:
+        x, y, R = float(v["x"]), float(v["y"]), float(v["radius"]) ** 2
+        res = certify_in_chart(cs[:3], [x + 1e-4j, y - 1e-4j, R + 1e-4j])
+        if res is None or res[0] == "real":
+            continue
+        K = res[1]
+        on_vertex = all(abs(float(k.real.mid()) - t) < 1e-9 for k, t in zip(K, (x, y, R)))
+        assert not on_vertex, (v, K)
