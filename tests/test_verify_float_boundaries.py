@@ -100,3 +100,33 @@ def test_a_polyline_node_a_hair_beyond_an_ellipse_arcs_end_is_within_tolerance(d
     assert arcs == 2
     cert = cv.verify(doc)
     assert cert.ok, cert.problems
+
+
+def _sampled_distance(centre, p, n=200000):
+    """min |p − q| over n points of the ellipse with axes (2, 1) about ``centre`` (floats, error
+    about (4π/n)²/8 ≈ 5·10⁻¹⁰; a reference that uses none of the library's distance code)."""
+    import numpy as np
+
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    return float(np.min(np.hypot(float(centre[0]) + 2 * np.cos(t) - p[0], float(centre[1]) + np.sin(t) - p[1])))
+
+
+def test_a_vertex_beyond_the_tail_cut_with_an_edge_running_out_from_it_is_proved():
+    """Ellipses (axes 2, 1) centred at (0, 0), (7, 0), (13, 1/6) and (7, −3).  The first two are
+    mirror images in x = 7/2, so their bisector is that line; the third sits 1/6 above the line of
+    the first two, so the vertex of (0, 1, 2) is far up the mirror, at y ≈ 231, beyond 12 times the
+    scene's radius (the curved edges' chain is cut there, runtime/voronoi/verify/curved.py
+    TAIL_CUT): the unbounded edge of (0, 2) starts outside the cut disc and runs out from it, while
+    the edges of (0, 1) and (1, 2) run back down to the vertices with the fourth ellipse.  The far
+    vertex is checked against sampled distances; the diagram must be proved."""
+    ell = [(0, 0), (7, 0), (13, F(1, 6)), (7, -3)]
+    d = cv.voronoi([cv.Conic.ellipse(centre=c, axes=(2, 1)) for c in ell])
+    assert d.certified, d.problems
+    assert cv.verify(d.to_json()).ok
+    v, = [v for v in d.vertices if sorted(v.sites) == [0, 1, 2]]
+    scene_radius = 0.5 * ((13 + 2 + 2) ** 2 + (F(1, 6) + 1 + 4) ** 2) ** 0.5
+    assert abs(v.x - 3.5) < 1e-9 and v.y > 12 * (scene_radius + 1)
+    dist = [_sampled_distance(c, (v.x, v.y)) for c in ell]
+    assert max(dist[:3]) - min(dist[:3]) < 1e-6 and dist[3] > dist[0] + 1
+    out, = [e for e in d.edges if sorted(e.sites) == [0, 2]]
+    assert None in out.ends
