@@ -248,7 +248,10 @@ _VERIFY_TESTS = ["tests/test_verify_boundaries.py", "tests/test_verify_mutants.p
                  "tests/test_voronoi_verify.py",
                  # the vertex enclosures against high-precision values (hand mutants of vertices.py and
                  # conic_vertices.py that survive the rest)
-                 "tests/test_circle_vertex_boxes.py", "tests/test_conic_vertex_enclosures.py"]
+                 "tests/test_circle_vertex_boxes.py", "tests/test_conic_vertex_enclosures.py",
+                 # the chains of strips' hard places among 200 random ellipses (~30 s; kills the guide's
+                 # node cap and its projected-node filter, bisector_guide.py:229 and :157)
+                 "tests/test_curved_edge_guides.py"]
 _CERTIFY_TESTS = ["tests/test_certify_conflict_boundaries.py", "tests/test_certify_completeness_boundaries.py", "tests/test_certify_kernel_boundaries.py", "tests/test_certify.py", "tests/test_certify_chart.py", "tests/test_certify_conjugates.py",
                   "tests/test_certify_dimension.py", "tests/test_certify_fast_system.py",
                   "tests/test_certify_boundaries.py", "tests/test_locator_certified.py",
