@@ -17,6 +17,8 @@ import math
 
 import numpy as np
 
+from .far_accounting import accounting_unbounded
+from .hull_nesting import gap_note, hulls_disjoint
 from .problems import fault
 from .ties_at_infinity import tied_sectors
 from .vertices import vname as _vname
@@ -141,7 +143,7 @@ def verify_accounting(n, table, ends_inf, problems, unproved_ends=()) -> bool:
         shared = set(ea[1]) & set(eb[1])
         if not shared:
             problems.append(fault(f"unbounded edges {ea[3]} and {eb[3]} are consecutive at infinity but share no "
-                                  "site: " + _gap_note(unproved_ends), kind="infinity", sites=(*ea[1], *eb[1])))
+                                  "site: " + gap_note(unproved_ends), kind="infinity", sites=(*ea[1], *eb[1])))
             ok = False
             continue
         if not any(_dominates(s, ta, L, ea[1], eb[1], C, R) for s in shared):
@@ -237,49 +239,9 @@ def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000,
     if n < 2:
         return True
     if not sup.ok:
-        problems.append("completeness needs bounded convex sites (points, circles, ellipses)")
-        return False
-    W, mu = sup.W, sup.mu
-    # ---- (b) pairwise disjoint convex hulls
-    bx = []
-    for k in range(n):
-        c, r = sup.cen[k], sup.rho[k]
-        bx.append((c[0] - r, c[1] - r, c[0] + r, c[1] + r))
-    bx = np.array(bx)
-    order = np.argsort(bx[:, 0])
-    th = np.linspace(0.0, 2 * math.pi, 257)[:-1]
-    H = {}
-    nested = {}
-
-    def hv(k):
-        if k not in H:
-            H[k] = (sup.h(k, th), sup.h(k, th + math.pi))
-        return H[k]
-
-    for ia in range(n):
-        a = int(order[ia])
-        for ib in range(ia + 1, n):
-            b = int(order[ib])
-            if bx[b, 0] > bx[a, 2] + 1e-9 * W:
-                break
-            if bx[b, 1] > bx[a, 3] + 1e-9 * W or bx[a, 1] > bx[b, 3] + 1e-9 * W:
-                continue
-            sep = hv(a)[0] + hv(b)[1]
-            if np.any(sep < -4 * mu):
-                continue
-            # not separated: one site strictly inside the other's convex region (h_in < h_out)
-            for inner, outer in ((a, b), (b, a)):
-                if sup.kind[outer] in ("circle", "ellipse") and _below(sup, inner, outer, max_work):
-                    nested[inner] = outer
-                    break
-            else:
-                problems.append(f"sites {min(a, b)} and {max(a, b)}: convex hulls not proved disjoint, "
-                                "nor one inside the other")
-                return False
-    deep = sorted(k for k, out in nested.items() if out in nested)
-    if deep:
-        problems.append(f"site {deep[0]} is nested two deep (inside site {nested[deep[0]]}, inside site "
-                        f"{nested[nested[deep[0]]]}): nesting depth > 1 is not handled")
+        # a parabola or a hyperbola among the sites: asymptotic functions instead of support functions
+        return accounting_unbounded(sup.geoms, ends_inf, problems, max_work, unproved_ends)
+    if not hulls_disjoint(sup, problems, max_work):
         return False
     # ---- (a) the ends at infinity
     if not ends_inf:
@@ -323,7 +285,7 @@ def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000,
             shared = set(cur[4]) & set(nxt[2])
             if not shared:
                 problems.append(fault(f"unbounded edges {cur[3]} and {nxt[3]} are consecutive at infinity but share "
-                                      "no site: " + _gap_note(unproved_ends), kind="infinity",
+                                      "no site: " + gap_note(unproved_ends), kind="infinity",
                                       sites=(*cur[4], *nxt[2])))
                 ok = False
             elif not any(_dominates_conic(sup, s, cur_end, a_next, max_work) for s in shared):
@@ -334,40 +296,6 @@ def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000,
         if t < m and nxt[1] > cur_end:
             cur, cur_end = nxt, nxt[1]
     return ok
-
-
-def _gap_note(unproved_ends) -> str:
-    """What a gap between consecutive proved ends at infinity means: an unbounded edge is missing,
-    or it is one of the diagram's unbounded edges whose end was not proved (named)."""
-    if not unproved_ends:
-        return "an unbounded edge between them is missing"
-    ids = sorted(unproved_ends)
-    named = ", ".join(map(str, ids[:6])) + (", ..." if len(ids) > 6 else "")
-    return (f"an unbounded edge between them is missing, or it is one whose end at infinity is not proved "
-            f"(unbounded edge{'s' if len(ids) > 1 else ''} {named})")
-
-
-def _below(sup, b, a, max_work) -> bool:
-    """Is h_b(θ) < h_a(θ) for every θ, i.e. conv S_b inside the open convex region of S_a
-    (support functions of convex bodies)?  Cells halved until decided, as in
-    :func:`_dominates_conic`."""
-    c0 = np.linspace(0.0, 2 * math.pi, 65)[:-1]
-    c1 = c0 + 2 * math.pi / 64
-    work = 0
-    while len(c0):
-        work += len(c0)
-        if work > max_work:
-            return False
-        thc, half = 0.5 * (c0 + c1), 0.5 * (c1 - c0) * (1 + 1e-12)
-        diff = sup.h(a, thc) - sup.h(b, thc)
-        if np.any(diff < -4 * sup.mu):
-            return False
-        gap = diff - 2 * sup.W * half - 4 * sup.mu
-        bad = ~(gap > 0)
-        c0, c1 = c0[bad], c1[bad]
-        mid = 0.5 * (c0 + c1)
-        c0, c1 = np.concatenate([c0, mid]), np.concatenate([mid, c1])
-    return True
 
 
 def _dominates_conic(sup, s, g0, g1, max_work) -> bool:

@@ -30,6 +30,9 @@ class SupportTable:
     not a point, circle or ellipse (no support function)."""
 
     def __init__(self, geoms):
+        #: the site geometries (kept for the far field of unbounded sites when ``ok`` is False:
+        #: :mod:`runtime.voronoi.verify.conic_tail`, :mod:`runtime.voronoi.verify.far_accounting`)
+        self.geoms = list(geoms)
         self.n = len(geoms)
         self.ok = all(g.kind in ("point", "circle", "ellipse") for g in geoms) and self.n > 0
         if not self.ok:

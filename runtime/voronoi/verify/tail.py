@@ -53,8 +53,10 @@ import math
 
 import numpy as np
 
+from .conic_tail import prove_conic_tail
 from .distance_gap import bisector_gap_lower, gap_lower
 from .site_table import gradient_enclosure
+from .tail_link import link_arc
 
 __all__ = ["prove_tail", "TAIL_WORK", "TAIL_WORK_MORE", "MORE_TAILS"]
 
@@ -101,7 +103,8 @@ def prove_tail(sup, table, pair, link, scale, max_work: int = TAIL_WORK):
     with J = (α, β, σ): the interval of directions for the accounting (module docstring)."""
     i, j = pair
     if not sup.ok:
-        return False, "the tail needs bounded convex sites (points, circles, ellipses)", None
+        # a parabola or a hyperbola among the sites: asymptotic enclosures instead of support functions
+        return prove_conic_tail(sup.geoms, table, pair, link, scale, max_work)
     m, W = sup.m, sup.W
     P0, tv, nv, L, w, sx = link
     X = np.asarray(P0, float) + sx * np.asarray(tv, float)
@@ -125,40 +128,10 @@ def prove_tail(sup, table, pair, link, scale, max_work: int = TAIL_WORK):
     ths = thX + ((ths - thX + math.pi) % (2 * math.pi)) - math.pi     # same branch as thX
     # ---- the link: two points of the circle |q − m| = r inside the rectangle, near its two
     # lateral sides (where the chain proved f's signs), with f of opposite signs
-    tv, nv, P0 = np.asarray(tv, float), np.asarray(nv, float), np.asarray(P0, float)
-
-    def lat(phi):
-        return (m + r * np.array([math.cos(phi), math.sin(phi)]) - P0) @ nv
-
-    dlat = -math.sin(thX) * nv[0] + math.cos(thX) * nv[1]
-    if abs(dlat) < 0.2:
-        return False, "the link circle is nearly tangent to the last proved strip", None
-    Qs = []
-    for target in (-0.97 * w, 0.97 * w):
-        a_, b_ = thX, thX + 2.0 * (target - lat(thX)) / (r * dlat)
-        for _ in range(80):                                 # float bisection on λ(φ) = target
-            mid = 0.5 * (a_ + b_)
-            if (lat(mid) - target) * (lat(a_) - target) > 0:
-                a_ = mid
-            else:
-                b_ = mid
-        Qs.append(0.5 * (a_ + b_))
-    phi_lo, phi_hi = min(Qs), max(Qs)
+    ok, msg, phi_lo, phi_hi, r = link_arc(m, table, pair, link, scale)
+    if not ok:
+        return False, msg, None
     dl = 0.5 * (phi_hi - phi_lo)
-    sag = r * dl * dl
-    Q = np.array([[m[0] + r * math.cos(p_), m[1] + r * math.sin(p_)] for p_ in (phi_lo, phi_hi)])
-    rel = Q - P0
-    sc, lc = rel @ tv, rel @ nv
-    pad = sag + 1e-12 * scale
-    if not (np.all(sc > pad) and np.all(sc < L - pad) and np.all(np.abs(lc) < w - pad)):
-        return False, "the link circle does not cross the last proved strip", None
-    V = table.evaluate(np.concatenate([Q, Q]), [i, i, j, j])
-    lo_i, hi_i, lo_j, hi_j = V.lo[:2], V.hi[:2], V.lo[2:], V.hi[2:]
-    fl = 4e-12 * (scale + r)        # Q is a float point within ~1e-15·r of the circle; f is 2-Lipschitz
-    pos = lo_i - hi_j > fl
-    neg = hi_i - lo_j < -fl
-    if not ((pos[0] and neg[1]) or (neg[0] and pos[1])):
-        return False, "the bisector's crossing of the link circle is not decided", None
     thX = 0.5 * (phi_lo + phi_hi)
     msg = "no sector decided"
     lo0, hi0 = min(ths, thX - dl), max(ths, thX + dl)
