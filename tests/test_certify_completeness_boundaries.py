@@ -57,3 +57,38 @@ def test_a_real_zero_reached_from_a_nonreal_start_is_never_called_nonreal():
         K = res[1]
         on_vertex = all(abs(float(k.real.mid()) - t) < 1e-9 for k, t in zip(K, (x, y, R)))
         assert not on_vertex, (v, K)
+
+
+def test_a_nonreal_solution_two_millionths_off_the_real_axis_is_proved_nonreal():
+    """Circles of radius 1/2 at (∓1, 0) and of radius 3/2 at (0, b), b = 2⁻¹⁸.  At b = 0 the third
+    circle touches both others from outside-in at (±3/2, 0) and the offset system
+    ((x − a)² + (y − c)² − r² − R)² = 4r²R has double real zeros at (∓1/2, 0, 1); for b > 0 each splits
+    into a conjugate pair with y ≈ (1 ± i)·b/2, i.e. 1.9·10⁻⁶ off the real axis (the zero is found
+    here with mpmath at 50 digits from the system written out above, not with the library).  The
+    chart test from that zero proves a box holding it and excluding the real axis ('nonreal'): the
+    imaginary part is above its nearly-real threshold of 10⁻⁶ relative."""
+    import mpmath
+
+    from flint import acb
+
+    mpmath.mp.dps = 50
+    try:
+        b = mpmath.mpf(2) ** -18
+        circ = [(-1, 0, mpmath.mpf(1) / 2), (1, 0, mpmath.mpf(1) / 2), (0, b, mpmath.mpf(3) / 2)]
+
+        def offsets(x, y, R):
+            return [((x - a) ** 2 + (y - c) ** 2 - r * r - R) ** 2 - 4 * r * r * R for a, c, r in circ]
+
+        z = mpmath.findroot(offsets, (mpmath.mpc(-0.5, 0), mpmath.mpc(b / 2, b / 2), mpmath.mpc(1, 0)))
+        assert abs(z[1].imag - b / 2) < b / 100 and max(abs(v) for v in offsets(*z)) < mpmath.mpf(10) ** -40
+        s = [complex(t) for t in z]
+    finally:
+        mpmath.mp.dps = 15
+    cs = [Conic.from_coefficients(1, 0, 1, -2 * a, -2 * c, a * a + c * c - r * r)
+          for a, c, r in ((-1, 0, Fraction(1, 2)), (1, 0, Fraction(1, 2)), (0, Fraction(1, 2 ** 18), Fraction(3, 2)))]
+    res = certify_in_chart(cs, s)
+    assert res is not None and res[0] == "nonreal", res
+    K = res[1]
+    assert all(k.contains(acb(t.real, t.imag)) for k, t in zip(K, s)) or \
+        all(abs(complex(k.real.mid(), k.imag.mid()) - t) < 1e-12 for k, t in zip(K, s))
+    assert any(not k.imag.contains(0) for k in K)
