@@ -50,6 +50,7 @@ from flint import arb
 from ..voronoi.verify.problems import Problem, fault
 from .certificate_curves import Line, bisector_curve, down, polyline_bound, q_arb, up
 from .certificate_edge_conditions import arc_conditions, cover_conditions
+from .certificate_convexity import settled_by_convexity
 from .certificate_lines import LineProofs
 from .certificate_pieces import PieceProofs
 from .certificate_rules import affine_rules, prove_tail
@@ -324,6 +325,7 @@ class _EdgeProver(PieceProofs, LineProofs):
             return False
         if isinstance(c, Line) and c.anchor is not None:
             return self._concave()
+        self.skip |= settled_by_convexity(self, lo, hi)
         special = self._ties(lo, hi, span)
         if special is None:
             ok = False

@@ -52,6 +52,7 @@ from .exact import contacts_valid
 from .sampling import flat, initial_spacing, nearest_point, retriangulation, samples, triangulation
 from .walk_checks import far_ends, long_side
 from .newton import prove_vertices
+from .near_degenerate import splice_clusters
 from .vertices import common_point
 
 __all__ = ["segment_voronoi", "has_segments"]
@@ -298,6 +299,8 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
             if not any(prev_sol is sol for prev_sol in near):
                 near.append(sol)
         jobs[k] = (t, triple, sol, seed)
+    # candidates crowded closer than any sample spacing: their local diagram, spliced in
+    jobs, splice = splice_clusters(E, jobs, vertices, caches)
     # the float emptiness filter on all new proved zeros at once; the rest one by one below
     fresh = {id(so): (tr, so) for _, tr, so, _ in jobs if so.status == "proved" and id(so) not in verdicts}
     verdicts.update(empty_by_filter(E, tree, lab, hmax, list(fresh.values())))
@@ -334,6 +337,7 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
             refine.update(triple)
         else:
             tri_vid[t] = vid
+    raw = splice.rewire(raw, tri_vid)
     walks = []
     degree: list[list] = [[] for _ in vertices]
     flat_tris = {t for t, v in tri_vid.items() if v == "inf"}

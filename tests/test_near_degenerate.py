@@ -1,0 +1,267 @@
+"""Regular polygons with float coordinates: vertex clusters far below any sample spacing.
+
+A regular n-gon drawn with cos/sin vertices (or shapely's ``Point.buffer``) has float, i.e. exact
+binary rational, coordinates: its sides are not exactly tangent to one circle, and the true
+Voronoi diagram has n − 2 vertices within ~10⁻¹⁵ of the centre (times the coordinates' size),
+joined by edges of that length (thesis §1.2: the diagram of the exact input).  The reference here
+is independent of the library: every triple of sides is solved in mpmath at 60 digits (the point
+equidistant from three lines, on their inner sides) and kept when every other side is farther —
+the vertices of the minimisation diagram of the sides' distances, which is the medial axis of a
+convex polygon.  Boost.Polygon on rounded integers is not a reference: rounding changes the
+near-degenerate structure.
+"""
+from __future__ import annotations
+
+import itertools
+from types import SimpleNamespace
+
+import mpmath
+import numpy as np
+import pytest
+from flint import arb
+
+import curvedvoronoi as cv
+from curvedvoronoi.runtime.segments.certificate_convexity import settled_by_convexity
+from curvedvoronoi.runtime.segments.certificate_curves import bisector_curve
+from curvedvoronoi.runtime.segments.certificate_sites import SiteTable
+from curvedvoronoi.runtime.segments.certificate_vertices import VertexProof
+
+mpmath.mp.dps = 60
+
+
+def ngon(n, rot=0.3, scale=1.0, off=(0.0, 0.0)):
+    ts = np.linspace(0, 2 * np.pi, n, endpoint=False) + rot
+    return [(off[0] + scale * np.cos(t), off[1] + scale * np.sin(t)) for t in ts]
+
+
+def _lines(pts):
+    """Per side (p_k, p_k+1): (a, b, c) in mpmath with a x + b y + c > 0 inside, normalised, from
+    the exact float coordinates."""
+    out = []
+    n = len(pts)
+    area = sum(pts[k][0] * pts[(k + 1) % n][1] - pts[(k + 1) % n][0] * pts[k][1] for k in range(n))
+    sgn = 1 if area > 0 else -1
+    for k in range(n):
+        (x0, y0), (x1, y1) = (mpmath.mpf(v) for v in pts[k]), (mpmath.mpf(v) for v in pts[(k + 1) % n])
+        a, b = -(y1 - y0) * sgn, (x1 - x0) * sgn
+        c = -(a * x0 + b * y0)
+        N = mpmath.sqrt(a * a + b * b)
+        out.append((a / N, b / N, c / N))
+    return out
+
+
+def reference_vertices(pts):
+    """{frozenset of side indices: (x, y, r)}: the medial axis vertices of the convex polygon
+    ``pts`` (counter-clockwise) inside it, from all triples of sides in mpmath; sides at the
+    radius within 10⁻⁴⁰ (an exact tie) join the vertex."""
+    L = _lines(pts)
+    out = {}
+    for tri in itertools.combinations(range(len(L)), 3):
+        A = mpmath.matrix([[L[k][0], L[k][1], -1] for k in tri])
+        rhs = mpmath.matrix([-L[k][2] for k in tri])
+        try:
+            x, y, r = mpmath.lu_solve(A, rhs)
+        except ZeroDivisionError:
+            continue
+        if r <= 0:
+            continue
+        d = [L[k][0] * x + L[k][1] * y + L[k][2] for k in range(len(L))]
+        if min(d) < r - mpmath.mpf(10) ** -40 * (1 + abs(x) + abs(y) + r):
+            continue
+        key = frozenset(k for k in range(len(L)) if d[k] <= r + mpmath.mpf(10) ** -40 * (1 + abs(x) + abs(y) + r))
+        out[key] = (x, y, r)
+    return out
+
+
+def check_against_reference(pts, m):
+    D = m.diagram
+    E = D.elementary
+    ref = reference_vertices(pts)
+    P = [tuple(map(float, p)) for p in pts]
+    side_of = {}
+    for s in range(len(E)):
+        if E.kind[s] == 1:
+            a = (float(E.xy[int(E.ends[s, 0])][0]), float(E.xy[int(E.ends[s, 0])][1]))
+            b = (float(E.xy[int(E.ends[s, 1])][0]), float(E.xy[int(E.ends[s, 1])][1]))
+            for k in range(len(P)):
+                if {a, b} == {P[k], P[(k + 1) % len(P)]}:
+                    side_of[s] = k
+    assert len(side_of) == len(P)
+    got = {}
+    for v in m.vertices:
+        if v.radius > 0:
+            got[frozenset(side_of[s] for s in v.sites)] = (v.x, v.y, v.radius)
+    assert set(got) == set(ref)
+    scale = 1 + max(abs(x) + abs(y) for x, y in P)
+    for key, (x, y, r) in ref.items():
+        gx, gy, gr = got[key]
+        assert abs(gx - x) <= 1e-12 * scale and abs(gy - y) <= 1e-12 * scale and abs(gr - r) <= 1e-12 * scale
+    # every corner has its bisector edge (between the two sides meeting there), toward the centre
+    pairs = {tuple(sorted(side_of[s] for s in e.sites)) for e in m.edges if all(s in side_of for s in e.sites)}
+    n = len(P)
+    for k in range(n):
+        assert tuple(sorted((k, (k + 1) % n))) in pairs
+    # edges within their stated tolerance of the bisectors, no other side nearer (mpmath)
+    L = _lines(pts)
+    for e in m.edges:
+        i, j = (side_of[s] for s in e.sites)
+        for x, y in np.asarray(e.polyline)[:: max(1, len(e.polyline) // 8)]:
+            d = [L[k][0] * x + L[k][1] * y + L[k][2] for k in range(n)]
+            tol = 2 * e.tolerance + 1e-13 * scale
+            assert abs(d[i] - d[j]) <= tol
+            assert min(d) >= min(d[i], d[j]) - tol
+
+
+@pytest.mark.parametrize("n", range(4, 13))
+def test_regular_ngon_float_coordinates(n):
+    for rot in (0.3, 1.1):
+        pts = ngon(n, rot)
+        m = cv.medial_axis(pts)
+        assert m.certified, m.problems[:3]
+        check_against_reference(pts, m)
+
+
+@pytest.mark.parametrize("scale, off", [(1000.0, (0.0, 0.0)), (1.0, (5e5, 5e5 / 3)), (1000.0, (5e5, 4e6))])
+@pytest.mark.parametrize("n", [5, 6, 8, 11])
+def test_regular_ngon_scales_and_offsets(n, scale, off):
+    pts = ngon(n, 2.0, scale, off)
+    m = cv.medial_axis(pts)
+    assert m.certified, m.problems[:3]
+    check_against_reference(pts, m)
+
+
+@pytest.mark.parametrize("r, c", [(5.0, (0.0, 0.0)), (1000.0, (5e5, 4e6))])
+def test_shapely_buffer_quad_segs_4(r, c):
+    geometry = pytest.importorskip("shapely.geometry")
+    pts = list(geometry.Point(*c).buffer(r, 4).exterior.coords)[:-1]
+    m = cv.medial_axis(geometry.Polygon(pts))
+    assert m.certified, m.problems[:3]
+    check_against_reference(pts, m)
+
+
+@pytest.mark.slow
+def test_shapely_buffer_quad_segs_8_interior():
+    """32 sides: the interior (n − 2 = 30 vertices, with exact ties where shapely's coordinates are
+    mirror images) matches the reference; the exterior perpendiculars at the corners of the
+    closing side are a separate limit of the sampled construction (not asserted here)."""
+    geometry = pytest.importorskip("shapely.geometry")
+    pts = list(geometry.Point(0, 0).buffer(5, 8).exterior.coords)[:-1]
+    m = cv.medial_axis(geometry.Polygon(pts))
+    if m.certified:
+        check_against_reference(pts, m)
+    else:
+        inner = [v for v in m.vertices if v.radius > 0]
+        ref = reference_vertices(pts)
+        assert len(inner) == len(ref)
+
+
+def test_exact_integer_square_still_degree_four():
+    m = cv.medial_axis([(0, 0), (2, 0), (2, 2), (0, 2)])
+    assert m.certified
+    centre = [v for v in m.vertices if v.radius > 0]
+    assert len(centre) == 1 and len(centre[0].sites) == 4 and (centre[0].x, centre[0].y) == (1.0, 1.0)
+
+
+def test_wrong_diagonal_is_rejected():
+    """The float square's two centre vertices swapped for the other diagonal of the quadrilateral
+    of normals (sites listed, positions moved to those triples' equidistant points): the
+    certificate must refuse."""
+    pts = ngon(4, 0.3)
+    m = cv.medial_axis(pts)
+    assert m.certified
+    D = m.diagram
+    cen = [v for v in D.vertices if v.radius > 0]
+    assert len(cen) == 2
+    a, b = (set(v.sites) for v in cen)
+    shared = sorted(a & b)
+    other = sorted(a ^ b)
+    from curvedvoronoi.runtime.voronoi.structure import Diagram, DiagramEdge, DiagramVertex
+
+    E = D.elementary
+    L = {}
+    for s in range(len(E)):
+        if E.kind[s] == 1:
+            (x0, y0), (x1, y1) = ((mpmath.mpf(float(c)) for c in E.xy[int(E.ends[s, k])]) for k in (0, 1))
+            aa, bb = -(y1 - y0), x1 - x0
+            N = mpmath.sqrt(aa * aa + bb * bb)
+            L[s] = (aa / N, bb / N, -(aa * x0 + bb * y0) / N)
+    new_v = []
+    for keep in shared:
+        tri = sorted(other + [keep])
+        A = mpmath.matrix([[L[k][0], L[k][1], -1] for k in tri])
+        x, y, r = mpmath.lu_solve(A, mpmath.matrix([-L[k][2] for k in tri]))
+        new_v.append((tri, float(x), float(y), float(abs(r))))
+    verts = [v for v in D.vertices if v.radius == 0]
+    ids = {}
+    out_v = []
+    for v in verts:
+        ids[v.id] = len(out_v)
+        out_v.append(DiagramVertex(len(out_v), v.sites, v.x, v.y, v.radius, True))
+    for tri, x, y, r in new_v:
+        out_v.append(DiagramVertex(len(out_v), tuple(tri), x, y, r, True))
+    assert len(out_v) == len(verts) + 2
+    edges = []
+    for e in D.edges:
+        if all(x is None or x in ids for x in e.ends):
+            edges.append(DiagramEdge(len(edges), e.sites, tuple(None if x is None else ids[x] for x in e.ends),
+                                     False, e.polyline, e.tolerance))
+    from curvedvoronoi.runtime.segments.certificate import verify_segments
+
+    bad = Diagram(D.sites, out_v, edges, False, [], {})
+    cert = verify_segments(bad)
+    assert not cert.ok
+
+
+# ------------------------------------------------------------------ the convexity rule, by hand
+def _pr(h: float, half: float, kx: float = 0.0):
+    """Two parallel segments y = 0 and y = 2 (the edge is the line y = 1, ρ = 1) and a point site
+    k = (kx, 1 + h); the edge runs from x = −half to x = half (end vertices of radius 1)."""
+    from curvedvoronoi.runtime.predicates.circles import Point
+    from curvedvoronoi.runtime.sites.segment import Segment
+
+    sites = [Point(-10, 0), Point(10, 0), Point(-10, 2), Point(10, 2), Point(kx, 1 + h),
+             Segment((-10, 0), (10, 0)), Segment((10, 2), (-10, 2))]
+    T = SiteTable(sites)
+    vps = [VertexProof(True, arb(x), arb(1), arb(1), listed=frozenset({5, 6})) for x in (-half, half)]
+    c = bisector_curve(T, 5, 6, vps, np.array([[-half, 1.0], [half, 1.0]]))
+    ends = [("v", c.param(vp.x, vp.y), vp, k) for k, vp in enumerate(vps)]
+    lo, hi = sorted(ends, key=lambda e: float(e[1].mid()))
+    return SimpleNamespace(curve=c, T=T, i=5, j=6, skip=set()), lo, hi
+
+
+@pytest.mark.parametrize("h, half, proved", [
+    (1.2, 0.5, True),       # g = √(x² + 1.44) − 1 ≥ 0.2: the two tangents' zeros cross
+    (0.95, 0.5, False),     # g(0) = −0.05 < 0 although g(±0.5) > 0
+    (1.01, 5.0, False),     # g ≥ 0.01 > 0, but the tangents at ±5 do not cover the middle
+])
+def test_convexity_tangent_cases(h, half, proved):
+    from curvedvoronoi.runtime.segments import certificate_convexity as cc
+
+    pr, lo, hi = _pr(h, half)
+    assert cc.convex_positive(pr.T, pr.curve, 4, lo, hi) is proved
+
+
+def test_convexity_monotone_case():
+    """A site whose margin only grows along the edge is proved from the end where it is least;
+    one nearer than ρ at both ends is not."""
+    from curvedvoronoi.runtime.segments import certificate_convexity as cc
+
+    pr, _, _ = _pr(1.5, 0.5)
+    vps = [VertexProof(True, arb(x), arb(1), arb(1), listed=frozenset({5, 6})) for x in (0.1, 0.6)]
+    ends = [("v", pr.curve.param(vp.x, vp.y), vp, k) for k, vp in enumerate(vps)]
+    lo, hi = sorted(ends, key=lambda e: float(e[1].mid()))
+    assert cc.convex_positive(pr.T, pr.curve, 4, lo, hi)
+    pr, lo, hi = _pr(0.4, 0.6)          # g(±0.6) = √0.52 − 1 < 0
+    assert not cc.convex_positive(pr.T, pr.curve, 4, lo, hi)
+    assert 4 not in settled_by_convexity(pr, lo, hi)
+
+
+def test_convexity_tiny_edge_settles_near_ties():
+    """An edge 10⁻¹² long with k 10⁻¹³ farther than ρ from its middle is settled (float pieces
+    could not); with k 10⁻¹³ nearer it is not."""
+    for h, want in ((1 + 1e-13, True), (1 - 1e-13, False)):
+        pr, _, _ = _pr(h, 0.5, 0.3 + 5e-13)
+        vps = [VertexProof(True, arb(x), arb(1), arb(1), listed=frozenset({5, 6})) for x in (0.3, 0.3 + 1e-12)]
+        ends = [("v", pr.curve.param(vp.x, vp.y), vp, k) for k, vp in enumerate(vps)]
+        lo, hi = sorted(ends, key=lambda e: float(e[1].mid()))
+        assert (4 in settled_by_convexity(pr, lo, hi)) is want
