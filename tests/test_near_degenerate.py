@@ -251,6 +251,8 @@ def test_convexity_monotone_case():
     ends = [("v", pr.curve.param(vp.x, vp.y), vp, k) for k, vp in enumerate(vps)]
     lo, hi = sorted(ends, key=lambda e: float(e[1].mid()))
     assert cc.convex_positive(pr.T, pr.curve, 4, lo, hi)
+    pr, _, _ = _pr(0.05, 0.5)         # growing along the edge, but negative at its start
+    assert not cc.convex_positive(pr.T, pr.curve, 4, lo, hi)
     pr, lo, hi = _pr(0.4, 0.6)          # g(±0.6) = √0.52 − 1 < 0
     assert not cc.convex_positive(pr.T, pr.curve, 4, lo, hi)
     assert 4 not in settled_by_convexity(pr, lo, hi)
