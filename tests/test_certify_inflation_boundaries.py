@@ -64,3 +64,38 @@ def test_the_inflation_follows_the_image_into_a_narrow_window():
     assert (X[0] - M).abs_upper() < 14.556
     lo, hi = K[0].lower(), K[0].upper()
     assert lo * lo <= A <= hi * hi and lo > 0
+
+
+def test_a_component_already_inside_keeps_growing_with_the_others():
+    """Two unknowns: f₁ = x₁² − 10⁶ at its exact zero m₁ = 1000 and f₂ = f above, with the loose
+    enclosure J₁₂ = [−c, c]·2000 (c = 1/10; the true ∂f₁/∂x₂ is 0) and a first radius r₁ ≥ 1
+    (``floor``).  Y = diag(1/2000, 1/240), Y f(m) = (0, 1), and
+
+        K₁ − m₁ ⊂ ±(r₁²/1000 + c r₂),   K₂ − m₂ as in the module docstring.
+
+    At r = (1, 4): |K₁ − m₁| ≤ 0.401 < 1 (inside) while the second component is not.  The schedule
+    doubles r₁ to 2 and takes r₂ = 2|K₂ − m₂| ≈ 8.747; then 0.004 + 0.875 < 2 and the second
+    component is in its window: proved.  Shrinking r₁ to the image (2·0.401 = 0.802) would leave
+    K₁ outside, since 0.875 > 0.802."""
+    c = arb(fmpq(1, 10))
+
+    def f(z):
+        return [z[0] * z[0] - 10 ** 6, z[1] * z[1] - A]
+
+    def j(z):
+        return [[2 * z[0], arb(0, c * 2000)],
+                [arb(0), 2 * z[1] + arb(0, arb(fmpq(EPS.numerator, EPS.denominator)) * 2 * M)]]
+
+    cq = Fraction(1, 10)
+    w1 = lambda r1, r2: r1 * r1 / 1000 + cq * r2         # the bound on |K₁ − m₁| above
+    assert w1(1, 4) < 1                                  # attempt 0: K₁ inside
+    r2 = 2 * (1 + EPS * 4 + Fraction(16, 120))           # ≈ 8.747, in the window of f₂
+    assert _proves(float(r2)) and w1(2, r2) < 2          # attempt 1 with r₁ doubled: proved
+    assert w1(2 * w1(1, 4), r2) > 2 * w1(1, 4)           # with r₁ = 2|K₁ − m₁|: not
+    try:
+        K, X = krawczyk_inflation(f, j, [arb(1000), arb(M)], floor=[arb(1), arb(0)])
+    except KrawczykFailure as exc:                       # pragma: no cover - the failure under test
+        pytest.fail(f"the zero (1000, √{A}) was not proved: {exc}")
+    assert K[0].contains(1000) and K[1].overlaps(arb(A).sqrt())
+    lo, hi = K[1].lower(), K[1].upper()
+    assert lo * lo <= A <= hi * hi
