@@ -275,6 +275,10 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
      + _VERIFY_TESTS),
     ("runtime/voronoi/verify/polyline_bound.py", ["tests/test_polyline_bound_boundaries.py", "tests/test_polyline_bound.py"]
      + _VERIFY_TESTS),
+    # bisector_guide: the guide of the chains of strips (its hard places among random ellipses, a
+    # vertex beyond the tail cut)
+    ("runtime/voronoi/verify/bisector_guide.py", ["tests/test_curved_edge_guides.py", "tests/test_verify_float_boundaries.py"]
+     + _VERIFY_TESTS),
     ("runtime/voronoi/verify/", _VERIFY_TESTS),
     # the verifier run chunk by chunk on Dask workers (a LocalCluster of threads in the tests)
     ("runtime/voronoi/chunked_certificate.py", ["tests/test_chunked_certificate_mutants.py"]),
