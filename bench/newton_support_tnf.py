@@ -57,8 +57,10 @@ from threadpoolctl import threadpool_info, threadpool_limits  # noqa: E402
 from curvedvoronoi.runtime.sites.conic import Conic  # noqa: E402
 from curvedvoronoi.runtime.algebra.polyalg import CanonicalOffset, WorkingFrame, compose_offset, core_points  # noqa: E402
 from curvedvoronoi.runtime.result import LocatorError  # noqa: E402
-from curvedvoronoi.runtime.solve.vertices import (TOP_DEGREES, _distinct_mask, config_entry, generalised_vertices,  # noqa: E402
-                              newton_refine, solve_nullspace)
+from curvedvoronoi.runtime.solve.configurations import config_entry  # noqa: E402
+from curvedvoronoi.runtime.solve.generalised import generalised_vertices  # noqa: E402
+from curvedvoronoi.runtime.solve.macaulay import TOP_DEGREES, solve_nullspace  # noqa: E402
+from curvedvoronoi.runtime.solve.newton import distinct_mask, newton_refine  # noqa: E402
 
 DATA = Path("/work/tests/data/validation_cases.json")
 COUNTS = {"EEE": 184, "EEP": 148, "PPP": 93}
@@ -306,7 +308,7 @@ def run_case(conf, conics, variant, ref, struct_cache):
             rp, res, _ = newton_refine(offs, pts[fin], scale=wf.L)
             ok = res < 1e-11
             D = np.array([wf.L, wf.L, wf.L ** 2])
-            cand["refined"] = int(_distinct_mask(rp[ok], D).sum()) if ok.any() else 0
+            cand["refined"] = int(distinct_mask(rp[ok], D).sum()) if ok.any() else 0
             if ref is not None and fin.all():
                 cand["dist_refined"] = match(rp, ref, wf.L)
         spent += te

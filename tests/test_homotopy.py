@@ -30,7 +30,8 @@ from curvedvoronoi.runtime.predicates.locator import locate_conflicts
 from curvedvoronoi.runtime.algebra.polyalg import CanonicalOffset, working_frame
 from curvedvoronoi.runtime.result import LocatorError
 from curvedvoronoi.runtime.validation import required_cases_path
-from curvedvoronoi.runtime.solve.vertices import CONFIG_TABLE, generalised_vertices, homotopy_route, nullspace_route
+from curvedvoronoi.runtime.solve.configurations import CONFIG_TABLE
+from curvedvoronoi.runtime.solve.generalised import generalised_vertices, homotopy_route, nullspace_route
 
 CASES = {c["name"]: c for c in json.loads(required_cases_path().read_text())["cases"]}
 

@@ -275,16 +275,16 @@ def test_shared_shape_sends_non_generic_members_to_msolve_before_any_null_space(
     exact proportionality of the quadratic parts; such a member with fewer complex solutions
     modulo a prime than the generic count goes to the exact route without a null-space attempt."""
     from curvedvoronoi.runtime.sites.conic import Conic
-    from curvedvoronoi.runtime.solve.vertices import _shared_shape
+    from curvedvoronoi.runtime.solve.configurations import shared_shape
 
     r = (Fraction(3, 5), Fraction(4, 5))
     e = Conic.ellipse((0, 0), (2, 1), r)
-    assert _shared_shape([e, Conic.ellipse((7, 1), (3, Fraction(3, 2)), r), Conic.circle((3, 5), 1)])
-    assert not _shared_shape([e, Conic.ellipse((7, 1), (3, 1), r), Conic.circle((3, 5), 1)])     # other ratio
-    assert not _shared_shape([e, Conic.ellipse((7, 1), (2, 1), (Fraction(4, 5), Fraction(3, 5))),
+    assert shared_shape([e, Conic.ellipse((7, 1), (3, Fraction(3, 2)), r), Conic.circle((3, 5), 1)])
+    assert not shared_shape([e, Conic.ellipse((7, 1), (3, 1), r), Conic.circle((3, 5), 1)])     # other ratio
+    assert not shared_shape([e, Conic.ellipse((7, 1), (2, 1), (Fraction(4, 5), Fraction(3, 5))),
                               Conic.ellipse((3, 6), (1, 1 / Fraction(2)), (Fraction(5, 13), Fraction(12, 13)))])
-    assert _shared_shape([Conic.parabola((0, 0), 1, r), Conic.parabola((5, 2), 3, (-r[0], -r[1])), e])
-    assert not _shared_shape([Conic.circle((0, 0), 1), Conic.circle((5, 0), 1), e])                # circles aside
+    assert shared_shape([Conic.parabola((0, 0), 1, r), Conic.parabola((5, 2), 3, (-r[0], -r[1])), e])
+    assert not shared_shape([Conic.circle((0, 0), 1), Conic.circle((5, 0), 1), e])                # circles aside
     cs = random_nongeneric("homothetic parallel ellipses", 1)
     clear_cache()
     res = locate_conflicts(*cs)

@@ -84,6 +84,8 @@ def test_null_space_dimension_is_the_mixed_volume(kinds, seed):
 
 
 def test_a_wrong_count_is_refused():
+    """The toric null space returns exactly the mixed volume N of roots of a generic member (three
+    ellipses) and refuses to be told N − 1 or N + 1: the count is a rank decision, not a parameter."""
     cs = random_configuration("EEEE", 3)
     offs, _, polys = _working_polys(cs)
     fams = [o.family for o in offs]
@@ -120,6 +122,10 @@ def _assert_real_roots_are_msolves(cs, sol):
 
 @pytest.mark.parametrize("source", ["hyperbolas_b_hyperbola4_conflict", ("HHHH", 100), ("PPPP", 102)])
 def test_far_vertices_all_found_and_real_ones_are_the_exact_real_roots(source):
+    """Triples with generalised vertices more than 10⁴ frame scales away (a validation case of
+    hyperbolas, random hyperbolas and random parabolas): the weighted null space refuses them (their
+    solutions are lumped with those at infinity), the toric null space returns all N (the mixed
+    volume) and its real ones are msolve's exact real roots, one per isolating box."""
     cs = _conics(source) if isinstance(source, str) else random_configuration(*source)
     with pytest.raises(LocatorError):
         generalised_vertices(*cs[:3], solver="nullspace", max_extra_degree=0)
@@ -132,12 +138,12 @@ def test_far_vertices_all_found_and_real_ones_are_the_exact_real_roots(source):
 
 @pytest.mark.parametrize("seed", [205, 207])
 def test_a_root_reached_twice_is_not_two_roots(seed):
-    """Three hyperbolas 100 times farther apart than their sizes: two eigenvalue problems once
-    reached one well-conditioned root twice, 1.5e-11 apart in circle space (Newton's last steps
-    1e-12 and 4e-16, so "distinct" at 10 times the step), and missed another root (a real one at
-    (−95, −208), a conjugate pair at x ≈ −537.5).  Rows closer than their forward-error estimates
-    ε·‖J⁻¹‖·Σ|c_m·m(Z)| send the pooling on to the next problem: all 184 distinct roots, and the real
-    ones are msolve's exact real roots, one per isolating box."""
+    """Three hyperbolas 100 times farther apart than their sizes, where two eigenvalue problems reach
+    one well-conditioned root twice, 1.5e-11 apart in circle space (farther than 10 times Newton's
+    last steps, 1e-12 and 4e-16), and miss another root (seed 205: a real one at (−95, −208), a
+    conjugate pair at x ≈ −537.5).  Two rows closer than their forward-error estimates
+    ε·‖J⁻¹‖·Σ|c_m·m(Z)| are one root: the list holds all 184 distinct roots, and the real ones are
+    msolve's exact real roots, one per isolating box."""
     cs = random_configuration("HHHH", seed, spread=100)
     sol = generalised_vertices(*cs[:3], solver="toric")
     assert len(sol.points) == _mixed_volume(["ellipse"] * 3)
@@ -146,11 +152,12 @@ def test_a_root_reached_twice_is_not_two_roots(seed):
 
 @pytest.mark.parametrize("kinds,seed", [("HHHH", 302), ("HHHH", 305), ("EEPE", 307)])
 def test_clusters_resolved_by_schur_points(kinds, seed):
-    """Small sites 100 times farther apart than their sizes, where the eigenvectors of five pooled
-    eigenvalue problems found 185, 178 and 142 distinct roots (bounds 184, 184, 148): clusters of up
-    to 27 solutions down to 5e-5 apart in working units.  Reading each solution also from the Schur
-    form (common eigenvalues of the section maps, no eigenvector) finds every root, and the real
-    ones are msolve's exact real roots, one per isolating box."""
+    """Small sites 100 times farther apart than their sizes, with clusters of up to 27 solutions down
+    to 5e-5 apart in working units, which the eigenvectors of five pooled eigenvalue problems do not
+    separate (185, 178 and 142 distinct roots against the bounds 184, 184, 148).  The common
+    eigenvalues of the section maps (Schur form, no eigenvector) separate them: the list holds
+    exactly the mixed volume of roots, and the real ones are msolve's exact real roots, one per
+    isolating box."""
     cs = random_configuration(kinds, seed, spread=100)
     sol = generalised_vertices(*cs[:3], solver="toric")
     fams = [CanonicalOffset(c).family for c in cs[:3]]
@@ -174,6 +181,9 @@ def test_small_sites_far_apart_cluster_of_nearby_solutions():
 
 
 def test_far_vertex_locator_is_complete_without_the_exact_route():
+    """The validation case with vertices far outside the scene (three hyperbolas and a fourth):
+    the toric route's list is proved complete by counting, with no exact solve, and the certified
+    vertices and conflicts are the validation file's exact ones (rational coordinates)."""
     name = "hyperbolas_b_hyperbola4_conflict"
     cs = _conics(name)
     clear_cache()
@@ -208,64 +218,51 @@ def test_non_generic_member_is_refused():
                                                ("HHHH", 904, 100), ("EEPE", 904, 1), ("HHHH", 1003, 100),
                                                ("HHHH", 1004, 100)])
 def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
-    """Cases that once fell to the exact route or were answered wrongly incomplete:
-    * three hyperbolas (seed 206): one real solution that is not a Voronoi vertex sits next to a
-      double foot point of a site, where the foot-distance enclosures of its 64-bit box are ±0.2
-      around √R; a tighter 256-bit box of the same zero decides it;
+    """Without msolve, the locator's answer on each of these triples is certified and complete by
+    counting, and its vertices are those of the exact route (msolve's real roots, an independent
+    exact method), each once.  Each triple holds a numerical hazard that a list of floats gets wrong:
+    * three hyperbolas (seed 206): a real solution that is not a Voronoi vertex next to a double
+      foot point of a site, where a 64-bit box gives foot-distance enclosures ±0.2 around √R; a
+      256-bit box of the same zero decides it;
     * two ellipses and a parabola 10× apart (seed 204): an ill-conditioned root near the scene,
-      accurate only to 1e-5 from circle space, must be sharpened in (x, y, R) or a true vertex is
-      lost (a site seemed closer by 5e-5);
-    * three hyperbolas 100× apart (seed 204): a complex-conjugate pair 1.8e-5 off the real axis
-      at (x, y, R) ≈ (17.8, 0.53, 32820), "nearly real" at 10⁻⁶ of its size; real Newton cannot
-      reach either zero (Krawczyk failed up to 1024 bits), complex Newton from the unprojected
-      point does, and 128 bits certify both;
+      accurate only to 1e-5 from circle space, which must be sharpened in (x, y, R) or a site seems
+      closer by 5e-5 and a true vertex is lost;
+    * three hyperbolas 100× apart (seed 204): a complex-conjugate pair 1.8e-5 off the real axis at
+      (x, y, R) ≈ (17.8, 0.53, 32820), "nearly real" at 10⁻⁶ of its size, which real Newton cannot
+      reach (Krawczyk fails up to 1024 bits) and complex Newton from the unprojected point does;
     * an ellipse, a parabola and a hyperbola 10× apart (seed 304): a conjugate pair so near the real
-      axis that the weighted null space returns it as two real points 1e-3 apart (Jacobian condition
-      1e10; msolve: 16 real solutions, not 18); complex Newton from s_k + i·(s_k − s_j) certifies
-      the two conjugate zeros;
-    * three hyperbolas 100× apart (seed 300): the weighted null space returns a spurious conjugate
-      pair m ± i·w, both of whose members certify as the one real root near m, and lacks a real
-      root at m + 206·w (msolve: 60 real solutions, not 58); one member is dropped and Newton at
-      128 bits from m ± t·w finds the lost root;
+      axis that the weighted null space reads it as two real points 1e-3 apart (Jacobian condition
+      1e10; msolve: 16 real solutions, not 18);
+    * three hyperbolas 100× apart (seed 300): the weighted null space reads a conjugate pair m ± i·w
+      whose members both lead to the one real root near m, and misses a real root at m + 206·w
+      (msolve: 60 real solutions, not 58);
     * three ellipses 1000× apart (seed 301): 8 real roots within 2e-3 of each other, one reached
-      twice by the toric eigenvectors and one never; Newton from random starts around the duplicate
-      finds it;
+      twice by the toric eigenvectors and one never;
     * three hyperbolas (seeds 302, 305) and two ellipses and a parabola (seed 307) 100× apart:
-      clusters the eigenvectors do not resolve (both null spaces refused, msolve answered in
-      1.7–4.4 s); the Schur points of the toric null space resolve them;
-    * three hyperbolas 10× apart (seed 405): a conjugate pair 1e-5 off the real axis where the
-      pool's real Newton stalled at a real point that is no root, with another root listed twice
-      (msolve: 56 real solutions, not 57); complex Newton from that point plus i·1e-6 of its size
-      certifies one member of the pair, its conjugate box the other;
-    * three hyperbolas 100× apart (seed 401): a real root that every eigenvalue problem reached
-      but none converged to (circle-space Newton creeps, steps 1e-5), so the pool stayed one short
-      and padded with a duplicate (msolve answered in 2.6 s); the traces of the multiplication
-      maps give the missing root, certified in (x, y, R);
-    * two ellipses and a parabola 100× apart (seed 407): the weighted null space reached a far
-      complex root (R ≈ 5e7) twice, 2e-7 of its size apart, and missed another; the forward-error
-      estimates merge the two and the toric null space answers;
+      clusters that the eigenvectors of both null spaces do not resolve and the Schur points of the
+      toric null space do;
+    * three hyperbolas 10× apart (seed 405): a conjugate pair 1e-5 off the real axis where real
+      Newton stalls at a real point that is no root, with another root listed twice (msolve: 56
+      real solutions, not 57);
+    * three hyperbolas 100× apart (seed 401): a real root that every eigenvalue problem reaches but
+      none converges to (circle-space Newton creeps, steps 1e-5); the traces of the multiplication
+      maps give it;
+    * two ellipses and a parabola 100× apart (seed 407): a far complex root (R ≈ 5e7) reached twice,
+      2e-7 of its size apart, by the weighted null space, and another missed;
     * three hyperbolas 100× apart (held-out seed 806): a complex root 5·10⁻⁵ of its size off the
-      real axis was read 2·10⁻⁹ off it, so that its conjugate merged with it and a duplicate of
-      another root filled the list (51 real points, msolve: 50).  Newton from it stalls on the real
-      axis and complex Newton needs 10–30 steps to split the pair; with 30 steps at 128 bits it is
-      certified, the duplicate is dropped and its place taken by the conjugate box (msolve
-      answered in 2–4 s);
-    * three hyperbolas 100× apart (held-out seed 904): in the scene's frame the pool holds one row
-      closer to another than their forward-error estimates, and the list with it added back does
-      not certify (two enclosures overlap; msolve answered in 4.3 s); solved again in the frame
-      centred at the least accurate root, the pool has all 184 distinct roots;
-    * two ellipses and a parabola, compact (held-out seed 904): the weighted null space reads a far
-      root (58307, −21572) only to 5·10⁻⁵ of its size and its list is not proved complete (msolve
-      answered); the toric null space's list of the same system is, and the vertices stay;
+      real axis read 2·10⁻⁹ off it, so that its conjugate merges with it and a duplicate of another
+      root fills the list (51 real points, msolve: 50); complex Newton needs 10–30 steps to split
+      the pair;
+    * three hyperbolas 100× apart (held-out seed 904): in the scene's frame two rows closer than
+      their forward-error estimates (two enclosures overlap); in the frame centred at the least
+      accurate root all 184 roots are distinct;
+    * two ellipses and a parabola, compact (held-out seed 904): a far root (58307, −21572) that the
+      weighted null space reads only to 5·10⁻⁵ of its size, where the toric null space's list is
+      proved complete;
     * three hyperbolas 100× apart (held-out seed 1003): four real roots near (−1.3·10⁶, −1.5·10⁷),
-      2–5·10⁻⁴ of their size apart, each listed 5·10⁻⁴ from the root its chart Newton reaches; the
-      chart test once required the root to lie within 10⁻⁴ of the listed point and refused them
-      (msolve answered, 2.2 s in all); all four are reached and proved distinct;
+      2–5·10⁻⁴ of their size apart, each listed 5·10⁻⁴ from the root its chart Newton reaches;
     * three hyperbolas 100× apart (held-out seed 1004): a real pair 3·10⁻⁶ of its size apart, one
-      point listed 5·10⁻⁶ from one of them (uncertified at first, then certified in a chart at that
-      one) and the other's place taken by a duplicate 2·10³ away (msolve answered, 1.6 s); Newton
-      from the line through the listed point and its certified root finds the other.
-    Completeness by counting then closes without msolve, with the same vertices as the exact route."""
+      point listed 5·10⁻⁶ from one of them and the other's place taken by a duplicate 2·10³ away."""
     cs = random_configuration(kinds, seed, spread=spread)
     clear_cache()
     res = locate_conflicts(*cs)
@@ -280,12 +277,12 @@ def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
 
 def test_small_sites_far_apart_try_the_toric_null_space_first():
     """Sites small against the distances between them (scene-to-site ratio at least
-    TORIC_FIRST_RATIO) go to the toric null space first, where the weighted closure would refuse
-    (three hyperbolas 100× apart, seed 305: once a failed weighted attempt first); sites drawn next
-    to each other (the demo triple) keep the weighted null space first, the faster one there."""
+    TORIC_FIRST_RATIO; three hyperbolas 100× apart) are solved by the toric null space with no
+    refused attempt before it, all N roots (the mixed volume); sites drawn next to each other (the
+    demo triple, ratio below it) are solved by the weighted null space."""
     from curvedvoronoi.runtime.algebra.polyalg import scene_to_site_ratio
     from curvedvoronoi.runtime.predicates.locator import demo_configuration
-    from curvedvoronoi.runtime.solve.vertices import TORIC_FIRST_RATIO
+    from curvedvoronoi.runtime.solve.generalised import TORIC_FIRST_RATIO
 
     far = random_configuration("HHHH", 305, spread=100)[:3]
     near = demo_configuration()[:3]
@@ -447,7 +444,7 @@ def test_a_cluster_next_to_the_sites_far_from_the_frame_centre_is_solved_in_a_fr
     (tests/reference.py, dense distance grids and mpmath Newton), and the completeness proof must
     refuse it.  Solved again in the frame centred at the least accurate root, the list is complete:
     the locator answers the oracle's ten vertices, certified and complete by counting, without the
-    exact route (which took 3.4–5 s here)."""
+    exact route."""
     from reference import reference_vertices
 
     from curvedvoronoi.runtime.certify.complete import certify_completeness

@@ -1,10 +1,10 @@
 """Parameter homotopy for the triple offset system (far-away and badly scaled vertices).
 
 Role: the last numeric route, used when msolve is not installed and both null spaces refuse
-(:mod:`runtime.solve.vertices`, :mod:`runtime.solve.toric`); the toric null space now finds the
+(:mod:`runtime.solve.macaulay`, :mod:`runtime.solve.toric`); the toric null space now finds the
 far vertices that motivated it, in 0.1–0.4 s instead of 1–10 s here.
 
-Why: the Macaulay null-space solver (:mod:`runtime.solve.vertices`) reads the number of finite
+Why: the Macaulay null-space solver (:mod:`runtime.solve.macaulay`) reads the number of finite
 solutions off a *degree gap* in a fixed chart (configuration scaled into the unit disc).
 Generalised Voronoi vertices of hyperbolas and parabolas can lie 10³–10⁶ times farther out than
 the sites; in that chart they are numerically indistinguishable from the solutions at infinity,
@@ -18,7 +18,7 @@ family x² + c·y² + e: (c, e); parabola y² − 2px: p; circle: rho) and its r
 (U, V) = Rot(θ_i)·((x, y) − t_i).  Complex rotations keep U² + V² = |x − t_i|², so every point
 of the complexified parameter space is the offset of a (complex) conic of the same family: the
 family is irreducible and its generic number of isolated solutions is the generic count N of
-the generic count passed in by the caller (:data:`runtime.solve.vertices.CONFIG_TABLE`).
+the generic count passed in by the caller (:data:`runtime.solve.configurations.CONFIG_TABLE`).
 
 1. *Start system*: a random real configuration of the same families well inside the unit disc,
    solved by the null-space route (it must give exactly N distinct refined solutions; cached per
@@ -38,7 +38,7 @@ the generic count passed in by the caller (:data:`runtime.solve.vertices.CONFIG_
    correction; a step is accepted only when the corrector contracts quickly; endpoints that
    coincide (a path jump) are re-tracked with smaller steps and a stricter corrector bound.
 4. Endpoints with A ≠ 0 are mapped back, Newton-refined on the exact-family offsets in world
-   coordinates (:func:`runtime.solve.vertices.newton_refine`) and checked (residual, distinctness).
+   coordinates (:func:`runtime.solve.newton.newton_refine`) and checked (residual, distinctness).
 
 Nothing here is trusted blindly: the solutions go through the same certification as the
 null-space ones (Krawczyk per solution, completeness only when N distinct simple solutions are
@@ -398,7 +398,7 @@ def _random_conic(family: str, rng):
 def start_system(families: tuple[str, str, str], nullspace_solve, expected: int | None) -> StartSystem:
     """A random real configuration of these families (per slot) with all ``expected`` (the generic
     number N) solutions found by ``nullspace_solve(c1, c2, c3)`` (the null-space route of
-    :mod:`runtime.solve.vertices`, passed in by the caller; a few seeds are tried; deterministic)."""
+    :mod:`runtime.solve.generalised`, passed in by the caller; a few seeds are tried; deterministic)."""
     if expected is None:
         raise LocatorError(f"no generic solution count for {families}; homotopy needs one")
     errors = []

@@ -1,7 +1,7 @@
 """Rank decisions and Householder products of pivoted QR factorisations (Golub & Van Loan,
 *Matrix Computations*, 4th ed., §5.2 and §5.4.2).
 
-Both Macaulay null-space solvers (:mod:`runtime.solve.vertices`, weighted degree in (x, y, R);
+Both Macaulay null-space solvers (:mod:`runtime.solve.macaulay`, weighted degree in (x, y, R);
 :mod:`runtime.solve.toric`, a polytope in circle space) take null spaces from a column-pivoted
 QR of the transposed matrix: its numerical rank is read off |diag R| and the trailing columns of
 the orthogonal factor are applied with LAPACK ``ormqr`` without forming Q.

@@ -1,16 +1,18 @@
 """The weighted-degree Macaulay null-space solver of a square system in (x, y, R) (thesis §5.5).
 
-The numeric core of :mod:`runtime.solve.vertices`: the Macaulay matrix M of o1, o2, o3 in
+The numeric core of :mod:`runtime.solve.generalised`: the Macaulay matrix M of o1, o2, o3 in
 (x, y, R) with weighted degree (1, 1, 2) up to degree d (rows: monomial multiples m·o_i,
 columns: monomials), its null space projected on the columns of degree ≤ d − h (pivoted QR of the
 top-degree columns, then of the projected matrix), the rank profile by degree and its first
 *degree gap*, which gives the number N of finite solutions (Dreesen, Batselier and De Moor;
 Telen, Mourrain and Van Barel, truncated normal forms), then a stable monomial basis,
 multiplication matrices for x and y and the solutions read off the eigenvectors of a random
-combination.  The Newton refinement and the fallbacks live in :mod:`runtime.solve.vertices`.
+combination.  The Newton refinement is :mod:`runtime.solve.newton`, the chain of attempts and
+fallbacks :mod:`runtime.solve.generalised`.
 
 Public API: :func:`solve_nullspace`, :func:`monomials`, :func:`macaulay_matrix`,
-:func:`macaulay_blocks`, :func:`work_array`, :class:`SolveInfo`, :data:`TOP_DEGREES`.
+:func:`macaulay_blocks`, :func:`work_array`, :class:`SolveInfo`, :func:`add_timings`,
+:data:`TOP_DEGREES`.
 """
 from __future__ import annotations
 
@@ -27,7 +29,7 @@ from .householder import householder_apply, rank_from_values
 from ..result import LocatorError
 
 __all__ = ["solve_nullspace", "monomials", "macaulay_matrix", "macaulay_blocks", "work_array", "SolveInfo",
-           "TOP_DEGREES"]
+           "TOP_DEGREES", "add_timings"]
 
 #: number of top weighted degrees eliminated before the null space is taken
 TOP_DEGREES = 3
@@ -193,6 +195,13 @@ class SolveInfo:
     #: rows of the toric list that repeat another in an unresolved cluster (runtime.solve.toric,
     #: step 6): left to the certification's search for the missing roots
     padded: int = 0
+
+
+def add_timings(into: dict, other: dict) -> None:
+    """Add the stage times of ``other`` to ``into`` (seconds per stage name, as in
+    :attr:`SolveInfo.timings`)."""
+    for k, v in other.items():
+        into[k] = into.get(k, 0.0) + v
 
 
 def _nullspace(M, degs, d, top):

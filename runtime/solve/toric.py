@@ -1,6 +1,6 @@
 """Generalised Voronoi vertices by a toric Macaulay null space in circle space.
 
-Why: the weighted-degree null space of :mod:`runtime.solve.vertices` works in (x, y, R), whose
+Why: the weighted-degree null space of :mod:`runtime.solve.macaulay` works in (x, y, R), whose
 weighted projective closure has a whole curve of common zeros at infinity (W = 0, x² + y² = R).
 A vertex far outside the scene is numerically one of them: the degree gap disappears and that
 route refuses.  In circle space (x, y, T), T = x² + y² − R (:mod:`runtime.algebra.circle_space`),
@@ -53,7 +53,7 @@ dimension N, the number of solutions, at a large enough Q:
    the missing ones, or the counting proof fails and the exact route answers;
 7. a pool that stays short after the first polytope, or a provisional list, has its worst cluster
    at the root with the largest forward-error estimate (:meth:`_Pool.least_accurate`): the
-   caller (:func:`runtime.solve.vertices.generalised_vertices`) solves the system again in a
+   caller (:func:`runtime.solve.toric_roots.toric_attempt`) solves the system again in a
    frame centred there, where the cluster is no longer a small relative perturbation of large
    coordinates, and goes on in the scene's frame with the next polytope and the same pool
    (``pool=``, :class:`ToricShort`) only when that does not resolve more of it.
