@@ -31,7 +31,6 @@ Public API: :func:`read_shape`, :func:`read_domain`, :func:`shape_kind`, :func:`
 """
 from __future__ import annotations
 
-import json
 import math
 import re
 from pathlib import Path
@@ -42,6 +41,7 @@ from ..predicates.circles import Point
 from ..result import InvalidConicError
 from ..sites.arc import Arc
 from ..sites.segment import Segment
+from ..sites.reader import load_json_document
 from ..sites.shapes import ShapeError
 
 __all__ = ["read_shape", "read_domain", "shape_kind", "check_named", "closed_loops", "outer_and_holes",
@@ -63,16 +63,6 @@ def shape_kind(path: str) -> str:
     except OSError:
         return "sites"                  # the sites reader reports it
     return "geojson" if re.match(r'\s*\{\s*"type"\s*:', head) else "sites"
-
-
-def _load_json(path: str):
-    try:
-        with open(path) as fh:
-            return json.load(fh)
-    except OSError as exc:
-        raise ShapeError(f"cannot read {path}: {exc.strerror or exc}") from None
-    except ValueError as exc:
-        raise ShapeError(f"{path} is not valid JSON: {exc}") from None
 
 
 class _Names:
@@ -134,7 +124,7 @@ def read_shape(path: str, *, skip=()) -> tuple[list, list[int], object]:
     if kind == "geojson":
         from ..sites.shapes import pieces_from_geometry
 
-        doc = _load_json(path)
+        doc = load_json_document(path, ShapeError)
         try:
             pieces, sources = pieces_from_geometry(doc)
         except ShapeError as exc:
@@ -336,7 +326,7 @@ def read_domain(path: str, *, skip=()) -> tuple[list, list, list, list]:
     several GeoJSON polygons, ``outer`` is the first shell and ``holes`` every other ring (the
     medial axis of the union is the union of the medial axes)."""
     if shape_kind(path) == "geojson":
-        return _geojson_domain(_load_json(path), path)
+        return _geojson_domain(load_json_document(path, ShapeError), path)
     pieces, sources, names = read_shape(path, skip=skip)
     if not pieces:
         raise ShapeError(f"{path}: no segments or arcs")

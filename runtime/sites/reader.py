@@ -53,7 +53,7 @@ from .rationals import to_fraction
 
 __all__ = ["SITES_SCHEMA", "SCALE_LIMIT", "parse_number", "parse_site", "sites_from_document",
            "read_sites", "read_coefficient_lists", "check_distinct", "check_scale", "site_key",
-           "site_to_json", "site_label"]
+           "site_to_json", "site_label", "load_json_document"]
 
 
 _RATIONAL = r"^\s*[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?(\s*/\s*[+-]?\d+)?\s*$"
@@ -441,25 +441,27 @@ def sites_from_document(doc, source: str = "sites", *, expected: int | None = No
     return sites
 
 
-def _load_json(path: str):
+def load_json_document(path: str, error: type[ValueError] = ValueError):
+    """The JSON document of a file; ``error`` (a ValueError) naming the file when it cannot be read
+    or is not JSON (undecodable text included)."""
     try:
         with open(path) as fh:
             return json.load(fh)
     except OSError as exc:
-        raise ValueError(f"cannot read {path}: {exc.strerror}") from None
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise ValueError(f"{path} is not valid JSON: {exc}") from None
+        raise error(f"cannot read {path}: {exc.strerror or exc}") from None
+    except ValueError as exc:            # JSONDecodeError, UnicodeDecodeError, an over-long integer
+        raise error(f"{path} is not valid JSON: {exc}") from None
 
 
 def read_sites(path: str, expected: int | None = None, *, distinct: bool = True, scale: bool = True) -> list:
     """The sites of a JSON file (see the module docstring), validated, 0-based messages."""
-    return sites_from_document(_load_json(path), path, expected=expected, distinct=distinct, scale=scale)
+    return sites_from_document(load_json_document(path), path, expected=expected, distinct=distinct, scale=scale)
 
 
 def read_coefficient_lists(path: str, expected: int | None = None) -> list[list]:
     """The coefficient lists [a, b, c, d, e, f] of a file whose sites are all given by
     ``"coefficients"`` (the older format), checked against the schema."""
-    doc = _load_json(path)
+    doc = load_json_document(path)
     _check_count(doc, path, expected)
     _validate(doc, path)
     key = "sites" if "sites" in doc else "conics"
