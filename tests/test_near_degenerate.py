@@ -271,17 +271,16 @@ def test_convexity_tiny_edge_settles_near_ties():
 
 def test_convexity_refuses_a_site_tied_along_the_edge():
     """A segment k collinear with j (y = 2, x in [20, 30]) is at distance exactly ρ = 1 all along
-    the edge y = 1, x in [21, 29], and listed at both end vertices: g_k ≡ 0, g_k' = 0 exactly.
-    No tangent case applies (the edge is not an edge of the diagram)."""
+    the edge y = 1, x in [25, 28.125] (dyadic parameters: g_k' = 0 exactly in arb), and listed at
+    both end vertices: g_k ≡ 0.  No tangent case applies (the edge is not an edge of the diagram)."""
     from curvedvoronoi.runtime.predicates.circles import Point
     from curvedvoronoi.runtime.segments import certificate_convexity as cc
     from curvedvoronoi.runtime.sites.segment import Segment
 
-    sites = [Point(-10, 0), Point(10, 0), Point(-10, 2), Point(10, 2), Point(20, 2), Point(30, 2),
+    sites = [Point(-10, 0), Point(40, 0), Point(-10, 2), Point(10, 2), Point(20, 2), Point(30, 2),
              Segment((-10, 0), (40, 0)), Segment((10, 2), (-10, 2)), Segment((20, 2), (30, 2))]
-    sites[0], sites[1] = Point(-10, 0), Point(40, 0)
     T = SiteTable(sites)
-    vps = [VertexProof(True, arb(x), arb(1), arb(1), listed=frozenset({6, 7, 8})) for x in (21, 29)]
-    c = bisector_curve(T, 6, 7, vps, np.array([[21.0, 1.0], [29.0, 1.0]]))
+    vps = [VertexProof(True, arb(x), arb(1), arb(1), listed=frozenset({6, 7, 8})) for x in (25, 28.125)]
+    c = bisector_curve(T, 6, 7, vps, np.array([[25.0, 1.0], [28.125, 1.0]]))
     ends = sorted([("v", c.param(vp.x, vp.y), vp, k) for k, vp in enumerate(vps)], key=lambda e: float(e[1].mid()))
     assert not cc.convex_positive(T, c, 8, ends[0], ends[1])
