@@ -284,3 +284,28 @@ def test_convexity_refuses_a_site_tied_along_the_edge():
     c = bisector_curve(T, 6, 7, vps, np.array([[25.0, 1.0], [28.125, 1.0]]))
     ends = sorted([("v", c.param(vp.x, vp.y), vp, k) for k, vp in enumerate(vps)], key=lambda e: float(e[1].mid()))
     assert not cc.convex_positive(T, c, 8, ends[0], ends[1])
+
+
+def test_convexity_refuses_an_arc():
+    """Inside an arc's circle its distance R − |x − c| is concave along the edge: at x = −0.5 the
+    clearance is 0.28 and growing, at x = 0.5 it is −0.31 (the arc is nearer than ρ).  A tangent at
+    the start would wrongly cover the edge; arcs are not tried."""
+    from fractions import Fraction as F
+
+    from curvedvoronoi.runtime.predicates.circles import Point
+    from curvedvoronoi.runtime.segments import certificate_convexity as cc
+    from curvedvoronoi.runtime.sites.arc import Arc
+    from curvedvoronoi.runtime.sites.segment import Segment
+
+    c, R = (F(-3, 10), F(11, 10)), F(3, 2)
+    a = (c[0] + R * F(-143, 145), c[1] + R * F(-24, 145))       # at about −170°
+    b = (c[0] + R * F(143, 145), c[1] + R * F(-24, 145))        # at about −10°
+    sites = [Point(-10, 0), Point(40, 0), Point(-10, 2), Point(10, 2), Point(*a), Point(*b),
+             Segment((-10, 0), (40, 0)), Segment((10, 2), (-10, 2)), Arc(c, R, a, b)]
+    T = SiteTable(sites)
+    vps = [VertexProof(True, arb(x), arb(1), arb(1), listed=frozenset({6, 7})) for x in (-0.5, 0.5)]
+    curve = bisector_curve(T, 6, 7, vps, np.array([[-0.5, 1.0], [0.5, 1.0]]))
+    ends = sorted([("v", curve.param(vp.x, vp.y), vp, k) for k, vp in enumerate(vps)], key=lambda e: float(e[1].mid()))
+    X, Y = curve.xy(ends[1][1])
+    assert T.distance(8, X, Y) < 1                                # the arc is nearer than ρ at x = 0.5
+    assert not cc.convex_positive(T, curve, 8, ends[0], ends[1])

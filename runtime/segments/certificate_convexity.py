@@ -97,7 +97,10 @@ def _end_values(T, c, k, end):
 
 
 def convex_positive(T, c, k, lo, hi) -> bool:
-    """g_k > 0 on the open edge by cases 1–3 of the module docstring."""
+    """g_k > 0 on the open edge by cases 1–3 of the module docstring (False for an arc k: its
+    distance is not convex along lines)."""
+    if T.kind[k] == ARC:
+        return False
     va, vb = _end_values(T, c, k, lo), _end_values(T, c, k, hi)
     if va is None or vb is None:
         return False
