@@ -120,23 +120,25 @@ def curved_edges(curved, geoms, problems, eok, ends_inf, deadline=None, late=Non
             if sup is None:
                 sup = SupportTable(geoms)
             q = far["point"]
+            # a tail in a direction where its sites tie exactly with others (rows of identical
+            # shapes: mirror lines; translates or shapes resting on one line: tied tails) is
+            # proved in rationals at once; the sector prover cannot separate a tie and would
+            # spend its whole work limit first
+            ok2, tie = False, None
+            if sup.ok:       # bounded convex sites: support functions exist
+                ok2, msg2, tie = prove_mirror_tail([g.exact for g in geoms], geoms, sup, pair, far["link"])
+            if sup.ok and not ok2:      # different shapes resting on one line
+                ok2, msg2, tie = prove_tied_tail([g.exact for g in geoms], geoms, sup, pair, far["link"],
+                                                 np.asarray(q, float) - sup.m)
+            if ok2:
+                th = math.atan2(float(tie[0][1]), float(tie[0][0])) % (2 * math.pi)
+                ends.append((th, pair, ("mirror",) + tie, e.id))
+                continue
             ok, msg, sector = prove_tail(sup, table, pair, far["link"], scale)
             if not ok and "undecided" in msg and more > 0:
                 more -= 1
                 ok, msg, sector = prove_tail(sup, table, pair, far["link"], scale, max_work=TAIL_WORK_MORE)
             if not ok:
-                # rows of identical shapes tie at infinity: their edges are mirror lines
-                ok2, tie = False, None
-                if sup.ok:       # bounded convex sites: support functions exist
-                    ok2, msg2, tie = prove_mirror_tail([g.exact for g in geoms], geoms, sup, pair, far["link"])
-                if sup.ok and not ok2:      # different shapes resting on one line
-                    ok2, msg2, tie = prove_tied_tail([g.exact for g in geoms], geoms, sup, pair, far["link"],
-                                                     np.asarray(q, float) - sup.m)
-                if ok2:
-                    ok = True
-                    th = math.atan2(float(tie[0][1]), float(tie[0][0])) % (2 * math.pi)
-                    ends.append((th, pair, ("mirror",) + tie, e.id))
-                    continue
                 problems.append(f"{name}: proved up to ({q[0]:.9g}, {q[1]:.9g}), not proved beyond it: {msg}")
                 break
             tha, thb, _ = sector

@@ -4,9 +4,12 @@ Circles of several radii and ellipses resting on a common line ℓ (outer normal
 y = −1 under the README's first example) all reach the largest support value h* = h_k(u) in the
 direction u.  Their unbounded edges are parallel to u, and no sector of directions around u has
 only two leading sites, so :mod:`runtime.voronoi.verify.tail` cannot prove them; when the shapes
-are not mirror images, :mod:`runtime.voronoi.verify.mirror_tail` cannot either.  Here everything
-is exact (rational): u is an axis or Pythagorean direction, and for each site k its support
-point p_k(u) (lateral coordinate ℓ_k = p_k·u⊥) and support level, with rational bounds
+are not mirror images, :mod:`runtime.voronoi.verify.mirror_tail` cannot either; nor can it
+prove translates of one rotated ellipse on a grid, tied in the axis directions.  Here everything
+is exact: u is an axis or Pythagorean direction, and for each site k its support level
+h_k(u) = c_k·u + √S_k (c_k, S_k rational; two levels are compared exactly by :func:`same_level`),
+its support point p_k(u) with lateral coordinate ℓ_k = p_k·u⊥ enclosed in a rational interval
+(a point when √S_k is rational; below, every inequality takes the worst end), with rational bounds
 ρ_k⁻ ≤ ρ ≤ ρ_k⁺ on its radii of curvature (a circle: its radius; an ellipse: b²/a and a²/b; a
 point: 0).  Blaschke's rolling theorem (a convex body whose radii of curvature lie in
 [ρ⁻, ρ⁺] contains the disc of radius ρ⁻ and lies in the disc of radius ρ⁺ tangent to it at
@@ -39,13 +42,14 @@ Public API: :func:`support_data`, :func:`prove_tied_tail`.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
 
 from ...predicates.symmetry import site_centre, site_coefficients
 
-__all__ = ["support_data", "prove_tied_tail", "DIRECTIONS"]
+__all__ = ["Support", "support_data", "same_level", "prove_tied_tail", "DIRECTIONS"]
 
 #: exact unit directions tried for a tie: the axes and a few Pythagorean directions
 DIRECTIONS = sorted({(Fraction(sx * p, r), Fraction(sy * q, r))
@@ -54,27 +58,75 @@ DIRECTIONS = sorted({(Fraction(sx * p, r), Fraction(sy * q, r))
                      for sx in (1, -1) for sy in (1, -1)})
 
 
-def _sqrt_rational(q: Fraction):
-    if q < 0:
-        return None
+def _sqrt_bounds(q: Fraction, bits: int = 160) -> tuple[Fraction, Fraction]:
+    """Rationals lo ≤ √q ≤ hi (q ≥ 0), equal when q is the square of a rational, else
+    hi − lo = 1/(den(q)·2^bits) (integer square roots: √(n/d) = √(n·d)/d)."""
     n, d = q.numerator, q.denominator
     rn, rd = math.isqrt(n), math.isqrt(d)
-    return Fraction(rn, rd) if rn * rn == n and rd * rd == d else None
+    if rn * rn == n and rd * rd == d:
+        return Fraction(rn, rd), Fraction(rn, rd)
+    scale = 1 << bits
+    r = math.isqrt(n * d * scale * scale)
+    return Fraction(r, d * scale), Fraction(r + 1, d * scale)
+
+
+@dataclass(frozen=True)
+class Support:
+    """The exact support data of a point, circle or ellipse in a rational unit direction u:
+    h(u) = c·u + √S and p(u) = c + w/√S with c, w rational and S ≥ 0 rational (κ M⁻¹u and
+    S = uᵀκM⁻¹u for the ellipse (v − c)ᵀM(v − c) = κ; w = r²u, S = r² for a circle; w = 0, S = 0
+    for a point), and rational bounds ρ⁻ ≤ ρ ≤ ρ⁺ on the radii of curvature.  √S is irrational
+    for most rotated ellipses and circles of irrational radius: levels are compared exactly
+    (:func:`same_level`), lateral coordinates through rational enclosures (:meth:`lateral`)."""
+    cu: Fraction
+    S: Fraction
+    cen: tuple
+    w: tuple
+    rho_lo: Fraction
+    rho_hi: Fraction
+
+    def level(self) -> tuple[Fraction, Fraction]:
+        """Rational bounds on h(u)."""
+        lo, hi = _sqrt_bounds(self.S)
+        return self.cu + lo, self.cu + hi
+
+    def lateral(self, nvec) -> tuple[Fraction, Fraction]:
+        """Rational bounds on p(u)·n (equal when √S is rational)."""
+        cn = self.cen[0] * nvec[0] + self.cen[1] * nvec[1]
+        wn = self.w[0] * nvec[0] + self.w[1] * nvec[1]
+        if wn == 0:
+            return cn, cn
+        lo, hi = _sqrt_bounds(self.S)
+        a, b = wn / hi, wn / lo
+        return (cn + a, cn + b) if wn > 0 else (cn + b, cn + a)
+
+
+def same_level(a: Support, b: Support) -> bool:
+    """Is a.cu + √a.S = b.cu + √b.S, decided exactly?  With d = b.cu − a.cu the equation reads
+    √x − √y = d for (x, y) = (a.S, b.S) (or, d < 0, the same with the roles swapped); squaring
+    once, √y = (x − y − d²)/(2d) ≥ 0 and y = ((x − y − d²)/(2d))², both rational tests."""
+    d = b.cu - a.cu
+    x, y = a.S, b.S
+    if d == 0:
+        return x == y
+    if d < 0:
+        d, x, y = -d, y, x
+    t = (x - y - d * d) / (2 * d)
+    return t >= 0 and t * t == y
 
 
 def _up(x: float) -> Fraction:
     """A rational ≥ x (a relative margin far above the float's rounding)."""
-    return Fraction(x * (1 + 1e-9) + 1e-300)
+    return Fraction(x + abs(x) * 1e-9 + 1e-300)
 
 
 def _down(x: float) -> Fraction:
     return Fraction(max(x * (1 - 1e-9), 0.0))
 
 
-def support_data(site, u):
-    """(h, p, ρ⁻, ρ⁺) of a point, circle or ellipse in the exact unit direction u: the support
-    level h = max_{q ∈ K} q·u, the support point p, rational bounds on the radii of curvature;
-    None when they are not rational (an irrational radius or support point) or the kind differs."""
+def support_data(site, u) -> Support | None:
+    """The :class:`Support` of a point, circle or ellipse in the exact unit direction u; None
+    for other kinds or a degenerate conic."""
     co = site_coefficients(site)
     a, b, c, d, e, f = co
     ux, uy = u
@@ -85,10 +137,8 @@ def support_data(site, u):
         r2 = cen[0] ** 2 + cen[1] ** 2 - f / a if a != 0 else None
         if r2 is None or r2 < 0:
             return None
-        r = _sqrt_rational(r2)
-        if r is None:
-            return None
-        return (cen[0] * ux + cen[1] * uy + r, (cen[0] + r * ux, cen[1] + r * uy), r, r)
+        rlo, rhi = _sqrt_bounds(r2)
+        return Support(cen[0] * ux + cen[1] * uy, r2, cen, (r2 * ux, r2 * uy), rlo, rhi)
     if 4 * a * c - b * b <= 0:
         return None                                   # not an ellipse
     cen = site_centre(site)
@@ -103,13 +153,11 @@ def support_data(site, u):
     i11, i12, i22 = m22 / det, -m12 / det, m11 / det        # M⁻¹
     w = (kappa * (i11 * ux + i12 * uy), kappa * (i12 * ux + i22 * uy))   # κ M⁻¹ u
     S = w[0] * ux + w[1] * uy
-    rs = _sqrt_rational(S)
-    if rs is None or rs <= 0:
+    if S <= 0:
         return None
-    p = (cen[0] + w[0] / rs, cen[1] + w[1] / rs)
     lam = np.linalg.eigvalsh(np.array([[float(kappa * i11), float(kappa * i12)], [float(kappa * i12), float(kappa * i22)]]))
     amin, amax = math.sqrt(max(lam.min(), 0.0)), math.sqrt(lam.max())          # semi-axes
-    return (cen[0] * ux + cen[1] * uy + rs, p, _down(amin * amin / amax), _up(amax * amax / amin))
+    return Support(cen[0] * ux + cen[1] * uy, S, cen, w, _down(amin * amin / amax), _up(amax * amax / amin))
 
 
 def _F_bounds_hold(rho_far, dfar, rho_near, dnear, z0):
@@ -140,18 +188,22 @@ def prove_tied_tail(sites, geoms, sup, pair, link, direction):
     if float(u[0]) * d[0] + float(u[1]) * d[1] < math.cos(0.05):
         return False, "no exact direction for the tie", None
     nvec = (-u[1], u[0])
-    data = [support_data(s, u) for s in sites]
+    data = dict.fromkeys(range(len(sites)))          # exact support data, computed where needed
     i, j = pair
-    if data[i] is None or data[j] is None or data[i][0] != data[j][0]:
+    data[i], data[j] = support_data(sites[i], u), support_data(sites[j], u)
+    if data[i] is None or data[j] is None or not same_level(data[i], data[j]):
         return False, "its sites do not tie exactly in that direction", None
-    hstar = data[i][0]
-    lat = lambda p: p[0] * nvec[0] + p[1] * nvec[1]                      # noqa: E731
-    li, lj = lat(data[i][1]), lat(data[j][1])
-    if li == lj:
-        return False, "its sites touch the tie line at one point", None
-    if li > lj:
-        i, j, li, lj = j, i, lj, li
-    gap = lj - li
+    hstar_lo = data[i].level()[0]
+    hstar = float(hstar_lo)
+    # lateral coordinates of the support points: rational enclosures (exact when √S is rational);
+    # below, each inequality takes the end of an enclosure that makes it hardest to satisfy
+    (li0, li), (lj, lj1) = data[i].lateral(nvec), data[j].lateral(nvec)
+    if not li < lj:
+        (li0, li), (lj, lj1) = data[j].lateral(nvec), data[i].lateral(nvec)
+        if not li < lj:
+            return False, "its sites touch the tie line at one point or too close to order", None
+        i, j = j, i
+    gap = lj - li            # the smallest possible gap between the support points
     # the chain's last rectangle: lateral range inside the strip (sa, sb), caps on both sides of
     # the link; the strip is as narrow as that allows (the comparisons below take its worst points)
     P0, tv, nv, L, w, sx = link
@@ -165,8 +217,8 @@ def prove_tied_tail(sites, geoms, sup, pair, link, direction):
     if not (min(lats) > float(sa) + marg and max(lats) < float(sb) - marg):
         return False, "the chain's last rectangle is not inside the tie's strip", None
     X = P0 + sx * tv
-    zX = float(X @ uf) - float(hstar)
-    cap_z = [float((P0 + a_ * tv) @ uf) - float(hstar) for a_ in (0.0, L)]
+    zX = float(X @ uf) - hstar
+    cap_z = [float((P0 + a_ * tv) @ uf) - hstar for a_ in (0.0, L)]
     sw = w * abs(float(nv @ uf)) + marg                                   # the caps' tilt
     if not (min(cap_z) + sw < zX < max(cap_z) - sw):
         return False, "the chain's last rectangle does not straddle the link", None
@@ -180,32 +232,40 @@ def prove_tied_tail(sites, geoms, sup, pair, link, direction):
         rk = float(sup.rho[k]) * (1 + 1e-9) + 2 * float(sup.mu)
         off = max(abs(float(s_) - p_) for s_ in (sa, sb) for p_ in (cl - rk, cl + rk))
         return _up(off) / z0
-    if not (sa - li > data[i][3] * phi_max(i) and lj - sb > data[j][3] * phi_max(j)):
+    if not (sa - li > data[i].rho_hi * phi_max(i) and lj - sb > data[j].rho_hi * phi_max(j)):
         return False, "the edge's sites are not proved monotone across the strip", None
-    # (S): the sides of the strip
-    if not (_F_bounds_hold(data[j][3], lj - sa, data[i][2], sa - li, z0)
-            and _F_bounds_hold(data[i][3], sb - li, data[j][2], lj - sb, z0)):
+    # (S): the sides of the strip (far offsets at their smallest, near offsets at their largest)
+    if not (_F_bounds_hold(data[j].rho_hi, lj - sa, data[i].rho_lo, sa - li0, z0)
+            and _F_bounds_hold(data[i].rho_hi, sb - li, data[j].rho_lo, lj1 - sb, z0)):
         return False, "the bisector is not proved to stay in the strip", None
-    # (A): the other sites
-    far_i, far_j = sb - li, lj - sa                                       # largest offsets in Π
-    for k in range(len(sites)):
-        if k in (i, j):
-            continue
-        dk = data[k]
-        if dk is not None and dk[0] == hstar:
-            lk = lat(dk[1])
-            if lk < li:        # left of i: farther than i
-                ok = _F_bounds_hold(dk[3], sa - lk, data[i][2], far_i, z0) if sa - lk > far_i else False
-            elif lk > lj:
-                ok = _F_bounds_hold(dk[3], lk - sb, data[j][2], far_j, z0) if lk - sb > far_j else False
+    # (A): the other sites.  A site k whose float support level is proved below
+    # T = h* − D²/(2z₀) is farther than i or j everywhere in Π (d_k ≥ z + h* − h_k(u) while
+    # d_m ≤ z + D²/(2z)); the others are decided one by one, exactly when they tie.
+    far_i, far_j = sb - li0, lj1 - sa                                     # largest offsets in Π
+    D = max(far_i, far_j)
+    T = hstar_lo - D * D / (2 * z0)
+    t_down = float(T)
+    if Fraction(t_down) > T:
+        t_down = math.nextafter(t_down, -math.inf)
+    n = len(sites)
+    hv = np.asarray(sup.h(np.arange(n), np.full(n, math.atan2(float(u[1]), float(u[0])))), float) \
+        + float(np.asarray(sup.m) @ uf)
+    mu2 = 2 * float(sup.mu)
+    h_up = hv + (np.abs(hv) + mu2) * 1e-9 + mu2 + 1e-300        # ≥ h_k(u), float sums' rounding included
+    below = h_up < t_down
+    below[[i, j]] = True
+    for k in np.nonzero(~below)[0].tolist():
+        dk = support_data(sites[k], u)
+        if dk is not None and same_level(dk, data[i]):
+            lk0, lk1 = dk.lateral(nvec)
+            if lk1 < li0:        # left of i: farther than i
+                ok = _F_bounds_hold(dk.rho_hi, sa - lk1, data[i].rho_lo, far_i, z0) if sa - lk1 > far_i else False
+            elif lk0 > lj1:
+                ok = _F_bounds_hold(dk.rho_hi, lk0 - sb, data[j].rho_lo, far_j, z0) if lk0 - sb > far_j else False
             else:
                 ok = False     # a tied site between i and j: they are not consecutive
             if not ok:
                 return False, f"site {k}, tied with its sites at infinity, is not proved farther", None
             continue
-        hk = _up(float(sup.h(k, math.atan2(float(u[1]), float(u[0]))) + float(np.asarray(sup.m) @ uf)) + 2 * sup.mu)
-        g = hstar - hk
-        D = max(far_i, far_j)
-        if not (g > 0 and g > D * D / (2 * z0)):
-            return False, f"site {k} is not proved farther beyond the link", None
+        return False, f"site {k} is not proved farther beyond the link", None
     return True, None, ((u[0], u[1]), float((li + lj) / 2))

@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 from ...predicates.symmetry import mirror_line
-from .tied_tail import support_data
+from .tied_tail import same_level, support_data
 
 __all__ = ["tied_sectors"]
 
@@ -36,14 +36,14 @@ __all__ = ["tied_sectors"]
 def _parallel_mirror(sites, a, b, u):
     """Is the tie of sites a and b in the rational direction u proved: by a mirror line parallel
     to u mapping a onto b, or by exact support levels (:func:`runtime.voronoi.verify.tied_tail.
-    support_data`, when u is a unit vector and the support points are rational)?"""
+    support_data` and :func:`same_level`, when u is a unit vector)?"""
     ml = mirror_line(sites[a], sites[b])
     if ml is not None and ml[0][0] * u[0] + ml[0][1] * u[1] == 0:
         return True
     if u[0] * u[0] + u[1] * u[1] != 1:
         return False
     da, db = support_data(sites[a], u), support_data(sites[b], u)
-    return da is not None and db is not None and da[0] == db[0]
+    return da is not None and db is not None and same_level(da, db)
 
 
 def tied_sectors(sup, sites, mirror_ends, problems):
