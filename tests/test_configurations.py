@@ -28,7 +28,7 @@ from curvedvoronoi.runtime.solve.exact import msolve_available
 #: rotations (cos, sin) by Pythagorean triples, the axis-aligned ones included
 ROTATIONS = [(Fraction(1), Fraction(0)), (Fraction(0), Fraction(1)), (Fraction(3, 5), Fraction(4, 5)),
              (Fraction(-4, 5), Fraction(3, 5)), (Fraction(5, 13), Fraction(12, 13))]
-AXES = [Fraction(1), Fraction(2), Fraction(3, 2), Fraction(1, 3)]
+AXES = [Fraction(1), Fraction(2), Fraction(3, 2), Fraction(1, 3), Fraction(3), Fraction(4)]
 
 
 def _rank_one(p, q) -> bool:
@@ -81,6 +81,10 @@ def test_shared_shape_geometric_cases():
     assert shared_shape([Conic.parabola((0, 0), 1, r), Conic.parabola((4, 1), 3, (-r[0], -r[1])),
                          Conic.circle((0, 9), 1)])
     assert not shared_shape([Conic.parabola((0, 0), 1, r), Conic.parabola((4, 1), 1, (-r[1], r[0])),
+                             Conic.circle((0, 9), 1)])
+    # no x² term in either (a parabola along the x axis, a hyperbola rotated onto x² = 0): only the
+    # xy and y² coefficients decide, and 0·y² + y² is not 24xy + 7y²
+    assert not shared_shape([Conic.parabola((0, 0), 1, ROTATIONS[0]), Conic.hyperbola((5, 0), (3, 4), r),
                              Conic.circle((0, 9), 1)])
     # definite against indefinite quadratic part
     assert not shared_shape([Conic.ellipse((0, 0), (2, 1), r), Conic.hyperbola((5, 0), (2, 1), r),
