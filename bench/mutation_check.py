@@ -281,7 +281,8 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
      + _VERIFY_TESTS),
     ("runtime/voronoi/verify/", _VERIFY_TESTS),
     # the verifier run chunk by chunk on Dask workers (a LocalCluster of threads in the tests)
-    ("runtime/voronoi/chunked_certificate.py", ["tests/test_chunked_certificate_mutants.py"]),
+    ("runtime/voronoi/chunked_certificate.py", ["tests/test_chunked_certificate_mutants.py",
+                                                "tests/test_chunked_certificate_ties.py"]),
     # krawczyk / foot / interval_newton serve the diagram's vertex proofs too (runtime/voronoi/vertex.py)
     ("runtime/certify/krawczyk.py", _KERNEL_TESTS + _CERTIFY_TESTS + ["tests/test_voronoi_verify.py"]),
     ("runtime/certify/foot.py", _CERTIFY_TESTS + ["tests/test_voronoi_verify.py"]),
