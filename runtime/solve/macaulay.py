@@ -13,6 +13,9 @@ fallbacks :mod:`runtime.solve.generalised`.
 Public API: :func:`solve_nullspace`, :func:`monomials`, :func:`macaulay_matrix`,
 :func:`macaulay_blocks`, :func:`work_array`, :class:`SolveInfo`, :func:`add_timings`,
 :data:`TOP_DEGREES`.
+
+Length: one solver; the matrix blocks, the projected null space and the reading of the roots share
+the graded monomial indexing (:func:`monomials`) and the block pattern of the matrix.
 """
 from __future__ import annotations
 
@@ -326,9 +329,48 @@ def solve_nullspace(polys: list[dict], wdegs: list[int], d: int, top: int = TOP_
                     eigen: str = "dense") -> tuple[np.ndarray, SolveInfo]:
     """All finite solutions (complex, working coordinates, shape (N, 3)) of a square system in
     (x, y, R) by the Macaulay null-space / degree-gap method.  Raises LocatorError when no clear
-    degree gap is found."""
+    degree gap is found.
+
+    Steps: the null space of the Macaulay matrix (:func:`_macaulay_nullspace`), its first degree
+    gap (:func:`_find_gap`: the number N of finite solutions), the multiplication maps on a stable
+    monomial basis (:func:`_multiplication_maps`), the eigenvectors of a random combination, and
+    the solutions read off them (:func:`_roots_from_eigenvectors`)."""
     tm = {"fill": 0.0, "nullspace": 0.0}
     E, degs, cube = monomials(d)
+    Z, dl, how, shape = _macaulay_nullspace(polys, wdegs, d, top, degs, tm)
+    t2 = time.perf_counter()
+    if Z.shape[1] == 0:
+        tm["eigen"] = 0.0
+        return np.zeros((0, 3), dtype=complex), SolveInfo(d, 0, -1, {}, math.inf, shape, how, timings=tm)
+    kmax = int(dl.max())
+    gap, nfin, gap_ratio, profile = _find_gap(Z, dl, kmax, gap_hint if gap_hint is not None else d - 4,
+                                              kmin=max(wdegs) - 1)
+    if gap is None:
+        raise LocatorError(f"Macaulay solver: no clear degree gap up to degree {kmax} (rank profile {profile}, "
+                           f"{how} null space); the configuration may be too degenerate for the numeric route")
+    nfin = profile[gap]
+    W, rows1, Mx, My = _multiplication_maps(Z, dl, gap, nfin, E, cube)
+    rng = np.random.default_rng(seed)
+    a, b = rng.standard_normal(2)
+    Mg = a * Mx + b * My
+    t3 = time.perf_counter()
+    tm["nullspace"] += t3 - t2
+    if eigen != "dense":
+        # ARPACK (scipy.sparse.linalg.eigs) returns at most N − 2 of the N eigenpairs and was slower
+        # than LAPACK for N − 2 (bench/results/locator.md): every solution is needed, so dense only.
+        raise ValueError(f"eigen={eigen!r}: only 'dense' is supported (see bench/bench_locator.py)")
+    _, V = sla.eig(Mg, overwrite_a=True, check_finite=False)
+    roots = _roots_from_eigenvectors(W, V, dl[rows1], gap, E, cube, tm, t3)
+    info = SolveInfo(d, nfin, gap, profile, gap_ratio, shape, how, timings=tm)
+    return roots, info
+
+
+def _macaulay_nullspace(polys, wdegs, d: int, top: int, degs, tm: dict):
+    """(Z, degrees of its rows, "projected" or "full", shape of M): an orthonormal basis Z of the
+    null space of the Macaulay matrix M of degree d, projected on the columns of degree ≤ d − top
+    when ``top`` > 0 and the projected rank decisions are clear (:func:`_projected_nullspace`),
+    else of all of M (:func:`_full_nullspace`).  Its rows are indexed by monomials: the dual space
+    of the quotient ring, truncated (Dreesen, Batselier and De Moor 2012; thesis §5.5)."""
     Z = None
     t0 = time.perf_counter()
     if top > 0:
@@ -345,20 +387,17 @@ def solve_nullspace(polys: list[dict], wdegs: list[int], d: int, top: int = TOP_
         t1 = time.perf_counter()
         tm["fill"] += t1 - t0
         Z, dl, how = _full_nullspace(M), degs, "full"
-        t0 = time.perf_counter()
-        tm["nullspace"] += t0 - t1
-    t2 = t0
-    if Z.shape[1] == 0:
-        tm["eigen"] = 0.0
-        return np.zeros((0, 3), dtype=complex), SolveInfo(d, 0, -1, {}, math.inf, shape, how, timings=tm)
-    kmax = int(dl.max())
-    gap, nfin, gap_ratio, profile = _find_gap(Z, dl, kmax, gap_hint if gap_hint is not None else d - 4,
-                                              kmin=max(wdegs) - 1)
-    if gap is None:
-        raise LocatorError(f"Macaulay solver: no clear degree gap up to degree {kmax} (rank profile {profile}, "
-                           f"{how} null space); the configuration may be too degenerate for the numeric route")
-    nfin = profile[gap]
-    # --- column compression on rows of degree ≤ gap + 1
+        tm["nullspace"] += time.perf_counter() - t1
+    return Z, dl, how, shape
+
+
+def _multiplication_maps(Z, dl, gap: int, nfin: int, E, cube):
+    """(W, rows of degree ≤ gap + 1, Mx, My): the null space compressed to its N = ``nfin`` columns
+    that live at the finite solutions (SVD of the rows of degree ≤ gap + 1, the degree gap
+    separating them from those at infinity), a numerically stable monomial basis B (pivoted QR on
+    the rows of degree ≤ gap), and the multiplication maps by x and by y on it, W[x·B] = W[B]·Mx
+    (Telen, Mourrain and Van Barel, truncated normal forms): their eigenvalues are the x and y of
+    the N solutions."""
     rows1 = np.nonzero(dl <= gap + 1)[0]
     if Z.shape[1] == nfin:
         # no solutions at infinity in the null space: the compression would only change the basis
@@ -367,31 +406,27 @@ def solve_nullspace(polys: list[dict], wdegs: list[int], d: int, top: int = TOP_
     else:
         _, _, Vt = np.linalg.svd(Z[rows1], full_matrices=False)
         W = Z[rows1] @ Vt[:nfin].T      # (n_rows1, nfin); rows indexed like the first monomials
-    # --- stable basis: pivoted QR on the rows of degree ≤ gap (only the pivots are used)
+    # stable basis: pivoted QR on the rows of degree ≤ gap (only the pivots are used)
     rows0 = np.nonzero(dl <= gap)[0]
     piv = _pivoted_qr(W[rows0].T)[2]
     B = rows0[piv[:nfin]]
     EB = E[B]
     xB = cube[EB[:, 0] + 1, EB[:, 1], EB[:, 2]]
     yB = cube[EB[:, 0], EB[:, 1] + 1, EB[:, 2]]
-    WB = W[B]
-    lu = sla.lu_factor(WB, check_finite=False)
+    lu = sla.lu_factor(W[B], check_finite=False)
     Mx = sla.lu_solve(lu, W[xB], check_finite=False)
     My = sla.lu_solve(lu, W[yB], check_finite=False)
-    rng = np.random.default_rng(seed)
-    a, b = rng.standard_normal(2)
-    Mg = a * Mx + b * My
-    t3 = time.perf_counter()
-    tm["nullspace"] += t3 - t2
-    if eigen != "dense":
-        # ARPACK (scipy.sparse.linalg.eigs) returns at most N − 2 of the N eigenpairs and was slower
-        # than LAPACK for N − 2 (bench/results/locator.md): every solution is needed, so dense only.
-        raise ValueError(f"eigen={eigen!r}: only 'dense' is supported (see bench/bench_locator.py)")
-    _, V = sla.eig(Mg, overwrite_a=True, check_finite=False)
-    # --- read (x, y, R): normalising monomial m of degree ≤ gap − 1 with the largest |value|;
-    # monomial evaluations W·v per root (W is real: two real products instead of one complex one),
-    # for the candidate normalising monomials, then only the three shifted entries per root
-    cand = np.nonzero(dl[rows1] <= gap - 1)[0]
+    return W, rows1, Mx, My
+
+
+def _roots_from_eigenvectors(W, V, dl1, gap: int, E, cube, tm: dict, t3: float):
+    """The solutions (x, y, R) read off the eigenvectors V (columns) of a combination of the
+    multiplication maps: W·v evaluates every monomial of degree ≤ gap + 1 at one solution (up to
+    scale; ``dl1`` their degrees), so with the normalising monomial m of degree ≤ gap − 1 of largest
+    |value|, (x, y, R) = (x·m, y·m, R·m) / m.  W is real: two real products instead of one complex
+    one, for the candidate normalising monomials, then only the three shifted entries per root.
+    Adds the seconds since ``t3`` to ``tm["eigen"]``."""
+    cand = np.nonzero(dl1 <= gap - 1)[0]
     Wc = W[cand]
     Kc = Wc @ V.real + 1j * (Wc @ V.imag)
     t4 = time.perf_counter()
@@ -401,7 +436,6 @@ def solve_nullspace(polys: list[dict], wdegs: list[int], d: int, top: int = TOP_
     idx_m = np.argmax(np.abs(Kc), axis=0)
     m = Ec[idx_m]
     km = Kc[idx_m, cols]
-
     # the shifted monomials x·m, y·m, R·m: few distinct rows (the normalising monomials repeat)
     sh = np.stack([cube[m[:, 0] + 1, m[:, 1], m[:, 2]], cube[m[:, 0], m[:, 1] + 1, m[:, 2]],
                    cube[m[:, 0], m[:, 1], m[:, 2] + 1]])
@@ -411,5 +445,4 @@ def solve_nullspace(polys: list[dict], wdegs: list[int], d: int, top: int = TOP_
     kx, ky, kR = (Kn[where.reshape(sh.shape)[t], cols] for t in range(3))
     roots = np.stack([kx / km, ky / km, kR / km], axis=1)
     tm["eigen"] += time.perf_counter() - t4
-    info = SolveInfo(d, nfin, gap, profile, gap_ratio, shape, how, timings=tm)
-    return roots, info
+    return roots
