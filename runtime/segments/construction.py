@@ -53,6 +53,7 @@ from .sampling import flat, initial_spacing, nearest_point, retriangulation, sam
 from .walk_checks import far_ends, long_side
 from .newton import prove_vertices
 from .near_degenerate import splice_clusters
+from .parallel_rays import parallel_ray_triangles
 from .vertices import common_point
 
 __all__ = ["segment_voronoi", "has_segments"]
@@ -241,6 +242,7 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
     T3 = np.sort(tri.L[threes], axis=1)
     seeds = tri.cc[threes]
     skip = (T3 == ghost).any(axis=1) | ~np.isfinite(seeds).all(axis=1)
+    skip |= parallel_ray_triangles(E, T3, seeds)       # far ends of the perpendiculars at a segment's ends
     fin_spacing = np.where(np.isfinite(spacing), spacing, 0.0)
     reaches = 2 * fin_spacing[np.minimum(T3, len(E) - 1)].max(axis=1)
     tree = cKDTree(P)
