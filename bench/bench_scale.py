@@ -18,6 +18,9 @@ Run:  python bench/bench_scale.py [--sizes 10000,100000] [--modes single,tiled,c
 (tests/cgal/cgal_peer.py) in the row's process and reports whether the Delaunay graph equals it;
 ``--max-rss-gb G`` caps each row's address space (RLIMIT_AS) at G GB; ``--append`` adds a dated
 section to the results file instead of replacing it; ``--no-certify`` times the construction only.
+Memory: each row also reports its RSS once the input is built (sites, and CGAL's graph with
+``--cgal``) and the peak RSS of the construction from there (Linux: VmHWM reset by
+``/proc/self/clear_refs``), i.e. the peak above the footprint with the input, per site.
 One BLAS thread (OPENBLAS_NUM_THREADS=1 and threadpoolctl inside the calls); workers have one thread
 each.  Other processes on the machine make figures noisy: the
 load average is recorded before and after.
@@ -49,6 +52,25 @@ def _rss_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
+def _status_mb(field: str) -> float:
+    """VmRSS / VmHWM of this process (Linux), MB."""
+    with open("/proc/self/status") as fh:
+        for line in fh:
+            if line.startswith(field + ":"):
+                return int(line.split()[1]) / 1024.0
+    return float("nan")
+
+
+def _reset_peak() -> bool:
+    """Reset this process's peak RSS (VmHWM) to its current RSS (Linux: clear_refs 5)."""
+    try:
+        with open("/proc/self/clear_refs", "w") as fh:
+            fh.write("5")
+        return True
+    except OSError:
+        return False
+
+
 def scene(name: str, n: int):
     import scenes
 
@@ -77,6 +99,9 @@ def one(mode: str, n: int, scene_name: str = "random", cgal: bool = False, certi
                                dashboard_address=None, env={"OPENBLAS_NUM_THREADS": "1"})
         client = Client(cluster)
         out["startup"] = time.perf_counter() - t
+    # the footprint with the input: the sites (and CGAL's graph) are built; the peak is measured from here
+    out["peak_reset"] = _reset_peak()
+    out["rss_input"] = _status_mb("VmRSS")
     t = time.perf_counter()
     if mode == "single":
         d = cv.voronoi(sites, certify=certify, progress=False)
@@ -98,6 +123,7 @@ def one(mode: str, n: int, scene_name: str = "random", cgal: bool = False, certi
         out["equals_cgal"] = got == expected
         out["missing_vs_cgal"] = len(set(map(tuple, expected)) - set(map(tuple, got)))
     out["rss_driver"] = _rss_mb()
+    out["rss_peak"] = _status_mb("VmHWM")         # since the reset: the construction's own peak
     if client is not None:
         out["rss_worker"] = max(client.run(_rss_mb).values())
         client.close()
@@ -190,6 +216,17 @@ def main() -> None:
                          f"| {r['n']} | {r['mode']} | {r.get('sites', '-')} | {r.get('rounds', '-')} | - | ")
             lines[-1] += (f"{'-' if eq is None else ('yes' if eq else 'NO')} | {r.get('missing_vs_cgal', '-')} | "
                           f"{r.get('started', '-')} | {r.get('load', 0):.2f} |")
+    mem = [r for r in rows if "rss_peak" in r and r.get("peak_reset")]
+    if mem:
+        lines += ["", "Memory: RSS with the input built (sites, CGAL's graph), the peak RSS of the construction "
+                  "(VmHWM reset before it; certified rows include the verifier), and the peak above the input "
+                  "per site.", "",
+                  "| n | mode | certify | input RSS MB | peak RSS MB | above input MB | kB per site |",
+                  "|---:|---|---|---:|---:|---:|---:|"]
+        for r in mem:
+            above = r["rss_peak"] - r["rss_input"]
+            lines.append(f"| {r['n']} | {r['mode']} | {'no' if a.no_certify else 'yes'} | {r['rss_input']:.0f} | "
+                         f"{r['rss_peak']:.0f} | {above:.0f} | {above * 1024 / r['sites']:.1f} |")
     if a.append:
         with open(a.out, "a") as fh:
             fh.write("\n" + "\n".join(lines) + "\n")

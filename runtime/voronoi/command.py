@@ -145,13 +145,18 @@ def run_construction(build, *, bad_input_prefix: str = "", what: str = "the cons
         return None, EXIT_NOT_CERTIFIED
 
 
-def print_summary(d, doc: dict, args) -> None:
-    """Unless ``--quiet``: the diagram document on stdout (when not written to ``--json``) and one
-    summary line on stderr."""
+def print_summary(d, doc: dict | None, args) -> None:
+    """Unless ``--quiet``: the diagram document on stdout (when not written to ``--json``; None:
+    :meth:`runtime.voronoi.structure.Diagram.write_json`'s, streamed) and one summary line on
+    stderr."""
     if args.quiet:
         return
     if not args.json_out:
-        print(json.dumps(doc, indent=1))
+        if doc is None:
+            d.write_json(sys.stdout)
+            print()
+        else:
+            print(json.dumps(doc, indent=1))
     print(f"{len(d.sites)} sites, {len(d.vertices)} vertices, {len(d.edges)} edges, "
           f"{len(d.delaunay_edges())} Delaunay edges, certified={d.certified}"
           + (f"; {len(d.problems)} problems, first: {d.problems[0]}" if d.problems else ""), file=sys.stderr)
@@ -165,9 +170,16 @@ def crs_option(text):
 
 def write_text(path, text, what) -> None:
     """Write an output file; an OSError becomes one line naming the output (``what``) and the path."""
+    write_stream(path, lambda fh: fh.write(text), what)
+
+
+def write_stream(path, write, what) -> None:
+    """Open the output file ``path`` and call ``write(file)`` (a streaming writer: the document is
+    written piece by piece, never held whole); an OSError becomes one line naming the output
+    (``what``) and the path."""
     try:
         with open(path, "w") as fh:
-            fh.write(text)
+            write(fh)
     except OSError as exc:
         raise OSError(f"cannot write the {what} {path}: {exc.strerror}") from None
 
@@ -275,6 +287,7 @@ def diagram_main(argv=None) -> int:
         print(f"error: {args.sites}: the Voronoi diagram needs at least 2 sites, got {len(sites)}", file=sys.stderr)
         return EXIT_BAD_INPUT
 
+    from .geojson import write_geojson
     from .structure import Diagram
 
     # Ctrl-C: record it, then let the construction stop (it returns its last finished round)
@@ -304,11 +317,10 @@ def diagram_main(argv=None) -> int:
             d.certified = False
         # the outputs: written even when not certified (and after Ctrl-C, marked)
         try:
-            doc = d.to_json()
             if args.json_out:
-                write_text(args.json_out, json.dumps(doc, indent=1), "diagram JSON")
+                write_stream(args.json_out, d.write_json, "diagram JSON")
             if args.geojson:
-                write_text(args.geojson, json.dumps(d.to_geojson(crs=crs)), "GeoJSON")
+                write_stream(args.geojson, lambda fh: write_geojson(d, fh, crs), "GeoJSON")
             if args.png:
                 draw_picture(d, args.png, empty_circles=args.empty_circles, window=args.window)
             if args.out:
@@ -323,5 +335,5 @@ def diagram_main(argv=None) -> int:
     finally:
         if previous is not None:
             signal.signal(signal.SIGINT, previous)
-    print_summary(d, doc, args)
+    print_summary(d, None, args)
     return _exit_status(d, not args.no_certify, state["interrupted"])

@@ -59,7 +59,7 @@ from .edge_polylines import edge_polylines
 from .frame import local_frame
 from .insertion import insert_site
 from .near_degenerate import near_degenerate_clusters
-from .sampling import Samples, hull_neighbours, initial_spacing
+from .sampling import Samples, hull_neighbours, initial_spacing, release_free_memory
 from .site_arrays import SiteArrays
 from .site_input import SiteError, as_site, check_disjoint, sites_equal
 from .structure import Diagram, DiagramVertex
@@ -82,6 +82,7 @@ class ConstructionState:
 MAX_ROUNDS = 8
 #: rebuilds driven by the verifier's problems (sites it names are sampled 4x finer)
 VERIFY_ROUNDS = 3
+
 
 
 @one_blas_thread
@@ -174,7 +175,9 @@ def build_diagram(S: SiteArrays, samples: Samples, cache: dict, notes, stats, ti
             t0 = time.perf_counter()
             if result.get("timed_out"):          # past the limit: the vertices only, marked partial
                 break
+            release_free_memory()
             D.edges = edge_polylines(S, result["tri"], D.vertices, result["edges_raw"])
+            release_free_memory()
             timing["edges"] = timing.get("edges", 0) + time.perf_counter() - t0
             if not certify or verify is None or result.get("timed_out") or D.problems:
                 break
@@ -251,11 +254,14 @@ def _build_once(S: SiteArrays, samples: Samples, stats, timing, deadline, cache)
     """One pass: (updated) sample triangulation, walks, vertices, consistency checks.  Returns
     ({"diagram": D (vertices only), "tri", "edges_raw"}, sites to refine)."""
     t0 = time.perf_counter()
+    release_free_memory()
     tri = samples.triangulation(stats)
+    release_free_memory()
     stats["samples"] = int(len(tri.P))
     timing["sample+delaunay"] = timing.get("sample+delaunay", 0) + time.perf_counter() - t0
     t1 = time.perf_counter()
     raw = tri.walks()
+    release_free_memory()
     timing["walks"] = timing.get("walks", 0) + time.perf_counter() - t1
     t2 = time.perf_counter()
     threes = np.nonzero(tri.nlab == 3)[0]

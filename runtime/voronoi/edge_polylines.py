@@ -6,6 +6,13 @@ The circumcentres along a walk of the sample triangulation are projected onto th
 midpoint from its projection onto the bisector): a *measured* figure, not a proof; the proof that
 every arc is a true edge is the independent verifier's (:func:`runtime.voronoi.verify.certificate.verify`).
 
+The edges are computed in groups of :data:`GROUP`, so that the temporaries (projections,
+densification, the bisectors and their Hausdorff bounds) take memory in proportion to a group's
+points rather than to all the polylines at once.
+
+Length: the steps of one polyline (projection, trimming at the vertices, loops around point
+sites, densification, tolerance) work on the same per-group arrays and are kept together.
+
 Public API: :func:`edge_polylines`, :func:`project_to_bisector`, :func:`bisector_offset`.
 """
 from __future__ import annotations
@@ -114,31 +121,68 @@ def edge_polylines(S: SiteArrays, tri: SampleTriangulation, vertices, edges_raw)
     key = np.column_stack([table[rows[first]], table[rows[first + 1]], table[rows[first + lens - 2]],
                            table[rows[first + lens - 1]], lens.astype(float)])
     keys = [k.tobytes() for k in key]
+    del key
     prior = getattr(tri, "prior_edge_memo", None) or {}
     known = [prior.get(k) for k in keys]
     todo = np.array([e for e in range(E) if known[e] is None], dtype=np.int64)
-    polys, tol = _fresh_polylines(S, vertices, edges_raw, rows, lens, table, nT, nV, todo)
+    # the edges in groups of GROUP: the temporaries (projections, densification, the bisectors and
+    # their Hausdorff bounds) take memory in proportion to a group's points, not to all of them
+    ctx = _Context(S, vertices, VX, nT, nV)
+    polys, tol = {}, np.zeros(E)
+    for g in range(0, len(todo), GROUP):
+        part = todo[g:g + GROUP]
+        p, t = _fresh_polylines(ctx, [edges_raw[e] for e in part.tolist()], _rows_of(rows, first, lens, part),
+                                lens[part], table)
+        polys.update(zip(part.tolist(), p))
+        tol[part] = t
+    del rows, table
     edges = []
     for e, (pair, start, chain, end, ends) in enumerate(edges_raw):
-        poly, tl = known[e] if known[e] is not None else (polys[e], tol[e])
+        if known[e] is not None:         # the previous round's polyline: not shared with its edge
+            poly, tl = known[e][0].copy(), known[e][1]
+        else:
+            poly, tl = polys.pop(e), tol[e]
         closed = end is None and start is None
-        edges.append(DiagramEdge(e, pair, (ends[0], ends[1]), closed, poly.copy(), float(tl), False))
+        edges.append(DiagramEdge(e, pair, (ends[0], ends[1]), closed, poly, float(tl), False))
     tri.edge_memo = {k: (ed.polyline, ed.tolerance) for k, ed in zip(keys, edges)}
     return edges
 
 
-def _fresh_polylines(S: SiteArrays, vertices, edges_raw, rows, lens, table, nT, nV, todo):
-    """The polylines and tolerances of the edges ``todo`` (a dict / array indexed by edge)."""
-    E = len(edges_raw)
-    polys, tol = {}, np.zeros(E)
-    if not len(todo):
-        return polys, tol
-    own_all = np.repeat(np.arange(E), lens)
-    sel = np.isin(own_all, todo)
-    rows = rows[sel]
-    own = np.searchsorted(todo, own_all[sel])
-    lens = lens[todo]
-    sub = [edges_raw[e] for e in todo.tolist()]
+#: edges whose polylines are computed together (bounds the temporaries of :func:`_fresh_polylines`)
+GROUP = 4096
+
+
+class _Context:
+    """What every group of edges shares: the sites, the vertices' sites and points, and (circles
+    and points) the verifier's table of circles for the tolerances."""
+
+    def __init__(self, S, vertices, VX, nT, nV):
+        self.S, self.VX, self.nT, self.nV = S, VX, nT, nV
+        width = max((len(v.sites) for v in vertices), default=3)
+        self.VT = np.full((len(vertices), width), -1, dtype=np.int64)
+        for t, v in enumerate(vertices):
+            self.VT[t, :len(v.sites)] = v.sites
+        self.circles = None
+        if S.all_circles:
+            from .verify.edges import CircleTable
+            self.circles = CircleTable(S.geoms)
+
+
+def _rows_of(rows, first, lens, part):
+    """The rows of the edges ``part`` (in that order) of the flat table ``rows`` (edge e:
+    rows[first[e]:first[e] + lens[e]])."""
+    ln = lens[part]
+    start = np.cumsum(ln) - ln
+    return rows[np.repeat(first[part] - start, ln) + np.arange(int(ln.sum()))]
+
+
+def _fresh_polylines(ctx, sub, rows, lens, table):
+    """The polylines and tolerances of the edges ``sub`` (raw edges, whose rows of ``table`` are
+    ``rows``, ``lens[m]`` for edge m, in order): a list of arrays and an array."""
+    S, nT, nV = ctx.S, ctx.nT, ctx.nV
+    if not len(sub):
+        return [], np.zeros(0)
+    own = np.repeat(np.arange(len(sub)), lens)
     P = table[rows]
     PI = np.array([er[0][0] for er in sub], dtype=np.int64)
     PJ = np.array([er[0][1] for er in sub], dtype=np.int64)
@@ -155,8 +199,10 @@ def _fresh_polylines(S: SiteArrays, vertices, edges_raw, rows, lens, table, nT, 
         on[free] = res <= UNPROJECTED_REL * dist + 1e-12 * S.scale
         pos = np.arange(len(P)) - (np.cumsum(lens) - lens)[own]
         on |= (pos == 0) | (pos == lens[own] - 1)          # the ends (vertices, far hull points) stay
-    keep = _untrimmed(Pp, own, lens, _leaving_directions(S, vertices, PI, PJ, ENDS)) & on
+    keep = _untrimmed(Pp, own, lens, _leaving_directions(S, ctx.VT, ctx.VX, PI, PJ, ENDS)) & on
+    del P
     Q, own = Pp[keep], own[keep]
+    del Pp
     Q, own = _point_loops(S, Q, own, sub, PI, PJ)
     # measured tolerance on the final polylines: residual at the points, offset of chord midpoints
     if S.all_circles:
@@ -167,36 +213,36 @@ def _fresh_polylines(S: SiteArrays, vertices, edges_raw, rows, lens, table, nT, 
     same = own[1:] == own[:-1]
     di, _ = S.dist_grad(Q, pi)
     dj, _ = S.dist_grad(Q, pj)
-    ts = np.zeros(len(todo))
-    np.maximum.at(ts, own, np.abs(di - dj) / 2)
+    tol = np.zeros(len(sub))
+    np.maximum.at(tol, own, np.abs(di - dj) / 2)
     mids = ((Q[1:] + Q[:-1]) / 2)[same]
     if len(mids):
-        np.maximum.at(ts, own[1:][same], bisector_offset(S, mids, pi[1:][same], pj[1:][same])[0])
-    cuts = np.searchsorted(own, np.arange(len(todo) + 1))
-    for m, e in enumerate(todo.tolist()):
+        np.maximum.at(tol, own[1:][same], bisector_offset(S, mids, pi[1:][same], pj[1:][same])[0])
+    cuts = np.searchsorted(own, np.arange(len(sub) + 1))
+    polys = []
+    for m, (_, start, _, end, _) in enumerate(sub):
         poly = Q[cuts[m]:cuts[m + 1]].copy()
-        _, start, _, end, _ = edges_raw[e]
         if end is None and start is None:       # closed
             poly[-1] = poly[0]
-        polys[e] = poly
-        tol[e] = ts[m]
+        polys.append(poly)
     if S.all_circles:
-        _circle_tolerances(S, edges_raw, todo, polys, tol)
+        _circle_tolerances(ctx.circles, sub, polys, tol)
     return polys, tol
 
 
-def _circle_tolerances(S: SiteArrays, edges_raw, todo, polys, tol):
+def _circle_tolerances(circles, sub, polys, tol):
     """Circles and points: the stated tolerance is the bound on the Hausdorff distance between the
     polyline and the arc that the verifier proves (:func:`runtime.voronoi.verify.polyline_bound.
     hausdorff_bounds`, the one implementation of that bound; the chord-midpoint measure misses the
     bulge of a long, asymmetric piece of hyperbola), at least twice the measured deviation plus a
-    rounding allowance of the coordinates."""
-    from .verify.edges import CircleTable, bisector
+    rounding allowance of the coordinates.  ``circles``: the verifier's
+    :class:`runtime.voronoi.verify.edges.CircleTable` of the sites; ``sub``, ``polys``, ``tol``:
+    the raw edges, their polylines (replaced when reordered) and tolerances (updated), aligned."""
+    from .verify.edges import bisector
     from .verify.polyline_bound import hausdorff_bounds
 
-    table = CircleTable(S.geoms)
-    es = [e for e in todo.tolist() if e in polys]
-    biss = [bisector(table, *edges_raw[e][0]) for e in es]
+    es = list(range(len(sub)))
+    biss = [bisector(circles, *sub[e][0]) for e in es]
     good = [t for t, b in enumerate(biss) if not isinstance(b, str)]
     _along_the_branch([biss[t] for t in good], [es[t] for t in good], polys)
     hb = hausdorff_bounds([biss[t] for t in good], [polys[es[t]] for t in good])
@@ -307,18 +353,13 @@ def _densify(S: SiteArrays, Q, own, PI, PJ, rel=DENSIFY_REL, passes=6):
     return Q, own
 
 
-def _leaving_directions(S: SiteArrays, vertices, PI, PJ, ENDS):
+def _leaving_directions(S: SiteArrays, VT, VX, PI, PJ, ENDS):
     """For each vertex end of an edge (i, j), the unit tangent of the bisector at the vertex pointing
     into the edge: the side where another site k of the vertex is farther than i and j.  Returns
     (E, 2, 2) (NaN where an end is not a vertex of a triple holding i and j)."""
     out = np.full((len(PI), 2, 2), np.nan)
-    if not len(vertices):
+    if not len(VT):
         return out
-    width = max(len(v.sites) for v in vertices)
-    VT = np.full((len(vertices), width), -1, dtype=np.int64)
-    for t, v in enumerate(vertices):
-        VT[t, :len(v.sites)] = v.sites
-    VX = np.array([[v.x, v.y] for v in vertices], dtype=float).reshape(-1, 2)
     e, side = np.nonzero(ENDS >= 0)
     v = ENDS[e, side]
     tr = VT[v]

@@ -21,18 +21,26 @@ Points (point sites) or LineStrings / MultiLineStrings sampled along the curve
 an unbounded conic is cut to a window around the sites, the two branches of a hyperbola are two
 lines), with their ``label`` and ``shape``.
 
-Public API: :func:`diagram_geojson`, :func:`feature_collection`, :func:`crs_member`, :data:`PLANAR_CRS_WKT`.
+Writing (:func:`write_geojson`, and :meth:`runtime.voronoi.structure.Diagram.write_json` through
+:func:`write_json_object`) streams the document: one feature (or record) is built, encoded and
+written at a time, so a large diagram's document is never held in memory as Python lists; the
+text is the same as ``json.dump`` of the whole document.
+
+Public API: :func:`diagram_geojson`, :func:`write_geojson`, :func:`feature_collection`,
+:func:`crs_member`, :func:`write_json_object`, :class:`Records`, :data:`PLANAR_CRS_WKT`.
 """
 from __future__ import annotations
 
-from typing import Any
+import json
+from typing import Any, Callable, Iterable
 
 import numpy as np
 
 from .cells import site_outlines
 from .queries import site_index
 
-__all__ = ["diagram_geojson", "feature_collection", "crs_member", "PLANAR_CRS_WKT"]
+__all__ = ["diagram_geojson", "write_geojson", "feature_collection", "crs_member", "write_json_object", "Records",
+           "PLANAR_CRS_WKT"]
 
 #: a local Cartesian plane (x east, y north), unit-less: the CRS written when the user gives none
 PLANAR_CRS_WKT = ('ENGCRS["curvedvoronoi planar coordinates",EDATUM["unknown"],CS[Cartesian,2],'
@@ -81,27 +89,77 @@ def diagram_geojson(diagram, crs: Any = None, *, sites: bool = True) -> dict:
     No property is called ``id``: GDAL takes an integer ``id`` property for the feature id, and
     the numbers of edges, vertices and sites repeat across kinds.
     """
-    feats = []
+    return feature_collection(list(_features(diagram, sites)), crs)
+
+
+def write_geojson(diagram, file, crs: Any = None, *, sites: bool = True) -> None:
+    """Write :func:`diagram_geojson`'s collection to ``file`` (a text file object) with the text of
+    ``json.dump(diagram_geojson(diagram, crs, sites=sites), file)``, one feature at a time."""
+    member = crs_member(crs)
+    members: list = [("type", "FeatureCollection")] + ([("crs", member)] if member is not None else [])
+    write_json_object(file, members + [("features", Records(lambda: _features(diagram, sites)))], None)
+
+
+def _features(diagram, sites: bool):
+    """The features of :func:`diagram_geojson`, one at a time."""
     for e in diagram.edges:
-        feats.append({"type": "Feature", "id": f"edge-{e.id}",
-                      "geometry": {"type": "LineString", "coordinates": np.asarray(e.polyline, float).tolist()},
-                      "properties": {"kind": "edge", "number": e.id, "sites": [int(t) for t in e.sites],
-                                     "ends": [None if t is None else int(t) for t in e.ends],
-                                     "closed": bool(e.closed), "tolerance": float(e.tolerance),
-                                     "certified": bool(e.certified)}})
+        yield {"type": "Feature", "id": f"edge-{e.id}",
+               "geometry": {"type": "LineString", "coordinates": np.asarray(e.polyline, float).tolist()},
+               "properties": {"kind": "edge", "number": e.id, "sites": [int(t) for t in e.sites],
+                              "ends": [None if t is None else int(t) for t in e.ends],
+                              "closed": bool(e.closed), "tolerance": float(e.tolerance),
+                              "certified": bool(e.certified)}}
     for v in diagram.vertices:
-        feats.append({"type": "Feature", "id": f"vertex-{v.id}",
-                      "geometry": {"type": "Point", "coordinates": [float(v.x), float(v.y)]},
-                      "properties": {"kind": "vertex", "number": v.id, "sites": [int(t) for t in v.sites],
-                                     "radius": float(v.radius), "certified": bool(v.certified)}})
+        yield {"type": "Feature", "id": f"vertex-{v.id}",
+               "geometry": {"type": "Point", "coordinates": [float(v.x), float(v.y)]},
+               "properties": {"kind": "vertex", "number": v.id, "sites": [int(t) for t in v.sites],
+                              "radius": float(v.radius), "certified": bool(v.certified)}}
     if sites and diagram.sites:
         geoms = site_index(diagram).geoms
         for i, (s, parts) in enumerate(zip(diagram.sites, site_outlines(diagram))):
             label = getattr(s, "label", None)
-            feats.append({"type": "Feature", "id": f"site-{i}", "geometry": _site_geometry(parts),
-                          "properties": {"kind": "site", "number": i, "shape": geoms[i].kind,
-                                         "label": None if label is None else str(label)}})
-    return feature_collection(feats, crs)
+            yield {"type": "Feature", "id": f"site-{i}", "geometry": _site_geometry(parts),
+                   "properties": {"kind": "site", "number": i, "shape": geoms[i].kind,
+                                  "label": None if label is None else str(label)}}
+
+
+class Records:
+    """A JSON array written one item at a time by :func:`write_json_object`: ``make()`` gives a
+    fresh iterator of the items (``list(records)`` materialises them)."""
+
+    def __init__(self, make: Callable[[], Iterable]):
+        self.make = make
+
+    def __iter__(self):
+        return iter(self.make())
+
+
+def write_json_object(file, members, indent: int | None = None) -> None:
+    """Write the JSON object of ``members`` ((key, value) pairs; a :class:`Records` value is an
+    array written item by item) to the text file ``file``, with the text of ``json.dump(dict(members),
+    file, indent=indent)`` (RFC 8259; Python's separators: ", " and ": " without indent, "," and
+    ": " with it).  Each value or item is encoded by :func:`json.dumps` and re-indented to its
+    depth (a JSON string holds no raw newline, so only line breaks between tokens move)."""
+    def nl(level):
+        return "" if indent is None else "\n" + " " * (indent * level)
+
+    def dump(value, level):
+        text = json.dumps(value, indent=indent)
+        return text.replace("\n", nl(level)) if indent is not None and level else text
+
+    comma = ", " if indent is None else ","
+    file.write("{")
+    for k, (key, value) in enumerate(members):
+        file.write((comma if k else "") + nl(1) + json.dumps(key) + ": ")
+        if not isinstance(value, Records):
+            file.write(dump(value, 1))
+            continue
+        empty = True
+        for item in value:
+            file.write(("[" if empty else comma) + nl(2) + dump(item, 2))
+            empty = False
+        file.write("[]" if empty else nl(1) + "]")
+    file.write(nl(0) + "}" if members else "}")
 
 
 def feature_collection(features: list, crs: Any = None) -> dict:

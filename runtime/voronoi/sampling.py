@@ -10,20 +10,50 @@ samples of a round are a subset of those of the next (bitwise: 2π·2k/(2n) = 2�
 point), and the sample triangulation can be updated by insertion only
 (:meth:`runtime.voronoi.sample_delaunay.SampleTriangulation.update`).
 
-Public API: :func:`initial_spacing`, :func:`clamp_spacing`, :func:`sample_sites`.
+The full triangulation is qhull's (:func:`runtime.voronoi.sample_delaunay.delaunay`); the memory
+qhull frees is given back to the operating system (:func:`release_free_memory`) before the
+triangulation's arrays are built, so that the two do not add up in the resident size.
+
+Public API: :func:`initial_spacing`, :func:`clamp_spacing`, :func:`sample_sites`,
+:func:`release_free_memory`.
 """
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import math
 
 import numpy as np
 from scipy.spatial import ConvexHull, cKDTree
 
-from .sample_delaunay import SampleTriangulation
+from .sample_delaunay import SampleTriangulation, delaunay
 from .site_arrays import SiteArrays
 
 __all__ = ["Samples", "hull_neighbours", "initial_spacing", "clamp_spacing", "sample_sites", "circle_sample_counts", "SPACING_FACTOR", "MAX_SAMPLES_FIRST",
            "MAX_SAMPLES", "GAP_FLOOR"]
+
+def _libc_trim():
+    """glibc's ``malloc_trim`` (None elsewhere)."""
+    try:
+        return ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6").malloc_trim
+    except (OSError, AttributeError):
+        return None
+
+
+_TRIM = _libc_trim()
+
+
+def release_free_memory() -> None:
+    """Give the heap pages freed by a phase back to the operating system (glibc ``malloc_trim``,
+    which also releases whole free pages inside the heap; nothing elsewhere).  glibc keeps freed
+    memory mapped for reuse, while numpy's large arrays are mapped apart (``mmap``): the memory
+    qhull frees after a triangulation (its facets) and the freed blocks of a round, scattered
+    among the blocks the next round keeps, would stay resident beside the arrays built after them
+    (measured on 3·10⁴ random circles: 649 MB resident after the construction, 396 MB after one
+    trim).  The data are unchanged; only the resident size, and so the peak of later phases, drops."""
+    if _TRIM is not None:
+        _TRIM(0)
+
 
 #: sampling spacing as a fraction of min(gap, size)
 SPACING_FACTOR = 0.6
@@ -135,7 +165,12 @@ class Samples:
                 return tri
         stats["triangulations"] = stats.get("triangulations", 0) + 1
         P, lab = sample_sites(S, self.spacing, base=self.base)
-        self.tri, self.sampled = SampleTriangulation(P, lab), self.spacing.copy()
+        self.tri = None                  # the last triangulation is not needed for a full one
+        qh, _ = delaunay(P)
+        simp, nb = qh.simplices, qh.neighbors
+        del qh
+        release_free_memory()            # qhull's facets, before the triangulation's arrays
+        self.tri, self.sampled = SampleTriangulation(P, lab, simp, nb), self.spacing.copy()
         return self.tri
 
 
