@@ -283,30 +283,7 @@ def track(system: _System, Z0: np.ndarray, P0: list[np.ndarray], P1: list[np.nda
         k4 = tangent(zz + dt[:, None] * k3, tt + dt)
         zp = zz + (dt[:, None] / 6.0) * (k1 + 2 * k2 + 2 * k3 + k4)
         t1 = tt + dt
-        Pt = params(t1)
-        accept = np.ones(len(idx), dtype=bool)
-        conv = np.zeros(len(idx), dtype=bool)
-        prev = None
-        e0 = np.full(len(idx), np.inf)
-        for it in range(MAX_CORR):
-            F, J, _ = system.eval(zp, Pt, need_dP=False)
-            st.evals += 1
-            D = _solve(J, -F)
-            e = _err(D, zp)
-            e = np.where(np.isfinite(e), e, np.inf)
-            if it == 0:
-                e0 = e
-                accept &= e < beta
-            else:
-                stalled = (e < STALL_TOL) & (prev < STALL_TOL)
-                conv |= accept & stalled
-                accept &= (e <= CONTRACT * prev) | (e < CORR_TOL) | conv
-            zp = np.where((accept & ~conv)[:, None], zp + D, zp)
-            conv |= accept & (e < CORR_TOL)
-            prev = e
-            if np.all(conv | ~accept):
-                break
-        accept &= conv
+        zp, accept, e0 = _correct(system, zp, params(t1), beta, st)
         a_idx, r_idx = idx[accept], idx[~accept]
         st.rejected += len(r_idx)
         Z[a_idx] = zp[accept]
@@ -336,6 +313,38 @@ def _dup_mask(Z, tol: float = 1e-6):
     D = np.max(np.abs(Zs[:, None, :] - Zs[None, :, :]), axis=2)
     np.fill_diagonal(D, np.inf)
     return (D < tol).any(axis=1)
+
+
+def _correct(system: _System, zp, Pt, beta: float, st: TrackStats):
+    """Newton corrector of a predicted batch ``zp`` at parameters ``Pt``: (corrected points, accepted
+    (bool), size of the first correction).  A point is accepted when its first correction is below
+    ``beta`` (relative), its corrections then contract by :data:`CONTRACT` (or stall at the rounding
+    level, below :data:`STALL_TOL`), and one falls below :data:`CORR_TOL` within :data:`MAX_CORR`
+    steps: the predicted point was in Newton's region of quadratic convergence of the path (the
+    predictor-corrector safeguard of path tracking; Allgower and Georg 1990, ch. 3)."""
+    accept = np.ones(len(zp), dtype=bool)
+    conv = np.zeros(len(zp), dtype=bool)
+    prev = None
+    e0 = np.full(len(zp), np.inf)
+    for it in range(MAX_CORR):
+        F, J, _ = system.eval(zp, Pt, need_dP=False)
+        st.evals += 1
+        D = _solve(J, -F)
+        e = _err(D, zp)
+        e = np.where(np.isfinite(e), e, np.inf)
+        if it == 0:
+            e0 = e
+            accept &= e < beta
+        else:
+            stalled = (e < STALL_TOL) & (prev < STALL_TOL)
+            conv |= accept & stalled
+            accept &= (e <= CONTRACT * prev) | (e < CORR_TOL) | conv
+        zp = np.where((accept & ~conv)[:, None], zp + D, zp)
+        conv |= accept & (e < CORR_TOL)
+        prev = e
+        if np.all(conv | ~accept):
+            break
+    return zp, accept & conv, e0
 
 
 def track_segment(system: _System, Z0, P0, P1, h_max: float = H_MAX, stats: TrackStats | None = None,
