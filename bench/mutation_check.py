@@ -243,7 +243,7 @@ SOUND_MODULES = ["runtime/voronoi/verify/**/*.py", "runtime/certify/**/*.py"]
 #: The 2026-11 run (seed 32) used this list; the first run (seed 31) had test_voronoi_verify first and
 #: test_symmetry instead of test_symmetry_proofs / test_polyline_bound.
 _VERIFY_TESTS = ["tests/test_verify_boundaries.py", "tests/test_verify_mutants.py", "tests/test_verify_float_boundaries.py",
-                 "tests/test_polyline_bound.py",
+                 "tests/test_verify_deadline.py", "tests/test_polyline_bound.py",
                  "tests/test_degenerate.py", "tests/test_symmetry_proofs.py", "tests/test_degenerate_cgal.py",
                  "tests/test_voronoi_verify.py",
                  # the vertex enclosures against high-precision values (hand mutants of vertices.py and
