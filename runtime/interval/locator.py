@@ -27,7 +27,8 @@ from .curves import Curve, parse_curve
 from .formulations import (offset_system, original_domain, original_system, r_lower_offset,
                            r_lower_original, sample_hook, site_features)
 from .solver import Solution, SolverOptions, krawczyk, newton_point, solve, tighten
-from .verify import (conflict_status, d2_ball, distance_to, neighbourhood, site_status, special_points)
+from .verify import (circle_position, conflict_status, d2_ball, distance_to, neighbourhood, site_status,
+                     special_points)
 
 FORMULATIONS = ("original", "offset")
 
@@ -124,12 +125,11 @@ def _lift(sites, Q: Box, r, region: Box, stats: dict):
         nb = neighbourhood(sites[i], Q, r_hi, region)
         on = []
         for p in nb.points:
-            lo, hi = arb_lo(p.d2), arb_hi(p.d2)
-            if p.arc == "out" or lo > r_hi:
-                continue
-            if hi < r_lo and p.arc == "in":
+            where = circle_position(p, r_lo, r_hi)
+            if where == "inside":
                 return None, "blocked"  # a site point strictly inside: not a true vertex
-            on.append(p)
+            if where == "undecided":
+                on.append(p)
         crit_on = [p for p in on if p.kind == "critical"]
         if not on and not nb.undecided:
             return None, "no-real-foot"

@@ -51,6 +51,19 @@ class Point:
     k: int = -1        # restriction index of an endpoint
 
 
+def circle_position(p: Point, r_lo: float, r_hi: float) -> str:
+    """Where a candidate site point p lies against the circle of squared radius r ∈ [r_lo, r_hi]
+    around q ∈ Q (thesis §6.1, the emptiness of the circle): "outside" when p is not a point of the
+    site (off its arc) or |q − p|² > r for sure; "inside" when p is a point of the site with
+    |q − p|² < r for sure (the circle is not empty); "undecided" otherwise (on the circle, or the
+    enclosures overlap)."""
+    if p.arc == "out" or arb_lo(p.d2) > r_hi:
+        return "outside"
+    if arb_hi(p.d2) < r_lo and p.arc == "in":
+        return "inside"
+    return "undecided"
+
+
 @dataclass
 class Neighbourhood:
     points: list = field(default_factory=list)
@@ -188,14 +201,14 @@ def site_status(curve: Curve, Q: Box, r: arb, own: Box | None, region: Box,
     status = "clear"
     own_found = own is None
     for p in nb.points:
-        lo, hi = arb_lo(p.d2), arb_hi(p.d2)
         if own is not None and ((p.kind != "singular" and _same_zero(curve, p, own, Q))
                                 or (p.kind == "singular" and own_kind == "point" and own.contains(p.box))):
             own_found = True
             continue
-        if p.arc == "out" or lo > r_hi:
+        where = circle_position(p, r_lo, r_hi)
+        if where == "outside":
             continue
-        if hi < r_lo and p.arc == "in":
+        if where == "inside":
             return "blocked", {"point": p.tight.mid.tolist(), "kind": p.kind, "boxes": nb.boxes}
         status = "unknown"
     if nb.undecided:
@@ -211,12 +224,11 @@ def conflict_status(curve: Curve, Q: Box, r: arb, region: Box):
     nb = neighbourhood(curve, Q, r_hi, region)
     decided = True
     for p in nb.points:
-        lo, hi = arb_lo(p.d2), arb_hi(p.d2)
-        if p.arc == "out" or lo > r_hi:
-            continue
-        if hi < r_lo and p.arc == "in":
+        where = circle_position(p, r_lo, r_hi)
+        if where == "inside":
             return True
-        decided = False
+        if where == "undecided":
+            decided = False
     if nb.undecided:
         decided = False
     return False if decided else None
