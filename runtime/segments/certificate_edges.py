@@ -45,8 +45,9 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-from flint import arb
+from flint import arb, ctx
 
+from ..certify.foot import working_prec
 from ..voronoi.verify.problems import Problem, fault
 from .certificate_curves import Line, bisector_curve, down, polyline_bound, q_arb, up
 from .certificate_edge_conditions import arc_conditions, cover_conditions
@@ -81,12 +82,30 @@ def prove_edges(D, T: SiteTable, vproofs, problems, deadline=None) -> list[EdgeP
                                     fault=False))
             continue
         try:
-            out.append(_EdgeProver(T, D, e, vindex, vproofs, problems).run())
+            out.append(_prove_edge(T, D, e, vindex, vproofs, problems))
         except (ValueError, ZeroDivisionError, ArithmeticError) as exc:      # pragma: no cover - defensive
             problems.append(Problem(f"edge {e.id}: not proved ({exc.__class__.__name__}: {exc})", kind="edge",
                                     edge=e.id, fault=False))
             out.append(EdgeProof(False, _EdgeProver(T, D, e, vindex, vproofs, []).directions_only()))
     return out
+
+
+def _prove_edge(T: SiteTable, D, e, vindex, vproofs, problems) -> EdgeProof:
+    """One edge; a straight edge of two nearly parallel segments that fails is tried once more at
+    4 times the precision: its line is parametrised from the segments' far intersection O, and
+    the parameters x − O of its end vertices cancel about log2(|O| / length) bits."""
+    own: list = []
+    prover = _EdgeProver(T, D, e, vindex, vproofs, own)
+    proof = prover.run()
+    curve = getattr(prover, "curve", None)
+    if not proof.ok and isinstance(curve, Line) and curve.kind == "segments" and curve.anchor is None:
+        with working_prec(4 * ctx.prec):
+            again: list = []
+            retry = _EdgeProver(T, D, e, vindex, vproofs, again).run()
+        if retry.ok:
+            proof, own = retry, again
+    problems.extend(own)
+    return proof
 
 
 class _EdgeProver(PieceProofs, LineProofs):
