@@ -24,6 +24,7 @@ import numpy as np
 
 from ..sites.arc import Arc, circle_halves
 from ..sites.segment import Segment
+from ..voronoi.structure import DiagramVertex
 from .bisectors import bisector_kind
 from .distance import site_distances
 
@@ -250,4 +251,9 @@ def medial_axis(outer, holes=(), *, certify: bool = True, tolerance: float | Non
         edges.append(MedialEdge(len(edges), e.sites, e.ends, P, r, e.tolerance, e.certified))
         used.update(v for v in e.ends if v is not None)
     vertices = [D.vertices[v] for v in sorted(used)]
+    if not edges and segs and all(isinstance(p, Arc) and (p.c, p.rho) == (segs[0].c, segs[0].rho) for p in segs):
+        # a disc: every boundary point is nearest to the centre, which is the whole medial axis (the
+        # diagram of the circle's arcs has no vertex there); exact, id -1 as it is no diagram vertex
+        (cx, cy), rho = segs[0].c, segs[0].rho
+        vertices = [DiagramVertex(-1, tuple(range(len(E))), float(cx), float(cy), float(rho), True)]
     return MedialAxis(edges, vertices, bool(D.certified), D, list(D.problems))
