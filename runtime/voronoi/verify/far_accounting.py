@@ -46,15 +46,15 @@ TWO_PI = 2.0 * math.pi
 
 
 def far_centre(geoms):
-    """A centre for the far field: the middle of the bounded sites' boxes and the unbounded sites'
-    vertices / centres."""
+    """A centre for the far field: the middle of the unbounded sites' vertices / centres (of every
+    site's box when there is no unbounded site); any fixed point serves the proofs."""
     pts = []
     for g in geoms:
         if g.kind in UNBOUNDED:
             fr = g.exact.frame
             pts.append((float(fr.tx), float(fr.ty), float(fr.tx), float(fr.ty)))
-        else:
-            pts.append(tuple(g.bounding_box()))
+    if not pts:
+        pts = [tuple(g.bounding_box()) for g in geoms]
     b = np.array(pts, float)
     return 0.5 * (b[:, :2].min(0) + b[:, 2:].max(0))
 

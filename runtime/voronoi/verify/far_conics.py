@@ -36,7 +36,9 @@ lies in its asymptotic cone and beyond its vertex); for a bounded site in the di
 d ≥ t − |m − c| − ρ.
 
 Public API: :class:`FarConic`, :func:`cos_range`, :func:`sin_range`, :func:`bounded_lower`,
-:data:`UNBOUNDED`.
+:func:`parabola_foot_sign`, :func:`hyperbola_foot_sign`, :func:`parabola_foot_guess`,
+:func:`hyperbola_foot_guess`, :func:`parabola_outside`, :func:`above_asymptote`,
+:func:`parabola_upper`, :func:`hyperbola_upper`, :data:`UNBOUNDED`.
 """
 from __future__ import annotations
 
@@ -44,7 +46,9 @@ import math
 
 import numpy as np
 
-__all__ = ["FarConic", "cos_range", "sin_range", "bounded_lower", "UNBOUNDED"]
+__all__ = ["FarConic", "cos_range", "sin_range", "bounded_lower", "UNBOUNDED", "parabola_foot_sign",
+           "hyperbola_foot_sign", "parabola_foot_guess", "hyperbola_foot_guess", "parabola_outside",
+           "above_asymptote", "parabola_upper", "hyperbola_upper"]
 
 UNBOUNDED = ("parabola", "hyperbola")
 REL = 1e-12          # relative widening of every interval operation
@@ -139,25 +143,18 @@ class FarConic:
         flip = pos                                  # reflect Y ↦ −Y: Y0 < 0 in the frame used
         yl, yh = np.where(flip, -Yhi, Ylo), np.where(flip, -Ylo, Yhi)
         ok = neg | pos
-        # outside K: Y0² > 2pX0 (Y0 ≤ yh < 0)
-        two_px = 2 * p * np.maximum(t0 * Xhi, t1 * Xhi)
-        ok &= yh * yh * (1 - 4 * REL) - two_px - REL * (abs(two_px) + 1e-300) > 0
+        ok &= parabola_outside(t0, t1, Xhi, yh, p) > 0
         # float guides of s* at the corners, then the proved bracket (S1, S2)
         S1, S2 = self._bracket_guides(t0, t1, Xlo, Xhi, yl, yh)
-        A2 = S2 ** 3 / (2 * p * p) + S2
-        f2 = t1 * A2 + (-S2 / p) * Xlo - yh
-        ok &= f2 - REL * (t1 * abs(A2) + abs(S2 / p * Xlo) + abs(yh)) > 0
+        ok &= parabola_foot_sign(S2, t0, t1, Xlo, Xhi, yl, yh, p)[0] > 0
         fin = np.isfinite(S1)
         S1f = np.where(fin, S1, -1.0)
-        A1 = S1f ** 3 / (2 * p * p) + S1f
-        f1 = t0 * A1 + (-S1f / p) * Xhi - yl
-        ok &= ~fin | (f1 + REL * (t0 * abs(A1) + abs(S1f / p * Xhi) + abs(yl)) < 0)
+        ok &= ~fin | (parabola_foot_sign(S1f, t0, t1, Xlo, Xhi, yl, yh, p)[1] < 0)
         # normal angle atan2(s, −p) ∈ [atan2(S2, −p), atan2(S1, −p)] (s < 0), −π/2 at s = −∞
         lo = np.arctan2(S2, -p)
         hi = np.where(fin, np.arctan2(S1f, -p), -0.5 * math.pi)
         lo, hi = np.where(flip, -hi, lo), np.where(flip, -lo, hi)
-        up = np.where(Xlo >= 0, -yl, -yl + np.maximum(abs(Xlo), abs(Xhi))) * (1 + 4 * REL)
-        return ok, lo, hi, up
+        return ok, lo, hi, parabola_upper(Xlo, Xhi, yl)
 
     def _bracket_guides(self, t0, t1, Xlo, Xhi, yl, yh):
         """Float guesses S1 < S2 ≤ 0 of the foot parameter's range on the cells (the proofs check
@@ -184,32 +181,20 @@ class FarConic:
         ok = ((Xlo > 0) | fx) & ((Ylo > 0) | fy)
         xl, xh = np.where(fx, -Xhi, Xlo), np.where(fx, -Xlo, Xhi)
         yl, yh = np.where(fy, -Yhi, Ylo), np.where(fy, -Ylo, Yhi)
-        # outside the convex side of the branch: above its asymptote, aY0 − bX0 > 0
-        ok &= a * yl - b * xh - REL * (a * abs(yl) + b * abs(xh)) > 0
+        ok &= above_asymptote(xh, yl, a, b) > 0
         W1, W2 = self._w_guides(t0, t1, xl, xh, yl, yh)
-        sh1, ch1 = np.sinh(W1), np.cosh(W1)
-        E1 = (a * a + b * b) * sh1 * ch1
-        g1 = t1 * E1 - a * sh1 * xl - b * ch1 * yl
-        ok &= g1 + REL * (t1 * E1 + a * sh1 * abs(xl) + b * ch1 * abs(yl)) < 0
+        ok &= hyperbola_foot_sign(W1, t0, t1, xl, xh, yl, yh, a, b)[1] < 0
         fin = np.isfinite(W2)
         W2f = np.where(fin, W2, 0.0)
+        ok &= ~fin | (hyperbola_foot_sign(W2f, t0, t1, xl, xh, yl, yh, a, b)[0] > 0)
+        sh1, ch1 = np.sinh(W1), np.cosh(W1)
         sh2, ch2 = np.sinh(W2f), np.cosh(W2f)
-        E2 = (a * a + b * b) * sh2 * ch2
-        g2 = t0 * E2 - a * sh2 * xh - b * ch2 * yh
-        ok &= ~fin | (g2 - REL * (t0 * E2 + a * sh2 * abs(xh) + b * ch2 * abs(yh)) > 0)
         # normal angle atan2(a sinh w, −b cosh w), decreasing in w, atan2(a, −b) at w = ∞
         hi = np.arctan2(a * sh1, -b * ch1)
         lo = np.where(fin, np.arctan2(a * sh2, -b * ch2), math.atan2(a, -b))
         lo, hi = np.where(fx, math.pi - hi, lo), np.where(fx, math.pi - lo, hi)
         lo, hi = np.where(fy, -hi, lo), np.where(fy, -lo, hi)
-        # upper bound of d/t
-        s_lo = (a * xl + b * yl) / c * (1 - 4 * REL)
-        dlt = np.maximum(abs(a * yh - b * xl), abs(a * yl - b * xh)) / c
-        far = s_lo > c * t1 * (1 + 4 * REL)
-        near = np.maximum(abs(xl - a * t1), abs(xh - a * t0)) + np.maximum(abs(yl), abs(yh))
-        near = np.maximum(near, np.maximum(abs(xl - a * t0), abs(xh - a * t1)) + np.maximum(abs(yl), abs(yh)))
-        up = np.where(far, dlt + b * t1, near) * (1 + 8 * REL) + 1e-15
-        return ok, lo, hi, up
+        return ok, lo, hi, hyperbola_upper(t0, t1, xl, xh, yl, yh, a, b)
 
     def _w_guides(self, t0, t1, xl, xh, yl, yh):
         """Float guesses 0 ≤ W1 < W2 of the foot parameter's range; W2 = ∞ on cells reaching
@@ -261,6 +246,63 @@ class FarConic:
             return [self.phi]
         al = math.atan2(self.b, self.a)
         return [self.phi + al, self.phi - al, self.phi + math.pi + al, self.phi + math.pi - al]
+
+
+def parabola_outside(t0, t1, Xhi, Yhi, p):
+    """Lower bound of (Y0/t)² − 2pτ·X0/t for Y0/t ≤ Yhi < 0, X0/t ≤ Xhi, τ ∈ [t0, t1]: > 0 proves
+    q outside the convex side Y² ≤ 2pX of the parabola."""
+    two_px = 2 * p * np.maximum(t0 * Xhi, t1 * Xhi)
+    return Yhi * Yhi * (1 - 4 * REL) - two_px - REL * np.abs(two_px) - 1e-300
+
+
+def above_asymptote(Xhi, Ylo, a, b):
+    """Lower bound of a·Y0/t − b·X0/t (X0/t ≤ Xhi, Y0/t ≥ Ylo): > 0 proves q above the asymptote
+    bX = aY, outside the convex side of the right branch (X0, Y0 > 0)."""
+    return a * Ylo - b * Xhi - REL * (a * np.abs(Ylo) + b * np.abs(Xhi)) - 1e-300
+
+
+def parabola_upper(Xlo, Xhi, Ylo):
+    """Upper bound of d/t for q outside the parabola with Y0/t ∈ [Ylo, ·] ⊂ (−∞, 0): |Y0| when
+    X0 ≥ 0, else |X0| + |Y0| (module docstring)."""
+    return np.where(Xlo >= 0, -Ylo, -Ylo + np.maximum(np.abs(Xlo), np.abs(Xhi))) * (1 + 4 * REL)
+
+
+def hyperbola_upper(t0, t1, xl, xh, yl, yh, a, b):
+    """Upper bound of d/t for q above the asymptote of the right branch, X0/t ∈ [xl, xh],
+    Y0/t ∈ [yl, yh], τ ∈ [t0, t1]: |δ| + b when s ≥ c, else the distance to the vertex (a, 0)
+    (module docstring)."""
+    c = math.hypot(a, b)
+    s_lo = (a * xl + b * yl) / c * (1 - 4 * REL)
+    dlt = np.maximum(np.abs(a * yh - b * xl), np.abs(a * yl - b * xh)) / c
+    far = s_lo > c * t1 * (1 + 4 * REL)
+    ymax = np.maximum(np.abs(yl), np.abs(yh))
+    near = np.maximum.reduce([np.abs(xl - a * t1), np.abs(xh - a * t0), np.abs(xl - a * t0),
+                              np.abs(xh - a * t1)]) + ymax
+    return np.where(far, dlt + b * t1, near) * (1 + 8 * REL) + 1e-15
+
+
+def parabola_foot_sign(S, t0, t1, Xlo, Xhi, Ylo, Yhi, p):
+    """Enclosure (lo, hi) of f(S)/t = τ(S³/(2p²) + S) − (S/p)·X0/t − Y0/t over τ ∈ [t0, t1],
+    X0/t ∈ [Xlo, Xhi], Y0/t ∈ [Ylo, Yhi], for S ≤ 0 (module docstring, *Parabola*: lo > 0
+    proves s* < S, hi < 0 proves s* > S, when Y0 < 0)."""
+    A = S ** 3 / (2 * p * p) + S                    # ≤ 0 for S ≤ 0
+    c = -S / p                                      # ≥ 0
+    lo = t1 * A + c * Xlo - Yhi
+    hi = t0 * A + c * Xhi - Ylo
+    mag = REL * (t1 * np.abs(A) + c * np.maximum(np.abs(Xlo), np.abs(Xhi)) + np.maximum(np.abs(Ylo), np.abs(Yhi)))
+    return lo - mag, hi + mag
+
+
+def hyperbola_foot_sign(W, t0, t1, Xlo, Xhi, Ylo, Yhi, a, b):
+    """Enclosure (lo, hi) of g(W)/t = τ(a² + b²) sinh W cosh W − a sinh W·X0/t − b cosh W·Y0/t
+    for W ≥ 0, X0, Y0 > 0 (module docstring, *Hyperbola*: lo > 0 proves w* < W, hi < 0 proves
+    w* > W)."""
+    sh, ch = np.sinh(W), np.cosh(W)
+    E = (a * a + b * b) * sh * ch                   # ≥ 0
+    lo = t0 * E - a * sh * Xhi - b * ch * Yhi
+    hi = t1 * E - a * sh * Xlo - b * ch * Ylo
+    mag = REL * (t1 * E + a * sh * np.maximum(np.abs(Xlo), np.abs(Xhi)) + b * ch * np.maximum(np.abs(Ylo), np.abs(Yhi)))
+    return lo - mag, hi + mag
 
 
 def parabola_foot_guess(X0, Y0, p):
