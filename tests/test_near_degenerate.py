@@ -299,3 +299,38 @@ def test_convexity_refuses_an_arc():
     X, Y = curve.xy(ends[1][1])
     assert T.distance(8, X, Y) < 1                                # the arc is nearer than ρ at x = 0.5
     assert not cc.convex_positive(T, curve, 8, ends[0], ends[1])
+
+
+def _mp_distance(E, s, x, y):
+    """mpmath distance from (x, y) to the closed elementary site s (a point or a segment)."""
+    px, py = mpmath.mpf(x), mpmath.mpf(y)
+    (ax, ay) = (mpmath.mpf(float(v)) for v in E.xy[int(E.ends[s, 0]) if E.kind[s] != 0 else s])
+    if E.kind[s] == 0:
+        return mpmath.hypot(px - ax, py - ay)
+    (bx, by) = (mpmath.mpf(float(v)) for v in E.xy[int(E.ends[s, 1])])
+    dx, dy = bx - ax, by - ay
+    t = min(max(((px - ax) * dx + (py - ay) * dy) / (dx * dx + dy * dy), 0), 1)
+    return mpmath.hypot(px - ax - t * dx, py - ay - t * dy)
+
+
+@pytest.mark.parametrize("n", [6, 8])
+def test_regular_ngon_with_regular_hole(n):
+    """A float n-gon with a concentric hole of the same angles: each outer side is parallel to an
+    inner one up to rounding (a mid-parallel edge whose bisector meets at ~10¹⁶), and the hole's
+    inside has a centre cluster.  Certified; every edge point equidistant from its two sites and
+    no site nearer (mpmath distances to the closed sites)."""
+    ts = np.linspace(0, 2 * np.pi, n, endpoint=False) + 0.3
+    outer = [(np.cos(t), np.sin(t)) for t in ts]
+    hole = [(0.3 * np.cos(t), 0.3 * np.sin(t)) for t in ts[::-1]]
+    geometry = pytest.importorskip("shapely.geometry")
+    m = cv.medial_axis(geometry.Polygon(outer, [hole]))
+    assert m.certified, m.problems[:3]
+    E = m.diagram.elementary
+    assert len(m.edges) == 4 * n
+    for e in m.edges:
+        i, j = e.sites
+        for x, y in np.asarray(e.polyline)[:: max(1, len(e.polyline) // 6)]:
+            d = [_mp_distance(E, s, x, y) for s in range(len(E))]
+            tol = 2 * e.tolerance + 1e-13
+            assert abs(d[i] - d[j]) <= tol
+            assert min(d) >= min(d[i], d[j]) - tol

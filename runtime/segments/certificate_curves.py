@@ -35,11 +35,13 @@ Public API: :class:`Line`, :class:`Parabola`, :func:`bisector_curve`, :func:`pol
 """
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 
 import numpy as np
-from flint import arb, fmpq
+from flint import arb, ctx, fmpq
 
+from ..certify.foot import working_prec
 from .certificate_sites import ARC, POINT, SiteTable, hypot, sq
 
 __all__ = ["Line", "Parabola", "bisector_curve", "polyline_bound", "unit_normal", "exact_d2", "q_arb",
@@ -225,9 +227,25 @@ def bisector_curve(T: SiteTable, i, j, vps, P=None):
     # intersection of the two lines: ai + λ di
     lam = ((aj[0] - ai[0]) * dj[1] - (aj[1] - ai[1]) * dj[0]) / cr
     O = (ai[0] + lam * di[0], ai[1] + lam * di[1])
-    mx = sides[0] * ni[0] - sides[1] * nj[0]
-    my = sides[0] * ni[1] - sides[1] * nj[1]
-    return Line("segments", O, w=(-my, mx), side=side)
+    near = next((vp for vp in vps if vp.x is not None), None)
+    extra = 0
+    if near is not None:
+        size = 1.0 + abs(float(near.x.mid())) + abs(float(near.y.mid()))
+        far = abs(float(O[0]) - float(near.x.mid())) + abs(float(O[1]) - float(near.y.mid()))
+        if far > 1e3 * size:
+            extra = int(math.log2(far / size)) + 16
+    with working_prec(ctx.prec + extra):
+        ni, nj = unit_normal(T, i), unit_normal(T, j)
+        mx = sides[0] * ni[0] - sides[1] * nj[0]
+        my = sides[0] * ni[1] - sides[1] * nj[1]
+        line = Line("segments", O, w=(-my, mx), side=side)
+        if extra:
+            # nearly parallel segments meet far away: the origin moves to the end vertex's
+            # parameter τ₀ (a float), computed with the bits that x − O cancels, so that the
+            # edge's parameters are small floats (pieces of float width resolve it)
+            tau0 = float(line.param(near.x, near.y).mid())
+            line.O = (line.O[0] + tau0 * line.w[0], line.O[1] + tau0 * line.w[1])
+    return line
 
 
 def _arc_curve(T, s, k, vps, P):
