@@ -334,3 +334,29 @@ def test_regular_ngon_with_regular_hole(n):
             tol = 2 * e.tolerance + 1e-13
             assert abs(d[i] - d[j]) <= tol
             assert min(d) >= min(d[i], d[j]) - tol
+
+
+@pytest.mark.parametrize("n", [6, 8, 12])
+def test_points_on_a_float_circle_with_a_segment(n):
+    """n point sites at cos/sin (not exactly co-circular) and a far segment (the segment route):
+    the centre cluster is the Delaunay structure of the points, here checked against all triples
+    of points in mpmath (circumcentre; every other point strictly outside the circle)."""
+    from curvedvoronoi import Segment
+    from curvedvoronoi.runtime.segments.construction import segment_voronoi
+
+    ts = np.linspace(0, 2 * np.pi, n, endpoint=False) + 0.3
+    pts = [(float(np.cos(t)), float(np.sin(t))) for t in ts]
+    D = segment_voronoi(pts + [Segment((10.0, 10.0), (12.0, 11.0))])
+    assert D.certified, D.problems[:3]
+    P = [(mpmath.mpf(x), mpmath.mpf(y)) for x, y in pts]
+    ref = set()
+    for tri in itertools.combinations(range(n), 3):
+        (ax, ay), (bx, by), (cx, cy) = (P[k] for k in tri)
+        dd = 2 * (ax * (by - cy) + bx * (cy - ay) + cx * (ay - by))
+        ux = ((ax ** 2 + ay ** 2) * (by - cy) + (bx ** 2 + by ** 2) * (cy - ay) + (cx ** 2 + cy ** 2) * (ay - by)) / dd
+        uy = ((ax ** 2 + ay ** 2) * (cx - bx) + (bx ** 2 + by ** 2) * (ax - cx) + (cx ** 2 + cy ** 2) * (bx - ax)) / dd
+        r2 = (ax - ux) ** 2 + (ay - uy) ** 2
+        if all((P[k][0] - ux) ** 2 + (P[k][1] - uy) ** 2 > r2 for k in range(n) if k not in tri):
+            ref.add(frozenset(tri))
+    got = {frozenset(v.sites) for v in D.vertices if max(v.sites) < n}
+    assert got == ref and len(ref) == n - 2

@@ -19,6 +19,12 @@ arrangements*, 1986).  It has n − 2 vertices (one per triangle), n − 3 bound
 diagonals) and n unbounded edges (the sides of the convex polygon: angularly consecutive normals),
 which are the edges leaving the cluster.
 
+Point sites alone work the same way with squared distances: |x − p|² − |x|² = |p|² − 2p·x is
+affine with u = 2p (rational), and near-co-circular points are in convex position: their local
+diagram is dual to their Delaunay triangulation (the lifting map).  A segment whose nearest
+point is beyond an end that is a site of the cluster is left out (such ties belong to the end,
+thesis §2.2); points mixed with segment interiors are declined.
+
 The triangulation is built by gift wrapping from a side (i, k) of the polygon: walking in along
 the bisector f_i = f_k, the apex is the site m of the chain between i and k that ties first
 (the largest parameter t_m); the two sub-chains recurse.  Each comparison of parameters is done in
@@ -43,7 +49,7 @@ from scipy.spatial import cKDTree
 from ..sites.rationals import to_fraction
 from ..voronoi.structure import DiagramVertex
 from .distance import site_distances
-from .elementary import SEGMENT, ElementarySites
+from .elementary import POINT, SEGMENT, ElementarySites
 
 __all__ = ["affine_diagram", "splice_clusters", "LocalDiagram", "Splice"]
 
@@ -79,6 +85,11 @@ def _q(v) -> fmpq:
 def _affine(E: ElementarySites, s: int, c) -> tuple | None:
     """(u_x, u_y, h) as rationals and the norm N² of segment s's line, with f_s(p) = h − u·p, on
     the side of c; None when s is not a segment touched in its interior near c."""
+    if E.kind[s] == POINT:
+        # |x − p|² − |x|² = |p|² − 2 p·x: affine, with u = 2p (the squared distances of points
+        # differ from these by the same |x|², so their minimisation diagram is the same)
+        px, py = (_q(v) for v in E.xy[s])
+        return (2 * px, 2 * py, px * px + py * py, None)
     if E.kind[s] != SEGMENT:
         return None
     (ax, ay), (bx, by) = (E.xy[int(E.ends[s, k])] for k in (0, 1))
@@ -108,7 +119,12 @@ def affine_diagram(E: ElementarySites, sites, centre) -> LocalDiagram | str:
         if got is None:
             return f"site {s} is not a segment touched in its interior near the cluster"
         rat[s] = got
-    ang = {s: math.atan2(-float(rat[s][1]), -float(rat[s][0])) for s in sites}
+    squared = {rat[s][3] is None for s in sites}
+    if len(squared) > 1:
+        return "points and segment interiors in one cluster (distances and squared distances)"
+    squared = squared.pop()
+    u0 = (2 * float(centre[0]), 2 * float(centre[1])) if squared else (0.0, 0.0)
+    ang = {s: math.atan2(float(rat[s][1]) - u0[1], float(rat[s][0]) - u0[0]) for s in sites}
     order = sorted(sites, key=lambda s: ang[s])      # ccw by contact direction u_s
     angles = sorted(ang.values())
     gaps = [(angles[(k + 1) % len(angles)] - angles[k]) % (2 * math.pi) for k in range(len(angles))]
@@ -118,7 +134,7 @@ def affine_diagram(E: ElementarySites, sites, centre) -> LocalDiagram | str:
     try:
         for prec in PRECISIONS:
             ctx.prec = prec
-            got = _wrap(order, rat)
+            got = _wrap(order, rat, squared)
             if not isinstance(got, str):
                 got.sites = tuple(sites)
                 return got
@@ -127,12 +143,13 @@ def affine_diagram(E: ElementarySites, sites, centre) -> LocalDiagram | str:
     return got
 
 
-def _wrap(order, rat) -> LocalDiagram | str:
-    """Gift wrapping at the current arb precision."""
+def _wrap(order, rat, squared: bool) -> LocalDiagram | str:
+    """Gift wrapping at the current arb precision (``squared``: point sites, whose affine functions
+    are squared distances minus |x|²)."""
     U = {}
     for s in order:
         ux, uy, h, N2 = rat[s]
-        N = arb(N2).sqrt()
+        N = arb(1) if N2 is None else arb(N2).sqrt()
         U[s] = (arb(ux) / N, arb(uy) / N, arb(h) / N)
     out = LocalDiagram(tuple(order))
 
@@ -167,6 +184,8 @@ def _wrap(order, rat) -> LocalDiagram | str:
         apex = [q + 1 for q in tied]  # a tie at TIE_PRECISION: one vertex of degree > 3
         px, py = p0x + ts[best] * dx, p0y + ts[best] * dy
         r = hi - uix * px - uiy * py
+        if squared:
+            r = (r + px * px + py * py).sqrt()
         members = [0] + apex + [len(chain) - 1]
         sites = tuple(chain[q] for q in members)
         m = sites.index(min(sites))
@@ -295,6 +314,22 @@ def splice_clusters(E: ElementarySites, jobs, vertices, caches) -> tuple:
     return [job for q, job in enumerate(jobs) if q not in taken], splice
 
 
+def _owned_by_ends(E: ElementarySites, sites, c) -> list:
+    """``sites`` without the segments whose nearest point to c is clearly beyond an end that is a
+    point site of the list (by the convention of thesis §2.2 such a tie belongs to the end)."""
+    keep = set(int(s) for s in sites)
+    for s in list(keep):
+        if E.kind[s] != SEGMENT:
+            continue
+        A, B = E.A[s], E.B[s]
+        d = B - A
+        t = float(np.dot(np.asarray(c) - A, d) / np.dot(d, d))
+        end = int(E.ends[s, 0]) if t < -1e-6 else (int(E.ends[s, 1]) if t > 1 + 1e-6 else None)
+        if end is not None and end in keep:
+            keep.discard(s)
+    return sorted(keep)
+
+
 def _resolve(E: ElementarySites, c, scale: float, spread: float) -> LocalDiagram | str:
     """The local diagram around c of every site within τ of the nearest (τ: 256 times the spread
     of the cluster's candidates, at least 1000 ulp of the coordinates, at most
@@ -304,7 +339,7 @@ def _resolve(E: ElementarySites, c, scale: float, spread: float) -> LocalDiagram
     d = site_distances(E, np.arange(n), np.repeat(np.asarray(c, float)[None, :], n, axis=0))
     tau = min(max(256 * spread, 1e3 * EPS * scale), SITE_MARGIN * scale)
     sites = np.nonzero(d <= d.min() + tau)[0].tolist()
-    D = affine_diagram(E, sites, c)
+    D = affine_diagram(E, _owned_by_ends(E, sites, c), c)
     if isinstance(D, str):
         return D
     if any(math.hypot(x - c[0], y - c[1]) > tau / 4 for _, x, y, _r in D.vertices):
