@@ -19,7 +19,8 @@ import numpy as np
 from .problems import fault
 from .arc_search import prove_arcs
 from .edges import bisector, params
-from .exact_edges import SHALLOW, search_with_exact_fallback, tower_points_apart, triple_others, zero_on_arc
+from .exact_edges import (SHALLOW, exact_third_site_clear, search_with_exact_fallback, tower_points_apart,
+                          triple_others, zero_on_arc)
 from .exact_vertices import exact_tower_vertex
 from .polyline_bound import hausdorff_bounds
 from .curved_edges import curved_edges, curved_job, curved_scale, drawn_points, past
@@ -123,7 +124,7 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats, deadline=None):
         if job is not None:
             jobs.append((pos, e, name, pair, bis, job))
     # the end vertices' third sites: one sign on the open arc, decided at interior points
-    jobs = _sign_checks(jobs, table, eok, problems)
+    jobs = _sign_checks(jobs, table, eok, problems, geoms, vinfo)
     # Lipschitz discs on the finite parts, all edges at once; then the tails
     arcs = prove_arcs(table, [(bis, job[0], job[1], job[2]) for _, _, _, _, bis, job in jobs],
                       max_depth=SHALLOW, max_pieces=4096 + 64 * len(jobs), deadline=deadline) if jobs else []
@@ -156,9 +157,11 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats, deadline=None):
     return eok, ends_inf, intervals
 
 
-def _sign_checks(jobs, table, eok, problems):
+def _sign_checks(jobs, table, eok, problems, geoms, vinfo):
     """For each job and each exempt third site k: prove d_k > d_i at one of five interior points
-    of the arc (d_k − d_i has no zero on the open arc, so this fixes its sign).  Drops failing
+    of the arc (d_k − d_i has no zero on the open arc, so this fixes its sign), or, where the floats
+    cannot tell (a vertex 10⁹ out, where three nearly collinear points' circle is centred), exactly
+    on the whole edge for points and circles (:func:`exact_third_site_clear`).  Drops failing
     jobs (problem recorded)."""
     fr = np.array([0.5, 0.25, 0.75, 0.125, 0.875])
     req = [(t, k) for t, (_, _, _, _, _, job) in enumerate(jobs) for k in job[6]]
@@ -185,10 +188,12 @@ def _sign_checks(jobs, table, eok, problems):
         t = int(T[r])
         if t in drop:
             continue
-        drop.add(t)
         pos_e, e, name, pair = jobs[t][:4]
         q = Q[r * len(fr)]
         neg = (hi_k + E < lo_i - E).reshape(-1, len(fr))[r].any()
+        if not neg and exact_third_site_clear(geoms, vinfo, e, pair, jobs[t][5][3], (int(K[r]), q, "undecided")):
+            continue
+        drop.add(t)
         problems.append(fault(f"{name}: site {int(K[r])} " + ("is closer than its sites" if neg else "too close to decide")
                               + f" near ({q[0]:.9g}, {q[1]:.9g})", kind="edge", edge=e.id, sites=(*pair, int(K[r]))))
         eok[pos_e] = False
@@ -268,7 +273,7 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
             return None
         u0 = float(pre["v0"][0]) if v1 is None else float(pre["v1"][0])
         uf = float(pre["last"][0]) if v1 is None else float(pre["first"][0])
-        if not abs(uf - u0) > 1e-9 * (1 + abs(u0)):
+        if not abs(uf - u0) > 1e-12 * (1 + abs(u0)):
             problems.append(f"{name}: cannot tell which way the edge goes to infinity from its polyline")
             return None
         sigma = 1 if uf > u0 else -1

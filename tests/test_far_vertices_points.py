@@ -1,0 +1,70 @@
+"""Three nearly collinear points: the middle one a hair ε inside the hull side of the other two.
+The Voronoi vertex of the three is their circumcentre, about 1/(2ε) away on the far side of the
+side (thesis §1.2: the empty circle of a Delaunay triangle), and the edge of the two outer points
+runs from it to infinity.  Floats cannot tell the distances apart so far out; the certificate
+decides the middle point's side of that edge exactly (rational affine power differences), and the
+direction of the infinite end from the polyline however far the vertex lies.
+
+Reference: the Delaunay triangles by brute force over all triples with exact rational incircle
+tests (no library code), and the circumcentre in rationals."""
+from __future__ import annotations
+
+from fractions import Fraction
+from itertools import combinations
+
+import pytest
+
+import curvedvoronoi as cv
+
+
+def orient(a, b, c):
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+
+
+def incircle(a, b, c, d):
+    """> 0 when d is strictly inside the circle through a, b, c (counter-clockwise)."""
+    rows = [(p[0] - d[0], p[1] - d[1]) for p in (a, b, c)]
+    m = [(x, y, x * x + y * y) for x, y in rows]
+    return (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
+
+
+def circumcentre(a, b, c):
+    d = 2 * (a[0] * (b[1] - c[1]) + b[0] * (c[1] - a[1]) + c[0] * (a[1] - b[1]))
+    ux = ((a[0] ** 2 + a[1] ** 2) * (b[1] - c[1]) + (b[0] ** 2 + b[1] ** 2) * (c[1] - a[1])
+          + (c[0] ** 2 + c[1] ** 2) * (a[1] - b[1])) / d
+    uy = ((a[0] ** 2 + a[1] ** 2) * (c[0] - b[0]) + (b[0] ** 2 + b[1] ** 2) * (a[0] - c[0])
+          + (c[0] ** 2 + c[1] ** 2) * (b[0] - a[0])) / d
+    return ux, uy
+
+
+def delaunay(points):
+    P = [(Fraction(x), Fraction(y)) for x, y in points]
+    tris = []
+    for t in combinations(range(len(P)), 3):
+        a, b, c = (P[k] for k in t)
+        o = orient(a, b, c)
+        if o == 0:
+            continue
+        if o < 0:
+            b, c = c, b
+        if all(incircle(a, b, c, P[k]) < 0 for k in range(len(P)) if k not in t):
+            tris.append(t)
+    edges = {tuple(sorted(e)) for t in tris for e in combinations(t, 2)}
+    return tris, edges, P
+
+
+@pytest.mark.parametrize("eps", [1e-3, 1e-6, 1e-9, 1e-12, -1e-9])
+def test_a_far_vertex_of_nearly_collinear_points_is_certified(eps):
+    pts = [(0, 0), (1, eps), (2, 0), (1, 5)]
+    d = cv.voronoi(pts, progress=False)
+    assert d.certified, d.problems
+    tris, edges, P = delaunay(pts)
+    assert set(d.delaunay_edges()) == edges
+    assert len(d.vertices) == len(tris)
+    for t in tris:
+        cx, cy = circumcentre(*(P[k] for k in t))
+        v = next(v for v in d.vertices if set(v.sites) == set(t))
+        assert abs(Fraction(v.x) - cx) <= 1e-9 * (1 + abs(cx)) and abs(Fraction(v.y) - cy) <= 1e-9 * (1 + abs(cy))
+    unbounded = {tuple(e.sites) for e in d.edges if None in e.ends}
+    assert ((0, 2) in unbounded) == (eps > 0)
