@@ -22,6 +22,18 @@ elementary sites:
 The certificate is :func:`runtime.segments.certificate.verify_segments` (independent of this
 module); ``certified`` is its verdict.
 
+A round works on arrays over all candidates and walks at once (numpy): the known zeros of
+the candidates' triples (:class:`runtime.segments.proved_zeros.ZeroTable`), corners, vertex
+numbers, the walks' ends and the degree check (:func:`runtime.segments.walk_checks.
+degree_mismatches`).  Python loops remain (a) over the zeros proved for the first time (one
+arb Krawczyk proof each, :func:`runtime.segments.newton.prove_vertices`, and those the float
+emptiness filter leaves to the arb and exact tests), (b) over the candidates and walks that
+fail (a refinement request, a culprit sample, a problem text: few after the first round),
+(c) over the walks of the sample triangulation, which
+:meth:`runtime.voronoi.sample_delaunay.SampleTriangulation.walks` gives as Python tuples, and
+over the vertex objects of the round (their :class:`runtime.voronoi.structure.DiagramVertex`
+numbers).
+
 Length: one round's steps (candidate vertices, proofs, emptiness, walks, degree checks and the
 refinement they ask for) read and write the same per-round tables (triangle → vertex, proof →
 vertex, the caches kept across rounds); split apart they would pass all of them around.
@@ -30,7 +42,6 @@ Public API: :func:`segment_voronoi`, :func:`has_segments`.
 """
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
@@ -43,16 +54,16 @@ from ..sites.segment import Segment, as_point_pair
 from ..threads import one_blas_thread, without_cyclic_gc
 from ..voronoi.site_input import SiteError
 from ..voronoi.structure import Diagram, DiagramVertex
-from .contact_order import contact_order, corner_order
+from .contact_order import corner_order
 from .crossings import check_pieces, renamed
 from .edges import edge_polylines
 from .elementary import ARC, POINT, ElementarySites, decompose
-from .emptiness import empty_by_filter, prove_empty
 from .exact import contacts_valid
 from .sampling import flat, initial_spacing, nearest_point, retriangulation, samples, triangulation
-from .walk_checks import far_ends, long_side
+from .proved_zeros import EMPTY, UNDECIDED, ZeroTable
+from .walk_checks import BAD, NONE, TRI, VERTEX, degree_mismatches, far_ends, long_side, walk_arrays
 from .newton import prove_vertices
-from .near_degenerate import splice_clusters
+from .near_degenerate import CLUSTER_RADIUS, splice_clusters
 from .parallel_rays import parallel_ray_triangles
 from .vertices import common_point
 
@@ -106,7 +117,7 @@ def segment_voronoi(pieces, sources=None, *, certify: bool = True, tolerance: fl
         tolerance = 1e-4 * extent
     spacing = initial_spacing(E)
     stats: dict = {"sites": len(E), "points": E.n_points, "segments": len(E) - E.n_points, "rounds": 0}
-    caches: dict = {"proofs": {}, "verdicts": {}}
+    caches: dict = {"proofs": {}}
     vertices, walks, problems, edges = without_cyclic_gc(_rounds)(E, spacing, stats, caches, tolerance, lo, hi)
     D = Diagram(E.sites, vertices, edges, False, problems, stats)
     D.sources = list(E.source)
@@ -241,6 +252,7 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
     threes = np.nonzero(tri.nlab == 3)[0]
     T3 = np.sort(tri.L[threes], axis=1)
     seeds = tri.cc[threes]
+    m = len(threes)
     skip = (T3 == ghost).any(axis=1) | ~np.isfinite(seeds).all(axis=1)
     skip |= parallel_ray_triangles(E, T3, seeds)       # far ends of the perpendiculars at a segment's ends
     fin_spacing = np.where(np.isfinite(spacing), spacing, 0.0)
@@ -249,47 +261,27 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
     hmax = float(np.max(spacing[np.isfinite(spacing)])) if np.isfinite(spacing).any() else 0.0
     refine = _Refine()
     problems: list[str] = []
-    vertices: list[DiagramVertex] = []
-    key_to_vid: dict = {}
-    tri_vid = {}
-    proved_cache = caches["proofs"]     # proofs and emptiness verdicts do not depend on the samples
-    verdicts = caches["verdicts"]
-    near_cache = caches.setdefault("near", {})
-    by_sites: dict = {}
-    jobs = []
-    corners = E.common_points
-    for t, triple, seed, sk, reach in zip(threes.tolist(), T3.tolist(), seeds.tolist(), skip.tolist(),
-                                         reaches.tolist()):
-        if sk:
-            tri_vid[t] = "inf"      # the ghost ring, or a flat hull triangle of collinear samples
-            continue
-        triple = tuple(triple)
-        c = corners[triple] if triple in corners else common_point(E, triple)
-        if c is not None:
-            key = ("corner", c)
-            if key not in key_to_vid:
-                key_to_vid[key] = len(vertices)
-                x, y = E.xy[c]
-                vertices.append(DiagramVertex(len(vertices), corner_order(E, c), float(x), float(y), 0.0, True))
-            tri_vid[t] = key_to_vid[key]
-            continue
-        # a seed near a proved solution of its triple (within twice the triple's sample spacing)
-        # takes it without a new Newton run; two vertices of one triple that close make the
-        # edge checks fail, and the refinement then separates them
-        sol = None
-        for prev_sol in near_cache.get(triple, ()):
-            if math.hypot(prev_sol.x - seed[0], prev_sol.y - seed[1]) <= reach:
-                sol = prev_sol
-                break
-        jobs.append((t, triple, sol, seed))
+    zeros = caches.setdefault("zeros", ZeroTable(len(E)))
+    # per candidate: its vertex (INF: the ghost ring, or a flat hull triangle of collinear
+    # samples; −1: none), its corner (a common point of the triple's closures, −1: none) and the
+    # row of its proved zero (−1: none)
+    vid = np.where(skip, INF, -1)
+    corner = _corners(E, T3, skip)
+    row = np.full(m, -1, np.int64)
+    open_ = np.nonzero(~skip & (corner == -1))[0]
+    # a seed near a proved solution of its triple (within twice the triple's sample spacing)
+    # takes it without a new Newton run; two vertices of one triple that close make the edge
+    # checks fail, and the refinement then separates them
+    row[open_] = zeros.near(zeros.keys(T3[open_]), seeds[open_], reaches[open_])
     # the zeros not known yet: Newton for all of them together, then one arb proof each
-    todo = [k for k, job in enumerate(jobs) if job[2] is None]
-    fresh_sols = prove_vertices(E, [(jobs[k][1], jobs[k][3]) for k in todo], cache=proved_cache)
-    for k, sol in zip(todo, fresh_sols):
-        t, triple, _, seed = jobs[k]
+    todo = open_[row[open_] < 0]
+    fresh_sols = prove_vertices(E, [(tuple(T3[j].tolist()), seeds[j]) for j in todo.tolist()],
+                                cache=caches["proofs"])
+    proved = []
+    for j, sol in zip(todo.tolist(), fresh_sols):
         if sol.status == "undecided" and sol.box is not None and "at an end" in sol.reason:
             # a contact exactly at a curve's end (then that end touches too): decided exactly
-            verdict = contacts_valid(E, triple, sol)
+            verdict = contacts_valid(E, tuple(T3[j].tolist()), sol)
             if verdict:
                 sol.status, sol.reason = "proved", "contact at an end, exact"
             elif verdict is False:
@@ -297,107 +289,72 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
             else:
                 sol.reason = "contact at an end, no closed form"
         if sol.status == "proved":
-            near = near_cache.setdefault(triple, [])
-            if not any(prev_sol is sol for prev_sol in near):
-                near.append(sol)
-        jobs[k] = (t, triple, sol, seed)
+            proved.append((j, sol))
+    if proved:
+        idx = np.array([j for j, _ in proved], np.int64)
+        row[idx] = zeros.add_many([tuple(T3[j].tolist()) for j in idx.tolist()], [s for _, s in proved])
+    # corners: the vertex c of radius 0
+    vertices: list[DiagramVertex] = []
+    corner_vertices = caches.setdefault("corner_vertices", {})
+    at = np.nonzero(corner != -1)[0]
+    codes, first = np.unique(corner[at], return_index=True)
+    for c in codes[np.argsort(first)].tolist():
+        v = corner_vertices.get(c)
+        if v is None:
+            x, y = E.xy[c]
+            v = corner_vertices[c] = DiagramVertex(-1, corner_order(E, c), float(x), float(y), 0.0, True)
+        v.id = len(vertices)
+        vertices.append(v)
+    if len(at):
+        vid[at] = np.array([corner_vertices[c].id for c in corner[at].tolist()], np.int64)
+    has = np.nonzero(row >= 0)[0]
     # candidates crowded closer than any sample spacing: their local diagram, spliced in
-    jobs, splice = splice_clusters(E, jobs, vertices, caches)
-    # the float emptiness filter on all new proved zeros at once; the rest one by one below
-    fresh = {id(so): (tr, so) for _, tr, so, _ in jobs if so.status == "proved" and id(so) not in verdicts}
-    verdicts.update(empty_by_filter(E, tree, lab, hmax, list(fresh.values())))
-    orders = caches.setdefault("orders", {})
-    sol_vid: dict = {}                  # id(sol) -> its vertex in this round
-    for t, triple, sol, _seed in jobs:
-        vid = None
-        if sol.status == "proved":
-            vid = sol_vid.get(id(sol))
-            if vid is not None:
-                tri_vid[t] = vid
-                continue
-            if id(sol) not in verdicts:
-                verdicts[id(sol)] = prove_empty(E, tree, lab, hmax, triple, sol)
-            empty, members, culprit = verdicts[id(sol)]
-            if empty:
-                vid = sol_vid[id(sol)] = _vertex_id(vertices, by_sites, members, sol, E, orders)
-            else:
-                refine.update(triple)
-                if culprit is not None:
-                    # a curve entering the circle passed between its samples: its point nearest
-                    # to the vertex becomes a sample (it lies inside the circle), however shallow
-                    # the intrusion; the triple's curves are sampled twice as densely
-                    if E.kind[culprit] != POINT:
-                        f = nearest_point(E, int(culprit), (sol.x, sol.y))
-                        if not any(np.allclose(f, E.A[int(culprit)] if k_ == 0 else E.B[int(culprit)], rtol=0, atol=0)
-                                   for k_ in (0, 1)):
-                            extra.setdefault(int(culprit), []).append(f)
-                    refine.update(triple)
-                    if empty is None:
-                        problems.append(f"sites {', '.join(map(str, triple))}: emptiness of the vertex at "
-                                        f"({sol.x:.6g}, {sol.y:.6g}) undecided (site {culprit})")
-        if vid is None:
-            refine.update(triple)
-        else:
-            tri_vid[t] = vid
-    raw = splice.rewire(raw, tri_vid)
-    walks = []
-    degree: list[list] = [[] for _ in vertices]
-    flat_tris = {t for t, v in tri_vid.items() if v == "inf"}
-    end_pairs = E.segment_end_pairs
-    for pair, start, chain, end in raw:
-        if ghost in pair or pair in end_pairs:
-            # the two ends of a segment are never neighbours (a circle through both meets the
-            # open segment); their samples' cells touch far out when the segment's samples fall
-            # a rounding inside the hull edge between its ends
+    # (only the candidates with a zero of another candidate that close can be in a cluster)
+    crowd = has[_crowded(zeros, row[has])]
+    jobs = [(int(threes[j]), tuple(T3[j].tolist()), zeros.sols[r], seeds[j])
+            for j, r in zip(crowd.tolist(), row[crowd].tolist())]
+    _, splice = splice_clusters(E, jobs, vertices, caches)
+    if splice.tri_cluster:
+        has = has[~np.isin(threes[has], np.array(list(splice.tri_cluster), np.int64))]
+    zeros.decide(E, tree, lab, hmax, row[has])
+    state = zeros.state[row[has]]
+    emp = has[state == EMPTY]
+    vrow = zeros.vertex[row[emp]]
+    rows_, first = np.unique(vrow, return_index=True)
+    base_id = len(vertices)
+    for r in rows_[np.argsort(first)].tolist():
+        v = zeros.diagram_vertex[r]
+        v.id = len(vertices)
+        vertices.append(v)
+    if len(emp):
+        lookup = np.full(int(rows_.max()) + 1, -1, np.int64)
+        lookup[rows_[np.argsort(first)]] = base_id + np.arange(len(rows_))
+        vid[emp] = lookup[vrow]
+    # candidates that are not a proved empty vertex: their sites are refined
+    for j in np.nonzero((vid == -1) & ~skip)[0].tolist():
+        triple = tuple(T3[j].tolist())
+        if threes[j] in splice.tri_cluster:
             continue
-        if flat_tris and ((start is not None and start[0] == "tri" and start[1] in flat_tris)
-                          or (end is not None and end[0] == "tri" and end[1] in flat_tris)) \
-                and long_side(tri, pair, start, end, tri_vid):
+        refine.update(triple)
+        r = int(row[j])
+        if r < 0 or zeros.state[r] == EMPTY:
             continue
-        if start is None or start[0] == "bad" or (end is not None and end[0] == "bad"):
-            refine.update(pair)
-            continue
-        ends = []
-        ok = True
-        for e in (start, end):
-            v = None if e[0] == "hull" else tri_vid.get(e[1], -1)
-            ok = ok and v != -1
-            ends.append(None if v == "inf" else v)
-        if not ok:
-            refine.update(pair)
-            continue
-        if ends[0] is not None and ends[0] == ends[1]:
-            if vertices[ends[0]].radius == 0 and len(chain) >= 3:
-                # a walk from a corner back to it: the two perpendiculars of a nearly flat corner
-                # meet in the samples (at about h/δ for an angle δ between them), never in the
-                # diagram; finer samples push that point away
-                for t_ in pair:
-                    if np.isfinite(spacing[t_]):
-                        refine.add(t_, spacing[t_] / 4)
-                    else:
-                        refine.add(t_)
-            continue
-        for v in ends:
-            if v is not None:
-                degree[v].append(pair)
-        walks.append((pair, ends, (None, None)))
-    for v in vertices:
-        s_ = v.sites
-        want = sorted((a, b) if a < b else (b, a) for a, b in zip(s_, s_[1:] + s_[:1]))
-        if sorted(degree[v.id]) != want:
-            refine.update(v.sites)
-            # an edge missing at a vertex of a point site p and a curve t ending at p: the edge
-            # leaves the vertex where t's nearest point is a hair away from p (a hull tangent
-            # next to an arc's end, a nearly flat corner), closer than t's first sample:
-            # samples of t graded towards p (sampling.corner_grading), 8 times finer at each
-            # request, resolve it
-            for p_ in v.sites:
-                if E.kind[p_] == POINT:
-                    for t in v.sites:
-                        if E.is_endpoint(p_, t):
-                            graded[(int(t), int(p_))] = graded.get((int(t), int(p_)), 0) + 1
-            problems.append(f"sites {', '.join(map(str, v.sites))}: the vertex at ({v.x:.6g}, {v.y:.6g}) has incident "
-                            f"edges {sorted(degree[v.id])}, expected {want}")
+        culprit = zeros.culprit[r]
+        if culprit is not None:
+            # a curve entering the circle passed between its samples: its point nearest to the
+            # vertex becomes a sample (it lies inside the circle), however shallow the
+            # intrusion; the triple's curves are sampled twice as densely
+            sol = zeros.sols[r]
+            if E.kind[culprit] != POINT:
+                f = nearest_point(E, int(culprit), (sol.x, sol.y))
+                if not any(np.allclose(f, E.A[int(culprit)] if k_ == 0 else E.B[int(culprit)], rtol=0, atol=0)
+                           for k_ in (0, 1)):
+                    extra.setdefault(int(culprit), []).append(f)
+            if zeros.state[r] == UNDECIDED:
+                problems.append(f"sites {', '.join(map(str, triple))}: emptiness of the vertex at "
+                                f"({sol.x:.6g}, {sol.y:.6g}) undecided (site {culprit})")
+    walks, hv, hk = _walks(E, tri, raw, splice, threes, vid, vertices, spacing, refine)
+    _degree_checks(E, vertices, hv, hk, refine, graded, problems, caches.setdefault("want", {}))
     # point sites are single samples: refine the segments ending at them instead
     out: dict = {}
     for t, cap in refine.items():
@@ -405,6 +362,140 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
             out[s_] = min(out.get(s_, np.inf), cap)
     refine = out
     return (vertices, walks, problems), refine
+
+
+#: the vertex code of a candidate that is the ghost ring or a flat hull triangle (an end at infinity)
+INF = -2
+
+
+def _crowded(zeros: ZeroTable, rows) -> np.ndarray:
+    """Mask of ``rows`` whose zero has another row's zero within :data:`CLUSTER_RADIUS` of the
+    scale (1 + |x| + |y| + r, the largest of ``rows``): a superset of the members of the
+    clusters of :func:`runtime.segments.near_degenerate.splice_clusters`."""
+    out = np.zeros(len(rows), bool)
+    if len(rows) < 2:
+        return out
+    X = zeros.xy[rows]
+    r = np.array([zeros.sols[k].r for k in rows.tolist()])
+    scale = float((1.0 + np.abs(X).sum(axis=1) + r).max())
+    pairs = cKDTree(X).query_pairs(CLUSTER_RADIUS * scale, output_type="ndarray")
+    out[pairs.ravel()] = True
+    return out
+
+
+def _corners(E: ElementarySites, T3, skip) -> np.ndarray:
+    """Per sorted triple: the common point of its three sites' closures
+    (:func:`runtime.segments.vertices.common_point`, asked only for the triples where one site's
+    closure meets both others'), −1 for none (and for ``skip`` rows)."""
+    n = len(E)
+    cl = np.where((E.kind == POINT)[:, None], np.arange(n)[:, None], E.ends)
+    cl = np.vstack([cl, [[-1, -1]]])                   # the ghost label
+    C = cl[np.minimum(T3, n)]                          # (m, 3, 2)
+    maybe = np.zeros(len(T3), bool)
+    for j in (0, 1):
+        c = C[:, 0, j]
+        maybe |= (c != -1) & (C[:, 1, :] == c[:, None]).any(axis=1) & (C[:, 2, :] == c[:, None]).any(axis=1)
+    maybe &= ~skip
+    out = np.full(len(T3), -1, np.int64)
+    for j in np.nonzero(maybe)[0].tolist():
+        c = common_point(E, tuple(T3[j].tolist()))
+        if c is not None:
+            out[j] = c
+    return out
+
+
+def _walks(E, tri, raw, splice, threes, vid, vertices, spacing, refine) -> list:
+    """The edges (pair, [vertex or None, vertex or None], (None, None)) of the walks ``raw``, and
+    the walks' ends at vertices with their pair keys; the pairs of walks that end nowhere known
+    are refined."""
+    ghost = len(E)
+    side: dict = {}
+    raw = splice.rewire(raw, side)
+    base = len(E) + 1
+    if not raw:
+        return [], np.empty(0, np.int64), np.empty(0, np.int64), np.empty(0, np.int64), np.empty(0, np.int64)
+    key, sk, st, ek, et, length = walk_arrays(raw, base, side)
+    pa, pb = key // base, key % base
+    pos = np.full(len(tri.simp), -1, np.int64)
+    pos[threes] = np.arange(len(threes))
+
+    def end_vertex(kind, t):
+        v = np.full(len(kind), -3, np.int64)            # −3: at infinity (the hull, a flat triangle)
+        tr = kind == TRI
+        v[tr] = np.where(pos[t[tr]] >= 0, vid[pos[np.maximum(t[tr], 0)]], -1)
+        v[kind == VERTEX] = t[kind == VERTEX]
+        v[v == INF] = -3
+        return v
+
+    sv, ev = end_vertex(sk, st), end_vertex(ek, et)
+    # the two ends of a segment are never neighbours (a circle through both meets the open
+    # segment); their samples' cells touch far out when the segment's samples fall a rounding
+    # inside the hull edge between its ends
+    end_keys = np.array([a * base + b for a, b in E.segment_end_pairs if a < b], np.int64)
+    drop = (pa == ghost) | (pb == ghost) | np.isin(key, end_keys)
+    flat_tri = vid == INF
+    if flat_tri.any():
+        touch = ~drop & (((sk == TRI) & (sv == -3)) | ((ek == TRI) & (ev == -3)))
+        tri_vid = {int(threes[j]): "inf" for j in np.nonzero(flat_tri)[0].tolist()}
+        for w in np.nonzero(touch)[0].tolist():
+            pair, start, _chain, end = raw[w]
+            if long_side(tri, pair, start, end, tri_vid):
+                drop[w] = True
+    broken = ~drop & ((sk == NONE) | (sk == BAD) | (ek == BAD) | (sv == -1) | (ev == -1))
+    for w in np.nonzero(broken)[0].tolist():
+        refine.update(raw[w][0])
+    loop = ~drop & ~broken & (sv >= 0) & (sv == ev)
+    for w in np.nonzero(loop)[0].tolist():
+        if vertices[int(sv[w])].radius == 0 and length[w] >= 3:
+            # a walk from a corner back to it: the two perpendiculars of a nearly flat corner
+            # meet in the samples (at about h/δ for an angle δ between them), never in the
+            # diagram; finer samples push that point away
+            for t_ in raw[w][0]:
+                if np.isfinite(spacing[t_]):
+                    refine.add(t_, spacing[t_] / 4)
+                else:
+                    refine.add(t_)
+    good = np.nonzero(~drop & ~broken & ~loop)[0]
+    s_l = np.where(sv[good] >= 0, sv[good], -1).tolist()
+    e_l = np.where(ev[good] >= 0, ev[good], -1).tolist()
+    walks = [(raw[w][0], [None if a < 0 else a, None if b < 0 else b], (None, None))
+             for w, a, b in zip(good.tolist(), s_l, e_l)]
+    # the walks' ends at vertices, with their pair keys (for the degree checks)
+    at_s, at_e = good[sv[good] >= 0], good[ev[good] >= 0]
+    return walks, np.concatenate([sv[at_s], ev[at_e]]), np.concatenate([key[at_s], key[at_e]])
+
+
+def _degree_checks(E, vertices, hv, hk, refine, graded, problems, want_of) -> None:
+    """Every vertex must have one edge per pair of cyclically consecutive sites (``hv``, ``hk``:
+    the walks' ends at vertices and their pair keys); otherwise its sites are refined (and a
+    point site's curves graded towards it) and the problem named.  ``want_of``: the sorted pair
+    keys of each vertex object (by id), kept across rounds."""
+    if not vertices:
+        return
+    base = len(E) + 1
+    want = []
+    for v in vertices:
+        w = want_of.get(id(v))
+        if w is None:
+            w = want_of[id(v)] = tuple(sorted(min(a, b) * base + max(a, b)
+                                              for a, b in zip(v.sites, v.sites[1:] + v.sites[:1])))
+        want.append(w)
+    for v_id in degree_mismatches(want, hv, hk, len(vertices)).tolist():
+        v = vertices[v_id]
+        refine.update(v.sites)
+        # an edge missing at a vertex of a point site p and a curve t ending at p: the edge
+        # leaves the vertex where t's nearest point is a hair away from p (a hull tangent next
+        # to an arc's end, a nearly flat corner), closer than t's first sample: samples of t
+        # graded towards p (sampling.corner_grading), 8 times finer at each request, resolve it
+        for p_ in v.sites:
+            if E.kind[p_] == POINT:
+                for t in v.sites:
+                    if E.is_endpoint(p_, t):
+                        graded[(int(t), int(p_))] = graded.get((int(t), int(p_)), 0) + 1
+        have = sorted((int(k // base), int(k % base)) for k in hk[hv == v_id].tolist())
+        want_v = sorted((a, b) if a < b else (b, a) for a, b in zip(v.sites, v.sites[1:] + v.sites[:1]))
+        problems.append(f"sites {', '.join(map(str, v.sites))}: the vertex at ({v.x:.6g}, {v.y:.6g}) has incident "
+                        f"edges {have}, expected {want_v}")
 
 
 class _Refine(dict):
@@ -417,21 +508,3 @@ class _Refine(dict):
     def update(self, sites):
         for t in sites:
             self.add(t)
-
-
-def _vertex_id(vertices, by_sites, members, sol, E, orders):
-    """The id of the vertex with these sites at this position (10⁻⁹ of the scale), new if none;
-    ``orders`` keeps each proof's sites, tolerance and contact order across rounds."""
-    known = orders.get(id(sol))
-    if known is None:
-        known = orders[id(sol)] = (tuple(sorted(members)), 1e-9 * (1.0 + abs(sol.x) + abs(sol.y) + sol.r),
-                                   contact_order(E, members, sol))
-    key, tol, order = known
-    for vid in by_sites.get(key, ()):
-        v = vertices[vid]
-        if abs(v.x - sol.x) <= tol and abs(v.y - sol.y) <= tol:
-            return vid
-    vid = len(vertices)
-    vertices.append(DiagramVertex(vid, order, sol.x, sol.y, sol.r, True))
-    by_sites.setdefault(key, []).append(vid)
-    return vid

@@ -246,8 +246,6 @@ def triangulation(P, lab, droppable=None) -> SampleTriangulation:
 
 #: a local update of the triangulation is tried when at most this fraction of the samples changed
 LOCAL_FRACTION = 0.5
-#: ... and when the hull-side by new-sample test of the update stays below this many entries
-LOCAL_HULL_WORK = 20_000_000
 
 
 def retriangulation(prev: SampleTriangulation, P, lab) -> SampleTriangulation | None:
@@ -275,9 +273,6 @@ def retriangulation(prev: SampleTriangulation, P, lab) -> SampleTriangulation | 
         return None
     if n_change == 0:
         return prev
-    hull_sides = int((prev.nb == -1).sum())
-    if hull_sides * int(add.sum()) > LOCAL_HULL_WORK:
-        return None
     try:
         return prev.update(np.nonzero(~keep)[0], P[add], lab[add])
     except (ValueError, IndexError, QhullError):

@@ -4,9 +4,12 @@ The construction (:mod:`runtime.segments.construction`) reads edges off walks th
 labelled sample triangulation.  Three kinds of walks are artefacts of the sampling, not of the
 diagram: a walk between the two ends of one segment (:func:`segment_ends`), a walk through the
 longest side of a flat sample triangle (:func:`long_side`), and an infinite edge whose far end
-lies in a third site's region (:func:`far_ends`, which asks for finer samples).
+lies in a third site's region (:func:`far_ends`, which asks for finer samples).  The walks of a
+round as arrays (:func:`walk_arrays`) and the check that every vertex has one edge per pair of
+consecutive sites (:func:`degree_mismatches`) run on all walks and vertices at once.
 
-Public API: :func:`segment_ends`, :func:`long_side`, :func:`far_ends`.
+Public API: :func:`segment_ends`, :func:`long_side`, :func:`far_ends`, :func:`walk_arrays`,
+:func:`degree_mismatches`, :data:`NONE`, :data:`TRI`, :data:`HULL`, :data:`BAD`, :data:`VERTEX`.
 """
 from __future__ import annotations
 
@@ -16,7 +19,11 @@ from .distance import site_distances
 from .edges import edge_polylines
 from .elementary import POINT, ElementarySites
 
-__all__ = ["segment_ends", "long_side", "far_ends"]
+__all__ = ["segment_ends", "long_side", "far_ends", "walk_arrays", "degree_mismatches", "NONE", "TRI", "HULL", "BAD", "VERTEX"]
+
+#: kinds of a walk's end in :func:`walk_arrays`: none (a closed chain), a 3-label triangle, the
+#: hull, a walk that could not be closed, a vertex given directly
+NONE, TRI, HULL, BAD, VERTEX = 0, 1, 2, 3, 4
 
 #: far points times sites per block of distances in :func:`far_ends` (bounds its memory)
 FAR_CHUNK = 2_000_000
@@ -82,3 +89,43 @@ def far_ends(E: ElementarySites, result, tolerance, lo, hi, caches) -> dict:
                 if E.kind[p_] == POINT and E.is_endpoint(p_, t):
                     graded[(int(t), int(p_))] = graded.get((int(t), int(p_)), 0) + 1
     return out
+
+
+def walk_arrays(raw, base: int, direct=None):
+    """The walks ``raw`` of :meth:`runtime.voronoi.sample_delaunay.SampleTriangulation.walks` as
+    arrays: pair keys a·base + b (a < b), start and end kinds (:data:`NONE`, :data:`TRI`,
+    :data:`HULL`, :data:`BAD`, or :data:`VERTEX` for an end ("tri", key) with ``key`` in the dict
+    ``direct``: key -> vertex) and their triangles or vertices (−1 for none), chain lengths."""
+    W = len(raw)
+    codes = {None: NONE, "tri": TRI, "hull": HULL, "bad": BAD}
+    out = []
+    for j in (1, 3):
+        ends = [w[j] for w in raw]
+        kind = np.array([codes[None if e is None else e[0]] for e in ends], np.int64).reshape(W)
+        where = [-1 if e is None else e[1] for e in ends]
+        if direct:              # ends given as vertices: keys that are not triangle indices
+            for i, e in enumerate(ends):
+                if e is not None and e[0] == "tri" and not isinstance(e[1], (int, np.integer)):
+                    kind[i], where[i] = VERTEX, direct[e[1]]
+        out += [kind, np.array(where, np.int64).reshape(W)]
+    pa = np.array([w[0][0] for w in raw], np.int64).reshape(W)
+    pb = np.array([w[0][1] for w in raw], np.int64).reshape(W)
+    length = np.array([len(w[2]) for w in raw], np.int64).reshape(W)
+    return (np.minimum(pa, pb) * base + np.maximum(pa, pb), *out, length)
+
+
+def degree_mismatches(want, have_v, have_k, n_vertices: int) -> np.ndarray:
+    """The vertices whose edges are not one per pair of cyclically consecutive sites: ``want``
+    lists per vertex the sorted pair keys of its consecutive sites, (``have_v``, ``have_k``) the
+    ends of the walks at vertices with their pair keys.  Compared as sorted multisets."""
+    lens = np.array([len(w) for w in want], np.int64).reshape(n_vertices)
+    wk = np.array([k for w in want for k in w], np.int64).reshape(int(lens.sum()))
+    wv = np.repeat(np.arange(n_vertices), lens)
+    count = np.bincount(have_v, minlength=n_vertices)
+    bad = count != lens
+    o = np.lexsort((have_k, have_v))
+    hv, hk = have_v[o], have_k[o]
+    h_ok, w_ok = ~bad[hv], ~bad[wv]
+    diff = hk[h_ok] != wk[w_ok]                  # the same counts: aligned vertex by vertex
+    bad[hv[h_ok][diff]] = True
+    return np.nonzero(bad)[0]

@@ -24,6 +24,14 @@ Delaunay triangulation of points moved by about 10⁻¹¹ of the extent -- the s
 an approximation whatever its precision (the diagram's proof is the verifier's), so this costs
 nothing in rigour.  Every input sample is a corner.
 
+The batch update (:meth:`SampleTriangulation.update`) keeps the triangulation local across the
+refinement rounds, collinear samples on the hull included (the samples of a segment on the
+convex hull of a scene): its result is checked to be a Delaunay triangulation of the convex hull
+(Delaunay's lemma on the new sides, the hull, Euler's count) before it is used.
+
+Length: the triangulation, its batch update with the update's checks, and the walks read the
+same arrays (corners, neighbours, labels, circumcentres); apart they would pass all of them.
+
 Public API: :class:`SampleTriangulation`, :func:`circumcentres`, :func:`delaunay`.
 """
 from __future__ import annotations
@@ -115,31 +123,38 @@ class SampleTriangulation:
     def update(self, remove, Pnew, labnew):
         """The triangulation after removing the samples ``remove`` (indices) and inserting ``Pnew``
         (labels ``labnew``), by a batch Bowyer–Watson step (Bowyer 1981, Watson 1981); None when a
-        full triangulation is needed (a removed hull sample, a failed check).
+        full triangulation is needed (an extreme hull sample removed, a failed check).
 
         A triangle whose closed circumdisk holds no new sample and which has no removed corner
-        keeps an empty open circumdisk, so it is a triangle of the new Delaunay triangulation;
-        a hull side stays one unless a new sample lies on or beyond its line (the "ghost
-        triangle" of the side is then in conflict).  The rest (the *cavity*, with the area the
-        hull gains) is re-triangulated by qhull from the cavity's remaining corners and the new
-        samples: every new Delaunay triangle lies there and is Delaunay for these points, so the
-        local triangles that fill the cavity are the new ones.  They are found by flooding the
-        local triangulation from the new (and removed) samples without crossing the cavity's
-        boundary sides, and checked: their area is the cavity's plus the hull's gain, no side
-        is shared by more than two triangles, and the boundary sides are the new hull's.
-        Points: kept samples in their order, then ``Pnew``; triangles: kept ones in their order,
-        then the new ones."""
+        keeps an empty open circumdisk, so it is a triangle of the new Delaunay triangulation.
+        A hull side stays one unless a new sample lies on or beyond its line (the "ghost
+        triangle" of the side, whose disk is the open half-plane beyond it, is then in conflict).
+        Removed hull samples are allowed when they lie on the straight side between their hull
+        neighbours (the samples of a segment on the hull): the hull polygon does not change.
+        The rest (the *cavity*, with the area the hull gains) is re-triangulated by qhull from the
+        cavity's remaining corners and the new samples; every new Delaunay triangle lies there and
+        is Delaunay for these points.  The local triangles that fill the cavity are found by
+        flooding the local triangulation, without crossing the cavity's boundary sides, from the
+        local triangles on the inner side of those boundary sides and from the new samples.
+        The result is checked: no side in more than two triangles, every sample a corner, each
+        new side locally Delaunay with its two triangles on opposite sides of it (Delaunay's
+        lemma: locally Delaunay everywhere is Delaunay), and one boundary that is the convex hull
+        (its vertices on the hull of the samples, the triangles' area the hull's, Euler's count
+        T = 2n − h − 2).  Points: kept samples in their order, then ``Pnew``; triangles: kept
+        ones in their order, then the new ones."""
         P, simp, nb = self.P, self.simp, self.nb
         n = len(P)
         Pnew = np.asarray(Pnew, float).reshape(-1, 2)
         rm = np.zeros(n, bool)
         rm[np.asarray(remove, dtype=np.int64)] = True
+        if not (len(Pnew) or rm.any()):
+            return None
         hull_t, hull_k = np.nonzero(nb == -1)
         ha, hb = simp[hull_t, (hull_k + 1) % 3], simp[hull_t, (hull_k + 2) % 3]
-        if rm[ha].any() or rm[hb].any() or not (len(Pnew) or rm.any()):
+        scale = float(np.abs(P).max()) + 1.0
+        if (rm[ha].any() or rm[hb].any()) and not _straight_on_hull(P, ha, hb, rm, scale):
             return None
         conflict = rm[simp].any(axis=1)
-        scale = float(np.abs(P).max()) + 1.0
         visible = np.zeros(len(hull_t), bool)      # hull sides whose ghost triangle is in conflict
         if len(Pnew):
             rad = np.hypot(*(P[simp[:, 0]] - self.cc).T)
@@ -149,12 +164,7 @@ class SampleTriangulation:
             cand = np.nonzero(fin & _may_hold(self.cc, reach, Pnew))[0]
             cnt = cKDTree(Pnew).query_ball_point(self.cc[cand], reach[cand], return_length=True)
             conflict[cand[cnt > 0]] = True
-            # orientation of each hull side so that the third corner is on its left
-            A, B, O = P[ha], P[hb], P[simp[hull_t, hull_k]]
-            d = B - A
-            s = np.sign(d[:, 0] * (O[:, 1] - A[:, 1]) - d[:, 1] * (O[:, 0] - A[:, 0]))
-            side = s[:, None] * (d[:, 0:1] * (Pnew[None, :, 1] - A[:, 1:2]) - d[:, 1:2] * (Pnew[None, :, 0] - A[:, 0:1]))
-            visible = (side <= 1e-12 * scale * np.hypot(d[:, 0], d[:, 1])[:, None]).any(axis=1)
+            visible = _visible_sides(P, ha, hb, Pnew, scale)
             conflict[hull_t[visible]] = True
         cav = np.nonzero(conflict)[0]
         U = np.unique(simp[cav])
@@ -163,45 +173,67 @@ class SampleTriangulation:
         g2l[U] = np.arange(len(U))
         loc_pts = np.vstack([P[U], Pnew])
         try:
-            loc, loc_c = delaunay(loc_pts)
+            loc, _ = delaunay(loc_pts)
         except Exception:  # noqa: BLE001 - qhull refuses (too few / flat points): full rebuild
             return None
-        # the cavity's boundary sides (towards kept triangles, or non-visible hull sides), local pairs
+        if len(loc.coplanar):
+            return None          # a sample qhull left out: full rebuild
+        # the cavity's boundary sides: towards kept triangles, or kept hull sides of the cavity
         tt, kk = np.repeat(cav, 3), np.tile(np.arange(3), len(cav))
         out_nb = nb[tt, kk]
         vis_side = np.zeros(nb.shape, bool)
         vis_side[hull_t[visible], hull_k[visible]] = True
-        bnd = np.where(out_nb == -1, ~vis_side[tt, kk], ~conflict[np.maximum(out_nb, 0)])
-        a = g2l[simp[tt[bnd], (kk[bnd] + 1) % 3]]
-        b = g2l[simp[tt[bnd], (kk[bnd] + 2) % 3]]
+        ga, gb = simp[tt, (kk + 1) % 3], simp[tt, (kk + 2) % 3]
+        bnd = np.where(out_nb == -1, ~vis_side[tt, kk] & ~rm[ga] & ~rm[gb], ~conflict[np.maximum(out_nb, 0)])
+        ga, gb, gc, gu = ga[bnd], gb[bnd], simp[tt[bnd], kk[bnd]], out_nb[bnd]
+        a, b = g2l[ga], g2l[gb]
         m = len(loc_pts)
         bkeys = np.minimum(a, b) * m + np.maximum(a, b)
         ls, ln = loc.simplices, loc.neighbors
         sk = np.stack([np.minimum(ls[:, (k + 1) % 3], ls[:, (k + 2) % 3]) * m
                        + np.maximum(ls[:, (k + 1) % 3], ls[:, (k + 2) % 3]) for k in range(3)], axis=1)
         cross = ~np.isin(sk, bkeys) & (ln >= 0)
-        seeds = [loc.vertex_to_simplex[len(U) + np.arange(len(Pnew))]]
-        if rm.any():
-            # a removed sample on the local hull's boundary may not be located (a rounding): it
-            # is no seed then; a part of the cavity left unflooded fails the area check below
-            at = loc.find_simplex(P[rm] - loc_c)
-            seeds.append(at[at >= 0])
-        seeds = np.concatenate(seeds)
-        if len(loc.coplanar) or (seeds < 0).any() or (seeds >= len(ls)).any():
-            return None          # a sample qhull left out: no flood from it (full rebuild)
+        # the local triangles on each boundary side: the inner one (its third corner on the side of
+        # the cavity triangle's third corner) seeds the flood, an outer one must stay out of it
+        flat_keys = sk.ravel()
+        order = np.argsort(flat_keys, kind="stable")
+        lo_ = np.searchsorted(flat_keys, bkeys, sorter=order)
+        hi_ = np.searchsorted(flat_keys, bkeys, side="right", sorter=order)
+        if (hi_ == lo_).any() or (hi_ - lo_ > 2).any():
+            return None          # a boundary side that the local triangulation does not have
+        # the inner side of each boundary side: towards the cavity triangle's third corner or away
+        # from the kept neighbour's, whichever is farther from the side's line (a sliver's corner
+        # is a rounding away from it); a hull side's towards the centre of the hull's vertices
+        A_, B_ = P[ga], P[gb]
+        ref = _orient(A_, B_, P[gc])
+        kept_nb = gu >= 0
+        if kept_nb.any():
+            w = gu[kept_nb]
+            far = simp[w, np.argmax(nb[w] == tt[bnd][kept_nb][:, None], axis=1)]
+            away = -_orient(A_[kept_nb], B_[kept_nb], P[far])
+            ref[kept_nb] = np.where(np.abs(away) > np.abs(ref[kept_nb]), away, ref[kept_nb])
+        if (~kept_nb).any():
+            centre = P[np.unique(np.concatenate([ha, hb]))].mean(axis=0)
+            ref[~kept_nb] = _orient(A_[~kept_nb], B_[~kept_nb], np.broadcast_to(centre, (int((~kept_nb).sum()), 2)))
+        ref = np.sign(ref)
+        tiny = 1e-12 * scale * np.hypot(*(B_ - A_).T)
+        seeds, outer = [loc.vertex_to_simplex[len(U) + np.arange(len(Pnew))]], []
+        for j in (0, 1):
+            has = hi_ - lo_ > j
+            f = order[np.where(has, lo_ + j, lo_)]
+            lt, lk = f // 3, f % 3
+            s = _orient(A_, B_, loc_pts[ls[lt, lk]]) * ref
+            seeds.append(lt[has & (s > tiny)])
+            outer.append(lt[has & (s < -tiny)])
+        seeds, outer = np.concatenate(seeds), np.concatenate(outer)
+        if (seeds < 0).any() or (seeds >= len(ls)).any():
+            return None
         r, c = np.nonzero(cross)
         g = coo_matrix((np.ones(len(r)), (r, ln[r, c])), shape=(len(ls), len(ls)))
         _, comp = connected_components(g, directed=False)
         inside = np.isin(comp, np.unique(comp[seeds]))
-        # area check: the cavity plus what the hull gains
-        gain = 0.0
-        if visible.any():
-            hp = P[np.unique(np.concatenate([ha, hb]))]
-            gain = ConvexHull(np.vstack([hp, Pnew])).volume - ConvexHull(hp).volume
-        area_cav = _areas(P, simp[cav]).sum() + gain
-        area_new = _areas(loc_pts, ls[inside]).sum()
-        if not abs(area_new - area_cav) <= 1e-9 * max(area_cav, 1e-300):
-            return None
+        if inside[outer].any():
+            return None          # the flood leaked out of the cavity
         # the new triangulation
         keep_pts = ~rm
         o2n = np.cumsum(keep_pts) - 1
@@ -209,17 +241,13 @@ class SampleTriangulation:
         l2n = np.concatenate([o2n[U], n_keep + np.arange(len(Pnew))])
         kept_t = np.nonzero(~conflict)[0]
         simp2 = np.vstack([o2n[simp[kept_t]], l2n[ls[inside]]])
-        nb2 = _neighbours(simp2, n_keep + len(Pnew))
-        if nb2 is None:
-            return None
+        n2 = n_keep + len(Pnew)
+        nb2 = _neighbours(simp2, n2)
         P2 = np.vstack([P[keep_pts], Pnew])
-        if visible.any():        # the boundary must be the new convex hull
-            t2, k2 = np.nonzero(nb2 == -1)
-            hull2 = ConvexHull(np.vstack([P[np.unique(np.concatenate([ha, hb]))], Pnew]))
-            if len(t2) != len(hull2.simplices):
-                return None
-        lab2 = np.concatenate([self.lab[keep_pts], labnew])
         cc2 = np.vstack([self.cc[kept_t], circumcentres(*(P2[simp2[len(kept_t):, k]] for k in range(3)))])
+        if nb2 is None or not _valid(P2, simp2, nb2, len(kept_t), cc2, scale):
+            return None
+        lab2 = np.concatenate([self.lab[keep_pts], labnew])
         seed2 = np.vstack([self.seed[kept_t], np.full((int(inside.sum()), 2), np.nan)])
         out = SampleTriangulation(P2, lab2, simp2, nb2, cc2, seed2)
         out.prior_edge_memo = self.edge_memo
@@ -321,6 +349,115 @@ def circumcentres(A, B, C):
 def _areas(P, simp):
     A, B, C = (P[simp[:, k]] for k in range(3))
     return np.abs((B[:, 0] - A[:, 0]) * (C[:, 1] - A[:, 1]) - (B[:, 1] - A[:, 1]) * (C[:, 0] - A[:, 0])) / 2
+
+
+def _orient(A, B, C):
+    """Twice the signed area of the triangles (A, B, C) (rows)."""
+    return (B[:, 0] - A[:, 0]) * (C[:, 1] - A[:, 1]) - (B[:, 1] - A[:, 1]) * (C[:, 0] - A[:, 0])
+
+
+def _straight_on_hull(P, ha, hb, rm, scale) -> bool:
+    """Every removed hull sample lies on the straight segment between its two hull neighbours
+    (relative 10⁻⁹ of the angle, plus rounding): removing them leaves the hull polygon as it is."""
+    ends = np.concatenate([ha, hb])
+    other = np.concatenate([hb, ha])
+    order = np.argsort(ends, kind="stable")
+    ends, other = ends[order], other[order]
+    first = np.searchsorted(ends, np.nonzero(rm)[0])
+    v = np.nonzero(rm)[0]
+    on = (first + 1 < len(ends)) & (ends[np.minimum(first, len(ends) - 1)] == v)
+    v, first = v[on], first[on]
+    if not len(v):
+        return True
+    if (ends[first + 1] != v).any() or ((first + 2 < len(ends)) & (ends[np.minimum(first + 2, len(ends) - 1)] == v)).any():
+        return False              # a hull vertex not on exactly two hull sides
+    u, w = P[other[first]], P[other[first + 1]]
+    x = P[v]
+    lu, lw = np.hypot(*(u - x).T), np.hypot(*(w - x).T)
+    straight = np.abs(_orient(u, x, w)) <= 1e-9 * lu * lw + 1e-14 * scale * (lu + lw)
+    between = np.einsum("ij,ij->i", u - x, w - x) < 0
+    return bool((straight & between).all())
+
+
+#: new samples times hull sides per block of :func:`_visible_sides`
+VISIBLE_BLOCK = 4_000_000
+
+
+def _visible_sides(P, ha, hb, Q, scale):
+    """The hull sides (ha, hb) that a point of ``Q`` lies on or beyond (relative 10⁻¹² of the
+    coordinates): their ghost triangles are in conflict.  Only the points that are not inside the
+    hull by a margin of 10⁻⁹ of the coordinates are tested against every side."""
+    hv = np.unique(np.concatenate([ha, hb]))
+    H = P[hv]
+    centre = H.mean(axis=0)               # inside the convex hull polygon
+    try:
+        eq = ConvexHull(H).equations
+        worst = np.full(len(Q), -np.inf)
+        for e in eq:
+            np.maximum(worst, Q @ e[:2] + e[2], out=worst)
+        near = np.nonzero(worst > -1e-9 * scale)[0]
+    except QhullError:
+        near = np.arange(len(Q))
+    visible = np.zeros(len(ha), bool)
+    if not len(near):
+        return visible
+    A, B = P[ha], P[hb]
+    d = B - A
+    s = np.sign(d[:, 0] * (centre[1] - A[:, 1]) - d[:, 1] * (centre[0] - A[:, 0]))
+    tol = 1e-12 * scale * np.hypot(d[:, 0], d[:, 1])
+    rows = max(1, VISIBLE_BLOCK // max(len(ha), 1))
+    for k in range(0, len(near), rows):
+        R = Q[near[k:k + rows]]
+        side = s[:, None] * (d[:, 0:1] * (R[None, :, 1] - A[:, 1:2]) - d[:, 1:2] * (R[None, :, 0] - A[:, 0:1]))
+        visible |= (side <= tol[:, None]).any(axis=1)
+    return visible
+
+
+def _valid(P, simp, nb, first_new, cc, scale) -> bool:
+    """The checks of :meth:`SampleTriangulation.update` on its result (``simp[first_new:]`` the new
+    triangles, ``cc`` the circumcentres): every point a corner; across each side of a new
+    triangle, the neighbour's far corner on the other side of the side and the side locally
+    Delaunay (relative 10⁻⁹); the boundary sides' vertices on the convex hull of the points,
+    each on two boundary sides, T = 2n − h − 2 and the triangles' area the hull's."""
+    n, T = len(P), len(simp)
+    if np.bincount(simp.ravel(), minlength=n).min() == 0:
+        return False
+    t, k = np.nonzero(nb[first_new:] >= 0)
+    t = t + first_new
+    u = nb[t, k]
+    ku = np.argmax(nb[u] == t[:, None], axis=1)
+    if not (nb[u, ku] == t).all():
+        return False
+    A, B = P[simp[t, (k + 1) % 3]], P[simp[t, (k + 2) % 3]]
+    X, Y = P[simp[t, k]], P[simp[u, ku]]
+    sx, sy = _orient(A, B, X), _orient(A, B, Y)
+    lab_ = np.hypot(*(B - A).T)
+    tiny = 1e-12 * scale * lab_
+    if ((sx > tiny) & (sy > tiny) | (sx < -tiny) & (sy < -tiny)).any():
+        return False              # a fold: both triangles on one side of their common side
+    # not locally Delaunay: each far corner inside the other triangle's circumdisk by more than
+    # 10⁻⁹ of the coordinates and radius (one of the two is well conditioned unless the four
+    # corners are nearly co-circular, a tie that the perturbation of qhull's input may break)
+    def inside(tri, Z, W):
+        rad = np.hypot(*(Z - cc[tri]).T)
+        with np.errstate(invalid="ignore"):
+            return np.hypot(*(W - cc[tri]).T) < rad - 1e-9 * (rad + scale)
+
+    if (inside(t, X, Y) & inside(u, Y, X)).any():
+        return False
+    bt, bk = np.nonzero(nb == -1)
+    bv = np.concatenate([simp[bt, (bk + 1) % 3], simp[bt, (bk + 2) % 3]])
+    uv, cnt = np.unique(bv, return_counts=True)
+    if (cnt != 2).any() or T != 2 * n - len(bt) - 2:
+        return False
+    try:
+        H = ConvexHull(P[uv])
+    except QhullError:
+        return False
+    off = (P[uv] @ H.equations[:, :2].T + H.equations[:, 2]).max(axis=1)
+    if (off < -1e-9 * scale).any():
+        return False              # a boundary vertex inside the hull
+    return bool(abs(_areas(P, simp).sum() - H.volume) <= 1e-9 * max(H.volume, 1e-300))
 
 
 def _neighbours(simp, npts):
