@@ -68,3 +68,17 @@ def test_a_far_vertex_of_nearly_collinear_points_is_certified(eps):
         assert abs(Fraction(v.x) - cx) <= 1e-9 * (1 + abs(cx)) and abs(Fraction(v.y) - cy) <= 1e-9 * (1 + abs(cy))
     unbounded = {tuple(e.sites) for e in d.edges if None in e.ends}
     assert ((0, 2) in unbounded) == (eps > 0)
+
+
+@pytest.mark.parametrize("eps", [-1e-12, 1e-13, -1e-13])
+def test_three_nearly_collinear_points_have_one_far_vertex(eps):
+    """The circumcentre 1/(2|ε|) out, its three edges: the outer pair's away from the middle point,
+    the other two towards it (the end at infinity read from a polyline whose last point is a few
+    units beyond a vertex 5·10¹² out)."""
+    pts = [(0, 0), (1, eps), (2, 0)]
+    d = cv.voronoi(pts, progress=False)
+    assert d.certified, d.problems
+    (v,) = d.vertices
+    cx, cy = circumcentre(*((Fraction(x), Fraction(y)) for x, y in pts))
+    assert abs(Fraction(v.y) - cy) <= 1e-9 * abs(cy) and abs(Fraction(v.x) - cx) <= 1e-9
+    assert all(None in e.ends for e in d.edges) and len(d.edges) == 3

@@ -273,7 +273,7 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
             return None
         u0 = float(pre["v0"][0]) if v1 is None else float(pre["v1"][0])
         uf = float(pre["last"][0]) if v1 is None else float(pre["first"][0])
-        if not abs(uf - u0) > 1e-12 * (1 + abs(u0)):
+        if not abs(uf - u0) > 1e-14 * (1 + abs(u0)):
             problems.append(f"{name}: cannot tell which way the edge goes to infinity from its polyline")
             return None
         sigma = 1 if uf > u0 else -1
