@@ -177,12 +177,14 @@ def build_diagram(S: SiteArrays, samples: Samples, cache: dict, notes, stats, ti
                 break
             release_free_memory()
             D.edges = edge_polylines(S, result["tri"], D.vertices, result["edges_raw"])
+            result["edges_raw"] = None        # the walks' lists are freed: the verifier starts lower
             release_free_memory()
             timing["edges"] = timing.get("edges", 0) + time.perf_counter() - t0
             if not certify or verify is None or result.get("timed_out") or D.problems:
                 break
             t0 = time.perf_counter()
             cert = verify(D, sites, deadline=deadline, progress=progress)
+            release_free_memory()
             timing["verify"] = timing.get("verify", 0) + time.perf_counter() - t0
             result["certificate"] = cert
             from .verify.problems import faulted_sites
@@ -261,6 +263,7 @@ def _build_once(S: SiteArrays, samples: Samples, stats, timing, deadline, cache)
     timing["sample+delaunay"] = timing.get("sample+delaunay", 0) + time.perf_counter() - t0
     t1 = time.perf_counter()
     raw = tri.walks()
+    tri.walk_list = None        # the walks are ``raw`` (freed with it); the triangulation keeps no copy
     release_free_memory()
     timing["walks"] = timing.get("walks", 0) + time.perf_counter() - t1
     t2 = time.perf_counter()

@@ -12,13 +12,22 @@ Each undirected chain is reported once, from its end that a scan of the 3-label 
 of the 2-label triangles) meets first, in that scan's order, as a step-by-step walk would.
 Closed chains (no end) and inconsistent neighbourhoods are left to the caller.
 
-Public API: :func:`chain_walks`.
+The half-edge arrays are int32 when the triangles allow (:func:`index_type`) and the ports one byte
+each: at 8·10⁵ triangles (3·10⁴ random circles) they are the bulk of the walks' temporary memory.
+
+Public API: :func:`chain_walks`, :func:`index_type`.
 """
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["chain_walks"]
+__all__ = ["chain_walks", "index_type"]
+
+
+def index_type(n: int):
+    """int32 when indices below ``n`` fit (half the memory of int64 for the half-edge arrays), else
+    int64."""
+    return np.int32 if n < 2 ** 31 - 1 else np.int64
 
 
 def chain_walks(tri):
@@ -27,16 +36,17 @@ def chain_walks(tri):
     consistent (the caller then walks step by step)."""
     nb, nlab, L = tri.nb, tri.nlab, tri.L
     T = len(nlab)
+    it = index_type(2 * T)
     two = nlab == 2
-    ks = np.argsort(~tri.bich, axis=1, kind="stable")[:, :2]          # the two ports of a 2-label triangle
-    t_idx = np.arange(T)
-    nbr = np.stack([nb[t_idx, ks[:, 0]], nb[t_idx, ks[:, 1]]], axis=1)
+    # the two ports of a 2-label triangle (side numbers 0..2: one byte each)
+    ks = np.argsort(~tri.bich, axis=1, kind="stable")[:, :2].astype(np.int8)
+    nbr = np.take_along_axis(nb, ks.astype(np.intp), axis=1).astype(it)
     # half-edge h = 2t + p leaves t through port p; its successor leaves the neighbour u through the
     # port that does not face t
-    h_all = np.nonzero(np.repeat(two, 2))[0]
+    h_all = np.nonzero(np.repeat(two, 2))[0].astype(it)
     t_h, p_h = h_all // 2, h_all % 2
     u = nbr[t_h, p_h]
-    nxt = np.full(2 * T, -1, dtype=np.int64)
+    nxt = np.full(2 * T, -1, dtype=it)
     cont = (u >= 0) & two[np.maximum(u, 0)]
     uc = u[cont]
     facing0 = nbr[uc, 0] == t_h[cont]
@@ -45,8 +55,8 @@ def chain_walks(tri):
         return None
     nxt[h_all[cont]] = 2 * uc + np.where(facing0, 1, 0)
     # pointer jumping: end (last half-edge) and distance to it
-    endp = np.where(nxt >= 0, nxt, np.arange(2 * T))
-    dist = (nxt >= 0).astype(np.int64)
+    endp = np.where(nxt >= 0, nxt, np.arange(2 * T, dtype=it))
+    dist = (nxt >= 0).astype(it)
     for _ in range(int(np.log2(2 * T + 1)) + 2):
         nd = endp[endp]
         if np.array_equal(nd, endp):
@@ -69,7 +79,7 @@ def chain_walks(tri):
     on_hull = su < 0
     s_side = np.where(on_hull, gp, _side_towards(nb, np.maximum(su, 0), gt))
     key = np.stack([on_hull.astype(np.int64), np.where(on_hull, gt, su), s_side], axis=1)
-    pos = np.full(2 * T, -1, dtype=np.int64)
+    pos = np.full(2 * T, -1, dtype=it)
     pos[heads] = np.arange(len(heads))
     other = pos[endp[heads] ^ 1]                  # the head of the reverse path
     kk, ko = key, key[other]
