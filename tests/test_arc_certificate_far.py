@@ -2,11 +2,11 @@
 
 Five arcs of the random 1000-arc scene (tests/scenes.py random_arcs(1000, 1), inputs 442, 446, 673,
 192, 746) reduced from its uncertified edges: three arcs nearly in a row give a vertex at radius
-about 1.08·10⁶ (the sites look alike from there: the fourth site is 0.045 farther), so every
-infinite branch is drawn out to about 4·10⁶, where a chord of the polyline spans the whole tail of
-a hyperbola-like branch.  Checked against tests/arc_reference.py (mpmath distances from the
-definitions, no runtime code): the far vertex, and every polyline lying within its stated
-tolerance of the true bisector.
+about 1.08·10⁶ (the sites look alike from there: the fourth site is 0.045 farther); its infinite
+branch is drawn out to about 2·10⁶ and the others to about 4 times the scene's extent, where a
+chord of a polyline spans the whole tail of a hyperbola-like branch.  Checked against
+tests/arc_reference.py (mpmath distances from the definitions, no runtime code): the far vertex,
+and every polyline lying within its stated tolerance of the true bisector.
 """
 from __future__ import annotations
 
@@ -71,7 +71,7 @@ def test_far_polylines_within_their_tolerance_of_the_true_bisector(far_diagram):
     far = [e for e in d.edges
            if any(hasattr(d.sites[s], "rho") and hasattr(d.sites[s], "c") for s in e.sites)
            and float(np.abs(np.asarray(e.polyline)).max()) > 1e5]
-    assert len(far) >= 4
+    assert len(far) >= 3          # the far vertex's edges (other infinite edges stop at 4 times the extent)
     for e in far:
         i, j = e.sites
         P = np.asarray(e.polyline, dtype=float)
@@ -114,7 +114,7 @@ def test_far_chord_over_a_branch_tail_is_proved_or_rejected_as_the_reference_say
     edge = next(e for e in d.edges if None in e.ends and len(e.polyline) > 8 and
                 any(is_arc55(d.sites[s]) for s in e.sites) and
                 any(not isinstance(d.sites[s], cv.Arc) for s in e.sites) and
-                float(np.abs(np.asarray(e.polyline)).max()) > 1e5)
+                float(np.abs(np.asarray(e.polyline)).max()) > 1e3)
     P = np.asarray(edge.polyline)
     assert None is edge.ends[1] or None is edge.ends[0]
     if edge.ends[0] is None:          # the far point last
@@ -141,7 +141,7 @@ def test_a_tight_tolerance_on_a_branch_tail_is_proved():
                 any(isinstance(d.sites[s], cv.Arc) and (d.sites[s].c[0], d.sites[s].c[1]) == (55, 16)
                     for s in e.sites) and
                 any(not isinstance(d.sites[s], cv.Arc) for s in e.sites) and
-                float(np.abs(np.asarray(e.polyline)).max()) > 1e5)
+                float(np.abs(np.asarray(e.polyline)).max()) > 1e3)
     P = np.asarray(edge.polyline)
     if edge.ends[0] is None:
         P = P[::-1]

@@ -59,6 +59,7 @@ from .crossings import check_pieces, renamed
 from .edges import edge_polylines
 from .elementary import ARC, POINT, ElementarySites, decompose
 from .exact import contacts_valid
+from .hull_samples import hull_samples
 from .sampling import flat, initial_spacing, nearest_point, retriangulation, samples, triangulation
 from .proved_zeros import EMPTY, UNDECIDED, ZeroTable
 from .walk_checks import BAD, NONE, TRI, VERTEX, degree_mismatches, far_ends, long_side, walk_arrays
@@ -117,7 +118,7 @@ def segment_voronoi(pieces, sources=None, *, certify: bool = True, tolerance: fl
         tolerance = 1e-4 * extent
     spacing = initial_spacing(E)
     stats: dict = {"sites": len(E), "points": E.n_points, "segments": len(E) - E.n_points, "rounds": 0}
-    caches: dict = {"proofs": {}}
+    caches: dict = {"proofs": {}, "extra": hull_samples(E)}
     vertices, walks, problems, edges = without_cyclic_gc(_rounds)(E, spacing, stats, caches, tolerance, lo, hi)
     D = Diagram(E.sites, vertices, edges, False, problems, stats)
     D.sources = list(E.source)

@@ -4,7 +4,8 @@ Each walk of two-label triangles joins two vertices (or a vertex and infinity) a
 of its two sites; the polyline is drawn on the closed-form bisector
 (:func:`runtime.segments.bisectors.edge_polyline`).  An infinite end goes the way along the
 bisector on which the two sites stay the nearest (a third site takes over at once the other way),
-to a far point outside the scene.
+to a far point outside the scene: at 4 times the sites' extent plus twice the distance of the
+edge's finite vertex from the scene's centre.
 
 Public API: :func:`edge_polylines`, :func:`walk_hint`.
 """
@@ -69,7 +70,13 @@ def _arc_step(E: ElementarySites, i: int, j: int, base, far):
     best, out = None, (1, own_sides)
     for sides in tries:
         for st in (1, -1):
-            V, t = arc_bisector_points(E, s, other, sides[0], sides[1], np.array([th + st * 1e-6]))
+            # a step of 10⁻⁶ in the contact angle, shortened while it moves the point by more
+            # than 10⁻³ of ``far``: near the pole of a far vertex's branch (radius 10⁸, a pole
+            # 5·10⁻⁴ away in angle) 10⁻⁶ moves it by 10⁷, and both ways would be skipped
+            for delta in 10.0 ** -np.arange(6, 13):
+                V, t = arc_bisector_points(E, s, other, sides[0], sides[1], np.array([th + st * delta]))
+                if not (np.isfinite(t[0]) and t[0] > 0) or np.hypot(*(V[0] - base)) <= 1e-3 * far:
+                    break
             if not (np.isfinite(t[0]) and t[0] > 0) or np.hypot(*(V[0] - base)) > 1e-3 * far:
                 continue
             dd = site_distances(E, np.arange(len(E)), np.repeat(V, len(E), axis=0))
@@ -86,16 +93,19 @@ def _arc_step(E: ElementarySites, i: int, j: int, base, far):
 def edge_polylines(E: ElementarySites, vertices, walks, tol, lo, hi):
     """Polylines along the closed-form bisectors; infinite ends at far points in the walk's
     direction."""
-    pts = [lo, hi] + [np.array([[v.x, v.y] for v in vertices])] if vertices else [lo, hi]
-    allp = np.vstack([np.atleast_2d(p) for p in pts])
-    centre = (allp.min(axis=0) + allp.max(axis=0)) / 2
-    far = 4 * float(np.max(allp.max(axis=0) - allp.min(axis=0)) + 1.0)
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    centre = (lo + hi) / 2
+    far_sites = 4 * float(np.max(hi - lo) + 1.0)
     out = []
     for pair, ends, hints in walks:
         i, j = pair
         fin = [None if e is None else np.array([vertices[e].x, vertices[e].y]) for e in ends]
         kind = bisector_kind(E, i, j)
         step, sides = 1, None
+        # an infinite end is drawn to 4 times the sites' extent, or twice as far out as its finite
+        # vertex: one far vertex (10⁸ beyond sites 10³ apart) does not stretch every other
+        # infinite edge to 10⁸ (long chords near their poles)
+        far = far_sites + 2 * max((float(np.hypot(*(f - centre))) for f in fin if f is not None), default=0.0)
         if fin[0] is None or fin[1] is None:
             if kind in ("parabola", "segments"):
                 continue          # these bisectors are bounded: the walk is an artefact
