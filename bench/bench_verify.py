@@ -3,7 +3,8 @@
 For random disjoint circles (N = 100, 300, 1000) and random disjoint ellipses (N = 32, 128, 512;
 both scenes drawn by tests/scenes.py, as in the tests) and the mixed conics of bench/bench_voronoi.py (N = 100:
 ellipses, circles, points, two parabolas and a hyperbola; the counts of proved vertices and edges
-are reported, tails and accounting with unbounded sites being not proved) the diagram is built by
+are reported; the tails between the unbounded sites and the accounting of the directions at
+infinity they own are proved by runtime.voronoi.verify.conic_tail and far_accounting) the diagram is built by
 ``runtime.voronoi.construction.voronoi(certify=False)`` and then verified in the same process; for
 random points the diagram comes from qhull (scipy.spatial.Voronoi), so the verifier is timed on a
 reference diagram independent of the construction.  Reports seconds (wall and the verifier's CPU

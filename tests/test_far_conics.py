@@ -129,6 +129,45 @@ def test_above_the_asymptote_on_both_sides(eps):
     assert (FC.above_asymptote(3.0, 4.0 + eps, 3.0, 4.0) > 0) == (eps > 0)
 
 
+def _boxes(rng, k, sign_x=None):
+    out = []
+    for _ in range(k):
+        t1 = rng.choice([1.0, 0.1, 1e-3])
+        t0 = t1 * rng.choice([0.0, 0.5, 0.9])
+        x = rng.uniform(-1, 1) if sign_x is None else rng.uniform(0.05, 1)
+        y = -rng.uniform(0.05, 1)
+        wx, wy = rng.choice([1e-3, 0.05]), rng.choice([1e-3, 0.05])
+        out.append((t0, t1, x, x + wx, y - wy, y))
+    return out
+
+
+def test_foot_sign_and_side_enclosures_contain_the_values_at_the_box_corners():
+    """f(S)/t, g(W)/t, (Y0/t)² − 2pτX0/t and aY0/t − bX0/t are linear (or convex) in each of τ,
+    X0/t, Y0/t: their extremes over a box are at its corners (exact rational arithmetic there); the
+    enclosures must contain every corner value."""
+    rng = random.Random(7)
+    for t0, t1, xl, xh, yl, yh in _boxes(rng, 200):
+        Fx = [Fr(v) for v in (t0, t1)], [Fr(v) for v in (xl, xh)], [Fr(v) for v in (yl, yh)]
+        p = Fr(3, 2)
+        S = Fr(-rng.uniform(0.1, 20))
+        lo, hi = FC.parabola_foot_sign(np.array(float(S)), t0, t1, xl, xh, yl, yh, float(p))
+        vals = [T * (S ** 3 / (2 * p * p) + S) - S / p * X - Y for T in Fx[0] for X in Fx[1] for Y in Fx[2]]
+        assert lo <= min(vals) and max(vals) <= hi
+        om = FC.parabola_outside(t0, t1, xh, yh, float(p))
+        assert om <= min(Y * Y - 2 * p * T * X for T in Fx[0] for X in Fx[1] for Y in Fx[2])
+        a, b = Fr(3), Fr(4)
+        W = rng.uniform(0, 5)
+        sh, ch = Fr(math.sinh(W)), Fr(math.cosh(W))
+        xa, ya = sorted((abs(xl), abs(xh))), sorted((abs(yl), abs(yh)))
+        lo, hi = FC.hyperbola_foot_sign(np.array(W), t0, t1, xa[0], xa[1], ya[0], ya[1], 3.0, 4.0)
+        vals = [T * (a * a + b * b) * sh * ch - a * sh * Fr(X) - b * ch * Fr(Y) for T in Fx[0] for X in xa for Y in ya]
+        # sinh, cosh of the float W are within 1e-15 relative of the Fractions used here
+        slack = 1e-13 * float(max(abs(v) for v in vals) + 1)
+        assert lo <= float(min(vals)) + slack and float(max(vals)) - slack <= hi
+        am = FC.above_asymptote(xa[1], ya[0], 3.0, 4.0)
+        assert am <= min(a * Fr(Y) - b * Fr(X) for X in xa for Y in ya)
+
+
 def test_upper_bounds_hold_with_the_exact_distances():
     """d ≤ bound at the hand-built points: the parabola's q = (−1, −8) is at distance 3√5 (on the
     normal of its foot), the hyperbola's q = (5/2, 57/16) at (1/4)·|(−5, 9/4)| = √481/16."""
@@ -350,3 +389,58 @@ def test_tail_with_a_third_site_near_its_far_bisector_is_not_proved(monkeypatch)
             ok, msg, _ = prove_conic_tail(geoms, SiteTable(geoms, scale), pair, link, scale, 20000)
             assert ok == proved, (pair, q, msg)
             assert proved or "undecided" in msg, msg
+
+
+def test_a_sector_ray_that_the_bisector_crosses_far_out_is_refused(monkeypatch):
+    """The bisector of the upper parabola and the hyperbola crosses the link circle at an angle
+    θX and tends to the asymptotic direction θ* ≠ θX: on the ray at (θX + θ*)/2 the sign of
+    d_i − d_j at the link circle is that of one side, far out that of the other (c_i − c_j).
+    prove_sector on a sector ending at that ray must fail for both orientations σ, while the
+    sector around θX and θ* is proved."""
+    from curvedvoronoi.runtime.voronoi.construction import voronoi
+    from curvedvoronoi.runtime.voronoi.verify import tail
+    from curvedvoronoi.runtime.voronoi.verify.certificate import verify
+    from curvedvoronoi.runtime.voronoi.verify.conic_tail import prove_conic_tail, prove_sector
+    from curvedvoronoi.runtime.voronoi.verify.site_table import SiteTable
+    from curvedvoronoi.runtime.voronoi.verify.tail_link import link_arc
+
+    calls = []
+    monkeypatch.setattr(tail, "prove_conic_tail",
+                        lambda g, tb, pair, link, scale, mw=200000: calls.append((g, pair, link, scale))
+                        or prove_conic_tail(g, tb, pair, link, scale, mw))
+    sites = _scene()
+    assert verify(voronoi(sites, certify=False), sites).ok
+    geoms, pair, link, scale = calls[0]
+    table = SiteTable(geoms, scale)
+    m = FA.far_centre(geoms)
+    fars = {k: FC.FarConic(g, m) for k, g in enumerate(geoms) if g.kind in FC.UNBOUNDED}
+    ok, _, plo, phi, r = link_arc(m, table, pair, link, scale)
+    thX = 0.5 * (plo + phi)
+    ths = FA.asymptotic_direction(fars, len(geoms), pair[0], pair[1], thX)
+    ths = thX + ((ths - thX + math.pi) % (2 * math.pi)) - math.pi
+    assert ok and abs(ths - thX) > 0.01
+    mid = 0.5 * (thX + ths)
+    side = math.copysign(0.3, thX - ths)
+    tha, thb = sorted((mid, thX + side))
+    for sigma in (1.0, -1.0):
+        assert not prove_sector(geoms, fars, table, pair, tha, thb, sigma, r, m, scale, 20000)[0]
+    tha, thb = min(thX, ths) - 0.05, max(thX, ths) + 0.05
+    res = [prove_sector(geoms, fars, table, pair, tha, thb, s, r, m, scale, 20000)[0] for s in (1.0, -1.0)]
+    assert sorted(res) == [False, True]
+
+
+def test_lead_interval_refuses_a_direction_where_a_third_site_is_nearer():
+    """Parabolas with axes at 0° and at atan2(4, 3): c_0 = c_1 at half that angle (26.57°).  A third
+    parabola whose axis points at 16.26° (24/25, 7/25) has c_2 = sin(10.3°) < sin(26.57°) there:
+    no interval J; with its axis reversed (c_2 = 1) J exists."""
+    m = np.zeros(2)
+    ths = 0.5 * math.atan2(4, 3)
+    for rot, want in (((Fr(24, 25), Fr(7, 25)), False), ((Fr(-24, 25), Fr(-7, 25)), True)):
+        sites = [Conic.parabola(vertex=(0, 0), p=1, rotation=(1, 0)),
+                 Conic.parabola(vertex=(0, 0), p=1, rotation=(Fr(3, 5), Fr(4, 5))),
+                 Conic.parabola(vertex=(0, 0), p=1, rotation=rot)]
+        fars = {k: FC.FarConic(site_geometry(s), m) for k, s in enumerate(sites)}
+        J = FA.lead_interval(fars, 3, 0, 1, ths, ths - 0.2, ths + 0.2)
+        assert (J is not None) == want
+        if want:
+            assert J[0] < ths < J[1]

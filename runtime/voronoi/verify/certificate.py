@@ -109,8 +109,12 @@ with a tail at each end: the curve is open and closed in the bisector β_ij (eac
 sector meets β in exactly one arc, all in the curve), so it is a whole component of β_ij, and
 both its ends at infinity enter the accounting of step 4.  A parabola is convex (its focus side
 K): edges between two vertices with a parabola site are proved by the same chains (gradient
-enclosures outside K), but unbounded ends need bounded sites (support functions), so with a
-parabola the unbounded edges and the accounting are reported not proved.  A site inside a
+enclosures outside K); an unbounded end between two unbounded sites (parabolas, hyperbolas) is
+proved by enclosures of the foot parameter, the gradient and the distance far away
+(:func:`runtime.voronoi.verify.conic_tail.prove_conic_tail`) and the ends at infinity are
+accounted for by the asymptotic functions c_k(θ) = dist(u(θ), horizon cone of S_k)
+(:func:`runtime.voronoi.verify.far_accounting.accounting_unbounded`); an unbounded end between an
+unbounded and a bounded site is reported not proved.  A site inside a
 circle or an ellipse (nesting depth ≤ 1, proved with support functions:
 :func:`runtime.voronoi.verify.closure.verify_accounting_conics`): its closed edge is a chain of
 strips that closes up, with gradient enclosures inside the container while the loop stays within
@@ -118,8 +122,8 @@ the reach of its boundary (b²/a for an ellipse: the loop must not cross the med
 is reported not proved).  Edges of a hyperbola site are proved by the same chains where they
 stay on one side of its conjugate axis (there the distance is the distance to the convex region
 of the nearer branch, :mod:`runtime.voronoi.verify.site_table`); an edge crossing the conjugate
-axis (the bisector has a corner there), the tails and the accounting with a hyperbola are
-reported not proved.  Certificates with an unproved part are never ok.
+axis (the bisector has a corner there) is reported not proved; tails and accounting as for a
+parabola.  Certificates with an unproved part are never ok.
 
 Command line: ``python -m curvedvoronoi verify DIAGRAM.json [SITES.json]`` (exit 0 proved,
 1 not proved, 2 bad input; prints :meth:`Certificate.to_json`).

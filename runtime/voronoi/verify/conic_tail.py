@@ -26,7 +26,7 @@ the open sector is returned.  Tails between an unbounded and a bounded site are 
 proved (the bounded site's gradient far away would need the support-function enclosures of
 :mod:`runtime.voronoi.verify.tail` combined with these).
 
-Public API: :func:`prove_conic_tail`, :data:`CONIC_TAIL_WORK`.
+Public API: :func:`prove_conic_tail`, :func:`prove_sector`, :data:`CONIC_TAIL_WORK`.
 """
 from __future__ import annotations
 
@@ -38,7 +38,7 @@ from .far_accounting import asymptotic_direction, c_float, far_centre, lead_inte
 from .far_conics import UNBOUNDED, FarConic, bounded_lower, cos_range, sin_range
 from .tail_link import link_arc
 
-__all__ = ["prove_conic_tail", "CONIC_TAIL_WORK"]
+__all__ = ["prove_conic_tail", "prove_sector", "CONIC_TAIL_WORK"]
 
 #: cells per sector attempt
 CONIC_TAIL_WORK = 200000
@@ -71,7 +71,7 @@ def prove_conic_tail(geoms, table, pair, link, scale, max_work: int = CONIC_TAIL
         if not ga * gb < 0:
             continue
         sigma = 1.0 if gb > 0 else -1.0        # σ·f > 0 on the ray θb: f/t → c_i − c_j
-        ok, msg = _prove_sector(geoms, fars, table, pair, tha, thb, sigma, r, m, scale, max_work)
+        ok, msg = prove_sector(geoms, fars, table, pair, tha, thb, sigma, r, m, scale, max_work)
         if ok:
             J = lead_interval(fars, n, i, j, ths, tha, thb)
             if J is None:
@@ -97,7 +97,7 @@ def _third_lower(geoms, fars, m, others, t0, t1, a0, a1):
     return lo
 
 
-def _prove_sector(geoms, fars, table, pair, tha, thb, sigma, T, m, scale, max_work):
+def prove_sector(geoms, fars, table, pair, tha, thb, sigma, T, m, scale, max_work):
     """(R), (M), (A) of the module docstring on Σ = {t ≥ T, θ ∈ [θa, θb]}."""
     i, j = pair
     others = [k for k in range(len(geoms)) if k not in pair]
