@@ -1,0 +1,267 @@
+"""The Delaunay triangulation of point sites, decided exactly (thesis §1.2: the Voronoi diagram of
+points is dual to it).
+
+The sample triangulation (:mod:`runtime.voronoi.sample_delaunay`) takes qhull's; for point sites
+the samples are the sites themselves and that triangulation *is* the diagram's combinatorics.
+qhull decides in floats: points a hair (10⁻¹⁴ of the extent) off a common line — a rotated grid,
+three nearly collinear points — come back as a flat simplex error, as dropped "coplanar" points or
+as triangles inverted in exact arithmetic.  Here:
+
+* :func:`is_delaunay` checks a triangulation exactly: every triangle counter-clockwise, every
+  hull vertex convex or straight, every point a vertex, every interior edge locally Delaunay (the
+  fourth point not strictly inside the circle of the three).  By Delaunay's lemma (Delaunay 1934;
+  de Berg et al., *Computational Geometry*, Thm 9.8) a triangulation of the convex hull whose edges
+  are all locally Delaunay is a Delaunay triangulation.
+* :func:`exact_delaunay` builds one: a sweep in lexicographic order (each new point is outside the
+  hull of the earlier ones and is joined to the hull edges it sees strictly), then Lawson's flips
+  of the edges that are not locally Delaunay (Lawson 1977), each flip decided exactly.
+
+Predicates: Shewchuk's static float filters (*Adaptive precision floating-point arithmetic and
+fast robust geometric predicates*, DCG 18 (1997): orient2d error bound (3 + 16ε)ε·|terms|,
+incircle (10 + 96ε)ε·permanent, taken here with a factor 30 to spare), and exact integer
+arithmetic when the filter cannot decide: floats are dyadic rationals, so the coordinates times
+one power of two are integers.  Co-circular points are triangulated in either way; the diagram's
+vertex of a co-circular set is merged downstream.
+
+Public API: :func:`exact_delaunay`, :func:`is_delaunay`.
+"""
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+import numpy as np
+
+__all__ = ["exact_delaunay", "is_delaunay"]
+
+_EPS = 2.0 ** -53
+_ORIENT_BOUND = 30 * (3 + 16 * _EPS) * _EPS
+_INCIRCLE_BOUND = 30 * (10 + 96 * _EPS) * _EPS
+
+
+class _Points:
+    """Float coordinates of the points, and exact integer ones (the involved points' coordinates
+    times their largest denominator, a power of two) made only for the predicates the filters
+    leave undecided."""
+
+    def __init__(self, P):
+        self.f = np.asarray(P, float)
+        if not np.isfinite(self.f).all():
+            raise ValueError("non-finite point coordinates")
+        self._q: dict = {}
+
+    def exact(self, *ks):
+        """Integer coordinates of the points ks, on one common scale."""
+        fr = []
+        for k in ks:
+            q = self._q.get(k)
+            if q is None:
+                q = self._q[k] = (Fraction(float(self.f[k, 0])), Fraction(float(self.f[k, 1])))
+            fr.append(q)
+        den = max(max(x.denominator, y.denominator) for x, y in fr)
+        return [(int(x * den), int(y * den)) for x, y in fr]
+
+    def orient(self, a, b, c) -> int:
+        """Sign of the orientation of (a, b, c): > 0 counter-clockwise."""
+        (ax, ay), (bx, by), (cx, cy) = self.f[a], self.f[b], self.f[c]
+        l, r = (bx - ax) * (cy - ay), (by - ay) * (cx - ax)
+        det = l - r
+        if abs(det) > _ORIENT_BOUND * (abs(l) + abs(r)):
+            return 1 if det > 0 else -1
+        (ax, ay), (bx, by), (cx, cy) = self.exact(a, b, c)
+        det = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+        return (det > 0) - (det < 0)
+
+    def incircle(self, a, b, c, d) -> int:
+        """Sign of incircle(a, b, c, d) for (a, b, c) counter-clockwise: > 0 when d is strictly
+        inside their circle."""
+        D = self.f[d]
+        rows = [self.f[k] - D for k in (a, b, c)]
+        lift = [float(x * x + y * y) for x, y in rows]
+        (ax, ay), (bx, by), (cx, cy) = rows
+        alift, blift, clift = lift
+        t1, t2, t3 = bx * cy - by * cx, cx * ay - cy * ax, ax * by - ay * bx
+        det = alift * t1 + blift * t2 + clift * t3
+        perm = (alift * (abs(bx * cy) + abs(by * cx)) + blift * (abs(cx * ay) + abs(cy * ax))
+                + clift * (abs(ax * by) + abs(ay * bx)))
+        if abs(det) > _INCIRCLE_BOUND * perm:
+            return 1 if det > 0 else -1
+        pa, pb, pc, (dx, dy) = self.exact(a, b, c, d)
+        m = [(x - dx, y - dy) for x, y in (pa, pb, pc)]
+        (ax, ay), (bx, by), (cx, cy) = m
+        det = ((ax * ax + ay * ay) * (bx * cy - by * cx) + (bx * bx + by * by) * (cx * ay - cy * ax)
+               + (cx * cx + cy * cy) * (ax * by - ay * bx))
+        return (det > 0) - (det < 0)
+
+
+def is_delaunay(P, simplices, neighbors) -> bool:
+    """Is (simplices, neighbors) — qhull's layout: neighbors[t, k] across the side opposite vertex
+    k, −1 on the hull — a Delaunay triangulation of all the points P, decided exactly?  The float
+    filters run on all triangles and edges at once; only undecided ones go to integers."""
+    pts = _Points(P)
+    S = np.asarray(simplices, dtype=np.int64)
+    N = np.asarray(neighbors, dtype=np.int64)
+    n = len(pts.f)
+    if n < 3 or len(S) == 0 or len(np.unique(S)) != n:
+        return False
+    F = pts.f
+    A, B, C = F[S[:, 0]], F[S[:, 1]], F[S[:, 2]]
+    l = (B[:, 0] - A[:, 0]) * (C[:, 1] - A[:, 1])
+    r = (B[:, 1] - A[:, 1]) * (C[:, 0] - A[:, 0])
+    det = l - r
+    sure = np.abs(det) > _ORIENT_BOUND * (np.abs(l) + np.abs(r))
+    if (sure & (det <= 0)).any():
+        return False
+    for t in np.nonzero(~sure)[0].tolist():
+        if pts.orient(*(int(v) for v in S[t])) <= 0:
+            return False
+    # interior edges: the vertex of the neighbour s opposite the shared side, against t's circle
+    t_idx, k_idx = np.nonzero(N >= 0)
+    keep = t_idx < N[t_idx, k_idx]
+    t_idx, k_idx = t_idx[keep], k_idx[keep]
+    s_idx = N[t_idx, k_idx]
+    back = N[s_idx] == t_idx[:, None]
+    if not (back.sum(axis=1) == 1).all():
+        return False
+    D = F[S[s_idx, back.argmax(axis=1)]]
+    rows = [F[S[t_idx, j]] - D for j in range(3)]
+    lift = [x[:, 0] ** 2 + x[:, 1] ** 2 for x in rows]
+    (a, b, c), (la, lb, lc) = rows, lift
+    t1, t2, t3 = b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0], c[:, 0] * a[:, 1] - c[:, 1] * a[:, 0], a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    det = la * t1 + lb * t2 + lc * t3
+    perm = (la * (np.abs(b[:, 0] * c[:, 1]) + np.abs(b[:, 1] * c[:, 0]))
+            + lb * (np.abs(c[:, 0] * a[:, 1]) + np.abs(c[:, 1] * a[:, 0]))
+            + lc * (np.abs(a[:, 0] * b[:, 1]) + np.abs(a[:, 1] * b[:, 0])))
+    sure = np.abs(det) > _INCIRCLE_BOUND * perm
+    if (sure & (det > 0)).any():
+        return False
+    d_idx = S[s_idx, back.argmax(axis=1)]
+    for e in np.nonzero(~sure)[0].tolist():
+        if pts.incircle(*(int(v) for v in S[t_idx[e]]), int(d_idx[e])) > 0:
+            return False
+    # hull sides: the boundary turns left or goes straight, one cycle through its vertices
+    tb, kb = np.nonzero(N < 0)
+    nxt = {int(S[t, (k + 1) % 3]): int(S[t, (k + 2) % 3]) for t, k in zip(tb.tolist(), kb.tolist())}
+    if len(nxt) != len(tb):
+        return False
+    for u, v in nxt.items():
+        w = nxt.get(v)
+        if w is None or pts.orient(u, v, w) < 0:
+            return False
+    start = next(iter(nxt))
+    seen, u = 0, start
+    while True:
+        u = nxt[u]
+        seen += 1
+        if u == start or seen > len(nxt):
+            break
+    return u == start and seen == len(nxt)
+
+
+def exact_delaunay(P):
+    """(simplices, neighbors) of a Delaunay triangulation of the points P (n × 2, distinct), in
+    qhull's layout, triangles counter-clockwise; None when all points lie on one line (exactly)."""
+    pts = _Points(P)
+    n = len(pts.f)
+    order = sorted(range(n), key=lambda k: (pts.f[k, 0], pts.f[k, 1]))     # floats are exact
+    if n < 3:
+        return None
+    # the collinear prefix, then the first point off its line
+    m = 2
+    while m < n and pts.orient(order[0], order[1], order[m]) == 0:
+        m += 1
+    if m == n:
+        return None
+    tris: list = []
+    q = order[m]
+    chain = order[:m]
+    side = pts.orient(chain[0], chain[1], q)
+    for a, b in zip(chain, chain[1:]):
+        tris.append([a, b, q] if side > 0 else [b, a, q])
+    # the hull, counter-clockwise, as successor / predecessor maps
+    ring = (chain + [q]) if side > 0 else ([q] + chain[::-1])
+    succ = {ring[k]: ring[(k + 1) % len(ring)] for k in range(len(ring))}
+    pred = {v: u for u, v in succ.items()}
+    last = q
+    for r in order[m + 1:]:
+        # an edge at the lexicographically last hull vertex is strictly visible from r
+        if pts.orient(last, succ[last], r) < 0:
+            u = last
+        elif pts.orient(pred[last], last, r) < 0:
+            u = pred[last]
+        else:
+            raise AssertionError("sweep: no visible hull edge at the last point")
+        lo, hi = u, succ[u]                     # the visible chain lo → … → hi
+        while pts.orient(pred[lo], lo, r) < 0:
+            lo = pred[lo]
+        while pts.orient(hi, succ[hi], r) < 0:
+            hi = succ[hi]
+        v = lo
+        while v != hi:
+            w = succ[v]
+            tris.append([w, v, r])
+            v = w
+        # the chain lo … hi leaves the hull; r joins it
+        v = succ[lo]
+        while v != hi:
+            w = succ[v]
+            del succ[v], pred[v]
+            v = w
+        succ[lo], pred[r], succ[r], pred[hi] = r, lo, hi, r
+        last = r
+    simp = np.array(tris, dtype=np.int64)
+    simp = _lawson(pts, simp)
+    return simp, _neighbours(simp)
+
+
+def _neighbours(simp):
+    """qhull's neighbour layout from triangles (−1 on the hull)."""
+    where = {}
+    for t, (a, b, c) in enumerate(simp.tolist()):
+        where[(b, c)] = (t, 0)
+        where[(c, a)] = (t, 1)
+        where[(a, b)] = (t, 2)
+    nb = np.full(simp.shape, -1, dtype=np.int64)
+    for (u, v), (t, k) in where.items():
+        o = where.get((v, u))
+        if o is not None:
+            nb[t, k] = o[0]
+    return nb
+
+
+def _lawson(pts, simp):
+    """Flip edges that are not locally Delaunay until none is left (each flip removes an edge
+    whose quadrilateral's fourth point lies strictly inside the circle of the other three, so the
+    process ends: the lifted surface only goes down; Lawson 1977)."""
+    tris = simp.tolist()
+    edge = {}
+    for t, (a, b, c) in enumerate(tris):
+        edge[(a, b)] = t
+        edge[(b, c)] = t
+        edge[(c, a)] = t
+    stack = [e for e in edge if e[0] < e[1] and (e[1], e[0]) in edge]
+    while stack:
+        a, b = stack.pop()
+        t1, t2 = edge.get((a, b)), edge.get((b, a))
+        if t1 is None or t2 is None:
+            continue
+        c = next(w for w in tris[t1] if w not in (a, b))
+        d = next(w for w in tris[t2] if w not in (a, b))
+        if pts.incircle(*_rot(tris[t1], a), d) <= 0:
+            continue
+        # quadrilateral a, d, b, c (counter-clockwise): the diagonal c–d replaces a–b
+        for e in ((a, b), (b, c), (c, a), (b, a), (a, d), (d, b)):
+            edge.pop(e, None)
+        tris[t1], tris[t2] = [a, d, c], [d, b, c]
+        for t in (t1, t2):
+            x, y, z = tris[t]
+            edge[(x, y)], edge[(y, z)], edge[(z, x)] = t, t, t
+        for e in ((a, d), (d, b), (b, c), (c, a)):
+            stack.append(e)
+    return np.array(tris, dtype=np.int64)
+
+
+def _rot(tri, a):
+    """The triangle's vertices counter-clockwise starting at a."""
+    k = tri.index(a)
+    return tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]
