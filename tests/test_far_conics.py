@@ -420,10 +420,15 @@ def test_a_sector_ray_that_the_bisector_crosses_far_out_is_refused(monkeypatch):
     ths = thX + ((ths - thX + math.pi) % (2 * math.pi)) - math.pi
     assert ok and abs(ths - thX) > 0.01
     mid = 0.5 * (thX + ths)
-    side = math.copysign(0.3, thX - ths)
+    side = math.copysign(0.08, thX - ths)
     tha, thb = sorted((mid, thX + side))
+    msgs = []
     for sigma in (1.0, -1.0):
-        assert not prove_sector(geoms, fars, table, pair, tha, thb, sigma, r, m, scale, 20000)[0]
+        ok, msg = prove_sector(geoms, fars, table, pair, tha, thb, sigma, r, m, scale, 20000)
+        assert not ok
+        msgs.append(msg)
+    # one orientation fails at the link circle, the other on the ray further out
+    assert sum("on the ray at angle" in s_ for s_ in msgs) == 1, msgs
     tha, thb = min(thX, ths) - 0.05, max(thX, ths) + 0.05
     res = [prove_sector(geoms, fars, table, pair, tha, thb, s, r, m, scale, 20000)[0] for s in (1.0, -1.0)]
     assert sorted(res) == [False, True]
@@ -444,3 +449,25 @@ def test_lead_interval_refuses_a_direction_where_a_third_site_is_nearer():
         assert (J is not None) == want
         if want:
             assert J[0] < ths < J[1]
+
+
+@pytest.mark.parametrize("site", [1, 3])
+def test_wrong_float_guides_of_the_foot_are_refused(site, monkeypatch):
+    """The foot brackets are float guesses checked by the proof: with guesses twice the true foot
+    parameter (on the wrong side of it for the bracket's bound toward infinity), every cell the
+    enclosure still claims contains the mpmath gradient (the proof refused the wrong brackets)."""
+    conic = SITES[site]
+    fp, fh = FC.parabola_foot_guess, FC.hyperbola_foot_guess
+    monkeypatch.setattr(FC, "parabola_foot_guess", lambda X, Y, p: 2 * fp(X, Y, p))
+    monkeypatch.setattr(FC, "hyperbola_foot_guess", lambda X, Y, a, b: 2 * fh(X, Y, a, b))
+    m = np.array([3.0, -1.0])
+    fc = FC.FarConic(site_geometry(conic), m)
+    rng = random.Random(4000 + site)
+    cells = _cells(rng, 40)
+    t0, t1, a0, a1 = (np.array(v, float) for v in zip(*cells))
+    ok, lo, hi, up = fc.gradient(t0, t1, a0, a1)
+    for c in np.nonzero(ok)[0][:20]:
+        tau = t1[c]
+        th = a0[c]
+        d, ang = ref_nearest(conic, m + (1 / tau) * np.array([math.cos(th), math.sin(th)]))
+        assert _in_arc(ang, lo[c], hi[c]), (c, ang, lo[c], hi[c])

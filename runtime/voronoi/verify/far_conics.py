@@ -135,6 +135,7 @@ class FarConic:
             ok, lo, hi, up = self._parabola(t0, t1, *X)
         else:
             ok, lo, hi, up = self._hyperbola(t0, t1, *X)
+        ok &= lo <= hi
         return ok, lo + self.phi - ANG, hi + self.phi + ANG, up
 
     def _parabola(self, t0, t1, Xlo, Xhi, Ylo, Yhi):
@@ -151,8 +152,8 @@ class FarConic:
         S1f = np.where(fin, S1, -1.0)
         ok &= ~fin | (parabola_foot_sign(S1f, t0, t1, Xlo, Xhi, yl, yh, p)[1] < 0)
         # normal angle atan2(s, −p) ∈ [atan2(S2, −p), atan2(S1, −p)] (s < 0), −π/2 at s = −∞
-        lo = np.arctan2(S2, -p)
-        hi = np.where(fin, np.arctan2(S1f, -p), -0.5 * math.pi)
+        lo = np.arctan2(-np.abs(S2), -p)             # −π at S2 = 0 (a signed zero would give +π)
+        hi = np.where(fin, np.arctan2(-np.abs(S1f), -p), -0.5 * math.pi)
         lo, hi = np.where(flip, -hi, lo), np.where(flip, -lo, hi)
         return ok, lo, hi, parabola_upper(Xlo, Xhi, yl)
 
