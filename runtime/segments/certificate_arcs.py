@@ -31,13 +31,15 @@ Public API: :class:`ArcCurve`, :func:`normalise`, :func:`side_of`.
 """
 from __future__ import annotations
 
-from flint import arb
+from flint import arb, ctx
 
 from ..certify.foot import to_arb
 from .certificate_sites import ARC, POINT, SEGMENT, SiteTable, hypot, sq
 
 __all__ = ["ArcCurve", "normalise", "side_of"]
 
+#: evaluations kept by :meth:`ArcCurve._nd` (the parameter balls of the pieces in hand)
+RECENT = 8
 #: most sub-pieces of one chord bound (:meth:`ArcCurve.chord_bound_parts`)
 SUB_PIECES = 64
 
@@ -78,6 +80,7 @@ class ArcCurve:
         self.beta = beta
         self.n0, self.n1, self.d0, self.d1 = self._coefficients(k, tau)
         self._partners: dict = {}
+        self._recent: list = []
 
     def _coefficients(self, k: int, tau: int):
         """(n₀, n₁, d₀, d₁) of the bisector of s (on the side σ) and site k (side τ of its line or
@@ -143,12 +146,22 @@ class ArcCurve:
         return ph.cos(), ph.sin()
 
     def _nd(self, th):
+        # the same parameter ball is evaluated for every other site of a piece: the last few
+        # results are kept by the ball's identity (held, so its id is not reused) and precision
+        prec = ctx.prec
+        for ball, p, res in self._recent:
+            if ball is th and p == prec:
+                return res
         ux, uy = self.u(th)
         N = self.n0 + self.n1[0] * ux + self.n1[1] * uy
         Dn = self.d0 + self.d1[0] * ux + self.d1[1] * uy
         N1 = -self.n1[0] * uy + self.n1[1] * ux
         D1 = -self.d1[0] * uy + self.d1[1] * ux
-        return ux, uy, N, Dn, N1, D1
+        res = (ux, uy, N, Dn, N1, D1)
+        self._recent.append((th, prec, res))
+        if len(self._recent) > RECENT:
+            del self._recent[0]
+        return res
 
     def t(self, th):
         _, _, N, Dn, _, _ = self._nd(th)
