@@ -28,6 +28,7 @@ from .site_arrays import SiteArrays
 __all__ = ["newton_vertices", "krawczyk_circles", "apollonius_vertices", "exact_vertex"]
 
 
+@np.errstate(invalid="ignore", over="ignore", divide="ignore")    # non-finite seeds are masked
 def newton_vertices(S: SiteArrays, T3, Q, iters=30):
     """Float Newton on d_a = d_b = d_c (a, b, c = T3 columns) from seeds Q; vectorised over the
     candidates still moving (a candidate stops after a step below 1e-15 of its scale, or on a
@@ -144,7 +145,8 @@ def apollonius_vertices(S: SiteArrays, T3, seeds, stats, known=None):
     TT = Ts[heads].reshape(-1, 3)
     spread = np.zeros(len(heads))
     if len(key):
-        dev = np.where(finite[:, None], np.abs(Qs - M[cs]), 0.0).max(axis=1)
+        with np.errstate(invalid="ignore", over="ignore"):          # non-finite rows are masked
+            dev = np.where(finite[:, None], np.abs(Qs - M[cs]), 0.0).max(axis=1)
         np.maximum.at(spread, cs, dev)
     clusters = [{"triple": tuple(tr), "first": f, "x": x, "y": y}
                 for tr, f, (x, y) in zip(TT.tolist(), key[heads].tolist(), M.tolist())]

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .exact_delaunay import orientation
 from .sample_delaunay import SampleTriangulation
 from .site_arrays import SiteArrays
 from .structure import DiagramEdge
@@ -416,8 +417,8 @@ def _hull_point(tri, end, t_chain, far, vertex=None):
     A, B = tri.P[a], tri.P[b]
     opp = tri.P[tri.simp[t, k]]
     d = B - A
-    n = np.array([-d[1], d[0]])
-    if np.dot(n, opp - A) > 0:
+    n = np.array([-d[1], d[0]])              # left of A → B; outward when the triangle lies right
+    if orientation(A, B, opp) > 0:           # exactly: opp may lie a hair off the line (slivers)
         n = -n
     n = n / (np.hypot(*n) or 1.0)
     base = tri.cc[t_chain] if t_chain is not None else (np.array([vertex.x, vertex.y]) if vertex is not None
@@ -425,4 +426,5 @@ def _hull_point(tri, end, t_chain, far, vertex=None):
     mid = (A + B) / 2
     base = base if np.all(np.isfinite(base)) else mid
     start = mid if np.dot(base - mid, n) < 0 else base
-    return tuple(start + far * n)
+    # a vertex far out (10¹⁶: nearly collinear points) needs a step its floats can show
+    return tuple(start + max(far, 1e-6 * float(np.abs(start).max())) * n)

@@ -23,7 +23,7 @@ arithmetic when the filter cannot decide: floats are dyadic rationals, so the co
 one power of two are integers.  Co-circular points are triangulated in either way; the diagram's
 vertex of a co-circular set is merged downstream.
 
-Public API: :func:`exact_delaunay`, :func:`is_delaunay`.
+Public API: :func:`exact_delaunay`, :func:`is_delaunay`, :func:`orientation`.
 """
 from __future__ import annotations
 
@@ -32,7 +32,7 @@ from fractions import Fraction
 
 import numpy as np
 
-__all__ = ["exact_delaunay", "is_delaunay"]
+__all__ = ["exact_delaunay", "is_delaunay", "orientation"]
 
 _EPS = 2.0 ** -53
 _ORIENT_BOUND = 30 * (3 + 16 * _EPS) * _EPS
@@ -92,6 +92,11 @@ class _Points:
         det = ((ax * ax + ay * ay) * (bx * cy - by * cx) + (bx * bx + by * by) * (cx * ay - cy * ax)
                + (cx * cx + cy * cy) * (ax * by - ay * bx))
         return (det > 0) - (det < 0)
+
+
+def orientation(a, b, c) -> int:
+    """The exact sign of the orientation of three float points (> 0: counter-clockwise)."""
+    return _Points(np.array([a, b, c], float)).orient(0, 1, 2)
 
 
 def is_delaunay(P, simplices, neighbors) -> bool:

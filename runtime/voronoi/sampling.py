@@ -24,8 +24,9 @@ import ctypes.util
 import math
 
 import numpy as np
-from scipy.spatial import ConvexHull, cKDTree
+from scipy.spatial import ConvexHull, QhullError, cKDTree
 
+from .exact_delaunay import exact_delaunay, is_delaunay
 from .sample_delaunay import SampleTriangulation, delaunay
 from .site_arrays import SiteArrays
 
@@ -166,10 +167,23 @@ class Samples:
         stats["triangulations"] = stats.get("triangulations", 0) + 1
         P, lab = sample_sites(S, self.spacing, base=self.base)
         self.tri = None                  # the last triangulation is not needed for a full one
-        qh, _ = delaunay(P)
-        simp, nb = qh.simplices, qh.neighbors
-        del qh
+        points = S.all_circles and not S.R.any()     # point sites: the samples are the sites
+        try:
+            qh, _ = delaunay(P)
+            simp, nb = qh.simplices, qh.neighbors
+            del qh
+        except QhullError:
+            if not points:
+                raise
+            simp = nb = None             # e.g. three points 1e-14 off a line: a flat initial simplex
         release_free_memory()            # qhull's facets, before the triangulation's arrays
+        if points and (simp is None or not is_delaunay(P, simp, nb)):
+            # qhull decides in floats; the diagram of points is the exact Delaunay triangulation
+            exact = exact_delaunay(P)
+            if exact is None:
+                raise QhullError("the points lie on one line")
+            simp, nb = exact
+            stats["exact_delaunay"] = stats.get("exact_delaunay", 0) + 1
         self.tri, self.sampled = SampleTriangulation(P, lab, simp, nb), self.spacing.copy()
         return self.tri
 

@@ -78,7 +78,8 @@ class SiteArrays:
         if self.all_circles:
             V = P - self.C[lab]
             n = np.hypot(V[:, 0], V[:, 1])
-            D = np.where(n[:, None] > 0, V / np.where(n > 0, n, 1.0)[:, None], np.array([1.0, 0.0]))
+            with np.errstate(invalid="ignore", over="ignore"):        # far (inf) points: masked later
+                D = np.where(n[:, None] > 0, V / np.where(n > 0, n, 1.0)[:, None], np.array([1.0, 0.0]))
             g = n - self.R[lab]
             return np.abs(g), np.where((g >= 0)[:, None], D, -D)
         d = np.empty(len(P))

@@ -28,12 +28,14 @@ from __future__ import annotations
 import math
 from fractions import Fraction
 
+import numpy as np
+
 from .problems import fault
 from .arc_search import prove_arcs
 from .edges import prove_tail
 from .exact_vertices import exact_tower_vertex
 
-__all__ = ["point_edge_clear", "circle_edge_clear", "branch_order", "circumcentre", "triple_others",
+__all__ = ["point_edge_clear", "points_edge_clear", "circle_edge_clear", "branch_order", "circumcentre", "triple_others",
            "exact_third_site_clear", "tower_points_apart", "zero_on_arc", "search_with_exact_fallback", "SHALLOW"]
 
 #: halvings of the first float search over all edges; a site still undecided goes to the exact
@@ -86,6 +88,42 @@ def point_edge_clear(geoms, i, j, k, end0, end1) -> bool:
             return False
     # both ends ≥ 0; f_k affine: positive on the open interval unless identically zero
     return not (beta == 0 and alpha == 0)
+
+
+def points_edge_clear(geoms, i, j, end0, end1) -> bool:
+    """Is every other site strictly farther than the point sites i, j on the whole open edge, all
+    sites being points?  :func:`point_edge_clear` for every k at once, filtered: at a finite end
+    c (a circumcentre) f_k(c) = |c − p_k|² − |c − p_i|² = 2c·(p_i − p_k) + |p_k|² − |p_i|², at an
+    infinite end the slope β_k = 2·rot90(p_j − p_i)·(p_i − p_k) times σ, both in floats with a
+    bound on their rounding error (64ε of the terms' magnitudes, and the rounding of c and of the
+    coordinates carried through the gradient, with a factor 7 to spare); a site the bound does
+    not decide goes to the exact test.  Used where a far edge (the vertex of nearly collinear
+    points, 10¹⁶ out) leaves every site undecided by the distance searches."""
+    n = len(geoms)
+    P = np.array([[float(g.exact.cx), float(g.exact.cy)] for g in geoms])
+    pi, pj = P[i], P[j]
+    norm = np.hypot(P[:, 0], P[:, 1])
+    dik = np.hypot(*(pi - P).T)
+    sure = np.ones(n, bool)
+    for end in (end0, end1):
+        if end[0] == "inf":
+            s = float(end[1])
+            nv = np.array([-(pj[1] - pi[1]), pj[0] - pi[0]])
+            beta = 2 * ((pi - P) @ nv)
+            dij = float(np.hypot(*nv))
+            err = 1e-13 * (dij * dik + (norm[i] + norm[j] + norm) * (dij + dik))
+            sure &= beta * s > err
+            continue
+        c = circumcentre(geoms, end)
+        if c is None:
+            return False
+        cf = np.array([float(c[0]), float(c[1])])
+        cn = float(np.hypot(*cf))
+        val = 2 * ((pi - P) @ cf) + norm ** 2 - norm[i] ** 2
+        err = 1e-13 * (cn * dik + norm ** 2 + norm[i] ** 2 + cn * (norm + norm[i]))
+        sure &= val > err
+    sure[[i, j]] = True
+    return all(point_edge_clear(geoms, i, j, int(k), end0, end1) for k in np.nonzero(~sure)[0].tolist())
 
 
 def _vertex_param(w, i_xy, j_xy, prec):
@@ -242,6 +280,24 @@ def exact_third_site_clear(geoms, vinfo, e, pair, tails, det) -> bool:
     return point_edge_clear(geoms, pair[0], pair[1], k, ends[0], ends[1])
 
 
+def _all_points(geoms) -> bool:
+    return all(g.kind == "point" for g in geoms)
+
+
+def _point_ends(geoms, vinfo, e, tails):
+    """The edge's ends for :func:`point_edge_clear` (vertex sites or ("inf", σ)), or None."""
+    ends = []
+    sigmas = [sg for _, sg in tails]
+    for vid in e.ends:
+        if vid is None:
+            if not sigmas:
+                return None
+            ends.append(("inf", sigmas.pop(0)))
+        else:
+            ends.append(tuple(vinfo[vid].sites))
+    return ends
+
+
 def tower_points_apart(a, b) -> bool:
     """Distinct points: some coordinate's ball enclosures are disjoint (thesis §3.1.3 towers)."""
     from flint import ctx
@@ -292,6 +348,10 @@ def search_with_exact_fallback(table, geoms, vinfo, e, pair, bis, lo, hi, exempt
                     break
         if ok:
             return ok, det
+        if _all_points(geoms) and det is not None and det[2] == "undecided":
+            ends = _point_ends(geoms, vinfo, e, tails)
+            if ends is not None and points_edge_clear(geoms, pair[0], pair[1], *ends):
+                return True, None        # every other point farther on the whole edge, tails included
         if exact_third_site_clear(geoms, vinfo, e, pair, tails, det):
             # every site tied with it at infinity (listed by prove_tail) that is also proved farther
             extra = [k for k in (det[3] if len(det) > 3 else ())
