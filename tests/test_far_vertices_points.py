@@ -115,3 +115,35 @@ def test_a_rotated_grid_of_points_is_certified(angle):
     d = cv.voronoi(pts, progress=False)
     assert d.certified, d.problems[:3]
     assert set(d.delaunay_edges()) == delaunay_graph(pts)
+
+
+def test_the_float_filter_of_points_edge_clear_leaves_hairline_cases_to_the_exact_test():
+    """A = (0, 0), B = (2, 0), C = (1, 2⁻⁴⁰): the vertex of A, B, C is 5.5·10¹¹ below, and the edge
+    of A, B runs from it downwards to infinity.  A fourth point one float inside the circle of A, B,
+    C (at x = 3), or 2⁻¹⁰⁰⁰ below the line AB far to the side (it wins far down), is closer than A
+    and B somewhere on the edge: exactly decided, far below the floats' rounding."""
+    import math
+
+    from curvedvoronoi.runtime.predicates.circles import Point
+    from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+    from curvedvoronoi.runtime.voronoi.verify.exact_edges import points_edge_clear
+
+    eps = Fraction(2) ** -40
+    y0 = (eps * eps - 1) / (2 * eps)                 # centre (1, y0) of the circle through A, B, C
+    r2 = 1 + y0 * y0
+    lo, hi = Fraction(-1, 10 ** 6), Fraction(0)      # y_top ≈ −3ε: the circle's point above (3, y0)
+    for _ in range(200):
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if 4 + (mid - y0) ** 2 < r2 else (lo, mid)
+    q = math.nextafter(float(lo), -math.inf)
+    assert 4 + (Fraction(q) - y0) ** 2 < r2          # strictly inside the circle
+    sites = [Point(0, 0), Point(2, 0), Point(1, float(eps))]
+    down = ("inf", -1)                               # direction −rot90(B − A) = (0, −2)
+    G = [site_geometry(s) for s in sites + [Point(3, q)]]
+    assert not points_edge_clear(G, 0, 1, (0, 1, 2), down)
+    G = [site_geometry(s) for s in sites + [Point(3, float(q) + 1e-6)]]     # outside: clear
+    assert points_edge_clear(G, 0, 1, (0, 1, 2), down)
+    G = [site_geometry(s) for s in sites + [Point(100, -2.0 ** -1000)]]
+    assert not points_edge_clear(G, 0, 1, (0, 1, 2), down)
+    G = [site_geometry(s) for s in sites + [Point(100, 2.0 ** -1000)]]
+    assert points_edge_clear(G, 0, 1, (0, 1, 2), down)
