@@ -451,23 +451,24 @@ def test_lead_interval_refuses_a_direction_where_a_third_site_is_nearer():
             assert J[0] < ths < J[1]
 
 
+@pytest.mark.parametrize("factor", [2.0, 0.5])
 @pytest.mark.parametrize("site", [1, 3])
-def test_wrong_float_guides_of_the_foot_are_refused(site, monkeypatch):
+def test_wrong_float_guides_of_the_foot_are_refused(site, factor, monkeypatch):
     """The foot brackets are float guesses checked by the proof: with guesses twice the true foot
-    parameter (on the wrong side of it for the bracket's bound toward infinity), every cell the
+    parameter or half of it (on the wrong side of it for one end of the bracket), every cell the
     enclosure still claims contains the mpmath gradient (the proof refused the wrong brackets)."""
     conic = SITES[site]
     fp, fh = FC.parabola_foot_guess, FC.hyperbola_foot_guess
-    monkeypatch.setattr(FC, "parabola_foot_guess", lambda X, Y, p: 2 * fp(X, Y, p))
-    monkeypatch.setattr(FC, "hyperbola_foot_guess", lambda X, Y, a, b: 2 * fh(X, Y, a, b))
+    monkeypatch.setattr(FC, "parabola_foot_guess", lambda X, Y, p: factor * fp(X, Y, p))
+    monkeypatch.setattr(FC, "hyperbola_foot_guess", lambda X, Y, a, b: factor * fh(X, Y, a, b))
     m = np.array([3.0, -1.0])
     fc = FC.FarConic(site_geometry(conic), m)
     rng = random.Random(4000 + site)
     cells = _cells(rng, 40)
     t0, t1, a0, a1 = (np.array(v, float) for v in zip(*cells))
     ok, lo, hi, up = fc.gradient(t0, t1, a0, a1)
-    for c in np.nonzero(ok)[0][:20]:
-        tau = t1[c]
-        th = a0[c]
-        d, ang = ref_nearest(conic, m + (1 / tau) * np.array([math.cos(th), math.sin(th)]))
-        assert _in_arc(ang, lo[c], hi[c]), (c, ang, lo[c], hi[c])
+    for c in np.nonzero(ok)[0][:12]:
+        for tau in {t1[c], t0[c] if t0[c] > 0 else t1[c] * 1e-3}:
+            for th in (a0[c], a1[c]):
+                d, ang = ref_nearest(conic, m + (1 / tau) * np.array([math.cos(th), math.sin(th)]))
+                assert _in_arc(ang, lo[c], hi[c]), (c, ang, lo[c], hi[c])
