@@ -141,9 +141,9 @@ def test_the_float_filter_of_points_edge_clear_leaves_hairline_cases_to_the_exac
     q = float(lo)
     for _ in range(400):
         q = math.nextafter(q, -math.inf)
-        if 2 * (cx * -3 + cy * -q) + 9 + q * q > 0:
+        if 2 * (cx * -3 + cy * -q) + float(np.hypot(3, q)) ** 2 > 0:
             break
-    assert 2 * (cx * -3 + cy * -q) + 9 + q * q > 0
+    assert 2 * (cx * -3 + cy * -q) + float(np.hypot(3, q)) ** 2 > 0
     assert 4 + (Fraction(q) - y0) ** 2 < r2          # strictly inside the circle
     sites = [Point(0, 0), Point(2, 0), Point(1, float(eps))]
     down = ("inf", -1)                               # direction −rot90(B − A) = (0, −2)
