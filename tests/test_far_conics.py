@@ -472,3 +472,18 @@ def test_wrong_float_guides_of_the_foot_are_refused(site, factor, monkeypatch):
             for th in (a0[c], a1[c]):
                 d, ang = ref_nearest(conic, m + (1 / tau) * np.array([math.cos(th), math.sin(th)]))
                 assert _in_arc(ang, lo[c], hi[c]), (c, ang, lo[c], hi[c])
+
+
+@pytest.mark.parametrize("eps", [1e-9, 0.0, -1e-9])
+def test_monotonicity_on_both_sides_of_equal_normal_components(eps):
+    """(M) at θ = π/2 with ∇d_i = u(θ + x), ∇d_j = u(θ + π − x + eps), x = π/3: the components along
+    u⊥ are sin x and sin(π − x + eps) = sin(x − eps), difference ≈ eps·cos x: σ = 1 proved for
+    eps = 1e-9, σ = −1 for eps = −1e-9, neither at eps = 0 (equal components)."""
+    from curvedvoronoi.runtime.voronoi.verify.conic_tail import monotone_in_theta
+
+    th, x = 0.5 * math.pi, math.pi / 3
+    ai = np.array([th + x])
+    aj = np.array([th + math.pi - x + eps])
+    pos = monotone_in_theta(ai, ai, aj, aj, np.array([th]), np.array([th]), 1.0)[0]
+    neg = monotone_in_theta(ai, ai, aj, aj, np.array([th]), np.array([th]), -1.0)[0]
+    assert (pos, neg) == (eps > 0, eps < 0)

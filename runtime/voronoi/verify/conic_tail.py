@@ -26,7 +26,8 @@ the open sector is returned.  Tails between an unbounded and a bounded site are 
 proved (the bounded site's gradient far away would need the support-function enclosures of
 :mod:`runtime.voronoi.verify.tail` combined with these).
 
-Public API: :func:`prove_conic_tail`, :func:`prove_sector`, :data:`CONIC_TAIL_WORK`.
+Public API: :func:`prove_conic_tail`, :func:`prove_sector`, :func:`monotone_in_theta`,
+:data:`CONIC_TAIL_WORK`.
 """
 from __future__ import annotations
 
@@ -38,7 +39,7 @@ from .far_accounting import asymptotic_direction, c_float, far_centre, lead_inte
 from .far_conics import UNBOUNDED, FarConic, bounded_lower, cos_range, sin_range
 from .tail_link import link_arc
 
-__all__ = ["prove_conic_tail", "prove_sector", "CONIC_TAIL_WORK"]
+__all__ = ["prove_conic_tail", "prove_sector", "monotone_in_theta", "CONIC_TAIL_WORK"]
 
 #: cells per sector attempt
 CONIC_TAIL_WORK = 200000
@@ -78,6 +79,14 @@ def prove_conic_tail(geoms, table, pair, link, scale, max_work: int = CONIC_TAIL
                 return False, "no interval of directions around the asymptote where its sites are the nearest", None
             return True, None, J
     return False, msg, None
+
+
+def monotone_in_theta(ai0, ai1, aj0, aj1, th0, th1, sigma):
+    """(M): is σ(sin(α_i − θ) − sin(α_j − θ)) > 0 for all α_i ∈ [ai0, ai1], α_j ∈ [aj0, aj1],
+    θ ∈ [th0, th1] (∂_θ(d_i − d_j) = t·(∇d_i − ∇d_j)·u⊥(θ), ∇d = u(α))?"""
+    si = sin_range(ai0 - th1, ai1 - th0)
+    sj = sin_range(aj0 - th1, aj1 - th0)
+    return (si[0] - sj[1] > 0) if sigma > 0 else (si[1] - sj[0] < 0)
 
 
 def _third_lower(geoms, fars, m, others, t0, t1, a0, a1):
@@ -144,10 +153,7 @@ def prove_sector(geoms, fars, table, pair, tha, thb, sigma, T, m, scale, max_wor
                            f"{1.0 / tb[k]:.6g} from the centre ({m[0]:.6g}, {m[1]:.6g})")
         oki, li, hi_, upi = fars[i].gradient(ta, tb, h0, h1)
         okj, lj, hj, upj = fars[j].gradient(ta, tb, h0, h1)
-        # (M): σ(sin(α_i − θ) − sin(α_j − θ)) > 0 over the cell
-        si = sin_range(li - h1, hi_ - h0)
-        sj = sin_range(lj - h1, hj - h0)
-        okM = (si[0] - sj[1] > 0) if sigma > 0 else (si[1] - sj[0] < 0)
+        okM = monotone_in_theta(li, hi_, lj, hj, h0, h1, sigma)
         # (A): the other sites farther than min(d_i, d_j) ≥ d_i = d_j on β
         okA = np.ones(len(ta), bool)
         if others:
