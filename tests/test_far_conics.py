@@ -487,3 +487,8 @@ def test_monotonicity_on_both_sides_of_equal_normal_components(eps):
     pos = monotone_in_theta(ai, ai, aj, aj, np.array([th]), np.array([th]), 1.0)[0]
     neg = monotone_in_theta(ai, ai, aj, aj, np.array([th]), np.array([th]), -1.0)[0]
     assert (pos, neg) == (eps > 0, eps < 0)
+    # on the cell θ ∈ [π/2 − 1e-6, π/2 + 1e-6] the difference is ≈ cos x·(eps − 2(θ − π/2)): it changes
+    # sign inside the cell for eps = 1e-9, so neither orientation may be proved there
+    w = np.array([1e-6])
+    cell = [monotone_in_theta(ai, ai, aj, aj, th - w, th + w, s)[0] for s in (1.0, -1.0)]
+    assert cell == [False, False]
