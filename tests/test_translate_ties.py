@@ -156,3 +156,18 @@ def test_support_enclosures_bracket_the_support_point(seed):
 def sd_coefficients(site):
     from curvedvoronoi.runtime.predicates.symmetry import site_coefficients
     return site_coefficients(site)
+
+
+def test_a_far_vertex_above_a_row_of_translates_is_proved():
+    """Translates at (0, 0), (7, 0), (13, 1/4): the first two tie downwards (parallel edges), the
+    third leads upwards, so the bisector x = 3.5 of the first two ends at a vertex about 156 above
+    the row, outside the disc where the edges' finite parts are cut; the edge of (0, 1) runs from
+    there across the scene down to infinity."""
+    scene = [(0, 0, 2, 1, 0), (7, 0, 2, 1, 0), (13, 0.25, 2, 1, 0)]
+    d = cv.voronoi(sites_of(scene), progress=False)
+    assert d.certified, d.problems[:3]
+    (v,) = d.vertices
+    D = distances(scene, np.array([v.x]), np.array([v.y]), m=20000)[:, 0]
+    assert 100 < v.y < 250 and abs(v.x - 3.5) < 1e-6
+    assert D.max() - D.min() < 1e-3 and abs(D.mean() - v.radius) < 1e-3
+    assert {tuple(e.sites) for e in d.edges if None in e.ends} == reference_unbounded(scene, (6.5, 0))

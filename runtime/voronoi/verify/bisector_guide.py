@@ -61,10 +61,15 @@ def vertex_taper(v, pair, ks):
 
 
 def cut_outside(S, cen, Rc):
-    """The guide S up to where it first leaves the disc D(cen, Rc) after its first node (cut on
-    the crossing segment by bisection)."""
+    """The guide S up to where it first leaves the disc D(cen, Rc) after its first node inside the
+    disc (cut on the crossing segment by bisection): a guide from a vertex far outside the disc
+    (nearly tied sites) crosses the disc and is cut where it leaves it for its end at infinity.
+    A guide with no node inside: its first segment."""
     dist = np.hypot(S[:, 0] - cen[0], S[:, 1] - cen[1])
     far = np.nonzero(dist > Rc)[0]
+    inside = np.nonzero(dist <= Rc)[0]
+    if len(inside):
+        far = far[far > inside[0]]
     if len(far) and far[0] > 0:
         f0 = int(far[0])
         A_, B_ = S[f0 - 1], S[f0]
