@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from .far_accounting import accounting_unbounded
-from .hull_nesting import gap_note, hulls_disjoint
+from .hull_nesting import gap_note, hulls_disjoint, sole_leader
 from .problems import fault
 from .ties_at_infinity import tied_sectors
 from .vertices import vname as _vname
@@ -235,6 +235,9 @@ def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000,
     split into the disjoint relatively open sets A ∩ (open sector of e), so A lies in one open
     sector, of the pair {i', j'}; so the edge eventually enters that sector's region
     {t ≥ T, θ ∈ [θa, θb]}, where β_i'j' is the reported tail: the edge is the reported one.
+    With no unbounded end reported, one site must lead in every direction
+    (:func:`runtime.voronoi.verify.hull_nesting.sole_leader`: all others inside its convex region),
+    so that G has no unbounded edge either.
     """
     if n < 2:
         return True
@@ -245,6 +248,8 @@ def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000,
         return False
     # ---- (a) the ends at infinity
     if not ends_inf:
+        if sole_leader(sup, max_work) is not None:
+            return True          # every other site inside one container: no unbounded edge at all
         problems.append("no unbounded edge is proved, but several sites have unbounded regions")
         return False
     # (a0, a1, pair, edge id, pair leaving the sector): a sector, or the small sector about a

@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-__all__ = ["hulls_disjoint", "gap_note"]
+__all__ = ["hulls_disjoint", "gap_note", "sole_leader"]
 
 
 def hulls_disjoint(sup, problems, max_work, names=None) -> bool:
@@ -93,6 +93,18 @@ def _below(sup, b, a, max_work) -> bool:
         mid = 0.5 * (c0 + c1)
         c0, c1 = np.concatenate([c0, mid]), np.concatenate([mid, c1])
     return True
+
+
+def sole_leader(sup, max_work) -> int | None:
+    """A site c with h_k < h_c in every direction for every other site k (all others inside its
+    convex region), proved as in :func:`hulls_disjoint`; None if there is none.  Far away in
+    every direction c is then strictly the nearest site (d_k = t − h_k(u) + O(W²/t), the gap
+    min_θ (h_c − h_k) > 0 on the compact circle of directions): the diagram has no unbounded edge."""
+    # the candidate: the largest support value in some direction, then checked everywhere
+    c = int(np.argmax(sup.h(np.arange(sup.n), np.zeros(sup.n))))
+    if sup.kind[c] not in ("circle", "ellipse"):
+        return None
+    return c if all(k == c or _below(sup, k, c, max_work) for k in range(sup.n)) else None
 
 
 def gap_note(unproved_ends) -> str:

@@ -1,0 +1,53 @@
+"""Sites inside one ellipse: far away in every direction the ellipse is the nearest site
+(h_k < h_E for every site k inside it), so the diagram has no unbounded edge, and the accounting
+at infinity holds with none (runtime/voronoi/verify/hull_nesting.sole_leader).  The reference uses
+none of the library's geometry: distances to the circles in closed form, to the ellipse by dense
+sampling of its boundary; the Delaunay pairs are read from the nearest site on a grid."""
+from __future__ import annotations
+
+import copy
+
+import numpy as np
+
+import curvedvoronoi as cv
+
+SCENE = [("e", 0, 0, 10, 6), ("c", 2, 0, 1), ("c", -3, 1, 1.5)]
+
+
+def sites():
+    return [cv.Conic.ellipse((t[1], t[2]), (t[3], t[4])) if t[0] == "e" else (t[1], t[2], t[3]) for t in SCENE]
+
+
+def distances(X, Y):
+    t = np.linspace(0, 2 * np.pi, 4000, endpoint=False)
+    bx, by = 10 * np.cos(t), 6 * np.sin(t)
+    D = np.full(X.shape, np.inf)
+    for k in range(0, len(t), 500):
+        D = np.minimum(D, np.hypot(X[..., None] - bx[k:k + 500], Y[..., None] - by[k:k + 500]).min(-1))
+    out = [D]
+    for _, x, y, r in SCENE[1:]:
+        out.append(np.abs(np.hypot(X - x, Y - y) - r))
+    return np.stack(out)
+
+
+def test_circles_inside_an_ellipse_are_certified_without_unbounded_edges():
+    d = cv.voronoi(sites(), progress=False)
+    assert d.certified, d.problems
+    assert all(None not in e.ends for e in d.edges)
+    X, Y = np.meshgrid(np.linspace(-30, 30, 301), np.linspace(-30, 30, 301))
+    first = distances(X, Y).argmin(0)
+    pairs = set()
+    for a, b in ((first[:, 1:], first[:, :-1]), (first[1:, :], first[:-1, :])):
+        pairs |= {(min(i, j), max(i, j)) for i, j in zip(a[a != b].tolist(), b[a != b].tolist())}
+    assert set(d.delaunay_edges()) == pairs
+    far = distances(np.array([100.0, -100, 0, 0]), np.array([0.0, 0, 100, -100]))
+    assert (far.argmin(0) == 0).all()                 # the ellipse is nearest far away
+
+
+def test_two_disjoint_ellipses_without_their_unbounded_edges_are_refused():
+    d = cv.voronoi([cv.Conic.ellipse((0, 0), (3, 2)), cv.Conic.ellipse((10, 0), (3, 2))], progress=False)
+    assert d.certified
+    bad = copy.deepcopy(d.to_json())
+    bad["edges"] = []
+    bad["delaunay_edges"] = []
+    assert not cv.verify(bad).ok
