@@ -33,6 +33,14 @@ from curvedvoronoi.runtime.voronoi.verify.site_table import SiteTable  # noqa: E
 mpmath.mp.dps = 40
 
 
+@pytest.fixture(autouse=True)
+def _mpmath_digits():
+    """40 digits for this module's references, restored after each test (another module's
+    setting must not leak in, nor this one out)."""
+    with mpmath.workdps(40):
+        yield
+
+
 def _foot(conic, q, start):
     """The nearest point of the ellipse to q (outside it), 40 digits: Lagrange system from ``start``."""
     A, B, C, D, E, F = (mpmath.mpf(int(v.numerator)) / int(v.denominator) if hasattr(v, "numerator")

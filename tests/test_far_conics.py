@@ -29,6 +29,14 @@ from curvedvoronoi.runtime.voronoi.verify import far_conics as FC
 mp.mp.dps = 30
 
 
+@pytest.fixture(autouse=True)
+def _mpmath_digits():
+    """30 digits for this module's references, restored after each test (another module's
+    setting must not leak in, nor this one out)."""
+    with mp.workdps(30):
+        yield
+
+
 # ----------------------------------------------------------------------------- references (mpmath)
 
 def _mpf(v):

@@ -29,6 +29,14 @@ from curvedvoronoi.runtime.segments.certificate_vertices import VertexProof
 mpmath.mp.dps = 60
 
 
+@pytest.fixture(autouse=True)
+def _mpmath_digits():
+    """60 digits for this module's references, restored after each test (another module's
+    setting must not leak in, nor this one out)."""
+    with mpmath.workdps(60):
+        yield
+
+
 def ngon(n, rot=0.3, scale=1.0, off=(0.0, 0.0)):
     ts = np.linspace(0, 2 * np.pi, n, endpoint=False) + rot
     return [(off[0] + scale * np.cos(t), off[1] + scale * np.sin(t)) for t in ts]

@@ -186,6 +186,14 @@ def test_segment_commands_take_crs(tmp_path, capsys, command):
 mpmath.mp.dps = 40
 
 
+@pytest.fixture(autouse=True)
+def _mpmath_digits():
+    """40 digits for this module's references, restored after each test (another module's
+    setting must not leak in, nor this one out)."""
+    with mpmath.workdps(40):
+        yield
+
+
 def _ref_distance(site, q):
     """The distance from q to a site by definition, in 40-digit arithmetic: a point's |q − p|; a
     closed segment's distance to the clamped foot; a closed counter-clockwise arc's |‖q − c‖ − ρ|
