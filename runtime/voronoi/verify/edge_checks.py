@@ -19,8 +19,8 @@ import numpy as np
 from .problems import fault
 from .arc_search import prove_arcs
 from .edges import bisector, params
-from .exact_edges import (SHALLOW, exact_third_site_clear, search_with_exact_fallback, tower_points_apart,
-                          triple_others, zero_on_arc)
+from .exact_edges import (SHALLOW, exact_third_site_clear, far_point_edges, search_with_exact_fallback,
+                          tower_points_apart, triple_others, zero_on_arc)
 from .exact_vertices import exact_tower_vertex
 from .polyline_bound import hausdorff_bounds
 from .curved_edges import curved_edges, curved_job, curved_scale, drawn_points, past
@@ -125,15 +125,22 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats, deadline=None):
             jobs.append((pos, e, name, pair, bis, job))
     # the end vertices' third sites: one sign on the open arc, decided at interior points
     jobs = _sign_checks(jobs, table, eok, problems, geoms, vinfo)
-    # Lipschitz discs on the finite parts, all edges at once; then the tails
-    arcs = prove_arcs(table, [(bis, job[0], job[1], job[2]) for _, _, _, _, bis, job in jobs],
-                      max_depth=SHALLOW, max_pieces=4096 + 64 * len(jobs), deadline=deadline) if jobs else []
-    for (pos, e, name, pair, bis, (lo, hi, exempt, tails, full_lo, full_hi, _)), (ok, det) in zip(jobs, arcs):
+    # edges of points far out, proved exactly at once; Lipschitz discs on the finite parts of the
+    # others, all edges at once; then the tails
+    exact = far_point_edges(geoms, vinfo, table.scale, jobs) if table is not None else set()
+    rest = [t for t in range(len(jobs)) if t not in exact]
+    found = prove_arcs(table, [(jobs[t][4], *jobs[t][5][:3]) for t in rest],
+                       max_depth=SHALLOW, max_pieces=4096 + 64 * len(rest), deadline=deadline) if rest else []
+    arcs = [(True, None)] * len(jobs)
+    for t, res in zip(rest, found):
+        arcs[t] = res
+    for t, ((pos, e, name, pair, bis, (lo, hi, exempt, tails, full_lo, full_hi, _)), (ok, det)) in enumerate(zip(jobs, arcs)):
         if past(deadline) and (not ok or tails):     # proved finite arcs cost nothing more
             late[0] += 1
             eok[pos] = False
             continue
-        ok, det = search_with_exact_fallback(table, geoms, vinfo, e, pair, bis, lo, hi, exempt, tails, ok, det)
+        if t not in exact:
+            ok, det = search_with_exact_fallback(table, geoms, vinfo, e, pair, bis, lo, hi, exempt, tails, ok, det)
         if not ok:
             k, q, why = det[:3]
             where = "" if q is None else f" near ({q[0]:.9g}, {q[1]:.9g})"

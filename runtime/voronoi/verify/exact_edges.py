@@ -35,7 +35,7 @@ from .arc_search import prove_arcs
 from .edges import prove_tail
 from .exact_vertices import exact_tower_vertex
 
-__all__ = ["point_edge_clear", "points_edge_clear", "circle_edge_clear", "branch_order", "circumcentre", "triple_others",
+__all__ = ["point_edge_clear", "points_edge_clear", "far_point_edges", "all_points", "point_ends", "circle_edge_clear", "branch_order", "circumcentre", "triple_others",
            "exact_third_site_clear", "tower_points_apart", "zero_on_arc", "search_with_exact_fallback", "SHALLOW"]
 
 #: halvings of the first float search over all edges; a site still undecided goes to the exact
@@ -280,11 +280,12 @@ def exact_third_site_clear(geoms, vinfo, e, pair, tails, det) -> bool:
     return point_edge_clear(geoms, pair[0], pair[1], k, ends[0], ends[1])
 
 
-def _all_points(geoms) -> bool:
+def all_points(geoms) -> bool:
+    """Are all sites points?"""
     return all(g.kind == "point" for g in geoms)
 
 
-def _point_ends(geoms, vinfo, e, tails):
+def point_ends(geoms, vinfo, e, tails):
     """The edge's ends for :func:`point_edge_clear` (vertex sites or ("inf", σ)), or None."""
     ends = []
     sigmas = [sg for _, sg in tails]
@@ -296,6 +297,23 @@ def _point_ends(geoms, vinfo, e, tails):
         else:
             ends.append(tuple(vinfo[vid].sites))
     return ends
+
+
+def far_point_edges(geoms, vinfo, scale, jobs) -> set:
+    """Indices of the edge jobs (pos, edge, name, pair, bisector, (lo, hi, exempt, tails, …)) of a
+    diagram of points whose edge has an end vertex more than 10³ scene sizes out (the circle of
+    nearly collinear points) and which :func:`points_edge_clear` proves exactly: every other point
+    farther on the whole edge, tails included.  The disc searches would meet every site there."""
+    if not jobs or not all_points(geoms):
+        return set()
+    out = set()
+    for t, (_, e, _, pair, _, job) in enumerate(jobs):
+        if not any(v is not None and max(abs(vinfo[v].x), abs(vinfo[v].y)) > 1e3 * scale for v in e.ends):
+            continue
+        ends = point_ends(geoms, vinfo, e, job[3])
+        if ends is not None and points_edge_clear(geoms, pair[0], pair[1], *ends):
+            out.add(t)
+    return out
 
 
 def tower_points_apart(a, b) -> bool:
@@ -348,8 +366,8 @@ def search_with_exact_fallback(table, geoms, vinfo, e, pair, bis, lo, hi, exempt
                     break
         if ok:
             return ok, det
-        if _all_points(geoms) and det is not None and det[2] == "undecided":
-            ends = _point_ends(geoms, vinfo, e, tails)
+        if all_points(geoms) and det is not None and det[2] == "undecided":
+            ends = point_ends(geoms, vinfo, e, tails)
             if ends is not None and points_edge_clear(geoms, pair[0], pair[1], *ends):
                 return True, None        # every other point farther on the whole edge, tails included
         if exact_third_site_clear(geoms, vinfo, e, pair, tails, det):
