@@ -602,6 +602,11 @@ def main():
     if cert_t:
         lines += ["Certificate phases (s, `verify_segments(...).timings`): " +
                   "; ".join(f"{n}: {t}" for n, t in cert_t), ""]
+    rounds_t = [(_label(r["spec"]), r["stats"]) for r in seg_rows if r.get("stats", {}).get("round_cpu_seconds")]
+    if rounds_t:
+        lines += ["Construction rounds (CPU s per round, `d.stats['round_cpu_seconds']`; rounds that updated the "
+                  "previous sample triangulation locally, `d.stats['local_rounds']`): " +
+                  "; ".join(f"{n}: {st['round_cpu_seconds']}, {st.get('local_rounds', 0)} local" for n, st in rounds_t), ""]
     text = "\n".join(lines) + "\n"
     print(text)
     if not args.no_write:
