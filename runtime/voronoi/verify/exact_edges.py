@@ -265,19 +265,8 @@ def exact_third_site_clear(geoms, vinfo, e, pair, tails, det) -> bool:
                 return False
             ends.append((tuple(vinfo[vid].sites), ex[1]))
         return circle_edge_clear(geoms, pair[0], pair[1], k, ends[0], ends[1])
-    ends = []
-    tail_sigmas = [sg for _, sg in tails]
-    for vid in e.ends:
-        if vid is None:
-            if not tail_sigmas:
-                return False
-            ends.append(("inf", tail_sigmas.pop(0)))
-        else:
-            w = vinfo[vid]
-            if any(geoms[s].kind != "point" for s in w.sites):
-                return False
-            ends.append(tuple(w.sites))
-    return point_edge_clear(geoms, pair[0], pair[1], k, ends[0], ends[1])
+    ends = point_ends(geoms, vinfo, e, tails)
+    return ends is not None and point_edge_clear(geoms, pair[0], pair[1], k, ends[0], ends[1])
 
 
 def all_points(geoms) -> bool:
@@ -286,7 +275,8 @@ def all_points(geoms) -> bool:
 
 
 def point_ends(geoms, vinfo, e, tails):
-    """The edge's ends for :func:`point_edge_clear` (vertex sites or ("inf", σ)), or None."""
+    """The edge's ends for :func:`point_edge_clear` (vertex sites or ("inf", σ)), or None when an
+    end vertex has a site that is not a point or a tail is missing."""
     ends = []
     sigmas = [sg for _, sg in tails]
     for vid in e.ends:
@@ -294,6 +284,8 @@ def point_ends(geoms, vinfo, e, tails):
             if not sigmas:
                 return None
             ends.append(("inf", sigmas.pop(0)))
+        elif any(geoms[s].kind != "point" for s in vinfo[vid].sites):
+            return None
         else:
             ends.append(tuple(vinfo[vid].sites))
     return ends
