@@ -119,6 +119,8 @@ def test_same_level_is_exact():
     assert same_level(S(0, 8), S(0, 8)) and not same_level(S(0, 8), S(0, 2))
     # √x − √y = d rational with x, y not squares only when d = 0: 3√2 − 2√2 = √2 is irrational
     assert not same_level(S(0, 18), S(Fraction(1), 8))
+    # squaring admits √y = t < 0: 0 + √1 ≠ 1 + √4 although ((1 − 4 − 1)/2)² = 4
+    assert not same_level(S(0, 1), S(1, 4))
 
 
 @pytest.mark.parametrize("seed", range(5))
