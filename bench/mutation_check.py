@@ -242,7 +242,8 @@ SOUND_MODULES = ["runtime/voronoi/verify/**/*.py", "runtime/certify/**/*.py"]
 #: killed mutant costs little; a survivor runs all of it, ~15 s unmutated on the shared machine).
 #: The 2026-11 run (seed 32) used this list; the first run (seed 31) had test_voronoi_verify first and
 #: test_symmetry instead of test_symmetry_proofs / test_polyline_bound.
-_VERIFY_TESTS = ["tests/test_verify_boundaries.py", "tests/test_verify_mutants.py", "tests/test_verify_float_boundaries.py",
+_VERIFY_TESTS = ["tests/test_mirror_edge_third_sites.py", "tests/test_vertex_reach_closed_balls.py",
+                 "tests/test_verify_boundaries.py", "tests/test_verify_mutants.py", "tests/test_verify_float_boundaries.py",
                  "tests/test_verify_deadline.py", "tests/test_polyline_bound.py",
                  "tests/test_degenerate.py", "tests/test_symmetry_proofs.py", "tests/test_degenerate_cgal.py",
                  "tests/test_voronoi_verify.py",
