@@ -14,8 +14,9 @@ c²κ_min/8 of the circle of curvature κ_min through its ends, and ℓ/c = 1 + 
 piece (θ-length 0.02 or 0.05, curvature ratio κ_max/κ_min measured below from the closed form)
 ℓ²κ_max/8 with ℓ, κ_max the upper bounds over the sub-pieces (|v′| and κ vary by a few % within
 each) lies within 1.1 · κ_max/κ_min of the deviation: the bound must lie in
-[deviation, 1.1 · (κ_max/κ_min) · deviation].  A bound that discards ℓ²κ/8 for a cruder one (the Green-function bound Σ ℓ_m κ_m w_m is 4/3 of it on a circle,
-∫₀^ℓ s(ℓ − s)/ℓ ds = ℓ²/6) stays sound but leaves that range.
+[deviation, 1.1 · (κ_max/κ_min) · deviation].  A bound that discards ℓ²κ/8 for a cruder one
+(the Green-function bound Σ ℓ_m κ_m w_m is 4/3 of it on a circle, ∫₀^ℓ s(ℓ − s)/ℓ ds = ℓ²/6)
+stays sound but leaves that range.
 """
 from __future__ import annotations
 
