@@ -144,10 +144,13 @@ def voronoi(sites, *, certify: bool = True, progress=None, time_limit: float | N
 
 @without_cyclic_gc
 def build_diagram(S: SiteArrays, samples: Samples, cache: dict, notes, stats, timing, *, certify=True,
-                  progress=None, deadline=None, time_limit=None, t_start=None) -> Diagram:
+                  progress=None, deadline=None, time_limit=None, t_start=None, edge_filter=None) -> Diagram:
     """The rounds of :func:`voronoi` from a sampling state (``samples``, whose triangulation may
     already exist, e.g. after a deletion): refinement rounds, edges, verification.  The diagram
-    keeps the state in ``construction`` for :func:`runtime.voronoi.deletion.delete_site`."""
+    keeps the state in ``construction`` for :func:`runtime.voronoi.deletion.delete_site`.
+    ``edge_filter(vertices, edges_raw)``, with ``certify=False``: the raw edges (pair, start,
+    chain, end, ends) whose polylines are wanted, the others dropped (a local update splices only
+    the edges at its new vertices, :mod:`runtime.voronoi.insertion`)."""
     sites = S.sites
     if t_start is None:
         t_start = time.perf_counter()
@@ -176,7 +179,10 @@ def build_diagram(S: SiteArrays, samples: Samples, cache: dict, notes, stats, ti
             if result.get("timed_out"):          # past the limit: the vertices only, marked partial
                 break
             release_free_memory()
-            D.edges = edge_polylines(S, result["tri"], D.vertices, result["edges_raw"])
+            raw = result["edges_raw"]
+            if edge_filter is not None and not certify:
+                raw = edge_filter(D.vertices, raw)
+            D.edges = edge_polylines(S, result["tri"], D.vertices, raw)
             result["edges_raw"] = None        # the walks' lists are freed: the verifier starts lower
             release_free_memory()
             timing["edges"] = timing.get("edges", 0) + time.perf_counter() - t0

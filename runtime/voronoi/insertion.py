@@ -27,7 +27,8 @@ to any point of the new region (:mod:`runtime.voronoi.conflict`).  The update he
    construction state); first with only the sites of the removed vertices' neighbour vertices.
    Its vertices with s, or equal to a removed vertex, replace the removed
    vertices; its edges with an end at such a vertex replace the removed edges (those at a removed
-   vertex, and an old edge cut in two by s).  If the splice does not close (a vertex without
+   vertex, and an old edge cut in two by s); only those edges get polylines (the local build's
+   ``edge_filter``).  If the splice does not close (a vertex without
    exactly one edge per consecutive pair of its sites) or a proof fails, nothing is changed and
    the local set grows by a ring of Delaunay neighbours (twice); then the whole diagram is rebuilt
    (``stats["update"]`` = "rebuild ...").
@@ -35,11 +36,12 @@ to any point of the new region (:mod:`runtime.voronoi.conflict`).  The update he
    vertices they end at, are proved by the verifier's own routines
    (:func:`runtime.voronoi.verify.vertices.prove_vertices`,
    :func:`runtime.voronoi.verify.edge_checks.check_edges`) against every site that can reach
-   them: all sites whose disc comes within R of a centre X0 (the mean of the changed vertices),
-   where R bounds |q − X0| + r(q) over the changed vertices (r: their radius) and the points q of
-   the changed bounded edges (r(q): the distance to the edge's sites; the arc lies within the
-   proved tolerance of its polyline, and distances are 1-Lipschitz).  A site k farther away has
-   d(q, S_k) ≥ |c_k − X0| − ρ_k − |q − X0| > r(q): it cannot enter any of their empty circles.
+   them: every site whose disc comes within r_j of P_j for one of the discs (P_j, r_j) of
+   :mod:`runtime.voronoi.reach`, one per changed vertex (its empty circle, widened by the vertex
+   tolerance) and one per piece of the polylines of the changed bounded edges (the arc lies within
+   the proved tolerance of its polyline and distances are 1-Lipschitz, so the empty circle of
+   every point q of the arc lies in the disc of a piece).  A site k outside them all has
+   d(q, S_k) > r(q) at every such point: it cannot enter any of their empty circles.
    The closure of step 3 of :mod:`runtime.voronoi.verify.certificate` is checked at every vertex
    whose edges changed.
 
@@ -136,6 +138,7 @@ from .sampling import Samples, initial_spacing
 from .site_arrays import SiteArrays
 from ..sites.intersection import sites_intersect
 from .adjacency import dynamic_state
+from .reach import distance_to_site, polyline_pieces, sites_meeting_discs
 from .conflict import LOCAL_KINDS, arc_reach, disc_inside, nearest_old_sites, outside, site_disc
 from .site_input import SiteError, as_site, check_disjoint, sites_equal
 from .verify.edge_checks import check_edges
@@ -356,33 +359,42 @@ def _splice(D, st, dyn, sites2, L, X, rm_edges, op, special, old_index):
     """The local diagram of sites ``L`` (new numbering) spliced in; None when it does not close."""
     # the local diagram's own problems concern its outskirts (sites missing there) or are notes
     # (a local frame): what is spliced in is checked and proved below, whatever they say
-    loc = local_diagram(st, [sites2[k] for k in L], [dyn.geoms[old_index(k)] for k in L])
-    verts = D.vertices
-    kept_match = {}
-    new_v = []          # (local vertex, global sites tuple)
-    lv_map = {}         # local vertex id -> ("new", k) or ("old", id)
-    for lv in loc.vertices:
-        gs = tuple(L[t] for t in lv.sites)
-        r = gs.index(min(gs))
-        gs = gs[r:] + gs[:r]
-        match = None
-        for vid in dyn.site_v[old_index(gs[0])] if (op == "delete" or gs[0] != special) else ():
-            v = verts[vid]
-            if sorted(old_index(t) for t in gs) == sorted(v.sites) and _close(v, lv):
-                match = vid
-                break
-        if op == "insert":
-            fresh = special in gs or (match is not None and match in X)
-        else:
-            fresh = match is None and _reaches(dyn, lv)
-            if match is not None and match in X:
-                match = None
-        if fresh:
-            lv_map[lv.id] = ("new", len(new_v))
-            new_v.append((lv, gs))
-        elif match is not None and match not in X:
-            lv_map[lv.id] = ("old", match)
-            kept_match[lv.id] = match
+    seen: dict = {}
+
+    def classify(lverts):
+        if seen.get("verts") is not lverts:
+            seen["verts"] = lverts
+            seen["map"] = _classify_vertices(D, dyn, L, X, op, special, old_index, lverts)
+        return seen["map"]
+
+    def wanted(lverts, raw):
+        """The raw edges the splice reads (those at a new vertex, and after a deletion those between
+        kept vertices), or none when the splice cannot close: only their polylines are computed."""
+        lv_map = classify(lverts)[0]
+        pick = []
+        for r in raw:
+            _, start, _, end, ends = r
+            if start is None and end is None:
+                seen["abort"] = True        # a closed edge: the splice below refuses it
+                return []
+            m = [None if w is None else lv_map.get(w, "?") for w in ends]
+            if any(isinstance(x, tuple) and x[0] == "new" for x in m):
+                if "?" in m:
+                    seen["abort"] = True    # a new edge to an unmatched vertex: no closed splice
+                    return []
+                pick.append(r)
+            elif op == "delete" and "?" not in m and any(x is not None for x in m):
+                pick.append(r)
+        return pick
+
+    # a state built in a local frame (:mod:`runtime.voronoi.frame`) wraps ``build`` in
+    # ``build_in_frame``: the filter would see local coordinates, so every polyline is made
+    framed = getattr(st.build, "__name__", "") != "build_diagram"
+    loc = local_diagram(st, [sites2[k] for k in L], [dyn.geoms[old_index(k)] for k in L],
+                        edge_filter=None if framed else wanted)
+    if seen.get("abort"):
+        return None
+    lv_map, kept_match, new_v = classify(loc.vertices)
     rm_e = set(rm_edges) | {e for v in X for e in dyn.v_e[v]}
     new_e = []
     for le in loc.edges:
@@ -415,7 +427,40 @@ def _splice(D, st, dyn, sites2, L, X, rm_edges, op, special, old_index):
     return {"loc": loc, "L": L, "new_v": new_v, "new_e": new_e, "rm_v": set(X), "rm_e": rm_e}
 
 
-def local_diagram(st, sites, geoms):
+def _classify_vertices(D, dyn, L, X, op, special, old_index, lverts):
+    """(lv_map, kept_match, new_v) for the local vertices ``lverts``: local id -> ("new", k) for
+    the vertices spliced in (with the new site, or equal to a removed vertex; after a deletion, a
+    vertex whose circle reaches the deleted site) or ("old", id) for a kept vertex it equals."""
+    verts = D.vertices
+    kept_match = {}
+    new_v = []          # (local vertex, global sites tuple)
+    lv_map = {}         # local vertex id -> ("new", k) or ("old", id)
+    for lv in lverts:
+        gs = tuple(L[t] for t in lv.sites)
+        r = gs.index(min(gs))
+        gs = gs[r:] + gs[:r]
+        match = None
+        for vid in dyn.site_v[old_index(gs[0])] if (op == "delete" or gs[0] != special) else ():
+            v = verts[vid]
+            if sorted(old_index(t) for t in gs) == sorted(v.sites) and _close(v, lv):
+                match = vid
+                break
+        if op == "insert":
+            fresh = special in gs or (match is not None and match in X)
+        else:
+            fresh = match is None and _reaches(dyn, lv)
+            if match is not None and match in X:
+                match = None
+        if fresh:
+            lv_map[lv.id] = ("new", len(new_v))
+            new_v.append((lv, gs))
+        elif match is not None and match not in X:
+            lv_map[lv.id] = ("old", match)
+            kept_match[lv.id] = match
+    return lv_map, kept_match, new_v
+
+
+def local_diagram(st, sites, geoms, edge_filter=None):
     """The diagram of a few sites of the scene (not verified), built where they are: the
     construction's rounds (``st.build``, :func:`runtime.voronoi.construction.build_diagram`) from
     the known geometries, without the entry checks of ``voronoi`` (the sites are disjoint and
@@ -430,7 +475,7 @@ def local_diagram(st, sites, geoms):
             or (S.all_circles and not S.R.any() and collinear(S.C))):
         return st.scratch(sites, certify=False)
     return st.build(S, Samples(S, initial_spacing(S)), {}, [], {"sites": len(sites), "rounds": 0, "samples": 0},
-                    {"input": 0.0}, certify=False)
+                    {"input": 0.0}, certify=False, edge_filter=edge_filter)
 
 
 def _has_edge(D, dyn, pair, ends, rm_e, old_index):
@@ -742,22 +787,18 @@ def _prove_sub(D, dyn, pv, pe, vert, op, special, new_index, problems, flags_v, 
         if near is None:
             return _prove_all_sites(D, dyn, V, pe, op, special, problems, flags_v, flags_e)
         return _prove_among(D, dyn, V, pe, near, op, special, new_index, problems, flags_v, flags_e)
-    X0 = np.mean([[v.x, v.y] for v in V], axis=0)
-    M = 0.0
-    for w in V:
-        M = max(M, math.hypot(w.x - X0[0], w.y - X0[1]) + w.radius
-                + 4 * VERTEX_TOL * (1 + abs(w.x) + abs(w.y) + w.radius))
+    # every site that can enter the empty circle of a vertex or of a point of a bounded arc: the
+    # union of one disc per vertex and per piece of polyline (module docstring, step 3)
+    pts = [np.array([[w.x, w.y] for w in V], float)]
+    rad = [np.array([w.radius + 4 * VERTEX_TOL * (1 + abs(w.x) + abs(w.y) + w.radius) for w in V], float)]
     for e in pe:
-        P = np.asarray(e.polyline, float)
-        i = e.sites[0]
-        g = dyn.geoms[_old(i, op, special, dyn)]
-        c = np.array([g.x0, g.y0] if g.kind == "point" else [g.cx, g.cy])
-        d_i = np.abs(np.hypot(*(P - c).T) - (0.0 if g.kind == "point" else g.rho))
-        seg = float(np.hypot(*np.diff(P, axis=0).T).max()) if len(P) > 1 else 0.0
-        M = max(M, float((np.hypot(*(P - X0).T) + d_i).max()) + 2 * (e.tolerance + seg))
-    M = M * (1 + 1e-9) + 1e-9 * float(np.abs(X0).sum() + 1)
-    return _prove_among(D, dyn, V, pe, dyn.near(X0, M + dyn.rmax), op, special, new_index, problems, flags_v,
-                        flags_e)
+        g = dyn.geoms[_old(e.sites[0], op, special, dyn)]
+        M, h = polyline_pieces(e.polyline, g)
+        pts.append(M)
+        rad.append(distance_to_site(g, M) + 2 * (h + e.tolerance))
+    P, r = np.vstack(pts), np.concatenate(rad)
+    r = r * (1 + 1e-9) + 1e-9 * (np.abs(P).sum(axis=1) + 1)
+    return _prove_among(D, dyn, V, pe, sites_meeting_discs(dyn, P, r), op, special, new_index, problems, flags_v, flags_e)
 
 
 def _conic_reach(dyn, V, pe, op, special):
