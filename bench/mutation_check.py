@@ -253,7 +253,7 @@ _VERIFY_TESTS = ["tests/test_mirror_edge_third_sites.py", "tests/test_vertex_rea
                  # the chains of strips' hard places among 200 random ellipses (~30 s; kills the guide's
                  # node cap and its projected-node filter, bisector_guide.py:229 and :157)
                  "tests/test_curved_edge_guides.py"]
-_CERTIFY_TESTS = ["tests/test_certify_conflict_boundaries.py", "tests/test_certify_completeness_boundaries.py", "tests/test_certify_kernel_boundaries.py", "tests/test_certify.py", "tests/test_certify_chart.py", "tests/test_certify_conjugates.py",
+_CERTIFY_TESTS = ["tests/test_certify_stated_limits.py", "tests/test_certify_conflict_boundaries.py", "tests/test_certify_completeness_boundaries.py", "tests/test_certify_kernel_boundaries.py", "tests/test_certify.py", "tests/test_certify_chart.py", "tests/test_certify_conjugates.py",
                   "tests/test_certify_dimension.py", "tests/test_certify_fast_system.py",
                   "tests/test_certify_boundaries.py", "tests/test_locator_certified.py",
                   "tests/test_interval_newton.py", "tests/test_voronoi_vertex.py",
@@ -262,7 +262,8 @@ _CERTIFY_TESTS = ["tests/test_certify_conflict_boundaries.py", "tests/test_certi
 #: the proof kernel's own boundary tests first (Krawczyk on balls and on float batches)
 _KERNEL_TESTS = ["tests/test_certify_inflation_boundaries.py", "tests/test_certify_kernel_boundaries.py", "tests/test_certify_boundaries.py",
                  "tests/test_float_krawczyk.py", "tests/test_interval_newton.py"]
-_SEGMENT_CERT_TESTS = ["tests/test_segment_certificate_boundaries.py", "tests/test_segment_certificate_mutants.py", "tests/test_segment_certificate.py",
+_SEGMENT_CERT_TESTS = ["tests/test_common_tangent_ties.py", "tests/test_arc_bisector_chord_bounds.py",
+                       "tests/test_segment_certificate_boundaries.py", "tests/test_segment_certificate_mutants.py", "tests/test_segment_certificate.py",
                        "tests/test_arc_certificate.py", "tests/test_segment_voronoi.py",
                        # whole circles as two half arcs (kills certificate_arcs.py's start-parameter match)
                        "tests/test_segment_circles.py"]
