@@ -140,3 +140,20 @@ def test_empty_circles_of_new_arcs_lie_in_the_piece_discs(seed):
                 assert inside.any(), (e.sites, q)
                 checked += 1
     assert checked > 50
+
+
+@pytest.mark.parametrize("one_disc", [0, 10 ** 9])
+def test_insertions_certified_with_either_reach(monkeypatch, one_disc):
+    """Insertions proved against the per-piece discs (``ONE_DISC_SITES = 0``) or the one disc
+    (never past the threshold) give the batch build's Delaunay graph, certified, and the
+    independent verifier proves the result."""
+    from curvedvoronoi.runtime.voronoi import insertion
+
+    monkeypatch.setattr(insertion, "ONE_DISC_SITES", one_disc)
+    circles = cgal_peer.random_disjoint_circles(128, 5)
+    d = cv.voronoi(circles[:120])
+    assert d.certified
+    d = d.insert_many(circles[120:])
+    assert d.certified, d.problems[:3]
+    assert d.delaunay_edges() == cv.voronoi(circles, certify=False).delaunay_edges()
+    assert cv.verify(d, circles).ok

@@ -36,7 +36,10 @@ to any point of the new region (:mod:`runtime.voronoi.conflict`).  The update he
    vertices they end at, are proved by the verifier's own routines
    (:func:`runtime.voronoi.verify.vertices.prove_vertices`,
    :func:`runtime.voronoi.verify.edge_checks.check_edges`) against every site that can reach
-   them: every site whose disc comes within r_j of P_j for one of the discs (P_j, r_j) of
+   them: the sites whose disc comes within R of a centre X0 (the mean of the changed vertices,
+   R bounding |q − X0| + r(q) over the changed vertices and the points q of the changed arcs) when
+   they are few, else (near the hull, where the empty circles are large and that disc holds most
+   of the scene) every site whose disc comes within r_j of P_j for one of the discs (P_j, r_j) of
    :mod:`runtime.voronoi.reach`, one per changed vertex (its empty circle, widened by the vertex
    tolerance) and one per piece of the polylines of the changed bounded edges (the arc lies within
    the proved tolerance of its polyline and distances are 1-Lipschitz, so the empty circle of
@@ -149,6 +152,9 @@ __all__ = ["insert_site", "insert_many", "delete_local", "local_update", "local_
 
 #: coordinates beyond this are built in a local frame by the construction: such scenes are rebuilt
 FAR = 1e6
+#: the sites of the one disc around the changed part above which the proofs take the per-piece
+#: discs of :mod:`runtime.voronoi.reach` (fewer sites, more numpy work)
+ONE_DISC_SITES = 64
 #: the local diagram of an update is built where its sites are when their centre is within this
 #: many times their extent of the origin (the batch build of the scene works there too), else in
 #: the construction's local frame
@@ -440,9 +446,10 @@ def _classify_vertices(D, dyn, L, X, op, special, old_index, lverts):
         r = gs.index(min(gs))
         gs = gs[r:] + gs[:r]
         match = None
+        ogs = sorted(old_index(t) for t in gs)
         for vid in dyn.site_v[old_index(gs[0])] if (op == "delete" or gs[0] != special) else ():
             v = verts[vid]
-            if sorted(old_index(t) for t in gs) == sorted(v.sites) and _close(v, lv):
+            if ogs == sorted(v.sites) and _close(v, lv):
                 match = vid
                 break
         if op == "insert":
@@ -787,18 +794,34 @@ def _prove_sub(D, dyn, pv, pe, vert, op, special, new_index, problems, flags_v, 
         if near is None:
             return _prove_all_sites(D, dyn, V, pe, op, special, problems, flags_v, flags_e)
         return _prove_among(D, dyn, V, pe, near, op, special, new_index, problems, flags_v, flags_e)
-    # every site that can enter the empty circle of a vertex or of a point of a bounded arc: the
-    # union of one disc per vertex and per piece of polyline (module docstring, step 3)
-    pts = [np.array([[w.x, w.y] for w in V], float)]
-    rad = [np.array([w.radius + 4 * VERTEX_TOL * (1 + abs(w.x) + abs(w.y) + w.radius) for w in V], float)]
+    # every site that can enter the empty circle of a vertex or of a point of a bounded arc: first
+    # one disc around them all (centre X0, radius M bounding |q − X0| + r(q)), enough when it holds
+    # few sites; else (near the hull, where the empty circles are large) the union of one disc per
+    # vertex and per piece of polyline (module docstring, step 3; :mod:`runtime.voronoi.reach`)
+    X0 = np.mean([[v.x, v.y] for v in V], axis=0)
+    M = 0.0
+    for w in V:
+        M = max(M, math.hypot(w.x - X0[0], w.y - X0[1]) + w.radius
+                + 4 * VERTEX_TOL * (1 + abs(w.x) + abs(w.y) + w.radius))
     for e in pe:
+        P = np.asarray(e.polyline, float)
         g = dyn.geoms[_old(e.sites[0], op, special, dyn)]
-        M, h = polyline_pieces(e.polyline, g)
-        pts.append(M)
-        rad.append(distance_to_site(g, M) + 2 * (h + e.tolerance))
-    P, r = np.vstack(pts), np.concatenate(rad)
-    r = r * (1 + 1e-9) + 1e-9 * (np.abs(P).sum(axis=1) + 1)
-    return _prove_among(D, dyn, V, pe, sites_meeting_discs(dyn, P, r), op, special, new_index, problems, flags_v, flags_e)
+        seg = float(np.hypot(*np.diff(P, axis=0).T).max()) if len(P) > 1 else 0.0
+        M = max(M, float((np.hypot(*(P - X0).T) + distance_to_site(g, P)).max()) + 2 * (e.tolerance + seg))
+    M = M * (1 + 1e-9) + 1e-9 * float(np.abs(X0).sum() + 1)
+    near = dyn.near(X0, M + dyn.rmax)
+    if len(near) > ONE_DISC_SITES:
+        pts = [np.array([[w.x, w.y] for w in V], float)]
+        rad = [np.array([w.radius + 4 * VERTEX_TOL * (1 + abs(w.x) + abs(w.y) + w.radius) for w in V], float)]
+        for e in pe:
+            g = dyn.geoms[_old(e.sites[0], op, special, dyn)]
+            Mp, h = polyline_pieces(e.polyline, g)
+            pts.append(Mp)
+            rad.append(distance_to_site(g, Mp) + 2 * (h + e.tolerance))
+        P, r = np.vstack(pts), np.concatenate(rad)
+        r = r * (1 + 1e-9) + 1e-9 * (np.abs(P).sum(axis=1) + 1)
+        near = sites_meeting_discs(dyn, P, r)
+    return _prove_among(D, dyn, V, pe, near, op, special, new_index, problems, flags_v, flags_e)
 
 
 def _conic_reach(dyn, V, pe, op, special):
