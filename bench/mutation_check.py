@@ -263,6 +263,7 @@ _CERTIFY_TESTS = ["tests/test_certify_stated_limits.py", "tests/test_certify_con
 _KERNEL_TESTS = ["tests/test_certify_inflation_boundaries.py", "tests/test_certify_kernel_boundaries.py", "tests/test_certify_boundaries.py",
                  "tests/test_float_krawczyk.py", "tests/test_interval_newton.py"]
 _SEGMENT_CERT_TESTS = ["tests/test_common_tangent_ties.py", "tests/test_arc_bisector_chord_bounds.py",
+                       "tests/test_exact_vertex_radicals.py",
                        "tests/test_segment_certificate_boundaries.py", "tests/test_segment_certificate_mutants.py", "tests/test_segment_certificate.py",
                        "tests/test_arc_certificate.py", "tests/test_segment_voronoi.py",
                        # whole circles as two half arcs (kills certificate_arcs.py's start-parameter match)
