@@ -117,9 +117,9 @@ accounted for by the asymptotic functions c_k(θ) = dist(u(θ), horizon cone of 
 unbounded and a bounded site is reported not proved.  A site inside a
 circle or an ellipse (nesting depth ≤ 1, proved with support functions:
 :func:`runtime.voronoi.verify.closure.verify_accounting_conics`): its closed edge is a chain of
-strips that closes up, with gradient enclosures inside the container while the loop stays within
-the reach of its boundary (b²/a for an ellipse: the loop must not cross the medial axis, else it
-is reported not proved).  Edges of a hyperbola site are proved by the same chains where they
+strips that closes up, with gradient enclosures inside the container within the reach of its
+boundary (b²/a for an ellipse) and, where the loop crosses the medial axis, enclosures of the
+Clarke generalised gradient (:mod:`runtime.voronoi.verify.clarke_gradient`).  Edges of a hyperbola site are proved by the same chains where they
 stay on one side of its conjugate axis (there the distance is the distance to the convex region
 of the nearer branch, :mod:`runtime.voronoi.verify.site_table`); an edge crossing the conjugate
 axis (the bisector has a corner there) is reported not proved; tails and accounting as for a

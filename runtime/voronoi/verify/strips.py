@@ -6,13 +6,18 @@ t, normal n and length L, take the rectangle (a trapezoid when the half-widths o
 differ) Π = {P_l + s·t + λ·n : s ∈ [−e, L + e], |λ| ≤ w(s)} (e covers the turn to the next
 segment and the vertex boxes).  With f = d_i − d_j:
 
-(T1) **monotone**: (∇d_i − ∇d_j)·n has one strict sign σ on Π;
+(T1) **monotone**: (∇d_i − ∇d_j)·n has one strict sign σ on Π; where a distance has no gradient
+     enclosure (a disc reaching the medial axis inside a circle or an ellipse, where d is not
+     differentiable) every g·n, g in the Clarke generalised gradient ∂d_i − ∂d_j
+     (:mod:`runtime.voronoi.verify.clarke_gradient`), has the sign σ, and f is strictly
+     monotone along n by Lebourg's mean value theorem;
 (T4) **crossing**: σ·f > 0 on the side λ = +w and σ·f < 0 on the side λ = −w (to first order
      along each side, or to second order, :func:`side_second_order`, where the disc terms of the
      gradient enclosures exceed |∇f|, far from the sites).
 
 Then every cross-section s = const meets the bisector β exactly once, so β ∩ Π is one arc, a
-graph over s (implicit function theorem).  The arc leaves Π through the cap s = L + e at
+graph over s (continuous: f is continuous and strictly monotone across; the implicit function
+theorem where f is smooth).  The arc leaves Π through the cap s = L + e at
 |λ| < w, inside the next rectangle (e ≥ w·|sin θ| for the turn θ), so the arcs chain into one
 curve of β through both end vertices (each lies in the first / last rectangle); for a closed
 edge (no vertex) the last rectangle hands over to the first and the arcs form a closed curve,
@@ -49,6 +54,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..geometry import EPS
+from .clarke_gradient import clarke_normal_range
 from .distance_gap import bisector_gap_lower, gap_lower
 from .site_table import gradient_enclosure
 
@@ -176,15 +182,38 @@ def prove_strips_many(table, jobs):
         Df = Gi - Gj
         sf = si + sj_
         mono = (Df * Nn).sum(1)
+        # (T1) the range [mono_lo, mono_hi] of g·n over the gradients g of f on the disc; where a
+        # distance has no gradient enclosure (a disc reaching the medial axis inside a circle or
+        # an ellipse) over its Clarke generalised gradient (clarke_gradient, Lebourg's theorem)
+        mono_lo, mono_hi = mono - sf, mono + sf
+        mono_ok = vi & vj
+        miss = np.nonzero(~(mono_ok & ((mono_lo > 0) | (mono_hi < 0))))[0]
+        if len(miss):
+            # both enclosures are sound where both hold (the Clarke gradient of a function
+            # differentiable near q is its gradient): their intersection is taken
+            rng = []
+            for Vx, Gx, sx, vx, Kx in ((Vi, Gi, si, vi, Ip), (Vj, Gj, sj_, vj, Jp)):
+                cl, ch, cok = clarke_normal_range(table, C[miss], Kx[miss], Vx.lo[miss], Vx.hi[miss],
+                                                  R[miss], Nn[miss])
+                gn = (Gx[miss] * Nn[miss]).sum(1)
+                v = vx[miss]
+                gl = np.where(v, gn - sx[miss], -np.inf)
+                gh = np.where(v, gn + sx[miss], np.inf)
+                rng.append((np.where(cok, np.maximum(gl, cl), gl), np.where(cok, np.minimum(gh, ch), gh), v | cok))
+            (il, ih, iok), (jl, jh, jok) = rng
+            good_c = iok & jok
+            mono_lo[miss] = np.where(good_c, il - jh, -np.inf)
+            mono_hi[miss] = np.where(good_c, ih - jl, np.inf)
+            mono_ok[miss] = good_c
         if depth == 0:
             # σ of each chain: the sign of the first piece where it is decided
-            dec = np.nonzero(np.abs(mono) > sf)[0]
+            dec = np.nonzero(mono_ok & ((mono_lo > 0) | (mono_hi < 0)))[0]
             first_job, first = np.unique(jb[dec], return_index=True)
-            sigma[first_job] = np.sign(mono[dec[first]])
+            sigma[first_job] = np.where(mono_lo[dec[first]] > 0, 1.0, -1.0)
             for t in np.nonzero(sigma == 0)[0]:
                 out[t] = (False, "the bisector's direction is not decided (monotonicity)")
         sg_p = sigma[jb]
-        t1 = sg_p * mono - sf > 0
+        t1 = mono_ok & np.where(sg_p > 0, mono_lo > 0, mono_hi < 0)
         # (T4) lateral sides of this piece: f at (s, ±w), first order along the side where the
         # gradients are enclosed, else 2-Lipschitz; σ·f > 0 on the side +w, < 0 on the side −w
         side_ok = np.ones(p, bool)
@@ -210,7 +239,7 @@ def prove_strips_many(table, jobs):
             side_ok &= okb
         # (T2)/(T3) third sites, only where (T1) and (T4) hold
         third_ok = np.ones(p, bool)
-        pre = t1 & side_ok & vi & vj
+        pre = t1 & side_ok
         hi = np.minimum(hi_i, hi_j)
         pidx = np.nonzero(pre)[0]
         rows, ks = table.near_pairs(C[pidx], (hi + 2 * R)[pidx], (Ip[pidx], Jp[pidx]))
@@ -276,7 +305,7 @@ def prove_strips_many(table, jobs):
             badidx = np.nonzero(~good & give_up[jb])[0]
             tj, first = np.unique(jb[badidx], return_index=True)
             for t, b in zip(tj, badidx[first]):
-                what = ("monotonicity" if not (t1[b] and vi[b] and vj[b]) else
+                what = ("monotonicity" if not t1[b] else
                         "the bisector leaves the polyline's strip" if not side_ok[b] else "a third site")
                 out[t] = (False, f"not proved near ({C[b, 0]:.9g}, {C[b, 1]:.9g}): {what} undecided")
         still = np.array([o is None for o in out])

@@ -1,0 +1,163 @@
+"""Sites inside an ellipse whose Voronoi loop crosses the ellipse's medial axis (the segment
+|X| ≤ (a² − b²)/a of its major axis, where the distance from inside has two nearest points and no
+gradient): proved with the Clarke generalised gradient (runtime/voronoi/verify/clarke_gradient.py)
+in the strips' monotonicity test.  References use none of the library's geometry: the ellipse's
+distance by dense sampling of its boundary, the circles' in closed form, the nearest points of a
+point on the medial axis in closed form (the normal through (x, 0) meets the ellipse where
+cos t = a·x/(a² − b²))."""
+from __future__ import annotations
+
+import copy
+
+import numpy as np
+
+import curvedvoronoi as cv
+from curvedvoronoi.runtime.predicates.circles import Circle
+from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+from curvedvoronoi.runtime.voronoi.verify.clarke_gradient import clarke_normal_range
+from curvedvoronoi.runtime.voronoi.verify.site_table import SiteTable
+
+
+def ellipse_distance(P, centre, axes, degrees=0.0, m=20000):
+    """d(P, ellipse) by sampling m boundary points (error ≤ the half-spacing, about π·a/m)."""
+    t = np.linspace(0, 2 * np.pi, m, endpoint=False)
+    c, s = np.cos(np.radians(degrees)), np.sin(np.radians(degrees))
+    X, Y = axes[0] * np.cos(t), axes[1] * np.sin(t)
+    bx, by = centre[0] + c * X - s * Y, centre[1] + s * X + c * Y
+    P = np.asarray(P, float).reshape(-1, 2)
+    out = np.empty(len(P))
+    for k in range(0, len(P), 200):
+        Q = P[k:k + 200]
+        out[k:k + 200] = np.hypot(Q[:, :1] - bx, Q[:, 1:] - by).min(1)
+    return out
+
+
+def test_the_clarke_range_holds_both_feet_on_the_medial_axis():
+    """At q = (x, 0) on the medial axis of X²/100 + Y²/36 = 1 the two nearest points are
+    (a cos t, ±b sin t) with cos t = a·x/(a² − b²); both unit vectors (q − p)/|q − p| lie in the
+    Clarke gradient, so the range of g·n must hold both values, for n across and along the axis."""
+    a, b, x = 10.0, 6.0, -4.0
+    ct = a * x / (a * a - b * b)
+    st = np.sqrt(1 - ct * ct)
+    feet = np.array([[a * ct, b * st], [a * ct, -b * st]])
+    u = (np.array([x, 0.0]) - feet) / np.hypot(*(np.array([x, 0.0]) - feet).T)[:, None]
+    geoms = [site_geometry(cv.Conic.ellipse((0, 0), (a, b)))]
+    T = SiteTable(geoms, 11.0)
+    Q = np.array([[x, 0.0]] * 3)
+    V = T.evaluate(Q, [0, 0, 0])
+    N = np.array([[0.0, 1.0], [1.0, 0.0], [0.6, 0.8]])
+    lo, hi, ok = clarke_normal_range(T, Q, [0, 0, 0], V.lo, V.hi, 1e-3, N)
+    assert ok.all()
+    for r in range(3):
+        vals = u @ N[r]
+        assert lo[r] <= vals.min() and vals.max() <= hi[r]
+        assert hi[r] - lo[r] <= (vals.max() - vals.min()) + 0.15          # and not much wider
+    # across the axis the two feet have opposite components: no sign is proved there
+    assert lo[0] < 0 < hi[0]
+
+
+def test_the_clarke_range_contains_sampled_gradients_on_a_disc():
+    """Every (q − p)/|q − p|, q in the disc and p a nearest point of q (dense sampling of the
+    boundary), has its component along n within the range, for discs across the medial axis."""
+    rng = np.random.default_rng(7)
+    a, b, deg = 10.0, 6.0, 25.0
+    geoms = [site_geometry(cv.Conic.ellipse((1, -2), (a, b), degrees=deg))]
+    T = SiteTable(geoms, 13.0)
+    t = np.linspace(0, 2 * np.pi, 200000, endpoint=False)
+    c, s = np.cos(np.radians(deg)), np.sin(np.radians(deg))
+    bx, by = 1 + c * a * np.cos(t) - s * b * np.sin(t), -2 + s * a * np.cos(t) + c * b * np.sin(t)
+    for centre, R in (((1 + c * 3, -2 + s * 3), 0.5), ((1 - c * 5, -2 - s * 5), 0.2), ((1, -2), 1.0)):
+        Qc = np.array([centre])
+        V = T.evaluate(Qc, [0])
+        rr = R * np.sqrt(rng.random(200))
+        ph = 2 * np.pi * rng.random(200)
+        q = Qc + np.column_stack([rr * np.cos(ph), rr * np.sin(ph)])
+        k = np.array([np.hypot(qq[0] - bx, qq[1] - by).argmin() for qq in q])
+        g = q - np.column_stack([bx[k], by[k]])
+        g /= np.hypot(*g.T)[:, None]
+        for ang in np.linspace(0, np.pi, 7):
+            n = np.array([[np.cos(ang), np.sin(ang)]])
+            lo, hi, ok = clarke_normal_range(T, Qc, [0], V.lo, V.hi, R, n)
+            assert ok[0]
+            val = g @ n[0]
+            # sampling puts the foot within 2e-4 of a nearest point: the direction within 1e-4
+            assert lo[0] - 1e-4 <= val.min() and val.max() <= hi[0] + 1e-4, (centre, ang, lo, hi, val.min(), val.max())
+
+
+def test_a_point_on_the_ellipse_gets_no_range():
+    geoms = [site_geometry(cv.Conic.ellipse((0, 0), (10, 6)))]
+    T = SiteTable(geoms, 11.0)
+    Q = np.array([[10.0, 0.0]])
+    V = T.evaluate(Q, [0])
+    lo, hi, ok = clarke_normal_range(T, Q, [0], V.lo, V.hi, 0.1, np.array([[1.0, 0.0]]))
+    assert not ok[0] and lo[0] == -np.inf and hi[0] == np.inf
+
+
+def _loop_check(d, dist0, dist1, slack):
+    """The closed edge's polyline points are equidistant from the container and the inner site
+    (within the stated tolerance, doubled for |d_0 − d_1| ≤ 2·offset, plus the sampling error)."""
+    loop = [e for e in d.edges if e.closed]
+    assert len(loop) == 1
+    P = np.array(loop[0].polyline, float)
+    gap = np.abs(dist0(P) - dist1(P))
+    assert gap.max() <= 2 * loop[0].tolerance + slack, gap.max()
+    return P
+
+
+def test_a_circle_alone_inside_an_ellipse_is_certified_across_the_medial_axis():
+    """The bench's first drawing: circle (2, 0, 1) inside the ellipse 10 × 6.  Its loop crosses
+    the medial axis (|x| ≤ 6.4 on y = 0) at x ≈ −4.1; not certified before (monotonicity
+    undecided there)."""
+    d = cv.voronoi([cv.Conic.ellipse((0, 0), (10, 6)), (2, 0, 1)], progress=False)
+    assert d.certified, d.problems
+    P = _loop_check(d, lambda P: ellipse_distance(P, (0, 0), (10, 6)),
+                    lambda P: np.abs(np.hypot(P[:, 0] - 2, P[:, 1]) - 1), 5e-3)
+    # the loop crosses the medial axis: points on both sides of y = 0 at x in [−6.4, 6.4], left of the circle
+    left = P[(P[:, 0] < 1) & (np.abs(P[:, 0]) < 6.4)]
+    assert (left[:, 1] > 0).any() and (left[:, 1] < 0).any()
+    assert d.delaunay_edges() == [(0, 1)]
+
+
+def test_a_corrupted_loop_across_the_medial_axis_is_refused():
+    d = cv.voronoi([cv.Conic.ellipse((0, 0), (10, 6)), (2, 0, 1)], progress=False)
+    doc = d.to_json()
+    assert cv.verify(doc).ok
+    t = next(t for t, e in enumerate(doc["edges"]) if e["closed"])
+    tol = doc["edges"][t]["tolerance"]
+    # only the points near the crossing moved, along the axis, by 20 tolerances
+    bad = copy.deepcopy(doc)
+    P = np.array(bad["edges"][t]["polyline"], float)
+    near = np.hypot(P[:, 0] + 4.1, P[:, 1]) < 0.5
+    assert near.any()
+    P[near, 0] -= 20 * tol + 1e-3
+    bad["edges"][t]["polyline"] = P.tolist()
+    assert not cv.verify(bad).ok
+    bad = copy.deepcopy(doc)                      # the loop dropped
+    bad["edges"] = []
+    bad["delaunay_edges"] = []
+    assert not cv.verify(bad).ok
+
+
+def test_nested_ellipses_are_certified_and_match_dense_sampling():
+    """A rotated ellipse inside the ellipse 10 × 6: its loop crosses the container's medial axis
+    (not certified before: monotonicity undecided near (−5.9, 0))."""
+    outer, inner = ((0, 0), (10, 6), 0.0), ((1, 0.5), (3, 1.5), 20.0)
+    d = cv.voronoi([cv.Conic.ellipse(outer[0], outer[1]), cv.Conic.ellipse(inner[0], inner[1], degrees=inner[2])],
+                   progress=False)
+    assert d.certified, d.problems
+    P = _loop_check(d, lambda P: ellipse_distance(P, *outer), lambda P: ellipse_distance(P, *inner), 5e-3)
+    assert ((np.abs(P[:, 1]) < 0.3) & (np.abs(P[:, 0]) < 6.4)).any()       # crosses the medial axis
+    # the loop separates: inside it the inner ellipse is nearer, outside the container (grid test)
+    X, Y = np.meshgrid(np.linspace(-9.5, 9.5, 60), np.linspace(-5.5, 5.5, 40))
+    G = np.column_stack([X.ravel(), Y.ravel()])
+    G = G[(G[:, 0] / 10) ** 2 + (G[:, 1] / 6) ** 2 < 1]
+    from matplotlib.path import Path
+    inside = Path(P).contains_points(G)
+    d0, d1 = ellipse_distance(G, *outer), ellipse_distance(G, *inner)
+    clear = np.abs(d0 - d1) > 0.05
+    assert (inside[clear] == (d1 < d0)[clear]).all()
+    bad = copy.deepcopy(d.to_json())                # the loop shrunk towards the inner ellipse by 2%
+    e = next(e for e in bad["edges"] if e["closed"])
+    Pb = np.array(e["polyline"], float)
+    e["polyline"] = (np.array(inner[0]) + 0.98 * (Pb - np.array(inner[0]))).tolist()
+    assert not cv.verify(bad).ok
