@@ -141,6 +141,7 @@ from .sampling import Samples, initial_spacing
 from .site_arrays import SiteArrays
 from ..sites.intersection import sites_intersect
 from .adjacency import dynamic_state
+from .star_region import star_region
 from .reach import distance_to_site, polyline_pieces, sites_meeting_discs
 from .conflict import LOCAL_KINDS, arc_reach, disc_inside, nearest_old_sites, outside, site_disc
 from .site_input import SiteError, as_site, check_disjoint, sites_equal
@@ -254,7 +255,8 @@ def insert_site(D, site, *, certify: bool = True, inplace: bool = False):
                             nxt.add(w)
         layer = sorted(nxt)
     A = set(A0) | {t for v in X for t in verts[v].sites}
-    out = local_update(D, st, dyn, sites2, A, X, set(), "insert", n, certify, t0, inplace=inplace)
+    out = local_update(D, st, dyn, sites2, A, X, set(), "insert", n, certify, t0, inplace=inplace,
+                       star=not at_infinity)
     if out is not None:
         return out
     dyn.remove_site(n, "shift")       # the splice did not close: D keeps its state, rebuild
@@ -319,7 +321,7 @@ def insert_many(D, sites, *, certify: bool = True):
 # ============================================================================ the splice
 
 def local_update(D, st, dyn, sites2, A, X, rm_edges, op, special, certify, t0, renumber="shift",
-                 old_index=None, new_index=None, inplace=False):
+                 old_index=None, new_index=None, inplace=False, star=False):
     """Replace the vertices ``X`` (ids) and the edges ``rm_edges`` (plus the edges at X) of ``D`` by
     the local diagram of the sites ``A`` and their neighbours (indices of ``sites2``, the new site
     list), then prove the changed part.  ``op`` is "insert" (``special``: the index of the new
@@ -329,6 +331,22 @@ def local_update(D, st, dyn, sites2, A, X, rm_edges, op, special, certify, t0, r
     neighbours (the caller rebuilds)."""
     old_index = old_index or (lambda t: t)
     new_index = new_index or (lambda t: t)
+    if star and op == "insert" and X and not dyn.ellipses:
+        # circles and points away from infinity: the new region built directly (candidate only,
+        # checked and proved as any other; on failure the construction's local diagram below)
+        t1 = time.perf_counter()
+        res = star_region(D, dyn, sites2, X, special)
+        t2 = time.perf_counter()
+        if res is not None:
+            res["sites2"] = sites2
+            dyn.renumber = renumber
+            chk = _check(D, dyn, res, op, special, certify, old_index, new_index)
+            if chk is not None and chk["ok"]:
+                chk["seconds"] = {"locate": round(t1 - t0, 6), "local build": round(t2 - t1, 6),
+                                  "prove": round(time.perf_counter() - t2, 6)}
+                out = _finish(D, st, dyn, res, op, special, certify, t0, 0, renumber, chk, inplace)
+                out.stats["local build"] = "star region"
+                return out
     for ring in (0, 1, 2):
         L = set(A)
         if ring == 0:
