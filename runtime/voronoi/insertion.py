@@ -21,7 +21,14 @@ to any point of the new region (:mod:`runtime.voronoi.conflict`).  The update he
    when the disc of s is not strictly inside the convex hull of the centres of the sites with
    unbounded edges, s may lead in some direction, and those sites and the finite ends of the
    unbounded edges join the search.
-2. **Rebuild locally.**  The diagram of s, the sites of the conflicting vertices (or, when no
+2. **Rebuild locally.**  For a circle or point whose disc lies strictly inside the hull of the
+   centres of the sites with unbounded edges (s cannot lead at infinity), first the generic picture
+   built directly
+   (:mod:`runtime.voronoi.star_region`: a new vertex on every edge cut by the conflict region,
+   joined around the centre of s; the region of s is star-shaped from it), a candidate checked
+   and proved exactly as below; when it does not close or a proof fails, nothing is changed and
+   the construction's local diagram follows (``stats["local build"]`` = "star region" when the
+   direct one was kept).  The diagram of s, the sites of the conflicting vertices (or, when no
    vertex conflicts, the nearest sites) and their Delaunay neighbours is built with the
    construction (:func:`runtime.voronoi.construction.voronoi`, reached through the diagram's
    construction state); first with only the sites of the removed vertices' neighbour vertices.
@@ -63,7 +70,8 @@ Why the result is proved (H the reported graph after the update, G the true one)
   strictly closer to i and j than to the other old sites, its ends vertices.  It has no end at a
   removed vertex and is not the cut edge, so by the connectedness above no point of it is in
   conflict with s: it is a whole edge of the new diagram with the same ends.
-* **New** vertices and edges are proved now, as in a full verification.
+* **New** vertices and edges are proved now, as in a full verification, however they were built
+  (directly or by the construction: neither is trusted).
 * **Closure**: unchanged at untouched vertices (inherited), checked at the others.
 * **Components at infinity** (step 4 of the certificate): when no changed edge is unbounded and
   the disc of s lies strictly inside the convex hull of its neighbours' centres, the support
@@ -531,7 +539,7 @@ def _check(D, dyn, res, op, special, certify, old_index, new_index):
     NV, NE = len(D.vertices), len(D.edges)
     proto_v, proto_e = D.vertices[0], D.edges[0]
     rm_v, rm_e = res["rm_v"], res["rm_e"]
-    pv = [dataclasses.replace(proto_v, id=NV + k, sites=gs, x=lv.x, y=lv.y, radius=lv.radius, certified=False)
+    pv = [_clone(proto_v, id=NV + k, sites=gs, x=lv.x, y=lv.y, radius=lv.radius, certified=False)
           for k, (lv, gs) in enumerate(res["new_v"])]
 
     def pend(x):
@@ -546,14 +554,14 @@ def _check(D, dyn, res, op, special, certify, old_index, new_index):
             if x is not None and x[0] == "old":
                 P[side] = (D.vertices[x[1]].x, D.vertices[x[1]].y)
         le.polyline = P
-        pe.append(dataclasses.replace(proto_e, id=NE + k, sites=pair, ends=tuple(pend(x) for x in ends), closed=False,
+        pe.append(_clone(proto_e, id=NE + k, sites=pair, ends=tuple(pend(x) for x in ends), closed=False,
                                       polyline=P, tolerance=le.tolerance, certified=False))
 
     def vert(vid):
         if vid >= NV:
             return pv[vid - NV]
         v = D.vertices[vid]
-        return v if op == "insert" else dataclasses.replace(v, sites=_rot(tuple(new_index(t) for t in v.sites)))
+        return v if op == "insert" else _clone(v, sites=_rot(tuple(new_index(t) for t in v.sites)))
 
     def old_pair(e):
         return tuple(sorted(new_index(t) for t in D.edges[e].sites))
@@ -633,7 +641,7 @@ def _finish(D, st, dyn, res, op, special, certify, t0, ring, renumber, chk, inpl
     _compact(verts, holes, lambda old, new: _move_vertex(verts, edges, dyn, old, new, vremap, proto_v))
     new_vobjs = []
     for k, (lv, gs) in enumerate(res["new_v"]):
-        v = dataclasses.replace(proto_v, id=vid_new[k], sites=gs, x=lv.x, y=lv.y, radius=lv.radius,
+        v = _clone(proto_v, id=vid_new[k], sites=gs, x=lv.x, y=lv.y, radius=lv.radius,
                                 certified=chk["flags_v"].get(NV + k, False))
         verts[v.id] = v
         new_vobjs.append(v)
@@ -650,7 +658,7 @@ def _finish(D, st, dyn, res, op, special, certify, t0, ring, renumber, chk, inpl
         edges.append(None)
     _compact(edges, rm_e[len(res["new_e"]):], lambda old, new: _move_edge(edges, dyn, old, new, proto_e))
     for k, (le, pair, ends) in enumerate(res["new_e"]):
-        e = dataclasses.replace(proto_e, id=eid_new[k], sites=pair, ends=tuple(end_id(x) for x in ends),
+        e = _clone(proto_e, id=eid_new[k], sites=pair, ends=tuple(end_id(x) for x in ends),
                                 closed=False, polyline=le.polyline, tolerance=le.tolerance,
                                 certified=chk["flags_e"].get(NE + k, False))
         edges[e.id] = e
@@ -667,7 +675,7 @@ def _finish(D, st, dyn, res, op, special, certify, t0, ring, renumber, chk, inpl
         D.sites, D.vertices, D.edges, D.certified, D.problems, D.stats = sites2, verts, edges, False, [], {}
         out = D
     else:
-        out = dataclasses.replace(D, sites=sites2, vertices=verts, edges=edges, certified=False, problems=[], stats={})
+        out = _clone(D, sites=sites2, vertices=verts, edges=edges, certified=False, problems=[], stats={})
     out.construction = LocalState(st.scratch, st.delete, dyn, st.build)
     problems = list(chk["problems"]) + list(chk["notes"])
     if not certify:
@@ -706,13 +714,13 @@ def _compact(lst, holes, move):
 
 
 def _move_vertex(verts, edges, dyn, old, new, vremap, proto):
-    v = dataclasses.replace(verts[old], id=new)
+    v = _clone(verts[old], id=new)
     verts[new] = v
     for t in v.sites:
         dyn.site_v[t].discard(old)
         dyn.site_v[t].add(new)
     for e in dyn.v_e[old]:
-        edges[e] = dataclasses.replace(edges[e], ends=tuple(new if w == old else w for w in edges[e].ends))
+        edges[e] = _clone(edges[e], ends=tuple(new if w == old else w for w in edges[e].ends))
     dyn.v_e[new] = dyn.v_e[old]
     dyn.v_e.pop()
     for k, w in list(vremap.items()):
@@ -722,7 +730,7 @@ def _move_vertex(verts, edges, dyn, old, new, vremap, proto):
 
 
 def _move_edge(edges, dyn, old, new, proto):
-    e = dataclasses.replace(edges[old], id=new)
+    e = _clone(edges[old], id=new)
     edges[new] = e
     if old in dyn.unbounded:
         dyn.unbounded.discard(old)
@@ -765,8 +773,9 @@ def _renumber_sites(D, dyn, verts, edges, i, renumber, res):
 
 
 def _clone(obj, **changes):
-    """A shallow copy of a vertex or edge with ``changes`` (cheaper than dataclasses.replace, which
-    re-runs the constructor: the "shift" renumbering copies half of all parts)."""
+    """A shallow copy of a vertex, edge or diagram with ``changes`` (cheaper than
+    dataclasses.replace, which re-runs the constructor: the "shift" renumbering copies half of all
+    parts, and an update makes some sixty parts)."""
     if not hasattr(obj, "__dict__"):
         return dataclasses.replace(obj, **changes)
     new = object.__new__(type(obj))
@@ -885,10 +894,10 @@ def _prove_among(D, dyn, V, pe, near, op, special, new_index, problems, flags_v,
     Lp = {new_index(t) for t in near if not (op == "delete" and t == special)}
     Lp = sorted(Lp | {t for v in V for t in v.sites})
     pos = {g: t for t, g in enumerate(Lp)}
-    sub_v = [dataclasses.replace(v, sites=_rot(tuple(pos[t] for t in v.sites))) for v in V]
-    sub_e = [dataclasses.replace(e, sites=tuple(sorted(pos[t] for t in e.sites))) for e in pe]
+    sub_v = [_clone(v, sites=_rot(tuple(pos[t] for t in v.sites))) for v in V]
+    sub_e = [_clone(e, sites=tuple(sorted(pos[t] for t in e.sites))) for e in pe]
     geoms = [dyn.geoms[_old(g, op, special, dyn)] for g in Lp]
-    sub = dataclasses.replace(D, sites=[g.exact for g in geoms], vertices=sub_v, edges=sub_e, construction=None)
+    sub = _clone(D, sites=[g.exact for g in geoms], vertices=sub_v, edges=sub_e, construction=None)
     table = CircleTable(geoms) if all(g.kind in ("point", "circle") for g in geoms) else None
     local: list = []
     vinfo, vok = prove_vertices(sub, sub.sites, geoms, table, local)
@@ -908,7 +917,7 @@ def _prove_all_sites(D, dyn, V, pe, op, special, problems, flags_v, flags_e) -> 
     and chains of strips, :mod:`runtime.voronoi.verify.curved`, exclude the far sites themselves;
     O(N) set-up)."""
     _, _, G = _new_numbering(dyn, op, special, dyn.renumber)
-    sub = dataclasses.replace(D, sites=[g.exact for g in G], vertices=V, edges=list(pe), construction=None)
+    sub = _clone(D, sites=[g.exact for g in G], vertices=V, edges=list(pe), construction=None)
     local: list = []
     vinfo, vok = prove_vertices(sub, sub.sites, G, None, local)
     eok = check_edges(sub, G, None, vinfo, vok, local, {})[0] if pe else []
@@ -944,12 +953,12 @@ def _prove_infinity(D, dyn, pe, rm_e, vert, op, special, problems, flags_v, flag
     conic = any(g.kind == "ellipse" for g in G)
     table = None if conic else _table(C, R)
     kept = [e for e in sorted(dyn.unbounded) if e not in rm_e]
-    E = [dataclasses.replace(D.edges[e], sites=tuple(sorted(_new(t, op, special, dyn) for t in D.edges[e].sites)))
+    E = [_clone(D.edges[e], sites=tuple(sorted(_new(t, op, special, dyn) for t in D.edges[e].sites)))
          for e in kept] if op == "delete" else [D.edges[e] for e in kept]
     E += [e for e in pe if None in e.ends]
     vids = sorted({w for e in E for w in e.ends if w is not None})
     V = [vert(v) for v in vids]
-    sub = dataclasses.replace(D, sites=[g.exact for g in G], vertices=V, edges=E, construction=None)
+    sub = _clone(D, sites=[g.exact for g in G], vertices=V, edges=E, construction=None)
     local: list = []
     vinfo, vok = prove_vertices(sub, sub.sites, G, table, local)
     eok, ends_inf, _ = check_edges(sub, G, table, vinfo, vok, local, {})
@@ -1001,10 +1010,10 @@ def _prove_infinity_leaders(D, dyn, pe, rm_e, vert, x, problems, flags_v, flags_
     ok = True
     # kept unbounded edges (old proofs against the old sites) proved against H, which holds x
     vk = sorted({w for e in kept for w in e.ends if w is not None})
-    Vk = [dataclasses.replace(vert(w), sites=_rot(tuple(pos[t] for t in vert(w).sites))) for w in vk]
-    Ek = [dataclasses.replace(e, sites=tuple(sorted(pos[t] for t in e.sites))) for e in kept]
+    Vk = [_clone(vert(w), sites=_rot(tuple(pos[t] for t in vert(w).sites))) for w in vk]
+    Ek = [_clone(e, sites=tuple(sorted(pos[t] for t in e.sites))) for e in kept]
     if Ek:
-        sub = dataclasses.replace(D, sites=[g.exact for g in GH], vertices=Vk, edges=Ek, construction=None)
+        sub = _clone(D, sites=[g.exact for g in GH], vertices=Vk, edges=Ek, construction=None)
         vinfo, vok = prove_vertices(sub, sub.sites, GH, tableH, local)
         eok, ends, _ = check_edges(sub, GH, tableH, vinfo, vok, local, {})
         ok &= all(vok) and all(eok)
@@ -1015,7 +1024,7 @@ def _prove_infinity_leaders(D, dyn, pe, rm_e, vert, x, problems, flags_v, flags_
     if new:
         vn = sorted({w for e in new for w in e.ends if w is not None})
         Vn = [vert(w) for w in vn]
-        sub = dataclasses.replace(D, sites=[g.exact for g in dyn.geoms], vertices=Vn, edges=new, construction=None)
+        sub = _clone(D, sites=[g.exact for g in dyn.geoms], vertices=Vn, edges=new, construction=None)
         table = _table(dyn.C, dyn.R)
         vinfo, vok = prove_vertices(sub, sub.sites, dyn.geoms, table, local)
         eok, ends, _ = check_edges(sub, dyn.geoms, table, vinfo, vok, local, {})
