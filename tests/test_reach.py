@@ -157,3 +157,36 @@ def test_insertions_certified_with_either_reach(monkeypatch, one_disc):
     assert d.certified, d.problems[:3]
     assert d.delaunay_edges() == cv.voronoi(circles, certify=False).delaunay_edges()
     assert cv.verify(d, circles).ok
+
+
+def test_proof_sites_hold_every_site_near_the_changed_parts(monkeypatch):
+    """The sites handed to the verifier after an insertion (per-piece discs forced) hold every site
+    whose disc comes within d(q) + 2t of a point q of a new bounded edge's polyline (t its
+    tolerance; within the disc of q's piece) or within r_v of a changed vertex: brute force over
+    all sites."""
+    from curvedvoronoi.runtime.voronoi import insertion
+
+    monkeypatch.setattr(insertion, "ONE_DISC_SITES", 0)
+    seen = []
+    real = insertion._prove_among
+
+    def spy(D, dyn, V, pe, near, *a, **k):
+        seen.append(([(v.x, v.y, v.radius) for v in V], [(e.polyline, e.tolerance, e.sites) for e in pe],
+                     set(near), dyn.C.copy(), dyn.R.copy(), list(dyn.geoms)))
+        return real(D, dyn, V, pe, near, *a, **k)
+
+    monkeypatch.setattr(insertion, "_prove_among", spy)
+    circles = cgal_peer.random_disjoint_circles(208, 3)
+    d = cv.voronoi(circles[:200])
+    d.insert_many(circles[200:])
+    assert len(seen) >= 5
+    for V, E, near, C, R, G in seen:
+        want = set()
+        for x, y, r in V:
+            want |= set(np.nonzero(np.hypot(C[:, 0] - x, C[:, 1] - y) - R <= r * (1 - 1e-9))[0].tolist())
+        for P, t, (i, _) in E:
+            P = np.asarray(P, float)
+            dq = np.abs(np.hypot(P[:, 0] - G[i].cx, P[:, 1] - G[i].cy) - G[i].rho)
+            gap = np.hypot(C[:, None, 0] - P[None, :, 0], C[:, None, 1] - P[None, :, 1]) - R[:, None]
+            want |= set(np.nonzero((gap <= (dq + 2 * t)[None, :] * (1 - 1e-9)).any(axis=1))[0].tolist())
+        assert want <= near, sorted(want - near)
