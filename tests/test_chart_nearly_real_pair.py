@@ -4,9 +4,10 @@
 Three circles C₁ (centre (0, 0), radius 1/2), C₂ ((1/5, 1/10), 1/20) and C₃ ((t, −1/10), 1/10).
 A circle (x, y, √R) is tangent to the circle (a, b, r) iff ((x − a)² + (y − b)² − R − r²)² =
 4r²R (the product of the inner and outer tangency conditions), so the solutions (x, y, R) of the
-three equations are the circles tangent to all three (eight, Apollonius).  At t = √15/10, where
-C₃ touches C₁ from inside, two real solutions near (0.3205, −0.0828, 0.0285) meet; for t a little
-larger they are a conjugate pair whose imaginary parts grow like 0.29·√(t − √15/10).  With
+three equations are the circles tangent to all three (eight, Apollonius).  Near t = √15/10, where
+C₃ touches C₁ from inside, two solutions near (0.3205, −0.0828, 0.0285) meet: for t a little
+larger they are a conjugate pair whose imaginary parts are 0.29·√(t − √15/10) (measured for
+t − √15/10 from 10⁻⁸ to 10⁻³, within 1 %).  With
 t = 0.387298334620742 + 12·10⁻¹² (= √15/10 + 1.2·10⁻¹¹) the pair's imaginary parts are about
 (7.2·10⁻⁷, 1.0·10⁻⁶, −1.5·10⁻⁷): mpmath's ``findroot`` (40 digits) gives the reference root.
 
