@@ -10,7 +10,7 @@ against brute force and the true bisector arcs.
 * The containment the insertion's proofs rely on: after inserting circles into a random diagram,
   for points q of the true arc of each new bounded edge (the root of d_i − d_j found by brentq
   across the polyline, an independent computation), the empty circle of q (centre q, radius
-  d_i(q)) lies in the disc (M, d_i(M) + 2(h + t)) of some piece.
+  d_i(q)) lies in one of the discs of ``arc_discs`` (the pieces' discs (M, d_i(M) + 2(h + t))).
 """
 from __future__ import annotations
 
@@ -30,7 +30,7 @@ import curvedvoronoi as cv  # noqa: E402
 from curvedvoronoi.runtime.voronoi.adjacency import dynamic_state  # noqa: E402
 from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry  # noqa: E402
 from curvedvoronoi.runtime.voronoi.reach import (  # noqa: E402
-    MAX_PIECES, PIECE_REL, polyline_pieces, sites_meeting_discs)
+    MAX_PIECES, PIECE_REL, arc_discs, polyline_pieces, sites_meeting_discs)
 
 
 def _circle(cx, cy, r):
@@ -132,8 +132,7 @@ def test_empty_circles_of_new_arcs_lie_in_the_piece_discs(seed):
             if None in e.ends or (tuple(e.sites), tuple(e.ends)) in old:
                 continue
             gi, gj = G[e.sites[0]], G[e.sites[1]]
-            M, h = polyline_pieces(e.polyline, gi)
-            disc_r = np.abs(np.hypot(M[:, 0] - gi.cx, M[:, 1] - gi.cy) - gi.rho) + 2 * (h + e.tolerance)
+            M, disc_r = arc_discs(e.polyline, gi, e.tolerance)
             for q in _arc_points(e, gi, gj):
                 rq = math.hypot(q[0] - gi.cx, q[1] - gi.cy) - gi.rho
                 inside = np.hypot(M[:, 0] - q[0], M[:, 1] - q[1]) + rq <= disc_r * (1 + 1e-12)

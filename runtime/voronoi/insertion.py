@@ -150,7 +150,7 @@ from .site_arrays import SiteArrays
 from ..sites.intersection import sites_intersect
 from .adjacency import dynamic_state
 from .star_region import star_region
-from .reach import distance_to_site, polyline_pieces, sites_meeting_discs
+from .reach import arc_discs, distance_to_site, sites_meeting_discs
 from .conflict import LOCAL_KINDS, arc_reach, disc_inside, nearest_old_sites, outside, site_disc
 from .site_input import SiteError, as_site, check_disjoint, sites_equal
 from .verify.edge_checks import check_edges
@@ -840,14 +840,12 @@ def _prove_sub(D, dyn, pv, pe, vert, op, special, new_index, problems, flags_v, 
     if len(near) > ONE_DISC_SITES:
         pts = [np.array([[w.x, w.y] for w in V], float)]
         rad = [np.array([w.radius + 4 * VERTEX_TOL * (1 + abs(w.x) + abs(w.y) + w.radius) for w in V], float)]
+        rad[0] = rad[0] * (1 + 1e-9) + 1e-9 * (np.abs(pts[0]).sum(axis=1) + 1)
         for e in pe:
-            g = dyn.geoms[_old(e.sites[0], op, special, dyn)]
-            Mp, h = polyline_pieces(e.polyline, g)
+            Mp, rp = arc_discs(e.polyline, dyn.geoms[_old(e.sites[0], op, special, dyn)], e.tolerance)
             pts.append(Mp)
-            rad.append(distance_to_site(g, Mp) + 2 * (h + e.tolerance))
-        P, r = np.vstack(pts), np.concatenate(rad)
-        r = r * (1 + 1e-9) + 1e-9 * (np.abs(P).sum(axis=1) + 1)
-        near = sites_meeting_discs(dyn, P, r)
+            rad.append(rp)
+        near = sites_meeting_discs(dyn, np.vstack(pts), np.concatenate(rad))
     return _prove_among(D, dyn, V, pe, near, op, special, new_index, problems, flags_v, flags_e)
 
 

@@ -18,14 +18,14 @@ One disc around the whole changed part (its mean and the largest |q − X0| + r(
 sites but, near the convex hull, where the empty circles are large, it held most of the scene
 (900 of 10³ random circles); the pieces hug the circles and hold 10–30.
 
-Public API: :func:`polyline_pieces`, :func:`distance_to_site`, :func:`sites_meeting_discs`,
+Public API: :func:`polyline_pieces`, :func:`arc_discs`, :func:`distance_to_site`, :func:`sites_meeting_discs`,
 :data:`PIECE_REL`, :data:`MAX_PIECES`.
 """
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["polyline_pieces", "distance_to_site", "sites_meeting_discs", "PIECE_REL", "MAX_PIECES"]
+__all__ = ["polyline_pieces", "arc_discs", "distance_to_site", "sites_meeting_discs", "PIECE_REL", "MAX_PIECES"]
 
 #: a polyline's segments are cut into pieces no longer than this fraction of the distance to the
 #: site at the segment's ends
@@ -63,6 +63,16 @@ def polyline_pieces(P, g):
     M = A[seg] + t[:, None] * (B[seg] - A[seg])
     h = L[seg] / (2 * m[seg]) * (1 + 1e-12) + 1e-15 * (np.abs(M).sum(axis=1) + np.abs(A[seg]).sum(axis=1) + 1)
     return M, h
+
+
+def arc_discs(P, g, tol):
+    """(M, r): discs holding the empty circle of every point of the arc of an edge of site ``g``
+    (point or circle) that lies within ``tol`` of the polyline P: the pieces' midpoints M of
+    :func:`polyline_pieces` and r = d_g(M) + 2(h + tol), widened by 1e-9 relatively for the
+    rounding (module docstring)."""
+    M, h = polyline_pieces(P, g)
+    r = distance_to_site(g, M) + 2 * (h + tol)
+    return M, r * (1 + 1e-9) + 1e-9 * (np.abs(M).sum(axis=1) + 1)
 
 
 def sites_meeting_discs(dyn, P, r) -> list[int]:
