@@ -96,7 +96,7 @@ def test_sites_meeting_discs_is_the_brute_force_set(seed):
 
 def _arc_points(e, gi, gj):
     """Points of the true bisector of circles gi, gj near the polyline of e: d_i − d_j = 0 solved
-    by brentq along the normal of each segment at its midpoint and quarter points."""
+    by brentq along the normal of each segment at its ends, midpoint and quarter points."""
     P = np.asarray(e.polyline, float)
 
     def f(q):
@@ -109,7 +109,7 @@ def _arc_points(e, gi, gj):
         if L == 0:
             continue
         nrm = np.array([-t[1], t[0]]) / L
-        for s in (0.25, 0.5, 0.75):
+        for s in (0.0, 0.25, 0.5, 0.75, 1.0):
             x = a + s * t
             w = 4 * e.tolerance + 1e-9 * (1 + np.abs(x).sum())
             if f(x - w * nrm) * f(x + w * nrm) > 0:
