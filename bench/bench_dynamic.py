@@ -150,7 +150,8 @@ def circles_case(n: int, k: int, seed: int = 1, certify: bool = True, queries: i
         d = fn()
         rows.append({"op": kind, "wall": time.perf_counter() - t, "cpu": time.process_time() - c,
                      "how": d.stats.get("update", d.stats.get("deletion")), "certified": bool(d.certified),
-                     "split": d.stats.get("seconds", {}), "changed": d.stats.get("changed", {})})
+                     "split": d.stats.get("seconds", {}), "changed": d.stats.get("changed", {}),
+                     "direct": d.stats.get("local build") == "star region"})
 
     for c in extra:
         timed("insert", lambda c=c: d.insert(c, certify=certify, inplace=inplace))
@@ -400,16 +401,18 @@ def main():
              "(builds the adjacency state, O(N)); median/max over the others. local = proved locally; infinity = the "
              "unbounded edges and the accounting at infinity re-proved (site on or near the hull); rebuild = the local "
              "splice did not close. CGAL = Apollonius_graph_2 insert/remove on the same doubles, same operations "
-             "(tests/cgal/apollonius_dynamic.cpp). final verify = cv.verify on the last diagram.", "",
-             "| N | op | first s | median s (CPU) | max s | local / infinity / rebuild | all certified | "
+             "(tests/cgal/apollonius_dynamic.cpp). direct = updates whose new region was built directly "
+             "(runtime/voronoi/star_region.py) rather than by the construction's local diagram. final verify = "
+             "cv.verify on the last diagram.", "",
+             "| N | op | first s | median s (CPU) | max s | local / infinity / rebuild | direct | all certified | "
              "median split (locate / local build / prove) | CGAL median s | ratio | build s | final verify | "
              "graph = CGAL | peak RSS MB |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in results:
         if not str(r.get("case")).startswith("circles"):
             continue
         if "error" in r:
-            lines.append(f"| {r['case']} | error: {r['error']} |" + " |" * 12)
+            lines.append(f"| {r['case']} | error: {r['error']} |" + " |" * 13)
             continue
         cg = r.get("cgal_op_s")
         k = r["K"]
@@ -431,7 +434,8 @@ def main():
             cgm = statistics.median(cg[lo:hi]) if cg else None
             ratio = f"{med / cgm:.0f}×" if cgm else "-"
             lines.append(f"| {r['N']} | {kind} | {_fmt(first)} | {_fmt(med)} ({_fmt(medc)}) | {_fmt(mx)} | "
-                         f"{n_loc} / {n_inf} / {n_reb} | {all(x['certified'] for x in rows)} | {split} | "
+                         f"{n_loc} / {n_inf} / {n_reb} | {sum(bool(x.get('direct')) for x in rows)} | "
+                         f"{all(x['certified'] for x in rows)} | {split} | "
                          f"{_fmt(cgm, 6)} | {ratio} | {r['build_s']:.1f} | "
                          f"{_verified(r)} | "
                          f"{r.get('cgal_same_graph', r.get('cgal_error', '-'))} | {r['peak_rss_mb']:.0f} |")
