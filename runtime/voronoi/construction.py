@@ -56,6 +56,7 @@ from .conic_geometry import site_geometry
 from .conic_vertices import conic_vertices
 from .deletion import delete_site
 from .edge_polylines import edge_polylines
+from .equal_circles import equal_circles_diagram
 from .frame import local_frame
 from .insertion import insert_site
 from .near_degenerate import near_degenerate_clusters
@@ -138,8 +139,15 @@ def voronoi(sites, *, certify: bool = True, progress=None, time_limit: float | N
         return collinear_points_diagram(S, sites, notes, certify, stats, t_start)
     timing = {"input": time.perf_counter() - t_start}
     samples = Samples(S, initial_spacing(S))
-    return build_diagram(S, samples, {}, notes, stats, timing, certify=certify, progress=progress,
-                         deadline=deadline, time_limit=time_limit, t_start=t_start)
+    D = build_diagram(S, samples, {}, notes, stats, timing, certify=certify, progress=progress,
+                      deadline=deadline, time_limit=time_limit, t_start=t_start)
+    if certify and not D.certified and (deadline is None or time.perf_counter() < deadline):
+        # equal circles not certified: their diagram is their centres' (exact triangulation)
+        E = equal_circles_diagram(sites, voronoi, progress=progress,
+                                  time_limit=None if deadline is None else deadline - time.perf_counter())
+        if E is not None and E.certified:
+            return E
+    return D
 
 
 @without_cyclic_gc

@@ -142,6 +142,7 @@ from .document import check_document
 from .problems import records
 from .edge_checks import check_edges
 from .edges import CircleTable
+from .equal_circles import centres_diagram, equal_radius, separated_on
 from .closure import circles_disjoint, verify_accounting, verify_accounting_conics, verify_closure
 from .hull_points import verify_accounting_discs, verify_accounting_points
 from .support import SupportTable
@@ -332,6 +333,9 @@ def verify(diagram, sites=None, *, deadline=None, progress=None) -> Certificate:
         for k in range(min(len(sites), len(dsites))):
             if not _same_site(sites[k], dsites[k]):
                 problems.append(f"site {k} of the diagram differs from input site {k}")
+    red = _as_centres(D, sites, dsites, deadline, progress)
+    if red is not None:           # equal circles: decided as the diagram of their centres
+        return red
     n = len(sites)
     geoms = [site_geometry(s) for s in sites]
     check_document(D, diagram if isinstance(diagram, dict) else None, geoms, problems)
@@ -385,3 +389,31 @@ def verify(diagram, sites=None, *, deadline=None, progress=None) -> Certificate:
     pairs = sorted({tuple(int(t) for t in e.sites) for e, f in zip(D.edges, eok) if f})
     timings["total"] = time.perf_counter() - T0
     return Certificate(ok, problems, vok, eok, complete, pairs, hyp, stats, timings)
+
+
+def _as_centres(D, sites, dsites, deadline, progress):
+    """Equal disjoint circles: the certificate of the diagram of their centres
+    (:mod:`runtime.voronoi.verify.equal_circles`: the two diagrams are the same; its refusal is
+    the circles' refusal), or None when the sites are not equal circles or not proved disjoint
+    (the circle route then decides)."""
+    r2 = equal_radius(sites)
+    if (r2 is None or len(sites) != len(dsites) or equal_radius(dsites) != r2
+            or not all(_same_site(a, b) for a, b in zip(sites, dsites))):
+        return None
+    T0 = time.perf_counter()
+    Dp, centres = centres_diagram(D, dsites, r2)
+    c = verify(Dp, centres, deadline=deadline, progress=progress)
+    if not c.ok:
+        # the centres' diagram is refused: so is the circles' if they are disjoint (the same
+        # diagram); if they are not, refusing is still right.  The circle route is not tried
+        hyp = list(c.hypotheses) + ["equal circles: checked as the diagram of their centres "
+                                    "(runtime.voronoi.verify.equal_circles)"]
+        return Certificate(False, c.problems, c.vertices, c.edges, c.complete, c.delaunay_edges, hyp,
+                           dict(c.stats, route="equal circles as their centres"), c.timings)
+    if separated_on(dsites, c.delaunay_edges, r2):
+        return None
+    hyp = list(c.hypotheses) + ["equal disjoint circles: proved as the diagram of their centres "
+                                "(runtime.voronoi.verify.equal_circles)"]
+    stats = dict(c.stats, route="equal circles as their centres")
+    timings = dict(c.timings, centres=time.perf_counter() - T0)
+    return Certificate(True, [], c.vertices, c.edges, c.complete, c.delaunay_edges, hyp, stats, timings)
