@@ -116,6 +116,7 @@ _LAZY = {
     "Point": ("runtime.predicates.circles", "Point"),
     "Segment": ("runtime.sites.segment", "Segment"),
     "Arc": ("runtime.sites.arc", "Arc"),
+    "EllipticArc": ("runtime.sites.elliptic_arc", "EllipticArc"),
     "medial_axis": ("runtime.segments.medial_axis", "medial_axis"),
     "MedialAxis": ("runtime.segments.medial_axis", "MedialAxis"),
     "read_dxf": ("runtime.sites.dxf", "read_dxf"),

@@ -170,8 +170,7 @@ def test_dxf_extrusion_minus_z_mirrors_arcs_and_bulges(tmp_path):
 @pytest.mark.parametrize("build, message", [
     (lambda m: m.add_circle((0, 0), 0, dxfattribs={"layer": "walls"}),
      r"CIRCLE \(handle [0-9A-F]+, layer 'walls'\): the circle has radius 0; use a POINT"),
-    (lambda m: m.add_ellipse((0, 0), (2, 0), 0.5), r"ELLIPSE .*: curves other than line segments and circular arcs "
-                                                   r"are not supported yet \(planned\)"),
+    (lambda m: m.add_ellipse((0, 0), (2, 0), 1), r"ELLIPSE .*: elliptic arc with ratio 1 is a circular arc"),
     (lambda m: m.add_spline([(0, 0), (1, 1), (2, 0), (3, 1)]), r"SPLINE .*: curves other than line segments"),
     (lambda m: m.add_arc((0, 0), 1, 0, 90, dxfattribs={"extrusion": (0, 1, 0)}),
      r"ARC .*: extrusion \(0\.0, 1\.0, 0\.0\) \(an entity not in the xy plane\) is not supported"),

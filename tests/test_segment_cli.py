@@ -118,7 +118,7 @@ def test_diagram_bad_drawing_exits_2_with_one_line_naming_the_entity(tmp_path, c
         if case == "crossing":
             msp.add_line((1, 1), (7, 2), dxfattribs={"layer": "cut"})
         elif case == "ellipse":
-            msp.add_ellipse((2, 1), major_axis=(1, 0), ratio=0.5)
+            msp.add_ellipse((2, 1), major_axis=(1, 0), ratio=1)       # a circle drawn as an ELLIPSE: refused
         else:
             msp.add_text("label")
 

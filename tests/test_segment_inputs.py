@@ -202,8 +202,10 @@ def test_dxf_lines_points_and_polylines(tmp_path):
 
 @pytest.mark.parametrize("build, message", [
     (lambda m: m.add_circle((0, 0, 1), 1), r"CIRCLE \(handle [0-9A-F]+, layer '0'\) centre: z = 1 is not 0"),
-    (lambda m: m.add_ellipse((0, 0), (2, 0), 0.5), r"ELLIPSE \(handle [0-9A-F]+, layer '0'\): curves other than line "
-                                                   r"segments and circular arcs are not supported yet"),
+    (lambda m: m.add_spline([(0, 0), (1, 2), (3, 1), (4, 4)]), r"SPLINE \(handle [0-9A-F]+, layer '0'\): curves other "
+                                                              r"than line segments, circular and elliptic arcs are not supported yet"),
+    (lambda m: m.add_ellipse((0, 0), (2, 0), 1), r"ELLIPSE \(handle [0-9A-F]+, layer '0'\): elliptic arc with ratio 1 is a "
+                                                 r"circular arc"),
     (lambda m: m.add_line((0, 0, 0), (1, 0, 2)), r"LINE \(handle [0-9A-F]+, layer '0'\) end: z = 2 is not 0"),
     (lambda m: m.add_line((1, 1), (1, 1)), "the line has length 0"),
 ])

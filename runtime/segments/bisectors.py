@@ -38,7 +38,9 @@ import math
 
 import numpy as np
 
-from .elementary import ARC, POINT, ElementarySites
+from .elementary import ARC, ELLIPSE, POINT, ElementarySites
+from .ellipse_bisectors import ellipse_edge
+from .ellipse_pieces import piece_tangent
 
 __all__ = ["bisector_kind", "edge_polyline", "line_direction", "parabola_points", "arc_bisector_points"]
 
@@ -61,7 +63,8 @@ def shared_joint(E: ElementarySites, i: int, j: int, near=None) -> int | None:
 
 def bisector_kind(E: ElementarySites, i: int, j: int) -> str:
     """"points", "perpendicular" (an end and its curve), "joint" (two curves of a smooth joint),
-    "parabola" (a point and a segment), "segments" or "arc" (an arc and a site not touching it)."""
+    "parabola" (a point and a segment), "segments", "arc" (an arc and a site not touching it) or
+    "ellipse" (an elliptic piece and a site not touching it, :mod:`runtime.segments.ellipse_bisectors`)."""
     ki, kj = E.kind[i], E.kind[j]
     if ki == POINT and kj == POINT:
         return "points"
@@ -69,9 +72,11 @@ def bisector_kind(E: ElementarySites, i: int, j: int) -> str:
         p, s = (i, j) if ki == POINT else (j, i)
         if E.is_endpoint(p, s):
             return "perpendicular"
-        return "arc" if E.kind[s] == ARC else "parabola"
+        return "ellipse" if E.kind[s] == ELLIPSE else "arc" if E.kind[s] == ARC else "parabola"
     if shared_joint(E, i, j) is not None:
         return "joint"
+    if ELLIPSE in (ki, kj):
+        return "ellipse"
     return "arc" if ARC in (ki, kj) else "segments"
 
 
@@ -80,6 +85,9 @@ def _tangent(E: ElementarySites, s: int, e_xy) -> np.ndarray:
     if E.kind[s] == ARC:
         r = np.asarray(e_xy, float) - E.C[s]
         return np.array([-r[1], r[0]])
+    if E.kind[s] == ELLIPSE:
+        at_start = np.hypot(*(np.asarray(e_xy, float) - E.A[s])) <= np.hypot(*(np.asarray(e_xy, float) - E.B[s]))
+        return piece_tangent(E.ellipse[s], 0 if at_start else 1)
     return E.B[s] - E.A[s]
 
 
@@ -165,6 +173,8 @@ def edge_polyline(E: ElementarySites, i: int, j: int, P0, P1, tol: float, *, far
     kind = bisector_kind(E, i, j)
     if kind == "arc":
         return _arc_edge(E, i, j, P0, P1, tol, far, centre, step, sides)
+    if kind == "ellipse":
+        return ellipse_edge(E, i, j, P0, P1, tol, far, centre, step, sides)
     P0 = np.asarray(P0, float)
     P1 = np.asarray(P1, float)
     scale = 1.0 + float(np.max(np.abs(np.concatenate([P0, P1]))))

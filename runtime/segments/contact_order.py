@@ -17,7 +17,8 @@ import math
 import numpy as np
 
 from .bisectors import arc_range
-from .elementary import ARC, POINT, ElementarySites
+from .elementary import ARC, ELLIPSE, POINT, ElementarySites
+from .ellipse_pieces import piece_feet, piece_points, piece_tangent
 
 __all__ = ["corner_order", "contact_order"]
 
@@ -32,6 +33,8 @@ def corner_order(E: ElementarySites, c: int) -> tuple:
         if E.kind[s] == ARC:
             rx, ry = cx - E.C[s][0], cy - E.C[s][1]
             tx, ty = (-ry, rx) if int(E.ends[s, 0]) == c else (ry, -rx)
+        elif E.kind[s] == ELLIPSE:
+            tx, ty = piece_tangent(E.ellipse[s], 0 if int(E.ends[s, 0]) == c else 1)
         else:
             o = int(E.ends[s, 1]) if int(E.ends[s, 0]) == c else int(E.ends[s, 0])
             tx, ty = E.A[o][0] - cx, E.A[o][1] - cy
@@ -69,6 +72,14 @@ def contact_order(E: ElementarySites, members, sol) -> tuple:
                 if np.hypot(*(f - P)) <= 1e-9 * (1 + E.rho[s]):
                     r = P - E.C[s]
                     lean = _lean(f - v, np.array([-r[1], r[0]]) if end == 0 else np.array([r[1], -r[0]]))
+        elif E.kind[s] == ELLIPSE:
+            P = E.ellipse[s]
+            _d, phi = piece_feet(P, v[None, :])
+            f = piece_points(P, phi)[0]
+            span = P.phi1 - P.phi0
+            for end, at in ((0, P.phi0), (1, P.phi1)):
+                if abs(float(phi[0]) - at) <= 1e-9 * span:
+                    lean = _lean(f - v, piece_tangent(P, end))
         else:
             a, b = E.A[s], E.B[s]
             d = b - a

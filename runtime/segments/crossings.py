@@ -99,6 +99,8 @@ from fractions import Fraction
 import numpy as np
 
 from ..sites.arc import Arc
+from ..sites.elliptic_arc import EllipticArc
+from .ellipse_crossings import check_elliptic
 from ..sites.segment import Segment
 from ..voronoi.site_input import SiteError
 
@@ -132,7 +134,18 @@ def check_pieces(pieces, *, float_filter: bool = True) -> None:
     """Raise :class:`SiteError` unless the segments, arcs and points ``pieces`` are admissible
     sites of a Voronoi diagram of pieces (see the module docstring); None when they are.
 
-    ``float_filter=False`` decides every candidate pair exactly (for testing the filter)."""
+    ``float_filter=False`` decides every candidate pair exactly (for testing the filter).
+    Elliptic arcs are tested in floats by :func:`runtime.segments.ellipse_crossings.check_elliptic`
+    (the other pieces exactly, as always)."""
+    elliptic = [k for k, p in enumerate(pieces) if isinstance(p, EllipticArc)]
+    if elliptic:
+        rest = [k for k in range(len(pieces)) if k not in set(elliptic)]
+        try:
+            check_pieces([pieces[k] for k in rest], float_filter=float_filter)
+        except SiteError as exc:
+            raise SiteError(renamed(str(exc), lambda k: f"site {rest[k]}")) from None
+        check_elliptic(pieces, elliptic)
+        return
     n = len(pieces)
     segs, pts, arcs = _classify(pieces)
     ids, P, Q, vid, coords = _vertex_ids(pieces, segs, pts, arcs)

@@ -8,7 +8,8 @@ python-flint ``arb`` (exact rational endpoints), the only rigorous distance of t
 
 For an open circular arc of centre c, radius ρ, counter-clockwise from a to b, the distance is
 | |q − c| − ρ | when the direction of q − c lies in the arc's angular range, else the distance to
-the nearer end (:func:`site_distances`, :func:`arc_distance_ball`).
+the nearer end (:func:`site_distances`, :func:`arc_distance_ball`).  Elliptic-arc pieces take
+theirs from :mod:`runtime.segments.ellipse_pieces`.
 
 Public API: :func:`distances`, :func:`site_distances`, :func:`distance_ball`,
 :func:`arc_distance_ball`, :func:`site_distance_ball`, :func:`float_error`, :func:`foot_parameter`,
@@ -20,6 +21,7 @@ import numpy as np
 from flint import arb
 
 from ..certify.foot import to_arb
+from .ellipse_pieces import piece_distance_ball, piece_distances
 
 __all__ = ["distances", "distance_ball", "float_error", "foot_parameter", "site_distances", "in_arc", "arc_distances",
            "arc_distance_ball", "site_distance_ball"]
@@ -102,6 +104,12 @@ def site_distances(E, idx, Q):
     arc = E.kind[idx] == 2
     if arc.any():
         d[arc] = arc_distances(E.C[idx[arc]], E.rho[idx[arc]], E.A[idx[arc]], E.B[idx[arc]], Q[arc])
+    ell = E.kind[idx] == 3
+    if ell.any():
+        rows = np.nonzero(ell)[0]
+        for s in np.unique(idx[rows]).tolist():
+            at = rows[idx[rows] == s]
+            d[at] = piece_distances(E.ellipse[s], Q[at])
     return d
 
 
@@ -153,6 +161,8 @@ def site_distance_ball(E, k: int, x: arb, y: arb) -> arb:
     """Ball enclosure of the distance from (x, y) to elementary site k of ``E``."""
     if E.kind[k] == 0:
         return distance_ball(E.xy[k], E.xy[k], x, y)
+    if E.kind[k] == 3:
+        return piece_distance_ball(E.ellipse[k], x, y)
     a, b = E.xy[int(E.ends[k, 0])], E.xy[int(E.ends[k, 1])]
     if E.kind[k] == 1:
         return distance_ball(a, b, x, y)

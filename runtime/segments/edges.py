@@ -19,7 +19,8 @@ from ..voronoi.structure import DiagramEdge
 from .bisectors import (arc_bisector_points, arc_sides, bisector_kind, edge_polyline, line_direction,
                         line_point)
 from .distance import site_distances
-from .elementary import ARC, POINT, ElementarySites
+from .ellipse_bisectors import ellipse_step, perpendicular_edge
+from .elementary import ARC, ELLIPSE, POINT, ElementarySites
 
 __all__ = ["edge_polylines", "walk_hint"]
 
@@ -102,6 +103,12 @@ def edge_polylines(E: ElementarySites, vertices, walks, tol, lo, hi):
         fin = [None if e is None else np.array([vertices[e].x, vertices[e].y]) for e in ends]
         kind = bisector_kind(E, i, j)
         step, sides = 1, None
+        if kind == "perpendicular" and ELLIPSE in (E.kind[i], E.kind[j]):
+            # the normal at an elliptic piece's end bends beyond the centre of curvature
+            poly, t = perpendicular_edge(E, i, j, fin[0], fin[1], tol, far_sites + 2 * max(
+                (float(np.hypot(*(f - centre))) for f in fin if f is not None), default=0.0))
+            out.append(DiagramEdge(len(out), (i, j), tuple(ends), False, poly, t, False))
+            continue
         # an infinite end is drawn to 4 times the sites' extent, or twice as far out as its finite
         # vertex: one far vertex (10⁸ beyond sites 10³ apart) does not stretch every other
         # infinite edge to 10⁸ (long chords near their poles)
@@ -112,6 +119,11 @@ def edge_polylines(E: ElementarySites, vertices, walks, tol, lo, hi):
             if kind == "arc":
                 base = fin[0] if fin[0] is not None else fin[1]
                 step, sides = (1, None) if base is None else _arc_step(E, i, j, base, far)
+            elif kind == "ellipse":
+                base = fin[0] if fin[0] is not None else fin[1]
+                if base is None:
+                    continue          # a whole bisector without vertices: not drawn
+                step, sides = ellipse_step(E, i, j, base, far)
             else:
                 base = fin[0] if fin[0] is not None else fin[1]
                 d = line_direction(E, i, j, base)

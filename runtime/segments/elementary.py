@@ -25,7 +25,13 @@ shared endpoint: the first piece ending there; for a merged segment: the first o
 Each elementary site carries the ``label`` of that same piece (None when it has none), so labels
 reach the diagram's JSON, GeoJSON and GeoDataFrames.
 
-Public API: :class:`ElementarySites`, :func:`decompose`, :data:`POINT`, :data:`SEGMENT`, :data:`ARC`.
+Elliptic arcs (:class:`runtime.sites.elliptic_arc.EllipticArc`) are first cut at the ellipse's
+vertices (:meth:`~runtime.sites.elliptic_arc.EllipticArc.pieces`), then each piece is split the same
+way; a piece is an elementary site of kind :data:`ELLIPSE` with its
+:class:`runtime.segments.ellipse_pieces.PieceData` in :attr:`ElementarySites.ellipse`.
+
+Public API: :class:`ElementarySites`, :func:`decompose`, :data:`POINT`, :data:`SEGMENT`, :data:`ARC`,
+:data:`ELLIPSE`.
 """
 from __future__ import annotations
 
@@ -34,12 +40,15 @@ import numpy as np
 
 from ..predicates.circles import Point
 from ..sites.arc import Arc
+from ..sites.elliptic_arc import EllipticArc
 from ..sites.segment import Segment, as_point_pair
+from .ellipse_pieces import PieceData
 
-__all__ = ["ElementarySites", "decompose", "POINT", "SEGMENT", "ARC"]
+__all__ = ["ElementarySites", "decompose", "POINT", "SEGMENT", "ARC", "ELLIPSE"]
 
 #: site kinds of :attr:`ElementarySites.kind`
-POINT, SEGMENT, ARC = 0, 1, 2
+POINT, SEGMENT, ARC, ELLIPSE = 0, 1, 2, 3
+_KIND = {"segment": SEGMENT, "arc": ARC, "ellipse": ELLIPSE}
 
 
 class _Nodes:
@@ -63,7 +72,9 @@ class ElementarySites:
     −1 for a point site); ``incident[p]``: the curves ending at point site p; ``A``, ``B``: float
     ends (A = B = the point for a point site); ``C``, ``rho``: centre and radius of an arc (NaN
     otherwise); ``arc[s]``: the exact (centre, radius) of arc s; ``joints``: smooth joint node ->
-    its two curves; ``labels[i]``: the label of site i's source piece (also ``sites[i].label``)."""
+    its two curves; ``labels[i]``: the label of site i's source piece (also ``sites[i].label``);
+    ``ellipse[s]``: the :class:`runtime.segments.ellipse_pieces.PieceData` of an elliptic piece s
+    (``C``, ``rho``: its centre and major semi-axis, a magnitude for rounding bounds)."""
 
     def __init__(self, nodes, point_nodes, curves, source, labels=None):
         self.nodes = list(nodes)
@@ -73,10 +84,10 @@ class ElementarySites:
         self.source = list(source)
         n = self.n_points + len(curves)
         self.labels = [None] * n if labels is None else list(labels)
-        self.kind = np.array([POINT] * self.n_points + [SEGMENT if c[0] == "segment" else ARC for c in curves],
-                             dtype=np.int8)
+        self.kind = np.array([POINT] * self.n_points + [_KIND[c[0]] for c in curves], dtype=np.int8)
         self.ends = np.full((n, 2), -1, dtype=np.int64)
         self.arc: dict = {}
+        self.ellipse: dict = {}
         self.C = np.full((n, 2), np.nan)
         self.rho = np.full(n, np.nan)
         self.sites = [Point(*self.nodes[nd], label=self.labels[i]) for i, nd in enumerate(point_nodes)]
@@ -93,6 +104,11 @@ class ElementarySites:
                     self.joints.setdefault(nd, []).append(s)
             if kind == "segment":
                 self.sites.append(Segment(self.nodes[na], self.nodes[nb], self.labels[s]))
+            elif kind == "ellipse":
+                self.sites.append(data)
+                self.ellipse[s] = P_ = PieceData.of(data)
+                self.C[s] = (float(P_.c[0]), float(P_.c[1]))
+                self.rho[s] = float(np.hypot(float(P_.M[0]), float(P_.M[1])))
             else:
                 c, rho = data
                 self.sites.append(Arc(c, rho, self.nodes[na], self.nodes[nb], self.labels[s]))
@@ -160,6 +176,12 @@ def decompose(pieces, sources=None) -> ElementarySites:
             curves.append(("segment", node(piece.p, src, label), node(piece.q, src, label), None))
         elif isinstance(piece, Arc):
             curves.append(("arc", node(piece.a, src, label), node(piece.b, src, label), (piece.c, piece.rho)))
+        elif isinstance(piece, EllipticArc):
+            for k, sub in enumerate(piece.pieces()):
+                if k:
+                    csource.append(src)
+                    clabel.append(label)
+                curves.append(("ellipse", node(sub.a, src, label), node(sub.b, src, label), sub))
         else:
             isolated.add(node(as_point_pair(piece, f"site {src}"), src, label))
             continue
@@ -179,6 +201,9 @@ def _tangent(curve, nd, nodes):
     if kind == "segment":
         o = nb if nd == na else na
         return (nodes[o][0] - nodes[nd][0], nodes[o][1] - nodes[nd][1])
+    if kind == "ellipse":
+        tx, ty = data.tangent(data.ua if nd == na else data.ub)
+        return (tx, ty) if nd == na else (-tx, -ty)
     (cx, cy), _ = data
     px, py = nodes[nd]
     rx, ry = px - cx, py - cy

@@ -22,7 +22,9 @@ from flint import ctx
 
 from ..certify.foot import to_arb
 from .distance import float_error, foot_parameter, site_distance_ball, site_distances
-from .elementary import ARC, POINT, SEGMENT, ElementarySites
+from .elementary import ARC, ELLIPSE, POINT, SEGMENT, ElementarySites
+from .ellipse_contacts import ellipse_centre_sites
+from .ellipse_pieces import closest_at_an_end
 from .vertices import direction_in_arc
 
 __all__ = ["prove_empty", "empty_by_filter", "filter_block"]
@@ -31,6 +33,9 @@ __all__ = ["prove_empty", "empty_by_filter", "filter_block"]
 def _closest_at_an_end(E: ElementarySites, k: int, X, Y) -> bool:
     """Proved: the closest point of curve k to every point of the ball box is one of its ends
     (a segment's foot parameter outside [0, 1], an arc's direction outside its range)."""
+    if E.kind[k] == ELLIPSE:            # the nearest end must be a point site (not a smooth joint)
+        ends = closest_at_an_end(E.ellipse[k], X, Y)
+        return ends is not None and all(int(E.ends[k, e]) >= 0 for e in ends)
     a, b = E.xy[int(E.ends[k, 0])], E.xy[int(E.ends[k, 1])]
     if E.kind[k] == SEGMENT:
         t = foot_parameter(a, b, X, Y)
@@ -73,6 +78,12 @@ def prove_empty(E: ElementarySites, tree, lab, hmax: float, triple, sol):
     members = list(triple)
     if sol.reason == "arc centre" and _curve_enters(E, triple, sol):
         return False, tuple(members), next(t for t in triple if E.kind[t] != POINT)
+    if sol.reason == "ellipse centre":
+        # the sites at the minor vertices are exactly on the circle (ellipse_centre_sites)
+        on = ellipse_centre_sites(E, next(int(t) for t in triple if E.kind[t] == ELLIPSE))
+        members += sorted(k for k in on if k not in members)
+        triple = tuple(members)
+        cand = np.array([k for k in cand.tolist() if k not in on], dtype=np.int64)
     if not len(cand):
         return True, tuple(members), None
     Q = np.repeat([[x, y]], len(cand), axis=0)
@@ -93,7 +104,8 @@ def prove_empty(E: ElementarySites, tree, lab, hmax: float, triple, sol):
                 continue
             if dk < R:
                 return False, tuple(members), k
-            if E.kind[k] != POINT and min(E.ends[k]) >= 0 and _closest_at_an_end(E, k, X, Y):
+            if E.kind[k] != POINT and (min(E.ends[k]) >= 0 or E.kind[k] == ELLIPSE) \
+                    and _closest_at_an_end(E, k, X, Y):
                 continue    # closest point of k is an end: a point site tested on its own (a
                 #             smooth joint is not a site: then k is decided exactly below)
             from .exact import on_circle
@@ -127,7 +139,7 @@ def filter_block(E: ElementarySites, tree, lab, hmax: float, jobs) -> dict:
     those whose every other site within reach is proved farther than r by the float filter of
     :func:`prove_empty` (same reach, same error bound), keyed by ``id(sol)``; the others are
     left to :func:`prove_empty` (arc centres always are)."""
-    jobs = [(t, s) for t, s in jobs if s.reason != "arc centre"]
+    jobs = [(t, s) for t, s in jobs if s.reason not in ("arc centre", "ellipse centre")]
     if not jobs:
         return {}
     X = np.array([[s.x, s.y] for _, s in jobs])

@@ -19,7 +19,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ..sites.rationals import to_fraction
-from .elementary import ARC, POINT, ElementarySites
+from .elementary import ARC, ELLIPSE, POINT, ElementarySites
 from .vertices import arc_centre_vertex, contact_equations
 
 __all__ = ["exact_vertex", "on_circle", "exact_sign", "contacts_valid"]
@@ -97,7 +97,9 @@ def _end_points(E: ElementarySites, k: int):
 
 def on_circle(E: ElementarySites, triple, sol, k: int):
     """"on" (site k touches the vertex's circle), "outside", False (k enters it) or None
-    (not decided: no closed form found)."""
+    (not decided: no closed form found; always for elliptic pieces)."""
+    if any(E.kind[t] == ELLIPSE for t in tuple(triple) + (k,)):
+        return None
     v = _closed_form(E, triple, sol)
     if v is None:
         return None
@@ -162,7 +164,9 @@ def contacts_valid(E: ElementarySites, triple, sol) -> bool | None:
     """Decide exactly, at the exact vertex of ``triple`` near ``sol``, that each interior contact
     lies in the closed curve (a segment's foot parameter in [0, 1], an arc's direction in its
     closed range) — the case where a contact is exactly at an end, which balls cannot decide.
-    None when no closed form is found."""
+    None when no closed form is found (always for elliptic pieces)."""
+    if any(E.kind[t] == ELLIPSE for t in triple):
+        return None
     v = _closed_form(E, triple, sol)
     if v is None:
         return None

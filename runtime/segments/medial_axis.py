@@ -23,10 +23,12 @@ from typing import Any
 import numpy as np
 
 from ..sites.arc import Arc, circle_halves
+from ..sites.elliptic_arc import EllipticArc
 from ..sites.segment import Segment
-from ..voronoi.structure import DiagramVertex
+from ..voronoi.structure import DiagramEdge, DiagramVertex
 from .bisectors import bisector_kind
 from .distance import site_distances
+from .ellipse_bisectors import beyond_curvature
 
 __all__ = ["medial_axis", "MedialAxis", "MedialEdge", "boundary_pieces"]
 
@@ -156,7 +158,7 @@ def _ring_segments(ring, where: str) -> list:
     """A closed ring as pieces: a list of Segments and Arcs (a closed loop), a Circle of rational
     radius (two half arcs), a list of (x, y) vertices, a shapely LinearRing/Polygon exterior or a
     GeoJSON ring."""
-    if isinstance(ring, (list, tuple)) and ring and all(isinstance(s, (Segment, Arc)) for s in ring):
+    if isinstance(ring, (list, tuple)) and ring and all(isinstance(s, (Segment, Arc, EllipticArc)) for s in ring):
         return list(ring)
     if hasattr(ring, "r2"):                     # a Circle: its two half arcs
         return circle_halves((ring.cx, ring.cy), ring.r2, getattr(ring, "label", None), what=where)
@@ -199,6 +201,12 @@ def _boundary_chords(sites) -> np.ndarray:
             P = np.column_stack([cx + rho * np.cos(t), cy + rho * np.sin(t)])
             P[0], P[-1] = (ax, ay), (bx, by)
             out.extend(zip(map(tuple, P[:-1]), map(tuple, P[1:])))
+        elif isinstance(s, EllipticArc):
+            (cx, cy), M, N, p0, p1 = s.float_data()
+            t = np.linspace(p0, p1, 257)
+            P = np.array([cx, cy]) + np.cos(t)[:, None] * np.array(M) + np.sin(t)[:, None] * np.array(N)
+            P[0], P[-1] = [float(v) for v in s.a], [float(v) for v in s.b]
+            out.extend(zip(map(tuple, P[:-1]), map(tuple, P[1:])))
     return np.array(out, dtype=float).reshape(-1, 2, 2)
 
 
@@ -233,9 +241,17 @@ def medial_axis(outer, holes=(), *, certify: bool = True, tolerance: float | Non
     probes = []
     for e in D.edges:
         i, j = e.sites
-        if bisector_kind(E, i, j) in ("perpendicular", "joint") or None in e.ends:
-            continue
         P = np.asarray(e.polyline, float)
+        if bisector_kind(E, i, j) not in ("perpendicular", "joint"):
+            if None in e.ends:
+                continue
+        else:
+            # a perpendicular or joint edge has one nearest boundary point, except for an elliptic
+            # piece beyond its centre of curvature at the end (two nearest points there)
+            P = beyond_curvature(E, i, j, P)
+            if len(P) < 2:
+                continue
+            e = DiagramEdge(e.id, e.sites, e.ends, e.closed, P, e.tolerance, e.certified)
         k = len(P) // 2
         probes.append((P[k - 1] + P[k]) / 2 if len(P) % 2 == 0 else P[k])
         keep.append(e)

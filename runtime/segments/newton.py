@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .elementary import ElementarySites
+from .elementary import ELLIPSE, ElementarySites
 from .vertices import VertexSolution, arc_centre_vertex, common_point, contact_equations, prove_vertex, prove_zero
 
 __all__ = ["prove_vertices"]
@@ -33,7 +33,9 @@ def prove_vertices(E: ElementarySites, items, cache: dict | None = None) -> list
     out: list = [None] * len(items)
     rows, systems = [], []
     for n, (triple, seed) in enumerate(items):
-        if common_point(E, triple) is not None or arc_centre_vertex(E, triple) is not None:
+        if common_point(E, triple) is not None or arc_centre_vertex(E, triple) is not None \
+                or any(E.kind[t] == ELLIPSE for t in triple):
+            # (elliptic pieces: their foot equation has no closed form for the batched Newton)
             out[n] = prove_vertex(E, triple, seed, cache=cache)
             continue
         eqs = contact_equations(E, triple, seed)

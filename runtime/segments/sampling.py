@@ -18,7 +18,8 @@ from scipy.spatial import Delaunay, QhullError, cKDTree
 from ..voronoi.sample_delaunay import SampleTriangulation
 from .bisectors import arc_range
 from .distance import in_arc
-from .elementary import ARC, POINT, ElementarySites
+from .elementary import ARC, ELLIPSE, POINT, ElementarySites
+from .ellipse_pieces import piece_at_lengths, piece_feet, piece_lengths, piece_points, piece_tangent
 
 __all__ = ["initial_spacing", "samples", "curve_lengths", "triangulation", "retriangulation", "flat", "nearest_point", "corner_grading", "end_points", "GRADING_FLOOR",
            "SPACING_PER_GAP"]
@@ -56,6 +57,8 @@ def curve_lengths(E: ElementarySites) -> np.ndarray:
     L = np.hypot(*(E.B - E.A).T)
     for s in np.nonzero(E.kind == ARC)[0].tolist():
         L[s] = E.rho[s] * arc_range(E, s)[1]
+    for s in np.nonzero(E.kind == ELLIPSE)[0].tolist():
+        L[s] = piece_lengths(E.ellipse[s], 256)[0][-1]
     return L
 
 
@@ -96,6 +99,11 @@ def samples(E: ElementarySites, spacing, extra=None, graded: bool = True, ends=(
             # the tie; the samples only guide the combinatorics, which are proved afterwards.
             jitter = 1 + 1e-9 * (np.arange(len(th)) % 7 - 3)
             Q[arc] = E.C[owner[arc]] + (E.rho[owner[arc]] * jitter)[:, None] * np.column_stack([np.cos(th), np.sin(th)])
+        ell = E.kind[owner] == ELLIPSE
+        if ell.any():
+            for s_ in np.unique(owner[ell]).tolist():
+                at = np.nonzero(owner == s_)[0]
+                Q[at] = piece_at_lengths(E.ellipse[s_], t[at])
         pts.append(Q)
         labs.append(owner)
         G, glab = corner_grading(E, spacing, ends) if grade else (np.empty((0, 2)), None)
@@ -148,6 +156,8 @@ def corner_grading(E: ElementarySites, spacing, ends=()):
             if E.kind[s] == ARC:
                 r = c - E.C[s]
                 u = np.array([-r[1], r[0]]) if int(E.ends[s, 0]) == p else np.array([r[1], -r[0]])
+            elif E.kind[s] == ELLIPSE:
+                u = piece_tangent(E.ellipse[s], 0 if int(E.ends[s, 0]) == p else 1)
             else:
                 u = (E.B[s] if int(E.ends[s, 0]) == p else E.A[s]) - c
             dirs.append(u / max(np.hypot(*u), 1e-300))
@@ -192,6 +202,8 @@ def end_points(E: ElementarySites, s: int, p: int, dist) -> np.ndarray:
         th = np.arctan2(r[1], r[0]) + sgn * dist / E.rho[s]
         jitter = 1 + 1e-9 * (np.arange(len(th)) % 7 - 3)       # co-circular samples, see samples()
         return E.C[s] + (E.rho[s] * jitter)[:, None] * np.column_stack([np.cos(th), np.sin(th)])
+    if E.kind[s] == ELLIPSE:
+        return piece_at_lengths(E.ellipse[s], from_end=0 if int(E.ends[s, 0]) == p else 1, dist=dist)
     u = (E.B[s] if int(E.ends[s, 0]) == p else E.A[s]) - c
     return c + dist[:, None] * (u / max(np.hypot(*u), 1e-300))
 
@@ -208,6 +220,12 @@ def nearest_point(E: ElementarySites, t: int, q) -> tuple[float, float]:
             return float(f[0]), float(f[1])
         e = min(ends, key=lambda P: np.hypot(*(P - q)))
         return float(e[0]), float(e[1])
+    if E.kind[t] == ELLIPSE:
+        P_ = E.ellipse[t]
+        _d, phi = piece_feet(P_, q[None, :])
+        span = P_.phi1 - P_.phi0
+        f = piece_points(P_, np.clip(phi, P_.phi0 + 1e-6 * span, P_.phi1 - 1e-6 * span))[0]
+        return float(f[0]), float(f[1])
     a, b = E.A[t], E.B[t]
     d = b - a
     # strictly inside the segment: an end is a point site's sample already

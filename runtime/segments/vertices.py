@@ -20,19 +20,32 @@ three sites when r > 0 and every interior contact has its foot parameter in [0, 
 distance to the closed segment is the line's); a foot parameter straddling 0 or 1 is a
 degeneracy (the endpoint touches too) and is reported undecided.
 
+An open elliptic-arc piece t (:mod:`runtime.segments.ellipse_pieces`) touched in its interior
+contributes |v − e(φ(v))|² − r² = 0 with φ(v) the foot of v on t: by the envelope theorem its
+gradient in v is 2(v − e(φ(v))), so the equation is a point equation whose point is the foot; the
+Krawczyk test encloses the foot over its box by a parametric one-dimensional Krawczyk test
+(:func:`runtime.segments.ellipse_pieces.foot_enclosure`), and the proved zero touches t when the
+foot lies strictly inside t and is its nearest point
+(:func:`runtime.segments.ellipse_pieces.nearest_verdict`).  Two pieces of one ellipse meeting at
+a vertex of the ellipse (a smooth joint) beyond the joint's centre of curvature are touched at
+two feet, one on each piece: then both take the foot equation.
+
 Public API: :class:`VertexSolution`, :func:`prove_vertex`, :func:`prove_zero`, :func:`common_point`,
 :func:`contact_equations`, :func:`direction_in_arc`.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
+
 import numpy as np
 from flint import arb, arb_mat, ctx
 
 from ..certify.foot import to_arb
 from ..certify.interval_newton import KrawczykFailure, krawczyk_inflation
 from .distance import foot_parameter
-from .elementary import ARC, POINT, SEGMENT, ElementarySites
+from .elementary import ARC, ELLIPSE, POINT, SEGMENT, ElementarySites
+from .ellipse_contacts import ellipse_centre_vertex, ellipse_contact_valid, foot_point, past_centre_of_curvature
+from .ellipse_pieces import piece_feet
 
 __all__ = ["VertexSolution", "prove_vertex", "prove_zero", "common_point", "contact_equations", "direction_in_arc",
            "arc_centre_vertex"]
@@ -94,6 +107,9 @@ def _tangent_at(E: ElementarySites, t: int, e: int):
     if E.kind[t] == SEGMENT:
         (ax, ay), (bx, by) = E.xy[int(E.ends[t, 0])], E.xy[int(E.ends[t, 1])]
         return bx - ax, by - ay
+    if E.kind[t] == ELLIPSE:
+        arc = E.sites[t]
+        return arc.tangent(arc.ua if int(E.ends[t, 0]) == e else arc.ub)
     (cx, cy), _rho = E.arc[t]
     return -(ey - cy), ex - cx
 
@@ -111,6 +127,8 @@ def contact_equations(E: ElementarySites, triple, seed):
             shared = {int(v) for v in E.ends[t1] if v < -1} & {int(v) for v in E.ends[t2] if v < -1}
             if shared:              # two arcs of one circle share both joints: the nearer one
                 j = min(shared, key=lambda c: (float(E.xy[c][0]) - seed[0]) ** 2 + (float(E.xy[c][1]) - seed[1]) ** 2)
+                if E.kind[t1] == ELLIPSE and E.kind[t2] == ELLIPSE and past_centre_of_curvature(E, t1, j, seed):
+                    continue        # beyond the joint's centre of curvature: two feet
                 joint_of[t1] = ("point", j)
                 joint_of[t2] = ("normal", j)
     eqs = []
@@ -124,10 +142,16 @@ def contact_equations(E: ElementarySites, triple, seed):
             continue
         ends_in = [p for p in pts if p in (int(E.ends[t, 0]), int(E.ends[t, 1]))]
         if len(ends_in) == 2:
-            return None              # both ends of a curve and its interior: no circle
+            if E.kind[t] == ELLIPSE:     # a circle through both ends may touch a curved piece between them
+                eqs.append(("ellipse", E.ellipse[t], t))
+                continue
+            return None              # both ends of a segment or circular arc and its interior: no circle
         if ends_in:
             e = ends_in[0]
-            eqs.append(("normal", _tangent_at(E, t, e) + E.xy[e], t))
+            if E.kind[t] == ELLIPSE and past_centre_of_curvature(E, t, e, seed):
+                eqs.append(("ellipse", E.ellipse[t], t))      # an interior foot, not the end
+            else:
+                eqs.append(("normal", _tangent_at(E, t, e) + E.xy[e], t))
             continue
         if E.kind[t] == SEGMENT:
             (ax, ay), (bx, by) = E.xy[int(E.ends[t, 0])], E.xy[int(E.ends[t, 1])]
@@ -135,6 +159,8 @@ def contact_equations(E: ElementarySites, triple, seed):
             c = -(a * ax + b * ay)
             side = float(a) * seed[0] + float(b) * seed[1] + float(c)
             eqs.append(("line", (a, b, c, 1 if side >= 0 else -1, a * a + b * b), t))
+        elif E.kind[t] == ELLIPSE:
+            eqs.append(("ellipse", E.ellipse[t], t))
         else:
             (cx, cy), rho = E.arc[t]
             out = (seed[0] - float(cx)) ** 2 + (seed[1] - float(cy)) ** 2 > float(rho) ** 2
@@ -153,6 +179,8 @@ def _coefficients(eqs, num, sqrt) -> list[tuple]:
         elif kind == "arc":
             cx, cy, rho, s = d
             co.append((kind, num(cx), num(cy), num(rho), s))
+        elif kind == "ellipse":
+            co.append((kind, d))
         else:
             co.append((kind,) + tuple(num(v) for v in d))
     return co
@@ -176,6 +204,11 @@ def _contact_residuals(co, z, zero):
         elif e[0] == "normal":
             out.append(e[1] * (x - e[3]) + e[2] * (y - e[4]))
             J.append([e[1], e[2], zero])
+        elif e[0] == "ellipse":
+            fx, fy = foot_point(e[1], x, y)
+            dx, dy = x - fx, y - fy
+            out.append(dx * dx + dy * dy - r * r)
+            J.append([2 * dx, 2 * dy, -2 * r])
         else:
             dx, dy, R = x - e[1], y - e[2], e[3] + e[4] * r
             out.append(dx * dx + dy * dy - R * R)
@@ -212,6 +245,11 @@ def prove_vertex(E: ElementarySites, triple, seed, r_seed: float | None = None, 
         (cx, cy), rho = centre
         return VertexSolution("proved", float(cx), float(cy), float(rho), (to_arb(cx), to_arb(cy), to_arb(rho)),
                               reason="arc centre")
+    centre = ellipse_centre_vertex(E, triple)
+    if centre is not None:
+        (cx, cy), b2 = centre
+        return VertexSolution("proved", float(cx), float(cy), float(b2) ** 0.5,
+                              (to_arb(cx), to_arb(cy), to_arb(b2).sqrt()), reason="ellipse centre")
     eqs = contact_equations(E, triple, seed)
     if eqs is None:
         return VertexSolution("invalid", float(seed[0]), float(seed[1]), 0.0, reason="a segment and both its endpoints")
@@ -272,7 +310,7 @@ def prove_zero(E: ElementarySites, triple, eqs, z, scale) -> VertexSolution:
         if not r > 0:
             return VertexSolution("invalid" if r <= 0 else "undecided", *z, box=tuple(K), reason="radius")
         for kind, d, t in eqs:
-            verdict = _contact_valid(E, kind, d, t, x, y, r)
+            verdict = _contact_valid(E, kind, d, t, x, y, r, triple)
             if verdict is not True:
                 return VertexSolution("invalid" if verdict is False else "undecided", *z, box=tuple(K),
                                       reason=f"contact with site {t} outside its interior" if verdict is False
@@ -282,7 +320,7 @@ def prove_zero(E: ElementarySites, triple, eqs, z, scale) -> VertexSolution:
         ctx.prec = old
 
 
-def _contact_valid(E: ElementarySites, kind, d, t, x, y, r):
+def _contact_valid(E: ElementarySites, kind, d, t, x, y, r, triple=()):
     """True when the proved zero touches site t where the equation says (a segment's foot in
     [0, 1], an arc's contact direction in its range with ρ + σr > 0, a normal line on the side
     of an arc's end away from the centre), False when it does not, None when undecided."""
@@ -299,6 +337,8 @@ def _contact_valid(E: ElementarySites, kind, d, t, x, y, r):
         if not R > 0:
             return None
         return direction_in_arc(E, t, x - to_arb(cx), y - to_arb(cy))
+    if E.kind[t] == ELLIPSE:
+        return ellipse_contact_valid(E, kind, d, t, x, y, r, triple)
     if kind == "normal" and E.kind[t] == ARC:
         (cx, cy), _rho = E.arc[t]
         ex, ey = d[2], d[3]
@@ -340,5 +380,7 @@ def _r_guess(eqs, z):
         elif kind == "arc":
             cx, cy, rho, _s = d
             rs.append(abs(float(np.hypot(z[0] - float(cx), z[1] - float(cy))) - float(rho)))
+        elif kind == "ellipse":
+            rs.append(float(piece_feet(d, np.array([[z[0], z[1]]]))[0][0]))
     return float(np.mean(rs)) if rs else 1.0
 

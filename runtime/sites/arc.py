@@ -17,6 +17,9 @@ A whole circle of rational radius enters a diagram of pieces as its two halves
 (:func:`circle_halves`): two arcs meeting at smooth joints, the union of which is the circle (the
 same distance function); inside the disc their bisector is the diameter through the joints.
 
+Elliptic arcs (DXF's ELLIPSE) are :class:`runtime.sites.elliptic_arc.EllipticArc` sites, made by
+:meth:`Arc.elliptic`.
+
 Public API: :class:`Arc`, :func:`exact_sqrt`, :func:`circle_halves`.
 """
 from __future__ import annotations
@@ -25,6 +28,7 @@ import math
 from fractions import Fraction
 
 from ..result import InvalidConicError
+from .elliptic_arc import EllipticArc
 from .rationals import to_fraction
 from .segment import as_point_pair
 
@@ -111,6 +115,19 @@ class Arc:
         if rho is None:
             raise InvalidConicError(f"bulge {b}: the radius √{r2} of the arc is irrational")
         return cls(c, rho, p, q, label) if b > 0 else cls(c, rho, q, p, label)
+
+    @staticmethod
+    def elliptic(centre, major_axis, ratio, start_param, end_param, label: str | None = None):
+        """DXF's ELLIPSE arc: the :class:`runtime.sites.elliptic_arc.EllipticArc` of the ellipse of
+        ``centre``, major-axis vector ``major_axis`` and ``ratio`` = minor/major (0 < ratio < 1),
+        counter-clockwise from ``start_param`` to ``end_param`` (radians; ends rational, see
+        :func:`runtime.sites.elliptic_arc.rational_unit`).  A whole ellipse (end − start ≥ 2π)
+        is refused here: :meth:`EllipticArc.from_dxf` gives its two halves."""
+        out = EllipticArc.from_dxf(centre, major_axis, ratio, start_param, end_param, label)
+        if len(out) != 1:
+            raise InvalidConicError("Arc.elliptic: a whole ellipse is not an arc (use EllipticArc.from_dxf for its "
+                                    "two halves, or a Conic.ellipse site)")
+        return out[0]
 
     # ------------------------------------------------------------------ geometry
     def contains_direction(self, u) -> bool:

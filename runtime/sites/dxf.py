@@ -9,6 +9,9 @@ ARC                            one :class:`runtime.sites.arc.Arc` (:meth:`Arc.ci
 CIRCLE                         its two half arcs (:func:`runtime.sites.arc.circle_halves`), one
                                source: the whole circle is the site, its radius the float's value
 POINT                          one :class:`runtime.predicates.circles.Point`
+ELLIPSE                        one :class:`runtime.sites.elliptic_arc.EllipticArc`
+                               (:meth:`EllipticArc.from_dxf`: centre, major-axis vector, ratio,
+                               parameters in radians), a whole ellipse its two halves
 LWPOLYLINE, POLYLINE (2-D)     a piece per pair of consecutive distinct vertices: a Segment, or an
                                Arc where the first vertex has a nonzero bulge; a closed polyline
                                also gets its closing piece (none of length 0)
@@ -41,8 +44,8 @@ own precision.  Bulges too flat for this (|b| below about 2⁻⁴¹, where u·(q
 are refused: draw a line segment.
 
 Refused with a one-line :class:`runtime.sites.shapes.ShapeError` naming the entity type, handle
-and layer: curves other than lines and circles (ELLIPSE, SPLINE, HATCH, ..., a curve- or
-spline-fit polyline) -- planned, not supported yet;
+and layer: curves other than lines, circles and ellipses (SPLINE, HATCH, ..., a curve- or
+spline-fit polyline) -- planned, not supported yet; an ELLIPSE of ratio 1 (a circle: draw an ARC);
 other entity types (TEXT, INSERT, DIMENSION, ...; pass ``skip={"TEXT", ...}`` to ignore them);
 polygon and polyface meshes; coordinates with z != 0 (the diagram is planar: flatten the drawing
 first; a 3-D POLYLINE is read when all its z are 0); extrusions other than ±z; zero-length LINEs;
@@ -65,10 +68,10 @@ from .shapes import ShapeError
 __all__ = ["read_dxf", "SUPPORTED", "CURVED"]
 
 #: entity types read as sites
-SUPPORTED = ("LINE", "ARC", "CIRCLE", "POINT", "LWPOLYLINE", "POLYLINE")
-#: entity types refused because they need curves other than circular arcs (planned)
-CURVED = ("ELLIPSE", "SPLINE", "HATCH", "MPOLYGON", "HELIX", "REGION", "ARC_DIMENSION")
-_NOT_YET = ("curves other than line segments and circular arcs are not supported yet (planned); replace it by "
+SUPPORTED = ("LINE", "ARC", "CIRCLE", "POINT", "LWPOLYLINE", "POLYLINE", "ELLIPSE")
+#: entity types refused because they need curves other than circular and elliptic arcs (planned)
+CURVED = ("SPLINE", "HATCH", "MPOLYGON", "HELIX", "REGION", "ARC_DIMENSION")
+_NOT_YET = ("curves other than line segments, circular and elliptic arcs are not supported yet (planned); replace it by "
             "a polyline of line segments and arcs")
 
 
@@ -77,8 +80,8 @@ def read_dxf(path, *, skip=()) -> tuple[list, list[int], list[str]]:
     docstring); ``skip``: entity types to ignore (e.g. ``{"TEXT", "MTEXT", "DIMENSION"}``).
 
     :class:`runtime.sites.shapes.ShapeError` (a ValueError) with one line, e.g.
-    ``drawing.dxf: SPLINE (handle 2F, layer 'walls'): curves other than line segments and circular
-    arcs are not supported yet (planned); ...``; ImportError naming the pip command without ezdxf."""
+    ``drawing.dxf: SPLINE (handle 2F, layer 'walls'): curves other than line segments, circular and
+    elliptic arcs are not supported yet (planned); ...``; ImportError naming the pip command without ezdxf."""
     from ..optional import require
 
     ezdxf = require("ezdxf", "reading DXF files")
@@ -150,6 +153,8 @@ def _entity_pieces(e, kind: str, where: str) -> list:
         return [_arc_entity(e, where)]
     if kind == "CIRCLE":
         return _circle_entity(e, where)
+    if kind == "ELLIPSE":
+        return _ellipse_entity(e, where)
     if kind == "LWPOLYLINE":
         flip = _ocs_flip(e, where)
         rows = e.get_points("xyb")
@@ -205,6 +210,25 @@ def _arc_entity(e, where: str):
         return arc
     (cx, cy), (ax, ay), (bx, by) = arc.c, arc.a, arc.b
     return Arc((-cx, cy), arc.rho, (-bx, by), (-ax, ay))
+
+
+def _ellipse_entity(e, where: str) -> list:
+    """An ELLIPSE entity (WCS centre and major axis; extrusion −z turns its parameters clockwise:
+    φ ∈ [s, e] there is ψ = −φ ∈ [−e, −s] counter-clockwise) as elliptic arcs."""
+    from .elliptic_arc import EllipticArc
+
+    flip = _ocs_flip(e, where)
+    c = _xy(e.dxf.center, f"{where} centre")
+    M = _xy(e.dxf.major_axis, f"{where} major axis")
+    s, t = float(e.dxf.start_param), float(e.dxf.end_param)
+    if t <= s:
+        t += 2 * math.pi
+    if flip:
+        s, t = -t, -s
+    try:
+        return EllipticArc.from_dxf(c, M, to_fraction(e.dxf.ratio, "ratio"), s, t)
+    except InvalidConicError as exc:
+        raise ShapeError(f"{where}: {exc}") from None
 
 
 def _circle_entity(e, where: str) -> list:

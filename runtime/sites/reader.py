@@ -12,6 +12,10 @@ the same way).  Sites are numbered from 0 in the order of the list.  A SITE is o
     {"segment": [[x0, y0], [x1, y1]]}                        # the closed segment, two distinct ends
     {"arc": {"centre": [x, y], "radius": r, "start": [x, y], "end": [x, y]}}     # exact endpoints
     {"arc": {"centre": [x, y], "radius": r, "start_angle": deg, "end_angle": deg}}
+    {"elliptic_arc": {"centre": [x, y], "major_axis": [x, y], "ratio": k,
+                      "start_direction": [u, v], "end_direction": [u, v]}}   # exact (cos φ, sin φ)
+    {"elliptic_arc": {"centre": [x, y], "major_axis": [x, y], "ratio": k,
+                      "start_param": φ0, "end_param": φ1}}                  # radians (DXF's ELLIPSE)
 
 Numbers are JSON numbers (floats are taken at their exact binary value) or rational strings such
 as ``"3/5"``.  ``ROT`` (optional, default 0) turns the canonical axes: an angle in **degrees**
@@ -28,7 +32,10 @@ circle of rational centre and radius; its exact form gives rational endpoints th
 that circle exactly (``(x - cx)² + (y - cy)² = r²``), its DXF-like form gives angles in degrees
 realised by :meth:`runtime.sites.arc.Arc.circular` (exact at multiples of 90°, else rational
 points of the circle within about 10⁻¹⁶ of the angle); :func:`site_to_json` writes the exact
-form.  Arcs take ``"label"`` and ``"source"`` as segments do.
+form.  Arcs take ``"label"`` and ``"source"`` as segments do.  An elliptic arc
+(:class:`runtime.sites.elliptic_arc.EllipticArc`) is the counter-clockwise arc φ ↦ c + cos φ M +
+sin φ N of DXF's ELLIPSE (N = k·perp(M), 0 < k < 1); its exact form gives the ends' frame
+directions (rational unit vectors), its DXF form the parameters in radians.
 
 The document is validated against :data:`SITES_SCHEMA` with the ``jsonschema`` library; every
 problem becomes a :class:`ValueError` with one line naming the offending entry, e.g.
@@ -69,6 +76,15 @@ _ARC = {"type": "object",
         "required": ["centre", "radius"],
         "oneOf": [{"required": ["start", "end"]}, {"required": ["start_angle", "end_angle"]}],
         "additionalProperties": False}
+_ELLIPTIC_ARC = {"type": "object",
+                 "properties": {"centre": {"$ref": "#/$defs/xy"}, "major_axis": {"$ref": "#/$defs/xy"},
+                                "ratio": {"$ref": "#/$defs/positive"},
+                                "start_direction": {"$ref": "#/$defs/xy"}, "end_direction": {"$ref": "#/$defs/xy"},
+                                "start_param": {"$ref": "#/$defs/number"}, "end_param": {"$ref": "#/$defs/number"}},
+                 "required": ["centre", "major_axis", "ratio"],
+                 "oneOf": [{"required": ["start_direction", "end_direction"]},
+                           {"required": ["start_param", "end_param"]}],
+                 "additionalProperties": False}
 _ROT = {"anyOf": [{"type": "number"},
                   {"type": "object", "required": ["cos", "sin"], "additionalProperties": False,
                    "properties": {"cos": {"$ref": "#/$defs/number"}, "sin": {"$ref": "#/$defs/number"}}}]}
@@ -121,15 +137,16 @@ SITES_SCHEMA = {
                                           "rotation": {"$ref": "#/$defs/rotation"}}, ["vertex", "p"]),
                 "segment": _SEGMENT,
                 "arc": _ARC,
+                "elliptic_arc": _ELLIPTIC_ARC,
             },
             "additionalProperties": False,
             "oneOf": [{"required": [k]} for k in ("point", "circle", "coefficients", "ellipse", "hyperbola",
-                                                   "parabola", "segment", "arc")],
+                                                   "parabola", "segment", "arc", "elliptic_arc")],
         },
     },
 }
 
-_SHAPES = ("point", "circle", "coefficients", "ellipse", "hyperbola", "parabola", "segment", "arc")
+_SHAPES = ("point", "circle", "coefficients", "ellipse", "hyperbola", "parabola", "segment", "arc", "elliptic_arc")
 _ARC_FORMS = 'needs "start" and "end" (exact points of the circle) or "start_angle" and "end_angle" (degrees)'
 
 
@@ -281,6 +298,8 @@ def parse_site(entry, where: str = "site"):
             return Segment(ends[0], ends[1], label)
         if kind == "arc":
             return _parse_arc(body, f"{where}.arc", label)
+        if kind == "elliptic_arc":
+            return _parse_elliptic_arc(body, f"{where}.elliptic_arc", label)
         if kind == "coefficients":
             return Conic.from_coefficients(*(parse_number(v, f"{where}.coefficients") for v in body), label=label)
         rot = _rotation(body.get("rotation"), f"{where}.{kind}.rotation")
@@ -333,15 +352,41 @@ def _parse_arc(body, where: str, label):
         raise type(exc)(f"{where}: {exc}") from None
 
 
+def _parse_elliptic_arc(body, where: str, label):
+    """An :class:`runtime.sites.elliptic_arc.EllipticArc` from its record (either form)."""
+    from .elliptic_arc import EllipticArc
+
+    if not isinstance(body, dict):
+        raise ValueError(f"{where}: expected an object, got {body!r}")
+    centre = tuple(parse_number(v, f"{where}.centre") for v in body["centre"])
+    axis = tuple(parse_number(v, f"{where}.major_axis") for v in body["major_axis"])
+    ratio = parse_number(body["ratio"], f"{where}.ratio")
+    try:
+        if "start_direction" in body:
+            u0 = tuple(parse_number(v, f"{where}.start_direction") for v in body["start_direction"])
+            u1 = tuple(parse_number(v, f"{where}.end_direction") for v in body["end_direction"])
+            return EllipticArc(centre, axis, ratio, u0, u1, label)
+        out = EllipticArc.from_dxf(centre, axis, ratio, float(Fraction(parse_number(body["start_param"], where))),
+                                   float(Fraction(parse_number(body["end_param"], where))), label)
+        if len(out) != 1:
+            raise ValueError("a whole ellipse is not an arc (give it as an \"ellipse\" site)")
+        return out[0]
+    except ValueError as exc:
+        raise type(exc)(f"{where}: {exc}") from None
+
+
 def site_label(site, index: int) -> str:
     """``"site 3 (ellipse)"``: how messages name a site (0-based index)."""
     from .arc import Arc
+    from .elliptic_arc import EllipticArc
     from .segment import Segment
 
     if isinstance(site, Segment):
         return f"site {index} (segment)"
     if isinstance(site, Arc):
         return f"site {index} (arc)"
+    if isinstance(site, EllipticArc):
+        return f"site {index} (elliptic arc)"
     kind = getattr(site, "kind", None) or ("point" if getattr(site, "r2", 1) == 0 else "circle")
     return f"site {index} ({kind})"
 
@@ -353,6 +398,7 @@ def site_key(site) -> tuple:
     from ..predicates.circles import Circle
     from .arc import Arc
     from .conic import Conic
+    from .elliptic_arc import EllipticArc
     from .segment import Segment
 
     if isinstance(site, Segment):
@@ -360,6 +406,9 @@ def site_key(site) -> tuple:
     if isinstance(site, Arc):
         (cx, cy), r, (ax, ay), (bx, by) = site.key()
         return ("arc",) + tuple(map(str, (cx, cy, r, ax, ay, bx, by)))
+    if isinstance(site, EllipticArc):
+        (cx, cy), (mx, my), k, (u0, v0), (u1, v1) = site.key()
+        return ("elliptic_arc",) + tuple(map(str, (cx, cy, mx, my, k, u0, v0, u1, v1)))
     if isinstance(site, Conic) and site.kind == "circle":
         site = Circle.from_coefficients(*site.coefficients)
     if isinstance(site, Circle):
@@ -477,13 +526,15 @@ def read_coefficient_lists(path: str, expected: int | None = None) -> list[list]
 def site_to_json(site, source: int | None = None) -> dict:
     """The exact JSON record of a site: ``{"point": [x, y]}``, ``{"circle": {"centre": [x, y],
     "radius_squared": r2}}``, ``{"coefficients": [a, b, c, d, e, f]}``, ``{"segment": [[x0, y0],
-    [x1, y1]]}`` or ``{"arc": {"centre": [x, y], "radius": r, "start": [x, y], "end": [x, y]}}`` (the
+    [x1, y1]]}``, ``{"arc": {"centre": [x, y], "radius": r, "start": [x, y], "end": [x, y]}}`` or
+    ``{"elliptic_arc": {...}}`` (the
     exact form, with the site's ``"label"`` when it has one), numbers as rational strings
     (read back by :func:`parse_site` to the same site).  ``"source"`` is written when ``source`` (or else
     the site's attribute ``source``) is not None."""
     from ..predicates.circles import Circle
     from .arc import Arc
     from .conic import Conic
+    from .elliptic_arc import EllipticArc
     from .segment import Segment
 
     if isinstance(site, Circle):
@@ -498,6 +549,11 @@ def site_to_json(site, source: int | None = None) -> dict:
     elif isinstance(site, Arc):
         out = {"arc": {"centre": [str(site.c[0]), str(site.c[1])], "radius": str(site.rho),
                        "start": [str(site.a[0]), str(site.a[1])], "end": [str(site.b[0]), str(site.b[1])]}}
+    elif isinstance(site, EllipticArc):
+        out = {"elliptic_arc": {"centre": [str(site.c[0]), str(site.c[1])],
+                                "major_axis": [str(site.M[0]), str(site.M[1])], "ratio": str(site.ratio),
+                                "start_direction": [str(site.ua[0]), str(site.ua[1])],
+                                "end_direction": [str(site.ub[0]), str(site.ub[1])]}}
     else:
         raise TypeError(f"not a site: {site!r}")
     label = getattr(site, "label", None)

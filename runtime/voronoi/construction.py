@@ -121,7 +121,7 @@ def voronoi(sites, *, certify: bool = True, progress=None, time_limit: float | N
     t_start = time.perf_counter()
     deadline = None if time_limit is None else t_start + float(time_limit)
     sites = list(sites)
-    if any(type(s).__name__ in ("Segment", "Arc") for s in sites):    # points, segments, arcs: §2.2
+    if any(type(s).__name__ in ("Segment", "Arc", "EllipticArc") for s in sites):    # points, segments, arcs: §2.2
         from ..segments.construction import segment_voronoi
         return segment_voronoi(sites, certify=certify, progress=progress)
     sites = [as_site(s) for s in sites]
