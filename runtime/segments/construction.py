@@ -49,6 +49,7 @@ from scipy.spatial import cKDTree
 
 from ..predicates.circles import Point
 from ..sites.arc import Arc, circle_halves
+from ..sites.elliptic_arc import EllipticArc
 from ..sites.rationals import to_fraction
 from ..sites.segment import Segment, as_point_pair
 from ..threads import one_blas_thread, without_cyclic_gc
@@ -77,7 +78,7 @@ SPACING_PER_GAP = 4.0
 
 def has_segments(sites) -> bool:
     """True when ``sites`` holds a :class:`runtime.sites.segment.Segment` or an arc."""
-    return any(isinstance(s, (Segment, Arc)) for s in sites)
+    return any(isinstance(s, (Segment, Arc, EllipticArc)) for s in sites)
 
 
 @one_blas_thread
@@ -109,8 +110,8 @@ def segment_voronoi(pieces, sources=None, *, certify: bool = True, tolerance: fl
     _check_junctions(E)
     lo = np.minimum(E.A.min(axis=0), E.B.min(axis=0))
     hi = np.maximum(E.A.max(axis=0), E.B.max(axis=0))
-    if (E.kind == ARC).any():
-        arcs = E.kind == ARC
+    if (E.kind >= ARC).any():
+        arcs = E.kind >= ARC                      # circular arcs and elliptic pieces (C ± major semi-axis)
         lo = np.minimum(lo, (E.C[arcs] - E.rho[arcs][:, None]).min(axis=0))
         hi = np.maximum(hi, (E.C[arcs] + E.rho[arcs][:, None]).max(axis=0))
     extent = float(np.max(hi - lo)) or 1.0
@@ -173,7 +174,7 @@ def _as_pieces(p, k) -> list:
     """The pieces of input site k: a Segment, Arc or Point itself; an (x, y) pair a Point; a circle
     of rational radius (a Circle, or an (x, y, r) triple with r > 0) its two half arcs
     (:func:`runtime.sites.arc.circle_halves`); other conics are refused."""
-    if isinstance(p, (Segment, Arc)) or (isinstance(p, Point) and p.r2 == 0):
+    if isinstance(p, (Segment, Arc, EllipticArc)) or (isinstance(p, Point) and p.r2 == 0):
         return [p]
     if hasattr(p, "r2"):
         return circle_halves((p.cx, p.cy), p.r2, getattr(p, "label", None), what=f"site {k}")
@@ -204,6 +205,10 @@ def _check_junctions(E: ElementarySites) -> None:
                 (cx, cy), _rho = E.arc[s]
                 rx, ry = px - cx, py - cy
                 dirs.append((-ry, rx) if int(E.ends[s, 0]) == p else (ry, -rx))
+            elif E.kind[s] > ARC:                 # an elliptic piece: its exact end tangent
+                arc = E.sites[s]
+                tx, ty = arc.tangent(arc.ua if int(E.ends[s, 0]) == p else arc.ub)
+                dirs.append((tx, ty) if int(E.ends[s, 0]) == p else (-tx, -ty))
             else:
                 o = int(E.ends[s, 1]) if int(E.ends[s, 0]) == p else int(E.ends[s, 0])
                 dirs.append((E.xy[o][0] - px, E.xy[o][1] - py))
