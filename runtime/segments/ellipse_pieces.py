@@ -281,6 +281,14 @@ def foot_enclosure(P: PieceData, x: arb, y: arb, phi: float):
     """An interval Φ around ``phi`` in which f'(φ) = 0 has exactly one root for every point of
     the box (x, y) (parametric Krawczyk on f'/2), or None."""
     S = _Balls(P, x, y)
+    # float Newton steps at the box's centre first: the test's box is then a few ulps wide
+    W2, A, B, a2, b2 = (float(v[0]) if np.ndim(v) else float(v) for v in _coords(P, [[float(x.mid()), float(y.mid())]]))
+    for _ in range(4):
+        c, s = math.cos(phi), math.sin(phi)
+        d2 = A * c + B * s + (b2 - a2) * (c * c - s * s)
+        if d2 == 0 or not math.isfinite(d2):
+            break
+        phi = phi - (A * s - B * c + (b2 - a2) * s * c) / d2
     m = arb(phi)
     dgm = S.dg(m)
     if not (dgm > 0 or dgm < 0):
