@@ -142,3 +142,29 @@ def test_closest_at_an_end_on_both_sides(q, ends):
     else:
         assert got == ends
         assert abs(glob - ref_end[ends[0]]) < mpmath.mpf(10) ** -20
+
+
+def test_nearest_verdict_radius_on_both_sides_of_the_distance():
+    """With the true foot, r = the true distance is proved (True); a radius 10⁻³ larger is not:
+    then points of the piece next to the foot are strictly nearer than r."""
+    p, P = piece((0, 0), (4, 0), "1/2", 0.05, 1.5)
+    q = (4.5, 2.0)
+    ref = mpmath.findroot(lambda t: mpmath.diff(lambda u: ref_f(p, q, u), t), 0.4)
+    d = mpmath.sqrt(ref_f(p, q, ref))
+    Phi = foot_enclosure(P, arb(q[0]), arb(q[1]), float(ref))
+    assert nearest_verdict(P, arb(q[0]), arb(q[1]), arb(str(mpmath.nstr(d, 30))), Phi) is True
+    assert nearest_verdict(P, arb(q[0]), arb(q[1]), arb(str(mpmath.nstr(d + mpmath.mpf("1e-3"), 30))), Phi) is not True
+
+
+def test_foot_enclosure_refuses_a_box_across_the_evolute_and_holds_the_feet_otherwise():
+    _, P = piece((0, 0), (4, 0), "1/2", 0.0, 1.0)
+    # the centre of curvature of the major vertex is (3, 0): a box around it has no unique foot
+    assert foot_enclosure(P, arb(3, 0.4), arb(0.2, 0.4), 0.3) is None
+    p, P = piece((0, 0), (4, 0), "1/2", 0.2, 1.4)
+    Phi = foot_enclosure(P, arb(5, 0.05), arb(2, 0.05), 0.5)
+    assert Phi is not None
+    for dx in (-0.05, 0.05):
+        for dy in (-0.05, 0.05):
+            q = (5 + dx, 2 + dy)
+            c = mpmath.findroot(lambda t: mpmath.diff(lambda u: ref_f(p, q, u), t), 0.5)
+            assert Phi.contains(arb(str(mpmath.nstr(c, 30))))
