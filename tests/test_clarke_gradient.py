@@ -14,8 +14,8 @@ import numpy as np
 import curvedvoronoi as cv
 from curvedvoronoi.runtime.predicates.circles import Circle
 from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
-from curvedvoronoi.runtime.voronoi.verify.clarke_gradient import clarke_normal_range
-from curvedvoronoi.runtime.voronoi.verify.site_table import SiteTable
+from curvedvoronoi.runtime.voronoi.verify.clarke_gradient import clarke_normal_range, difference_range
+from curvedvoronoi.runtime.voronoi.verify.site_table import SiteTable, gradient_enclosure
 
 
 def ellipse_distance(P, centre, axes, degrees=0.0, m=20000):
@@ -82,6 +82,36 @@ def test_the_clarke_range_contains_sampled_gradients_on_a_disc():
             val = g @ n[0]
             # sampling puts the foot within 2e-4 of a nearest point: the direction within 1e-4
             assert lo[0] - 1e-4 <= val.min() and val.max() <= hi[0] + 1e-4, (centre, ang, lo, hi, val.min(), val.max())
+
+
+def test_the_range_of_a_difference_holds_every_difference_of_gradients():
+    """f = d_i − d_j of the circle (2, 0, 1) and the ellipse 10 × 6 at q = (−4, 0) on its medial
+    axis: ∂f holds ∇d_circle − u_± with the two feet's unit vectors u_± (closed form, as above).
+    Across the axis (n = (0, 1)) the values have both signs, so no monotonicity may be claimed, in
+    either order of the pair; along it (n = (1, 0)) all are > 0 and f is proved monotone."""
+    a, b, x = 10.0, 6.0, -4.0
+    ct = a * x / (a * a - b * b)
+    st = np.sqrt(1 - ct * ct)
+    feet = np.array([[a * ct, b * st], [a * ct, -b * st]])
+    u = (np.array([x, 0.0]) - feet) / np.hypot(*(np.array([x, 0.0]) - feet).T)[:, None]
+    gc = np.array([-1.0, 0.0])                                   # ∇|q − (2, 0)| at q = (−4, 0)
+    geoms = [site_geometry(cv.Conic.ellipse((0, 0), (a, b))), site_geometry(Circle.from_radius(2, 0, 1))]
+    T = SiteTable(geoms, 11.0)
+    Q = np.array([[x, 0.0], [x, 0.0]])
+    R = np.array([1e-3, 1e-3])
+    N = np.array([[0.0, 1.0], [1.0, 0.0]])
+    V = [T.evaluate(Q, [k, k]) for k in (0, 1)]
+    G = [gradient_enclosure(Q, V[k], R, 11.0) for k in (0, 1)]
+    for i, j in ((0, 1), (1, 0)):
+        lo, hi, ok = difference_range(T, Q, R, N, (np.array([i, i]), np.array([j, j])), (V[i], V[j]), (G[i], G[j]))
+        assert ok.all()
+        for r in range(2):
+            gi = [gc] if i == 1 else list(u)
+            gj = [gc] if j == 1 else list(u)
+            vals = [float((p - q) @ N[r]) for p in gi for q in gj]
+            assert lo[r] <= min(vals) and max(vals) <= hi[r], (i, j, r, lo[r], hi[r], vals)
+        assert lo[0] < 0 < hi[0]                                 # across the axis: undecided
+        assert (lo[1] > 0) if i == 0 else (hi[1] < 0)            # along it: proved
 
 
 def test_a_point_on_the_ellipse_gets_no_range():

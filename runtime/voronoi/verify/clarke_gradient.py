@@ -35,7 +35,12 @@ over the kept intervals m, for every q ∈ B(Q, R); and g·n over that hull lies
 its generators).  The intervals are halved (from 64 per curve) while ℓ > ``TOL``·lo, a kept
 interval at a time, at most ``LEVELS`` times.
 
-Public API: :func:`clarke_normal_range`.
+For f = d_i − d_j, :func:`difference_range` gives [min, max] of g·n over ∂d_i − ∂d_j from
+[a_i, b_i] and [a_j, b_j] of each: [a_i − b_j, b_i − a_j]; each site's range is the intersection
+of this enclosure and the gradient enclosure where both hold (∂d(q) = {∇d(q)} where d is
+continuously differentiable near q, Clarke Prop. 2.2.4).
+
+Public API: :func:`clarke_normal_range`, :func:`difference_range`.
 """
 from __future__ import annotations
 
@@ -44,7 +49,7 @@ import numpy as np
 from ...sites.kinds import SiteKind
 from ..geometry import rounding_slack
 
-__all__ = ["clarke_normal_range"]
+__all__ = ["clarke_normal_range", "difference_range"]
 
 START = 64          # parameter intervals per curve at the start
 LEVELS = 12         # halvings at most
@@ -133,3 +138,22 @@ def clarke_normal_range(table, Q, K, lo, hi, R, n):
         gmax[rows[fin]] = np.minimum(mx[fin], 1.0 + 1e-12)
         ok[rows[fin]] = True
     return gmin, gmax, ok
+
+
+def difference_range(table, Q, R, n, K, V, grads):
+    """(lo, hi, ok): lo ≤ g·n ≤ hi for every g in ∂d_i − ∂d_j at every q in B(Q, R), where ok.
+    ``K`` = (K_i, K_j) sites, ``V`` = (V_i, V_j) their values at Q (site table), ``grads`` =
+    ((G_i, s_i, valid_i), (G_j, s_j, valid_j)): gradient enclosures |∇d − G| ≤ s on the discs
+    (:func:`runtime.voronoi.verify.site_table.gradient_enclosure`); each site's range is that of
+    its gradient enclosure, intersected with :func:`clarke_normal_range` where both hold."""
+    n = np.asarray(n, float).reshape(-1, 2)
+    rng = []
+    for Kx, Vx, (Gx, sx, vx) in zip(K, V, grads):
+        cl, ch, cok = clarke_normal_range(table, Q, Kx, Vx.lo, Vx.hi, R, n)
+        gn = (Gx * n).sum(1)
+        gl = np.where(vx, gn - sx, -np.inf)
+        gh = np.where(vx, gn + sx, np.inf)
+        rng.append((np.where(cok, np.maximum(gl, cl), gl), np.where(cok, np.minimum(gh, ch), gh), vx | cok))
+    (il, ih, iok), (jl, jh, jok) = rng
+    ok = iok & jok
+    return np.where(ok, il - jh, -np.inf), np.where(ok, ih - jl, np.inf), ok

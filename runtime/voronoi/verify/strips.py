@@ -54,7 +54,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..geometry import EPS
-from .clarke_gradient import clarke_normal_range
+from .clarke_gradient import difference_range
 from .distance_gap import bisector_gap_lower, gap_lower
 from .site_table import gradient_enclosure
 
@@ -189,22 +189,11 @@ def prove_strips_many(table, jobs):
         mono_ok = vi & vj
         miss = np.nonzero(~(mono_ok & ((mono_lo > 0) | (mono_hi < 0))))[0]
         if len(miss):
-            # both enclosures are sound where both hold (the Clarke gradient of a function
-            # differentiable near q is its gradient): their intersection is taken
-            rng = []
-            for Vx, Gx, sx, vx, Kx in ((Vi, Gi, si, vi, Ip), (Vj, Gj, sj_, vj, Jp)):
-                cl, ch, cok = clarke_normal_range(table, C[miss], Kx[miss], Vx.lo[miss], Vx.hi[miss],
-                                                  R[miss], Nn[miss])
-                gn = (Gx[miss] * Nn[miss]).sum(1)
-                v = vx[miss]
-                gl = np.where(v, gn - sx[miss], -np.inf)
-                gh = np.where(v, gn + sx[miss], np.inf)
-                rng.append((np.where(cok, np.maximum(gl, cl), gl), np.where(cok, np.minimum(gh, ch), gh), v | cok))
-            (il, ih, iok), (jl, jh, jok) = rng
-            good_c = iok & jok
-            mono_lo[miss] = np.where(good_c, il - jh, -np.inf)
-            mono_hi[miss] = np.where(good_c, ih - jl, np.inf)
-            mono_ok[miss] = good_c
+            # undecided pieces: the gradient enclosures intersected with the Clarke ranges
+            lo_, hi_, ok_ = difference_range(table, C[miss], R[miss], Nn[miss], (Ip[miss], Jp[miss]),
+                                             (Vi.take(miss), Vj.take(miss)),
+                                             ((Gi[miss], si[miss], vi[miss]), (Gj[miss], sj_[miss], vj[miss])))
+            mono_lo[miss], mono_hi[miss], mono_ok[miss] = lo_, hi_, ok_
         if depth == 0:
             # σ of each chain: the sign of the first piece where it is decided
             dec = np.nonzero(mono_ok & ((mono_lo > 0) | (mono_hi < 0)))[0]
