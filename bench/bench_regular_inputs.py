@@ -1,6 +1,7 @@
 """Regular inputs that floats mislead (issue: "regular inputs fail"): rotated grids of points,
 nearly collinear points, grids of rotated translates of one ellipse, a row of translates with a
-far vertex, circles inside an ellipse, the medial axis of a disc.  Each row: certified or not,
+far vertex, circles inside an ellipse, nested ellipses, regular star polygons (segments), the
+medial axis of a disc.  Each row: certified or not,
 wall and CPU seconds, vertices and edges.  One BLAS thread (threadpoolctl inside the calls).
 
     OPENBLAS_NUM_THREADS=1 python bench/bench_regular_inputs.py
@@ -19,6 +20,15 @@ def rotated_grid(n, angle, r=None):
     c, s = np.cos(angle), np.sin(angle)
     pts = [(c * x - s * y, s * x + c * y) for x in range(n) for y in range(n)]
     return pts if r is None else [(x, y, r) for x, y in pts]
+
+
+def star_polygon(n, R=2.0, r=0.8):
+    """The closed regular star with n tips at radius R and n reflex corners at radius r (cos/sin
+    floats: its mirror symmetries make tied vertices that floats leave nearly tied)."""
+    pts = [((R if k % 2 == 0 else r) * np.cos(np.pi * k / n), (R if k % 2 == 0 else r) * np.sin(np.pi * k / n))
+           for k in range(2 * n)]
+    pts = [(float(x), float(y)) for x, y in pts]
+    return [cv.Segment(pts[k], pts[(k + 1) % len(pts)]) for k in range(len(pts))]
 
 
 def ellipse_grid(n, degrees):
@@ -40,6 +50,12 @@ CASES = {
         [cv.Conic.ellipse((0, 0), (10, 6)), (2, 0, 1), (-3, 1, 1.5)], progress=False),
     "circle (2,0,1) alone inside ellipse 10 × 6": lambda: cv.voronoi(
         [cv.Conic.ellipse((0, 0), (10, 6)), (2, 0, 1)], progress=False),
+    "nested ellipses: 3 × 1.5 at (1, 0.5) rotated 20° inside 10 × 6": lambda: cv.voronoi(
+        [cv.Conic.ellipse((0, 0), (10, 6)), cv.Conic.ellipse((1, 0.5), (3, 1.5), degrees=20)], progress=False),
+    "circle (0,0,1) alone inside ellipse 10 × 4": lambda: cv.voronoi(
+        [cv.Conic.ellipse((0, 0), (10, 4)), (0, 0, 1)], progress=False),
+    "segments: regular 5-star (10 sides, R = 2, r = 0.8)": lambda: cv.voronoi(star_polygon(5), progress=False),
+    "segments: regular 8-star (16 sides, R = 2, r = 0.8)": lambda: cv.voronoi(star_polygon(8), progress=False),
     "medial axis of a disc": lambda: cv.medial_axis(cv.Circle.from_radius(3, -2, 2.5)),
 }
 
