@@ -124,3 +124,43 @@ def test_cgal_after_direct_insertions(cgal_peer_program):
     assert d.certified
     _, _, hidden, edges = cgal_dynamic.run(sc[:300], [("+", c) for c in sc[300:]])
     assert hidden == 0 and d.delaunay_edges() == edges
+
+
+def _wide_scene(seed, n):
+    """Random disjoint circles with radii from 0.01 to 20 and a fifth of points, in [0, 100]²."""
+    rng = np.random.default_rng(seed)
+    out = []
+    while len(out) < n:
+        x, y = rng.uniform(0, 100, 2)
+        r = 0.0 if rng.random() < 0.2 else float(np.exp(rng.uniform(np.log(0.01), np.log(20))))
+        if all(np.hypot(x - a, y - b) > r + c + 1e-3 for a, b, c in out):
+            out.append((float(x), float(y), r))
+    return out
+
+
+@pytest.mark.parametrize("seed,k", [(134, 3), (149, 4), (156, 5)])
+def test_edge_conflicting_at_both_ends_falls_back(monkeypatch, seed, k):
+    """Scenes where an edge with both ends in conflict keeps a middle piece (outside the generic
+    picture; found by a random search): the direct builder declines, the construction's local
+    diagram is spliced, certified, and equal to the batch build."""
+    from curvedvoronoi.runtime.voronoi import star_region as sr
+
+    sc = _wide_scene(seed, 48)
+    d = cv.voronoi(sc[:40])
+    d = d.insert_many(sc[40:40 + k])
+    declined = []
+    real = sr.star_region
+
+    def spy(D, dyn, sites, X, s):
+        out = real(D, dyn, sites, X, s)
+        # the declining test of the module: a point of a removed edge's polyline not in conflict
+        declined.append(out is None)
+        return out
+
+    monkeypatch.setattr(insertion, "star_region", spy)
+    d = d.insert(sc[40 + k])
+    assert declined == [True]
+    assert d.stats.get("local build") != "star region" and d.stats["update"] == "local"
+    assert d.certified, d.problems[:3]
+    assert d.delaunay_edges() == cv.voronoi(sc[:41 + k], certify=False).delaunay_edges()
+    assert cv.verify(d, d.sites).ok

@@ -27,8 +27,10 @@ a local diagram from the construction (:func:`runtime.voronoi.insertion.local_up
 edge with both ends in X keeps a middle piece (an edge conflicting at both ends), a degree-4
 vertex, the point at infinity, or Newton's other solution make the candidate wrong, a proof or the
 closure fails and the insertion falls back to the construction's local diagram.  ``None`` is
-returned when the generic picture does not even hold (an unbounded edge at X, no sign change along
-a cut edge, consecutive vertices not sharing exactly one site, fewer than three new vertices).
+returned when the generic picture does not even hold (an unbounded edge at X, a point of the
+polyline of an edge with both ends in X farther from s than from the edge's sites, no sign change
+along a cut edge, consecutive vertices not sharing exactly one site, fewer than three new
+vertices).
 
 Public API: :func:`star_region`.
 """
@@ -65,6 +67,10 @@ def star_region(D, dyn, sites, X, s):
         return None
     verts, edges = D.vertices, D.edges
     rm_e = {e for v in X for e in dyn.v_e[v]}
+    gs_ = dyn.geoms[s]
+    if gs_.kind not in ("point", "circle"):
+        return None
+    cx, cy, rs = _centre(gs_)
     cut = []                                    # (edge id, kept end w, oriented polyline)
     for e in sorted(rm_e):
         ends = edges[e].ends
@@ -72,6 +78,13 @@ def star_region(D, dyn, sites, X, s):
             return None
         inside = [w in X for w in ends]
         if all(inside):
+            # removed whole: a polyline point farther from s than from the edge's sites means a
+            # middle piece survives (an edge conflicting at both ends), outside the generic picture
+            P = np.asarray(edges[e].polyline, float)
+            ax, ay, ra = _centre(dyn.geoms[edges[e].sites[0]])
+            h = (np.hypot(P[:, 0] - cx, P[:, 1] - cy) - rs) - (np.hypot(P[:, 0] - ax, P[:, 1] - ay) - ra)
+            if np.any(h > 0):
+                return None
             continue
         P = np.asarray(edges[e].polyline, float)
         w = ends[0] if not inside[0] else ends[1]
@@ -80,10 +93,6 @@ def star_region(D, dyn, sites, X, s):
         cut.append((e, w, P))
     if len(cut) < 3:
         return None
-    gs_ = dyn.geoms[s]
-    if gs_.kind not in ("point", "circle"):
-        return None
-    cx, cy, rs = _centre(gs_)
     cs = np.array([cx, cy])
     seeds, pairs, chains = [], [], []
     for e, w, P in cut:
