@@ -27,7 +27,10 @@ A reported vertex v (sites s_0 … s_{k−1}, position, radius) is proved as fol
   (:mod:`runtime.segments.certificate_exact`); the same contact conditions follow.
 * The reported position and radius are within :data:`VERTEX_TOL`·(1 + |x| + |y| + r) of the proved
   ones, the contacts turn counter-clockwise in the listed order and the circle is empty
-  (:mod:`runtime.segments.certificate_contacts`).
+  (:mod:`runtime.segments.certificate_contacts`).  When the box of k = 3 leaves a site's
+  emptiness undecided (a tie the floats break by 10⁻¹⁷, mirror images in a regular star), the same
+  zero is enclosed again at :data:`TIGHT_PREC` bits (Krawczyk, its box inside the first one, which
+  holds one zero only) and the emptiness decided on that box.
 
 Public API: :class:`VertexProof`, :func:`prove_vertices`, :data:`VERTEX_TOL`.
 """
@@ -39,6 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 from flint import arb, arb_mat, fmpq
 
+from ..certify.foot import working_prec
 from ..certify.interval_newton import KrawczykFailure, krawczyk_inflation
 from ..voronoi.verify.problems import Problem, fault
 from .certificate_contacts import ccw, empty
@@ -50,6 +54,8 @@ __all__ = ["VertexProof", "prove_vertices", "VERTEX_TOL"]
 
 #: reported vertex positions and radii must be this close (relative) to the proved ones
 VERTEX_TOL = 1e-10
+#: bits of the second enclosure of a vertex whose emptiness the first leaves undecided
+TIGHT_PREC = 384
 
 
 @dataclass
@@ -272,9 +278,47 @@ def _general(T: SiteTable, v, sites, problems) -> VertexProof:
         problems.append(fault(f"{name}: the sites are not listed counter-clockwise by their contact points",
                               kind="vertex", vertex=v.id, sites=sites))
         return VertexProof(False)
-    if not empty(T, v, sites, X, Y, R, problems, name):
+    found: list = []
+    ok = empty(T, v, sites, X, Y, R, found, name)
+    if not ok and len(sites) == 3:
+        # a site within the box's width of the circle (mirror images that floats leave nearly
+        # tied): the same zero enclosed at TIGHT_PREC bits decides it unless the tie is exact
+        tight = _tighten(terms, X, Y)
+        if tight is not None:
+            again: list = []
+            with working_prec(TIGHT_PREC):
+                X2, Y2 = tight
+                R2 = _value(_system(terms, _arbq)[2], X2, Y2, _arbq)
+                ok = bool(R2 > 0) and empty(T, v, sites, X2, Y2, R2, again, name)
+            if ok:
+                X, Y, R = X2, Y2, R2
+            found = again
+    problems.extend(found)
+    if not ok:
         return VertexProof(False)
     return VertexProof(True, X, Y, R, None, frozenset(sites))
+
+
+def _tighten(terms, X, Y):
+    """The zero of the vertex system in the proved box (X, Y), enclosed again at
+    :data:`TIGHT_PREC` bits (float-start Newton steps with balls, then Krawczyk with a floor of
+    2^(40 − TIGHT_PREC) of the scale); None unless the new box lies inside (X, Y), which holds one
+    zero only, so that both enclose the same zero."""
+    scale = 1 + max(abs(float(X.mid())), abs(float(Y.mid())))
+    with working_prec(TIGHT_PREC):
+        Fa, Ja, _ = _system(terms, _arbq)
+        m = [arb(X.mid()), arb(Y.mid())]
+        try:
+            for _ in range(6):
+                Yi = arb_mat(Ja(m)).mid().inv().mid()
+                step = Yi * arb_mat([[v] for v in Fa(m)])
+                m = [(m[i] - step[i, 0]).mid() for i in range(2)]
+            K, _X = krawczyk_inflation(Fa, Ja, m, floor=arb(scale) * arb(2) ** (40 - TIGHT_PREC))
+        except (KrawczykFailure, ZeroDivisionError, ValueError):
+            return None
+        if not (X.contains(K[0]) and Y.contains(K[1])):
+            return None
+        return K[0], K[1]
 
 
 def _contacts_valid(T: SiteTable, sites, terms, X, Y, R):
