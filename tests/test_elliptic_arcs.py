@@ -320,3 +320,24 @@ def test_dxf_ellipse(tmp_path):
     assert pieces[1].a == (10, 3) and pieces[1].b == (10, -3)
     D = cv.voronoi(pieces)
     assert D.vertices and D.certified is False
+
+
+def test_a_contact_at_a_local_maximum_is_never_proved():
+    """The normal line at the end e of a piece, beyond the centre of curvature there: e is a local
+    maximum of the distance along the ellipse, so the zero of (point e, point p, normal at e) is
+    not a vertex (interior points of the piece are nearer; checked here by the reference)."""
+    from curvedvoronoi.runtime.segments.elementary import decompose
+    from curvedvoronoi.runtime.segments.vertices import prove_zero
+
+    arc = cv.Arc.elliptic((0, 0), (4, 0), "1/2", 0.3, 2.5)
+    E = decompose([arc, cv.Point(3, -2)])
+    e = next(k for k in range(E.n_points) if abs(float(E.xy[k][0]) - 4 * math.cos(0.3)) < 1e-9)
+    p = next(k for k in range(E.n_points) if E.xy[k] == (3, -2))
+    s = next(k for k in range(E.n_points, len(E)) if e in E.ends[k])
+    tx, ty = arc.tangent(arc.ua)
+    eqs = [("point", E.xy[e], e), ("point", E.xy[p], p), ("normal", (tx, ty) + tuple(E.xy[e]), s)]
+    sol = prove_zero(E, (e, p, s), eqs, np.array([2.2976, -0.3516, 1.79]), 10.0)
+    R = RefEllipse((0, 0), (4, 0), 0.5, 0.3, 2.5)
+    nearer = R.mp_distance((sol.x, sol.y), 0.3, math.pi / 2)
+    assert nearer < sol.r - 1e-3                  # the reference: the piece comes nearer
+    assert sol.status != "proved"
