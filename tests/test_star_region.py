@@ -164,3 +164,40 @@ def test_edge_conflicting_at_both_ends_falls_back(monkeypatch, seed, k):
     assert d.certified, d.problems[:3]
     assert d.delaunay_edges() == cv.voronoi(sc[:41 + k], certify=False).delaunay_edges()
     assert cv.verify(d, d.sites).ok
+
+
+def test_random_insertions_and_deletions_equal_a_fresh_build():
+    """After a random sequence of insertions (direct path) and deletions (both numberings) the
+    diagram has the fresh build's Delaunay graph and the same vertices: same site cycles, positions
+    and radii within 2·VERTEX_TOL of each other relative to the coordinates (both are proved within
+    VERTEX_TOL of the true vertex), and the verifier proves it."""
+    import random
+
+    from curvedvoronoi.runtime.voronoi.verify.vertices import VERTEX_TOL
+
+    rng = random.Random(5)
+    sc = _scene(21, 110)
+    cur = list(sc[:90])
+    d = cv.voronoi(cur)
+    pending = list(sc[90:])
+    for step in range(24):
+        if pending and rng.random() < 0.6:
+            c = pending.pop()
+            d = d.insert(c, inplace=True)
+            cur.append(c)
+        else:
+            i = rng.randrange(len(cur))
+            mode = rng.choice(["last", "shift"])
+            d = d.delete_site(i, renumber=mode, inplace=True)
+            if mode == "last":
+                cur[i] = cur[-1]
+            cur.pop() if mode == "last" else cur.pop(i)
+        assert d.certified, (step, d.problems[:3])
+    ref = cv.voronoi(cur)
+    assert ref.certified and d.delaunay_edges() == ref.delaunay_edges()
+    A, B = _vertices(d), _vertices(ref)
+    assert [a[0] for a in A] == [b[0] for b in B]
+    for (_, x, y, r), (_, x2, y2, r2) in zip(A, B):
+        tol = 2 * VERTEX_TOL * (1 + abs(x) + abs(y) + abs(r))
+        assert abs(x - x2) <= tol and abs(y - y2) <= tol and abs(r - r2) <= tol
+    assert cv.verify(d, d.sites).ok
