@@ -15,7 +15,6 @@ against brute force and the true bisector arcs.
 from __future__ import annotations
 
 import math
-import random
 import sys
 from pathlib import Path
 

@@ -217,7 +217,8 @@ def _newton(P, cs, rs, A, B, iters: int = 40):
     da = np.hypot(P[:, 0] - A[:, 0], P[:, 1] - A[:, 1])
     db = np.hypot(P[:, 0] - B[:, 0], P[:, 1] - B[:, 1])
     r = ds - rs
-    if not np.all(np.abs(r - (da - A[:, 2])) <= 1e-11 * scale) or not np.all(np.abs(r - (db - B[:, 2])) <= 1e-11 * scale):
+    if not (np.all(np.abs(r - (da - A[:, 2])) <= 1e-11 * scale)
+            and np.all(np.abs(r - (db - B[:, 2])) <= 1e-11 * scale)):
         return None
     if not np.all(r > 0):
         return None
