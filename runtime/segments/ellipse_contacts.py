@@ -19,7 +19,7 @@ exactly (:func:`ellipse_centre_vertex`, :func:`ellipse_centre_sites`).
 
 Public API: :func:`past_centre_of_curvature`, :func:`end_parameter`, :func:`foot_phi`,
 :func:`foot_point`, :func:`ellipse_contact_valid`, :func:`ellipse_centre_vertex`,
-:func:`ellipse_centre_sites`.
+:func:`ellipse_centre_sites`, :func:`both_ends_contact`.
 """
 from __future__ import annotations
 
@@ -34,7 +34,7 @@ from .elementary import ElementarySites
 from .ellipse_pieces import foot_enclosure, interior_foot, nearest_verdict, piece_feet
 
 __all__ = ["past_centre_of_curvature", "end_parameter", "foot_phi", "foot_point", "ellipse_contact_valid",
-           "ellipse_centre_vertex", "ellipse_centre_sites"]
+           "ellipse_centre_vertex", "ellipse_centre_sites", "both_ends_contact"]
 
 
 def past_centre_of_curvature(E: ElementarySites, t: int, e: int, q) -> bool:
@@ -90,7 +90,7 @@ def ellipse_contact_valid(E: ElementarySites, kind: str, d, t: int, x: arb, y: a
     """True when the proved zero (x, y, r) touches elliptic piece t as its equation ``kind`` says:
     "ellipse": the foot strictly inside t and a nearest point of t (an end of t that is a site of
     ``triple`` may tie); "normal" or "point" (an end or smooth joint e): e is a nearest point of
-    t.  False when it does not, None when undecided."""
+    t (its other end may tie when it is a site of ``triple``).  False when it does not, None when undecided."""
     P = E.ellipse[t]
     if kind == "ellipse":
         Phi = foot_enclosure(P, x, y, foot_phi(P, float(x.mid()), float(y.mid())))
@@ -108,7 +108,8 @@ def ellipse_contact_valid(E: ElementarySites, kind: str, d, t: int, x: arb, y: a
         e = next((int(v) for v in E.ends[t] if tuple(E.xy[int(v)]) == tuple(at)), None)
         if e is None:
             return None
-        return nearest_verdict(P, x, y, r, end_parameter(E, t, e))
+        tied = [k for k in (0, 1) if int(E.ends[t, k]) != e and int(E.ends[t, k]) in {int(v) for v in triple}]
+        return nearest_verdict(P, x, y, r, end_parameter(E, t, e), tied)
     return None
 
 
@@ -156,3 +157,21 @@ def ellipse_centre_vertex(E: ElementarySites, triple):
         return None
     P = E.ellipse[pieces[0]]
     return P.c, P.N[0] ** 2 + P.N[1] ** 2
+
+
+def both_ends_contact(E: ElementarySites, t: int, seed, tangent_at):
+    """The equation of elliptic piece t in a triple that holds both its ends: the foot equation
+    when the seed has an interior foot well inside t, else the normal line at the end where the
+    derivative f' of the squared distance is nearer zero (there the interior foot leaves t through
+    that end: the vertex is on its normal).  ``tangent_at(E, t, e)``: the exact tangent at end e."""
+    P = E.ellipse[t]
+    span = P.phi1 - P.phi0
+    phi = interior_foot(P, float(seed[0]), float(seed[1]))
+    if phi is not None and P.phi0 + 1e-3 * span < phi < P.phi1 - 1e-3 * span:
+        return ("ellipse", P, t)
+    c, M, N = P.floats()
+    w = np.asarray(seed, float) - c
+    A, B, a2, b2 = float(w @ M), float(w @ N), float(M @ M), float(N @ N)
+    slopes = [abs(A * math.sin(p) - B * math.cos(p) + (b2 - a2) * math.sin(p) * math.cos(p)) for p in (P.phi0, P.phi1)]
+    e = int(E.ends[t, 0]) if slopes[0] <= slopes[1] else int(E.ends[t, 1])
+    return ("normal", tuple(tangent_at(E, t, e)) + tuple(E.xy[e]), t)

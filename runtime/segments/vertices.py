@@ -44,7 +44,8 @@ from ..certify.foot import to_arb
 from ..certify.interval_newton import KrawczykFailure, krawczyk_inflation
 from .distance import foot_parameter
 from .elementary import ARC, ELLIPSE, POINT, SEGMENT, ElementarySites
-from .ellipse_contacts import ellipse_centre_vertex, ellipse_contact_valid, foot_point, past_centre_of_curvature
+from .ellipse_contacts import (both_ends_contact, ellipse_centre_vertex, ellipse_contact_valid, foot_point,
+                               past_centre_of_curvature)
 from .ellipse_pieces import piece_feet
 
 __all__ = ["VertexSolution", "prove_vertex", "prove_zero", "common_point", "contact_equations", "direction_in_arc",
@@ -143,7 +144,7 @@ def contact_equations(E: ElementarySites, triple, seed):
         ends_in = [p for p in pts if p in (int(E.ends[t, 0]), int(E.ends[t, 1]))]
         if len(ends_in) == 2:
             if E.kind[t] == ELLIPSE:     # a circle through both ends may touch a curved piece between them
-                eqs.append(("ellipse", E.ellipse[t], t))
+                eqs.append(both_ends_contact(E, t, seed, _tangent_at))
                 continue
             return None              # both ends of a segment or circular arc and its interior: no circle
         if ends_in:
