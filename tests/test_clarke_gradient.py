@@ -14,7 +14,7 @@ import numpy as np
 import curvedvoronoi as cv
 from curvedvoronoi.runtime.predicates.circles import Circle
 from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
-from curvedvoronoi.runtime.voronoi.verify.clarke_gradient import clarke_normal_range, difference_range
+from curvedvoronoi.runtime.voronoi.verify.clarke_gradient import clarke_normal_range, difference_range, off_ridge_gradient
 from curvedvoronoi.runtime.voronoi.verify.site_table import SiteTable, gradient_enclosure
 
 
@@ -46,7 +46,7 @@ def test_the_clarke_range_holds_both_feet_on_the_medial_axis():
     Q = np.array([[x, 0.0]] * 3)
     V = T.evaluate(Q, [0, 0, 0])
     N = np.array([[0.0, 1.0], [1.0, 0.0], [0.6, 0.8]])
-    lo, hi, ok = clarke_normal_range(T, Q, [0, 0, 0], V.lo, V.hi, 1e-3, N)
+    lo, hi, ok = clarke_normal_range(T, Q, [0, 0, 0], V.lo, V.hi, 1e-3, N, V.inner)
     assert ok.all()
     for r in range(3):
         vals = u @ N[r]
@@ -77,7 +77,7 @@ def test_the_clarke_range_contains_sampled_gradients_on_a_disc():
         g /= np.hypot(*g.T)[:, None]
         for ang in np.linspace(0, np.pi, 7):
             n = np.array([[np.cos(ang), np.sin(ang)]])
-            lo, hi, ok = clarke_normal_range(T, Qc, [0], V.lo, V.hi, R, n)
+            lo, hi, ok = clarke_normal_range(T, Qc, [0], V.lo, V.hi, R, n, V.inner)
             assert ok[0]
             val = g @ n[0]
             # sampling puts the foot within 2e-4 of a nearest point: the direction within 1e-4
@@ -119,7 +119,7 @@ def test_a_point_on_the_ellipse_gets_no_range():
     T = SiteTable(geoms, 11.0)
     Q = np.array([[10.0, 0.0]])
     V = T.evaluate(Q, [0])
-    lo, hi, ok = clarke_normal_range(T, Q, [0], V.lo, V.hi, 0.1, np.array([[1.0, 0.0]]))
+    lo, hi, ok = clarke_normal_range(T, Q, [0], V.lo, V.hi, 0.1, np.array([[1.0, 0.0]]), V.inner)
     assert not ok[0] and lo[0] == -np.inf and hi[0] == np.inf
 
 
@@ -191,3 +191,59 @@ def test_nested_ellipses_are_certified_and_match_dense_sampling():
     Pb = np.array(e["polyline"], float)
     e["polyline"] = (np.array(inner[0]) + 0.98 * (Pb - np.array(inner[0]))).tolist()
     assert not cv.verify(bad).ok
+
+
+def test_off_the_ridge_the_box_encloses_the_gradient_and_on_it_none_is_given():
+    """Inside the ellipse 10 × 6 beyond the reach b²/a = 3.6 but off the open segment |x| < 6.4 of
+    y = 0 the distance is C¹: the box must hold every sampled gradient of the disc; a disc that
+    meets the segment gets no box (no gradient exists on the ridge)."""
+    rng = np.random.default_rng(3)
+    geoms = [site_geometry(cv.Conic.ellipse((0, 0), (10, 6)))]
+    T = SiteTable(geoms, 11.0)
+    t = np.linspace(0, 2 * np.pi, 200000, endpoint=False)
+    bx, by = 10 * np.cos(t), 6 * np.sin(t)
+    Q = np.array([[-2.0, 1.0], [1.0, -1.5], [-2.0, 0.2], [7.0, 0.0], [0.0, 0.05]])
+    R = np.array([0.2, 0.15, 0.25, 0.15, 0.1])
+    V = T.evaluate(Q, [0] * len(Q))
+    assert (V.hi[:2] + R[:2] > 3.6).all()                       # beyond the reach
+    G, s, ok = off_ridge_gradient(T, Q, [0] * len(Q), V.lo, V.hi, R, V.inner)
+    assert ok.tolist() == [True, True, False, True, False]       # (7, 0) lies beyond the ridge's end 6.4
+    assert (s[:2] < 0.05).all() and s[3] < 0.5                   # linear in R, not the whole unit disc
+    for r in np.nonzero(ok)[0]:
+        rr = R[r] * np.sqrt(rng.random(150))
+        ph = 2 * np.pi * rng.random(150)
+        q = Q[r] + np.column_stack([rr * np.cos(ph), rr * np.sin(ph)])
+        k = np.array([np.hypot(qq[0] - bx, qq[1] - by).argmin() for qq in q])
+        g = q - np.column_stack([bx[k], by[k]])
+        g /= np.hypot(*g.T)[:, None]
+        err = np.hypot(*(g - G[r]).T)
+        assert err.max() <= s[r] + 1e-4, (r, err.max(), s[r])
+
+
+def test_two_sites_inside_a_rotated_ellipse_with_a_vertex_beyond_the_reach():
+    """The ellipse 10 × 6 rotated 30° holding an ellipse and a circle: the vertex (0, 1, 2) lies
+    at depth 3.69 in the container, beyond its reach 3.6, where the transversality test (T3) needs
+    the off-ridge gradient box (not certified before: 'a third site undecided')."""
+    outer, inner = ((0, 0), (10, 6), 30.0), ((-2, 1), (2, 1), -40.0)
+    d = cv.voronoi([cv.Conic.ellipse(outer[0], outer[1], degrees=outer[2]),
+                    cv.Conic.ellipse(inner[0], inner[1], degrees=inner[2]), (4, -1, 1)], progress=False)
+    assert d.certified, d.problems
+    assert len(d.vertices) == 2 and len(d.edges) == 3
+
+    def dists(P):
+        P = np.asarray(P, float).reshape(-1, 2)
+        return np.stack([ellipse_distance(P, *outer), ellipse_distance(P, *inner),
+                         np.abs(np.hypot(P[:, 0] - 4, P[:, 1] + 1) - 1)])
+    for v in d.vertices:
+        D = dists([v.x, v.y])[:, 0]
+        assert np.ptp(D) < 5e-3 and abs(D.mean() - v.radius) < 5e-3
+    assert max(v.radius for v in d.vertices) > 3.6
+    for e in d.edges:
+        P = np.array(e.polyline, float)
+        D = dists(P)
+        i, j = e.sites
+        assert np.abs(D[i] - D[j]).max() <= 2 * e.tolerance + 5e-3
+        k = 3 - i - j
+        inner_pts = P[1:-1] if len(P) > 2 else P
+        Dk = dists(inner_pts)
+        assert (Dk[k] >= np.minimum(Dk[i], Dk[j]) - 5e-3).all()

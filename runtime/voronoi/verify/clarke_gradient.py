@@ -17,30 +17,45 @@ f(y) − f(x) = g·(y − x) with g ∈ ∂f(z) for some z on it: a sign of g·n
 ∂f(q) on a strip makes f strictly monotone along n there, which is all the strip proof
 (:mod:`runtime.voronoi.verify.strips`, (T1)) needs.
 
-**Enclosure on a disc** B(Q, R) with rigorous bounds lo ≤ d(Q) ≤ hi, lo > R.  A nearest point p of
-q ∈ B(Q, R) satisfies |p − Q| ≤ d(q) + R ≤ hi + 2R (d is 1-Lipschitz), and |q − p| ≥ lo − R,
-|Q − p| ≥ lo; x ↦ x/|x| is (1/m)-Lipschitz on {|x| ≥ m} (m·x/|x| is the projection on the ball
-of radius m), so (q − p)/|q − p| lies within R/(lo − R) of u(p) = (Q − p)/|Q − p|.  The curve is
-p(θ) = c + Rot(a cos θ, b sin θ) (a = b = ρ for a circle), |p'(θ)| ≤ max(a, b), so on a
-parameter interval of half-length h every point lies within ℓ = max(a, b)·h of the float point
-p̃ at its middle, up to δ (the float frame and the evaluation of p̃: far below δ =
-2¹⁰·rounding_slack(size, 32), the allowance of the site table's bounds times 2¹⁰).  An interval
-with |p̃ − Q| − ℓ − δ > hi + 2R holds no nearest point; on the others u(p) lies within
-(ℓ + δ)/(lo − δ) of ũ = (Q − p̃)/|Q − p̃|.  So
+**Enclosure on a disc** B(Q, R) with rigorous bounds lo ≤ d(Q) ≤ hi, lo > 2R, Q inside the
+curve.  A nearest point p of q ∈ B(Q, R) (q inside, in the open convex region) has
+q − p = d(q)·n(p) with n(p) the inward unit normal at p (first-order condition; inward: the
+region is convex), so (q − p)/|q − p| = n(p), and p satisfies |p − Q| ≤ d(q) + R ≤ hi + 2R
+(d is 1-Lipschitz) and dist(Q, normal line of p) ≤ |q − Q| ≤ R.  The curve is
+p(θ) = c + Rot(a cos θ, b sin θ) (a = b = ρ for a circle), n(θ) = −Rot(b cos θ, a sin θ)/|·|,
+|p'(θ)| ≤ A = max(a, b) and |n'(θ)| = κ|p'| = ab/(a² sin²θ + b² cos²θ) ≤ A/B, B = min(a, b).
+On a parameter interval of half-length h around θ_m: |p(θ) − p(θ_m)| ≤ A·h, |n(θ) − n(θ_m)| ≤
+(A/B)·h, and f(θ) = (Q − p(θ)) × n(θ) moves by at most h·(A + (|Q − p(θ_m)| + A·h)·A/B)
+(f' = −p' × n + (Q − p) × n').  An interval where |p̃ − Q| − A·h − δ > hi + 2R, or
+|f̃| − that bound − δ > R, holds no nearest point (p̃, ñ, f̃ the floats at θ_m; δ =
+2¹⁰·rounding_slack(size, 32), far above the float frame's error and the evaluation's).  So
 
-    ∂d(q) ⊂ co ⋃_m B(ũ_m, s_m),  s_m = (ℓ_m + δ)/(lo − δ) + R/(lo − R) + 1e-12,
+    ∂d(q) ⊂ co ⋃_m B(ñ_m, s_m),  s_m = (A/B)·h_m + 1e-12,
 
 over the kept intervals m, for every q ∈ B(Q, R); and g·n over that hull lies in
-[min_m ũ_m·n − s_m, max_m ũ_m·n + s_m] (a linear function's extremes over a convex hull are at
-its generators).  The intervals are halved (from 64 per curve) while ℓ > ``TOL``·lo, a kept
-interval at a time, at most ``LEVELS`` times.
+[min_m ñ_m·n − s_m, max_m ñ_m·n + s_m] (a linear function's extremes over a convex hull are at
+its generators).  The intervals are halved (from 64 per curve) while s_m > ``TOL``, a kept
+interval at a time, at most ``LEVELS`` times; the kept ones close in on the nearest points of
+the disc's points (width O(R) in θ away from the evolute).
 
 For f = d_i − d_j, :func:`difference_range` gives [min, max] of g·n over ∂d_i − ∂d_j from
 [a_i, b_i] and [a_j, b_j] of each: [a_i − b_j, b_i − a_j]; each site's range is the intersection
 of this enclosure and the gradient enclosure where both hold (∂d(q) = {∇d(q)} where d is
 continuously differentiable near q, Clarke Prop. 2.2.4).
 
-Public API: :func:`clarke_normal_range`, :func:`difference_range`.
+**Off the ridge** the distance is C¹: d_C is differentiable at q ∉ C exactly where q has one
+nearest point, and continuously so on the open set of such points (the nearest point depends
+continuously on q there), where ∂d = {∇d}.  Inside an ellipse X²/a² + Y²/b² < 1 (a ≥ b) the
+points with two nearest points form the open segment |X| < (a² − b²)/a, Y = 0 of the major axis
+(its medial axis: H. I. Choi, S. W. Choi, H. P. Moon, *Mathematical theory of medial axis
+transform*, Pacific J. Math. 181 (1997); the normals from q with Y ≠ 0 to the half of the ellipse
+on the other side are longer than its mirror image's), inside a circle only the centre.  So on a
+disc that misses that set, the box [range along x] × [range along y] of :func:`clarke_normal_range`
+holds ∇d everywhere: a gradient enclosure (:func:`off_ridge_gradient`) for the tests that need
+differentiability (the strips' third sites, (T3)), beyond the reach b²/a where the foot-point
+enclosure of :func:`runtime.voronoi.verify.site_table.gradient_enclosure` stops.
+
+Public API: :func:`clarke_normal_range`, :func:`difference_range`, :func:`off_ridge_gradient`.
 """
 from __future__ import annotations
 
@@ -49,18 +64,19 @@ import numpy as np
 from ...sites.kinds import SiteKind
 from ..geometry import rounding_slack
 
-__all__ = ["clarke_normal_range", "difference_range"]
+__all__ = ["clarke_normal_range", "difference_range", "off_ridge_gradient"]
 
 START = 64          # parameter intervals per curve at the start
 LEVELS = 12         # halvings at most
-TOL = 1e-3          # target ℓ/lo of a kept interval
+TOL = 1e-3          # target slack (A/B)·h of a kept interval's normal
 MAX_KEPT = 4096     # kept intervals per row at most (else the row is not enclosed)
 
 
-def clarke_normal_range(table, Q, K, lo, hi, R, n):
+def clarke_normal_range(table, Q, K, lo, hi, R, n, inner):
     """(gmin, gmax, ok): gmin ≤ g·n ≤ gmax for every g in the Clarke gradient ∂d(q, S_K) at every q
-    in B(Q, R), where ok (circle and ellipse sites K, lo > 2R; module docstring).  ``table``: a
-    :class:`runtime.voronoi.verify.site_table.SiteTable`; lo, hi: rigorous bounds of d(Q, S_K)."""
+    in B(Q, R), where ok (circle and ellipse sites K, Q proved ``inner``, lo > 2R; module
+    docstring).  ``table``: a :class:`runtime.voronoi.verify.site_table.SiteTable`; lo, hi:
+    rigorous bounds of d(Q, S_K)."""
     Q = np.asarray(Q, float).reshape(-1, 2)
     K = np.asarray(K, int).reshape(-1)
     m = len(K)
@@ -69,8 +85,8 @@ def clarke_normal_range(table, Q, K, lo, hi, R, n):
     gmin, gmax = np.full(m, -np.inf), np.full(m, np.inf)
     ok = np.zeros(m, bool)
     kind = table.kind[K]
-    rows = np.nonzero(((kind == SiteKind.CIRCLE) | (kind == SiteKind.ELLIPSE)) & (lo > 2 * R)
-                      & np.isfinite(hi) & np.isfinite(Q).all(1) & np.isfinite(n).all(1))[0]
+    rows = np.nonzero(((kind == SiteKind.CIRCLE) | (kind == SiteKind.ELLIPSE)) & np.asarray(inner, bool)
+                      & (lo > 2 * R) & np.isfinite(hi) & np.isfinite(Q).all(1) & np.isfinite(n).all(1))[0]
     if not len(rows):
         return gmin, gmax, ok
     k = K[rows]
@@ -80,11 +96,13 @@ def clarke_normal_range(table, Q, K, lo, hi, R, n):
     c = np.where(circ, 1.0, table.c[k])
     s = np.where(circ, 0.0, table.s[k])
     cx, cy = table.cx[k], table.cy[k]
-    amax = np.maximum(a, b)
+    amax, amin = np.maximum(a, b), np.minimum(a, b)
+    turn = amax / amin * (1 + 1e-12)                 # bound of |n'(θ)|
     size = np.abs(Q[rows]).sum(1) + np.abs(cx) + np.abs(cy) + a + b + hi[rows] + R[rows]
     delta = 1024.0 * rounding_slack(size, 32)
-    lo_r, hi_r, R_r = lo[rows], hi[rows], R[rows]
-    reach = hi_r + 2 * R_r
+    R_r = R[rows]
+    reach = hi[rows] + 2 * R_r
+    Qr = Q[rows]
     # intervals: owner (index into rows), middle θ, half-length h
     own = np.repeat(np.arange(len(rows)), START)
     h0 = np.pi / START
@@ -99,20 +117,26 @@ def clarke_normal_range(table, Q, K, lo, hi, R, n):
         X, Y = a[own] * ct, b[own] * st
         px = cx[own] + c[own] * X - s[own] * Y
         py = cy[own] + s[own] * X + c[own] * Y
-        wx, wy = Q[rows[own], 0] - px, Q[rows[own], 1] - py
+        NX, NY = -b[own] * ct, -a[own] * st                  # inward normal, canonical frame
+        ln = np.hypot(NX, NY)
+        nx = (c[own] * NX - s[own] * NY) / ln
+        ny = (s[own] * NX + c[own] * NY) / ln
+        wx, wy = Qr[own, 0] - px, Qr[own, 1] - py
         dist = np.hypot(wx, wy)
-        ell = amax[own] * half * (1 + 1e-12)
-        keep = dist - ell - delta[own] <= reach[own] * (1 + 1e-12)
-        own, mid, half, wx, wy, dist, ell = own[keep], mid[keep], half[keep], wx[keep], wy[keep], dist[keep], ell[keep]
-        fine = (ell <= TOL * lo_r[own]) | (level == LEVELS)
+        move = amax[own] * half * (1 + 1e-12)
+        cross = np.abs(wx * ny - wy * nx)
+        fmove = half * (amax[own] + (dist + move) * turn[own]) * (1 + 1e-12)
+        keep = ((dist - move - delta[own] <= reach[own] * (1 + 1e-12))
+                & (cross - fmove - delta[own] <= R_r[own] * (1 + 1e-12)))
+        own, mid, half, nx, ny = own[keep], mid[keep], half[keep], nx[keep], ny[keep]
+        sl = (turn[own] * half + 1e-12) * (1 + 1e-12)
+        fine = (sl <= TOL) | (level == LEVELS)
         if fine.any():
             o = own[fine]
-            with np.errstate(divide="ignore", invalid="ignore"):
-                un = (wx[fine] * n[rows[o], 0] + wy[fine] * n[rows[o], 1]) / dist[fine]
-                sl = ((ell[fine] + delta[o]) / (lo_r[o] - delta[o]) + R_r[o] / (lo_r[o] - R_r[o]) + 1e-12) * (1 + 1e-12)
+            un = nx[fine] * n[rows[o], 0] + ny[fine] * n[rows[o], 1]
             gens_own.append(o)
-            gens_lo.append(un - sl)
-            gens_hi.append(un + sl)
+            gens_lo.append(un - sl[fine])
+            gens_hi.append(un + sl[fine])
         own, mid, half = own[~fine], mid[~fine], half[~fine]
         cnt = np.bincount(own, minlength=len(rows))
         alive &= cnt <= MAX_KEPT
@@ -126,14 +150,13 @@ def clarke_normal_range(table, Q, K, lo, hi, R, n):
         go = np.concatenate(gens_own)
         glo, ghi = np.concatenate(gens_lo), np.concatenate(gens_hi)
         good = np.isfinite(glo) & np.isfinite(ghi)
-        bad_rows = np.unique(go[~good])
-        alive[bad_rows] = False
+        alive[np.unique(go[~good])] = False
         mn = np.full(len(rows), np.inf)
         mx = np.full(len(rows), -np.inf)
         np.minimum.at(mn, go[good], glo[good])
         np.maximum.at(mx, go[good], ghi[good])
         has = np.bincount(go, minlength=len(rows)) > 0
-        fin = alive & has & (lo_r - delta > 0)
+        fin = alive & has
         gmin[rows[fin]] = np.maximum(mn[fin], -1.0 - 1e-12)
         gmax[rows[fin]] = np.minimum(mx[fin], 1.0 + 1e-12)
         ok[rows[fin]] = True
@@ -145,11 +168,12 @@ def difference_range(table, Q, R, n, K, V, grads):
     ``K`` = (K_i, K_j) sites, ``V`` = (V_i, V_j) their values at Q (site table), ``grads`` =
     ((G_i, s_i, valid_i), (G_j, s_j, valid_j)): gradient enclosures |∇d − G| ≤ s on the discs
     (:func:`runtime.voronoi.verify.site_table.gradient_enclosure`); each site's range is that of
-    its gradient enclosure, intersected with :func:`clarke_normal_range` where both hold."""
+    its gradient enclosure, intersected with :func:`clarke_normal_range` (rows inside the site)
+    where both hold."""
     n = np.asarray(n, float).reshape(-1, 2)
     rng = []
     for Kx, Vx, (Gx, sx, vx) in zip(K, V, grads):
-        cl, ch, cok = clarke_normal_range(table, Q, Kx, Vx.lo, Vx.hi, R, n)
+        cl, ch, cok = clarke_normal_range(table, Q, Kx, Vx.lo, Vx.hi, R, n, Vx.inner)
         gn = (Gx * n).sum(1)
         gl = np.where(vx, gn - sx, -np.inf)
         gh = np.where(vx, gn + sx, np.inf)
@@ -157,3 +181,48 @@ def difference_range(table, Q, R, n, K, V, grads):
     (il, ih, iok), (jl, jh, jok) = rng
     ok = iok & jok
     return np.where(ok, il - jh, -np.inf), np.where(ok, ih - jl, np.inf), ok
+
+
+def off_ridge_gradient(table, Q, K, lo, hi, R, inner):
+    """(G, slack, ok): |∇d(q, S_K) − G| ≤ slack for every q in B(Q, R) where ok: discs inside
+    (``inner``) a circle or an ellipse that miss its ridge (module docstring; margins far above the float
+    frame's error), with the Clarke box of :func:`clarke_normal_range`."""
+    Q = np.asarray(Q, float).reshape(-1, 2)
+    K = np.asarray(K, int).reshape(-1)
+    m = len(K)
+    R = np.broadcast_to(np.asarray(R, float), (m,))
+    G = np.full((m, 2), np.nan)
+    slack = np.full(m, np.inf)
+    ok = np.zeros(m, bool)
+    kind = table.kind[K]
+    circ = kind == SiteKind.CIRCLE
+    ell = kind == SiteKind.ELLIPSE
+    dx, dy = Q[:, 0] - table.cx[K], Q[:, 1] - table.cy[K]
+    c, s = np.where(ell, table.c[K], 1.0), np.where(ell, table.s[K], 0.0)
+    X0, Y0 = c * dx + s * dy, -s * dx + c * dy
+    a, b = np.where(ell, table.a[K], 0.0), np.where(ell, table.b[K], 0.0)
+    big, small = np.maximum(a, b), np.minimum(a, b)
+    along = np.where(a >= b, X0, Y0)            # the major axis' coordinate
+    across = np.where(a >= b, Y0, X0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        half = np.where(big > 0, (big - small) * (big + small) / big, 0.0)
+    margin = 1e-9 * (np.abs(Q).sum(1) + np.abs(table.cx[K]) + np.abs(table.cy[K]) + big + table.rho[K] + R)
+    off = np.where(circ, np.hypot(dx, dy) > R + margin,
+                   ell & ((np.abs(across) > R + margin) | (np.abs(along) > half + R + margin)))
+    rows = np.nonzero(off & (circ | ell))[0]
+    if not len(rows):
+        return G, slack, ok
+    n = len(rows)
+    QQ = np.concatenate([Q[rows], Q[rows]])
+    KK = np.concatenate([K[rows], K[rows]])
+    N = np.concatenate([np.tile([1.0, 0.0], (n, 1)), np.tile([0.0, 1.0], (n, 1))])
+    gl, gh, gok = clarke_normal_range(table, QQ, KK, np.concatenate([lo[rows]] * 2),
+                                      np.concatenate([hi[rows]] * 2), np.concatenate([R[rows]] * 2), N,
+                                      np.concatenate([np.asarray(inner, bool)[rows]] * 2))
+    good = gok[:n] & gok[n:]
+    cx_, cy_ = 0.5 * (gl[:n] + gh[:n]), 0.5 * (gl[n:] + gh[n:])
+    G[rows, 0], G[rows, 1] = cx_, cy_
+    slack[rows] = np.where(good, np.hypot(0.5 * (gh[:n] - gl[:n]), 0.5 * (gh[n:] - gl[n:])) * (1 + 1e-12) + 1e-15,
+                           np.inf)
+    ok[rows] = good
+    return G, slack, ok

@@ -61,6 +61,7 @@ from scipy.spatial import cKDTree
 from ...sites.foot_points import ellipse_feet
 from ...sites.kinds import SiteKind
 from ..geometry import EPS, rounding_slack
+from .clarke_gradient import off_ridge_gradient
 from .ellipse_normal import ellipse_normal_enclosure, frame_errors, tight_gradients
 
 __all__ = ["SiteTable", "SiteValues", "gradient_enclosure", "run_lockstep"]
@@ -344,6 +345,17 @@ def gradient_enclosure(Q, V: SiteValues, R, scale):
     valid = valid | valid_i
     if V.table is not None and V.K is not None:
         G, slack, valid = tight_gradients(Q, V, V.table, R, disc, G, slack, valid)
+        # deep inside a circle or an ellipse (near or beyond the reach) but off its ridge: the
+        # Clarke box of the distance (clarke_gradient.off_ridge_gradient), where it is tighter
+        deep = np.nonzero(V.inner & ~V.base & ~(slack <= 0.05) & np.isfinite(V.hi) & (V.lo > 2 * R))[0]
+        if len(deep):
+            G2, s2, v2 = off_ridge_gradient(V.table, Q[deep], V.K[deep], V.lo[deep], V.hi[deep], R[deep],
+                                            V.inner[deep])
+            better = v2 & ~(s2 >= slack[deep])
+            if better.any():
+                G, slack, valid = G.copy(), slack.copy(), valid.copy()
+                d_ = deep[better]
+                G[d_], slack[d_], valid[d_] = G2[better], s2[better], True
     return G, slack, valid
 
 
