@@ -9,35 +9,63 @@ labelled p, q, s, whose circumcentre is about h / δ away (h the sample spacing,
 of the samples' directions): 10¹³ times the scene for a circle's buffer of 32 sides.  Such a
 triangle is an end at infinity for the walks reaching it, like the ghost ring of a flat input.
 
+"Far" is measured against the whole scene, not against s: inside the scene the strip of a short
+segment is closed by the regions of other sites (vertices s, p, x and s, q, y), and a triangle
+p, q, s there only says that the samples do not resolve the strip yet — the construction must
+refine (among 10⁵ random segments, a triangle 10³ lengths of a short segment away but well
+inside the scene, taken for an end, left a vertex with one edge missing for every later round).
+
+The same holds for the normal line at a smooth joint of two elliptic pieces (a vertex of the
+ellipse), an edge that may go to infinity beside a third site: a triangle of the two pieces and
+any third site farther than :data:`FAR` scene sizes is an end at infinity (the joint's samples are
+graded, :func:`runtime.segments.sampling.corner_grading`).
+
 Public API: :func:`parallel_ray_triangles`.
 """
 from __future__ import annotations
 
 import numpy as np
 
-from .elementary import SEGMENT, ElementarySites
+from .elementary import ELLIPSE, SEGMENT, ElementarySites
 
 __all__ = ["parallel_ray_triangles", "FAR"]
 
-#: a triangle of s and its two ends whose circumcentre is farther than this many lengths of s
+#: a triangle of s and its two ends whose circumcentre is farther than this many scene sizes
+#: from the scene's centre (and this many lengths of s from s)
 FAR = 1e3
 
 
 def parallel_ray_triangles(E: ElementarySites, T3, seeds) -> np.ndarray:
     """For each triangle (its sorted labels in ``T3``, circumcentre in ``seeds``): True when its
     labels are a segment s and both ends of s and its circumcentre lies farther than
-    :data:`FAR` lengths of s from s's midpoint."""
+    :data:`FAR` scene sizes (the largest side of the sites' bounding box) from the box's centre
+    and :data:`FAR` lengths of s from s's midpoint."""
     T3 = np.asarray(T3)
     out = np.zeros(len(T3), dtype=bool)
     if not len(T3):
         return out
     s = T3[:, 2]
     cand = (s >= E.n_points) & (s < len(E)) & (T3[:, 1] < E.n_points)
-    for r in np.nonzero(cand)[0].tolist():
+    lo = np.minimum(E.A.min(axis=0), E.B.min(axis=0))
+    hi = np.maximum(E.A.max(axis=0), E.B.max(axis=0))
+    centre, scene = (lo + hi) / 2, float(np.max(hi - lo))
+    if E.joints and (E.kind == ELLIPSE).any():
+        far = np.hypot(*(np.asarray(seeds, float) - centre).T) > FAR * scene
+        for r in np.nonzero(far & (T3 < len(E)).all(axis=1))[0].tolist():
+            a, b, c = (int(v) for v in T3[r])
+            pairs = ((a, b), (a, c), (b, c))
+            if any(E.kind[i] == ELLIPSE and E.kind[j] == ELLIPSE
+                   and {int(v) for v in E.ends[i] if v < -1} & {int(v) for v in E.ends[j] if v < -1} for i, j in pairs):
+                out[r] = True
+    rows = np.nonzero(cand)[0]
+    if not len(rows):
+        return out
+    for r in rows.tolist():
         a, b, k = (int(v) for v in T3[r])
         if E.kind[k] != SEGMENT or {a, b} != {int(E.ends[k, 0]), int(E.ends[k, 1])}:
             continue
         length = float(np.hypot(*(E.B[k] - E.A[k])))
         mid = (E.A[k] + E.B[k]) / 2
-        out[r] = bool(np.hypot(*(np.asarray(seeds[r], float) - mid)) > FAR * length)
+        c = np.asarray(seeds[r], float)
+        out[r] = bool(np.hypot(*(c - mid)) > FAR * length and np.hypot(*(c - centre)) > FAR * scene)
     return out

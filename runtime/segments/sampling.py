@@ -187,6 +187,23 @@ def corner_grading(E: ElementarySites, spacing, ends=()):
                 continue
             out.append(end_points(E, s, p, dist))
             lab.append(np.full(len(dist), s))
+    # the smooth joints of elliptic pieces (the ellipse's vertices): samples graded towards the
+    # joint down to GRADING_FLOOR, so that the normal line there (an edge that may go to
+    # infinity) is resolved far out: a far triangle of the two pieces and a third site is then an
+    # end at infinity (runtime.segments.parallel_rays)
+    for nd, curves in E.joints.items():
+        for s in curves:
+            if E.kind[s] != ELLIPSE or not np.isfinite(spacing[s]):
+                continue
+            end = 0 if int(E.ends[s, 0]) == -2 - nd else 1
+            c = E.A[s] if end == 0 else E.B[s]
+            n = max(1, int(np.ceil(L[s] / spacing[s])))
+            floor = GRADING_FLOOR * (1 + float(np.max(np.abs(c))))
+            dist = (L[s] / (2 * n)) * 0.5 ** np.arange(1, 61)
+            dist = dist[dist >= floor]
+            if len(dist):
+                out.append(piece_at_lengths(E.ellipse[s], from_end=end, dist=dist))
+                lab.append(np.full(len(dist), s))
     if not out:
         return np.empty((0, 2)), np.empty(0, dtype=np.int64)
     return np.concatenate(out), np.concatenate(lab)

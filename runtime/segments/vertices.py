@@ -115,11 +115,12 @@ def _tangent_at(E: ElementarySites, t: int, e: int):
     return -(ey - cy), ex - cx
 
 
-def contact_equations(E: ElementarySites, triple, seed):
+def contact_equations(E: ElementarySites, triple, seed, alternate: bool = False):
     """The contact system of ``triple`` (see the module docstring): a list of
     (kind, exact data, site) with kinds "point" (px, py), "line" (a, b, c, σ, N),
     "normal" (tx, ty, ex, ey: the normal line at e of a curve ending there) and
-    "arc" (cx, cy, ρ, σ); None when no circle can touch the three."""
+    "arc" (cx, cy, ρ, σ); None when no circle can touch the three.  ``alternate``: for an elliptic
+    piece touched at an end or joint, the other choice of :func:`past_centre_of_curvature`."""
     pts = {int(t) for t in triple if E.kind[t] == POINT}
     curves = [int(t) for t in triple if E.kind[t] != POINT]
     joint_of: dict = {}
@@ -128,7 +129,8 @@ def contact_equations(E: ElementarySites, triple, seed):
             shared = {int(v) for v in E.ends[t1] if v < -1} & {int(v) for v in E.ends[t2] if v < -1}
             if shared:              # two arcs of one circle share both joints: the nearer one
                 j = min(shared, key=lambda c: (float(E.xy[c][0]) - seed[0]) ** 2 + (float(E.xy[c][1]) - seed[1]) ** 2)
-                if E.kind[t1] == ELLIPSE and E.kind[t2] == ELLIPSE and past_centre_of_curvature(E, t1, j, seed):
+                if E.kind[t1] == ELLIPSE and E.kind[t2] == ELLIPSE \
+                        and past_centre_of_curvature(E, t1, j, seed) != alternate:
                     continue        # beyond the joint's centre of curvature: two feet
                 joint_of[t1] = ("point", j)
                 joint_of[t2] = ("normal", j)
@@ -149,7 +151,7 @@ def contact_equations(E: ElementarySites, triple, seed):
             return None              # both ends of a segment or circular arc and its interior: no circle
         if ends_in:
             e = ends_in[0]
-            if E.kind[t] == ELLIPSE and past_centre_of_curvature(E, t, e, seed):
+            if E.kind[t] == ELLIPSE and past_centre_of_curvature(E, t, e, seed) != alternate:
                 eqs.append(("ellipse", E.ellipse[t], t))      # an interior foot, not the end
             else:
                 eqs.append(("normal", _tangent_at(E, t, e) + E.xy[e], t))
@@ -251,7 +253,18 @@ def prove_vertex(E: ElementarySites, triple, seed, r_seed: float | None = None, 
         (cx, cy), b2 = centre
         return VertexSolution("proved", float(cx), float(cy), float(b2) ** 0.5,
                               (to_arb(cx), to_arb(cy), to_arb(b2).sqrt()), reason="ellipse centre")
-    eqs = contact_equations(E, triple, seed)
+    sol = _newton_and_proof(E, triple, seed, r_seed, cache, False)
+    if sol.status != "proved" and any(E.kind[t] == ELLIPSE for t in triple):
+        # the seed chose the contact at an end (or joint) or past its centre of curvature: the
+        # other choice (the proof decides which zero, if any, is a vertex)
+        other = _newton_and_proof(E, triple, seed, r_seed, cache, True)
+        if other.status == "proved":
+            return other
+    return sol
+
+
+def _newton_and_proof(E: ElementarySites, triple, seed, r_seed, cache, alternate: bool) -> VertexSolution:
+    eqs = contact_equations(E, triple, seed, alternate)
     if eqs is None:
         return VertexSolution("invalid", float(seed[0]), float(seed[1]), 0.0, reason="a segment and both its endpoints")
     F = _float_system(eqs)
@@ -259,12 +272,20 @@ def prove_vertex(E: ElementarySites, triple, seed, r_seed: float | None = None, 
     if r_seed is None:
         z[2] = _r_guess(eqs, z)
     scale = 1.0 + float(np.max(np.abs(E.A)) if len(E.A) else 0.0)
-    for _ in range(40):
+    # with an elliptic piece the foot equation is not polynomial: steps are damped to half the
+    # radius (a far seed otherwise jumps to the mirror zero of the squared equations, r < 0)
+    damped = any(k == "ellipse" for k, _d, _t in eqs)
+    for _ in range(80 if damped else 40):
         f, J = F(z)
         try:
             step = np.linalg.solve(J, f)
         except np.linalg.LinAlgError:
             return VertexSolution("undecided", z[0], z[1], z[2], reason="singular system")
+        if damped:
+            size = float(np.hypot(step[0], step[1]))
+            cap = 0.5 * max(abs(float(z[2])), 1e-12 * scale)
+            if size > cap:
+                step = step * (cap / size)
         z = z - step
         if not np.all(np.isfinite(z)):
             return VertexSolution("undecided", float(seed[0]), float(seed[1]), 0.0, reason="Newton diverged")
@@ -273,7 +294,7 @@ def prove_vertex(E: ElementarySites, triple, seed, r_seed: float | None = None, 
     key = None
     if cache is not None:
         sides = tuple(d[3] if k in ("line", "arc") else 0 for k, d, _t in eqs)
-        key = (tuple(triple), sides) + tuple(np.round(z / (1e-9 * scale)).astype(np.int64).tolist())
+        key = (tuple(triple), sides, alternate) + tuple(np.round(z / (1e-9 * scale)).astype(np.int64).tolist())
         if key in cache:
             return cache[key]
     sol = prove_zero(E, triple, eqs, z, scale)
