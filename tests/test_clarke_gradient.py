@@ -202,12 +202,12 @@ def test_off_the_ridge_the_box_encloses_the_gradient_and_on_it_none_is_given():
     T = SiteTable(geoms, 11.0)
     t = np.linspace(0, 2 * np.pi, 200000, endpoint=False)
     bx, by = 10 * np.cos(t), 6 * np.sin(t)
-    Q = np.array([[-2.0, 1.0], [1.0, -1.5], [-2.0, 0.2], [7.0, 0.0], [0.0, 0.05]])
-    R = np.array([0.2, 0.15, 0.25, 0.15, 0.1])
+    Q = np.array([[-2.0, 1.0], [1.0, -1.5], [-2.0, 0.2], [7.0, 0.0], [0.0, 0.05], [5.0, 0.0]])
+    R = np.array([0.2, 0.15, 0.25, 0.15, 0.1, 0.1])
     V = T.evaluate(Q, [0] * len(Q))
     assert (V.hi[:2] + R[:2] > 3.6).all()                       # beyond the reach
     G, s, ok = off_ridge_gradient(T, Q, [0] * len(Q), V.lo, V.hi, R, V.inner)
-    assert ok.tolist() == [True, True, False, True, False]       # (7, 0) lies beyond the ridge's end 6.4
+    assert ok.tolist() == [True, True, False, True, False, False]  # (7, 0) lies beyond the ridge's end 6.4
     assert (s[:2] < 0.05).all() and s[3] < 0.5                   # linear in R, not the whole unit disc
     for r in np.nonzero(ok)[0]:
         rr = R[r] * np.sqrt(rng.random(150))
@@ -247,3 +247,43 @@ def test_two_sites_inside_a_rotated_ellipse_with_a_vertex_beyond_the_reach():
         inner_pts = P[1:-1] if len(P) > 2 else P
         Dk = dists(inner_pts)
         assert (Dk[k] >= np.minimum(Dk[i], Dk[j]) - 5e-3).all()
+
+
+def test_a_circle_container_has_its_centre_as_ridge():
+    geoms = [site_geometry(Circle.from_radius(1, 2, 5))]
+    T = SiteTable(geoms, 8.0)
+    Q = np.array([[1.3, 2.0], [1.0, 4.0]])
+    V = T.evaluate(Q, [0, 0])
+    G, s, ok = off_ridge_gradient(T, Q, [0, 0], V.lo, V.hi, np.array([0.5, 0.5]), V.inner)
+    assert ok.tolist() == [False, True]                          # the first disc holds the centre
+    # ∇d = −(q − c)/|q − c| inside: (0, −1) at the second centre, within 0.5/1.5 in angle nearby
+    assert np.hypot(G[1, 0] - 0.0, G[1, 1] + 1.0) <= s[1] <= 0.5
+
+
+def test_the_clarke_range_holds_sampled_gradients_on_many_discs():
+    """Random discs inside the ellipse 9 × 4 rotated 35° (medial segment |X| < 7.2): every sampled
+    (q − p)/|q − p| (p the nearest of 40000 boundary samples) has its components in the ranges."""
+    rng = np.random.default_rng(11)
+    a, b, deg = 9.0, 4.0, 35.0
+    geoms = [site_geometry(cv.Conic.ellipse((0.5, -1), (a, b), degrees=deg))]
+    T = SiteTable(geoms, 11.0)
+    t = np.linspace(0, 2 * np.pi, 40000, endpoint=False)
+    c, s = np.cos(np.radians(deg)), np.sin(np.radians(deg))
+    bx, by = 0.5 + c * a * np.cos(t) - s * b * np.sin(t), -1 + s * a * np.cos(t) + c * b * np.sin(t)
+    U = rng.uniform(-1, 1, (60, 2)) * [a * 0.8, b * 0.8]
+    U = U[(U[:, 0] / a) ** 2 + (U[:, 1] / b) ** 2 < 0.6]
+    Qc = np.column_stack([0.5 + c * U[:, 0] - s * U[:, 1], -1 + s * U[:, 0] + c * U[:, 1]])
+    R = rng.uniform(0.02, 0.4, len(Qc))
+    V = T.evaluate(Qc, [0] * len(Qc))
+    for N in (np.array([1.0, 0.0]), np.array([0.6, -0.8])):
+        lo, hi, ok = clarke_normal_range(T, Qc, [0] * len(Qc), V.lo, V.hi, R, np.tile(N, (len(Qc), 1)), V.inner)
+        for r in np.nonzero(ok)[0]:
+            rr = R[r] * np.sqrt(rng.random(25))
+            ph = 2 * np.pi * rng.random(25)
+            q = Qc[r] + np.column_stack([rr * np.cos(ph), rr * np.sin(ph)])
+            D = np.hypot(q[:, :1] - bx, q[:, 1:] - by)
+            k = D.argmin(1)
+            g = (q - np.column_stack([bx[k], by[k]])) / D.min(1)[:, None]
+            val = g @ N
+            assert lo[r] - 1e-3 <= val.min() and val.max() <= hi[r] + 1e-3, (r, lo[r], hi[r], val.min(), val.max())
+        assert ok.sum() >= len(Qc) - 2
