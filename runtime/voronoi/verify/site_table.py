@@ -47,7 +47,10 @@ radius, p for Y² = 2pX, b²/a for a hyperbola branch: Federer, *Curvature
 measures*, Trans. AMS 93 (1959), 4.8 and 4.18): the nearest point p(q) is unique, ∇d(q) =
 (q − p)/|q − p|, p is r/(r − t)-Lipschitz where the depth is ≤ t, and for every F on the curve
 (c − p)·(F − p) ≤ |F − p|²·d/(2r), so |F − p|² ≤ (|c − F|² − d²)/(1 − d/r); with t = hi + R < r
-the enclosure is e_F/d + (1 + r/(r − t))·R/(d − R).
+the enclosure is e_F/d + (1 + r/(r − t))·R/(d − R).  Deeper inside a circle or an ellipse (or
+where that enclosure is wider than 0.05), on discs off the medial segment (a circle: its centre),
+the distance is C¹ and the box of its Clarke gradient
+(:func:`runtime.voronoi.verify.clarke_gradient.off_ridge_gradient`) is used where tighter.
 """
 from __future__ import annotations
 
