@@ -52,6 +52,9 @@ CASES = {
         [cv.Conic.ellipse((0, 0), (10, 6)), (2, 0, 1)], progress=False),
     "nested ellipses: 3 × 1.5 at (1, 0.5) rotated 20° inside 10 × 6": lambda: cv.voronoi(
         [cv.Conic.ellipse((0, 0), (10, 6)), cv.Conic.ellipse((1, 0.5), (3, 1.5), degrees=20)], progress=False),
+    "ellipse and circle inside ellipse 10 × 6 rotated 30° (a vertex beyond the reach)": lambda: cv.voronoi(
+        [cv.Conic.ellipse((0, 0), (10, 6), degrees=30), cv.Conic.ellipse((-2, 1), (2, 1), degrees=-40),
+         (4, -1, 1)], progress=False),
     "circle (0,0,1) alone inside ellipse 10 × 4": lambda: cv.voronoi(
         [cv.Conic.ellipse((0, 0), (10, 4)), (0, 0, 1)], progress=False),
     "segments: regular 5-star (10 sides, R = 2, r = 0.8)": lambda: cv.voronoi(star_polygon(5), progress=False),
