@@ -217,7 +217,11 @@ def _lower_f(S: _Balls, lo: arb, hi: arb, crit, depth: int = 0) -> arb:
 def _critical_floats(P: PieceData, x: float, y: float) -> list:
     """Float critical points of f on the piece for the point (x, y) (sign changes of f', refined)."""
     W2, A, B, a2, b2 = (float(v[0]) if np.ndim(v) else float(v) for v in _coords(P, [[x, y]]))
-    grid = np.linspace(P.phi0, P.phi1, FLOAT_SAMPLES)
+    # the uniform grid, refined geometrically towards both ends: a minimum and a maximum of f
+    # close to an end (a foot about to leave the piece there) fall in different cells
+    span = P.phi1 - P.phi0
+    near = span * 0.5 ** np.arange(6, 30)
+    grid = np.unique(np.concatenate([np.linspace(P.phi0, P.phi1, FLOAT_SAMPLES), P.phi0 + near, P.phi1 - near]))
 
     def d1(p):
         return 2 * A * math.sin(p) - 2 * B * math.cos(p) + (b2 - a2) * math.sin(2 * p)
