@@ -4,13 +4,26 @@ floats move off the circle by about 10⁻¹⁷.  The segment certificate enclose
 TIGHT_PREC bits when its first enclosure leaves a site undecided
 (runtime/segments/certificate_vertices.py, _tighten).  Reference: the distances from each vertex
 to every site in mpmath at 200 bits of the exact float coordinates, independent of the library.
-(The edges between such nearly coincident vertices, 10⁻¹⁶ long, are not proved yet.)"""
+The edges between such nearly coincident vertices, 10⁻¹⁶ long, are below the float resolution
+of their parameter: their ties at the ends are proved over the whole edge at once
+(runtime/segments/certificate_pieces.py, _prefix).  The Delaunay graph is compared with CGAL's
+Segment_Delaunay_graph_2 on the same doubles (exact predicates; zero-length duals dropped)."""
 from __future__ import annotations
+
+import copy
+import os
+import sys
+from fractions import Fraction
+from pathlib import Path
 
 import mpmath
 import numpy as np
+import pytest
 
 import curvedvoronoi as cv
+
+sys.path.insert(0, str(Path(__file__).with_name("cgal")))
+import sdg_peer  # noqa: E402
 
 
 def star(n, R=2.0, r=0.8):
@@ -54,3 +67,46 @@ def test_every_vertex_of_a_regular_5_star_is_proved_and_equidistant():
             # the floats' near ties: an unlisted site within 10⁻¹² of the circle
             near += any(abs(ds[k] - r) <= tol for k in range(len(ds)) if k not in v.sites)
         assert near > 0
+
+
+@pytest.mark.parametrize("n", [5, 8])
+def test_regular_stars_are_certified_and_equal_cgal(n):
+    try:
+        sdg_peer.build()
+    except sdg_peer.PeerMissing as exc:
+        if os.environ.get("CI"):
+            pytest.fail(f"CGAL segment peer unavailable in CI: {exc}")
+        pytest.skip(f"CGAL Segment_Delaunay_graph_2 peer not built here: {exc}")
+    P = star(n)
+    segs = [(P[k], P[(k + 1) % len(P)]) for k in range(len(P))]
+    d = cv.voronoi([cv.Segment(a, b) for a, b in segs], progress=False)
+    assert d.certified, d.problems[:4]
+    keys = [sdg_peer.segment_key(s.p, s.q) if isinstance(s, cv.Segment)
+            else sdg_peer.point_key(Fraction(str(s.cx)), Fraction(str(s.cy))) for s in d.sites]
+    ours = {frozenset((keys[i], keys[j])) for i, j in d.delaunay_edges()}
+    cgal, _ = sdg_peer.segment_delaunay_edges([], segs, degenerate=True)
+    assert ours == cgal, (len(ours), len(cgal))
+    tiny = [e for e in d.edges if None not in e.ends and np.hypot(*np.diff(np.asarray(e.polyline), axis=0).T).sum() < 1e-12]
+    assert tiny                                      # the nearly coincident vertices' edges are there
+    m = cv.medial_axis(P)
+    assert m.certified, m.problems[:4]
+
+
+def test_a_star_without_one_of_its_tiny_edges_is_refused():
+    """Dropping a 10⁻¹⁶ edge (its end vertices merged into one of degree 4 would be wrong: the
+    floats break the tie) or moving its end vertex by 10⁻⁹ is refused."""
+    P = star(5)
+    d = cv.voronoi([cv.Segment(P[k], P[(k + 1) % len(P)]) for k in range(len(P))], progress=False)
+    assert d.certified
+    doc = d.to_json()
+    t = next(t for t, e in enumerate(doc["edges"]) if None not in e["ends"]
+             and np.hypot(*np.diff(np.asarray(e["polyline"]), axis=0).T).sum() < 1e-12)
+    bad = copy.deepcopy(doc)
+    del bad["edges"][t]
+    bad["delaunay_edges"] = sorted({tuple(sorted(e["sites"])) for e in bad["edges"]})
+    assert not cv.verify(bad).ok
+    bad = copy.deepcopy(doc)
+    v = doc["edges"][t]["ends"][0]
+    k = next(k for k, w in enumerate(bad["vertices"]) if w["id"] == v)
+    bad["vertices"][k]["x"] += 1e-9
+    assert not cv.verify(bad).ok

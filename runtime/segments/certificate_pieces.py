@@ -119,6 +119,14 @@ class PieceProofs:
         c = self.curve
         sgn = 1 if at_lo else -1
         width, start, reach = span / 2, back, None
+        if not width > 1e-14 * (abs(base) + span):
+            # an edge below the float resolution of its parameter (between nearly coincident
+            # vertices): the whole edge at once, from the far side of the end's ball (base ± span
+            # reaches the other end's ball: floats a ≤ base, b − a exact)
+            end = base + sgn * span
+            J = interval(min(back, end), max(back, end))
+            X, Y = c.xy(J)
+            return end if fn(J, X, Y) > 0 else None
         while budget > 0 and width > 1e-14 * (abs(base) + span):
             budget -= 1
             end = (base if reach is None else reach) + sgn * width
