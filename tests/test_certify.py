@@ -399,18 +399,18 @@ def test_fast_path_rejects_bad_solution_lists():
 
 def test_fast_path_point_not_near_a_solution_is_not_certified():
     """The float Krawczyk test never certifies a point with a large residual (random points)."""
-    from curvedvoronoi.runtime.certify.complete import _certify_fast
+    from curvedvoronoi.runtime.certify.offset_batch import certify_batch
     c1, c2, c3, _ = _solved_triple()
     rng = np.random.default_rng(7)
     P = rng.normal(size=(50, 3)) + 1j * rng.normal(size=(50, 3))
     P[:, 2] *= 10
-    out = _certify_fast(c1, c2, c3, P)
+    out = certify_batch(c1, c2, c3, P)
     assert all(kind is None for kind, _ in out)
 
 
 def test_disjoint_sweep_matches_all_pairs():
     from flint import acb, arb
-    from curvedvoronoi.runtime.certify.complete import _disjoint, _disjoint_all_pairs
+    from curvedvoronoi.runtime.certify.solution_boxes import boxes_disjoint, boxes_disjoint_all_pairs
     rng = np.random.default_rng(3)
     for trial in range(30):
         n = 25
@@ -418,7 +418,7 @@ def test_disjoint_sweep_matches_all_pairs():
         r = rng.uniform(0.05, 0.6, size=(n, 3))
         Ks = [[acb(arb(float(c[a, i].real), float(r[a, i])), arb(float(c[a, i].imag), float(r[a, i])))
                if trial % 3 else arb(float(c[a, i].real), float(r[a, i])) for i in range(3)] for a in range(n)]
-        assert _disjoint(Ks) == _disjoint_all_pairs(Ks)
+        assert boxes_disjoint(Ks) == boxes_disjoint_all_pairs(Ks)
 
 
 def test_integer_specialisation_equals_artefact_specialise():

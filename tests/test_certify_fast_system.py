@@ -1,4 +1,4 @@
-"""The float coefficient tables of the batched Krawczyk test (runtime.certify.complete._FastSystem):
+"""The float coefficient tables of the batched Krawczyk test (runtime.certify.offset_batch.FloatOffsetSystem):
 every stored float coefficient of o_i and of ∂o_i/∂x_j is within its stored radius of the exact
 rational coefficient (checked in exact rational arithmetic), for a compact and a spread-out scene."""
 from __future__ import annotations
@@ -6,7 +6,7 @@ from __future__ import annotations
 import flint
 import pytest
 
-from curvedvoronoi.runtime.certify.complete import _FastSystem
+from curvedvoronoi.runtime.certify.offset_batch import FloatOffsetSystem
 from curvedvoronoi.runtime.certify.offset_system import framed_offset_system, scene_frame
 from curvedvoronoi.runtime.predicates.locator import demo_configuration
 
@@ -22,7 +22,7 @@ def _spread():
 @pytest.mark.parametrize("cs", [demo_configuration()[:3], _spread()], ids=["compact", "spread"])
 def test_fast_system_radii_bound_the_exact_coefficients(cs):
     sys = framed_offset_system(cs, scene_frame(cs))
-    fs = _FastSystem(sys)
+    fs = FloatOffsetSystem(sys)
     exact = sys.value_gradient_columns()
     rows = {tuple(int(t) for t in e): n for n, e in enumerate(fs.exps)}
     assert set(rows) == {m for col in exact for m in col}

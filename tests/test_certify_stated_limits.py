@@ -10,7 +10,7 @@
   1966): on an isolating interval of a simple root where P' still takes the value 0, it bisects
   on the sign of P (P changes sign across a simple root) before Newton's step; the interval
   [−1/2, 3] isolates √2 among the roots ±√2 of x² − 2, where P'(x) = 2x vanishes at 0.
-* The float tables of the batched Krawczyk test (:class:`runtime.certify.complete._FastSystem`)
+* The float tables of the batched Krawczyk test (:class:`runtime.certify.offset_batch.FloatOffsetSystem`)
   admit a rational coefficient whose double is a normal number of modulus at least 2⁻¹⁰⁰⁰
   (its stated range): 2⁻¹⁰⁰⁰ itself is a double, held exactly, while 2⁻¹⁰⁰¹ is out of that
   range and refused.
@@ -64,7 +64,7 @@ def test_fast_table_admits_coefficients_down_to_two_to_the_minus_1000(k, admitte
     """o_1 = x² + y² − R + 2⁻ᵏ (o_2, o_3 translates with integer coefficients): with k = 1000
     the table holds 2⁻¹⁰⁰⁰ exactly and the coefficient 2·1 of x in ∂o_1/∂x; with
     k = 1001 it refuses the system (OverflowError, the callers fall back to ball arithmetic)."""
-    from curvedvoronoi.runtime.certify.complete import _FastSystem
+    from curvedvoronoi.runtime.certify.offset_batch import FloatOffsetSystem
     from curvedvoronoi.runtime.certify.offset_system import OffsetSystem
 
     tiny = Q(1, 2 ** k)
@@ -74,9 +74,9 @@ def test_fast_table_admits_coefficients_down_to_two_to_the_minus_1000(k, admitte
     sys = OffsetSystem(terms=terms)
     if not admitted:
         with pytest.raises(OverflowError):
-            _FastSystem(sys)
+            FloatOffsetSystem(sys)
         return
-    fs = _FastSystem(sys)
+    fs = FloatOffsetSystem(sys)
     rows = {tuple(int(t) for t in e): n for n, e in enumerate(fs.exps)}
     c = rows[(0, 0, 0)]
     assert float(fs.C[c, 0]) == 2.0 ** -1000 and Q(float(fs.C[c, 0])) == tiny
