@@ -110,3 +110,34 @@ def test_a_star_without_one_of_its_tiny_edges_is_refused():
     k = next(k for k, w in enumerate(bad["vertices"]) if w["id"] == v)
     bad["vertices"][k]["x"] += 1e-9
     assert not cv.verify(bad).ok
+
+
+class _Identity:
+    """A curve whose point at parameter J is (J, J): the tests below see the interval itself."""
+
+    @staticmethod
+    def xy(J):
+        return J, J
+
+
+@pytest.mark.parametrize("at_lo", [True, False])
+def test_a_tiny_edge_is_covered_only_from_the_far_side_of_its_end_ball(at_lo):
+    """The whole-edge test of a tie cover on an edge below float resolution (PieceProofs._prefix)
+    must hold from the far side ``back`` of the end vertex's parameter ball (the exact vertex may
+    lie anywhere in it) to the other end: a test positive only beyond the middle of [back, base] is
+    refused, one positive on the whole hull is accepted and reaches the far end."""
+    from curvedvoronoi.runtime.segments.certificate_pieces import PieceProofs
+
+    base = 2.6757499224999206
+    span = 4 * np.spacing(base)
+    sgn = 1 if at_lo else -1
+    back = base - sgn * np.spacing(base)
+    pr = type("P", (), {"curve": _Identity()})()
+    half = (back + base) / 2
+    beyond_half = (lambda J, X, Y: J - half) if at_lo else (lambda J, X, Y: half - J)
+    assert PieceProofs._prefix(pr, beyond_half, back, base, span, at_lo) is None
+    everywhere = lambda J, X, Y: J * 0 + 1                      # noqa: E731
+    reach = PieceProofs._prefix(pr, everywhere, back, base, span, at_lo)
+    assert reach == base + sgn * span
+    never = lambda J, X, Y: J * 0 - 1                           # noqa: E731
+    assert PieceProofs._prefix(pr, never, back, base, span, at_lo) is None
