@@ -224,22 +224,18 @@ def _critical_floats(P: PieceData, x: float, y: float) -> list:
     grid = np.unique(np.concatenate([np.linspace(P.phi0, P.phi1, FLOAT_SAMPLES), P.phi0 + near, P.phi1 - near]))
 
     def d1(p):
-        return 2 * A * math.sin(p) - 2 * B * math.cos(p) + (b2 - a2) * math.sin(2 * p)
-    vals = [d1(p) for p in grid]
-    out = []
-    for k in range(len(grid) - 1):
-        if vals[k] == 0:
-            out.append(float(grid[k]))
-        elif vals[k] * vals[k + 1] < 0:
-            lo, hi, flo = grid[k], grid[k + 1], vals[k]
-            for _ in range(60):
-                m = (lo + hi) / 2
-                if d1(m) * flo > 0:
-                    lo, flo = m, d1(m)
-                else:
-                    hi = m
-            out.append(float((lo + hi) / 2))
-    return out
+        return 2 * A * np.sin(p) - 2 * B * np.cos(p) + (b2 - a2) * np.sin(2 * p)
+    vals = d1(grid)
+    zero = grid[vals == 0].tolist()
+    k = np.nonzero(vals[:-1] * vals[1:] < 0)[0]
+    lo, hi, flo = grid[k], grid[k + 1], vals[k]
+    for _ in range(60):                 # bisection on all sign changes at once
+        m = (lo + hi) / 2
+        fm = d1(m)
+        left = fm * flo > 0
+        lo, flo = np.where(left, m, lo), np.where(left, fm, flo)
+        hi = np.where(left, hi, m)
+    return sorted(zero + ((lo + hi) / 2).tolist())
 
 
 def interior_foot(P: PieceData, x: float, y: float) -> float | None:
