@@ -131,7 +131,7 @@ def test_a_tiny_edge_is_covered_only_from_the_far_side_of_its_end_ball(at_lo):
     base = 2.6757499224999206
     span = 4 * np.spacing(base)
     sgn = 1 if at_lo else -1
-    back = base - sgn * np.spacing(base)
+    back = base - sgn * 4 * np.spacing(base)                   # half lies strictly between back and base
     pr = type("P", (), {"curve": _Identity()})()
     half = (back + base) / 2
     beyond_half = (lambda J, X, Y: J - half) if at_lo else (lambda J, X, Y: half - J)
