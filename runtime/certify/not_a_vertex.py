@@ -84,6 +84,8 @@ def closer_witness(conics, fps, K) -> bool:
         except FootFailure:
             feet = []
         for ft in feet:
+            # seeds only (a margin of 1e-7 relative admits feet numerically at distance √R);
+            # the proof is D < R below
             if not ft.D < R * 1.0000001 and not ft.possible:
                 continue
             try:

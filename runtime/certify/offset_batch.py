@@ -50,7 +50,8 @@ _EPS_C = 4 * UNIT_ROUNDOFF
 
 
 def _dmul(am, ar, bm, br):
-    """Disc product (midpoint, radius) of discs (am, ar) and (bm, br); arrays broadcast."""
+    """Disc product (midpoint, radius) of discs (am, ar) and (bm, br), radius by (D) of the module
+    docstring; arrays broadcast."""
     cm = am * bm
     aa, ab = abs_upper(am), abs_upper(bm)
     return cm, round_up(aa * br + ar * ab + ar * br + _EPS_C * aa * ab + UNDERFLOW)
@@ -116,7 +117,11 @@ class FloatOffsetSystem:
         self.gT = gamma(len(monos) + 2)
 
     def eval(self, mid, rad):
-        """Discs of the 12 polynomials at the polydiscs (mid[n], rad[n]) (shape N×3): (N×12, N×12)."""
+        """Discs of the 12 polynomials at the polydiscs (mid[n], rad[n]) (shape N×3): (N×12, N×12).
+
+        Each disc holds the polynomial's values over the polydisc: powers and monomials by the disc
+        product (D), the coefficient sum with the dot-product bound (P) plus the coefficients'
+        conversion radii (module docstring)."""
         N = mid.shape[0]
         D = self.deg
         pm = np.empty((D + 1, N, 3), dtype=complex)

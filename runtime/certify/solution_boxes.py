@@ -119,7 +119,8 @@ def _conjugate_pairs(S):
         return np.arange(n), {}
     P = S[nonreal]
     scale = np.maximum(1.0, np.abs(P).max(axis=1))
-    # nearest conjugate by the first coordinate, mutual, then checked on all three
+    # nearest conjugate by the first coordinate, mutual, then checked on all three (to 1e-6 of the
+    # size: a tolerance of the numeric stage's accuracy; any pairing is sound, see above)
     D = np.abs(P[:, None, 0] - np.conj(P[None, :, 0]))
     np.fill_diagonal(D, np.inf)
     near = np.argmin(D, axis=1)
@@ -192,11 +193,14 @@ def box_kind(K, real: bool):
 
 
 def boxes_disjoint(Ks, pairs: list | None = None) -> bool:
-    """Are the boxes pairwise disjoint?  With a list ``pairs``, every overlapping pair (a, b) is
-    appended to it instead of stopping at the first.  A float prefilter (outward-rounded bounds of the six real
-    coordinate intervals, all pairs at once in blocks of rows) finds the candidate pairs; only
-    those are decided by ball arithmetic (:func:`balls_overlap`), so the answer is the same as the all-pairs
-    test."""
+    """Step 2: are the boxes pairwise disjoint?  Two boxes X_a, X_b are disjoint when some
+    coordinate's balls are, X_a,i ∩ X_b,i = ∅; then their unique zeros differ.  With a list
+    ``pairs``, every overlapping pair (a, b) is appended to it instead of stopping at the first.
+    A float prefilter finds the candidate pairs: with c, ρ the float midpoint and radius of a real
+    or imaginary part, its interval is [c − w, c + w], w = ρ + (|c| + ρ)·2^-45 + 2^-1000 ≥ the
+    true half-width plus the conversion roundings, so a pair whose float intervals miss each other
+    in some coordinate is disjoint; only the others are decided by ball arithmetic
+    (:func:`balls_overlap`), and the answer is that of the all-pairs test."""
     n = len(Ks)
     if n < 2:
         return True
