@@ -1,9 +1,13 @@
-"""Voronoi vertices of triples with a conic: one refinement and one proof per vertex.
+"""Voronoi vertices of triples with a conic: a batched proof, else one refinement and one proof per vertex.
 
-Candidate seeds come from the 3-label triangles of the sample triangulation; each is refined by
-``refine_vertex`` and proved by ``certify_vertex`` of :mod:`runtime.voronoi.vertex` (thesis §5.2:
-a vertex is a point equidistant from three sites with an empty circle).  Candidates of one triple
-are merged only when one proof box holds the other.
+Candidate seeds come from the 3-label triangles of the sample triangulation (thesis §5.2: a
+vertex is a point equidistant from three sites with an empty circle).  All candidates of convex
+sites are first proved at once by the kernel's Krawczyk test on the distance differences
+(:func:`runtime.voronoi.verify.conic_vertices.prove_conic_vertices`, vectorised: a unique zero of
+(d_i − d_j, d_i − d_k) in a small square, with its radius enclosed); the others are refined by
+``refine_vertex`` and proved by ``certify_vertex`` of :mod:`runtime.voronoi.vertex` (arb Krawczyk on
+the foot-point system), one at a time.  Candidates of one triple are merged only when one proof
+box holds the other.
 
 Public API: :func:`conic_vertices`.
 """
@@ -15,6 +19,7 @@ import numpy as np
 
 from .apollonius_vertices import newton_vertices
 from .site_arrays import SiteArrays
+from .verify.conic_vertices import prove_conic_vertices
 
 __all__ = ["conic_vertices"]
 
@@ -51,6 +56,16 @@ def _vertex_generic(S: SiteArrays, triple, seed, stats):
             "radius": pf.radius, "reason": getattr(pf, "reason", "")}
 
 
+def _batch_vertex(triple, proof):
+    """The cluster of a vertex proved by the batched test: (x, y, h, r_lo, r_hi), a unique zero of
+    the distance differences in the square of centre (x, y) and half-width h."""
+    x, y, h, rlo, rhi = proof
+    return {"triple": tuple(triple), "x": x, "y": y, "ok": True, "rlo": rlo, "rhi": rhi,
+            "box": ((math.nextafter(x - h, -math.inf), math.nextafter(x + h, math.inf)),
+                    (math.nextafter(y - h, -math.inf), math.nextafter(y + h, math.inf))),
+            "h": h, "exact": None, "radius": 0.5 * (rlo + rhi), "reason": ""}
+
+
 def conic_vertices(S: SiteArrays, T3, seeds, stats, cache):
     """Candidates of triples with a conic, one proof per vertex.  ``cache`` (triple -> proved
     vertices of earlier rounds) is reused when a seed lies within a quarter of the radius of exactly
@@ -67,6 +82,10 @@ def conic_vertices(S: SiteArrays, T3, seeds, stats, cache):
         dseed, _ = S.dist_grad(start, T3[:, 0])
         good = np.isfinite(Q).all(axis=1) & (np.hypot(*(Q - start).T) <= dseed + 1e-12 * S.scale)
         start[good] = Q[good]
+    quick = []
+    if len(T3):
+        fin = [abs(b) for g in S.geoms for b in g.bounding_box() if math.isfinite(b)]
+        quick = prove_conic_vertices(S.geoms, T3, start, 1.0 + (max(fin) if fin else 0.0))
     for m in range(len(T3)):
         tr = tuple(int(v) for v in T3[m])
         found = None
@@ -84,7 +103,10 @@ def conic_vertices(S: SiteArrays, T3, seeds, stats, cache):
                 cl = dict(near[0])
                 stats["vertex_cache_hits"] = stats.get("vertex_cache_hits", 0) + 1
             else:
-                cl = _vertex_generic(S, tr, start[m], stats)
+                if quick[m] is not None:
+                    cl = _batch_vertex(tr, quick[m])
+                else:
+                    cl = _vertex_generic(S, tr, start[m], stats)
                 if cl is not None and cl["ok"]:
                     cache.setdefault(tr, []).append(dict(cl))
             if cl is None:

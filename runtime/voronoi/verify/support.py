@@ -60,6 +60,12 @@ class SupportTable:
         self.rho = np.array(self.rho, float)
         #: semi-axes and axis direction per site (a circle: a = b = r; a point: 0)
         self.sa, self.sb, self.cs, self.sn = (np.array(v, float) for v in zip(*shape))
+        #: the quadratic form A = R diag(a², b²) Rᵀ of each site (h = u·(c − m) + √(uᵀAu)), rows
+        #: (A11, A12, A22, A22 − A11)
+        a2, b2 = self.sa * self.sa, self.sb * self.sb
+        self.quad = np.column_stack([a2 * self.cs * self.cs + b2 * self.sn * self.sn, (a2 - b2) * self.cs * self.sn,
+                                     a2 * self.sn * self.sn + b2 * self.cs * self.cs])
+        self.quad = np.column_stack([self.quad, self.quad[:, 2] - self.quad[:, 0]])
         self.rcurv = np.array([max(g.a, g.b) ** 2 / min(g.a, g.b) if g.kind == "ellipse" else
                                (g.rho if g.kind == "circle" else 0.0) for g in geoms], float) * (1 + 1e-9)
         self.mu = 1e-11 * (W + float(np.abs(self.m).sum()) + float(np.abs(self.cen).max()) + 1.0)
@@ -80,37 +86,41 @@ class SupportTable:
         """Bound on |h_k'| on [θc − half, θc + half] (|h''| ≤ ρ_k + W)."""
         return np.abs(self.hp(k, thc)) + (self.rcurv[k] + self.W) * half + self.mu
 
-    def h(self, k, th):
-        """Float h_k(θ) (error ≤ mu); k an index or an array broadcasting against θ."""
+    def _terms(self, k, th):
+        """(ux, uy, dx, dy, √(uᵀAu)) for the sites k (an index or an array broadcasting against θ)."""
         th = np.asarray(th, float)
         k = np.asarray(k)
         ux, uy = np.cos(th), np.sin(th)
-        a, b, cs, sn = self.sa[k], self.sb[k], self.cs[k], self.sn[k]
-        uX, uY = cs * ux + sn * uy, -sn * ux + cs * uy
-        return (ux * (self.cen[k, 0] - self.m[0]) + uy * (self.cen[k, 1] - self.m[1])
-                + np.sqrt(a * a * uX * uX + b * b * uY * uY))
+        q = self.quad[k]
+        s = np.sqrt(q[..., 0] * (ux * ux) + q[..., 1] * (2.0 * ux * uy) + q[..., 2] * (uy * uy))
+        return ux, uy, self.cen[k, 0] - self.m[0], self.cen[k, 1] - self.m[1], s
+
+    def _h_hp(self, k, th):
+        """(h_k(θ), h_k'(θ)) in one pass: h' = (p − m)·u⊥ = v + uᵀA u⊥/√(uᵀAu), v = (c − m)·u⊥,
+        uᵀA u⊥ = (A22 − A11)·ux·uy + A12·(ux² − uy²) (0 for a point)."""
+        ux, uy, dx, dy, s = self._terms(k, th)
+        q = self.quad[np.asarray(k)]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            w = (q[..., 3] * (ux * uy) + q[..., 1] * (ux * ux - uy * uy)) / s
+        return ux * dx + uy * dy + s, (ux * dy - uy * dx) + np.where(s > 0, w, 0.0)
+
+    def h(self, k, th):
+        """Float h_k(θ) (error ≤ mu); k an index or an array broadcasting against θ."""
+        ux, uy, dx, dy, s = self._terms(k, th)
+        return ux * dx + uy * dy + s
 
     def hp(self, k, th):
         """Float h_k'(θ) = (p_k(θ) − m)·u⊥(θ) (error ≤ mu)."""
-        th = np.asarray(th, float)
-        k = np.asarray(k)
-        ux, uy = np.cos(th), np.sin(th)
-        v = -uy * (self.cen[k, 0] - self.m[0]) + ux * (self.cen[k, 1] - self.m[1])
-        a, b, cs, sn = self.sa[k], self.sb[k], self.cs[k], self.sn[k]
-        uX, uY = cs * ux + sn * uy, -sn * ux + cs * uy
-        vX, vY = cs * (-uy) + sn * ux, -sn * (-uy) + cs * ux
-        with np.errstate(divide="ignore", invalid="ignore"):
-            w = (a * a * uX * vX + b * b * uY * vY) / np.sqrt(a * a * uX * uX + b * b * uY * uY)
-        return v + np.where(a > 0, w, 0.0)
+        return self._h_hp(k, th)[1]
 
     def h_range(self, k, thc, half):
         """Enclosure of h_k on [θc − half, θc + half]: |h'| ≤ W, or to second order (Taylor at θc
         with h' Lipschitz, |h''| = |ρ_k(θ) − h_k| ≤ ρ_k + W a.e.)
         h_k(θc) ± (|h_k'(θc)|·half + (ρ_k + W)·half²/2), the float values within mu."""
-        v = self.h(k, thc)
+        v, d = self._h_hp(k, thc)
         half = np.asarray(half, float)
         r1 = self.W * half
-        r2 = (np.abs(self.hp(k, thc)) + self.mu) * half + 0.5 * (self.rcurv[k] + self.W) * half * half
+        r2 = (np.abs(d) + self.mu) * half + 0.5 * (self.rcurv[k] + self.W) * half * half
         r = np.minimum(r1, r2) * (1 + 1e-12) + self.mu
         return v - r, v + r
 
