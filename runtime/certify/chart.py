@@ -32,8 +32,8 @@ Proof (chart j, the homogeneous coordinate h_j set to 1, unknowns u = the other 
   the real axis, u* is non-real and so is s* (φ_j⁻¹ = h/h_j maps real points to real points);
 * the completeness argument of :mod:`runtime.certify.complete` needs, per listed solution, only an
   enclosure containing a simple zero of o of the stated reality: the N zeros are distinct because
-  the N world enclosures are pairwise disjoint (``_disjoint``; a zero lies in each enclosure, so
-  two enclosures sharing no point hold different zeros), exactly as for world-coordinate boxes
+  the N world enclosures are pairwise disjoint (:func:`runtime.certify.solution_boxes.boxes_disjoint`;
+  a zero lies in each enclosure, so two enclosures sharing no point hold different zeros), exactly as for world-coordinate boxes
   (their uniqueness region X is not used there), and N distinct simple zeros = the generic count
   are all the isolated zeros (coefficient-parameter theorem).  Real ones go on to the vertex
   matching / non-vertex proof with their world enclosure W unchanged.

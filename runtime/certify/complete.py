@@ -364,8 +364,8 @@ def completeness_exact(c1, c2, c3, boxes, vertex_boxes) -> tuple[bool, str]:
     lies in exactly one box.  (i) Each certified vertex box must meet exactly one exact box -- that
     box's solution is the vertex -- and no two vertices the same box.  (ii) Every other box is
     proved not to hold a true vertex (R < 0, a real foot point strictly closer than √R, or no real
-    foot point at distance √R: :func:`runtime.certify.not_a_vertex.not_a_vertex`).  Then the certified vertices are all the
-    true vertices."""
+    foot point at distance √R, or a closer witness: :mod:`runtime.certify.not_a_vertex`).  Then the
+    certified vertices are all the true vertices."""
     fps = [foot_polynomial(normalised_coefficients(c)) for c in (c1, c2, c3)]
     with working_prec(256):
         K = [tuple(_interval_ball(lo, hi) for lo, hi in b) for b in boxes]

@@ -35,7 +35,8 @@ from .foot import working_prec
 from .offset_batch import certify_batch, nearly_real
 from .offset_system import OffsetSystem, framed_offset_system, krawczyk_complex, newton_track, scene_frame
 
-__all__ = ["certify_solutions", "conjugate_box", "box_kind", "boxes_disjoint", "boxes_disjoint_all_pairs", "balls_overlap"]
+__all__ = ["certify_solutions", "conjugate_box", "box_kind", "boxes_disjoint", "boxes_disjoint_all_pairs",
+           "balls_overlap"]
 
 
 def _scene_frame_or_none(c1, c2, c3):
