@@ -10,7 +10,7 @@ the construction itself is unchanged.  Figures are MB above the RSS once the lib
 (a three-circle diagram built) and the sites made; a phase name repeated with ``#k`` is its k-th
 round.  Linux only.
 
-Run:  OPENBLAS_NUM_THREADS=1 python bench/memory_phases.py 30000 [--certify] [--scene clustered]
+Run:  OPENBLAS_NUM_THREADS=1 python bench/memory_phases.py 30000 [--certify] [--scene clustered] [--whole-qhull]
 """
 from __future__ import annotations
 
@@ -37,10 +37,15 @@ def main() -> None:
     ap.add_argument("n", type=int)
     ap.add_argument("--certify", action="store_true")
     ap.add_argument("--scene", choices=("random", "clustered"), default="random")
+    ap.add_argument("--whole-qhull", action="store_true",
+                    help="qhull on all samples at once (no strips: the figures before strip_delaunay)")
     a = ap.parse_args()
     import scenes
     from curvedvoronoi.runtime.voronoi import construction as C
     from curvedvoronoi.runtime.voronoi import sample_delaunay as SD
+    from curvedvoronoi.runtime.voronoi import strip_delaunay
+    if a.whole_qhull:
+        strip_delaunay.STRIP_POINTS = 1 << 62
 
     sites = (scenes.clustered_circles(a.n, 31, cluster=0.1) if a.scene == "clustered"
              else scenes.random_disjoint_circles(a.n, 1))
@@ -95,6 +100,7 @@ def main() -> None:
     print(f"n={a.n} scene={a.scene} certify={a.certify}: {d.stats.get('samples')} samples, "
           f"{d.stats.get('rounds')} rounds, {len(d.vertices)} vertices, {len(d.edges)} edges, "
           f"certified={d.certified}, {seconds:.1f} s, RSS with the input {base:.0f} MB, "
+          f"{d.stats.get('triangulations')} full triangulations (strips: {not a.whole_qhull}), "
           f"load {os.getloadavg()[0]:.2f}")
     print("| phase | peak RSS above the input MB | kB per site |\n|---|---:|---:|")
     for p in order:

@@ -32,7 +32,8 @@ convex hull of a scene): its result is checked to be a Delaunay triangulation of
 Length: the triangulation, its batch update with the update's checks, and the walks read the
 same arrays (corners, neighbours, labels, circumcentres); apart they would pass all of them.
 
-Public API: :class:`SampleTriangulation`, :func:`circumcentres`, :func:`delaunay`.
+Public API: :class:`SampleTriangulation`, :func:`circumcentres`, :func:`delaunay`, :func:`perturbed`,
+:func:`side_neighbours`.
 """
 from __future__ import annotations
 
@@ -43,7 +44,7 @@ from scipy.spatial import ConvexHull, Delaunay, QhullError, cKDTree
 
 from .sample_walks import chain_walks
 
-__all__ = ["SampleTriangulation", "circumcentres", "delaunay"]
+__all__ = ["SampleTriangulation", "circumcentres", "delaunay", "perturbed", "side_neighbours"]
 
 #: qhull options: the paraboloid coordinate scaled to the box of the others, coplanar points kept
 #: apart (``Qc``), a point at infinity (``Qz``), wide facets allowed (``Q12``)
@@ -78,15 +79,22 @@ def delaunay(P):
         if not len(tri.coplanar):
             return tri, c
     Q = P - c
-    # a fixed, reproducible perturbation (the same samples give the same triangulation)
-    wobble = np.random.default_rng(len(Q)).uniform(-1.0, 1.0, Q.shape)
     try:
-        tri = Delaunay(Q + wobble * (PERTURBATION * float(np.abs(Q).max())), qhull_options=QHULL_PLAIN)
+        tri = Delaunay(perturbed(Q), qhull_options=QHULL_PLAIN)
         if not len(tri.coplanar):
             return tri, c
     except QhullError:
         pass
     return Delaunay(Q, qhull_options=QHULL_OPTIONS), c
+
+
+def perturbed(Q):
+    """The points ``Q`` (centred on their bounding box) moved by the fixed, reproducible
+    perturbation of :func:`delaunay` (the same points give the same moved points)."""
+    wobble = np.random.default_rng(len(Q)).uniform(-1.0, 1.0, Q.shape)
+    wobble *= PERTURBATION * float(np.abs(Q).max())
+    wobble += Q
+    return wobble
 
 
 class SampleTriangulation:
@@ -242,7 +250,7 @@ class SampleTriangulation:
         kept_t = np.nonzero(~conflict)[0]
         simp2 = np.vstack([o2n[simp[kept_t]], l2n[ls[inside]]])
         n2 = n_keep + len(Pnew)
-        nb2 = _neighbours(simp2, n2)
+        nb2 = side_neighbours(simp2, n2)
         P2 = np.vstack([P[keep_pts], Pnew])
         cc2 = np.vstack([self.cc[kept_t], circumcentres(*(P2[simp2[len(kept_t):, k]] for k in range(3)))])
         if nb2 is None or not _valid(P2, simp2, nb2, len(kept_t), cc2, scale):
@@ -460,19 +468,22 @@ def _valid(P, simp, nb, first_new, cc, scale) -> bool:
     return bool(abs(_areas(P, simp).sum() - H.volume) <= 1e-9 * max(H.volume, 1e-300))
 
 
-def _neighbours(simp, npts):
+def side_neighbours(simp, npts, dtype=np.int64):
     """``nb[t, k]``: the triangle across the side opposite corner k (−1: none); None when a side is
     shared by more than two triangles."""
     T = len(simp)
-    a = np.concatenate([simp[:, (k + 1) % 3] for k in range(3)])
-    b = np.concatenate([simp[:, (k + 2) % 3] for k in range(3)])
-    key = np.minimum(a, b).astype(np.int64) * npts + np.maximum(a, b)
+    a = np.concatenate([simp[:, (k + 1) % 3] for k in range(3)]).astype(np.int64)
+    b = np.concatenate([simp[:, (k + 2) % 3] for k in range(3)]).astype(np.int64)
+    key = np.minimum(a, b) * npts + np.maximum(a, b)
+    del a, b
     order = np.argsort(key, kind="stable")
     ks = key[order]
+    del key
     same = ks[1:] == ks[:-1]
+    del ks
     if (same[1:] & same[:-1]).any():
         return None
-    nb = np.full(3 * T, -1, dtype=np.int64)
+    nb = np.full(3 * T, -1, dtype=dtype)
     i = np.nonzero(same)[0]
     s1, s2 = order[i], order[i + 1]
     nb[s1] = s2 % T

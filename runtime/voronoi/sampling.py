@@ -27,8 +27,9 @@ import numpy as np
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from .exact_delaunay import exact_delaunay, is_delaunay
-from .sample_delaunay import SampleTriangulation, delaunay
+from .sample_delaunay import JOGGLE_ABOVE, SampleTriangulation, delaunay, perturbed
 from .site_arrays import SiteArrays
+from .strip_delaunay import strip_delaunay
 
 __all__ = ["Samples", "hull_neighbours", "initial_spacing", "clamp_spacing", "sample_sites", "circle_sample_counts", "SPACING_FACTOR", "MAX_SAMPLES_FIRST",
            "MAX_SAMPLES", "GAP_FLOOR"]
@@ -169,9 +170,7 @@ class Samples:
         self.tri = None                  # the last triangulation is not needed for a full one
         points = S.all_circles and not S.R.any()     # point sites: the samples are the sites
         try:
-            qh, _ = delaunay(P)
-            simp, nb = qh.simplices, qh.neighbors
-            del qh
+            simp, nb = _triangles(P)
         except QhullError:
             if not points:
                 raise
@@ -186,6 +185,20 @@ class Samples:
             stats["exact_delaunay"] = stats.get("exact_delaunay", 0) + 1
         self.tri, self.sampled = SampleTriangulation(P, lab, simp, nb), self.spacing.copy()
         return self.tri
+
+
+def _triangles(P):
+    """(simplices, neighbours) of the samples' Delaunay triangulation: strip by strip
+    (:func:`runtime.voronoi.strip_delaunay.strip_delaunay`, in a fraction of qhull's memory) for
+    many samples, which qhull would triangulate perturbed (:func:`runtime.voronoi.sample_delaunay.
+    delaunay`: the same perturbation), else -- or when a strip's check fails -- qhull's on all."""
+    if len(P) >= JOGGLE_ABOVE:
+        c = (P.min(axis=0) + P.max(axis=0)) / 2
+        found = strip_delaunay(perturbed(P - c))
+        if found is not None:
+            return found
+    qh, _ = delaunay(P)
+    return qh.simplices, qh.neighbors
 
 
 #: samples per site for the convex hull of :func:`hull_neighbours` (sagitta 1 − cos(π/256) ≈ 7.5e-5

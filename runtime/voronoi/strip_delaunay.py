@@ -1,0 +1,189 @@
+"""The Delaunay triangulation of many points, strip by strip, in a fraction of qhull's memory.
+
+qhull keeps about 1 kB of facet structures per input point while it triangulates (measured:
++430 MB for 4.2·10⁵ samples), more than everything else the construction holds.  Here the
+points, sorted by abscissa, are cut into vertical strips of about :data:`STRIP_POINTS` points;
+each strip is triangulated by qhull together with a *halo* (the points of a quarter strip on
+either side), and keeps the triangles whose circumcentre lies in the strip (the circumcentre
+computed from the corners in increasing index order, so that it is the same float in every
+strip and exactly one strip owns a triangle).
+
+A kept triangle is a Delaunay triangle of all the points when its open circumdisk holds none of
+them (Delaunay 1934; in general position, which the fixed perturbation of
+:func:`runtime.voronoi.sample_delaunay.perturbed` gives, the Delaunay triangulation is the set of
+such triangles): qhull proves the disk empty of the strip's and halo's points, and the disk holds
+no other point when it lies within the abscissae of the halo; a disk reaching beyond them (near
+the convex hull, a disk can be almost a half-plane) is searched for the other points with a k-d
+tree.  The kept triangles are then a subset of the Delaunay triangulation, and they are all of it
+when every side is shared by two kept triangles or is a side of the convex hull (the dual graph
+of a triangulation of a convex polygon is connected, so a proper subset has a side shared with a
+missing triangle).  When any of this fails -- a strip where qhull drops a point, a side shared
+by three triangles, a side missing -- the caller triangulates all the points at once.
+
+Public API: :func:`strip_delaunay`, :data:`STRIP_POINTS`.
+"""
+from __future__ import annotations
+
+from fractions import Fraction
+
+import numpy as np
+from scipy.spatial import Delaunay, QhullError, cKDTree
+
+from .sample_delaunay import QHULL_PLAIN, circumcentres, side_neighbours
+
+__all__ = ["strip_delaunay", "STRIP_POINTS"]
+
+#: points per strip (qhull's facets for 3·10⁴ points, the strip and its halo: about 30 MB)
+STRIP_POINTS = 20000
+#: relative margin of the disk tests (a circumdisk must clear the halo's abscissae by this much of
+#: its radius plus the extent; a corner is on its own circumcircle up to rounding)
+MARGIN = 1e-9
+
+
+def strip_delaunay(Q, strip_points: int | None = None):
+    """(simplices, neighbours) of the Delaunay triangulation of the points ``Q`` (n × 2, in
+    general position, e.g. perturbed), in qhull's layout (``neighbours[t, k]`` across the side
+    opposite corner k, −1 on the hull; int32), built strip by strip (module docstring); None when
+    there are fewer than two strips' worth of points (default
+    :data:`STRIP_POINTS`) or a check fails."""
+    Q = np.ascontiguousarray(Q, dtype=float)
+    strip_points = STRIP_POINTS if strip_points is None else strip_points
+    n = len(Q)
+    k = n // strip_points
+    if k < 2:
+        return None
+    order = np.argsort(Q[:, 0], kind="stable").astype(np.int32)
+    xs = Q[order, 0]
+    cut = np.linspace(0, n, k + 1).astype(np.int64)
+    extent = float(np.abs(Q).max())
+    parts, tree = [], None
+    for s in range(k):
+        lo, hi = int(cut[s]), int(cut[s + 1])
+        a = xs[lo] if s else -np.inf                 # the strip owns circumcentres with a ≤ x < b
+        b = xs[hi] if s < k - 1 else np.inf
+        halo = (hi - lo) // 4
+        hlo, hhi = max(lo - halo, 0), min(hi + halo, n)
+        # every point whose abscissa lies in [xlo, xhi] is in the strip or its halo
+        xlo = xs[hlo] if hlo > 0 else -np.inf
+        xhi = xs[hhi - 1] if hhi < n else np.inf
+        hlo = int(np.searchsorted(xs, xlo, side="left")) if hlo > 0 else 0
+        hhi = int(np.searchsorted(xs, xhi, side="right")) if hhi < n else n
+        idx = order[hlo:hhi]
+        try:
+            tri = Delaunay(Q[idx], qhull_options=QHULL_PLAIN)
+        except QhullError:
+            return None
+        if len(tri.coplanar):
+            return None
+        simp = idx[tri.simplices]
+        del tri
+        srt = np.sort(simp, axis=1)                  # corners in increasing index order
+        cc = circumcentres(Q[srt[:, 0]], Q[srt[:, 1]], Q[srt[:, 2]])
+        own = (cc[:, 0] >= a) & (cc[:, 0] < b)
+        simp, cc = simp[own], cc[own]
+        r = np.hypot(*(Q[srt[own, 0]] - cc).T)
+        del srt
+        slack = MARGIN * (r + extent)
+        inside = (cc[:, 0] - r - slack > xlo) & (cc[:, 0] + r + slack < xhi)
+        far = np.nonzero(~inside)[0]
+        if len(far):
+            if tree is None:
+                tree = cKDTree(Q)
+            drop = far[~_empty(tree, simp[far], cc[far], r[far], extent)]
+            simp = np.delete(simp, drop, axis=0)     # not Delaunay: the repair below
+        parts.append(simp.astype(np.int32))
+        del cc, r, simp
+    simp = np.concatenate(parts)
+    del parts
+    nb = side_neighbours(simp, n, dtype=np.int32)
+    if nb is None:
+        return None
+    bad = _open_inner_sides(Q, simp, nb)
+    if bad:
+        # the triangles missed (near the hull, a circumcentre's strip may lack a far corner) have
+        # their corners among the points of no kept triangle and the ends of the open inner sides
+        used = np.zeros(n, bool)
+        used[simp.ravel()] = True
+        R = np.union1d(np.nonzero(~used)[0], np.array(bad, dtype=np.int64).ravel())
+        del used
+        if len(R) > strip_points or len(R) < 3:
+            return None
+        try:
+            tri = Delaunay(Q[R], qhull_options=QHULL_PLAIN)
+        except QhullError:
+            return None
+        more = R[tri.simplices].astype(np.int32)
+        del tri
+        srt = np.sort(more, axis=1)
+        cc = circumcentres(Q[srt[:, 0]], Q[srt[:, 1]], Q[srt[:, 2]])
+        r = np.hypot(*(Q[srt[:, 0]] - cc).T)
+        if tree is None:
+            tree = cKDTree(Q)
+        keep = _empty(tree, more, cc, r, extent)
+        keep &= ~np.isin(_rows(srt), _rows(np.sort(simp, axis=1)))
+        simp = np.concatenate([simp, more[keep]])
+        del tree, more, srt, cc, r
+        nb = side_neighbours(simp, n, dtype=np.int32)
+        if nb is None or _open_inner_sides(Q, simp, nb):
+            return None
+    return simp, nb
+
+
+def _rows(srt):
+    """The triangles (corners in increasing order, int32) as one record each, for ``np.isin``."""
+    return np.ascontiguousarray(srt, dtype=np.int32).view(
+        np.dtype([("a", np.int32), ("b", np.int32), ("c", np.int32)])).ravel()
+
+
+def _open_inner_sides(Q, simp, nb) -> list:
+    """The sides on no second triangle with a point strictly beyond them (on the side away from
+    their triangle): not sides of the convex hull."""
+    t, kk = np.nonzero(nb < 0)
+    bad = []
+    for ti, ki in zip(t.tolist(), kk.tolist()):
+        a, b, c = (int(simp[ti, (ki + j) % 3]) for j in (1, 2, 0))
+        if _beyond(Q, a, b, c):
+            bad.append((a, b))
+    return bad
+
+
+def _empty(tree, simp, cc, r, extent):
+    """Per triangle: its circumdisk (centre ``cc``, radius ``r``) shrunk by :data:`MARGIN` holds
+    no point but its corners (the four points nearest the centre, from the k-d tree)."""
+    d, i = tree.query(cc, k=4)
+    near = d < r[:, None] * (1 - MARGIN) - MARGIN * extent
+    corner = (i[:, :, None] == simp[:, None, :]).any(axis=2)
+    return ~(near & ~corner).any(axis=1)
+
+
+#: Shewchuk's (1997) error bound of the orientation determinant evaluated in floating point
+ORIENT_ERROR = 3.3306690738754716e-16
+#: points per block of the hull test
+BLOCK = 1 << 18
+
+
+def _beyond(Q, a, b, c) -> bool:
+    """Is a point of ``Q`` strictly on the other side of the line (a, b) than c (exact signs:
+    Shewchuk's float filter, then rational arithmetic for the undecided points)?"""
+    ax, ay = Q[a]
+    bx, by = Q[b]
+    side = _exact_orient(Q[a], Q[b], Q[c])
+    for lo in range(0, len(Q), BLOCK):
+        X = Q[lo:lo + BLOCK]
+        left = (bx - ax) * (X[:, 1] - ay)
+        right = (by - ay) * (X[:, 0] - ax)
+        det = (left - right) * side
+        bound = ORIENT_ERROR * (np.abs(left) + np.abs(right))
+        if (det < -bound).any():
+            return True
+        for i in np.nonzero(np.abs(det) <= bound)[0].tolist():
+            if _exact_orient(Q[a], Q[b], X[i]) * side < 0:
+                return True
+    return False
+
+
+def _exact_orient(p, q, r) -> int:
+    """The sign of the orientation of (p, q, r), in rational arithmetic."""
+    px, py, qx, qy, rx, ry = (Fraction(float(v)) for v in (*p, *q, *r))
+    d = (qx - px) * (ry - py) - (qy - py) * (rx - px)
+    return (d > 0) - (d < 0)
