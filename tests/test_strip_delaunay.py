@@ -34,7 +34,7 @@ def triangles(simp):
 
 def test_random_points_exact_and_equal_to_qhull():
     Q = np.random.default_rng(5).uniform(-1, 1, (6000, 2))
-    out = SD.strip_delaunay(Q, 700)
+    out = SD.strip_delaunay(Q, np.arange(len(Q)), 700)
     assert out is not None
     simp, nb = out
     assert simp.dtype == np.int32 and nb.dtype == np.int32
@@ -59,7 +59,7 @@ def test_hull_slivers_across_strips_are_repaired(monkeypatch):
         return real(P, **kw)
 
     monkeypatch.setattr(SD, "Delaunay", counted)
-    out = SD.strip_delaunay(Q, 500)
+    out = SD.strip_delaunay(Q, np.arange(len(Q)), 500)
     assert out is not None
     k = len(Q) // 500
     assert len(calls) == k + 1                  # the strips, then the repair of missed triangles
@@ -73,7 +73,7 @@ def test_circle_samples_as_the_construction_perturbs_them(seed):
     S = SiteArrays(sites, [site_geometry(s) for s in sites])
     P, lab = sample_sites(S, initial_spacing(S))
     Q = perturbed(P - (P.min(axis=0) + P.max(axis=0)) / 2)
-    out = SD.strip_delaunay(Q, 1500)
+    out = SD.strip_delaunay(Q, lab, 600)
     assert out is not None
     whole = Delaunay(Q, qhull_options="Qbb Qc Qz Q12").simplices
 
@@ -87,6 +87,6 @@ def test_circle_samples_as_the_construction_perturbs_them(seed):
 def test_refusals():
     rng = np.random.default_rng(3)
     Q = rng.uniform(-1, 1, (3000, 2))
-    assert SD.strip_delaunay(Q, 2000) is None    # fewer than two strips: qhull on all
+    assert SD.strip_delaunay(Q, np.arange(len(Q)), 2000) is None    # fewer than two strips: qhull on all
     Q[1500] = Q[10]                              # a repeated point: qhull leaves it out
-    assert SD.strip_delaunay(Q, 500) is None
+    assert SD.strip_delaunay(Q, np.arange(len(Q)), 500) is None

@@ -170,7 +170,7 @@ class Samples:
         self.tri = None                  # the last triangulation is not needed for a full one
         points = S.all_circles and not S.R.any()     # point sites: the samples are the sites
         try:
-            simp, nb = _triangles(P)
+            simp, nb = _triangles(P, lab)
         except QhullError:
             if not points:
                 raise
@@ -187,14 +187,14 @@ class Samples:
         return self.tri
 
 
-def _triangles(P):
+def _triangles(P, lab):
     """(simplices, neighbours) of the samples' Delaunay triangulation: strip by strip
     (:func:`runtime.voronoi.strip_delaunay.strip_delaunay`, in a fraction of qhull's memory) for
     many samples, which qhull would triangulate perturbed (:func:`runtime.voronoi.sample_delaunay.
     delaunay`: the same perturbation), else -- or when a strip's check fails -- qhull's on all."""
     if len(P) >= JOGGLE_ABOVE:
         c = (P.min(axis=0) + P.max(axis=0)) / 2
-        found = strip_delaunay(perturbed(P - c))
+        found = strip_delaunay(perturbed(P - c), lab)
         if found is not None:
             return found
     qh, _ = delaunay(P)

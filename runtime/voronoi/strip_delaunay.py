@@ -1,24 +1,36 @@
 """The Delaunay triangulation of many points, strip by strip, in a fraction of qhull's memory.
 
 qhull keeps about 1 kB of facet structures per input point while it triangulates (measured:
-+430 MB for 4.2·10⁵ samples), more than everything else the construction holds.  Here the
-points, sorted by abscissa, are cut into vertical strips of about :data:`STRIP_POINTS` points;
-each strip is triangulated by qhull together with a *halo* (the points of a quarter strip on
-either side), and keeps the triangles whose circumcentre lies in the strip (the circumcentre
-computed from the corners in increasing index order, so that it is the same float in every
-strip and exactly one strip owns a triangle).
++1.4 GB for 1.5·10⁶ samples of 10⁵ circles), more than everything else the construction holds.
+Here the points, sorted by abscissa, are cut into vertical strips of about :data:`STRIP_POINTS`
+points; each strip is triangulated by qhull together with a *halo* (the points of a quarter strip
+on either side), and keeps the triangles it *owns*: those whose circumcentre lies in the strip
+(computed from the corners in increasing index order, so that it is the same float in every
+strip), and those with three corners on one site whose site's mean abscissa lies in the strip
+(samples of one circle are nearly co-circular: their circumcentres are ill-conditioned and
+qhull's choice of diagonals among them depends on the other points, so a site's own triangles
+come whole from one qhull run).  Each triangle has exactly one owner.
 
 A kept triangle is a Delaunay triangle of all the points when its open circumdisk holds none of
 them (Delaunay 1934; in general position, which the fixed perturbation of
 :func:`runtime.voronoi.sample_delaunay.perturbed` gives, the Delaunay triangulation is the set of
-such triangles): qhull proves the disk empty of the strip's and halo's points, and the disk holds
+such triangles): qhull finds the disk empty of the strip's and halo's points, and the disk holds
 no other point when it lies within the abscissae of the halo; a disk reaching beyond them (near
 the convex hull, a disk can be almost a half-plane) is searched for the other points with a k-d
-tree.  The kept triangles are then a subset of the Delaunay triangulation, and they are all of it
-when every side is shared by two kept triangles or is a side of the convex hull (the dual graph
-of a triangulation of a convex polygon is connected, so a proper subset has a side shared with a
-missing triangle).  When any of this fails -- a strip where qhull drops a point, a side shared
-by three triangles, a side missing -- the caller triangulates all the points at once.
+tree, and the triangle dropped when one is inside.  The kept triangles then tile the convex hull
+when every side on no second triangle has no point strictly beyond it (exact orientation: the
+dual graph of a triangulation of a convex polygon is connected, so a missing triangle leaves an
+inner side open).  The triangles missed (a far corner outside the owner's halo) have their
+corners among the points of no kept triangle and the ends of the open inner sides: those points
+are triangulated by qhull, and the triangles with an empty circumdisk, between two sites, that
+meet the kept ones only across open inner sides are added; the check is repeated.  When any of
+this fails -- a strip where qhull drops a point, a side of three triangles, a side left open --
+the caller triangulates all the points at once.
+
+The triangles between two or three sites (all the walks and vertices read) were the same as
+qhull's on all samples at once on 10³–10⁵ random circles; the triangles inside one circle may
+take other diagonals (qhull's float decisions among nearly co-circular samples); their order
+and corner order differ, so the circumcentre seeds of the vertices differ in the last bits.
 
 Public API: :func:`strip_delaunay`, :data:`STRIP_POINTS`.
 """
@@ -40,9 +52,9 @@ STRIP_POINTS = 20000
 MARGIN = 1e-9
 
 
-def strip_delaunay(Q, strip_points: int | None = None):
+def strip_delaunay(Q, lab, strip_points: int | None = None):
     """(simplices, neighbours) of the Delaunay triangulation of the points ``Q`` (n × 2, in
-    general position, e.g. perturbed), in qhull's layout (``neighbours[t, k]`` across the side
+    general position, e.g. perturbed) labelled by their sites ``lab`` (ints ≥ 0), in qhull's layout (``neighbours[t, k]`` across the side
     opposite corner k, −1 on the hull; int32), built strip by strip (module docstring); None when
     there are fewer than two strips' worth of points (default
     :data:`STRIP_POINTS`) or a check fails."""
@@ -56,6 +68,10 @@ def strip_delaunay(Q, strip_points: int | None = None):
     xs = Q[order, 0]
     cut = np.linspace(0, n, k + 1).astype(np.int64)
     extent = float(np.abs(Q).max())
+    lab = np.asarray(lab)
+    # a site's place: the mean abscissa of its points (the triangles with three corners on one
+    # site, nearly co-circular on a circle, go with their site to one strip)
+    place = np.bincount(lab, weights=Q[:, 0]) / np.maximum(np.bincount(lab), 1)
     parts, tree = [], None
     for s in range(k):
         lo, hi = int(cut[s]), int(cut[s + 1])
@@ -79,7 +95,10 @@ def strip_delaunay(Q, strip_points: int | None = None):
         del tri
         srt = np.sort(simp, axis=1)                  # corners in increasing index order
         cc = circumcentres(Q[srt[:, 0]], Q[srt[:, 1]], Q[srt[:, 2]])
-        own = (cc[:, 0] >= a) & (cc[:, 0] < b)
+        L = lab[srt]
+        x = np.where((L[:, 0] == L[:, 1]) & (L[:, 1] == L[:, 2]), place[L[:, 0]], cc[:, 0])
+        own = (x >= a) & (x < b)
+        del L, x
         simp, cc = simp[own], cc[own]
         r = np.hypot(*(Q[srt[own, 0]] - cc).T)
         del srt
@@ -119,14 +138,30 @@ def strip_delaunay(Q, strip_points: int | None = None):
         r = np.hypot(*(Q[srt[:, 0]] - cc).T)
         if tree is None:
             tree = cKDTree(Q)
-        keep = _empty(tree, more, cc, r, extent)
+        L = lab[srt]
+        # a site's own triangles (nearly co-circular corners on a circle: beyond the margin of the
+        # disk test) come whole from its strip; the repair adds the others
+        keep = _empty(tree, more, cc, r, extent) & ((L[:, 0] != L[:, 1]) | (L[:, 1] != L[:, 2]))
+        del L
         keep &= ~np.isin(_rows(srt), _rows(np.sort(simp, axis=1)))
+        # a new triangle may only meet the kept ones across an open inner side
+        closed = _side_keys(simp, n)
+        closed = np.setdiff1d(closed, np.array([min(a, b) * n + max(a, b) for a, b in bad], dtype=np.int64))
+        keep &= ~np.isin(_side_keys(more, n), closed).reshape(3, -1).any(axis=0)
+        del closed
         simp = np.concatenate([simp, more[keep]])
         del tree, more, srt, cc, r
         nb = side_neighbours(simp, n, dtype=np.int32)
         if nb is None or _open_inner_sides(Q, simp, nb):
             return None
     return simp, nb
+
+
+def _side_keys(simp, n):
+    """One int key per side of each triangle (side k of all triangles, then side k + 1, …)."""
+    a = np.concatenate([simp[:, (k + 1) % 3] for k in range(3)]).astype(np.int64)
+    b = np.concatenate([simp[:, (k + 2) % 3] for k in range(3)]).astype(np.int64)
+    return np.minimum(a, b) * n + np.maximum(a, b)
 
 
 def _rows(srt):
