@@ -355,7 +355,9 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
                 f = nearest_point(E, int(culprit), (sol.x, sol.y))
                 if not any(np.allclose(f, E.A[int(culprit)] if k_ == 0 else E.B[int(culprit)], rtol=0, atol=0)
                            for k_ in (0, 1)):
-                    extra.setdefault(int(culprit), []).append(f)
+                    added = extra.setdefault(int(culprit), [])
+                    if f not in added:         # a repeated sample would stop the local rounds
+                        added.append(f)
             if zeros.state[r] == UNDECIDED:
                 problems.append(f"sites {', '.join(map(str, triple))}: emptiness of the vertex at "
                                 f"({sol.x:.6g}, {sol.y:.6g}) undecided (site {culprit})")

@@ -11,9 +11,8 @@ triangle is an end at infinity for the walks reaching it, like the ghost ring of
 
 "Far" is measured against the whole scene, not against s: inside the scene the strip of a short
 segment is closed by the regions of other sites (vertices s, p, x and s, q, y), and a triangle
-p, q, s there only says that the samples do not resolve the strip yet — the construction must
-refine (among 10⁵ random segments, a triangle 10³ lengths of a short segment away but well
-inside the scene, taken for an end, left a vertex with one edge missing for every later round).
+p, q, s there only says that the samples do not resolve the strip yet, and the construction must
+refine rather than end the walks.
 
 The same holds for the normal line at a smooth joint of two elliptic pieces (a vertex of the
 ellipse), an edge that may go to infinity beside a third site: a triangle of the two pieces and

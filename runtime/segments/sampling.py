@@ -21,7 +21,7 @@ from .distance import in_arc
 from .elementary import ARC, ELLIPSE, POINT, ElementarySites
 from .ellipse_pieces import piece_at_lengths, piece_feet, piece_lengths, piece_points, piece_tangent
 
-__all__ = ["initial_spacing", "samples", "curve_lengths", "triangulation", "retriangulation", "flat", "nearest_point", "corner_grading", "end_points", "GRADING_FLOOR",
+__all__ = ["initial_spacing", "samples", "curve_lengths", "triangulation", "insert_samples", "retriangulation", "flat", "nearest_point", "corner_grading", "end_points", "GRADING_FLOOR",
            "SPACING_PER_GAP"]
 
 #: graded samples stay this far (relative to the coordinates) from a curve's end
@@ -258,8 +258,14 @@ def triangulation(P, lab, droppable=None) -> SampleTriangulation:
     ``droppable`` (a mask of the samples, e.g. those of curves, not point sites): samples that
     qhull leaves out as coplanar (a rounding away from another sample) may be dropped instead,
     when all of them are droppable; the triangulation is then that of the other samples, without
-    joggling (joggling a million samples can take minutes).  The samples only guide the
-    combinatorics, which are proved afterwards; the result's ``P`` and ``lab`` are its own."""
+    joggling (joggling a million samples can take minutes).  The dropped samples are then put back
+    by a local Bowyer–Watson step (:meth:`SampleTriangulation.update`, which re-triangulates only
+    the cavity, in its own small frame): qhull's roundoff grows with the number and magnitude of
+    the points, and among 10⁶ samples at coordinates ~10⁴ it leaves out a sample 2·10⁻⁵ from a
+    segment's end, though that sample is the only witness that the segment's interior cuts an
+    empty circle there (a vertex of degree four split into two 2·10⁻⁵ apart).  The samples only
+    guide the combinatorics, which are proved afterwards; the result's ``P`` and ``lab`` are its
+    own."""
     c = (P.min(axis=0) + P.max(axis=0)) / 2
     try:
         d = Delaunay(P - c, qhull_options="Qbb Qc Qz Q12")
@@ -270,13 +276,41 @@ def triangulation(P, lab, droppable=None) -> SampleTriangulation:
             keep = np.ones(len(P), bool)
             keep[gone] = False
             del d
+            Pg, labg = P[gone], lab[gone]
             P, lab = P[keep], lab[keep]
             d = Delaunay(P - c, qhull_options="Qbb Qc Qz Q12")
             if not len(d.coplanar):
-                return SampleTriangulation(P, lab, d.simplices, d.neighbors)
+                tri = SampleTriangulation(P, lab, d.simplices, d.neighbors)
+                del d
+                return insert_samples(tri, Pg, labg)
     except QhullError:
         pass
     return SampleTriangulation(P, lab)
+
+
+#: samples closer than this (relative to their magnitude) to another are roundings of it
+ROUNDING = 1e-12
+
+
+def insert_samples(tri: SampleTriangulation, Pg, labg) -> SampleTriangulation:
+    """``tri`` with the samples ``Pg`` (labels ``labg``) inserted locally; left out are those
+    within :data:`ROUNDING` of their magnitude from a sample of ``tri`` (a rounding away from it:
+    their triangles' circumcentres would be noise) and repeats within ``Pg``; ``tri`` itself
+    when the local step refuses."""
+    Pg = np.asarray(Pg, dtype=float)
+    new = np.ascontiguousarray(Pg).view(np.complex128).ravel()
+    _, first = np.unique(new, return_index=True)
+    fresh = np.zeros(len(new), bool)
+    fresh[first] = True
+    gap, _ = cKDTree(tri.P).query(Pg)
+    fresh &= gap > ROUNDING * (1.0 + np.abs(Pg).sum(axis=1))
+    if not fresh.any():
+        return tri
+    try:
+        out = tri.update(np.zeros(0, np.int64), Pg[fresh], labg[fresh])
+    except (ValueError, IndexError, QhullError):
+        return tri
+    return tri if out is None else out
 
 
 #: a local update of the triangulation is tried when at most this fraction of the samples changed
