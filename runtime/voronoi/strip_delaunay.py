@@ -143,12 +143,17 @@ def strip_delaunay(Q, lab, strip_points: int | None = None):
         # disk test) come whole from its strip; the repair adds the others
         keep = _empty(tree, more, cc, r, extent) & ((L[:, 0] != L[:, 1]) | (L[:, 1] != L[:, 2]))
         del L
-        keep &= ~np.isin(_rows(srt), _rows(np.sort(simp, axis=1)))
+        # the kept triangles that may share a side with a new one: two corners among R
+        in_r = np.zeros(n, bool)
+        in_r[R] = True
+        near = simp[in_r[simp].sum(axis=1) >= 2]
+        del in_r
+        keep &= ~np.isin(_rows(srt), _rows(np.sort(near, axis=1)))
         # a new triangle may only meet the kept ones across an open inner side
-        closed = _side_keys(simp, n)
+        closed = _side_keys(near, n)
         closed = np.setdiff1d(closed, np.array([min(a, b) * n + max(a, b) for a, b in bad], dtype=np.int64))
         keep &= ~np.isin(_side_keys(more, n), closed).reshape(3, -1).any(axis=0)
-        del closed
+        del closed, near
         simp = np.concatenate([simp, more[keep]])
         del tree, more, srt, cc, r
         nb = side_neighbours(simp, n, dtype=np.int32)
