@@ -38,6 +38,7 @@ import math
 
 import numpy as np
 
+from .distance import distances
 from .elementary import ARC, ELLIPSE, POINT, ElementarySites
 from .ellipse_bisectors import ellipse_edge
 from .ellipse_pieces import piece_tangent
@@ -269,7 +270,7 @@ def _arc_edge(E, i, j, P0, P1, tol, far, centre, step, sides=None):
         V, _t = curve(o)
         mid = (o[:-1] + o[1:]) / 2
         Vm, _ = curve(mid)
-        dev = _chord_distance(V[:-1], V[1:], Vm)
+        dev = distances(V[:-1], V[1:], Vm)[0]
         big = dev > tol / 2
         if not big.any() or len(o) > MAX_PIECES:
             break
@@ -282,7 +283,7 @@ def _arc_edge(E, i, j, P0, P1, tol, far, centre, step, sides=None):
     if P1 is not None:
         V[-1] = P1
     Vm, _ = curve((o[:-1] + o[1:]) / 2)
-    dev = _chord_distance(V[:-1], V[1:], Vm)
+    dev = distances(V[:-1], V[1:], Vm)[0]
     scale = 1.0 + float(np.max(np.abs(V)))
     return V, max(tol, 2 * float(np.max(dev, initial=0.0))) + 1e-12 * scale
 
@@ -298,12 +299,3 @@ def _to_far(curve, o_in, o_out, far, centre):
         else:
             o_out = m
     return o_in
-
-
-def _chord_distance(A, B, M):
-    """Distance from each M to the segment [A, B] (rows)."""
-    D = B - A
-    L2 = np.einsum("ij,ij->i", D, D)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        t = np.clip(np.where(L2 > 0, np.einsum("ij,ij->i", M - A, D) / np.where(L2 > 0, L2, 1), 0), 0, 1)
-    return np.hypot(*(M - A - t[:, None] * D).T)

@@ -356,7 +356,8 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
                 if not any(np.allclose(f, E.A[int(culprit)] if k_ == 0 else E.B[int(culprit)], rtol=0, atol=0)
                            for k_ in (0, 1)):
                     added = extra.setdefault(int(culprit), [])
-                    if f not in added:         # a repeated sample would stop the local rounds
+                    # a repeated sample would stop the local rounds (retriangulation needs distinct samples)
+                    if not any(float(a[0]) == float(f[0]) and float(a[1]) == float(f[1]) for a in added):
                         added.append(f)
             if zeros.state[r] == UNDECIDED:
                 problems.append(f"sites {', '.join(map(str, triple))}: emptiness of the vertex at "

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .distance import site_distances
+from .distance import distances, site_distances
 from .elementary import ELLIPSE, POINT, ElementarySites
 from .ellipse_pieces import interior_foot, piece_feet, piece_points
 
@@ -107,14 +107,6 @@ def ellipse_step(E: ElementarySites, i: int, j: int, base, far: float):
     return out
 
 
-def _chord_distance(A, B, M):
-    D = B - A
-    L2 = np.einsum("ij,ij->i", D, D)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        t = np.clip(np.where(L2 > 0, np.einsum("ij,ij->i", M - A, D) / np.where(L2 > 0, L2, 1), 0), 0, 1)
-    return np.hypot(*(M - A - t[:, None] * D).T)
-
-
 def ellipse_edge(E: ElementarySites, i: int, j: int, P0, P1, tol: float, far: float, centre, step: int = 1,
                  sigma: int | None = None):
     """The polyline of the edge (i, j) of an elliptic piece and another site from P0 to P1 (None:
@@ -150,7 +142,7 @@ def ellipse_edge(E: ElementarySites, i: int, j: int, P0, P1, tol: float, far: fl
         V, _t = curve(o)
         mid = (o[:-1] + o[1:]) / 2
         Vm, _ = curve(mid)
-        big = _chord_distance(V[:-1], V[1:], Vm) > tol / 2
+        big = distances(V[:-1], V[1:], Vm)[0] > tol / 2
         if not big.any() or len(o) > MAX_PIECES:
             break
         o = np.sort(np.concatenate([o, mid[big]]))
@@ -161,7 +153,7 @@ def ellipse_edge(E: ElementarySites, i: int, j: int, P0, P1, tol: float, far: fl
         if Q is not None:
             V[k] = Q
     Vm, _ = curve((o[:-1] + o[1:]) / 2)
-    dev = _chord_distance(V[:-1], V[1:], Vm)
+    dev = distances(V[:-1], V[1:], Vm)[0]
     return V, max(tol, 2 * float(np.nanmax(dev, initial=0.0))) + 1e-12 * (1.0 + float(np.max(np.abs(V))))
 
 
@@ -192,7 +184,7 @@ def perpendicular_edge(E: ElementarySites, i: int, j: int, P0, P1, tol: float, f
             V, _t = ellipse_bisector_points(E, s, p, -1, o, 4 * far + 4 * rho)
             mid = (o[:-1] + o[1:]) / 2
             Vm, _ = ellipse_bisector_points(E, s, p, -1, mid, 4 * far + 4 * rho)
-            big = _chord_distance(V[:-1], V[1:], Vm) > tol / 2
+            big = distances(V[:-1], V[1:], Vm)[0] > tol / 2
             if not big.any() or len(o) > MAX_PIECES:
                 break
             o = np.sort(np.concatenate([o, mid[big]]))
