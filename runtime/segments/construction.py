@@ -167,6 +167,13 @@ def _rounds(E: ElementarySites, spacing, stats, caches, tolerance, lo, hi):
         spacing[idx] = np.minimum(spacing[idx] / 2, cap)
     vertices, walks, problems = result
     edges = edge_polylines(E, vertices, walks, tolerance, lo, hi)
+    if not edges:
+        # two or more sites always have an edge (the bisector of the nearest pair): an empty
+        # diagram is a construction that lost everything, never an answer
+        problems.append(f"no Voronoi edge found among {len(E)} sites after {stats['rounds']} rounds (a diagram "
+                        f"of two or more sites has at least one edge): the candidate vertices were not proved "
+                        f"and the walks of sites {sorted(int(t) for t in refine)} end nowhere; the diagram is "
+                        "incomplete")
     return vertices, walks, problems, edges
 
 

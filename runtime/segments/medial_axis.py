@@ -272,4 +272,11 @@ def medial_axis(outer, holes=(), *, certify: bool = True, tolerance: float | Non
         # diagram of the circle's arcs has no vertex there); exact, id -1 as it is no diagram vertex
         (cx, cy), rho = segs[0].c, segs[0].rho
         vertices = [DiagramVertex(-1, tuple(range(len(E))), float(cx), float(cy), float(rho), True)]
-    return MedialAxis(edges, vertices, bool(D.certified), D, list(D.problems))
+    problems = list(D.problems)
+    if not edges and not vertices:
+        # the medial axis of a bounded domain is non-empty (it holds the centre of a largest
+        # inscribed disc): an empty one is a construction that failed, never an answer
+        problems.append(f"medial axis: no edge and no vertex found for a bounded domain of {len(segs)} boundary "
+                        "pieces (its medial axis is never empty): the construction is incomplete")
+        return MedialAxis(edges, vertices, False, D, problems)
+    return MedialAxis(edges, vertices, bool(D.certified), D, problems)
