@@ -40,8 +40,9 @@ def test_capsule_medial_axis_is_right_or_reported():
     m = cv.medial_axis(capsule())
     if not m.edges or not any(abs(v.radius - 2) < 1e-9 for v in m.vertices):
         # a failed construction: it must say so, never return an empty axis silently
-        assert m.certified is False
-        assert any("medial axis" in p or "no Voronoi edge" in p for p in m.problems), m.problems
+        assert m.certified is False and m.problems
+        if not m.edges and not m.vertices:           # the medial axis of a bounded domain is never empty
+            assert any(p.startswith("medial axis:") and "incomplete" in p for p in m.problems), m.problems
         return
     assert m.certified is False                      # elliptic parts are not certified
     tops = sorted((round(v.x, 9), round(v.y, 9)) for v in m.vertices if abs(v.radius - 2) < 1e-9)
