@@ -30,7 +30,14 @@ from curvedvoronoi.runtime.voronoi.verify.conic_vertices import RHOS, vertex_enc
 from curvedvoronoi.runtime.voronoi.verify.curved_edges import curved_scale  # noqa: E402
 from curvedvoronoi.runtime.voronoi.verify.site_table import SiteTable  # noqa: E402
 
-mpmath.mp.dps = 40
+
+
+@pytest.fixture(autouse=True)
+def _reference_digits():
+    """The mpmath references work at 40 digits, set per test and restored (a module-level
+    setting leaks into other modules)."""
+    with mpmath.workdps(40):
+        yield
 
 
 @pytest.fixture(autouse=True)

@@ -17,7 +17,14 @@ import curvedvoronoi as cv
 from curvedvoronoi.runtime.segments.ellipse_pieces import (PieceData, closest_at_an_end, foot_enclosure,
                                                            nearest_verdict, piece_distance_ball, piece_distances)
 
-mpmath.mp.dps = 40
+
+
+@pytest.fixture(autouse=True)
+def _forty_digits():
+    """The references work at 40 digits, set per test and restored (a module-level setting leaks
+    into other modules and is undone by theirs)."""
+    with mpmath.workdps(40):
+        yield
 
 
 def piece(centre=(0, 0), major=(4, 0), ratio="1/2", s=0.2, e=1.4):

@@ -26,7 +26,14 @@ from curvedvoronoi.runtime.segments.certificate_curves import bisector_curve
 from curvedvoronoi.runtime.segments.certificate_sites import SiteTable
 from curvedvoronoi.runtime.segments.certificate_vertices import VertexProof
 
-mpmath.mp.dps = 60
+
+
+@pytest.fixture(autouse=True)
+def _reference_digits():
+    """The mpmath references work at 60 digits, set per test and restored (a module-level
+    setting leaks into other modules)."""
+    with mpmath.workdps(60):
+        yield
 
 
 @pytest.fixture(autouse=True)
