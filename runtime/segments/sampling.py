@@ -261,9 +261,9 @@ def triangulation(P, lab, droppable=None) -> SampleTriangulation:
     joggling (joggling a million samples can take minutes).  The dropped samples are then put back
     by a local Bowyer–Watson step (:meth:`SampleTriangulation.update`, which re-triangulates only
     the cavity, in its own small frame): qhull's roundoff grows with the number and magnitude of
-    the points, and among 10⁶ samples at coordinates ~10⁴ it leaves out a sample 2·10⁻⁵ from a
-    segment's end, though that sample is the only witness that the segment's interior cuts an
-    empty circle there (a vertex of degree four split into two 2·10⁻⁵ apart).  The samples only
+    the points, and a sample it calls coplanar may be the only witness that a curve's interior
+    cuts an empty circle (a vertex of degree four split into two vertices closer than the
+    spacing).  The samples only
     guide the combinatorics, which are proved afterwards; the result's ``P`` and ``lab`` are its
     own."""
     c = (P.min(axis=0) + P.max(axis=0)) / 2
