@@ -56,3 +56,18 @@ def cgal_peer_program():
             pytest.fail(f"CGAL peer unavailable in CI: {exc}")
         pytest.skip(f"comparison with CGAL Apollonius_graph_2 not run on this machine: {exc} "
                     "(sudo apt-get install libcgal-dev g++; CI installs both and fails instead of skipping)")
+
+
+@pytest.fixture(autouse=True)
+def _mpmath_digits(request):
+    """The digits a module's mpmath references need (``pytestmark = pytest.mark.mpmath_dps(n)``),
+    set for each test and restored after it: a module-level ``mpmath.mp.dps = n`` leaks into other
+    modules and is undone by their settings."""
+    marker = request.node.get_closest_marker("mpmath_dps")
+    if marker is None:
+        yield
+        return
+    import mpmath
+
+    with mpmath.workdps(marker.args[0]):
+        yield

@@ -32,12 +32,7 @@ from curvedvoronoi.runtime.voronoi.verify.site_table import SiteTable  # noqa: E
 
 
 
-@pytest.fixture(autouse=True)
-def _reference_digits():
-    """The mpmath references work at 40 digits, set per test and restored (a module-level
-    setting leaks into other modules)."""
-    with mpmath.workdps(40):
-        yield
+pytestmark = pytest.mark.mpmath_dps(40)
 
 
 @pytest.fixture(autouse=True)

@@ -19,12 +19,7 @@ from curvedvoronoi.runtime.segments.ellipse_pieces import (PieceData, closest_at
 
 
 
-@pytest.fixture(autouse=True)
-def _forty_digits():
-    """The references work at 40 digits, set per test and restored (a module-level setting leaks
-    into other modules and is undone by theirs)."""
-    with mpmath.workdps(40):
-        yield
+pytestmark = pytest.mark.mpmath_dps(40)
 
 
 def piece(centre=(0, 0), major=(4, 0), ratio="1/2", s=0.2, e=1.4):

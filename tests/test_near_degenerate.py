@@ -28,12 +28,7 @@ from curvedvoronoi.runtime.segments.certificate_vertices import VertexProof
 
 
 
-@pytest.fixture(autouse=True)
-def _reference_digits():
-    """The mpmath references work at 60 digits, set per test and restored (a module-level
-    setting leaks into other modules)."""
-    with mpmath.workdps(60):
-        yield
+pytestmark = pytest.mark.mpmath_dps(60)
 
 
 @pytest.fixture(autouse=True)

@@ -76,7 +76,7 @@ def test_regular_stars_are_certified_and_equal_cgal(n):
     except sdg_peer.PeerMissing as exc:
         if os.environ.get("CI"):
             pytest.fail(f"CGAL segment peer unavailable in CI: {exc}")
-        pytest.skip(f"CGAL Segment_Delaunay_graph_2 peer not built here: {exc}")
+        pytest.skip(f"the comparison with CGAL's Segment_Delaunay_graph_2 needs g++ and libcgal-dev (apt-get): {exc}")
     P = star(n)
     segs = [(P[k], P[(k + 1) % len(P)]) for k in range(len(P))]
     d = cv.voronoi([cv.Segment(a, b) for a, b in segs], progress=False)
