@@ -485,15 +485,17 @@ def _degree_checks(E, vertices, hv, hk, refine, graded, problems, want_of) -> No
     """Every vertex must have one edge per pair of cyclically consecutive sites (``hv``, ``hk``:
     the walks' ends at vertices and their pair keys); otherwise its sites are refined (and a
     point site's curves graded towards it) and the problem named.  ``want_of``: the sorted pair
-    keys of each vertex object (by id), kept across rounds."""
+    keys of each vertex's cyclic site tuple, kept across rounds (keyed by the sites, not by the
+    vertex object's ``id``: an id is reused once an earlier round's vertex is freed)."""
     if not vertices:
         return
     base = len(E) + 1
     want = []
     for v in vertices:
-        w = want_of.get(id(v))
+        sites = tuple(v.sites)
+        w = want_of.get(sites)
         if w is None:
-            w = want_of[id(v)] = tuple(sorted(min(a, b) * base + max(a, b)
+            w = want_of[sites] = tuple(sorted(min(a, b) * base + max(a, b)
                                               for a, b in zip(v.sites, v.sites[1:] + v.sites[:1])))
         want.append(w)
     for v_id in degree_mismatches(want, hv, hk, len(vertices)).tolist():
