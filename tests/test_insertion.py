@@ -9,7 +9,7 @@ against independent references.
   operations (tests/cgal/apollonius_dynamic.cpp: CGAL's own insert and remove, exact predicates).
 * Deleting a site and inserting it again restores the diagram (same vertices, edges, Delaunay
   graph up to the site's new index).
-* A site meeting an existing one gives the batch build's error; unbounded conics raise NotImplementedError
+* A site meeting an existing one gives the batch build's error; unbounded conics rebuild the diagram (no local update)
   naming the kind; a diagram built without the verifier never becomes certified by an update.
 
 Needs g++ and libcgal-dev for the CGAL comparison (skipped with the install line, failing in CI).
@@ -138,13 +138,19 @@ def test_site_errors_match_the_batch_build():
         with pytest.raises(cv.SiteError) as local:
             d.insert(bad)
         assert str(local.value) == str(batch.value)
-    # unbounded conics are outside the local argument (no support function): refused by name
-    with pytest.raises(NotImplementedError, match="parabola"):
-        d.insert(cv.Conic.parabola(vertex=(500, 500), p=3, rotation=(0, 1)))
+    # unbounded conics are outside the local argument (no support function): the diagram is
+    # rebuilt from scratch, and says so; it equals the batch build of the new list of sites
+    p = cv.Conic.parabola(vertex=(500, 500), p=3, rotation=(0, 1))
+    d2 = d.insert(p)
+    assert d2.stats["update"].startswith("rebuild (a parabola")
+    assert len(d2.sites) == len(d.sites) + 1 and len(d.sites) == 20
+    assert d2.delaunay_edges() == cv.voronoi(circles + [p]).delaunay_edges()
+    assert d2.certified == cv.voronoi(circles + [p]).certified
     e = cv.voronoi([(0, 0, 1), (6, 0, 1), (3, 5, 1), cv.Conic.parabola(vertex=(3, -6), p=1, rotation=(0, -1))],
                    certify=False)
-    with pytest.raises(NotImplementedError, match="parabola"):
-        e.insert((3, 1.5, 0.5))
+    e2 = e.insert((3, 1.5, 0.5))
+    assert e2.stats["update"].startswith("rebuild (a parabola")
+    assert e2.delaunay_edges() == cv.voronoi(list(e.sites) + [(3, 1.5, 0.5)], certify=False).delaunay_edges()
 
 
 def test_nested_site_is_rebuilt_and_json_diagrams_refused():

@@ -229,8 +229,10 @@ def test_site_errors_and_nesting():
 
 def test_unsupported_kinds_are_named():
     d = cv.voronoi([(0, 0, 1), (6, 0, 1), (3, 5, 1)])
-    with pytest.raises(NotImplementedError, match="hyperbola"):
-        d.insert(cv.Conic.hyperbola(centre=(40, 40), axes=(1, 1), rotation=(1, 0)))
+    h = cv.Conic.hyperbola(centre=(40, 0), axes=(1, 1), rotation=(1, 0))
+    d2 = d.insert(h)                                   # no local update: rebuilt, and said so
+    assert d2.stats["update"] == "rebuild (a hyperbola site: no local update)"
+    assert d2.delaunay_edges() == cv.voronoi([(0, 0, 1), (6, 0, 1), (3, 5, 1), h]).delaunay_edges()
     s = cv.voronoi([cv.Segment((0, 0), (1, 0)), cv.Segment((0, 2), (1, 3)), cv.Segment((3, 0), (4, 1))],
                    certify=False)
     with pytest.raises(NotImplementedError, match="segment"):

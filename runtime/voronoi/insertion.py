@@ -94,9 +94,9 @@ Hence ``certified`` is True only when the old diagram was certified (its proofs 
 everything new is proved now.  Updating an uncertified diagram with ``certify=True`` still proves
 the new vertices and bounded edges (their ``certified`` flags; failures are listed in
 ``problems``), but the result is not certified.  Nested sites (closed edges), far-from-origin scenes and unbounded
-conics are outside this argument: parabolas and hyperbolas (no support function, so no proof at
-infinity) raise :class:`NotImplementedError` naming the kind, nesting and far scenes rebuild the
-diagram.
+conics are outside this argument: with a parabola or hyperbola (no support function, so no proof
+at infinity), nesting or a far scene the diagram is built and proved again from scratch
+(``stats["update"]`` names the reason).
 
 **Ellipses** (with circles and points).  The same argument holds word for word in the abstract
 Voronoi diagram: kept vertices and edges keep their proofs, the new site's region is connected.
@@ -190,8 +190,8 @@ def insert_site(D, site, *, certify: bool = True, inplace: bool = False):
     moves to the result), or, with ``inplace=True``, ``D`` itself is updated and returned (no copy
     of its lists of sites, vertices and edges: the O(N) part of an update).  ``site``: a point, circle or ellipse in any form
     :func:`runtime.voronoi.site_input.as_site` reads.  A site meeting an existing one raises
-    :class:`SiteError` naming the pair, as the batch build does; parabolas and hyperbolas raise
-    :class:`NotImplementedError`.  ``stats["update"]`` says "local", "local, unbounded edges and
+    :class:`SiteError` naming the pair, as the batch build does; with a parabola or hyperbola the
+    diagram is rebuilt (no local update).  ``stats["update"]`` says "local", "local, unbounded edges and
     accounting at infinity re-proved" (the site on or near the convex hull) or "rebuild ..."."""
     st = D.construction
     if st is None:
@@ -200,15 +200,14 @@ def insert_site(D, site, *, certify: bool = True, inplace: bool = False):
     t0 = time.perf_counter()
     s = as_site(site)
     g = site_geometry(s)
-    if g.kind not in LOCAL_KINDS:
-        raise NotImplementedError(f"local insertion of {_a(g.kind)} site is not implemented (points, circles and "
-                                  "ellipses only): build the diagram with voronoi(sites + [site])")
     dyn = dynamic_state(D)
-    if dyn.unsupported:
+    if g.kind not in LOCAL_KINDS or dyn.unsupported:
+        # no support function for a parabola or hyperbola, so no proof at infinity for a local
+        # update: the diagram of the new list of sites is built and proved from scratch
         st.dynamic = dyn
-        raise NotImplementedError(f"local insertion into a diagram with {_a(dyn.unsupported)} site is not "
-                                  "implemented (points, circles and ellipses only): build it with "
-                                  "voronoi(sites + [site])")
+        kind = g.kind if g.kind not in LOCAL_KINDS else dyn.unsupported
+        return _rebuild(D, st, SiteList(D.sites, append=s), certify,
+                        f"rebuild ({_a(kind)} site: no local update)", t0, inplace)
     n = len(D.sites)
     c_disc, rs = site_disc(g)
     cs = np.array(c_disc, float)

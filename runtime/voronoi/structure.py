@@ -153,10 +153,10 @@ class Diagram:
         return self.construction.delete(self, i, certify=certify, renumber=renumber, inplace=inplace)
 
     def insert(self, site, *, certify: bool = True, inplace: bool = False) -> "Diagram":
-        """The diagram with ``site`` (a point, circle or ellipse) added as site N; this diagram is
+        """The diagram with ``site`` added as site N; this diagram is
         left unchanged (``inplace=True``: it is updated and returned, as :meth:`delete_site`).  Only the part of the diagram the new site touches is rebuilt and proved
         (thesis §1.2); ``certified`` needs this diagram certified.  See
-        :func:`runtime.voronoi.insertion.insert_site` (parabolas, hyperbolas: NotImplementedError), reached
+        :func:`runtime.voronoi.insertion.insert_site` (parabolas, hyperbolas: rebuilt from scratch), reached
         through the construction state like :meth:`delete_site`."""
         if self.construction is None:
             _no_pieces(list(self.sites) + [site], "insertion")
