@@ -22,6 +22,7 @@ from flint import arb
 
 from ..certify.foot import to_arb
 from .ellipse_pieces import piece_distance_ball, piece_distances
+from .elementary import ARC, ELLIPSE, POINT, SEGMENT
 
 __all__ = ["distances", "distance_ball", "float_error", "foot_parameter", "site_distances", "in_arc", "arc_distances",
            "arc_distance_ball", "site_distance_ball"]
@@ -101,10 +102,10 @@ def site_distances(E, idx, Q):
     """Distances from Q[r] to elementary site idx[r] of ``E`` (points, segments, arcs; floats)."""
     idx = np.asarray(idx, dtype=np.int64)
     d, _ = distances(E.A[idx], E.B[idx], Q)
-    arc = E.kind[idx] == 2
+    arc = E.kind[idx] == ARC
     if arc.any():
         d[arc] = arc_distances(E.C[idx[arc]], E.rho[idx[arc]], E.A[idx[arc]], E.B[idx[arc]], Q[arc])
-    ell = E.kind[idx] == 3
+    ell = E.kind[idx] == ELLIPSE
     if ell.any():
         rows = np.nonzero(ell)[0]
         for s in np.unique(idx[rows]).tolist():
@@ -159,12 +160,12 @@ def _ball_min(u: arb, v: arb) -> arb:
 
 def site_distance_ball(E, k: int, x: arb, y: arb) -> arb:
     """Ball enclosure of the distance from (x, y) to elementary site k of ``E``."""
-    if E.kind[k] == 0:
+    if E.kind[k] == POINT:
         return distance_ball(E.xy[k], E.xy[k], x, y)
-    if E.kind[k] == 3:
+    if E.kind[k] == ELLIPSE:
         return piece_distance_ball(E.ellipse[k], x, y)
     a, b = E.xy[int(E.ends[k, 0])], E.xy[int(E.ends[k, 1])]
-    if E.kind[k] == 1:
+    if E.kind[k] == SEGMENT:
         return distance_ball(a, b, x, y)
     c, rho = E.arc[k]
     return arc_distance_ball(c, rho, a, b, x, y)
