@@ -49,6 +49,7 @@ from scipy.spatial import cKDTree
 
 from ..segments.geometry import ArcGeometry, SegmentGeometry
 from ..sites.arc import Arc
+from ..sites.rationals import parse_rational
 from ..sites.segment import Segment
 from .conic_geometry import site_geometry
 from .geometry import CircleGeometry, rounding_slack
@@ -276,7 +277,7 @@ def decide_nearest(geoms, T, x: float, y: float, precs=(128, 512, 2048)):
     """The nearest among the sites T of the query point (x, y) (taken exactly): (winners,
     exact).  One winner: proved.  Several: ``exact`` says whether their distances are proved
     equal (points and circles, rational arithmetic) or could not be separated (undecided)."""
-    qx, qy = _fmpq(x), _fmpq(y)
+    qx, qy = parse_rational(float(x), "x"), parse_rational(float(y), "y")
     circ = {j: _circle_terms(geoms[j], qx, qy) for j in T if geoms[j].kind in _EXACT_KINDS}
     cand = list(T)
     for prec in precs:
@@ -310,11 +311,6 @@ def _curve_ends(curve) -> set:
 
 def _fmpq_pair(p):
     return tuple(fmpq(v.numerator, v.denominator) for v in p)
-
-
-def _fmpq(v: float) -> fmpq:
-    a, b = float(v).as_integer_ratio()
-    return fmpq(a, b)
 
 
 def _circle_terms(g, qx: fmpq, qy: fmpq):
