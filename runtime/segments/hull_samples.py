@@ -123,10 +123,14 @@ def _needed(E: ElementarySites, P, out: dict) -> dict:
         return {}
     Q = E.A[:E.n_points]                  # the point sites (segments' and arcs' ends among them)
     keep: dict = {}
+    X = np.array(list(where), float)
+    X_site = list(where.values())
+    tol = 1e-9 * (1.0 + float(np.max(np.abs(P))))
     for a, b in zip(V, np.roll(V, -1, axis=0)):
         sites = [where.get((float(x[0]), float(x[1]))) for x in (a, b)]
         if sites == [None, None]:
             continue
+        _keep_collinear(E, a, b, X, X_site, tol, keep)
         band = BAND * max(float(E.rho[s]) for s in sites if s is not None)
         w = b - a
         L = float(np.hypot(*w))
@@ -140,3 +144,39 @@ def _needed(E: ElementarySites, P, out: dict) -> dict:
                 if site is not None:
                     keep.setdefault(site, []).append(x)
     return keep
+
+
+def _keep_collinear(E: ElementarySites, a, b, X, X_site, tol: float, keep: dict) -> None:
+    """Arcs tangent to one side of the hull (three circles of integer data touching a common line
+    at integer points is common): their contact points inside the side are on the true hull but
+    not vertices of the samples' hull; without them the middle arc's samples stay strictly inside
+    it (their chords sag by the sagitta), the samples give the outer two arcs a common unbounded
+    edge and the middle arc none.  The contact point c + ρn of every arc whose circle touches the
+    side's line within ``tol`` (n the outward normal, in the arc's range, inside the side) is
+    kept, with the side's two ends, so that the sample triangulation sees the contacts (nearly)
+    collinear on its hull."""
+    w = b - a
+    L = float(np.hypot(*w))
+    if L == 0:
+        return
+    u = w / L
+    n = np.array([u[1], -u[0]])                                  # outward (counter-clockwise hull)
+    arcs = np.nonzero(E.kind == ARC)[0]
+    H = E.C[arcs] @ n + E.rho[arcs] - float(n @ a)
+    cand = arcs[np.abs(H) <= tol]
+    if not len(cand):
+        return
+    Xc = E.C[cand] + E.rho[cand][:, None] * n
+    along = (Xc - a) @ u
+    ok = (along > tol) & (along < L - tol) & in_arc(E.C[cand], E.A[cand], E.B[cand], np.repeat(n[None, :], len(cand), 0))
+    found = False
+    for site, x in zip(cand[ok].tolist(), Xc[ok]):
+        near = NEAR * float(E.rho[site])
+        if min(np.hypot(*(x - E.A[site])), np.hypot(*(x - E.B[site]))) <= near:
+            continue
+        keep.setdefault(int(site), []).append(x)
+        found = True
+    if found:
+        for x in (a, b):
+            for i in np.nonzero(np.all(X == x, axis=1))[0].tolist():
+                keep.setdefault(X_site[i], []).append(X[i])
