@@ -48,3 +48,14 @@ def test_three_arcs_on_one_hull_side_have_the_infinite_edges_of_consecutive_cont
     assert order == [0, 1, 2]
     assert frozenset((0, 1)) in infinite and frozenset((1, 2)) in infinite
     assert frozenset((0, 2)) not in infinite
+
+
+@pytest.mark.parametrize("radii", [(1, 1, 1), (1, 2, 3), (3, 1, 2)])
+def test_the_tie_at_infinity_of_three_tangent_arcs_is_proved(radii):
+    # along the infinite edge of arcs 0 and 1 the third arc's circle touches the same support line
+    # (a tie of the asymptote's support): proved against its circle
+    arcs = [cv.Arc.circular((10 * k, r), r, 200, 340) for k, r in enumerate(radii)]
+    arcs.append(cv.Segment((5, 30), (15, 31)))
+    d = cv.voronoi(arcs, progress=False)
+    assert d.certified, d.problems[:3]
+    assert cv.verify(d).ok

@@ -18,8 +18,9 @@ interval [θ_S, θ∞] (θ∞ an arb ball) and is bounded there by interval arit
    line) is handled exactly: a point q with (c − q)·a + ρ = 0 (q on the tangent from p: rationals
    and squares) has G_q = 2 sin(δ/2) (c − q)·u^⊥(φ_m), proved of the right sign; otherwise, for a
    point partner p, d_q > d_p ⟺ (x − (p + q)/2)·(p − q) > 0, which is
-   (c − m)·(p − q) + ρ u·(p − q) + N u^⊥(φ_m)·(p − q)/E (q and p on one support line); ties of arcs
-   and of two arcs' branches are a limit.
+   (c − m)·(p − q) + ρ u·(p − q) + N u^⊥(φ_m)·(p − q)/E (q and p on one support line); an arc
+   tying (its circle on the support line, with a rational asymptote) is proved against its
+   circle (:func:`_far_arc_tie`); other ties of arcs are a limit.
 3. **Conditions** (R2 for curves ending at p, an arc partner's range) are linear g·x + g₀ > 0;
    times 1/t > 0 they are (g·c + g₀ + ρ g·u)/t + g·u, smooth up to the pole (g·a > 0 needed);
    when g·a = 0 exactly (a rational asymptote, found from the float direction and checked on the
@@ -261,12 +262,40 @@ def _far(T, c, br, J, k, p) -> bool:
     if _positive(G, J):
         return True
     if T.kind[k] == ARC:
-        return False
+        return _far_arc_tie(T, c, br, J, k)
     pts = [T.a[k]] if T.kind[k] == POINT else [T.a[k], T.b[k]]
     for q in pts:
         if not _far_point(T, c, br, J, q, p):
             return False
     return True
+
+
+def _far_arc_tie(T, c, br, J, k) -> bool:
+    """Arc k ties at the asymptote a (its circle touches the support line there too: arcs of
+    circles tangent to one side of the hull).  The distance to an arc is at least the distance to
+    its circle, |x − c_k| − ρ_k for x outside it, so d_k > t follows from
+    |x − c_k|² − (ρ_k + t)² = K + 2ρ u·D + 2t B(u) > 0, D = c − c_k, K = |D|² + ρ² − ρ_k²,
+    B(u) = u·D + ρ − ρ_k (the support gap of module docstring 2).  With a rational asymptote and
+    B(a) = 0 exactly, B(u) = 2 sin(δ/2) u^⊥(φ_m)·D and 1/t = 2 sin(δ/2) E/N, so the left side
+    divided by 2t sin(δ/2) (of the sign −sg) is (K + 2ρ u·D) E/N + 2 u^⊥(φ_m)·D: smooth up to
+    the pole, and its limit there is positive exactly when k lies beyond the branch's two sites
+    along the common support line."""
+    u = _rational_asymptote(T, c, br)
+    if u is None:
+        return False
+    (kx, ky), rk = T.cen[k], T.rad[k]
+    (cx, cy), rho = T.cen[c.s], T.rad[c.s]
+    uD = u[0] * (cx - kx) + u[1] * (cy - ky)
+    if uD * (rk - rho) < 0 or uD * uD != (rk - rho) ** 2 * (u[0] * u[0] + u[1] * u[1]):
+        return False                                   # B(a) ≠ 0: not a tie
+    Dx, Dy = c.c[0] - to_arb(kx), c.c[1] - to_arb(ky)
+    rka = to_arb(rk)
+    K = Dx * Dx + Dy * Dy + c.r * c.r - rka * rka
+
+    def F(th):
+        ux, uy, wx, wy, _, N, E = br.parts(th)
+        return -br.sg * ((K + 2 * c.r * (ux * Dx + uy * Dy)) * E / N + 2 * (wx * Dx + wy * Dy))
+    return _positive(F, J)
 
 
 def _far_point(T, c, br, J, q, p) -> bool:
