@@ -10,6 +10,8 @@ project's distance code.
 """
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 import pytest
 
@@ -59,3 +61,21 @@ def test_the_tie_at_infinity_of_three_tangent_arcs_is_proved(radii):
     d = cv.voronoi(arcs, progress=False)
     assert d.certified, d.problems[:3]
     assert cv.verify(d).ok
+
+
+def test_an_arc_moved_beyond_the_support_line_is_not_proved_farther():
+    # the diagram of three arcs tangent to y = 0, claimed for the scene whose third arc was moved
+    # down by 1/2 (its circle crosses the line): along the infinite edge of arcs 0 and 1 the third
+    # arc is nearer far out, and the certificate must say so on that edge
+    tangent = [cv.Arc.circular((10 * k, 1), 1, 200, 340) for k in range(3)] + [cv.Segment((5, 30), (15, 31))]
+    moved = tangent[:2] + [cv.Arc.circular((20, 0.5), 1, 200, 340)] + tangent[3:]
+    d = cv.voronoi(tangent, progress=False)
+    assert d.certified
+    bad = copy.deepcopy(d)
+    bad.sites = list(cv.voronoi(moved, certify=False, progress=False).sites)
+    c = cv.verify(bad)
+    assert not c.ok
+    src = d.sources
+    arc = {k: [i for i, s in enumerate(src) if s == k and not isinstance(d.sites[i], cv.Point)][0] for k in range(3)}
+    e = next(e for e in d.edges if None in e.ends and set(e.sites) == {arc[0], arc[1]})
+    assert any(f"edge {e.id} " in str(p) and f"site {arc[2]} is not proved farther" in str(p) for p in c.problems)
