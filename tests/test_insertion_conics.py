@@ -233,12 +233,17 @@ def test_unsupported_kinds_are_named():
     d2 = d.insert(h)                                   # no local update: rebuilt, and said so
     assert d2.stats["update"] == "rebuild (a hyperbola site: no local update)"
     assert d2.delaunay_edges() == cv.voronoi([(0, 0, 1), (6, 0, 1), (3, 5, 1), h]).delaunay_edges()
-    s = cv.voronoi([cv.Segment((0, 0), (1, 0)), cv.Segment((0, 2), (1, 3)), cv.Segment((3, 0), (4, 1))],
-                   certify=False)
-    with pytest.raises(NotImplementedError, match="segment"):
-        s.insert(cv.Segment((5, 5), (6, 5)))
-    with pytest.raises(NotImplementedError, match="segment"):
-        s.delete_site(0)
+    segs = [cv.Segment((0, 0), (1, 0)), cv.Segment((0, 2), (1, 3)), cv.Segment((3, 0), (4, 1))]
+    s = cv.voronoi(segs, certify=False)
+    s2 = s.insert(cv.Segment((5, 5), (6, 5)))               # segment diagrams: rebuilt, and said so
+    assert s2.stats["update"].startswith("rebuild (segment diagrams")
+    assert s2.delaunay_edges() == cv.voronoi(segs + [cv.Segment((5, 5), (6, 5))]).delaunay_edges()
+    assert s.delete_site(0).delaunay_edges() == cv.voronoi(segs[1:]).delaunay_edges()
+    read = cv.Diagram.from_json(s.to_json())                 # no input pieces kept: named
+    with pytest.raises(ValueError, match="segment sites"):
+        read.insert(cv.Segment((5, 5), (6, 5)))
+    with pytest.raises(ValueError, match="segment sites"):
+        read.delete_site(0)
 
 
 def test_cell_radius_bounds_every_dominated_point():

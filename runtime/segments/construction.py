@@ -58,6 +58,7 @@ from ..voronoi.structure import Diagram, DiagramVertex
 from .contact_order import corner_order
 from .crossings import check_pieces, renamed
 from .edges import edge_polylines
+from .edits import SegmentEdits
 from .elementary import ARC, POINT, ElementarySites, decompose
 from .exact import contacts_valid
 from .hull_samples import hull_samples
@@ -92,6 +93,7 @@ def segment_voronoi(pieces, sources=None, *, certify: bool = True, tolerance: fl
     10⁻⁴ of the extent of the input)."""
     t_start = time.perf_counter()
     pieces = list(pieces)
+    edits = SegmentEdits(pieces, segment_voronoi) if sources is None else None
     sources = list(range(len(pieces))) if sources is None else list(sources)
     expanded = [_as_pieces(p, k) for k, p in enumerate(pieces)]
     first = [k for k, got in enumerate(expanded) for _ in got]      # piece -> input site
@@ -124,6 +126,7 @@ def segment_voronoi(pieces, sources=None, *, certify: bool = True, tolerance: fl
     D = Diagram(E.sites, vertices, edges, False, problems, stats)
     D.sources = list(E.source)
     D.elementary = E
+    D.construction = edits                      # Diagram.insert / delete_site (runtime.segments.edits)
     if not certify:
         D.problems.append("not verified (certify=False)")
     else:

@@ -145,7 +145,10 @@ class Diagram:
         is left unchanged (``inplace=True``: this diagram is updated and returned, without copying its
         lists: the part of a local update linear in N).  Needs the construction state of a diagram built by ``voronoi`` (not one
         read from JSON).  See :func:`runtime.voronoi.deletion.delete_site` (reached through the
-        construction state, so that this data module imports nothing of the construction)."""
+        construction state, so that this data module imports nothing of the construction).  In a
+        diagram of segments (and points, arcs), ``i`` is the index of an *input piece*
+        (``sources[k]`` of site k): the segment goes with its endpoints unless another piece still
+        has them (:class:`runtime.segments.edits.SegmentEdits`)."""
         if self.construction is None:
             _no_pieces(self.sites, "deletion")
             raise ValueError("this diagram has no construction state (read from JSON?): build the diagram of "
@@ -157,7 +160,10 @@ class Diagram:
         left unchanged (``inplace=True``: it is updated and returned, as :meth:`delete_site`).  Only the part of the diagram the new site touches is rebuilt and proved
         (thesis §1.2); ``certified`` needs this diagram certified.  See
         :func:`runtime.voronoi.insertion.insert_site` (parabolas, hyperbolas: rebuilt from scratch), reached
-        through the construction state like :meth:`delete_site`."""
+        through the construction state like :meth:`delete_site`.  In a diagram of segments the new
+        piece (a segment, a point, an arc) is input piece N; the diagram is rebuilt and certified
+        whole (:class:`runtime.segments.edits.SegmentEdits`), and a piece crossing another is
+        refused with the batch build's ``SiteError``."""
         if self.construction is None:
             _no_pieces(list(self.sites) + [site], "insertion")
             raise ValueError("this diagram has no construction state (read from JSON, or collinear points?): "
@@ -363,9 +369,10 @@ def _jsonable(x):
 
 
 def _no_pieces(sites, what) -> None:
-    """Segments and arcs (the diagrams of thesis §2.2) have no local update: NotImplementedError
-    naming the kind."""
-    kinds = sorted({type(s).__name__ for s in sites if type(s).__name__ in ("Segment", "Arc")})
+    """A diagram of segments or arcs (thesis §2.2) without construction state (read from JSON, or
+    built with explicit ``sources``) does not know its input pieces: ValueError naming the kind."""
+    kinds = sorted({type(s).__name__ for s in sites if type(s).__name__ in ("Segment", "Arc", "EllipticArc")})
     if kinds:
-        raise NotImplementedError(f"local {what} with {' and '.join(k.lower() + ' sites' for k in kinds)} is not "
-                                  "implemented: build the diagram of the new list of sites with voronoi(...)")
+        raise ValueError(f"{what} in a diagram of {' and '.join(k.lower() + ' sites' for k in kinds)} needs its "
+                         "input pieces, which a diagram read from JSON does not keep: build the diagram of the "
+                         "new list of pieces with voronoi(...)")
