@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from .exact_delaunay import orientation
+from .ridge_nodes import insert_ridge_nodes
 from .sample_delaunay import SampleTriangulation
 from .site_arrays import SiteArrays
 from .structure import DiagramEdge
@@ -210,6 +211,7 @@ def _fresh_polylines(ctx, sub, rows, lens, table):
         Q, own = _densify(S, Q, own, PI, PJ)
     else:   # conic foot points are costlier: a coarser target
         Q, own = _densify(S, Q, own, PI, PJ, rel=10 * DENSIFY_REL, passes=3)
+        Q, own = insert_ridge_nodes(S, Q, own, PI, PJ)     # corners on an ellipse's medial axis
     pi, pj = PI[own], PJ[own]
     same = own[1:] == own[:-1]
     di, _ = S.dist_grad(Q, pi)

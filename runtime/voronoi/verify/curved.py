@@ -25,6 +25,20 @@ site) is a chain that closes up.  Edges of a parabola (convex) and of a hyperbol
 gradient enclosures of :mod:`runtime.voronoi.verify.site_table` hold on discs that do not reach
 its conjugate axis) are, up to their unbounded ends (the tails need bounded sites); an edge of a
 hyperbola crossing its conjugate axis (a corner of the bisector) is reported not proved.
+
+**Corners on an ellipse's medial axis.**  The bisector of an ellipse and a site nested in it has
+a corner where it crosses the ellipse's ridge (:mod:`runtime.voronoi.verify.medial_corners`),
+where the guide would turn by more than 60°.  Each crossing is enclosed first (a proved point
+x_c of β on the ridge); a drawn polyline farther than its stated tolerance from x_c is refused
+(it cuts the corner).  The guide's nodes within 2ε of x_c are replaced by the chord [A, B], A and
+B the guide's points at distance ε on either side moved onto β: the corner is then inside one
+strip whose direction bisects it, where f is monotone across by the Clarke generalised gradient
+(Clarke 1983, Lebourg's theorem; :mod:`runtime.voronoi.verify.strips` (T1)), and the chord's
+strip gets the half-width w_c = 1.5·dist(x_c, AB) + 2·(enclosure radius) at both nodes (above the
+rule of a quarter of the adjacent segments; kept only where w_c·sin θ is at most the length of
+each adjacent segment, θ the turn at A or B, so that a strip's cross-section at a node still lies
+in the next strip: the chaining of :mod:`runtime.voronoi.verify.strips`).  Nothing else changes:
+the strips decide.
 """
 from __future__ import annotations
 
@@ -35,9 +49,10 @@ import numpy as np
 from ...sites.kinds import SiteKind
 from .site_table import run_lockstep
 from .bisector_guide import ProjectJob, adapt, cut_outside, node_width, project, project_many, refine, vertex_taper
+from .medial_corners import distance_to_polyline, medial_corners
 from .strips import StripsJob, prove_strips, prove_strips_many, rot90
 
-__all__ = ["prove_curved_edge", "prove_curved_edges", "TAIL_CUT", "TIME_LIMIT"]
+__all__ = ["prove_curved_edge", "prove_curved_edges", "cut_corners", "TAIL_CUT", "TIME_LIMIT"]
 
 TAIL_CUT = 12.0         # the chain proves an unbounded edge up to TAIL_CUT·(scene radius), the tail beyond
 EDGE_WORK = 80000       # pieces tested per edge, all attempts together, before giving up
@@ -89,6 +104,27 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, extra=No
             return False, "a closed edge needs no end vertices and a polyline around its site", None
         if np.hypot(*(S[0] - S[-1])) <= 1e-12 * scale:
             S = S[:-1]
+    # corners where β crosses the medial axis of an ellipse of the pair (module docstring)
+    cuts = []
+    if any(table.kind[h] == SiteKind.ELLIPSE for h in pair) and len(S) >= 2:
+        drawn = np.vstack([S, S[:1]]) if closed else S
+        step = max(min(tol, 1e-2 * scale) if math.isfinite(tol) else 1e-2 * scale, 1e-9 * scale)
+        found = yield from medial_corners(table, pair, drawn, step, scale)
+        for h, m, r in found or ():
+            dist = distance_to_polyline(m, drawn)
+            if math.isfinite(tol) and dist - r > tol * (1 + 1e-9) + 1e-12 * scale:
+                return False, (f"the polyline passes {dist:.3g} from the corner ({m[0]:.9g}, {m[1]:.9g}) of the "
+                               f"bisector on the medial axis of site {h} (stated tolerance {tol:.3g})"), None
+        if found:
+            wc = yield from node_width(np.array([m for _, m, _ in found]), pair, tol, scale)
+            ends = [np.array((v.x, v.y)) for v in (v0, v1) if v is not None]
+            for (h, m, r), w_ in zip(found, wc):
+                eps = 2.0 * float(w_)
+                others = [float(np.hypot(*(m - q))) for q in ends] + \
+                         [float(np.hypot(*(m - m2))) for _, m2, _ in found if m2 is not m]
+                eps = min([eps] + [0.1 * o for o in others])
+                if eps > 100 * r:
+                    cuts.append((m, r, eps))
     far_ends = [t for t, v in enumerate((v0, v1)) if v is None and not closed]      # 0: start, 1: end
     rad = 0.0
     if far_ends:
@@ -140,6 +176,9 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, extra=No
                 break
             S = np.delete(S, int(np.argmin(cg)) + 1, axis=0)
     if closed:
+        if cuts:            # start the chain far from the corners (its first node is kept)
+            far = np.min([np.hypot(S[:, 0] - m[0], S[:, 1] - m[1]) for m, _, _ in cuts], axis=0)
+            S = np.roll(S, -int(np.argmax(far)), axis=0)
         S = np.vstack([S, S[:1]])           # the chain returns to its first node
     if v0 is not None:
         S[0] = (v0.x, v0.y)
@@ -181,6 +220,13 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, extra=No
                 L = np.hypot(seg[:, 0], seg[:, 1])
             if len(S) < 2:
                 return False, "degenerate polyline", None
+            chords = []
+            if cuts:
+                S, chords = yield from cut_corners(S, cuts, pair)
+                seg = S[1:] - S[:-1]
+                L = np.hypot(seg[:, 0], seg[:, 1])
+                if np.any(L <= 1e-12 * scale):
+                    return False, "degenerate polyline at a corner", None
             T = seg / L[:, None]
             N = rot90(T)
             # turning angles between consecutive segments (and from the last to the first, closed)
@@ -203,6 +249,13 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, extra=No
             for wfac, endfac in ((1.0, 1e-3), (0.3, 1e-5), (3.0, 1e-3)):
                 W = np.minimum(np.minimum(0.25 * Lmin, wnode * wfac), cap)
                 W = np.maximum(W, 1e-12 * scale)
+                for jc, w_c in chords:
+                    # the chord across a corner (module docstring): wide enough for the corner,
+                    # kept only where the strips still chain (w_c·sin θ at most the adjacent lengths)
+                    sins = [sinang[t_] for t_ in (jc - 1, jc) if 0 <= t_ < len(sinang)]
+                    lens = [L[t_] for t_ in (jc - 1, jc, jc + 1) if 0 <= t_ < len(L)]
+                    if w_c * max(sins + [0.0]) <= min(lens):
+                        W[jc] = W[jc + 1] = w_c
                 # narrow at the vertices: the transversality test (T3) needs the gradient enclosures
                 # (slack ~ 2R/d) well below the angle between the bisectors
                 if v0 is not None:
@@ -247,3 +300,39 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, extra=No
         if last_msg is None or "a third site" not in last_msg:
             break
     return False, last_msg, None
+
+
+def cut_corners(S, cuts, pair):
+    """The guide S with its inner nodes within 2ε of each corner (m, r, ε) replaced by the chord
+    [A, B]: A, B the points at distance ε from m towards the nearest kept nodes on either side,
+    moved onto β (float Newton steps; only a guide).  Returns (S, chords), chords a list of (j,
+    w_c): segment j is the chord of a corner and w_c its half-width (module docstring).
+    Generator."""
+    for m, r, eps in cuts:
+        dist = np.hypot(S[:, 0] - m[0], S[:, 1] - m[1])
+        inner = np.arange(1, len(S) - 1)
+        run = inner[dist[inner] < 2 * eps]
+        if len(run):
+            if not np.array_equal(run, np.arange(run[0], run[-1] + 1)):
+                continue
+            prev, nxt = int(run[0]) - 1, int(run[-1]) + 1
+        else:
+            k = int(np.argmin([distance_to_polyline(m, S[t:t + 2]) for t in range(len(S) - 1)]))
+            prev, nxt = k, k + 1
+        if dist[prev] < 2 * eps or dist[nxt] < 2 * eps:
+            continue            # an end of the chain next to the corner: left as it is
+        U = np.array([S[prev] - m, S[nxt] - m])
+        U /= np.hypot(U[:, 0], U[:, 1])[:, None]
+        Xn, dev = yield from project(m + eps * U, eps * U, pair)
+        if not (np.all(np.isfinite(dev)) and np.all(np.isfinite(Xn))):
+            continue
+        S = np.vstack([S[:prev + 1], Xn, S[nxt:]])
+    chords = []
+    for m, r, eps in cuts:
+        d = [distance_to_polyline(m, S[t:t + 2]) for t in range(len(S) - 1)]
+        j = int(np.argmin(d))
+        A, B = S[j], S[j + 1]
+        if min(np.hypot(*(A - m)), np.hypot(*(B - m))) < 0.5 * eps:
+            continue            # not cut: the guide has a node at the corner
+        chords.append((j, 1.5 * d[j] + 2 * r + 1e-12 * (1 + float(np.abs(m).sum()))))
+    return S, chords

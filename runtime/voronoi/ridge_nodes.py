@@ -1,0 +1,103 @@
+"""Polyline nodes at the corners of a bisector on the medial axis of an ellipse containing it.
+
+Inside an ellipse X²/a² + Y²/b² < 1 (a ≥ b, canonical frame) the nearest point of the ellipse
+jumps across the ridge |X| < (a² − b²)/a, Y = 0 (the medial axis: H. I. Choi, S. W. Choi,
+H. P. Moon, Pacific J. Math. 181 (1997)), so the bisector of the ellipse and a site nested in it
+has a corner where it crosses that segment (thesis §5.1: there d_E = b·√(1 − X²/(a² − b²))).
+A polyline whose nodes all lie near the bisector can still cut such a corner by a chord, far
+from the curve; the chord-midpoint measure of the stated tolerance misses it.  Here each
+crossing of a polyline with a ridge gets a node at the corner: the root of f = d_i − d_j on the
+axis, bracketed around the crossing and bisected in floats (a guide only: the verifier proves
+the edge, :mod:`runtime.voronoi.verify.medial_corners`).
+
+Public API: :func:`insert_ridge_nodes`.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["insert_ridge_nodes"]
+
+BISECTIONS = 60
+GROW = 40
+
+
+def _axis(g):
+    """(centre, unit major-axis vector, ridge half-length) of an ellipse geometry."""
+    a, b = float(g.a), float(g.b)
+    u = np.array([g.c, g.s]) if a >= b else np.array([-g.s, g.c])
+    big, small = max(a, b), min(a, b)
+    return np.array([g.tx, g.ty], float), u, (big - small) * (big + small) / big
+
+
+def _root_on_axis(S, pair, cen, u, half, X0, step):
+    """A float root of d_i − d_j on the major axis near X0, or None."""
+    lab = np.array(pair, dtype=np.int64)
+
+    def f(X):
+        P = np.repeat((cen + X * u)[None, :], 2, axis=0)
+        d, _ = S.dist_grad(P, lab)
+        return d[0] - d[1]
+
+    lim = half * (1 - 1e-9)
+    st = step
+    for _ in range(GROW):
+        lo, hi = max(X0 - st, -lim), min(X0 + st, lim)
+        flo, fhi = f(lo), f(hi)
+        if np.sign(flo) * np.sign(fhi) < 0:
+            break
+        st *= 2
+        if st > 4 * half:
+            return None
+    else:
+        return None
+    for _ in range(BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        fm = f(mid)
+        if fm == 0:
+            return mid
+        if np.sign(fm) == np.sign(flo):
+            lo, flo = mid, fm
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+def insert_ridge_nodes(S, Q, own, PI, PJ):
+    """The polylines (points Q, edge index ``own``, sorted by edge) with a node inserted at each
+    crossing of an edge of an ellipse site with that ellipse's ridge (module docstring)."""
+    ins_at, ins_pt = [], []
+    for h in np.unique(np.concatenate([PI, PJ])).tolist():
+        g = S.geoms[h]
+        if g.kind != "ellipse":
+            continue
+        cen, u, half = _axis(g)
+        if half <= 0:
+            continue
+        rows = np.nonzero(np.isin(own[:-1], np.nonzero((PI == h) | (PJ == h))[0]) & (own[1:] == own[:-1]))[0]
+        if not len(rows):
+            continue
+        D = Q - cen
+        along, across = D @ u, D @ np.array([-u[1], u[0]])
+        y0, y1 = across[rows], across[rows + 1]
+        cross = rows[(y0 * y1 < 0)]
+        for k in cross.tolist():
+            t = across[k] / (across[k] - across[k + 1])
+            X0 = along[k] + t * (along[k + 1] - along[k])
+            if abs(X0) >= half:
+                continue
+            pair = (int(PI[own[k]]), int(PJ[own[k]]))
+            step = max(1e-3 * float(np.hypot(*(Q[k + 1] - Q[k]))), 1e-12 * S.scale)
+            X = _root_on_axis(S, pair, cen, u, half, X0, step)
+            if X is None:
+                continue
+            p = cen + X * u
+            if min(np.hypot(*(p - Q[k])), np.hypot(*(p - Q[k + 1]))) <= 1e-12 * S.scale:
+                continue
+            ins_at.append(k + 1)
+            ins_pt.append(p)
+    if not ins_at:
+        return Q, own
+    order = np.argsort(ins_at, kind="stable")
+    at = np.array(ins_at)[order]
+    return np.insert(Q, at, np.array(ins_pt)[order], axis=0), np.insert(own, at, own[at - 1])
