@@ -174,6 +174,7 @@ class SampleTriangulation:
             conflict[cand[cnt > 0]] = True
             visible = _visible_sides(P, ha, hb, Pnew, scale)
             conflict[hull_t[visible]] = True
+            conflict = _connected_cavity(P, simp, nb, conflict, rm, hull_t[visible], Pnew, scale)
         cav = np.nonzero(conflict)[0]
         U = np.unique(simp[cav])
         U = U[~rm[U]]
@@ -362,6 +363,48 @@ def _areas(P, simp):
 def _orient(A, B, C):
     """Twice the signed area of the triangles (A, B, C) (rows)."""
     return (B[:, 0] - A[:, 0]) * (C[:, 1] - A[:, 1]) - (B[:, 1] - A[:, 1]) * (C[:, 0] - A[:, 0])
+
+
+def _connected_cavity(P, simp, nb, conflict, rm, visible_t, Pnew, scale):
+    """The conflict triangles joined through shared sides to a triangle that contains a new
+    sample (closed, with rounding room), has a removed corner or lies on a visible hull side.
+    In exact arithmetic the triangles whose circumdisks hold a point p form a connected set
+    around the triangle containing p (Bowyer 1981, Watson 1981), so this is the whole cavity.
+    A triangle flagged apart from all of them is in conflict only through rounding: a sliver of
+    nearly collinear samples of one segment, whose huge circumdisk, widened by the rounding room,
+    reaches a sample thousands of units away.  It is kept as it is (the result is checked as
+    before); taking it into the cavity made the cavity disconnected and its flood leak."""
+    idx = np.nonzero(conflict)[0]
+    if not len(idx):
+        return conflict
+    T = simp[idx]
+    seed = rm[T].any(axis=1) | np.isin(idx, visible_t)
+    A, B, C = P[T[:, 0]], P[T[:, 1]], P[T[:, 2]]
+    mid = (A + B + C) / 3
+    reach = np.max(np.stack([np.hypot(*(X - mid).T) for X in (A, B, C)]), axis=0) + 1e-9 * scale
+    area = _orient(A, B, C)
+    room = 1e-12 * scale * (np.abs(area) / np.maximum(reach, 1e-300) + reach)
+    tree = cKDTree(Pnew)
+    for r, near in enumerate(tree.query_ball_point(mid, reach)):
+        if seed[r] or not near:
+            continue
+        Q = Pnew[near]
+        a, b, c = (np.broadcast_to(X[r], Q.shape) for X in (A, B, C))
+        sg = 1.0 if area[r] >= 0 else -1.0
+        inside = ((sg * _orient(a, b, Q) >= -room[r]) & (sg * _orient(b, c, Q) >= -room[r])
+                  & (sg * _orient(c, a, Q) >= -room[r]))
+        seed[r] = bool(inside.any())
+    pos = np.full(len(simp), -1)
+    pos[idx] = np.arange(len(idx))
+    t, k = np.nonzero(nb[idx] >= 0)
+    u = pos[nb[idx][t, k]]
+    ok = u >= 0
+    g = coo_matrix((np.ones(int(ok.sum())), (t[ok], u[ok])), shape=(len(idx), len(idx)))
+    _, comp = connected_components(g, directed=False)
+    keep = np.isin(comp, np.unique(comp[seed]))
+    out = np.zeros(len(simp), bool)
+    out[idx[keep]] = True
+    return out
 
 
 def _straight_on_hull(P, ha, hb, rm, scale) -> bool:
