@@ -17,7 +17,7 @@ Public API: :func:`admissibility`.
 from __future__ import annotations
 
 from ..voronoi.verify.problems import Problem, fault
-from .certificate_sites import ARC, SEGMENT, SiteTable
+from .certificate_sites import ARC, ELLIPSE, SEGMENT, SiteTable
 
 __all__ = ["admissibility"]
 
@@ -37,12 +37,19 @@ def admissibility(T: SiteTable) -> list:
         out.append(fault(f"sites {p} and {q}: the same point repeated", kind="site", sites=(p, q)))
     seen: dict = {}
     for k, end in T.bad_ends:
-        what = "segment" if T.kind[k] == SEGMENT else "arc"
+        what = {SEGMENT: "segment", ARC: "arc", ELLIPSE: "elliptic arc"}[T.kind[k]]
         out.append(fault(f"site {k}: the endpoint ({end[0]}, {end[1]}) of the {what} is not a point site of the "
                          "diagram (every endpoint is its own site, unless exactly two curves, not both segments, "
                          "continue each other smoothly there)", kind="site", sites=(k,)))
     for k in range(T.n):
         if not T.is_curve(k):
+            continue
+        if T.kind[k] == ELLIPSE:
+            key = (ELLIPSE, T.sites[k].key())
+            if key in seen:
+                out.append(fault(f"sites {seen[key]} and {k}: the same curve repeated", kind="site",
+                                 sites=(seen[key], k)))
+            seen.setdefault(key, k)
             continue
         key = (T.kind[k], T.cen.get(k), T.rad.get(k)) + ((T.a[k], T.b[k]) if T.kind[k] == ARC else
                                                           (frozenset((T.a[k], T.b[k])),))

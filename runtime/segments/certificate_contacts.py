@@ -1,7 +1,7 @@
 """Contact order and emptiness of a proved vertex (step 2 of :mod:`runtime.segments.certificate`).
 
 **Order**: the contact point of each listed site seen from the vertex — a point, the foot on a
-segment, c + ρ (v − c)/|v − c| on an arc, the end e (or smooth joint) where a curve touches at
+segment, c + ρ (v − c)/|v − c| on an arc, the foot e(φ(v)) on an elliptic piece, the end e (or smooth joint) where a curve touches at
 its end — must turn once counter-clockwise in the listed order (the angles between consecutive
 contacts, each in (0, 2π), sum to 2π).  Two consecutive sites sharing a contact (an end and its
 curve, the two curves of a joint) are ordered by the side the curve leaves the contact to (after
@@ -23,7 +23,8 @@ from flint import arb
 
 from ..certify.foot import to_arb
 from ..voronoi.verify.problems import fault
-from .certificate_sites import ARC, SEGMENT, SiteTable, hypot
+from .certificate_ellipses import contact_point
+from .certificate_sites import ARC, ELLIPSE, SEGMENT, SiteTable, hypot
 
 __all__ = ["ccw", "empty"]
 
@@ -49,6 +50,9 @@ def _contacts(T: SiteTable, sites, terms, X, Y):
             wx, wy = X - cx, Y - cy
             n = hypot(wx, wy)
             out.append((cx + rho * wx / n, cy + rho * wy / n, None, None))
+        elif t[0] == "el":
+            ex, ey = contact_point(T.piece[s], X, Y)
+            out.append((ex, ey, None, None))
         else:
             e = t[5]
             ex, ey = T.pt_arb(e)
@@ -106,7 +110,7 @@ def empty(T: SiteTable, v, sites, X, Y, R, problems, name: str) -> bool:
     for k, c in zip(cand.tolist(), clear.tolist()):
         if c:
             continue
-        if T.kind[k] in (SEGMENT, ARC):
+        if T.kind[k] in (SEGMENT, ARC, ELLIPSE):
             le = [e for e in T.ends[k] if e >= 0 and e in listed]
             if le:
                 good = len(le) == 1 and T.owned_by_end(k, le[0], X, Y) is True

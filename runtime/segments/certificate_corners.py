@@ -109,6 +109,8 @@ def exact_contact(T: SiteTable, k: int, c, r: Fraction):
     for an arc of the circle (c, r) itself; ``clamped``: the nearest point is that end alone,
     strictly beyond it."""
     kind = T.kind[k]
+    if kind not in (POINT, SEGMENT, ARC):
+        raise ValueError(f"site {k}: no exact distance to an elliptic piece")
     if kind == POINT:
         w = (T.a[k][0] - c[0], T.a[k][1] - c[1])
         return _sgn(w[0] * w[0] + w[1] * w[1] - r * r), ("dir", w, None, None), False

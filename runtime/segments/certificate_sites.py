@@ -29,13 +29,17 @@ from scipy.spatial import cKDTree
 from ..certify.foot import to_arb
 from ..predicates.circles import Point
 from ..sites.arc import Arc
+from ..sites.elliptic_arc import EllipticArc
 from ..sites.segment import Segment
 from ..sites.rationals import to_fraction
+from .certificate_ellipses import bounding_disc, float_bounds as ellipse_float_bounds, is_piece
+from .certificate_ellipses import owned_by_end as ellipse_owned_by_end
 from .distance import distances, float_error
+from .ellipse_pieces import PieceData, piece_distance_ball
 
-__all__ = ["SiteTable", "direction_key", "POINT", "SEGMENT", "ARC", "sq", "hypot"]
+__all__ = ["SiteTable", "direction_key", "POINT", "SEGMENT", "ARC", "ELLIPSE", "sq", "hypot"]
 
-POINT, SEGMENT, ARC = 0, 1, 2
+POINT, SEGMENT, ARC, ELLIPSE = 0, 1, 2, 3
 EPS = np.finfo(float).eps
 
 
@@ -68,7 +72,8 @@ def direction_key(v) -> tuple:
 class SiteTable:
     """Exact and float views of the elementary sites.
 
-    ``kind[k]``: POINT / SEGMENT / ARC (None for an unsupported site); ``a[k]``, ``b[k]``: exact
+    ``kind[k]``: POINT / SEGMENT / ARC / ELLIPSE (an elliptic piece, ``piece[k]`` its
+    :class:`runtime.segments.ellipse_pieces.PieceData`; None for an unsupported site); ``a[k]``, ``b[k]``: exact
     ends (a = b for a point; an arc runs counter-clockwise from a to b); ``cen[k]``, ``rad[k]``:
     an arc's centre and radius; ``ends[k]``: the *end codes* of a curve — a point-site index, or
     −2 − m for the smooth joint ``joints[m]`` = (point, (curve, curve)) — None when an end is
@@ -87,6 +92,8 @@ class SiteTable:
         self.cen: dict = {}
         self.rad: dict = {}
         self.unsupported: list[int] = []
+        #: elliptic pieces (:mod:`runtime.segments.certificate_ellipses`) by index
+        self.piece: dict = {}
         zero = (Fraction(0), Fraction(0))
         for k, s in enumerate(self.sites):
             if isinstance(s, Arc):
@@ -95,6 +102,11 @@ class SiteTable:
                 self.b.append(tuple(map(to_fraction, s.b)))
                 self.cen[k] = tuple(map(to_fraction, s.c))
                 self.rad[k] = to_fraction(s.rho)
+            elif isinstance(s, EllipticArc) and is_piece(s):
+                self.kind.append(ELLIPSE)
+                self.a.append(tuple(map(to_fraction, s.a)))
+                self.b.append(tuple(map(to_fraction, s.b)))
+                self.piece[k] = PieceData.of(s)
             elif isinstance(s, Segment):
                 self.kind.append(SEGMENT)
                 self.a.append(tuple(map(to_fraction, s.p)))
@@ -124,7 +136,7 @@ class SiteTable:
 
     # ------------------------------------------------------------------ ends, joints
     def is_curve(self, k: int) -> bool:
-        return self.kind[k] in (SEGMENT, ARC)
+        return self.kind[k] in (SEGMENT, ARC, ELLIPSE)
 
     def _ends_and_joints(self):
         n = self.n
@@ -171,6 +183,10 @@ class SiteTable:
         if self.kind[k] == SEGMENT:
             (ax, ay), (bx, by) = self.a[k], self.b[k]
             return (bx - ax, by - ay) if which == 0 else (ax - bx, ay - by)
+        if self.kind[k] == ELLIPSE:
+            s = self.sites[k]
+            t = s.tangent(s.ua if which == 0 else s.ub)
+            return t if which == 0 else (-t[0], -t[1])
         (cx, cy), (px, py) = self.cen[k], (self.a[k] if which == 0 else self.b[k])
         rx, ry = px - cx, py - cy
         return (-ry, rx) if which == 0 else (ry, -rx)
@@ -184,7 +200,10 @@ class SiteTable:
         return self._tangent(s, self.which_end(s, code))
 
     def curvature(self, s: int, code: int) -> Fraction:
-        """The signed curvature of curve s leaving its end ``code`` (left turn > 0)."""
+        """The signed curvature of curve s leaving its end ``code`` (left turn > 0); not defined
+        (ValueError) for an elliptic piece (irrational in general)."""
+        if self.kind[s] == ELLIPSE:
+            raise ValueError(f"curve {s}: the curvature of an elliptic piece is not exact")
         if self.kind[s] != ARC:
             return Fraction(0)
         return (1 if self.which_end(s, code) == 0 else -1) / self.rad[s]
@@ -303,11 +322,15 @@ class SiteTable:
             if ua[0] * ub[1] - ua[1] * ub[0] < 0:           # more than a half circle
                 self.mid[k], self.half[k] = self.C[k], self.R[k]
             self.half[k] = self.half[k] * (1 + 1e-12) + 1e-300
+        for k in self.piece:
+            self.mid[k], self.half[k] = bounding_disc(self.sites[k])
         self.hmax = float(self.half.max()) if n else 0.0
         mags = [np.abs(self.A).max(initial=0.0), np.abs(self.B).max(initial=0.0)]
         if self.cen:
             arcs = list(self.cen)
             mags.append(float((np.abs(self.C[arcs]).max(axis=1) + self.R[arcs]).max()))
+        for k in self.piece:
+            mags.append(float(np.abs(self.mid[k]).max() + self.half[k]))
         self.scale = 1.0 + float(max(mags))
         self.tree = cKDTree(self.mid) if n else None
 
@@ -338,6 +361,10 @@ class SiteTable:
             lo_a = np.where(sure_in, circle, np.where(sure_out, ends, np.minimum(circle, ends))) - e
             hi_a = np.where(sure_in, circle, ends) + e
             lo[arc], hi[arc] = lo_a, hi_a
+        ell = self.karr[idx] == ELLIPSE
+        if ell.any():
+            ie = idx[ell]
+            lo[ell], hi[ell] = ellipse_float_bounds(self.mid[ie], self.half[ie], A[ell], B[ell], Q[ell], self.scale)
         return lo, hi
 
     def near(self, x: float, y: float, radius: float) -> list[int]:
@@ -362,6 +389,8 @@ class SiteTable:
         ax, ay, bx, by = self.arb_ends(k)
         if self.kind[k] == POINT:
             return hypot(X - ax, Y - ay)
+        if self.kind[k] == ELLIPSE:
+            return piece_distance_ball(self.piece[k], X, Y)
         if self.kind[k] == ARC:
             cx, cy, rho = self.arb_arc(k)
             wx, wy = X - cx, Y - cy
@@ -404,6 +433,8 @@ class SiteTable:
             if self.end_index(k, e) == 0:
                 return True if u <= 0 else (False if u > 0 else None)
             return True if u >= 1 else (False if u < 1 else None)
+        if self.kind[k] == ELLIPSE:
+            return ellipse_owned_by_end(self.piece[k], self.end_index(k, e), X, Y)
         cx, cy, _ = self.arb_arc(k)
         wx, wy = X - cx, Y - cy
         g = self.arc_mid_arb(k)

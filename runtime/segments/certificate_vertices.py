@@ -32,7 +32,17 @@ A reported vertex v (sites s_0 … s_{k−1}, position, radius) is proved as fol
   zero is enclosed again at :data:`TIGHT_PREC` bits (Krawczyk, its box inside the first one, which
   holds one zero only) and the emptiness decided on that box.
 
+* **Elliptic pieces** (:mod:`runtime.segments.certificate_ellipses`): touched inside, the
+  touching-type distance |v − e(φ(v))| with the foot φ(v) enclosed by a parametric Krawczyk test
+  inside the piece's open parameter range (also beyond the centre of curvature at a listed end,
+  the end then tied); touched at an end, the normal line; the contact proved the piece's nearest
+  point.  Corners and vertices of more than three sites with an elliptic piece are not proved (no
+  exact decision for elliptic pieces).
+
 Public API: :class:`VertexProof`, :func:`prove_vertices`, :data:`VERTEX_TOL`.
+
+Length: one proof (the touching-type terms, their system, its Krawczyk test and the contact
+conditions read the same term tuples); splitting it would pass them between modules.
 """
 from __future__ import annotations
 
@@ -48,7 +58,9 @@ from ..voronoi.verify.problems import Problem, fault
 from .certificate_contacts import ccw, empty
 from .certificate_corners import prove_arc_centre, prove_corner
 from .certificate_exact import exact_vertex
-from .certificate_sites import ARC, POINT, SEGMENT, SiteTable, hypot
+from .certificate_ellipses import (end_contact_valid, interior_contact_valid, past_centre_of_curvature, term_grad,
+                                   term_value)
+from .certificate_sites import ARC, ELLIPSE, POINT, SEGMENT, SiteTable, hypot
 
 __all__ = ["VertexProof", "prove_vertices", "VERTEX_TOL"]
 
@@ -109,17 +121,23 @@ def _prove(T: SiteTable, v, problems) -> VertexProof:
         return VertexProof(False)
     if any(T.kind[s] is None or (T.is_curve(s) and T.ends[s] is None) for s in sites):
         return VertexProof(False)
+    elliptic = [s for s in sites if T.kind[s] == ELLIPSE]
     common = None
     for s in sites:
         pts = {s} if T.kind[s] == POINT else {e for e in T.ends[s] if e >= 0}
         common = pts if common is None else common & pts
+    if elliptic and (common or k > 3):
+        problems.append(Problem(f"{name}: a corner or a vertex of more than three sites with an elliptic piece "
+                                "(no exact decision for elliptic pieces): not proved", kind="vertex", vertex=v.id,
+                                sites=sites, fault=False))
+        return VertexProof(False)
     if common:
         return prove_corner(T, v, sites, next(iter(common)), problems, _tol(v), name, VertexProof)
     scale = 1.0 + abs(float(v.x)) + abs(float(v.y)) + abs(float(v.radius))
     for s in sites:
         if T.kind[s] == ARC:
             c = T.C[s]
-            if abs(float(v.x) - c[0]) + abs(float(v.y) - c[1]) <= 1e-6 * scale:
+            if abs(float(v.x) - c[0]) + abs(float(v.y) - c[1]) <= 1e-6 * scale and not elliptic:
                 pr = prove_arc_centre(T, v, sites, s, problems, _tol(v), name, VertexProof)
                 if pr.ok:
                     pr.centre_of = s
@@ -150,6 +168,11 @@ def _terms(T: SiteTable, sites, xr, yr):
             out.append(("pt",) + T.a[s] + (None,))
             continue
         ends = [e for e in T.ends[s] if e >= 0 and e in listed] + partner.get(s, [])
+        if T.kind[s] == ELLIPSE:
+            past = [e for e in ends if e >= 0 and past_centre_of_curvature(T.piece[s], T.which_end(s, e), xr, yr)]
+            if past:
+                out.append(("el", T.piece[s], tuple(T.which_end(s, e) for e in ends if e >= 0)))
+                continue
         if len(ends) == 2:
             return None
         if ends:
@@ -159,6 +182,9 @@ def _terms(T: SiteTable, sites, xr, yr):
             else:
                 t = T.leaving(s, e)
                 out.append(("pp", t[0], t[1]) + T.pt(e) + (e, s))
+            continue
+        if T.kind[s] == ELLIPSE:
+            out.append(("el", T.piece[s], ()))
             continue
         if T.kind[s] == SEGMENT:
             (ax, ay), (bx, by) = T.a[s], T.b[s]
@@ -181,6 +207,8 @@ def _value(term, x, y, num):
     """The touching-type distance (or the normal line's residual) at (x, y); ``num`` converts
     exact coefficients (float or arb)."""
     fl = num is float
+    if term[0] == "el":
+        return term_value(term[1], x, y, fl)
     if term[0] == "pt":
         return math.hypot(x - num(term[1]), y - num(term[2])) if fl else hypot(x - num(term[1]), y - num(term[2]))
     if term[0] == "ln":
@@ -196,6 +224,8 @@ def _value(term, x, y, num):
 
 def _grad(term, x, y, num):
     fl = num is float
+    if term[0] == "el":
+        return term_grad(term[1], x, y, fl)
     if term[0] in ("pt", "arc"):
         dx, dy = x - num(term[1]), y - num(term[2])
         d = math.hypot(dx, dy) if fl else hypot(dx, dy)
@@ -324,6 +354,16 @@ def _tighten(terms, X, Y):
 def _contacts_valid(T: SiteTable, sites, terms, X, Y, R):
     """None when every contact is where its equation says (module docstring), else a message."""
     for s, t in zip(sites, terms):
+        if t[0] == "el" and not interior_contact_valid(t[1], X, Y, R, t[2]):
+            return f"the circle's contact with elliptic piece {s} is not proved its nearest point inside it"
+        if T.kind[s] == ELLIPSE and (t[0] == "pp" or (t[0] == "pt" and t[3] is not None)):
+            e = t[5] if t[0] == "pp" else t[3][0]
+            if not end_contact_valid(T.piece[s], T.which_end(s, e), X, Y, R):
+                return f"the end {e} of elliptic piece {s} is not proved its nearest point"
+        if t[0] == "pt" and t[3] is not None:
+            other = [o for o in T.joint_curves(t[3][0]) if o != s][0]
+            if T.kind[other] == ELLIPSE and not end_contact_valid(T.piece[other], T.which_end(other, t[3][0]), X, Y, R):
+                return f"the joint {t[3][0]} of elliptic piece {other} is not proved its nearest point"
         if t[0] == "ln":
             u = T.foot(s, X, Y)
             if not (u > 0 and u < 1):

@@ -26,6 +26,7 @@ import numpy as np
 
 from ..sites.arc import Arc
 from ..sites.elliptic_arc import EllipticArc
+from ..sites.rationals import to_fraction
 from ..sites.segment import Segment
 from ..voronoi.site_input import SiteError
 
@@ -95,7 +96,9 @@ def _point_chords(X, Q):
 
 
 def _key(p):
-    return (p[0], p[1]) if not hasattr(p, "cx") else (p.cx, p.cy)
+    """An exact hashable key of a point (Fractions: an fmpq equals but does not hash like one)."""
+    x, y = (p[0], p[1]) if not hasattr(p, "cx") else (p.cx, p.cy)
+    return (to_fraction(x), to_fraction(y))
 
 
 def check_elliptic(pieces, elliptic) -> None:

@@ -26,7 +26,11 @@ points on a piece (a minimum, then a maximum, or the reverse).
 
 Public API: :class:`PieceData`, :func:`piece_distances`, :func:`piece_feet`,
 :func:`piece_distance_ball`, :func:`foot_enclosure`, :func:`nearest_verdict`, :func:`piece_points`,
-:func:`piece_lengths`, :func:`piece_at_lengths`, :func:`piece_tangent`, :func:`closest_at_an_end`, :func:`interior_foot`.
+:func:`piece_lengths`, :func:`piece_at_lengths`, :func:`piece_tangent`, :func:`closest_at_an_end`, :func:`interior_foot`,
+:func:`interior_minimum`, :func:`piece_point_ball`.
+
+Length: one piece's distance function f in floats and balls (the ball helpers are private to it);
+the construction and the certificate share these as the one implementation of each operation.
 """
 from __future__ import annotations
 
@@ -39,7 +43,8 @@ from flint import arb
 from ..certify.foot import to_arb
 
 __all__ = ["PieceData", "piece_distances", "piece_feet", "piece_distance_ball", "foot_enclosure", "nearest_verdict",
-           "piece_points", "piece_lengths", "piece_at_lengths", "piece_tangent", "closest_at_an_end", "interior_foot"]
+           "piece_points", "piece_lengths", "piece_at_lengths", "piece_tangent", "closest_at_an_end", "interior_foot",
+           "interior_minimum", "piece_point_ball"]
 
 #: parameters sampled per piece by the float distance
 FLOAT_SAMPLES = 33
@@ -305,6 +310,26 @@ def foot_enclosure(P: PieceData, x: arb, y: arb, phi: float):
         if r > 1e-2:
             return None
     return None
+
+
+def interior_minimum(P: PieceData, x: arb, y: arb, phi: float):
+    """The enclosure Φ of :func:`foot_enclosure` when it lies strictly inside the piece's open
+    parameter range and f'' > 0 on it (for every point of the box (x, y), a strict local minimum
+    of f inside the piece, the only one: f has at most two critical points on a piece), else None."""
+    Phi = foot_enclosure(P, x, y, phi)
+    if Phi is None:
+        return None
+    p0, p1 = P.arb_params()
+    if not (Phi > p0 and Phi < p1 and _Balls(P, x, y).dg(Phi) > 0):
+        return None
+    return Phi
+
+
+def piece_point_ball(P: PieceData, Phi: arb):
+    """Balls holding the points e(φ) = c + cos φ M + sin φ N for φ in Φ."""
+    c, s = Phi.cos(), Phi.sin()
+    return (to_arb(P.c[0]) + c * to_arb(P.M[0]) + s * to_arb(P.N[0]),
+            to_arb(P.c[1]) + c * to_arb(P.M[1]) + s * to_arb(P.N[1]))
 
 
 def nearest_verdict(P: PieceData, x: arb, y: arb, r: arb, Phi: arb, tied_ends=()):
