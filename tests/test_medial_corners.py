@@ -39,7 +39,7 @@ def ellipse_distance_mp(a, b, X):
     grid = [mpmath.pi * k / 120 for k in range(1, 120)]
     for t0, t1 in zip(grid[:-1], grid[1:]):
         if dphi(t0) * dphi(t1) < 0:
-            best = min(best, phi(mpmath.findroot(dphi, (t0, t1), solver="bisect")))
+            best = min(best, phi(mpmath.findroot(dphi, (t0, t1), solver="anderson")))
     return mpmath.sqrt(best)
 
 
@@ -123,34 +123,64 @@ def test_corner_moved_off_the_curve_is_refused(case):
     assert any("from the bisector" in str(p) for p in c.problems), c.problems
 
 
+def distance_mp(a, b, q):
+    """d(q, ellipse x²/a² + y²/b² = 1) by mpmath (critical points of the squared distance)."""
+    a, b = mpmath.mpf(a), mpmath.mpf(b)
+    X, Y = mpmath.mpf(q[0]), mpmath.mpf(q[1])
+    phi = lambda t: (a * mpmath.cos(t) - X) ** 2 + (b * mpmath.sin(t) - Y) ** 2
+    dphi = lambda t: -2 * a * mpmath.sin(t) * (a * mpmath.cos(t) - X) + 2 * b * mpmath.cos(t) * (b * mpmath.sin(t) - Y)
+    grid = [2 * mpmath.pi * k / 240 for k in range(241)]
+    best = min(phi(t) for t in grid)
+    for t0, t1 in zip(grid[:-1], grid[1:]):
+        if dphi(t0) * dphi(t1) < 0:
+            best = min(best, phi(mpmath.findroot(dphi, (t0, t1), solver="anderson")))
+    return mpmath.sqrt(best)
+
+
+def loop_point_mp(axes, site, psi):
+    """The point of the loop around the nested site (centre (x0, 0), radius r) on the ray from
+    its centre at angle psi: t − r = d(p + t·u, E), t − r − d nondecreasing (d is 1-Lipschitz)."""
+    x0, r = site
+    u = (mpmath.cos(psi), mpmath.sin(psi))
+    g = lambda t: t - r - distance_mp(*axes, (x0 + t * u[0], t * u[1]))
+    t = mpmath.findroot(g, (mpmath.mpf(r), mpmath.mpf(axes[0]) * 2), solver="anderson")
+    return np.array([float(x0 + t * u[0]), float(t * u[1])])
+
+
 @pytest.mark.parametrize("case", [CIRCLE, POINT], ids=["circle in 10x4", "point in 10x5"])
 def test_corner_cut_by_a_chord_is_refused(case):
-    """Every remaining node on the bisector, but the chord that replaces the corner passes
-    farther than the stated tolerance from it: refused, naming the corner."""
+    """The nodes near the right corner replaced by two points of the bisector (mpmath) whose
+    chord passes 2 stated tolerances from the corner: every node on the bisector, the chord
+    not within the tolerance; refused, naming the corner."""
     d = cv.voronoi(case[0], progress=False)
-    X = max(float(x) for x in axis_corners_mp(*case[1:]))
+    axes, site = case[1], case[2]
+    X = max(axes_roots(axes, site))
     bad = copy.deepcopy(d)
     e = bad.edges[0]
-    P = np.array(e.polyline, float)
-    closed = np.allclose(P[0], P[-1])
-    ring = P[:-1] if closed else P
-    # drop the nodes nearest the corner until the chord is 3 tolerances from it
-    order = np.argsort(np.hypot(ring[:, 0] - X, ring[:, 1]))
-    for n in range(1, 8):
-        Q = np.delete(ring, order[:n], axis=0)
-        Q = np.roll(Q, -int(np.argmax(np.hypot(Q[:, 0] - X, Q[:, 1]))), axis=0)
-        Q = np.vstack([Q, Q[:1]])
-        A, B = Q[:-1], Q[1:]
-        D = B - A
-        t = np.clip(((np.array([X, 0.0]) - A) * D).sum(1) / (D * D).sum(1), 0, 1)
-        gap = np.hypot(*(A + t[:, None] * D - np.array([X, 0.0])).T).min()
-        if gap > 3 * e.tolerance:
-            break
-    assert gap > 3 * e.tolerance
-    e.polyline = Q
+    tol = e.tolerance
+    # the angle psi whose chord is 2·tol from the corner
+    psi = mpmath.findroot(lambda t: X - loop_point_mp(axes, site, t)[0] - 2 * tol, (mpmath.mpf("1e-3"), mpmath.mpf(1)),
+                          solver="anderson", tol=1e-20)
+    A, B = loop_point_mp(axes, site, psi), loop_point_mp(axes, site, -psi)
+    gap = X - A[0]
+    assert 1.9 * tol < gap < 2.1 * tol and abs(A[0] - B[0]) < 1e-12 and abs(A[1] + B[1]) < 1e-12
+    P = np.array(e.polyline, float)[:-1]
+    ang = np.arctan2(P[:, 1], P[:, 0] - site[0])
+    keep = np.abs(ang) >= float(psi)
+    P = P[keep]
+    P = np.roll(P, -int(np.argmax(np.abs(np.arctan2(P[:, 1], P[:, 0] - site[0])))), axis=0)
+    # the kept nodes run from the angle −π up to −psi and from psi on: insert B, A in order
+    a2 = np.arctan2(P[:, 1], P[:, 0] - site[0])
+    k = int(np.nonzero(np.diff(np.sign(a2)) != 0)[0][0]) + 1
+    ring = np.vstack([P[:k], [B, A], P[k:]]) if a2[0] > 0 else np.vstack([P[:k], [A, B], P[k:]])
+    e.polyline = np.vstack([ring, ring[:1]])
     c = cv.verify(bad)
     assert not c.ok and not c.edges[0]
     assert any("from the corner" in str(p) for p in c.problems), c.problems
+
+
+def axes_roots(axes, site):
+    return [float(x) for x in axis_corners_mp(axes, site)]
 
 
 def test_rotated_ellipse_with_point():
