@@ -3,7 +3,8 @@
 Inside an ellipse X²/a² + Y²/b² < 1 (a ≥ b, canonical frame) the nearest point of the ellipse
 jumps across the ridge |X| < (a² − b²)/a, Y = 0 (the medial axis: H. I. Choi, S. W. Choi,
 H. P. Moon, Pacific J. Math. 181 (1997)), so the bisector of the ellipse and a site nested in it
-has a corner where it crosses that segment (thesis §5.1: there d_E = b·√(1 − X²/(a² − b²))).
+has a corner where it crosses that segment (there d_E = b·√(1 − X²/(a² − b²)): the normal
+from (X, 0) meets the ellipse where cos θ = aX/(a² − b²)).
 A polyline whose nodes all lie near the bisector can still cut such a corner by a chord, far
 from the curve; the chord-midpoint measure of the stated tolerance misses it.  Here each
 crossing of a polyline with a ridge gets a node at the corner: the root of f = d_i − d_j on the
@@ -66,36 +67,40 @@ def _root_on_axis(S, pair, cen, u, half, X0, step):
 def insert_ridge_nodes(S, Q, own, PI, PJ):
     """The polylines (points Q, edge index ``own``, sorted by edge) with a node inserted at each
     crossing of an edge of an ellipse site with that ellipse's ridge (module docstring)."""
+    if len(Q) < 2:
+        return Q, own
+    ells = {h: _axis(S.geoms[h]) for h in np.unique(np.concatenate([PI, PJ])).tolist()
+            if S.geoms[h].kind == "ellipse"}
+    if not ells:
+        return Q, own
+    seg = np.nonzero(own[1:] == own[:-1])[0]            # segments k → k + 1 of one edge
     ins_at, ins_pt = [], []
-    for h in np.unique(np.concatenate([PI, PJ])).tolist():
-        g = S.geoms[h]
-        if g.kind != "ellipse":
-            continue
-        cen, u, half = _axis(g)
-        if half <= 0:
-            continue
-        rows = np.nonzero(np.isin(own[:-1], np.nonzero((PI == h) | (PJ == h))[0]) & (own[1:] == own[:-1]))[0]
-        if not len(rows):
-            continue
-        D = Q - cen
-        along, across = D @ u, D @ np.array([-u[1], u[0]])
-        y0, y1 = across[rows], across[rows + 1]
-        cross = rows[(y0 * y1 < 0)]
-        for k in cross.tolist():
-            t = across[k] / (across[k] - across[k + 1])
-            X0 = along[k] + t * (along[k + 1] - along[k])
-            if abs(X0) >= half:
+    for side in (PI, PJ):
+        H = side[own[seg]]
+        for h in np.unique(H).tolist():
+            if h not in ells:
                 continue
-            pair = (int(PI[own[k]]), int(PJ[own[k]]))
-            step = max(1e-3 * float(np.hypot(*(Q[k + 1] - Q[k]))), 1e-12 * S.scale)
-            X = _root_on_axis(S, pair, cen, u, half, X0, step)
-            if X is None:
+            cen, u, half = ells[h]
+            if half <= 0:
                 continue
-            p = cen + X * u
-            if min(np.hypot(*(p - Q[k])), np.hypot(*(p - Q[k + 1]))) <= 1e-12 * S.scale:
-                continue
-            ins_at.append(k + 1)
-            ins_pt.append(p)
+            ks = seg[H == h]
+            D0, D1 = Q[ks] - cen, Q[ks + 1] - cen
+            v = np.array([-u[1], u[0]])
+            y0, y1 = D0 @ v, D1 @ v
+            cross = y0 * y1 < 0
+            t = np.where(cross, y0 / np.where(cross, y0 - y1, 1.0), 0.0)
+            X0 = D0 @ u + t * ((D1 - D0) @ u)
+            for k, x0 in zip(ks[cross & (np.abs(X0) < half)].tolist(), X0[cross & (np.abs(X0) < half)].tolist()):
+                pair = (int(PI[own[k]]), int(PJ[own[k]]))
+                step = max(1e-3 * float(np.hypot(*(Q[k + 1] - Q[k]))), 1e-12 * S.scale)
+                X = _root_on_axis(S, pair, cen, u, half, x0, step)
+                if X is None:
+                    continue
+                p = cen + X * u
+                if min(np.hypot(*(p - Q[k])), np.hypot(*(p - Q[k + 1]))) <= 1e-12 * S.scale:
+                    continue
+                ins_at.append(k + 1)
+                ins_pt.append(p)
     if not ins_at:
         return Q, own
     order = np.argsort(ins_at, kind="stable")

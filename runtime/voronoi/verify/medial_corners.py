@@ -6,8 +6,7 @@ the major vertices (H. I. Choi, S. W. Choi, H. P. Moon, *Mathematical theory of 
 transform*, Pacific J. Math. 181 (1997); :mod:`runtime.voronoi.verify.clarke_gradient`).  On
 the ridge the nearest point of E jumps between the two mirror-image foot points, so the bisector
 β of E and a site nested in it (a point, a circle, an ellipse) has a corner there: on the axis
-itself d_E = b·√(1 − X²/(a² − b²)) (thesis §5.1; the normal from (X, 0) meets E where
-cos θ = aX/(a² − b²)), and β is the union of the two smooth curves d_± = d_k, d_± the distances
+itself d_E = b·√(1 − X²/(a² − b²)) (the normal from (X, 0) meets E where cos θ = aX/(a² − b²)), and β is the union of the two smooth curves d_± = d_k, d_± the distances
 to the upper and lower halves, each kept where it is the smaller one.
 
 **Enclosure.**  d_E and d_k are continuous, so f = d_E − d_k changes sign along a segment
@@ -64,14 +63,15 @@ def ridge_crossings(table, pair, S):
         D = S - cen
         along = D @ u
         across = D @ np.array([-u[1], u[0]])
-        for k in range(len(S) - 1):
-            y0, y1 = across[k], across[k + 1]
-            if y0 == y1 or (y0 > 0 and y1 > 0) or (y0 < 0 and y1 < 0) or (y0 == 0 and k > 0):
-                continue
-            t = y0 / (y0 - y1)
-            X = along[k] + t * (along[k + 1] - along[k])
+        y0, y1 = across[:-1], across[1:]
+        # a sign change, or a node on the axis (counted once: as the end of its first segment)
+        hit = ((y0 < 0) & (y1 > 0)) | ((y0 > 0) & (y1 < 0)) | ((y1 == 0) & (y0 != 0))
+        hit[0] |= (y0[0] == 0) & (y1[0] != 0)
+        for k in np.nonzero(hit)[0].tolist():
+            t = y0[k] / (y0[k] - y1[k])
+            X = float(along[k] + t * (along[k + 1] - along[k]))
             if abs(X) < half and not any(hh == h and abs(XX - X) <= 1e-9 * (1 + half) for hh, XX in out):
-                out.append((h, float(X)))
+                out.append((h, X))
     return out
 
 
