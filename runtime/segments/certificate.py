@@ -102,6 +102,7 @@ from dataclasses import dataclass, field
 
 from ..certify.foot import working_prec
 from ..sites.arc import Arc
+from ..sites.elliptic_arc import EllipticArc
 from ..sites.segment import Segment
 from ..threads import one_blas_thread
 from ..voronoi.verify.document import check_document
@@ -143,10 +144,11 @@ class SegmentCertificate:
 
 
 def has_segment_sites(diagram) -> bool:
-    """True when the diagram (or its JSON dict) has a segment or an arc site."""
+    """True when the diagram (or its JSON dict) has a segment, an arc or an elliptic arc site."""
     if isinstance(diagram, dict):
-        return any(isinstance(s, dict) and ("segment" in s or "arc" in s) for s in diagram.get("sites", []) or [])
-    return any(isinstance(s, (Segment, Arc)) for s in getattr(diagram, "sites", []) or [])
+        return any(isinstance(s, dict) and ("segment" in s or "arc" in s or "elliptic_arc" in s)
+                   for s in diagram.get("sites", []) or [])
+    return any(isinstance(s, (Segment, Arc, EllipticArc)) for s in getattr(diagram, "sites", []) or [])
 
 
 def _as_diagram(diagram):
@@ -158,7 +160,7 @@ def _as_diagram(diagram):
 
 
 def _same(a, b) -> bool:
-    if isinstance(a, (Segment, Arc)) or isinstance(b, (Segment, Arc)):
+    if isinstance(a, (Segment, Arc, EllipticArc)) or isinstance(b, (Segment, Arc, EllipticArc)):
         return type(a) is type(b) and a == b
     try:
         return (a.x, a.y) == (b.x, b.y)

@@ -20,12 +20,14 @@ touches the piece as its equation says when the critical point is the piece's ne
 a contact at an end e (the vertex on the normal line at e, f'(φ_e) = 0) likewise with φ_e's
 enclosure in place of the foot's.
 
-A vertex listing a point-site end e of the piece beyond the centre of curvature at e touches the
-piece inside (and e): the interior equation, the tie with e allowed in the nearest-point proof.
+A vertex listing an end e of the piece (a point site, or a joint) may still touch the piece inside
+with e at the same distance: then the interior equation, the tie with a listed point-site end
+allowed in the nearest-point proof.  A joint of two pieces beyond its centre of curvature is no
+contact (a local maximum of the distance along the ellipse): both pieces touch inside.
 
 Public API: :func:`is_piece`, :func:`bounding_disc`, :func:`float_bounds`, :func:`term_value`,
 :func:`term_grad`, :func:`contact_point`, :func:`interior_contact_valid`,
-:func:`past_centre_of_curvature`, :func:`end_contact_valid`, :func:`owned_by_end`.
+:func:`touches_inside`, :func:`past_centre_of_curvature`, :func:`end_contact_valid`, :func:`owned_by_end`.
 """
 from __future__ import annotations
 
@@ -38,7 +40,7 @@ from .ellipse_pieces import (PieceData, closest_at_an_end, interior_foot, interi
                              piece_feet, piece_point_ball, piece_points)
 
 __all__ = ["is_piece", "bounding_disc", "float_bounds", "term_value", "term_grad", "contact_point",
-           "interior_contact_valid", "past_centre_of_curvature", "end_contact_valid", "owned_by_end"]
+           "interior_contact_valid", "touches_inside", "past_centre_of_curvature", "end_contact_valid", "owned_by_end"]
 
 EPS = np.finfo(float).eps
 
@@ -136,6 +138,18 @@ def past_centre_of_curvature(P: PieceData, which: int, x: float, y: float) -> bo
     A, B = float(w @ M), float(w @ N)
     a2, b2 = float(M @ M), float(N @ N)
     return A * math.cos(phi) + B * math.sin(phi) + (b2 - a2) * math.cos(2 * phi) < 0
+
+
+def touches_inside(P: PieceData, x: float, y: float, r: float) -> bool:
+    """The float point (x, y) has an interior local minimum of f at distance r (relative 10⁻⁷),
+    its foot away from the ends: a circle of radius r about it touches the piece inside although
+    an end (or joint) of the piece is listed too — the end then ties, or lies beyond the centre of
+    curvature (floats: this only chooses the vertex equation, the proof checks it)."""
+    phi = interior_foot(P, x, y)
+    if phi is None or min(phi - P.phi0, P.phi1 - phi) <= 1e-9 * (P.phi1 - P.phi0):
+        return False
+    e = piece_points(P, [phi])[0]
+    return abs(math.hypot(x - e[0], y - e[1]) - r) <= 1e-7 * (1 + abs(x) + abs(y) + abs(r))
 
 
 def end_contact_valid(P: PieceData, which: int, X: arb, Y: arb, R: arb) -> bool:

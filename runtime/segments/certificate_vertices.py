@@ -58,8 +58,8 @@ from ..voronoi.verify.problems import Problem, fault
 from .certificate_contacts import ccw, empty
 from .certificate_corners import prove_arc_centre, prove_corner
 from .certificate_exact import exact_vertex
-from .certificate_ellipses import (end_contact_valid, interior_contact_valid, past_centre_of_curvature, term_grad,
-                                   term_value)
+from .certificate_ellipses import (end_contact_valid, interior_contact_valid, past_centre_of_curvature,
+                                   term_grad, term_value, touches_inside)
 from .certificate_sites import ARC, ELLIPSE, POINT, SEGMENT, SiteTable, hypot
 
 __all__ = ["VertexProof", "prove_vertices", "VERTEX_TOL"]
@@ -146,7 +146,7 @@ def _prove(T: SiteTable, v, problems) -> VertexProof:
 
 
 # ------------------------------------------------------------------------------------ terms
-def _terms(T: SiteTable, sites, xr, yr):
+def _terms(T: SiteTable, sites, xr, yr, rr=0.0):
     """Per listed site: ("pt", px, py, joint) | ("ln", nx, ny, c, σ) | ("arc", cx, cy, ρ, σ) |
     ("pp", tx, ty, ex, ey, e, s) with exact Fractions (joint: (code, curve) when the point is a
     smooth joint carrying curve's distance); None when a curve lists both its ends or a side is
@@ -169,9 +169,13 @@ def _terms(T: SiteTable, sites, xr, yr):
             continue
         ends = [e for e in T.ends[s] if e >= 0 and e in listed] + partner.get(s, [])
         if T.kind[s] == ELLIPSE:
-            past = [e for e in ends if e >= 0 and past_centre_of_curvature(T.piece[s], T.which_end(s, e), xr, yr)]
-            if past:
-                out.append(("el", T.piece[s], tuple(T.which_end(s, e) for e in ends if e >= 0)))
+            # a joint of two elliptic pieces beyond its centre of curvature is no contact (mirror
+            # feet inside both); a listed end and yet a contact inside: the end ties
+            ends = [e for e in ends if not (e <= -2 and _past_joint(T, e, xr, yr))]
+            if not ends or touches_inside(T.piece[s], xr, yr, rr):
+                if any(e <= -2 for e in ends):
+                    return None
+                out.append(("el", T.piece[s], tuple(T.which_end(s, e) for e in ends)))
                 continue
         if len(ends) == 2:
             return None
@@ -201,6 +205,16 @@ def _terms(T: SiteTable, sites, xr, yr):
                 return None
             out.append(("arc", cx, cy, rho, 1 if d > 0 else -1))
     return out
+
+
+def _past_joint(T: SiteTable, e: int, xr: float, yr: float) -> bool:
+    """Joint e joins two elliptic pieces and (xr, yr) lies beyond its centre of curvature (floats,
+    decided once for both pieces by the first: it only chooses the equations)."""
+    curves = T.joint_curves(e)
+    if any(T.kind[o] != ELLIPSE for o in curves):
+        return False
+    s = min(curves)
+    return past_centre_of_curvature(T.piece[s], T.which_end(s, e), xr, yr)
 
 
 def _value(term, x, y, num):
@@ -268,7 +282,7 @@ def _system(terms, num):
 def _general(T: SiteTable, v, sites, problems) -> VertexProof:
     name = _name(v)
     xr, yr = float(v.x), float(v.y)
-    terms = _terms(T, sites, xr, yr)
+    terms = _terms(T, sites, xr, yr, float(v.radius))
     if terms is None or not any(t[0] != "pp" for t in terms):
         problems.append(fault(f"{name}: no circle of positive radius touches these sites there (a curve and "
                               "both its ends, or a site through the reported centre)", kind="vertex",

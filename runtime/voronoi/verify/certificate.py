@@ -271,11 +271,12 @@ def verify_files(diagram_path: str, sites_path: str | None = None, progress=None
 
 @one_blas_thread
 def _has_pieces(diagram, sites) -> bool:
-    """The diagram's (or the given) sites include segments or arcs (records "segment"/"arc")."""
+    """The diagram's (or the given) sites include segments, arcs or elliptic arcs (records
+    "segment"/"arc"/"elliptic_arc")."""
     pool = sites if sites is not None else (diagram.get("sites", []) if isinstance(diagram, dict)
                                             else getattr(diagram, "sites", []))
-    return any((isinstance(s, dict) and ("segment" in s or "arc" in s)) or type(s).__name__ in ("Segment", "Arc")
-               for s in pool)
+    return any((isinstance(s, dict) and ("segment" in s or "arc" in s or "elliptic_arc" in s))
+               or type(s).__name__ in ("Segment", "Arc", "EllipticArc") for s in pool)
 
 
 def verify(diagram, sites=None, *, deadline=None, progress=None) -> Certificate:
