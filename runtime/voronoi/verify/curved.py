@@ -111,7 +111,7 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, extra=No
         step = max(min(tol, 1e-2 * scale) if math.isfinite(tol) else 1e-2 * scale, 1e-9 * scale)
         found = yield from medial_corners(table, pair, drawn, step, scale)
         for h, m, r in found or ():
-            dist = distance_to_polyline(m, drawn)
+            dist = float(distance_to_polyline(m, drawn).min())
             if math.isfinite(tol) and dist - r > tol * (1 + 1e-9) + 1e-12 * scale:
                 return False, (f"the polyline passes {dist:.3g} from the corner ({m[0]:.9g}, {m[1]:.9g}) of the "
                                f"bisector on the medial axis of site {h} (stated tolerance {tol:.3g})"), None
@@ -317,7 +317,7 @@ def cut_corners(S, cuts, pair):
                 continue
             prev, nxt = int(run[0]) - 1, int(run[-1]) + 1
         else:
-            k = int(np.argmin([distance_to_polyline(m, S[t:t + 2]) for t in range(len(S) - 1)]))
+            k = int(np.argmin(distance_to_polyline(m, S)))
             prev, nxt = k, k + 1
         if dist[prev] < 2 * eps or dist[nxt] < 2 * eps:
             continue            # an end of the chain next to the corner: left as it is
@@ -329,7 +329,7 @@ def cut_corners(S, cuts, pair):
         S = np.vstack([S[:prev + 1], Xn, S[nxt:]])
     chords = []
     for m, r, eps in cuts:
-        d = [distance_to_polyline(m, S[t:t + 2]) for t in range(len(S) - 1)]
+        d = distance_to_polyline(m, S)
         j = int(np.argmin(d))
         A, B = S[j], S[j + 1]
         if min(np.hypot(*(A - m)), np.hypot(*(B - m))) < 0.5 * eps:

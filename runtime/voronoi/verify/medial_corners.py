@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...segments.distance import distances
 from ...sites.kinds import SiteKind
 
 __all__ = ["ridge_crossings", "enclose_corners", "medial_corners", "distance_to_polyline"]
@@ -144,15 +145,10 @@ def medial_corners(table, pair, S, step, scale):
 
 
 def distance_to_polyline(x, P):
-    """Float distance from the point x to the polyline P (its segments)."""
+    """Float distances from the point x to the segments of the polyline P (an array, one per
+    segment; :func:`runtime.segments.distance.distances`)."""
     P = np.asarray(P, float).reshape(-1, 2)
-    x = np.asarray(x, float)
     if len(P) == 1:
-        return float(np.hypot(*(P[0] - x)))
-    A, B = P[:-1], P[1:]
-    D = B - A
-    L2 = (D * D).sum(1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        t = np.clip(np.where(L2 > 0, ((x - A) * D).sum(1) / L2, 0.0), 0.0, 1.0)
-    Q = A + t[:, None] * D
-    return float(np.hypot(Q[:, 0] - x[0], Q[:, 1] - x[1]).min())
+        P = np.vstack([P, P])
+    Q = np.broadcast_to(np.asarray(x, float), (len(P) - 1, 2))
+    return distances(P[:-1], P[1:], np.ascontiguousarray(Q))[0]
