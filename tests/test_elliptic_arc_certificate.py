@@ -236,3 +236,25 @@ def test_an_interior_contact_at_a_local_maximum_is_refused():
                 assert d < depth - 0.1
             R = arb(float(mpmath.hypot(q[0] - e[0], q[1] - e[1])), 1e-12)
             assert interior_contact_valid(P, arb(q[0]), arb(q[1]), R) is proved
+
+
+def test_float_bounds_and_distance_balls_hold_the_mpmath_distance():
+    """The certificate's float bounds (bounding disc, nearer end) and arb balls of the distance to
+    a piece hold the mpmath distance, for points near and far, inside and outside the ellipse."""
+    import numpy as np
+    from curvedvoronoi.runtime.segments.certificate_sites import ELLIPSE, SiteTable
+
+    D = cv.voronoi(SCENES["two_arcs"](), certify=False)
+    T = SiteTable(D.sites)
+    pieces = [k for k in range(T.n) if T.kind[k] == ELLIPSE]
+    assert len(pieces) == 6
+    rng = np.random.default_rng(5)
+    Q = np.concatenate([rng.uniform(-5, 12, (12, 2)), rng.normal((0, 0), 0.3, (4, 2)), rng.normal((7, 1), 0.3, (4, 2))])
+    for k in pieces:
+        lo, hi = T.float_bounds(np.full(len(Q), k), Q)
+        for q, l, h in zip(Q, lo, hi):
+            d = ref_distance(D.sites[k], q)
+            assert l <= d <= h
+            ball = T.distance(k, arb(float(q[0])), arb(float(q[1])))
+            assert ball.overlaps(arb(mpmath.nstr(d, 30), 1e-28)), (k, q, ball, d)
+            assert float(ball.rad()) < 1e-8 * (1 + float(d))
