@@ -34,11 +34,14 @@ x_c of β on the ridge); a drawn polyline farther than its stated tolerance from
 B the guide's points at distance ε on either side moved onto β: the corner is then inside one
 strip whose direction bisects it, where f is monotone across by the Clarke generalised gradient
 (Clarke 1983, Lebourg's theorem; :mod:`runtime.voronoi.verify.strips` (T1)), and the chord's
-strip gets the half-width w_c = 1.5·dist(x_c, AB) + 2·(enclosure radius) at both nodes (above the
-rule of a quarter of the adjacent segments; kept only where w_c·sin θ is at most the length of
-each adjacent segment, θ the turn at A or B, so that a strip's cross-section at a node still lies
-in the next strip: the chaining of :mod:`runtime.voronoi.verify.strips`).  Nothing else changes:
-the strips decide.
+strip gets the half-width w_c = 1.5·dist(x_c, AB) + 2·(enclosure radius) at both nodes, a
+rectangle (above the rule of a quarter of the adjacent segments; kept only where w_c·sin θ is at
+most the chord's length and its neighbours', θ the turn at A or B).  The arcs still chain: the
+cross-section of the previous strip at A, {A + λ·n : |λ| ≤ w_c}, lies in the chord's rectangle
+(at s = λ·sin θ ∈ [−e, L + e] with e ≥ w_c·sin θ, |λ·cos θ| ≤ w_c, its constant half-width), and
+so does the next strip's cross-section at B; the arc of β in the neighbour crosses that
+cross-section, at a point of β in the chord's rectangle, hence on the chord's arc.  Nothing
+else changes: the strips decide.
 """
 from __future__ import annotations
 
