@@ -258,3 +258,29 @@ def test_float_bounds_and_distance_balls_hold_the_mpmath_distance():
             ball = T.distance(k, arb(float(q[0])), arb(float(q[1])))
             assert ball.overlaps(arb(mpmath.nstr(d, 30), 1e-28)), (k, q, ball, d)
             assert float(ball.rad()) < 1e-8 * (1 + float(d))
+
+
+def test_a_curve_end_owns_the_tie_only_where_it_is_the_nearest_point_alone():
+    """Emptiness lets an unlisted piece tie at a listed end e only when e is its nearest point
+    alone: checked against the mpmath distance (the end's distance equals the piece's, or not)."""
+    import numpy as np
+    from curvedvoronoi.runtime.segments.certificate_sites import ELLIPSE, SiteTable
+
+    D = cv.voronoi(SCENES["arc_and_points"](), certify=False)
+    T = SiteTable(D.sites)
+    seen = {True: 0, False: 0}
+    for k in range(T.n):
+        if T.kind[k] != ELLIPSE:
+            continue
+        for e in T.ends[k]:
+            if e < 0:
+                continue
+            for q in [(5, -1), (-5, 0), (0, 3), (0, 1), (3, 3), (-4, 2), (2, 0.5), (6, 2)]:
+                d, de = ref_distance(D.sites[k], q), ref_distance(D.sites[e], q)
+                own = T.owned_by_end(k, e, arb(q[0]), arb(q[1]))
+                if own is True:
+                    assert abs(d - de) < 1e-25
+                if de > d + 1e-6:
+                    assert own is not True
+                seen[own is True] += 1
+    assert seen[True] >= 3 and seen[False] >= 3
