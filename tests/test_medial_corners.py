@@ -187,3 +187,31 @@ def test_rotated_ellipse_with_point():
     """A rotated, translated container: the corners are off the coordinate axes."""
     d = cv.voronoi([cv.Conic.ellipse((1, 2), (10, 5), degrees=30), (2, 2.5)], progress=False)
     assert d.certified, d.problems
+
+
+@pytest.mark.parametrize("case", [CIRCLE, POINT], ids=["circle in 10x4", "point in 10x5"])
+def test_coarse_enclosures_hold_the_corner(case, monkeypatch):
+    """With no shrinking rounds the enclosure is the first bracket around the guide's crossing
+    (width 0.74): the mpmath corner lies within its radius, and the radius is not slack (the
+    corner is off the midpoint by more than a third of it for some corner)."""
+    from curvedvoronoi.runtime.voronoi.verify import medial_corners as mc
+
+    monkeypatch.setattr(mc, "ROUNDS", 0)
+    d = cv.voronoi(case[0], progress=False)
+    e = d.edges[0]
+    geoms = [site_geometry(s) for s in d.sites]
+    scale = curved_scale(geoms)
+    table = SiteTable(geoms, scale)
+    roots = sorted(axes_roots(*case[1:]))
+    # a guide crossing the axis 0.2 right of the right corner and 0.15 left of the left one
+    guide = np.array([[roots[1] + 0.2, -1], [roots[1] + 0.2, 1], [roots[0] - 0.15, 1], [roots[0] - 0.15, -1],
+                      [roots[1] + 0.2, -1]])
+    (found,) = run_lockstep([mc.medial_corners(table, tuple(e.sites), guide, 0.37, scale)], table)
+    got = sorted(found, key=lambda c: c[1][0])
+    assert len(got) == 2
+    off = []
+    for X, (h, m, r) in zip(roots, got):
+        assert r >= 0.3
+        assert abs(m[0] - X) <= r
+        off.append(abs(m[0] - X) / r)
+    assert max(off) > 1 / 3, off
