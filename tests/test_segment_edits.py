@@ -18,7 +18,7 @@ import curvedvoronoi as cv
 sys.path.insert(0, str(Path(__file__).with_name("cgal")))
 sys.path.insert(0, str(Path(__file__).parent))
 import sdg_peer  # noqa: E402
-from scenes import orient, random_segments  # noqa: E402
+from scenes import orient, random_points_off, random_segments  # noqa: E402
 
 
 def cgal_ready():
@@ -82,8 +82,12 @@ def check(d, pieces):
         else:
             assert key(s) == sdg_peer.point_key(*p)
     batch = cv.voronoi([as_piece(p) for p in pieces])
-    assert [key(s) for s in d.sites] == [key(s) for s in batch.sites]
-    assert d.delaunay_edges() == batch.delaunay_edges()
+    if d.stats["update"] == "local":                 # new sites appended
+        assert sorted([key(s) for s in d.sites], key=str) == sorted([key(s) for s in batch.sites], key=str)
+    else:                                            # a rebuild numbers the sites as the batch build
+        assert [key(s) for s in d.sites] == [key(s) for s in batch.sites]
+        assert d.delaunay_edges() == batch.delaunay_edges()
+    assert graph(d) == graph(batch)
     assert graph(d) == cgal_graph(pieces)
     assert cv.verify(d).ok
 
@@ -97,7 +101,9 @@ def test_random_insert_delete_sequences_equal_batch_and_cgal(seed, shared):
     pieces = pool[:8]
     reserve = pool[8:]
     d = cv.voronoi([as_piece(p) for p in pieces])
+    d.stats["update"] = "none"
     check(d, pieces)
+    routes = []
     for step in range(6):
         if reserve and (step % 2 == 0 or len(pieces) < 4):
             p = reserve.pop()
@@ -112,8 +118,10 @@ def test_random_insert_delete_sequences_equal_batch_and_cgal(seed, shared):
                 pieces[i] = pieces.pop()
             else:
                 del pieces[i]
-        assert d.stats["update"].startswith("rebuild")          # the route is named
+        routes.append(d.stats["update"])
+        assert routes[-1] == "local" or routes[-1].startswith("rebuild")     # the route is named
         check(d, pieces)
+    print(routes)
 
 
 def test_points_mixed_with_segments():
@@ -169,3 +177,30 @@ def test_a_crossing_insertion_is_refused_like_the_batch_build():
     assert len(d.sites) == 6 and d.certified                  # the diagram is left as it was
     with pytest.raises(cv.SiteError):
         d.insert((2, 0))                                # a point inside a segment
+
+
+def test_insertions_inside_the_scene_are_local_and_equal_cgal():
+    # 150 disjoint segments; three more drawn by the same generator (so none crosses) and put in:
+    # away from the convex hull the new regions are bounded, the route is local, and the result
+    # is the diagram of the 153 segments (CGAL, and the independent verifier)
+    cgal_ready()
+    pool = random_segments(153, 4)
+    pieces = pool[:150]
+    d = cv.voronoi([cv.Segment(*p) for p in pieces])
+    routes = []
+    for p in pool[150:]:
+        d = d.insert(cv.Segment(*p))
+        pieces.append(p)
+        routes.append(d.stats["update"])
+        assert d.certified
+        assert d.sources[-1] == len(pieces) - 1
+    for q in random_points_off(pieces, 3, 5):            # points off the segments, inside
+        d = d.insert(q)
+        pieces.append(tuple(q))
+        routes.append(d.stats["update"])
+        assert d.certified
+    assert routes.count("local") >= 4, routes
+    assert graph(d) == cgal_graph(pieces)
+    assert cv.verify(d).ok
+    back = d.delete_site(150)                        # a deletion after local insertions: rebuilt
+    assert graph(back) == cgal_graph(pieces[:150] + pieces[151:])

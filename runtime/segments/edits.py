@@ -9,18 +9,22 @@ pieces so far), and ``delete_site(i)`` removes input piece i — a segment with 
 endpoints, except an endpoint that another remaining piece still has (decomposition of the
 remaining pieces, thesis §2.2).  ``renumber="shift"``: input piece j > i becomes j − 1, so the
 result is the diagram of ``pieces[:i] + pieces[i+1:]``; ``renumber="last"``: the last piece takes
-index i.  The elementary sites are then numbered as a batch build of the new list numbers them
-(points first, in order of first appearance, then curve interiors), so an edited diagram is, site
-for site, the diagram ``voronoi`` builds from the new list.
+index i.  A rebuilt diagram numbers its elementary sites as a batch build of the new list does
+(points first, in order of first appearance, then curve interiors): site for site the diagram
+``voronoi`` builds from that list.  A local insertion keeps the old sites' numbers and appends the
+new ones (:mod:`runtime.segments.local_insertion`).
 
-**Route.**  Each edit builds the diagram of the new list of pieces with
-:func:`runtime.segments.construction.segment_voronoi` (passed in as ``build``, so that this module
-imports nothing of the construction) and proves it with the whole segment certificate
-(:func:`runtime.segments.certificate.verify_segments`), so ``certified`` means exactly what it means
-for a batch build.  ``stats["update"]`` says so and why: the local route of thesis §1.2 (conflict
-region of the new piece, diagram of a neighbourhood, splice, certificate restricted to the sites
-that reach the changed part) is not implemented for segment sites yet.  A new segment that
-crosses, touches the interior of, or overlaps an existing piece is refused by the build with the
+**Routes.**  Inserting a segment or a point into a certified diagram of points and segments is
+local (:func:`runtime.segments.local_insertion.insert_locally`: conflict region, local diagram,
+splice, the changed part proved with the certificate's routines; its docstring says why the
+untouched part's proof carries over).  Otherwise — a deletion, an arc or circle piece, arcs in the
+diagram, ``certify=False``, or a local update that does not close or is not proved (a new region
+reaching the convex hull, a piece continuing a segment straight through its end, ...) — the diagram
+of the new list of pieces is built with :func:`runtime.segments.construction.segment_voronoi`
+(passed in as ``build``, so that this module imports nothing of the construction) and proved with
+the whole segment certificate, so ``certified`` means what it means for a batch build.
+``stats["update"]`` is ``"local"`` or ``"rebuild (why)"``.  A new piece that crosses, touches the
+interior of, or overlaps an existing piece is refused by the build with the
 :class:`runtime.voronoi.site_input.SiteError` of a batch build, naming the input indices.
 
 Public API: :class:`SegmentEdits`.
@@ -29,10 +33,14 @@ from __future__ import annotations
 
 import dataclasses
 
+from ..predicates.circles import Point
+from ..sites.segment import Segment, as_point_pair
+from .local_insertion import insert_locally
+
 __all__ = ["SegmentEdits"]
 
 #: why an edit of a segment diagram is a rebuild (``stats["update"]``)
-REBUILD = "rebuild (segment diagrams: the local update of thesis §1.2 is not implemented for segment sites)"
+REBUILD = "rebuild (deletion from a segment diagram: no local route yet)"
 
 
 class SegmentEdits:
@@ -47,7 +55,15 @@ class SegmentEdits:
 
     def insert(self, D, site, *, certify: bool = True, inplace: bool = False):
         """The diagram of ``pieces + [site]`` (module docstring); ``site`` is input piece N."""
-        out = self._rebuild(self.pieces + [site], certify)
+        pieces = self.pieces + [site]
+        piece = _elementary_piece(site)
+        why = "a certify=False update" if not certify else (
+            f"a {type(site).__name__} piece" if piece is None else None)
+        out = why or insert_locally(D, piece, len(self.pieces), self.build)
+        if isinstance(out, str):
+            out = self._rebuild(pieces, certify, out)
+        else:
+            out.construction = SegmentEdits(pieces, self.build)
         out.stats["update_input"] = len(self.pieces)
         return _deliver(D, out, inplace)
 
@@ -69,10 +85,22 @@ class SegmentEdits:
         out.stats["update_input"] = i
         return _deliver(D, out, inplace)
 
-    def _rebuild(self, pieces, certify):
+    def _rebuild(self, pieces, certify, why=None):
         out = self.build(pieces, certify=certify)
-        out.stats["update"] = REBUILD
+        out.stats["update"] = REBUILD if why is None else f"rebuild ({why})"
         return out
+
+
+def _elementary_piece(site):
+    """``site`` as a Segment or a Point when it is one (an (x, y) pair a Point), else None."""
+    if isinstance(site, Segment) or (isinstance(site, Point) and site.r2 == 0):
+        return site
+    if isinstance(site, (tuple, list)) and len(site) == 2:
+        try:
+            return Point(*as_point_pair(site, "the new site"))
+        except (TypeError, ValueError):
+            return None
+    return None
 
 
 def _deliver(D, out, inplace: bool):
@@ -81,6 +109,5 @@ def _deliver(D, out, inplace: bool):
         return out
     for f in dataclasses.fields(D):
         setattr(D, f.name, getattr(out, f.name))
-    if hasattr(out, "elementary"):
-        D.elementary = out.elementary
+    D.elementary = getattr(out, "elementary", None)
     return D

@@ -161,9 +161,10 @@ class Diagram:
         (thesis §1.2); ``certified`` needs this diagram certified.  See
         :func:`runtime.voronoi.insertion.insert_site` (parabolas, hyperbolas: rebuilt from scratch), reached
         through the construction state like :meth:`delete_site`.  In a diagram of segments the new
-        piece (a segment, a point, an arc) is input piece N; the diagram is rebuilt and certified
-        whole (:class:`runtime.segments.edits.SegmentEdits`), and a piece crossing another is
-        refused with the batch build's ``SiteError``."""
+        piece (a segment, a point, an arc) is input piece N; a segment or point is inserted locally
+        when the new regions are bounded, otherwise the diagram is rebuilt and certified whole
+        (:class:`runtime.segments.edits.SegmentEdits`); a piece crossing another is refused with
+        the batch build's ``SiteError``."""
         if self.construction is None:
             _no_pieces(list(self.sites) + [site], "insertion")
             raise ValueError("this diagram has no construction state (read from JSON, or collinear points?): "
