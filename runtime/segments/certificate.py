@@ -208,7 +208,9 @@ def verify_segments(diagram, sites=None, *, deadline=None) -> SegmentCertificate
         if T.piece:
             # elliptic pieces: vertices are proved, edges and infinite ends are not (a limit)
             eproofs = [EdgeProof(False) for _ in D.edges]
-            problems.append(Problem(f"sites {', '.join(map(str, sorted(T.piece)))}: EllipticArc pieces: their "
+            els = sorted(T.piece)
+            problems.append(Problem(f"sites {', '.join(map(str, els[:8]))}{', …' if len(els) > 8 else ''}: "
+                                    "EllipticArc pieces: their "
                                     "vertices are proved, but the edges and the infinite ends of a diagram with "
                                     "elliptic pieces are not (and the crossing test of elliptic arcs is a float "
                                     "test): not certified", kind="site", sites=tuple(sorted(T.piece)), fault=False))

@@ -27,7 +27,7 @@ contact (a local maximum of the distance along the ellipse): both pieces touch i
 
 Public API: :func:`is_piece`, :func:`bounding_disc`, :func:`float_bounds`, :func:`term_value`,
 :func:`term_grad`, :func:`contact_point`, :func:`interior_contact_valid`,
-:func:`touches_inside`, :func:`past_centre_of_curvature`, :func:`end_contact_valid`, :func:`owned_by_end`.
+:func:`touches_inside`, :func:`past_centre_of_curvature`, :func:`end_contact_valid`, :func:`normal_residual`, :func:`owned_by_end`.
 """
 from __future__ import annotations
 
@@ -40,7 +40,7 @@ from .ellipse_pieces import (PieceData, closest_at_an_end, interior_foot, interi
                              piece_feet, piece_point_ball, piece_points)
 
 __all__ = ["is_piece", "bounding_disc", "float_bounds", "term_value", "term_grad", "contact_point",
-           "interior_contact_valid", "touches_inside", "past_centre_of_curvature", "end_contact_valid", "owned_by_end"]
+           "interior_contact_valid", "touches_inside", "past_centre_of_curvature", "end_contact_valid", "normal_residual", "owned_by_end"]
 
 EPS = np.finfo(float).eps
 
@@ -152,12 +152,24 @@ def touches_inside(P: PieceData, x: float, y: float, r: float) -> bool:
     return abs(math.hypot(x - e[0], y - e[1]) - r) <= 1e-7 * (1 + abs(x) + abs(y) + abs(r))
 
 
-def end_contact_valid(P: PieceData, which: int, X: arb, Y: arb, R: arb) -> bool:
+def end_contact_valid(P: PieceData, which: int, X: arb, Y: arb, R: arb, tied_ends=()) -> bool:
     """For the vertex in the box, on the normal line of the piece at its end ``which`` (0 start,
     1 end; f' = 0 there): f'' > 0 next to that end and f > R² on the rest of the piece, so the end
-    is the piece's nearest point at distance R."""
+    is the piece's nearest point at distance R (the other end may tie when in ``tied_ends``: a
+    point site listed at distance R, f increasing away from it)."""
     p0, p1 = P.arb_params()
-    return nearest_verdict(P, X, Y, R, p0 if which == 0 else p1) is True
+    return nearest_verdict(P, X, Y, R, p0 if which == 0 else p1, tied_ends=tuple(tied_ends)) is True
+
+
+def normal_residual(P: PieceData, which: int, x: float, y: float) -> float:
+    """|f'(φ_e)| / (2 |v − e| |e'(φ_e)|) at the float point v = (x, y) for the end ``which``: the sine
+    of the angle between v − e and the normal at e (floats: chooses which end is the contact)."""
+    c, M, N = P.floats()
+    phi = P.phi0 if which == 0 else P.phi1
+    e = c + math.cos(phi) * M + math.sin(phi) * N
+    t = -math.sin(phi) * M + math.cos(phi) * N
+    w = np.array([x, y]) - e
+    return abs(float(w @ t)) / max(float(np.hypot(*w)) * float(np.hypot(*t)), 1e-300)
 
 
 def owned_by_end(P: PieceData, which: int, X: arb, Y: arb):

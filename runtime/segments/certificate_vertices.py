@@ -58,14 +58,16 @@ from ..voronoi.verify.problems import Problem, fault
 from .certificate_contacts import ccw, empty
 from .certificate_corners import prove_arc_centre, prove_corner
 from .certificate_exact import exact_vertex
-from .certificate_ellipses import (end_contact_valid, interior_contact_valid, past_centre_of_curvature,
-                                   term_grad, term_value, touches_inside)
+from .certificate_ellipses import (end_contact_valid, interior_contact_valid, normal_residual,
+                                   past_centre_of_curvature, term_grad, term_value, touches_inside)
 from .certificate_sites import ARC, ELLIPSE, POINT, SEGMENT, SiteTable, hypot
 
 __all__ = ["VertexProof", "prove_vertices", "VERTEX_TOL"]
 
 #: reported vertex positions and radii must be this close (relative) to the proved ones
 VERTEX_TOL = 1e-10
+#: the vertex equations of a tie at an elliptic piece the proof does not handle (not a fault)
+LIMIT = "limit"
 #: bits of the second enclosure of a vertex whose emptiness the first leaves undecided
 TIGHT_PREC = 384
 
@@ -174,18 +176,24 @@ def _terms(T: SiteTable, sites, xr, yr, rr=0.0):
             ends = [e for e in ends if not (e <= -2 and _past_joint(T, e, xr, yr))]
             if not ends or touches_inside(T.piece[s], xr, yr, rr):
                 if any(e <= -2 for e in ends):
-                    return None
+                    return LIMIT
                 out.append(("el", T.piece[s], tuple(T.which_end(s, e) for e in ends)))
                 continue
-        if len(ends) == 2:
+            if len(ends) == 2:
+                # a short piece touched at one end (on its normal line), its other end tied
+                ends.sort(key=lambda e: normal_residual(T.piece[s], T.which_end(s, e), xr, yr))
+                if ends[1] <= -2:
+                    return LIMIT
+        tie = (T.which_end(s, ends[1]),) if T.kind[s] == ELLIPSE and len(ends) == 2 else ()
+        if len(ends) == 2 and not tie:
             return None
         if ends:
             e = ends[0]
             if e <= -2 and s == min(T.joint_curves(e)):
-                out.append(("pt",) + T.pt(e) + ((e, s),))
+                out.append(("pt",) + T.pt(e) + ((e, s), tie))
             else:
                 t = T.leaving(s, e)
-                out.append(("pp", t[0], t[1]) + T.pt(e) + (e, s))
+                out.append(("pp", t[0], t[1]) + T.pt(e) + (e, s, tie))
             continue
         if T.kind[s] == ELLIPSE:
             out.append(("el", T.piece[s], ()))
@@ -283,6 +291,11 @@ def _general(T: SiteTable, v, sites, problems) -> VertexProof:
     name = _name(v)
     xr, yr = float(v.x), float(v.y)
     terms = _terms(T, sites, xr, yr, float(v.radius))
+    if terms is LIMIT:
+        problems.append(Problem(f"{name}: an elliptic piece touched at a joint and elsewhere too (a tie the "
+                                "certificate does not handle): not proved", kind="vertex", vertex=v.id, sites=sites,
+                                fault=False))
+        return VertexProof(False)
     if terms is None or not any(t[0] != "pp" for t in terms):
         problems.append(fault(f"{name}: no circle of positive radius touches these sites there (a curve and "
                               "both its ends, or a site through the reported centre)", kind="vertex",
@@ -371,8 +384,8 @@ def _contacts_valid(T: SiteTable, sites, terms, X, Y, R):
         if t[0] == "el" and not interior_contact_valid(t[1], X, Y, R, t[2]):
             return f"the circle's contact with elliptic piece {s} is not proved its nearest point inside it"
         if T.kind[s] == ELLIPSE and (t[0] == "pp" or (t[0] == "pt" and t[3] is not None)):
-            e = t[5] if t[0] == "pp" else t[3][0]
-            if not end_contact_valid(T.piece[s], T.which_end(s, e), X, Y, R):
+            e, tie = (t[5], t[7]) if t[0] == "pp" else (t[3][0], t[4])
+            if not end_contact_valid(T.piece[s], T.which_end(s, e), X, Y, R, tie):
                 return f"the end {e} of elliptic piece {s} is not proved its nearest point"
         if t[0] == "pt" and t[3] is not None:
             other = [o for o in T.joint_curves(t[3][0]) if o != s][0]
