@@ -204,3 +204,33 @@ def test_insertions_inside_the_scene_are_local_and_equal_cgal():
     assert cv.verify(d).ok
     back = d.delete_site(150)                        # a deletion after local insertions: rebuilt
     assert graph(back) == cgal_graph(pieces[:150] + pieces[151:])
+
+
+def test_a_wrong_local_diagram_is_never_spliced():
+    # the splice trusts nothing of the local diagram: one missing edge of the new segment fails
+    # the closure, one vertex moved by 10^-3 fails its proof; either way the update is refused
+    # (insert_locally returns why, and Diagram.insert rebuilds)
+    from curvedvoronoi.runtime.segments.construction import segment_voronoi
+    from curvedvoronoi.runtime.segments.local_insertion import insert_locally
+
+    pool = random_segments(153, 4)
+    d = cv.voronoi([cv.Segment(*p) for p in pool[:150]])
+    new = next(cv.Segment(*p) for p in pool[150:]
+               if not isinstance(insert_locally(d, cv.Segment(*p), 150, segment_voronoi), str))
+
+    def missing_edge(pieces, certify):
+        L = segment_voronoi(pieces, certify=certify)
+        s = len(L.sites) - 1                          # the new segment's interior
+        k = next(t for t, e in enumerate(L.edges) if s in e.sites and None not in e.ends)
+        del L.edges[k]
+        return L
+
+    def moved_vertex(pieces, certify):
+        L = segment_voronoi(pieces, certify=certify)
+        s = len(L.sites) - 1
+        v = next(v for v in L.vertices if s in v.sites)
+        v.x += 1e-3
+        return L
+
+    assert "closure" in insert_locally(d, new, 150, missing_edge)
+    assert "not proved" in insert_locally(d, new, 150, moved_vertex)
