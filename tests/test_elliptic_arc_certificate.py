@@ -235,7 +235,7 @@ def test_an_interior_contact_at_a_local_maximum_is_refused():
             else:
                 assert d < depth - 0.1
             R = arb(float(mpmath.hypot(q[0] - e[0], q[1] - e[1])), 1e-12)
-            assert interior_contact_valid(P, arb(q[0]), arb(q[1]), R) is proved
+            assert (interior_contact_valid(P, arb(q[0]), arb(q[1]), R) is True) is proved
 
 
 def test_float_bounds_and_distance_balls_hold_the_mpmath_distance():

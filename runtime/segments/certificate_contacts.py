@@ -22,7 +22,7 @@ import numpy as np
 from flint import arb
 
 from ..certify.foot import to_arb
-from ..voronoi.verify.problems import fault
+from ..voronoi.verify.problems import Problem, fault
 from .certificate_ellipses import contact_point
 from .certificate_sites import ARC, ELLIPSE, SEGMENT, SiteTable, hypot
 
@@ -117,7 +117,13 @@ def empty(T: SiteTable, v, sites, X, Y, R, problems, name: str) -> bool:
                 if T.kind[k] == ARC and not good:       # strictly in its gap: its nearest points are ends
                     cx_, cy_, _ = T.arb_arc(k)
                     good = T.in_range(k, X - cx_, Y - cy_, closed=True) is False
-                if not good:
+                if not good and T.kind[k] == ELLIPSE and len(le) == 1 and not T.distance(k, X, Y) < R:
+                    # an elliptic piece's ownership is proved or left undecided, never refuted here
+                    problems.append(Problem(f"{name}: elliptic piece {k}: its nearest point is not proved its "
+                                            f"listed endpoint {le[0]} alone (undecided)", kind="vertex",
+                                            vertex=v.id, sites=tuple(sites) + (k,), fault=False))
+                    ok = False
+                elif not good:
                     problems.append(fault(f"{name}: curve {k} is closer than the radius (its nearest point is "
                                           f"not its listed endpoint {le[0]} alone), or too close to decide",
                                           kind="vertex", vertex=v.id, sites=tuple(sites) + (k,)))

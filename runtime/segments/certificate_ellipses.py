@@ -117,15 +117,17 @@ def contact_point(P: PieceData, X: arb, Y: arb):
     return _foot_point(P, X, Y)
 
 
-def interior_contact_valid(P: PieceData, X: arb, Y: arb, R: arb, tied_ends=()) -> bool:
+def interior_contact_valid(P: PieceData, X: arb, Y: arb, R: arb, tied_ends=()):
     """For every point of the box: the piece's nearest point is the interior strict local minimum
     of f (enclosed strictly inside the open piece) at distance R, nothing of the piece nearer,
-    except the ends ``tied_ends`` (listed point sites at distance R, f increasing away from them)."""
+    except the ends ``tied_ends`` (listed point sites at distance R, f increasing away from them):
+    True; False when refuted (a nearer point of the piece, a local maximum); None when undecided
+    (also when no interior strict minimum is enclosed)."""
     try:
         Phi = _foot_enclosure(P, X, Y)
     except ValueError:
-        return False
-    return nearest_verdict(P, X, Y, R, Phi, tied_ends=tuple(tied_ends)) is True
+        return None
+    return nearest_verdict(P, X, Y, R, Phi, tied_ends=tuple(tied_ends))
 
 
 def past_centre_of_curvature(P: PieceData, which: int, x: float, y: float) -> bool:
@@ -152,13 +154,14 @@ def touches_inside(P: PieceData, x: float, y: float, r: float) -> bool:
     return abs(math.hypot(x - e[0], y - e[1]) - r) <= 1e-7 * (1 + abs(x) + abs(y) + abs(r))
 
 
-def end_contact_valid(P: PieceData, which: int, X: arb, Y: arb, R: arb, tied_ends=()) -> bool:
+def end_contact_valid(P: PieceData, which: int, X: arb, Y: arb, R: arb, tied_ends=()):
     """For the vertex in the box, on the normal line of the piece at its end ``which`` (0 start,
     1 end; f' = 0 there): f'' > 0 next to that end and f > R² on the rest of the piece, so the end
     is the piece's nearest point at distance R (the other end may tie when in ``tied_ends``: a
-    point site listed at distance R, f increasing away from it)."""
+    point site listed at distance R, f increasing away from it): True; False when refuted; None
+    when undecided."""
     p0, p1 = P.arb_params()
-    return nearest_verdict(P, X, Y, R, p0 if which == 0 else p1, tied_ends=tuple(tied_ends)) is True
+    return nearest_verdict(P, X, Y, R, p0 if which == 0 else p1, tied_ends=tuple(tied_ends))
 
 
 def normal_residual(P: PieceData, which: int, x: float, y: float) -> float:

@@ -68,6 +68,8 @@ __all__ = ["VertexProof", "prove_vertices", "VERTEX_TOL"]
 VERTEX_TOL = 1e-10
 #: the vertex equations of a tie at an elliptic piece the proof does not handle (not a fault)
 LIMIT = "limit"
+#: the start of a contact message that is a limit of the proof (undecided), not a fault
+UNDECIDED = "not proved (undecided): "
 #: bits of the second enclosure of a vertex whose emptiness the first leaves undecided
 TIGHT_PREC = 384
 
@@ -323,7 +325,8 @@ def _general(T: SiteTable, v, sites, problems) -> VertexProof:
         return VertexProof(False)
     msg = _contacts_valid(T, sites, terms, X, Y, R)
     if msg is not None:
-        problems.append(fault(f"{name}: {msg}", kind="vertex", vertex=v.id, sites=sites))
+        problems.append(Problem(f"{name}: {msg}", kind="vertex", vertex=v.id, sites=sites,
+                                fault=not msg.startswith(UNDECIDED)))
         return VertexProof(False)
     tol = _tol(v)
     if not ((X - xr).abs_upper() <= tol and (Y - yr).abs_upper() <= tol and (R - float(v.radius)).abs_upper() <= tol):
@@ -381,16 +384,21 @@ def _tighten(terms, X, Y):
 def _contacts_valid(T: SiteTable, sites, terms, X, Y, R):
     """None when every contact is where its equation says (module docstring), else a message."""
     for s, t in zip(sites, terms):
-        if t[0] == "el" and not interior_contact_valid(t[1], X, Y, R, t[2]):
-            return f"the circle's contact with elliptic piece {s} is not proved its nearest point inside it"
+        if t[0] == "el":
+            ok = interior_contact_valid(t[1], X, Y, R, t[2])
+            if ok is not True:
+                return _undecided(ok) + f"the circle's contact with elliptic piece {s} is not its nearest point inside it"
         if T.kind[s] == ELLIPSE and (t[0] == "pp" or (t[0] == "pt" and t[3] is not None)):
             e, tie = (t[5], t[7]) if t[0] == "pp" else (t[3][0], t[4])
-            if not end_contact_valid(T.piece[s], T.which_end(s, e), X, Y, R, tie):
-                return f"the end {e} of elliptic piece {s} is not proved its nearest point"
+            ok = end_contact_valid(T.piece[s], T.which_end(s, e), X, Y, R, tie)
+            if ok is not True:
+                return _undecided(ok) + f"the end {e} of elliptic piece {s} is not its nearest point"
         if t[0] == "pt" and t[3] is not None:
             other = [o for o in T.joint_curves(t[3][0]) if o != s][0]
-            if T.kind[other] == ELLIPSE and not end_contact_valid(T.piece[other], T.which_end(other, t[3][0]), X, Y, R):
-                return f"the joint {t[3][0]} of elliptic piece {other} is not proved its nearest point"
+            if T.kind[other] == ELLIPSE:
+                ok = end_contact_valid(T.piece[other], T.which_end(other, t[3][0]), X, Y, R)
+                if ok is not True:
+                    return _undecided(ok) + f"the joint {t[3][0]} of elliptic piece {other} is not its nearest point"
         if t[0] == "ln":
             u = T.foot(s, X, Y)
             if not (u > 0 and u < 1):
@@ -416,6 +424,10 @@ def _contacts_valid(T: SiteTable, sites, terms, X, Y, R):
                 if not ((ex - cx) * (X - cx) + (ey - cy) * (Y - cy) > 0):
                     return f"the vertex is not on the ray from the centre of arc {other} through its joint"
     return None
+
+
+def _undecided(verdict) -> str:
+    return UNDECIDED if verdict is None else ""
 
 
 def _narrow(Fa, Ja, K, scale: float):
