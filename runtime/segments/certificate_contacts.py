@@ -10,7 +10,8 @@ when it leaves counter-clockwise around the vertex); for k = 3 every pair is con
 **Emptiness**: every other site is strictly farther than the radius (rigorous balls after a k-d
 tree and a float filter), except a curve ending at a listed point e whose nearest point is e
 alone, strictly beyond it (the foot beyond e, an arc's direction in the half of its gap next to
-e), or an arc whose direction from its centre is strictly in its gap (its nearest points are
+e, an elliptic piece's distance increasing away from e and above it on the rest; an elliptic piece
+with both ends listed may have its two ends as nearest points: they own the tie), or an arc whose direction from its centre is strictly in its gap (its nearest points are
 ends; an end at the radius that is not listed is a site or a joint whose other curve the same
 check finds too close): the tie is the ends'.
 
@@ -23,7 +24,7 @@ from flint import arb
 
 from ..certify.foot import to_arb
 from ..voronoi.verify.problems import Problem, fault
-from .certificate_ellipses import contact_point
+from .certificate_ellipses import contact_point, owned_by_both_ends
 from .certificate_sites import ARC, ELLIPSE, SEGMENT, SiteTable, hypot
 
 __all__ = ["ccw", "empty"]
@@ -114,13 +115,15 @@ def empty(T: SiteTable, v, sites, X, Y, R, problems, name: str) -> bool:
             le = [e for e in T.ends[k] if e >= 0 and e in listed]
             if le:
                 good = len(le) == 1 and T.owned_by_end(k, le[0], X, Y) is True
+                if T.kind[k] == ELLIPSE and len(le) == 2:   # both ends listed: its nearest points
+                    good = owned_by_both_ends(T.piece[k], X, Y) is True
                 if T.kind[k] == ARC and not good:       # strictly in its gap: its nearest points are ends
                     cx_, cy_, _ = T.arb_arc(k)
                     good = T.in_range(k, X - cx_, Y - cy_, closed=True) is False
-                if not good and T.kind[k] == ELLIPSE and len(le) == 1 and not T.distance(k, X, Y) < R:
+                if not good and T.kind[k] == ELLIPSE and not T.distance(k, X, Y) < R:
                     # an elliptic piece's ownership is proved or left undecided, never refuted here
-                    problems.append(Problem(f"{name}: elliptic piece {k}: its nearest point is not proved its "
-                                            f"listed endpoint {le[0]} alone (undecided)", kind="vertex",
+                    problems.append(Problem(f"{name}: elliptic piece {k}: its nearest points are not proved its "
+                                            f"listed endpoints {le} (undecided)", kind="vertex",
                                             vertex=v.id, sites=tuple(sites) + (k,), fault=False))
                     ok = False
                 elif not good:

@@ -27,7 +27,8 @@ contact (a local maximum of the distance along the ellipse): both pieces touch i
 
 Public API: :func:`is_piece`, :func:`bounding_disc`, :func:`float_bounds`, :func:`term_value`,
 :func:`term_grad`, :func:`contact_point`, :func:`interior_contact_valid`,
-:func:`touches_inside`, :func:`past_centre_of_curvature`, :func:`end_contact_valid`, :func:`normal_residual`, :func:`owned_by_end`.
+:func:`touches_inside`, :func:`past_centre_of_curvature`, :func:`end_contact_valid`,
+:func:`normal_residual`, :func:`owned_by_end`, :func:`owned_by_both_ends`.
 """
 from __future__ import annotations
 
@@ -40,7 +41,8 @@ from .ellipse_pieces import (PieceData, closest_at_an_end, interior_foot, interi
                              piece_feet, piece_point_ball, piece_points)
 
 __all__ = ["is_piece", "bounding_disc", "float_bounds", "term_value", "term_grad", "contact_point",
-           "interior_contact_valid", "touches_inside", "past_centre_of_curvature", "end_contact_valid", "normal_residual", "owned_by_end"]
+           "interior_contact_valid", "touches_inside", "past_centre_of_curvature", "end_contact_valid",
+           "normal_residual", "owned_by_end", "owned_by_both_ends"]
 
 EPS = np.finfo(float).eps
 
@@ -173,6 +175,12 @@ def normal_residual(P: PieceData, which: int, x: float, y: float) -> float:
     t = -math.sin(phi) * M + math.cos(phi) * N
     w = np.array([x, y]) - e
     return abs(float(w @ t)) / max(float(np.hypot(*w)) * float(np.hypot(*t)), 1e-300)
+
+
+def owned_by_both_ends(P: PieceData, X: arb, Y: arb):
+    """The piece's nearest points to every point of the box are both its ends (f increasing away
+    from each near it and above both ends' values between): True, or None when not proved."""
+    return True if closest_at_an_end(P, X, Y) == (0, 1) else None
 
 
 def owned_by_end(P: PieceData, which: int, X: arb, Y: arb):
