@@ -284,3 +284,23 @@ def test_a_curve_end_owns_the_tie_only_where_it_is_the_nearest_point_alone():
                     assert own is not True
                 seen[own is True] += 1
     assert seen[True] >= 3 and seen[False] >= 3
+
+
+def test_both_ends_own_the_tie_only_where_the_piece_bulges_away():
+    """On the perpendicular bisector of the chord of the piece φ ∈ [0, π/2] of x²/16 + y²/4 = 1
+    (ends (4, 0) and (0, 2)), 10 away from the chord's middle: beyond the centre side the ends are
+    the nearest points (mpmath: the piece's distance equals the ends'), on the outer side the piece
+    is nearer; only the first is proved owned by both ends."""
+    from curvedvoronoi.runtime.segments.certificate_ellipses import owned_by_both_ends
+
+    arc = EllipticArc((0, 0), (4, 0), "1/2", (1, 0), (0, 1))
+    P = PieceData.of(arc)
+    ref = RefPiece(arc)
+    for side in (-1, 1):
+        q = (2 + side * 10 / math.sqrt(5), 1 + side * 20 / math.sqrt(5))
+        d, de = ref.distance(q), mpmath.hypot(q[0] - 4, q[1])
+        own = owned_by_both_ends(P, arb(q[0]), arb(q[1]))
+        if side < 0:
+            assert abs(d - de) < 1e-25 and own is True
+        else:
+            assert d < de - 0.1 and own is not True
