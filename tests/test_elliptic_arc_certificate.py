@@ -301,6 +301,6 @@ def test_both_ends_own_the_tie_only_where_the_piece_bulges_away():
         d, de = ref.distance(q), mpmath.hypot(q[0] - 4, q[1])
         own = owned_by_both_ends(P, arb(q[0]), arb(q[1]))
         if side < 0:
-            assert abs(d - de) < 1e-25 and own is True
+            assert abs(d - de) < 1e-12 and own is True      # q in floats: the ends tie to 1e-15
         else:
             assert d < de - 0.1 and own is not True
