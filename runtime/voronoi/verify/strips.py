@@ -56,13 +56,48 @@ import numpy as np
 from ..geometry import EPS
 from .clarke_gradient import difference_range
 from .distance_gap import bisector_gap_lower, gap_lower
-from .site_table import gradient_enclosure
+from .site_table import SiteValues, gradient_enclosure
 
-__all__ = ["StripsJob", "prove_strips", "prove_strips_many", "rot90", "side_second_order"]
+__all__ = ["ROWS_PER_CALL", "StripsJob", "evaluate_rows", "gap_rows", "prove_strips", "prove_strips_many",
+           "rot90", "side_second_order"]
 
 MAX_DEPTH = 40
 STALL = 3           # rounds of halving without progress before giving up
 PIECE = 8.0         # initial pieces: PIECE times as long as the strip is wide
+#: rows per call of the row-wise evaluations (:func:`evaluate_rows`, :func:`gap_rows`): their
+#: temporaries then take memory bounded independently of N, and the results, computed row by row,
+#: are the same arrays as in one call
+ROWS_PER_CALL = 200_000
+
+_FIELDS = ("lo", "hi", "F", "d", "base", "inner", "reach", "sep")
+
+
+def evaluate_rows(table, Q, K, rows=None):
+    """``table.evaluate(Q, K)`` (:meth:`runtime.voronoi.verify.site_table.SiteTable.evaluate`,
+    row-wise) in calls of at most ``rows`` rows (default :data:`ROWS_PER_CALL`, read at the call),
+    the values concatenated."""
+    rows = ROWS_PER_CALL if rows is None else int(rows)
+    Q = np.asarray(Q, float).reshape(-1, 2)
+    K = np.asarray(K, int).reshape(-1)
+    m = len(K)
+    if m <= rows:
+        return table.evaluate(Q, K)
+    parts = [table.evaluate(Q[a:a + rows], K[a:a + rows]) for a in range(0, m, rows)]
+    cat = [np.concatenate([getattr(v, f) for v in parts]) for f in _FIELDS]
+    return SiteValues(*cat, np.concatenate([v.K for v in parts]), table)
+
+
+def gap_rows(bound, Q, Vs, R, scale, rows=None):
+    """``bound(Q, *Vs, R, scale)`` for a row-wise lower bound of :mod:`runtime.voronoi.verify.distance_gap`
+    (:func:`gap_lower`, :func:`bisector_gap_lower`) in calls of at most ``rows`` rows (default
+    :data:`ROWS_PER_CALL`, read at the call), concatenated."""
+    rows = ROWS_PER_CALL if rows is None else int(rows)
+    R = np.broadcast_to(np.asarray(R, float), (len(Q),))
+    m = len(Q)
+    if m <= rows:
+        return bound(Q, *Vs, R, scale)
+    return np.concatenate([bound(Q[a:a + rows], *(V.part(a, a + rows) for V in Vs), R[a:a + rows], scale)
+                           for a in range(0, m, rows)])
 
 
 def rot90(V):
@@ -174,7 +209,7 @@ def prove_strips_many(table, jobs):
         side_len = half * np.sqrt(1 + slope[seg] ** 2) * (1 + 1e-12)
         Qp, Qm = C + w[:, None] * Nn, C - w[:, None] * Nn
         Ip, Jp = I[jb], J[jb]
-        V = table.evaluate(np.concatenate([C, C, Qp, Qp, Qm, Qm]), np.concatenate([Ip, Jp, Ip, Jp, Ip, Jp]))
+        V = evaluate_rows(table, np.concatenate([C, C, Qp, Qp, Qm, Qm]), np.concatenate([Ip, Jp, Ip, Jp, Ip, Jp]))
         Vi, Vj = V.part(0, p), V.part(p, 2 * p)
         hi_i, hi_j = Vi.hi, Vj.hi
         Gi, si, vi = gradient_enclosure(C, Vi, R, scale)
@@ -234,7 +269,7 @@ def prove_strips_many(table, jobs):
         rows, ks = table.near_pairs(C[pidx], (hi + 2 * R)[pidx], (Ip[pidx], Jp[pidx]))
         rows = pidx[rows]
         if len(rows):
-            Vk = table.evaluate(C[rows], ks)
+            Vk = evaluate_rows(table, C[rows], ks)
             Rr = R[rows]
             okk = Vk.lo - Rr > hi[rows] + Rr
             # (T2') first order: d_k − d_i ≥ (lo_k − hi_i)(C) − R·sup|∇d_k − ∇d_i| on the disc
@@ -248,10 +283,10 @@ def prove_strips_many(table, jobs):
             if len(left):
                 Cl, Vl = C[rows[left]], Vk.take(left)
                 for Vx in (Vi, Vj):
-                    okk[left] |= gap_lower(Cl, Vl, Vx.take(rows[left]), Rr[left], scale) > 0
+                    okk[left] |= gap_rows(gap_lower, Cl, (Vl, Vx.take(rows[left])), Rr[left], scale) > 0
                 left = left[~okk[left]]
-                okk[left] |= bisector_gap_lower(C[rows[left]], Vk.take(left), Vi.take(rows[left]),
-                                                Vj.take(rows[left]), Rr[left], scale) > 0
+                okk[left] |= gap_rows(bisector_gap_lower, C[rows[left]],
+                                      (Vk.take(left), Vi.take(rows[left]), Vj.take(rows[left])), Rr[left], scale) > 0
             jr = jb[rows]
             pos = start[seg[rows]] + sm[rows]
             for KK, OTHER, want in ((K0, K1, 1.0), (K1, K0, -1.0)):

@@ -56,6 +56,7 @@ import numpy as np
 from .conic_tail import prove_conic_tail
 from .distance_gap import bisector_gap_lower, gap_lower
 from .site_table import gradient_enclosure
+from .strips import evaluate_rows, gap_rows
 from .tail_link import link_arc
 
 __all__ = ["prove_tail", "TAIL_WORK", "TAIL_WORK_MORE", "MORE_TAILS"]
@@ -231,7 +232,7 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
                 C = m + tc[:, None] * np.array([math.cos(th), math.sin(th)])
                 R = np.where(fin, 0.5 * (t1 - t0), np.inf) * (1 + 1e-12) + 1e-12 * (scale + tc)
                 n_ = len(C)
-                V = table.evaluate(np.concatenate([C, C]), np.repeat([i, j], n_))
+                V = evaluate_rows(table, np.concatenate([C, C]), np.repeat([i, j], n_))
                 fl, fh = V.lo[:n_] - V.hi[n_:] - 2 * R, V.hi[:n_] - V.lo[n_:] + 2 * R
                 ok |= fin & (((want * sigma > 0) & (fl > 0)) | ((want * sigma < 0) & (fh < 0)))
             bad = ~ok
@@ -275,7 +276,7 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
         nc = len(ta)
         Cf = np.where(fin[:, None], C, m + T0 * U)
         Rf = np.where(fin, R, 0.0)
-        Vij = table.evaluate(np.concatenate([Cf, Cf]), np.repeat([i, j], nc))
+        Vij = evaluate_rows(table, np.concatenate([Cf, Cf]), np.repeat([i, j], nc))
         Vi, Vj = Vij.part(0, nc), Vij.part(nc, 2 * nc)
         hi_i, hi_min = Vi.hi, np.minimum(Vi.hi, Vj.hi)
         Gi, si, vi = gradient_enclosure(Cf, Vi, Rf, scale)
@@ -304,7 +305,7 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
         if len(rows):
             # distance bounds on the cell's disc, or to first order
             # d_k − d_i ≥ (lo_k − hi_i)(C) − R·sup|∇d_k − ∇d_i| on the disc; one call for all sites
-            Vk = table.evaluate(Cf[rows], ks)
+            Vk = evaluate_rows(table, Cf[rows], ks)
             okk = Vk.lo - R[rows] > hi_min[rows] + R[rows]
             Gk, sk, vk = gradient_enclosure(Cf[rows], Vk, Rf[rows], scale)
             lip = np.hypot(*(Gk - Gi[rows]).T) + sk + si[rows]
@@ -314,10 +315,11 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
             left = np.nonzero(~okk & fin[rows])[0]
             if len(left):
                 Cl, Vl = Cf[rows[left]], Vk.take(left)
-                okk[left] |= gap_lower(Cl, Vl, Vi.take(rows[left]), R[rows[left]], scale) > 0
+                okk[left] |= gap_rows(gap_lower, Cl, (Vl, Vi.take(rows[left])), R[rows[left]], scale) > 0
                 left = left[~okk[left]]
-                okk[left] |= bisector_gap_lower(Cf[rows[left]], Vk.take(left), Vi.take(rows[left]),
-                                                Vj.take(rows[left]), R[rows[left]], scale) > 0
+                okk[left] |= gap_rows(bisector_gap_lower, Cf[rows[left]],
+                                      (Vk.take(left), Vi.take(rows[left]), Vj.take(rows[left])),
+                                      R[rows[left]], scale) > 0
             np.logical_and.at(okA, rows, okk)
         # (M) σ·∂f/∂θ > 0: support-point enclosure (module docstring) or gradient enclosures on the disc
         Wt = W * tb
