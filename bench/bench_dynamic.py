@@ -32,6 +32,10 @@ circle updates with ``inplace=True`` (no O(N) copy of the diagram's lists).
 One BLAS thread (threadpoolctl and OPENBLAS_NUM_THREADS=1); thread settings and the load average
 (/proc/loadavg) are in the table header: the machine is shared, wall times are noisy under load.
 
+* random disjoint segments (``--segments 1000 10000``: only these rows run; tests/scenes.random_segments):
+  K insertions of segments, K deletions of each numbering, each certified (runtime/segments/edits.py),
+  CPU median per update and its route against a certified batch build of the final list.
+
 Run:  OPENBLAS_NUM_THREADS=1 python bench/bench_dynamic.py [--sizes 1000 10000] [--big] [--k 20]
           [--ellipses 1000 10000] [--ellipse-k 10]
           [--cache DIR] [--max-rss-gb 6] [--inplace]
@@ -281,6 +285,85 @@ def nearest_case(n: int, q: int, seed: int = 2) -> dict:
     return out
 
 
+def segments_case(n: int, k: int, seed: int = 1, deletes: int | None = None) -> dict:
+    """Random pairwise disjoint segments (tests/scenes.random_segments, N + K drawn): the batch
+    build of the first N (certified), then K insertions of the other K (``d.insert``), ``deletes``
+    (default K) deletions of random input pieces with renumber="last" and as many with "shift", each certify=True and
+    inplace=True; CPU seconds per certified update, its route (``stats["update"]``), and at the end
+    a batch build of the final list of pieces (sites and Delaunay graph compared)."""
+    sys.path.insert(0, str(ROOT / "tests"))
+    from scenes import random_segments
+
+    import curvedvoronoi as cv
+
+    threads = _threads()
+    segs = [cv.Segment(a, b) for a, b in random_segments(n + k, seed)]
+    base, extra = segs[:n], segs[n:]
+    t0, c0 = time.perf_counter(), time.process_time()
+    d = cv.voronoi(base, progress=False)
+    out = {"case": "segments", "N": n, "K": k, "threads": threads, "build_s": time.perf_counter() - t0,
+           "build_cpu_s": time.process_time() - c0, "build_certified": bool(d.certified)}
+    rng = random.Random(seed)
+    cur = list(base)
+    rows = []
+
+    def timed(kind, fn):
+        nonlocal d
+        t, c = time.perf_counter(), time.process_time()
+        d = fn()
+        rows.append({"op": kind, "wall": time.perf_counter() - t, "cpu": time.process_time() - c,
+                     "how": d.stats.get("update"), "certified": bool(d.certified)})
+
+    for s in extra:
+        timed("insert", lambda s=s: d.insert(s, inplace=True))
+        cur.append(s)
+    for mode in ("last", "shift"):
+        for _ in range(k if deletes is None else deletes):
+            i = rng.randrange(len(cur))
+            timed(f"delete ({mode})", lambda i=i, mode=mode: d.delete_site(i, renumber=mode, inplace=True))
+            if mode == "shift" or i == len(cur) - 1:
+                cur.pop(i)
+            else:
+                cur[i] = cur.pop()
+    t, c = time.perf_counter(), time.process_time()
+    batch = cv.voronoi(cur, progress=False)
+    out["final_batch_s"], out["final_batch_cpu_s"] = time.perf_counter() - t, time.process_time() - c
+    out["same_as_batch"] = (list(d.sites) == list(batch.sites) and d.delaunay_edges() == batch.delaunay_edges()
+                            and bool(batch.certified))
+    out["rows"] = rows
+    out["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    return out
+
+
+def _segment_table(results, args) -> list:
+    rows = [r for r in results if str(r.get("case")).startswith("segments")]
+    if not rows:
+        return []
+    lines = ["", f"Random disjoint segments (tests/scenes.random_segments): batch build of N (certified), then K = "
+             f"{args.segment_k} insertions, {args.segment_k if args.segment_deletes is None else args.segment_deletes} "
+             "deletions with renumber=\"last\" and as many with \"shift\" (certify=True, "
+             "inplace=True each; runtime/segments/edits.py).  local / rebuild = the route of stats[\"update\"]; "
+             "batch = a certified batch build of the final list of pieces (CPU s), ratio = median update / batch; "
+             "same = the edited diagram's sites and Delaunay graph equal the batch build's.", "",
+             "| N | op | median CPU s | max CPU s | local / rebuild | all certified | batch CPU s | ratio | "
+             "same as batch | peak RSS MB |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        if "error" in r:
+            lines.append(f"| {r['case']} | error: {r['error']} |" + " |" * 8)
+            continue
+        for kind in ("insert", "delete (last)", "delete (shift)"):
+            got = [x for x in r["rows"] if x["op"] == kind]
+            if not got:
+                continue
+            med = statistics.median(x["cpu"] for x in got)
+            n_reb = sum(str(x["how"]).startswith("rebuild") for x in got)
+            lines.append(f"| {r['N']} | {kind} | {_fmt(med, 2)} | {_fmt(max(x['cpu'] for x in got), 2)} | "
+                         f"{len(got) - n_reb} / {n_reb} | {all(x['certified'] for x in got)} | "
+                         f"{r['final_batch_cpu_s']:.2f} | {med / r['final_batch_cpu_s']:.2f} | "
+                         f"{r['same_as_batch']} | {r['peak_rss_mb']:.0f} |")
+    return lines
+
+
 def _verified(r) -> str:
     if "final_verified" not in r:
         return "not run (certify=False)"
@@ -344,6 +427,12 @@ def main():
     ap.add_argument("--uncertified", action="store_true",
                     help="build and update with certify=False (vertices proved, no edge proofs, never certified): "
                          "for N too large for the verifier's memory")
+    ap.add_argument("--segments", nargs="*", type=int, default=None,
+                    help="N of the segment rows (insert/delete of segments, runtime/segments/edits.py); given, "
+                         "only the segment rows run")
+    ap.add_argument("--segment-k", type=int, default=3, help="insertions (and deletions of each kind) per segment N")
+    ap.add_argument("--segment-deletes", type=int, default=None,
+                    help="deletions of each kind per segment N (default --segment-k; each is a rebuild)")
     ap.add_argument("--no-write", action="store_true")
     ap.add_argument("--inplace", action="store_true",
                     help="circle updates with inplace=True (the diagram updated in place: no O(N) copy of its lists)")
@@ -360,6 +449,8 @@ def main():
         if kind == "circles":
             res = circles_case(int(n), args.k, certify=not args.uncertified, queries=args.queries,
                                cache=args.cache, inplace=args.inplace)
+        elif kind == "segments":
+            res = segments_case(int(n), args.segment_k, deletes=args.segment_deletes)
         elif kind == "ellipses":
             res = ellipses_case(int(n), args.ellipse_k, certify_build=int(n) <= args.certify_ellipses_up_to)
         else:
@@ -371,11 +462,15 @@ def main():
     results = []
     cases = [f"circles:{n}" for n in sizes] + ([] if args.uncertified else ["nearest:10000"])
     cases += [] if args.uncertified else [f"ellipses:{n}" for n in args.ellipses]
+    if args.segments is not None:
+        cases = [f"segments:{n}" for n in args.segments]
     for case in cases:
         t0 = time.perf_counter()
         res = subprocess.run([sys.executable, __file__, "--case", case, "--k", str(args.k),
                               "--queries", str(args.queries), "--ellipse-k", str(args.ellipse_k),
-                              "--certify-ellipses-up-to", str(args.certify_ellipses_up_to)]
+                              "--certify-ellipses-up-to", str(args.certify_ellipses_up_to),
+                              "--segment-k", str(args.segment_k)]
+                             + (["--segment-deletes", str(args.segment_deletes)] if args.segment_deletes is not None else [])
                              + (["--uncertified"] if args.uncertified else [])
                              + (["--cache", args.cache] if args.cache else [])
                              + (["--inplace"] if args.inplace else [])
@@ -408,6 +503,8 @@ def main():
              "median split (locate / local build / prove) | CGAL median s | ratio | build s | final verify | "
              "graph = CGAL | peak RSS MB |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    if not any(str(r.get("case")).startswith("circles") for r in results):
+        lines = lines[:2]                  # segment rows only: no circle table
     for r in results:
         if not str(r.get("case")).startswith("circles"):
             continue
@@ -463,6 +560,7 @@ def main():
                   f"{r['scipy_qps']:.3g} | "
                   f"{r.get('cgal_qps', 0):.3g} | {r['same_as_scipy']} | {r.get('cgal_same', r.get('cgal_error'))} |"]
     lines += _ellipse_table(results, args)
+    lines += _segment_table(results, args)
     text = "\n".join(lines) + "\n"
     print(text)
     if not args.no_write:
