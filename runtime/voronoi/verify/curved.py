@@ -42,6 +42,19 @@ cross-section of the previous strip at A, {A + λ·n : |λ| ≤ w_c}, lies in th
 so does the next strip's cross-section at B; the arc of β in the neighbour crosses that
 cross-section, at a point of β in the chord's rectangle, hence on the chord's arc.  Nothing
 else changes: the strips decide.
+
+**Chaining at the nodes.**  Strip l ends at node P (half-width W there) and strip l + 1 starts at
+P, turned by θ.  The arc of β in strip l crosses its cross-section at P, {P + λ·n_l : |λ| ≤ W},
+at one point X; in the coordinates of strip l + 1, X = (s', λ') = (±λ·sin θ, λ·cos θ), with
+s' ∈ [−e, e] (its extension e ≥ W·sin θ before P) and |λ'| ≤ W·cos θ.  Strip l + 1's half-width
+there is W + k·s' ≥ W − |k|·W·sin θ for the slope k of its trapezoid, which is at least W·cos θ
+when |k| ≤ tan(θ/2).  Then X lies in strip l + 1, whose arc of β, being the only one there,
+passes through X: the two arcs join.  The same holds with the roles exchanged (strip l's slope).
+Where both slopes exceed tan(θ/2) (the cap s = L + e of strip l alone does not lie in the next
+trapezoid: its corner reaches W·(sin²θ + cos θ) > W), :func:`chained_nodes` adds a node at
+distance W·sin θ along strip l + 1 with half-width W (a rectangle next to P, k = 0).  At the
+closing node of a closed chain (half-widths W_a ≤ W_b on its two sides) the strip of W_b is made
+flat there and the cross-section of the other is used: W_a·cos θ ≤ W_b.
 """
 from __future__ import annotations
 
@@ -265,15 +278,23 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, extra=No
                     W[0] = max(min(W[0], 0.05 * L[0], endfac * (v0.r + 1.0)), 8 * h0 + 1e-12 * scale)
                 if v1 is not None:
                     W[-1] = max(min(W[-1], 0.05 * L[-1], endfac * (v1.r + 1.0)), 8 * h1 + 1e-12 * scale)
-                wn = np.maximum(W[:-1], W[1:])
-                e_lo = np.concatenate([[0.0], wn[:-1] * sinang]) + 1e-12 * scale
-                e_hi = np.concatenate([wn[1:] * sinang, [0.0]]) + 1e-12 * scale
+                # flat runs at the turns, so that consecutive strips hold each other's node
+                # cross-sections (module docstring, "Chaining at the nodes")
+                S2, W2 = chained_nodes(S, W, closed, scale)
+                seg2 = S2[1:] - S2[:-1]
+                L2 = np.hypot(seg2[:, 0], seg2[:, 1])
+                T2 = seg2 / L2[:, None]
+                N2 = rot90(T2)
+                sin2 = np.sqrt(1 - np.clip((T2[:-1] * T2[1:]).sum(1), -1, 1) ** 2)
+                wn = np.maximum(W2[:-1], W2[1:])
+                e_lo = np.concatenate([[0.0], wn[:-1] * sin2]) + 1e-12 * scale
+                e_hi = np.concatenate([wn[1:] * sin2, [0.0]]) + 1e-12 * scale
                 e_lo[0] += 2 * h0
                 e_hi[-1] += 2 * h1
                 if closed:          # the cap between the last and the first rectangle
-                    e_lo[0] += max(W[0], W[-1]) * sin_wrap
-                    e_hi[-1] += max(W[0], W[-1]) * sin_wrap
-                ok, msg = yield from prove_strips(S, T, N, L, e_lo, e_hi, W, pair, k0, k1, budget)
+                    e_lo[0] += max(W2[0], W2[-1]) * sin_wrap
+                    e_hi[-1] += max(W2[0], W2[-1]) * sin_wrap
+                ok, msg = yield from prove_strips(S2, T2, N2, L2, e_lo, e_hi, W2, pair, k0, k1, budget)
                 if ok:
                     # the chain's rectangle at each unbounded end, for the link with its tail
                     beyond = []
@@ -303,6 +324,55 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, extra=No
         if last_msg is None or "a third site" not in last_msg:
             break
     return False, last_msg, None
+
+
+def chained_nodes(S, W, closed: bool, scale: float):
+    """The polyline S with node half-widths W, with a node added where consecutive trapezoids would
+    not chain (module docstring, "Chaining at the nodes"): at a turn θ of node j where both
+    adjacent strips' half-widths change faster than tan(θ/2) per unit length, a node at distance
+    W_j·sin θ (plus rounding) along the next segment, of half-width W_j, makes that strip a
+    rectangle next to the node.  At the closing node of a closed chain the strip with the larger
+    node half-width is made flat there.  Returns (S, W) (new arrays when nodes were added)."""
+    S = np.asarray(S, float)
+    W = np.asarray(W, float)
+    for _ in range(len(S) + 2):
+        seg = S[1:] - S[:-1]
+        L = np.hypot(seg[:, 0], seg[:, 1])
+        T = seg / L[:, None]
+        k = (W[1:] - W[:-1]) / L                          # slope of each trapezoid's half-width
+        cos = np.clip((T[:-1] * T[1:]).sum(1), -1.0, 1.0)
+        sin = np.sqrt(1 - cos ** 2)
+        half = sin / (1 + cos)                           # tan(θ/2)
+        slack = 1 - 1e-9
+        bad = (sin > 0) & (np.minimum(np.abs(k[:-1]), np.abs(k[1:])) * sin > half * sin * slack)
+        add = []                                          # (segment, distance from its start or -end, width)
+        for j in np.nonzero(bad)[0].tolist():             # node j + 1, between segments j and j + 1
+            a = W[j + 1] * sin[j] * (1 + 1e-9) + 1e-12 * scale
+            if a < 0.5 * L[j + 1]:
+                add.append((j + 1, a, W[j + 1]))
+            elif a < 0.5 * L[j]:
+                add.append((j, -a, W[j + 1]))
+        if closed and len(L) >= 2:
+            cw = float(np.clip(T[-1] @ T[0], -1.0, 1.0))
+            sw = math.sqrt(1 - cw * cw)
+            if sw > 0:
+                wa, wb = float(W[-1]), float(W[0])                # end of the last strip, start of the first
+                ok_ = (wb - abs(k[0]) * wa * sw >= wa * cw) if wa <= wb else (wa - abs(k[-1]) * wb * sw >= wb * cw)
+                if not ok_:
+                    a = min(wa, wb) * sw * (1 + 1e-9) + 1e-12 * scale
+                    if wa <= wb and a < 0.5 * L[0]:
+                        add.append((0, a, wb))
+                    elif wa > wb and a < 0.5 * L[-1]:
+                        add.append((len(L) - 1, -a, wa))
+        if not add:
+            return S, W
+        rows, widths = list(S), list(W)
+        for j, a, w in sorted(add, key=lambda t: (t[0], t[1]), reverse=True):
+            x = S[j] + a * T[j] if a > 0 else S[j + 1] + a * T[j]
+            rows.insert(j + 1, x)
+            widths.insert(j + 1, w)
+        S, W = np.array(rows), np.array(widths)
+    return S, W
 
 
 def cut_corners(S, cuts, pair):
