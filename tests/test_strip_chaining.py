@@ -72,3 +72,23 @@ def test_random_polylines_chain_after_chained_nodes(seed):
         d = min(abs(_cross(seg[j], x - S[j])) / np.hypot(*seg[j]) +
                 (0 if 0 <= (x - S[j]) @ seg[j] <= seg[j] @ seg[j] else 1) for j in range(len(seg)))
         assert d < 1e-9
+
+
+def test_the_verifier_proves_strips_that_chain(monkeypatch):
+    """Every chain of strips the verifier proves for a scene of ellipses satisfies the containment
+    above (the chains are recorded on their way to the strips' proof)."""
+    import curvedvoronoi as cv
+    import curvedvoronoi.runtime.voronoi.verify.curved as curved
+    import scenes
+
+    seen = []
+    original = curved.prove_strips
+
+    def recording(S, T, N, L, e_lo, e_hi, W, *rest):
+        seen.append((np.array(S), np.array(W)))
+        return (yield from original(S, T, N, L, e_lo, e_hi, W, *rest))
+
+    monkeypatch.setattr(curved, "prove_strips", recording)
+    d = cv.voronoi(scenes.random_ellipses(40, 1), progress=False)
+    assert d.certified and seen
+    assert all(_nodes_chain(S, W) for S, W in seen if not np.allclose(S[0], S[-1]))
