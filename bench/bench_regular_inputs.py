@@ -57,6 +57,11 @@ CASES = {
          (4, -1, 1)], progress=False),
     "circle (0,0,1) alone inside ellipse 10 × 4": lambda: cv.voronoi(
         [cv.Conic.ellipse((0, 0), (10, 4)), (0, 0, 1)], progress=False),
+    "point (1, 0) inside ellipse 10 × 5": lambda: cv.voronoi(
+        [cv.Conic.ellipse((0, 0), (10, 5)), (1, 0)], progress=False),
+    "arcs: three tangent to one side of the hull (radii 1, 2, 3)": lambda: cv.voronoi(
+        [cv.Arc.circular((10 * k, r), r, 200, 340) for k, r in enumerate((1, 2, 3))]
+        + [cv.Segment((5, 30), (15, 31))], progress=False),
     "segments: regular 5-star (10 sides, R = 2, r = 0.8)": lambda: cv.voronoi(star_polygon(5), progress=False),
     "segments: regular 8-star (16 sides, R = 2, r = 0.8)": lambda: cv.voronoi(star_polygon(8), progress=False),
     "medial axis of a disc": lambda: cv.medial_axis(cv.Circle.from_radius(3, -2, 2.5)),
