@@ -90,6 +90,13 @@ def main() -> int:
         print("  problem:", p, file=sys.stderr)
     for q in cert.problems[:8]:
         print("  certificate:", q, "(fault)" if q.fault else "(limit)", file=sys.stderr)
+    kinds: dict = {}
+    for q in cert.problems:
+        what = str(q).split(": ", 1)[-1].split(" between ")[0].split(" (")[0][:70]
+        key = ("fault" if q.fault else "limit", q.kind, what)
+        kinds[key] = kinds.get(key, 0) + 1
+    for key, m in sorted(kinds.items(), key=lambda kv: -kv[1]):
+        print(f"  certificate problems: {m} × {key}", file=sys.stderr)
     return 0
 
 
