@@ -56,6 +56,7 @@ import numpy as np
 from .conic_tail import prove_conic_tail
 from .distance_gap import bisector_gap_lower, gap_lower
 from .site_table import gradient_enclosure
+from . import strips
 from .strips import evaluate_rows, gap_rows
 from .tail_link import link_arc
 
@@ -191,6 +192,46 @@ def _lead_interval(sup, i, j, ths, tha, thb):
     return None
 
 
+def _third_sites(sup, table, oth, need, okA, thc, half, hmax_lo, fin, Cf, R, Rf, Vij, Gi_, hi_i, hi_min, scale):
+    """(A) of :func:`_prove_sector` on the cells ``need``: okA[c] is cleared where a site of ``oth``
+    is not proved farther than the pair on cell c (support bounds; then distance bounds on the
+    cell's disc, to first or second order)."""
+    Vi, Vj = Vij
+    Gi, si, vi = Gi_
+    # support bounds: h_k below max(h_i − e_i, h_j − e_j) on the cell
+    hk = sup.h_range(oth[:, None], thc[need][None, :], half[need][None, :])[1]
+    fail = ~(hmax_lo[need][None, :] - hk > 0)
+    okA[need] &= ~(fail & ~fin[need][None, :]).any(0)
+    kk, cc = np.nonzero(fail & fin[need][None, :])
+    rows, ks = need[cc], oth[kk]
+    # the bounding disc first: d_k ≥ |q − c_k| − ρ_k (cheap); the table only for the rest
+    V_ = Cf[rows] - sup.cen[ks]
+    lo_disc = np.hypot(V_[:, 0], V_[:, 1]) - sup.rho[ks]
+    lo_disc -= 1e-12 * (np.abs(Cf[rows]).sum(1) + np.abs(sup.cen[ks]).sum(1) + sup.rho[ks]) + sup.mu
+    far_k = lo_disc - R[rows] > hi_min[rows] + R[rows]
+    rows, ks = rows[~far_k], ks[~far_k]
+    if not len(rows):
+        return
+    # distance bounds on the cell's disc, or to first order
+    # d_k − d_i ≥ (lo_k − hi_i)(C) − R·sup|∇d_k − ∇d_i| on the disc; one call for all sites
+    Vk = evaluate_rows(table, Cf[rows], ks)
+    okk = Vk.lo - R[rows] > hi_min[rows] + R[rows]
+    Gk, sk, vk = gradient_enclosure(Cf[rows], Vk, Rf[rows], scale)
+    lip = np.hypot(*(Gk - Gi[rows]).T) + sk + si[rows]
+    lip = np.where(vk & vi[rows] & np.isfinite(lip), np.minimum(lip, 2.0), 2.0) * (1 + 1e-12)
+    okk |= Vk.lo - hi_i[rows] - lip * R[rows] > 0
+    # to second order (distance_gap.gap_lower), where the first order fails
+    left = np.nonzero(~okk & fin[rows])[0]
+    if len(left):
+        Cl, Vl = Cf[rows[left]], Vk.take(left)
+        okk[left] |= gap_rows(gap_lower, Cl, (Vl, Vi.take(rows[left])), R[rows[left]], scale) > 0
+        left = left[~okk[left]]
+        okk[left] |= gap_rows(bisector_gap_lower, Cf[rows[left]],
+                              (Vk.take(left), Vi.take(rows[left]), Vj.take(rows[left])),
+                              R[rows[left]], scale) > 0
+    np.logical_and.at(okA, rows, okk)
+
+
 def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
     """(A) third sites, (M) σ·∂f/∂θ > 0 on Σ = {t ≥ T0, θ ∈ [θa, θb]}, (R) σ·f < 0 on the ray θa
     and > 0 on the ray θb; cells in (τ = 1/t, θ), halved until decided (module docstring)."""
@@ -288,39 +329,13 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
         if fin.any():
             okF |= fin & ((Vi.lo - Vj.hi - 2 * R > 0) | (Vi.hi - Vj.lo + 2 * R < 0))
         need = np.nonzero(~okF)[0]
-        rows = np.zeros(0, int)
         if len(oth) and len(need):
-            # support bounds: h_k below max(h_i − e_i, h_j − e_j) on the cell
-            hk = sup.h_range(oth[:, None], thc[need][None, :], half[need][None, :])[1]
-            fail = ~(hmax_lo[need][None, :] - hk > 0)
-            okA[need] &= ~(fail & ~fin[need][None, :]).any(0)
-            kk, cc = np.nonzero(fail & fin[need][None, :])
-            rows, ks = need[cc], oth[kk]
-            # the bounding disc first: d_k ≥ |q − c_k| − ρ_k (cheap); the table only for the rest
-            V_ = Cf[rows] - sup.cen[ks]
-            lo_disc = np.hypot(V_[:, 0], V_[:, 1]) - sup.rho[ks]
-            lo_disc -= 1e-12 * (np.abs(Cf[rows]).sum(1) + np.abs(sup.cen[ks]).sum(1) + sup.rho[ks]) + mu
-            far_k = lo_disc - R[rows] > hi_min[rows] + R[rows]
-            rows, ks = rows[~far_k], ks[~far_k]
-        if len(rows):
-            # distance bounds on the cell's disc, or to first order
-            # d_k − d_i ≥ (lo_k − hi_i)(C) − R·sup|∇d_k − ∇d_i| on the disc; one call for all sites
-            Vk = evaluate_rows(table, Cf[rows], ks)
-            okk = Vk.lo - R[rows] > hi_min[rows] + R[rows]
-            Gk, sk, vk = gradient_enclosure(Cf[rows], Vk, Rf[rows], scale)
-            lip = np.hypot(*(Gk - Gi[rows]).T) + sk + si[rows]
-            lip = np.where(vk & vi[rows] & np.isfinite(lip), np.minimum(lip, 2.0), 2.0) * (1 + 1e-12)
-            okk |= Vk.lo - hi_i[rows] - lip * R[rows] > 0
-            # to second order (distance_gap.gap_lower), where the first order fails
-            left = np.nonzero(~okk & fin[rows])[0]
-            if len(left):
-                Cl, Vl = Cf[rows[left]], Vk.take(left)
-                okk[left] |= gap_rows(gap_lower, Cl, (Vl, Vi.take(rows[left])), R[rows[left]], scale) > 0
-                left = left[~okk[left]]
-                okk[left] |= gap_rows(bisector_gap_lower, Cf[rows[left]],
-                                      (Vk.take(left), Vi.take(rows[left]), Vj.take(rows[left])),
-                                      R[rows[left]], scale) > 0
-            np.logical_and.at(okA, rows, okk)
+            # in groups of cells with at most ROWS_PER_CALL (cell, site) rows: temporaries bounded
+            # independently of the number of sites; every row is tested as in one call
+            step = max(1, strips.ROWS_PER_CALL // len(oth))
+            for a0 in range(0, len(need), step):
+                _third_sites(sup, table, oth, need[a0:a0 + step], okA, thc, half, hmax_lo, fin, Cf, R, Rf,
+                             (Vi, Vj), (Gi, si, vi), hi_i, hi_min, scale)
         # (M) σ·∂f/∂θ > 0: support-point enclosure (module docstring) or gradient enclosures on the disc
         Wt = W * tb
         alpha = np.arcsin(np.minimum(1.0, Wt / (1 - Wt)))
