@@ -5,7 +5,6 @@ Segment_Delaunay_graph_2 (tests/cgal/sdg_peer.py, an independent exact implement
 sites compared by exact keys (elementary-site numbers change with the list)."""
 from __future__ import annotations
 
-import os
 import random
 import sys
 from fractions import Fraction
@@ -22,12 +21,7 @@ from scenes import orient, random_points_off, random_segments  # noqa: E402
 
 
 def cgal_ready():
-    try:
-        sdg_peer.build()
-    except sdg_peer.PeerMissing as exc:
-        if os.environ.get("CI"):
-            pytest.fail(f"CGAL segment peer unavailable in CI: {exc}")
-        pytest.skip(f"the comparison with CGAL's Segment_Delaunay_graph_2 needs g++ and libcgal-dev: {exc}")
+    sdg_peer.build_or_skip()
 
 
 def without_straight_joints(segs):
