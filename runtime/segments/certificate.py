@@ -92,6 +92,12 @@ and sites (``fault`` False for a limit of the certificate).  Not claimed: diagra
 tangent, junctions that continue straight through (refused as sites), closed edges (none exist
 for these sites: an edge with no end vertex is a line or a branch to infinity).
 
+**Elliptic pieces** (:class:`runtime.sites.elliptic_arc.EllipticArc` cut at its ellipse's vertices,
+:mod:`runtime.segments.certificate_ellipses`): their sites, distances and k = 3 vertices are proved
+as in 2 (the foot enclosed by a parametric Krawczyk test inside the piece's range, the contact
+proved the piece's nearest point); their edges, infinite ends and crossings (a float test) are not,
+so a diagram with an elliptic piece is never ``ok`` (one problem names the pieces).
+
 Public API: :func:`verify_segments`, :func:`has_segment_sites`, :func:`closure`.
 """
 from __future__ import annotations
