@@ -304,3 +304,20 @@ def test_both_ends_own_the_tie_only_where_the_piece_bulges_away():
             assert abs(d - de) < 1e-12 and own is True      # q in floats: the ends tie to 1e-15
         else:
             assert d < de - 0.1 and own is not True
+
+
+def test_a_foot_of_the_ellipse_outside_the_piece_is_no_contact():
+    """From a point 0.3 inside the ellipse x²/16 + y²/4 = 1 on its normal at φ = 2.5, the ellipse's
+    foot e(2.5) is outside the piece φ ∈ [0, π/2] (mpmath: the piece is more than 2 away): a circle
+    of radius 0.3 about it does not touch the piece, and is not proved to."""
+    arc = EllipticArc((0, 0), (4, 0), "1/2", (1, 0), (0, 1))
+    P = PieceData.of(arc)
+    with mpmath.workdps(DPS):
+        p = mpmath.mpf(2.5)
+        e = [4 * mpmath.cos(p), 2 * mpmath.sin(p)]
+        n = [mpmath.cos(p) / 4, mpmath.sin(p) / 2]                    # outer normal ∝ (x/a², y/b²)
+        m = mpmath.hypot(*n)
+        q = [float(e[i] - mpmath.mpf("0.3") * n[i] / m) for i in range(2)]
+        assert RefPiece(arc).distance(q) > 2
+        R = arb(float(mpmath.hypot(q[0] - e[0], q[1] - e[1])), 1e-12)
+    assert interior_contact_valid(P, arb(q[0]), arb(q[1]), R) is not True
