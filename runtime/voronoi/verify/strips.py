@@ -45,7 +45,8 @@ when halving stops deciding pieces (``STALL`` rounds), or when its work limits a
 caller then narrows the strips or reports the edge).  The gradients come with the enclosures of
 :func:`runtime.voronoi.verify.site_table.gradient_enclosure`.  The chains of all edges are proved
 together (:func:`prove_strips_many`: the pieces of every chain in flat arrays, two calls of
-:meth:`runtime.voronoi.verify.site_table.SiteTable.evaluate` per round of halving);
+:meth:`runtime.voronoi.verify.site_table.SiteTable.evaluate` per round of halving, or per group
+of ``ROWS_PER_CALL``/6 pieces: the memory is bounded independently of the number of pieces);
 :func:`prove_strips` is the generator form used under
 :func:`runtime.voronoi.verify.site_table.run_lockstep`.
 """
@@ -151,6 +152,125 @@ def side_second_order(Qs, t, h, fval, Vi, Vj, Gi, si, Gj, sj, scale):
     return out & np.isfinite(low) & (low > 0)
 
 
+def _test_pieces(table, scale, depth, sigma, seg, sa, sb, chains):
+    """(T1)–(T4) on the pieces (seg, [sa, sb]) of :func:`prove_strips_many`: (good, t1, side_ok) per
+    piece.  At depth 0, σ of each chain without one is set from its first piece decided here."""
+    sj, Sg, Tg, Ng, W0, slope, I, J, K0, K1, start, total = chains
+    p = len(sa)
+    jb = sj[seg]
+    sm = 0.5 * (sa + sb)
+    Tn, Nn = Tg[seg], Ng[seg]
+    C = Sg[seg] + sm[:, None] * Tn
+    half = 0.5 * (sb - sa)
+    wa = np.maximum(W0[seg] + slope[seg] * sa, 0.0)
+    wb = np.maximum(W0[seg] + slope[seg] * sb, 0.0)
+    w = 0.5 * (wa + wb)                           # half-width at the piece centre
+    R = np.hypot(half, np.maximum(wa, wb)) * (1 + 1e-12) + 1e-15 * scale
+    side_len = half * np.sqrt(1 + slope[seg] ** 2) * (1 + 1e-12)
+    Qp, Qm = C + w[:, None] * Nn, C - w[:, None] * Nn
+    Ip, Jp = I[jb], J[jb]
+    V = evaluate_rows(table, np.concatenate([C, C, Qp, Qp, Qm, Qm]), np.concatenate([Ip, Jp, Ip, Jp, Ip, Jp]))
+    Vi, Vj = V.part(0, p), V.part(p, 2 * p)
+    hi_i, hi_j = Vi.hi, Vj.hi
+    Gi, si, vi = gradient_enclosure(C, Vi, R, scale)
+    Gj, sj_, vj = gradient_enclosure(C, Vj, R, scale)
+    Df = Gi - Gj
+    sf = si + sj_
+    mono = (Df * Nn).sum(1)
+    # (T1) the range [mono_lo, mono_hi] of g·n over the gradients g of f on the disc; where a
+    # distance has no gradient enclosure (a disc reaching the medial axis inside a circle or
+    # an ellipse) over its Clarke generalised gradient (clarke_gradient, Lebourg's theorem)
+    mono_lo, mono_hi = mono - sf, mono + sf
+    mono_ok = vi & vj
+    miss = np.nonzero(~(mono_ok & ((mono_lo > 0) | (mono_hi < 0))))[0]
+    if len(miss):
+        # undecided pieces: the gradient enclosures intersected with the Clarke ranges
+        lo_, hi_, ok_ = difference_range(table, C[miss], R[miss], Nn[miss], (Ip[miss], Jp[miss]),
+                                         (Vi.take(miss), Vj.take(miss)),
+                                         ((Gi[miss], si[miss], vi[miss]), (Gj[miss], sj_[miss], vj[miss])))
+        mono_lo[miss], mono_hi[miss], mono_ok[miss] = lo_, hi_, ok_
+    if depth == 0:
+        # σ of each chain: the sign of the first piece where it is decided (the groups run in
+        # piece order; a chain's earlier pieces are undecided, so σ does not matter there)
+        dec = np.nonzero(mono_ok & ((mono_lo > 0) | (mono_hi < 0)))[0]
+        first_job, first = np.unique(jb[dec], return_index=True)
+        new = sigma[first_job] == 0
+        sigma[first_job[new]] = np.where(mono_lo[dec[first[new]]] > 0, 1.0, -1.0)
+    sg_p = sigma[jb]
+    t1 = mono_ok & np.where(sg_p > 0, mono_lo > 0, mono_hi < 0)
+    # (T4) lateral sides of this piece: f at (s, ±w), first order along the side where the
+    # gradients are enclosed, else 2-Lipschitz; σ·f > 0 on the side +w, < 0 on the side −w
+    side_ok = np.ones(p, bool)
+    for b, (Qs, sg) in enumerate(((Qp, 1.0), (Qm, -1.0))):
+        Vis, Vjs = V.part((2 + 2 * b) * p, (3 + 2 * b) * p), V.part((3 + 2 * b) * p, (4 + 2 * b) * p)
+        tside = Tn + (sg * slope[seg])[:, None] * Nn
+        tside /= np.hypot(*tside.T)[:, None]
+        Gis, sis, vis = gradient_enclosure(Qs, Vis, side_len, scale)
+        Gjs, sjs, vjs = gradient_enclosure(Qs, Vjs, side_len, scale)
+        rate = np.abs(((Gis - Gjs) * tside).sum(1)) + sis + sjs
+        rate = np.where(vis & vjs & np.isfinite(rate), np.minimum(rate, 2.0), 2.0) * (1 + 1e-12)
+        pos_f = sg * sg_p > 0
+        fval = np.where(pos_f, Vis.lo - Vjs.hi, Vjs.lo - Vis.hi)
+        okb = fval - rate * side_len > 0
+        # (T4') second order where the first order fails (far from the sites the gradients'
+        # disc terms 2R/d exceed |∇f|): d_k'' = (t·τ_k)²/(d_k + ρ_k) ∈ [0, (t·τ_k)²/d_k] along
+        # the side, outside the convex K_k (module docstring)
+        redo = np.nonzero(~okb & vis & vjs)[0]
+        if len(redo):
+            okb[redo] = side_second_order(Qs[redo], tside[redo], side_len[redo], fval[redo],
+                                          Vis.take(redo), Vjs.take(redo), Gis[redo], sis[redo],
+                                          Gjs[redo], sjs[redo], scale)
+        side_ok &= okb
+    # (T2)/(T3) third sites, only where (T1) and (T4) hold
+    third_ok = np.ones(p, bool)
+    pre = t1 & side_ok
+    hi = np.minimum(hi_i, hi_j)
+    pidx = np.nonzero(pre)[0]
+    rows, ks = table.near_pairs(C[pidx], (hi + 2 * R)[pidx], (Ip[pidx], Jp[pidx]))
+    rows = pidx[rows]
+    if len(rows):
+        Vk = evaluate_rows(table, C[rows], ks)
+        Rr = R[rows]
+        okk = Vk.lo - Rr > hi[rows] + Rr
+        # (T2') first order: d_k − d_i ≥ (lo_k − hi_i)(C) − R·sup|∇d_k − ∇d_i| on the disc
+        GK, SK, VK = gradient_enclosure(C[rows], Vk, Rr, scale)
+        for G_, s_, v_, h_ in ((Gi, si, vi, hi_i), (Gj, sj_, vj, hi_j)):
+            lip = np.hypot(*(GK - G_[rows]).T) + SK + s_[rows]
+            lip = np.where(VK & v_[rows] & np.isfinite(lip), np.minimum(lip, 2.0), 2.0) * (1 + 1e-12)
+            okk |= Vk.lo - h_[rows] - lip * Rr > 0
+        # (T2'') second order (distance_gap.gap_lower), where the first order fails
+        left = np.nonzero(~okk)[0]
+        if len(left):
+            Cl, Vl = C[rows[left]], Vk.take(left)
+            for Vx in (Vi, Vj):
+                okk[left] |= gap_rows(gap_lower, Cl, (Vl, Vx.take(rows[left])), Rr[left], scale) > 0
+            left = left[~okk[left]]
+            okk[left] |= gap_rows(bisector_gap_lower, C[rows[left]],
+                                  (Vk.take(left), Vi.take(rows[left]), Vj.take(rows[left])), Rr[left], scale) > 0
+        jr = jb[rows]
+        pos = start[seg[rows]] + sm[rows]
+        for KK, OTHER, want in ((K0, K1, 1.0), (K1, K0, -1.0)):
+            sel = np.nonzero((KK[jr] == ks[:, None]).any(1) & ~okk)[0]
+            if not len(sel):
+                continue
+            r_ = rows[sel]
+            Dg = GK[sel] - Gi[r_]
+            sg_ = si[r_] + SK[sel]
+            rf = rot90(Df[r_])
+            tt = (rf * Tn[r_]).sum(1)
+            dec_t = np.abs(tt) > sf[r_]
+            val = np.sign(tt) * (Dg * rf).sum(1)
+            err = np.hypot(*Dg.T) * sf[r_] + np.hypot(*Df[r_].T) * sg_ + sf[r_] * sg_
+            t3 = dec_t & VK[sel] & (want * val - err * (1 + 1e-9) - 1e-12 > 0)
+            # same third site at both ends: g' > 0 in the first half, < 0 in the second
+            half_ok = (pos[sel] <= 0.5 * total[jr[sel]]) if want > 0 else (pos[sel] > 0.5 * total[jr[sel]])
+            same = (OTHER[jr[sel]] == ks[sel][:, None]).any(1)
+            t3 &= ~same | half_ok
+            okk[sel] |= t3
+        np.logical_and.at(third_ok, rows, okk)
+    return pre & third_ok, t1, side_ok
+
+
 def prove_strips_many(table, jobs):
     """(T1)–(T4) for many :class:`StripsJob` at once: the pieces of all chains in flat arrays,
     two calls of ``table.evaluate`` per round of halving.  Returns (ok, message or None) per job."""
@@ -192,123 +312,26 @@ def prove_strips_many(table, jobs):
     sa = -elo[seg] + r / init[seg] * span
     sb = -elo[seg] + (r + 1) / init[seg] * span
     sigma = np.zeros(nj)
+    chains = (sj, Sg, Tg, Ng, W0, slope, I, J, K0, K1, start, total)
     work, stall = np.zeros(nj, int), np.zeros(nj, int)
     for depth in range(MAX_DEPTH):
         p = len(sa)
         if not p:
             break
         jb = sj[seg]
-        sm = 0.5 * (sa + sb)
-        Tn, Nn = Tg[seg], Ng[seg]
-        C = Sg[seg] + sm[:, None] * Tn
-        half = 0.5 * (sb - sa)
-        wa = np.maximum(W0[seg] + slope[seg] * sa, 0.0)
-        wb = np.maximum(W0[seg] + slope[seg] * sb, 0.0)
-        w = 0.5 * (wa + wb)                           # half-width at the piece centre
-        R = np.hypot(half, np.maximum(wa, wb)) * (1 + 1e-12) + 1e-15 * scale
-        side_len = half * np.sqrt(1 + slope[seg] ** 2) * (1 + 1e-12)
-        Qp, Qm = C + w[:, None] * Nn, C - w[:, None] * Nn
-        Ip, Jp = I[jb], J[jb]
-        V = evaluate_rows(table, np.concatenate([C, C, Qp, Qp, Qm, Qm]), np.concatenate([Ip, Jp, Ip, Jp, Ip, Jp]))
-        Vi, Vj = V.part(0, p), V.part(p, 2 * p)
-        hi_i, hi_j = Vi.hi, Vj.hi
-        Gi, si, vi = gradient_enclosure(C, Vi, R, scale)
-        Gj, sj_, vj = gradient_enclosure(C, Vj, R, scale)
-        Df = Gi - Gj
-        sf = si + sj_
-        mono = (Df * Nn).sum(1)
-        # (T1) the range [mono_lo, mono_hi] of g·n over the gradients g of f on the disc; where a
-        # distance has no gradient enclosure (a disc reaching the medial axis inside a circle or
-        # an ellipse) over its Clarke generalised gradient (clarke_gradient, Lebourg's theorem)
-        mono_lo, mono_hi = mono - sf, mono + sf
-        mono_ok = vi & vj
-        miss = np.nonzero(~(mono_ok & ((mono_lo > 0) | (mono_hi < 0))))[0]
-        if len(miss):
-            # undecided pieces: the gradient enclosures intersected with the Clarke ranges
-            lo_, hi_, ok_ = difference_range(table, C[miss], R[miss], Nn[miss], (Ip[miss], Jp[miss]),
-                                             (Vi.take(miss), Vj.take(miss)),
-                                             ((Gi[miss], si[miss], vi[miss]), (Gj[miss], sj_[miss], vj[miss])))
-            mono_lo[miss], mono_hi[miss], mono_ok[miss] = lo_, hi_, ok_
+        # the pieces in groups of at most ROWS_PER_CALL / 6 (six evaluation rows per piece):
+        # memory bounded independently of N; every piece is tested as in one group (row-wise
+        # tests; σ of a chain is set at its first decided piece, before any piece needs it)
+        good, t1, side_ok = np.zeros(p, bool), np.zeros(p, bool), np.zeros(p, bool)
+        step = max(1, ROWS_PER_CALL // 6)
+        for a0 in range(0, p, step):
+            g_, t_, s_ = _test_pieces(table, scale, depth, sigma, seg[a0:a0 + step], sa[a0:a0 + step],
+                                      sb[a0:a0 + step], chains)
+            good[a0:a0 + step], t1[a0:a0 + step], side_ok[a0:a0 + step] = g_, t_, s_
         if depth == 0:
-            # σ of each chain: the sign of the first piece where it is decided
-            dec = np.nonzero(mono_ok & ((mono_lo > 0) | (mono_hi < 0)))[0]
-            first_job, first = np.unique(jb[dec], return_index=True)
-            sigma[first_job] = np.where(mono_lo[dec[first]] > 0, 1.0, -1.0)
             for t in np.nonzero(sigma == 0)[0]:
                 out[t] = (False, "the bisector's direction is not decided (monotonicity)")
-        sg_p = sigma[jb]
-        t1 = mono_ok & np.where(sg_p > 0, mono_lo > 0, mono_hi < 0)
-        # (T4) lateral sides of this piece: f at (s, ±w), first order along the side where the
-        # gradients are enclosed, else 2-Lipschitz; σ·f > 0 on the side +w, < 0 on the side −w
-        side_ok = np.ones(p, bool)
-        for b, (Qs, sg) in enumerate(((Qp, 1.0), (Qm, -1.0))):
-            Vis, Vjs = V.part((2 + 2 * b) * p, (3 + 2 * b) * p), V.part((3 + 2 * b) * p, (4 + 2 * b) * p)
-            tside = Tn + (sg * slope[seg])[:, None] * Nn
-            tside /= np.hypot(*tside.T)[:, None]
-            Gis, sis, vis = gradient_enclosure(Qs, Vis, side_len, scale)
-            Gjs, sjs, vjs = gradient_enclosure(Qs, Vjs, side_len, scale)
-            rate = np.abs(((Gis - Gjs) * tside).sum(1)) + sis + sjs
-            rate = np.where(vis & vjs & np.isfinite(rate), np.minimum(rate, 2.0), 2.0) * (1 + 1e-12)
-            pos_f = sg * sg_p > 0
-            fval = np.where(pos_f, Vis.lo - Vjs.hi, Vjs.lo - Vis.hi)
-            okb = fval - rate * side_len > 0
-            # (T4') second order where the first order fails (far from the sites the gradients'
-            # disc terms 2R/d exceed |∇f|): d_k'' = (t·τ_k)²/(d_k + ρ_k) ∈ [0, (t·τ_k)²/d_k] along
-            # the side, outside the convex K_k (module docstring)
-            redo = np.nonzero(~okb & vis & vjs)[0]
-            if len(redo):
-                okb[redo] = side_second_order(Qs[redo], tside[redo], side_len[redo], fval[redo],
-                                              Vis.take(redo), Vjs.take(redo), Gis[redo], sis[redo],
-                                              Gjs[redo], sjs[redo], scale)
-            side_ok &= okb
-        # (T2)/(T3) third sites, only where (T1) and (T4) hold
-        third_ok = np.ones(p, bool)
-        pre = t1 & side_ok
-        hi = np.minimum(hi_i, hi_j)
-        pidx = np.nonzero(pre)[0]
-        rows, ks = table.near_pairs(C[pidx], (hi + 2 * R)[pidx], (Ip[pidx], Jp[pidx]))
-        rows = pidx[rows]
-        if len(rows):
-            Vk = evaluate_rows(table, C[rows], ks)
-            Rr = R[rows]
-            okk = Vk.lo - Rr > hi[rows] + Rr
-            # (T2') first order: d_k − d_i ≥ (lo_k − hi_i)(C) − R·sup|∇d_k − ∇d_i| on the disc
-            GK, SK, VK = gradient_enclosure(C[rows], Vk, Rr, scale)
-            for G_, s_, v_, h_ in ((Gi, si, vi, hi_i), (Gj, sj_, vj, hi_j)):
-                lip = np.hypot(*(GK - G_[rows]).T) + SK + s_[rows]
-                lip = np.where(VK & v_[rows] & np.isfinite(lip), np.minimum(lip, 2.0), 2.0) * (1 + 1e-12)
-                okk |= Vk.lo - h_[rows] - lip * Rr > 0
-            # (T2'') second order (distance_gap.gap_lower), where the first order fails
-            left = np.nonzero(~okk)[0]
-            if len(left):
-                Cl, Vl = C[rows[left]], Vk.take(left)
-                for Vx in (Vi, Vj):
-                    okk[left] |= gap_rows(gap_lower, Cl, (Vl, Vx.take(rows[left])), Rr[left], scale) > 0
-                left = left[~okk[left]]
-                okk[left] |= gap_rows(bisector_gap_lower, C[rows[left]],
-                                      (Vk.take(left), Vi.take(rows[left]), Vj.take(rows[left])), Rr[left], scale) > 0
-            jr = jb[rows]
-            pos = start[seg[rows]] + sm[rows]
-            for KK, OTHER, want in ((K0, K1, 1.0), (K1, K0, -1.0)):
-                sel = np.nonzero((KK[jr] == ks[:, None]).any(1) & ~okk)[0]
-                if not len(sel):
-                    continue
-                r_ = rows[sel]
-                Dg = GK[sel] - Gi[r_]
-                sg_ = si[r_] + SK[sel]
-                rf = rot90(Df[r_])
-                tt = (rf * Tn[r_]).sum(1)
-                dec_t = np.abs(tt) > sf[r_]
-                val = np.sign(tt) * (Dg * rf).sum(1)
-                err = np.hypot(*Dg.T) * sf[r_] + np.hypot(*Df[r_].T) * sg_ + sf[r_] * sg_
-                t3 = dec_t & VK[sel] & (want * val - err * (1 + 1e-9) - 1e-12 > 0)
-                # same third site at both ends: g' > 0 in the first half, < 0 in the second
-                half_ok = (pos[sel] <= 0.5 * total[jr[sel]]) if want > 0 else (pos[sel] > 0.5 * total[jr[sel]])
-                same = (OTHER[jr[sel]] == ks[sel][:, None]).any(1)
-                t3 &= ~same | half_ok
-                okk[sel] |= t3
-            np.logical_and.at(third_ok, rows, okk)
-        good = pre & third_ok
+        sm = 0.5 * (sa + sb)
         # ---- per chain: done, failed, or halve its undecided pieces
         running = np.array([o is None for o in out])
         cnt = np.bincount(jb, minlength=nj)
@@ -331,7 +354,8 @@ def prove_strips_many(table, jobs):
             for t, b in zip(tj, badidx[first]):
                 what = ("monotonicity" if not t1[b] else
                         "the bisector leaves the polyline's strip" if not side_ok[b] else "a third site")
-                out[t] = (False, f"not proved near ({C[b, 0]:.9g}, {C[b, 1]:.9g}): {what} undecided")
+                Cb = Sg[seg[b]] + sm[b] * Tg[seg[b]]
+                out[t] = (False, f"not proved near ({Cb[0]:.9g}, {Cb[1]:.9g}): {what} undecided")
         still = np.array([o is None for o in out])
         bad = ~good & still[jb]
         # keep the good pieces out; halve the bad ones
