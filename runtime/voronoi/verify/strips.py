@@ -17,9 +17,11 @@ segment and the vertex boxes).  With f = d_i − d_j:
 
 Then every cross-section s = const meets the bisector β exactly once, so β ∩ Π is one arc, a
 graph over s (continuous: f is continuous and strictly monotone across; the implicit function
-theorem where f is smooth).  The arc leaves Π through the cap s = L + e at
-|λ| < w, inside the next rectangle (e ≥ w·|sin θ| for the turn θ), so the arcs chain into one
-curve of β through both end vertices (each lies in the first / last rectangle); for a closed
+theorem where f is smooth).  Consecutive arcs join: the arc of one strip crosses its
+cross-section at the shared node at a point that lies in the next strip (given the extensions
+e ≥ w·|sin θ| for the turn θ and a trapezoid slope at most tan(θ/2) on one side of the node, which
+the caller ensures: :func:`runtime.voronoi.verify.curved.chained_nodes`, whose module docstring
+gives the argument), so the arcs chain into one curve of β through both end vertices (each lies in the first / last rectangle); for a closed
 edge (no vertex) the last rectangle hands over to the first and the arcs form a closed curve,
 open and closed in β, hence a whole component of β.  Along it:
 
