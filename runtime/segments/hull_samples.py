@@ -151,9 +151,10 @@ def _keep_collinear(E: ElementarySites, a, b, X, X_site, tol: float, keep: dict)
     at integer points is common): their contact points inside the side are on the true hull but
     not vertices of the samples' hull; without them the middle arc's samples stay strictly inside
     it (their chords sag by the sagitta), the samples give the outer two arcs a common unbounded
-    edge and the middle arc none.  The contact point c + ρn of every arc whose circle touches the
-    side's line within ``tol`` (n the outward normal, in the arc's range, inside the side) is
-    kept, with the side's two ends, so that the sample triangulation sees the contacts (nearly)
+    edge and the middle arc none.  The contact point c + ρn of every other arc whose circle
+    touches the side's line within ``tol`` (n the outward normal, in the arc's range, inside the
+    side; not the arcs of the side's own ends, whose short sides between iterates of one contact
+    are nearly tangent chords) is kept, with the side's two ends, so that the sample triangulation sees the contacts (nearly)
     collinear on its hull."""
     w = b - a
     L = float(np.hypot(*w))
@@ -161,9 +162,10 @@ def _keep_collinear(E: ElementarySites, a, b, X, X_site, tol: float, keep: dict)
         return
     u = w / L
     n = np.array([u[1], -u[0]])                                  # outward (counter-clockwise hull)
+    ends = {X_site[i] for x in (a, b) for i in np.nonzero(np.all(X == x, axis=1))[0].tolist()}
     arcs = np.nonzero(E.kind == ARC)[0]
     H = E.C[arcs] @ n + E.rho[arcs] - float(n @ a)
-    cand = arcs[np.abs(H) <= tol]
+    cand = arcs[(np.abs(H) <= tol) & ~np.isin(arcs, list(ends))]    # a third arc (not a chord's own)
     if not len(cand):
         return
     Xc = E.C[cand] + E.rho[cand][:, None] * n
