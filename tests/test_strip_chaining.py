@@ -92,3 +92,31 @@ def test_the_verifier_proves_strips_that_chain(monkeypatch):
     d = cv.voronoi(scenes.random_ellipses(40, 1), progress=False)
     assert d.certified and seen
     assert all(_nodes_chain(S, W) for S, W in seen if not np.allclose(S[0], S[-1]))
+
+
+def _wrap_chains(S, W):
+    """The closing node of a closed chain: the cross-section of the side with the smaller node
+    half-width lies in the other strip (extensions max(W)·sin θ at the closing node)."""
+    seg = S[1:] - S[:-1]
+    L = np.hypot(*seg.T)
+    T = seg / L[:, None]
+    sw = abs(_cross(T[-1], T[0]))
+    e = max(W[0], W[-1]) * sw
+    P = S[0]
+    nl, nf = np.array([-T[-1][1], T[-1][0]]), np.array([-T[0][1], T[0][0]])
+    if W[-1] <= W[0]:               # the last strip's cross-section (half-width W[-1]) in the first
+        return all(_inside(S[0], T[0], L[0], W[0], W[1], e, 0.0, X) for X in (P + W[-1] * nl, P - W[-1] * nl))
+    return all(_inside(S[-2], T[-1], L[-1], W[-2], W[-1], 0.0, e, X) for X in (P + W[0] * nf, P - W[0] * nf))
+
+
+def test_the_closing_node_of_a_closed_chain_chains():
+    # a regular 18-gon of side 10 (turns of 20°), half-width 2.5 at the closing node only: both
+    # strips there narrow by 0.24 per unit length, more than tan(10°)
+    ang = np.radians(20) * np.arange(18)
+    S = np.vstack([[0.0, 0.0], np.cumsum(np.column_stack([10 * np.cos(ang), 10 * np.sin(ang)]), axis=0)])
+    S[-1] = S[0]
+    W = np.full(len(S), 0.1)
+    W[0] = W[-1] = 2.5
+    assert not _wrap_chains(S, W)
+    S2, W2 = chained_nodes(S, W, True, 100.0)
+    assert _wrap_chains(S2, W2) and _nodes_chain(S2, W2)
