@@ -43,12 +43,32 @@ def test_kind_codes_and_labels():
     # the codes the verifier's flat site table stores (0 point, 1 circle, 2 ellipse, 3 hyperbola,
     # 4 parabola) must not move: arrays written with them compare against the members
     assert [int(k) for k in SiteKind][:5] == [0, 1, 2, 3, 4]
-    assert [k.label for k in SiteKind] == ["point", "circle", "ellipse", "hyperbola", "parabola", "segment", "arc"]
+    assert [k.label for k in SiteKind] == ["point", "circle", "ellipse", "hyperbola", "parabola", "segment", "arc",
+                                           "elliptic_arc"]
     assert all(SiteKind.of(k.label) is k and SiteKind.of(int(k)) is k for k in SiteKind)
     assert [k.label for k in SiteKind if k.circular] == ["point", "circle"]
     assert [k.label for k in SiteKind if not k.bounded] == ["hyperbola", "parabola"]
     with pytest.raises(ValueError, match="unknown site kind 'line'"):
         SiteKind.of("line")
+
+
+def test_segment_diagrams_store_the_enumeration_codes():
+    # the elementary sites of a segment diagram (thesis §2.2) carry SiteKind codes, in the order
+    # point < segment < arc < elliptic arc that ``kind >= ARC`` (the curved pieces) relies on
+    from curvedvoronoi.runtime.segments import certificate_sites, elementary
+    from curvedvoronoi.runtime.segments.elementary import decompose
+    from curvedvoronoi.runtime.sites.arc import Arc
+    from curvedvoronoi.runtime.sites.segment import Segment
+
+    for mod in (elementary, certificate_sites):
+        assert (mod.POINT, mod.SEGMENT, mod.ARC, mod.ELLIPSE) == (
+            SiteKind.POINT, SiteKind.SEGMENT, SiteKind.ARC, SiteKind.ELLIPTIC_ARC)
+    assert SiteKind.POINT < SiteKind.SEGMENT < SiteKind.ARC < SiteKind.ELLIPTIC_ARC
+    E = decompose([Segment((0, 0), (4, 0)), Arc.circular((0, 5), 2, 0, 90)])
+    assert sorted(SiteKind(int(k)).label for k in E.kind) == ["arc", "point", "point", "point", "point", "segment"]
+    src = (ROOT / "runtime" / "segments").glob("*.py")
+    bare = [p.name for p in src if re.search(r"^_?POINT\b.*=\s*0\b", p.read_text(), re.M)]
+    assert bare == [], f"site kinds as bare integers in {bare}: import them from runtime.sites.kinds"
 
 
 # ----------------------------------------------------------------------------- the drawing

@@ -30,6 +30,7 @@ from ..certify.foot import to_arb
 from ..predicates.circles import Point
 from ..sites.arc import Arc
 from ..sites.elliptic_arc import EllipticArc
+from ..sites.kinds import SiteKind
 from ..sites.segment import Segment
 from ..sites.rationals import to_fraction
 from .certificate_ellipses import bounding_disc, float_bounds as ellipse_float_bounds, is_piece
@@ -39,7 +40,7 @@ from .ellipse_pieces import PieceData, piece_distance_ball
 
 __all__ = ["SiteTable", "direction_key", "POINT", "SEGMENT", "ARC", "ELLIPSE", "sq", "hypot"]
 
-POINT, SEGMENT, ARC, ELLIPSE = 0, 1, 2, 3
+POINT, SEGMENT, ARC, ELLIPSE = SiteKind.POINT, SiteKind.SEGMENT, SiteKind.ARC, SiteKind.ELLIPTIC_ARC
 EPS = np.finfo(float).eps
 
 

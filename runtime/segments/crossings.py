@@ -100,6 +100,7 @@ import numpy as np
 
 from ..sites.arc import Arc
 from ..sites.elliptic_arc import EllipticArc
+from ..sites.kinds import SiteKind
 from .ellipse_crossings import check_elliptic
 from ..sites.segment import Segment
 from ..voronoi.site_input import SiteError
@@ -115,7 +116,7 @@ _ARC2 = 2.0 ** -42           # arc filter: margin of degree-2 quantities, relati
 _ARC4 = 2.0 ** -38           # arc filter: margin of degree-4 quantities, relative to Mp^4
 _ARC_LO, _ARC_HI = 2.0 ** -200, 2.0 ** 200
 
-_POINT, _SEG, _ARC = 0, 1, 2
+_POINT, _SEG, _ARC = SiteKind.POINT, SiteKind.SEGMENT, SiteKind.ARC
 
 
 def renamed(message: str, names) -> str:

@@ -41,13 +41,14 @@ import numpy as np
 from ..predicates.circles import Point
 from ..sites.arc import Arc
 from ..sites.elliptic_arc import EllipticArc
+from ..sites.kinds import SiteKind
 from ..sites.segment import Segment, as_point_pair
 from .ellipse_pieces import PieceData
 
 __all__ = ["ElementarySites", "decompose", "POINT", "SEGMENT", "ARC", "ELLIPSE"]
 
-#: site kinds of :attr:`ElementarySites.kind`
-POINT, SEGMENT, ARC, ELLIPSE = 0, 1, 2, 3
+#: site kinds of :attr:`ElementarySites.kind` (codes of :class:`runtime.sites.kinds.SiteKind`)
+POINT, SEGMENT, ARC, ELLIPSE = SiteKind.POINT, SiteKind.SEGMENT, SiteKind.ARC, SiteKind.ELLIPTIC_ARC
 _KIND = {"segment": SEGMENT, "arc": ARC, "ellipse": ELLIPSE}
 
 

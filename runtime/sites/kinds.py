@@ -1,14 +1,16 @@
 """The kinds of site, enumerated once.
 
 A site is a point, a circle, a proper conic (ellipse, hyperbola, parabola: thesis §4.4, App. B) or
-an elementary piece of a segment or circular-arc site (thesis §2.2).  Geometries, readers and
+an elementary piece of a segment, circular-arc or elliptic-arc site (thesis §2.2: the open interior
+of the piece; its endpoints are point sites).  Geometries, readers and
 messages spell a kind as a lower-case word (``"ellipse"``: :attr:`SiteKind.label`); flat arrays
 of sites store its integer code (an :class:`enum.IntEnum`, as CGAL's predicates return enums
 rather than bare integers).  Both spellings come from :class:`SiteKind`, so a kind added here is
 added everywhere: see ``docs/architecture.md`` ("Where to add things") for the rest of a new kind.
 
 The codes of the first five kinds (point 0 … parabola 4) are the ones the verifier's flat site
-table has always stored.
+table has always stored; the elementary sites of a segment diagram store point 0, segment 5, arc 6
+and elliptic arc 7 (so ``kind >= ARC`` selects the curved pieces).
 
 >>> SiteKind.of("ellipse"), SiteKind.ELLIPSE.label, int(SiteKind.ELLIPSE)
 (<SiteKind.ELLIPSE: 2>, 'ellipse', 2)
@@ -32,6 +34,7 @@ class SiteKind(enum.IntEnum):
     PARABOLA = 4
     SEGMENT = 5
     ARC = 6
+    ELLIPTIC_ARC = 7
 
     @property
     def label(self) -> str:
