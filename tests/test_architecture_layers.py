@@ -63,6 +63,8 @@ def test_segment_diagrams_store_the_enumeration_codes():
     for mod in (elementary, certificate_sites):
         assert (mod.POINT, mod.SEGMENT, mod.ARC, mod.ELLIPSE) == (
             SiteKind.POINT, SiteKind.SEGMENT, SiteKind.ARC, SiteKind.ELLIPTIC_ARC)
+        # plain ints: numpy compares an enum member through a failed metaclass lookup per call
+        assert {type(k) for k in (mod.POINT, mod.SEGMENT, mod.ARC, mod.ELLIPSE)} == {int}
     assert SiteKind.POINT < SiteKind.SEGMENT < SiteKind.ARC < SiteKind.ELLIPTIC_ARC
     E = decompose([Segment((0, 0), (4, 0)), Arc.circular((0, 5), 2, 0, 90)])
     assert sorted(SiteKind(int(k)).label for k in E.kind) == ["arc", "point", "point", "point", "point", "segment"]

@@ -40,7 +40,8 @@ from .ellipse_pieces import PieceData, piece_distance_ball
 
 __all__ = ["SiteTable", "direction_key", "POINT", "SEGMENT", "ARC", "ELLIPSE", "sq", "hypot"]
 
-POINT, SEGMENT, ARC, ELLIPSE = SiteKind.POINT, SiteKind.SEGMENT, SiteKind.ARC, SiteKind.ELLIPTIC_ARC
+# plain ints (an enum member in a numpy comparison costs a failed metaclass lookup per call)
+POINT, SEGMENT, ARC, ELLIPSE = (int(k) for k in (SiteKind.POINT, SiteKind.SEGMENT, SiteKind.ARC, SiteKind.ELLIPTIC_ARC))
 EPS = np.finfo(float).eps
 
 

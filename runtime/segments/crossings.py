@@ -116,7 +116,7 @@ _ARC2 = 2.0 ** -42           # arc filter: margin of degree-2 quantities, relati
 _ARC4 = 2.0 ** -38           # arc filter: margin of degree-4 quantities, relative to Mp^4
 _ARC_LO, _ARC_HI = 2.0 ** -200, 2.0 ** 200
 
-_POINT, _SEG, _ARC = SiteKind.POINT, SiteKind.SEGMENT, SiteKind.ARC
+_POINT, _SEG, _ARC = int(SiteKind.POINT), int(SiteKind.SEGMENT), int(SiteKind.ARC)
 
 
 def renamed(message: str, names) -> str:

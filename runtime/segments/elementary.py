@@ -48,7 +48,8 @@ from .ellipse_pieces import PieceData
 __all__ = ["ElementarySites", "decompose", "POINT", "SEGMENT", "ARC", "ELLIPSE"]
 
 #: site kinds of :attr:`ElementarySites.kind` (codes of :class:`runtime.sites.kinds.SiteKind`)
-POINT, SEGMENT, ARC, ELLIPSE = SiteKind.POINT, SiteKind.SEGMENT, SiteKind.ARC, SiteKind.ELLIPTIC_ARC
+# plain ints (an enum member in a numpy comparison costs a failed metaclass lookup per call)
+POINT, SEGMENT, ARC, ELLIPSE = (int(k) for k in (SiteKind.POINT, SiteKind.SEGMENT, SiteKind.ARC, SiteKind.ELLIPTIC_ARC))
 _KIND = {"segment": SEGMENT, "arc": ARC, "ellipse": ELLIPSE}
 
 
