@@ -283,7 +283,10 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
     # vertex beyond the tail cut)
     ("runtime/voronoi/verify/bisector_guide.py", ["tests/test_curved_edge_guides.py", "tests/test_verify_float_boundaries.py"]
      + _VERIFY_TESTS),
-    ("runtime/voronoi/verify/", _VERIFY_TESTS),
+    # boundary tests of the verifier's rounding allowances: the box of an exact co-circular vertex,
+    # the support functions' mu (also recentred), an edge's stated tolerance (mirror ellipses)
+    ("runtime/voronoi/verify/", ["tests/test_cocircular_vertex_box.py", "tests/test_support_function_rounding.py",
+                                 "tests/test_mirror_bisector_tolerance.py"] + _VERIFY_TESTS),
     # the verifier run chunk by chunk on Dask workers (a LocalCluster of threads in the tests)
     ("runtime/voronoi/chunked_certificate.py", ["tests/test_chunked_certificate_mutants.py",
                                                 "tests/test_chunked_certificate_ties.py"]),
