@@ -286,7 +286,8 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
     # boundary tests of the verifier's rounding allowances: the box of an exact co-circular vertex,
     # the support functions' mu (also recentred), an edge's stated tolerance (mirror ellipses)
     ("runtime/voronoi/verify/", ["tests/test_cocircular_vertex_box.py", "tests/test_support_function_rounding.py",
-                                 "tests/test_mirror_bisector_tolerance.py"] + _VERIFY_TESTS),
+                                 "tests/test_mirror_bisector_tolerance.py", "tests/test_line_bisector_parameter_slack.py"]
+     + _VERIFY_TESTS),
     # the verifier run chunk by chunk on Dask workers (a LocalCluster of threads in the tests)
     ("runtime/voronoi/chunked_certificate.py", ["tests/test_chunked_certificate_mutants.py",
                                                 "tests/test_chunked_certificate_ties.py"]),
