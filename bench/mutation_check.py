@@ -281,7 +281,8 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
      + _VERIFY_TESTS),
     # bisector_guide: the guide of the chains of strips (its hard places among random ellipses, a
     # vertex beyond the tail cut)
-    ("runtime/voronoi/verify/bisector_guide.py", ["tests/test_curved_edge_guides.py", "tests/test_verify_float_boundaries.py"]
+    ("runtime/voronoi/verify/bisector_guide.py", ["tests/test_guide_projection_and_bend_rules.py",
+                                                  "tests/test_curved_edge_guides.py", "tests/test_verify_float_boundaries.py"]
      + _VERIFY_TESTS),
     # boundary tests of the verifier's rounding allowances: the box of an exact co-circular vertex,
     # the support functions' mu (also recentred), an edge's stated tolerance (mirror ellipses)
@@ -290,7 +291,8 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
      + _VERIFY_TESTS),
     # the verifier run chunk by chunk on Dask workers (a LocalCluster of threads in the tests)
     ("runtime/voronoi/chunked_certificate.py", ["tests/test_chunked_certificate_mutants.py",
-                                                "tests/test_chunked_certificate_ties.py"]),
+                                                "tests/test_chunked_certificate_ties.py",
+                                                "tests/test_chunked_certificate_meeting_circles.py"]),
     # krawczyk / foot / interval_newton serve the diagram's vertex proofs too (runtime/voronoi/vertex.py)
     ("runtime/certify/krawczyk.py", _KERNEL_TESTS + _CERTIFY_TESTS + ["tests/test_voronoi_verify.py"]),
     ("runtime/certify/foot.py", _CERTIFY_TESTS + ["tests/test_voronoi_verify.py"]),
