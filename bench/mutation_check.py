@@ -297,6 +297,8 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
     ("runtime/certify/krawczyk.py", _KERNEL_TESTS + _CERTIFY_TESTS + ["tests/test_voronoi_verify.py"]),
     ("runtime/certify/foot.py", _CERTIFY_TESTS + ["tests/test_voronoi_verify.py"]),
     ("runtime/certify/interval_newton.py", _KERNEL_TESTS + _CERTIFY_TESTS + ["tests/test_voronoi_verify.py"]),
+    # offset_system: Newton's stopping rule of the tracked solutions at its boundary first
+    ("runtime/certify/offset_system.py", ["tests/test_newton_track_stopping_rule.py"] + _CERTIFY_TESTS),
     ("runtime/certify/", _CERTIFY_TESTS),
     # the segment/arc certificate (verify_segments)
     ("runtime/segments/certificate", _SEGMENT_CERT_TESTS),
