@@ -104,6 +104,10 @@ class SupportTable:
             w = (q[..., 3] * (ux * uy) + q[..., 1] * (ux * ux - uy * uy)) / s
         return ux * dx + uy * dy + s, (ux * dy - uy * dx) + np.where(s > 0, w, 0.0)
 
+    def h_and_slope(self, k, th):
+        """(h_k(θ), h_k'(θ)) in one pass (floats, each within mu)."""
+        return self._h_hp(k, th)
+
     def h(self, k, th):
         """Float h_k(θ) (error ≤ mu); k an index or an array broadcasting against θ."""
         ux, uy, dx, dy, s = self._terms(k, th)

@@ -55,6 +55,7 @@ import numpy as np
 
 from .conic_tail import prove_conic_tail
 from .distance_gap import bisector_gap_lower, gap_lower
+from . import far_field
 from .site_table import gradient_enclosure
 from . import strips
 from .strips import evaluate_rows, gap_rows
@@ -192,15 +193,18 @@ def _lead_interval(sup, i, j, ths, tha, thb):
     return None
 
 
-def _third_sites(sup, table, oth, need, okA, thc, half, hmax_lo, fin, Cf, R, Rf, Vij, Gi_, hi_i, hi_min, scale):
+def _third_sites(sup, table, pair, oth, need, okA, thc, half, tt, fin, Cf, R, Rf, Vij, Gi_, hi_i, hi_min, scale):
     """(A) of :func:`_prove_sector` on the cells ``need``: okA[c] is cleared where a site of ``oth``
-    is not proved farther than the pair on cell c (support bounds; then distance bounds on the
-    cell's disc, to first or second order)."""
+    is not proved farther than the pair on cell c (support functions to first order in 1/t; then
+    distance bounds on the cell's disc, to first or second order)."""
     Vi, Vj = Vij
     Gi, si, vi = Gi_
-    # support bounds: h_k below max(h_i − e_i, h_j − e_j) on the cell
-    hk = sup.h_range(oth[:, None], thc[need][None, :], half[need][None, :])[1]
-    fail = ~(hmax_lo[need][None, :] - hk > 0)
+    # support functions to first order (far_field.gap_lower): on β, d_i = d_j, so a lower bound of
+    # d_k − d_i or of d_k − d_j on the cell suffices
+    t0, t1 = tt
+    cell = (thc[need][None, :], half[need][None, :], t0[need][None, :], t1[need][None, :])
+    k_ = oth[:, None]
+    fail = ~((far_field.gap_lower(sup, pair[0], k_, *cell) > 0) | (far_field.gap_lower(sup, pair[1], k_, *cell) > 0))
     okA[need] &= ~(fail & ~fin[need][None, :]).any(0)
     kk, cc = np.nonzero(fail & fin[need][None, :])
     rows, ks = need[cc], oth[kk]
@@ -266,6 +270,11 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
             e_j = _eps1(sup.hp_abs(j, th, 0.0), W, t0)
             f_lo, f_hi = -gv - 2 * mu - e_j, -gv + 2 * mu + e_i      # f ∈ [−g − e_j, −g + e_i]
             ok = np.where(want * sigma > 0, f_lo > 0, f_hi < 0)
+            # to first order in 1/t (far_field.gap_lower): d_i − d_j ≥ gap_lower(j, i), ≤ −gap_lower(i, j)
+            t_far = np.where(T_a > 0, 1.0 / np.where(T_a > 0, T_a, 1.0), np.inf)
+            ray = (np.full(len(T_a), th), 0.0, t0, t_far)
+            ok |= np.where(want * sigma > 0, far_field.gap_lower(sup, j, i, *ray) > 0,
+                           far_field.gap_lower(sup, i, j, *ray) > 0)
             fin = T_a > 0
             if fin.any():
                 t1 = np.where(fin, 1.0 / np.where(fin, T_a, 1.0), t0)
@@ -310,9 +319,6 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
         C = m + tc[:, None] * U
         R = np.where(fin, t1 * half + 0.5 * (t1 - t0) + 1e-12 * (scale + tc), np.inf) * (1 + 1e-12)
         # (A) third sites: support bounds, or distance bounds on the cell's disc
-        li_s, _ = sup.h_range(i, thc, half)
-        lj_s, _ = sup.h_range(j, thc, half)
-        hmax_lo = np.maximum(li_s - e_i, lj_s - e_j)     # on β: d_i = d_j ≤ t − hmax_lo
         okA = np.ones(len(ta), bool)
         nc = len(ta)
         Cf = np.where(fin[:, None], C, m + T0 * U)
@@ -326,6 +332,8 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
         gc = sup.h(i, thc) - sup.h(j, thc)
         gr = 2 * W * half + 2 * mu
         okF = (-(gc + gr) - e_j > 0) | (-(gc - gr) + e_i < 0)
+        # to first order in 1/t: d_i − d_j ≥ gap_lower(j, i) > 0 or d_j − d_i ≥ gap_lower(i, j) > 0
+        okF |= (far_field.gap_lower(sup, j, i, thc, half, t0, t1) > 0) | (far_field.gap_lower(sup, i, j, thc, half, t0, t1) > 0)
         if fin.any():
             okF |= fin & ((Vi.lo - Vj.hi - 2 * R > 0) | (Vi.hi - Vj.lo + 2 * R < 0))
         need = np.nonzero(~okF)[0]
@@ -334,7 +342,7 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
             # independently of the number of sites; every row is tested as in one call
             step = max(1, strips.ROWS_PER_CALL // len(oth))
             for a0 in range(0, len(need), step):
-                _third_sites(sup, table, oth, need[a0:a0 + step], okA, thc, half, hmax_lo, fin, Cf, R, Rf,
+                _third_sites(sup, table, pair, oth, need[a0:a0 + step], okA, thc, half, (t0, t1), fin, Cf, R, Rf,
                              (Vi, Vj), (Gi, si, vi), hi_i, hi_min, scale)
         # (M) σ·∂f/∂θ > 0: support-point enclosure (module docstring) or gradient enclosures on the disc
         Wt = W * tb
