@@ -5,8 +5,10 @@ vertices.  Their 3 × 3 contact systems (:func:`runtime.segments.vertices.contac
 coded as arrays — a kind per equation (point, line, normal line, arc) and its parameters — and
 Newton's iteration runs on all of them together with numpy, each 3 × 3 step by cofactors; a row
 whose Jacobian is numerically singular or whose iterate leaves the floats is left undecided.
-Each limit is then proved one by one by :func:`runtime.segments.vertices.prove_zero` (the arb
-Krawczyk test), with the same cache as :func:`runtime.segments.vertices.prove_vertex`.  A row
+The limits are then proved together by the float Krawczyk test of
+:func:`runtime.segments.vertex_batch.prove_zeros_batch` (every rounding bounded), and the rows it
+leaves one by one by :func:`runtime.segments.vertices.prove_zero` (the arb Krawczyk test), with the
+same cache as :func:`runtime.segments.vertices.prove_vertex`.  A row
 singular to float precision goes to that proof from its seed: a far vertex (radius 10⁸ over sites
 10³ apart) is a regular zero whose rows agree to 10⁻¹¹, which the proof's Newton steps at 128 bits
 resolve.
@@ -18,18 +20,17 @@ from __future__ import annotations
 import numpy as np
 
 from .elementary import ELLIPSE, ElementarySites
+from .vertex_batch import code_systems, prove_zeros_batch
 from .vertices import VertexSolution, arc_centre_vertex, common_point, contact_equations, prove_vertex, prove_zero
 
 __all__ = ["prove_vertices"]
 
 
-_KINDS = {"point": 0, "line": 1, "normal": 2, "arc": 3}
-
-
 def prove_vertices(E: ElementarySites, items, cache: dict | None = None) -> list:
     """:func:`prove_vertex` for many (triple, seed) items: the float Newton iterations of all of
-    them run together (numpy, 3 × 3 systems inverted by cofactors), then each limit is proved
-    by the arb Krawczyk test of :func:`prove_vertex` (cached the same way)."""
+    them run together (numpy, 3 × 3 systems inverted by cofactors), then the limits are proved
+    by the float Krawczyk test of :func:`runtime.segments.vertex_batch.prove_zeros_batch` and
+    the rows it leaves by the arb test of :func:`prove_vertex` (cached the same way)."""
     out: list = [None] * len(items)
     rows, systems = [], []
     for n, (triple, seed) in enumerate(items):
@@ -48,17 +49,7 @@ def prove_vertices(E: ElementarySites, items, cache: dict | None = None) -> list
     if not rows:
         return out
     m = len(rows)
-    K = np.zeros((m, 3), dtype=np.int64)
-    Pm = np.zeros((m, 3, 4))
-    for i, eqs in enumerate(systems):
-        for j, (kind, d, _t) in enumerate(eqs):
-            K[i, j] = _KINDS[kind]
-            if kind == "line":
-                a, b, c, sgn, N = d
-                Pm[i, j] = (float(a), float(b), float(c), sgn * float(N) ** 0.5)
-            else:
-                vals = [float(v) for v in d]
-                Pm[i, j, :len(vals)] = vals
+    K, Pm = code_systems(systems)
     Z = np.array([[items[n][1][0], items[n][1][1], 0.0] for n in rows], dtype=float)
     Z[:, 2] = _r_guess_many(K, Pm, Z)
     scale = 1.0 + float(np.max(np.abs(E.A)) if len(E.A) else 0.0)
@@ -77,6 +68,7 @@ def prove_vertices(E: ElementarySites, items, cache: dict | None = None) -> list
         bad = ok & ~np.isfinite(Z[idx]).all(axis=1)
         failed[idx[bad]] = True
         alive[idx[done | bad]] = False
+    pending = []
     for i, n in enumerate(rows):
         triple, seed = items[n]
         if failed[i]:
@@ -99,7 +91,16 @@ def prove_vertices(E: ElementarySites, items, cache: dict | None = None) -> list
             if key in cache:
                 out[n] = cache[key]
                 continue
-        sol = prove_zero(E, triple, eqs, z, scale)
+        pending.append((i, n, key))
+    # the float Krawczyk test on all pending limits at once; the rows it leaves go to the arb proof
+    sel = [i for i, _n, _key in pending]
+    fast = prove_zeros_batch(E, K[sel], Pm[sel], Z[sel], [systems[i] for i in sel]) if sel else []
+    for (i, n, key), sol in zip(pending, fast):
+        if key is not None and key in cache:           # an earlier row of this batch, same limit
+            out[n] = cache[key]
+            continue
+        if sol is None:
+            sol = prove_zero(E, items[n][0], systems[i], Z[i], scale)
         if key is not None:
             cache[key] = sol
         out[n] = sol
