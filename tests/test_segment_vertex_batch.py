@@ -131,3 +131,21 @@ def test_the_batch_agrees_with_the_arb_proof_on_the_vertices_of_random_scenes(se
         if sol is not None:
             assert ref.status == "proved", (rows[i].sites, ref.reason)
             assert all(a.overlaps(b) for a, b in zip(sol.box, ref.box))
+
+
+@pytest.mark.parametrize("b, proved", [(Q(1) + Q(1, 10 ** 9), True), (Q(1), False), (Q(1) - Q(1, 10 ** 9), False)])
+def test_the_segment_foot_parameter_at_the_far_end(b, proved):
+    # the segment from (−5, 0) to (b, 0) with the vertex (1, 1): foot parameter 6/(b + 5), 1 exactly at b = 1
+    E = decompose([Segment((-5, 0), (b, 0)), Point(0, 1), Point(2, 1)])
+    seg = _site(E, lambda i: E.kind[i] != 0)
+    pts = [i for i in range(len(E.kind)) if E.kind[i] == 0 and E.xy[i][1] == 1]
+    assert (_batch(E, (pts[0], pts[1], seg), (1.0, 1.0, 1.0)) is not None) == proved
+
+
+def test_a_centre_off_the_zero_within_its_box_does_not_decide_a_contact_at_an_end():
+    # the exact contacts are at an end (foot parameter 0; the arc's start direction), the float
+    # centres 1e-13 off on the inner side: only the box's own width keeps the rows undecided
+    E, triple = _two_points_and_segment(Q(1))
+    assert _batch(E, triple, (1.0 + 1e-13, 1.0, 1.0)) is None
+    E, triple = _arc_and_two_points((5, 0), (0, 5))
+    assert _batch(E, triple, (20 / 3, 1e-13, 5 / 3), seed=(7.0, 0.0)) is None
