@@ -149,3 +149,80 @@ def test_a_centre_off_the_zero_within_its_box_does_not_decide_a_contact_at_an_en
     assert _batch(E, triple, (1.0 + 1e-13, 1.0, 1.0)) is None
     E, triple = _arc_and_two_points((5, 0), (0, 5))
     assert _batch(E, triple, (20 / 3, 1e-13, 5 / 3), seed=(7.0, 0.0)) is None
+
+
+@pytest.mark.parametrize("p, proved", [((9, 4), True),            # q = (9, 0): beyond the arc's end e = (5, 0)
+                                       ((-3, -4), False),         # q = (0, 0), the arc's centre: λ = 0
+                                       ((-9, 4), False)])         # q = (−18/7, 0): behind the centre
+def test_the_normal_line_at_an_arc_end_is_decided_only_beyond_the_end(p, proved):
+    # the arc |q| = 5 from e = (5, 0) to (0, 5), its end e (a point site) and a point p: the
+    # vertex lies on the normal line at e (the x-axis) equidistant from e and p
+    E = decompose([Arc((0, 0), 5, (5, 0), (0, 5)), Point(*p)])
+    arc = _site(E, lambda i: E.kind[i] != 0)
+    e = _site(E, lambda i: E.kind[i] == 0 and tuple(E.xy[i]) == (5, 0))
+    q = _site(E, lambda i: E.kind[i] == 0 and tuple(E.xy[i]) == p)
+    x = {(9, 4): 9.0, (-3, -4): 0.0, (-9, 4): -18 / 7}[p]
+    sol = _batch(E, (arc, e, q), (x, 0.0, abs(5 - x)), seed=(x + 0.1, 0.1))
+    assert (sol is not None) == proved
+
+
+def _exact_rows(rng, m):
+    """m random contact equations with exact rational data (kinds 0–3) and their float coding."""
+    K = rng.integers(0, 4, size=(m, 1))
+    data, P = [], np.zeros((m, 1, 4))
+    for i in range(m):
+        mag = 10.0 ** rng.integers(-3, 6)
+        v = [Q(int(rng.integers(-10 ** 6, 10 ** 6)), int(rng.integers(1, 10 ** 4))) * Q(mag) for _ in range(4)]
+        if K[i, 0] == 3:
+            v[2], v[3] = abs(v[2]) + 1, Q(int(rng.choice([-1, 1])))
+        data.append(v)
+        if K[i, 0] == 1:
+            a, b, c, s = v[0], v[1], v[2], int(rng.choice([-1, 1]))
+            data[-1] = [a, b, c, s]
+            P[i, 0] = (float(a), float(b), float(c), s * math.sqrt(float(a * a + b * b)))
+        else:
+            P[i, 0] = [float(t) for t in v]
+    return K, P, data
+
+
+def _exact_eq(kind, v, z):
+    """The exact equation's value and gradient at z (arb, 400 bits): point, line, normal, arc."""
+    x, y, r = z
+    A = [arb(str(t.numerator)) / arb(str(t.denominator)) if isinstance(t, Q) else arb(t) for t in v]
+    if kind == 0:
+        dx, dy = x - A[0], y - A[1]
+        return dx * dx + dy * dy - r * r, (2 * dx, 2 * dy, -2 * r)
+    if kind == 1:
+        w = A[3] * (A[0] * A[0] + A[1] * A[1]).sqrt()
+        return A[0] * x + A[1] * y + A[2] - w * r, (A[0], A[1], -w)
+    if kind == 2:
+        return A[0] * (x - A[2]) + A[1] * (y - A[3]), (A[0], A[1], arb(0))
+    dx, dy, R = x - A[0], y - A[1], A[2] + A[3] * r
+    return dx * dx + dy * dy - R * R, (2 * dx, 2 * dy, -2 * A[3] * R)
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_the_residual_and_jacobian_bounds_enclose_the_exact_equations(seed):
+    # F within F_rad of the exact equation at the centre; the exact Jacobian at the box's corners
+    # within J_rad of the float one (rows are affine or quadratic: the corners bound the box)
+    from flint import ctx
+
+    from curvedvoronoi.runtime.segments.vertex_batch import residual_bounds
+    rng = np.random.default_rng(seed)
+    K, P, data = _exact_rows(rng, 60)
+    Z = rng.normal(size=(60, 3)) * 10.0 ** rng.integers(-2, 6, size=(60, 1))
+    R = np.abs(Z) * 10.0 ** rng.integers(-15, -3, size=(60, 1))
+    F, F_rad, J, J_rad = residual_bounds(K, P, Z, R)
+    old = ctx.prec
+    ctx.prec = 400
+    try:
+        for i in range(60):
+            f, _ = _exact_eq(int(K[i, 0]), data[i], [arb(float(t)) for t in Z[i]])
+            assert abs(f - arb(float(F[i, 0]))) <= arb(float(F_rad[i, 0])), (i, int(K[i, 0]))
+            for corner in np.array(np.meshgrid([-1, 1], [-1, 1], [-1, 1])).T.reshape(-1, 3):
+                z = [arb(float(Z[i, j])) + int(corner[j]) * arb(float(R[i, j])) for j in range(3)]
+                _, g = _exact_eq(int(K[i, 0]), data[i], z)
+                for j in range(3):
+                    assert abs(g[j] - arb(float(J[i, 0, j]))) <= arb(float(J_rad[i, 0, j])), (i, j)
+    finally:
+        ctx.prec = old

@@ -25,7 +25,7 @@ over the whole box by a margin (the same rounding model); r ≤ 0, a contact out
 every undecided case go back to the arb proof (:func:`runtime.segments.vertices.prove_zero`), so
 this is a fast path that says "proved" or nothing.
 
-Public API: :func:`prove_zeros_batch`, :func:`code_systems`, the equation codes :data:`POINT_EQ`, :data:`LINE_EQ`,
+Public API: :func:`prove_zeros_batch`, :func:`code_systems`, :func:`residual_bounds`, the equation codes :data:`POINT_EQ`, :data:`LINE_EQ`,
 :data:`NORMAL_EQ`, :data:`ARC_EQ`.
 """
 from __future__ import annotations
@@ -41,7 +41,7 @@ from ..certify.interval_newton import (float_contraction_bound, float_inverse, f
 from .elementary import ARC, SEGMENT, ElementarySites
 from .vertices import VertexSolution
 
-__all__ = ["prove_zeros_batch", "code_systems", "POINT_EQ", "LINE_EQ", "NORMAL_EQ", "ARC_EQ"]
+__all__ = ["prove_zeros_batch", "code_systems", "residual_bounds", "POINT_EQ", "LINE_EQ", "NORMAL_EQ", "ARC_EQ"]
 
 #: codes of the equation kinds (as :mod:`runtime.segments.newton` writes them)
 POINT_EQ, LINE_EQ, NORMAL_EQ, ARC_EQ = 0, 1, 2, 3
@@ -76,7 +76,7 @@ def code_systems(systems):
     return K, P
 
 
-def _residual_bounds(K, P, Z, R):
+def residual_bounds(K, P, Z, R):
     """(F, F_rad, J, J_rad) of the coded systems at the box centres Z (m × 3) with radii R (m × 3):
     F within F_rad of the exact equations' values at Z, every Jacobian over the box within J_rad
     of J (module docstring)."""
@@ -121,12 +121,12 @@ def _krawczyk(K, P, Z):
     todo = np.arange(m)
     with np.errstate(all="ignore"):
         for attempt in range(ATTEMPTS):
-            F, F_rad, J, J_rad = _residual_bounds(K[todo], P[todo], Z[todo], R[todo])
+            F, F_rad, J, J_rad = residual_bounds(K[todo], P[todo], Z[todo], R[todo])
             Y, good = float_inverse(J)
             b = float_residual_bound(Y, F, F_rad)
             if attempt == 0:                                     # a first radius 4|Y F(m)|, floored
                 R[todo] = np.maximum(R[todo], 4 * b)
-                F, F_rad, J, J_rad = _residual_bounds(K[todo], P[todo], Z[todo], R[todo])
+                F, F_rad, J, J_rad = residual_bounds(K[todo], P[todo], Z[todo], R[todo])
             passed, r_out = float_krawczyk_test(b, float_contraction_bound(Y, J, J_rad), R[todo])
             passed &= good & np.isfinite(R[todo]).all(axis=1)
             ok[todo[passed]] = True
