@@ -274,7 +274,7 @@ _SEGMENT_CERT_TESTS = ["tests/test_common_tangent_ties.py", "tests/test_arc_bise
 SOUND_TESTS: list[tuple[str, list[str]]] = [
     # the verifier's newer modules: their own tests first (arc_search: the batched disc search of
     # an arc's third sites; polyline_bound: the Hausdorff bound of an edge's polyline)
-    ("runtime/voronoi/verify/arc_search.py", ["tests/test_arc_search_rounded_curve.py",
+    ("runtime/voronoi/verify/arc_search.py", ["tests/test_arc_search_rounded_curve.py", "tests/test_arc_search_subnormal_scene.py",
                                               "tests/test_arc_search_boundaries.py", "tests/test_arc_search_resolution.py",
                                               "tests/test_arc_search.py"]
      + _VERIFY_TESTS),
