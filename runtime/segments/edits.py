@@ -17,30 +17,46 @@ new ones (:mod:`runtime.segments.local_insertion`).
 **Routes.**  Inserting a segment or a point into a certified diagram of points and segments is
 local (:func:`runtime.segments.local_insertion.insert_locally`: conflict region, local diagram,
 splice, the changed part proved with the certificate's routines; its docstring says why the
-untouched part's proof carries over).  Otherwise — a deletion, an arc or circle piece, arcs in the
-diagram, ``certify=False``, or a local update that does not close or is not proved (a new region
-reaching the convex hull, a piece continuing a segment straight through its end, ...) — the diagram
-of the new list of pieces is built with :func:`runtime.segments.construction.segment_voronoi`
-(passed in as ``build``, so that this module imports nothing of the construction) and proved with
-the whole segment certificate, so ``certified`` means what it means for a batch build.
-``stats["update"]`` is ``"local"`` or ``"rebuild (why)"``.  A new piece that crosses, touches the
-interior of, or overlaps an existing piece is refused by the build with the
-:class:`runtime.voronoi.site_input.SiteError` of a batch build, naming the input indices.
+untouched part's proof carries over).  Deleting an input piece (a segment or a point) from such a
+diagram is local too (:func:`runtime.segments.local_deletion.delete_locally`: the elementary sites
+it alone has are removed, the hole they leave is filled from the diagram of the sites around it,
+and the changed part is proved the same way; its docstring defines the changed part and says why
+the rest keeps its proof).  A deleted piece that does not change the sites (a point that is also a
+segment's endpoint) changes only ``sources``.  Otherwise — an arc or circle piece, arcs in the
+diagram, ``certify=False``, a segment merged with another into one elementary segment, a deletion
+that would join two segments straight at a point, or a local update that does not close or is not
+proved (a new region or the hole reaching the convex hull, a piece continuing a segment straight
+through its end, ...) — the diagram of the new list of pieces is built with
+:func:`runtime.segments.construction.segment_voronoi` (passed in as ``build``, so that this module
+imports nothing of the construction) and proved with the whole segment certificate, so
+``certified`` means what it means for a batch build.  ``stats["update"]`` is ``"local"`` or
+``"rebuild (why)"``.  A new piece that crosses, touches the interior of, or overlaps an existing
+piece is refused by the build with the :class:`runtime.voronoi.site_input.SiteError` of a batch
+build, naming the input indices.  Deleting the last input piece raises ``ValueError`` (a diagram
+needs two sites), as :meth:`runtime.voronoi.structure.Diagram.delete_site` does for point sites.
+
+**State.**  Besides the pieces, the state keeps how many pieces use each point (to tell which
+endpoints a deletion removes) and the local updates' :class:`runtime.segments.local_update.
+EditIndex` (keys, boxes, vertex arrays); both are built at the first edit of a batch-built diagram
+(linear in N) and then updated by each local edit.  A local deletion numbers the remaining sites
+in their old order (closed up); ``sources[k]`` is renumbered with the pieces, and a kept endpoint
+whose piece was deleted takes the first remaining piece ending there.
 
 Public API: :class:`SegmentEdits`.
 """
 from __future__ import annotations
 
 import dataclasses
+from collections import Counter
+from fractions import Fraction
 
 from ..predicates.circles import Point
 from ..sites.segment import Segment, as_point_pair
+from .local_deletion import delete_locally
 from .local_insertion import insert_locally
+from .local_update import point_key, site_key
 
 __all__ = ["SegmentEdits"]
-
-#: why an edit of a segment diagram is a rebuild (``stats["update"]``)
-REBUILD = "rebuild (deletion from a segment diagram: no local route yet)"
 
 
 class SegmentEdits:
@@ -49,9 +65,24 @@ class SegmentEdits:
     :meth:`runtime.voronoi.structure.Diagram.insert` and :meth:`~runtime.voronoi.structure.
     Diagram.delete_site` through ``Diagram.construction``."""
 
-    def __init__(self, pieces, build):
+    def __init__(self, pieces, build, index=None, uses=None):
         self.pieces = list(pieces)
         self.build = build
+        self.index = index
+        self.uses = uses
+
+    def point_uses(self) -> Counter:
+        """How many input pieces have each point (key: :func:`runtime.segments.local_update.point_key`)
+        as an end or are that point (None when a piece is neither a segment nor a point)."""
+        if self.uses is None:
+            uses: Counter = Counter()
+            for p in self.pieces:
+                pts = _points(p)
+                if pts is None:
+                    return None
+                uses.update(pts)
+            self.uses = uses
+        return self.uses
 
     def insert(self, D, site, *, certify: bool = True, inplace: bool = False):
         """The diagram of ``pieces + [site]`` (module docstring); ``site`` is input piece N."""
@@ -59,11 +90,15 @@ class SegmentEdits:
         piece = _elementary_piece(site)
         why = "a certify=False update" if not certify else (
             f"a {type(site).__name__} piece" if piece is None else None)
-        out = why or insert_locally(D, piece, len(self.pieces), self.build)
+        out = why or insert_locally(D, piece, len(self.pieces), self.build, self.index)
         if isinstance(out, str):
             out = self._rebuild(pieces, certify, out)
         else:
-            out.construction = SegmentEdits(pieces, self.build)
+            uses = self.point_uses()
+            if uses is not None:
+                uses = uses.copy()
+                uses.update(_points(piece))
+            out.construction = SegmentEdits(pieces, self.build, getattr(out, "edit_index", None), uses)
         out.stats["update_input"] = len(self.pieces)
         return _deliver(D, out, inplace)
 
@@ -75,20 +110,107 @@ class SegmentEdits:
         if isinstance(i, bool) or not isinstance(i, int) or not -n <= i < n:
             raise IndexError(f"input piece {i!r} out of range: the diagram has {n} input pieces "
                              "(delete_site takes the index of an input piece, Diagram.sources[k] for site k)")
+        if n == 1:
+            raise ValueError("the Voronoi diagram needs at least 2 sites: deleting the last input piece "
+                             "would leave none")
         i %= n
         rest = list(self.pieces)
-        if renumber == "last" and i < n - 1:
+        moved = renumber == "last" and i < n - 1
+        if moved:
             rest[i] = rest.pop()
         else:
             del rest[i]
-        out = self._rebuild(rest, certify)
+        out = self._delete_locally(D, i, rest, moved) if certify else "a certify=False update"
+        if isinstance(out, str):
+            out = self._rebuild(rest, certify, out)
         out.stats["update_input"] = i
         return _deliver(D, out, inplace)
 
-    def _rebuild(self, pieces, certify, why=None):
-        out = self.build(pieces, certify=certify)
-        out.stats["update"] = REBUILD if why is None else f"rebuild ({why})"
+    def _delete_locally(self, D, i: int, rest: list, moved: bool):
+        """The local route of :meth:`delete`: a Diagram, or a str (why not)."""
+        uses = self.point_uses()
+        piece = _elementary_piece(self.pieces[i])
+        if uses is None or piece is None or D.sources is None:
+            return "a deletion from a diagram with arcs"
+        index = self.index
+        keys = index.keys if index is not None and len(index.keys) == len(D.sites) else None
+        if keys is None:
+            keys = {site_key(s): k for k, s in enumerate(D.sites)}
+        pts = _points(piece)
+        deleted = [keys[p] for p in pts if uses[p] == 1 and p in keys]
+        if isinstance(piece, Segment):
+            k = keys.get(site_key(piece))
+            if k is None:
+                return "the segment is part of a merged elementary segment"
+            deleted.append(k)
+            for p in pts:
+                if uses[p] == 3 and _straight_after(D, index, p, k):
+                    return "the deletion joins two segments straight at a point"
+        elif uses[pts[0]] == 3 and _straight_after(D, index, pts[0], None):
+            return "the deletion joins two segments straight at a point"
+        if deleted:
+            out = delete_locally(D, deleted, self.build, index)
+            if isinstance(out, str):
+                return out
+            survivors = [k for k in range(len(D.sites)) if k not in set(deleted)]
+        else:                                            # the sites stay: only the sources change
+            out = dataclasses.replace(D, construction=None)
+            out.stats = dict(D.stats, update="local")
+            out.edit_index = index
+            survivors = range(len(D.sites))
+        last = len(self.pieces) - 1
+        remap = (lambda s: i if s == last else s) if moved else (lambda s: s - 1 if s > i else s)
+        sources = []
+        for k in survivors:
+            s = D.sources[k]
+            sources.append(remap(s) if s != i else _first_user(rest, D.sites[k]))
+        out.sources = sources
+        new_uses = uses.copy()
+        new_uses.subtract(pts)
+        out.construction = SegmentEdits(rest, self.build, getattr(out, "edit_index", None), +new_uses)
         return out
+
+    def _rebuild(self, pieces, certify, why):
+        out = self.build(pieces, certify=certify)
+        out.stats["update"] = f"rebuild ({why})"
+        return out
+
+
+def _points(piece):
+    """The point keys a piece has (its two ends, or itself), or None for another kind of piece."""
+    if isinstance(piece, Segment):
+        return [point_key(piece.p), point_key(piece.q)]
+    p = _elementary_piece(piece)
+    if isinstance(p, Point):
+        return [site_key(p)]
+    return None
+
+
+def _straight_after(D, index, p, own) -> bool:
+    """After deleting a piece at the point with key ``p`` (used by 3 pieces now, 2 then): do the
+    two segment sites other than ``own`` that end at p continue each other straight (then p stops
+    being a site, :mod:`runtime.segments.elementary`)?"""
+    P = (p[1], p[2])
+    if index is not None and len(index.boxes) == len(D.sites):
+        near = index.near((float(P[0]), float(P[1])), (float(P[0]), float(P[1])))
+    else:
+        near = range(len(D.sites))
+    dirs = []
+    for s in near:
+        t = D.sites[s]
+        if s != own and isinstance(t, Segment) and p in (point_key(t.p), point_key(t.q)):
+            o = t.q if point_key(t.p) == p else t.p
+            dirs.append((Fraction(o[0]) - P[0], Fraction(o[1]) - P[1]))
+    if len(dirs) != 2:
+        return False
+    (ux, uy), (vx, vy) = dirs
+    return ux * vy - uy * vx == 0 and ux * vx + uy * vy < 0
+
+
+def _first_user(pieces, site) -> int:
+    """The first of ``pieces`` that has the point site ``site`` (an end of it, or itself)."""
+    key = site_key(site)
+    return next(j for j, q in enumerate(pieces) if key in (_points(q) or ()))
 
 
 def _elementary_piece(site):

@@ -11,14 +11,18 @@ yet sites).  The update:
    (:func:`runtime.segments.construction.segment_voronoi`, passed in as ``build``).  Taken from it:
    its vertices with a new site (and those reproducing a conflict vertex), and its edges with a new
    site or an end at a taken vertex; removed: the conflict vertices and the edges ending there.
-3. **Proof** of the changed part with the certificate's routines
-   (:func:`runtime.segments.certificate_vertices.prove_vertices`,
-   :func:`runtime.segments.certificate_edges.prove_edges`) on a diagram of the taken parts and their
-   end vertices, against a site table of *all* sites (emptiness and edge conditions against every
-   site, pruned by the certificate's own distance bounds: "restricted to the sites that can
-   reach it" is that pruning); the closure (one incident edge per
-   consecutive pair, ends listing their pair) at every taken vertex and every kept vertex that
-   lost or gained an edge.
+3. **Proof** of the changed part with the certificate's routines on a diagram of the taken parts
+   and their end vertices, against every site that can reach them
+   (:func:`runtime.segments.local_update.prove_part`, whose docstring says why the sites it leaves
+   out cannot matter); the closure (one incident edge per consecutive pair, ends listing their
+   pair) at every taken vertex and every kept vertex that lost or gained an edge.
+
+Cost.  The keys, boxes and vertex arrays of the diagram are an
+:class:`runtime.segments.local_update.EditIndex` carried from edit to edit (built once, linear in
+N, at the first edit of a batch-built diagram); the conflict test and the neighbourhood are
+vectorised over its arrays; the local diagram, the matching and the proof see only the
+neighbourhood.  What stays linear in N is list bookkeeping (the kept vertex and edge lists, the
+sources), a few numpy passes and the scan of the edges for the removed vertices.
 
 Why the kept part keeps its proof.  Let G' be the diagram with P.  (a) A kept vertex's circle was
 empty of the old sites (old certificate) and P is strictly outside it: it is a vertex of G'.  (b) A
@@ -49,12 +53,11 @@ vertex and edge ids are kept; new ones take fresh ids above the largest.
 Length: the conflict search, the splice and the proof of one update share the maps between the
 local diagram's numbering and the global one; apart they would pass all of them around.
 
-Public API: :func:`insert_locally`.
+Public API: :func:`insert_locally` (the returned diagram carries its ``edit_index``).
 """
 from __future__ import annotations
 
 import time
-from collections import Counter
 from fractions import Fraction
 
 import numpy as np
@@ -63,82 +66,48 @@ from ..predicates.circles import Point
 from ..sites.segment import Segment
 from ..voronoi.site_input import SiteError
 from ..voronoi.structure import Diagram, DiagramEdge, DiagramVertex
-from .certificate_edges import prove_edges
-from .certificate_sites import SiteTable
-from .certificate_vertices import prove_vertices
 from .crossings import check_pieces
+from .local_update import EditIndex, closure_holds, conflicts, piece_ends, point_key, prove_part, site_box, site_key
 
 __all__ = ["insert_locally"]
 
-#: margin of the conflict test, relative to 1 + |x| + |y| + r of the vertex
-MARGIN = 1e-8
 #: the neighbourhood: sites within this many times the conflict region's size of it
 RING = 1.0
 
 
-def _key(s):
-    if isinstance(s, Segment):
-        a = (Fraction(s.p[0]), Fraction(s.p[1]))
-        b = (Fraction(s.q[0]), Fraction(s.q[1]))
-        return ("s",) + tuple(sorted((a, b)))
-    return ("p", Fraction(str(s.cx)), Fraction(str(s.cy)))
-
-
-def _box(s):
-    if isinstance(s, Segment):
-        x0, y0, x1, y1 = float(s.p[0]), float(s.p[1]), float(s.q[0]), float(s.q[1])
-        return min(x0, x1), min(y0, y1), max(x0, x1), max(y0, y1)
-    x, y = float(s.cx), float(s.cy)
-    return x, y, x, y
-
-
-def _dist_to_piece(a, b, X):
-    """Float distances from the rows of X to the closed segment [a, b] (a point when a == b)."""
-    d = b - a
-    L2 = float(d @ d)
-    if L2 == 0:
-        return np.hypot(X[:, 0] - a[0], X[:, 1] - a[1])
-    t = np.clip(((X - a) @ d) / L2, 0.0, 1.0)
-    F = a + t[:, None] * d
-    return np.hypot(X[:, 0] - F[:, 0], X[:, 1] - F[:, 1])
-
-
-def insert_locally(D, piece, source: int, build):
+def insert_locally(D, piece, source: int, build, index=None):
     """The diagram ``D`` (certified, points and segments) with ``piece`` (a Segment or a Point)
-    added, updated locally and proved (module docstring); or a str: why not (then rebuild)."""
+    added, updated locally and proved (module docstring); or a str: why not (then rebuild).
+    ``index``: D's :class:`runtime.segments.local_update.EditIndex` from the previous edit, if any;
+    the result carries its own as ``edit_index``."""
     t0 = time.perf_counter()
     secs: dict = {}
     if not D.certified:
         return "the diagram is not certified"
-    if not all(isinstance(s, (Segment, Point)) for s in D.sites):
-        return "the diagram has arc sites"
     if not isinstance(piece, (Segment, Point)):
         return f"a {type(piece).__name__} piece"
+    fresh = EditIndex.of(D, index)
+    if fresh is not index and not all(isinstance(s, (Segment, Point)) for s in D.sites):
+        return "the diagram has arc sites"
+    index = fresh
     n = len(D.sites)
-    keys = {_key(s): k for k, s in enumerate(D.sites)}
-    if _key(piece) in keys:
+    keys = index.keys
+    if site_key(piece) in keys:
         return "the piece repeats a site"
-    if isinstance(piece, Segment):
-        a = np.array([float(piece.p[0]), float(piece.p[1])])
-        b = np.array([float(piece.q[0]), float(piece.q[1])])
-        ends = [(Fraction(piece.p[0]), Fraction(piece.p[1])), (Fraction(piece.q[0]), Fraction(piece.q[1]))]
-    else:
-        a = b = np.array([float(piece.cx), float(piece.cy)])
-        ends = []
-    boxes = np.array([_box(s) for s in D.sites], float)
+    a, b = piece_ends(piece)
+    ends = ([(Fraction(piece.p[0]), Fraction(piece.p[1])), (Fraction(piece.q[0]), Fraction(piece.q[1]))]
+            if isinstance(piece, Segment) else [])
     # crossings, and straight continuations (a merge of elementary segments): the rebuild decides
     plo, phi = np.minimum(a, b), np.maximum(a, b)
-    near = np.nonzero((boxes[:, 0] <= phi[0]) & (boxes[:, 2] >= plo[0]) & (boxes[:, 1] <= phi[1])
-                      & (boxes[:, 3] >= plo[1]))[0]
+    near = index.near(plo, phi)
     try:
-        check_pieces([D.sites[k] for k in near.tolist()] + [piece])
+        check_pieces([D.sites[k] for k in near] + [piece])
     except SiteError:
         return "the piece meets another"
     for e in ends:
-        k = keys.get(("p",) + e)
-        if k is None:
+        if point_key(e) not in keys:
             continue
-        for s in near.tolist():
+        for s in near:
             t = D.sites[s]
             if isinstance(t, Segment) and e in ((Fraction(t.p[0]), Fraction(t.p[1])), (Fraction(t.q[0]), Fraction(t.q[1]))):
                 o = t.q if e == (Fraction(t.p[0]), Fraction(t.p[1])) else t.p
@@ -148,11 +117,8 @@ def insert_locally(D, piece, source: int, build):
                     return "the piece continues a segment straight through its end"
     # 1. conflict
     V = D.vertices
-    XY = np.array([[v.x, v.y] for v in V], float).reshape(-1, 2)
-    R = np.array([v.radius for v in V], float)
-    dP = _dist_to_piece(a, b, XY)
-    margin = MARGIN * (1 + np.abs(XY).sum(axis=1) + R)
-    conflict = dP < R + margin
+    XY, R = index.XY, index.R
+    conflict = conflicts(a, b, XY, R)
     if not conflict.any():
         return "no vertex in conflict"
     cv_ = np.nonzero(conflict)[0]
@@ -160,8 +126,7 @@ def insert_locally(D, piece, source: int, build):
     hi = np.maximum((XY[cv_] + R[cv_, None]).max(axis=0), phi)
     pad = RING * float(np.max(hi - lo)) + 1e-9
     lo, hi = lo - pad, hi + pad
-    hood = np.nonzero((boxes[:, 0] <= hi[0]) & (boxes[:, 2] >= lo[0]) & (boxes[:, 1] <= hi[1])
-                      & (boxes[:, 3] >= lo[1]))[0].tolist()
+    hood = index.near(lo, hi)
     secs["locate"] = time.perf_counter() - t0
     # 2. local diagram
     t1 = time.perf_counter()
@@ -169,14 +134,15 @@ def insert_locally(D, piece, source: int, build):
         L = build([D.sites[k] for k in hood] + [piece], certify=False)
     except (SiteError, ValueError) as exc:
         return f"the local diagram failed ({exc})"
-    if [p for p in L.problems if "not verified" not in p]:
-        return "the local diagram has problems"
+    # L.problems (e.g. a construction fault far from the changed part, at the edge of the
+    # neighbourhood) are not read: what is taken from L is proved, and the closure checks that
+    # nothing of the changed part is missing
     secs["local build"] = time.perf_counter() - t1
     t2 = time.perf_counter()
     glob = []                          # local site -> global site
     new_sites = []
     for s in L.sites:
-        k = keys.get(_key(s))
+        k = keys.get(site_key(s))
         if k is None:
             k = n + len(new_sites)
             new_sites.append(s)
@@ -184,16 +150,18 @@ def insert_locally(D, piece, source: int, build):
     if not new_sites or len(new_sites) > 3:
         return "the local diagram's new sites are not the piece's"
     is_new = lambda k: k >= n        # noqa: E731
-    removed = set(np.nonzero(conflict)[0].tolist())
+    removed = set(cv_.tolist())
     removed_ids = {V[t].id for t in removed}
-    by_sites: dict = {}
-    for t, v in enumerate(V):
+    by_sites: dict = {}                # the kept vertices near the local diagram, by sites
+    llo = np.array([min(v.x for v in L.vertices), min(v.y for v in L.vertices)]) if L.vertices else lo
+    lhi = np.array([max(v.x for v in L.vertices), max(v.y for v in L.vertices)]) if L.vertices else hi
+    for t in index.vertices_in(llo - 1e-6 * (1 + np.abs(llo)), lhi + 1e-6 * (1 + np.abs(lhi))).tolist():
         if t not in removed:
-            by_sites.setdefault(tuple(v.sites), []).append(v)
+            by_sites.setdefault(tuple(V[t].sites), []).append(V[t])
     removed_by_sites: dict = {}
     for t in removed:
         removed_by_sites.setdefault(tuple(V[t].sites), []).append(V[t])
-    next_v = max((v.id for v in V), default=-1) + 1
+    next_v = D.stats.get("next vertex id") or max((v.id for v in V), default=-1) + 1
     lmap: dict = {}                    # local vertex id -> global id
     taken_v: list = []
     for lv in L.vertices:
@@ -211,7 +179,7 @@ def insert_locally(D, piece, source: int, build):
         if len(match) == 1:
             lmap[lv.id] = match[0].id
     taken_ids = {v.id for v in taken_v}
-    next_e = max((e.id for e in D.edges), default=-1) + 1
+    next_e = D.stats.get("next edge id") or max((e.id for e in D.edges), default=-1) + 1
     taken_e: list = []
     for le in L.edges:
         gp = tuple(glob[s] for s in le.sites)
@@ -233,58 +201,48 @@ def insert_locally(D, piece, source: int, build):
     for s in range(len(new_sites)):
         if not any(n + s in e.sites for e in taken_e):
             return "a new site has no edge in the local diagram"
-    gone = [e for e in D.edges if set(e.ends) & removed_ids]
+    kept_e, gone = [], []
+    for e in D.edges:
+        (gone if (e.ends[0] in removed_ids or e.ends[1] in removed_ids) else kept_e).append(e)
     if any(u is None for e in gone for u in e.ends):
         return "a removed edge goes to infinity"
-    kept_e = [e for e in D.edges if not (set(e.ends) & removed_ids)]
     touched = {u for e in gone for u in e.ends} - removed_ids
     touched |= {u for e in taken_e for u in e.ends} - taken_ids
     secs["splice"] = time.perf_counter() - t2
     # 3. proof of the changed part
     t3 = time.perf_counter()
     sites = list(D.sites) + new_sites
-    kept_v = [v for t, v in enumerate(V) if t not in removed]
-    vid = {v.id: v for v in kept_v}
-    for v in taken_v:
-        vid[v.id] = v
+    vid = {v.id: v for v in taken_v}
+    for t, v in enumerate(V):
+        if v.id in touched and t not in removed:
+            vid[v.id] = v
     ends_needed = sorted({u for e in taken_e for u in e.ends} - taken_ids)
-    sub = Diagram(sites, taken_v + [vid[u] for u in ends_needed], taken_e)
-    T = SiteTable(sites)
+    new_index = EditIndex({**keys, **{site_key(s): n + t for t, s in enumerate(new_sites)}},
+                          np.vstack([index.boxes, np.array([site_box(s) for s in new_sites], float).reshape(-1, 4)]),
+                          None, None)
     problems: list = []
-    vproofs = prove_vertices(sub, T, problems)
-    eproofs = prove_edges(sub, T, vproofs, problems)
-    if problems or not all(p.ok for p in vproofs) or not all(p.ok for p in eproofs):
+    if not prove_part(sites, new_index, taken_v + [vid[u] for u in ends_needed], taken_e, problems):
         return f"the changed part is not proved ({problems[0] if problems else 'a part failed'})"
     edges = kept_e + taken_e
-    if not _closure(edges, [vid[u] for u in sorted(touched | taken_ids) if u in vid], vid):
+    check = [vid[u] for u in sorted(touched | taken_ids) if u in vid]
+    if len(check) != len(touched | taken_ids) or not closure_holds(edges, check):
         return "the closure at the changed vertices fails"
     secs["prove"] = time.perf_counter() - t3
     for v in taken_v:
         v.certified = True
     for e in taken_e:
         e.certified = True
-    vertices = [vid[v.id] for v in kept_v] + taken_v
+    keep = np.ones(len(V), bool)
+    keep[cv_] = False
+    vertices = [v for v, k in zip(V, keep.tolist()) if k] + taken_v
+    new_index.XY = np.vstack([XY[keep], np.array([[v.x, v.y] for v in taken_v], float).reshape(-1, 2)])
+    new_index.R = np.concatenate([R[keep], np.array([v.radius for v in taken_v], float)])
     out = Diagram(sites, vertices, edges, True, [], dict(D.stats))
     out.sources = list(D.sources) + [source] * len(new_sites)
     out.stats["update"] = "local"
+    out.stats["next vertex id"], out.stats["next edge id"] = next_v, next_e
     out.stats["changed"] = {"removed vertices": len(removed), "new vertices": len(taken_v),
                             "new edges": len(taken_e), "neighbourhood sites": len(hood)}
     out.stats["seconds"] = {k: round(t, 4) for k, t in secs.items()}
+    out.edit_index = new_index
     return out
-
-
-def _closure(edges, check, vid) -> bool:
-    """Each vertex of ``check`` has exactly one incident edge per cyclically consecutive pair of its
-    sites and no other; every edge ending at one lists a consecutive pair of it."""
-    want = {v.id for v in check}
-    at: dict = {u: Counter() for u in want}
-    for e in edges:
-        pair = tuple(sorted(e.sites))
-        for u in e.ends:
-            if u in want:
-                at[u][pair] += 1
-    for v in check:
-        pairs = v.site_pairs()
-        if Counter(pairs) != at[v.id]:
-            return False
-    return True

@@ -1,0 +1,241 @@
+"""Local deletion of elementary sites from a certified diagram of points and segments (thesis
+§1.2 read backwards: the regions of the deleted sites are shared out among their neighbours, the
+rest of the diagram stays; elementary sites, §2.2).
+
+Let S be the old sites, Δ ⊂ S the deleted ones (the open interior and the endpoints of one input
+piece that no other piece keeps, or an isolated point), G the old diagram (certified), G' the
+diagram of S' = S ∖ Δ, and H the union of the closed regions of Δ in G (the *hole*: the points
+whose nearest point of all sites lies on a deleted site; every y ∈ H sees the segment from y to
+its nearest point inside H, so H is connected and contractible).
+
+1. **Changed part.**  Removed: every vertex of G whose closed circle meets a deleted site, or comes
+   within the margin :data:`runtime.segments.local_update.MARGIN` of one (the float distance from
+   the deleted closed piece to the centre below the radius plus the margin; this includes every
+   vertex listing a deleted site, and every vertex whose circle only touches one without listing
+   it); and every edge with a deleted site or a removed end vertex (*gone* edges).  Deleting a
+   site never shrinks an empty circle, it can only let one grow: a vertex whose circle touches a
+   deleted site is a place where G' differs or may differ, which is why "changed" is defined by the
+   circles meeting Δ and not by the vertices listing a deleted site.  The hole must be bounded: a
+   gone edge going to infinity (a deleted site on the convex hull's boundary) is refused.
+2. **Local diagram**: the diagram of the sites near the removed circles, deleted sites excluded
+   (the neighbours of Δ in the Delaunay graph among them),
+   :func:`runtime.segments.construction.segment_voronoi` passed in as ``build`` — the same
+   construction (sampling, triangulation, walks) that built G, not a second one.  Taken from it:
+   its vertices whose circle meets Δ within the margin (the vertices of G' inside or on H, and
+   those reproducing a removed vertex near H), with fresh ids; its edges with an end at a taken
+   vertex, and its edges between two kept vertices of a gone edge's pair with an end at a kept
+   vertex that lost an edge (an edge of G' that crosses H without a vertex in it).  Local vertices
+   that are not taken are matched to kept vertices (same sites, same position within 10⁻⁶).
+3. **Proof** of the taken vertices and edges and of the kept ends of taken edges, against every
+   site of S' that can reach them (:func:`runtime.segments.local_update.prove_part`), and the
+   closure (one edge per consecutive pair of sites, no other) at every taken vertex and every kept
+   vertex that lost or gained an edge.
+
+Why the kept part keeps its proof.  (a) A kept vertex v has no deleted site among its sites and
+its closed circle misses Δ: its circle was empty of S (old certificate), so it is empty of
+S' ⊂ S, and its sites are still equidistant at its centre: it is a vertex of G' with the same
+sites in the same order.  (b) A kept edge (i, j) has i, j ∈ S' and kept (or no) end vertices;
+every point y of it has d_i(y) = d_j(y) ≤ d_k(y) for all k ∈ S, hence for all k ∈ S': it lies on
+the bisector locus of G', and it runs between vertices of G' by (a) (a kept edge without
+vertices would be a whole line or branch, so a gone edge would not be needed to bound H): it is a
+whole edge of G'.  (c) Outside H the nearest sites in S and S' are the same, so G' ∖ H = G ∖ H;
+every edge of G' meeting H has a vertex of G' inside or on H (then taken, its circle meets Δ) or
+crosses H between two points of ∂H that are removed vertices of G, whose gone edges of the same
+pair end at kept vertices that lost an edge.  (d) Each region of S' that meets H contains its site
+outside the interior of H, so it crosses ∂H: the edges of G' in H and ∂H form a connected graph.
+Starting at the kept vertices that lost an edge, the closure there forces the edge of G' of each
+lost pair into the result, proved; its other end is in the result (a proved vertex of G'); the
+closure at every taken vertex forces all its edges of G' in; by (d) this reaches every vertex and
+edge of G' in H.  So the spliced diagram is G', and ``certified`` is proved.  Anything else — an
+unbounded hole, a local edge to infinity, a local vertex or site that matches nothing, a proof or
+closure that fails, arcs in the diagram — returns a reason, and the caller rebuilds
+(:mod:`runtime.segments.edits`).
+
+Numbering: the remaining sites keep their order and close up (site k > every deleted site below it
+moves down by their number); vertex and edge ids are kept, new ones take fresh ids.  The caller sets
+``sources``.  Cost: the conflict test, the neighbourhood and the index are numpy passes over the
+:class:`runtime.segments.local_update.EditIndex` carried from the previous edit; the local diagram
+and the proof see the neighbourhood only; the renumbering of the remaining sites rewrites every
+vertex's and edge's site pair (list work, linear in N).
+
+Public API: :func:`delete_locally` (the returned diagram carries its ``edit_index``).
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..predicates.circles import Point
+from ..sites.segment import Segment
+from ..voronoi.site_input import SiteError
+from ..voronoi.structure import Diagram, DiagramEdge, DiagramVertex
+from .local_update import EditIndex, closure_holds, conflicts, piece_ends, prove_part, site_key
+
+__all__ = ["delete_locally"]
+
+#: the neighbourhood: sites within this many times the removed circles' extent of them
+RING = 1.0
+
+
+def delete_locally(D, deleted, build, index=None):
+    """The diagram ``D`` (certified, points and segments) without the elementary sites ``deleted``
+    (indices), updated locally and proved (module docstring); or a str: why not (then rebuild).
+    ``index``: D's :class:`runtime.segments.local_update.EditIndex` from the previous edit, if any."""
+    t0 = time.perf_counter()
+    secs: dict = {}
+    if not D.certified:
+        return "the diagram is not certified"
+    fresh = EditIndex.of(D, index)
+    if fresh is not index and not all(isinstance(s, (Segment, Point)) for s in D.sites):
+        return "the diagram has arc sites"
+    index = fresh
+    n = len(D.sites)
+    gone = sorted(set(int(k) for k in deleted))
+    gone_set = set(gone)
+    if not gone or len(gone) >= n - 1:
+        return "fewer than two sites remain"
+    # 1. changed part
+    V, XY, R = D.vertices, index.XY, index.R
+    conflict = np.zeros(len(V), bool)
+    for k in gone:
+        a, b = piece_ends(D.sites[k])
+        conflict |= conflicts(a, b, XY, R)
+    rows = np.nonzero(conflict)[0]
+    if not len(rows):
+        return "no vertex in conflict"
+    removed_ids = {V[t].id for t in rows.tolist()}
+    kept_e, gone_e = [], []
+    for e in D.edges:
+        if e.ends[0] in removed_ids or e.ends[1] in removed_ids or e.sites[0] in gone_set or e.sites[1] in gone_set:
+            gone_e.append(e)
+        else:
+            kept_e.append(e)
+    if any(e.closed or None in e.ends for e in gone_e):
+        return "the hole is unbounded (a removed edge goes to infinity)"
+    touched = {u for e in gone_e for u in e.ends} - removed_ids
+    gone_pairs = {tuple(sorted(e.sites)) for e in gone_e if gone_set.isdisjoint(e.sites)}
+    neighbours = {s for e in gone_e for s in e.sites} - gone_set
+    lo = (XY[rows] - R[rows, None]).min(axis=0)
+    hi = (XY[rows] + R[rows, None]).max(axis=0)
+    pad = RING * float(np.max(hi - lo)) + 1e-9 * (1 + float(np.abs(lo).max()) + float(np.abs(hi).max()))
+    hood = sorted((set(index.near(lo - pad, hi + pad)) | neighbours) - gone_set)
+    secs["locate"] = time.perf_counter() - t0
+    # 2. local diagram
+    t1 = time.perf_counter()
+    try:
+        L = build([D.sites[k] for k in hood], certify=False)
+    except (SiteError, ValueError) as exc:
+        return f"the local diagram failed ({exc})"
+    # L.problems (e.g. a construction fault far from the changed part, at the edge of the
+    # neighbourhood) are not read: what is taken from L is proved, and the closure checks that
+    # nothing of the changed part is missing
+    secs["local build"] = time.perf_counter() - t1
+    t2 = time.perf_counter()
+    glob = [index.keys.get(site_key(s), -1) for s in L.sites]
+    if -1 in glob or gone_set & set(glob):
+        return "a site of the local diagram is not a remaining site"
+    by_sites: dict = {}                # kept vertices near the local diagram, by sites
+    removed_rows = set(rows.tolist())
+    if L.vertices:
+        lx = np.array([[v.x, v.y] for v in L.vertices])
+        llo, lhi = lx.min(axis=0), lx.max(axis=0)
+        for t in index.vertices_in(llo - 1e-6 * (1 + np.abs(llo)), lhi + 1e-6 * (1 + np.abs(lhi))).tolist():
+            if t not in removed_rows:
+                by_sites.setdefault(tuple(V[t].sites), []).append(V[t])
+    lXY = np.array([[v.x, v.y] for v in L.vertices], float).reshape(-1, 2)
+    lR = np.array([v.radius for v in L.vertices], float)
+    lconf = np.zeros(len(L.vertices), bool)
+    for k in gone:
+        a, b = piece_ends(D.sites[k])
+        lconf |= conflicts(a, b, lXY, lR)
+    next_v = D.stats.get("next vertex id") or max((v.id for v in V), default=-1) + 1
+    lmap: dict = {}                    # local vertex id -> global id
+    taken_v: list = []
+    for lv, inside in zip(L.vertices, lconf.tolist()):
+        gs = tuple(glob[s] for s in lv.sites)
+        r = min(range(len(gs)), key=lambda t: gs[t])
+        gs = gs[r:] + gs[:r]           # the smallest index first, order kept
+        if inside:
+            lmap[lv.id] = next_v
+            taken_v.append(DiagramVertex(next_v, gs, lv.x, lv.y, lv.radius, False))
+            next_v += 1
+            continue
+        tol = 1e-6 * (1 + abs(lv.x) + abs(lv.y) + lv.radius)
+        match = [w for w in by_sites.get(gs, ()) if abs(w.x - lv.x) + abs(w.y - lv.y) < tol]
+        if len(match) == 1:
+            lmap[lv.id] = match[0].id
+    taken_ids = {v.id for v in taken_v}
+    kept_at = {(tuple(sorted(e.sites)), frozenset(e.ends)) for e in kept_e
+               if e.ends[0] in touched or e.ends[1] in touched}
+    next_e = D.stats.get("next edge id") or max((e.id for e in D.edges), default=-1) + 1
+    taken_e: list = []
+    for le in L.edges:
+        gp = tuple(glob[s] for s in le.sites)
+        ends = [None if u is None else lmap.get(u, -1) for u in le.ends]
+        through = (tuple(sorted(gp)) in gone_pairs and any(u in touched for u in ends)
+                   and (tuple(sorted(gp)), frozenset(ends)) not in kept_at)
+        if not (through or any(u in taken_ids for u in ends)):
+            continue
+        if None in ends or le.closed:
+            return "a changed edge goes to infinity"
+        if -1 in ends:
+            return "a changed edge ends at a vertex of the local diagram that matches none"
+        i, j = gp
+        poly = np.asarray(le.polyline, float)
+        if i > j:
+            i, j = j, i
+            ends = ends[::-1]
+            poly = poly[::-1].copy()
+        taken_e.append(DiagramEdge(next_e, (i, j), tuple(ends), False, poly, le.tolerance, False))
+        next_e += 1
+    secs["splice"] = time.perf_counter() - t2
+    # 3. renumbering (the remaining sites close up) and proof of the changed part
+    t3 = time.perf_counter()
+    newk = (np.arange(n) - np.searchsorted(np.array(gone), np.arange(n))).tolist()
+    for k in gone:
+        newk[k] = -1
+    sites = [s for k, s in enumerate(D.sites) if newk[k] >= 0]
+    keep = ~conflict
+    vertices = []
+    for v, k in zip(V, keep.tolist()):
+        if k:
+            t = tuple(newk[s] for s in v.sites)
+            if -1 in t:
+                return "a kept vertex lists a deleted site"
+            vertices.append(DiagramVertex(v.id, t, v.x, v.y, v.radius, v.certified))
+    edges = [DiagramEdge(e.id, (newk[e.sites[0]], newk[e.sites[1]]), e.ends, e.closed, e.polyline, e.tolerance,
+                         e.certified) for e in kept_e]
+    taken_v = [DiagramVertex(v.id, tuple(newk[s] for s in v.sites), v.x, v.y, v.radius, False) for v in taken_v]
+    taken_e = [DiagramEdge(e.id, (newk[e.sites[0]], newk[e.sites[1]]), e.ends, False, e.polyline, e.tolerance, False)
+               for e in taken_e]
+    keys = {key: newk[k] for key, k in index.keys.items() if newk[k] >= 0}
+    new_index = EditIndex(keys, np.delete(index.boxes, gone, axis=0),
+                          np.vstack([XY[keep], lXY[lconf]]), np.concatenate([R[keep], lR[lconf]]))
+    vid = {v.id: v for v in taken_v}
+    for v in vertices:
+        if v.id in touched:
+            vid[v.id] = v
+    ends_needed = sorted({u for e in taken_e for u in e.ends} - taken_ids)
+    if any(u not in vid for u in ends_needed):
+        return "a changed edge ends at a kept vertex that did not lose an edge"
+    problems: list = []
+    if not prove_part(sites, new_index, taken_v + [vid[u] for u in ends_needed], taken_e, problems):
+        return f"the changed part is not proved ({problems[0] if problems else 'a part failed'})"
+    edges += taken_e
+    check = [vid[u] for u in sorted(touched | taken_ids)]
+    if len(check) != len(touched | taken_ids) or not closure_holds(edges, check):
+        return "the closure at the changed vertices fails"
+    secs["prove"] = time.perf_counter() - t3
+    for v in taken_v:
+        v.certified = True
+    for e in taken_e:
+        e.certified = True
+    out = Diagram(sites, vertices + taken_v, edges, True, [], dict(D.stats))
+    out.stats["update"] = "local"
+    out.stats["next vertex id"], out.stats["next edge id"] = next_v, next_e
+    out.stats["changed"] = {"removed vertices": len(rows), "new vertices": len(taken_v),
+                            "new edges": len(taken_e), "neighbourhood sites": len(hood)}
+    out.stats["seconds"] = {k: round(t, 4) for k, t in secs.items()}
+    out.edit_index = new_index
+    return out
