@@ -22,8 +22,11 @@ m is moved, for the tail of (i, j), onto the normal line of p_i at the float asy
 On the sector Σ = {t ≥ T, θ ∈ [θa, θb]} ∋ θ*, with f = d_i − d_j ∈ [−g − e_j, −g + e_i], cells in
 (τ = 1/t, θ) (τ = 0 included, so Σ is covered to infinity), each halved until it satisfies
 
-(F) f has one strict sign on the cell (β does not meet it), or
-(A)+(M) every other site k is farther than d_i = d_j on the cell (max(h_i − e_i, h_j − e_j) > h_k,
+(F) f has one strict sign on the cell (β does not meet it; also to first order in 1/t,
+    :func:`runtime.voronoi.verify.far_field.gap_lower`), or
+(A)+(M) every other site k is farther than d_i = d_j on the cell (d_k − d_s > 0 for s = i or j to
+    first order in 1/t, :func:`runtime.voronoi.verify.far_field.gap_lower`, which keeps the term
+    h_k'²/(2t) that max(h_i − e_i, h_j − e_j) > h_k drops: near-ties at infinity need it,
     or the distance bounds on the cell's disc as in (T2), or to first order
     d_k − d_i ≥ lo_k(C) − hi_i(C) − R·(|G_k − G_i| + s_k + s_i) with the gradient enclosures, or
     to second order, :func:`runtime.voronoi.verify.distance_gap.gap_lower`, or on β only,
