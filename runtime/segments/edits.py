@@ -37,10 +37,11 @@ needs two sites), as :meth:`runtime.voronoi.structure.Diagram.delete_site` does 
 
 **State.**  Besides the pieces, the state keeps how many pieces use each point (to tell which
 endpoints a deletion removes) and the local updates' :class:`runtime.segments.local_update.
-EditIndex` (keys, boxes, vertex arrays); both are built at the first edit of a batch-built diagram
-(linear in N) and then updated by each local edit.  A local deletion numbers the remaining sites
-in their old order (closed up); ``sources[k]`` is renumbered with the pieces, and a kept endpoint
-whose piece was deleted takes the first remaining piece ending there.
+EditIndex` (keys, boxes, vertex and edge arrays); both are built at the first edit of a
+batch-built diagram (linear in N) and then updated by each local edit.  A local deletion moves the
+last remaining elementary sites into the deleted ones' places
+(:func:`runtime.segments.local_deletion.site_moves`); ``sources[k]`` is renumbered with the
+pieces, and a kept endpoint whose piece was deleted takes the first remaining piece ending there.
 
 Public API: :class:`SegmentEdits`.
 """
@@ -50,11 +51,13 @@ import dataclasses
 from collections import Counter
 from fractions import Fraction
 
+import numpy as np
+
 from ..predicates.circles import Point
 from ..sites.segment import Segment, as_point_pair
-from .local_deletion import delete_locally
+from .local_deletion import delete_locally, site_moves
 from .local_insertion import insert_locally
-from .local_update import point_key, site_key
+from .local_update import EditIndex, point_key, site_key
 
 __all__ = ["SegmentEdits"]
 
@@ -132,10 +135,8 @@ class SegmentEdits:
         piece = _elementary_piece(self.pieces[i])
         if uses is None or piece is None or D.sources is None:
             return "a deletion from a diagram with arcs"
-        index = self.index
-        keys = index.keys if index is not None and len(index.keys) == len(D.sites) else None
-        if keys is None:
-            keys = {site_key(s): k for k, s in enumerate(D.sites)}
+        index = EditIndex.of(D, self.index)
+        keys = index.keys
         pts = _points(piece)
         deleted = [keys[p] for p in pts if uses[p] == 1 and p in keys]
         if isinstance(piece, Segment):
@@ -152,18 +153,20 @@ class SegmentEdits:
             out = delete_locally(D, deleted, self.build, index)
             if isinstance(out, str):
                 return out
-            survivors = [k for k in range(len(D.sites)) if k not in set(deleted)]
         else:                                            # the sites stay: only the sources change
             out = dataclasses.replace(D, construction=None)
             out.stats = dict(D.stats, update="local")
             out.edit_index = index
-            survivors = range(len(D.sites))
+        survivors = np.arange(len(D.sites))
+        for a, b in site_moves(len(D.sites), deleted).items():
+            survivors[b] = a
+        survivors = survivors[:len(D.sites) - len(deleted)]
+        old = np.asarray(D.sources, dtype=np.int64)[survivors]
         last = len(self.pieces) - 1
-        remap = (lambda s: i if s == last else s) if moved else (lambda s: s - 1 if s > i else s)
-        sources = []
-        for k in survivors:
-            s = D.sources[k]
-            sources.append(remap(s) if s != i else _first_user(rest, D.sites[k]))
+        new = np.where(old == last, i, old) if moved else np.where(old > i, old - 1, old)
+        for k in np.nonzero(old == i)[0].tolist():       # a kept endpoint of the deleted piece
+            new[k] = _first_user(rest, D.sites[survivors[k]])
+        sources = new.tolist()
         out.sources = sources
         new_uses = uses.copy()
         new_uses.subtract(pts)
@@ -190,11 +193,8 @@ def _straight_after(D, index, p, own) -> bool:
     """After deleting a piece at the point with key ``p`` (used by 3 pieces now, 2 then): do the
     two segment sites other than ``own`` that end at p continue each other straight (then p stops
     being a site, :mod:`runtime.segments.elementary`)?"""
-    P = (p[1], p[2])
-    if index is not None and len(index.boxes) == len(D.sites):
-        near = index.near((float(P[0]), float(P[1])), (float(P[0]), float(P[1])))
-    else:
-        near = range(len(D.sites))
+    P = (Fraction(p[1], p[2]), Fraction(p[3], p[4]))
+    near = index.near((float(P[0]), float(P[1])), (float(P[0]), float(P[1])))
     dirs = []
     for s in near:
         t = D.sites[s]

@@ -51,14 +51,16 @@ unbounded hole, a local edge to infinity, a local vertex or site that matches no
 closure that fails, arcs in the diagram — returns a reason, and the caller rebuilds
 (:mod:`runtime.segments.edits`).
 
-Numbering: the remaining sites keep their order and close up (site k > every deleted site below it
-moves down by their number); vertex and edge ids are kept, new ones take fresh ids.  The caller sets
-``sources``.  Cost: the conflict test, the neighbourhood and the index are numpy passes over the
+Numbering: the remaining sites keep their numbers except the last ones, which move into the
+deleted sites' places (:func:`site_moves`, as ``renumber="last"`` does for point sites), so that
+only the few vertices and edges of the moved sites are renumbered; vertex and edge ids are kept,
+new ones take fresh ids.  The caller sets ``sources``.  Cost: the conflict test, the neighbourhood,
+the edges at the changed vertices and the index are numpy passes over the
 :class:`runtime.segments.local_update.EditIndex` carried from the previous edit; the local diagram
-and the proof see the neighbourhood only; the renumbering of the remaining sites rewrites every
-vertex's and edge's site pair (list work, linear in N).
+and the proof see the neighbourhood only; what stays linear in N is the copy of the vertex, edge
+and site lists (list work, no objects rebuilt).
 
-Public API: :func:`delete_locally` (the returned diagram carries its ``edit_index``).
+Public API: :func:`delete_locally` (the returned diagram carries its ``edit_index``), :func:`site_moves`.
 """
 from __future__ import annotations
 
@@ -72,10 +74,19 @@ from ..voronoi.site_input import SiteError
 from ..voronoi.structure import Diagram, DiagramEdge, DiagramVertex
 from .local_update import EditIndex, closure_holds, conflicts, piece_ends, prove_part, site_key
 
-__all__ = ["delete_locally"]
+__all__ = ["delete_locally", "site_moves"]
 
 #: the neighbourhood: sites within this many times the removed circles' extent of them
 RING = 1.0
+
+
+def site_moves(n: int, deleted) -> dict:
+    """Old index -> new index of the sites that move when the sites ``deleted`` leave a list of
+    ``n`` (the last remaining sites, in order, into the deleted places below n − len(deleted))."""
+    gone = sorted(set(deleted))
+    m = n - len(gone)
+    tail = [k for k in range(m, n) if k not in set(gone)]
+    return dict(zip(tail, [k for k in gone if k < m]))
 
 
 def delete_locally(D, deleted, build, index=None):
@@ -105,12 +116,10 @@ def delete_locally(D, deleted, build, index=None):
     if not len(rows):
         return "no vertex in conflict"
     removed_ids = {V[t].id for t in rows.tolist()}
-    kept_e, gone_e = [], []
-    for e in D.edges:
-        if e.ends[0] in removed_ids or e.ends[1] in removed_ids or e.sites[0] in gone_set or e.sites[1] in gone_set:
-            gone_e.append(e)
-        else:
-            kept_e.append(e)
+    ES, EE = index.ES, index.EE
+    gone_mask = np.isin(EE, np.fromiter(removed_ids, np.int64)).any(axis=1) | np.isin(ES, gone).any(axis=1)
+    keep_e = ~gone_mask
+    gone_e = [D.edges[t] for t in np.nonzero(gone_mask)[0].tolist()]
     if any(e.closed or None in e.ends for e in gone_e):
         return "the hole is unbounded (a removed edge goes to infinity)"
     touched = {u for e in gone_e for u in e.ends} - removed_ids
@@ -166,8 +175,8 @@ def delete_locally(D, deleted, build, index=None):
         if len(match) == 1:
             lmap[lv.id] = match[0].id
     taken_ids = {v.id for v in taken_v}
-    kept_at = {(tuple(sorted(e.sites)), frozenset(e.ends)) for e in kept_e
-               if e.ends[0] in touched or e.ends[1] in touched}
+    at_touched = [t for t in index.edges_at(touched).tolist() if keep_e[t]] if touched else []
+    kept_at = {(tuple(sorted(D.edges[t].sites)), frozenset(D.edges[t].ends)) for t in at_touched}
     next_e = D.stats.get("next edge id") or max((e.id for e in D.edges), default=-1) + 1
     taken_e: list = []
     for le in L.edges:
@@ -190,42 +199,53 @@ def delete_locally(D, deleted, build, index=None):
         taken_e.append(DiagramEdge(next_e, (i, j), tuple(ends), False, poly, le.tolerance, False))
         next_e += 1
     secs["splice"] = time.perf_counter() - t2
-    # 3. renumbering (the remaining sites close up) and proof of the changed part
+    # 3. renumbering (the last remaining sites move into the deleted ones' places) and proof
     t3 = time.perf_counter()
-    newk = (np.arange(n) - np.searchsorted(np.array(gone), np.arange(n))).tolist()
-    for k in gone:
-        newk[k] = -1
-    sites = [s for k, s in enumerate(D.sites) if newk[k] >= 0]
+    m = n - len(gone)
+    moves = site_moves(n, gone)
     keep = ~conflict
-    vertices = []
-    for v, k in zip(V, keep.tolist()):
-        if k:
-            t = tuple(newk[s] for s in v.sites)
-            if -1 in t:
-                return "a kept vertex lists a deleted site"
-            vertices.append(DiagramVertex(v.id, t, v.x, v.y, v.radius, v.certified))
-    edges = [DiagramEdge(e.id, (newk[e.sites[0]], newk[e.sites[1]]), e.ends, e.closed, e.polyline, e.tolerance,
-                         e.certified) for e in kept_e]
-    taken_v = [DiagramVertex(v.id, tuple(newk[s] for s in v.sites), v.x, v.y, v.radius, False) for v in taken_v]
-    taken_e = [DiagramEdge(e.id, (newk[e.sites[0]], newk[e.sites[1]]), e.ends, False, e.polyline, e.tolerance, False)
-               for e in taken_e]
-    keys = {key: newk[k] for key, k in index.keys.items() if newk[k] >= 0}
-    new_index = EditIndex(keys, np.delete(index.boxes, gone, axis=0),
-                          np.vstack([XY[keep], lXY[lconf]]), np.concatenate([R[keep], lR[lconf]]))
+    if np.isin(index.VS[keep], gone).any():
+        return "a kept vertex lists a deleted site"
+    sites = list(D.sites)
+    keys = dict(index.keys)
+    boxes = index.boxes.copy()
+    for k in gone:
+        del keys[site_key(D.sites[k])]
+    for old, new in moves.items():
+        sites[new] = sites[old]
+        boxes[new] = boxes[old]
+        keys[site_key(sites[old])] = new
+    del sites[m:]
+    boxes = boxes[:m]
+    renumber = lambda k: moves.get(k, k)     # noqa: E731
+    vertices = [v for v, k in zip(V, keep.tolist()) if k]
+    for r in np.nonzero(np.isin(index.VS[keep], list(moves)).any(axis=1))[0].tolist():
+        vertices[r] = _renumbered_vertex(vertices[r], renumber, vertices[r].certified)
+    edges = [e for e, k in zip(D.edges, keep_e.tolist()) if k]
+    for r in np.nonzero(np.isin(index.ES[keep_e], list(moves)).any(axis=1))[0].tolist():
+        edges[r] = _renumbered_edge(edges[r], renumber, edges[r].certified)
+    taken_v = [_renumbered_vertex(v, renumber, False) for v in taken_v]
+    taken_e = [_renumbered_edge(e, renumber, False) for e in taken_e]
+    new_index = index.spliced(keys, boxes, keep, taken_v, keep_e, taken_e)
+    new_index.VS[:len(vertices)] = _renumbered_rows(new_index.VS[:len(vertices)], moves)
+    new_index.ES[:len(edges)] = np.sort(_renumbered_rows(new_index.ES[:len(edges)], moves), axis=1)
     vid = {v.id: v for v in taken_v}
-    for v in vertices:
-        if v.id in touched:
-            vid[v.id] = v
+    for r in (new_index.vertex_rows(touched).tolist() if touched else ()):
+        if r < len(vertices):
+            vid[vertices[r].id] = vertices[r]
     ends_needed = sorted({u for e in taken_e for u in e.ends} - taken_ids)
     if any(u not in vid for u in ends_needed):
         return "a changed edge ends at a kept vertex that did not lose an edge"
     problems: list = []
     if not prove_part(sites, new_index, taken_v + [vid[u] for u in ends_needed], taken_e, problems):
         return f"the changed part is not proved ({problems[0] if problems else 'a part failed'})"
-    edges += taken_e
-    check = [vid[u] for u in sorted(touched | taken_ids)]
-    if len(check) != len(touched | taken_ids) or not closure_holds(edges, check):
+    check_ids = touched | taken_ids
+    if any(u not in vid for u in check_ids):
+        return "the closure at the changed vertices fails (a vertex is missing)"
+    near_e = [edges[r] for r in new_index.edges_at(check_ids).tolist() if r < len(edges)] + taken_e
+    if not closure_holds(near_e, [vid[u] for u in sorted(check_ids)]):
         return "the closure at the changed vertices fails"
+    edges += taken_e
     secs["prove"] = time.perf_counter() - t3
     for v in taken_v:
         v.certified = True
@@ -238,4 +258,28 @@ def delete_locally(D, deleted, build, index=None):
                             "new edges": len(taken_e), "neighbourhood sites": len(hood)}
     out.stats["seconds"] = {k: round(t, 4) for k, t in secs.items()}
     out.edit_index = new_index
+    return out
+
+
+def _renumbered_vertex(v, renumber, certified: bool):
+    """A copy of vertex v with its sites renumbered, the smallest first (cyclic order kept)."""
+    gs = tuple(renumber(s) for s in v.sites)
+    r = min(range(len(gs)), key=lambda t: gs[t])
+    return DiagramVertex(v.id, gs[r:] + gs[:r], v.x, v.y, v.radius, certified)
+
+
+def _renumbered_edge(e, renumber, certified: bool):
+    """A copy of edge e with its sites renumbered, the smaller first (ends and polyline turned)."""
+    i, j = renumber(e.sites[0]), renumber(e.sites[1])
+    if i < j:
+        return DiagramEdge(e.id, (i, j), e.ends, e.closed, e.polyline, e.tolerance, certified)
+    return DiagramEdge(e.id, (j, i), e.ends[::-1], e.closed, np.asarray(e.polyline)[::-1].copy(), e.tolerance,
+                       certified)
+
+
+def _renumbered_rows(A, moves: dict) -> np.ndarray:
+    """The int array A with every entry that is a key of ``moves`` replaced by its value."""
+    out = A.copy()
+    for old, new in moves.items():
+        out[A == old] = new
     return out

@@ -201,9 +201,8 @@ def insert_locally(D, piece, source: int, build, index=None):
     for s in range(len(new_sites)):
         if not any(n + s in e.sites for e in taken_e):
             return "a new site has no edge in the local diagram"
-    kept_e, gone = [], []
-    for e in D.edges:
-        (gone if (e.ends[0] in removed_ids or e.ends[1] in removed_ids) else kept_e).append(e)
+    gone_mask = np.isin(index.EE, np.fromiter(removed_ids, np.int64)).any(axis=1)
+    gone = [D.edges[t] for t in np.nonzero(gone_mask)[0].tolist()]
     if any(u is None for e in gone for u in e.ends):
         return "a removed edge goes to infinity"
     touched = {u for e in gone for u in e.ends} - removed_ids
@@ -212,31 +211,34 @@ def insert_locally(D, piece, source: int, build, index=None):
     # 3. proof of the changed part
     t3 = time.perf_counter()
     sites = list(D.sites) + new_sites
+    keep = np.ones(len(V), bool)
+    keep[cv_] = False
+    keep_e = ~gone_mask
     vid = {v.id: v for v in taken_v}
-    for t, v in enumerate(V):
-        if v.id in touched and t not in removed:
-            vid[v.id] = v
+    for t in (index.vertex_rows(touched).tolist() if touched else ()):
+        if keep[t]:
+            vid[V[t].id] = V[t]
     ends_needed = sorted({u for e in taken_e for u in e.ends} - taken_ids)
-    new_index = EditIndex({**keys, **{site_key(s): n + t for t, s in enumerate(new_sites)}},
-                          np.vstack([index.boxes, np.array([site_box(s) for s in new_sites], float).reshape(-1, 4)]),
-                          None, None)
+    new_keys = dict(keys)
+    new_keys.update({site_key(s): n + t for t, s in enumerate(new_sites)})
+    boxes = np.vstack([index.boxes, np.array([site_box(s) for s in new_sites], float).reshape(-1, 4)])
+    new_index = index.spliced(new_keys, boxes, keep, taken_v, keep_e, taken_e)
     problems: list = []
     if not prove_part(sites, new_index, taken_v + [vid[u] for u in ends_needed], taken_e, problems):
         return f"the changed part is not proved ({problems[0] if problems else 'a part failed'})"
-    edges = kept_e + taken_e
-    check = [vid[u] for u in sorted(touched | taken_ids) if u in vid]
-    if len(check) != len(touched | taken_ids) or not closure_holds(edges, check):
+    check_ids = touched | taken_ids
+    if any(u not in vid for u in check_ids):
+        return "the closure at the changed vertices fails (a vertex is missing)"
+    near_e = [D.edges[t] for t in index.edges_at(check_ids).tolist() if keep_e[t]] + taken_e
+    if not closure_holds(near_e, [vid[u] for u in sorted(check_ids)]):
         return "the closure at the changed vertices fails"
     secs["prove"] = time.perf_counter() - t3
     for v in taken_v:
         v.certified = True
     for e in taken_e:
         e.certified = True
-    keep = np.ones(len(V), bool)
-    keep[cv_] = False
     vertices = [v for v, k in zip(V, keep.tolist()) if k] + taken_v
-    new_index.XY = np.vstack([XY[keep], np.array([[v.x, v.y] for v in taken_v], float).reshape(-1, 2)])
-    new_index.R = np.concatenate([R[keep], np.array([v.radius for v in taken_v], float)])
+    edges = [e for e, k in zip(D.edges, keep_e.tolist()) if k] + taken_e
     out = Diagram(sites, vertices, edges, True, [], dict(D.stats))
     out.sources = list(D.sources) + [source] * len(new_sites)
     out.stats["update"] = "local"
