@@ -33,7 +33,8 @@ One BLAS thread (threadpoolctl and OPENBLAS_NUM_THREADS=1); thread settings and 
 (/proc/loadavg) are in the table header: the machine is shared, wall times are noisy under load.
 
 * random disjoint segments (``--segments 1000 10000``: only these rows run; tests/scenes.random_segments):
-  K insertions of segments, K deletions of each numbering, each certified (runtime/segments/edits.py),
+  K insertions of segments, K deletions of each numbering, each certified (runtime/segments/edits.py:
+  local insertion and deletion, a rebuild where the change reaches the convex hull),
   CPU median per update and its route against a certified batch build of the final list.
 
 Run:  OPENBLAS_NUM_THREADS=1 python bench/bench_dynamic.py [--sizes 1000 10000] [--big] [--k 20]
@@ -328,11 +329,21 @@ def segments_case(n: int, k: int, seed: int = 1, deletes: int | None = None) -> 
     t, c = time.perf_counter(), time.process_time()
     batch = cv.voronoi(cur, progress=False)
     out["final_batch_s"], out["final_batch_cpu_s"] = time.perf_counter() - t, time.process_time() - c
-    out["same_as_batch"] = (list(d.sites) == list(batch.sites) and d.delaunay_edges() == batch.delaunay_edges()
-                            and bool(batch.certified))
+    out["same_as_batch"] = _same_segment_graph(d, batch) and bool(batch.certified)
     out["rows"] = rows
     out["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     return out
+
+
+def _same_segment_graph(d, batch) -> bool:
+    """The two diagrams have the same sites and the same Delaunay graph, over exact site keys (a
+    local deletion numbers the sites differently from a batch build)."""
+    from curvedvoronoi.runtime.segments.local_update import site_key
+
+    def graph(D):
+        keys = [site_key(s) for s in D.sites]
+        return sorted(keys), {frozenset((keys[i], keys[j])) for i, j in D.delaunay_edges()}
+    return graph(d) == graph(batch)
 
 
 def _segment_table(results, args) -> list:
@@ -343,23 +354,29 @@ def _segment_table(results, args) -> list:
              f"{args.segment_k} insertions, {args.segment_k if args.segment_deletes is None else args.segment_deletes} "
              "deletions with renumber=\"last\" and as many with \"shift\" (certify=True, "
              "inplace=True each; runtime/segments/edits.py).  local / rebuild = the route of stats[\"update\"]; "
-             "batch = a certified batch build of the final list of pieces (CPU s), ratio = median update / batch; "
-             "same = the edited diagram's sites and Delaunay graph equal the batch build's.", "",
-             "| N | op | median CPU s | max CPU s | local / rebuild | all certified | batch CPU s | ratio | "
-             "same as batch | peak RSS MB |", "|---|---|---|---|---|---|---|---|---|---|"]
+             "first = the first update of that kind (the first edit of a batch-built diagram builds the edit "
+             "index, linear in N); median and max over all; local median = the median over the local routes; "
+             "batch = a certified batch build of the final list of pieces (CPU s), ratio = local median / batch; "
+             "same = the edited diagram's sites and Delaunay graph equal the batch build's (exact site keys).", "",
+             "| N | op | first CPU s | median CPU s | local median CPU s | max CPU s | local / rebuild | all certified | "
+             "batch CPU s | ratio | same as batch | peak RSS MB |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         if "error" in r:
-            lines.append(f"| {r['case']} | error: {r['error']} |" + " |" * 8)
+            lines.append(f"| {r['case']} | error: {r['error']} |" + " |" * 10)
             continue
         for kind in ("insert", "delete (last)", "delete (shift)"):
             got = [x for x in r["rows"] if x["op"] == kind]
             if not got:
                 continue
             med = statistics.median(x["cpu"] for x in got)
+            loc = [x["cpu"] for x in got if x["how"] == "local"]
+            lmed = statistics.median(loc) if loc else None
             n_reb = sum(str(x["how"]).startswith("rebuild") for x in got)
-            lines.append(f"| {r['N']} | {kind} | {_fmt(med, 2)} | {_fmt(max(x['cpu'] for x in got), 2)} | "
+            lines.append(f"| {r['N']} | {kind} | {got[0]['cpu']:.3f} | {_fmt(med, 3)} | {_fmt(lmed, 3)} | "
+                         f"{_fmt(max(x['cpu'] for x in got), 2)} | "
                          f"{len(got) - n_reb} / {n_reb} | {all(x['certified'] for x in got)} | "
-                         f"{r['final_batch_cpu_s']:.2f} | {med / r['final_batch_cpu_s']:.2f} | "
+                         f"{r['final_batch_cpu_s']:.2f} | "
+                         f"{'-' if lmed is None else format(lmed / r['final_batch_cpu_s'], '.4f')} | "
                          f"{r['same_as_batch']} | {r['peak_rss_mb']:.0f} |")
     return lines
 
@@ -432,7 +449,7 @@ def main():
                          "only the segment rows run")
     ap.add_argument("--segment-k", type=int, default=3, help="insertions (and deletions of each kind) per segment N")
     ap.add_argument("--segment-deletes", type=int, default=None,
-                    help="deletions of each kind per segment N (default --segment-k; each is a rebuild)")
+                    help="deletions of each kind per segment N (default --segment-k; local unless the piece is on the convex hull)")
     ap.add_argument("--no-write", action="store_true")
     ap.add_argument("--inplace", action="store_true",
                     help="circle updates with inplace=True (the diagram updated in place: no O(N) copy of its lists)")
