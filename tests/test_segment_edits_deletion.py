@@ -9,6 +9,7 @@ import random
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
@@ -168,3 +169,27 @@ def test_random_deletion_sequences_equal_batch(draws, last):
         assert graph(d) == graph(batch)
         assert sorted(key(s) for s in d.sites) == sorted(key(s) for s in batch.sites)
     assert graph(d) == cgal_graph(pieces)
+
+
+def test_the_part_proof_sees_a_site_it_does_not_list():
+    # prove_part proves against the sites that can reach the part, not only the part's own sites:
+    # a point put inside a vertex's empty circle, or next to an edge's middle (closer than the
+    # edge's sites), makes the proof fail; without it the same part is proved
+    from curvedvoronoi.runtime.segments.local_update import EditIndex, piece_distance, piece_ends, prove_part
+    from curvedvoronoi.runtime.voronoi.structure import Diagram
+
+    d = cv.voronoi([cv.Segment(*p) for p in random_segments(60, 3)])
+    index = EditIndex.build(d)
+    vid = {v.id: v for v in d.vertices}
+    v = max(d.vertices, key=lambda v: v.radius)
+    e = max((e for e in d.edges if None not in e.ends), key=lambda e: len(e.polyline))
+    ends = [vid[u] for u in e.ends]
+    assert prove_part(list(d.sites), index, [v], [], [])
+    assert prove_part(list(d.sites), index, ends, [e], [])
+    P = np.asarray(e.polyline, float)
+    m = P[len(P) // 2]
+    di = float(piece_distance(*piece_ends(d.sites[e.sites[0]]), m[None, :])[0])
+    for part_v, part_e, x, y in (([v], [], v.x + v.radius / 2, v.y), (ends, [e], m[0] + di / 3, m[1])):
+        sites = list(d.sites) + [cv.Point(round(x, 3), round(y, 3))]
+        other = EditIndex.build(Diagram(sites, d.vertices, d.edges))
+        assert not prove_part(sites, other, part_v, part_e, [])
