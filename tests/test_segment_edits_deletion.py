@@ -182,14 +182,23 @@ def test_the_part_proof_sees_a_site_it_does_not_list():
     index = EditIndex.build(d)
     vid = {v.id: v for v in d.vertices}
     v = max(d.vertices, key=lambda v: v.radius)
-    e = max((e for e in d.edges if None not in e.ends), key=lambda e: len(e.polyline))
-    ends = [vid[u] for u in e.ends]
     assert prove_part(list(d.sites), index, [v], [], [])
+
+    def off_the_ends(e):
+        """A point closer to a polyline point of e than e's sites, outside both end vertices' circles
+        (only the edge's own reach sees it), or None."""
+        ends = [vid[u] for u in e.ends]
+        a, b = piece_ends(d.sites[e.sites[0]])
+        for m in np.asarray(e.polyline, float):
+            di = float(piece_distance(a, b, m[None, :])[0])
+            for t in np.linspace(0, 2 * np.pi, 16, endpoint=False):
+                q = m + 0.9 * di * np.array([np.cos(t), np.sin(t)])
+                if all(np.hypot(q[0] - w.x, q[1] - w.y) > 1.05 * w.radius for w in ends):
+                    return ends, q
+        return None
+    e, (ends, q) = next((e, f) for e in d.edges if None not in e.ends for f in [off_the_ends(e)] if f)
     assert prove_part(list(d.sites), index, ends, [e], [])
-    P = np.asarray(e.polyline, float)
-    m = P[len(P) // 2]
-    di = float(piece_distance(*piece_ends(d.sites[e.sites[0]]), m[None, :])[0])
-    for part_v, part_e, x, y in (([v], [], v.x + v.radius / 2, v.y), (ends, [e], m[0] + di / 3, m[1])):
+    for part_v, part_e, x, y in (([v], [], v.x + v.radius / 2, v.y), (ends, [e], q[0], q[1])):
         sites = list(d.sites) + [cv.Point(round(x, 3), round(y, 3))]
         other = EditIndex.build(Diagram(sites, d.vertices, d.edges))
         assert not prove_part(sites, other, part_v, part_e, [])
