@@ -55,7 +55,25 @@ def test_inner_deletions_are_local_and_equal_batch_and_cgal():
         routes.append(d.stats["update"])
         check(d, pieces)
         assert d.stats["update_input"] == i
+        if routes[-1] == "local":
+            index_is_fresh(d)
     assert routes.count("local") >= 3, routes
+    d = d.insert((333.5, 333.5))
+    if d.stats["update"] == "local":
+        index_is_fresh(d)
+
+
+def index_is_fresh(d):
+    """The edit index a local edit carries on equals the one built from the diagram afresh."""
+    from curvedvoronoi.runtime.segments.local_update import EditIndex
+
+    got, want = d.construction.index, EditIndex.build(d)
+    assert got.keys == want.keys
+    assert np.array_equal(got.boxes, want.boxes)
+    assert np.array_equal(got.XY, want.XY) and np.array_equal(got.R, want.R) and np.array_equal(got.VID, want.VID)
+    w = min(got.VS.shape[1], want.VS.shape[1])
+    assert np.array_equal(np.sort(got.VS[:, :w], axis=1), np.sort(want.VS[:, :w], axis=1))
+    assert np.array_equal(got.ES, want.ES) and np.array_equal(np.sort(got.EE, axis=1), np.sort(want.EE, axis=1))
 
 
 def test_a_piece_sharing_its_endpoints_is_deleted_locally():
