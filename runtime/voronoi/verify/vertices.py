@@ -165,17 +165,34 @@ def _fast_circle_vertices(items, table):
 
 def prove_vertices(D, sites, geoms, table, problems, offset=(0.0, 0.0)):
     """Prove every reported vertex (position, radius, emptiness).  Returns ({id: VertexInfo},
-    list of flags in diagram order)."""
-    from ...predicates.circles import voronoi_vertices_circles
-    from ...result import LocatorError
-
-    n = len(sites)
+    list of flags in diagram order).  Steps: the well-formed vertices (:func:`_screen`); the fast
+    circle route and the float conic route on all of them at once; the route of each vertex
+    (:func:`_vertex_info`); the reported position and radius against the proved ones, and one
+    reported vertex per proved one (:func:`_matches_report`); emptiness (:func:`_emptiness_batch`)."""
     verts = list(D.vertices)
     flags = [False] * len(verts)
     infos: dict = {}
+    todo, fast_items = _screen(verts, len(sites), table, problems)
+    fast = _fast_circle_vertices(fast_items, table) if table is not None else {}
+    quick = _conic_quick(verts, todo, fast, geoms)
+    seen_keys: dict = {}
+    for m in todo:
+        v = verts[m]
+        info = _vertex_info(v, sites, geoms, fast.get(m), quick.get(m), problems)
+        if info is None or not _matches_report(v, info, offset, seen_keys, problems):
+            continue
+        infos[v.id] = info
+        flags[m] = True
+    _emptiness_batch(verts, flags, infos, geoms, table, problems)
+    return infos, flags
+
+
+def _screen(verts, n, table, problems):
+    """(todo, fast_items): the vertices with a unique id, k ≥ 3 distinct valid sites and a finite
+    position and radius (the others are problems), and those of three pairwise exterior circles
+    or points (the fast circle route)."""
     seen_ids: set = set()
-    fast_items = []
-    todo = []
+    todo, fast_items = [], []
     for m, v in enumerate(verts):
         name = vname(v)
         trip = tuple(int(s) for s in v.sites)
@@ -192,83 +209,97 @@ def prove_vertices(D, sites, geoms, table, problems, offset=(0.0, 0.0)):
         todo.append(m)
         if len(trip) == 3 and table is not None and _pairwise_exterior(table, trip):
             fast_items.append((m, trip, float(v.x), float(v.y), float(v.radius)))
-    fast = _fast_circle_vertices(fast_items, table) if table is not None else {}
-    # triples with a conic: float Krawczyk on the distance differences first, all at once
+    return todo, fast_items
+
+
+def _conic_quick(verts, todo, fast, geoms) -> dict:
+    """Triples with a conic: the float Krawczyk test on the distance differences, all at once
+    (:func:`runtime.voronoi.verify.conic_vertices.prove_conic_vertices`); {m: (x, y, h, r_lo,
+    r_hi)} where it decides."""
     conic = [m for m in todo if m not in fast and len(verts[m].sites) == 3
              and not all(geoms[int(s)].kind in ("point", "circle") for s in verts[m].sites)]
-    quick = {}
-    if conic:
-        from .conic_vertices import prove_conic_vertices
+    if not conic:
+        return {}
+    from .conic_vertices import prove_conic_vertices
 
-        fin = [abs(b) for g in geoms for b in g.bounding_box() if math.isfinite(b)]
-        res = prove_conic_vertices(geoms, [tuple(int(s) for s in verts[m].sites) for m in conic],
-                                   [(verts[m].x, verts[m].y) for m in conic], 1.0 + (max(fin) if fin else 0.0))
-        quick = {m: r for m, r in zip(conic, res) if r is not None}
-    seen_keys: dict = {}
-    for m in todo:
-        v = verts[m]
-        name = vname(v)
-        trip = tuple(int(s) for s in v.sites)
-        g3 = [geoms[s] for s in trip]
-        if m in fast:
-            x, y, r, h, others = fast[m]
-            info = VertexInfo(v.id, trip, x, y, r, h, others, key=(tuple(sorted(trip)), round(x / (1e-9 * (1 + abs(x)))),
-                                                                    round(y / (1e-9 * (1 + abs(y))))))
-        elif len(trip) > 3:
-            info = cocircular_vertex(v, trip, geoms, problems, VertexInfo)
-            if info is None:
-                continue
-        elif all(g.kind in ("point", "circle") for g in g3):
-            try:
-                tv = voronoi_vertices_circles(*[g.exact for g in g3])
-            except LocatorError as exc:
-                problems.append(f"{name}: degenerate triple ({exc})")
-                continue
-            if not tv.vertices:
-                problems.append(f"{name}: the three sites have no Voronoi vertex")
-                continue
-            best = min(tv.vertices, key=lambda w: math.hypot(w.x - v.x, w.y - v.y))
-            h = 2e-16 * (abs(best.x) + abs(best.y)) + 1e-300
-            others = tuple((w.x, w.y) for w in tv.vertices if w is not best)
-            info = VertexInfo(v.id, trip, best.x, best.y, best.radius, h, others,
-                              key=(tuple(sorted(trip)), id(best)))
-        elif m in quick:
-            x, y, h, r_lo, r_hi = quick[m]
-            info = VertexInfo(v.id, trip, x, y, 0.5 * (r_lo + r_hi), h, None,
-                              key=(tuple(sorted(trip)), round(x / (1e-9 * (1 + abs(x)))),
-                                   round(y / (1e-9 * (1 + abs(y))))))
-            info.r_hi = r_hi
-        else:
-            from ..vertex import certify_vertex
-            proof = certify_vertex([sites[s] for s in trip], g3, v.x, v.y)
-            if not proof.certified:
-                problems.append(f"{name}: not proved ({proof.reason})")
-                continue
-            (xl, xh), (yl, yh) = proof.box
-            h = max(xh - xl, yh - yl) / 2
-            info = VertexInfo(v.id, trip, proof.x, proof.y, proof.radius, h, None,
-                              key=(tuple(sorted(trip)), round(proof.x / (1e-9 * (1 + abs(proof.x)))),
-                                   round(proof.y / (1e-9 * (1 + abs(proof.y))))))
-            info.r_hi = proof.radius_bounds[1]
-        # in a local frame (``offset``: the translation from the user's frame) the reported
-        # position was the user's float: add a few ulps of the user's coordinates
-        info.tol += 8 * EPS * (abs(info.x + offset[0]) + abs(info.y + offset[1]))
-        dpos = math.hypot(info.x - v.x, info.y - v.y)
-        if dpos > info.tol + 2 * info.h:
-            problems.append(f"{name}: reported position ({v.x:.17g}, {v.y:.17g}) is {dpos:.3g} from the "
-                            f"proved vertex of its sites ({info.x:.17g}, {info.y:.17g})")
-            continue
-        if abs(info.r - v.radius) > info.tol + 2 * info.h:
-            problems.append(f"{name}: reported radius {v.radius:.17g}, proved {info.r:.17g}")
-            continue
-        if info.key in seen_keys:
-            problems.append(f"{name}: the same vertex as vertex {seen_keys[info.key]}")
-            continue
-        seen_keys[info.key] = v.id
-        infos[v.id] = info
-        flags[m] = True
-    _emptiness_batch(verts, flags, infos, geoms, table, problems)
-    return infos, flags
+    fin = [abs(b) for g in geoms for b in g.bounding_box() if math.isfinite(b)]
+    res = prove_conic_vertices(geoms, [tuple(int(s) for s in verts[m].sites) for m in conic],
+                               [(verts[m].x, verts[m].y) for m in conic], 1.0 + (max(fin) if fin else 0.0))
+    return {m: r for m, r in zip(conic, res) if r is not None}
+
+
+def _near_key(trip, x, y):
+    """The key of a proved vertex: its sites and its position rounded to 1e-9 (relative)."""
+    return (tuple(sorted(trip)), round(x / (1e-9 * (1 + abs(x)))), round(y / (1e-9 * (1 + abs(y)))))
+
+
+def _vertex_info(v, sites, geoms, fast, quick, problems):
+    """The proved vertex of v's sites nearest to v, by its route: the fast circle route
+    (``fast``), k > 3 co-circular sites (:func:`runtime.voronoi.verify.exact_vertices.
+    cocircular_vertex`), circles and points exactly (thesis §3.1.3), the float conic route
+    (``quick``), else the exact foot-point system (:func:`runtime.voronoi.vertex.certify_vertex`);
+    None (with a problem) when no route proves it."""
+    from ...predicates.circles import voronoi_vertices_circles
+    from ...result import LocatorError
+
+    name = vname(v)
+    trip = tuple(int(s) for s in v.sites)
+    g3 = [geoms[s] for s in trip]
+    if fast is not None:
+        x, y, r, h, others = fast
+        return VertexInfo(v.id, trip, x, y, r, h, others, key=_near_key(trip, x, y))
+    if len(trip) > 3:
+        return cocircular_vertex(v, trip, geoms, problems, VertexInfo)
+    if all(g.kind in ("point", "circle") for g in g3):
+        try:
+            tv = voronoi_vertices_circles(*[g.exact for g in g3])
+        except LocatorError as exc:
+            problems.append(f"{name}: degenerate triple ({exc})")
+            return None
+        if not tv.vertices:
+            problems.append(f"{name}: the three sites have no Voronoi vertex")
+            return None
+        best = min(tv.vertices, key=lambda w: math.hypot(w.x - v.x, w.y - v.y))
+        h = 2e-16 * (abs(best.x) + abs(best.y)) + 1e-300
+        others = tuple((w.x, w.y) for w in tv.vertices if w is not best)
+        return VertexInfo(v.id, trip, best.x, best.y, best.radius, h, others, key=(tuple(sorted(trip)), id(best)))
+    if quick is not None:
+        x, y, h, r_lo, r_hi = quick
+        info = VertexInfo(v.id, trip, x, y, 0.5 * (r_lo + r_hi), h, None, key=_near_key(trip, x, y))
+        info.r_hi = r_hi
+        return info
+    from ..vertex import certify_vertex
+    proof = certify_vertex([sites[s] for s in trip], g3, v.x, v.y)
+    if not proof.certified:
+        problems.append(f"{name}: not proved ({proof.reason})")
+        return None
+    (xl, xh), (yl, yh) = proof.box
+    h = max(xh - xl, yh - yl) / 2
+    info = VertexInfo(v.id, trip, proof.x, proof.y, proof.radius, h, None, key=_near_key(trip, proof.x, proof.y))
+    info.r_hi = proof.radius_bounds[1]
+    return info
+
+
+def _matches_report(v, info, offset, seen_keys, problems) -> bool:
+    """Whether the reported position and radius of v are within the tolerance (plus twice the
+    box) of the proved ones, and no earlier reported vertex is the same proved vertex."""
+    name = vname(v)
+    # in a local frame (``offset``: the translation from the user's frame) the reported
+    # position was the user's float: add a few ulps of the user's coordinates
+    info.tol += 8 * EPS * (abs(info.x + offset[0]) + abs(info.y + offset[1]))
+    dpos = math.hypot(info.x - v.x, info.y - v.y)
+    if dpos > info.tol + 2 * info.h:
+        problems.append(f"{name}: reported position ({v.x:.17g}, {v.y:.17g}) is {dpos:.3g} from the "
+                        f"proved vertex of its sites ({info.x:.17g}, {info.y:.17g})")
+        return False
+    if abs(info.r - v.radius) > info.tol + 2 * info.h:
+        problems.append(f"{name}: reported radius {v.radius:.17g}, proved {info.r:.17g}")
+        return False
+    if info.key in seen_keys:
+        problems.append(f"{name}: the same vertex as vertex {seen_keys[info.key]}")
+        return False
+    seen_keys[info.key] = v.id
+    return True
 
 
 def _pairwise_exterior(table, trip) -> bool:
