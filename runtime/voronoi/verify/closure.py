@@ -20,6 +20,7 @@ import numpy as np
 from .far_accounting import accounting_unbounded
 from .hull_nesting import gap_note, hulls_disjoint, sole_leader
 from .problems import fault
+from .support_balls import sole_maximum
 from .ties_at_infinity import tied_sectors
 from .vertices import vname as _vname
 
@@ -252,8 +253,21 @@ def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000,
             return True          # every other site inside one container: no unbounded edge at all
         problems.append("no unbounded edge is proved, but several sites have unbounded regions")
         return False
-    # (a0, a1, pair, edge id, pair leaving the sector): a sector, or the small sector about a
-    # direction where several sites tie (runtime.voronoi.verify.ties_at_infinity)
+    ends = _sectors_at_infinity(sup, sites, ends_inf, problems)
+    if ends is None:
+        return False
+    if len(ends) < 2:
+        problems.append(fault("a single unbounded edge end: the ends at infinity do not close up", kind="infinity"))
+        return False
+    ok = _sectors_of_one_pair_disjoint(ends, problems)
+    return _uncovered_arcs_owned(sup, ends, problems, max_work, unproved_ends) and ok
+
+
+def _sectors_at_infinity(sup, sites, ends_inf, problems):
+    """The proved sectors of the ends at infinity, sorted by their first direction, as (a0, a1,
+    pair, edge id, pair leaving the sector): a sector of :func:`runtime.voronoi.verify.tail.
+    prove_tail`, or the small sector about a direction where several sites tie
+    (:func:`runtime.voronoi.verify.ties_at_infinity.tied_sectors`); None when the ties fail."""
     ends = []
     mirror = [t for t in ends_inf if t[2][0] == "mirror"]
     for _, pair, (tha, thb), eid in (t for t in ends_inf if t[2][0] != "mirror"):
@@ -262,15 +276,16 @@ def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000,
     if mirror:
         tied = tied_sectors(sup, sites, mirror, problems)
         if tied is None:
-            return False
+            return None
         ends.extend(tied)
     ends.sort(key=lambda t: t[0])
-    m = len(ends)
-    if m < 2:
-        problems.append(fault("a single unbounded edge end: the ends at infinity do not close up", kind="infinity"))
-        return False
+    return ends
+
+
+def _sectors_of_one_pair_disjoint(ends, problems) -> bool:
+    """Two ends of one pair must have disjoint sectors (step (a))."""
     ok = True
-    # two ends of one pair must have disjoint sectors
+    m = len(ends)
     for a in range(m):
         for b in range(a + 1, m):
             ea, eb = ends[a], ends[b]
@@ -281,7 +296,14 @@ def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000,
                     problems.append(fault(f"unbounded edges {ea[3]} and {eb[3]} of sites {ea[2][0]}, {ea[2][1]} "
                                           "have overlapping asymptotic sectors", kind="infinity", sites=ea[2]))
                     ok = False
-    # walk around the circle of directions: every uncovered arc needs one strictly largest h_s
+    return ok
+
+
+def _uncovered_arcs_owned(sup, ends, problems, max_work, unproved_ends) -> bool:
+    """Walk around the circle of directions: on every arc no sector covers, one site shared by
+    the pairs of the sectors on either side strictly maximises h_k (step (a))."""
+    ok = True
+    m = len(ends)
     cur, cur_end = ends[0], ends[0][1]
     for t in range(1, m + 1):
         nxt = ends[t % m]
@@ -293,7 +315,8 @@ def verify_accounting_conics(n, sup, ends_inf, problems, max_work: int = 400000,
                                       "no site: " + gap_note(unproved_ends), kind="infinity",
                                       sites=(*cur[4], *nxt[2])))
                 ok = False
-            elif not any(_dominates_conic(sup, s, cur_end, a_next, max_work) for s in shared):
+            elif not any(_dominates_conic(sup, s, cur_end, a_next, max_work)
+                         or sole_maximum(sup, s, cur_end, a_next) for s in shared):     # near-ties: balls
                 problems.append(fault(f"between the unbounded edges {cur[3]} and {nxt[3]} no single site owns all "
                                       "far directions: an unbounded edge is missing or misplaced", kind="infinity",
                                       sites=(*cur[4], *nxt[2])))
