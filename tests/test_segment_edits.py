@@ -10,6 +10,7 @@ import sys
 from fractions import Fraction
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import curvedvoronoi as cv
@@ -84,6 +85,19 @@ def check(d, pieces):
     assert graph(d) == graph(batch)
     assert graph(d) == cgal_graph(pieces)
     assert cv.verify(d).ok
+
+
+def index_is_fresh(d):
+    """The edit index a local edit carries on equals the one built from the diagram afresh."""
+    from curvedvoronoi.runtime.segments.local_update import EditIndex
+
+    got, want = d.construction.index, EditIndex.build(d)
+    assert got.keys == want.keys
+    assert np.array_equal(got.boxes, want.boxes)
+    assert np.array_equal(got.XY, want.XY) and np.array_equal(got.R, want.R) and np.array_equal(got.VID, want.VID)
+    w = min(got.VS.shape[1], want.VS.shape[1])
+    assert np.array_equal(np.sort(got.VS[:, :w], axis=1), np.sort(want.VS[:, :w], axis=1))
+    assert np.array_equal(got.ES, want.ES) and np.array_equal(np.sort(got.EE, axis=1), np.sort(want.EE, axis=1))
 
 
 @pytest.mark.parametrize("seed,shared", [(1, False), (2, True), (3, True)])
@@ -188,6 +202,8 @@ def test_insertions_inside_the_scene_are_local_and_equal_cgal():
         routes.append(d.stats["update"])
         assert d.certified
         assert d.sources[-1] == len(pieces) - 1
+        if routes[-1] == "local":
+            index_is_fresh(d)
     for q in random_points_off(pieces, 3, 5):            # points off the segments, inside
         d = d.insert(q)
         pieces.append(tuple(q))

@@ -17,7 +17,7 @@ import curvedvoronoi as cv
 
 sys.path.insert(0, str(Path(__file__).parent))
 from scenes import random_segments  # noqa: E402
-from test_segment_edits import as_piece, cgal_graph, cgal_ready, check, graph, key, sdg_peer, without_straight_joints  # noqa: E402
+from test_segment_edits import as_piece, cgal_graph, cgal_ready, check, graph, index_is_fresh, key, sdg_peer, without_straight_joints  # noqa: E402
 
 from curvedvoronoi.runtime.segments.construction import segment_voronoi  # noqa: E402
 from curvedvoronoi.runtime.segments.local_deletion import delete_locally  # noqa: E402
@@ -61,19 +61,6 @@ def test_inner_deletions_are_local_and_equal_batch_and_cgal():
     d = d.insert((333.5, 333.5))
     if d.stats["update"] == "local":
         index_is_fresh(d)
-
-
-def index_is_fresh(d):
-    """The edit index a local edit carries on equals the one built from the diagram afresh."""
-    from curvedvoronoi.runtime.segments.local_update import EditIndex
-
-    got, want = d.construction.index, EditIndex.build(d)
-    assert got.keys == want.keys
-    assert np.array_equal(got.boxes, want.boxes)
-    assert np.array_equal(got.XY, want.XY) and np.array_equal(got.R, want.R) and np.array_equal(got.VID, want.VID)
-    w = min(got.VS.shape[1], want.VS.shape[1])
-    assert np.array_equal(np.sort(got.VS[:, :w], axis=1), np.sort(want.VS[:, :w], axis=1))
-    assert np.array_equal(got.ES, want.ES) and np.array_equal(np.sort(got.EE, axis=1), np.sort(want.EE, axis=1))
 
 
 def test_a_piece_sharing_its_endpoints_is_deleted_locally():
