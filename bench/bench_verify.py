@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import sys
 import time
 from pathlib import Path
@@ -65,6 +66,7 @@ def qhull_points_diagram(P, far=50.0):
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", default="100,300,1000")
+    ap.add_argument("--points", default=None, help="sizes of the qhull point diagrams (default: --sizes)")
     ap.add_argument("--ellipses", default="32,128,512")
     ap.add_argument("--mixed", default="100", help="sizes of the mixed conics of bench_voronoi (parabolas, a hyperbola)")
     ap.add_argument("--out", default=str(ROOT / "bench" / "results" / "verify.md"))
@@ -78,6 +80,10 @@ def main(argv=None) -> int:
     sizes = [int(s) for s in args.sizes.split(",")]
     esizes = [int(s) for s in args.ellipses.split(",") if s]
     msizes = [int(s) for s in args.mixed.split(",") if s]
+    psizes = sizes if args.points is None else [int(s) for s in args.points.split(",") if s]
+
+    def peak_mb():
+        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     rows = []
     for n in sizes:
         # radii in [0.2, 1.5], gaps above 0.1, ~1 circle per 10 square units
@@ -88,7 +94,7 @@ def main(argv=None) -> int:
         t, c = time.perf_counter(), time.process_time()
         cert = verify(D)
         tv, cv = time.perf_counter() - t, time.process_time() - c
-        rows.append(("circles", n, len(D.vertices), len(D.edges), (tc, cc), tv, cv, cert, cert.timings))
+        rows.append(("circles", n, len(D.vertices), len(D.edges), (tc, cc), tv, cv, cert, cert.timings, peak_mb()))
         print(f"circles {n}: construct {tc:.2f} s, verify {tv:.2f} s, ok={cert.ok}", file=sys.stderr)
     for label, make, ns in (("ellipses", random_ellipses, esizes), ("mixed conics", mixed_conics, msizes)):
         for n in ns:
@@ -99,29 +105,31 @@ def main(argv=None) -> int:
             t, c = time.perf_counter(), time.process_time()
             cert = verify(D, sites)
             tv, cv = time.perf_counter() - t, time.process_time() - c
-            rows.append((label, n, len(D.vertices), len(D.edges), (tc, cc), tv, cv, cert, cert.timings))
+            rows.append((label, n, len(D.vertices), len(D.edges), (tc, cc), tv, cv, cert, cert.timings, peak_mb()))
             print(f"{label} {n}: construct {tc:.2f} s, verify {tv:.2f} s, ok={cert.ok}, "
                   f"edges proved {sum(cert.edges)}/{len(cert.edges)}", file=sys.stderr)
-    for n in sizes:
+    for n in psizes:
         P = np.random.default_rng(n).uniform(0, float(np.sqrt(10.0 * n)), (n, 2))
         D = qhull_points_diagram(P)
         t, c = time.perf_counter(), time.process_time()
         cert = verify(D)
         tv, cv = time.perf_counter() - t, time.process_time() - c
-        rows.append(("points (qhull diagram)", n, len(D.vertices), len(D.edges), None, tv, cv, cert, cert.timings))
+        rows.append(("points (qhull diagram)", n, len(D.vertices), len(D.edges), None, tv, cv, cert, cert.timings,
+                     peak_mb()))
         print(f"points {n}: verify {tv:.2f} s, ok={cert.ok}", file=sys.stderr)
     threads = ", ".join(f"{i.get('internal_api')}={i.get('num_threads')}" for i in threadpool_info()) or "none"
     load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
     lines = ["# Diagram verifier (runtime.voronoi.verify.certificate)", "",
              f"Command: `python bench/bench_verify.py --sizes {args.sizes} --ellipses {args.ellipses} "
-             f"--mixed {args.mixed}`; "
+             f"--mixed {args.mixed}" + ("" if args.points is None else f" --points {args.points}") + "`; "
              f"BLAS threads: {threads}; OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}; "
              f"load average at the end (1, 5, 15 min): {load} on {os.cpu_count()} cores.  Machine shared with "
              "other processes: wall timings are noisy (verify CPU s is the verifier's process time).", "",
              "| sites | N | vertices | edges | construct s | construct CPU s | verify s | verify CPU s | "
-             "verify/construct (wall) | (CPU) | vertices s | edges s | vertices proved | edges proved | ok | problems |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    for kind, n, nv, ne, tcc, tv, cv, cert, tm in rows:
+             "verify/construct (wall) | (CPU) | vertices s | edges s | vertices proved | edges proved | ok | problems | "
+             "peak RSS MB |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for kind, n, nv, ne, tcc, tv, cv, cert, tm, rss in rows:
         tc, cc = tcc if tcc else (None, None)
         ratio = f"{tv / tc:.2f}" if tc else "-"
         cratio = f"{cv / cc:.2f}" if cc else "-"
@@ -129,8 +137,8 @@ def main(argv=None) -> int:
                      f"{'-' if cc is None else f'{cc:.2f}'} | {tv:.2f} | {cv:.2f} | {ratio} | {cratio} | "
                      f"{tm.get('vertices', 0):.2f} | {tm.get('edges', 0):.2f} | "
                      f"{sum(cert.vertices)} | {sum(cert.edges)} | "
-                     f"{'yes' if cert.ok else 'no'} | {len(cert.problems)} |")
-    bad = [(kind, n, cert.problems[:3]) for kind, n, _, _, _, _, _, cert, _ in rows if cert.problems]
+                     f"{'yes' if cert.ok else 'no'} | {len(cert.problems)} | {rss:.0f} |")
+    bad = [(kind, n, cert.problems[:3]) for kind, n, _, _, _, _, _, cert, _, _ in rows if cert.problems]
     if bad:
         lines += ["", "First problems of the diagrams not proved:", ""]
         for kind, n, probs in bad:

@@ -27,7 +27,7 @@ import pytest
 
 from curvedvoronoi.runtime.predicates.circles import Point
 from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
-from curvedvoronoi.runtime.voronoi.verify.bisector_guide import ProjectJob, adapt, project_many
+from curvedvoronoi.runtime.voronoi.verify.bisector_guide import AdaptJob, ProjectJob, adapt, adapt_many, project_many
 from curvedvoronoi.runtime.voronoi.verify.site_table import SiteTable, run_lockstep
 
 
@@ -58,6 +58,6 @@ def test_a_projection_that_reaches_the_bisector_lands_on_it(table):
                          ids=["margin 0", "just longer", "just shorter"])
 def test_a_chord_across_the_bisector_is_split_only_when_longer_than_four_half_widths(table, a, split):
     S = np.array([[-a, 0.0], [a, 0.0]])
-    out, = run_lockstep([adapt(S, (0, 1), 1.0, 2.0 ** -10, 2.0)], table, collective={ProjectJob: project_many})
+    out, = run_lockstep([adapt(S, (0, 1), 1.0, 2.0 ** -10, 2.0)], table, collective={ProjectJob: project_many, AdaptJob: adapt_many})
     want = [[-a, 0.0], [0.0, 0.0], [a, 0.0]] if split else [[-a, 0.0], [a, 0.0]]
     assert np.asarray(out).tolist() == want

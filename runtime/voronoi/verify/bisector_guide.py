@@ -13,8 +13,9 @@ of the strips next to a vertex where a third site's bisector crosses β at a sma
 :func:`runtime.voronoi.verify.site_table.run_lockstep` (distance values, or a
 :class:`ProjectJob`).
 
-Public API: :func:`project`, :func:`project_many`, :class:`ProjectJob`, :func:`node_width`,
-:func:`refine`, :func:`adapt`, :func:`vertex_taper`, :func:`cut_outside`.
+Public API: :func:`project`, :func:`project_many`, :func:`project_rows`, :class:`ProjectJob`,
+:func:`node_width`, :func:`refine`, :func:`adapt`, :func:`adapt_many`, :class:`AdaptJob`,
+:func:`vertex_taper`, :func:`cut_outside`.
 """
 from __future__ import annotations
 
@@ -22,7 +23,10 @@ import math
 
 import numpy as np
 
-__all__ = ["ProjectJob", "adapt", "cut_outside", "node_width", "project", "project_many", "refine", "vertex_taper"]
+from .strips import evaluate_rows
+
+__all__ = ["AdaptJob", "ProjectJob", "adapt", "adapt_many", "cut_outside", "node_width", "project", "project_many",
+           "project_rows", "refine", "vertex_taper"]
 
 #: Newton steps of a projection onto β
 NEWTON = 6
@@ -123,11 +127,23 @@ def project(M, t, pair):
 
 def project_many(table, jobs):
     """:func:`project` for many jobs at once (one table call per Newton step)."""
-    M = np.concatenate([jb.M for jb in jobs])
-    t = np.concatenate([jb.t for jb in jobs])
     cnt = [len(jb.M) for jb in jobs]
-    I = np.repeat([jb.pair[0] for jb in jobs], cnt)
-    J = np.repeat([jb.pair[1] for jb in jobs], cnt)
+    Mn, dev = project_rows(table, np.concatenate([jb.M for jb in jobs]), np.concatenate([jb.t for jb in jobs]),
+                           np.repeat([jb.pair[0] for jb in jobs], cnt), np.repeat([jb.pair[1] for jb in jobs], cnt))
+    res, pos = [], 0
+    for c in cnt:
+        res.append((Mn[pos:pos + c], dev[pos:pos + c]))
+        pos += c
+    return res
+
+
+def project_rows(table, M, t, I, J):
+    """(points, offsets): the points M moved onto the bisector of (I, J) (one pair per row) along
+    the normals of the directions t, row by row (float Newton steps, moves at most |t|/2; a row's
+    result depends on that row only; the table in calls of at most
+    :data:`runtime.voronoi.verify.strips.ROWS_PER_CALL` rows)."""
+    M = np.asarray(M, float).reshape(-1, 2)
+    t = np.asarray(t, float).reshape(-1, 2)
     Ls = np.maximum(np.hypot(t[:, 0], t[:, 1]), 1e-300)
     n = np.column_stack([-t[:, 1], t[:, 0]]) / Ls[:, None]
     lam = np.zeros(len(M))
@@ -139,7 +155,7 @@ def project_many(table, jobs):
     def fvalues(act):
         X = M[act] + lam[act, None] * n[act]
         m = len(act)
-        V = table.evaluate(np.concatenate([X, X]), np.concatenate([I[act], J[act]]))
+        V = evaluate_rows(table, np.concatenate([X, X]), np.concatenate([I[act], J[act]]))
         return _fgrad_values(X, V.part(0, m), V.part(m, 2 * m))
 
     for _ in range(NEWTON):
@@ -162,11 +178,7 @@ def project_many(table, jobs):
     good = np.isfinite(lam) & np.isfinite(f1) & ((np.abs(f1) <= 1e-3 * fM) | (np.abs(f1) < 1e-12 * size))
     Mn = np.where(good[:, None], M + np.where(good, lam, 0.0)[:, None] * n, M)
     dev = np.where(good, np.abs(lam), np.inf)
-    res, pos = [], 0
-    for c in cnt:
-        res.append((Mn[pos:pos + c], dev[pos:pos + c]))
-        pos += c
-    return res
+    return Mn, dev
 
 
 def node_width(X, pair, tol, scale):
@@ -180,13 +192,19 @@ def _node_frame(X, pair, tol, scale):
     """(:func:`node_width` at the nodes X, the unit normals ∇f/|∇f| of the bisector there; NaN
     where undefined).  Generator."""
     X = np.asarray(X, float).reshape(-1, 2)
-    _, D, di, dj = yield from _fgrad(X, pair)
+    return _frame_values((yield from _fgrad(X, pair)), tol, scale)
+
+
+def _frame_values(fg, tol, scale):
+    """:func:`_node_frame` from the float values ``fg`` of :func:`_fgrad_values` (``tol`` and
+    ``scale`` scalars or one per row)."""
+    _, D, di, dj = fg
     with np.errstate(invalid="ignore", divide="ignore"):
         nD = np.hypot(D[:, 0], D[:, 1])
         c = 0.03 * np.minimum(di, dj) * nD
         U = D / nD[:, None]
     c = np.where(np.isfinite(c), c, 0.0)
-    return np.maximum(np.minimum(max(3 * tol, 1e-6 * scale), c), 1e-9 * scale), U
+    return np.maximum(np.minimum(np.maximum(3 * tol, 1e-6 * scale), c), 1e-9 * scale), U
 
 
 def refine(S, pair, sel=None):
@@ -206,6 +224,16 @@ def _insert(S, sel, Mn):
     return out
 
 
+class AdaptJob:
+    """The guide S of the bisector of ``pair`` to split (:func:`adapt`)."""
+
+    __slots__ = ("S", "pair", "frac", "tol", "scale", "rounds", "cap", "ends")
+
+    def __init__(self, S, pair, frac, tol, scale, rounds, cap, ends):
+        self.S, self.pair, self.frac, self.tol, self.scale = np.asarray(S, float).reshape(-1, 2), pair, frac, tol, scale
+        self.rounds, self.cap, self.ends = rounds, cap, ends
+
+
 def adapt(S, pair, frac, tol, scale, rounds=12, cap=4000, ends=(None, None)):
     """Split the segments whose bisector arc strays more than ``frac`` times the wanted strip
     half-width from the chord, to a bounded depth: the strips must contain the arc.  Two float
@@ -215,30 +243,80 @@ def adapt(S, pair, frac, tol, scale, rounds=12, cap=4000, ends=(None, None)):
     the chord at distance s from that end: the midpoint alone misses a bend near one end, as
     next to a vertex near the sites on an edge running 10³ scene units out).  ``ends``: the
     half-widths wanted at the first and last node (the strips narrowed at the vertices), or None.
-    Only the new segments are projected again.  Only a guide; the proof decides.  Generator."""
-    Mn, dev = yield from _project_mid(S[:-1], S[1:], pair)
-    tn, U = yield from _node_frame(S, pair, tol, scale)
-    tn = frac * tn
-    for _ in range(rounds):
-        for t, w_end in ((0, ends[0]), (-1, ends[1])):
-            if w_end is not None:
-                tn[t] = min(tn[t], frac * w_end)
-        seg = S[1:] - S[:-1]
+    Only the new segments are projected again.  Only a guide; the proof decides.  Generator: all
+    pending guides of all edges are split together (:func:`adapt_many`)."""
+    return (yield AdaptJob(S, pair, frac, tol, scale, rounds, cap, ends))
+
+
+def adapt_many(table, jobs):
+    """:func:`adapt` for many jobs at once: the nodes of all guides in one flat array (each guide's
+    nodes contiguous), one table call per round for the node frames and one projection of the new
+    segments' midpoints.  Every value is computed row by row as for one guide alone, so each guide
+    is split exactly as it would be on its own (a guide stops at its first round without a split,
+    or when the split would exceed its ``cap`` nodes, or after its ``rounds``)."""
+    nj = len(jobs)
+    cnt = np.array([len(jb.S) for jb in jobs], int)
+    S = np.concatenate([jb.S for jb in jobs]) if nj else np.zeros((0, 2))
+    jn = np.repeat(np.arange(nj), cnt)                        # guide of each node
+    PI = np.array([jb.pair[0] for jb in jobs], int)
+    PJ = np.array([jb.pair[1] for jb in jobs], int)
+    frac = np.array([jb.frac for jb in jobs], float)
+    tol = np.array([jb.tol for jb in jobs], float)
+    scale = np.array([jb.scale for jb in jobs], float)
+    rounds = np.array([jb.rounds for jb in jobs], int)
+    cap = np.array([jb.cap for jb in jobs], int)
+    wend = np.array([[np.nan if w is None else w for w in jb.ends] for jb in jobs], float).reshape(nj, 2)
+
+    def frames(X, g):
+        """(frac·node width, unit normal) at the nodes X of the guides g."""
+        m = len(X)
+        V = evaluate_rows(table, np.concatenate([X, X]), np.concatenate([PI[g], PJ[g]]))
+        tn_, U_ = _frame_values(_fgrad_values(X, V.part(0, m), V.part(m, 2 * m)), tol[g], scale[g])
+        return frac[g] * tn_, U_
+
+    def mids(A, B, g):
+        return project_rows(table, 0.5 * (A + B), B - A, PI[g], PJ[g])
+
+    inner = jn[:-1] == jn[1:]                                 # node t starts a segment of its guide
+    sg = jn[:-1][inner]                                       # guide of each segment
+    Mn, dev = mids(S[:-1][inner], S[1:][inner], sg)
+    tn, U = frames(S, jn)
+    active = cnt >= 2
+    for r in range(int(rounds.max()) if nj else 0):
+        active &= r < rounds
+        first = np.concatenate([[0], np.cumsum(cnt)[:-1]])
+        for t, at in ((0, first), (1, first + cnt - 1)):
+            has = active & ~np.isnan(wend[:, t])
+            tn[at[has]] = np.minimum(tn[at[has]], frac[has] * wend[has, t])
+        A, B = S[:-1][inner], S[1:][inner]
+        seg = B - A
         Ls = np.hypot(seg[:, 0], seg[:, 1])
         Tc = seg / np.maximum(Ls, 1e-300)[:, None]
+        Ua, Ub = U[:-1][inner], U[1:][inner]
         with np.errstate(invalid="ignore"):
-            sin_end = np.maximum(np.abs((Tc * U[:-1]).sum(1)), np.abs((Tc * U[1:]).sum(1)))
-        tmin = np.minimum(tn[:-1], tn[1:])
+            sin_end = np.maximum(np.abs((Tc * Ua).sum(1)), np.abs((Tc * Ub).sum(1)))
+        tmin = np.minimum(tn[:-1][inner], tn[1:][inner])
         bend = np.where(np.isfinite(sin_end), Ls * sin_end > 4 * tmin, False)
         sel = ((dev > tmin) | bend) & (dev < 0.25 * Ls)     # else the projection is not trusted
-        if not sel.any() or len(S) + int(sel.sum()) > cap:
+        nsel = np.bincount(sg[sel], minlength=nj)
+        active &= (nsel > 0) & (cnt + nsel <= cap)
+        sel &= active[sg]
+        if not sel.any():
             break
-        S = _insert(S, sel, Mn[sel])
-        tw, Uw = yield from _node_frame(Mn[sel], pair, tol, scale)
-        tn = _insert(tn[:, None], sel, frac * tw[:, None])[:, 0]
-        U = _insert(U, sel, Uw)
-        fresh = np.repeat(sel, 1 + sel)          # the two halves of every split segment
+        # insert the projected midpoints of the selected segments after their first node
+        after = np.zeros(len(S), bool)
+        after[np.nonzero(inner)[0][sel]] = True
+        tw, Uw = frames(Mn[sel], sg[sel])
+        S = _insert(S, after[:-1], Mn[sel])
+        tn = _insert(tn[:, None], after[:-1], tw[:, None])[:, 0]
+        U = _insert(U, after[:-1], Uw)
+        jn = _insert(jn[:, None].astype(float), after[:-1], sg[sel][:, None].astype(float))[:, 0].astype(int)
+        cnt = cnt + np.bincount(sg[sel], minlength=nj)
+        fresh = np.repeat(sel, 1 + sel)                       # the two halves of every split segment
         Mn, dev = np.repeat(Mn, 1 + sel, axis=0), np.repeat(dev, 1 + sel)
-        Mf, df = yield from _project_mid(S[:-1][fresh], S[1:][fresh], pair)
+        inner = jn[:-1] == jn[1:]
+        sg = jn[:-1][inner]
+        Mf, df = mids(S[:-1][inner][fresh], S[1:][inner][fresh], sg[fresh])
         Mn[fresh], dev[fresh] = Mf, df
-    return S
+    bounds = np.concatenate([[0], np.cumsum(cnt)])
+    return [S[bounds[t]:bounds[t + 1]] for t in range(nj)]

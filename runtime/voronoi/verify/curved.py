@@ -64,7 +64,8 @@ import numpy as np
 
 from ...sites.kinds import SiteKind
 from .site_table import run_lockstep
-from .bisector_guide import ProjectJob, adapt, cut_outside, node_width, project, project_many, refine, vertex_taper
+from .bisector_guide import (AdaptJob, ProjectJob, adapt, adapt_many, cut_outside, node_width, project, project_many,
+                             refine, vertex_taper)
 from .medial_corners import distance_to_polyline, medial_corners
 from .strips import StripsJob, prove_strips, prove_strips_many, rot90
 
@@ -93,7 +94,7 @@ def prove_curved_edges(table, jobs, deadline=None):
     the edges still running at ``deadline`` (a :func:`time.perf_counter` value)."""
     extra = [EXTRA_EDGES * (EDGE_WORK_MORE - EDGE_WORK)]
     out = run_lockstep([prove_curved_edge(table, *job, extra=extra) for job in jobs], table,
-                       {StripsJob: prove_strips_many, ProjectJob: project_many}, deadline=deadline)
+                       {StripsJob: prove_strips_many, ProjectJob: project_many, AdaptJob: adapt_many}, deadline=deadline)
     return [(False, TIME_LIMIT, []) if r is None else r for r in out]
 
 

@@ -5,7 +5,7 @@ their unbounded ends, proved to infinity in a sector of directions
 along their mirror line (:func:`runtime.voronoi.verify.mirror_tail.prove_mirror_tail`).
 
 Public API: :func:`curved_edges`, :func:`curved_job`, :func:`curved_scale`, :func:`past`,
-:func:`drawn_points`.
+:func:`drawn_points`, :func:`shape_invariant`, :func:`may_mirror`.
 """
 from __future__ import annotations
 
@@ -14,11 +14,11 @@ import time
 
 import numpy as np
 
-from ...predicates.symmetry import mirror_line
+from ...predicates.symmetry import mirror_line, site_coefficients
 from .mirror_tail import prove_mirror_edge, prove_mirror_tail
 from .tied_tail import prove_tied_tail
 
-__all__ = ["curved_edges", "curved_job", "curved_scale", "past", "drawn_points"]
+__all__ = ["curved_edges", "curved_job", "curved_scale", "past", "drawn_points", "shape_invariant", "may_mirror"]
 
 
 def past(deadline) -> bool:
@@ -91,10 +91,12 @@ def curved_edges(curved, geoms, problems, eok, ends_inf, deadline=None, late=Non
     # edges between mirror-image sites are their mirror lines: proved without strips
     sup = SupportTable(geoms) if sup_ok(geoms) else None
     exact = [g.exact for g in geoms]
+    shape: dict = {}
     rest = []
     for p_e, e, name, job in jobs:
         _, pair, P, v0, v1, _, closed = job
-        if sup is not None and mirror_line(exact[pair[0]], exact[pair[1]]) is not None:
+        if (sup is not None and may_mirror(exact, pair, shape)
+                and mirror_line(exact[pair[0]], exact[pair[1]]) is not None):
             ok, _, mends = prove_mirror_edge(exact, geoms, table, sup, pair, v0, v1, P, closed)
             if ok:
                 eok[p_e] = True
@@ -146,6 +148,31 @@ def curved_edges(curved, geoms, problems, eok, ends_inf, deadline=None, late=Non
         eok[p_e] = ok
         if ok:
             ends_inf.extend(ends)
+
+
+def shape_invariant(site):
+    """tr(M)²/(4·det M) for the quadratic part M = [[a, b/2], [b/2, c]] of the site's exact equation
+    a·x² + b·xy + c·y² + d·x + e·y + f = 0 (a Fraction; None where det M = 0).  An isometry
+    q ↦ Aq + t maps M to AᵀMA, with the same trace and determinant (A orthogonal), and a
+    rescaling of the equation by λ multiplies tr by λ and det by λ²: two conics with different
+    invariants are not the image of each other by any isometry, in particular by no reflection
+    (the classical invariants of a conic under rigid motions; e.g. Salmon, *Conic Sections*,
+    §§ 370-371)."""
+    a, b, c = site_coefficients(site)[:3]
+    det = 4 * a * c - b * b            # 4·det M
+    return None if det == 0 else (a + c) * (a + c) / det
+
+
+def may_mirror(exact, pair, memo) -> bool:
+    """False when the sites of ``pair`` are proved not mirror images of each other (different
+    :func:`shape_invariant`), so that :func:`runtime.predicates.symmetry.mirror_line` would return
+    None; True otherwise (then it decides).  ``memo`` caches the invariants by site index."""
+    inv = []
+    for k in pair:
+        if k not in memo:
+            memo[k] = shape_invariant(exact[k])
+        inv.append(memo[k])
+    return inv[0] is None or inv[1] is None or inv[0] == inv[1]
 
 
 def sup_ok(geoms) -> bool:

@@ -70,7 +70,7 @@ PIECE = 8.0         # initial pieces: PIECE times as long as the strip is wide
 #: rows per call of the row-wise evaluations (:func:`evaluate_rows`, :func:`gap_rows`): their
 #: temporaries then take memory bounded independently of N, and the results, computed row by row,
 #: are the same arrays as in one call
-ROWS_PER_CALL = 200_000
+ROWS_PER_CALL = 50_000
 
 _FIELDS = ("lo", "hi", "F", "d", "base", "inner", "reach", "sep")
 
