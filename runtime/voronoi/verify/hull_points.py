@@ -5,7 +5,7 @@ boundary of their convex hull, collinear boundary points included.
 Circles with rational radii, none inside another (:func:`verify_accounting_discs`): the same with the
 boundary of the convex hull of the discs, common tangents decided exactly in a quadratic field.
 
-Public API: :func:`verify_accounting_points`, :func:`verify_accounting_discs`.
+Public API: :func:`verify_accounting_points`, :func:`verify_accounting_discs`, :func:`hull_candidates`.
 """
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ from fractions import Fraction
 import numpy as np
 
 from .problems import fault
-__all__ = ["verify_accounting_points", "verify_accounting_discs"]
+__all__ = ["verify_accounting_points", "verify_accounting_discs", "hull_candidates"]
 
 
 def verify_accounting_points(geoms, ends_inf, problems) -> bool:
@@ -105,9 +105,18 @@ def verify_accounting_discs(geoms, ends_inf, problems) -> bool | None:
     Each proved end (pair, asymptotic direction) is matched with the nearer of its pair's two
     tangents; the proved ends must be exactly the expected ones.  Returns None when the sites do not
     qualify (irrational radius, nesting), so the caller uses the float accounting."""
+    discs = _exact_discs(geoms)
+    if discs is None:
+        return None
+    want = _hull_sides(*discs)
+    return _ends_match_hull_sides(want, ends_inf, problems)
+
+
+def _exact_discs(geoms):
+    """(C, R, Cf, Rf): the exact rational centres and radii of the sites and their floats; None
+    when a radius is irrational or a disc lies inside another (float prefilter)."""
     from ...algebra.quadtower import rational_sqrt
 
-    n = len(geoms)
     C, R = [], []
     for g in geoms:
         ex = g.exact
@@ -118,18 +127,38 @@ def verify_accounting_discs(geoms, ends_inf, problems) -> bool | None:
         R.append(Fraction(int(rho.p), int(rho.q)))
     Cf = np.array([[float(x), float(y)] for x, y in C])
     Rf = np.array([float(r) for r in R])
-    for a in range(n):                                     # no disc inside another (float prefilter)
+    for a in range(len(geoms)):                            # no disc inside another (float prefilter)
         inside = np.hypot(*(Cf - Cf[a]).T) + Rf < Rf[a] + 1e-9 * (np.abs(Cf).max() + Rf.max() + 1)
         inside[a] = False
         if inside.any():
             return None
-    # candidates: the discs that (nearly) maximise h in some direction
-    th = np.linspace(0, 2 * np.pi, 4096, endpoint=False)
+    return C, R, Cf, Rf
+
+
+#: directions sampled for the candidates of the hull
+HULL_SAMPLES = 4096
+
+
+def hull_candidates(Cf, Rf) -> list[int]:
+    """The discs that may maximise h_k(u) = c_k·u + ρ_k in some direction: at the sample nearest
+    to a direction where disc k leads (at most δ = π/HULL_SAMPLES away) h_k is within
+    |c_k − c_j|·δ ≤ 2 max|c|·δ of every h_j (h_k' − h_j' = (c_k − c_j)·u⊥), so k is within that
+    (widened for the floats) of the sampled maximum."""
+    th = np.linspace(0, 2 * np.pi, HULL_SAMPLES, endpoint=False)
     U = np.stack([np.cos(th), np.sin(th)], 1)
     H = Cf @ U.T + Rf[:, None]
     scale = float(np.abs(Cf).max() + Rf.max() + 1.0)
+    reach = 2.0 * float(np.hypot(*Cf.T).max()) * (np.pi / HULL_SAMPLES) * (1 + 1e-6) + 1e-9 * scale
     top = H.max(0)
-    cand = sorted(set(np.nonzero((H >= top[None, :] - 1e-3 * scale).any(1))[0].tolist()))
+    return sorted(set(np.nonzero((H >= top[None, :] - reach).any(1))[0].tolist()))
+
+
+def _hull_sides(C, R, Cf, Rf) -> dict:
+    """{(a, b, s): u}: the pairs consecutive on the boundary of the convex hull of the discs, with
+    the outer normal u of their common tangent s = ±1 that supports every disc (decided exactly
+    in Q(√Δ)) and no disc touching it between a's and b's tangent points."""
+    scale = float(np.abs(Cf).max() + Rf.max() + 1.0)
+    cand = hull_candidates(Cf, Rf)
     want: dict = {}
     for ia, a in enumerate(cand):
         for b in cand[ia + 1:]:
@@ -166,6 +195,12 @@ def verify_accounting_discs(geoms, ends_inf, problems) -> bool | None:
                 if between:
                     continue
                 want[(a, b, s)] = uf
+    return want
+
+
+def _ends_match_hull_sides(want, ends_inf, problems) -> bool:
+    """Each proved end (pair, asymptotic direction) matched with the nearer of its pair's two
+    tangents; the proved ends must be exactly the hull's sides, once each."""
     got: dict = {}
     for th_e, pair, _, eid in ends_inf:
         a, b = int(pair[0]), int(pair[1])
