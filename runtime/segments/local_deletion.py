@@ -72,7 +72,7 @@ from ..predicates.circles import Point
 from ..sites.segment import Segment
 from ..voronoi.site_input import SiteError
 from ..voronoi.structure import Diagram, DiagramEdge, DiagramVertex
-from .local_update import EditIndex, closure_holds, conflicts, piece_ends, prove_part, site_key
+from .local_update import EditIndex, KeptVertices, closure_holds, conflicts, piece_ends, prove_part, site_key
 
 __all__ = ["delete_locally", "site_moves"]
 
@@ -144,14 +144,6 @@ def delete_locally(D, deleted, build, index=None):
     glob = [index.keys.get(site_key(s), -1) for s in L.sites]
     if -1 in glob or gone_set & set(glob):
         return "a site of the local diagram is not a remaining site"
-    by_sites: dict = {}                # kept vertices near the local diagram, by sites
-    removed_rows = set(rows.tolist())
-    if L.vertices:
-        lx = np.array([[v.x, v.y] for v in L.vertices])
-        llo, lhi = lx.min(axis=0), lx.max(axis=0)
-        for t in index.vertices_in(llo - 1e-6 * (1 + np.abs(llo)), lhi + 1e-6 * (1 + np.abs(lhi))).tolist():
-            if t not in removed_rows:
-                by_sites.setdefault(tuple(V[t].sites), []).append(V[t])
     lXY = np.array([[v.x, v.y] for v in L.vertices], float).reshape(-1, 2)
     lR = np.array([v.radius for v in L.vertices], float)
     lconf = np.zeros(len(L.vertices), bool)
@@ -160,6 +152,8 @@ def delete_locally(D, deleted, build, index=None):
         lconf |= conflicts(a, b, lXY, lR)
     next_v = D.stats.get("next vertex id") or max((v.id for v in V), default=-1) + 1
     lmap: dict = {}                    # local vertex id -> global id
+    pending: dict = {}                 # local vertices that are not taken: matched when needed
+    kept = KeptVertices(index, V, conflict)
     taken_v: list = []
     for lv, inside in zip(L.vertices, lconf.tolist()):
         gs = tuple(glob[s] for s in lv.sites)
@@ -170,10 +164,7 @@ def delete_locally(D, deleted, build, index=None):
             taken_v.append(DiagramVertex(next_v, gs, lv.x, lv.y, lv.radius, False))
             next_v += 1
             continue
-        tol = 1e-6 * (1 + abs(lv.x) + abs(lv.y) + lv.radius)
-        match = [w for w in by_sites.get(gs, ()) if abs(w.x - lv.x) + abs(w.y - lv.y) < tol]
-        if len(match) == 1:
-            lmap[lv.id] = match[0].id
+        pending[lv.id] = (gs, lv.x, lv.y, lv.radius)
     taken_ids = {v.id for v in taken_v}
     at_touched = [t for t in index.edges_at(touched).tolist() if keep_e[t]] if touched else []
     kept_at = {(tuple(sorted(D.edges[t].sites)), frozenset(D.edges[t].ends)) for t in at_touched}
@@ -181,10 +172,16 @@ def delete_locally(D, deleted, build, index=None):
     taken_e: list = []
     for le in L.edges:
         gp = tuple(glob[s] for s in le.sites)
-        ends = [None if u is None else lmap.get(u, -1) for u in le.ends]
+        at_taken = any(lmap.get(u) in taken_ids for u in le.ends)
+        if not (at_taken or tuple(sorted(gp)) in gone_pairs):
+            continue
+        for u in le.ends:
+            if u is not None and u not in lmap:
+                lmap[u] = kept.find(*pending[u]) if u in pending else -1
+        ends = [None if u is None else lmap[u] for u in le.ends]
         through = (tuple(sorted(gp)) in gone_pairs and any(u in touched for u in ends)
                    and (tuple(sorted(gp)), frozenset(ends)) not in kept_at)
-        if not (through or any(u in taken_ids for u in ends)):
+        if not (through or at_taken):
             continue
         if None in ends or le.closed:
             return "a changed edge goes to infinity"

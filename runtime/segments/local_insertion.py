@@ -67,7 +67,7 @@ from ..sites.segment import Segment
 from ..voronoi.site_input import SiteError
 from ..voronoi.structure import Diagram, DiagramEdge, DiagramVertex
 from .crossings import check_pieces
-from .local_update import EditIndex, closure_holds, conflicts, piece_ends, point_key, prove_part, site_box, site_key
+from .local_update import EditIndex, KeptVertices, closure_holds, conflicts, piece_ends, point_key, prove_part, site_box, site_key
 
 __all__ = ["insert_locally"]
 
@@ -152,17 +152,15 @@ def insert_locally(D, piece, source: int, build, index=None):
     is_new = lambda k: k >= n        # noqa: E731
     removed = set(cv_.tolist())
     removed_ids = {V[t].id for t in removed}
-    by_sites: dict = {}                # the kept vertices near the local diagram, by sites
-    llo = np.array([min(v.x for v in L.vertices), min(v.y for v in L.vertices)]) if L.vertices else lo
-    lhi = np.array([max(v.x for v in L.vertices), max(v.y for v in L.vertices)]) if L.vertices else hi
-    for t in index.vertices_in(llo - 1e-6 * (1 + np.abs(llo)), lhi + 1e-6 * (1 + np.abs(lhi))).tolist():
-        if t not in removed:
-            by_sites.setdefault(tuple(V[t].sites), []).append(V[t])
     removed_by_sites: dict = {}
     for t in removed:
         removed_by_sites.setdefault(tuple(V[t].sites), []).append(V[t])
     next_v = D.stats.get("next vertex id") or max((v.id for v in V), default=-1) + 1
     lmap: dict = {}                    # local vertex id -> global id
+    pending: dict = {}                 # local vertices that are not taken: matched when needed
+    removed_mask = np.zeros(len(V), bool)
+    removed_mask[cv_] = True
+    kept = KeptVertices(index, V, removed_mask)
     taken_v: list = []
     for lv in L.vertices:
         gs = tuple(glob[s] for s in lv.sites)
@@ -175,17 +173,18 @@ def insert_locally(D, piece, source: int, build, index=None):
             taken_v.append(DiagramVertex(next_v, gs, lv.x, lv.y, lv.radius, False))
             next_v += 1
             continue
-        match = [w for w in by_sites.get(gs, ()) if abs(w.x - lv.x) + abs(w.y - lv.y) < tol]
-        if len(match) == 1:
-            lmap[lv.id] = match[0].id
+        pending[lv.id] = (gs, lv.x, lv.y, lv.radius)
     taken_ids = {v.id for v in taken_v}
     next_e = D.stats.get("next edge id") or max((e.id for e in D.edges), default=-1) + 1
     taken_e: list = []
     for le in L.edges:
         gp = tuple(glob[s] for s in le.sites)
-        ends = [None if u is None else lmap.get(u, -1) for u in le.ends]
-        if not (any(is_new(s) for s in gp) or any(u in taken_ids for u in ends)):
+        if not (any(is_new(s) for s in gp) or any(lmap.get(u) in taken_ids for u in le.ends)):
             continue
+        for u in le.ends:
+            if u is not None and u not in lmap:
+                lmap[u] = kept.find(*pending[u]) if u in pending else -1
+        ends = [None if u is None else lmap[u] for u in le.ends]
         if None in ends or le.closed:
             return "a changed edge goes to infinity"
         if -1 in ends:

@@ -23,7 +23,7 @@ curve (its end point sites), which the table's end codes need.  A site outside t
 therefore farther than the distance to the nearest site from every point the proof is about, and
 the proof against the table is the proof against all sites.
 
-Public API: :class:`EditIndex`, :func:`site_key`, :func:`point_key`, :func:`site_box`,
+Public API: :class:`EditIndex`, :class:`KeptVertices`, :func:`site_key`, :func:`point_key`, :func:`site_box`,
 :func:`piece_ends`, :func:`piece_distance`, :func:`conflicts`, :func:`closure_holds`,
 :func:`prove_part`, :func:`vertex_sites`, :func:`edge_arrays`, :data:`MARGIN`, :data:`WIDEN`.
 """
@@ -40,7 +40,7 @@ from .certificate_edges import prove_edges
 from .certificate_sites import SiteTable
 from .certificate_vertices import prove_vertices
 
-__all__ = ["EditIndex", "site_key", "point_key", "site_box", "piece_ends", "piece_distance", "conflicts",
+__all__ = ["EditIndex", "KeptVertices", "site_key", "point_key", "site_box", "piece_ends", "piece_distance", "conflicts",
            "closure_holds", "prove_part", "vertex_sites", "edge_arrays", "MARGIN", "WIDEN"]
 
 #: margin of the conflict test, relative to 1 + |x| + |y| + r of the vertex (a hundred times the
@@ -189,6 +189,23 @@ class EditIndex:
     def edges_at(self, ids) -> np.ndarray:
         """Rows of the edges with an end vertex among ``ids``."""
         return np.nonzero(np.isin(self.EE, np.fromiter(ids, np.int64)).any(axis=1))[0]
+
+
+class KeptVertices:
+    """Finds the kept vertex (a vertex of D outside ``removed``, a boolean row mask) that a local
+    diagram's vertex reproduces: the same sites in the same cyclic order (smallest first) and the
+    same centre within 10⁻⁶·(1 + |x| + |y| + r); one numpy pass over the centres per question."""
+
+    def __init__(self, index: EditIndex, vertices, removed):
+        self.index, self.vertices, self.removed = index, vertices, removed
+
+    def find(self, gs, x: float, y: float, r: float) -> int:
+        """The id of the one matching kept vertex, or −1."""
+        X = self.index.XY
+        tol = 1e-6 * (1 + abs(x) + abs(y) + r)
+        rows = np.nonzero(np.abs(X[:, 0] - x) + np.abs(X[:, 1] - y) < tol)[0].tolist()
+        hits = [self.vertices[t] for t in rows if not self.removed[t] and tuple(self.vertices[t].sites) == gs]
+        return hits[0].id if len(hits) == 1 else -1
 
 
 def closure_holds(edges, check) -> bool:
