@@ -29,8 +29,11 @@ deviation itself: near a hyperbola-like branch's pole the chords' true deviation
 midpoints' (a far end point off the curve along its asymptote), and a bound stated at the
 measurement would leave the proof no room.  Its proof is the certificate's.
 
-Public API: :func:`bisector_kind`, :func:`edge_polyline`, :func:`line_direction`,
-:func:`arc_bisector_points`.
+Many straight and parabolic edges are drawn at once on arrays (:func:`simple_kinds`,
+:func:`parabola_polylines`: the same formulas, row by row).
+
+Public API: :func:`bisector_kind`, :func:`simple_kinds`, :func:`edge_polyline`,
+:func:`parabola_polylines`, :func:`line_direction`, :func:`arc_bisector_points`.
 """
 from __future__ import annotations
 
@@ -39,11 +42,12 @@ import math
 import numpy as np
 
 from .distance import distances
-from .elementary import ARC, ELLIPSE, POINT, ElementarySites
+from .elementary import ARC, ELLIPSE, POINT, SEGMENT, ElementarySites
 from .ellipse_bisectors import ellipse_edge
 from .ellipse_pieces import piece_tangent
 
-__all__ = ["bisector_kind", "edge_polyline", "line_direction", "parabola_points", "arc_bisector_points"]
+__all__ = ["bisector_kind", "simple_kinds", "edge_polyline", "parabola_polylines", "line_direction", "parabola_points",
+           "arc_bisector_points", "STRAIGHT", "PARABOLA", "OTHER"]
 
 #: most pieces of one parabolic edge
 MAX_PIECES = 4096
@@ -79,6 +83,31 @@ def bisector_kind(E: ElementarySites, i: int, j: int) -> str:
     if ELLIPSE in (ki, kj):
         return "ellipse"
     return "arc" if ARC in (ki, kj) else "segments"
+
+
+#: codes of :func:`simple_kinds`
+STRAIGHT, PARABOLA, OTHER = 0, 1, 2
+
+
+def simple_kinds(E: ElementarySites, I, J) -> np.ndarray:
+    """Per pair (I, J) of sites: :data:`STRAIGHT` (kinds "points", "perpendicular" of a segment or
+    a circular arc, "segments"), :data:`PARABOLA` or :data:`OTHER` (joints, arcs, elliptic pieces:
+    :func:`bisector_kind` one by one); the same kinds as :func:`bisector_kind`, on arrays."""
+    I, J = np.asarray(I, np.int64), np.asarray(J, np.int64)
+    ki, kj = E.kind[I], E.kind[J]
+    out = np.full(len(I), OTHER, np.int8)
+    out[(ki == POINT) & (kj == POINT)] = STRAIGHT
+    one = (ki == POINT) != (kj == POINT)
+    p, s = np.where(ki == POINT, I, J), np.where(ki == POINT, J, I)
+    ks = E.kind[s]
+    end = (E.ends[s, 0] == p) | (E.ends[s, 1] == p)
+    out[one & end & ((ks == SEGMENT) | (ks == ARC))] = STRAIGHT
+    out[one & ~end & (ks == SEGMENT)] = PARABOLA
+    # two segments: a line unless they share a smooth joint (a code < −1 at both)
+    ei, ej = E.ends[I], E.ends[J]
+    joint = ((ei[:, :, None] == ej[:, None, :]) & (ei[:, :, None] < -1)).any(axis=(1, 2))
+    out[(ki == SEGMENT) & (kj == SEGMENT) & ~joint] = STRAIGHT
+    return out
 
 
 def _tangent(E: ElementarySites, s: int, e_xy) -> np.ndarray:
@@ -146,21 +175,65 @@ def arc_bisector_points(E: ElementarySites, s: int, other: int, sigma: int, tau:
 
 def parabola_points(E: ElementarySites, p: int, s: int, u: np.ndarray) -> np.ndarray:
     """Points of the bisector of point site p and segment site s at foot parameters ``u``."""
-    a, b, P = E.A[s], E.B[s], E.A[p]
-    d = b - a
-    n = np.array([-d[1], d[0]]) / np.hypot(*d)
-    if np.dot(P - a, n) < 0:
-        n = -n
-    F = a + u[:, None] * d
-    W = P - F
-    h = np.einsum("ij,ij->i", W, W) / (2 * (W @ n))
-    return F + h[:, None] * n
+    a, d, n, P = _parabola_frames(E, np.array([p]), np.array([s]))
+    u = np.asarray(u, float)
+    return _parabola_at(a[0], d[0], n[0], P[0], u)
 
 
-def _foot(E: ElementarySites, s: int, X) -> float:
-    a, b = E.A[s], E.B[s]
-    d = b - a
-    return float(np.dot(np.asarray(X, float) - a, d) / np.dot(d, d))
+def _parabola_frames(E: ElementarySites, p, s):
+    """Per row (point site p, segment site s): the segment's start a, its direction d, the unit
+    normal n on p's side and the focus P (arrays of rows)."""
+    a, P = E.A[s], E.A[p]
+    d = E.B[s] - a
+    n = np.column_stack([-d[:, 1], d[:, 0]]) / np.hypot(d[:, 0], d[:, 1])[:, None]
+    flip = (P[:, 0] - a[:, 0]) * n[:, 0] + (P[:, 1] - a[:, 1]) * n[:, 1] < 0
+    n[flip] = -n[flip]
+    return a, d, n, P
+
+
+def _parabola_at(a, d, n, P, u):
+    """v(u) = f(u) + h(u)·n, f(u) = a + u d, h(u) = |f(u) − P|² / (2 n·(P − f(u))) (rows of a, d,
+    n, P broadcast against the foot parameters u)."""
+    Fx, Fy = a[..., 0] + u * d[..., 0], a[..., 1] + u * d[..., 1]
+    Wx, Wy = P[..., 0] - Fx, P[..., 1] - Fy
+    h = (Wx * Wx + Wy * Wy) / (2 * (Wx * n[..., 0] + Wy * n[..., 1]))
+    return np.stack([Fx + h * n[..., 0], Fy + h * n[..., 1]], axis=-1)
+
+
+def parabola_polylines(E: ElementarySites, p, s, P0, P1, tol: float):
+    """The polylines of many parabolic edges at once (rows: point site p, segment site s, end
+    points P0 and P1 on their bisector): (one big array of their points, the start of each
+    edge's points in it, each edge's deviation bound).  Each edge is cut into n pieces of equal
+    foot-parameter step, n from the length L of a 64-chord polyline and the sagitta bound
+    L²/(8δ) ≤ tol (δ the focal distance); the bound stated is max chord²/(8δ) plus the rounding
+    10⁻¹² of the ends' scale.  All rows need δ > 0."""
+    p, s = np.asarray(p, np.int64), np.asarray(s, np.int64)
+    P0, P1 = np.asarray(P0, float).reshape(-1, 2), np.asarray(P1, float).reshape(-1, 2)
+    a, d, n, P = _parabola_frames(E, p, s)
+    dd = d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1]
+    u0 = ((P0[:, 0] - a[:, 0]) * d[:, 0] + (P0[:, 1] - a[:, 1]) * d[:, 1]) / dd
+    u1 = ((P1[:, 0] - a[:, 0]) * d[:, 0] + (P1[:, 1] - a[:, 1]) * d[:, 1]) / dd
+    delta = np.abs((P[:, 0] - a[:, 0]) * -d[:, 1] + (P[:, 1] - a[:, 1]) * d[:, 0]) / np.hypot(d[:, 0], d[:, 1])
+    # the foot parameters of np.linspace(u0, u1, k + 1): j·step + u0, the last one u1
+    k = np.arange(65.0)
+    U = k * ((u1 - u0) / 64)[:, None] + u0[:, None]
+    U[:, -1] = u1
+    fine = _parabola_at(a[:, None], d[:, None], n[:, None], P[:, None], U)
+    length = np.hypot(*np.diff(fine, axis=1).transpose(2, 0, 1)).sum(axis=1)
+    pieces = np.minimum(MAX_PIECES, np.maximum(1, np.ceil(length / np.sqrt(8 * delta * tol)))).astype(np.int64)
+    start = np.concatenate([[0], np.cumsum(pieces + 1)[:-1]]).astype(np.int64)
+    row = np.repeat(np.arange(len(p)), pieces + 1)
+    j = np.arange(len(row)) - start[row]
+    U = j * ((u1 - u0) / pieces)[row] + u0[row]
+    last = start + pieces
+    U[last] = u1
+    Q = _parabola_at(a[row], d[row], n[row], P[row], U)
+    Q[start], Q[last] = P0, P1
+    chords = np.hypot(*np.diff(Q, axis=0).T)
+    chords[start[1:] - 1] = 0.0                      # between two edges' points
+    longest = np.maximum.reduceat(chords, start) if len(p) else np.zeros(0)
+    rounding = 1e-12 * (1.0 + np.maximum(np.abs(P0).max(axis=1), np.abs(P1).max(axis=1)))
+    return Q, start, longest ** 2 / (8 * delta) + rounding
 
 
 def edge_polyline(E: ElementarySites, i: int, j: int, P0, P1, tol: float, *, far=None, centre=None,
@@ -183,17 +256,8 @@ def edge_polyline(E: ElementarySites, i: int, j: int, P0, P1, tol: float, *, far
     if kind != "parabola":
         return np.array([P0, P1]), rounding
     p, s = (i, j) if E.kind[i] == POINT else (j, i)
-    u0, u1 = _foot(E, s, P0), _foot(E, s, P1)
-    a, b, P = E.A[s], E.B[s], E.A[p]
-    d = b - a
-    delta = abs(np.dot(P - a, np.array([-d[1], d[0]]))) / np.hypot(*d)     # focal distance
-    fine = parabola_points(E, p, s, np.linspace(u0, u1, 65))
-    length = float(np.sum(np.hypot(*np.diff(fine, axis=0).T)))
-    n = int(min(MAX_PIECES, max(1, math.ceil(length / math.sqrt(8 * delta * tol)))))
-    Q = parabola_points(E, p, s, np.linspace(u0, u1, n + 1))
-    Q[0], Q[-1] = P0, P1
-    chords = np.hypot(*np.diff(Q, axis=0).T)
-    return Q, float(np.max(chords) ** 2 / (8 * delta)) + rounding
+    Q, _start, bound = parabola_polylines(E, [p], [s], P0, P1, tol)
+    return Q, float(bound[0])
 
 
 def arc_sides(E: ElementarySites, s: int, other: int, P):

@@ -64,7 +64,7 @@ from .exact import contacts_valid
 from .hull_samples import hull_samples
 from .sampling import flat, initial_spacing, nearest_point, retriangulation, samples, triangulation
 from .proved_zeros import EMPTY, UNDECIDED, ZeroTable
-from .walk_checks import BAD, NONE, TRI, VERTEX, degree_mismatches, far_ends, long_side, walk_arrays
+from .walk_checks import BAD, NONE, TRI, VERTEX, degree_mismatches, far_ends, long_side, pair_keys, walk_arrays
 from .newton import prove_vertices
 from .near_degenerate import CLUSTER_RADIUS, splice_clusters
 from .parallel_rays import parallel_ray_triangles
@@ -493,14 +493,7 @@ def _degree_checks(E, vertices, hv, hk, refine, graded, problems, want_of) -> No
     if not vertices:
         return
     base = len(E) + 1
-    want = []
-    for v in vertices:
-        sites = tuple(v.sites)
-        w = want_of.get(sites)
-        if w is None:
-            w = want_of[sites] = tuple(sorted(min(a, b) * base + max(a, b)
-                                              for a, b in zip(v.sites, v.sites[1:] + v.sites[:1])))
-        want.append(w)
+    want = pair_keys([v.sites for v in vertices], base, want_of)
     for v_id in degree_mismatches(want, hv, hk, len(vertices)).tolist():
         v = vertices[v_id]
         refine.update(v.sites)

@@ -8,7 +8,7 @@ sites are ordered by the angle of their contact points seen from the vertex; a c
 one of its ends shares that contact with the end's point site and is placed on the side where it
 leaves the contact.
 
-Public API: :func:`corner_order`, :func:`contact_order`.
+Public API: :func:`corner_order`, :func:`contact_order`, :func:`contact_orders`.
 """
 from __future__ import annotations
 
@@ -17,10 +17,10 @@ import math
 import numpy as np
 
 from .bisectors import arc_range
-from .elementary import ARC, ELLIPSE, POINT, ElementarySites
+from .elementary import ARC, ELLIPSE, POINT, SEGMENT, ElementarySites
 from .ellipse_pieces import piece_feet, piece_points, piece_tangent
 
-__all__ = ["corner_order", "contact_order"]
+__all__ = ["corner_order", "contact_order", "contact_orders"]
 
 
 def corner_order(E: ElementarySites, c: int) -> tuple:
@@ -60,9 +60,10 @@ def contact_order(E: ElementarySites, members, sol) -> tuple:
     ang = []
     for s in members:
         lean = 0.0
-        if E.kind[s] == POINT:
-            f = E.A[s]
-        elif E.kind[s] == ARC:
+        if E.kind[s] == POINT or E.kind[s] == SEGMENT:
+            ang.append(float(_straight_angles(E, np.array([s]), v[None, :])[0]))
+            continue
+        if E.kind[s] == ARC:
             w = v - E.C[s]
             if np.hypot(*w) <= 1e-9 * E.rho[s]:          # the arc's centre: contact along the arc
                 al, be = arc_range(E, s)
@@ -72,7 +73,7 @@ def contact_order(E: ElementarySites, members, sol) -> tuple:
                 if np.hypot(*(f - P)) <= 1e-9 * (1 + E.rho[s]):
                     r = P - E.C[s]
                     lean = _lean(f - v, np.array([-r[1], r[0]]) if end == 0 else np.array([r[1], -r[0]]))
-        elif E.kind[s] == ELLIPSE:
+        else:                                             # an elliptic piece
             P = E.ellipse[s]
             _d, phi = piece_feet(P, v[None, :])
             f = piece_points(P, phi)[0]
@@ -80,19 +81,65 @@ def contact_order(E: ElementarySites, members, sol) -> tuple:
             for end, at in ((0, P.phi0), (1, P.phi1)):
                 if abs(float(phi[0]) - at) <= 1e-9 * span:
                     lean = _lean(f - v, piece_tangent(P, end))
-        else:
-            a, b = E.A[s], E.B[s]
-            d = b - a
-            t = np.dot(v - a, d) / np.dot(d, d)
-            f = a + np.clip(t, 0, 1) * d
-            if t <= 1e-12:
-                lean = _lean(f - v, d)
-            elif t >= 1 - 1e-12:
-                lean = _lean(f - v, -d)
         ang.append(math.atan2(f[1] - v[1], f[0] - v[0]) + lean)
     order = [s for _, s in sorted(zip(ang, members))]
     m = order.index(min(order))
     return tuple(order[m:] + order[:m])
+
+
+def contact_orders(E: ElementarySites, members, V) -> list:
+    """:func:`contact_order` of many vertices (``members``: their site tuples, ``V``: their
+    positions): those of three point or segment sites on arrays at once (the same angles and the
+    same ties, broken by site number), the others one by one."""
+    out: list = [None] * len(members)
+    V = np.asarray(V, float).reshape(-1, 2)
+    rows = [k for k, ms in enumerate(members) if len(ms) == 3]
+    if rows:
+        M = np.array([members[k] for k in rows], np.int64)
+        simple = ((E.kind[M] == POINT) | (E.kind[M] == SEGMENT)).all(axis=1)
+        M, R = M[simple], np.array(rows, np.int64)[simple]
+        if len(R):
+            ang = _straight_angles(E, M.ravel(), np.repeat(V[R], 3, axis=0)).reshape(-1, 3)
+            order = _lexsort_rows(ang, M)
+            S = np.take_along_axis(M, order, axis=1)
+            first = np.argmin(S, axis=1)
+            S = np.take_along_axis(S, (first[:, None] + np.arange(3)) % 3, axis=1)
+            for k, t in zip(R.tolist(), S.tolist()):
+                out[k] = tuple(t)
+    for k, ms in enumerate(members):
+        if out[k] is None:
+            out[k] = contact_order(E, ms, _At(V[k]))
+    return out
+
+
+class _At:
+    """A position with the ``x``, ``y`` of a vertex solution."""
+
+    def __init__(self, v):
+        self.x, self.y = float(v[0]), float(v[1])
+
+
+def _lexsort_rows(ang, M) -> np.ndarray:
+    """Per row, the column order sorting by angle, then by site (Python's tuple order)."""
+    order = np.argsort(M, axis=1, kind="stable")
+    a = np.take_along_axis(ang, order, axis=1)
+    return np.take_along_axis(order, np.argsort(a, axis=1, kind="stable"), axis=1)
+
+
+def _straight_angles(E: ElementarySites, S, V) -> np.ndarray:
+    """The angle at V of the contact point of point or segment site S (rows), leaned by ±10⁻⁹
+    for a segment touched at an end (:func:`_lean`: the side where it leaves the contact)."""
+    a, d = E.A[S], E.B[S] - E.A[S]
+    dd = d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1]
+    seg = E.kind[S] != POINT
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(seg, ((V[:, 0] - a[:, 0]) * d[:, 0] + (V[:, 1] - a[:, 1]) * d[:, 1]) / np.where(seg, dd, 1.0), 0.0)
+    f = a + np.clip(t, 0, 1)[:, None] * d
+    rx, ry = f[:, 0] - V[:, 0], f[:, 1] - V[:, 1]
+    cross = rx * d[:, 1] - ry * d[:, 0]              # the lean along d; along −d it flips
+    lean = np.where(seg & (t <= 1e-12), np.where(cross > 0, 1e-9, -1e-9),
+                    np.where(seg & (t >= 1 - 1e-12), np.where(-cross > 0, 1e-9, -1e-9), 0.0))
+    return np.arctan2(ry, rx) + lean
 
 
 def _lean(radius_vector, direction) -> float:

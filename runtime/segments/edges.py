@@ -16,8 +16,8 @@ import math
 import numpy as np
 
 from ..voronoi.structure import DiagramEdge
-from .bisectors import (arc_bisector_points, arc_sides, bisector_kind, edge_polyline, line_direction,
-                        line_point)
+from .bisectors import (OTHER, PARABOLA, STRAIGHT, arc_bisector_points, arc_sides, bisector_kind, edge_polyline,
+                        line_direction, line_point, parabola_polylines, simple_kinds)
 from .distance import site_distances
 from .ellipse_bisectors import ellipse_step, perpendicular_edge
 from .elementary import ARC, ELLIPSE, POINT, ElementarySites
@@ -93,51 +93,98 @@ def _arc_step(E: ElementarySites, i: int, j: int, base, far):
 
 def edge_polylines(E: ElementarySites, vertices, walks, tol, lo, hi):
     """Polylines along the closed-form bisectors; infinite ends at far points in the walk's
-    direction."""
+    direction.  The straight and parabolic edges with two finite ends (nearly all of them) are
+    drawn together on arrays (:func:`runtime.segments.bisectors.parabola_polylines`), the others
+    one by one."""
     lo, hi = np.asarray(lo, float), np.asarray(hi, float)
     centre = (lo + hi) / 2
     far_sites = 4 * float(np.max(hi - lo) + 1.0)
+    batch = _finite_simple(E, vertices, walks, tol)
     out = []
-    for pair, ends, hints in walks:
+    for w, (pair, ends, _hints) in enumerate(walks):
+        got = batch.get(w)
+        if got is None:
+            got = _one_edge(E, vertices, pair, ends, tol, lo, centre, far_sites)
+            if got is None:
+                continue
         i, j = pair
-        fin = [None if e is None else np.array([vertices[e].x, vertices[e].y]) for e in ends]
-        kind = bisector_kind(E, i, j)
-        step, sides = 1, None
-        if kind == "perpendicular" and ELLIPSE in (E.kind[i], E.kind[j]):
-            # the normal at an elliptic piece's end bends beyond the centre of curvature
-            poly, t = perpendicular_edge(E, i, j, fin[0], fin[1], tol, far_sites + 2 * max(
-                (float(np.hypot(*(f - centre))) for f in fin if f is not None), default=0.0))
-            out.append(DiagramEdge(len(out), (i, j), tuple(ends), False, poly, t, False))
-            continue
-        # an infinite end is drawn to 4 times the sites' extent, or twice as far out as its finite
-        # vertex: one far vertex (10⁸ beyond sites 10³ apart) does not stretch every other
-        # infinite edge to 10⁸ (long chords near their poles)
-        far = far_sites + 2 * max((float(np.hypot(*(f - centre))) for f in fin if f is not None), default=0.0)
-        if fin[0] is None or fin[1] is None:
-            if kind in ("parabola", "segments"):
-                continue          # these bisectors are bounded: the walk is an artefact
-            if kind == "arc":
-                base = fin[0] if fin[0] is not None else fin[1]
-                step, sides = (1, None) if base is None else _arc_step(E, i, j, base, far)
-            elif kind == "ellipse":
-                base = fin[0] if fin[0] is not None else fin[1]
-                if base is None:
-                    continue          # a whole bisector without vertices: not drawn
-                step, sides = ellipse_step(E, i, j, base, far)
-            else:
-                base = fin[0] if fin[0] is not None else fin[1]
-                d = line_direction(E, i, j, base)
-                if base is None:
-                    base = line_point(E, i, j)
-                R = far + float(np.hypot(*(base - centre)))
-                if fin[0] is None and fin[1] is None:
-                    fin = [base - d * R, base + d * R]
-                else:
-                    sgn = _outward(E, i, j, base, d, far)
-                    fin = [base + sgn * d * R if f is None else f for f in fin]
-        poly, t = edge_polyline(E, i, j, fin[0], fin[1], tol, far=far + float(np.hypot(*(lo - centre))), sides=sides,
-                                centre=centre, step=step)
-        if len(poly) < 2:
-            continue
-        out.append(DiagramEdge(len(out), (i, j), tuple(ends), False, poly, t, False))
+        out.append(DiagramEdge(len(out), (i, j), tuple(ends), False, got[0], got[1], False))
     return out
+
+
+def _finite_simple(E: ElementarySites, vertices, walks, tol) -> dict:
+    """{walk: (polyline, bound)} of the walks with two finite ends whose bisector is straight or
+    a parabola of focal distance > 0: a straight edge is the chord of its ends (bound: their
+    rounding, 10⁻¹² of their scale), a parabolic one :func:`parabola_polylines`."""
+    if not walks or not vertices:
+        return {}
+    ends = np.array([[-1 if e is None else e for e in w[1]] for w in walks], np.int64).reshape(-1, 2)
+    pairs = np.array([w[0] for w in walks], np.int64).reshape(-1, 2)
+    ok = (ends >= 0).all(axis=1)
+    kind = simple_kinds(E, pairs[:, 0], pairs[:, 1])
+    ok &= kind != OTHER
+    if not ok.any():
+        return {}
+    VX = np.array([(v.x, v.y) for v in vertices], float).reshape(-1, 2)
+    out: dict = {}
+    line = np.nonzero(ok & (kind == STRAIGHT))[0]
+    if len(line):
+        Q = VX[ends[line]]                                    # (m, 2, 2)
+        bound = 1e-12 * (1.0 + np.abs(Q).reshape(len(line), 4).max(axis=1))
+        out.update(zip(line.tolist(), zip(Q, bound.tolist())))
+    par = np.nonzero(ok & (kind == PARABOLA))[0]
+    if len(par):
+        i, j = pairs[par, 0], pairs[par, 1]
+        p = np.where(E.kind[i] == POINT, i, j)
+        s = np.where(E.kind[i] == POINT, j, i)
+        d = E.B[s] - E.A[s]
+        focal = (E.A[p, 0] - E.A[s, 0]) * -d[:, 1] + (E.A[p, 1] - E.A[s, 1]) * d[:, 0]
+        keep = focal != 0                  # a point on the segment's line: one by one
+        par, p, s = par[keep], p[keep], s[keep]
+        if len(par):
+            Q, start, bound = parabola_polylines(E, p, s, VX[ends[par, 0]], VX[ends[par, 1]], tol)
+            out.update(zip(par.tolist(), zip(np.split(Q, start[1:]), bound.tolist())))
+    return out
+
+
+def _one_edge(E: ElementarySites, vertices, pair, ends, tol, lo, centre, far_sites):
+    """(polyline, bound) of one walk's edge, or None when it is not drawn."""
+    i, j = pair
+    fin = [None if e is None else np.array([vertices[e].x, vertices[e].y]) for e in ends]
+    kind = bisector_kind(E, i, j)
+    step, sides = 1, None
+    if kind == "perpendicular" and ELLIPSE in (E.kind[i], E.kind[j]):
+        # the normal at an elliptic piece's end bends beyond the centre of curvature
+        return perpendicular_edge(E, i, j, fin[0], fin[1], tol, far_sites + 2 * max(
+            (float(np.hypot(*(f - centre))) for f in fin if f is not None), default=0.0))
+    # an infinite end is drawn to 4 times the sites' extent, or twice as far out as its finite
+    # vertex: one far vertex (10⁸ beyond sites 10³ apart) does not stretch every other
+    # infinite edge to 10⁸ (long chords near their poles)
+    far = far_sites + 2 * max((float(np.hypot(*(f - centre))) for f in fin if f is not None), default=0.0)
+    if fin[0] is None or fin[1] is None:
+        if kind in ("parabola", "segments"):
+            return None           # these bisectors are bounded: the walk is an artefact
+        if kind == "arc":
+            base = fin[0] if fin[0] is not None else fin[1]
+            step, sides = (1, None) if base is None else _arc_step(E, i, j, base, far)
+        elif kind == "ellipse":
+            base = fin[0] if fin[0] is not None else fin[1]
+            if base is None:
+                return None           # a whole bisector without vertices: not drawn
+            step, sides = ellipse_step(E, i, j, base, far)
+        else:
+            base = fin[0] if fin[0] is not None else fin[1]
+            d = line_direction(E, i, j, base)
+            if base is None:
+                base = line_point(E, i, j)
+            R = far + float(np.hypot(*(base - centre)))
+            if fin[0] is None and fin[1] is None:
+                fin = [base - d * R, base + d * R]
+            else:
+                sgn = _outward(E, i, j, base, d, far)
+                fin = [base + sgn * d * R if f is None else f for f in fin]
+    poly, t = edge_polyline(E, i, j, fin[0], fin[1], tol, far=far + float(np.hypot(*(lo - centre))), sides=sides,
+                            centre=centre, step=step)
+    if len(poly) < 2:
+        return None
+    return poly, t

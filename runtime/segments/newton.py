@@ -69,6 +69,10 @@ def prove_vertices(E: ElementarySites, items, cache: dict | None = None) -> list
         failed[idx[bad]] = True
         alive[idx[done | bad]] = False
     pending = []
+    # the cache keys' positions (Z rounded to 10⁻⁹ of the scale), all rows at once
+    with np.errstate(invalid="ignore"):
+        Zkey = np.round(Z / (1e-9 * scale)) if cache is not None else Z
+    Zkey = np.where(np.isfinite(Zkey), Zkey, 0).astype(np.int64).tolist() if cache is not None else None
     for i, n in enumerate(rows):
         triple, seed = items[n]
         if failed[i]:
@@ -87,7 +91,7 @@ def prove_vertices(E: ElementarySites, items, cache: dict | None = None) -> list
         key = None
         if cache is not None:
             sides = tuple(d[3] if k in ("line", "arc") else 0 for k, d, _t in eqs)
-            key = (tuple(triple), sides) + tuple(np.round(z / (1e-9 * scale)).astype(np.int64).tolist())
+            key = (tuple(triple), sides) + tuple(Zkey[i])
             if key in cache:
                 out[n] = cache[key]
                 continue

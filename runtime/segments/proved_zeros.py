@@ -10,7 +10,7 @@ candidates), the verdicts of the zeros not decided yet are found together (the f
 all of them, the arb and exact tests one by one), and every empty zero is given its *vertex*: the
 first empty zero with the same sites (the triple and the sites found exactly on the circle) at the
 same position within 10⁻⁹ of the scale, with its counter-clockwise contact order
-(:func:`runtime.segments.contact_order.contact_order`) and its
+(:func:`runtime.segments.contact_order.contact_orders`, on arrays) and its
 :class:`runtime.voronoi.structure.DiagramVertex`, made once.
 
 Public API: :class:`ZeroTable`.
@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..voronoi.structure import DiagramVertex
-from .contact_order import contact_order
+from .contact_order import contact_orders
 from .elementary import ElementarySites
 from .emptiness import empty_by_filter, prove_empty
 
@@ -114,6 +114,7 @@ class ZeroTable:
             return
         sols = self.sols
         passed = empty_by_filter(E, tree, lab, hmax, [(self.triples[r], sols[r]) for r in rows.tolist()])
+        fresh = []
         for r in rows.tolist():
             sol = sols[r]
             verdict = passed.get(id(sol))
@@ -123,11 +124,20 @@ class ZeroTable:
             self.members[r], self.culprit[r] = tuple(members), culprit
             if empty:
                 self.state[r] = EMPTY
-                self.vertex[r] = self._vertex_row(E, r)
+                self.vertex[r] = v = self._vertex_row(r)
+                if v == r:
+                    fresh.append(r)
             else:
                 self.state[r] = ENTERED if empty is False else UNDECIDED
+        # the new vertices' contact orders, on arrays at once
+        orders = contact_orders(E, [self.members[r] for r in fresh], self.xy[np.array(fresh, np.int64)])
+        for r, order in zip(fresh, orders):
+            sol = sols[r]
+            self.diagram_vertex[r] = DiagramVertex(-1, order, sol.x, sol.y, sol.r, True)
 
-    def _vertex_row(self, E: ElementarySites, r: int) -> int:
+    def _vertex_row(self, r: int) -> int:
+        """The row of the vertex of empty zero r: the first empty zero with its sites at its
+        position (within 10⁻⁹ of the scale), r itself when it is new."""
         sol = self.sols[r]
         key = tuple(sorted(self.members[r]))
         tol = 1e-9 * (1.0 + abs(sol.x) + abs(sol.y) + sol.r)
@@ -136,5 +146,4 @@ class ZeroTable:
             if abs(o.x - sol.x) <= tol and abs(o.y - sol.y) <= tol:
                 return v
         self._by_members.setdefault(key, []).append(r)
-        self.diagram_vertex[r] = DiagramVertex(-1, contact_order(E, self.members[r], sol), sol.x, sol.y, sol.r, True)
         return r

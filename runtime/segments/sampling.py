@@ -7,7 +7,7 @@ spacing of a curve is its gap to the nearest non-adjacent site divided by
 :data:`SPACING_PER_GAP` (at most a quarter of its length); refinement divides it further.
 
 Public API: :func:`initial_spacing`, :func:`samples`, :func:`curve_lengths`, :func:`triangulation`,
-:func:`retriangulation`,
+:func:`retriangulation`, :func:`exact_matches`,
 :func:`flat`, :func:`nearest_point`, :func:`corner_grading`, :func:`end_points`, :data:`SPACING_PER_GAP`.
 """
 from __future__ import annotations
@@ -21,7 +21,7 @@ from .distance import in_arc
 from .elementary import ARC, ELLIPSE, POINT, ElementarySites
 from .ellipse_pieces import piece_at_lengths, piece_feet, piece_lengths, piece_points, piece_tangent
 
-__all__ = ["initial_spacing", "samples", "curve_lengths", "triangulation", "insert_samples", "retriangulation", "flat", "nearest_point", "corner_grading", "end_points", "GRADING_FLOOR",
+__all__ = ["initial_spacing", "samples", "curve_lengths", "triangulation", "insert_samples", "retriangulation", "exact_matches", "flat", "nearest_point", "corner_grading", "end_points", "GRADING_FLOOR",
            "SPACING_PER_GAP"]
 
 #: graded samples stay this far (relative to the coordinates) from a curve's end
@@ -326,18 +326,14 @@ def retriangulation(prev: SampleTriangulation, P, lab) -> SampleTriangulation | 
     site whose spacing did not change is recomputed bit for bit).  The result's samples are in
     its own order (kept ones, then new ones).  None when a full triangulation is the better
     choice (too many changes, a relabelled sample) or the update refuses."""
-    old = np.ascontiguousarray(prev.P, dtype=float).view(np.complex128).ravel()
-    cur = np.ascontiguousarray(P, dtype=float).view(np.complex128).ravel()
-    if len(np.unique(cur)) != len(cur):
+    match = exact_matches(prev.P, P)
+    if match is None:
         return None
-    keep = np.isin(old, cur)
-    add = ~np.isin(cur, old)
+    keep, add, at = match
     n_change = int((~keep).sum() + add.sum())
-    if n_change > LOCAL_FRACTION * len(cur):
+    if n_change > LOCAL_FRACTION * len(P):
         return None
     # a kept sample must keep its label
-    order = np.argsort(cur)
-    at = order[np.searchsorted(cur, old[keep], sorter=order)]
     if not np.array_equal(lab[at], prev.lab[keep]):
         return None
     if n_change == 0:
@@ -346,6 +342,57 @@ def retriangulation(prev: SampleTriangulation, P, lab) -> SampleTriangulation | 
         return prev.update(np.nonzero(~keep)[0], P[add], lab[add])
     except (ValueError, IndexError, QhullError):
         return None
+
+
+def _exact_keys(P) -> np.ndarray:
+    """64-bit keys of the exact coordinates of the points P (−0.0 taken as 0.0): equal points have
+    equal keys; distinct points may collide, which :func:`exact_matches` detects."""
+    b = np.ascontiguousarray(np.asarray(P, float).reshape(-1, 2) + 0.0).view(np.uint64)
+    return b[:, 0] * np.uint64(0x9E3779B97F4A7C15) ^ b[:, 1] * np.uint64(0xC2B2AE3D27D4EB4F)
+
+
+def exact_matches(old, cur):
+    """(keep, add, at) for the samples ``old`` and ``cur`` (points, compared exactly): ``keep``
+    marks the old samples that are in ``cur``, ``add`` the current ones that are not in ``old``,
+    ``at`` the positions in ``cur`` of the kept ones; None when ``cur`` repeats a point.  Points
+    are found by their :func:`_exact_keys` and then compared coordinate by coordinate; a collision
+    of keys (or a non-finite point) falls back to the sorted complex values."""
+    old, cur = np.asarray(old, float).reshape(-1, 2), np.asarray(cur, float).reshape(-1, 2)
+    ko, kc = _exact_keys(old), _exact_keys(cur)
+    oc, oo = np.argsort(kc, kind="stable"), np.argsort(ko, kind="stable")
+    sc, so = kc[oc], ko[oo]
+    if not (np.isfinite(old).all() and np.isfinite(cur).all()):
+        return _complex_matches(old, cur)
+    dup = np.nonzero(sc[1:] == sc[:-1])[0]
+    if len(dup):
+        if (cur[oc[dup]] == cur[oc[dup + 1]]).all(axis=1).any():
+            return None                               # a repeated sample
+        return _complex_matches(old, cur)             # a collision of keys
+    # (keys of ``cur`` are distinct: a hit is the one candidate; keys of ``old`` may repeat)
+    pos = np.minimum(np.searchsorted(sc, ko), len(sc) - 1) if len(sc) else np.zeros(len(ko), np.int64)
+    keep = sc[pos] == ko if len(sc) else np.zeros(len(ko), bool)
+    at = oc[pos[keep]]
+    if not (old[keep] == cur[at]).all():
+        return _complex_matches(old, cur)
+    pos = np.minimum(np.searchsorted(so, kc), len(so) - 1) if len(so) else np.zeros(len(kc), np.int64)
+    found = so[pos] == kc if len(so) else np.zeros(len(kc), bool)
+    cand = oo[pos[found]]
+    same = (cur[found] == old[cand]).all(axis=1)
+    if not same.all():
+        return _complex_matches(old, cur)
+    return keep, ~found, at
+
+
+def _complex_matches(old, cur):
+    """:func:`exact_matches` by sorting the points as complex numbers."""
+    old = np.ascontiguousarray(old, dtype=float).view(np.complex128).ravel()
+    cur = np.ascontiguousarray(cur, dtype=float).view(np.complex128).ravel()
+    if len(np.unique(cur)) != len(cur):
+        return None
+    keep = np.isin(old, cur)
+    add = ~np.isin(cur, old)
+    order = np.argsort(cur)
+    return keep, add, order[np.searchsorted(cur, old[keep], sorter=order)]
 
 
 def flat(P) -> bool:

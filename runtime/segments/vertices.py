@@ -30,11 +30,15 @@ foot lies strictly inside t and is its nearest point
 a vertex of the ellipse (a smooth joint) beyond the joint's centre of curvature are touched at
 two feet, one on each piece: then both take the foot equation.
 
+Length: the contact equations, their float and arb forms and the checks of a proved zero's contacts
+read the same equation tuples; split apart they would pass them around.
+
 Public API: :class:`VertexSolution`, :func:`prove_vertex`, :func:`prove_zero`, :func:`common_point`,
 :func:`contact_equations`, :func:`direction_in_arc`.
 """
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -115,12 +119,27 @@ def _tangent_at(E: ElementarySites, t: int, e: int):
     return -(ey - cy), ex - cx
 
 
+#: per set of sites: the exact lines of its segments and normal lines at curves' ends (they depend
+#: on the sites only, like :attr:`ElementarySites.common_points`)
+_MEMOS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def _segment_line(E: ElementarySites, t: int):
+    """((a, b, c, N), (a, b, c) as floats): the line a·x + b·y + c = 0 of segment t (exact, the
+    normal (a, b) to the left of its direction, N = a² + b²)."""
+    (ax, ay), (bx, by) = E.xy[int(E.ends[t, 0])], E.xy[int(E.ends[t, 1])]
+    a, b = -(by - ay), bx - ax
+    c = -(a * ax + b * ay)
+    return (a, b, c, a * a + b * b), (float(a), float(b), float(c))
+
+
 def contact_equations(E: ElementarySites, triple, seed, alternate: bool = False):
     """The contact system of ``triple`` (see the module docstring): a list of
     (kind, exact data, site) with kinds "point" (px, py), "line" (a, b, c, σ, N),
     "normal" (tx, ty, ex, ey: the normal line at e of a curve ending there) and
     "arc" (cx, cy, ρ, σ); None when no circle can touch the three.  ``alternate``: for an elliptic
     piece touched at an end or joint, the other choice of :func:`past_centre_of_curvature`."""
+    memo = _MEMOS.setdefault(E, {})
     pts = {int(t) for t in triple if E.kind[t] == POINT}
     curves = [int(t) for t in triple if E.kind[t] != POINT]
     joint_of: dict = {}
@@ -154,14 +173,18 @@ def contact_equations(E: ElementarySites, triple, seed, alternate: bool = False)
             if E.kind[t] == ELLIPSE and past_centre_of_curvature(E, t, e, seed) != alternate:
                 eqs.append(("ellipse", E.ellipse[t], t))      # an interior foot, not the end
             else:
-                eqs.append(("normal", _tangent_at(E, t, e) + E.xy[e], t))
+                normal = memo.get((t, e))
+                if normal is None:
+                    normal = memo[(t, e)] = _tangent_at(E, t, e) + E.xy[e]
+                eqs.append(("normal", normal, t))
             continue
         if E.kind[t] == SEGMENT:
-            (ax, ay), (bx, by) = E.xy[int(E.ends[t, 0])], E.xy[int(E.ends[t, 1])]
-            a, b = -(by - ay), bx - ax
-            c = -(a * ax + b * ay)
-            side = float(a) * seed[0] + float(b) * seed[1] + float(c)
-            eqs.append(("line", (a, b, c, 1 if side >= 0 else -1, a * a + b * b), t))
+            line = memo.get(t)
+            if line is None:
+                line = memo[t] = _segment_line(E, t)
+            (a, b, c, N), (fa, fb, fc) = line
+            side = fa * seed[0] + fb * seed[1] + fc
+            eqs.append(("line", (a, b, c, 1 if side >= 0 else -1, N), t))
         elif E.kind[t] == ELLIPSE:
             eqs.append(("ellipse", E.ellipse[t], t))
         else:

@@ -9,7 +9,7 @@ round as arrays (:func:`walk_arrays`) and the check that every vertex has one ed
 consecutive sites (:func:`degree_mismatches`) run on all walks and vertices at once.
 
 Public API: :func:`segment_ends`, :func:`long_side`, :func:`far_ends`, :func:`walk_arrays`,
-:func:`degree_mismatches`, :data:`NONE`, :data:`TRI`, :data:`HULL`, :data:`BAD`, :data:`VERTEX`.
+:func:`pair_keys`, :func:`degree_mismatches`, :data:`NONE`, :data:`TRI`, :data:`HULL`, :data:`BAD`, :data:`VERTEX`.
 """
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ from .distance import site_distances
 from .edges import edge_polylines
 from .elementary import POINT, ElementarySites
 
-__all__ = ["segment_ends", "long_side", "far_ends", "walk_arrays", "degree_mismatches", "NONE", "TRI", "HULL", "BAD", "VERTEX"]
+__all__ = ["segment_ends", "long_side", "far_ends", "walk_arrays", "pair_keys", "degree_mismatches", "NONE", "TRI", "HULL", "BAD", "VERTEX"]
 
 #: kinds of a walk's end in :func:`walk_arrays`: none (a closed chain), a 3-label triangle, the
 #: hull, a walk that could not be closed, a vertex given directly
@@ -114,12 +114,39 @@ def walk_arrays(raw, base: int, direct=None):
     return (np.minimum(pa, pb) * base + np.maximum(pa, pb), *out, length)
 
 
+def pair_keys(site_tuples, base: int, memo: dict):
+    """(lens, keys): per vertex (its cyclic site tuple) the number of its cyclically consecutive
+    site pairs and their sorted pair keys min·base + max, concatenated; vertices of three sites on
+    arrays at once, the others through ``memo`` (site tuple -> keys, kept across rounds)."""
+    n = len(site_tuples)
+    lens = np.fromiter((len(t) for t in site_tuples), np.int64, n)
+    start = np.cumsum(lens) - lens
+    keys = np.empty(int(lens.sum()), np.int64)
+    three = np.nonzero(lens == 3)[0]
+    if len(three):
+        S = np.array([site_tuples[i] for i in three.tolist()], np.int64).reshape(-1, 3)
+        T = np.roll(S, -1, axis=1)
+        K = np.sort(np.minimum(S, T) * base + np.maximum(S, T), axis=1)
+        keys[start[three][:, None] + np.arange(3)] = K
+    for i in np.nonzero(lens != 3)[0].tolist():
+        sites = tuple(site_tuples[i])
+        w = memo.get(sites)
+        if w is None:
+            w = memo[sites] = tuple(sorted(min(a, b) * base + max(a, b) for a, b in zip(sites, sites[1:] + sites[:1])))
+        keys[start[i]:start[i] + lens[i]] = w
+    return lens, keys
+
+
 def degree_mismatches(want, have_v, have_k, n_vertices: int) -> np.ndarray:
     """The vertices whose edges are not one per pair of cyclically consecutive sites: ``want``
-    lists per vertex the sorted pair keys of its consecutive sites, (``have_v``, ``have_k``) the
-    ends of the walks at vertices with their pair keys.  Compared as sorted multisets."""
-    lens = np.array([len(w) for w in want], np.int64).reshape(n_vertices)
-    wk = np.array([k for w in want for k in w], np.int64).reshape(int(lens.sum()))
+    lists per vertex the sorted pair keys of its consecutive sites (or is the pair (lens, keys) of
+    :func:`pair_keys`), (``have_v``, ``have_k``) the ends of the walks at vertices with their pair
+    keys.  Compared as sorted multisets."""
+    if isinstance(want, tuple) and len(want) == 2 and isinstance(want[0], np.ndarray):
+        lens, wk = want
+    else:
+        lens = np.array([len(w) for w in want], np.int64).reshape(n_vertices)
+        wk = np.array([k for w in want for k in w], np.int64).reshape(int(lens.sum()))
     wv = np.repeat(np.arange(n_vertices), lens)
     count = np.bincount(have_v, minlength=n_vertices)
     bad = count != lens
