@@ -57,3 +57,20 @@ def test_a_repeated_sample_and_colliding_keys(monkeypatch):
     got, want = exact_matches(old, cur), _reference(old, cur)
     for g, w in zip(got, want):
         assert np.array_equal(g, w)
+
+
+def test_keys_colliding_between_the_rounds_only(monkeypatch):
+    # the current samples' keys distinct, an old sample's key equal to a current one of another point
+    monkeypatch.setattr(sampling, "_exact_keys",
+                        lambda P: np.ascontiguousarray(np.asarray(P, float)[:, 0] + 0.0).view(np.uint64))
+    rng = np.random.default_rng(6)
+    cur = rng.uniform(-1e4, 1e4, (300, 2))
+    old = np.vstack([cur[:200], np.column_stack([cur[200:260, 0], cur[200:260, 1] + 1.0])])[rng.permutation(260)]
+    got, want = exact_matches(old, cur), _reference(old, cur)
+    for g, w in zip(got, want):
+        assert np.array_equal(g, w)
+    old2 = np.vstack([cur[:200], rng.uniform(-1e4, 1e4, (5, 2))])
+    cur2 = np.vstack([cur[:250], np.column_stack([old2[200:, 0], old2[200:, 1] - 2.0])])
+    got, want = exact_matches(old2, cur2), _reference(old2, cur2)
+    for g, w in zip(got, want):
+        assert np.array_equal(g, w)
