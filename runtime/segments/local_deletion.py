@@ -72,7 +72,7 @@ from ..predicates.circles import Point
 from ..sites.segment import Segment
 from ..voronoi.site_input import SiteError
 from ..voronoi.structure import Diagram, DiagramEdge, DiagramVertex
-from .local_update import EditIndex, KeptVertices, closure_holds, conflicts, piece_ends, prove_part, site_key
+from .local_update import EditIndex, KeptVertices, closure_holds, conflicts, piece_ends, prove_part, site_key, spliced_edge
 
 __all__ = ["delete_locally", "site_moves"]
 
@@ -183,17 +183,10 @@ def delete_locally(D, deleted, build, index=None):
                    and (tuple(sorted(gp)), frozenset(ends)) not in kept_at)
         if not (through or at_taken):
             continue
-        if None in ends or le.closed:
-            return "a changed edge goes to infinity"
-        if -1 in ends:
-            return "a changed edge ends at a vertex of the local diagram that matches none"
-        i, j = gp
-        poly = np.asarray(le.polyline, float)
-        if i > j:
-            i, j = j, i
-            ends = ends[::-1]
-            poly = poly[::-1].copy()
-        taken_e.append(DiagramEdge(next_e, (i, j), tuple(ends), False, poly, le.tolerance, False))
+        edge = spliced_edge(le, gp, ends, next_e)
+        if isinstance(edge, str):
+            return edge
+        taken_e.append(edge)
         next_e += 1
     secs["splice"] = time.perf_counter() - t2
     # 3. renumbering (the last remaining sites move into the deleted ones' places) and proof

@@ -65,9 +65,10 @@ import numpy as np
 from ..predicates.circles import Point
 from ..sites.segment import Segment
 from ..voronoi.site_input import SiteError
-from ..voronoi.structure import Diagram, DiagramEdge, DiagramVertex
+from ..voronoi.structure import Diagram, DiagramVertex
 from .crossings import check_pieces
-from .local_update import EditIndex, KeptVertices, closure_holds, conflicts, piece_ends, point_key, prove_part, site_box, site_key
+from .local_update import (EditIndex, KeptVertices, closure_holds, conflicts, piece_ends, point_key, prove_part, site_box,
+                           site_key, spliced_edge)
 
 __all__ = ["insert_locally"]
 
@@ -185,17 +186,10 @@ def insert_locally(D, piece, source: int, build, index=None):
             if u is not None and u not in lmap:
                 lmap[u] = kept.find(*pending[u]) if u in pending else -1
         ends = [None if u is None else lmap[u] for u in le.ends]
-        if None in ends or le.closed:
-            return "a changed edge goes to infinity"
-        if -1 in ends:
-            return "a changed edge ends at a vertex of the local diagram that matches none"
-        i, j = gp
-        poly = np.asarray(le.polyline, float)
-        if i > j:
-            i, j = j, i
-            ends = ends[::-1]
-            poly = poly[::-1].copy()
-        taken_e.append(DiagramEdge(next_e, (i, j), tuple(ends), False, poly, le.tolerance, False))
+        edge = spliced_edge(le, gp, ends, next_e)
+        if isinstance(edge, str):
+            return edge
+        taken_e.append(edge)
         next_e += 1
     for s in range(len(new_sites)):
         if not any(n + s in e.sites for e in taken_e):

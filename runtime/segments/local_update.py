@@ -24,7 +24,7 @@ therefore farther than the distance to the nearest site from every point the pro
 the proof against the table is the proof against all sites.
 
 Public API: :class:`EditIndex`, :class:`KeptVertices`, :func:`site_key`, :func:`point_key`, :func:`site_box`,
-:func:`piece_ends`, :func:`piece_distance`, :func:`conflicts`, :func:`closure_holds`,
+:func:`piece_ends`, :func:`piece_distance`, :func:`conflicts`, :func:`closure_holds`, :func:`spliced_edge`,
 :func:`prove_part`, :func:`vertex_sites`, :func:`edge_arrays`, :data:`MARGIN`, :data:`WIDEN`.
 """
 from __future__ import annotations
@@ -41,7 +41,7 @@ from .certificate_sites import SiteTable
 from .certificate_vertices import prove_vertices
 
 __all__ = ["EditIndex", "KeptVertices", "site_key", "point_key", "site_box", "piece_ends", "piece_distance", "conflicts",
-           "closure_holds", "prove_part", "vertex_sites", "edge_arrays", "MARGIN", "WIDEN"]
+           "closure_holds", "spliced_edge", "prove_part", "vertex_sites", "edge_arrays", "MARGIN", "WIDEN"]
 
 #: margin of the conflict test, relative to 1 + |x| + |y| + r of the vertex (a hundred times the
 #: certificate's position tolerance)
@@ -206,6 +206,24 @@ class KeptVertices:
         rows = np.nonzero(np.abs(X[:, 0] - x) + np.abs(X[:, 1] - y) < tol)[0].tolist()
         hits = [self.vertices[t] for t in rows if not self.removed[t] and tuple(self.vertices[t].sites) == gs]
         return hits[0].id if len(hits) == 1 else -1
+
+
+def spliced_edge(le, gp, ends, eid: int):
+    """The local diagram's edge ``le`` of the site pair ``gp`` (the diagram's numbering) as an edge
+    ``eid`` of the edited diagram between the vertices ``ends`` (None: at infinity, −1: matching
+    no vertex), sites in increasing order (the polyline reversed with them); a reason (str) when
+    it cannot be spliced: it goes to infinity or ends at a vertex that matches none."""
+    if None in ends or le.closed:
+        return "a changed edge goes to infinity"
+    if -1 in ends:
+        return "a changed edge ends at a vertex of the local diagram that matches none"
+    i, j = gp
+    poly = np.asarray(le.polyline, float)
+    if i > j:
+        i, j = j, i
+        ends = ends[::-1]
+        poly = poly[::-1].copy()
+    return DiagramEdge(eid, (i, j), tuple(ends), False, poly, le.tolerance, False)
 
 
 def closure_holds(edges, check) -> bool:
