@@ -60,3 +60,13 @@ def test_the_inserted_nodes_lie_on_the_bisector(table):
             lo_i, hi_i = g[0].distance_bounds(q)
             lo_j, hi_j = g[1].distance_bounds(q)
             assert abs(0.5 * (lo_i + hi_i) - 0.5 * (lo_j + hi_j)) <= 1e-9 * (1 + hi_i)
+
+
+def test_narrow_end_widths_split_the_end_segments_further(table):
+    S = np.array([[3.4, -6.0], [3.6, 0.0], [3.2, 7.0]])
+    free, narrow = _run(table, [(S, (0, 1), 0.1, 1e-3, 12, 4000, (None, None)),
+                                (S, (0, 1), 0.1, 1e-3, 12, 4000, (1e-7, 1e-7))])
+    # the wanted half-width at an end node is capped by its end width: the segments next to the
+    # ends are split until the arc is within 0.1·1e-7 of the chord there
+    first = lambda P: float(np.hypot(*(P[1] - P[0])))
+    assert len(narrow) > len(free) and first(narrow) < first(free)
