@@ -63,10 +63,13 @@ def test_the_inserted_nodes_lie_on_the_bisector(table):
 
 
 def test_narrow_end_widths_split_the_end_segments_further(table):
-    S = np.array([[3.4, -6.0], [3.6, 0.0], [3.2, 7.0]])
+    S0 = np.array([[3.4, -6.0], [3.6, 0.0], [3.2, 7.0]])
+    S, = _run(table, [(S0, (0, 1), 0.1, 1e-3, 12, 4000, (None, None))])
+    S = S[1:-1]                  # the inserted nodes: a guide on the bisector, ends included
     free, narrow = _run(table, [(S, (0, 1), 0.1, 1e-3, 12, 4000, (None, None)),
-                                (S, (0, 1), 0.1, 1e-3, 12, 4000, (1e-7, 1e-7))])
+                                (S, (0, 1), 0.1, 1e-3, 12, 4000, (1e-9, 1e-9))])
     # the wanted half-width at an end node is capped by its end width: the segments next to the
-    # ends are split until the arc is within 0.1·1e-7 of the chord there
+    # ends are split further, the guide already fine for the free ends is left as it is
     first = lambda P: float(np.hypot(*(P[1] - P[0])))
+    assert np.array_equal(free, S)
     assert len(narrow) > len(free) and first(narrow) < first(free)
