@@ -359,8 +359,8 @@ def exact_matches(old, cur):
     of keys (or a non-finite point) falls back to the sorted complex values."""
     old, cur = np.asarray(old, float).reshape(-1, 2), np.asarray(cur, float).reshape(-1, 2)
     ko, kc = _exact_keys(old), _exact_keys(cur)
-    oc, oo = np.argsort(kc, kind="stable"), np.argsort(ko, kind="stable")
-    sc, so = kc[oc], ko[oo]
+    oc = np.argsort(kc, kind="stable")
+    sc, so = kc[oc], np.sort(ko)
     if not (np.isfinite(old).all() and np.isfinite(cur).all()):
         return _complex_matches(old, cur)
     dup = np.nonzero(sc[1:] == sc[:-1])[0]
@@ -374,12 +374,10 @@ def exact_matches(old, cur):
     at = oc[pos[keep]]
     if not (old[keep] == cur[at]).all():
         return _complex_matches(old, cur)
+    # a current sample whose key is an old one's is that old sample: the old one's key hit it
+    # (the current keys are distinct) and was just checked coordinate by coordinate
     pos = np.minimum(np.searchsorted(so, kc), len(so) - 1) if len(so) else np.zeros(len(kc), np.int64)
     found = so[pos] == kc if len(so) else np.zeros(len(kc), bool)
-    cand = oo[pos[found]]
-    same = (cur[found] == old[cand]).all(axis=1)
-    if not same.all():
-        return _complex_matches(old, cur)
     return keep, ~found, at
 
 
