@@ -7,7 +7,9 @@ of width ~ 2ε/50 between the others, so the unbounded edges (0, 1) and (1, 2) b
 parallel, and along the first the third ellipse is only ~2ε + 2800/t farther than its sites (t
 the distance from the scene).  ε = 0 is an exact tie in the direction −x (proved in rationals,
 runtime/voronoi/verify/tied_tail.py), ε = 1/1000 the near-tie (proved by sectors to first order in
-1/t: the zeroth-order bound d_k ≥ t − h_k cannot separate the third ellipse below t ~ 3·10⁶).
+1/t: the zeroth-order bound d_k ≥ t − h_k cannot separate the third ellipse below t ~ 3·10⁶), ε = 10⁻⁹
+and 10⁻¹² below the float rounding margin of the support functions (proved in balls,
+runtime/voronoi/verify/support_balls.py).
 
 The reference uses none of the library's geometry: distances to axis-aligned ellipses by dense
 sampling of their boundaries, at points far to the left of the scene."""
@@ -39,7 +41,7 @@ def nearest_far_left(eps, x, ys):
     return np.argmin(np.array(D), 0)
 
 
-@pytest.mark.parametrize("eps", [Fraction(0), Fraction(1, 1000)])
+@pytest.mark.parametrize("eps", [Fraction(0), Fraction(1, 1000), Fraction(1, 10**9), Fraction(1, 10**12)])
 def test_near_tie_at_infinity_is_certified_with_the_right_unbounded_edges(eps):
     d = cv.voronoi(sites(eps))
     assert d.certified, d.problems
@@ -49,3 +51,21 @@ def test_near_tie_at_infinity_is_certified_with_the_right_unbounded_edges(eps):
     owner = nearest_far_left(eps, -2e4, ys)
     expect = {tuple(sorted((int(a), int(b)))) for a, b in zip(owner[:-1], owner[1:]) if a != b}
     assert left == expect == {(0, 1), (1, 2)}
+
+
+def test_balls_decide_a_support_gap_below_the_float_margin_and_only_its_true_sign():
+    """h_0 − h_1 in the direction −x is −ε (site 1 sticks out by ε): proved negative in balls for
+    ε = 10⁻¹² (10³ times below the float margin μ), positive for ε = −10⁻¹², and never the wrong way
+    (the float direction π differs from −x by 1.2·10⁻¹⁶ rad: 6·10⁻¹⁵ of lateral tilt, far below ε)."""
+    from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+    from curvedvoronoi.runtime.voronoi.verify.support import SupportTable
+    from curvedvoronoi.runtime.voronoi.verify.support_balls import SupportBalls
+
+    for eps, want in ((Fraction(1, 10**12), -1), (Fraction(-1, 10**12), 1)):
+        s = [cv.Conic.ellipse(centre=(Fraction(2), Fraction(0)), axes=(Fraction(2), Fraction(1))),
+             cv.Conic.ellipse(centre=(Fraction(3) - eps, Fraction(50)), axes=(Fraction(3), Fraction(2)))]
+        sup = SupportTable([site_geometry(x) for x in s])
+        assert sup.mu > 1e-10
+        b = SupportBalls(sup)
+        assert b.sign(0, 1, np.pi) == want
+        assert not b.gap_lower(0 if want < 0 else 1, 1 if want < 0 else 0, np.pi, 0.0)

@@ -20,6 +20,7 @@ import numpy as np
 from .far_accounting import accounting_unbounded
 from .hull_nesting import gap_note, hulls_disjoint, sole_leader
 from .problems import fault
+from .support_balls import sole_maximum
 from .ties_at_infinity import tied_sectors
 from .vertices import vname as _vname
 
@@ -314,7 +315,8 @@ def _uncovered_arcs_owned(sup, ends, problems, max_work, unproved_ends) -> bool:
                                       "no site: " + gap_note(unproved_ends), kind="infinity",
                                       sites=(*cur[4], *nxt[2])))
                 ok = False
-            elif not any(_dominates_conic(sup, s, cur_end, a_next, max_work) for s in shared):
+            elif not any(_dominates_conic(sup, s, cur_end, a_next, max_work)
+                         or sole_maximum(sup, s, cur_end, a_next) for s in shared):     # near-ties: balls
                 problems.append(fault(f"between the unbounded edges {cur[3]} and {nxt[3]} no single site owns all "
                                       "far directions: an unbounded edge is missing or misplaced", kind="infinity",
                                       sites=(*cur[4], *nxt[2])))

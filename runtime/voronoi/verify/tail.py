@@ -49,6 +49,9 @@ edge has two tails, one per end of its chain.
 
 Distance values come from :class:`runtime.voronoi.verify.site_table.SiteTable`, one call for all
 third sites of a round of cells.
+
+Length: one sector argument (rays, cells, their (F), (A), (M) tests in floats and, within the
+rounding margin, in balls, and the lead interval J) whose steps share the cell arrays.
 """
 from __future__ import annotations
 
@@ -59,6 +62,7 @@ import numpy as np
 from .conic_tail import prove_conic_tail
 from .distance_gap import bisector_gap_lower, gap_lower
 from . import far_field
+from .support_balls import SupportBalls
 from .site_table import gradient_enclosure
 from . import strips
 from .strips import evaluate_rows, gap_rows
@@ -73,6 +77,13 @@ __all__ = ["prove_tail", "TAIL_WORK", "TAIL_WORK_MORE", "MORE_TAILS"]
 TAIL_WORK = 60000
 TAIL_WORK_MORE = 600000
 MORE_TAILS = 2
+#: at most this many undecided cells of a round are retried in balls (support_balls), each with at
+#: most BALL_SITES third sites within the float rounding margin
+BALL_CELLS = 256
+BALL_SITES = 8
+#: ball evaluations per sector at most (a tie closer than the float directions can resolve is
+#: left undecided soon rather than after many rounds of cells at the float resolution)
+BALL_BUDGET = 4000
 
 
 def _imul(a0, a1, b0, b1):
@@ -160,17 +171,24 @@ def prove_tail(sup, table, pair, link, scale, max_work: int = TAIL_WORK):
 def _lead_interval(sup, i, j, ths, tha, thb):
     """An interval J = [α, β] ⊂ (θa, θb) around the float asymptotic direction ths on which only
     i and j attain max_k h_k and h_i − h_j has strict opposite signs at α and β (for the
-    accounting of :func:`runtime.voronoi.verify.closure.verify_accounting_conics`), or None."""
+    accounting of :func:`runtime.voronoi.verify.closure.verify_accounting_conics`), or None.
+    Within the float rounding margin the signs and the comparisons are taken in balls
+    (:mod:`runtime.voronoi.verify.support_balls`: near-ties at infinity, whose lead intervals are
+    narrower than the float margin allows)."""
     mu = sup.mu
-    others = [k for k in range(sup.n) if k not in (i, j)]
-    for eta in (1e-3, 1e-5, 1e-7):
+    others = np.array([k for k in range(sup.n) if k not in (i, j)], int)
+    balls = SupportBalls(sup)
+    for eta in (1e-3, 1e-5, 1e-7, 1e-9, 1e-11, 1e-13, 1e-14):
         a, b = ths - eta, ths + eta
         if not (tha < a and b < thb):
             continue
         ga = float(sup.h(i, a) - sup.h(j, a))
         gb = float(sup.h(i, b) - sup.h(j, b))
         if not (ga * gb < 0 and min(abs(ga), abs(gb)) > 4 * mu):
-            continue
+            sa, sb = balls.sign(i, j, a), balls.sign(i, j, b)
+            if not sa * sb < 0:
+                continue
+            gb = float(sb)
         e = np.linspace(a, b, 9)
         c0, c1 = e[:-1], e[1:]
         good = True
@@ -179,8 +197,14 @@ def _lead_interval(sup, i, j, ths, tha, thb):
             lo = np.maximum(sup.h_range(i, thc, half)[0], sup.h_range(j, thc, half)[0])
             okc = np.ones(len(thc), bool)
             if len(others):
-                hk = sup.h(np.array(others)[:, None], thc[None, :]) + (sup.W * half + sup.mu)[None, :]
-                okc &= (lo[None, :] - hk > 0).all(0)
+                gap = lo[None, :] - sup.h(others[:, None], thc[None, :]) - (sup.W * half + sup.mu)[None, :]
+                okc &= (gap > 0).all(0)
+                near = np.nonzero(~okc & (gap > -64 * mu).all(0) & ((gap <= 0).sum(0) <= BALL_SITES))[0]
+                if len(near) <= BALL_CELLS:
+                    for c in near.tolist():
+                        okc[c] = all(balls.gap_lower(i, k, float(thc[c]), float(half[c]))
+                                     or balls.gap_lower(j, k, float(thc[c]), float(half[c]))
+                                     for k in others[gap[:, c] <= 0].tolist())
             if okc.all():
                 break
             c0, c1 = c0[~okc], c1[~okc]
@@ -237,6 +261,26 @@ def _third_sites(sup, table, pair, oth, need, okA, thc, half, tt, fin, Cf, R, Rf
                               (Vk.take(left), Vi.take(rows[left]), Vj.take(rows[left])),
                               R[rows[left]], scale) > 0
     np.logical_and.at(okA, rows, okk)
+
+
+def _ball_cells(sup, balls, pair, oth, cells, cell, okF, okA, okM):
+    """(F), then (A), of :func:`_prove_sector` on the few ``cells`` left undecided, in balls
+    (:meth:`runtime.voronoi.verify.support_balls.SupportBalls.gap_lower`): only the third sites
+    whose float bound (far_field.gap_lower) misses by less than the rounding margin."""
+    i, j = pair
+    thc, half, t0, t1 = cell
+    okF, fF = okF
+    for c in cells.tolist():
+        C = (float(thc[c]), float(half[c]), float(t0[c]), float(t1[c]))
+        if not okF[c] and fF[c] > -64 * sup.mu and (balls.gap_lower(j, i, *C) or balls.gap_lower(i, j, *C)):
+            okF[c] = True
+            continue
+        if okA[c] or not okM[c] or not len(oth):
+            continue
+        lo = np.maximum(far_field.gap_lower(sup, i, oth, *C), far_field.gap_lower(sup, j, oth, *C))
+        miss = lo <= 0
+        if miss.sum() <= BALL_SITES and (lo[miss] > -64 * sup.mu).all():
+            okA[c] = all(balls.gap_lower(i, k, *C) or balls.gap_lower(j, k, *C) for k in oth[miss].tolist())
 
 
 def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
@@ -304,6 +348,7 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
     h1 = np.tile(e[1:], nt)
     okA_last = np.ones(len(ta), bool)
     work = 0
+    balls = None
     while len(ta):
         work += len(ta)
         if work > max_work:
@@ -336,7 +381,8 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
         gr = 2 * W * half + 2 * mu
         okF = (-(gc + gr) - e_j > 0) | (-(gc - gr) + e_i < 0)
         # to first order in 1/t: d_i − d_j ≥ gap_lower(j, i) > 0 or d_j − d_i ≥ gap_lower(i, j) > 0
-        okF |= (far_field.gap_lower(sup, j, i, thc, half, t0, t1) > 0) | (far_field.gap_lower(sup, i, j, thc, half, t0, t1) > 0)
+        fF = np.maximum(far_field.gap_lower(sup, j, i, thc, half, t0, t1), far_field.gap_lower(sup, i, j, thc, half, t0, t1))
+        okF |= fF > 0
         if fin.any():
             okF |= fin & ((Vi.lo - Vj.hi - 2 * R > 0) | (Vi.hi - Vj.lo + 2 * R < 0))
         need = np.nonzero(~okF)[0]
@@ -366,6 +412,13 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
             val = sigma * (Df * perp).sum(1) - np.hypot(Df[:, 0], Df[:, 1]) * half - (si + sj) - 1e-12
             okM |= fin & vi & vj & (val > 0)
         bad = ~(okF | (okA & okM))
+        # near-ties at infinity within the float rounding margin: the same bounds in balls, on
+        # the cells where (F) misses by less than the margin or only (A) fails
+        near = np.nonzero(bad & ((fF > -64 * mu) | (okM & ~okA)))[0][:BALL_CELLS]
+        balls = balls or SupportBalls(sup)
+        if len(near) and balls.calls < BALL_BUDGET:
+            _ball_cells(sup, balls, pair, oth, near, (thc, half, t0, t1), (okF, fF), okA, okM)
+            bad = ~(okF | (okA & okM))
         if not bad.any():
             return True, None
         # halve the undecided cells: infinite cells in τ and θ, finite ones across their longer side
@@ -374,7 +427,9 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
         mt, mh = 0.5 * (a_ + b_), 0.5 * (c_ + d_)
         inf_ = a_ <= 0
         ta_f = np.where(inf_, np.inf, 1.0 / np.where(inf_, 1.0, a_))
-        radial = 0.5 * (ta_f - 1.0 / b_)
+        # far out (t ≫ W) the bounds lose ~W·(lateral extent)/t across and only ~W²·(radial
+        # extent)/t² along the rays (far_field): the radial extent counts for W/t of its length
+        radial = 0.5 * (ta_f - 1.0 / b_) * np.minimum(1.0, 4.0 * W * b_)
         lateral = ta_f * 0.5 * (d_ - c_)
         cut_t = inf_ | (radial >= lateral)
         cut_h = inf_ | (radial < lateral)
