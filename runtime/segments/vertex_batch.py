@@ -11,7 +11,8 @@ needs bounded outward (γ_n = nu/(1 − nu), Higham, *Accuracy and Stability*, �
 
 * F(m): each equation is a sum of at most four products of differences of correctly rounded
   data and coordinates, so its float value is within γ₁₆ of the sum of the absolute values of
-  its terms (point: (|x| + |p_x|)² + (|y| + |p_y|)² + r²; line: |a x| + |b y| + |c| + |σ√N r|;
+  its terms; for a point or an arc, also within the rounding of the differences x − p (of the
+  order u·|p|·|x − p|, small near the site: :func:`residual_bounds`) (point: (|x| + |p_x|)² + (|y| + |p_y|)² + r²; line: |a x| + |b y| + |c| + |σ√N r|;
   normal: |t_x|(|x| + |e_x|) + |t_y|(|y| + |e_y|); arc: (|x| + |c_x|)² + (|y| + |c_y|)² + (|ρ| + |r|)²);
 * the Jacobian over the box: a line's and a normal's rows are constant (their float value within
   γ₈ of each entry); a point's row 2(x − p_x, y − p_y, −r) and an arc's 2(x − c_x, y − c_y,
@@ -36,7 +37,7 @@ from fractions import Fraction
 import numpy as np
 from flint import arb
 
-from ..certify.interval_newton import (float_contraction_bound, float_inverse, float_krawczyk_test,
+from ..certify.interval_newton import (UNIT_ROUNDOFF, float_contraction_bound, float_inverse, float_krawczyk_test,
                                        float_residual_bound, gamma, round_up)
 from .elementary import ARC, SEGMENT, ElementarySites
 from .vertices import VertexSolution
@@ -96,7 +97,17 @@ def residual_bounds(K, P, Z, R):
                      np.abs(p0 * x) + np.abs(p1 * y) + np.abs(p2) + np.abs(p3 * r),
                      np.abs(p0) * (ax + np.abs(p2)) + np.abs(p1) * (ay + np.abs(p3)),
                      mx * mx + my * my + (np.abs(p2) + ar) ** 2])
-    F_rad = round_up(g16 * mag)
+    # point and arc rows: the rounding of the differences d = x − p (float data p̃ = p(1 + δ)):
+    # |d̃ − d| ≤ u(|p̃| + |d̃|)(1 + 4u) =: e, so |fl(d̃²) − d²| ≤ e(2|d̃| + e) + u·d̃², and the two
+    # additions add at most 2u of the sum (R = ρ + σr likewise, exact for a point: R = r)
+    u = UNIT_ROUNDOFF
+    ex = u * (np.abs(p0) + np.abs(dx)) * (1 + 4 * u)
+    ey = u * (np.abs(p1) + np.abs(dy)) * (1 + 4 * u)
+    R_ = np.where(ac, Ra, r)
+    eR = np.where(ac, u * (np.abs(p2) + np.abs(Ra)) * (1 + 4 * u), 0.0)
+    near = (ex * (2 * np.abs(dx) + ex) + ey * (2 * np.abs(dy) + ey) + eR * (2 * np.abs(R_) + eR)
+            + 3 * u * (dx * dx + dy * dy + R_ * R_)) * (1 + 16 * u)
+    F_rad = round_up(np.where(pt | ac, np.minimum(near, g16 * mag), g16 * mag))
     J = np.empty(K.shape + (3,))
     J_rad = np.empty(K.shape + (3,))
     J[..., 0] = np.select([pt, ln, nm, ac], [2 * dx, p0, p0, 2 * dx])
