@@ -229,3 +229,18 @@ def test_the_residual_and_jacobian_bounds_enclose_the_exact_equations(seed):
                     assert abs(g[j] - arb(float(J[i, 0, j]))) <= arb(float(J_rad[i, 0, j])), (i, j)
     finally:
         ctx.prec = old
+
+
+def test_the_point_bound_covers_a_conversion_error_of_half_an_ulp():
+    # p_x = 1 + 2⁻⁵³(1 − 2⁻¹⁰) rounds to 1 (an error of almost u·|p|); at x = 1 + 2⁻⁵² the float
+    # difference is 2⁻⁵², the exact one about 2⁻⁵³: F = d² is off by about 0.75·2⁻¹⁰⁴, which the
+    # bound u(|p̃| + |d̃|)(2|d̃| + …) ≈ 2⁻¹⁰⁴ covers (half of it would not)
+    from curvedvoronoi.runtime.segments.vertex_batch import residual_bounds
+    px = Q(1) + Q(1, 2 ** 53) * (1 - Q(1, 2 ** 10))
+    K = np.array([[0]])
+    P = np.array([[[float(px), 0.0, 0.0, 0.0]]])
+    Z = np.array([[1 + 2.0 ** -52, 0.0, 0.0]])
+    F, F_rad, _J, _J_rad = residual_bounds(K, P, Z, np.full((1, 3), 1e-300))
+    exact = (Q(Z[0, 0]) - px) ** 2
+    assert abs(exact - Q(float(F[0, 0]))) <= Q(float(F_rad[0, 0]))
+    assert abs(exact - Q(float(F[0, 0]))) > Q(float(F_rad[0, 0])) / 2
