@@ -5,12 +5,14 @@ integer centre in the cell's middle ± 3, major-axis vector a rational multiple 
 random Pythagorean direction with |M| ∈ [6, 14], ratio k/10 (k ∈ 3..8), start and end parameters
 drawn in [0, 2π) with a span ≥ 1 rad.  The same arcs are written to a DXF file with ezdxf and read
 back by ``cv.read_dxf`` (timed), then ``cv.voronoi(pieces, certify=False)`` (the construction) and
-``verify_segments`` (the certificate: vertices with elliptic pieces proved, edges and infinite ends
-of such diagrams not, so never ``ok``) are timed separately.
+``verify_segments`` (the certificate: vertices with elliptic pieces proved, edges next to them
+by runtime/segments/certificate_ellipse_edges.py where it covers them, within a work budget) are
+timed separately.
 
 Usage: ``OPENBLAS_NUM_THREADS=1 python bench/bench_elliptic_arcs.py --n 100 --seed 1 [--max-rss-gb 4]``
 prints one Markdown table row (times CPU and wall, peak RSS, vertices, edges, rounds, construction
-problems, vertices proved by the certificate, certificate faults) and the first problems on stderr.
+problems, vertices and edges proved by the certificate, certificate faults) and the first problems
+on stderr.
 """
 from __future__ import annotations
 
@@ -84,6 +86,7 @@ def main() -> int:
     print(f"| {args.n} | {args.seed} | {len(D.sites)} | {read_wall:.2f} / {read_cpu:.2f} | {build_wall:.2f} / "
           f"{build_cpu:.2f} | {D.stats.get('rounds')} | {len(D.vertices)} | {len(D.edges)} | {len(probs)} | "
           f"{cert_wall:.2f} / {cert_cpu:.2f} | {sum(cert.vertices)} / {len(cert.vertices)} | "
+          f"{sum(cert.edges)} / {len(cert.edges)} | "
           f"{sum(1 for q in cert.problems if q.fault)} | {cert.ok} | {rss:.0f} | "
           f"`{' '.join(load0)}` → `{' '.join(load1)}` |")
     for p in probs[:5]:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import copy
 import math
+import time
 
 import mpmath
 import pytest
@@ -97,12 +98,14 @@ SCENES = {
 @pytest.fixture(scope="module", params=sorted(SCENES))
 def scene(request):
     D = cv.voronoi(SCENES[request.param](), certify=False)
-    return request.param, D, verify_segments(D)
+    # vertices only: a deadline already passed leaves the edges unchecked (a limit; the edges are
+    # tests/test_elliptic_arcs_edges.py's)
+    return request.param, D, verify_segments(D, deadline=time.perf_counter())
 
 
 def test_vertices_proved_and_equidistant_by_mpmath(scene):
     name, D, C = scene
-    assert not C.ok                       # edges with elliptic pieces: not proved (a stated limit)
+    assert not C.ok                       # edges not checked here
     assert not any(p.fault for p in C.problems), [str(p) for p in C.problems]
     assert any(isinstance(s, EllipticArc) for s in D.sites)
     touching = 0
@@ -126,12 +129,13 @@ def test_vertices_proved_and_equidistant_by_mpmath(scene):
     assert touching >= 3
 
 
-def test_the_diagram_is_refused_as_a_whole_and_names_the_elliptic_pieces():
+def test_the_diagram_is_refused_as_a_whole_while_an_edge_is_unproved():
     D = cv.voronoi(SCENES["arc_and_points"]())
     assert D.certified is False
     C = cv.verify(D)
-    assert not C.ok and all(C.vertices) and not any(C.edges)
-    assert any("EllipticArc pieces" in str(p) and not p.fault for p in C.problems)
+    assert not C.ok and all(C.vertices) and not all(C.edges)
+    assert not any(p.fault for p in C.problems)
+    assert any(p.edge is not None and not p.fault for p in C.problems)
 
 
 # ------------------------------------------------------------------------------ corruptions
@@ -191,8 +195,7 @@ def test_a_dropped_edge_is_refused(document):
 
 
 def test_a_pushed_edge_polyline_is_not_certified(document):
-    """Edges of elliptic pieces are not proved at all (a stated limit): a polyline pushed off is
-    refused with every other edge, never certified."""
+    """A polyline pushed off its bisector is never certified."""
     doc = copy.deepcopy(document)
     kinds = ["elliptic_arc" in s for s in doc["sites"]]
     k = next(k for k, e in enumerate(doc["edges"]) if any(kinds[s] for s in e["sites"]))

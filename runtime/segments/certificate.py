@@ -95,8 +95,16 @@ for these sites: an edge with no end vertex is a line or a branch to infinity).
 **Elliptic pieces** (:class:`runtime.sites.elliptic_arc.EllipticArc` cut at its ellipse's vertices,
 :mod:`runtime.segments.certificate_ellipses`): their sites, distances and k = 3 vertices are proved
 as in 2 (the foot enclosed by a parametric Krawczyk test inside the piece's range, the contact
-proved the piece's nearest point); their edges, infinite ends and crossings (a float test) are not,
-so a diagram with an elliptic piece is never ``ok`` (one problem names the pieces).
+proved the piece's nearest point); the edges next to them (a piece among the edge's sites or its
+end vertices' sites) by :mod:`runtime.segments.certificate_ellipse_edges` (foot curves of a piece
+and a point, segment or arc; normal lines at a piece's end and at a joint; two points' bisectors
+with their tails), the others as in 3; the crossings of pieces with the other sites by distance
+balls (:func:`runtime.segments.certificate_ellipse_sites.pieces_apart`); and 5 when every piece
+lies strictly inside the point sites' convex hull but at its point-site ends
+(:func:`runtime.segments.certificate_ellipse_sites.pieces_inside_hull`: the unbounded ends are
+then those of the points and segments).  The region of an open piece retracts onto it as an
+arc's does (its nearest point is unique and continuous there).  What that module does not cover
+is reported as a limit.
 
 Public API: :func:`verify_segments`, :func:`has_segment_sites`, :func:`closure`.
 """
@@ -113,7 +121,9 @@ from ..sites.segment import Segment
 from ..threads import one_blas_thread
 from ..voronoi.verify.document import check_document
 from ..voronoi.verify.problems import Problem, fault, records
-from .certificate_edges import EdgeProof, prove_edges
+from .certificate_edges import prove_edges
+from .certificate_ellipse_edges import prove_edges_with_pieces
+from .certificate_ellipse_sites import pieces_apart, pieces_inside_hull
 from .certificate_hull import expected_infinite_ends
 from .certificate_admissible import admissibility
 from .certificate_sites import SiteTable
@@ -212,20 +222,19 @@ def verify_segments(diagram, sites=None, *, deadline=None) -> SegmentCertificate
         timings["vertices"] = time.perf_counter() - t0
         t0 = time.perf_counter()
         if T.piece:
-            # elliptic pieces: vertices are proved, edges and infinite ends are not (a limit)
-            eproofs = [EdgeProof(False) for _ in D.edges]
-            els = sorted(T.piece)
-            problems.append(Problem(f"sites {', '.join(map(str, els[:8]))}{', …' if len(els) > 8 else ''}: "
-                                    "EllipticArc pieces: their "
-                                    "vertices are proved, but the edges and the infinite ends of a diagram with "
-                                    "elliptic pieces are not (and the crossing test of elliptic arcs is a float "
-                                    "test): not certified", kind="site", sites=tuple(sorted(T.piece)), fault=False))
+            # elliptic pieces: :mod:`runtime.segments.certificate_ellipse_edges`
+            eproofs = prove_edges_with_pieces(D, T, vproofs, problems, deadline=deadline)
+            outside = pieces_inside_hull(T)
+            for msg in (pieces_apart(T), outside):
+                if msg is not None:
+                    problems.append(Problem(msg, kind="site", sites=tuple(sorted(T.piece)), fault=False))
         else:
+            outside = None
             eproofs = prove_edges(D, T, vproofs, problems, deadline=deadline)
         timings["edges"] = time.perf_counter() - t0
         t0 = time.perf_counter()
         closure_ok = closure(D, T.n, problems)
-        account_ok = _accounting(T, eproofs, problems) if not T.piece else False
+        account_ok = _accounting(T, eproofs, problems) if outside is None else False
         timings["closure"] = time.perf_counter() - t0
     vok = [p.ok for p in vproofs]
     eok = [p.ok for p in eproofs]

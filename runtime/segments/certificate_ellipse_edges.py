@@ -1,0 +1,565 @@
+"""Edges of a diagram with elliptic pieces (step 3 of :mod:`runtime.segments.certificate` for the
+pieces of :mod:`runtime.segments.certificate_ellipses`; thesis §2.2 harmless sites, ch. 4 foot
+points).
+
+An edge (i, j) with end vertices v₀, v₁ (proved, listing i and j, of positive radius) is proved to
+be the arc γ([θ₀, θ₁]) of an explicit curve γ with a common distance ρ(θ), parametrised so that
+by construction |γ(θ) − c_i(θ)| = |γ(θ) − c_j(θ)| = ρ(θ) for contacts c_i, c_j on the closures:
+
+* **foot curve** (i an elliptic piece e(φ) = c + cos φ M + sin φ N, j a point, a segment's line or an
+  arc's circle): γ(φ) = e(φ) + σ t(φ) ν(φ), ν the unit outward normal, σ = +1 outside the ellipse,
+  −1 inside, and t linear in the partner's equation: t = −|D|²/(2σ ν·D) for a point p (D = e − p),
+  t = (n̂·e + c₀)/(τ − σ n̂·ν) for the line n̂·x + c₀ = 0 touched on the side τ, and
+  t = (ρ₂² − |D|²)/(2(σ ν·D − σ₂ρ₂)) for a circle (c₂, ρ₂) touched from the side σ₂ (D = e − c₂);
+  the parameter is φ itself;
+* **normal line** at a piece's end e that is a point site (the edge of e and its piece) or at a
+  smooth joint of two pieces: γ(t) = e + t w, w the exact normal, ρ = t|w|, t > 0;
+* **points**: the perpendicular bisector of two points (an edge with no piece whose end vertex
+  lists a piece), ρ = |γ − p_i|.
+
+The sides σ, τ, σ₂ (and the normal's way) are read at the end vertices, where they must agree.
+An end vertex v lies on γ at the parameter θ_v: for a foot curve, the unique interior strict local
+minimum of f_v(φ) = |v − e(φ)|² (:func:`runtime.segments.ellipse_pieces.interior_minimum`, at most
+one on a piece) when the vertex's distance r is proved attained there
+(:func:`runtime.segments.ellipse_pieces.nearest_verdict`) — then v = e(θ_v) + σ r ν(θ_v) and the
+partner's linear equation along that normal has the one solution t = r, so γ(θ_v) = v —, else the
+exact end parameter where the vertex's own equation is the normal line at that end (the choice of
+:mod:`runtime.segments.certificate_vertices`, made by the same float tests
+:func:`runtime.segments.certificate_ellipses.touches_inside` and
+:func:`runtime.segments.certificate_ellipses.past_centre_of_curvature`); for lines the exact
+projection.  The balls θ_v at both ends are disjoint and ordered θ₀ < θ₁.
+
+On pieces J of [θ₀, θ₁] (halved while undecided), with the box (X, Y) ⊇ γ(J):
+
+(C0) ρ(J) > 0;
+(C1) the contacts are nearest points: on an elliptic piece of the pair nothing of the piece nearer
+     than the contact (``nearest_verdict`` with Φ = J, or the end parameter: f'' > 0 around it and
+     f > ρ² on the rest, so d_i(γ(θ)) = ρ(θ)); a segment partner's foot in [0, 1]; an arc
+     partner's direction in its closed range with ρ₂ + σ₂ρ ≥ 0; a point partner: none;
+(C2) every other site k is farther: d_k(X, Y) > ρ(J) (rigorous distance balls,
+     :meth:`runtime.segments.certificate_sites.SiteTable.distance`; sites outside the k-d tree's
+     query pass unevaluated) — or, on the piece J next to an end vertex where k ties (d_k(v) = r),
+     the **derivative cone**: g = d_k∘γ − ρ has g(θ_v) ≥ 0 and, by Lebourg's mean value theorem
+     for the Lipschitz d_k, g(θ) − g(θ_v) ∈ (θ − θ_v)(∂d_k(box)·γ'(J) − ρ'(J)) with γ(θ) − v in
+     (θ − θ_v)·conv γ'(J) ⊆ the box of γ'(J); a positive ball (negative at the far end) proves
+     g > 0 on the open edge there.  Gradient enclosures: points, segments and arcs
+     (:func:`runtime.segments.certificate_pieces.distance_gradient`); an elliptic piece
+     (x − e(Φ))/|x − e(Φ)| where its nearest point is proved the interior minimum Φ, an end's
+     where it is proved that end (the hull of both ends' where both).
+
+Every point of the open arc is then equidistant from i and j and strictly nearer to them than to
+any other site (a tie with an end of the pair's curves included: it is a site k), so the arc is a
+whole edge of the true diagram between its two vertices.  The polyline lies within the stated
+tolerance (:func:`runtime.segments.certificate_curves.polyline_bound`; the chord bound of a piece
+[t₀, t₁] is Δθ²/8 · max|γ''|, the interpolation error of a C² curve).
+
+Not covered (reported as limits): infinite ends of such edges, two elliptic pieces that are not
+joined at a smooth joint (no closed-form t), vertices of radius 0, and edges whose end vertex
+lists a piece but whose pair is not one of the above.
+
+The curves and gradients are :mod:`runtime.segments.certificate_ellipse_curves`; the pieces'
+crossings and hull :mod:`runtime.segments.certificate_ellipse_sites`.
+
+Public API: :func:`needs_piece_proof`, :func:`prove_piece_edge`, :func:`prove_edges_with_pieces`.
+
+Length: one proof — the routing, the vertex parameters, the pieces with their derivative runs and
+the tails read and extend the same edge state; the curves and the site tests are apart.
+"""
+from __future__ import annotations
+
+import math
+import time
+from fractions import Fraction
+from types import SimpleNamespace
+
+import numpy as np
+from flint import arb
+
+from ..certify.foot import to_arb
+from ..voronoi.verify.problems import Problem, fault
+from .certificate_curves import polyline_bound
+from .certificate_edges import EdgeProof, prove_edges
+from .certificate_ellipse_curves import FootCurve, NormalLine, PointsLine, gradient, widened_nearest
+from .certificate_ellipses import normal_residual, past_centre_of_curvature, touches_inside
+from .certificate_sites import ARC, ELLIPSE, POINT, SEGMENT, SiteTable, direction_key, sq
+from .ellipse_pieces import closest_at_an_end, interior_foot, interior_minimum, nearest_verdict, piece_point_ball
+
+__all__ = ["needs_piece_proof", "prove_piece_edge", "prove_edges_with_pieces"]
+
+#: initial pieces of an edge's parameter interval, most pieces tested, deepest halving
+FIRST = 8
+MAX_PIECES = 200
+MAX_DEPTH = 24
+#: pieces tested for all the edges of one diagram (the rest are reported unchecked: a limit)
+DIAGRAM_PIECES = 400
+
+
+# ====================================================================== routing
+def needs_piece_proof(T: SiteTable, D, e, vindex) -> bool:
+    """The edge has an elliptic piece among its sites, or an end vertex listing a piece or an end
+    of a piece (where the other edge proofs' tie covers would need a piece's gradient)."""
+    sites = [int(s) for s in e.sites]
+    if any(0 <= s < T.n and T.kind[s] == ELLIPSE for s in sites):
+        return True
+    for v in e.ends:
+        if v is None or v not in vindex:
+            continue
+        for s in D.vertices[vindex[v]].sites:
+            s = int(s)
+            if not 0 <= s < T.n:
+                continue
+            if T.kind[s] == ELLIPSE or (T.kind[s] == POINT and any(T.kind[c] == ELLIPSE for c in T.incident.get(s, ()))):
+                return True
+    return False
+
+
+def _end_code(T: SiteTable, s: int, listed):
+    """The codes of piece s's ends that a vertex listing ``listed`` touches by the end equation:
+    point-site ends listed, joints whose other curve is listed."""
+    out = []
+    for code in T.ends[s]:
+        if code >= 0 and code in listed:
+            out.append(code)
+        elif code <= -2 and any(o in listed and o != s for o in T.joint_curves(code)):
+            out.append(code)
+    return out
+
+
+def _foot_param(T: SiteTable, s: int, vp, v):
+    """("inside", θ_v) or ("end", code, θ_v) of vertex v on piece s (module docstring), or None."""
+    P = T.piece[s]
+    xr, yr, rr = float(v.x), float(v.y), float(v.radius)
+    ends = _end_code(T, s, vp.listed)
+    ends = [c for c in ends if not (c <= -2 and _past_joint(T, c, xr, yr))]
+    if not ends or touches_inside(P, xr, yr, rr):
+        phi = interior_foot(P, xr, yr)
+        if phi is None:
+            return None
+        Phi = interior_minimum(P, vp.x, vp.y, phi)
+        if Phi is None:
+            return None
+        tied = tuple(T.which_end(s, c) for c in ends if c >= 0)
+        if nearest_verdict(P, vp.x, vp.y, vp.r, Phi, tied_ends=tied) is not True:
+            return None
+        return ("inside", Phi)
+    if len(ends) == 2:
+        # a short piece touched at one end (on its normal line), its other end tied: the end
+        # equation of runtime.segments.certificate_vertices, the same float choice
+        ends.sort(key=lambda c: normal_residual(P, T.which_end(s, c), xr, yr))
+        if ends[1] <= -2:
+            return None
+    if not ends:
+        return None
+    p0, p1 = P.arb_params()
+    return ("end", ends[0], p0 if T.which_end(s, ends[0]) == 0 else p1)
+
+
+def _past_joint(T: SiteTable, code: int, xr: float, yr: float) -> bool:
+    curves = T.joint_curves(code)
+    if any(T.kind[o] != ELLIPSE for o in curves):
+        return False
+    s = min(curves)
+    return past_centre_of_curvature(T.piece[s], T.which_end(s, code), xr, yr)
+
+
+def _sign(x) -> int | None:
+    return 1 if x > 0 else (-1 if x < 0 else None)
+
+
+def _curve(T: SiteTable, D, i: int, j: int, vps, verts):
+    """The curve of the edge and the parameter balls of its end vertices, or a message."""
+    ki, kj = T.kind[i], T.kind[j]
+    if ki == POINT and kj == POINT:
+        c = PointsLine(T, i, j)
+        return c, [c.vertex_param(vp) for vp in vps]
+    joints = T.shared_joint(i, j)
+    if ki == ELLIPSE and kj == ELLIPSE:
+        if not joints:
+            return "two elliptic pieces that are not joined: their bisector is not covered"
+        for t in (i, j):
+            if any((_foot_param(T, t, vp, v) or ("",))[:2] != ("end", joints[0]) for vp, v in zip(vps, verts)):
+                return "a vertex of the edge of two joined elliptic pieces is not on the joint's normal line"
+        return _normal_line(T, joints[0], [(s, T.which_end(s, joints[0])) for s in (i, j)], vps)
+    if ELLIPSE not in (ki, kj):
+        return "an edge of two sites that are not elliptic pieces, next to an elliptic piece: not covered"
+    s, k = (i, j) if ki == ELLIPSE else (j, i)
+    if kj == POINT or ki == POINT:
+        if T.is_endpoint(k, s) and all((_foot_param(T, s, vp, v) or ("",))[:2] == ("end", k)
+                                       for vp, v in zip(vps, verts)):
+            return _normal_line(T, k, [(s, T.which_end(s, k))], vps)
+    # the foot curve: sides at the end vertices
+    sides = None
+    P = T.piece[s]
+    thetas = []
+    for vp, v in zip(vps, verts):
+        got = _foot_param(T, s, vp, v)
+        if got is None:
+            return f"the contact of an end vertex with elliptic piece {s} is not enclosed"
+        th = got[-1]
+        ex, ey = piece_point_ball(P, th)
+        Mx, My, Nx, Ny = (to_arb(q) for q in (*P.M, *P.N))
+        tx, ty = -th.sin() * Mx + th.cos() * Nx, -th.sin() * My + th.cos() * Ny
+        sg = _sign((vp.x - ex) * ty - (vp.y - ey) * tx)
+        if T.kind[k] == SEGMENT:
+            ax, ay, bx, by = T.arb_ends(k)
+            s2 = _sign(-(by - ay) * (vp.x - ax) + (bx - ax) * (vp.y - ay))
+        elif T.kind[k] == ARC:
+            cx, cy, r2 = T.arb_arc(k)
+            s2 = _sign(sq(vp.x - cx) + sq(vp.y - cy) - r2 * r2)
+        else:
+            s2 = 1
+        if sg is None or s2 is None or (sides is not None and sides != (sg, s2)):
+            return "the sides of the bisector are not decided at its end vertices"
+        sides = (sg, s2)
+        thetas.append(th)
+    c = FootCurve(T, s, k, *sides)
+    return c, thetas
+
+
+def _normal_line(T: SiteTable, code: int, pieces, vps):
+    s, which = pieces[0]
+    tx, ty = T.leaving(s, code)
+    w = (ty, -tx)
+    c = NormalLine(T, code, w, pieces)
+    ts = [c.vertex_param(vp) for vp in vps]
+    if None in {_sign(t) for t in ts}:
+        return "an end vertex of the normal line is not proved off its foot"
+    # an edge through the end e itself (vertices on both sides, ρ = 0 at e) is one edge of e
+    # and the piece when e is a point site: the whole normal line there
+    if len({_sign(t) for t in ts}) == 2 and code < 0:
+        return "the end vertices are not on one side of the joint"
+    return c, ts
+
+
+# ====================================================================== the proof
+def prove_piece_edge(T: SiteTable, D, e, vindex, vproofs, problems, budget=None) -> EdgeProof:
+    """Prove edge ``e`` by the module docstring's argument; problems appended.  ``budget``: a
+    one-element list, the pieces left for the diagram (spent here)."""
+    budget = [DIAGRAM_PIECES] if budget is None else budget
+    name = f"edge {e.id} (sites {', '.join(map(str, e.sites))})"
+    i, j = (int(s) for s in e.sites) if len(e.sites) == 2 else (-1, -1)
+    pair = tuple(s for s in (i, j) if 0 <= s < T.n)
+
+    def limit(msg, *extra):
+        problems.append(Problem(f"{name}: {msg}", kind="edge", edge=e.id, sites=pair + extra, fault=False))
+        return EdgeProof(False)
+
+    def wrong(msg, *extra):
+        problems.append(fault(f"{name}: {msg}", kind="edge", edge=e.id, sites=pair + extra))
+        return EdgeProof(False)
+    if len(pair) != 2 or i == j:
+        return wrong("needs two distinct valid sites")
+    if None in e.ends:
+        return _unbounded(T, D, e, i, j, vindex, vproofs, limit, wrong, budget)
+    if e.ends[0] == e.ends[1]:
+        return wrong("both ends are the same vertex")
+    vps, verts = [], []
+    for v in e.ends:
+        if v not in vindex:
+            return wrong(f"end {v} is not a vertex of the diagram")
+        vp = vproofs[vindex[v]]
+        if not vp.ok:
+            return limit(f"its end vertex {v} is not proved")
+        if i not in vp.listed or j not in vp.listed:
+            return wrong(f"its end vertex {v} does not list both its sites")
+        if not vp.r > 0:
+            return limit(f"its end vertex {v} has radius 0: not covered next to elliptic pieces")
+        vps.append(vp)
+        verts.append(D.vertices[vindex[v]])
+    got = _curve(T, D, i, j, vps, verts)
+    if isinstance(got, str):
+        return limit(got)
+    curve, thetas = got
+    if thetas[0] < thetas[1]:
+        order = (0, 1)
+    elif thetas[1] < thetas[0]:
+        order = (1, 0)
+    else:
+        return limit("its two end vertices are too close to order along its curve")
+    lo_v, hi_v = order
+    lo, hi = thetas[lo_v], thetas[hi_v]
+    msg = _pieces(T, curve, i, j, lo, hi, vps[lo_v], vps[hi_v], (verts[lo_v], verts[hi_v]), budget)
+    if msg is not None:
+        return limit(msg[0], *msg[1:]) if not msg[0].startswith("!") else wrong(msg[0][1:], *msg[1:])
+    Pn = np.asarray(e.polyline, dtype=float).reshape(-1, 2)
+    if len(Pn) < 2 or not np.isfinite(Pn).all():
+        return wrong("needs a finite polyline of at least two points")
+    curve.at = {id(vps[0]): thetas[0], id(vps[1]): thetas[1]}
+    msg = polyline_bound(curve, Pn, float(e.tolerance), lo, hi, vps)
+    if msg is not None:
+        return limit(msg)          # a bound above the tolerance: not proved (not proved wrong)
+    return EdgeProof(True)
+
+
+def _support_below(T: SiteTable, k: int, w, level) -> bool:
+    """Every point y of the closed site k has w·y ≤ level (exact rationals; an elliptic piece by
+    the corners of its parallelogram of frame coordinates; arcs are not covered: False)."""
+    if T.kind[k] == ARC:
+        return False
+    if T.kind[k] == ELLIPSE:
+        s = T.sites[k]
+        pts = [(s.c[0] + u[0] * s.M[0] + v[1] * s.N[0], s.c[1] + u[0] * s.M[1] + v[1] * s.N[1])
+               for u in (s.ua, s.ub) for v in (s.ua, s.ub)]
+    else:
+        pts = [T.a[k], T.b[k]]
+    return all(w[0] * Fraction(x) + w[1] * Fraction(y) <= level for x, y in pts)
+
+
+def _unbounded(T: SiteTable, D, e, i, j, vindex, vproofs, limit, wrong, budget) -> EdgeProof:
+    """An unbounded edge of two points next to elliptic pieces: the perpendicular bisector
+    O + t w proved on pieces from its end vertex (or a middle point) to a parameter S beyond, and
+    beyond S by monotonicity (the tails of :mod:`runtime.segments.certificate_rules`): with
+    x = O + s w∞ and P = p_i, |x − y|² − |x − P|² = C_y + 2s w∞·(P − y) is nondecreasing in s for
+    every point y of a site k whose support in the direction w∞ is at most w∞·P, so d_k² − ρ²,
+    their minimum, stays above its positive value at S."""
+    if not (T.kind[i] == POINT and T.kind[j] == POINT):
+        return limit("an infinite end of an edge next to an elliptic piece is not proved (only two points' "
+                     "bisectors are covered)")
+    if any(T.is_curve(k) and T.ends[k] is not None and any(q in (i, j) for q in T.ends[k])
+           for k in set(T.incident.get(i, ())) | set(T.incident.get(j, ()))):
+        return limit("an infinite end of an edge of a curve's end next to an elliptic piece is not covered")
+    c = PointsLine(T, i, j)
+    Pn = np.asarray(e.polyline, dtype=float).reshape(-1, 2)
+    if len(Pn) < 2 or not np.isfinite(Pn).all():
+        return wrong("needs a finite polyline of at least two points")
+    tp = [float(c.param(arb(float(p[0])), arb(float(p[1]))).mid()) for p in (Pn[0], Pn[-1])]
+    fin = [n for n, v in enumerate(e.ends) if v is not None]
+    vps = [None, None]
+    for n in fin:
+        v = e.ends[n]
+        if v not in vindex:
+            return wrong(f"end {v} is not a vertex of the diagram")
+        vp = vproofs[vindex[v]]
+        if not vp.ok:
+            return limit(f"its end vertex {v} is not proved")
+        if i not in vp.listed or j not in vp.listed:
+            return wrong(f"its end vertex {v} does not list both its sites")
+        vps[n] = vp
+    if fin:
+        f = fin[0]
+        tv = c.vertex_param(vps[f])
+        far = tp[1 - f]
+        sg = 1 if far > float(tv.mid()) else -1
+        S = arb(float(tv.mid()) + sg * max(abs(far - float(tv.mid())), 1.0))
+        lo, hi, vlo, vhi = (tv, S, vps[f], None) if sg > 0 else (S, tv, None, vps[f])
+        signs = [sg]
+    else:
+        if tp[0] == tp[1]:
+            return wrong("the polyline does not show which way the edge goes to infinity")
+        a_, b_ = sorted(tp)
+        lo, hi, vlo, vhi = arb(a_ - 1.0), arb(b_ + 1.0), None, None
+        signs = [1, -1]
+    pair = tuple(sorted((i, j)))
+    P = T.a[i]
+    infinite = []
+    for sg in signs:
+        wq = (sg * (-(T.a[j][1] - T.a[i][1])), sg * (T.a[j][0] - T.a[i][0]))
+        level = wq[0] * P[0] + wq[1] * P[1]
+        bad = [k for k in range(T.n) if k not in (i, j) and not _support_below(T, k, wq, level)]
+        if bad:
+            return limit(f"site {bad[0]} reaches beyond the tail's monotone zone", bad[0])
+        infinite.append((pair, direction_key(wq)))
+    verts = tuple(None if vp is None else D.vertices[vindex[e.ends[vps.index(vp)]]] for vp in (vlo, vhi))
+    msg = _pieces(T, c, i, j, lo, hi, vlo, vhi, verts, budget)
+    if msg is not None:
+        problems_msg = limit(msg[0], *msg[1:])
+        problems_msg.infinite = infinite
+        return problems_msg
+    lo_b = lo if vlo is not None else None
+    hi_b = hi if vhi is not None else None
+    msg = polyline_bound(c, Pn, float(e.tolerance), lo_b, hi_b, vps)
+    if msg is not None:
+        out = limit(msg)
+        out.infinite = infinite
+        return out
+    return EdgeProof(True, infinite)
+
+
+def _pieces(T: SiteTable, c, i, j, lo, hi, vlo, vhi, verts, budget):
+    """(C0)–(C2) on pieces of [lo, hi]; None when proved, else (message, sites…).
+
+    A site k tied at the first vertex (d_k = r there) may be passed on a piece by the sign
+    g'(J) > 0 of the derivative cone; at the end, every piece from the first vertex up to the last
+    piece so passed must have g' > 0 proved for k (then g increases from g(θ_v) ≥ 0 along the
+    whole run: Lebourg's mean value theorem piece by piece); symmetrically g' < 0 down to the
+    last vertex."""
+    a, b = arb(lo.lower()), arb(hi.upper())
+    L = float(b.mid()) - float(a.mid())
+    ties = []
+    for vp in (vlo, vhi):
+        if vp is None:
+            ties.append(set())
+            continue
+        near = T.near(float(vp.x.mid()), float(vp.y.mid()), float(vp.r.upper()) * 1.001 + 1e-9)
+        ties.append({k for k in near if k not in (i, j) and not T.distance(k, vp.x, vp.y) > vp.r})
+    # the pieces whose end vertex lies on their normal line at an end of the edge (R2 cones)
+    normals = []
+    for vp, v in ((vlo, verts[0]), (vhi, verts[1])):
+        here = set()
+        for k in (vp.listed if vp is not None else ()):
+            if T.kind[k] == ELLIPSE:
+                got = _foot_param(T, k, vp, v)
+                if got is not None and got[0] == "end" and got[1] in (i, j):
+                    here.add(k)
+        normals.append(here)
+    step = L / FIRST
+    todo = [(float(a.mid()) + m * step, float(a.mid()) + (m + 1) * step, 0) for m in range(FIRST)][::-1]
+    first, last = float(a.mid()), float(b.mid())
+    count = 0
+    done = []                       # (pa, pb, {k: sign of g' proved}, {k: sign relied on})
+    while todo:
+        pa, pb, depth = todo.pop()
+        count += 1
+        budget[0] -= 1
+        if count > MAX_PIECES or budget[0] < 0:
+            return ("the piece budget is spent before the edge is proved",)
+        J = (a if pa == first else arb(pa)).union(b if pb == last else arb(pb))
+        slopes: dict = {}
+        relied: dict = {}
+        bad = _piece(T, c, i, j, J, ties, normals, slopes, relied, pa == first, pb == last)
+        if bad is None:
+            done.append((pa, pb, slopes, relied))
+            continue
+        if depth >= MAX_DEPTH:
+            return bad
+        m = (pa + pb) / 2
+        todo += [(m, pb, depth + 1), (pa, m, depth + 1)]
+    keys = {key for _, _, _, rel in done for key in rel}
+    for key in keys:
+        for way in ("lo", "hi"):
+            used = [(pa, pb, rel[key][0]) for pa, pb, _, rel in done if key in rel and rel[key][1] == way]
+            if not used:
+                continue
+            sgn = used[0][2]
+            if way == "lo":
+                reach = max(pb for _, pb, _ in used)
+                run = [sl for pa, pb, sl, _ in done if pb <= reach]
+            else:
+                reach = min(pa for pa, _, _ in used)
+                run = [sl for pa, pb, sl, _ in done if pa >= reach]
+            if any(u[2] != sgn for u in used) or not all(sl.get(key) == sgn for sl in run):
+                k = key[1] if isinstance(key, tuple) else key
+                return (f"site {k} is not proved farther next to an end vertex (the derivative run is broken)", k)
+    return None
+
+
+def _end_owned(T: SiteTable, c, k: int, p: int, J, X, Y, R, ends, slopes, relied) -> bool:
+    """Elliptic piece k's nearest point is its end p alone at the curve's points over J: f'' > 0
+    next to p and f > ρ² on the rest (:func:`widened_nearest`), and f increasing away from p,
+    h = (x − p)·L < 0 for the direction L leaving p into k — on the box, or by the derivative
+    cone along a run from an end vertex on the normal line at p (h = 0 there; h' = γ'·L < 0 after
+    the first vertex, > 0 before the last)."""
+    if T.kind[k] != ELLIPSE:
+        return False
+    P = T.piece[k]
+    which = T.which_end(k, p)
+    p0, p1 = P.arb_params()
+    if not widened_nearest(P, X, Y, R, p0 if which == 0 else p1, which):
+        return False
+    lx, ly = (to_arb(v) for v in T.leaving(k, p))
+    px, py = T.pt_arb(p)
+    if (X - px) * lx + (Y - py) * ly < 0:
+        return True
+    gx, gy = c.dxy(J)
+    slope = gx * lx + gy * ly
+    key = ("L", k)
+    slopes[key] = 1 if slope > 0 else (-1 if slope < 0 else 0)
+    if k in ends[0] and slopes[key] < 0:
+        relied[key] = (-1, "lo")
+        return True
+    if k in ends[1] and slopes[key] > 0:
+        relied[key] = (1, "hi")
+        return True
+    return False
+
+
+def _same_ellipse(T: SiteTable, k: int, s: int) -> bool:
+    if T.kind[k] != ELLIPSE:
+        return False
+    a, b = T.sites[k], T.sites[s]
+    return a.c == b.c and a.M == b.M and a.N == b.N
+
+
+def _piece(T: SiteTable, c, i, j, J, ties, ends, slopes, relied, at_lo=False, at_hi=False):
+    X, Y = c.xy(J)
+    R = c.rho(J, X, Y)
+    if not (X.is_finite() and Y.is_finite() and R.is_finite()):
+        return ("its curve is not enclosed (a pole of the foot curve?)",)
+    if not (R > 0 or (isinstance(c, NormalLine) and R >= 0)):
+        return ("its common distance is not proved positive",)
+    ok = c.contacts_ok(J, X, Y, R)
+    if ok is not True:
+        return (ok,)
+    cx, cy = float(X.mid()), float(Y.mid())
+    brad = math.hypot(float(X.rad()), float(Y.rad()))
+    near = T.near(cx, cy, float(R.upper()) + brad + 1e-9 * (1 + abs(cx) + abs(cy)))
+    dxy = None
+    for k in sorted(set(near) | ties[0] | ties[1]):
+        if k in (i, j):
+            continue
+        if k in ties[0] or k in ties[1]:
+            # the sign of g' = ∂d_k·γ' − ρ' on the piece, for the runs from the end vertices
+            g = gradient(T, k, X, Y)
+            if g is not None:
+                if dxy is None:
+                    dxy = c.dxy(J)
+                dg = g[0] * dxy[0] + g[1] * dxy[1] - c.drho(J, X, Y)
+                slopes[k] = 1 if dg > 0 else (-1 if dg < 0 else 0)
+        if k not in near:
+            continue
+        if isinstance(c, FootCurve) and c.sigma > 0 and (k in T.ends[c.s] or _same_ellipse(T, k, c.s)):
+            # an end of the piece or a piece of its ellipse, outside the ellipse: x − e(φ) is in
+            # the normal cone of the filled ellipse at e(φ), every other point of it strictly farther
+            continue
+        if T.is_curve(k) and T.ends[k] is not None and any(q in (i, j) for q in T.ends[k] if q >= 0):
+            # R2: a curve ending at a point site p of the edge is never farther than p; its nearest
+            # point must be p alone (the tie is p's by convention)
+            ps = [q for q in T.ends[k] if q >= 0 and q in (i, j)]
+            if len(ps) == 2 and T.kind[k] == ELLIPSE and closest_at_an_end(T.piece[k], X, Y) == (0, 1):
+                continue                        # both ends are its nearest points, the edge's sites
+            if len(ps) == 1 and (T.owned_by_end(k, ps[0], X, Y) is True or
+                                 _end_owned(T, c, k, ps[0], J, X, Y, R, ends, slopes, relied)):
+                continue
+            return (f"curve {k} ending at a site of the edge is not proved to have that end as its nearest "
+                    "point", k)
+        if T.distance(k, X, Y) > R:
+            continue
+        sl = slopes.get(k, 0)
+        if sl > 0 and k in ties[0]:
+            relied[k] = (1, "lo")
+            continue
+        if sl < 0 and k in ties[1]:
+            relied[k] = (-1, "hi")
+            continue
+        return (f"site {k} is not proved farther", k)
+    return None
+
+
+# ====================================================================== all edges, crossings
+def prove_edges_with_pieces(D, T: SiteTable, vproofs, problems, deadline=None) -> list:
+    """Every edge of a diagram with elliptic pieces: :func:`prove_piece_edge` where
+    :func:`needs_piece_proof`, :func:`runtime.segments.certificate_edges.prove_edges` for the
+    others (their sites and end vertices have nothing to do with a piece: the tie covers there
+    never need a piece's gradient; a piece as a farther third site is a distance ball)."""
+    vindex = {v.id: n for n, v in enumerate(D.vertices)}
+    mine = [needs_piece_proof(T, D, e, vindex) for e in D.edges]
+    rest = [e for e, m in zip(D.edges, mine) if not m]
+    view = SimpleNamespace(edges=rest, vertices=D.vertices, sites=D.sites)
+    others = iter(prove_edges(view, T, vproofs, problems, deadline=deadline))
+    out = []
+    budget = [DIAGRAM_PIECES]
+    for e, m in zip(D.edges, mine):
+        if not m:
+            out.append(next(others))
+        elif (deadline is not None and time.perf_counter() > deadline) or budget[0] < 0:
+            problems.append(Problem(f"edge {e.id}: time or work limit reached, not checked", kind="edge", edge=e.id,
+                                    fault=False))
+            out.append(EdgeProof(False))
+        else:
+            try:
+                out.append(prove_piece_edge(T, D, e, vindex, vproofs, problems, budget))
+            except (ValueError, ZeroDivisionError, ArithmeticError) as exc:      # pragma: no cover - defensive
+                problems.append(Problem(f"edge {e.id}: not proved ({exc.__class__.__name__}: {exc})", kind="edge",
+                                        edge=e.id, fault=False))
+                out.append(EdgeProof(False))
+    return out
