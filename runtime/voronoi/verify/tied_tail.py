@@ -47,7 +47,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from ...predicates.symmetry import site_centre, site_coefficients
+from .support_balls import site_quadratic
 
 __all__ = ["Support", "support_data", "same_level", "prove_tied_tail", "DIRECTIONS"]
 
@@ -127,35 +127,19 @@ def _down(x: float) -> Fraction:
 def support_data(site, u) -> Support | None:
     """The :class:`Support` of a point, circle or ellipse in the exact unit direction u; None
     for other kinds or a degenerate conic."""
-    co = site_coefficients(site)
-    a, b, c, d, e, f = co
-    ux, uy = u
-    if hasattr(site, "r2") or (a == c and b == 0):
-        cen = site_centre(site)
-        if cen is None:
-            return None
-        r2 = cen[0] ** 2 + cen[1] ** 2 - f / a if a != 0 else None
-        if r2 is None or r2 < 0:
-            return None
-        rlo, rhi = _sqrt_bounds(r2)
-        return Support(cen[0] * ux + cen[1] * uy, r2, cen, (r2 * ux, r2 * uy), rlo, rhi)
-    if 4 * a * c - b * b <= 0:
-        return None                                   # not an ellipse
-    cen = site_centre(site)
-    # (v − cen)ᵀ M (v − cen) = κ with M = [[a, b/2], [b/2, c]] positive definite
-    m11, m12, m22 = a, b / 2, c
-    kappa = m11 * cen[0] ** 2 + 2 * m12 * cen[0] * cen[1] + m22 * cen[1] ** 2 - f
-    if m11 < 0:
-        m11, m12, m22, kappa = -m11, -m12, -m22, -kappa
-    if kappa <= 0:
+    quad = site_quadratic(site)          # h(u) = c·u + √(uᵀQu), Q = κM⁻¹ (r²I for a circle)
+    if quad is None:
         return None
-    det = m11 * m22 - m12 * m12
-    i11, i12, i22 = m22 / det, -m12 / det, m11 / det        # M⁻¹
-    w = (kappa * (i11 * ux + i12 * uy), kappa * (i12 * ux + i22 * uy))   # κ M⁻¹ u
+    cen, (q11, q12, q22), circle = quad
+    ux, uy = u
+    if circle:
+        rlo, rhi = _sqrt_bounds(q11)
+        return Support(cen[0] * ux + cen[1] * uy, q11, cen, (q11 * ux, q11 * uy), rlo, rhi)
+    w = (q11 * ux + q12 * uy, q12 * ux + q22 * uy)           # Q u
     S = w[0] * ux + w[1] * uy
     if S <= 0:
         return None
-    lam = np.linalg.eigvalsh(np.array([[float(kappa * i11), float(kappa * i12)], [float(kappa * i12), float(kappa * i22)]]))
+    lam = np.linalg.eigvalsh(np.array([[float(q11), float(q12)], [float(q12), float(q22)]]))
     amin, amax = math.sqrt(max(lam.min(), 0.0)), math.sqrt(lam.max())          # semi-axes
     return Support(cen[0] * ux + cen[1] * uy, S, cen, w, _down(amin * amin / amax), _up(amax * amax / amin))
 
