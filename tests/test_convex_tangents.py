@@ -11,10 +11,11 @@ from flint import arb
 
 from curvedvoronoi.runtime.segments.certificate_curves import Line
 from curvedvoronoi.runtime.segments.certificate_rules import convex_tangents
+from curvedvoronoi.runtime.segments.elementary import ARC, POINT
 
 
 class _Table:
-    kind = np.array([0])          # one point site (not an arc)
+    kind = np.array([POINT])      # one point site (not an arc)
 
 
 def _fns(px, py):
@@ -50,5 +51,5 @@ def test_convex_tangents_needs_an_affine_radius_and_a_convex_site():
     assert convex_tangents(_Table(), anchored, 0, _fns(5, 3), 0.0, 10.0) is False
 
     class _Arcs:
-        kind = np.array([2])
+        kind = np.array([ARC])
     assert convex_tangents(_Arcs(), LINE, 0, _fns(5, 3), 0.0, 10.0) is False

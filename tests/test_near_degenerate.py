@@ -25,6 +25,7 @@ from curvedvoronoi.runtime.segments.certificate_convexity import settled_by_conv
 from curvedvoronoi.runtime.segments.certificate_curves import bisector_curve
 from curvedvoronoi.runtime.segments.certificate_sites import SiteTable
 from curvedvoronoi.runtime.segments.certificate_vertices import VertexProof
+from curvedvoronoi.runtime.segments.elementary import POINT, SEGMENT
 
 
 
@@ -90,7 +91,7 @@ def check_against_reference(pts, m):
     P = [tuple(map(float, p)) for p in pts]
     side_of = {}
     for s in range(len(E)):
-        if E.kind[s] == 1:
+        if E.kind[s] == SEGMENT:
             a = (float(E.xy[int(E.ends[s, 0])][0]), float(E.xy[int(E.ends[s, 0])][1]))
             b = (float(E.xy[int(E.ends[s, 1])][0]), float(E.xy[int(E.ends[s, 1])][1]))
             for k in range(len(P)):
@@ -180,7 +181,7 @@ def test_wrong_diagonal_is_rejected():
     E = D.elementary
     L = {}
     for s in range(len(E)):
-        if E.kind[s] == 1:
+        if E.kind[s] == SEGMENT:
             (x0, y0), (x1, y1) = ((mpmath.mpf(float(c)) for c in E.xy[int(E.ends[s, k])]) for k in (0, 1))
             aa, bb = -(y1 - y0), x1 - x0
             N = mpmath.sqrt(aa * aa + bb * bb)
@@ -314,8 +315,8 @@ def test_convexity_refuses_an_arc():
 def _mp_distance(E, s, x, y):
     """mpmath distance from (x, y) to the closed elementary site s (a point or a segment)."""
     px, py = mpmath.mpf(x), mpmath.mpf(y)
-    (ax, ay) = (mpmath.mpf(float(v)) for v in E.xy[int(E.ends[s, 0]) if E.kind[s] != 0 else s])
-    if E.kind[s] == 0:
+    (ax, ay) = (mpmath.mpf(float(v)) for v in E.xy[int(E.ends[s, 0]) if E.kind[s] != POINT else s])
+    if E.kind[s] == POINT:
         return mpmath.hypot(px - ax, py - ay)
     (bx, by) = (mpmath.mpf(float(v)) for v in E.xy[int(E.ends[s, 1])])
     dx, dy = bx - ax, by - ay
