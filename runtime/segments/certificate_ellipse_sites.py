@@ -12,29 +12,11 @@ from fractions import Fraction
 from flint import arb
 
 from ..certify.foot import to_arb
+from .certificate_hull import convex_hull
 from .certificate_sites import ELLIPSE, POINT, SEGMENT, SiteTable
 from .ellipse_pieces import piece_point_ball
 
 __all__ = ["pieces_inside_hull", "pieces_apart"]
-
-
-def _hull(pts):
-    pts = sorted(set(pts))
-    if len(pts) < 3:
-        return pts
-
-    def cross(o, p, q):
-        return (p[0] - o[0]) * (q[1] - o[1]) - (p[1] - o[1]) * (q[0] - o[0])
-    lower, upper = [], []
-    for p in pts:
-        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
-            lower.pop()
-        lower.append(p)
-    for p in reversed(pts):
-        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
-            upper.pop()
-        upper.append(p)
-    return lower[:-1] + upper[:-1]
 
 
 def pieces_inside_hull(T: SiteTable) -> str | None:
@@ -43,7 +25,7 @@ def pieces_inside_hull(T: SiteTable) -> str | None:
     coordinates between its ends, whose corners other than point-site ends must be strict
     interior points); then the pieces touch no support line of the sites' hull but at point
     sites, and the unbounded ends are those of the points and segments.  Else a message."""
-    hull = _hull([T.a[k] for k in range(T.n) if T.kind[k] == POINT])
+    hull = convex_hull([T.a[k] for k in range(T.n) if T.kind[k] == POINT])
     if len(hull) < 3:
         return "the point sites' convex hull is degenerate"
     sides = [(hull[m], hull[(m + 1) % len(hull)]) for m in range(len(hull))]

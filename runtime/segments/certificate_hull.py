@@ -34,7 +34,7 @@ minimum direction −K lies inside, C ≥ |K|.  Ties at each transition directio
 exactly (rational directions: rationals and squares) or by balls with an exact test for points
 on a tangent (irrational directions; an undecided one is a limit).
 
-Public API: :func:`expected_infinite_ends`, :func:`infinite_key`, :func:`tangent_sign`.
+Public API: :func:`expected_infinite_ends`, :func:`infinite_key`, :func:`tangent_sign`, :func:`convex_hull`.
 """
 from __future__ import annotations
 
@@ -48,7 +48,7 @@ from ..certify.foot import to_arb
 from .certificate_envelope import Undecided, envelope_directions, tangent_ties
 from .certificate_sites import ARC, POINT, SEGMENT, SiteTable, direction_key
 
-__all__ = ["expected_infinite_ends", "infinite_key", "tangent_sign"]
+__all__ = ["expected_infinite_ends", "infinite_key", "tangent_sign", "convex_hull"]
 
 TWO_PI = 2 * math.pi
 
@@ -57,7 +57,7 @@ def _cross(o, a, b) -> Fraction:
     return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
 
 
-def _hull(pts: list) -> list:
+def convex_hull(pts: list) -> list:
     """Strict convex hull (no collinear points), counter-clockwise, exact (Andrew's monotone chain)."""
     pts = sorted(set(pts))
     if len(pts) <= 2:
@@ -110,7 +110,7 @@ def _points_only(T: SiteTable) -> list:
     pts = list(T.point_index)
     if len(pts) < 2:
         return []
-    hull = _hull(pts)
+    hull = convex_hull(pts)
     out = []
     for p, q, u in _sides(hull):
         out.extend(_side_pairs(T, u, p))
@@ -321,7 +321,7 @@ def _pokes(T: SiteTable, hull) -> list:
 
 def _with_arcs(T: SiteTable) -> list:
     Q = _q_points(T)
-    hull = _hull(Q)
+    hull = convex_hull(Q)
     poking = _pokes(T, hull)
     if not poking:
         out = []
