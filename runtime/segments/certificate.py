@@ -112,7 +112,6 @@ from __future__ import annotations
 
 import time
 from collections import Counter
-from dataclasses import dataclass, field
 
 from ..certify.foot import working_prec
 from ..sites.arc import Arc
@@ -120,7 +119,8 @@ from ..sites.elliptic_arc import EllipticArc
 from ..sites.segment import Segment
 from ..threads import one_blas_thread
 from ..voronoi.verify.document import check_document
-from ..voronoi.verify.problems import Problem, fault, records
+from ..voronoi.verify.outcome import Certificate
+from ..voronoi.verify.problems import Problem, fault
 from .certificate_edges import prove_edges
 from .certificate_ellipse_edges import prove_edges_with_pieces
 from .certificate_ellipse_sites import pieces_apart, pieces_inside_hull
@@ -134,29 +134,8 @@ __all__ = ["verify_segments", "has_segment_sites", "closure", "SegmentCertificat
 PREC = 128
 
 
-@dataclass
-class SegmentCertificate:
-    """The outcome of :func:`verify_segments`, with the fields (and JSON form) of
-    :class:`runtime.voronoi.verify.certificate.Certificate`, to which :func:`runtime.voronoi.verify.
-    certificate.verify` converts it (that module imports this one, so this one cannot import it)."""
-
-    ok: bool
-    problems: list
-    vertices: list
-    edges: list
-    complete: bool
-    delaunay_edges: list
-    hypotheses: list = field(default_factory=list)
-    stats: dict = field(default_factory=dict)
-    timings: dict = field(default_factory=dict)
-
-    def to_json(self) -> dict:
-        return {"ok": bool(self.ok), "complete": bool(self.complete), "problems": [str(p) for p in self.problems],
-                "problem_records": records(self.problems),
-                "vertices": [bool(v) for v in self.vertices], "edges": [bool(e) for e in self.edges],
-                "delaunay_edges": [list(p) for p in self.delaunay_edges],
-                "hypotheses": list(self.hypotheses), "stats": self.stats,
-                "timings": {k: round(v, 4) for k, v in self.timings.items()}}
+#: the segment certificate's outcome is the one record of every certificate
+SegmentCertificate = Certificate
 
 
 def has_segment_sites(diagram) -> bool:
@@ -185,7 +164,7 @@ def _same(a, b) -> bool:
 
 
 @one_blas_thread
-def verify_segments(diagram, sites=None, *, deadline=None) -> SegmentCertificate:
+def verify_segments(diagram, sites=None, *, deadline=None) -> Certificate:
     """Prove that ``diagram`` is the Voronoi diagram of its elementary point, segment and arc sites
     (module docstring).  ``sites``: the expected elementary sites (compared exactly); ``deadline``:
     a :func:`time.perf_counter` value after which edges are not checked (not ok)."""
@@ -215,7 +194,7 @@ def verify_segments(diagram, sites=None, *, deadline=None) -> SegmentCertificate
                                       sites=tuple(int(s) for s in e.sites if 0 <= int(s) < T.n)))
         timings["sites"] = time.perf_counter() - T0
         if adm:
-            return SegmentCertificate(False, problems, [False] * len(D.vertices), [False] * len(D.edges), False, [],
+            return Certificate(False, problems, [False] * len(D.vertices), [False] * len(D.edges), False, [],
                                hyp, stats, timings)
         t0 = time.perf_counter()
         vproofs = prove_vertices(D, T, problems)
@@ -242,7 +221,7 @@ def verify_segments(diagram, sites=None, *, deadline=None) -> SegmentCertificate
     ok = complete and all(vok) and all(eok) and not problems
     pairs = sorted({tuple(sorted(int(t) for t in e.sites)) for e, f in zip(D.edges, eok) if f})
     timings["total"] = time.perf_counter() - T0
-    return SegmentCertificate(ok, problems, vok, eok, complete, pairs, hyp, stats, timings)
+    return Certificate(ok, problems, vok, eok, complete, pairs, hyp, stats, timings)
 
 
 def closure(D, n: int, problems: list) -> bool:

@@ -133,13 +133,11 @@ Public API: :func:`verify`, :func:`verify_files`, :class:`Certificate`.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
 
 from ...threads import one_blas_thread
 from ..conic_geometry import site_geometry
 from ..frame import to_local_frame
 from .document import check_document
-from .problems import records
 from .edge_checks import check_edges
 from .edges import CircleTable
 from .equal_circles import centres_diagram, equal_radius, separated_on
@@ -147,44 +145,10 @@ from .closure import circles_disjoint, verify_accounting, verify_accounting_coni
 from .hull_points import verify_accounting_discs, verify_accounting_points
 from .support import SupportTable
 from .vertices import prove_vertices
+from .outcome import Certificate
 
 __all__ = ["verify", "verify_files", "Certificate"]
 
-
-
-@dataclass
-class Certificate:
-    """Outcome of :func:`verify`.
-
-    ``ok`` is True only when the whole diagram is proved (every vertex, every edge, closure and
-    the accounting of components).  ``problems`` names each failing vertex / edge / site and why;
-    the lines that show a fault of the diagram are :class:`runtime.voronoi.verify.problems.Problem`
-    records (fields ``kind``, ``sites``, ``vertex``, ``edge``, ``fault``; ``problem_records`` in JSON).
-    ``vertices`` and ``edges`` hold one flag per reported vertex / edge (diagram order).
-    """
-
-    ok: bool
-    problems: list[str]
-    vertices: list[bool]
-    edges: list[bool]
-    complete: bool
-    delaunay_edges: list[tuple[int, int]]
-    hypotheses: list[str] = field(default_factory=list)
-    stats: dict = field(default_factory=dict)
-    timings: dict = field(default_factory=dict)
-
-    def to_json(self) -> dict:
-        return {"ok": bool(self.ok), "complete": bool(self.complete), "problems": [str(p) for p in self.problems],
-                "problem_records": records(self.problems),
-                "vertices": [bool(v) for v in self.vertices], "edges": [bool(e) for e in self.edges],
-                "delaunay_edges": [list(p) for p in self.delaunay_edges],
-                "hypotheses": list(self.hypotheses), "stats": self.stats,
-                "timings": {k: round(v, 4) for k, v in self.timings.items()}}
-
-    def __repr__(self) -> str:
-        """One line: ``Certificate(ok=True, 27/27 vertices, 48/48 edges proved, 0 problems)``."""
-        return (f"Certificate(ok={bool(self.ok)}, {sum(map(bool, self.vertices))}/{len(self.vertices)} vertices, "
-                f"{sum(map(bool, self.edges))}/{len(self.edges)} edges proved, {len(self.problems)} problems)")
 
 
 # ============================================================================ input
@@ -317,9 +281,7 @@ def verify(diagram, sites=None, *, deadline=None, progress=None) -> Certificate:
     if _has_pieces(diagram, sites):         # points, segments and arcs: their own certificate
         from ...segments.certificate import verify_segments
 
-        r = verify_segments(diagram, sites, deadline=deadline)
-        return Certificate(r.ok, r.problems, r.vertices, r.edges, r.complete, r.delaunay_edges, r.hypotheses,
-                           r.stats, r.timings)
+        return verify_segments(diagram, sites, deadline=deadline)
     T0 = time.perf_counter()
     timings: dict = {}
     D, sites = to_local_frame(_as_diagram(diagram), sites)
