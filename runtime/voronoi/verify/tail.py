@@ -192,19 +192,23 @@ def _lead_interval(sup, i, j, ths, tha, thb):
         e = np.linspace(a, b, 9)
         c0, c1 = e[:-1], e[1:]
         good = True
+        # the sites that may come within the margin somewhere on [a, b]: h_k ≤ h_k(θm) + W·|θ − θm|
+        # (|h_k'| ≤ W), each float value within mu; the others have gap > 0 on every cell below
+        reach = sup.h(others, 0.5 * (a + b)) + sup.W * (0.5 * (b - a)) + 4 * mu if len(others) else None
         for _ in range(30):
             thc, half = 0.5 * (c0 + c1), 0.5 * (c1 - c0) * (1 + 1e-12)
             lo = np.maximum(sup.h_range(i, thc, half)[0], sup.h_range(j, thc, half)[0])
             okc = np.ones(len(thc), bool)
             if len(others):
-                gap = lo[None, :] - sup.h(others[:, None], thc[None, :]) - (sup.W * half + sup.mu)[None, :]
+                cand = others[~(reach < (lo - (sup.W * half + sup.mu)).min())]
+                gap = lo[None, :] - sup.h(cand[:, None], thc[None, :]) - (sup.W * half + sup.mu)[None, :]
                 okc &= (gap > 0).all(0)
                 near = np.nonzero(~okc & (gap > -64 * mu).all(0) & ((gap <= 0).sum(0) <= BALL_SITES))[0]
                 if len(near) <= BALL_CELLS:
                     for c in near.tolist():
                         okc[c] = all(balls.gap_lower(i, k, float(thc[c]), float(half[c]))
                                      or balls.gap_lower(j, k, float(thc[c]), float(half[c]))
-                                     for k in others[gap[:, c] <= 0].tolist())
+                                     for k in cand[gap[:, c] <= 0].tolist())
             if okc.all():
                 break
             c0, c1 = c0[~okc], c1[~okc]
