@@ -36,6 +36,7 @@ import math
 
 import numpy as np
 
+from ...certify.cell_cover import cell_balls, halve
 from .far_conics import UNBOUNDED, FarConic
 from .hull_nesting import gap_note, hulls_disjoint
 from .problems import fault
@@ -128,7 +129,7 @@ def _min_strict(fars, n, s, g0, g1, max_work, allowed=()):
         work += len(c0)
         if work > max_work:
             return False
-        thc, half = 0.5 * (c0 + c1), 0.5 * (c1 - c0) * (1 + 1e-12)
+        thc, half = cell_balls(c0, c1)
         hi = c_range(fars, s, thc, half)[1]
         for k in allowed:
             if k != s:
@@ -139,9 +140,7 @@ def _min_strict(fars, n, s, g0, g1, max_work, allowed=()):
         bad = ~(hi < lo)
         if np.any(bad & (half < 1e-13)):
             return False
-        c0, c1 = c0[bad], c1[bad]
-        mid = 0.5 * (c0 + c1)
-        c0, c1 = np.concatenate([c0, mid]), np.concatenate([mid, c1])
+        c0, c1 = halve(c0, c1, bad)
     return True
 
 

@@ -19,6 +19,8 @@ import math
 
 import numpy as np
 
+from ...certify.cell_cover import cell_balls, halve
+
 __all__ = ["hulls_disjoint", "gap_note", "sole_leader"]
 
 
@@ -83,15 +85,13 @@ def _below(sup, b, a, max_work) -> bool:
         work += len(c0)
         if work > max_work:
             return False
-        thc, half = 0.5 * (c0 + c1), 0.5 * (c1 - c0) * (1 + 1e-12)
+        thc, half = cell_balls(c0, c1)
         diff = sup.h(a, thc) - sup.h(b, thc)
         if np.any(diff < -4 * sup.mu):
             return False
         gap = diff - 2 * sup.W * half - 4 * sup.mu
         bad = ~(gap > 0)
-        c0, c1 = c0[bad], c1[bad]
-        mid = 0.5 * (c0 + c1)
-        c0, c1 = np.concatenate([c0, mid]), np.concatenate([mid, c1])
+        c0, c1 = halve(c0, c1, bad)
     return True
 
 
