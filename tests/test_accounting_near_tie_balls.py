@@ -21,7 +21,6 @@ import math
 from fractions import Fraction
 
 import mpmath
-import pytest
 
 from curvedvoronoi.runtime.predicates.circles import Point
 from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
@@ -77,10 +76,6 @@ def test_a_gap_clear_of_the_ties_is_owned_and_a_missing_end_is_not():
     assert any("far directions" in m for m in probs), probs
 
 
-@pytest.mark.xfail(strict=True, reason="support_balls.sole_maximum's ball cells [c - half, c + half] "
-                   "use the rounded centre c = fl((a + b)/2) with half inflated only relatively (1e-12): "
-                   "a cell can miss up to half an ulp of its float end a, here the directions (θb, θ12) "
-                   "where p1 leads p2 by up to 2.3e-16")
 def test_a_gap_starting_half_an_ulp_before_the_tie_is_refused():
     """θb = the double nearest θ12 = atan2(4, 3), which lies 4.5·10⁻¹⁷ below θ12: at θb,
     h_2 − h_1 = 5 sin(θb − θ12) ≈ −2.3·10⁻¹⁶ < 0 (mpmath), so p2 does not lead on the gap."""

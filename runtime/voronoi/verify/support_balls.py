@@ -27,6 +27,7 @@ from fractions import Fraction
 import flint
 import numpy as np
 
+from ...certify.cell_cover import cell_balls, halve
 from ...predicates.symmetry import site_centre, site_coefficients
 
 __all__ = ["site_quadratic", "SupportBalls", "sole_maximum", "PRECISIONS"]
@@ -167,7 +168,7 @@ def sole_maximum(sup, s, g0, g1, max_work: int = 20000, rivals=None) -> bool:
         work += len(a)
         if work > max_work:
             return False
-        c, half = 0.5 * (a + b), 0.5 * (b - a) * (1 + 1e-12)
+        c, half = cell_balls(a, b)
         hs, ps = sup.h_and_slope(s, c)
         hk, pk = sup.h_and_slope(K, c)
         lo = np.maximum(hs - hk - 2 * sup.W * half,
@@ -182,7 +183,5 @@ def sole_maximum(sup, s, g0, g1, max_work: int = 20000, rivals=None) -> bool:
         bad = ~ok
         if np.any(bad & (half < 1e-15 * (1 + abs(g0)))):
             return False
-        a, b, K = a[bad], b[bad], K[bad]
-        mid = 0.5 * (a + b)
-        a, b, K = np.concatenate([a, mid]), np.concatenate([mid, b]), np.concatenate([K, K])
+        a, b, K = halve(a, b, bad, K)
     return True
