@@ -1,4 +1,4 @@
-"""Insertion and deletion of input pieces in a Voronoi diagram of points and segments (thesis §1.2, §2.2).
+"""Insertion and deletion of input pieces in a Voronoi diagram of points, segments and arcs (thesis §1.2, §2.2).
 
 **Indices.**  The sites of a segment diagram are *elementary* (:mod:`runtime.segments.elementary`:
 every distinct endpoint and isolated point one point site, every segment its open interior), and
@@ -14,26 +14,28 @@ index i.  A rebuilt diagram numbers its elementary sites as a batch build of the
 ``voronoi`` builds from that list.  A local insertion keeps the old sites' numbers and appends the
 new ones (:mod:`runtime.segments.local_insertion`).
 
-**Routes.**  Inserting a segment or a point into a certified diagram of points and segments is
-local (:func:`runtime.segments.local_insertion.insert_locally`: conflict region, local diagram,
-splice, the changed part proved with the certificate's routines; its docstring says why the
-untouched part's proof carries over).  Deleting an input piece (a segment or a point) from such a
-diagram is local too (:func:`runtime.segments.local_deletion.delete_locally`: the elementary sites
-it alone has are removed, the hole they leave is filled from the diagram of the sites around it,
-and the changed part is proved the same way; its docstring defines the changed part and says why
-the rest keeps its proof).  A deleted piece that does not change the sites (a point that is also a
-segment's endpoint) changes only ``sources``.  Otherwise — an arc or circle piece, arcs in the
-diagram, ``certify=False``, a segment merged with another into one elementary segment, a deletion
-that would join two segments straight at a point, or a local update that does not close or is not
-proved (a new region or the hole reaching the convex hull, a piece continuing a segment straight
-through its end, ...) — the diagram of the new list of pieces is built with
-:func:`runtime.segments.construction.segment_voronoi` (passed in as ``build``, so that this module
-imports nothing of the construction) and proved with the whole segment certificate, so
-``certified`` means what it means for a batch build.  ``stats["update"]`` is ``"local"`` or
-``"rebuild (why)"``.  A new piece that crosses, touches the interior of, or overlaps an existing
-piece is refused by the build with the :class:`runtime.voronoi.site_input.SiteError` of a batch
-build, naming the input indices.  Deleting the last input piece raises ``ValueError`` (a diagram
-needs two sites), as :meth:`runtime.voronoi.structure.Diagram.delete_site` does for point sites.
+**Routes.**  Inserting a segment, a circular arc or a point into a certified diagram of points,
+segments and arcs is local (:func:`runtime.segments.local_insertion.insert_locally`: conflict
+region, local diagram, splice, the changed part proved with the certificate's routines; its
+docstring says why the untouched part's proof carries over, for arcs too).  Deleting an input
+piece (a segment, an arc or a point) from such a diagram is local too
+(:func:`runtime.segments.local_deletion.delete_locally`: the elementary sites it alone has are
+removed, the hole they leave is filled from the diagram of the sites around it, and the changed
+part is proved the same way; its docstring defines the changed part and says why the rest keeps
+its proof).  A deleted piece that does not change the sites (a point that is also a curve's
+endpoint) changes only ``sources``.  Otherwise — a circle or elliptic piece (a circle's two halves
+meet at smooth joints), elliptic pieces in the diagram, ``certify=False``, a segment merged with
+another into one elementary segment, a piece ending at a smooth joint, an edit that would join
+two curves straight or smoothly at a point or split such a joint, or a local update that does not
+close or is not proved (a new region or the hole reaching the convex hull, ...) — the diagram of
+the new list of pieces is built with :func:`runtime.segments.construction.segment_voronoi`
+(passed in as ``build``, so that this module imports nothing of the construction) and proved with
+the whole segment certificate, so ``certified`` means what it means for a batch build.
+``stats["update"]`` is ``"local"`` or ``"rebuild (why)"``.  A new piece that crosses, touches the
+interior of, or overlaps an existing piece is refused by the build with the
+:class:`runtime.voronoi.site_input.SiteError` of a batch build, naming the input indices.
+Deleting the last input piece raises ``ValueError`` (a diagram needs two sites), as
+:meth:`runtime.voronoi.structure.Diagram.delete_site` does for point sites.
 
 **State.**  Besides the pieces, the state keeps how many pieces use each point (to tell which
 endpoints a deletion removes) and the local updates' :class:`runtime.segments.local_update.
@@ -54,10 +56,11 @@ from fractions import Fraction
 import numpy as np
 
 from ..predicates.circles import Point
+from ..sites.arc import Arc
 from ..sites.segment import Segment, as_point_pair
 from .local_deletion import delete_locally, site_moves
 from .local_insertion import insert_locally
-from .local_update import EditIndex, point_key, site_key
+from .local_update import EditIndex, curve_ends, leaving, opposite, point_key, site_key
 
 __all__ = ["SegmentEdits"]
 
@@ -134,21 +137,23 @@ class SegmentEdits:
         uses = self.point_uses()
         piece = _elementary_piece(self.pieces[i])
         if uses is None or piece is None or D.sources is None:
-            return "a deletion from a diagram with arcs"
+            return "a deletion from a diagram with pieces other than points, segments and circular arcs"
         index = EditIndex.of(D, self.index)
         keys = index.keys
         pts = _points(piece)
         deleted = [keys[p] for p in pts if uses[p] == 1 and p in keys]
-        if isinstance(piece, Segment):
+        if isinstance(piece, (Segment, Arc)):
             k = keys.get(site_key(piece))
             if k is None:
                 return "the segment is part of a merged elementary segment"
+            if any(p not in keys for p in pts):
+                return "the piece ends at a smooth joint (its end becomes a site)"
             deleted.append(k)
             for p in pts:
                 if uses[p] == 3 and _straight_after(D, index, p, k):
-                    return "the deletion joins two segments straight at a point"
+                    return "the deletion joins two segments straight or two curves smoothly at a point"
         elif uses[pts[0]] == 3 and _straight_after(D, index, pts[0], None):
-            return "the deletion joins two segments straight at a point"
+            return "the deletion joins two segments straight or two curves smoothly at a point"
         if deleted:
             out = delete_locally(D, deleted, self.build, index)
             if isinstance(out, str):
@@ -181,8 +186,8 @@ class SegmentEdits:
 
 def _points(piece):
     """The point keys a piece has (its two ends, or itself), or None for another kind of piece."""
-    if isinstance(piece, Segment):
-        return [point_key(piece.p), point_key(piece.q)]
+    if isinstance(piece, (Segment, Arc)):
+        return [point_key(e) for e in curve_ends(piece)]
     p = _elementary_piece(piece)
     if isinstance(p, Point):
         return [site_key(p)]
@@ -191,20 +196,13 @@ def _points(piece):
 
 def _straight_after(D, index, p, own) -> bool:
     """After deleting a piece at the point with key ``p`` (used by 3 pieces now, 2 then): do the
-    two segment sites other than ``own`` that end at p continue each other straight (then p stops
-    being a site, :mod:`runtime.segments.elementary`)?"""
+    two curve sites other than ``own`` that end at p continue each other (opposite tangents: two
+    segments merge, otherwise a smooth joint; either way p stops being a site,
+    :mod:`runtime.segments.elementary`)?"""
     P = (Fraction(p[1], p[2]), Fraction(p[3], p[4]))
     near = index.near((float(P[0]), float(P[1])), (float(P[0]), float(P[1])))
-    dirs = []
-    for s in near:
-        t = D.sites[s]
-        if s != own and isinstance(t, Segment) and p in (point_key(t.p), point_key(t.q)):
-            o = t.q if point_key(t.p) == p else t.p
-            dirs.append((Fraction(o[0]) - P[0], Fraction(o[1]) - P[1]))
-    if len(dirs) != 2:
-        return False
-    (ux, uy), (vx, vy) = dirs
-    return ux * vy - uy * vx == 0 and ux * vx + uy * vy < 0
+    dirs = [leaving(D.sites[s], P) for s in near if s != own and P in curve_ends(D.sites[s])]
+    return len(dirs) == 2 and opposite(*dirs)
 
 
 def _first_user(pieces, site) -> int:
@@ -214,8 +212,8 @@ def _first_user(pieces, site) -> int:
 
 
 def _elementary_piece(site):
-    """``site`` as a Segment or a Point when it is one (an (x, y) pair a Point), else None."""
-    if isinstance(site, Segment) or (isinstance(site, Point) and site.r2 == 0):
+    """``site`` as a Segment, an Arc or a Point when it is one (an (x, y) pair a Point), else None."""
+    if isinstance(site, (Segment, Arc)) or (isinstance(site, Point) and site.r2 == 0):
         return site
     if isinstance(site, (tuple, list)) and len(site) == 2:
         try:

@@ -1,4 +1,4 @@
-"""Local deletion of elementary sites from a certified diagram of points and segments (thesis
+"""Local deletion of elementary sites from a certified diagram of points, segments and circular arcs (thesis
 §1.2 read backwards: the regions of the deleted sites are shared out among their neighbours, the
 rest of the diagram stays; elementary sites, §2.2).
 
@@ -48,8 +48,18 @@ lost pair into the result, proved; its other end is in the result (a proved vert
 closure at every taken vertex forces all its edges of G' in; by (d) this reaches every vertex and
 edge of G' in H.  So the spliced diagram is G', and ``certified`` is proved.  Anything else — an
 unbounded hole, a local edge to infinity, a local vertex or site that matches nothing, a proof or
-closure that fails, arcs in the diagram — returns a reason, and the caller rebuilds
-(:mod:`runtime.segments.edits`).
+closure that fails, sites other than points, segments and arcs — returns a reason, and the
+caller rebuilds (:mod:`runtime.segments.edits`).
+
+Circular arcs.  (a)–(d) use only distances, the old certificate, the proofs of the changed part
+(the certificate's arc routines) and the shape of the hole (the segment from y ∈ H to its nearest
+point of Δ, true for any closed sites); the regions of S' are contractible for arcs too
+(certificate step 5: an open arc's region retracts onto the arc).  The float distance to a deleted
+arc carries its error bound in the margin (:func:`runtime.segments.local_update.site_distance`).
+A deletion that changes the elementary sites that remain is not local: a deleted arc ending at a
+smooth joint (the joint becomes a point site) or leaving two curves continuing each other at a
+point (it stops being one) is refused by the caller; a local diagram with a site that is not a
+remaining site (a curve of the neighbourhood whose joint partner is missing) is refused here.
 
 Numbering: the remaining sites keep their numbers except the last ones, which move into the
 deleted sites' places (:func:`site_moves`, as ``renumber="last"`` does for point sites), so that
@@ -68,11 +78,10 @@ import time
 
 import numpy as np
 
-from ..predicates.circles import Point
-from ..sites.segment import Segment
 from ..voronoi.site_input import SiteError
 from ..voronoi.structure import Diagram, DiagramEdge, DiagramVertex
-from .local_update import EditIndex, KeptVertices, closure_holds, conflicts, piece_ends, prove_part, site_key, spliced_edge
+from .local_update import (EditIndex, KeptVertices, closure_holds, conflicts, curve_ends, curves_ending_at, editable, point_key,
+                           prove_part, site_key, spliced_edge)
 
 __all__ = ["delete_locally", "site_moves"]
 
@@ -90,7 +99,7 @@ def site_moves(n: int, deleted) -> dict:
 
 
 def delete_locally(D, deleted, build, index=None):
-    """The diagram ``D`` (certified, points and segments) without the elementary sites ``deleted``
+    """The diagram ``D`` (certified, points, segments, arcs) without the elementary sites ``deleted``
     (indices), updated locally and proved (module docstring); or a str: why not (then rebuild).
     ``index``: D's :class:`runtime.segments.local_update.EditIndex` from the previous edit, if any."""
     t0 = time.perf_counter()
@@ -98,8 +107,8 @@ def delete_locally(D, deleted, build, index=None):
     if not D.certified:
         return "the diagram is not certified"
     fresh = EditIndex.of(D, index)
-    if fresh is not index and not all(isinstance(s, (Segment, Point)) for s in D.sites):
-        return "the diagram has arc sites"
+    if fresh is not index and not all(editable(s) for s in D.sites):
+        return "the diagram has sites other than points, segments and circular arcs"
     index = fresh
     n = len(D.sites)
     gone = sorted(set(int(k) for k in deleted))
@@ -110,8 +119,7 @@ def delete_locally(D, deleted, build, index=None):
     V, XY, R = D.vertices, index.XY, index.R
     conflict = np.zeros(len(V), bool)
     for k in gone:
-        a, b = piece_ends(D.sites[k])
-        conflict |= conflicts(a, b, XY, R)
+        conflict |= conflicts(D.sites[k], XY, R)
     rows = np.nonzero(conflict)[0]
     if not len(rows):
         return "no vertex in conflict"
@@ -128,7 +136,12 @@ def delete_locally(D, deleted, build, index=None):
     lo = (XY[rows] - R[rows, None]).min(axis=0)
     hi = (XY[rows] + R[rows, None]).max(axis=0)
     pad = RING * float(np.max(hi - lo)) + 1e-9 * (1 + float(np.abs(lo).max()) + float(np.abs(hi).max()))
-    hood = sorted((set(index.near(lo - pad, hi + pad)) | neighbours) - gone_set)
+    hood = set(index.near(lo - pad, hi + pad)) | neighbours
+    for k in list(hood):               # a curve of the neighbourhood keeps its partner at a smooth joint
+        for p in curve_ends(D.sites[k]):
+            if point_key(p) not in index.keys:
+                hood.update(curves_ending_at(index, D.sites, p))
+    hood = sorted(hood - gone_set)
     secs["locate"] = time.perf_counter() - t0
     # 2. local diagram
     t1 = time.perf_counter()
@@ -148,8 +161,7 @@ def delete_locally(D, deleted, build, index=None):
     lR = np.array([v.radius for v in L.vertices], float)
     lconf = np.zeros(len(L.vertices), bool)
     for k in gone:
-        a, b = piece_ends(D.sites[k])
-        lconf |= conflicts(a, b, lXY, lR)
+        lconf |= conflicts(D.sites[k], lXY, lR)
     next_v = D.stats.get("next vertex id") or max((v.id for v in V), default=-1) + 1
     lmap: dict = {}                    # local vertex id -> global id
     pending: dict = {}                 # local vertices that are not taken: matched when needed

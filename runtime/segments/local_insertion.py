@@ -1,12 +1,15 @@
-"""Local insertion of a segment or a point into a certified diagram of points and segments
-(thesis §1.2: a new site only takes from the regions it touches; elementary sites, §2.2).
+"""Local insertion of a segment, a circular arc or a point into a certified diagram of points,
+segments and circular arcs (thesis §1.2: a new site only takes from the regions it touches;
+elementary sites, §2.2).
 
 The new piece P brings up to three elementary sites σ (its open interior and the endpoints not
 yet sites).  The update:
 
-1. **Conflict**: the old vertices whose empty circle P enters (float distance from P to the
-   centre below the radius plus a margin of 10⁻⁸·(1 + |x| + |y| + r), a hundred times the
-   certificate's position tolerance; the others, *kept*, are at least that margin outside).
+1. **Conflict**: the old vertices whose empty circle P enters (float distance from the closed P to
+   the centre below the radius plus a margin of 10⁻⁸·(1 + |x| + |y| + r), a hundred times the
+   certificate's position tolerance, plus an arc's float error bound,
+   :func:`runtime.segments.local_update.site_distance`; the others, *kept*, are at least that
+   margin outside).
 2. **Local diagram**: the diagram of P and the sites near the conflict circles
    (:func:`runtime.segments.construction.segment_voronoi`, passed in as ``build``).  Taken from it:
    its vertices with a new site (and those reproducing a conflict vertex), and its edges with a new
@@ -41,10 +44,24 @@ not reproduce), the closure at the other end fails, and no removed edge goes to 
 so it is kept.  (e) The new
 regions are bounded, so no new site touches the convex hull's boundary: the unbounded ends of G'
 are those of G, all kept.  So the spliced diagram is G', and ``certified`` is proved.  Anything
-else — a taken edge to infinity, a new site without a taken edge, a local vertex that matches
-nothing, a proof or closure that fails, arcs in the diagram, a piece repeating a site or
-continuing a segment straight through its end, a crossing — returns a reason, and the caller
-rebuilds (:mod:`runtime.segments.edits`).
+else — a taken edge to infinity, a new site without a taken edge, a local diagram with a new site
+that is not one of P's, a local vertex that matches nothing, a proof or closure that fails, sites
+other than points, segments and circular arcs (elliptic pieces), a piece repeating a site or
+continuing a curve straight or smoothly through its end, ending at a smooth joint, a crossing —
+returns a reason, and the caller rebuilds (:mod:`runtime.segments.edits`).
+
+Circular arcs.  Nothing in (a)–(e) depends on the kind of site: (a) uses the old certificate and
+the conflict test (for an arc a float distance whose error bound is added to the margin), (b) and
+(d) only distances, (c) and (e) that every region is contractible — certificate step 5
+(:mod:`runtime.segments.certificate`) proves it for an open arc's region too (it retracts onto
+the arc along the segments to the nearest points), and the proofs of the changed part are the
+certificate's own arc routines (arc bisectors, radial rays at the ends, vertices at an arc's
+centre).  The one place where the segment argument used convexity — the reach of the proof's
+site table — has its arc bound in :mod:`runtime.segments.local_update`.  What the update cannot
+do locally is a change of the elementary sites around P beyond adding P's: P continuing a curve
+with opposite tangents at an end that is a point site (the point would stop being a site: a
+straight merge, or a smooth joint), or ending at a smooth joint (the joint would become a site);
+both are refused, as is a local diagram with a new site that is not P's.
 
 Numbering: the old elementary sites keep their indices; the new ones are appended (in the local
 diagram's order: endpoints, then the interior) with ``source`` N, the new input index.  Old
@@ -58,17 +75,14 @@ Public API: :func:`insert_locally` (the returned diagram carries its ``edit_inde
 from __future__ import annotations
 
 import time
-from fractions import Fraction
 
 import numpy as np
 
-from ..predicates.circles import Point
-from ..sites.segment import Segment
 from ..voronoi.site_input import SiteError
 from ..voronoi.structure import Diagram, DiagramVertex
 from .crossings import check_pieces
-from .local_update import (EditIndex, KeptVertices, closure_holds, conflicts, piece_ends, point_key, prove_part, site_box,
-                           site_key, spliced_edge)
+from .local_update import (EditIndex, KeptVertices, closure_holds, conflicts, curve_ends, curves_ending_at, editable, leaving,
+                           opposite, point_key, prove_part, site_box, site_key, spliced_edge)
 
 __all__ = ["insert_locally"]
 
@@ -77,7 +91,7 @@ RING = 1.0
 
 
 def insert_locally(D, piece, source: int, build, index=None):
-    """The diagram ``D`` (certified, points and segments) with ``piece`` (a Segment or a Point)
+    """The diagram ``D`` (certified, points, segments, arcs) with ``piece`` (a Segment, Arc or Point)
     added, updated locally and proved (module docstring); or a str: why not (then rebuild).
     ``index``: D's :class:`runtime.segments.local_update.EditIndex` from the previous edit, if any;
     the result carries its own as ``edit_index``."""
@@ -85,41 +99,37 @@ def insert_locally(D, piece, source: int, build, index=None):
     secs: dict = {}
     if not D.certified:
         return "the diagram is not certified"
-    if not isinstance(piece, (Segment, Point)):
+    if not editable(piece):
         return f"a {type(piece).__name__} piece"
     fresh = EditIndex.of(D, index)
-    if fresh is not index and not all(isinstance(s, (Segment, Point)) for s in D.sites):
-        return "the diagram has arc sites"
+    if fresh is not index and not all(editable(s) for s in D.sites):
+        return "the diagram has sites other than points, segments and circular arcs"
     index = fresh
     n = len(D.sites)
     keys = index.keys
     if site_key(piece) in keys:
         return "the piece repeats a site"
-    a, b = piece_ends(piece)
-    ends = ([(Fraction(piece.p[0]), Fraction(piece.p[1])), (Fraction(piece.q[0]), Fraction(piece.q[1]))]
-            if isinstance(piece, Segment) else [])
-    # crossings, and straight continuations (a merge of elementary segments): the rebuild decides
-    plo, phi = np.minimum(a, b), np.maximum(a, b)
+    box = site_box(piece)
+    plo, phi = np.array(box[:2]), np.array(box[2:])
     near = index.near(plo, phi)
+    # crossings, and continuations through an end (a merge of elementary segments, a smooth joint
+    # made or split): the rebuild decides
     try:
         check_pieces([D.sites[k] for k in near] + [piece])
     except SiteError:
         return "the piece meets another"
-    for e in ends:
+    for e in curve_ends(piece):
+        at = [k for k in near if e in curve_ends(D.sites[k])]
         if point_key(e) not in keys:
+            if at:
+                return "the piece ends at a smooth joint or inside a merged segment"
             continue
-        for s in near:
-            t = D.sites[s]
-            if isinstance(t, Segment) and e in ((Fraction(t.p[0]), Fraction(t.p[1])), (Fraction(t.q[0]), Fraction(t.q[1]))):
-                o = t.q if e == (Fraction(t.p[0]), Fraction(t.p[1])) else t.p
-                u = (Fraction(o[0]) - e[0], Fraction(o[1]) - e[1])
-                w = (ends[1][0] - e[0], ends[1][1] - e[1]) if e == ends[0] else (ends[0][0] - e[0], ends[0][1] - e[1])
-                if u[0] * w[1] - u[1] * w[0] == 0 and u[0] * w[0] + u[1] * w[1] < 0:
-                    return "the piece continues a segment straight through its end"
+        if any(opposite(leaving(D.sites[k], e), leaving(piece, e)) for k in at):
+            return "the piece continues a curve straight or smoothly through its end"
     # 1. conflict
     V = D.vertices
     XY, R = index.XY, index.R
-    conflict = conflicts(a, b, XY, R)
+    conflict = conflicts(piece, XY, R)
     if not conflict.any():
         return "no vertex in conflict"
     cv_ = np.nonzero(conflict)[0]
@@ -127,7 +137,12 @@ def insert_locally(D, piece, source: int, build, index=None):
     hi = np.maximum((XY[cv_] + R[cv_, None]).max(axis=0), phi)
     pad = RING * float(np.max(hi - lo)) + 1e-9
     lo, hi = lo - pad, hi + pad
-    hood = index.near(lo, hi)
+    hood = set(index.near(lo, hi))
+    for k in list(hood):               # a curve of the neighbourhood keeps its partner at a smooth joint
+        for p in curve_ends(D.sites[k]):
+            if point_key(p) not in keys:
+                hood.update(curves_ending_at(index, D.sites, p))
+    hood = sorted(hood)
     secs["locate"] = time.perf_counter() - t0
     # 2. local diagram
     t1 = time.perf_counter()
@@ -148,7 +163,8 @@ def insert_locally(D, piece, source: int, build, index=None):
             k = n + len(new_sites)
             new_sites.append(s)
         glob.append(k)
-    if not new_sites or len(new_sites) > 3:
+    expected = {site_key(piece)} | {point_key(e) for e in curve_ends(piece)}
+    if not new_sites or not {site_key(s) for s in new_sites} <= expected:
         return "the local diagram's new sites are not the piece's"
     is_new = lambda k: k >= n        # noqa: E731
     removed = set(cv_.tolist())

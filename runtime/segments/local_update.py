@@ -1,31 +1,47 @@
-"""What a local update of a diagram of points and segments shares between insertion and deletion
-(thesis §1.2: an edit changes only the regions it touches): the exact site keys, the float boxes
-and the vertex arrays of the diagram kept from edit to edit (:class:`EditIndex`), the conflict test
-of a vertex against a piece, the closure test at changed vertices, and the proof of the changed
-part (:func:`prove_part`) against the sites that can reach it.
+"""What a local update of a diagram of points, segments and circular arcs shares between insertion
+and deletion (thesis §1.2: an edit changes only the regions it touches): the exact site keys, the
+float boxes and the vertex arrays of the diagram kept from edit to edit (:class:`EditIndex`), the
+conflict test of a vertex against a piece, the exact ends and tangents of curves (a point where two
+curves would continue each other stops being a site, :mod:`runtime.segments.elementary`), the
+closure test at changed vertices, and the proof of the changed part (:func:`prove_part`) against
+the sites that can reach it.
+
+**Distances.**  The conflict test and the reach discs below use float distances to the closed
+sites (:func:`site_distance`); for an arc | |x − c| − ρ | in its range, the nearer end's outside,
+with the error bound :data:`ARC_ERROR`·(|c| + ρ + |x|) (cancellation when ρ is large) added to
+the margins, so that a vertex called free of a site is free of it exactly.
 
 **Proof of a part.**  The changed vertices and edges are proved with the certificate's routines
 (:func:`runtime.segments.certificate_vertices.prove_vertices`,
 :func:`runtime.segments.certificate_edges.prove_edges`) against a
 :class:`runtime.segments.certificate_sites.SiteTable` of the sites that can reach them, not of all
 sites (building the table of all N sites is linear in N).  A vertex needs the sites that meet its
-closed circle; a point y of an edge (i, j) needs the sites within d_i(y) of y (t below: the edge's
-``tolerance``).
+closed circle; a point y of an edge (i, j) needs the sites within d_i(y) = d_j(y) of y (t below: the
+edge's ``tolerance``).
 A point y of the curve is within t of a point z of a polyline step [p, q] (the bound the edge proof
-checks piece by piece), d_i is convex along the step and 1-Lipschitz, so d_i(y) ≤ max(d_i(p),
-d_i(q)) + t, and every site within d_i(y) of y meets the disc about the step's midpoint of radius
-max(d_i(p), d_i(q)) + |q − p|/2 + 2t; a vertex needs the sites meeting its circle.  The table
-holds every site whose float box meets one of these discs (radii widened by :data:`WIDEN` = 10⁻⁸
-relative to 1 + |x| + |y| + r, a hundred times the certificate's vertex position tolerance: the
-float centres and radii are that close to the proved ones, float boxes of exact sites and the
-float distances within a few ulps), and the closure of each
-curve (its end point sites), which the table's end codes need.  A site outside the table is
-therefore farther than the distance to the nearest site from every point the proof is about, and
-the proof against the table is the proof against all sites.
+checks piece by piece), and d_i is 1-Lipschitz, so d_i(y) ≤ d_i(z) + t.  For a point or a segment
+d_i is convex along the step, so d_i(z) ≤ M = max(d_i(p), d_i(q)), and every site within d_i(y) of
+y meets the disc about the step's midpoint of radius M + |q − p|/2 + 2t; the distance to an arc
+is not convex (inside its circle it is ρ − |x − c|), only d_i(z) ≤ min(d_i(p) + |z − p|,
+d_i(q) + |z − q|) ≤ M + |q − p|/2, so for an edge of two arcs the radius is M + |q − p| + 2t (of
+an arc and a point or segment, the latter is used).  A vertex needs the sites meeting its circle.
+The table holds every site whose float box meets one of these discs (radii widened by
+:data:`WIDEN` = 10⁻⁸ relative to 1 + |x| + |y| + r, a hundred times the certificate's vertex
+position tolerance: the float centres and radii are that close to the proved ones, float boxes of
+exact sites — an arc's box holds its ends and the extreme points of its circle in its range — and
+the float distances within a few ulps), and the closure of each curve: its end point sites, and at
+an end that is a smooth joint the curve continuing there, which the table's end codes need.  A
+site outside the table is therefore farther than the distance to the nearest site from every point
+the proof is about, and the proof against the table is the proof against all sites.
 
 Public API: :class:`EditIndex`, :class:`KeptVertices`, :func:`site_key`, :func:`point_key`, :func:`site_box`,
-:func:`piece_ends`, :func:`piece_distance`, :func:`conflicts`, :func:`closure_holds`, :func:`spliced_edge`,
-:func:`prove_part`, :func:`vertex_sites`, :func:`edge_arrays`, :data:`MARGIN`, :data:`WIDEN`.
+:func:`piece_ends`, :func:`piece_distance`, :func:`site_distance`, :func:`distance_error`, :func:`conflicts`,
+:func:`curve_ends`, :func:`leaving`, :func:`opposite`, :func:`curves_ending_at`, :func:`editable`,
+:func:`closure_holds`, :func:`spliced_edge`, :func:`prove_part`, :func:`vertex_sites`, :func:`edge_arrays`,
+:data:`MARGIN`, :data:`WIDEN`, :data:`ARC_ERROR`.
+
+Length: the shared part of two updates (index, distances, ends, proof); the curve helpers are a
+few lines each and read by both updates and the edit state.
 """
 from __future__ import annotations
 
@@ -34,14 +50,17 @@ from fractions import Fraction
 
 import numpy as np
 
+from ..predicates.circles import Point
+from ..sites.arc import Arc
 from ..sites.segment import Segment
 from ..voronoi.structure import Diagram, DiagramEdge, DiagramVertex
 from .certificate_edges import prove_edges
 from .certificate_sites import SiteTable
 from .certificate_vertices import prove_vertices
 
-__all__ = ["EditIndex", "KeptVertices", "site_key", "point_key", "site_box", "piece_ends", "piece_distance", "conflicts",
-           "closure_holds", "spliced_edge", "prove_part", "vertex_sites", "edge_arrays", "MARGIN", "WIDEN"]
+__all__ = ["EditIndex", "KeptVertices", "site_key", "point_key", "site_box", "piece_ends", "piece_distance", "site_distance",
+           "conflicts", "closure_holds", "spliced_edge", "prove_part", "vertex_sites", "edge_arrays", "curve_ends",
+           "leaving", "opposite", "editable", "curves_ending_at", "distance_error", "MARGIN", "WIDEN", "ARC_ERROR"]
 
 #: margin of the conflict test, relative to 1 + |x| + |y| + r of the vertex (a hundred times the
 #: certificate's position tolerance)
@@ -49,6 +68,16 @@ MARGIN = 1e-8
 #: relative widening of the reach discs of :func:`prove_part`: above the certificate's vertex
 #: position tolerance (10⁻¹⁰ relative) and the rounding of float boxes and distances
 WIDEN = 1e-8
+#: float error of an arc's distance, relative to |c| + ρ + |x| (cancellation in |x − c| − ρ and the
+#: rounding of the rational centre, radius and ends: a few hundred units in the last place, far above
+#: the few ulps of the evaluation)
+ARC_ERROR = 1e-13
+
+
+def editable(s) -> bool:
+    """A site the local updates handle: a point, a segment or a circular arc (elliptic pieces and
+    other sites are rebuilt)."""
+    return isinstance(s, (Segment, Arc)) or (isinstance(s, Point) and s.r2 == 0)
 
 
 def _ints(p) -> tuple:
@@ -63,6 +92,10 @@ def site_key(s) -> tuple:
         b = (Fraction(s.q[0]), Fraction(s.q[1]))
         a, b = sorted((a, b))
         return (1,) + _ints(a) + _ints(b)
+    if isinstance(s, Arc):
+        rho = Fraction(s.rho)
+        return ((2,) + _ints((Fraction(s.c[0]), Fraction(s.c[1]))) + (rho.numerator, rho.denominator)
+                + _ints((Fraction(s.a[0]), Fraction(s.a[1]))) + _ints((Fraction(s.b[0]), Fraction(s.b[1]))))
     return (0,) + _ints((Fraction(str(s.cx)), Fraction(str(s.cy))))
 
 
@@ -76,12 +109,43 @@ def site_box(s) -> tuple:
     if isinstance(s, Segment):
         x0, y0, x1, y1 = float(s.p[0]), float(s.p[1]), float(s.q[0]), float(s.q[1])
         return min(x0, x1), min(y0, y1), max(x0, x1), max(y0, y1)
+    if isinstance(s, Arc):
+        return _arc_box(s)
     x, y = float(s.cx), float(s.cy)
     return x, y, x, y
 
 
+def _arc_box(s) -> tuple:
+    """The float box of a closed arc: its ends and the extreme points of its circle (centre ± ρ
+    along the axes) in its range, an extreme point also taken when the float test of its direction
+    is within rounding of the range's boundary (the box may be larger, never smaller)."""
+    (cx, cy), rho, (ax, ay), (bx, by) = s.float_data()
+    xs, ys = [ax, bx], [ay, by]
+    ua, ub = (ax - cx, ay - cy), (bx - cx, by - cy)
+    tol = 1e-9 * rho * rho
+    for ex, ey in ((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)):
+        v = (ex * rho, ey * rho)
+        if _in_range(ua, ub, v, tol):
+            xs.append(cx + v[0])
+            ys.append(cy + v[1])
+    return min(xs), min(ys), max(xs), max(ys)
+
+
+def _in_range(ua, ub, v, tol) -> bool:
+    """Float test: the direction v lies in the closed counter-clockwise range from ua to ub, or
+    within ``tol`` (in cross-product units) of it."""
+    ca = ua[0] * v[1] - ua[1] * v[0]
+    cb = v[0] * ub[1] - v[1] * ub[0]
+    if ua[0] * ub[1] - ua[1] * ub[0] >= 0:
+        return ca >= -tol and cb >= -tol
+    return ca >= -tol or cb >= -tol
+
+
 def piece_ends(s):
-    """The float ends (a, b) of a segment or point (a = b)."""
+    """The float ends (a, b) of a segment or point (a = b); an arc's start and end."""
+    if isinstance(s, Arc):
+        _, _, a, b = s.float_data()
+        return np.array(a), np.array(b)
     if isinstance(s, Segment):
         return (np.array([float(s.p[0]), float(s.p[1])]), np.array([float(s.q[0]), float(s.q[1])]))
     a = np.array([float(s.cx), float(s.cy)])
@@ -99,13 +163,67 @@ def piece_distance(a, b, X):
     return np.hypot(X[:, 0] - F[:, 0], X[:, 1] - F[:, 1])
 
 
-def conflicts(a, b, XY, R):
-    """The circles (centres XY, radii R) that the closed piece [a, b] enters or comes within the
-    margin :data:`MARGIN` of (a boolean row per circle)."""
+def site_distance(s, X):
+    """Float distances from the rows of X to the closed site ``s`` (a point, a segment or a circular
+    arc).  For an arc: | |x − c| − ρ | when the direction of x − c lies in its closed range (the
+    centre itself: ρ), else the distance to the nearer end; near a boundary direction both are
+    within rounding of each other (the distance is continuous there), so a float misclassification
+    costs no more than the rounding."""
+    if not isinstance(s, Arc):
+        return piece_distance(*piece_ends(s), X)
+    (cx, cy), rho, (ax, ay), (bx, by) = s.float_data()
+    Vx, Vy = X[:, 0] - cx, X[:, 1] - cy
+    uax, uay, ubx, uby = ax - cx, ay - cy, bx - cx, by - cy
+    ca = uax * Vy - uay * Vx
+    cb = Vx * uby - Vy * ubx
+    inside = (ca >= 0) & (cb >= 0) if uax * uby - uay * ubx >= 0 else (ca >= 0) | (cb >= 0)
+    radial = np.abs(np.hypot(Vx, Vy) - rho)
+    ends = np.minimum(np.hypot(X[:, 0] - ax, X[:, 1] - ay), np.hypot(X[:, 0] - bx, X[:, 1] - by))
+    return np.where(inside, radial, ends)
+
+
+def distance_error(s, X) -> np.ndarray | float:
+    """A bound on the float error of :func:`site_distance` beyond the margin's own scale (zero for
+    points and segments, :data:`ARC_ERROR`·(|c| + ρ + |x|) for an arc)."""
+    if not isinstance(s, Arc):
+        return 0.0
+    (cx, cy), rho, _, _ = s.float_data()
+    return ARC_ERROR * (abs(cx) + abs(cy) + rho + np.abs(X).sum(axis=1))
+
+
+def conflicts(s, XY, R):
+    """The circles (centres XY, radii R) that the closed site ``s`` (point, segment or arc) enters
+    or comes within the margin :data:`MARGIN` of (a boolean row per circle)."""
     if not len(R):
         return np.zeros(0, bool)
-    margin = MARGIN * (1 + np.abs(XY).sum(axis=1) + R)
-    return piece_distance(a, b, XY) < R + margin
+    margin = MARGIN * (1 + np.abs(XY).sum(axis=1) + R) + distance_error(s, XY)
+    return site_distance(s, XY) < R + margin
+
+
+def curve_ends(s) -> list:
+    """The exact ends of a curve site (a segment's p and q, an arc's start and end), [] for a point."""
+    if isinstance(s, Segment):
+        return [(Fraction(s.p[0]), Fraction(s.p[1])), (Fraction(s.q[0]), Fraction(s.q[1]))]
+    if isinstance(s, Arc):
+        return [(Fraction(s.a[0]), Fraction(s.a[1])), (Fraction(s.b[0]), Fraction(s.b[1]))]
+    return []
+
+
+def leaving(s, e) -> tuple:
+    """The exact direction in which the curve ``s`` leaves its end ``e`` (an arc runs
+    counter-clockwise from its start: leaving the start along +perp(e − c), the end along −perp)."""
+    p, q = curve_ends(s)
+    if isinstance(s, Segment):
+        o = q if e == p else p
+        return (o[0] - e[0], o[1] - e[1])
+    rx, ry = e[0] - Fraction(s.c[0]), e[1] - Fraction(s.c[1])
+    return (-ry, rx) if e == p else (ry, -rx)
+
+
+def opposite(u, v) -> bool:
+    """The exact directions u and v are opposite (the two curves continue each other through the
+    point: a straight merge or a smooth joint, :mod:`runtime.segments.elementary`)."""
+    return u[0] * v[1] - u[1] * v[0] == 0 and u[0] * v[0] + u[1] * v[1] < 0
 
 
 def vertex_sites(vertices, width: int = 3) -> np.ndarray:
@@ -226,6 +344,13 @@ def spliced_edge(le, gp, ends, eid: int):
     return DiagramEdge(eid, (i, j), tuple(ends), False, poly, le.tolerance, False)
 
 
+def curves_ending_at(index: EditIndex, sites, p) -> list[int]:
+    """The curve sites (numbering of ``sites``/``index``) that have the exact point ``p`` as an end."""
+    x, y = float(p[0]), float(p[1])
+    pad = 1e-9 * (1 + abs(x) + abs(y))
+    return [k for k in index.near((x - pad, y - pad), (x + pad, y + pad)) if k < len(sites) and p in curve_ends(sites[k])]
+
+
 def closure_holds(edges, check) -> bool:
     """Each vertex of ``check`` has exactly one incident edge per cyclically consecutive pair of its
     sites and no other; every edge ending at one lists a consecutive pair of it."""
@@ -247,8 +372,9 @@ def reach_discs(vertices, edges, sites) -> np.ndarray:
     out = [(v.x, v.y, v.radius) for v in vertices]
     for e in edges:
         P = np.asarray(e.polyline, float).reshape(-1, 2)
-        a, b = piece_ends(sites[e.sites[0]])
-        d = piece_distance(a, b, P)
+        i, j = e.sites
+        s = sites[j] if isinstance(sites[i], Arc) and not isinstance(sites[j], Arc) else sites[i]
+        d = site_distance(s, P) + distance_error(s, P)
         t = float(e.tolerance)
         if len(P) == 1:
             out.append((P[0, 0], P[0, 1], d[0] + 2 * t))
@@ -256,7 +382,10 @@ def reach_discs(vertices, edges, sites) -> np.ndarray:
         h = np.hypot(*np.diff(P, axis=0).T)
         M = np.maximum(d[:-1], d[1:])
         mid = (P[:-1] + P[1:]) / 2
-        out.extend(zip(mid[:, 0], mid[:, 1], M + h / 2 + 2 * t))
+        # convex d_s (a point, a segment): d_s <= M along the step; an arc's distance is only
+        # 1-Lipschitz: d_s <= M + h/2 there
+        step = h if isinstance(s, Arc) else h / 2
+        out.extend(zip(mid[:, 0], mid[:, 1], M + step + 2 * t))
     D = np.array(out, float).reshape(-1, 3)
     D[:, 2] = D[:, 2] * (1 + WIDEN) + WIDEN * (1 + np.abs(D[:, :2]).sum(axis=1))
     return D
@@ -285,12 +414,12 @@ def prove_part(sites, index: EditIndex, vertices, edges, problems: list) -> bool
     chosen = sites_meeting(index, reach_discs(vertices, edges, sites))
     chosen |= {s for v in vertices for s in v.sites} | {s for e in edges for s in e.sites}
     for k in list(chosen):
-        s = sites[k]
-        if isinstance(s, Segment):
-            for p in (s.p, s.q):
-                t = index.keys.get(point_key(p))
-                if t is not None:
-                    chosen.add(t)
+        for p in curve_ends(sites[k]):
+            t = index.keys.get(point_key(p))
+            if t is not None:
+                chosen.add(t)
+            else:                                  # a smooth joint: the curve continuing there
+                chosen.update(curves_ending_at(index, sites, p))
     order = sorted(chosen)
     loc = {k: t for t, k in enumerate(order)}
     T = SiteTable([sites[k] for k in order])
