@@ -36,6 +36,8 @@ One BLAS thread (threadpoolctl and OPENBLAS_NUM_THREADS=1); thread settings and 
   K insertions of segments, K deletions of each numbering, each certified (runtime/segments/edits.py:
   local insertion and deletion, a rebuild where the change reaches the convex hull),
   CPU median per update and its route against a certified batch build of the final list.
+* random disjoint circular arcs (``--arcs 1000 10000 --arc-k 8 --arc-deletes 8``: tests/scenes.random_arcs),
+  the same rows as the segments (local insertion and deletion of arcs, runtime/segments/edits.py).
 
 Run:  OPENBLAS_NUM_THREADS=1 python bench/bench_dynamic.py [--sizes 1000 10000] [--big] [--k 20]
           [--ellipses 1000 10000] [--ellipse-k 10]
@@ -286,23 +288,27 @@ def nearest_case(n: int, q: int, seed: int = 2) -> dict:
     return out
 
 
-def segments_case(n: int, k: int, seed: int = 1, deletes: int | None = None) -> dict:
-    """Random pairwise disjoint segments (tests/scenes.random_segments, N + K drawn): the batch
+def segments_case(n: int, k: int, seed: int = 1, deletes: int | None = None, kind: str = "segments") -> dict:
+    """Random pairwise disjoint segments (tests/scenes.random_segments, N + K drawn; ``kind="arcs"``:
+    circular arcs, tests/scenes.random_arcs): the batch
     build of the first N (certified), then K insertions of the other K (``d.insert``), ``deletes``
     (default K) deletions of random input pieces with renumber="last" and as many with "shift", each certify=True and
     inplace=True; CPU seconds per certified update, its route (``stats["update"]``), and at the end
     a batch build of the final list of pieces (sites and Delaunay graph compared)."""
     sys.path.insert(0, str(ROOT / "tests"))
-    from scenes import random_segments
+    from scenes import random_arcs, random_segments
 
     import curvedvoronoi as cv
 
     threads = _threads()
-    segs = [cv.Segment(a, b) for a, b in random_segments(n + k, seed)]
+    if kind == "arcs":
+        segs = random_arcs(n + k, seed)
+    else:
+        segs = [cv.Segment(a, b) for a, b in random_segments(n + k, seed)]
     base, extra = segs[:n], segs[n:]
     t0, c0 = time.perf_counter(), time.process_time()
     d = cv.voronoi(base, progress=False)
-    out = {"case": "segments", "N": n, "K": k, "threads": threads, "build_s": time.perf_counter() - t0,
+    out = {"case": kind, "N": n, "K": k, "threads": threads, "build_s": time.perf_counter() - t0,
            "build_cpu_s": time.process_time() - c0, "build_certified": bool(d.certified)}
     rng = random.Random(seed)
     cur = list(base)
@@ -346,12 +352,16 @@ def _same_segment_graph(d, batch) -> bool:
     return graph(d) == graph(batch)
 
 
-def _segment_table(results, args) -> list:
-    rows = [r for r in results if str(r.get("case")).startswith("segments")]
+def _segment_table(results, args, kind: str = "segments") -> list:
+    rows = [r for r in results if str(r.get("case")).startswith(kind)]
     if not rows:
         return []
-    lines = ["", f"Random disjoint segments (tests/scenes.random_segments): batch build of N (certified), then K = "
-             f"{args.segment_k} insertions, {args.segment_k if args.segment_deletes is None else args.segment_deletes} "
+    what = ("Random disjoint circular arcs (tests/scenes.random_arcs, one per cell of a grid)" if kind == "arcs"
+            else "Random disjoint segments (tests/scenes.random_segments)")
+    k = args.arc_k if kind == "arcs" else args.segment_k
+    dels = args.arc_deletes if kind == "arcs" else args.segment_deletes
+    lines = ["", f"{what}: batch build of N (certified), then K = "
+             f"{k} insertions, {k if dels is None else dels} "
              "deletions with renumber=\"last\" and as many with \"shift\" (certify=True, "
              "inplace=True each; runtime/segments/edits.py).  local / rebuild = the route of stats[\"update\"]; "
              "first = the first update of that kind (the first edit of a batch-built diagram builds the edit "
@@ -450,6 +460,12 @@ def main():
     ap.add_argument("--segment-k", type=int, default=3, help="insertions (and deletions of each kind) per segment N")
     ap.add_argument("--segment-deletes", type=int, default=None,
                     help="deletions of each kind per segment N (default --segment-k; local unless the piece is on the convex hull)")
+    ap.add_argument("--arcs", nargs="*", type=int, default=None,
+                    help="N of the circular-arc rows (insert/delete of arcs, runtime/segments/edits.py); given, "
+                         "only the arc (and --segments) rows run")
+    ap.add_argument("--arc-k", type=int, default=3, help="insertions (and deletions of each kind) per arc N")
+    ap.add_argument("--arc-deletes", type=int, default=None,
+                    help="deletions of each kind per arc N (default --arc-k; local unless the arc is on the convex hull)")
     ap.add_argument("--no-write", action="store_true")
     ap.add_argument("--inplace", action="store_true",
                     help="circle updates with inplace=True (the diagram updated in place: no O(N) copy of its lists)")
@@ -468,6 +484,8 @@ def main():
                                cache=args.cache, inplace=args.inplace)
         elif kind == "segments":
             res = segments_case(int(n), args.segment_k, deletes=args.segment_deletes)
+        elif kind == "arcs":
+            res = segments_case(int(n), args.arc_k, deletes=args.arc_deletes, kind="arcs")
         elif kind == "ellipses":
             res = ellipses_case(int(n), args.ellipse_k, certify_build=int(n) <= args.certify_ellipses_up_to)
         else:
@@ -479,15 +497,16 @@ def main():
     results = []
     cases = [f"circles:{n}" for n in sizes] + ([] if args.uncertified else ["nearest:10000"])
     cases += [] if args.uncertified else [f"ellipses:{n}" for n in args.ellipses]
-    if args.segments is not None:
-        cases = [f"segments:{n}" for n in args.segments]
+    if args.segments is not None or args.arcs is not None:
+        cases = [f"segments:{n}" for n in args.segments or []] + [f"arcs:{n}" for n in args.arcs or []]
     for case in cases:
         t0 = time.perf_counter()
         res = subprocess.run([sys.executable, __file__, "--case", case, "--k", str(args.k),
                               "--queries", str(args.queries), "--ellipse-k", str(args.ellipse_k),
                               "--certify-ellipses-up-to", str(args.certify_ellipses_up_to),
-                              "--segment-k", str(args.segment_k)]
+                              "--segment-k", str(args.segment_k), "--arc-k", str(args.arc_k)]
                              + (["--segment-deletes", str(args.segment_deletes)] if args.segment_deletes is not None else [])
+                             + (["--arc-deletes", str(args.arc_deletes)] if args.arc_deletes is not None else [])
                              + (["--uncertified"] if args.uncertified else [])
                              + (["--cache", args.cache] if args.cache else [])
                              + (["--inplace"] if args.inplace else [])
@@ -521,7 +540,7 @@ def main():
              "graph = CGAL | peak RSS MB |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     if not any(str(r.get("case")).startswith("circles") for r in results):
-        lines = lines[:2]                  # segment rows only: no circle table
+        lines = lines[:2]                  # segment / arc rows only: no circle table
     for r in results:
         if not str(r.get("case")).startswith("circles"):
             continue
@@ -578,6 +597,7 @@ def main():
                   f"{r.get('cgal_qps', 0):.3g} | {r['same_as_scipy']} | {r.get('cgal_same', r.get('cgal_error'))} |"]
     lines += _ellipse_table(results, args)
     lines += _segment_table(results, args)
+    lines += _segment_table(results, args, "arcs")
     text = "\n".join(lines) + "\n"
     print(text)
     if not args.no_write:
