@@ -17,6 +17,7 @@ import math
 
 import numpy as np
 
+from ...certify.cell_cover import cell_balls, halve
 from .far_accounting import accounting_unbounded
 from .hull_nesting import gap_note, hulls_disjoint, sole_leader
 from .problems import fault
@@ -343,7 +344,7 @@ def _dominates_conic(sup, s, g0, g1, max_work) -> bool:
         work += len(a)
         if work > max_work:
             return False
-        c, half = 0.5 * (a + b), 0.5 * (b - a) * (1 + 1e-12)
+        c, half = cell_balls(a, b)
         hs = sup.h(s, c)
         hk = np.empty(len(c))
         for k in np.unique(K):
@@ -356,7 +357,5 @@ def _dominates_conic(sup, s, g0, g1, max_work) -> bool:
         bad = ~good
         if not bad.any():
             return True
-        mid = 0.5 * (a[bad] + b[bad])
-        a, b = np.concatenate([a[bad], mid]), np.concatenate([mid, b[bad]])
-        K = np.concatenate([K[bad], K[bad]])
+        a, b, K = halve(a, b, bad, K)
     return True
