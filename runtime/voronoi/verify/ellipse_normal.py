@@ -116,6 +116,7 @@ def ellipse_normal_enclosure(Q, Fw, a, b, c, s, tx, ty, errs):
     m = len(Q)
     errs = np.asarray(errs, float).reshape(m, 6)
     ec, es, etx, ety, ea, eb = errs.T
+    a, b, c, s, tx, ty = (np.broadcast_to(np.asarray(v, float), (m,)) for v in (a, b, c, s, tx, ty))
     with np.errstate(all="ignore"):
         x, y = Q[:, 0], Q[:, 1]
         dx, dy = x - tx, y - ty
@@ -153,22 +154,26 @@ def ellipse_normal_enclosure(Q, Fw, a, b, c, s, tx, ty, errs):
         good = (np.isfinite(mu) & (mu > 0) & (slope > 0) & np.isfinite(eX) & np.isfinite(eY) & (al > 0) & (bl > 0)
                 & np.isfinite(errs).all(1))
         for delta in BRACKETS:
-            todo = good & ~ok
-            if not todo.any():
+            # the rows not yet enclosed only (every value below is computed row by row)
+            idx = np.nonzero(good & ~ok)[0]
+            if not len(idx):
                 break
-            lo_mu = mu - delta / slope
-            hi_mu = mu + delta / slope
-            Fl, _ = multiplier_bounds(lo_mu, xl, xh, yl, yh, al, ah, bl, bh)
-            _, Fh = multiplier_bounds(hi_mu, xl, xh, yl, yh, al, ah, bl, bh)
-            done = todo & (lo_mu > 0) & (Fl > 0) & (Fh < 0)
+            mu_, slope_ = mu[idx], slope[idx]
+            xl_, xh_, yl_, yh_ = xl[idx], xh[idx], yl[idx], yh[idx]
+            al_, ah_, bl_, bh_ = al[idx], ah[idx], bl[idx], bh[idx]
+            lo_mu = mu_ - delta / slope_
+            hi_mu = mu_ + delta / slope_
+            Fl, _ = multiplier_bounds(lo_mu, xl_, xh_, yl_, yh_, al_, ah_, bl_, bh_)
+            _, Fh = multiplier_bounds(hi_mu, xl_, xh_, yl_, yh_, al_, ah_, bl_, bh_)
+            done = (lo_mu > 0) & (Fl > 0) & (Fh < 0)
             if not done.any():
                 continue
             # N(μ*) in a box: |N_X| ∈ [xl/(ah² + μ_hi), xh/(al² + μ_lo)]
-            nxl = _lower(xl / (ah * ah + hi_mu), 3)
-            nxh = _upper(xh / (al * al + lo_mu), 3)
-            nyl = _lower(yl / (bh * bh + hi_mu), 3)
-            nyh = _upper(yh / (bl * bl + lo_mu), 3)
-            sx, sy = np.sign(X0), np.sign(Y0)
+            nxl = _lower(xl_ / (ah_ * ah_ + hi_mu), 3)
+            nxh = _upper(xh_ / (al_ * al_ + lo_mu), 3)
+            nyl = _lower(yl_ / (bh_ * bh_ + hi_mu), 3)
+            nyh = _upper(yh_ / (bl_ * bl_ + lo_mu), 3)
+            sx, sy = np.sign(X0[idx]), np.sign(Y0[idx])
             # centre and radius per component (both signs possible when the lower end is 0)
             cx = np.where(nxl > 0, sx * 0.5 * (nxl + nxh), 0.0)
             rx = np.where(nxl > 0, _up(0.5 * (nxh - nxl) + 2 * _U * nxh), nxh)
@@ -181,13 +186,14 @@ def ellipse_normal_enclosure(Q, Fw, a, b, c, s, tx, ty, errs):
             ux, uy = cx / n0, cy / n0
             # float unit vector (≤ 4u off the exact cx/|c|), rotated by the float frame (≤ 4u),
             # the exact rotation within |Δc| + |Δs|
-            rot = ec + es
+            rot = ec[idx] + es[idx]
             et = _up((1 + rot) * (en + 4 * _U) + rot + 8 * _U)
-            gx, gy = c * ux - s * uy, s * ux + c * uy
+            gx, gy = c[idx] * ux - s[idx] * uy, s[idx] * ux + c[idx] * uy
             fine = done & (mlow > 0) & np.isfinite(et)
-            G[fine, 0], G[fine, 1] = gx[fine], gy[fine]
-            e[fine] = et[fine]
-            ok |= fine
+            r_ = idx[fine]
+            G[r_, 0], G[r_, 1] = gx[fine], gy[fine]
+            e[r_] = et[fine]
+            ok[r_] = True
     return G, e, ok
 
 

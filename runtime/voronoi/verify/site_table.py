@@ -71,6 +71,8 @@ __all__ = ["SiteTable", "SiteValues", "gradient_enclosure", "run_lockstep"]
 
 #: relative gap above which the table defers to the site geometry's own bounds
 FALLBACK_GAP = 1e-7
+#: rows per block of :func:`gradient_enclosure`
+GRADIENT_ROWS = 50_000
 
 
 class SiteValues:
@@ -320,9 +322,21 @@ def gradient_enclosure(Q, V: SiteValues, R, scale):
     term e_F/lo of the cheap enclosure dominates the disc's 2R/(lo − R), ∇d(Q) is enclosed
     through the foot point's Lagrange multiplier instead
     (:mod:`runtime.voronoi.verify.ellipse_normal`, error e_N ≈ 10⁻¹⁴), and the slack is
-    e_N + 2R/(lo − R) on the disc (lo > 2R: the disc stays outside the convex K)."""
+    e_N + 2R/(lo − R) on the disc (lo > 2R: the disc stays outside the convex K).  Row by row:
+    computed in blocks of :data:`GRADIENT_ROWS` rows (temporaries bounded independently of the
+    number of rows, the same values)."""
     Q = np.asarray(Q, float).reshape(-1, 2)
     R = np.broadcast_to(np.asarray(R, float), (len(Q),))
+    m = len(Q)
+    if m > GRADIENT_ROWS:
+        parts = [_gradient_block(Q[a:a + GRADIENT_ROWS], V.part(a, a + GRADIENT_ROWS), R[a:a + GRADIENT_ROWS], scale)
+                 for a in range(0, m, GRADIENT_ROWS)]
+        return tuple(np.concatenate([p_[t] for p_ in parts]) for t in range(3))
+    return _gradient_block(Q, V, R, scale)
+
+
+def _gradient_block(Q, V, R, scale):
+    """:func:`gradient_enclosure` on one block of rows."""
     W = Q - V.F
     dF = np.hypot(W[:, 0], W[:, 1])
     size = np.abs(Q).sum(1) + scale
