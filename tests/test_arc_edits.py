@@ -195,3 +195,20 @@ def test_the_float_distance_to_an_arc_is_the_distance_to_its_points(seed):
 
 def rng_uniform(rng, c, h):
     return [c + rng.uniform(-h, h) for _ in range(50)]
+
+
+def test_a_circle_is_inserted_and_deleted_locally_as_its_two_halves():
+    # a whole circle enters as two half arcs meeting at smooth joints (no point sites there)
+    pieces = scene(3, False)
+    i = next(k for k, p in enumerate(pieces) if interior(p))
+    a = pieces[i]
+    rest = pieces[:i] + pieces[i + 1:]
+    d = cv.voronoi(rest, progress=False)
+    c = cv.Circle.from_radius(a.c[0], a.c[1], a.rho)
+    e = d.insert(c)
+    assert e.stats["update"] == "local" and e.certified
+    assert len(e.sites) == len(d.sites) + 2
+    same_diagram(e, cv.voronoi(rest + [c], progress=False))
+    f = e.delete_site(len(rest))
+    assert f.stats["update"] == "local" and f.certified
+    same_diagram(f, d)

@@ -23,8 +23,10 @@ piece (a segment, an arc or a point) from such a diagram is local too
 removed, the hole they leave is filled from the diagram of the sites around it, and the changed
 part is proved the same way; its docstring defines the changed part and says why the rest keeps
 its proof).  A deleted piece that does not change the sites (a point that is also a curve's
-endpoint) changes only ``sources``.  Otherwise — a circle or elliptic piece (a circle's two halves
-meet at smooth joints), elliptic pieces in the diagram, ``certify=False``, a segment merged with
+endpoint) changes only ``sources``.  A circle (of rational radius) is inserted and deleted as its
+two halves (:func:`runtime.sites.arc.circle_halves`, as the construction splits it): two arc sites
+meeting at smooth joints, no point sites.  Otherwise — an elliptic piece, elliptic pieces in the
+diagram, ``certify=False``, a segment merged with
 another into one elementary segment, a piece ending at a smooth joint, an edit that would join
 two curves straight or smoothly at a point or split such a joint, or a local update that does not
 close or is not proved (a new region or the hole reaching the convex hull, ...) — the diagram of
@@ -56,7 +58,8 @@ from fractions import Fraction
 import numpy as np
 
 from ..predicates.circles import Point
-from ..sites.arc import Arc
+from ..result import InvalidConicError
+from ..sites.arc import Arc, circle_halves
 from ..sites.segment import Segment, as_point_pair
 from .local_deletion import delete_locally, site_moves
 from .local_insertion import insert_locally
@@ -93,17 +96,17 @@ class SegmentEdits:
     def insert(self, D, site, *, certify: bool = True, inplace: bool = False):
         """The diagram of ``pieces + [site]`` (module docstring); ``site`` is input piece N."""
         pieces = self.pieces + [site]
-        piece = _elementary_piece(site)
+        parts = _elementary_pieces(site)
         why = "a certify=False update" if not certify else (
-            f"a {type(site).__name__} piece" if piece is None else None)
-        out = why or insert_locally(D, piece, len(self.pieces), self.build, self.index)
+            f"a {type(site).__name__} piece" if parts is None else None)
+        out = why or insert_locally(D, parts, len(self.pieces), self.build, self.index)
         if isinstance(out, str):
             out = self._rebuild(pieces, certify, out)
         else:
             uses = self.point_uses()
             if uses is not None:
                 uses = uses.copy()
-                uses.update(_points(piece))
+                uses.update(_points(site))
             out.construction = SegmentEdits(pieces, self.build, getattr(out, "edit_index", None), uses)
         out.stats["update_input"] = len(self.pieces)
         return _deliver(D, out, inplace)
@@ -135,25 +138,24 @@ class SegmentEdits:
     def _delete_locally(self, D, i: int, rest: list, moved: bool):
         """The local route of :meth:`delete`: a Diagram, or a str (why not)."""
         uses = self.point_uses()
-        piece = _elementary_piece(self.pieces[i])
-        if uses is None or piece is None or D.sources is None:
-            return "a deletion from a diagram with pieces other than points, segments and circular arcs"
+        parts = _elementary_pieces(self.pieces[i])
+        if uses is None or parts is None or D.sources is None:
+            return "a deletion from a diagram with pieces other than points, segments, circular arcs and circles"
         index = EditIndex.of(D, self.index)
         keys = index.keys
-        pts = _points(piece)
+        pts = _points(self.pieces[i])
         deleted = [keys[p] for p in pts if uses[p] == 1 and p in keys]
-        if isinstance(piece, (Segment, Arc)):
-            k = keys.get(site_key(piece))
-            if k is None:
-                return "the segment is part of a merged elementary segment"
-            if any(p not in keys for p in pts):
-                return "the piece ends at a smooth joint (its end becomes a site)"
-            deleted.append(k)
-            for p in pts:
-                if uses[p] == 3 and _straight_after(D, index, p, k):
-                    return "the deletion joins two segments straight or two curves smoothly at a point"
-        elif uses[pts[0]] == 3 and _straight_after(D, index, pts[0], None):
-            return "the deletion joins two segments straight or two curves smoothly at a point"
+        curves = [q for q in parts if isinstance(q, (Segment, Arc))]
+        own = [k for q in curves for k in [keys.get(site_key(q))]]
+        if None in own:
+            return "the segment is part of a merged elementary segment"
+        own_ends = [e for q in curves for e in curve_ends(q)]
+        if any(point_key(e) not in keys and own_ends.count(e) == 1 for e in own_ends):
+            return "the piece ends at a smooth joint (its end becomes a site)"
+        deleted += own
+        for p in set(pts):
+            if uses[p] == 3 and _straight_after(D, index, p, own):
+                return "the deletion joins two segments straight or two curves smoothly at a point"
         if deleted:
             out = delete_locally(D, deleted, self.build, index)
             if isinstance(out, str):
@@ -185,23 +187,24 @@ class SegmentEdits:
 
 
 def _points(piece):
-    """The point keys a piece has (its two ends, or itself), or None for another kind of piece."""
-    if isinstance(piece, (Segment, Arc)):
-        return [point_key(e) for e in curve_ends(piece)]
-    p = _elementary_piece(piece)
-    if isinstance(p, Point):
-        return [site_key(p)]
-    return None
+    """The point keys an input piece has (its two ends, itself, or a circle's two joints), or None
+    for another kind of piece."""
+    parts = _elementary_pieces(piece)
+    if parts is None:
+        return None
+    if isinstance(parts[0], Point):
+        return [site_key(parts[0])]
+    return [point_key(e) for e in curve_ends(parts[0])]      # a circle: its first half's ends are the joints
 
 
 def _straight_after(D, index, p, own) -> bool:
     """After deleting a piece at the point with key ``p`` (used by 3 pieces now, 2 then): do the
-    two curve sites other than ``own`` that end at p continue each other (opposite tangents: two
-    segments merge, otherwise a smooth joint; either way p stops being a site,
-    :mod:`runtime.segments.elementary`)?"""
+    two curve sites not in ``own`` (the deleted piece's) that end at p continue each other
+    (opposite tangents: two segments merge, otherwise a smooth joint; either way p stops being a
+    site, :mod:`runtime.segments.elementary`)?"""
     P = (Fraction(p[1], p[2]), Fraction(p[3], p[4]))
     near = index.near((float(P[0]), float(P[1])), (float(P[0]), float(P[1])))
-    dirs = [leaving(D.sites[s], P) for s in near if s != own and P in curve_ends(D.sites[s])]
+    dirs = [leaving(D.sites[s], P) for s in near if s not in own and P in curve_ends(D.sites[s])]
     return len(dirs) == 2 and opposite(*dirs)
 
 
@@ -211,13 +214,21 @@ def _first_user(pieces, site) -> int:
     return next(j for j, q in enumerate(pieces) if key in (_points(q) or ()))
 
 
-def _elementary_piece(site):
-    """``site`` as a Segment, an Arc or a Point when it is one (an (x, y) pair a Point), else None."""
+def _elementary_pieces(site):
+    """The pieces of an input piece as the construction splits it: ``[site]`` for a Segment, an Arc
+    or a Point (an (x, y) pair a Point), a circle of rational radius (a Circle) its two halves
+    (:func:`runtime.sites.arc.circle_halves`); None for anything else (an irrational radius too:
+    the rebuild then raises the batch build's error)."""
     if isinstance(site, (Segment, Arc)) or (isinstance(site, Point) and site.r2 == 0):
-        return site
+        return [site]
+    if hasattr(site, "r2") and hasattr(site, "cx"):
+        try:
+            return circle_halves((site.cx, site.cy), site.r2, getattr(site, "label", None))
+        except (InvalidConicError, TypeError, ValueError):
+            return None
     if isinstance(site, (tuple, list)) and len(site) == 2:
         try:
-            return Point(*as_point_pair(site, "the new site"))
+            return [Point(*as_point_pair(site, "the new site"))]
         except (TypeError, ValueError):
             return None
     return None

@@ -61,7 +61,9 @@ site table — has its arc bound in :mod:`runtime.segments.local_update`.  What 
 do locally is a change of the elementary sites around P beyond adding P's: P continuing a curve
 with opposite tangents at an end that is a point site (the point would stop being a site: a
 straight merge, or a smooth joint), or ending at a smooth joint (the joint would become a site);
-both are refused, as is a local diagram with a new site that is not P's.
+both are refused, as is a local diagram with a new site that is not P's.  A circle is inserted
+as its two halves at once (one update, P their union): the new sites are the two open arcs, their
+common ends are smooth joints and no sites.
 
 Numbering: the old elementary sites keep their indices; the new ones are appended (in the local
 diagram's order: endpoints, then the interior) with ``source`` N, the new input index.  Old
@@ -91,45 +93,52 @@ RING = 1.0
 
 
 def insert_locally(D, piece, source: int, build, index=None):
-    """The diagram ``D`` (certified, points, segments, arcs) with ``piece`` (a Segment, Arc or Point)
-    added, updated locally and proved (module docstring); or a str: why not (then rebuild).
+    """The diagram ``D`` (certified, points, segments, arcs) with ``piece`` (a Segment, Arc or Point;
+    or a list of them from one input piece: a circle's two halves) added, updated locally and proved
+    (module docstring); or a str: why not (then rebuild).
     ``index``: D's :class:`runtime.segments.local_update.EditIndex` from the previous edit, if any;
     the result carries its own as ``edit_index``."""
     t0 = time.perf_counter()
     secs: dict = {}
     if not D.certified:
         return "the diagram is not certified"
-    if not editable(piece):
-        return f"a {type(piece).__name__} piece"
+    parts = list(piece) if isinstance(piece, list) else [piece]
+    for q in parts:
+        if not editable(q):
+            return f"a {type(q).__name__} piece"
     fresh = EditIndex.of(D, index)
     if fresh is not index and not all(editable(s) for s in D.sites):
         return "the diagram has sites other than points, segments and circular arcs"
     index = fresh
     n = len(D.sites)
     keys = index.keys
-    if site_key(piece) in keys:
+    if any(site_key(q) in keys for q in parts):
         return "the piece repeats a site"
-    box = site_box(piece)
-    plo, phi = np.array(box[:2]), np.array(box[2:])
+    boxes = np.array([site_box(q) for q in parts], float)
+    plo, phi = boxes[:, :2].min(axis=0), boxes[:, 2:].max(axis=0)
     near = index.near(plo, phi)
     # crossings, and continuations through an end (a merge of elementary segments, a smooth joint
     # made or split): the rebuild decides
     try:
-        check_pieces([D.sites[k] for k in near] + [piece])
+        check_pieces([D.sites[k] for k in near] + parts)
     except SiteError:
         return "the piece meets another"
-    for e in curve_ends(piece):
-        at = [k for k in near if e in curve_ends(D.sites[k])]
-        if point_key(e) not in keys:
-            if at:
-                return "the piece ends at a smooth joint or inside a merged segment"
-            continue
-        if any(opposite(leaving(D.sites[k], e), leaving(piece, e)) for k in at):
-            return "the piece continues a curve straight or smoothly through its end"
+    own_ends = [e for q in parts for e in curve_ends(q)]
+    for q in parts:
+        for e in curve_ends(q):
+            at = [k for k in near if e in curve_ends(D.sites[k])]
+            if point_key(e) not in keys:
+                if at:
+                    return "the piece ends at a smooth joint or inside a merged segment"
+                continue
+            if any(opposite(leaving(D.sites[k], e), leaving(q, e)) for k in at):
+                return "the piece continues a curve straight or smoothly through its end"
     # 1. conflict
     V = D.vertices
     XY, R = index.XY, index.R
-    conflict = conflicts(piece, XY, R)
+    conflict = np.zeros(len(R), bool)
+    for q in parts:
+        conflict |= conflicts(q, XY, R)
     if not conflict.any():
         return "no vertex in conflict"
     cv_ = np.nonzero(conflict)[0]
@@ -147,7 +156,7 @@ def insert_locally(D, piece, source: int, build, index=None):
     # 2. local diagram
     t1 = time.perf_counter()
     try:
-        L = build([D.sites[k] for k in hood] + [piece], certify=False)
+        L = build([D.sites[k] for k in hood] + parts, certify=False)
     except (SiteError, ValueError) as exc:
         return f"the local diagram failed ({exc})"
     # L.problems (e.g. a construction fault far from the changed part, at the edge of the
@@ -163,7 +172,9 @@ def insert_locally(D, piece, source: int, build, index=None):
             k = n + len(new_sites)
             new_sites.append(s)
         glob.append(k)
-    expected = {site_key(piece)} | {point_key(e) for e in curve_ends(piece)}
+    # the new elementary sites: the pieces and their ends, but an end two of them share (a circle's
+    # smooth joints are no sites)
+    expected = {site_key(q) for q in parts} | {point_key(e) for e in own_ends if own_ends.count(e) == 1}
     if not new_sites or not {site_key(s) for s in new_sites} <= expected:
         return "the local diagram's new sites are not the piece's"
     is_new = lambda k: k >= n        # noqa: E731
