@@ -161,7 +161,7 @@ class Diagram:
         (thesis §1.2); ``certified`` needs this diagram certified.  See
         :func:`runtime.voronoi.insertion.insert_site` (parabolas, hyperbolas: rebuilt from scratch), reached
         through the construction state like :meth:`delete_site`.  In a diagram of segments the new
-        piece (a segment, a point, an arc) is input piece N; a segment or point is inserted locally
+        piece (a segment, a point, an arc, a circle) is input piece N; it is inserted locally
         when the new regions are bounded, otherwise the diagram is rebuilt and certified whole
         (:class:`runtime.segments.edits.SegmentEdits`); a piece crossing another is refused with
         the batch build's ``SiteError``."""
