@@ -6,13 +6,17 @@ contacts' nearest-point tests on pieces of them, and the distance gradients of t
 
 Gradients (Clarke, for Lebourg's mean value theorem): points, segments and arcs by
 :func:`runtime.segments.certificate_pieces.distance_gradient`; an elliptic piece by
-(x − e(Φ))/|x − e(Φ)| where its nearest point is proved unique in Φ — the interior minimum, or a
+(x − e(Φ))/|x − e(Φ)| where its nearest point is proved unique in Φ — the interior minimum (the
+only one: outside by convexity, inside by the secant factor at the piece's ends), or a
 stretch next to an end with f'' > 0 on it and f above the distance beyond —, else an end's (the
 hull of both ends' when both are nearest).
 
 Public API: :class:`Jet`, :class:`FootCurve`, :class:`NormalLine`, :class:`PointsLine`,
-:func:`widened_nearest`, :func:`partner_ok`, :func:`other_ends`, :func:`piece_gradient`,
-:func:`gradient`.
+:func:`sag_bound`, :func:`secant_nearest`, :func:`widened_nearest`, :func:`partner_ok`,
+:func:`other_ends`, :func:`piece_gradient`, :func:`gradient`.
+
+Length: the curve classes share the jets, the nearest-point tests and the chord bound; the
+secant identity itself is :mod:`runtime.segments.certificate_ellipse_secant`.
 """
 from __future__ import annotations
 
@@ -20,12 +24,13 @@ from flint import arb
 
 from ..certify.foot import to_arb
 from .certificate_pieces import distance_gradient
+from .certificate_ellipse_secant import end_foot_t, monotone_piece, on_ellipse, secant_factor
 from .certificate_sites import ARC, ELLIPSE, POINT, SEGMENT, SiteTable, hypot, sq
 from .ellipse_pieces import (closest_at_an_end, interior_foot, interior_minimum, nearest_verdict,
                              piece_distance_ball, piece_feet, piece_point_ball)
 
-__all__ = ["Jet", "FootCurve", "NormalLine", "PointsLine", "widened_nearest", "partner_ok", "other_ends",
-           "piece_gradient", "gradient"]
+__all__ = ["Jet", "FootCurve", "NormalLine", "PointsLine", "sag_bound", "secant_nearest", "widened_nearest",
+           "partner_ok", "other_ends", "piece_gradient", "gradient"]
 
 
 # ====================================================================== second-order jets
@@ -102,6 +107,10 @@ class FootCurve:
         self.N = tuple(to_arb(v) for v in P.N)
         self.p0, self.p1 = P.arb_params()
         self._memo: dict = {}
+        # a point partner on the piece's own ellipse: the closed form t_E without the 0/0 at its
+        # parameter (:func:`runtime.segments.certificate_ellipse_secant.end_foot_t`; inside only)
+        self.cs = on_ellipse(P, T.a[k]) if T.kind[k] == POINT else None
+        self.mono = monotone_piece(P)
 
     def jets(self, phi):
         key = (phi.mid(), phi.rad())
@@ -116,7 +125,9 @@ class FootCurve:
         ty = C * self.N[1] - S * self.M[1]
         ln = (tx * tx + ty * ty).sqrt()
         nx, ny = ty / ln, -tx / ln                   # unit outward normal (the frame is counter-clockwise)
-        if T.kind[k] == POINT:
+        if T.kind[k] == POINT and self.cs is not None:
+            t = end_foot_t(self.P, self.cs, C, S, ln) if sg < 0 else Jet(arb("nan"), arb("nan"), arb("nan"))
+        elif T.kind[k] == POINT:
             px, py = T.arb_ends(k)[:2]
             Dx, Dy = ex - px, ey - py
             t = -(Dx * Dx + Dy * Dy) / (2 * sg * (nx * Dx + ny * Dy))
@@ -150,13 +161,16 @@ class FootCurve:
         return self.jets(phi)[2].d
 
     def chord_bound(self, t0, t1, target: float = 0.0):
-        J = t0.union(t1)
-        a, w = float(J.lower()), float(J.rad()) * 2
-        top = arb(0)
-        for m in range(8):                          # max |γ''| over eight sub-balls
-            gx, gy, _ = self.jets(arb(a + m * w / 8).union(arb(a + (m + 1) * w / 8)))
-            top = top.max(arb(hypot(gx.dd, gy.dd).upper()))
-        return arb(w) * arb(w) * top / 8
+        """The distance from γ over [t0, t1] to its chord: the smaller of Δφ²/8 · max|γ''| (the
+        linear interpolation error) and ℓ²κ/8 (ℓ ≤ Δφ max|γ'| the arc length, κ ≤ max|γ' × γ''| /
+        min|γ'|³ the curvature: the distance h(s) from the chord's line in arc length has h = 0
+        at both ends and |h''| ≤ κ) when the turning ℓκ is below π/2 (the tangents stay within
+        π/2 of the chord's direction, so the nearest point of the line is on the chord)."""
+        return sag_bound(self.jets, t0.union(t1))
+
+    def secant_view(self, J, R):
+        """[(piece, contact parameters Φ*, distances, side σ)] over J, for the secant tests."""
+        return [(self.P, J, R, self.sigma)]
 
     def param(self, X, Y):
         x, y = float(X.mid()), float(Y.mid())
@@ -172,10 +186,61 @@ class FootCurve:
     def contacts_ok(self, J, X, Y, R):
         """(C1) on the piece J (module docstring): True, or a message.  Outside the ellipse
         (σ = +1, t > 0) x − e(φ) lies in the normal cone of the filled ellipse K at e(φ), so e(φ) is
-        the projection of x on the convex K, strictly nearer than every other point of K."""
-        if self.sigma < 0 and not widened_nearest(self.P, X, Y, R, J, None, other_ends(self.T, self.s, self.k)):
+        the projection of x on the convex K, strictly nearer than every other point of K.  Inside
+        (σ = −1) on a monotone piece, the secant rule (:func:`secant_nearest`)."""
+        if self.sigma < 0 and self.mono:
+            ok = secant_nearest(self.T, self.s, J, R)
+            if ok is not True:
+                return ok
+        elif self.sigma < 0 and not widened_nearest(self.P, X, Y, R, J, None, other_ends(self.T, self.s, self.k)):
             return f"the contact with elliptic piece {self.s} is not proved its nearest point"
         return partner_ok(self.T, self.k, self.side2, X, Y, R)
+
+
+def sag_bound(jets, J, parts: int = 8):
+    """:meth:`FootCurve.chord_bound` for a curve given by ``jets`` (θ ↦ (γ_x, γ_y, ρ) jets) on J."""
+    a, w = float(J.lower()), float(J.rad()) * 2
+    top, speed, low, cross = arb(0), arb(0), None, arb(0)
+    for m in range(parts):
+        gx, gy, _ = jets(arb(a + m * w / parts).union(arb(a + (m + 1) * w / parts)))
+        top = top.max(arb(hypot(gx.dd, gy.dd).upper()))
+        sp = hypot(gx.d, gy.d)
+        speed = speed.max(arb(sp.upper()))
+        lo = arb(sp.lower())
+        low = lo if low is None or lo < low else low
+        cross = cross.max(arb(abs(gx.d * gy.dd - gy.d * gx.dd).upper()))
+    out = arb(w) * arb(w) * top / 8
+    if low is not None and low > 0:
+        ell = arb(w) * speed
+        kappa = cross / (low * low * low)
+        if ell * kappa < arb.pi() / 2:
+            alt = ell * ell * kappa / 8
+            if alt.upper() < out.upper():
+                out = alt
+    return out
+
+
+def secant_nearest(T: SiteTable, s: int, Phi, R, at_end=None, end_known: bool = False):
+    """(C1) inside (σ = −1) on a monotone piece s by the secant identity
+    (:mod:`runtime.segments.certificate_ellipse_secant`): the contact e(φ*), φ* ∈ ``Phi``, at
+    distance ρ ∈ ``R`` is a nearest point of the closed piece when L ≥ 0 at both of its ends (L is
+    strictly monotone on the piece, so it is then > 0 between them but at an end with L = 0).
+    Per end w that is a point site: either the edge's partner, at distance exactly ρ (L = 0, a tie
+    that is the partner's), or a third site of the edge, whose proof d > ρ on the open edge is
+    L > 0 there (so those are left to the edge's third-site test).  ``at_end`` is the end that is
+    the contact itself (a normal line at that end: L = det/|e'|·(R − ρ), R the radius of
+    curvature, taken ≥ 0 from the parameter's domain when ``end_known``, else proved > 0); any
+    other end (a joint) is proved L > 0 on the balls.  True or a message."""
+    P = T.piece[s]
+    for w, code in enumerate(T.ends[s]):
+        if code >= 0 and w != at_end:
+            continue
+        if w == at_end and end_known:
+            continue
+        cs = P.ua if w == 0 else P.ub
+        if not secant_factor(P, cs, Phi, R, -1) > 0:
+            return f"the contact with elliptic piece {s} is not proved its nearest point (end {w})"
+    return True
 
 
 def widened_nearest(P, X, Y, R, J, end, tied=()) -> bool:
@@ -260,10 +325,32 @@ class NormalLine:
     def vertex_param(self, vp):
         return self.param(vp.x, vp.y)
 
+    def outside(self, J, s, which) -> bool:
+        """The box over J lies on the outer side of piece s's normal at its end ``which`` (t w
+        points along the outward normal there: w = +ν at a start, −ν at an end)."""
+        return bool(J * (1 if which == 0 else -1) > 0)
+
+    def secant_view(self, J, R):
+        out = []
+        for s, which in self.pieces:
+            P = self.T.piece[s]
+            p = P.arb_params()[which]
+            out.append((P, p, R, 1 if self.outside(J, s, which) else -1))
+        return out
+
     def contacts_ok(self, J, X, Y, R):
         for s, which in self.pieces:
             P = self.T.piece[s]
             p0, p1 = P.arb_params()
+            if monotone_piece(P):
+                # outside: the projection on the filled ellipse; inside (or not decided: L only
+                # grows with σ) the secant rule with the contact at the end itself
+                if self.outside(J, s, which):
+                    continue
+                ok = secant_nearest(self.T, s, p0 if which == 0 else p1, R, at_end=which)
+                if ok is not True:
+                    return ok
+                continue
             if not widened_nearest(P, X, Y, R, p0 if which == 0 else p1, which,
                                    other_ends(self.T, s, self.code)):
                 return f"the end of elliptic piece {s} is not proved its nearest point along the normal line"
@@ -312,6 +399,25 @@ class PointsLine:
 
 
 # ====================================================================== gradients
+def _secant_unique(T: SiteTable, k: int, X, Y, Phi, R) -> bool:
+    """The critical point e(φ*(x)), φ* ∈ Φ, is the unique nearest point of piece k for every x of
+    the box at distance in R: x − e(φ*) along the outward normal (σ = +1, the projection on the
+    filled ellipse), or inward on a monotone piece with the secant factor L > 0 at both ends
+    (:mod:`runtime.segments.certificate_ellipse_secant`)."""
+    P = T.piece[k]
+    ex, ey = piece_point_ball(P, Phi)
+    Mx, My, Nx, Ny = (to_arb(q) for q in (*P.M, *P.N))
+    tx, ty = -Phi.sin() * Mx + Phi.cos() * Nx, -Phi.sin() * My + Phi.cos() * Ny
+    side = (X - ex) * ty - (Y - ey) * tx
+    if not monotone_piece(P):                   # det(M, N) > 0 there: rot(e') is outward
+        return False
+    if side > 0:
+        return True
+    if not side < 0:
+        return False
+    return all(secant_factor(P, cs, Phi, R, -1) > 0 for cs in (P.ua, P.ub))
+
+
 def piece_gradient(T: SiteTable, k: int, X, Y):
     """An enclosure of the (Clarke) gradient of the distance to elliptic piece k on the box, or
     None (module docstring)."""
@@ -323,7 +429,7 @@ def piece_gradient(T: SiteTable, k: int, X, Y):
         if Phi is not None:
             ex, ey = piece_point_ball(P, Phi)
             R = hypot(X - ex, Y - ey)
-            if R > 0 and nearest_verdict(P, X, Y, R, Phi) is True:
+            if R > 0 and (_secant_unique(T, k, X, Y, Phi, R) or nearest_verdict(P, X, Y, R, Phi) is True):
                 return (X - ex) / R, (Y - ey) / R
     # the nearest point within a stretch Φ next to an end (f'' > 0 on Φ, f > d² beyond it)
     dist = piece_distance_ball(P, X, Y)

@@ -12,8 +12,13 @@ by construction |γ(θ) − c_i(θ)| = |γ(θ) − c_j(θ)| = ρ(θ) for contact
   t = (n̂·e + c₀)/(τ − σ n̂·ν) for the line n̂·x + c₀ = 0 touched on the side τ, and
   t = (ρ₂² − |D|²)/(2(σ ν·D − σ₂ρ₂)) for a circle (c₂, ρ₂) touched from the side σ₂ (D = e − c₂);
   the parameter is φ itself;
+  for a point partner p = e(ψ) on the piece's own ellipse the closed form t = t_E(φ) of
+  :func:`runtime.segments.certificate_ellipse_secant.end_foot_t` (inside only, no 0/0 at φ = ψ);
 * **normal line** at a piece's end e that is a point site (the edge of e and its piece) or at a
   smooth joint of two pieces: γ(t) = e + t w, w the exact normal, ρ = t|w|, t > 0;
+* **junction** (:class:`runtime.segments.certificate_ellipse_junction.EndCurve`): the edge of a
+  piece and its end E from a vertex on E's normal line to a vertex on the foot curve of the piece
+  and E — the normal line down to E's centre of curvature, then that foot curve;
 * **points**: the perpendicular bisector of two points (an edge with no piece whose end vertex
   lists a piece), ρ = |γ − p_i|.
 
@@ -33,8 +38,12 @@ On pieces J of [θ₀, θ₁] (halved while undecided), with the box (X, Y) ⊇ 
 
 (C0) ρ(J) > 0;
 (C1) the contacts are nearest points: on an elliptic piece of the pair nothing of the piece nearer
-     than the contact (``nearest_verdict`` with Φ = J, or the end parameter: f'' > 0 around it and
-     f > ρ² on the rest, so d_i(γ(θ)) = ρ(θ)); a segment partner's foot in [0, 1]; an arc
+     than the contact — outside by convexity; inside, on a piece between two vertices of its
+     ellipse, by the secant factor L ≥ 0 at the piece's two ends
+     (:func:`runtime.segments.certificate_ellipse_curves.secant_nearest`; a point-site end not
+     in the pair is a third site, proved farther in (C2), which is L > 0 there), else
+     ``nearest_verdict`` with Φ = J, or the end parameter: f'' > 0 around it and f > ρ² on the
+     rest, so d_i(γ(θ)) = ρ(θ); a segment partner's foot in [0, 1]; an arc
      partner's direction in its closed range with ρ₂ + σ₂ρ ≥ 0; a point partner: none;
 (C2) every other site k is farther: d_k(X, Y) > ρ(J) (rigorous distance balls,
      :meth:`runtime.segments.certificate_sites.SiteTable.distance`; sites outside the k-d tree's
@@ -45,13 +54,22 @@ On pieces J of [θ₀, θ₁] (halved while undecided), with the box (X, Y) ⊇ 
      g > 0 on the open edge there.  Gradient enclosures: points, segments and arcs
      (:func:`runtime.segments.certificate_pieces.distance_gradient`); an elliptic piece
      (x − e(Φ))/|x − e(Φ)| where its nearest point is proved the interior minimum Φ, an end's
-     where it is proved that end (the hull of both ends' where both).
+     where it is proved that end (the hull of both ends' where both).  A point site k on the
+     ellipse of the touched piece is farther exactly when the secant factor L(ψ_k) > 0: no double
+     zero at a vertex whose contact is k itself.  A runs' anchor is an end vertex or the end of a
+     piece where g > 0 was proved directly (:func:`_pieces`).
+(R2) a curve k ending at a point site p of the edge has p as its unique nearest point (the tie is
+     p's): segments and arcs by their rules, an elliptic piece by the end factor
+     ±W(φ, x) > 0 on a cover of its range (:func:`runtime.segments.certificate_ellipse_secant.
+     end_factor`), where W vanishes at a vertex listing k and p by the sign of ∓e'(m)·γ' along a
+     run from it (W is affine in x).
 
 Every point of the open arc is then equidistant from i and j and strictly nearer to them than to
 any other site (a tie with an end of the pair's curves included: it is a site k), so the arc is a
 whole edge of the true diagram between its two vertices.  The polyline lies within the stated
 tolerance (:func:`runtime.segments.certificate_curves.polyline_bound`; the chord bound of a piece
-[t₀, t₁] is Δθ²/8 · max|γ''|, the interpolation error of a C² curve).
+[t₀, t₁] is the smaller of Δθ²/8 · max|γ''|, the interpolation error of a C² curve, and ℓ²κ/8 —
+:func:`runtime.segments.certificate_ellipse_curves.sag_bound`).
 
 Not covered (reported as limits): infinite ends of such edges, two elliptic pieces that are not
 joined at a smooth joint (no closed-form t), vertices of radius 0, and edges whose end vertex
@@ -80,6 +98,8 @@ from ..voronoi.verify.problems import Problem, fault
 from .certificate_curves import polyline_bound
 from .certificate_edges import EdgeProof, prove_edges
 from .certificate_ellipse_curves import FootCurve, NormalLine, PointsLine, gradient, widened_nearest
+from .certificate_ellipse_junction import EndCurve
+from .certificate_ellipse_secant import end_factor, end_tangent, on_ellipse, secant_factor
 from .certificate_ellipses import normal_residual, past_centre_of_curvature, touches_inside
 from .certificate_sites import ARC, ELLIPSE, POINT, SEGMENT, SiteTable, direction_key, sq
 from .ellipse_pieces import closest_at_an_end, interior_foot, interior_minimum, nearest_verdict, piece_point_ball
@@ -90,8 +110,10 @@ __all__ = ["needs_piece_proof", "prove_piece_edge", "prove_edges_with_pieces"]
 FIRST = 8
 MAX_PIECES = 200
 MAX_DEPTH = 24
-#: pieces tested for all the edges of one diagram (the rest are reported unchecked: a limit)
+#: pieces tested for all the edges of one diagram: this many plus :data:`EDGE_SHARE` per edge
+#: routed here (the rest are reported unchecked: a limit)
 DIAGRAM_PIECES = 400
+EDGE_SHARE = 40
 
 
 # ====================================================================== routing
@@ -184,9 +206,11 @@ def _curve(T: SiteTable, D, i: int, j: int, vps, verts):
         return "an edge of two sites that are not elliptic pieces, next to an elliptic piece: not covered"
     s, k = (i, j) if ki == ELLIPSE else (j, i)
     if kj == POINT or ki == POINT:
-        if T.is_endpoint(k, s) and all((_foot_param(T, s, vp, v) or ("",))[:2] == ("end", k)
-                                       for vp, v in zip(vps, verts)):
+        got = [_foot_param(T, s, vp, v) for vp, v in zip(vps, verts)]
+        if T.is_endpoint(k, s) and all(g is not None and g[:2] == ("end", k) for g in got):
             return _normal_line(T, k, [(s, T.which_end(s, k))], vps)
+        if EndCurve.applies(T, s, k) and None not in got and sorted(g[0] for g in got) == ["end", "inside"]:
+            return _junction(T, s, k, vps, verts, got)
     # the foot curve: sides at the end vertices
     sides = None
     P = T.piece[s]
@@ -213,6 +237,36 @@ def _curve(T: SiteTable, D, i: int, j: int, vps, verts):
         sides = (sg, s2)
         thetas.append(th)
     c = FootCurve(T, s, k, *sides)
+    return c, thetas
+
+
+def _inner_side(T: SiteTable, s: int, vp, th) -> bool:
+    """The vertex lies on the inner side of the tangent at e(θ) (σ = −1), proved."""
+    P = T.piece[s]
+    ex, ey = piece_point_ball(P, th)
+    Mx, My, Nx, Ny = (to_arb(q) for q in (*P.M, *P.N))
+    tx, ty = -th.sin() * Mx + th.cos() * Nx, -th.sin() * My + th.cos() * Ny
+    return bool((vp.x - ex) * ty - (vp.y - ey) * tx < 0)
+
+
+def _junction(T: SiteTable, s: int, p: int, vps, verts, got):
+    """The edge of piece s and its end p from a vertex on p's normal line (before the centre of
+    curvature) to a vertex on the foot curve γ_E (:class:`runtime.segments.
+    certificate_ellipse_junction.EndCurve`); the vertex on γ_E lists p at distance r with the
+    contact e(Φ) inside at distance r on the inner side, so it is γ_E(Φ) (t_E is the one
+    solution of |x − E| = t along that normal, Φ ≠ ψ)."""
+    c = EndCurve(T, s, p)
+    thetas = []
+    for vp, g in zip(vps, got):
+        if g[0] == "end":
+            th = c.line_param(vp)
+            if not th < 0:
+                return "an end vertex of the edge of a piece's end is not proved before the centre of curvature"
+        else:
+            th = c.foot_param(g[1])
+            if not th > 0 or not _inner_side(T, s, vp, g[1]):
+                return "an end vertex of the edge of a piece's end is not proved on the inner foot curve"
+        thetas.append(th)
     return c, thetas
 
 
@@ -379,10 +433,13 @@ def _pieces(T: SiteTable, c, i, j, lo, hi, vlo, vhi, verts, budget):
     """(C0)–(C2) on pieces of [lo, hi]; None when proved, else (message, sites…).
 
     A site k tied at the first vertex (d_k = r there) may be passed on a piece by the sign
-    g'(J) > 0 of the derivative cone; at the end, every piece from the first vertex up to the last
-    piece so passed must have g' > 0 proved for k (then g increases from g(θ_v) ≥ 0 along the
-    whole run: Lebourg's mean value theorem piece by piece); symmetrically g' < 0 down to the
-    last vertex."""
+    g'(J) > 0 of the derivative cone, computed only where k is not proved farther directly; at
+    the end, walking from the first vertex, every piece so passed must start at an *anchor* —
+    the vertex (g(θ_v) ≥ 0) or the end of a piece where g > 0 was proved directly (distance ball,
+    secant test, outside the query) — reached through pieces passed the same way (then g grows
+    from the anchor across the run: Lebourg's mean value theorem piece by piece); symmetrically
+    g' < 0 walking down from the last vertex.  The same runs serve the keys of
+    :func:`_end_owned` and :func:`_w_owned`."""
     a, b = arb(lo.lower()), arb(hi.upper())
     L = float(b.mid()) - float(a.mid())
     ties = []
@@ -402,8 +459,12 @@ def _pieces(T: SiteTable, c, i, j, lo, hi, vlo, vhi, verts, budget):
                 if got is not None and got[0] == "end" and got[1] in (i, j):
                     here.add(k)
         normals.append(here)
+    wzones = tuple(_w_zone(T, vp, (i, j)) for vp in (vlo, vhi))
     step = L / FIRST
-    todo = [(float(a.mid()) + m * step, float(a.mid()) + (m + 1) * step, 0) for m in range(FIRST)][::-1]
+    cuts = sorted({float(a.mid()) + m * step for m in range(1, FIRST)} |
+                  {x for x in getattr(c, "cuts", ()) if float(a.mid()) < x < float(b.mid())})
+    bounds = [float(a.mid())] + cuts + [float(b.mid())]
+    todo = [(x0, x1, 0) for x0, x1 in zip(bounds, bounds[1:])][::-1]
     first, last = float(a.mid()), float(b.mid())
     count = 0
     done = []                       # (pa, pb, {k: sign of g' proved}, {k: sign relied on})
@@ -416,7 +477,7 @@ def _pieces(T: SiteTable, c, i, j, lo, hi, vlo, vhi, verts, budget):
         J = (a if pa == first else arb(pa)).union(b if pb == last else arb(pb))
         slopes: dict = {}
         relied: dict = {}
-        bad = _piece(T, c, i, j, J, ties, normals, slopes, relied, pa == first, pb == last)
+        bad = _piece(T, c, i, j, J, ties, normals, slopes, relied, pa == first, pb == last, wzones)
         if bad is None:
             done.append((pa, pb, slopes, relied))
             continue
@@ -424,22 +485,24 @@ def _pieces(T: SiteTable, c, i, j, lo, hi, vlo, vhi, verts, budget):
             return bad
         m = (pa + pb) / 2
         todo += [(m, pb, depth + 1), (pa, m, depth + 1)]
+    done.sort(key=lambda d: d[0])
     keys = {key for _, _, _, rel in done for key in rel}
     for key in keys:
         for way in ("lo", "hi"):
-            used = [(pa, pb, rel[key][0]) for pa, pb, _, rel in done if key in rel and rel[key][1] == way]
-            if not used:
+            if not any(key in rel and rel[key][1] == way for _, _, _, rel in done):
                 continue
-            sgn = used[0][2]
-            if way == "lo":
-                reach = max(pb for _, pb, _ in used)
-                run = [sl for pa, pb, sl, _ in done if pb <= reach]
-            else:
-                reach = min(pa for pa, _, _ in used)
-                run = [sl for pa, pb, sl, _ in done if pa >= reach]
-            if any(u[2] != sgn for u in used) or not all(sl.get(key) == sgn for sl in run):
-                k = key[1] if isinstance(key, tuple) else key
-                return (f"site {k} is not proved farther next to an end vertex (the derivative run is broken)", k)
+            sgn, anchored = None, True          # g ≥ 0 at the end vertex (tied or farther there)
+            for _pa, _pb, sl, rel in (done if way == "lo" else done[::-1]):
+                if key in rel and rel[key][1] == way:
+                    if not anchored or (sgn is not None and rel[key][0] != sgn):
+                        k = key[1] if isinstance(key, tuple) else key
+                        return (f"site {k} is not proved farther next to an end vertex (the derivative run is "
+                                "broken)", k)
+                    sgn = rel[key][0]           # g grows away from the anchor across the piece
+                elif sl.get(("direct", key)):
+                    anchored = True             # g > 0 on the closed piece: a new anchor at its end
+                elif not (sgn is not None and sl.get(key) == sgn):
+                    anchored = False
     return None
 
 
@@ -459,6 +522,7 @@ def _end_owned(T: SiteTable, c, k: int, p: int, J, X, Y, R, ends, slopes, relied
     lx, ly = (to_arb(v) for v in T.leaving(k, p))
     px, py = T.pt_arb(p)
     if (X - px) * lx + (Y - py) * ly < 0:
+        slopes[("direct", ("L", k))] = True
         return True
     gx, gy = c.dxy(J)
     slope = gx * lx + gy * ly
@@ -473,6 +537,77 @@ def _end_owned(T: SiteTable, c, k: int, p: int, J, X, Y, R, ends, slopes, relied
     return False
 
 
+#: sub-intervals of a piece's parameter range for the end-ownership factor W
+W_PARTS = 32
+
+
+def _w_cover(P):
+    p0, p1 = P.arb_params()
+    return [p0 + (p1 - p0) * arb(q / W_PARTS).union(arb((q + 1) / W_PARTS)) for q in range(W_PARTS)]
+
+
+def _w_value(T: SiteTable, k: int, p: int, Phi, X, Y):
+    P = T.piece[k]
+    which = T.which_end(k, p)
+    psi = P.arb_params()[which]
+    return (1 if which == 0 else -1) * end_factor(P, psi, T.pt_arb(p), Phi, X, Y)
+
+
+def _w_zone(T: SiteTable, vp, pair) -> dict:
+    """{(k, p): parameter sub-intervals q} at an end vertex listing elliptic piece k and its end p
+    (a site of the edge) where ±W(Φ_q, v) > 0 is not proved: the runs of :func:`_w_owned` start
+    there (at the vertex ±W ≥ 0 on the whole piece, both listed: d_k(v) = |v − p| = r)."""
+    out = {}
+    if vp is None:
+        return out
+    for k in vp.listed:
+        if not (0 <= k < T.n and T.kind[k] == ELLIPSE) or T.ends[k] is None:
+            continue
+        for p in T.ends[k]:
+            if p >= 0 and p in pair and p in vp.listed:
+                cover = _w_cover(T.piece[k])
+                out[(k, p)] = {q for q, Phi in enumerate(cover) if not _w_value(T, k, p, Phi, vp.x, vp.y) > 0}
+    return out
+
+
+def _w_owned(T: SiteTable, c, k: int, p: int, J, X, Y, wzones, slopes, relied) -> bool:
+    """Elliptic piece k's unique nearest point over the box is its end p (a site of the edge), by
+    the end factor of :func:`runtime.segments.certificate_ellipse_secant.end_factor`: ±W > 0 on
+    a cover of the piece's range.  On a sub-interval Φ_q where ±W vanishes at an end vertex v
+    listing k and p (the piece touches v inside, tied with p), W is affine in x, so
+    ±W(φ, γ(θ)) = ±W(φ, v) ∓ e'(m)·(γ(θ) − v) ≥ (θ − θ_v)·(∓e'(m(Φ_q))·conv γ') > 0 along a run
+    of pieces from v with that slope's sign proved (the runs of :func:`_pieces`)."""
+    if T.kind[k] != ELLIPSE:
+        return False
+    P = T.piece[k]
+    which = T.which_end(k, p)
+    sgn = 1 if which == 0 else -1
+    psi = P.arb_params()[which]
+    zone = wzones[0].get((k, p), set()) | wzones[1].get((k, p), set())
+    dxy = c.dxy(J) if zone else None
+    for q, Phi in enumerate(_w_cover(P)):
+        key = ("W", k, q)
+        if q in zone:
+            tx, ty = end_tangent(P, psi, Phi)
+            d = -sgn * (tx * dxy[0] + ty * dxy[1])
+            slopes[key] = 1 if d > 0 else (-1 if d < 0 else 0)
+        if _w_value(T, k, p, Phi, X, Y) > 0:
+            slopes[("direct", key)] = True
+            continue
+        if q in wzones[0].get((k, p), ()) and slopes.get(key) == 1:
+            relied[key] = (1, "lo")
+            continue
+        if q in wzones[1].get((k, p), ()) and slopes.get(key) == -1:
+            relied[key] = (-1, "hi")
+            continue
+        a, b = Phi.lower(), Phi.upper()
+        parts = [arb(a) + (arb(b) - arb(a)) * arb(m / 8).union(arb((m + 1) / 8)) for m in range(8)]
+        if not all(_w_value(T, k, p, F, X, Y) > 0 for F in parts):
+            return False
+        slopes[("direct", key)] = True
+    return True
+
+
 def _same_ellipse(T: SiteTable, k: int, s: int) -> bool:
     if T.kind[k] != ELLIPSE:
         return False
@@ -480,12 +615,12 @@ def _same_ellipse(T: SiteTable, k: int, s: int) -> bool:
     return a.c == b.c and a.M == b.M and a.N == b.N
 
 
-def _piece(T: SiteTable, c, i, j, J, ties, ends, slopes, relied, at_lo=False, at_hi=False):
+def _piece(T: SiteTable, c, i, j, J, ties, ends, slopes, relied, at_lo=False, at_hi=False, wzones=({}, {})):
     X, Y = c.xy(J)
     R = c.rho(J, X, Y)
     if not (X.is_finite() and Y.is_finite() and R.is_finite()):
         return ("its curve is not enclosed (a pole of the foot curve?)",)
-    if not (R > 0 or (isinstance(c, NormalLine) and R >= 0)):
+    if not (R > 0 or (isinstance(c, (NormalLine, EndCurve)) and R >= 0)):
         return ("its common distance is not proved positive",)
     ok = c.contacts_ok(J, X, Y, R)
     if ok is not True:
@@ -493,9 +628,33 @@ def _piece(T: SiteTable, c, i, j, J, ties, ends, slopes, relied, at_lo=False, at
     cx, cy = float(X.mid()), float(Y.mid())
     brad = math.hypot(float(X.rad()), float(Y.rad()))
     near = T.near(cx, cy, float(R.upper()) + brad + 1e-9 * (1 + abs(cx) + abs(cy)))
+    view = c.secant_view(J, R) if hasattr(c, "secant_view") else None
     dxy = None
     for k in sorted(set(near) | ties[0] | ties[1]):
         if k in (i, j):
+            continue
+        if k not in near:
+            slopes[("direct", k)] = True        # farther than ρ on the whole box
+            continue
+        if isinstance(c, FootCurve) and c.sigma > 0 and (k in T.ends[c.s] or _same_ellipse(T, k, c.s)):
+            # an end of the piece or a piece of its ellipse, outside the ellipse: x − e(φ) is in
+            # the normal cone of the filled ellipse at e(φ), every other point of it strictly farther
+            slopes[("direct", k)] = True
+            continue
+        if T.is_curve(k) and T.ends[k] is not None and any(q in (i, j) for q in T.ends[k] if q >= 0):
+            # R2: a curve ending at a point site p of the edge is never farther than p; its nearest
+            # point must be p alone (the tie is p's by convention)
+            ps = [q for q in T.ends[k] if q >= 0 and q in (i, j)]
+            if len(ps) == 2 and T.kind[k] == ELLIPSE and closest_at_an_end(T.piece[k], X, Y) == (0, 1):
+                continue                        # both ends are its nearest points, the edge's sites
+            if len(ps) == 1 and (_w_owned(T, c, k, ps[0], J, X, Y, wzones, slopes, relied) or
+                                 T.owned_by_end(k, ps[0], X, Y) is True or
+                                 _end_owned(T, c, k, ps[0], J, X, Y, R, ends, slopes, relied)):
+                continue
+            return (f"curve {k} ending at a site of the edge is not proved to have that end as its nearest "
+                    "point", k)
+        if (T.kind[k] == POINT and view and _secant_farther(T, k, view)) or T.distance(k, X, Y) > R:
+            slopes[("direct", k)] = True
             continue
         if k in ties[0] or k in ties[1]:
             # the sign of g' = ∂d_k·γ' − ρ' on the piece, for the runs from the end vertices
@@ -505,25 +664,6 @@ def _piece(T: SiteTable, c, i, j, J, ties, ends, slopes, relied, at_lo=False, at
                     dxy = c.dxy(J)
                 dg = g[0] * dxy[0] + g[1] * dxy[1] - c.drho(J, X, Y)
                 slopes[k] = 1 if dg > 0 else (-1 if dg < 0 else 0)
-        if k not in near:
-            continue
-        if isinstance(c, FootCurve) and c.sigma > 0 and (k in T.ends[c.s] or _same_ellipse(T, k, c.s)):
-            # an end of the piece or a piece of its ellipse, outside the ellipse: x − e(φ) is in
-            # the normal cone of the filled ellipse at e(φ), every other point of it strictly farther
-            continue
-        if T.is_curve(k) and T.ends[k] is not None and any(q in (i, j) for q in T.ends[k] if q >= 0):
-            # R2: a curve ending at a point site p of the edge is never farther than p; its nearest
-            # point must be p alone (the tie is p's by convention)
-            ps = [q for q in T.ends[k] if q >= 0 and q in (i, j)]
-            if len(ps) == 2 and T.kind[k] == ELLIPSE and closest_at_an_end(T.piece[k], X, Y) == (0, 1):
-                continue                        # both ends are its nearest points, the edge's sites
-            if len(ps) == 1 and (T.owned_by_end(k, ps[0], X, Y) is True or
-                                 _end_owned(T, c, k, ps[0], J, X, Y, R, ends, slopes, relied)):
-                continue
-            return (f"curve {k} ending at a site of the edge is not proved to have that end as its nearest "
-                    "point", k)
-        if T.distance(k, X, Y) > R:
-            continue
         sl = slopes.get(k, 0)
         if sl > 0 and k in ties[0]:
             relied[k] = (1, "lo")
@@ -533,6 +673,20 @@ def _piece(T: SiteTable, c, i, j, J, ties, ends, slopes, relied, at_lo=False, at
             continue
         return (f"site {k} is not proved farther", k)
     return None
+
+
+def _secant_farther(T: SiteTable, k: int, view) -> bool:
+    """Point site k lies on the ellipse of every piece touched over the box, and the secant
+    identity proves it farther than ρ: L(ψ_k) > 0 on the side σ of the view
+    (:mod:`runtime.segments.certificate_ellipse_secant`; the contact is never k on the open edge:
+    k is not on the open piece, and the contact reaches a piece's end only at an end vertex)."""
+    for P, Phi, R, sg in view:
+        cs = on_ellipse(P, T.a[k])
+        if cs is None:
+            return False
+        if not secant_factor(P, cs, Phi, R, sg) > 0:
+            return False
+    return True
 
 
 # ====================================================================== all edges, crossings
@@ -547,7 +701,7 @@ def prove_edges_with_pieces(D, T: SiteTable, vproofs, problems, deadline=None) -
     view = SimpleNamespace(edges=rest, vertices=D.vertices, sites=D.sites)
     others = iter(prove_edges(view, T, vproofs, problems, deadline=deadline))
     out = []
-    budget = [DIAGRAM_PIECES]
+    budget = [DIAGRAM_PIECES + EDGE_SHARE * sum(mine)]
     for e, m in zip(D.edges, mine):
         if not m:
             out.append(next(others))
