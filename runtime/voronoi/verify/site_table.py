@@ -329,14 +329,9 @@ def gradient_enclosure(Q, V: SiteValues, R, scale):
     R = np.broadcast_to(np.asarray(R, float), (len(Q),))
     m = len(Q)
     if m > GRADIENT_ROWS:
-        parts = [_gradient_block(Q[a:a + GRADIENT_ROWS], V.part(a, a + GRADIENT_ROWS), R[a:a + GRADIENT_ROWS], scale)
+        parts = [gradient_enclosure(Q[a:a + GRADIENT_ROWS], V.part(a, a + GRADIENT_ROWS), R[a:a + GRADIENT_ROWS], scale)
                  for a in range(0, m, GRADIENT_ROWS)]
         return tuple(np.concatenate([p_[t] for p_ in parts]) for t in range(3))
-    return _gradient_block(Q, V, R, scale)
-
-
-def _gradient_block(Q, V, R, scale):
-    """:func:`gradient_enclosure` on one block of rows."""
     W = Q - V.F
     dF = np.hypot(W[:, 0], W[:, 1])
     size = np.abs(Q).sum(1) + scale
