@@ -49,6 +49,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import random
 import resource
@@ -288,13 +289,17 @@ def nearest_case(n: int, q: int, seed: int = 2) -> dict:
     return out
 
 
-def segments_case(n: int, k: int, seed: int = 1, deletes: int | None = None, kind: str = "segments") -> dict:
+def segments_case(n: int, k: int, seed: int = 1, deletes: int | None = None, kind: str = "segments",
+                  interior: bool = False, final_batch: bool = True) -> dict:
     """Random pairwise disjoint segments (tests/scenes.random_segments, N + K drawn; ``kind="arcs"``:
     circular arcs, tests/scenes.random_arcs): the batch
     build of the first N (certified), then K insertions of the other K (``d.insert``), ``deletes``
     (default K) deletions of random input pieces with renumber="last" and as many with "shift", each certify=True and
     inplace=True; CPU seconds per certified update, its route (``stats["update"]``), and at the end
-    a batch build of the final list of pieces (sites and Delaunay graph compared)."""
+    a batch build of the final list of pieces (sites and Delaunay graph compared; ``final_batch=False``:
+    skipped).  ``interior`` (arcs): the inserted and deleted arcs are drawn from the grid cells off
+    the border only (their regions bounded; an edit reaching the convex hull is a rebuild, the cost
+    of a batch build)."""
     sys.path.insert(0, str(ROOT / "tests"))
     from scenes import random_arcs, random_segments
 
@@ -305,11 +310,22 @@ def segments_case(n: int, k: int, seed: int = 1, deletes: int | None = None, kin
         segs = random_arcs(n + k, seed)
     else:
         segs = [cv.Segment(a, b) for a, b in random_segments(n + k, seed)]
-    base, extra = segs[:n], segs[n:]
+    side = math.ceil(math.sqrt(n + k))    # the grid of tests/scenes.random_arcs
+
+    def inner(p) -> bool:                 # an arc in a grid cell off the border (tests/scenes.random_arcs)
+        return all(1 <= int(c) // 40 <= side - 2 for c in p.c)
+    if interior and kind == "arcs":
+        pick = set(random.Random(seed + 1).sample([t for t, p in enumerate(segs) if inner(p)], k))
+        base, extra = [p for t, p in enumerate(segs) if t not in pick], [segs[t] for t in sorted(pick)]
+    else:
+        base, extra = segs[:n], segs[n:]
     t0, c0 = time.perf_counter(), time.process_time()
     d = cv.voronoi(base, progress=False)
     out = {"case": kind, "N": n, "K": k, "threads": threads, "build_s": time.perf_counter() - t0,
-           "build_cpu_s": time.process_time() - c0, "build_certified": bool(d.certified)}
+           "build_cpu_s": time.process_time() - c0, "build_certified": bool(d.certified), "seed": seed}
+    if not d.certified:                   # every edit would be a rebuild: say so instead of timing batch builds
+        return dict(out, error=f"the batch build of seed {seed} is not certified ({len(d.problems)} problems, "
+                               f"first: {str(d.problems[0])[:120] if d.problems else '-'})")
     rng = random.Random(seed)
     cur = list(base)
     rows = []
@@ -326,16 +342,21 @@ def segments_case(n: int, k: int, seed: int = 1, deletes: int | None = None, kin
         cur.append(s)
     for mode in ("last", "shift"):
         for _ in range(k if deletes is None else deletes):
-            i = rng.randrange(len(cur))
+            i = (rng.choice([t for t, p in enumerate(cur) if inner(p)]) if interior and kind == "arcs"
+                 else rng.randrange(len(cur)))
             timed(f"delete ({mode})", lambda i=i, mode=mode: d.delete_site(i, renumber=mode, inplace=True))
             if mode == "shift" or i == len(cur) - 1:
                 cur.pop(i)
             else:
                 cur[i] = cur.pop()
-    t, c = time.perf_counter(), time.process_time()
-    batch = cv.voronoi(cur, progress=False)
-    out["final_batch_s"], out["final_batch_cpu_s"] = time.perf_counter() - t, time.process_time() - c
-    out["same_as_batch"] = _same_segment_graph(d, batch) and bool(batch.certified)
+    if final_batch:
+        t, c = time.perf_counter(), time.process_time()
+        batch = cv.voronoi(cur, progress=False)
+        out["final_batch_s"], out["final_batch_cpu_s"] = time.perf_counter() - t, time.process_time() - c
+        out["same_as_batch"] = _same_segment_graph(d, batch) and bool(batch.certified)
+    else:
+        out["final_batch_s"] = out["final_batch_cpu_s"] = None
+        out["same_as_batch"] = "not run"
     out["rows"] = rows
     out["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     return out
@@ -356,8 +377,10 @@ def _segment_table(results, args, kind: str = "segments") -> list:
     rows = [r for r in results if str(r.get("case")).startswith(kind)]
     if not rows:
         return []
-    what = ("Random disjoint circular arcs (tests/scenes.random_arcs, one per cell of a grid)" if kind == "arcs"
-            else "Random disjoint segments (tests/scenes.random_segments)")
+    what = (f"Random disjoint circular arcs (tests/scenes.random_arcs, one per cell of a grid, seed {args.arc_seed}"
+            + ("; inserted and deleted arcs only from cells off the grid's border" if args.arc_interior else "")
+            + ("; no final batch build" if args.no_final_batch else "") + ")"
+            if kind == "arcs" else "Random disjoint segments (tests/scenes.random_segments)")
     k = args.arc_k if kind == "arcs" else args.segment_k
     dels = args.arc_deletes if kind == "arcs" else args.segment_deletes
     lines = ["", f"{what}: batch build of N (certified), then K = "
@@ -385,8 +408,8 @@ def _segment_table(results, args, kind: str = "segments") -> list:
             lines.append(f"| {r['N']} | {kind} | {got[0]['cpu']:.3f} | {_fmt(med, 3)} | {_fmt(lmed, 3)} | "
                          f"{_fmt(max(x['cpu'] for x in got), 2)} | "
                          f"{len(got) - n_reb} / {n_reb} | {all(x['certified'] for x in got)} | "
-                         f"{r['final_batch_cpu_s']:.2f} | "
-                         f"{'-' if lmed is None else format(lmed / r['final_batch_cpu_s'], '.4f')} | "
+                         f"{_fmt(r['final_batch_cpu_s'], 2)} | "
+                         f"{'-' if lmed is None or not r['final_batch_cpu_s'] else format(lmed / r['final_batch_cpu_s'], '.4f')} | "
                          f"{r['same_as_batch']} | {r['peak_rss_mb']:.0f} |")
     return lines
 
@@ -466,6 +489,12 @@ def main():
     ap.add_argument("--arc-k", type=int, default=3, help="insertions (and deletions of each kind) per arc N")
     ap.add_argument("--arc-deletes", type=int, default=None,
                     help="deletions of each kind per arc N (default --arc-k; local unless the arc is on the convex hull)")
+    ap.add_argument("--arc-interior", action="store_true",
+                    help="arc rows: insert and delete arcs of grid cells off the border only (bounded regions: the "
+                         "local route; an edit reaching the convex hull is a rebuild, the cost of a batch build)")
+    ap.add_argument("--arc-seed", type=int, default=1, help="seed of the arc scenes (tests/scenes.random_arcs)")
+    ap.add_argument("--no-final-batch", action="store_true",
+                    help="arc rows: skip the certified batch build of the final pieces (the comparison)")
     ap.add_argument("--no-write", action="store_true")
     ap.add_argument("--inplace", action="store_true",
                     help="circle updates with inplace=True (the diagram updated in place: no O(N) copy of its lists)")
@@ -485,7 +514,9 @@ def main():
         elif kind == "segments":
             res = segments_case(int(n), args.segment_k, deletes=args.segment_deletes)
         elif kind == "arcs":
-            res = segments_case(int(n), args.arc_k, deletes=args.arc_deletes, kind="arcs")
+            res = segments_case(int(n), args.arc_k, seed=args.arc_seed, deletes=args.arc_deletes, kind="arcs",
+                                interior=args.arc_interior,
+                                final_batch=not args.no_final_batch)
         elif kind == "ellipses":
             res = ellipses_case(int(n), args.ellipse_k, certify_build=int(n) <= args.certify_ellipses_up_to)
         else:
@@ -507,6 +538,8 @@ def main():
                               "--segment-k", str(args.segment_k), "--arc-k", str(args.arc_k)]
                              + (["--segment-deletes", str(args.segment_deletes)] if args.segment_deletes is not None else [])
                              + (["--arc-deletes", str(args.arc_deletes)] if args.arc_deletes is not None else [])
+                             + (["--arc-interior"] if args.arc_interior else []) + ["--arc-seed", str(args.arc_seed)]
+                             + (["--no-final-batch"] if args.no_final_batch else [])
                              + (["--uncertified"] if args.uncertified else [])
                              + (["--cache", args.cache] if args.cache else [])
                              + (["--inplace"] if args.inplace else [])

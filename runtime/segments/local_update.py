@@ -118,7 +118,9 @@ def site_box(s) -> tuple:
 def _arc_box(s) -> tuple:
     """The float box of a closed arc: its ends and the extreme points of its circle (centre ± ρ
     along the axes) in its range, an extreme point also taken when the float test of its direction
-    is within rounding of the range's boundary (the box may be larger, never smaller)."""
+    is within 10⁻⁹ rad of the range's boundary (the box may be larger; it is smaller only when the
+    rounding of the ends relative to ρ exceeds that angle, and then by ρ·(1 − cos δ) for a
+    direction error δ: far below the :data:`WIDEN` margin of every disc it is tested against)."""
     (cx, cy), rho, (ax, ay), (bx, by) = s.float_data()
     xs, ys = [ax, bx], [ay, by]
     ua, ub = (ax - cx, ay - cy), (bx - cx, by - cy)
