@@ -25,6 +25,7 @@ from flint import arb
 from ..certify.foot import to_arb
 from ..voronoi.verify.problems import Problem, fault
 from .certificate_ellipses import contact_point, owned_by_both_ends
+from .certificate_float_bounds import bounds_at
 from .certificate_sites import ARC, ELLIPSE, SEGMENT, SiteTable, hypot
 
 __all__ = ["ccw", "empty"]
@@ -103,12 +104,15 @@ def empty(T: SiteTable, v, sites, X, Y, R, problems, name: str) -> bool:
     cand = [k for k in T.near(cx, cy, r_hi + 2 * rad) if k not in listed]
     if not cand:
         return True
-    cand = np.array(cand, dtype=int)
-    Q = np.repeat([[cx, cy]], len(cand), axis=0)
-    lo, _ = T.float_bounds(cand, Q)
-    clear = lo - 2 * rad > r_hi * (1 + 1e-12) + 1e-300
+    b = bounds_at(T, cand, cx, cy)
+    if b is None:
+        lo = T.float_bounds(np.array(cand, dtype=int), np.repeat([[cx, cy]], len(cand), axis=0))[0].tolist()
+    else:
+        lo = b[0]
+    limit = r_hi * (1 + 1e-12) + 1e-300
+    clear = [t - 2 * rad > limit for t in lo]
     ok = True
-    for k, c in zip(cand.tolist(), clear.tolist()):
+    for k, c in zip(cand, clear):
         if c:
             continue
         if T.kind[k] in (SEGMENT, ARC, ELLIPSE):

@@ -41,6 +41,7 @@ import numpy as np
 from flint import arb
 
 from .certificate_curves import Line, down, interval, q_arb, up
+from .certificate_float_bounds import bounds_at
 from .certificate_rules import convex_tangents, corner_ratio
 from .certificate_sites import ARC, POINT, SEGMENT, hypot
 from .distance import distances, float_error
@@ -336,6 +337,7 @@ class PieceProofs:
         count = 0
         min_w = (b - a) * 2.0 ** -44
         bad: dict = {}
+        pool = self._pool(a, b)
         while stack:
             pa, pb, cands = stack.pop()
             count += 1
@@ -358,21 +360,13 @@ class PieceProofs:
                 qx, qy = float(X.mid()), float(Y.mid())
                 rq = float(X.rad()) + float(Y.rad())
                 rho_hi = up(rho)
-                near = [k for k in T.near(qx, qy, rho_hi + rq) if k not in skip and k not in cleared]
+                near = [k for k in T.near_in(pool, qx, qy, rho_hi + rq) if k not in skip and k not in cleared]
                 if cands is not None:
                     near = [k for k in near if k in cands]
             plain = [k for k in near if k not in special]
             if plain:
-                idx = np.array(plain, dtype=int)
-                Q = np.repeat([[qx, qy]], len(idx), axis=0)
-                dlo, dhi = T.float_bounds(idx, Q)
-                clear = dlo - rq > rho_hi
-                # a site nearer than ρ at the piece's centre (in floats) is not tried in arb: halve
-                hopeless = dhi <= float(rho.mid()) - float(rho.rad())
-                rest = ~clear & ~hopeless
-                if rest.any():
-                    clear[rest] = self._float_centred(idx[rest], pa, pb, t, X, Y)
-                for k, cl, h in zip(plain, clear.tolist(), hopeless.tolist()):
+                clear, hopeless = self._float_filter(plain, qx, qy, rq, rho_hi, rho, pa, pb, t, X, Y)
+                for k, cl, h in zip(plain, clear, hopeless):
                     if cl:
                         continue
                     if h or (not self._farther(k, t, pa, pb, qx, qy, X, Y) and not T.distance(k, X, Y) - rho > 0
@@ -417,6 +411,45 @@ class PieceProofs:
             else:
                 self.report(f"site {k} is too close to its sites to decide {where}", k)
         return not bad
+
+    def _pool(self, a: float, b: float):
+        """The sites near the whole parameter interval [a, b] (the ball of the curve over it,
+        widened by ρ's upper end there): :meth:`runtime.segments.certificate_sites.SiteTable.pool`,
+        searched again for each piece inside it; None when unbounded or large."""
+        t = interval(a, b)
+        X, Y = self.curve.xy(t)
+        rho = self.curve.rho(t, X, Y)
+        if not (rho.is_finite() and X.is_finite() and Y.is_finite()):
+            return None
+        rq = float(X.rad()) + float(Y.rad())
+        return self.T.pool(float(X.mid()), float(Y.mid()), up(rho) + 2 * rq)
+
+    def _float_filter(self, plain, qx, qy, rq, rho_hi, rho, pa, pb, t, X, Y):
+        """(clear, hopeless) lists for the sites ``plain`` near a piece: clear when the float
+        lower bound of the distance from the piece's centre q exceeds ρ's upper end by the box's
+        radius rq (then g_k > 0 on the whole piece: d_k is 1-Lipschitz), or by the mean-value
+        filter :meth:`_float_centred`; hopeless when the float upper bound at q is below ρ's lower
+        end (not tried in arb: the piece is halved).  The bounds are those of
+        :func:`runtime.segments.certificate_float_bounds.bounds_at` (scalar floats, its rounding
+        bounds), or of :meth:`runtime.segments.certificate_sites.SiteTable.float_bounds` when a
+        site is an elliptic piece."""
+        T = self.T
+        b = bounds_at(T, plain, qx, qy)
+        if b is None:
+            idx = np.array(plain, dtype=int)
+            dlo, dhi = T.float_bounds(idx, np.repeat([[qx, qy]], len(idx), axis=0))
+            dlo, dhi = dlo.tolist(), dhi.tolist()
+        else:
+            dlo, dhi = b
+        rho_lo = float(rho.mid()) - float(rho.rad())
+        clear = [lo - rq > rho_hi for lo in dlo]
+        hopeless = [hi <= rho_lo for hi in dhi]
+        rest = [m for m in range(len(plain)) if not clear[m] and not hopeless[m]]
+        if rest:
+            got = self._float_centred(np.array([plain[m] for m in rest], dtype=int), pa, pb, t, X, Y)
+            for m, g in zip(rest, got.tolist()):
+                clear[m] = g
+        return clear, hopeless
 
     def _convex_clear(self, k, a: float, b: float) -> bool:
         """g_k > 0 on the whole straight edge by :func:`runtime.segments.certificate_rules.

@@ -188,7 +188,8 @@ def _affine_ok(pr, conds, k) -> bool:
                 vals.append(None)
                 continue
             vp = end[2]
-            v = q_arb(gx) * vp.x + q_arb(gy) * vp.y + q_arb(g0)
+            ax, ay, a0 = _arb_rule(pr.T, gx, gy, g0)
+            v = ax * vp.x + ay * vp.y + a0
             if v > 0:
                 vals.append(1)
             elif tied(end, k) or (pr.T.kind[k] == ARC and all(e in vp.listed for e in pr.T.ends[k])):
@@ -218,6 +219,16 @@ def _affine_ok(pr, conds, k) -> bool:
             pr.report(f"site {k} is closer than its sites towards infinity", k)
             return False
     return True
+
+
+def _arb_rule(T, gx, gy, g0):
+    """The balls q_arb(gx), q_arb(gy), q_arb(g0) of a linear condition, cached in the site table
+    (the conditions depend on the sites only; the certificate runs at one working precision)."""
+    key = ("arb", gx, gy, g0)
+    v = T.rule_cache.get(key)
+    if v is None:
+        v = T.rule_cache[key] = (q_arb(gx), q_arb(gy), q_arb(g0))
+    return v
 
 
 def exact_gt(T, k, x, r2) -> bool:

@@ -20,6 +20,7 @@ caches between modules.
 """
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 
 import numpy as np
@@ -335,6 +336,22 @@ class SiteTable:
             mags.append(float(np.abs(self.mid[k]).max() + self.half[k]))
         self.scale = 1.0 + float(max(mags))
         self.tree = cKDTree(self.mid) if n else None
+        # per site, the floats of :func:`runtime.segments.certificate_float_bounds.bounds_at`
+        # (ends, their largest magnitude, the arc's centre, radius and centre magnitude; None
+        # for an elliptic piece)
+        rows = []
+        for k in range(n):
+            if self.kind[k] == ELLIPSE:
+                rows.append(None)
+                continue
+            ax, ay = float(self.A[k, 0]), float(self.A[k, 1])
+            bx, by = float(self.B[k, 0]), float(self.B[k, 1])
+            arc = None
+            if self.kind[k] == ARC:
+                cx, cy = float(self.C[k, 0]), float(self.C[k, 1])
+                arc = (cx, cy, float(self.R[k]), max(abs(cx), abs(cy)))
+            rows.append((ax, ay, bx, by, max(abs(ax), abs(ay), abs(bx), abs(by)), arc))
+        self.float_rows = rows
 
     def float_bounds(self, idx, Q):
         """Float lower and upper bounds of the distances from Q[r] to site idx[r] (rigorous up to
@@ -376,6 +393,36 @@ class SiteTable:
             return list(range(self.n))
         r = radius + self.hmax + 1e-9 * (self.scale + abs(x) + abs(y) + radius)
         return self.tree.query_ball_point([x, y], r)
+
+    def pool(self, x: float, y: float, radius: float, limit: int = 256):
+        """The sites :meth:`near` finds for the disc of ``radius`` about (x, y), kept with that
+        disc as a superset for the smaller discs inside it (:meth:`near_in`); None when they are
+        more than ``limit`` (then a k-d tree query per disc is cheaper)."""
+        if self.tree is None or not (np.isfinite(radius) and np.isfinite(x) and np.isfinite(y)):
+            return None
+        cands = self.near(x, y, radius)
+        if len(cands) > limit:
+            return None
+        r = radius + self.hmax + 1e-9 * (self.scale + abs(x) + abs(y) + radius)
+        return x, y, r, [(k, float(self.mid[k, 0]), float(self.mid[k, 1])) for k in cands]
+
+    def near_in(self, pool, x: float, y: float, radius: float) -> list[int]:
+        """:meth:`near` for the disc of ``radius`` about (x, y), from a :meth:`pool` whose disc
+        contains it: the pool holds every site whose bounding-disc centre is within the pool's
+        widened radius R of its centre p (k-d tree), and when |q − p| + r ≤ R (1 − 10⁻¹²) in
+        floats (hypot faithful, one addition: relative errors far below the slack) every centre
+        within r of q is within R of p; those within r (1 + 10⁻¹²) of q in floats are kept, a
+        superset of :meth:`near`'s sites up to the same widening.  Without a pool, or when the disc
+        leaves it, :meth:`near`."""
+        if pool is None or not (np.isfinite(radius) and np.isfinite(x) and np.isfinite(y)):
+            return self.near(x, y, radius)
+        px, py, R, cands = pool
+        r = radius + self.hmax + 1e-9 * (self.scale + abs(x) + abs(y) + radius)
+        if not math.hypot(x - px, y - py) + r <= R * (1 - 1e-12):
+            return self.near(x, y, radius)
+        r *= 1 + 1e-12
+        hyp = math.hypot
+        return [k for k, mx, my in cands if hyp(mx - x, my - y) <= r]
 
     # ------------------------------------------------------------------ balls
     def arb_ends(self, k: int):

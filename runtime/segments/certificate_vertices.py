@@ -266,6 +266,26 @@ def _arbq(q):
     return arb(fmpq(q.numerator, q.denominator))
 
 
+#: the exact (Fraction) fields of each kind of term
+_NUMERIC = {"pt": (1, 2), "ln": (1, 2, 3), "arc": (1, 2, 3), "pp": (1, 2, 3, 4)}
+
+
+def _same(v):
+    return v
+
+
+def _converted(terms, num):
+    """The terms with their exact coefficients converted once by ``num`` (float, or arb at the
+    working precision): :func:`_system` on them with ``num`` = float or :func:`_same` evaluates the
+    same expressions on the same converted values as on the exact terms, without converting the
+    coefficients at every evaluation."""
+    out = []
+    for t in terms:
+        idx = _NUMERIC.get(t[0], ())
+        out.append(tuple(num(v) if m in idx else v for m, v in enumerate(t)))
+    return out
+
+
 def _system(terms, num):
     """F, J of the k − 1 equations: normal lines, then d_{D0} − d_{Dj}."""
     perps = [t for t in terms if t[0] == "pp"]
@@ -449,22 +469,42 @@ def _narrow(Fa, Ja, K, scale: float):
         return K[0], K[1]
 
 
+def _solve2(J, f):
+    """J⁻¹ f for a float 2 × 2 matrix (Gaussian elimination with partial pivoting, as LAPACK's
+    dgesv); ZeroDivisionError when a pivot is 0 (a numerical step only: the proof follows)."""
+    (a, b), (c, d) = J
+    f0, f1 = f
+    if abs(c) > abs(a):
+        a, b, c, d, f0, f1 = c, d, a, b, f1, f0
+    m = c / a
+    u = d - m * b
+    x1 = (f1 - m * f0) / u
+    return (f0 - b * x1) / a, x1
+
+
+def _float_newton(terms, xr, yr):
+    """Float Newton steps from the reported position on the vertex system (a numerical start for
+    Krawczyk's test, which alone proves anything); None when they fail."""
+    Ff, Jf, _ = _system(_converted(terms, float), float)
+    z0, z1 = xr, yr
+    for _ in range(30):
+        try:
+            s0, s1 = _solve2(Jf((z0, z1)), Ff((z0, z1)))
+        except (ValueError, ZeroDivisionError, OverflowError):
+            return None
+        z0, z1 = z0 - s0, z1 - s1
+        if not (math.isfinite(z0) and math.isfinite(z1)):
+            return None
+        if max(abs(s0), abs(s1)) <= 1e-16 * (1 + max(abs(z0), abs(z1))):
+            break
+    return np.array([z0, z1])
+
+
 def _krawczyk(terms, xr, yr):
-    Ff, Jf, _ = _system(terms, float)
-    z = np.array([xr, yr])
-    with np.errstate(all="ignore"):
-        for _ in range(30):
-            try:
-                f = np.array(Ff(z), dtype=float)
-                step = np.linalg.solve(np.array(Jf(z), dtype=float), f)
-            except (np.linalg.LinAlgError, ValueError, ZeroDivisionError):
-                return None
-            z = z - step
-            if not np.all(np.isfinite(z)):
-                return None
-            if np.max(np.abs(step)) <= 1e-16 * (1 + np.max(np.abs(z))):
-                break
-    Fa, Ja, _ = _system(terms, _arbq)
+    z = _float_newton(terms, xr, yr)
+    if z is None:
+        return None
+    Fa, Ja, _ = _system(_converted(terms, _arbq), _same)
     # a floor of 2^-80 of the scale: a coordinate that is exact in floats (YF_i = 0) must not
     # start at a radius below the second-order coupling of the other one; an ill-conditioned
     # system (a far vertex sliding along its bisector) needs a wider first box
