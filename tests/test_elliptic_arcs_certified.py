@@ -196,6 +196,31 @@ def test_a_dense_grid_agrees_with_the_diagram_s_pairs(certified):
     assert seen and seen <= pairs, seen - pairs
 
 
+@pytest.mark.slow
+def test_an_arc_across_a_vertex_of_its_ellipse_is_certified():
+    """The arc φ ∈ [0.3, 2.5] of the same ellipse is cut at the minor vertex (0, 1) into two pieces
+    with a smooth joint there: certified too, the edge of the two pieces runs along the joint's
+    normal x = 0 through the joint, and the diagram agrees with the mpmath reference."""
+    D = cv.voronoi([cv.Arc.elliptic((0, 0), (2, 0), "1/2", 0.3, 2.5)] + RING, certify=False)
+    C = verify_segments(D)
+    assert C.ok, [str(p) for p in C.problems]
+    pieces = [k for k, s in enumerate(D.sites) if isinstance(s, EllipticArc)]
+    assert len(pieces) == 2
+    joint = [e for e in D.edges if sorted(int(s) for s in e.sites) == pieces]
+    assert len(joint) == 1
+    P = np.asarray(joint[0].polyline, float)
+    assert np.abs(P[:, 0]).max() < 1e-9 and P[:, 1].min() < 1 < P[:, 1].max()
+    ref = reference(D.sites)
+    for e in D.edges:
+        i, j = (int(s) for s in e.sites)
+        P = np.asarray(e.polyline, float)
+        P = P[(np.abs(P) < 30).all(axis=1)]
+        for q in np.vstack([P, (P[1:] + P[:-1]) / 2]):
+            d = distances(ref, q)
+            tol = 2 * float(e.tolerance) + 1e-9
+            assert abs(d[i] - d[j]) <= tol and min(x for m, x in enumerate(d) if m not in (i, j)) >= min(d[i], d[j]) - tol
+
+
 # ------------------------------------------------------------------------------ corruptions
 @pytest.mark.slow
 def test_an_edge_pushed_off_its_curve_is_refused_by_name(certified):

@@ -159,12 +159,12 @@ def test_a_moved_vertex_is_refused_with_its_edges(proved_doc):
 def test_a_point_planted_next_to_an_edge_is_caught_by_the_edge(proved_doc):
     """A point site inserted next to the middle of a proved edge, outside every vertex's circle:
     the vertices stay proved, the edge must not (its third-site test names the new site)."""
-    D, doc, n = proved_doc
+    D, doc, _n = proved_doc
     doc = copy.deepcopy(doc)
-    e = D.edges[n]
-    P = np.asarray(e.polyline, float)
+    C0 = verify_segments(D)
 
-    def spots():
+    def spots(e):
+        P = np.asarray(e.polyline, float)
         # along the polyline's inner nodes, both sides, at 0.3–0.9 of the distance to the sites
         # (inside the empty circle of the edge point m, so the new site is nearer there)
         for i in range(1, len(P) - 1):
@@ -175,9 +175,18 @@ def test_a_point_planted_next_to_an_edge_is_caught_by_the_edge(proved_doc):
                 for sg in (1, -1):
                     yield m + sg * f * rho * np.array([-t[1], t[0]]) / np.hypot(*t)
 
-    q = next((q for q in spots()
-              if all(math.hypot(q[0] - v.x, q[1] - v.y) > v.radius * (1 + 1e-6) for v in D.vertices)), None)
-    assert q is not None, "the scene's proved edge has no point off every vertex circle: choose another scene"
+    # the proved piece edges with finite ends, longest polyline first: the first with a spot off
+    # every vertex circle (so the vertices stay proved)
+    q, n = None, None
+    for m in sorted((m for m in _piece_edges(D) if C0.edges[m] and None not in D.edges[m].ends),
+                    key=lambda m: -len(D.edges[m].polyline)):
+        q = next((q for q in spots(D.edges[m])
+                  if all(math.hypot(q[0] - v.x, q[1] - v.y) > v.radius * (1 + 1e-6) for v in D.vertices)), None)
+        if q is not None:
+            n = m
+            break
+    assert q is not None, "no proved edge has a point off every vertex circle: choose another scene"
+    e = D.edges[n]
     doc["sites"].append({"point": [float(q[0]), float(q[1])]})
     C = verify_segments(doc)
     k = len(doc["sites"]) - 1

@@ -326,9 +326,13 @@ class NormalLine:
         return self.param(vp.x, vp.y)
 
     def outside(self, J, s, which) -> bool:
-        """The box over J lies on the outer side of piece s's normal at its end ``which`` (t w
-        points along the outward normal there: w = +ν at a start, −ν at an end)."""
-        return bool(J * (1 if which == 0 else -1) > 0)
+        """The box over J lies on the outer side of piece s at its end ``which``: t (w·ν_s) > 0,
+        ν_s ∝ ±(ℓ_y, −ℓ_x) the outward normal there (ℓ the exact direction leaving the end into
+        the piece: + at a start, − at an end), the sign decided in rationals."""
+        lx, ly = self.T.leaving(s, self.code)
+        dot = self.wq[0] * ly - self.wq[1] * lx
+        way = (1 if dot > 0 else -1 if dot < 0 else 0) * (1 if which == 0 else -1)
+        return way != 0 and bool(J * way > 0)
 
     def secant_view(self, J, R):
         out = []

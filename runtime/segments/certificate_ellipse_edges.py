@@ -15,7 +15,9 @@ by construction |γ(θ) − c_i(θ)| = |γ(θ) − c_j(θ)| = ρ(θ) for contact
   for a point partner p = e(ψ) on the piece's own ellipse the closed form t = t_E(φ) of
   :func:`runtime.segments.certificate_ellipse_secant.end_foot_t` (inside only, no 0/0 at φ = ψ);
 * **normal line** at a piece's end e that is a point site (the edge of e and its piece) or at a
-  smooth joint of two pieces: γ(t) = e + t w, w the exact normal, ρ = t|w|, t > 0;
+  smooth joint of two pieces: γ(t) = e + t w, w the exact normal, ρ = |t||w|; through e itself
+  when the end vertices lie on both sides (ρ = 0 at e only, where both sites of the pair are at
+  distance 0 and every other site is farther: e is on the diagram);
 * **junction** (:class:`runtime.segments.certificate_ellipse_junction.EndCurve`): the edge of a
   piece and its end E from a vertex on E's normal line to a vertex on the foot curve of the piece
   and E — the normal line down to E's centre of curvature, then that foot curve;
@@ -279,9 +281,8 @@ def _normal_line(T: SiteTable, code: int, pieces, vps):
     if None in {_sign(t) for t in ts}:
         return "an end vertex of the normal line is not proved off its foot"
     # an edge through the end e itself (vertices on both sides, ρ = 0 at e) is one edge of e
-    # and the piece when e is a point site: the whole normal line there
-    if len({_sign(t) for t in ts}) == 2 and code < 0:
-        return "the end vertices are not on one side of the joint"
+    # and the piece when e is a point site, of the two pieces at a smooth joint e: e is at
+    # distance 0 from both and positive from every other site, the normal line on both sides
     return c, ts
 
 
@@ -653,7 +654,7 @@ def _piece(T: SiteTable, c, i, j, J, ties, ends, slopes, relied, at_lo=False, at
                 continue
             return (f"curve {k} ending at a site of the edge is not proved to have that end as its nearest "
                     "point", k)
-        if (T.kind[k] == POINT and view and _secant_farther(T, k, view)) or T.distance(k, X, Y) > R:
+        if (view and _secant_farther(T, k, view)) or T.distance(k, X, Y) > R:
             slopes[("direct", k)] = True
             continue
         if k in ties[0] or k in ties[1]:
@@ -676,16 +677,30 @@ def _piece(T: SiteTable, c, i, j, J, ties, ends, slopes, relied, at_lo=False, at
 
 
 def _secant_farther(T: SiteTable, k: int, view) -> bool:
-    """Point site k lies on the ellipse of every piece touched over the box, and the secant
-    identity proves it farther than ρ: L(ψ_k) > 0 on the side σ of the view
-    (:mod:`runtime.segments.certificate_ellipse_secant`; the contact is never k on the open edge:
-    k is not on the open piece, and the contact reaches a piece's end only at an end vertex)."""
+    """Site k lies on the ellipse of every piece touched over the box, and the secant identity
+    proves it farther than ρ: L(ψ) > 0 on the side σ of the view for its parameter ψ — a point
+    site, or every ψ of an elliptic piece of that ellipse (a cover of its range; it shares at
+    most a smooth joint with the touched piece) (:mod:`runtime.segments.certificate_ellipse_secant`).
+    The contact φ* is never ψ on the open edge: a point site is not on the open piece, another
+    piece meets it at most at a joint, and the contact reaches a piece's end only at an end vertex
+    (a normal line at a joint has both pieces as its pair)."""
+    if T.kind[k] == POINT:
+        for P, Phi, R, sg in view:
+            cs = on_ellipse(P, T.a[k])
+            if cs is None or not secant_factor(P, cs, Phi, R, sg) > 0:
+                return False
+        return True
+    if T.kind[k] != ELLIPSE:
+        return False
+    Q = T.piece[k]
+    q0, q1 = Q.arb_params()
+    cover = [q0 + (q1 - q0) * arb(m / 16).union(arb((m + 1) / 16)) for m in range(16)]
     for P, Phi, R, sg in view:
-        cs = on_ellipse(P, T.a[k])
-        if cs is None:
+        if not (P.c == Q.c and P.M == Q.M and P.N == Q.N):
             return False
-        if not secant_factor(P, cs, Phi, R, sg) > 0:
-            return False
+        for Psi in cover:
+            if not secant_factor(P, (Psi.cos(), Psi.sin()), Phi, R, sg) > 0:
+                return False
     return True
 
 

@@ -50,6 +50,8 @@ from __future__ import annotations
 
 from fractions import Fraction
 
+from flint import arb
+
 from ..certify.foot import to_arb
 
 __all__ = ["on_ellipse", "monotone_piece", "speed2_mid", "secant_factor", "end_foot_t", "end_factor",
@@ -95,7 +97,7 @@ def speed2_mid(P, cs, C, S):
     """|e'(m)|² at m = (ψ + φ)/2 from cs = (cos ψ, sin ψ) (exact or balls) and C = cos φ,
     S = sin φ (balls or jets of :mod:`runtime.segments.certificate_ellipse_curves`)."""
     a2, b2, mn, _det = (to_arb(v) for v in _frame(P))
-    cp, sp = to_arb(cs[0]), to_arb(cs[1])
+    cp, sp = (v if isinstance(v, arb) else to_arb(v) for v in cs)
     c2 = C * cp - S * sp                      # cos(ψ + φ)
     s2 = S * cp + C * sp                      # sin(ψ + φ)
     return c2 * ((b2 - a2) / 2) + s2 * (-mn) + (a2 + b2) / 2
@@ -103,7 +105,8 @@ def speed2_mid(P, cs, C, S):
 
 def secant_factor(P, cs, Phi, T, sigma: int):
     """L(ψ) of the module docstring for the contact parameters Φ* = ``Phi`` (a ball), the
-    distances ``T`` (a ball, t ≥ 0) and the side σ: |x − e(ψ)|² − t² = 4 sin²((ψ − φ*)/2)·L(ψ)."""
+    distances ``T`` (a ball, t ≥ 0) and the side σ: |x − e(ψ)|² − t² = 4 sin²((ψ − φ*)/2)·L(ψ).
+    ``cs`` = (cos ψ, sin ψ): exact rationals, or balls (a whole stretch of parameters ψ)."""
     (Mx, My), (Nx, Ny) = (tuple(to_arb(v) for v in P.M), tuple(to_arb(v) for v in P.N))
     det = to_arb(_frame(P)[3])
     C, S = Phi.cos(), Phi.sin()
