@@ -583,6 +583,12 @@ def _replay(allm: list[dict], path: str, statuses: set | None = None) -> list[di
             print(f"replay: {r['path']}:{r['line']} {r['kind']} {r['what']} no longer in the source", flush=True)
             continue
         same = [m for m in cands if (m["what"], m["function"]) == (r["what"], r["function"])]
+        if not same and not (len(cands) == 1 and len(r["old"]) >= 12):
+            # moved to another function: only a long text found once is the same mutant; a short
+            # one (`0.5`, `2`, `False`) elsewhere is another mutant (a false kill otherwise)
+            print(f"replay: {r['path']}:{r['line']} {r['kind']} {r['what']}: not in {r['function']} any more, "
+                  f"{len(cands)} look-alike(s) elsewhere not taken (replay by hand)", flush=True)
+            continue
         pending.append((r, same or cands))
     # others edit the modules meanwhile: a text that occurs once gives the file's line shift, and a
     # text that occurs several times (a constant, `False`) is taken nearest to its shifted line
@@ -595,6 +601,13 @@ def _replay(allm: list[dict], path: str, statuses: set | None = None) -> list[di
         near = min(shifts.get(r["path"], [(r["line"], 0)]), key=lambda t: abs(t[0] - r["line"]))
         want = r["line"] + near[1]
         best = min(cands, key=lambda m: abs(m["line"] - want))
+        if len(cands) > 1 and (abs(best["line"] - want) > 3
+                               or sum(abs(m["line"] - want) == abs(best["line"] - want) for m in cands) > 1):
+            # the same text several times in the function and none where the shift puts it:
+            # the code around it moved, and the nearest look-alike may be another mutant
+            print(f"replay: {r['path']}:{r['line']} {r['kind']} {r['what']}: {len(cands)} look-alikes, none at "
+                  f"line {want} (±3): not taken (replay by hand)", flush=True)
+            continue
         if len(cands) > 1:
             print(f"replay: {r['path']}:{r['line']} {r['kind']} {r['what']}: {len(cands)} candidates, "
                   f"line {best['line']} taken (shift {near[1]} of the mutant at line {near[0]})", flush=True)
@@ -753,19 +766,28 @@ def final_rows(first: str, after: list[str]) -> list[dict]:
                 reworded.append(r)
 
     twins: dict[tuple, int] = {}
+    twin_lines: dict[tuple, list] = {}
     for r in rows:
         k5 = (r["path"], r["kind"], r["old"], r["new"], r["function"])
         twins[k5] = twins.get(k5, 0) + 1
+        twin_lines.setdefault(k5, []).append((r["line"], r.get("col", 0)))
 
     def _same(r):
         cands = [x for x in later.get((r["path"], r["kind"], r["old"], r["new"]), [])
                  if x["function"] == r["function"]]
         if not cands:
             return None
-        if twins[(r["path"], r["kind"], r["old"], r["new"], r["function"])] > 1:
-            # the same text twice in one function: the re-runs nearest to this line
-            d = min(abs(x["line"] - r["line"]) for x in cands)
-            cands = [x for x in cands if abs(x["line"] - r["line"]) == d]
+        k5 = (r["path"], r["kind"], r["old"], r["new"], r["function"])
+        if twins[k5] > 1:
+            # the same text twice in one function (both sampled): a re-run record speaks for the
+            # sampled twin nearest to its line, then column, only (equally near two: for neither),
+            # so one kill is never counted for two mutants
+            def _owner(x):
+                ds = sorted(((abs(x["line"] - ln), abs(x.get("col", 0) - co)), (ln, co)) for ln, co in twin_lines[k5])
+                return ds[0][1] if len(ds) < 2 or ds[0][0] < ds[1][0] else None
+            cands = [x for x in cands if _owner(x) == (r["line"], r.get("col", 0))]
+            if not cands:
+                return None
         return "killed" if any(x["status"] == "killed" for x in cands) else cands[-1]["status"]
 
     def _later(r):
