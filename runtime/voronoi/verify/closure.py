@@ -346,10 +346,7 @@ def _dominates_conic(sup, s, g0, g1, max_work) -> bool:
             return False
         c, half = cell_balls(a, b)
         hs = sup.h(s, c)
-        hk = np.empty(len(c))
-        for k in np.unique(K):
-            sel = K == k
-            hk[sel] = sup.h(int(k), c[sel])
+        hk = sup.h(K, c)                       # elementwise: h_{K[r]}(c[r]), the same floats
         d = hs - hk
         good = d - 2 * W * half - 2 * mu > 0
         if np.any(d + 2 * mu < 0):

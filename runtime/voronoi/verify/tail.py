@@ -59,6 +59,7 @@ import math
 
 import numpy as np
 
+from ...certify.cell_cover import cell_balls, halve
 from .conic_tail import prove_conic_tail
 from .distance_gap import bisector_gap_lower, gap_lower
 from . import far_field
@@ -196,7 +197,7 @@ def _lead_interval(sup, i, j, ths, tha, thb):
         # (|h_k'| ≤ W), each float value within mu; the others have gap > 0 on every cell below
         reach = sup.h(others, 0.5 * (a + b)) + sup.W * (0.5 * (b - a)) + 4 * mu if len(others) else None
         for _ in range(30):
-            thc, half = 0.5 * (c0 + c1), 0.5 * (c1 - c0) * (1 + 1e-12)
+            thc, half = cell_balls(c0, c1)
             lo = np.maximum(sup.h_range(i, thc, half)[0], sup.h_range(j, thc, half)[0])
             okc = np.ones(len(thc), bool)
             if len(others):
@@ -215,8 +216,7 @@ def _lead_interval(sup, i, j, ths, tha, thb):
             if len(c0) > 4096:
                 good = False
                 break
-            mid = 0.5 * (c0 + c1)
-            c0, c1 = np.concatenate([c0, mid]), np.concatenate([mid, c1])
+            c0, c1 = halve(c0, c1, np.ones(len(c0), bool))
         else:
             good = False
         if good:
@@ -300,7 +300,7 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
     # (h over the sector: h_k ≤ max_θ u(θ)·(c_k − m) + r_k, h_k ≥ min_θ u(θ)·(c_k − m) + b_k with
     # r_k, b_k the largest / smallest semi-axis; u·v over an arc of directions is extreme at its
     # ends or at ±v/|v|)
-    thm, hw = 0.5 * (tha + thb), 0.5 * (thb - tha) * (1 + 1e-12)
+    thm, hw = (float(v) for v in cell_balls(tha, thb))
     dlo, dhi = _arc_dot(sup.cen - m, tha, thb)
     slack = 1e-12 * (np.abs(sup.cen - m).sum(1) + sup.rho) + mu
     small = np.minimum(sup.sa, sup.sb)
@@ -360,7 +360,7 @@ def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
             what = "third site" if not okA_last[k] else "monotonicity"
             return False, (f"the tail is undecided ({what}) near angle {0.5 * (h0[k] + h1[k]):.6g}, "
                            f"distance {1.0 / tb[k]:.6g} from the scene's centre")
-        thc, half = 0.5 * (h0 + h1), 0.5 * (h1 - h0) * (1 + 1e-12)
+        thc, half = cell_balls(h0, h1)
         t0 = 1.0 / tb
         e_i = _eps1(sup.hp_abs(i, thc, half), W, t0)
         e_j = _eps1(sup.hp_abs(j, thc, half), W, t0)
