@@ -211,7 +211,9 @@ def _curve(T: SiteTable, D, i: int, j: int, vps, verts):
         got = [_foot_param(T, s, vp, v) for vp, v in zip(vps, verts)]
         if T.is_endpoint(k, s) and all(g is not None and g[:2] == ("end", k) for g in got):
             return _normal_line(T, k, [(s, T.which_end(s, k))], vps)
-        if EndCurve.applies(T, s, k) and None not in got and sorted(g[0] for g in got) == ["end", "inside"]:
+        if EndCurve.applies(T, s, k) and None not in got and (
+                sorted(g[0] for g in got) == ["end", "inside"] or
+                sorted(g[1] for g in got) == sorted(T.ends[s]) and all(g[0] == "end" for g in got)):
             return _junction(T, s, k, vps, verts, got)
     # the foot curve: sides at the end vertices
     sides = None
@@ -255,12 +257,19 @@ def _junction(T: SiteTable, s: int, p: int, vps, verts, got):
     """The edge of piece s and its end p from a vertex on p's normal line (before the centre of
     curvature) to a vertex on the foot curve γ_E (:class:`runtime.segments.
     certificate_ellipse_junction.EndCurve`); the vertex on γ_E lists p at distance r with the
-    contact e(Φ) inside at distance r on the inner side, so it is γ_E(Φ) (t_E is the one
-    solution of |x − E| = t along that normal, Φ ≠ ψ)."""
+    contact e(Φ) inside at distance r on the inner side — or the contact at the piece's other
+    end, on that end's normal line —, so it is γ_E(Φ) (t_E is the one solution of |x − E| = t
+    along that normal, Φ ≠ ψ)."""
     c = EndCurve(T, s, p)
     thetas = []
     for vp, g in zip(vps, got):
-        if g[0] == "end":
+        if g[0] == "end" and g[1] != p:
+            # the contact at the piece's other end E' (the vertex on E''s normal line, E listed):
+            # on the inner side it is γ_E at that end's parameter by the same argument
+            th = c.foot_param(g[2])
+            if not th > 0 or not _inner_side(T, s, vp, g[2]):
+                return "an end vertex of the edge of a piece's end is not proved on the inner foot curve"
+        elif g[0] == "end":
             th = c.line_param(vp)
             if not th < 0:
                 return "an end vertex of the edge of a piece's end is not proved before the centre of curvature"
