@@ -564,57 +564,67 @@ def _w_value(T: SiteTable, k: int, p: int, Phi, X, Y):
 
 
 def _w_zone(T: SiteTable, vp, pair) -> dict:
-    """{(k, p): parameter sub-intervals q} at an end vertex listing elliptic piece k and its end p
-    (a site of the edge) where ±W(Φ_q, v) > 0 is not proved: the runs of :func:`_w_owned` start
-    there (at the vertex ±W ≥ 0 on the whole piece, both listed: d_k(v) = |v − p| = r)."""
+    """{(k, p): parameter sub-intervals q} at an end vertex listing p, a site of the edge and an
+    end of elliptic piece k, where ±W(Φ_q, v) > 0 is not proved: the runs of :func:`_w_owned`
+    start there (at a proved vertex every site is at distance ≥ r = |v − p|, so ±W ≥ 0 on the
+    whole piece there)."""
     out = {}
     if vp is None:
         return out
-    for k in vp.listed:
-        if not (0 <= k < T.n and T.kind[k] == ELLIPSE) or T.ends[k] is None:
+    for p in pair:
+        if not (0 <= p < T.n) or p not in vp.listed:
             continue
-        for p in T.ends[k]:
-            if p >= 0 and p in pair and p in vp.listed:
+        for k in T.incident.get(p, ()):
+            if T.kind[k] == ELLIPSE and T.ends[k] is not None and p in T.ends[k]:
                 cover = _w_cover(T.piece[k])
                 out[(k, p)] = {q for q, Phi in enumerate(cover) if not _w_value(T, k, p, Phi, vp.x, vp.y) > 0}
     return out
 
 
-def _w_owned(T: SiteTable, c, k: int, p: int, J, X, Y, wzones, slopes, relied) -> bool:
-    """Elliptic piece k's unique nearest point over the box is its end p (a site of the edge), by
-    the end factor of :func:`runtime.segments.certificate_ellipse_secant.end_factor`: ±W > 0 on
-    a cover of the piece's range.  On a sub-interval Φ_q where ±W vanishes at an end vertex v
-    listing k and p (the piece touches v inside, tied with p), W is affine in x, so
+def _w_owned(T: SiteTable, c, k: int, ps, J, X, Y, wzones, slopes, relied) -> bool:
+    """Elliptic piece k's nearest points over the box are among its ends ``ps`` (sites of the edge,
+    all at distance ρ), by the end factor of
+    :func:`runtime.segments.certificate_ellipse_secant.end_factor`: on each sub-interval Φ_q of a
+    cover of the piece's range ±W_p > 0 for one p of ``ps`` (then f > ρ² there but at p).  Where
+    ±W_p vanishes at an end vertex v listing p, W is affine in x, so
     ±W(φ, γ(θ)) = ±W(φ, v) ∓ e'(m)·(γ(θ) − v) ≥ (θ − θ_v)·(∓e'(m(Φ_q))·conv γ') > 0 along a run
     of pieces from v with that slope's sign proved (the runs of :func:`_pieces`)."""
     if T.kind[k] != ELLIPSE:
         return False
     P = T.piece[k]
-    which = T.which_end(k, p)
-    sgn = 1 if which == 0 else -1
-    psi = P.arb_params()[which]
-    zone = wzones[0].get((k, p), set()) | wzones[1].get((k, p), set())
-    dxy = c.dxy(J) if zone else None
+    ends = []
+    for p in ps:
+        which = T.which_end(k, p)
+        zone = wzones[0].get((k, p), set()) | wzones[1].get((k, p), set())
+        ends.append((p, 1 if which == 0 else -1, P.arb_params()[which], zone))
+    dxy = c.dxy(J) if any(e[3] for e in ends) else None
     for q, Phi in enumerate(_w_cover(P)):
-        key = ("W", k, q)
-        if q in zone:
-            tx, ty = end_tangent(P, psi, Phi)
-            d = -sgn * (tx * dxy[0] + ty * dxy[1])
-            slopes[key] = 1 if d > 0 else (-1 if d < 0 else 0)
-        if _w_value(T, k, p, Phi, X, Y) > 0:
-            slopes[("direct", key)] = True
-            continue
-        if q in wzones[0].get((k, p), ()) and slopes.get(key) == 1:
-            relied[key] = (1, "lo")
-            continue
-        if q in wzones[1].get((k, p), ()) and slopes.get(key) == -1:
-            relied[key] = (-1, "hi")
+        accepted = False
+        for p, sgn, psi, zone in ends:
+            key = ("W", k, p, q)
+            if q in zone:
+                tx, ty = end_tangent(P, psi, Phi)
+                d = -sgn * (tx * dxy[0] + ty * dxy[1])
+                slopes[key] = 1 if d > 0 else (-1 if d < 0 else 0)
+            if not accepted and _w_value(T, k, p, Phi, X, Y) > 0:
+                slopes[("direct", key)] = True
+                accepted = True
+        for p, sgn, psi, zone in ends:
+            if accepted:
+                break
+            key = ("W", k, p, q)
+            if q in wzones[0].get((k, p), ()) and slopes.get(key) == 1:
+                relied[key] = (1, "lo")
+                accepted = True
+            elif q in wzones[1].get((k, p), ()) and slopes.get(key) == -1:
+                relied[key] = (-1, "hi")
+                accepted = True
+        if accepted:
             continue
         a, b = Phi.lower(), Phi.upper()
         parts = [arb(a) + (arb(b) - arb(a)) * arb(m / 8).union(arb((m + 1) / 8)) for m in range(8)]
-        if not all(_w_value(T, k, p, F, X, Y) > 0 for F in parts):
+        if not all(any(_w_value(T, k, p, F, X, Y) > 0 for p, *_ in ends) for F in parts):
             return False
-        slopes[("direct", key)] = True
     return True
 
 
@@ -655,9 +665,10 @@ def _piece(T: SiteTable, c, i, j, J, ties, ends, slopes, relied, at_lo=False, at
             # R2: a curve ending at a point site p of the edge is never farther than p; its nearest
             # point must be p alone (the tie is p's by convention)
             ps = [q for q in T.ends[k] if q >= 0 and q in (i, j)]
-            if len(ps) == 2 and T.kind[k] == ELLIPSE and closest_at_an_end(T.piece[k], X, Y) == (0, 1):
+            if len(ps) == 2 and T.kind[k] == ELLIPSE and (closest_at_an_end(T.piece[k], X, Y) == (0, 1) or
+                                                          _w_owned(T, c, k, ps, J, X, Y, wzones, slopes, relied)):
                 continue                        # both ends are its nearest points, the edge's sites
-            if len(ps) == 1 and (_w_owned(T, c, k, ps[0], J, X, Y, wzones, slopes, relied) or
+            if len(ps) == 1 and (_w_owned(T, c, k, ps, J, X, Y, wzones, slopes, relied) or
                                  T.owned_by_end(k, ps[0], X, Y) is True or
                                  _end_owned(T, c, k, ps[0], J, X, Y, R, ends, slopes, relied)):
                 continue
