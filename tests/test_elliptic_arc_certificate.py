@@ -2,8 +2,9 @@
 points): vertices touching elliptic pieces are proved, and checked here against an independent
 mpmath reference (the distance to a piece by the roots of the foot-point equation f'(φ) = 0 found
 with ``mpmath.findroot`` and the two ends — none of the project's distance code); corrupted
-diagrams are refused.  Edges and infinite ends of diagrams with elliptic pieces are not proved yet,
-so no such diagram is certified (asserted)."""
+diagrams are refused.  The scenes here keep parts the certificate does not prove yet (pieces on the
+points' hull, infinite ends of a curve's end), so each is refused as a whole while its unproved edge
+is named as a limit, not a fault; certified scenes are in tests/test_elliptic_arcs_certified.py."""
 from __future__ import annotations
 
 import copy
