@@ -27,6 +27,15 @@ def test_three_ulp_cell_is_covered_where_the_naive_ball_is_not():
     assert _covers(a, b, c, half)
 
 
+def test_a_cell_across_zero_whose_half_width_rounds_down_is_covered():
+    """[−10⁻²⁰, 2]: c = 1 and c − a = 1 + 10⁻²⁰ rounds to 1, so max(c − a, b − c) = 1 misses a;
+    the next double above it does not."""
+    a, b = -1e-20, 2.0
+    c = 0.5 * (a + b)
+    assert not _covers(a, b, c, max(c - a, b - c))
+    assert _covers(a, b, *cell_balls(a, b))
+
+
 def test_cells_near_atan2_tie_and_subnormal_and_huge():
     t = math.atan2(4, 3)
     cells = [(t, math.nextafter(t, 4)), (t, t + 5 * 2.0 ** -52), (t - 1e-13, t), (0.0, 5e-324),
