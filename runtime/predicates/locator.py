@@ -334,19 +334,21 @@ def _certified(res: LocatorResult, cs, completeness: bool, eigen: str) -> Locato
                 out = _toric_completeness(out, res, cs)
             if not out.complete:
                 _exact_completeness(out, (c1, c2, c3), tv.exact)
-            if tv.unresolved or sol.info.provisional:
-                if out.certified:
+            if out.certified:
+                if tv.unresolved or sol.info.provisional:
                     # proved: the exact solve kept running for a provisional list or an undecided
                     # candidate (runtime.solve.vertices) is not needed
                     cancel_solve_exact(c1, c2, c3)
-                elif msolve_available():
-                    # the numeric list itself may lack a vertex or hold a point that is none: the
-                    # exact route's list instead (its solve is under way or done)
-                    tv = exact_vertices(c1, c2, c3, reason="the numeric list was not proved")
-                    _cache[key] = tv
-                    out = certify_result(_locate_triple(c1, c2, c3, c4, eigen), c1, c2, c3, c4)
-                    out.notes = [n for n in out.notes if not n.startswith("certify: completeness not proven")]
-                    _exact_completeness(out, (c1, c2, c3), tv.exact)
+            elif msolve_available():
+                # the numeric list itself may lack a vertex, hold a point that is none, or hold a
+                # vertex read too inaccurately to prove (a far vertex of a near-double pair read
+                # 2e-6 of its size off, collinear centres 100x apart): the exact route's list
+                # instead (its solve is under way or done)
+                tv = exact_vertices(c1, c2, c3, reason="the numeric list was not proved")
+                _cache[key] = tv
+                out = certify_result(_locate_triple(c1, c2, c3, c4, eigen), c1, c2, c3, c4)
+                out.notes = [n for n in out.notes if not n.startswith("certify: completeness not proven")]
+                _exact_completeness(out, (c1, c2, c3), tv.exact)
         else:
             out = certify_result(res, c1, c2, c3, c4)
             out.notes = [n for n in out.notes if not n.startswith("certify: completeness not proven")]

@@ -283,6 +283,7 @@ class _Pool:
         self.res = np.zeros(0)
         self.loose = np.zeros(0, dtype=bool)
         self.unconverged = False
+        self.missing_near = np.zeros((0, 4), dtype=complex)
 
     def add(self, Z, step, res, err, converged: bool = False) -> None:
         """Add the converged rows (all rows if ``converged``: the caller vouches for them, and the
@@ -305,12 +306,18 @@ class _Pool:
         return int(self.loose.sum())
 
     def least_accurate(self) -> tuple[float, float] | None:
-        """Working (x, y) (real parts) of the distinct root with the largest forward-error
-        estimate, None when it is at infinity (A = 0) or the pool is empty."""
+        """Working (x, y) (real parts) of the worst-resolved cluster: where the traces placed the
+        roots still missing (:func:`missing_by_traces`, when Newton from there reached known
+        neighbours), else the distinct root with the largest forward-error estimate; None when
+        that point is at infinity (A = 0) or the pool is empty.  Measured: three hyperbolas 100×
+        apart (seed 302), two roots of a cluster 4e-3 wide missing after five eigenvalue
+        problems; the least accurate root lay 4 working units away from it, the traces' point
+        within 3e-3, and the frame centred there resolved all 184 roots."""
         if not self.loose.any():
             return None
-        k = int(np.argmax(np.where(self.loose, self.err, -np.inf)))
-        A, X, Y, _ = self.Z[k]
+        rows = self.missing_near if len(self.missing_near) else \
+            self.Z[[int(np.argmax(np.where(self.loose, self.err, -np.inf)))]]
+        A, X, Y, _ = rows[0]
         if A == 0:
             return None
         x, y = complex(X / A).real, complex(Y / A).real
@@ -384,6 +391,9 @@ def _pool_eigen(pool: _Pool, gs, Ns, expected: int, seed: int) -> list[float]:
                 slow = missing[2] < TRACE_RESIDUAL
                 if pool.count() == expected - int(slow.sum()) and slow.any():
                     pool.add(*(v[slow] for v in missing), converged=True)
+                # still short: Newton went from the traces' points to known neighbours, and the
+                # missing roots lie near those points (a cluster: :meth:`_Pool.least_accurate`)
+                pool.missing_near = Zm if pool.count() < expected else Zm[:0]
         if pool.count() >= expected:
             break
     return rconds
