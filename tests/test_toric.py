@@ -210,6 +210,13 @@ def test_non_generic_member_is_refused():
         generalised_vertices(*cs[:3], solver="toric")
 
 
+#: held-out hazards whose numeric list is proved without msolve only with some OpenBLAS kernels
+#: (tests/blas_kernel.py); measured 2026-11-28 on one machine with OPENBLAS_CORETYPE = Haswell, Zen
+#: (reported as Haswell), Sandybridge and SkylakeX: seed 1003 needs the exact route with Sandybridge
+#: and SkylakeX, seed 1004 with SkylakeX.  Every other triple here is proved without it on all four.
+NUMERIC_ROUTE_KERNELS = {("HHHH", 1003): {"Haswell"}, ("HHHH", 1004): {"Haswell", "Sandybridge"}}
+
+
 @pytest.mark.parametrize("kinds,seed,spread", [("HHHH", 206, 1), ("EEPE", 204, 10), ("HHHH", 204, 100),
                                                ("HHHH", 205, 100), ("EPHC", 304, 10), ("HHHH", 300, 100),
                                                ("EEEE", 301, 1000), ("HHHH", 302, 100), ("HHHH", 305, 100),
@@ -262,12 +269,18 @@ def test_locator_without_msolve_equals_the_exact_route(kinds, seed, spread):
     * three hyperbolas 100× apart (held-out seed 1003): four real roots near (−1.3·10⁶, −1.5·10⁷),
       2–5·10⁻⁴ of their size apart, each listed 5·10⁻⁴ from the root its chart Newton reaches;
     * three hyperbolas 100× apart (held-out seed 1004): a real pair 3·10⁻⁶ of its size apart, one
-      point listed 5·10⁻⁶ from one of them and the other's place taken by a duplicate 2·10³ away."""
+      point listed 5·10⁻⁶ from one of them and the other's place taken by a duplicate 2·10³ away.
+    The last two are proved without msolve only with the OpenBLAS kernels of
+    :data:`NUMERIC_ROUTE_KERNELS`; with the others the exact route answers, and the answer is
+    still certified, complete and the exact route's (asserted on every kernel)."""
+    from blas_kernel import openblas_kernel
+
     cs = random_configuration(kinds, seed, spread=spread)
     clear_cache()
     res = locate_conflicts(*cs)
     assert res.certified and res.complete
-    assert not any("exact route" in n or "exact:" in n for n in res.notes), res.notes
+    if openblas_kernel() in NUMERIC_ROUTE_KERNELS.get((kinds, seed), {openblas_kernel()}):
+        assert not any("exact route" in n or "exact:" in n for n in res.notes), res.notes
     ref = voronoi_vertices_triple(*cs[:3], route="exact")
     assert len(ref.vertices) == len(res.vertices)
     for v in ref.vertices:
@@ -442,7 +455,8 @@ def test_a_cluster_next_to_the_sites_far_from_the_frame_centre_is_solved_in_a_fr
     In the scene's frame no eigenvalue problem separates the cluster (the pool stalls at 177 of
     184 distinct roots): that list lacks two true vertices of the independent oracle
     (tests/reference.py, dense distance grids and mpmath Newton), and the completeness proof must
-    refuse it.  Solved again in the frame centred at the least accurate root, the list is complete:
+    refuse it (or, with AVX-512 OpenBLAS kernels, the second polytope stays short too and the scene's
+    frame refuses outright).  Solved again in the frame centred at the least accurate root, the list is complete:
     the locator answers the oracle's ten vertices, certified and complete by counting, without the
     exact route."""
     from reference import reference_vertices
@@ -463,12 +477,18 @@ def test_a_cluster_next_to_the_sites_far_from_the_frame_centre_is_solved_in_a_fr
         return S, S[np.abs(S.imag).max(axis=1) <= 1e-9 * np.maximum(1, np.abs(S).max(axis=1))].real
 
     with monkeypatch.context() as m:                  # the scene's frame only
-        m.setattr(toric._Pool, "least_accurate", lambda self: None)
-        sol = generalised_vertices(*cs[:3], solver="toric")
-    S, real = reals(sol)
-    assert [p for p in oracle if not listed(p, real)], "the scene's frame now resolves the cluster: find another case"
-    ok, note = certify_completeness(*cs[:3], S, sol.info.expected)
-    assert not ok, note
+        m.setattr(toric._Pool, "cluster_centres", lambda self: [])
+        try:
+            sol = generalised_vertices(*cs[:3], solver="toric")
+        except LocatorError:
+            # with some BLAS kernels (OpenBLAS SkylakeX) the pool stays short after both polytopes
+            # and the scene's frame refuses outright
+            sol = None
+    if sol is not None:
+        S, real = reals(sol)
+        assert [p for p in oracle if not listed(p, real)], "the scene's frame now resolves the cluster: find another case"
+        ok, note = certify_completeness(*cs[:3], S, sol.info.expected)
+        assert not ok, note
 
     sol = generalised_vertices(*cs[:3], solver="toric")
     S, real = reals(sol)

@@ -52,9 +52,10 @@ dimension N, the number of solutions, at a large enough Q:
    128 bits around an uncertified or overlapping root (:mod:`runtime.certify.complete`) finds
    the missing ones, or the counting proof fails and the exact route answers;
 7. a pool that stays short after the first polytope, or a provisional list, has its worst cluster
-   at the root with the largest forward-error estimate (:meth:`_Pool.least_accurate`): the
-   caller (:func:`runtime.solve.toric_roots.toric_attempt`) solves the system again in a
-   frame centred there, where the cluster is no longer a small relative perturbation of large
+   where the traces placed the missing roots, or else at the root with the largest forward-error
+   estimate (:meth:`_Pool.cluster_centres`): the caller
+   (:func:`runtime.solve.toric_roots.toric_attempt`) solves the system again in a frame centred
+   at each in turn, where the cluster is no longer a small relative perturbation of large
    coordinates, and goes on in the scene's frame with the next polytope and the same pool
    (``pool=``, :class:`ToricShort`) only when that does not resolve more of it.
 
@@ -129,9 +130,11 @@ class ToricInfo:
     padded: int = 0
     #: distinct roots in the pool (merged at their forward-error estimates)
     distinct: int = 0
-    #: working (x, y) (real parts) of the pooled root with the largest forward-error estimate: the
-    #: centre of the worst-resolved cluster, where a provisional list is solved again (step 7)
-    least_accurate: tuple[float, float] | None = None
+    #: working (x, y) of the worst-resolved cluster (:meth:`_Pool.cluster_centres`), where a
+    #: provisional list is solved again (step 7)
+    centres: list = field(default_factory=list)
+    #: the pool of the eigenvalue problems (a later call may go on pooling with further polytopes)
+    pool: "_Pool | None" = field(default=None, repr=False)
 
 
 @lru_cache(maxsize=32)
@@ -176,7 +179,7 @@ def family_polytope(family: str) -> tuple[int, int]:
 
 class ToricShort(LocatorError):
     """The pooled eigenvalue problems found fewer distinct roots than the bound; ``pool`` holds
-    them (:meth:`_Pool.least_accurate` locates the worst-resolved cluster, and a later call may go
+    them (:meth:`_Pool.cluster_centres` locates the worst-resolved cluster, and a later call may go
     on pooling with further polytopes)."""
 
     def __init__(self, message: str, pool: "_Pool", timings: dict | None = None):
@@ -221,7 +224,7 @@ def solve_toric(polys: list[dict], families: list[str], expected: int,
             roots, res, padded = pool.roots(expected, fallback=True)
             return roots, ToricInfo((A, B), shape, expected, ratio, max(rconds), tm, res,
                                     pool.count() != expected or pool.unconverged, padded, pool.count(),
-                                    pool.least_accurate())
+                                    pool.cluster_centres(), pool)
         errors.append(f"polytope ({A}, {B}): {pool.count()} distinct converged roots from {len(rconds)} "
                       f"eigenvalue problems, not the {expected} of the bound (a cluster of nearby solutions, or "
                       f"solutions at toric infinity; shift conditions {', '.join(f'{r:.0e}' for r in rconds)})")
@@ -305,23 +308,25 @@ class _Pool:
     def count(self) -> int:
         return int(self.loose.sum())
 
-    def least_accurate(self) -> tuple[float, float] | None:
-        """Working (x, y) (real parts) of the worst-resolved cluster: where the traces placed the
-        roots still missing (:func:`missing_by_traces`, when Newton from there reached known
-        neighbours), else the distinct root with the largest forward-error estimate; None when
-        that point is at infinity (A = 0) or the pool is empty.  Measured: three hyperbolas 100×
-        apart (seed 302), two roots of a cluster 4e-3 wide missing after five eigenvalue
-        problems; the least accurate root lay 4 working units away from it, the traces' point
-        within 3e-3, and the frame centred there resolved all 184 roots."""
+    def cluster_centres(self) -> list[tuple[float, float]]:
+        """Working (x, y) (real parts) of the worst-resolved cluster, most telling first: where
+        the traces placed the roots still missing (:func:`missing_by_traces`, when Newton from
+        there reached known neighbours), then the distinct root with the largest forward-error
+        estimate; points at infinity (A = 0) are left out.  Measured: three hyperbolas 100× apart
+        (seed 302, OpenBLAS SkylakeX kernels), two roots of a cluster 4e-3 wide missing after five
+        eigenvalue problems; the least accurate root lay 4 working units away, the traces' point
+        within 3e-3 of them, and the frame centred there resolved all 184 roots; seed 305
+        (Sandybridge kernels) the other way round."""
         if not self.loose.any():
-            return None
-        rows = self.missing_near if len(self.missing_near) else \
-            self.Z[[int(np.argmax(np.where(self.loose, self.err, -np.inf)))]]
-        A, X, Y, _ = rows[0]
-        if A == 0:
-            return None
-        x, y = complex(X / A).real, complex(Y / A).real
-        return (x, y) if np.isfinite(x) and np.isfinite(y) else None
+            return []
+        rows = list(self.missing_near[:1]) + [self.Z[int(np.argmax(np.where(self.loose, self.err, -np.inf)))]]
+        out = []
+        for A, X, Y, _ in rows:
+            if A != 0:
+                x, y = complex(X / A).real, complex(Y / A).real
+                if np.isfinite(x) and np.isfinite(y) and (x, y) not in out:
+                    out.append((x, y))
+        return out
 
     def padding(self, expected: int) -> int:
         """How many rows :meth:`roots` may repeat (module docstring, step 6): the pool is at most
@@ -392,7 +397,7 @@ def _pool_eigen(pool: _Pool, gs, Ns, expected: int, seed: int) -> list[float]:
                 if pool.count() == expected - int(slow.sum()) and slow.any():
                     pool.add(*(v[slow] for v in missing), converged=True)
                 # still short: Newton went from the traces' points to known neighbours, and the
-                # missing roots lie near those points (a cluster: :meth:`_Pool.least_accurate`)
+                # missing roots lie near those points (a cluster: :meth:`_Pool.cluster_centres`)
                 pool.missing_near = Zm if pool.count() < expected else Zm[:0]
         if pool.count() >= expected:
             break

@@ -37,9 +37,10 @@ def toric_attempt(polys, offs, expected, wf):
 
     When the first column polytope leaves a cluster unresolved (fewer distinct roots than the
     bound, or a provisional list), the system is solved again in the frame with the same rotation,
-    centred at the least accurate pooled root, of :data:`RECENTRE_SCALE` times the scale; that list
-    is taken unless it is provisional too, and otherwise the scene's frame goes on with the next
-    polytope, its pool kept.  Why: the scene's frame is centred between the sites, and a cluster of
+    centred at the cluster (:meth:`runtime.solve.toric._Pool.cluster_centres`: where the traces put
+    the missing roots, then the least accurate pooled root, until one list is not provisional), of
+    :data:`RECENTRE_SCALE` times the scale; that list is taken unless it is provisional too, and
+    otherwise the scene's frame goes on with the next polytope, its pool kept.  Why: the scene's frame is centred between the sites, and a cluster of
     roots next to the sites but far from that centre is a small relative perturbation of large
     coordinates (T = x² + y² − R with R ≪ x² + y²), which the eigenvectors mix.  Measured on three
     hyperbolas 100× apart (seed 703): ten roots within 3–15 units of (146, 30), four real and two of
@@ -48,29 +49,32 @@ def toric_attempt(polys, offs, expected, wf):
     the toric null space finds all 184."""
     families = [o.family for o in offs]
     first, rest = DILATION_STEPS[:1], DILATION_STEPS[1:]
-    found, timings, pool, centre, failure = [], {}, None, None, None
+    found, timings, pool, centres, failure = [], {}, None, [], None
     try:
         roots, tinfo = solve_toric(polys, families, expected, dilations=first)
         found.append((roots, tinfo, wf))
-        centre = tinfo.least_accurate if tinfo.provisional else None
+        centres = tinfo.centres if tinfo.provisional else []
     except ToricShort as exc:
-        pool, centre, failure = exc.pool, exc.pool.least_accurate(), exc
+        pool, centres, failure = exc.pool, exc.pool.cluster_centres(), exc
         add_timings(timings, exc.timings)
     except LocatorError as exc:
         failure = exc
-    if centre is not None:
+    for centre in centres:
         x, y = wf.to_world(*centre)
         wf2 = WorkingFrame(wf.cos, wf.sin, float(x), float(y), wf.L * RECENTRE_SCALE)
         try:
             roots2, tinfo2 = solve_toric([compose_offset(o, wf2) for o in offs], families, expected)
-            found.append((roots2, tinfo2, wf2))
         except LocatorError:
-            pass
+            continue
+        found.append((roots2, tinfo2, wf2))
+        if not tinfo2.provisional:
+            break
     centred_better = any(f is not wf and (not t.provisional or pool is None or t.distinct > pool.count())
                          for _, t, f in found)
-    if not centred_better and not (found and found[0][2] is wf) and rest:
+    if not centred_better and rest and (pool is not None or (found and found[0][1].provisional)):
         # the scene's frame goes on with the next polytopes, the first polytope's roots kept
         # (unless the centred frame resolved more of the cluster)
+        pool = pool if pool is not None else found[0][1].pool
         try:
             found.append((*solve_toric(polys, families, expected, dilations=rest, pool=pool), wf))
         except LocatorError as exc:
