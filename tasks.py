@@ -62,9 +62,11 @@ def check_generated(c, jobs=2):
 
 
 @task
-def test(c, quick=False):
-    """Run the test suite (pytest)."""
-    c.run(f"{sys.executable} -m pytest -q" + (" -x" if quick else ""), pty=False)
+def test(c, quick=False, slow=False, all=False):
+    """Run the test suite (pytest): the README/CI selection (not ``slow``), or with ``--slow`` the
+    long checks alone, with ``--all`` everything."""
+    marks = "" if all else (' -m slow' if slow else ' -m "not slow"')
+    c.run(f"{sys.executable} -m pytest -q" + marks + (" -x" if quick else ""), pty=False)
 
 
 @task(help={"only": "substring of the benchmark file name"})

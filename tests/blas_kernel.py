@@ -8,12 +8,14 @@ way, and the tests assert that everywhere; which route answered is asserted only
 where it was measured (tests/test_toric.py, tests/test_nongeneric.py)."""
 from __future__ import annotations
 
+import importlib
+
 from threadpoolctl import threadpool_info
 
 
 def openblas_kernel() -> str:
     """The architecture of the first OpenBLAS loaded (numpy's and scipy's), '' when none is."""
-    import numpy  # noqa: F401  (loads numpy's OpenBLAS)
-    import scipy.linalg  # noqa: F401
+    for module in ("numpy", "scipy.linalg"):          # load their OpenBLAS before asking
+        importlib.import_module(module)
 
     return next((d.get("architecture") or "" for d in threadpool_info() if d.get("internal_api") == "openblas"), "")

@@ -198,6 +198,7 @@ def test_arc_and_points_against_dense_sampling():
     check_against_reference(D, [R], (-8, 8, -8, 8))
 
 
+@pytest.mark.slow                 # long check: `invoke test --slow` (not in the README/CI command)
 def test_rotated_arc_points_and_a_segment_against_dense_sampling():
     # M = (3, 4): |M| = 5, ratio 1/2; the arc spans the vertices at φ = 0 and φ = π/2
     R = RefEllipse((1, 1), (3, 4), 0.5, -1.0, 2.0)
@@ -208,6 +209,7 @@ def test_rotated_arc_points_and_a_segment_against_dense_sampling():
     check_against_reference(D, [R], (-10, 12, -10, 12))
 
 
+@pytest.mark.slow                 # long check: `invoke test --slow` (not in the README/CI command)
 def test_two_elliptic_arcs_against_dense_sampling():
     R1 = RefEllipse((0, 0), (3, 0), 0.5, -0.5, 2.0)
     R2 = RefEllipse((7, 1), (0, 2), 0.75, 1.0, 4.0)
@@ -306,6 +308,7 @@ def test_crossing_segment_is_refused():
         cv.voronoi([arc, (0, 2), (5, 5)])
 
 
+@pytest.mark.slow                 # long check: `invoke test --slow` (not in the README/CI command)
 def test_dxf_ellipse(tmp_path):
     ezdxf = pytest.importorskip("ezdxf")
     doc = ezdxf.new()

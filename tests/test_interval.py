@@ -434,6 +434,7 @@ def _param(fn, t):
     return np.column_stack(fn(t))
 
 
+@pytest.mark.slow                 # long check: `invoke test --slow` (not in the README/CI command)
 def test_strophoid_with_three_conics_against_dense_sampling():
     """Fig. 4.1.1's strophoid y² = x² + x³ as C1 with three conics (original formulation)."""
     sites = ["y**2 - x**2 - x**3", "(x-1)**2 + (y-2)**2 - 1/4", "(x+1)**2/4 + (y-2)**2 - 1/9",

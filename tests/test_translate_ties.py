@@ -78,7 +78,8 @@ def reference_unbounded(scene, centre, radius=1e5, half=100.0, step=0.05, n=2000
     return pairs
 
 
-@pytest.mark.parametrize("nx, ny, degrees", [(3, 3, 10), (3, 3, 45), (4, 2, 30)])
+@pytest.mark.parametrize("nx, ny, degrees", [(3, 3, 10), pytest.param(3, 3, 45, marks=pytest.mark.slow),
+                                              pytest.param(4, 2, 30, marks=pytest.mark.slow)])
 def test_a_grid_of_rotated_translates_is_certified_and_matches_the_reference(nx, ny, degrees):
     scene = grid(nx, ny, 3, 2, degrees)
     d = cv.voronoi(sites_of(scene), progress=False)
