@@ -207,10 +207,10 @@ def test_spread_out_drawings_answered_without_msolve(kind, seed):
                    for v in res.vertices) == 1
 
 
-#: OpenBLAS kernels on which the numeric route of the test below was measured (2026-11-28, one
-#: machine, OPENBLAS_CORETYPE = Haswell, Zen (reported as Haswell), Sandybridge, SkylakeX), for the
-#: scene's frame alone (False) and with the frame centred at the cluster (True)
-SEARCH_ROUTE_KERNELS = {False: {"Haswell", "SkylakeX"}, True: {"Haswell"}}
+#: OpenBLAS kernels on which the numeric route of the test below was measured for the scene's frame
+#: alone (2026-11-28, one machine, OPENBLAS_CORETYPE = Haswell, Zen (reported as Haswell),
+#: Sandybridge, SkylakeX); with the frame centred at the cluster it is taken on all of them
+SEARCH_ROUTE_KERNELS = {"Haswell", "SkylakeX"}
 
 
 def test_unresolved_cluster_completed_by_the_certifications_search(monkeypatch):
@@ -222,12 +222,13 @@ def test_unresolved_cluster_completed_by_the_certifications_search(monkeypatch):
     completeness proof drops the overlapping copies and finds the two missing roots by Newton at
     128 bits.  By default the frame centred at the least accurate root resolves the cluster, and no
     row is repeated.  Both ways: certified and complete, the vertices of the oracle and of msolve;
-    by counting, with no exact route, on the OpenBLAS kernels where that route was measured
-    (:data:`SEARCH_ROUTE_KERNELS`; tests/blas_kernel.py).  With SkylakeX kernels the centred frame
-    reads the far true vertex (−7.46·10⁶, 3.11·10⁶) 2·10⁻⁶ of its size off, where Krawczyk cannot
-    prove it, and with Sandybridge kernels the scene's frame alone refuses and the centred frame's
-    list is not proved either: the exact route answers
-    (runtime/predicates/locator.py), with the same vertices."""
+    by counting, with no exact route, with the centred frame on every kernel and in the scene's
+    frame alone on the OpenBLAS kernels where that route was measured (:data:`SEARCH_ROUTE_KERNELS`;
+    tests/blas_kernel.py): with Sandybridge kernels the scene's frame alone refuses and the exact
+    route answers (runtime/predicates/locator.py), with the same vertices.  (With SkylakeX and
+    Sandybridge kernels the centred frame reads the far true vertex (−7.46·10⁶, 3.11·10⁶) 2.3·10⁻⁶
+    of its size off, within its forward-error estimate, and it is proved there:
+    :func:`test_a_far_vertex_read_to_its_conditioning_is_proved_where_newton_takes_it`.)"""
     from blas_kernel import openblas_kernel
 
     from curvedvoronoi.runtime.solve import toric
@@ -243,7 +244,7 @@ def test_unresolved_cluster_completed_by_the_certifications_search(monkeypatch):
             clear_cache()
             res = locate_conflicts(*cs)
         assert res.certified and res.complete, res.notes
-        if openblas_kernel() in SEARCH_ROUTE_KERNELS[centred]:
+        if centred or openblas_kernel() in SEARCH_ROUTE_KERNELS:
             padded = any("repeat another root of an unresolved cluster" in n for n in res.notes)
             assert padded is not centred, res.notes
             if not centred:
@@ -254,6 +255,35 @@ def test_unresolved_cluster_completed_by_the_certifications_search(monkeypatch):
             for x, y, _ in ref:
                 assert sum(abs(v.x - float(x)) <= 1e-7 * (1 + abs(float(x)))
                            and abs(v.y - float(y)) <= 1e-7 * (1 + abs(float(y))) for v in res.vertices) == 1
+
+
+def test_a_far_vertex_read_to_its_conditioning_is_proved_where_newton_takes_it():
+    """Collinear centres 100× apart (seed 8): the toric list read with AVX-512 OpenBLAS kernels puts
+    the far true vertex at (−7460928.51, 3108434.70), 2.3·10⁻⁶ of its size from the vertex msolve
+    isolates, with relative residual 4·10⁻¹⁷ and Jacobian condition 4.8·10¹¹ in (x, y, R): a forward
+    error of that order is all the floats promise there.  Newton at 64 bits moves it onto the
+    vertex, 1.02 times the fixed move tolerance (10⁻⁶ of 1 + |x| + |y| + r) away: refused at that
+    tolerance, proved at the candidate's own (ten times residual × condition, at most 10⁻⁴), and the
+    proved vertex is msolve's.  A candidate 10⁻³ of its size off is refused at any estimate."""
+    from curvedvoronoi.runtime.certify.conflicts import MOVE_TOL, certify_vertex, move_tolerance
+    from curvedvoronoi.runtime.solve.vertices import voronoi_vertices_triple
+
+    cs = random_nongeneric("collinear centres", 8, spread=100)
+    x, y, r = -7460928.506945287, 3108434.700089668, 8082112.23729876
+    info = {"residual": 3.9e-17, "jacobian_cond": 4.8e11}
+    assert MOVE_TOL < move_tolerance(info) <= 1e-4
+    assert move_tolerance({}) == MOVE_TOL and move_tolerance({"residual": 1.0, "jacobian_cond": 1e30}) == 1e-4
+    refused = certify_vertex(*cs[:3], x, y, r * r, move_tol=MOVE_TOL)
+    assert not refused.proven and "Newton left the candidate" in refused.note
+    cv = certify_vertex(*cs[:3], x, y, r * r, move_tol=move_tolerance(info))
+    assert cv.proven and cv.true_vertex
+    exact = [v for v in voronoi_vertices_triple(*cs[:3], route="exact").vertices if v.x < 0]
+    assert len(exact) == 1
+    assert abs(float(cv.box[0].mid()) - exact[0].x) <= 1e-9 * abs(exact[0].x)
+    assert abs(float(cv.box[1].mid()) - exact[0].y) <= 1e-9 * abs(exact[0].y)
+    far = certify_vertex(*cs[:3], x * (1 + 1e-3), y, r * r,
+                         move_tol=move_tolerance({"residual": 1.0, "jacobian_cond": 1e30}))
+    assert not far.proven
 
 
 def test_touching_sites_vertex_not_certified_and_the_pair_named():

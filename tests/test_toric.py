@@ -307,6 +307,26 @@ def test_small_sites_far_apart_try_the_toric_null_space_first():
     assert not generalised_vertices(*near).info.nullspace.startswith("toric")
 
 
+def test_cluster_centres_put_the_traces_point_before_the_least_accurate_root():
+    """Where a short pool is solved again (runtime.solve.toric, step 7): first the point where the
+    traces placed the missing roots (when Newton from there reached known neighbours), then the
+    pooled root with the largest forward-error estimate; real parts of affine coordinates X/A, Y/A,
+    a point at infinity (A = 0) left out, and nothing for an empty pool."""
+    from curvedvoronoi.runtime.solve.toric import _Pool
+
+    p = _Pool()
+    assert p.cluster_centres() == []
+    Z = np.array([[2, 2, 4, 1], [1, -1, 3, 0], [4, 2, 2, 1], [0, 1, 1, 1]], dtype=complex)
+    p.Z, p.step, p.res = Z, np.full(4, 1e-15), np.full(4, 1e-15)
+    p.err = np.array([1e-12, 1e-6, 1e-9, 1e-3])
+    p.loose = np.ones(4, dtype=bool)
+    assert p.cluster_centres() == []                          # the least accurate root is at infinity
+    p.err[3] = 0.0
+    assert p.cluster_centres() == [(-1.0, 3.0)]               # row 1: (−1, 3)
+    p.missing_near = np.array([[2, 1 + 1j, -4 + 2j, 0]])      # the traces' point: (0.5, −2) + i·(…)
+    assert p.cluster_centres() == [(0.5, -2.0), (-1.0, 3.0)]
+
+
 def test_a_pool_short_in_a_cluster_is_padded_with_its_least_accurate_non_real_rows():
     """The pool's completion rule (runtime.solve.toric, step 6): short by at most PADDED_MAX rows
     with at least as many cluster roots (forward-error estimates above CLUSTER_ERROR), the list

@@ -62,7 +62,7 @@ from .krawczyk import FootSystem, KrawczykFailure
 from ..result import LocatorResult, VoronoiVertex
 from ..sites.intersection import sites_intersect
 
-__all__ = ["CertifiedVertex", "certify_vertex", "certify_result", "certify_completeness",
+__all__ = ["CertifiedVertex", "certify_vertex", "certify_result", "certify_completeness", "move_tolerance",
            "simplest_rational", "DEFAULT_MAX_PREC"]
 
 DEFAULT_MAX_PREC = 1024
@@ -381,20 +381,42 @@ def _initial_feet(fps, x, y, R):
 
 #: relative distance (to the scene scale) by which the proven vertex may differ from the candidate
 MOVE_TOL = 1e-6
+#: the largest move tolerance a candidate's own forward-error estimate may ask for
+#: (:func:`move_tolerance`)
+MOVE_TOL_MAX = 1e-4
 
 
-def _moved(box, x, y, R) -> bool:
+def move_tolerance(info: dict) -> float:
+    """The relative move allowed between a numeric candidate and its proven vertex: MOVE_TOL, or
+    ten times the candidate's forward-error estimate when that is larger (its relative residual
+    times the Jacobian condition of the offset system there, ``info['residual']`` and
+    ``info['jacobian_cond']`` from :mod:`runtime.solve.vertices`: forward error ≲ condition ×
+    backward error, Higham 2002, §1.6), at most :data:`MOVE_TOL_MAX`.  Why: a vertex millions of
+    frame scales away next to a near-double root is read only to its conditioning (measured:
+    collinear centres 100× apart, seed 8, a true vertex at (−7.46·10⁶, 3.11·10⁶) read 2.3·10⁻⁶ of
+    its size off with residual 4·10⁻¹⁷ and condition 4.8·10¹¹), and Newton at 64 bits proves it
+    there.  Nothing proved depends on it: the proven box is the vertex reported, two candidates
+    reaching one vertex are merged, and the completeness proof matches every real solution."""
+    try:
+        est = 10.0 * float(info["residual"]) * float(info["jacobian_cond"])
+    except (KeyError, TypeError, ValueError):
+        return MOVE_TOL
+    return min(max(MOVE_TOL, est), MOVE_TOL_MAX) if math.isfinite(est) else MOVE_TOL
+
+
+def _moved(box, x, y, R, tol: float = MOVE_TOL) -> bool:
     cx, cy, cR = (float(Fraction(v)) if isinstance(v, str) else float(v) if not isinstance(v, arb)
                   else float(v.mid()) for v in (x, y, R))
     scale = 1.0 + abs(cx) + abs(cy) + math.sqrt(abs(cR))
-    return math.hypot(float(box[0].mid()) - cx, float(box[1].mid()) - cy) > MOVE_TOL * scale
+    return math.hypot(float(box[0].mid()) - cx, float(box[1].mid()) - cy) > tol * scale
 
 
 def certify_vertex(c1, c2, c3, x, y, R, c4=None, *, max_prec: int = DEFAULT_MAX_PREC,
-                   exact: bool = True, min_prec: int = 64) -> CertifiedVertex:
+                   exact: bool = True, min_prec: int = 64, move_tol: float = MOVE_TOL) -> CertifiedVertex:
     """Prove that a true Voronoi vertex of (C1, C2, C3) lies near (x, y) with squared radius ≈ R,
     and decide sign(d(q, C4) − r) (see the module docstring for what is proved).  The precisions
-    tried run from ``min_prec`` to ``max_prec`` bits.
+    tried run from ``min_prec`` to ``max_prec`` bits; a proof farther than ``move_tol`` (relative
+    to 1 + |x| + |y| + √R) from (x, y) is refused (Newton left the candidate).
 
     Conics are :class:`runtime.sites.conic.Conic` objects (or 6-sequences of exact coefficients).
     ``x``, ``y``, ``R`` (R = radius²) may be floats, Fractions, decimal strings or arb balls.
@@ -430,7 +452,7 @@ def certify_vertex(c1, c2, c3, x, y, R, c4=None, *, max_prec: int = DEFAULT_MAX_
             t2 = time.perf_counter()
             timings["krawczyk"] += t2 - t1
             if moved is None:
-                moved = _moved(box, x, y, R)
+                moved = _moved(box, x, y, R, move_tol)
                 if moved:
                     return done(proven=False, true_vertex=None, box=None, feet=None, radius=None,
                                 distance_to_fourth=None, sign=None, tangent_exact=False, kind="none",
@@ -518,7 +540,8 @@ def certify_result(result: LocatorResult, c1, c2, c3, c4, *, solutions=None,
     kept: list[VoronoiVertex] = []
     notes = list(result.notes)
     for v in result.vertices:
-        cv = certify_vertex(c1, c2, c3, v.x, v.y, float(v.radius) ** 2, c4, max_prec=max_prec)
+        cv = certify_vertex(c1, c2, c3, v.x, v.y, float(v.radius) ** 2, c4, max_prec=max_prec,
+                            move_tol=move_tolerance(v.info))
         if cv.true_vertex is False:
             notes.append(f"certify: candidate ({v.x:.6g}, {v.y:.6g}) proved not a true Voronoi vertex; dropped")
             continue

@@ -104,7 +104,13 @@ lies strictly inside the point sites' convex hull but at its point-site ends
 (:func:`runtime.segments.certificate_ellipse_sites.pieces_inside_hull`: the unbounded ends are
 then those of the points and segments).  The region of an open piece retracts onto it as an
 arc's does (its nearest point is unique and continuous there).  What that module does not cover
-is reported as a limit.
+is reported as a limit.  **Shared with the construction:** the piece kernel
+:mod:`runtime.segments.ellipse_pieces` (distances, feet and contact verdicts of a piece, in floats
+and arb balls) is imported by both sides (the construction's ``distance``, ``vertices``,
+``bisectors``, ``emptiness``, … and this certificate's ``certificate_ellipses`` and
+``certificate_ellipse_sites``); a fault in its rigorous bounds would be a fault of both.  Its ball
+bounds are checked on their own against mpmath at 40 digits (``tests/test_ellipse_pieces.py``,
+``tests/test_elliptic_arc_certificate.py``), not against the construction.
 
 Public API: :func:`verify_segments`, :func:`has_segment_sites`, :func:`closure`.
 """
