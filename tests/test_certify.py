@@ -11,7 +11,6 @@ import json
 import math
 import random
 from fractions import Fraction
-from pathlib import Path
 
 import mpmath
 import numpy as np
@@ -306,13 +305,52 @@ def test_certify_result_and_completeness():
     assert out.complete and out.certified, out.notes
     assert len(out.vertices) == len(case["vertices"])
     assert out.conflict == case["conflict"]
-    # missing vertex -> complete but not matched -> not complete
-    res2 = LocatorResult(conflict=False, vertices=verts[:-2], method="numeric")
+    # a vertex missing from the candidates is found and proved at its real solution, and a
+    # candidate that proves nothing (Newton leaves it) is dropped once the list is proved complete:
+    # the answer is still the validation file's vertices (exact rationals, an independent source)
+    stray = VoronoiVertex(x=verts[0].x + 0.5, y=verts[0].y - 0.5, radius=verts[0].radius)
+    res2 = LocatorResult(conflict=False, vertices=verts[:-2] + [stray], method="numeric")
     out2 = certify_result(res2, c1, c2, c3, c4, solutions=sol.points, expected_count=sol.info.expected)
-    assert not out2.complete and not out2.certified
+    assert out2.complete and out2.certified, out2.notes
+    assert any("found and proved at a real solution" in n for n in out2.notes), out2.notes
+    assert any("not proved, and the proved list is complete without it" in n for n in out2.notes), out2.notes
+    exp = sorted((float(Fraction(v["x"])), float(Fraction(v["y"]))) for v in case["vertices"])
+    got = sorted((v.x, v.y) for v in out2.vertices)
+    assert len(got) == len(exp) and all(math.hypot(a - c, b - d) <= 1e-9 * (1 + abs(c) + abs(d))
+                                        for (a, b), (c, d) in zip(got, exp))
+    assert out2.conflict == case["conflict"]
+    # without the solution list nothing is found or dropped (two vertices and the stray candidate),
+    # and the list is not complete
+    out2b = certify_result(res2, c1, c2, c3, c4)
+    assert not out2b.complete and not out2b.certified and len(out2b.vertices) == len(exp)
     # without a solution list completeness is not claimed
     out3 = certify_result(res, c1, c2, c3, c4)
     assert not out3.complete and all(v.certified for v in out3.vertices)
+
+
+def test_a_proof_of_another_vertex_is_not_taken_for_a_missing_one():
+    """The completeness proof adds a vertex found at a real solution K only when its proof is of the
+    zero in K (its box inside K, or one Krawczyk box holding both): given a proof of one of the
+    other vertices at every K, the list with a vertex missing stays not complete and nothing is
+    found; given a proof at K itself, it is complete."""
+    from curvedvoronoi.runtime.certify.complete import completeness_with_vertices
+    from curvedvoronoi.runtime.solve.vertices import generalised_vertices
+
+    case = next(c for c in CASES if c["group"] == "mixed" and len(c["vertices"]) == 3)
+    c1, c2, c3, c4 = _conics(case)
+    sol = generalised_vertices(c1, c2, c3)
+    vs = [(float(Fraction(v["x"])), float(Fraction(v["y"])), float(Fraction(v["radius"]))) for v in case["vertices"]]
+    certs = [certify_vertex(c1, c2, c3, x, y, r * r) for x, y, r in vs]
+    assert all(cv.proven for cv in certs)
+    wrong, found = [], []
+    ok, note = completeness_with_vertices(c1, c2, c3, sol.points, sol.info.expected, certs[1:],
+                                          certify_at=lambda K: certs[1], found=wrong)
+    assert not ok and not wrong, note
+    ok, note = completeness_with_vertices(c1, c2, c3, sol.points, sol.info.expected, certs[1:],
+                                          certify_at=lambda K: certify_vertex(c1, c2, c3, K[0].mid(), K[1].mid(),
+                                                                              K[2].mid()), found=found)
+    assert ok and len(found) == 1, note
+    assert abs(float(found[0].box[0].mid()) - vs[0][0]) <= 1e-9 * (1 + abs(vs[0][0]))
 
 
 def test_simplest_rational():

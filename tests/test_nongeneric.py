@@ -358,13 +358,17 @@ def test_undecided_far_candidate_left_to_the_completeness_proof():
 
 def test_list_with_an_undecided_candidate_not_proved_complete_is_replaced_by_the_exact_route(monkeypatch):
     """A numeric list that left a candidate undecided and is *not* proved complete is not trusted:
-    simulated by dropping a true vertex from a numeric list and marking it undecided.  Neither
-    the counting proof nor msolve's real solutions can then close on that list (a real solution
-    that is a true vertex matches no listed vertex); the exact route's vertices answer, certified,
-    complete and equal to the oracle's.  Without the certification, ``voronoi_vertices`` replaces
-    the undecided list at once."""
+    simulated by dropping a true vertex from a numeric list and marking it undecided.  The
+    completeness proof finds the dropped vertex at its real solution and proves it
+    (runtime.certify.complete.completeness_with_vertices, ``certify_at``): certified, complete, the
+    oracle's vertices, no exact route.  With that search switched off, neither the counting proof
+    nor msolve's real solutions can close on the list (a real solution that is a true vertex
+    matches no listed vertex); the exact route's vertices answer, certified, complete and equal to
+    the oracle's.  Without the certification, ``voronoi_vertices`` replaces the undecided list at
+    once."""
     from dataclasses import replace
 
+    from curvedvoronoi.runtime.certify import complete
     from curvedvoronoi.runtime.predicates import locator
     from curvedvoronoi.runtime.solve import vertices
     cs = random_nongeneric("collinear centres", 2)
@@ -377,12 +381,21 @@ def test_list_with_an_undecided_candidate_not_proved_complete_is_replaced_by_the
 
     monkeypatch.setattr(vertices, "voronoi_vertices_triple", drop_one)
     ref = reference_vertices(*cs[:3])
-    clear_cache()
-    res = locate_conflicts(*cs)
-    assert res.complete and res.certified, res.notes
-    assert any("the numeric list was not proved; vertices from the exact route" in n
-               for n in res.notes), res.notes
-    assert len(ref) == len(res.vertices) >= 1
+    proof = complete.completeness_with_vertices
+    for search in (True, False):
+        with monkeypatch.context() as m:
+            if not search:
+                m.setattr(complete, "completeness_with_vertices", lambda *a, **kw: proof(*a, **dict(kw, certify_at=None)))
+            clear_cache()
+            res = locate_conflicts(*cs)
+        assert res.complete and res.certified, res.notes
+        exact = any("the numeric list was not proved; vertices from the exact route" in n for n in res.notes)
+        assert exact is not search, res.notes
+        assert any("found and proved at a real solution" in n for n in res.notes) is search, res.notes
+        assert len(ref) == len(res.vertices) >= 1
+        for x, y, _ in ref:
+            assert sum(abs(v.x - float(x)) <= 1e-7 * (1 + abs(float(x)))
+                       and abs(v.y - float(y)) <= 1e-7 * (1 + abs(float(y))) for v in res.vertices) == 1
     clear_cache()
     tv = locator.voronoi_vertices(*cs[:3])
     assert tv.exact is not None and tv.unresolved == 0 and len(tv.vertices) == len(ref)

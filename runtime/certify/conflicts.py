@@ -553,36 +553,44 @@ def certify_result(result: LocatorResult, c1, c2, c3, c4, *, solutions=None,
         if dup is not None:
             notes.append(f"certify: candidate ({v.x:.6g}, {v.y:.6g}) is the same vertex as another; merged")
             continue
-        info = dict(v.info)
-        info["certificate"] = cv.info()
-        nv = VoronoiVertex(x=v.x, y=v.y, radius=v.radius, distance_to_fourth=v.distance_to_fourth,
-                           in_conflict=v.in_conflict, certified=False, tangent=v.tangent, info=info)
-        if cv.box is not None and cv.radius is not None:
-            nv.x, nv.y, nv.radius = float(cv.box[0].mid()), float(cv.box[1].mid()), float(cv.radius.mid())
-        if cv.proven:
-            nv.certified = True
-            if c4 is not None:
-                nv.in_conflict = cv.sign == -1
-                nv.tangent = cv.sign == 0
-                nv.distance_to_fourth = float(cv.radius.mid()) if cv.sign == 0 else float(cv.distance_to_fourth.mid())
         certs.append(cv)
-        kept.append(nv)
-    # distinctness of the certified vertices
+        kept.append(_proved_vertex(v, cv, c4))
+    # distinctness of the certified vertices; two proven boxes that overlap without containment
+    # may be one vertex reached from two candidates: one Krawczyk box of the offset system holding
+    # both proves it (runtime.certify.complete.same_zero_by_krawczyk), and the second is merged
+    same: set[int] = set()
     for i in range(len(certs)):
         for j in range(i + 1, len(certs)):
-            if _same_solution(certs[i], certs[j]) is not False:
+            if i in same or j in same:
+                continue
+            verdict = _same_solution(certs[i], certs[j])
+            if verdict is None and certs[i].proven and certs[j].proven:
+                from .complete import same_zero_by_krawczyk
+                if same_zero_by_krawczyk(c1, c2, c3, certs[i].box, certs[j].box):
+                    same.add(j)
+                    notes.append(f"certify: candidate ({kept[j].x:.6g}, {kept[j].y:.6g}) is the same vertex as "
+                                 "another (one Krawczyk box holds both); merged")
+                    continue
+            if verdict is not False:
                 kept[i].certified = kept[j].certified = False
                 notes.append("certify: two vertices not proven distinct")
+    if same:
+        certs = [cv for k, cv in enumerate(certs) if k not in same]
+        kept = [nv for k, nv in enumerate(kept) if k not in same]
     if any(not v.certified for v in kept):
         notes.extend(_meeting_sites(c1, c2, c3))
     t_vert = time.perf_counter() - t0
     complete = False
     if solutions is not None:
         from .complete import completeness_with_vertices
-        complete, note = completeness_with_vertices(c1, c2, c3, solutions, expected_count, certs,
-                                                    max_prec=max_prec,
-                                                    retighten=partial(_tighter_vertex_box, c1, c2, c3))
+        found: list[CertifiedVertex] = []
+        complete, note = completeness_with_vertices(
+            c1, c2, c3, solutions, expected_count, certs, max_prec=max_prec,
+            retighten=partial(_tighter_vertex_box, c1, c2, c3), found=found,
+            certify_at=lambda K: certify_vertex(c1, c2, c3, K[0].mid(), K[1].mid(), K[2].mid(), c4, max_prec=max_prec))
         notes.append(f"certify completeness: {note}")
+        if complete:
+            kept = _complete_list(kept, certs, found, c4, notes)
     else:
         notes.append("certify: completeness not proven (no solution list of the triple system given)")
     timings = dict(result.timings)
@@ -591,6 +599,53 @@ def certify_result(result: LocatorResult, c1, c2, c3, c4, *, solutions=None,
     conflict = any(v.in_conflict for v in kept)
     return LocatorResult(conflict=conflict, vertices=kept, method=result.method + "+certified",
                          timings=timings, complete=complete, notes=notes)
+
+
+def _proved_vertex(v: VoronoiVertex | None, cv: CertifiedVertex, c4) -> VoronoiVertex:
+    """The vertex reported for candidate ``v`` (None: a vertex found by the completeness proof)
+    with its proof ``cv``: coordinates the midpoints of the proven box, ``certified`` the proof
+    status, the conflict with C4 its proven sign."""
+    if v is None:
+        r = float(cv.radius.mid()) if cv.radius is not None else float("nan")
+        v = VoronoiVertex(x=float(cv.box[0].mid()), y=float(cv.box[1].mid()), radius=r, certified=False,
+                          info={"found_by": "the completeness proof, at a real solution of the triple system"})
+    info = dict(v.info)
+    info["certificate"] = cv.info()
+    nv = VoronoiVertex(x=v.x, y=v.y, radius=v.radius, distance_to_fourth=v.distance_to_fourth,
+                       in_conflict=v.in_conflict, certified=False, tangent=v.tangent, info=info)
+    if cv.box is not None and cv.radius is not None:
+        nv.x, nv.y, nv.radius = float(cv.box[0].mid()), float(cv.box[1].mid()), float(cv.radius.mid())
+    if cv.proven:
+        nv.certified = True
+        if c4 is not None:
+            nv.in_conflict = cv.sign == -1
+            nv.tangent = cv.sign == 0
+            nv.distance_to_fourth = float(cv.radius.mid()) if cv.sign == 0 else float(cv.distance_to_fourth.mid())
+    return nv
+
+
+def _complete_list(kept, certs, found, c4, notes) -> list[VoronoiVertex]:
+    """The vertex list once :func:`runtime.certify.complete.completeness_with_vertices` succeeded:
+    every real solution of the triple system is then a proven vertex of ``certs`` or ``found``
+    (each inside its own solution box, the boxes pairwise disjoint: the proven vertices are
+    distinct) or proved not a true vertex.  So a candidate whose proof did not decide
+    (``true_vertex`` None: one near-double root listed twice, say) is no further vertex and is
+    dropped, a proven one stays certified even where two candidates' boxes could not be told apart
+    before, and the vertices found at solutions the list lacked are added."""
+    out = []
+    for nv, cv in zip(kept, certs):
+        if cv.true_vertex is None:
+            notes.append(f"certify: candidate ({nv.x:.6g}, {nv.y:.6g}) not proved, and the proved list is "
+                         "complete without it; dropped")
+            continue
+        nv.certified = bool(cv.proven)
+        out.append(nv)
+    for cv in found:
+        nv = _proved_vertex(None, cv, c4)
+        notes.append(f"certify: vertex ({nv.x:.6g}, {nv.y:.6g}) found and proved at a real solution that "
+                     "no candidate matched")
+        out.append(nv)
+    return out
 
 
 def _meeting_sites(c1, c2, c3) -> list[str]:
