@@ -497,7 +497,11 @@ def test_epc_tangent_far_point_is_certified_in_a_circle_space_chart():
     """exact_EPC_circle4_tangent: the 60th solution (x ≈ -4.7e5, Jacobian condition ~5e22 in
     (x, y, R)) was once diagnosed as a point at infinity; the homotopy (runtime.solve.homotopy) and the
     circle-space Krawczyk test (runtime.certify.chart) show it is a finite simple real solution, so
-    completeness is proven: 60 distinct simple solutions = the generic CEP count."""
+    completeness is proven: 60 distinct simple solutions = the generic CEP count.  Whether the
+    completeness proof needs the chart for it depends on the BLAS kernel's rounding of the list
+    (with OpenBLAS Sandybridge kernels the (x, y, R) Krawczyk test already succeeds), so the chart's
+    proof of that solution is asserted on its own."""
+    from curvedvoronoi.runtime.certify.chart import certify_in_chart
     from curvedvoronoi.runtime.sites.conic import Conic
     from curvedvoronoi.runtime.predicates.locator import voronoi_vertices
     from curvedvoronoi.runtime.certify.complete import certify_completeness
@@ -508,4 +512,10 @@ def test_epc_tangent_far_point_is_certified_in_a_circle_space_chart():
     ok, note = certify_completeness(*cs, sol.points, sol.info.expected)
     assert ok, note
     assert note.startswith("60 distinct simple solutions")
-    assert "circle-space chart" in note
+    P = np.asarray(sol.points)
+    far = int(np.argmax(np.abs(P[:, 0])))
+    assert abs(P[far, 0]) > 1e5 and np.max(np.abs(P[far].imag)) <= 1e-6 * np.max(np.abs(P[far]))
+    box = certify_in_chart(tuple(cs), P[far])
+    assert box is not None and box[0] == "real"
+    # the list reads it only to its conditioning (1.4e-6 of its size off with Haswell kernels)
+    assert abs(float(box[1][0].mid()) - P[far, 0].real) <= 1e-5 * abs(P[far, 0])
