@@ -45,8 +45,13 @@ precompute/root_counts.py with msolve).  Completeness argument:
 
 This module strings the steps together (:func:`_completeness`: :func:`_enclose_all`,
 :func:`_replace_lost`, :func:`_prove_distinct`, :func:`_count_closes`) and matches the real
-solutions with the certified vertices (:func:`completeness_with_vertices`) or with msolve's exact
-real solutions (:func:`completeness_exact`).
+solutions with the certified vertices (:func:`completeness_with_vertices`, which also proves a
+vertex at a real solution no candidate matched) or with msolve's exact real solutions
+(:func:`completeness_exact`).
+
+Length: one proof, steps 1–5 and the two ways of closing step 5 on the vertices; the steps share
+the solution boxes and their failure notes, and the search helpers live in
+:mod:`runtime.certify.lost_roots`.
 
 *Tuned constants.*  Precisions (64, 128, 256, 512, 1024 bits), Newton step counts (4, 8, 12, 20,
 30), the caps :data:`_MAX_CHART`, :data:`_MAX_DIAGNOSED` and ``lost_roots.MAX_LOST``, the
@@ -77,7 +82,7 @@ from .root_bound import count_bound
 from .solution_boxes import balls_overlap, boxes_disjoint, certify_solutions
 
 __all__ = ["clear_certification_caches", "certify_completeness", "completeness_with_vertices", "completeness_exact",
-           "same_zero_by_krawczyk",
+           "one_zero_in_both",
            "OffsetSystem", "certify_solutions", "exact_offset_terms"]
 
 #: at most this many uncertified solutions get the high-precision retry / diagnosis (each costs
@@ -249,7 +254,7 @@ def _count_closes(c1, c2, c3, n: int):
     return True, f"{bound_note}; {dim_note}"
 
 
-def same_zero_by_krawczyk(c1, c2, c3, K, B) -> bool:
+def one_zero_in_both(c1, c2, c3, K, B) -> bool:
     """Proof that the zeros of the offset system of (C1, C2, C3) enclosed by the real ball vectors
     K and B (x, y, R) are one point: a Krawczyk test succeeds on a box holding both."""
     return _same_by_krawczyk(OffsetSystem((c1, c2, c3)), K, B)

@@ -557,7 +557,7 @@ def certify_result(result: LocatorResult, c1, c2, c3, c4, *, solutions=None,
         kept.append(_proved_vertex(v, cv, c4))
     # distinctness of the certified vertices; two proven boxes that overlap without containment
     # may be one vertex reached from two candidates: one Krawczyk box of the offset system holding
-    # both proves it (runtime.certify.complete.same_zero_by_krawczyk), and the second is merged
+    # both proves it (runtime.certify.complete.one_zero_in_both), and the second is merged
     same: set[int] = set()
     for i in range(len(certs)):
         for j in range(i + 1, len(certs)):
@@ -565,8 +565,8 @@ def certify_result(result: LocatorResult, c1, c2, c3, c4, *, solutions=None,
                 continue
             verdict = _same_solution(certs[i], certs[j])
             if verdict is None and certs[i].proven and certs[j].proven:
-                from .complete import same_zero_by_krawczyk
-                if same_zero_by_krawczyk(c1, c2, c3, certs[i].box, certs[j].box):
+                from .complete import one_zero_in_both
+                if one_zero_in_both(c1, c2, c3, certs[i].box, certs[j].box):
                     same.add(j)
                     notes.append(f"certify: candidate ({kept[j].x:.6g}, {kept[j].y:.6g}) is the same vertex as "
                                  "another (one Krawczyk box holds both); merged")
