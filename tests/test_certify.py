@@ -349,6 +349,16 @@ def test_a_proof_of_another_vertex_is_not_taken_for_a_missing_one():
     ok, note = completeness_with_vertices(c1, c2, c3, sol.points, sol.info.expected, certs[1:],
                                           certify_at=lambda K: certs[1], found=wrong)
     assert not ok and not wrong, note
+    # nor a box that only meets K: a proof whose box holds two vertices (no Krawczyk box holds
+    # both zeros) and whose "tighter" box is that same wide box, not inside K
+    from dataclasses import replace as _replace
+    from flint import arb as _arb
+    wide = tuple(_arb((certs[0].box[i].mid() + certs[1].box[i].mid()) / 2,
+                      abs(certs[0].box[i].mid() - certs[1].box[i].mid()) + 1) for i in range(3))
+    both = _replace(certs[1], box=wide)
+    ok, note = completeness_with_vertices(c1, c2, c3, sol.points, sol.info.expected, certs[1:],
+                                          certify_at=lambda K: both, retighten=lambda cv: cv.box, found=wrong)
+    assert not ok and not wrong, note
     ok, note = completeness_with_vertices(c1, c2, c3, sol.points, sol.info.expected, certs[1:],
                                           certify_at=lambda K: certify_vertex(c1, c2, c3, K[0].mid(), K[1].mid(),
                                                                               K[2].mid()), found=found)
