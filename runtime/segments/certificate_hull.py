@@ -45,6 +45,7 @@ import numpy as np
 from flint import arb
 
 from ..certify.foot import to_arb
+from ..predicates.orientation import orient2d
 from .certificate_envelope import Undecided, envelope_directions, tangent_ties
 from .certificate_sites import ARC, POINT, SEGMENT, SiteTable, direction_key
 
@@ -53,53 +54,21 @@ __all__ = ["expected_infinite_ends", "infinite_key", "tangent_sign", "convex_hul
 TWO_PI = 2 * math.pi
 
 
-def _cross(o, a, b) -> Fraction:
-    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-
-
-#: u = 2⁻⁵³ and the float filter's factor of :func:`_left_turn` (16 u, twice the bound derived there)
-_ORIENT_ERR = 16 * 2.0 ** -53
-_TINY = 2.0 ** -1000
-
-
-def _left_turn(o, a, b, fl) -> bool:
-    """(a − o) × (b − o) > 0, exactly: decided by floats when they clear their rounding bound, else
-    by :func:`_cross` in rationals.
-
-    The floats x̂ = fl(x) of the rational coordinates are correctly rounded (|x̂ − x| ≤ u|x|,
-    u = 2⁻⁵³; Higham, *Accuracy and Stability of Numerical Algorithms*, §2.2).  A difference
-    fl(âx − ôx) is then off from ax − ox by ≤ (2u + u²)(|ax| + |ox|); a product of two such, rounded,
-    by ≤ 5u + O(u²) times the product of the magnitude sums, and the final difference adds u of its
-    own size: |fl-determinant − determinant| ≤ 6u·M + O(u²)·M with
-    M = (|ax| + |ox|)(|by| + |oy|) + (|ay| + |oy|)(|bx| + |ox|) (the same argument as Shewchuk's
-    orient2d filter, 1997, with the inputs' conversion added).  16u·M, plus 2⁻¹⁰⁰⁰ for underflow,
-    bounds it; an overflow gives inf or NaN, which no comparison below accepts."""
-    (ox, oy), (ax, ay), (bx, by) = fl[o], fl[a], fl[b]
-    det = (ax - ox) * (by - oy) - (ay - oy) * (bx - ox)
-    M = (abs(ax) + abs(ox)) * (abs(by) + abs(oy)) + (abs(ay) + abs(oy)) * (abs(bx) + abs(ox))
-    bound = _ORIENT_ERR * M + _TINY
-    if det > bound:
-        return True
-    if det < -bound:
-        return False
-    return _cross(o, a, b) > 0
-
-
 def convex_hull(pts: list) -> list:
     """Strict convex hull (no collinear points), counter-clockwise, exact (Andrew's monotone chain;
-    each turn by :func:`_left_turn`, a float filter backed by rationals)."""
+    each turn by :func:`runtime.predicates.orientation.orient2d`, a float filter backed by exact
+    integers)."""
     pts = sorted(set(pts))
     if len(pts) <= 2:
         return pts
-    fl = {p: (float(p[0]), float(p[1])) for p in pts}
     lower: list = []
     for p in pts:
-        while len(lower) >= 2 and not _left_turn(lower[-2], lower[-1], p, fl):
+        while len(lower) >= 2 and orient2d(lower[-2], lower[-1], p) <= 0:
             lower.pop()
         lower.append(p)
     upper: list = []
     for p in reversed(pts):
-        while len(upper) >= 2 and not _left_turn(upper[-2], upper[-1], p, fl):
+        while len(upper) >= 2 and orient2d(upper[-2], upper[-1], p) <= 0:
             upper.pop()
         upper.append(p)
     return lower[:-1] + upper[:-1]

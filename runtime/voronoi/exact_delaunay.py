@@ -16,87 +16,44 @@ as triangles inverted in exact arithmetic.  Here:
   hull of the earlier ones and is joined to the hull edges it sees strictly), then Lawson's flips
   of the edges that are not locally Delaunay (Lawson 1977), each flip decided exactly.
 
-Predicates: Shewchuk's static float filters (*Adaptive precision floating-point arithmetic and
-fast robust geometric predicates*, DCG 18 (1997): orient2d error bound (3 + 16ε)ε·|terms|,
-incircle (10 + 96ε)ε·permanent, taken here with a factor 30 to spare), and exact integer
-arithmetic when the filter cannot decide: floats are dyadic rationals, so the coordinates times
-one power of two are integers.  Co-circular points are triangulated in either way; the diagram's
-vertex of a co-circular set is merged downstream.
+Predicates: :func:`runtime.predicates.orientation.orient2d` and ``incircle`` (Shewchuk's float
+filters, DCG 18 (1997), then exact integers: the library's one implementation of both).
+Co-circular points are triangulated in either way; the diagram's vertex of a co-circular set is
+merged downstream.
 
 Public API: :func:`exact_delaunay`, :func:`is_delaunay`, :func:`orientation`.
 """
 from __future__ import annotations
 
-import math
-from fractions import Fraction
-
 import numpy as np
+
+from ..predicates.orientation import incircle, incircle_filter, orient2d, orient2d_filter
 
 __all__ = ["exact_delaunay", "is_delaunay", "orientation"]
 
-_EPS = 2.0 ** -53
-_ORIENT_BOUND = 30 * (3 + 16 * _EPS) * _EPS
-_INCIRCLE_BOUND = 30 * (10 + 96 * _EPS) * _EPS
-
-
 class _Points:
-    """Float coordinates of the points, and exact integer ones (the involved points' coordinates
-    times their largest denominator, a power of two) made only for the predicates the filters
-    leave undecided."""
+    """Float coordinates of the points (checked finite) and the two predicates on their indices."""
 
     def __init__(self, P):
         self.f = np.asarray(P, float)
         if not np.isfinite(self.f).all():
             raise ValueError("non-finite point coordinates")
-        self._q: dict = {}
-
-    def exact(self, *ks):
-        """Integer coordinates of the points ks, on one common scale."""
-        fr = []
-        for k in ks:
-            q = self._q.get(k)
-            if q is None:
-                q = self._q[k] = (Fraction(float(self.f[k, 0])), Fraction(float(self.f[k, 1])))
-            fr.append(q)
-        den = max(max(x.denominator, y.denominator) for x, y in fr)
-        return [(int(x * den), int(y * den)) for x, y in fr]
 
     def orient(self, a, b, c) -> int:
         """Sign of the orientation of (a, b, c): > 0 counter-clockwise."""
-        (ax, ay), (bx, by), (cx, cy) = self.f[a], self.f[b], self.f[c]
-        l, r = (bx - ax) * (cy - ay), (by - ay) * (cx - ax)
-        det = l - r
-        if abs(det) > _ORIENT_BOUND * (abs(l) + abs(r)):
-            return 1 if det > 0 else -1
-        (ax, ay), (bx, by), (cx, cy) = self.exact(a, b, c)
-        det = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
-        return (det > 0) - (det < 0)
+        f = self.f
+        return orient2d(f[a], f[b], f[c])
 
     def incircle(self, a, b, c, d) -> int:
         """Sign of incircle(a, b, c, d) for (a, b, c) counter-clockwise: > 0 when d is strictly
         inside their circle."""
-        D = self.f[d]
-        rows = [self.f[k] - D for k in (a, b, c)]
-        lift = [float(x * x + y * y) for x, y in rows]
-        (ax, ay), (bx, by), (cx, cy) = rows
-        alift, blift, clift = lift
-        t1, t2, t3 = bx * cy - by * cx, cx * ay - cy * ax, ax * by - ay * bx
-        det = alift * t1 + blift * t2 + clift * t3
-        perm = (alift * (abs(bx * cy) + abs(by * cx)) + blift * (abs(cx * ay) + abs(cy * ax))
-                + clift * (abs(ax * by) + abs(ay * bx)))
-        if abs(det) > _INCIRCLE_BOUND * perm:
-            return 1 if det > 0 else -1
-        pa, pb, pc, (dx, dy) = self.exact(a, b, c, d)
-        m = [(x - dx, y - dy) for x, y in (pa, pb, pc)]
-        (ax, ay), (bx, by), (cx, cy) = m
-        det = ((ax * ax + ay * ay) * (bx * cy - by * cx) + (bx * bx + by * by) * (cx * ay - cy * ax)
-               + (cx * cx + cy * cy) * (ax * by - ay * bx))
-        return (det > 0) - (det < 0)
+        f = self.f
+        return incircle(f[a], f[b], f[c], f[d])
 
 
 def orientation(a, b, c) -> int:
     """The exact sign of the orientation of three float points (> 0: counter-clockwise)."""
-    return _Points(np.array([a, b, c], float)).orient(0, 1, 2)
+    return orient2d(*np.array([a, b, c], float))
 
 
 def is_delaunay(P, simplices, neighbors) -> bool:
@@ -110,11 +67,7 @@ def is_delaunay(P, simplices, neighbors) -> bool:
     if n < 3 or len(S) == 0 or len(np.unique(S)) != n:
         return False
     F = pts.f
-    A, B, C = F[S[:, 0]], F[S[:, 1]], F[S[:, 2]]
-    l = (B[:, 0] - A[:, 0]) * (C[:, 1] - A[:, 1])
-    r = (B[:, 1] - A[:, 1]) * (C[:, 0] - A[:, 0])
-    det = l - r
-    sure = np.abs(det) > _ORIENT_BOUND * (np.abs(l) + np.abs(r))
+    det, sure = orient2d_filter(F[S[:, 0]], F[S[:, 1]], F[S[:, 2]])
     if (sure & (det <= 0)).any():
         return False
     for t in np.nonzero(~sure)[0].tolist():
@@ -129,15 +82,7 @@ def is_delaunay(P, simplices, neighbors) -> bool:
     if not (back.sum(axis=1) == 1).all():
         return False
     D = F[S[s_idx, back.argmax(axis=1)]]
-    rows = [F[S[t_idx, j]] - D for j in range(3)]
-    lift = [x[:, 0] ** 2 + x[:, 1] ** 2 for x in rows]
-    (a, b, c), (la, lb, lc) = rows, lift
-    t1, t2, t3 = b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0], c[:, 0] * a[:, 1] - c[:, 1] * a[:, 0], a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
-    det = la * t1 + lb * t2 + lc * t3
-    perm = (la * (np.abs(b[:, 0] * c[:, 1]) + np.abs(b[:, 1] * c[:, 0]))
-            + lb * (np.abs(c[:, 0] * a[:, 1]) + np.abs(c[:, 1] * a[:, 0]))
-            + lc * (np.abs(a[:, 0] * b[:, 1]) + np.abs(a[:, 1] * b[:, 0])))
-    sure = np.abs(det) > _INCIRCLE_BOUND * perm
+    det, sure = incircle_filter(F[S[t_idx, 0]], F[S[t_idx, 1]], F[S[t_idx, 2]], D)
     if (sure & (det > 0)).any():
         return False
     d_idx = S[s_idx, back.argmax(axis=1)]

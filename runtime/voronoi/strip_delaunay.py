@@ -36,11 +36,10 @@ Public API: :func:`strip_delaunay`, :data:`STRIP_POINTS`.
 """
 from __future__ import annotations
 
-from fractions import Fraction
-
 import numpy as np
 from scipy.spatial import Delaunay, QhullError, cKDTree
 
+from ..predicates.orientation import orient2d, orient2d_filter
 from .sample_delaunay import QHULL_PLAIN, circumcentres, side_neighbours
 
 __all__ = ["strip_delaunay", "STRIP_POINTS"]
@@ -196,34 +195,21 @@ def _empty(tree, simp, cc, r, extent):
     return ~(near & ~corner).any(axis=1)
 
 
-#: Shewchuk's (1997) error bound of the orientation determinant evaluated in floating point
-ORIENT_ERROR = 3.3306690738754716e-16
 #: points per block of the hull test
 BLOCK = 1 << 18
 
 
 def _beyond(Q, a, b, c) -> bool:
     """Is a point of ``Q`` strictly on the other side of the line (a, b) than c (exact signs:
-    Shewchuk's float filter, then rational arithmetic for the undecided points)?"""
-    ax, ay = Q[a]
-    bx, by = Q[b]
-    side = _exact_orient(Q[a], Q[b], Q[c])
+    :func:`runtime.predicates.orientation.orient2d_filter`, then ``orient2d`` for the undecided
+    points)?"""
+    side = orient2d(Q[a], Q[b], Q[c])
     for lo in range(0, len(Q), BLOCK):
         X = Q[lo:lo + BLOCK]
-        left = (bx - ax) * (X[:, 1] - ay)
-        right = (by - ay) * (X[:, 0] - ax)
-        det = (left - right) * side
-        bound = ORIENT_ERROR * (np.abs(left) + np.abs(right))
-        if (det < -bound).any():
+        det, decided = orient2d_filter(Q[a][None, :], Q[b][None, :], X)
+        if (decided & (det * side < 0)).any():
             return True
-        for i in np.nonzero(np.abs(det) <= bound)[0].tolist():
-            if _exact_orient(Q[a], Q[b], X[i]) * side < 0:
+        for i in np.nonzero(~decided)[0].tolist():
+            if orient2d(Q[a], Q[b], X[i]) * side < 0:
                 return True
     return False
-
-
-def _exact_orient(p, q, r) -> int:
-    """The sign of the orientation of (p, q, r), in rational arithmetic."""
-    px, py, qx, qy, rx, ry = (Fraction(float(v)) for v in (*p, *q, *r))
-    d = (qx - px) * (ry - py) - (qy - py) * (rx - px)
-    return (d > 0) - (d < 0)
