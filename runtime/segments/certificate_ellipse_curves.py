@@ -11,7 +11,7 @@ only one: outside by convexity, inside by the secant factor at the piece's ends)
 stretch next to an end with f'' > 0 on it and f above the distance beyond —, else an end's (the
 hull of both ends' when both are nearest).
 
-Public API: :class:`Jet`, :class:`FootCurve`, :class:`NormalLine`, :class:`PointsLine`,
+Public API: :class:`Jet`, :class:`FootCurve`, :class:`StraightLine`, :class:`NormalLine`, :class:`PointsLine`,
 :func:`sag_bound`, :func:`secant_nearest`, :func:`widened_nearest`, :func:`partner_ok`,
 :func:`other_ends`, :func:`piece_gradient`, :func:`gradient`.
 
@@ -29,7 +29,7 @@ from .certificate_sites import ARC, ELLIPSE, POINT, SEGMENT, SiteTable, hypot, s
 from .ellipse_pieces import (closest_at_an_end, interior_foot, interior_minimum, nearest_verdict,
                              piece_distance_ball, piece_feet, piece_point_ball)
 
-__all__ = ["Jet", "FootCurve", "NormalLine", "PointsLine", "sag_bound", "secant_nearest", "widened_nearest",
+__all__ = ["Jet", "FootCurve", "StraightLine", "NormalLine", "PointsLine", "sag_bound", "secant_nearest", "widened_nearest",
            "partner_ok", "other_ends", "piece_gradient", "gradient"]
 
 
@@ -284,27 +284,47 @@ def other_ends(T: SiteTable, s: int, *pair) -> tuple:
     return tuple(w for w, code in enumerate(T.ends[s]) if code >= 0 and code not in pair)
 
 
-class NormalLine:
+class StraightLine:
+    """γ(t) = o + t w, a straight line through the ball point o = ``origin`` with the direction
+    w (balls): what the normal line and two points' bisector share.  γ' = w; a chord of a line is
+    the line, so the sag bound is 0; the parameter of a point (X, Y) is its projection
+    (X − o)·w / |w|², exact at a point of the line (a vertex on the edge)."""
+
+    straight = True
+
+    def __init__(self, origin, w):
+        self.origin, self.w = origin, w
+        self.w2 = sq(self.w[0]) + sq(self.w[1])
+
+    def xy(self, t):
+        return self.origin[0] + t * self.w[0], self.origin[1] + t * self.w[1]
+
+    def dxy(self, t):
+        return self.w
+
+    def chord_bound(self, t0, t1, target: float = 0.0):
+        return arb(0)
+
+    def param(self, X, Y):
+        return ((X - self.origin[0]) * self.w[0] + (Y - self.origin[1]) * self.w[1]) / self.w2
+
+    def vertex_param(self, vp):
+        return self.param(vp.x, vp.y)
+
+
+class NormalLine(StraightLine):
     """γ(t) = e + t w (t > 0), ρ = t|w|: the normal line at a piece's end or joint ``code``; the
     pieces touched at e are ``pieces`` = [(site, which end)]."""
 
     kind = "ellipse-normal"
-    straight = True
 
     def __init__(self, T: SiteTable, code: int, w, pieces):
         self.T, self.code, self.pieces = T, code, pieces
         self.e = T.pt_arb(code)
         self.eq = T.pt(code)
         self.wq = w
-        self.w = (to_arb(w[0]), to_arb(w[1]))
-        self.w2 = sq(self.w[0]) + sq(self.w[1])
+        super().__init__(self.e, (to_arb(w[0]), to_arb(w[1])))
         self.wn = self.w2.sqrt()
-
-    def xy(self, t):
-        return self.e[0] + t * self.w[0], self.e[1] + t * self.w[1]
-
-    def dxy(self, t):
-        return self.w
 
     def rho(self, t, X=None, Y=None):
         return (abs(t) * self.wn).nonnegative_part()
@@ -315,15 +335,6 @@ class NormalLine:
         if t < 0:
             return -self.wn
         return self.wn.union(-self.wn)
-
-    def chord_bound(self, t0, t1, target: float = 0.0):
-        return arb(0)
-
-    def param(self, X, Y):
-        return ((X - self.e[0]) * self.w[0] + (Y - self.e[1]) * self.w[1]) / self.w2
-
-    def vertex_param(self, vp):
-        return self.param(vp.x, vp.y)
 
     def outside(self, J, s, which) -> bool:
         """The box over J lies on the outer side of piece s at its end ``which``: t (w·ν_s) > 0,
@@ -361,24 +372,16 @@ class NormalLine:
         return True
 
 
-class PointsLine:
+class PointsLine(StraightLine):
     """The perpendicular bisector O + t w of points i and j, ρ = |γ − p_i|."""
 
     kind = "ellipse-points"
-    straight = True
 
     def __init__(self, T: SiteTable, i: int, j: int):
         (xi, yi), (xj, yj) = T.a[i], T.a[j]
         self.O = (to_arb((xi + xj) / 2), to_arb((yi + yj) / 2))
-        self.w = (to_arb(-(yj - yi)), to_arb(xj - xi))
-        self.w2 = sq(self.w[0]) + sq(self.w[1])
+        super().__init__(self.O, (to_arb(-(yj - yi)), to_arb(xj - xi)))
         self.p = T.arb_ends(i)[:2]
-
-    def xy(self, t):
-        return self.O[0] + t * self.w[0], self.O[1] + t * self.w[1]
-
-    def dxy(self, t):
-        return self.w
 
     def rho(self, t, X=None, Y=None):
         x, y = self.xy(t)
@@ -388,15 +391,6 @@ class PointsLine:
         x, y = self.xy(t)
         dx, dy = x - self.p[0], y - self.p[1]
         return (dx * self.w[0] + dy * self.w[1]) / hypot(dx, dy)
-
-    def chord_bound(self, t0, t1, target: float = 0.0):
-        return arb(0)
-
-    def param(self, X, Y):
-        return ((X - self.O[0]) * self.w[0] + (Y - self.O[1]) * self.w[1]) / self.w2
-
-    def vertex_param(self, vp):
-        return self.param(vp.x, vp.y)
 
     def contacts_ok(self, J, X, Y, R):
         return True

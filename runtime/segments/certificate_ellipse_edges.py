@@ -296,6 +296,21 @@ def _normal_line(T: SiteTable, code: int, pieces, vps):
 
 
 # ====================================================================== the proof
+def _end_vertex_proof(v, i: int, j: int, vindex, vproofs, limit, wrong):
+    """The proof of the end vertex ``v`` of an edge (i, j), or the failed :class:`EdgeProof` (its
+    problem appended): the end must be a vertex of the diagram (else a fault), proved (else a
+    limit: the edge's end point is not known to be on the diagram) and list both i and j (else a
+    fault: the edge's curve, equidistant from i and j, cannot end there)."""
+    if v not in vindex:
+        return wrong(f"end {v} is not a vertex of the diagram")
+    vp = vproofs[vindex[v]]
+    if not vp.ok:
+        return limit(f"its end vertex {v} is not proved")
+    if i not in vp.listed or j not in vp.listed:
+        return wrong(f"its end vertex {v} does not list both its sites")
+    return vp
+
+
 def prove_piece_edge(T: SiteTable, D, e, vindex, vproofs, problems, budget=None) -> EdgeProof:
     """Prove edge ``e`` by the module docstring's argument; problems appended.  ``budget``: a
     one-element list, the pieces left for the diagram (spent here)."""
@@ -319,13 +334,9 @@ def prove_piece_edge(T: SiteTable, D, e, vindex, vproofs, problems, budget=None)
         return wrong("both ends are the same vertex")
     vps, verts = [], []
     for v in e.ends:
-        if v not in vindex:
-            return wrong(f"end {v} is not a vertex of the diagram")
-        vp = vproofs[vindex[v]]
-        if not vp.ok:
-            return limit(f"its end vertex {v} is not proved")
-        if i not in vp.listed or j not in vp.listed:
-            return wrong(f"its end vertex {v} does not list both its sites")
+        vp = _end_vertex_proof(v, i, j, vindex, vproofs, limit, wrong)
+        if isinstance(vp, EdgeProof):
+            return vp
         if not vp.r > 0:
             return limit(f"its end vertex {v} has radius 0: not covered next to elliptic pieces")
         vps.append(vp)
@@ -390,14 +401,9 @@ def _unbounded(T: SiteTable, D, e, i, j, vindex, vproofs, limit, wrong, budget) 
     fin = [n for n, v in enumerate(e.ends) if v is not None]
     vps = [None, None]
     for n in fin:
-        v = e.ends[n]
-        if v not in vindex:
-            return wrong(f"end {v} is not a vertex of the diagram")
-        vp = vproofs[vindex[v]]
-        if not vp.ok:
-            return limit(f"its end vertex {v} is not proved")
-        if i not in vp.listed or j not in vp.listed:
-            return wrong(f"its end vertex {v} does not list both its sites")
+        vp = _end_vertex_proof(e.ends[n], i, j, vindex, vproofs, limit, wrong)
+        if isinstance(vp, EdgeProof):
+            return vp
         vps[n] = vp
     if fin:
         f = fin[0]
