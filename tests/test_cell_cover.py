@@ -9,7 +9,7 @@ from fractions import Fraction
 import numpy as np
 from hypothesis import given, settings, strategies as st
 
-from curvedvoronoi.runtime.certify.cell_cover import cell_balls, halve
+from curvedvoronoi.runtime.certify.cell_cover import CellTest, CoverOutcome, cell_balls, halve, walk_cells
 
 
 def _covers(a, b, c, half) -> bool:
@@ -67,3 +67,47 @@ def test_halving_keeps_the_union_and_the_carried_data():
         parts = sorted((Fraction(float(x)), Fraction(float(y))) for x, y, kk in zip(a2, b2, K2) if kk == k)
         assert parts[0][0] == Fraction(lo) and parts[-1][1] == Fraction(hi) and parts[0][1] == parts[1][0]
         assert Fraction(lo) <= parts[0][1] <= Fraction(hi)
+
+
+# ---------------------------------------------------------------------------- the shared walk
+
+def _cos_positive(c, half, *carry):
+    """cos θ > 0 on the ball [c − half, c + half]: cos c − half > 0 (|cos'| ≤ 1, the rounding of
+    cos c far below the margins used here); refuted where cos c < −10⁻¹² (θ beyond ±π/2).
+    ``carry``: per-cell data the test does not read."""
+    cc = np.cos(c)
+    return CellTest(fault=cc < -1e-12, undecided=~(cc - half * (1 + 1e-9) > 1e-12))
+
+
+def test_walk_proves_cos_positive_inside_the_right_half_plane():
+    a = np.linspace(-1.5, 1.5, 5)
+    out = walk_cells(a[:-1], a[1:], _cos_positive, 10 ** 5)
+    assert out.proved and out.exit == "decided" and out.cell is None
+
+
+def test_walk_reports_a_cell_past_the_zero_of_cos_as_fault():
+    out = walk_cells(np.array([0.0]), np.array([2.0]), _cos_positive, 10 ** 5)
+    assert not out.proved and out.exit == "fault"
+    lo, hi = out.cell
+    # the reported cell holds a direction where cos < 0: it reaches beyond π/2
+    assert 0.0 <= lo < hi <= 2.0 and hi > math.pi / 2
+
+
+def test_walk_stops_at_the_smallest_cell_when_the_statement_touches_its_bound():
+    """cos θ > 0 on [0, π/2] fails only at the end point π/2 (cos π/2 ≈ 6·10⁻¹⁷, no fault): the
+    walk halves towards it and gives up there; the carried row follows its cell."""
+    tag = np.array([7])
+    out = walk_cells(np.array([0.0]), np.array([math.pi / 2]), _cos_positive, 10 ** 6, carry=(tag,),
+                     smallest=1e-9)
+    assert out.exit == "undecided" and not out.proved
+    lo, hi, row = out.cell
+    assert row == 7 and hi == math.pi / 2 and hi - lo < 4e-9
+
+
+def test_walk_budget_counts_every_tested_cell():
+    a = np.linspace(-1.5, 1.5, 5)
+    # four cells, then their halves: a budget of 3 stops before the first round
+    assert walk_cells(a[:-1], a[1:], _cos_positive, 3).exit == "budget"
+    # without a smallest cell an undecidable statement ends on the budget, never "proved"
+    out = walk_cells(np.array([0.0]), np.array([math.pi / 2]), _cos_positive, 2000)
+    assert out == CoverOutcome(False, "budget")

@@ -25,13 +25,19 @@ c − half > a by half an ulp of 1).  :func:`cell_balls` gives the cover with a 
 :func:`halve` cuts the undecided cells at their float midpoints: the two new cells [a, m], [m, b]
 share the double m ∈ [a, b], so their union is the old cell exactly and no direction is lost.
 
-Public API: :func:`cell_balls`, :func:`halve`.
+:func:`walk_cells` is the branch-and-bound loop of those walks, written once: balls for the
+cells, a caller's test on each ball, halving of the undecided cells, a work budget.
+
+Public API: :func:`cell_balls`, :func:`halve`, :func:`walk_cells` (with its records
+:class:`CellTest` and :class:`CoverOutcome`).
 """
 from __future__ import annotations
 
+from typing import Callable, NamedTuple
+
 import numpy as np
 
-__all__ = ["cell_balls", "halve"]
+__all__ = ["cell_balls", "halve", "walk_cells", "CellTest", "CoverOutcome"]
 
 
 def cell_balls(a, b):
@@ -55,3 +61,68 @@ def halve(a, b, undecided, *carry):
         x = x[undecided]
         out.append(np.concatenate([x, x]))
     return tuple(out)
+
+
+class CellTest(NamedTuple):
+    """A caller's verdict on the balls [c − half, c + half] of one round of cells (per cell):
+    ``fault`` where the statement is proved false at some direction of the cell (None: the
+    test never refutes), ``undecided`` where it is not proved on the whole cell."""
+
+    fault: np.ndarray | None
+    undecided: np.ndarray
+
+
+class CoverOutcome(NamedTuple):
+    """The end of :func:`walk_cells`: ``proved`` (every cell decided), else the ``exit``
+    ("fault", "undecided" or "budget") and, for the first two, the ``cell`` (a, b, *carry)
+    of the first cell that ended the walk."""
+
+    proved: bool
+    exit: str
+    cell: tuple | None = None
+
+
+def _first(a, b, carry, mask) -> tuple:
+    i = int(np.flatnonzero(mask)[0])
+    return (float(a[i]), float(b[i]), *(x[i] for x in carry))
+
+
+def walk_cells(a, b, test: Callable[..., CellTest], max_work: int, carry=(), smallest=None) -> CoverOutcome:
+    """Prove a statement on every float cell [a_i, b_i] (branch and bound, module docstring).
+
+    Each round: the cells are counted against ``max_work`` (the running total of cells tested;
+    over it: exit "budget"); :func:`cell_balls` gives c, half with [a, b] ⊆ [c − half, c + half];
+    ``test(c, half, *carry)`` returns a :class:`CellTest`; a cell with ``fault`` ends the walk
+    (exit "fault"); an undecided cell with half < ``smallest`` (when given) ends it too (exit
+    "undecided": halving no longer helps); the other undecided cells are halved by :func:`halve`
+    (``carry``: per-cell arrays, such as a rival site, that follow their cells).  The cells
+    never dropped by halving cover the initial ones exactly, so when none is left undecided
+    (``proved``), the statement holds on the union of the initial cells, provided ``test``
+    declares decided only cells whose whole ball satisfies it.
+
+    The walks of the verifier map onto it as follows (all four answer False on every exit
+    but "decided", as before the loop was shared): :func:`runtime.voronoi.verify.closure.
+    verify_accounting_conics`' site dominance (fault: a rival larger at a cell's centre; no
+    ``smallest``), :func:`runtime.voronoi.verify.support_balls.sole_maximum` (no fault;
+    ``smallest`` 10⁻¹⁵(1 + |g0|)), the asymptotic functions of :mod:`runtime.voronoi.verify.
+    far_accounting` (no fault; ``smallest`` 10⁻¹³) and the nesting of :mod:`runtime.voronoi.
+    verify.hull_nesting` (fault: the inner support value above the outer one at a centre; no
+    ``smallest``).
+    """
+    carry = tuple(carry)
+    work = 0
+    while len(a):
+        work += len(a)
+        if work > max_work:
+            return CoverOutcome(False, "budget")
+        c, half = cell_balls(a, b)
+        verdict = test(c, half, *carry)
+        if verdict.fault is not None and np.any(verdict.fault):
+            return CoverOutcome(False, "fault", _first(a, b, carry, verdict.fault))
+        bad = verdict.undecided
+        if smallest is not None:
+            stuck = bad & (half < smallest)
+            if np.any(stuck):
+                return CoverOutcome(False, "undecided", _first(a, b, carry, stuck))
+        a, b, *carry = halve(a, b, bad, *carry)
+    return CoverOutcome(True, "decided")

@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from ...certify.cell_cover import cell_balls, halve
+from ...certify.cell_cover import CellTest, walk_cells
 from .far_accounting import accounting_unbounded
 from .hull_nesting import gap_note, hulls_disjoint, sole_leader
 from .problems import fault
@@ -339,20 +339,13 @@ def _dominates_conic(sup, s, g0, g1, max_work) -> bool:
     e = np.linspace(g0, g1, nc + 1)
     a, b = np.tile(e[:-1], len(ks)), np.tile(e[1:], len(ks))
     K = np.repeat(ks, nc)
-    work = 0
-    while len(a):
-        work += len(a)
-        if work > max_work:
-            return False
-        c, half = cell_balls(a, b)
+
+    def test(c, half, K):
         hs = sup.h(s, c)
         hk = sup.h(K, c)                       # elementwise: h_{K[r]}(c[r]), the same floats
         d = hs - hk
         good = d - 2 * W * half - 2 * mu > 0
-        if np.any(d + 2 * mu < 0):
-            return False            # some other site is strictly larger at a direction of the gap
-        bad = ~good
-        if not bad.any():
-            return True
-        a, b, K = halve(a, b, bad, K)
-    return True
+        # fault: some other site is strictly larger at a direction of the gap
+        return CellTest(fault=d + 2 * mu < 0, undecided=~good)
+
+    return walk_cells(a, b, test, max_work, carry=(K,)).proved

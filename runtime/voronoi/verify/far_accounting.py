@@ -36,7 +36,7 @@ import math
 
 import numpy as np
 
-from ...certify.cell_cover import cell_balls, halve
+from ...certify.cell_cover import CellTest, walk_cells
 from .far_conics import UNBOUNDED, FarConic
 from .hull_nesting import gap_note, hulls_disjoint
 from .problems import fault
@@ -123,13 +123,8 @@ def _min_strict(fars, n, s, g0, g1, max_work, allowed=()):
         return True
     unb = [k for k in ks if fars.get(k) is not None]
     a = np.linspace(g0, g1, 17)
-    c0, c1 = a[:-1], a[1:]
-    work = 0
-    while len(c0):
-        work += len(c0)
-        if work > max_work:
-            return False
-        thc, half = cell_balls(c0, c1)
+
+    def test(thc, half):
         hi = c_range(fars, s, thc, half)[1]
         for k in allowed:
             if k != s:
@@ -137,11 +132,9 @@ def _min_strict(fars, n, s, g0, g1, max_work, allowed=()):
         lo = np.ones_like(thc) if len(unb) < len(ks) else np.full_like(thc, np.inf)
         for k in unb:
             lo = np.minimum(lo, c_range(fars, k, thc, half)[0])
-        bad = ~(hi < lo)
-        if np.any(bad & (half < 1e-13)):
-            return False
-        c0, c1 = halve(c0, c1, bad)
-    return True
+        return CellTest(fault=None, undecided=~(hi < lo))
+
+    return walk_cells(a[:-1], a[1:], test, max_work, smallest=1e-13).proved
 
 
 def lead_interval(fars, n, i, j, ths, tha, thb, max_work=20000):

@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from ...certify.cell_cover import cell_balls, halve
+from ...certify.cell_cover import CellTest, walk_cells
 
 __all__ = ["hulls_disjoint", "gap_note", "sole_leader"]
 
@@ -76,23 +76,19 @@ def hulls_disjoint(sup, problems, max_work, names=None) -> bool:
 
 def _below(sup, b, a, max_work) -> bool:
     """Is h_b(θ) < h_a(θ) for every θ, i.e. conv S_b inside the open convex region of S_a
-    (support functions of convex bodies)?  Cells halved until decided, as in
+    (support functions of convex bodies)?  Cells halved until decided
+    (:func:`runtime.certify.cell_cover.walk_cells`), as in
     :func:`runtime.voronoi.verify.closure.verify_accounting_conics`' walk."""
     c0 = np.linspace(0.0, 2 * math.pi, 65)[:-1]
     c1 = c0 + 2 * math.pi / 64
-    work = 0
-    while len(c0):
-        work += len(c0)
-        if work > max_work:
-            return False
-        thc, half = cell_balls(c0, c1)
+
+    def test(thc, half):
         diff = sup.h(a, thc) - sup.h(b, thc)
-        if np.any(diff < -4 * sup.mu):
-            return False
         gap = diff - 2 * sup.W * half - 4 * sup.mu
-        bad = ~(gap > 0)
-        c0, c1 = halve(c0, c1, bad)
-    return True
+        # fault: h_b above h_a at a centre (beyond the rounding margin)
+        return CellTest(fault=diff < -4 * sup.mu, undecided=~(gap > 0))
+
+    return walk_cells(c0, c1, test, max_work).proved
 
 
 def sole_leader(sup, max_work) -> int | None:

@@ -27,7 +27,7 @@ from fractions import Fraction
 import flint
 import numpy as np
 
-from ...certify.cell_cover import cell_balls, halve
+from ...certify.cell_cover import CellTest, walk_cells
 from ...predicates.symmetry import site_centre, site_coefficients
 
 __all__ = ["site_quadratic", "SupportBalls", "sole_maximum", "PRECISIONS"]
@@ -163,12 +163,8 @@ def sole_maximum(sup, s, g0, g1, max_work: int = 20000, rivals=None) -> bool:
     e = np.linspace(g0, g1, 9)
     a, b = np.tile(e[:-1], len(ks)), np.tile(e[1:], len(ks))
     K = np.repeat(ks, len(e) - 1)
-    work = 0
-    while len(a):
-        work += len(a)
-        if work > max_work:
-            return False
-        c, half = cell_balls(a, b)
+
+    def test(c, half, K):
         hs, ps = sup.h_and_slope(s, c)
         hk, pk = sup.h_and_slope(K, c)
         lo = np.maximum(hs - hk - 2 * sup.W * half,
@@ -180,8 +176,6 @@ def sole_maximum(sup, s, g0, g1, max_work: int = 20000, rivals=None) -> bool:
             near = near[:0]
         for r in near.tolist():
             ok[r] = balls.gap_lower(s, K[r], float(c[r]), float(half[r]))
-        bad = ~ok
-        if np.any(bad & (half < 1e-15 * (1 + abs(g0)))):
-            return False
-        a, b, K = halve(a, b, bad, K)
-    return True
+        return CellTest(fault=None, undecided=~ok)
+
+    return walk_cells(a, b, test, max_work, carry=(K,), smallest=1e-15 * (1 + abs(g0))).proved
