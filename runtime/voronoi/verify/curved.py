@@ -55,10 +55,16 @@ trapezoid: its corner reaches W·(sin²θ + cos θ) > W), :func:`chained_nodes` 
 distance W·sin θ along strip l + 1 with half-width W (a rectangle next to P, k = 0).  At the
 closing node of a closed chain (half-widths W_a ≤ W_b on its two sides) the strip of W_b is made
 flat there and the cross-section of the other is used: W_a·cos θ ≤ W_b.
+
+Length: one proof, the chain of strips of an edge, from its drawn polyline (corners, cut of the
+unbounded ends, nodes moved onto β) through its rounds of guides and strip widths to the links
+with its tails; each step is a function whose docstring states what it checks, and the chaining
+argument above is shared by all of them.
 """
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -82,6 +88,8 @@ EDGE_WORK = 80000       # pieces tested per edge, all attempts together, before 
 EDGE_WORK_MORE = 400000
 EXTRA_EDGES = 4
 LONG = 50000.0          # strips at least (edge length)/LONG wide (3x this), at most 0.03·d·|∇d_i − ∇d_j|
+#: the strip widths tried per guide: (factor of the nodes' half-widths, of r + 1 at an end vertex)
+WIDTHS = ((1.0, 1e-3), (0.3, 1e-5), (3.0, 1e-3))
 
 
 #: the message of an edge whose proof was stopped at the deadline
@@ -92,36 +100,152 @@ def prove_curved_edges(table, jobs, deadline=None):
     """:func:`prove_curved_edge` for every job (scale, pair, P, v0, v1, tol), side by side.
     Returns their results (ok, message, beyond) in order; (False, :data:`TIME_LIMIT`, []) for
     the edges still running at ``deadline`` (a :func:`time.perf_counter` value)."""
-    extra = [EXTRA_EDGES * (EDGE_WORK_MORE - EDGE_WORK)]
-    out = run_lockstep([prove_curved_edge(table, *job, extra=extra) for job in jobs], table,
+    pool = WorkPool(EXTRA_EDGES * (EDGE_WORK_MORE - EDGE_WORK))
+    out = run_lockstep([prove_curved_edge(table, *job, pool=pool) for job in jobs], table,
                        {StripsJob: prove_strips_many, ProjectJob: project_many, AdaptJob: adapt_many}, deadline=deadline)
     return [(False, TIME_LIMIT, []) if r is None else r for r in out]
 
 
-def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, extra=None):
+class WorkPool:
+    """The work shared by the edges of one :func:`prove_curved_edges` call beyond their own
+    :data:`EDGE_WORK`: ``left`` pieces, drawn by :meth:`EdgeWork.go_on`."""
+    __slots__ = ("left",)
+
+    def __init__(self, left: int):
+        self.left = left
+
+
+class EdgeWork:
+    """The pieces one edge may still test: :data:`EDGE_WORK`, decreased by the strips' proofs
+    (:class:`runtime.voronoi.verify.strips.StripsJob` decreases ``budget[0]``: this counter is
+    read and written at index 0), topped up once from a :class:`WorkPool` when spent."""
+    __slots__ = ("left", "pool", "topped")
+
+    def __init__(self, pool: WorkPool | None = None):
+        self.left = EDGE_WORK
+        self.pool = pool
+        self.topped = False
+
+    def __getitem__(self, k: int) -> int:
+        if k != 0:
+            raise IndexError(k)
+        return self.left
+
+    def __setitem__(self, k: int, value: int) -> None:
+        if k != 0:
+            raise IndexError(k)
+        self.left = value
+
+    def go_on(self) -> bool:
+        """After a failed attempt: may the edge go on?  Yes while its work is not overspent
+        (``left`` ≥ 0); once it is, after one top-up of at most EDGE_WORK_MORE − EDGE_WORK pieces
+        from the pool; no when the pool is empty or the edge was topped up already."""
+        if self.left >= 0:
+            return True
+        more = min(self.pool.left, EDGE_WORK_MORE - EDGE_WORK) if self.pool is not None and not self.topped else 0
+        if more <= 0:
+            return False
+        self.pool.left -= more
+        self.left += more
+        self.topped = True
+        return True
+
+
+class ChainEnds(NamedTuple):
+    """The ends of one edge's chain of strips.  ``v0``, ``v1``: its end vertices (None: an
+    unbounded end, cut at ``TAIL_CUT``·``rad``, listed in ``far_ends``: 0 the start, 1 the end);
+    ``k0``, ``k1``: the third sites of each vertex; ``h0``, ``h1``: 2·h + tol of each vertex
+    (0 at an unbounded end); ``tapers``: per vertex, (sin θ, w_v) of :func:`vertex_taper` or None;
+    ``guide``: per vertex, the narrowest strip half-width tried there (the guide must follow β
+    within it), None at an unbounded end."""
+    v0: object
+    v1: object
+    k0: tuple | None
+    k1: tuple | None
+    h0: float
+    h1: float
+    tapers: list
+    guide: tuple
+    far_ends: list
+    rad: float
+
+
+class RoundGuide(NamedTuple):
+    """The guide of one round of attempts: nodes ``S``, segment lengths ``L``, unit tangents ``T``
+    and normals ``N``, the sines of the turns at the inner nodes ``sinang`` (and at the closing
+    node ``sin_wrap``, 0 when open), the corners' chords (j, w_c) of :func:`cut_corners`, the
+    nodes' half-widths ``wnode`` (:func:`node_width`, narrowed), ``Lmin`` the shorter adjacent
+    segment of each node and ``cap`` the vertices' taper at each node."""
+    S: np.ndarray
+    L: np.ndarray
+    T: np.ndarray
+    N: np.ndarray
+    sinang: np.ndarray
+    sin_wrap: float
+    chords: list
+    wnode: np.ndarray
+    Lmin: np.ndarray
+    cap: np.ndarray
+
+
+def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, pool=None):
     """Prove an edge of convex sites along its polyline P (ends at the vertices v0, v1; either may
     be None = infinity, then up to a point at ``TAIL_CUT`` times the scene's radius; both None: a
     vertex-less edge, infinite both ways, or with ``closed`` a closed curve around a nested site,
     the chain of strips then closing up).  Returns (ok, message or None, beyond): ``beyond`` lists,
     per unbounded end, a dict with the cut ``point`` and the ``link`` rectangle for
-    :func:`runtime.voronoi.verify.tail.prove_tail`.  ``extra``: a one-element list, the shared
-    pool of work beyond :data:`EDGE_WORK` (module constants).  Generator (requests to ``table``)."""
-    i, j = pair
-    geoms = table.geoms
+    :func:`runtime.voronoi.verify.tail.prove_tail`.  ``pool``: the :class:`WorkPool` of work
+    beyond :data:`EDGE_WORK` shared by the edges of one call (module constants).  Generator
+    (requests to ``table``)."""
     S = np.array(P, float)
-    for h in pair:
-        if table.kind[h] == SiteKind.HYPERBOLA:
-            # a strip across the conjugate axis X = 0 always holds a piece whose disc reaches it,
-            # where the gradient enclosures stop (the nearer branch switches: a corner of β)
-            X0, _ = geoms[h].to_canonical(S)
-            if np.any(np.sign(X0[:-1]) != np.sign(X0[1:])) or np.any(X0 == 0):
-                return False, f"the edge crosses the conjugate axis of hyperbola {h} (a corner of the bisector)", None
+    msg = hyperbola_corner(table, pair, S)
+    if msg is not None:
+        return False, msg, None
     if closed:
         if v0 is not None or v1 is not None or len(S) < 4:
             return False, "a closed edge needs no end vertices and a polyline around its site", None
         if np.hypot(*(S[0] - S[-1])) <= 1e-12 * scale:
             S = S[:-1]
-    # corners where β crosses the medial axis of an ellipse of the pair (module docstring)
+    cuts, msg = yield from corner_cuts(table, pair, S, v0, v1, tol, closed, scale)
+    if msg is not None:
+        return False, msg, None
+    S, far_ends, rad, msg = cut_far_ends(table.geoms, S, v0, v1, closed)
+    if msg is not None:
+        return False, msg, None
+    if len(S) >= 2:
+        S = yield from guide_onto_bisector(S, pair, v0, v1, closed)
+    if closed:
+        if cuts:            # start the chain far from the corners (its first node is kept)
+            far = np.min([np.hypot(S[:, 0] - m[0], S[:, 1] - m[1]) for m, _, _ in cuts], axis=0)
+            S = np.roll(S, -int(np.argmax(far)), axis=0)
+        S = np.vstack([S, S[:1]])           # the chain returns to its first node
+    if v0 is not None:
+        S[0] = (v0.x, v0.y)
+    if v1 is not None:
+        S[-1] = (v1.x, v1.y)
+    ends = yield from chain_ends(pair, v0, v1, far_ends, rad, scale)
+    return (yield from prove_chain(S, pair, ends, cuts, tol, closed, scale, EdgeWork(pool)))
+
+
+def hyperbola_corner(table, pair, S):
+    """The message refusing an edge of a hyperbola whose polyline S crosses (or touches) the
+    conjugate axis X = 0, else None: a strip across it always holds a piece whose disc reaches
+    it, where the gradient enclosures stop (the nearer branch switches: a corner of β)."""
+    for h in pair:
+        if table.kind[h] == SiteKind.HYPERBOLA:
+            X0, _ = table.geoms[h].to_canonical(S)
+            if np.any(np.sign(X0[:-1]) != np.sign(X0[1:])) or np.any(X0 == 0):
+                return f"the edge crosses the conjugate axis of hyperbola {h} (a corner of the bisector)"
+    return None
+
+
+def corner_cuts(table, pair, S, v0, v1, tol, closed, scale):
+    """The corners of β on the medial axis of an ellipse of the pair (module docstring, "Corners
+    on an ellipse's medial axis"): (cuts, message).  A drawn polyline farther than its stated
+    tolerance from a proved corner x_c (dist − r > tol) is refused (it cuts the corner: the
+    message).  Each corner (x_c, r, ε) in ``cuts`` is cut by a chord at ε = 2·(node width at
+    x_c), at most a tenth of its distance to the end vertices and the other corners, kept where
+    ε > 100·r (the corner's enclosure radius).  Generator."""
     cuts = []
     if any(table.kind[h] == SiteKind.ELLIPSE for h in pair) and len(S) >= 2:
         drawn = np.vstack([S, S[:1]]) if closed else S
@@ -130,8 +254,8 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, extra=No
         for h, m, r in found or ():
             dist = float(distance_to_polyline(m, drawn).min())
             if math.isfinite(tol) and dist - r > tol * (1 + 1e-9) + 1e-12 * scale:
-                return False, (f"the polyline passes {dist:.3g} from the corner ({m[0]:.9g}, {m[1]:.9g}) of the "
-                               f"bisector on the medial axis of site {h} (stated tolerance {tol:.3g})"), None
+                return cuts, (f"the polyline passes {dist:.3g} from the corner ({m[0]:.9g}, {m[1]:.9g}) of the "
+                              f"bisector on the medial axis of site {h} (stated tolerance {tol:.3g})")
         if found:
             wc = yield from node_width(np.array([m for _, m, _ in found]), pair, tol, scale)
             ends = [np.array((v.x, v.y)) for v in (v0, v1) if v is not None]
@@ -142,189 +266,249 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, extra=No
                 eps = min([eps] + [0.1 * o for o in others])
                 if eps > 100 * r:
                     cuts.append((m, r, eps))
-    far_ends = [t for t, v in enumerate((v0, v1)) if v is None and not closed]      # 0: start, 1: end
+    return cuts, None
+
+
+def cut_far_ends(geoms, S, v0, v1, closed):
+    """Cut the guide S of an unbounded edge at ``TAIL_CUT`` times the scene's radius ``rad`` (half
+    the diagonal of the bounded sites' bounding box, plus 1): the chain proves it up to there,
+    the tail (:func:`runtime.voronoi.verify.tail.prove_tail`) beyond.  A vertex-less edge is cut
+    both ways from its first node inside that disc.  Returns (S, far_ends, rad, message or None),
+    ``far_ends`` the unbounded ends (0: start, 1: end)."""
+    far_ends = [t for t, v in enumerate((v0, v1)) if v is None and not closed]
     rad = 0.0
-    if far_ends:
-        # an unbounded end is proved up to a point at TAIL_CUT times the scene's radius only
-        fb = [g.bounding_box() for g in geoms if g.bounded]
-        if not fb:     # only unbounded sites: their tails are not proved (support functions need bounded ones)
-            return False, "an unbounded end next to unbounded sites only is not proved", None
-        bx = np.array(fb, float)
-        cen = 0.5 * (bx[:, :2].min(0) + bx[:, 2:].max(0))
-        rad = 0.5 * float(np.hypot(*(bx[:, 2:].max(0) - bx[:, :2].min(0)))) + 1.0
-        Rc = TAIL_CUT * rad
-        if len(far_ends) == 1:
-            S = cut_outside(S, cen, Rc) if v1 is None else cut_outside(S[::-1], cen, Rc)[::-1]
+    if not far_ends:
+        return S, far_ends, rad, None
+    fb = [g.bounding_box() for g in geoms if g.bounded]
+    if not fb:     # only unbounded sites: their tails are not proved (support functions need bounded ones)
+        return S, far_ends, rad, "an unbounded end next to unbounded sites only is not proved"
+    bx = np.array(fb, float)
+    cen = 0.5 * (bx[:, :2].min(0) + bx[:, 2:].max(0))
+    rad = 0.5 * float(np.hypot(*(bx[:, 2:].max(0) - bx[:, :2].min(0)))) + 1.0
+    Rc = TAIL_CUT * rad
+    if len(far_ends) == 1:
+        S = cut_outside(S, cen, Rc) if v1 is None else cut_outside(S[::-1], cen, Rc)[::-1]
+    else:
+        # no vertex: from the first node inside the disc, cut both ways
+        inside = np.nonzero(np.hypot(S[:, 0] - cen[0], S[:, 1] - cen[1]) <= Rc)[0]
+        if not len(inside):
+            return S, far_ends, rad, "the polyline does not come near the sites"
+        a_ = int(inside[0])
+        S = np.vstack([cut_outside(S[:a_ + 1][::-1], cen, Rc)[::-1][:-1], cut_outside(S[a_:], cen, Rc)])
+    return S, far_ends, rad, None
+
+
+def guide_onto_bisector(S, pair, v0, v1, closed):
+    """The nodes of the guide S (at least two) moved onto β (float Newton steps along the
+    neighbours' chord; also the cut of an unbounded end; only a guide: the strips decide).  An
+    inner node that does not project is dropped (the midpoint of the chord that replaces it is
+    projected by :func:`adapt`), and so are inner nodes where the guide turns back by more than
+    60° (off-bisector or misplaced points).  Generator."""
+    lo_k = 1 if v0 is not None else 0
+    hi_k = len(S) - 1 if v1 is not None else len(S)
+    ks = np.arange(lo_k, hi_k)
+    if len(ks):
+        if closed:          # the neighbours of a closed guide are cyclic
+            dirs = S[(ks + 1) % len(S)] - S[(ks - 1) % len(S)]
         else:
-            # no vertex: from the first node inside the disc, cut both ways
-            inside = np.nonzero(np.hypot(S[:, 0] - cen[0], S[:, 1] - cen[1]) <= Rc)[0]
-            if not len(inside):
-                return False, "the polyline does not come near the sites", None
-            a_ = int(inside[0])
-            S = np.vstack([cut_outside(S[:a_ + 1][::-1], cen, Rc)[::-1][:-1], cut_outside(S[a_:], cen, Rc)])
-    if len(S) >= 2:
-        # the nodes are only a guide: move them onto β (also the cut of an unbounded end)
-        lo_k = 1 if v0 is not None else 0
-        hi_k = len(S) - 1 if v1 is not None else len(S)
-        ks = np.arange(lo_k, hi_k)
-        if len(ks):
-            if closed:          # the neighbours of a closed guide are cyclic
-                dirs = S[(ks + 1) % len(S)] - S[(ks - 1) % len(S)]
-            else:
-                dirs = S[np.minimum(ks + 1, len(S) - 1)] - S[np.maximum(ks - 1, 0)]
-            Xn, dev = yield from project(S[ks], dirs, pair)
-            okn = np.isfinite(dev) & np.isfinite(Xn).all(1)
-            S[ks[okn]] = Xn[okn]
-            # an inner node that does not project onto β is dropped (a misplaced point: the
-            # midpoint of the chord that replaces it is projected by adapt)
-            drop = ks[~okn]
-            if not closed:
-                drop = drop[(drop > 0) & (drop < len(S) - 1)]
-            if len(drop) and len(S) - len(drop) >= (4 if closed else 2):
-                S = np.delete(S, drop, axis=0)
-        for _ in range(len(S)):
-            # drop inner nodes where the guide turns back (off-bisector or misplaced points)
-            if len(S) < 3:
-                break
-            sg = S[1:] - S[:-1]
-            Tg = sg / np.maximum(np.hypot(sg[:, 0], sg[:, 1]), 1e-300)[:, None]
-            cg = (Tg[:-1] * Tg[1:]).sum(1)
-            if not cg.min() < 0.5:
-                break
-            S = np.delete(S, int(np.argmin(cg)) + 1, axis=0)
-    if closed:
-        if cuts:            # start the chain far from the corners (its first node is kept)
-            far = np.min([np.hypot(S[:, 0] - m[0], S[:, 1] - m[1]) for m, _, _ in cuts], axis=0)
-            S = np.roll(S, -int(np.argmax(far)), axis=0)
-        S = np.vstack([S, S[:1]])           # the chain returns to its first node
-    if v0 is not None:
-        S[0] = (v0.x, v0.y)
-    if v1 is not None:
-        S[-1] = (v1.x, v1.y)
+            dirs = S[np.minimum(ks + 1, len(S) - 1)] - S[np.maximum(ks - 1, 0)]
+        Xn, dev = yield from project(S[ks], dirs, pair)
+        okn = np.isfinite(dev) & np.isfinite(Xn).all(1)
+        S[ks[okn]] = Xn[okn]
+        drop = ks[~okn]
+        if not closed:
+            drop = drop[(drop > 0) & (drop < len(S) - 1)]
+        if len(drop) and len(S) - len(drop) >= (4 if closed else 2):
+            S = np.delete(S, drop, axis=0)
+    for _ in range(len(S)):
+        if len(S) < 3:
+            break
+        sg = S[1:] - S[:-1]
+        Tg = sg / np.maximum(np.hypot(sg[:, 0], sg[:, 1]), 1e-300)[:, None]
+        cg = (Tg[:-1] * Tg[1:]).sum(1)
+        if not cg.min() < 0.5:
+            break
+        S = np.delete(S, int(np.argmin(cg)) + 1, axis=0)
+    return S
+
+
+def chain_ends(pair, v0, v1, far_ends, rad, scale):
+    """The :class:`ChainEnds` of an edge: at a vertex v, its third sites, h = 2·v.h + v.tol, the
+    taper of the half-widths (at most w_v + s·sin θ / 2 at arc length s from v, θ the angle there
+    between β and the bisector of a third site: :func:`vertex_taper`), and the narrowest strip
+    half-width tried there, max(min(1e-5·(r + 1), w_v), 8·h) (the guide must follow β within
+    it).  Generator."""
     k0 = tuple(s for s in v0.sites if s not in pair) if v0 is not None else None
     k1 = tuple(s for s in v1.sites if s not in pair) if v1 is not None else None
     h0 = (v0.h * 2 + v0.tol) if v0 is not None else 0.0
     h1 = (v1.h * 2 + v1.tol) if v1 is not None else 0.0
-    S_guide = S
-    # half-widths at most w_v + s·sin θ / 2 at arc length s from a vertex (θ: the angle there
-    # between β and the bisector of a third site; :func:`vertex_taper`)
     tapers = []
     for v, ks_ in ((v0, k0), (v1, k1)):
         tapers.append(None if v is None or not ks_ else (yield from vertex_taper(v, pair, ks_)))
-    # the guide must follow β within the narrowest strips tried at the vertices (below)
-    guide_ends = tuple(None if v is None else max(min(1e-5 * (v.r + 1.0), tp[1] if tp else math.inf),
-                                                  8 * h + 1e-12 * scale)
-                       for v, h, tp in ((v0, h0, tapers[0]), (v1, h1, tapers[1])))
-    budget = [EDGE_WORK]
-    topped = False
-    # strip half-widths ~ 3·wtol: the stated tolerance, or more on a long edge (bounded piece count)
+    guide = tuple(None if v is None else max(min(1e-5 * (v.r + 1.0), tp[1] if tp else math.inf),
+                                             8 * h + 1e-12 * scale)
+                  for v, h, tp in ((v0, h0, tapers[0]), (v1, h1, tapers[1])))
+    return ChainEnds(v0, v1, k0, k1, h0, h1, tapers, guide, far_ends, rad)
+
+
+def prove_chain(S_guide, pair, ends, cuts, tol, closed, scale, work):
+    """Chains of strips along the guide S_guide, tried with strips narrowed by the factors 1,
+    0.2, 0.05 while a third site stays undecided (the strips, and the pieces' discs, too wide);
+    the strip half-widths ~ 3·wtol, wtol the stated tolerance or more on a long edge
+    ((length)/:data:`LONG`, a bounded piece count).  Returns (ok, message, beyond).  Generator."""
+    S = S_guide
     wtol = max(tol, float(np.hypot(*(S[1:] - S[:-1]).T).sum()) / LONG) if len(S) >= 2 else tol
     for narrow in (1.0, 0.2, 0.05):
-        S = S_guide.copy()
-        last_msg = None
-        attempts = 0
-        for round_ in range(3):
-            if round_:      # the polyline is only a guide: halve its segments, nodes moved onto β
-                S = yield from refine(S, pair)
-            # split where the arc strays from the chord by more than a fraction of the strip width
-            S = yield from adapt(S, pair, 0.1 * narrow, wtol, scale, ends=guide_ends)
-            seg = S[1:] - S[:-1]
-            L = np.hypot(seg[:, 0], seg[:, 1])
-            if np.any(L <= 1e-12 * scale):
-                keep = np.concatenate([[True], L > 1e-12 * scale])
-                S = S[keep]
-                seg = S[1:] - S[:-1]
-                L = np.hypot(seg[:, 0], seg[:, 1])
-            if len(S) < 2:
-                return False, "degenerate polyline", None
-            chords = []
-            if cuts:
-                S, chords = yield from cut_corners(S, cuts, pair)
-                seg = S[1:] - S[:-1]
-                L = np.hypot(seg[:, 0], seg[:, 1])
-                if np.any(L <= 1e-12 * scale):
-                    return False, "degenerate polyline at a corner", None
-            T = seg / L[:, None]
-            N = rot90(T)
-            # turning angles between consecutive segments (and from the last to the first, closed)
-            cosang = np.clip((T[:-1] * T[1:]).sum(1), -1, 1)
-            cos_wrap = float(np.clip((T[-1] * T[0]).sum(), -1, 1)) if closed else 1.0
-            if np.any(cosang < math.cos(math.radians(60))) or cos_wrap < math.cos(math.radians(60)):
-                last_msg = "polyline turns by more than 60 degrees"
-                continue
-            sinang = np.sqrt(1 - cosang ** 2)
-            sin_wrap = math.sqrt(1 - cos_wrap ** 2)
-            wnode = narrow * (yield from node_width(S, pair, wtol, scale))
-            # node half-widths: about 3x the stated tolerance, at most a quarter of the adjacent segments
-            Lmin = np.minimum(np.concatenate([[L[-1] if closed else L[0]], L]),
-                              np.concatenate([L, [L[0] if closed else L[-1]]]))
-            arc = np.concatenate([[0.0], np.cumsum(L)])
-            cap = np.full(len(S), np.inf)
-            for tp, sv in ((tapers[0], arc), (tapers[1], arc[-1] - arc)):
-                if tp is not None:
-                    cap = np.minimum(cap, tp[1] + 0.5 * tp[0] * sv)
-            for wfac, endfac in ((1.0, 1e-3), (0.3, 1e-5), (3.0, 1e-3)):
-                W = np.minimum(np.minimum(0.25 * Lmin, wnode * wfac), cap)
-                W = np.maximum(W, 1e-12 * scale)
-                for jc, w_c in chords:
-                    # the chord across a corner (module docstring): wide enough for the corner,
-                    # kept only where the strips still chain (w_c·sin θ at most the adjacent lengths)
-                    sins = [sinang[t_] for t_ in (jc - 1, jc) if 0 <= t_ < len(sinang)]
-                    lens = [L[t_] for t_ in (jc - 1, jc, jc + 1) if 0 <= t_ < len(L)]
-                    if w_c * max(sins + [0.0]) <= min(lens):
-                        W[jc] = W[jc + 1] = w_c
-                # narrow at the vertices: the transversality test (T3) needs the gradient enclosures
-                # (slack ~ 2R/d) well below the angle between the bisectors
-                if v0 is not None:
-                    W[0] = max(min(W[0], 0.05 * L[0], endfac * (v0.r + 1.0)), 8 * h0 + 1e-12 * scale)
-                if v1 is not None:
-                    W[-1] = max(min(W[-1], 0.05 * L[-1], endfac * (v1.r + 1.0)), 8 * h1 + 1e-12 * scale)
-                # flat runs at the turns, so that consecutive strips hold each other's node
-                # cross-sections (module docstring, "Chaining at the nodes")
-                S2, W2 = chained_nodes(S, W, closed, scale)
-                seg2 = S2[1:] - S2[:-1]
-                L2 = np.hypot(seg2[:, 0], seg2[:, 1])
-                T2 = seg2 / L2[:, None]
-                N2 = rot90(T2)
-                sin2 = np.sqrt(1 - np.clip((T2[:-1] * T2[1:]).sum(1), -1, 1) ** 2)
-                wn = np.maximum(W2[:-1], W2[1:])
-                e_lo = np.concatenate([[0.0], wn[:-1] * sin2]) + 1e-12 * scale
-                e_hi = np.concatenate([wn[1:] * sin2, [0.0]]) + 1e-12 * scale
-                e_lo[0] += 2 * h0
-                e_hi[-1] += 2 * h1
-                if closed:          # the cap between the last and the first rectangle
-                    e_lo[0] += max(W2[0], W2[-1]) * sin_wrap
-                    e_hi[-1] += max(W2[0], W2[-1]) * sin_wrap
-                ok, msg = yield from prove_strips(S2, T2, N2, L2, e_lo, e_hi, W2, pair, k0, k1, budget)
-                if ok:
-                    # the chain's rectangle at each unbounded end, for the link with its tail
-                    beyond = []
-                    for t in far_ends:
-                        l = 0 if t == 0 else len(L) - 1
-                        sx = min(0.5 * L[l], 0.25 * rad)
-                        beyond.append({"point": tuple(S[0] if t == 0 else S[-1]), "rad": rad,
-                                       "link": (S[l].copy(), T[l].copy(), N[l].copy(), float(L[l]),
-                                                float(min(W[l], W[l + 1])), sx if t == 0 else float(L[l]) - sx)})
-                    return True, None, beyond
-                last_msg = msg
-                attempts += 1
-                if budget[0] < 0:
-                    more = min(extra[0], EDGE_WORK_MORE - EDGE_WORK) if extra is not None and not topped else 0
-                    if more <= 0:
-                        return False, msg + " (work limit of the edge reached)", None
-                    extra[0] -= more
-                    budget[0] += more
-                    topped = True
-                if attempts >= 4:
-                    break
-                if "bisector leaves" in msg or "monotonicity" in msg:
-                    break       # refine the guide rather than try other widths
-            if attempts >= 4:
-                break
-        # a third site undecided: the strips (and the pieces' discs) are too wide; narrow them
+        done, last_msg = yield from narrowed_chain(S_guide.copy(), pair, ends, cuts, narrow, wtol, closed, scale,
+                                                   work)
+        if done is not None:
+            return done
         if last_msg is None or "a third site" not in last_msg:
             break
     return False, last_msg, None
+
+
+def narrowed_chain(S, pair, ends, cuts, narrow, wtol, closed, scale, work):
+    """Up to three rounds of guides (the second and third refined: segments halved, nodes moved
+    onto β) and per round the strip widths of :data:`WIDTHS`, at most four proofs of strips in
+    all; a round stops at a strip the bisector leaves or where f is not monotone (the guide is
+    refined rather than other widths tried).  Returns (result or None, last message): the result
+    (ok, message, beyond) ends the edge (proved, degenerate, or its work spent).  Generator."""
+    last_msg = None
+    attempts = 0
+    for round_ in range(3):
+        if round_:
+            S = yield from refine(S, pair)
+        S, g, msg = yield from round_guide(S, pair, ends, cuts, narrow, wtol, closed, scale)
+        if msg is not None:
+            return (False, msg, None), last_msg
+        if g is None:
+            last_msg = "polyline turns by more than 60 degrees"
+            continue
+        for wfac, endfac in WIDTHS:
+            W = strip_widths(g, ends, wfac, endfac, scale)
+            # flat runs at the turns, so that consecutive strips hold each other's node
+            # cross-sections (module docstring, "Chaining at the nodes")
+            S2, W2 = chained_nodes(g.S, W, closed, scale)
+            T2, N2, L2, e_lo, e_hi = strip_extensions(S2, W2, ends, closed, g.sin_wrap, scale)
+            ok, msg = yield from prove_strips(S2, T2, N2, L2, e_lo, e_hi, W2, pair, ends.k0, ends.k1, work)
+            if ok:
+                return (True, None, tail_links(g, W, ends)), None
+            last_msg = msg
+            attempts += 1
+            if not work.go_on():
+                return (False, msg + " (work limit of the edge reached)", None), last_msg
+            if attempts >= 4:
+                break
+            if "bisector leaves" in msg or "monotonicity" in msg:
+                break       # refine the guide rather than try other widths
+        if attempts >= 4:
+            break
+    return None, last_msg
+
+
+
+def round_guide(S, pair, ends, cuts, narrow, wtol, closed, scale):
+    """The guide of one round: S split where the arc strays from the chord by more than
+    0.1·narrow of the strip width (:func:`adapt`), segments shorter than 1e-12·scale dropped,
+    the corners cut by their chords (:func:`cut_corners`).  Returns (S, guide, message): the
+    message ends the edge (a degenerate polyline); guide None where the polyline turns by more
+    than 60° (cos < 1/2, also from the last segment to the first when closed).  Generator."""
+    S = yield from adapt(S, pair, 0.1 * narrow, wtol, scale, ends=ends.guide)
+    seg = S[1:] - S[:-1]
+    L = np.hypot(seg[:, 0], seg[:, 1])
+    if np.any(L <= 1e-12 * scale):
+        keep = np.concatenate([[True], L > 1e-12 * scale])
+        S = S[keep]
+        seg = S[1:] - S[:-1]
+        L = np.hypot(seg[:, 0], seg[:, 1])
+    if len(S) < 2:
+        return S, None, "degenerate polyline"
+    chords = []
+    if cuts:
+        S, chords = yield from cut_corners(S, cuts, pair)
+        seg = S[1:] - S[:-1]
+        L = np.hypot(seg[:, 0], seg[:, 1])
+        if np.any(L <= 1e-12 * scale):
+            return S, None, "degenerate polyline at a corner"
+    T = seg / L[:, None]
+    N = rot90(T)
+    cosang = np.clip((T[:-1] * T[1:]).sum(1), -1, 1)
+    cos_wrap = float(np.clip((T[-1] * T[0]).sum(), -1, 1)) if closed else 1.0
+    if np.any(cosang < math.cos(math.radians(60))) or cos_wrap < math.cos(math.radians(60)):
+        return S, None, None
+    sinang = np.sqrt(1 - cosang ** 2)
+    sin_wrap = math.sqrt(1 - cos_wrap ** 2)
+    wnode = narrow * (yield from node_width(S, pair, wtol, scale))
+    Lmin = np.minimum(np.concatenate([[L[-1] if closed else L[0]], L]),
+                      np.concatenate([L, [L[0] if closed else L[-1]]]))
+    arc = np.concatenate([[0.0], np.cumsum(L)])
+    cap = np.full(len(S), np.inf)
+    for tp, sv in ((ends.tapers[0], arc), (ends.tapers[1], arc[-1] - arc)):
+        if tp is not None:
+            cap = np.minimum(cap, tp[1] + 0.5 * tp[0] * sv)
+    return S, RoundGuide(S, L, T, N, sinang, sin_wrap, chords, wnode, Lmin, cap), None
+
+
+def strip_widths(g, ends, wfac, endfac, scale):
+    """The node half-widths W of one attempt: about 3x the stated tolerance (``wfac``·wnode), at
+    most a quarter of the adjacent segments and the vertices' taper, at least 1e-12·scale; a
+    corner's chord gets its w_c at both nodes where w_c·sin θ is at most the adjacent lengths
+    (the strips still chain: module docstring); at an end vertex at most 0.05·L and
+    ``endfac``·(r + 1), at least 8·h (the transversality test (T3) needs the gradient enclosures,
+    slack ~ 2R/d, well below the angle between the bisectors)."""
+    L, sinang = g.L, g.sinang
+    W = np.minimum(np.minimum(0.25 * g.Lmin, g.wnode * wfac), g.cap)
+    W = np.maximum(W, 1e-12 * scale)
+    for jc, w_c in g.chords:
+        sins = [sinang[t_] for t_ in (jc - 1, jc) if 0 <= t_ < len(sinang)]
+        lens = [L[t_] for t_ in (jc - 1, jc, jc + 1) if 0 <= t_ < len(L)]
+        if w_c * max(sins + [0.0]) <= min(lens):
+            W[jc] = W[jc + 1] = w_c
+    v0, v1 = ends.v0, ends.v1
+    if v0 is not None:
+        W[0] = max(min(W[0], 0.05 * L[0], endfac * (v0.r + 1.0)), 8 * ends.h0 + 1e-12 * scale)
+    if v1 is not None:
+        W[-1] = max(min(W[-1], 0.05 * L[-1], endfac * (v1.r + 1.0)), 8 * ends.h1 + 1e-12 * scale)
+    return W
+
+
+def strip_extensions(S2, W2, ends, closed, sin_wrap, scale):
+    """The strips of the chained guide (S2, W2): unit tangents, normals, lengths, and the
+    extensions beyond each end, e ≥ W·sin θ at a turn θ (W the larger node half-width; module
+    docstring, "Chaining at the nodes"), plus 2·h at an end vertex (its enclosure) and
+    max(W)·sin θ at the closing node of a closed chain; 1e-12·scale for rounding.  Returns
+    (T2, N2, L2, e_lo, e_hi)."""
+    seg2 = S2[1:] - S2[:-1]
+    L2 = np.hypot(seg2[:, 0], seg2[:, 1])
+    T2 = seg2 / L2[:, None]
+    N2 = rot90(T2)
+    sin2 = np.sqrt(1 - np.clip((T2[:-1] * T2[1:]).sum(1), -1, 1) ** 2)
+    wn = np.maximum(W2[:-1], W2[1:])
+    e_lo = np.concatenate([[0.0], wn[:-1] * sin2]) + 1e-12 * scale
+    e_hi = np.concatenate([wn[1:] * sin2, [0.0]]) + 1e-12 * scale
+    e_lo[0] += 2 * ends.h0
+    e_hi[-1] += 2 * ends.h1
+    if closed:          # the cap between the last and the first rectangle
+        e_lo[0] += max(W2[0], W2[-1]) * sin_wrap
+        e_hi[-1] += max(W2[0], W2[-1]) * sin_wrap
+    return T2, N2, L2, e_lo, e_hi
+
+
+def tail_links(g, W, ends):
+    """The chain's rectangle at each unbounded end, for the link with its tail
+    (:func:`runtime.voronoi.verify.tail.prove_tail`): the end ``point``, the scene's ``rad`` and
+    the ``link`` (origin, tangent, normal, length, half-width min(W) of the end segment, and the
+    abscissa min(L/2, rad/4) from the far end)."""
+    S, L, T, N = g.S, g.L, g.T, g.N
+    beyond = []
+    for t in ends.far_ends:
+        l = 0 if t == 0 else len(L) - 1
+        sx = min(0.5 * L[l], 0.25 * ends.rad)
+        beyond.append({"point": tuple(S[0] if t == 0 else S[-1]), "rad": ends.rad,
+                       "link": (S[l].copy(), T[l].copy(), N[l].copy(), float(L[l]),
+                                float(min(W[l], W[l + 1])), sx if t == 0 else float(L[l]) - sx)})
+    return beyond
 
 
 def chained_nodes(S, W, closed: bool, scale: float):
