@@ -59,6 +59,8 @@ Public API: :func:`clarke_normal_range`, :func:`difference_range`, :func:`off_ri
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ...sites.kinds import SiteKind
@@ -72,23 +74,38 @@ TOL = 1e-3          # target slack (A/B)·h of a kept interval's normal
 MAX_KEPT = 4096     # kept intervals per row at most (else the row is not enclosed)
 
 
-def clarke_normal_range(table, Q, K, lo, hi, R, n, inner):
-    """(gmin, gmax, ok): gmin ≤ g·n ≤ gmax for every g in the Clarke gradient ∂d(q, S_K) at every q
-    in B(Q, R), where ok (circle and ellipse sites K, Q proved ``inner``, lo > 2R; module
-    docstring).  ``table``: a :class:`runtime.voronoi.verify.site_table.SiteTable`; lo, hi:
-    rigorous bounds of d(Q, S_K)."""
-    Q = np.asarray(Q, float).reshape(-1, 2)
-    K = np.asarray(K, int).reshape(-1)
-    m = len(K)
-    R = np.broadcast_to(np.asarray(R, float), (m,))
-    n = np.asarray(n, float).reshape(-1, 2)
-    gmin, gmax = np.full(m, -np.inf), np.full(m, np.inf)
-    ok = np.zeros(m, bool)
+class _Curves(NamedTuple):
+    """The rows of :func:`clarke_normal_range` that can be enclosed (``rows``, into the input) and
+    their curves p(θ) = (cx, cy) + Rot(c, s)·(a cos θ, b sin θ) (module docstring), with
+    A = ``amax``, the bound ``turn`` ≥ A/B of |n'(θ)|, the evaluation slack ``delta`` = δ, the
+    radius ``reach`` = hi + 2R of the nearest points, the discs' centres ``Q`` and radii ``R``, and
+    the directions ``n`` of the input (indexed by ``rows``)."""
+
+    rows: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
+    c: np.ndarray
+    s: np.ndarray
+    cx: np.ndarray
+    cy: np.ndarray
+    amax: np.ndarray
+    turn: np.ndarray
+    delta: np.ndarray
+    reach: np.ndarray
+    R: np.ndarray
+    Q: np.ndarray
+    n: np.ndarray
+
+
+def _enclosable_curves(table, Q, K, lo, hi, R, n, inner):
+    """The rows the enclosure applies to: circle and ellipse sites, Q proved ``inner``, lo > 2R
+    (so that every q of B(Q, R) is at distance > R from the curve), finite data; and their
+    curves (:class:`_Curves`).  None when there is no such row."""
     kind = table.kind[K]
     rows = np.nonzero(((kind == SiteKind.CIRCLE) | (kind == SiteKind.ELLIPSE)) & np.asarray(inner, bool)
                       & (lo > 2 * R) & np.isfinite(hi) & np.isfinite(Q).all(1) & np.isfinite(n).all(1))[0]
     if not len(rows):
-        return gmin, gmax, ok
+        return None
     k = K[rows]
     circ = table.kind[k] == SiteKind.CIRCLE
     a = np.where(circ, table.rho[k], table.a[k])
@@ -102,43 +119,61 @@ def clarke_normal_range(table, Q, K, lo, hi, R, n, inner):
     delta = 1024.0 * rounding_slack(size, 32)
     R_r = R[rows]
     reach = hi[rows] + 2 * R_r
-    Qr = Q[rows]
-    # intervals: owner (index into rows), middle θ, half-length h
-    own = np.repeat(np.arange(len(rows)), START)
+    return _Curves(rows, a, b, c, s, cx, cy, amax, turn, delta, reach, R_r, Q[rows], n)
+
+
+def _may_hold_nearest_point(cv, own, mid, half):
+    """(keep, nx, ny): the float inward normals ñ at the middles θ_m of the parameter intervals
+    (owner ``own``, half-length h = ``half``), and ``keep`` unless the interval provably holds no
+    nearest point of the disc: |p̃ − Q| − A·h − δ > hi + 2R (too far from Q), or
+    |f̃| − h·(A + (|Q − p̃| + A·h)·A/B) − δ > R (its normal lines miss the disc; f = (Q − p) × n,
+    module docstring)."""
+    a, b, c, s = cv.a[own], cv.b[own], cv.c[own], cv.s[own]
+    ct, st = np.cos(mid), np.sin(mid)
+    X, Y = a * ct, b * st
+    px = cv.cx[own] + c * X - s * Y
+    py = cv.cy[own] + s * X + c * Y
+    NX, NY = -b * ct, -a * st                  # inward normal, canonical frame
+    ln = np.hypot(NX, NY)
+    nx = (c * NX - s * NY) / ln
+    ny = (s * NX + c * NY) / ln
+    wx, wy = cv.Q[own, 0] - px, cv.Q[own, 1] - py
+    dist = np.hypot(wx, wy)
+    move = cv.amax[own] * half * (1 + 1e-12)
+    cross = np.abs(wx * ny - wy * nx)
+    fmove = half * (cv.amax[own] + (dist + move) * cv.turn[own]) * (1 + 1e-12)
+    keep = ((dist - move - cv.delta[own] <= cv.reach[own] * (1 + 1e-12))
+            & (cross - fmove - cv.delta[own] <= cv.R[own] * (1 + 1e-12)))
+    return keep, nx, ny
+
+
+def _normal_generators(cv):
+    """The generators B(ñ_m, s_m), s_m = (A/B)·h_m + 1e-12, of the kept intervals, as ranges
+    [ñ_m·n − s_m, ñ_m·n + s_m] of g·n (owner, lo, hi concatenated), and ``alive``: the rows whose
+    kept intervals stayed within ``MAX_KEPT``.  Intervals start at ``START`` per curve and are
+    halved while s_m > ``TOL``, at most ``LEVELS`` times (module docstring)."""
+    nrow = len(cv.rows)
+    own = np.repeat(np.arange(nrow), START)
     h0 = np.pi / START
-    mid = (np.tile(np.arange(START), len(rows)) * 2 + 1) * h0
+    mid = (np.tile(np.arange(START), nrow) * 2 + 1) * h0
     half = np.full(len(own), h0)
     gens_own, gens_lo, gens_hi = [], [], []
-    alive = np.ones(len(rows), bool)
+    alive = np.ones(nrow, bool)
     for level in range(LEVELS + 1):
         if not len(own):
             break
-        ct, st = np.cos(mid), np.sin(mid)
-        X, Y = a[own] * ct, b[own] * st
-        px = cx[own] + c[own] * X - s[own] * Y
-        py = cy[own] + s[own] * X + c[own] * Y
-        NX, NY = -b[own] * ct, -a[own] * st                  # inward normal, canonical frame
-        ln = np.hypot(NX, NY)
-        nx = (c[own] * NX - s[own] * NY) / ln
-        ny = (s[own] * NX + c[own] * NY) / ln
-        wx, wy = Qr[own, 0] - px, Qr[own, 1] - py
-        dist = np.hypot(wx, wy)
-        move = amax[own] * half * (1 + 1e-12)
-        cross = np.abs(wx * ny - wy * nx)
-        fmove = half * (amax[own] + (dist + move) * turn[own]) * (1 + 1e-12)
-        keep = ((dist - move - delta[own] <= reach[own] * (1 + 1e-12))
-                & (cross - fmove - delta[own] <= R_r[own] * (1 + 1e-12)))
+        keep, nx, ny = _may_hold_nearest_point(cv, own, mid, half)
         own, mid, half, nx, ny = own[keep], mid[keep], half[keep], nx[keep], ny[keep]
-        sl = (turn[own] * half + 1e-12) * (1 + 1e-12)
+        sl = (cv.turn[own] * half + 1e-12) * (1 + 1e-12)
         fine = (sl <= TOL) | (level == LEVELS)
         if fine.any():
             o = own[fine]
-            un = nx[fine] * n[rows[o], 0] + ny[fine] * n[rows[o], 1]
+            un = nx[fine] * cv.n[cv.rows[o], 0] + ny[fine] * cv.n[cv.rows[o], 1]
             gens_own.append(o)
             gens_lo.append(un - sl[fine])
             gens_hi.append(un + sl[fine])
         own, mid, half = own[~fine], mid[~fine], half[~fine]
-        cnt = np.bincount(own, minlength=len(rows))
+        cnt = np.bincount(own, minlength=nrow)
         alive &= cnt <= MAX_KEPT
         sel = alive[own]
         own, mid, half = own[sel], mid[sel], half[sel]
@@ -146,20 +181,51 @@ def clarke_normal_range(table, Q, K, lo, hi, R, n, inner):
         own = np.concatenate([own, own])
         mid = np.concatenate([mid - half, mid + half])
         half = np.concatenate([half, half])
-    if gens_own:
-        go = np.concatenate(gens_own)
-        glo, ghi = np.concatenate(gens_lo), np.concatenate(gens_hi)
-        good = np.isfinite(glo) & np.isfinite(ghi)
-        alive[np.unique(go[~good])] = False
-        mn = np.full(len(rows), np.inf)
-        mx = np.full(len(rows), -np.inf)
-        np.minimum.at(mn, go[good], glo[good])
-        np.maximum.at(mx, go[good], ghi[good])
-        has = np.bincount(go, minlength=len(rows)) > 0
-        fin = alive & has
-        gmin[rows[fin]] = np.maximum(mn[fin], -1.0 - 1e-12)
-        gmax[rows[fin]] = np.minimum(mx[fin], 1.0 + 1e-12)
-        ok[rows[fin]] = True
+    if not gens_own:
+        return None
+    return np.concatenate(gens_own), np.concatenate(gens_lo), np.concatenate(gens_hi), alive
+
+
+def _hull_range(cv, gens, gmin, gmax, ok):
+    """Write [min_m ñ_m·n − s_m, max_m ñ_m·n + s_m] (clipped to [−1, 1] with 1e-12 slack: g is
+    in the convex hull of unit vectors) into gmin, gmax, ok for the rows with generators, all
+    finite, and ``alive`` (the extremes of a linear function over a convex hull are at its
+    generators)."""
+    go, glo, ghi, alive = gens
+    rows = cv.rows
+    good = np.isfinite(glo) & np.isfinite(ghi)
+    alive[np.unique(go[~good])] = False
+    mn = np.full(len(rows), np.inf)
+    mx = np.full(len(rows), -np.inf)
+    np.minimum.at(mn, go[good], glo[good])
+    np.maximum.at(mx, go[good], ghi[good])
+    has = np.bincount(go, minlength=len(rows)) > 0
+    fin = alive & has
+    gmin[rows[fin]] = np.maximum(mn[fin], -1.0 - 1e-12)
+    gmax[rows[fin]] = np.minimum(mx[fin], 1.0 + 1e-12)
+    ok[rows[fin]] = True
+
+
+def clarke_normal_range(table, Q, K, lo, hi, R, n, inner):
+    """(gmin, gmax, ok): gmin ≤ g·n ≤ gmax for every g in the Clarke gradient ∂d(q, S_K) at every q
+    in B(Q, R), where ok (circle and ellipse sites K, Q proved ``inner``, lo > 2R; module
+    docstring).  ``table``: a :class:`runtime.voronoi.verify.site_table.SiteTable`; lo, hi:
+    rigorous bounds of d(Q, S_K).  Steps: the rows and their curves
+    (:func:`_enclosable_curves`), the normals of the parameter intervals that may hold a nearest
+    point (:func:`_normal_generators`), the range over their convex hull (:func:`_hull_range`)."""
+    Q = np.asarray(Q, float).reshape(-1, 2)
+    K = np.asarray(K, int).reshape(-1)
+    m = len(K)
+    R = np.broadcast_to(np.asarray(R, float), (m,))
+    n = np.asarray(n, float).reshape(-1, 2)
+    gmin, gmax = np.full(m, -np.inf), np.full(m, np.inf)
+    ok = np.zeros(m, bool)
+    cv = _enclosable_curves(table, Q, K, lo, hi, R, n, inner)
+    if cv is None:
+        return gmin, gmax, ok
+    gens = _normal_generators(cv)
+    if gens is not None:
+        _hull_range(cv, gens, gmin, gmax, ok)
     return gmin, gmax, ok
 
 
