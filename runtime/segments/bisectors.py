@@ -45,6 +45,7 @@ from .distance import distances
 from .elementary import ARC, ELLIPSE, POINT, SEGMENT, ElementarySites
 from .ellipse_bisectors import ellipse_edge
 from .ellipse_pieces import piece_tangent
+from .polyline_refinement import refined_parameters
 
 __all__ = ["bisector_kind", "simple_kinds", "edge_polyline", "parabola_polylines", "line_direction", "parabola_points",
            "arc_bisector_points", "STRAIGHT", "PARABOLA", "OTHER"]
@@ -329,18 +330,7 @@ def _arc_edge(E, i, j, P0, P1, tol, far, centre, step, sides=None):
                 bad[0] = False
                 m = int(np.argmax(bad)) if bad.any() else len(o) - 1
                 ends[k] = _to_far(curve, o[m - 1], o[m], far, centre) if bad.any() else o[-1]
-    o = np.linspace(ends[0], ends[1], 33)
-    for _ in range(14):
-        V, _t = curve(o)
-        mid = (o[:-1] + o[1:]) / 2
-        Vm, _ = curve(mid)
-        dev = distances(V[:-1], V[1:], Vm)[0]
-        big = dev > tol / 2
-        if not big.any() or len(o) > MAX_PIECES:
-            break
-        o = np.sort(np.concatenate([o, mid[big]]))
-        if ends[0] > ends[1]:
-            o = o[::-1]
+    o = refined_parameters(curve, np.linspace(ends[0], ends[1], 33), tol, ends[0] > ends[1], MAX_PIECES)
     V, _t = curve(o)
     if P0 is not None:
         V[0] = P0

@@ -13,7 +13,7 @@ theirs from :mod:`runtime.segments.ellipse_pieces`.
 
 Public API: :func:`distances`, :func:`site_distances`, :func:`distance_ball`,
 :func:`arc_distance_ball`, :func:`site_distance_ball`, :func:`float_error`, :func:`foot_parameter`,
-:func:`in_arc`, :func:`arc_distances`.
+:func:`in_arc`, :func:`arc_distances`, :func:`clearance`.
 """
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ from .ellipse_pieces import piece_distance_ball, piece_distances
 from .elementary import ARC, ELLIPSE, POINT, SEGMENT
 
 __all__ = ["distances", "distance_ball", "float_error", "foot_parameter", "site_distances", "in_arc", "arc_distances",
-           "arc_distance_ball", "site_distance_ball"]
+           "arc_distance_ball", "site_distance_ball", "clearance"]
 
 
 def distances(A, B, Q):
@@ -39,6 +39,16 @@ def distances(A, B, Q):
     t = np.clip(t, 0.0, 1.0)
     F = A + t[:, None] * D
     return np.hypot(Q[:, 0] - F[:, 0], Q[:, 1] - F[:, 1]), t
+
+
+def clearance(dd, i: int, j: int) -> float:
+    """min over k ≠ i, j of d_k − max(d_i, d_j) at a point whose float distances to all sites are
+    ``dd``: positive when i and j are nearer than every other site there (the point is on their
+    edge), and the larger the more clearly; the construction picks by it the way and side of a
+    bisector leaving a vertex.  ``dd`` is changed: d_i and d_j are set to ∞."""
+    own = max(dd[i], dd[j])
+    dd[[i, j]] = np.inf
+    return float(dd.min() - own)
 
 
 def float_error(A, B, Q):

@@ -18,7 +18,7 @@ import numpy as np
 from ..voronoi.structure import DiagramEdge
 from .bisectors import (OTHER, PARABOLA, STRAIGHT, arc_bisector_points, arc_sides, bisector_kind, edge_polyline,
                         line_direction, line_point, parabola_polylines, simple_kinds)
-from .distance import site_distances
+from .distance import clearance, site_distances
 from .ellipse_bisectors import ellipse_step, perpendicular_edge
 from .elementary import ARC, ELLIPSE, POINT, ElementarySites
 
@@ -83,9 +83,7 @@ def _arc_step(E: ElementarySites, i: int, j: int, base, far):
             dd = site_distances(E, np.arange(len(E)), np.repeat(V, len(E), axis=0))
             if abs(dd[i] - dd[j]) > 1e-9 * (1 + t[0]):
                 continue            # not a point of this bisector branch
-            own = max(dd[i], dd[j])
-            dd[[i, j]] = np.inf
-            margin = float(dd.min() - own)
+            margin = clearance(dd, i, j)
             if best is None or margin > best:
                 best, out = margin, (st, sides)
     return out

@@ -20,9 +20,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .distance import distances, site_distances
+from .distance import clearance, distances, site_distances
 from .elementary import ELLIPSE, POINT, ElementarySites
 from .ellipse_pieces import interior_foot, piece_feet, piece_points
+from .polyline_refinement import refined_parameters
 
 __all__ = ["ellipse_edge", "ellipse_step", "ellipse_bisector_points", "perpendicular_edge", "interior_or_end", "beyond_curvature"]
 
@@ -98,10 +99,7 @@ def ellipse_step(E: ElementarySites, i: int, j: int, base, far: float):
             V, t = ellipse_bisector_points(E, s, other, sigma, np.array([ph]), 4 * far)
             if not (np.isfinite(t[0]) and t[0] > 0):
                 continue
-            dd = site_distances(E, np.arange(len(E)), np.repeat(V, len(E), axis=0))
-            own = max(dd[i], dd[j])
-            dd[[i, j]] = np.inf
-            margin = float(dd.min() - own)
+            margin = clearance(site_distances(E, np.arange(len(E)), np.repeat(V, len(E), axis=0)), i, j)
             if best is None or margin > best:
                 best, out = margin, (st, sigma)
     return out
@@ -137,17 +135,7 @@ def ellipse_edge(E: ElementarySites, i: int, j: int, P0, P1, tol: float, far: fl
             bad = ~(np.isfinite(t) & (t > 0) & (np.hypot(*(V - centre).T) < far))
             bad[0] = False
             par[k] = o[int(np.argmax(bad)) - 1] if bad.any() else o[-1]
-    o = np.linspace(par[0], par[1], 33)
-    for _ in range(14):
-        V, _t = curve(o)
-        mid = (o[:-1] + o[1:]) / 2
-        Vm, _ = curve(mid)
-        big = distances(V[:-1], V[1:], Vm)[0] > tol / 2
-        if not big.any() or len(o) > MAX_PIECES:
-            break
-        o = np.sort(np.concatenate([o, mid[big]]))
-        if par[0] > par[1]:
-            o = o[::-1]
+    o = refined_parameters(curve, np.linspace(par[0], par[1], 33), tol, par[0] > par[1], MAX_PIECES)
     V, _t = curve(o)
     for k, Q in ((0, ends[0]), (-1, ends[1])):
         if Q is not None:
@@ -179,17 +167,8 @@ def perpendicular_edge(E: ElementarySites, i: int, j: int, P0, P1, tol: float, f
     def curve_to(Q):
         """Points of the curve from K (foot at p) to the point Q beyond K."""
         phi_q = interior_or_end(E, s, Q)
-        o = np.linspace(phi_e, phi_q, 33)
-        for _ in range(12):
-            V, _t = ellipse_bisector_points(E, s, p, -1, o, 4 * far + 4 * rho)
-            mid = (o[:-1] + o[1:]) / 2
-            Vm, _ = ellipse_bisector_points(E, s, p, -1, mid, 4 * far + 4 * rho)
-            big = distances(V[:-1], V[1:], Vm)[0] > tol / 2
-            if not big.any() or len(o) > MAX_PIECES:
-                break
-            o = np.sort(np.concatenate([o, mid[big]]))
-            if phi_q < phi_e:
-                o = o[::-1]
+        o = refined_parameters(lambda o: ellipse_bisector_points(E, s, p, -1, o, 4 * far + 4 * rho),
+                               np.linspace(phi_e, phi_q, 33), tol, phi_q < phi_e, MAX_PIECES, rounds=12)
         V, _t = ellipse_bisector_points(E, s, p, -1, o, 4 * far + 4 * rho)
         V[0], V[-1] = K, Q
         return V
