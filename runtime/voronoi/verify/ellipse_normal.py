@@ -46,6 +46,7 @@ across), the tightest that is proved.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import flint
 import numpy as np
@@ -107,83 +108,133 @@ def multiplier_bounds(mu, xl, xh, yl, yh, al, ah, bl, bh):
     return Fl, Fh
 
 
+class _FrameBox(NamedTuple):
+    """The float canonical coordinates (X0, Y0) of the query points and the box of the exact
+    ones: |X| ∈ [xl, xh], |Y| ∈ [yl, yh], a ∈ [al, ah], b ∈ [bl, bh]; eX, eY bound |X − X0|,
+    |Y − Y0| (module docstring, **Enclosure**)."""
+
+    X0: np.ndarray
+    Y0: np.ndarray
+    eX: np.ndarray
+    eY: np.ndarray
+    xl: np.ndarray
+    xh: np.ndarray
+    yl: np.ndarray
+    yh: np.ndarray
+    al: np.ndarray
+    ah: np.ndarray
+    bl: np.ndarray
+    bh: np.ndarray
+
+
+def _frame_box(Q, a, b, c, s, tx, ty, errs) -> _FrameBox:
+    """The exact canonical coordinates X = c*(x − tx*) + s*(y − ty*), Y likewise, and the exact
+    axes, boxed from the float frame and its proved errors ``errs`` (:func:`frame_errors`): the
+    data errors plus the float evaluation (three roundings per product term, Higham's γ₄)."""
+    ec, es, etx, ety, ea, eb = errs.T
+    x, y = Q[:, 0], Q[:, 1]
+    dx, dy = x - tx, y - ty
+    X0, Y0 = c * dx + s * dy, -s * dx + c * dy
+    adx, ady = np.abs(dx) + etx, np.abs(dy) + ety
+    rnd = 2 * gamma(4) * (np.abs(c) * np.abs(dx) + np.abs(s) * np.abs(dy))
+    eX = _up(ec * adx + es * ady + np.abs(c) * etx + np.abs(s) * ety + rnd
+                  + 2 * gamma(4) * (ec * adx + es * ady))
+    rnd = 2 * gamma(4) * (np.abs(s) * np.abs(dx) + np.abs(c) * np.abs(dy))
+    eY = _up(es * adx + ec * ady + np.abs(s) * etx + np.abs(c) * ety + rnd
+                  + 2 * gamma(4) * (es * adx + ec * ady))
+    xl, xh = np.maximum(np.abs(X0) - eX, 0.0), _up(np.abs(X0) + eX)
+    yl, yh = np.maximum(np.abs(Y0) - eY, 0.0), _up(np.abs(Y0) + eY)
+    al, ah = np.maximum(a - ea, 0.0) * (1 - 2 * _U), _up(a + ea)
+    bl, bh = np.maximum(b - eb, 0.0) * (1 - 2 * _U), _up(b + eb)
+    return _FrameBox(X0, Y0, eX, eY, xl, xh, yl, yh, al, ah, bl, bh)
+
+
+def _float_multiplier(Fw, X0, Y0, a, b, c, s, tx, ty):
+    """(μ, F'-magnitude): a float multiplier from the float foot point ``Fw``, then four Newton
+    steps on F (a guess only: any value is sound, the bracket is what is proved), and
+    |F'(μ)| = 2·Σ u_i²/(a_i² + μ) there."""
+    Fw = np.asarray(Fw, float).reshape(-1, 2)
+    fX = c * (Fw[:, 0] - tx) + s * (Fw[:, 1] - ty)
+    fY = -s * (Fw[:, 0] - tx) + c * (Fw[:, 1] - ty)
+    mu = np.hypot(X0 - fX, Y0 - fY) / np.hypot(fX / (a * a), fY / (b * b))
+    a2, b2 = a * a, b * b
+    for _ in range(4):
+        u1, u2 = a * X0 / (a2 + mu), b * Y0 / (b2 + mu)
+        f = u1 * u1 + u2 * u2 - 1.0
+        fp = -2.0 * (u1 * u1 / (a2 + mu) + u2 * u2 / (b2 + mu))
+        step = np.where(np.isfinite(f / fp), -f / fp, 0.0)
+        mu = np.where(np.isfinite(mu + step) & (mu + step > 0), mu + step, mu)
+    u1, u2 = a * X0 / (a2 + mu), b * Y0 / (b2 + mu)
+    slope = 2.0 * (u1 * u1 / (a2 + mu) + u2 * u2 / (b2 + mu))
+    return mu, slope
+
+
+def _unit_normal_ball(bx, idx, lo_mu, hi_mu):
+    """(ux, uy, en, mlow): for rows ``idx`` with μ* ∈ (lo_mu, hi_mu), N(μ*) lies in the box
+    |N_X| ∈ [xl/(ah² + μ_hi), xh/(al² + μ_lo)] (sign of X0; both signs when the lower end is 0),
+    likewise N_Y; (ux, uy) = N₀/|N₀| for its centre N₀, and |N/|N| − N₀/|N₀|| ≤ en = h/(|N₀| − h)
+    for its half-diagonal h, valid where mlow = |N₀| − h (rounded down) > 0 (module docstring)."""
+    xl_, xh_, yl_, yh_ = bx.xl[idx], bx.xh[idx], bx.yl[idx], bx.yh[idx]
+    al_, ah_, bl_, bh_ = bx.al[idx], bx.ah[idx], bx.bl[idx], bx.bh[idx]
+    nxl = _lower(xl_ / (ah_ * ah_ + hi_mu), 3)
+    nxh = _upper(xh_ / (al_ * al_ + lo_mu), 3)
+    nyl = _lower(yl_ / (bh_ * bh_ + hi_mu), 3)
+    nyh = _upper(yh_ / (bl_ * bl_ + lo_mu), 3)
+    sx, sy = np.sign(bx.X0[idx]), np.sign(bx.Y0[idx])
+    # centre and radius per component (both signs possible when the lower end is 0)
+    cx = np.where(nxl > 0, sx * 0.5 * (nxl + nxh), 0.0)
+    rx = np.where(nxl > 0, _up(0.5 * (nxh - nxl) + 2 * _U * nxh), nxh)
+    cy = np.where(nyl > 0, sy * 0.5 * (nyl + nyh), 0.0)
+    ry = np.where(nyl > 0, _up(0.5 * (nyh - nyl) + 2 * _U * nyh), nyh)
+    n0 = np.hypot(cx, cy)
+    h = _up(np.hypot(rx, ry) * (1 + 2 * _U))
+    mlow = n0 * (1 - 4 * _U) - h
+    en = _up(h / mlow * (1 + 4 * _U))
+    return cx / n0, cy / n0, en, mlow
+
+
+def _bracket_rows(bx, mu, slope, idx, delta):
+    """(lo_mu, hi_mu, done) for rows ``idx``: the bracket μ ± δ/|F'(μ)| and where it is proved,
+    0 < μ_lo with F⁻(μ_lo) > 0 > F⁺(μ_hi) for every frame in the box (module docstring, Claim)."""
+    mu_, slope_ = mu[idx], slope[idx]
+    lims = (bx.xl[idx], bx.xh[idx], bx.yl[idx], bx.yh[idx], bx.al[idx], bx.ah[idx], bx.bl[idx], bx.bh[idx])
+    lo_mu = mu_ - delta / slope_
+    hi_mu = mu_ + delta / slope_
+    Fl, _ = multiplier_bounds(lo_mu, *lims)
+    _, Fh = multiplier_bounds(hi_mu, *lims)
+    return lo_mu, hi_mu, (lo_mu > 0) & (Fl > 0) & (Fh < 0)
+
+
 def ellipse_normal_enclosure(Q, Fw, a, b, c, s, tx, ty, errs):
     """(G, e, ok) per row: |∇d(q, E) − G| ≤ e for the exact ellipse E at the float point q = Q
     where ``ok`` (module docstring); ``Fw`` a float foot point in the world (only a start for μ),
     (a, b, c, s, tx, ty) the float frame and ``errs`` the (m, 6) array of
-    :func:`frame_errors` of each row's site."""
+    :func:`frame_errors` of each row's site.  Steps: the box of the exact frame
+    (:func:`_frame_box`), a float multiplier (:func:`_float_multiplier`), then for each bracket
+    width of ``BRACKETS`` the rows not yet enclosed: the bracket (:func:`_bracket_rows`), the
+    unit normal's ball (:func:`_unit_normal_ball`) and the world rotation."""
     Q = np.asarray(Q, float).reshape(-1, 2)
     m = len(Q)
     errs = np.asarray(errs, float).reshape(m, 6)
-    ec, es, etx, ety, ea, eb = errs.T
+    ec, es = errs[:, 0], errs[:, 1]
     a, b, c, s, tx, ty = (np.broadcast_to(np.asarray(v, float), (m,)) for v in (a, b, c, s, tx, ty))
     with np.errstate(all="ignore"):
-        x, y = Q[:, 0], Q[:, 1]
-        dx, dy = x - tx, y - ty
-        X0, Y0 = c * dx + s * dy, -s * dx + c * dy
-        # exact coordinates: X = c*(x − tx*) + s*(y − ty*): data errors plus the float
-        # evaluation (three roundings per product term)
-        adx, ady = np.abs(dx) + etx, np.abs(dy) + ety
-        rnd = 2 * gamma(4) * (np.abs(c) * np.abs(dx) + np.abs(s) * np.abs(dy))
-        eX = _up(ec * adx + es * ady + np.abs(c) * etx + np.abs(s) * ety + rnd
-                      + 2 * gamma(4) * (ec * adx + es * ady))
-        rnd = 2 * gamma(4) * (np.abs(s) * np.abs(dx) + np.abs(c) * np.abs(dy))
-        eY = _up(es * adx + ec * ady + np.abs(s) * etx + np.abs(c) * ety + rnd
-                      + 2 * gamma(4) * (es * adx + ec * ady))
-        xl, xh = np.maximum(np.abs(X0) - eX, 0.0), _up(np.abs(X0) + eX)
-        yl, yh = np.maximum(np.abs(Y0) - eY, 0.0), _up(np.abs(Y0) + eY)
-        al, ah = np.maximum(a - ea, 0.0) * (1 - 2 * _U), _up(a + ea)
-        bl, bh = np.maximum(b - eb, 0.0) * (1 - 2 * _U), _up(b + eb)
-        # float multiplier: from the float foot, then Newton steps on F (a guess; sound either way)
-        Fw = np.asarray(Fw, float).reshape(-1, 2)
-        fX = c * (Fw[:, 0] - tx) + s * (Fw[:, 1] - ty)
-        fY = -s * (Fw[:, 0] - tx) + c * (Fw[:, 1] - ty)
-        mu = np.hypot(X0 - fX, Y0 - fY) / np.hypot(fX / (a * a), fY / (b * b))
-        a2, b2 = a * a, b * b
-        for _ in range(4):
-            u1, u2 = a * X0 / (a2 + mu), b * Y0 / (b2 + mu)
-            f = u1 * u1 + u2 * u2 - 1.0
-            fp = -2.0 * (u1 * u1 / (a2 + mu) + u2 * u2 / (b2 + mu))
-            step = np.where(np.isfinite(f / fp), -f / fp, 0.0)
-            mu = np.where(np.isfinite(mu + step) & (mu + step > 0), mu + step, mu)
-        u1, u2 = a * X0 / (a2 + mu), b * Y0 / (b2 + mu)
-        slope = 2.0 * (u1 * u1 / (a2 + mu) + u2 * u2 / (b2 + mu))
+        bx = _frame_box(Q, a, b, c, s, tx, ty, errs)
+        mu, slope = _float_multiplier(Fw, bx.X0, bx.Y0, a, b, c, s, tx, ty)
         G = np.full((m, 2), np.nan)
         e = np.full(m, np.inf)
         ok = np.zeros(m, bool)
-        good = (np.isfinite(mu) & (mu > 0) & (slope > 0) & np.isfinite(eX) & np.isfinite(eY) & (al > 0) & (bl > 0)
-                & np.isfinite(errs).all(1))
+        good = (np.isfinite(mu) & (mu > 0) & (slope > 0) & np.isfinite(bx.eX) & np.isfinite(bx.eY)
+                & (bx.al > 0) & (bx.bl > 0) & np.isfinite(errs).all(1))
         for delta in BRACKETS:
             # the rows not yet enclosed only (every value below is computed row by row)
             idx = np.nonzero(good & ~ok)[0]
             if not len(idx):
                 break
-            mu_, slope_ = mu[idx], slope[idx]
-            xl_, xh_, yl_, yh_ = xl[idx], xh[idx], yl[idx], yh[idx]
-            al_, ah_, bl_, bh_ = al[idx], ah[idx], bl[idx], bh[idx]
-            lo_mu = mu_ - delta / slope_
-            hi_mu = mu_ + delta / slope_
-            Fl, _ = multiplier_bounds(lo_mu, xl_, xh_, yl_, yh_, al_, ah_, bl_, bh_)
-            _, Fh = multiplier_bounds(hi_mu, xl_, xh_, yl_, yh_, al_, ah_, bl_, bh_)
-            done = (lo_mu > 0) & (Fl > 0) & (Fh < 0)
+            lo_mu, hi_mu, done = _bracket_rows(bx, mu, slope, idx, delta)
             if not done.any():
                 continue
-            # N(μ*) in a box: |N_X| ∈ [xl/(ah² + μ_hi), xh/(al² + μ_lo)]
-            nxl = _lower(xl_ / (ah_ * ah_ + hi_mu), 3)
-            nxh = _upper(xh_ / (al_ * al_ + lo_mu), 3)
-            nyl = _lower(yl_ / (bh_ * bh_ + hi_mu), 3)
-            nyh = _upper(yh_ / (bl_ * bl_ + lo_mu), 3)
-            sx, sy = np.sign(X0[idx]), np.sign(Y0[idx])
-            # centre and radius per component (both signs possible when the lower end is 0)
-            cx = np.where(nxl > 0, sx * 0.5 * (nxl + nxh), 0.0)
-            rx = np.where(nxl > 0, _up(0.5 * (nxh - nxl) + 2 * _U * nxh), nxh)
-            cy = np.where(nyl > 0, sy * 0.5 * (nyl + nyh), 0.0)
-            ry = np.where(nyl > 0, _up(0.5 * (nyh - nyl) + 2 * _U * nyh), nyh)
-            n0 = np.hypot(cx, cy)
-            h = _up(np.hypot(rx, ry) * (1 + 2 * _U))
-            mlow = n0 * (1 - 4 * _U) - h
-            en = _up(h / mlow * (1 + 4 * _U))
-            ux, uy = cx / n0, cy / n0
+            ux, uy, en, mlow = _unit_normal_ball(bx, idx, lo_mu, hi_mu)
             # float unit vector (≤ 4u off the exact cx/|c|), rotated by the float frame (≤ 4u),
             # the exact rotation within |Δc| + |Δs|
             rot = ec[idx] + es[idx]
