@@ -70,3 +70,22 @@ def test_two_containers_without_the_edge_between_them_are_refused():
     bad["delaunay_edges"] = sorted({tuple(sorted(e["sites"])) for e in bad["edges"]})
     c = cv.verify(bad)
     assert not c.ok
+
+
+def test_a_circle_poking_out_between_the_first_cell_centres_is_not_taken_as_nested():
+    """A circle of radius 1/100 centred 9.995 from the centre of a circle of radius 10 reaches
+    10.005 in the direction θ = 0, a boundary of the walk's first cells (centres at odd multiples
+    of π/64, where h_small < h_big by about 0.007): the nesting walk must halve down to the cells
+    where h_small > h_big (|θ| < 0.0316) and refuse; the same circle centred 9.98 (reaching 9.99)
+    is nested.  The sites meet in the first case, so the hulls are not disjoint either."""
+    from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+    from curvedvoronoi.runtime.voronoi.verify.hull_nesting import hulls_disjoint
+    from curvedvoronoi.runtime.voronoi.verify.support import SupportTable
+
+    for d, nested in ((9.995, False), (9.98, True)):
+        assert (d + 0.01 < 10) is nested
+        geoms = [site_geometry(cv.Conic.ellipse((0, 0), (10, 10))),
+                 site_geometry(cv.Conic.ellipse((d, 0), (0.01, 0.01)))]
+        problems = []
+        assert hulls_disjoint(SupportTable(geoms), problems, 400000) is nested
+        assert bool(problems) is not nested
