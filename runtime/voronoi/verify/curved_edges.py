@@ -5,7 +5,8 @@ their unbounded ends, proved to infinity in a sector of directions
 along their mirror line (:func:`runtime.voronoi.verify.mirror_tail.prove_mirror_tail`).
 
 Public API: :func:`curved_edges`, :func:`curved_job`, :func:`curved_scale`, :func:`past`,
-:func:`drawn_points`, :func:`shape_invariant`, :func:`may_mirror`.
+:func:`drawn_points`, :func:`shape_invariant`, :func:`may_mirror`; the steps of
+:func:`curved_edges`: :func:`near_bisector`, :func:`mirror_edges`, :class:`FarEnds`.
 """
 from __future__ import annotations
 
@@ -52,19 +53,43 @@ def curved_edges(curved, geoms, problems, eok, ends_inf, deadline=None, late=Non
     """Edges with a conic site (:mod:`runtime.voronoi.verify.curved`), all chains side by side;
     an unbounded end is proved to infinity by :func:`runtime.voronoi.verify.tail.prove_tail` and
     recorded in ``ends_inf`` as (θ_mid, pair, (θa, θb), edge id) with [θa, θb] its asymptotic
-    sector.  ``curved``: (position, edge, name, job)."""
+    sector.  ``curved``: (position, edge, name, job).  ``late``: a one-element list counting
+    the edges left undone at ``deadline``."""
     from .curved import TIME_LIMIT, prove_curved_edges
     from .site_table import SiteTable
     from .support import SupportTable
-    from .tail import MORE_TAILS, TAIL_WORK_MORE, prove_tail
 
     if not curved:
         return
     late = [0] if late is None else late
     scale = curved[0][3][0]
     table = SiteTable(geoms, scale)
-    # polyline points within the stated tolerance of the bisector: |d_i − d_j|/2 is a lower bound
-    # of the distance to it (d_i − d_j is 2-Lipschitz); one call for all edges
+    jobs = near_bisector(curved, table, scale, problems, eok)
+    # edges between mirror-image sites are their mirror lines: proved without strips
+    sup = SupportTable(geoms) if sup_ok(geoms) else None
+    jobs = mirror_edges(jobs, geoms, table, sup, eok, ends_inf)
+    results = prove_curved_edges(table, [job for _, _, _, job in jobs], deadline=deadline)
+    tails = FarEnds(geoms, table, scale, sup)
+    for (p_e, e, name, job), (ok, msg, beyond) in zip(jobs, results):
+        if msg == TIME_LIMIT or (beyond and past(deadline)):
+            late[0] += 1           # stopped, or its tails would start after the deadline
+            eok[p_e] = False
+            continue
+        if not ok:
+            problems.append(f"{name}: {msg}")
+            eok[p_e] = False
+            continue
+        ok, ends = tails.prove(e, name, job[1], beyond, problems)
+        eok[p_e] = ok
+        if ok:
+            ends_inf.extend(ends)
+
+
+def near_bisector(curved, table, scale, problems, eok):
+    """The jobs of ``curved`` whose drawn points (:func:`drawn_points`) lie within the stated
+    tolerance of the bisector: |d_i − d_j|/2 is a lower bound of a point's distance to it
+    (d_i − d_j is 2-Lipschitz), from the enclosures of d_i, d_j (one call for all edges); an edge
+    with a point farther (lower bound > tol) is recorded in ``problems`` and not proved."""
     rows, ks, owner = [], [], []
     for t, (_, e, _, (_, pair, P, _, _, _, _)) in enumerate(curved):
         inner = P[drawn_points(e, P)]
@@ -88,8 +113,14 @@ def curved_edges(curved, geoms, problems, eok, ends_inf, deadline=None, late=Non
                 eok[p_e] = False
                 continue
         jobs.append((p_e, e, name, job))
-    # edges between mirror-image sites are their mirror lines: proved without strips
-    sup = SupportTable(geoms) if sup_ok(geoms) else None
+    return jobs
+
+
+def mirror_edges(jobs, geoms, table, sup, eok, ends_inf):
+    """Prove the edges of ``jobs`` between mirror-image sites as their mirror lines
+    (:func:`runtime.voronoi.verify.mirror_tail.prove_mirror_edge`, no strips; sites proved not
+    mirror images by :func:`may_mirror` skipped), with their unbounded ends in ``ends_inf``;
+    returns the other jobs (those whose mirror proof fails among them)."""
     exact = [g.exact for g in geoms]
     shape: dict = {}
     rest = []
@@ -104,50 +135,67 @@ def curved_edges(curved, geoms, problems, eok, ends_inf, deadline=None, late=Non
                                  ("mirror", u, lat), e.id) for u, lat in mends)
                 continue
         rest.append((p_e, e, name, job))
-    jobs = rest
-    results = prove_curved_edges(table, [job for _, _, _, job in jobs], deadline=deadline)
-    more = MORE_TAILS           # tails undecided within TAIL_WORK tried again with TAIL_WORK_MORE
-    for (p_e, e, name, job), (ok, msg, beyond) in zip(jobs, results):
-        if msg == TIME_LIMIT or (beyond and past(deadline)):
-            late[0] += 1           # stopped, or its tails would start after the deadline
-            eok[p_e] = False
-            continue
-        if not ok:
-            problems.append(f"{name}: {msg}")
-            eok[p_e] = False
-            continue
-        pair = job[1]
-        ends = []
+    return rest
+
+
+class FarEnds:
+    """The proofs beyond the chains' cuts of the unbounded ends of one call's edges: the support
+    table ``sup`` (made at the first end if not given), and ``more``, the tails undecided within
+    TAIL_WORK still to be tried again with TAIL_WORK_MORE (at most MORE_TAILS of
+    :mod:`runtime.voronoi.verify.tail` per call)."""
+
+    def __init__(self, geoms, table, scale, sup):
+        from .tail import MORE_TAILS
+
+        self.geoms, self.table, self.scale, self.sup = geoms, table, scale, sup
+        self.more = MORE_TAILS
+
+    def prove(self, e, name, pair, beyond, problems):
+        """Prove each unbounded end of edge ``e`` beyond its cut (``beyond``, from
+        :func:`runtime.voronoi.verify.curved.prove_curved_edge`): a tie in rationals first
+        (:meth:`tied`), else the sector prover; at the first end not proved, its problem is
+        recorded and the others are left.  Returns (ok, ends), ``ends`` the entries of
+        ``ends_inf`` (θ, pair, sector or mirror tie, edge id)."""
+        from .support import SupportTable
+        from .tail import TAIL_WORK_MORE, prove_tail
+
+        ok, ends = True, []
         for far in beyond:
-            if sup is None:
-                sup = SupportTable(geoms)
+            if self.sup is None:
+                self.sup = SupportTable(self.geoms)
+            sup = self.sup
             q = far["point"]
-            # a tail in a direction where its sites tie exactly with others (rows of identical
-            # shapes: mirror lines; translates or shapes resting on one line: tied tails) is
-            # proved in rationals at once; the sector prover cannot separate a tie and would
-            # spend its whole work limit first
-            ok2, tie = False, None
-            if sup.ok:       # bounded convex sites: support functions exist
-                ok2, msg2, tie = prove_mirror_tail([g.exact for g in geoms], geoms, sup, pair, far["link"])
-            if sup.ok and not ok2:      # different shapes resting on one line
-                ok2, msg2, tie = prove_tied_tail([g.exact for g in geoms], geoms, sup, pair, far["link"],
-                                                 np.asarray(q, float) - sup.m)
-            if ok2:
+            tie = self.tied(pair, far)
+            if tie is not None:
                 th = math.atan2(float(tie[0][1]), float(tie[0][0])) % (2 * math.pi)
                 ends.append((th, pair, ("mirror",) + tie, e.id))
                 continue
-            ok, msg, sector = prove_tail(sup, table, pair, far["link"], scale)
-            if not ok and "undecided" in msg and more > 0:
-                more -= 1
-                ok, msg, sector = prove_tail(sup, table, pair, far["link"], scale, max_work=TAIL_WORK_MORE)
+            ok, msg, sector = prove_tail(sup, self.table, pair, far["link"], self.scale)
+            if not ok and "undecided" in msg and self.more > 0:
+                self.more -= 1
+                ok, msg, sector = prove_tail(sup, self.table, pair, far["link"], self.scale, max_work=TAIL_WORK_MORE)
             if not ok:
                 problems.append(f"{name}: proved up to ({q[0]:.9g}, {q[1]:.9g}), not proved beyond it: {msg}")
                 break
             tha, thb, _ = sector
             ends.append((0.5 * (tha + thb) % (2 * math.pi), pair, (tha, thb), e.id))
-        eok[p_e] = ok
-        if ok:
-            ends_inf.extend(ends)
+        return ok, ends
+
+    def tied(self, pair, far):
+        """The tie of a tail in a direction where its sites tie exactly with others (rows of
+        identical shapes: mirror lines, :func:`runtime.voronoi.verify.mirror_tail.prove_mirror_tail`;
+        translates or different shapes resting on one line: tied tails,
+        :func:`runtime.voronoi.verify.tied_tail.prove_tied_tail`), proved in rationals at once, or
+        None (also without support functions: a site not bounded convex).  The sector prover
+        cannot separate a tie and would spend its whole work limit first."""
+        sup, geoms = self.sup, self.geoms
+        ok2, tie = False, None
+        if sup.ok:       # bounded convex sites: support functions exist
+            ok2, msg2, tie = prove_mirror_tail([g.exact for g in geoms], geoms, sup, pair, far["link"])
+        if sup.ok and not ok2:      # different shapes resting on one line
+            ok2, msg2, tie = prove_tied_tail([g.exact for g in geoms], geoms, sup, pair, far["link"],
+                                             np.asarray(far["point"], float) - sup.m)
+        return tie if ok2 else None
 
 
 def shape_invariant(site):
