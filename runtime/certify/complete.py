@@ -312,17 +312,11 @@ def completeness_with_vertices(c1, c2, c3, solutions, expected_count, certs, *, 
                 return False, "a real solution matches several vertices"
             near = [k for k, cv in enumerate(certs) if cv.proven and cv.box is not None
                     and all(balls_overlap(K[i], cv.box[i]) for i in range(3))]
-            if len(near) == 1 and _same_by_krawczyk(OffsetSystem((c1, c2, c3)), K, certs[near[0]].box):
+            # a far vertex's 64-bit box may be wider than K and meet it only: one Krawczyk box
+            # holding both, or a tighter box of the vertex inside K (:func:`_same_zero`)
+            if len(near) == 1 and _same_zero(c1, c2, c3, K, certs[near[0]], retighten):
                 matched.add(near[0])
                 continue
-            if len(near) == 1 and retighten is not None:
-                # a far vertex: its 64-bit box is wider than K, and the offsets' interval Jacobian
-                # over a box holding both is too wide for Krawczyk; a vertex box inside K is one
-                # zero of the offset system in K, which holds exactly one
-                B = retighten(certs[near[0]])
-                if B is not None and all(K[i].contains(B[i]) for i in range(3)):
-                    matched.add(near[0])
-                    continue
             if not_a_vertex(fps, K) or closer_witness((c1, c2, c3), fps, K):
                 continue
             # undecided: near a double foot point the foot-distance enclosures grow like the square
@@ -346,7 +340,10 @@ def completeness_with_vertices(c1, c2, c3, solutions, expected_count, certs, *, 
 def _same_zero(c1, c2, c3, K, cv, retighten) -> bool:
     """Proof that the vertex of ``cv`` is the zero of the offset system in the real solution box
     K (which holds exactly one): its box inside K, or one Krawczyk box holding both
-    (:func:`_same_by_krawczyk`), or a tighter box of the vertex (``retighten``) inside K."""
+    (:func:`_same_by_krawczyk`), or a tighter box of the vertex (``retighten``) inside K.  The
+    last serves far vertices: their 64-bit box is wider than K, and the offsets' interval Jacobian
+    over a box holding both is too wide for Krawczyk; a vertex box inside K is one zero of the
+    offset system in K, which holds exactly one."""
     if all(K[i].contains(cv.box[i]) for i in range(3)):
         return True
     if not all(balls_overlap(K[i], cv.box[i]) for i in range(3)):
