@@ -75,13 +75,13 @@ Public API: :func:`delete_locally` (the returned diagram carries its ``edit_inde
 from __future__ import annotations
 
 import time
+from typing import NamedTuple
 
 import numpy as np
 
-from ..voronoi.site_input import SiteError
-from ..voronoi.structure import Diagram, DiagramEdge, DiagramVertex
-from .local_update import (EditIndex, KeptVertices, closure_holds, conflicts, curve_ends, curves_ending_at, editable, point_key,
-                           prove_part, site_key, spliced_edge)
+from ..voronoi.structure import DiagramEdge, DiagramVertex
+from .local_update import (EditIndex, KeptVertices, Splice, changed_part_holds, conflicts, editable, local_diagram, local_result,
+                           site_key, with_joint_partners)
 
 __all__ = ["delete_locally", "site_moves"]
 
@@ -98,12 +98,64 @@ def site_moves(n: int, deleted) -> dict:
     return dict(zip(tail, [k for k in gone if k < m]))
 
 
+class Hole(NamedTuple):
+    """The changed part of a deletion (step 1 of the module docstring): the ``conflict`` mask and
+    its ``rows`` (the removed vertices), ``keep_e`` (the edges that stay), the kept vertices that
+    lost an edge (``touched``, ids), the site pairs of the gone edges between remaining sites
+    (``gone_pairs``, sorted) and the remaining sites of gone edges (``neighbours``)."""
+    conflict: np.ndarray
+    rows: np.ndarray
+    keep_e: np.ndarray
+    touched: set
+    gone_pairs: set
+    neighbours: set
+
+
 def delete_locally(D, deleted, build, index=None):
     """The diagram ``D`` (certified, points, segments, arcs) without the elementary sites ``deleted``
     (indices), updated locally and proved (module docstring); or a str: why not (then rebuild).
     ``index``: D's :class:`runtime.segments.local_update.EditIndex` from the previous edit, if any."""
     t0 = time.perf_counter()
     secs: dict = {}
+    got = _admissible(D, deleted, index)
+    if isinstance(got, str):
+        return got
+    index, gone = got
+    # 1. changed part
+    hole = _hole(D, index, gone)
+    if isinstance(hole, str):
+        return hole
+    hood = _neighbourhood(D, index, hole, set(gone))
+    secs["locate"] = time.perf_counter() - t0
+    # 2. local diagram
+    t1 = time.perf_counter()
+    L = local_diagram(build, [D.sites[k] for k in hood])
+    if isinstance(L, str):
+        return L
+    secs["local build"] = time.perf_counter() - t1
+    t2 = time.perf_counter()
+    sp = _taken(D, L, index, gone, hole)
+    if isinstance(sp, str):
+        return sp
+    secs["splice"] = time.perf_counter() - t2
+    # 3. renumbering (the last remaining sites move into the deleted ones' places) and proof
+    t3 = time.perf_counter()
+    got = _renumbered(D, index, gone, hole, sp)
+    if isinstance(got, str):
+        return got
+    sites, vertices, edges, new_index = got
+    why = _proved(sites, new_index, vertices, edges, sp, hole.touched)
+    if why is not None:
+        return why
+    edges += sp.edges
+    secs["prove"] = time.perf_counter() - t3
+    return local_result(D, sites, vertices + sp.vertices, edges, sp, new_index, len(hole.rows), len(hood), secs)
+
+
+def _admissible(D, deleted, index):
+    """(index, gone): D's edit index and the deleted sites (sorted, distinct), when the deletion can
+    be local; else why not: an uncertified diagram, sites other than points, segments and circular
+    arcs, fewer than two sites remaining."""
     if not D.certified:
         return "the diagram is not certified"
     fresh = EditIndex.of(D, index)
@@ -112,11 +164,18 @@ def delete_locally(D, deleted, build, index=None):
     index = fresh
     n = len(D.sites)
     gone = sorted(set(int(k) for k in deleted))
-    gone_set = set(gone)
     if not gone or len(gone) >= n - 1:
         return "fewer than two sites remain"
-    # 1. changed part
+    return index, gone
+
+
+def _hole(D, index, gone):
+    """The :class:`Hole` of the deleted sites ``gone``: the vertices whose closed circle meets a
+    deleted site within the margin (:func:`runtime.segments.local_update.conflicts`), the edges
+    with a deleted site or a removed end; or why the deletion is not local: no vertex in conflict,
+    or a gone edge going to infinity (the hole would be unbounded)."""
     V, XY, R = D.vertices, index.XY, index.R
+    gone_set = set(gone)
     conflict = np.zeros(len(V), bool)
     for k in gone:
         conflict |= conflicts(D.sites[k], XY, R)
@@ -126,36 +185,36 @@ def delete_locally(D, deleted, build, index=None):
     removed_ids = {V[t].id for t in rows.tolist()}
     ES, EE = index.ES, index.EE
     gone_mask = np.isin(EE, np.fromiter(removed_ids, np.int64)).any(axis=1) | np.isin(ES, gone).any(axis=1)
-    keep_e = ~gone_mask
     gone_e = [D.edges[t] for t in np.nonzero(gone_mask)[0].tolist()]
     if any(e.closed or None in e.ends for e in gone_e):
         return "the hole is unbounded (a removed edge goes to infinity)"
     touched = {u for e in gone_e for u in e.ends} - removed_ids
     gone_pairs = {tuple(sorted(e.sites)) for e in gone_e if gone_set.isdisjoint(e.sites)}
     neighbours = {s for e in gone_e for s in e.sites} - gone_set
+    return Hole(conflict, rows, ~gone_mask, touched, gone_pairs, neighbours)
+
+
+def _neighbourhood(D, index, hole: Hole, gone_set: set) -> list:
+    """The sites of the local diagram (sorted numbers, no deleted one): those whose boxes meet the
+    box of the removed circles widened by :data:`RING` times its extent, the neighbours of the
+    hole, and the partners of their curves at smooth joints."""
+    XY, R, rows = index.XY, index.R, hole.rows
     lo = (XY[rows] - R[rows, None]).min(axis=0)
     hi = (XY[rows] + R[rows, None]).max(axis=0)
     pad = RING * float(np.max(hi - lo)) + 1e-9 * (1 + float(np.abs(lo).max()) + float(np.abs(hi).max()))
-    hood = set(index.near(lo - pad, hi + pad)) | neighbours
-    for k in list(hood):               # a curve of the neighbourhood keeps its partner at a smooth joint
-        for p in curve_ends(D.sites[k]):
-            if point_key(p) not in index.keys:
-                hood.update(curves_ending_at(index, D.sites, p))
-    hood = sorted(hood - gone_set)
-    secs["locate"] = time.perf_counter() - t0
-    # 2. local diagram
-    t1 = time.perf_counter()
-    try:
-        L = build([D.sites[k] for k in hood], certify=False)
-    except (SiteError, ValueError) as exc:
-        return f"the local diagram failed ({exc})"
-    # L.problems (e.g. a construction fault far from the changed part, at the edge of the
-    # neighbourhood) are not read: what is taken from L is proved, and the closure checks that
-    # nothing of the changed part is missing
-    secs["local build"] = time.perf_counter() - t1
-    t2 = time.perf_counter()
+    hood = set(index.near(lo - pad, hi + pad)) | hole.neighbours
+    return sorted(with_joint_partners(hood, index, D.sites) - gone_set)
+
+
+def _taken(D, L, index, gone, hole: Hole):
+    """The :class:`runtime.segments.local_update.Splice` of the parts of L the deletion takes (step
+    2 of the module docstring): its vertices whose circle meets a deleted site within the margin,
+    its edges with an end at a taken vertex, and its edges of a gone edge's pair crossing the hole
+    between kept vertices (an end at a kept vertex that lost an edge, not a kept edge of that pair
+    and ends); or why not (a site of L that is no remaining site, an edge that cannot be spliced)."""
+    V = D.vertices
     glob = [index.keys.get(site_key(s), -1) for s in L.sites]
-    if -1 in glob or gone_set & set(glob):
+    if -1 in glob or set(gone) & set(glob):
         return "a site of the local diagram is not a remaining site"
     lXY = np.array([[v.x, v.y] for v in L.vertices], float).reshape(-1, 2)
     lR = np.array([v.radius for v in L.vertices], float)
@@ -163,49 +222,38 @@ def delete_locally(D, deleted, build, index=None):
     for k in gone:
         lconf |= conflicts(D.sites[k], lXY, lR)
     next_v = D.stats.get("next vertex id") or max((v.id for v in V), default=-1) + 1
-    lmap: dict = {}                    # local vertex id -> global id
-    pending: dict = {}                 # local vertices that are not taken: matched when needed
-    kept = KeptVertices(index, V, conflict)
-    taken_v: list = []
-    for lv, inside in zip(L.vertices, lconf.tolist()):
-        gs = tuple(glob[s] for s in lv.sites)
-        r = min(range(len(gs)), key=lambda t: gs[t])
-        gs = gs[r:] + gs[:r]           # the smallest index first, order kept
-        if inside:
-            lmap[lv.id] = next_v
-            taken_v.append(DiagramVertex(next_v, gs, lv.x, lv.y, lv.radius, False))
-            next_v += 1
-            continue
-        pending[lv.id] = (gs, lv.x, lv.y, lv.radius)
-    taken_ids = {v.id for v in taken_v}
-    at_touched = [t for t in index.edges_at(touched).tolist() if keep_e[t]] if touched else []
-    kept_at = {(tuple(sorted(D.edges[t].sites)), frozenset(D.edges[t].ends)) for t in at_touched}
     next_e = D.stats.get("next edge id") or max((e.id for e in D.edges), default=-1) + 1
-    taken_e: list = []
+    sp = Splice(KeptVertices(index, V, hole.conflict), next_v, next_e)
+    inside = lconf.tolist()
+    sp.take_vertices(L, glob, lambda t, lv, gs: inside[t])
+    touched, gone_pairs = hole.touched, hole.gone_pairs
+    at_touched = [t for t in index.edges_at(touched).tolist() if hole.keep_e[t]] if touched else []
+    kept_at = {(tuple(sorted(D.edges[t].sites)), frozenset(D.edges[t].ends)) for t in at_touched}
     for le in L.edges:
         gp = tuple(glob[s] for s in le.sites)
-        at_taken = any(lmap.get(u) in taken_ids for u in le.ends)
+        at_taken = sp.at_taken(le)
         if not (at_taken or tuple(sorted(gp)) in gone_pairs):
             continue
-        for u in le.ends:
-            if u is not None and u not in lmap:
-                lmap[u] = kept.find(*pending[u]) if u in pending else -1
-        ends = [None if u is None else lmap[u] for u in le.ends]
+        ends = sp.ends_of(le)
         through = (tuple(sorted(gp)) in gone_pairs and any(u in touched for u in ends)
                    and (tuple(sorted(gp)), frozenset(ends)) not in kept_at)
         if not (through or at_taken):
             continue
-        edge = spliced_edge(le, gp, ends, next_e)
-        if isinstance(edge, str):
-            return edge
-        taken_e.append(edge)
-        next_e += 1
-    secs["splice"] = time.perf_counter() - t2
-    # 3. renumbering (the last remaining sites move into the deleted ones' places) and proof
-    t3 = time.perf_counter()
+        why = sp.take_edge(le, gp, ends)
+        if why is not None:
+            return why
+    return sp
+
+
+def _renumbered(D, index, gone, hole: Hole, sp):
+    """(sites, vertices, edges, index) of the remaining diagram: the last remaining sites moved into
+    the deleted ones' places (:func:`site_moves`), the kept vertices and edges and the taken parts
+    (``sp``, replaced by their renumbered copies) renumbered with them, the edit index spliced; or
+    why not (a kept vertex listing a deleted site)."""
+    n = len(D.sites)
     m = n - len(gone)
     moves = site_moves(n, gone)
-    keep = ~conflict
+    keep = ~hole.conflict
     if np.isin(index.VS[keep], gone).any():
         return "a kept vertex lists a deleted site"
     sites = list(D.sites)
@@ -220,47 +268,36 @@ def delete_locally(D, deleted, build, index=None):
     del sites[m:]
     boxes = boxes[:m]
     renumber = lambda k: moves.get(k, k)     # noqa: E731
-    vertices = [v for v, k in zip(V, keep.tolist()) if k]
+    vertices = [v for v, k in zip(D.vertices, keep.tolist()) if k]
     for r in np.nonzero(np.isin(index.VS[keep], list(moves)).any(axis=1))[0].tolist():
         vertices[r] = _renumbered_vertex(vertices[r], renumber, vertices[r].certified)
+    keep_e = hole.keep_e
     edges = [e for e, k in zip(D.edges, keep_e.tolist()) if k]
     for r in np.nonzero(np.isin(index.ES[keep_e], list(moves)).any(axis=1))[0].tolist():
         edges[r] = _renumbered_edge(edges[r], renumber, edges[r].certified)
-    taken_v = [_renumbered_vertex(v, renumber, False) for v in taken_v]
-    taken_e = [_renumbered_edge(e, renumber, False) for e in taken_e]
-    new_index = index.spliced(keys, boxes, keep, taken_v, keep_e, taken_e)
+    sp.vertices = [_renumbered_vertex(v, renumber, False) for v in sp.vertices]
+    sp.edges = [_renumbered_edge(e, renumber, False) for e in sp.edges]
+    new_index = index.spliced(keys, boxes, keep, sp.vertices, keep_e, sp.edges)
     new_index.VS[:len(vertices)] = _renumbered_rows(new_index.VS[:len(vertices)], moves)
     new_index.ES[:len(edges)] = np.sort(_renumbered_rows(new_index.ES[:len(edges)], moves), axis=1)
-    vid = {v.id: v for v in taken_v}
+    return sites, vertices, edges, new_index
+
+
+def _proved(sites, new_index, vertices, edges, sp, touched: set):
+    """None when the changed part is proved and closed (step 3 of the module docstring: the taken
+    parts and the kept ends of taken edges, each of which must be a kept vertex that lost an edge,
+    the closure at the taken vertices and those ``touched``), else why not."""
+    vid = {v.id: v for v in sp.vertices}
     for r in (new_index.vertex_rows(touched).tolist() if touched else ()):
         if r < len(vertices):
             vid[vertices[r].id] = vertices[r]
-    ends_needed = sorted({u for e in taken_e for u in e.ends} - taken_ids)
+    ends_needed = sorted({u for e in sp.edges for u in e.ends} - sp.taken_ids)
     if any(u not in vid for u in ends_needed):
         return "a changed edge ends at a kept vertex that did not lose an edge"
-    problems: list = []
-    if not prove_part(sites, new_index, taken_v + [vid[u] for u in ends_needed], taken_e, problems):
-        return f"the changed part is not proved ({problems[0] if problems else 'a part failed'})"
-    check_ids = touched | taken_ids
-    if any(u not in vid for u in check_ids):
-        return "the closure at the changed vertices fails (a vertex is missing)"
-    near_e = [edges[r] for r in new_index.edges_at(check_ids).tolist() if r < len(edges)] + taken_e
-    if not closure_holds(near_e, [vid[u] for u in sorted(check_ids)]):
-        return "the closure at the changed vertices fails"
-    edges += taken_e
-    secs["prove"] = time.perf_counter() - t3
-    for v in taken_v:
-        v.certified = True
-    for e in taken_e:
-        e.certified = True
-    out = Diagram(sites, vertices + taken_v, edges, True, [], dict(D.stats))
-    out.stats["update"] = "local"
-    out.stats["next vertex id"], out.stats["next edge id"] = next_v, next_e
-    out.stats["changed"] = {"removed vertices": len(rows), "new vertices": len(taken_v),
-                            "new edges": len(taken_e), "neighbourhood sites": len(hood)}
-    out.stats["seconds"] = {k: round(t, 4) for k, t in secs.items()}
-    out.edit_index = new_index
-    return out
+
+    def near_edges(check_ids):
+        return [edges[r] for r in new_index.edges_at(check_ids).tolist() if r < len(edges)]
+    return changed_part_holds(sites, new_index, vid, sp, ends_needed, touched | sp.taken_ids, near_edges)
 
 
 def _renumbered_vertex(v, renumber, certified: bool):

@@ -81,10 +81,9 @@ import time
 import numpy as np
 
 from ..voronoi.site_input import SiteError
-from ..voronoi.structure import Diagram, DiagramVertex
 from .crossings import check_pieces
-from .local_update import (EditIndex, KeptVertices, closure_holds, conflicts, curve_ends, curves_ending_at, editable, leaving,
-                           opposite, point_key, prove_part, site_box, site_key, spliced_edge)
+from .local_update import (EditIndex, KeptVertices, Splice, changed_part_holds, conflicts, curve_ends, editable, leaving,
+                           local_diagram, local_result, opposite, point_key, site_box, site_key, with_joint_partners)
 
 __all__ = ["insert_locally"]
 
@@ -100,9 +99,71 @@ def insert_locally(D, piece, source: int, build, index=None):
     the result carries its own as ``edit_index``."""
     t0 = time.perf_counter()
     secs: dict = {}
+    parts = list(piece) if isinstance(piece, list) else [piece]
+    got = _admissible(D, parts, index)
+    if isinstance(got, str):
+        return got
+    index, plo, phi = got
+    n = len(D.sites)
+    # 1. conflict
+    conflict = np.zeros(len(index.R), bool)
+    for q in parts:
+        conflict |= conflicts(q, index.XY, index.R)
+    if not conflict.any():
+        return "no vertex in conflict"
+    cv_ = np.nonzero(conflict)[0]
+    hood = _neighbourhood(D, index, cv_, plo, phi)
+    secs["locate"] = time.perf_counter() - t0
+    # 2. local diagram
+    t1 = time.perf_counter()
+    L = local_diagram(build, [D.sites[k] for k in hood] + parts)
+    if isinstance(L, str):
+        return L
+    secs["local build"] = time.perf_counter() - t1
+    t2 = time.perf_counter()
+    glob, new_sites = _global_sites(L, index.keys, n)
+    if not new_sites or not {site_key(s) for s in new_sites} <= _expected_sites(parts):
+        return "the local diagram's new sites are not the piece's"
+    sp = _taken(D, L, index, glob, cv_)
+    if isinstance(sp, str):
+        return sp
+    for s in range(len(new_sites)):
+        if not any(n + s in e.sites for e in sp.edges):
+            return "a new site has no edge in the local diagram"
+    removed_ids = {D.vertices[t].id for t in cv_.tolist()}
+    gone_mask = np.isin(index.EE, np.fromiter(removed_ids, np.int64)).any(axis=1)
+    gone = [D.edges[t] for t in np.nonzero(gone_mask)[0].tolist()]
+    if any(u is None for e in gone for u in e.ends):
+        return "a removed edge goes to infinity"
+    touched = {u for e in gone for u in e.ends} - removed_ids
+    touched |= {u for e in sp.edges for u in e.ends} - sp.taken_ids
+    secs["splice"] = time.perf_counter() - t2
+    # 3. proof of the changed part
+    t3 = time.perf_counter()
+    sites = list(D.sites) + new_sites
+    keep = np.ones(len(D.vertices), bool)
+    keep[cv_] = False
+    keep_e = ~gone_mask
+    new_index = _spliced_index(index, new_sites, n, keep, sp, keep_e)
+    why = _proved(D, sites, index, new_index, sp, keep, keep_e, touched)
+    if why is not None:
+        return why
+    secs["prove"] = time.perf_counter() - t3
+    vertices = [v for v, k in zip(D.vertices, keep.tolist()) if k] + sp.vertices
+    edges = [e for e, k in zip(D.edges, keep_e.tolist()) if k] + sp.edges
+    out = local_result(D, sites, vertices, edges, sp, new_index, len(cv_), len(hood), secs)
+    out.sources = list(D.sources) + [source] * len(new_sites)
+    return out
+
+
+def _admissible(D, parts, index):
+    """(index, lo, hi): D's edit index and the pieces' float box, when the insertion of ``parts``
+    can be local; else why not.  Refused: an uncertified diagram, sites or pieces other than points,
+    segments and circular arcs, a piece repeating a site or meeting another, and a change of the
+    elementary sites around the piece beyond adding its own (module docstring: an end at a smooth
+    joint or inside a merged segment, a curve continued straight or smoothly through its end)."""
     if not D.certified:
         return "the diagram is not certified"
-    parts = list(piece) if isinstance(piece, list) else [piece]
     for q in parts:
         if not editable(q):
             return f"a {type(q).__name__} piece"
@@ -110,7 +171,6 @@ def insert_locally(D, piece, source: int, build, index=None):
     if fresh is not index and not all(editable(s) for s in D.sites):
         return "the diagram has sites other than points, segments and circular arcs"
     index = fresh
-    n = len(D.sites)
     keys = index.keys
     if any(site_key(q) in keys for q in parts):
         return "the piece repeats a site"
@@ -123,7 +183,6 @@ def insert_locally(D, piece, source: int, build, index=None):
         check_pieces([D.sites[k] for k in near] + parts)
     except SiteError:
         return "the piece meets another"
-    own_ends = [e for q in parts for e in curve_ends(q)]
     for q in parts:
         for e in curve_ends(q):
             at = [k for k in near if e in curve_ends(D.sites[k])]
@@ -133,37 +192,24 @@ def insert_locally(D, piece, source: int, build, index=None):
                 continue
             if any(opposite(leaving(D.sites[k], e), leaving(q, e)) for k in at):
                 return "the piece continues a curve straight or smoothly through its end"
-    # 1. conflict
-    V = D.vertices
+    return index, plo, phi
+
+
+def _neighbourhood(D, index, cv_, plo, phi) -> list:
+    """The sites of the local diagram (sorted numbers): those whose boxes meet the box of the
+    conflict circles (rows ``cv_``) and the piece (``plo``, ``phi``) widened by :data:`RING` times
+    its size, with the partners of their curves at smooth joints."""
     XY, R = index.XY, index.R
-    conflict = np.zeros(len(R), bool)
-    for q in parts:
-        conflict |= conflicts(q, XY, R)
-    if not conflict.any():
-        return "no vertex in conflict"
-    cv_ = np.nonzero(conflict)[0]
     lo = np.minimum((XY[cv_] - R[cv_, None]).min(axis=0), plo)
     hi = np.maximum((XY[cv_] + R[cv_, None]).max(axis=0), phi)
     pad = RING * float(np.max(hi - lo)) + 1e-9
     lo, hi = lo - pad, hi + pad
-    hood = set(index.near(lo, hi))
-    for k in list(hood):               # a curve of the neighbourhood keeps its partner at a smooth joint
-        for p in curve_ends(D.sites[k]):
-            if point_key(p) not in keys:
-                hood.update(curves_ending_at(index, D.sites, p))
-    hood = sorted(hood)
-    secs["locate"] = time.perf_counter() - t0
-    # 2. local diagram
-    t1 = time.perf_counter()
-    try:
-        L = build([D.sites[k] for k in hood] + parts, certify=False)
-    except (SiteError, ValueError) as exc:
-        return f"the local diagram failed ({exc})"
-    # L.problems (e.g. a construction fault far from the changed part, at the edge of the
-    # neighbourhood) are not read: what is taken from L is proved, and the closure checks that
-    # nothing of the changed part is missing
-    secs["local build"] = time.perf_counter() - t1
-    t2 = time.perf_counter()
+    return sorted(with_joint_partners(set(index.near(lo, hi)), index, D.sites))
+
+
+def _global_sites(L, keys, n: int):
+    """(glob, new_sites): the global number of each site of the local diagram L (an old site's
+    own, a new site's n, n + 1, ... in L's order) and the new sites."""
     glob = []                          # local site -> global site
     new_sites = []
     for s in L.sites:
@@ -172,99 +218,66 @@ def insert_locally(D, piece, source: int, build, index=None):
             k = n + len(new_sites)
             new_sites.append(s)
         glob.append(k)
-    # the new elementary sites: the pieces and their ends, but an end two of them share (a circle's
-    # smooth joints are no sites)
-    expected = {site_key(q) for q in parts} | {point_key(e) for e in own_ends if own_ends.count(e) == 1}
-    if not new_sites or not {site_key(s) for s in new_sites} <= expected:
-        return "the local diagram's new sites are not the piece's"
-    is_new = lambda k: k >= n        # noqa: E731
-    removed = set(cv_.tolist())
-    removed_ids = {V[t].id for t in removed}
+    return glob, new_sites
+
+
+def _expected_sites(parts) -> set:
+    """The keys of the new elementary sites: the pieces and their ends, but an end two of them
+    share (a circle's smooth joints are no sites)."""
+    own_ends = [e for q in parts for e in curve_ends(q)]
+    return {site_key(q) for q in parts} | {point_key(e) for e in own_ends if own_ends.count(e) == 1}
+
+
+def _taken(D, L, index, glob, cv_):
+    """The :class:`runtime.segments.local_update.Splice` of the parts of L the insertion takes (step
+    2 of the module docstring): its vertices with a new site or reproducing a conflict vertex
+    (same sites, centre within 10⁻⁶·(1 + |x| + |y| + r)), its edges with a new site or an end at a
+    taken vertex; or why they cannot be spliced."""
+    V, n = D.vertices, len(D.sites)
     removed_by_sites: dict = {}
-    for t in removed:
+    for t in set(cv_.tolist()):
         removed_by_sites.setdefault(tuple(V[t].sites), []).append(V[t])
-    next_v = D.stats.get("next vertex id") or max((v.id for v in V), default=-1) + 1
-    lmap: dict = {}                    # local vertex id -> global id
-    pending: dict = {}                 # local vertices that are not taken: matched when needed
     removed_mask = np.zeros(len(V), bool)
     removed_mask[cv_] = True
-    kept = KeptVertices(index, V, removed_mask)
-    taken_v: list = []
-    for lv in L.vertices:
-        gs = tuple(glob[s] for s in lv.sites)
-        r = min(range(len(gs)), key=lambda t: gs[t])
-        gs = gs[r:] + gs[:r]           # the smallest index first, order kept
-        tol = 1e-6 * (1 + abs(lv.x) + abs(lv.y) + lv.radius)
-        if any(is_new(s) for s in gs) or any(abs(w.x - lv.x) + abs(w.y - lv.y) < tol
-                                             for w in removed_by_sites.get(gs, ())):
-            lmap[lv.id] = next_v
-            taken_v.append(DiagramVertex(next_v, gs, lv.x, lv.y, lv.radius, False))
-            next_v += 1
-            continue
-        pending[lv.id] = (gs, lv.x, lv.y, lv.radius)
-    taken_ids = {v.id for v in taken_v}
+    next_v = D.stats.get("next vertex id") or max((v.id for v in V), default=-1) + 1
     next_e = D.stats.get("next edge id") or max((e.id for e in D.edges), default=-1) + 1
-    taken_e: list = []
+    sp = Splice(KeptVertices(index, V, removed_mask), next_v, next_e)
+
+    def chosen(t, lv, gs):
+        tol = 1e-6 * (1 + abs(lv.x) + abs(lv.y) + lv.radius)
+        return any(s >= n for s in gs) or any(abs(w.x - lv.x) + abs(w.y - lv.y) < tol
+                                              for w in removed_by_sites.get(gs, ()))
+    sp.take_vertices(L, glob, chosen)
     for le in L.edges:
         gp = tuple(glob[s] for s in le.sites)
-        if not (any(is_new(s) for s in gp) or any(lmap.get(u) in taken_ids for u in le.ends)):
+        if not (any(s >= n for s in gp) or sp.at_taken(le)):
             continue
-        for u in le.ends:
-            if u is not None and u not in lmap:
-                lmap[u] = kept.find(*pending[u]) if u in pending else -1
-        ends = [None if u is None else lmap[u] for u in le.ends]
-        edge = spliced_edge(le, gp, ends, next_e)
-        if isinstance(edge, str):
-            return edge
-        taken_e.append(edge)
-        next_e += 1
-    for s in range(len(new_sites)):
-        if not any(n + s in e.sites for e in taken_e):
-            return "a new site has no edge in the local diagram"
-    gone_mask = np.isin(index.EE, np.fromiter(removed_ids, np.int64)).any(axis=1)
-    gone = [D.edges[t] for t in np.nonzero(gone_mask)[0].tolist()]
-    if any(u is None for e in gone for u in e.ends):
-        return "a removed edge goes to infinity"
-    touched = {u for e in gone for u in e.ends} - removed_ids
-    touched |= {u for e in taken_e for u in e.ends} - taken_ids
-    secs["splice"] = time.perf_counter() - t2
-    # 3. proof of the changed part
-    t3 = time.perf_counter()
-    sites = list(D.sites) + new_sites
-    keep = np.ones(len(V), bool)
-    keep[cv_] = False
-    keep_e = ~gone_mask
-    vid = {v.id: v for v in taken_v}
+        why = sp.take_edge(le, gp, sp.ends_of(le))
+        if why is not None:
+            return why
+    return sp
+
+
+def _spliced_index(index, new_sites, n: int, keep, sp, keep_e):
+    """The edit index of the edited diagram: the new sites' keys and boxes appended, the kept rows
+    and the taken parts."""
+    new_keys = dict(index.keys)
+    new_keys.update({site_key(s): n + t for t, s in enumerate(new_sites)})
+    boxes = np.vstack([index.boxes, np.array([site_box(s) for s in new_sites], float).reshape(-1, 4)])
+    return index.spliced(new_keys, boxes, keep, sp.vertices, keep_e, sp.edges)
+
+
+def _proved(D, sites, index, new_index, sp, keep, keep_e, touched):
+    """None when the changed part is proved and closed (step 3 of the module docstring: the taken
+    parts and the kept ends of taken edges, the closure at the taken vertices and the kept ones
+    ``touched``, which lost or gained an edge), else why not."""
+    V = D.vertices
+    vid = {v.id: v for v in sp.vertices}
     for t in (index.vertex_rows(touched).tolist() if touched else ()):
         if keep[t]:
             vid[V[t].id] = V[t]
-    ends_needed = sorted({u for e in taken_e for u in e.ends} - taken_ids)
-    new_keys = dict(keys)
-    new_keys.update({site_key(s): n + t for t, s in enumerate(new_sites)})
-    boxes = np.vstack([index.boxes, np.array([site_box(s) for s in new_sites], float).reshape(-1, 4)])
-    new_index = index.spliced(new_keys, boxes, keep, taken_v, keep_e, taken_e)
-    problems: list = []
-    if not prove_part(sites, new_index, taken_v + [vid[u] for u in ends_needed], taken_e, problems):
-        return f"the changed part is not proved ({problems[0] if problems else 'a part failed'})"
-    check_ids = touched | taken_ids
-    if any(u not in vid for u in check_ids):
-        return "the closure at the changed vertices fails (a vertex is missing)"
-    near_e = [D.edges[t] for t in index.edges_at(check_ids).tolist() if keep_e[t]] + taken_e
-    if not closure_holds(near_e, [vid[u] for u in sorted(check_ids)]):
-        return "the closure at the changed vertices fails"
-    secs["prove"] = time.perf_counter() - t3
-    for v in taken_v:
-        v.certified = True
-    for e in taken_e:
-        e.certified = True
-    vertices = [v for v, k in zip(V, keep.tolist()) if k] + taken_v
-    edges = [e for e, k in zip(D.edges, keep_e.tolist()) if k] + taken_e
-    out = Diagram(sites, vertices, edges, True, [], dict(D.stats))
-    out.sources = list(D.sources) + [source] * len(new_sites)
-    out.stats["update"] = "local"
-    out.stats["next vertex id"], out.stats["next edge id"] = next_v, next_e
-    out.stats["changed"] = {"removed vertices": len(removed), "new vertices": len(taken_v),
-                            "new edges": len(taken_e), "neighbourhood sites": len(hood)}
-    out.stats["seconds"] = {k: round(t, 4) for k, t in secs.items()}
-    out.edit_index = new_index
-    return out
+    ends_needed = sorted({u for e in sp.edges for u in e.ends} - sp.taken_ids)
+
+    def near_edges(check_ids):
+        return [D.edges[t] for t in index.edges_at(check_ids).tolist() if keep_e[t]]
+    return changed_part_holds(sites, new_index, vid, sp, ends_needed, touched | sp.taken_ids, near_edges)

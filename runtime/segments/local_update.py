@@ -38,10 +38,12 @@ Public API: :class:`EditIndex`, :class:`KeptVertices`, :func:`site_key`, :func:`
 :func:`piece_ends`, :func:`piece_distance`, :func:`site_distance`, :func:`distance_error`, :func:`conflicts`,
 :func:`curve_ends`, :func:`leaving`, :func:`opposite`, :func:`curves_ending_at`, :func:`editable`,
 :func:`closure_holds`, :func:`spliced_edge`, :func:`prove_part`, :func:`vertex_sites`, :func:`edge_arrays`,
-:data:`MARGIN`, :data:`WIDEN`, :data:`ARC_ERROR`.
+:data:`MARGIN`, :data:`WIDEN`, :data:`ARC_ERROR`; the steps both updates take: :func:`with_joint_partners`,
+:func:`local_diagram`, :func:`smallest_first`, :class:`Splice`, :func:`changed_part_holds`, :func:`local_result`.
 
-Length: the shared part of two updates (index, distances, ends, proof); the curve helpers are a
-few lines each and read by both updates and the edit state.
+Length: the shared part of two updates (index, distances, ends, proof, and the steps of the
+splice both take, written once); the curve helpers are a few lines each and read by both updates
+and the edit state.
 """
 from __future__ import annotations
 
@@ -53,6 +55,7 @@ import numpy as np
 from ..predicates.circles import Point
 from ..sites.arc import Arc
 from ..sites.segment import Segment
+from ..voronoi.site_input import SiteError
 from ..voronoi.structure import Diagram, DiagramEdge, DiagramVertex
 from .certificate_edges import prove_edges
 from .certificate_sites import SiteTable
@@ -60,7 +63,8 @@ from .certificate_vertices import prove_vertices
 
 __all__ = ["EditIndex", "KeptVertices", "site_key", "point_key", "site_box", "piece_ends", "piece_distance", "site_distance",
            "conflicts", "closure_holds", "spliced_edge", "prove_part", "vertex_sites", "edge_arrays", "curve_ends",
-           "leaving", "opposite", "editable", "curves_ending_at", "distance_error", "MARGIN", "WIDEN", "ARC_ERROR"]
+           "leaving", "opposite", "editable", "curves_ending_at", "distance_error", "MARGIN", "WIDEN", "ARC_ERROR",
+           "with_joint_partners", "local_diagram", "smallest_first", "Splice", "changed_part_holds", "local_result"]
 
 #: margin of the conflict test, relative to 1 + |x| + |y| + r of the vertex (a hundred times the
 #: certificate's position tolerance)
@@ -432,3 +436,121 @@ def prove_part(sites, index: EditIndex, vertices, edges, problems: list) -> bool
     vproofs = prove_vertices(sub, T, problems)
     eproofs = prove_edges(sub, T, vproofs, problems)
     return not problems and all(p.ok for p in vproofs) and all(p.ok for p in eproofs)
+
+
+# ====================================================================== steps both updates take
+def with_joint_partners(hood: set, index: EditIndex, sites) -> set:
+    """``hood`` (site numbers) with, for each curve in it ending at a smooth joint (an end that is no
+    point site), the curves continuing there: a curve of the neighbourhood keeps its partner, so that
+    the local diagram's elementary sites are the diagram's (without the partner, the joint would be
+    a curve end and a point site of its own, :mod:`runtime.segments.elementary`, which no site of
+    the diagram matches)."""
+    for k in list(hood):
+        for p in curve_ends(sites[k]):
+            if point_key(p) not in index.keys:
+                hood.update(curves_ending_at(index, sites, p))
+    return hood
+
+
+def local_diagram(build, sites):
+    """The diagram of ``sites`` by ``build`` (the construction that built the edited diagram,
+    uncertified), or a str: why it failed.  Its problems (e.g. a construction fault far from the
+    changed part, at the edge of the neighbourhood) are not read: what is taken from it is proved,
+    and the closure checks that nothing of the changed part is missing."""
+    try:
+        return build(sites, certify=False)
+    except (SiteError, ValueError) as exc:
+        return f"the local diagram failed ({exc})"
+
+
+def smallest_first(gs: tuple) -> tuple:
+    """The cyclic sequence of a vertex's sites ``gs`` turned to start at its smallest number (the
+    order kept: the diagram's convention, which the closure test and the matching compare)."""
+    r = min(range(len(gs)), key=lambda t: gs[t])
+    return gs[r:] + gs[:r]
+
+
+class Splice:
+    """What an update takes from its local diagram L into the edited diagram: the vertices
+    (``vertices``, fresh ids from ``next_v``) and edges (``edges``, fresh ids from ``next_e``),
+    uncertified until the changed part is proved; ``lmap`` maps L's vertex ids to the edited
+    diagram's (a taken vertex's fresh id, a matched kept vertex's id, −1 when it matches none);
+    L's vertices that are not taken wait in ``pending`` until an edge needs them matched to kept
+    vertices (:class:`KeptVertices`)."""
+
+    def __init__(self, kept: KeptVertices, next_v: int, next_e: int):
+        self.kept, self.next_v, self.next_e = kept, next_v, next_e
+        self.lmap: dict = {}
+        self.pending: dict = {}
+        self.vertices: list = []
+        self.edges: list = []
+        self.taken_ids: set = set()
+
+    def take_vertices(self, L, glob, chosen) -> None:
+        """Take the vertices of L for which ``chosen(t, lv, gs)`` holds (t: its row, gs: its sites in
+        the global numbering ``glob``, smallest first); the others wait in ``pending``."""
+        for t, lv in enumerate(L.vertices):
+            gs = smallest_first(tuple(glob[s] for s in lv.sites))
+            if chosen(t, lv, gs):
+                self.lmap[lv.id] = self.next_v
+                self.vertices.append(DiagramVertex(self.next_v, gs, lv.x, lv.y, lv.radius, False))
+                self.next_v += 1
+                continue
+            self.pending[lv.id] = (gs, lv.x, lv.y, lv.radius)
+        self.taken_ids = {v.id for v in self.vertices}
+
+    def at_taken(self, le) -> bool:
+        """The local edge ``le`` has an end at a taken vertex."""
+        return any(self.lmap.get(u) in self.taken_ids for u in le.ends)
+
+    def ends_of(self, le) -> list:
+        """The ends of the local edge ``le`` in the edited diagram (None: at infinity), its ends that
+        are not taken matched to kept vertices now."""
+        for u in le.ends:
+            if u is not None and u not in self.lmap:
+                self.lmap[u] = self.kept.find(*self.pending[u]) if u in self.pending else -1
+        return [None if u is None else self.lmap[u] for u in le.ends]
+
+    def take_edge(self, le, gp, ends) -> str | None:
+        """Take the local edge ``le`` of the global pair ``gp`` between ``ends``
+        (:func:`spliced_edge`); a reason when it cannot be spliced."""
+        edge = spliced_edge(le, gp, ends, self.next_e)
+        if isinstance(edge, str):
+            return edge
+        self.edges.append(edge)
+        self.next_e += 1
+        return None
+
+
+def changed_part_holds(sites, index: EditIndex, vid: dict, splice: Splice, ends_needed, check_ids, near_edges) -> str | None:
+    """None when the changed part is proved and closed, else why not: the taken vertices and edges
+    and the kept ends of taken edges proved against every site that can reach them
+    (:func:`prove_part`), then the closure (:func:`closure_holds`) at the vertices ``check_ids``
+    (ids; ``vid``: id -> vertex of the edited diagram) among their edges ``near_edges(check_ids)``
+    of the kept part and the taken edges."""
+    problems: list = []
+    if not prove_part(sites, index, splice.vertices + [vid[u] for u in ends_needed], splice.edges, problems):
+        return f"the changed part is not proved ({problems[0] if problems else 'a part failed'})"
+    if any(u not in vid for u in check_ids):
+        return "the closure at the changed vertices fails (a vertex is missing)"
+    if not closure_holds(near_edges(check_ids) + splice.edges, [vid[u] for u in sorted(check_ids)]):
+        return "the closure at the changed vertices fails"
+    return None
+
+
+def local_result(D, sites, vertices, edges, splice: Splice, index: EditIndex, removed: int, hood: int, secs: dict):
+    """The edited diagram, certified (the changed part proved and closed, the kept part by the
+    update's argument): the taken parts marked certified, D's stats with the update's (the next
+    fresh ids, the counts of the change, the seconds of each step), and its ``edit_index``."""
+    for v in splice.vertices:
+        v.certified = True
+    for e in splice.edges:
+        e.certified = True
+    out = Diagram(sites, vertices, edges, True, [], dict(D.stats))
+    out.stats["update"] = "local"
+    out.stats["next vertex id"], out.stats["next edge id"] = splice.next_v, splice.next_e
+    out.stats["changed"] = {"removed vertices": removed, "new vertices": len(splice.vertices),
+                            "new edges": len(splice.edges), "neighbourhood sites": hood}
+    out.stats["seconds"] = {k: round(t, 4) for k, t in secs.items()}
+    out.edit_index = index
+    return out
