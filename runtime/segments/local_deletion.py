@@ -81,7 +81,7 @@ import numpy as np
 
 from ..voronoi.structure import DiagramEdge, DiagramVertex
 from .local_update import (EditIndex, KeptVertices, Splice, changed_part_holds, conflicts, editable, local_diagram, local_result,
-                           site_key, with_joint_partners)
+                           site_key, smallest_first, with_joint_partners)
 
 __all__ = ["delete_locally", "site_moves"]
 
@@ -302,9 +302,7 @@ def _proved(sites, new_index, vertices, edges, sp, touched: set):
 
 def _renumbered_vertex(v, renumber, certified: bool):
     """A copy of vertex v with its sites renumbered, the smallest first (cyclic order kept)."""
-    gs = tuple(renumber(s) for s in v.sites)
-    r = min(range(len(gs)), key=lambda t: gs[t])
-    return DiagramVertex(v.id, gs[r:] + gs[:r], v.x, v.y, v.radius, certified)
+    return DiagramVertex(v.id, smallest_first(tuple(renumber(s) for s in v.sites)), v.x, v.y, v.radius, certified)
 
 
 def _renumbered_edge(e, renumber, certified: bool):

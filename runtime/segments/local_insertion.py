@@ -69,9 +69,6 @@ Numbering: the old elementary sites keep their indices; the new ones are appende
 diagram's order: endpoints, then the interior) with ``source`` N, the new input index.  Old
 vertex and edge ids are kept; new ones take fresh ids above the largest.
 
-Length: the conflict search, the splice and the proof of one update share the maps between the
-local diagram's numbering and the global one; apart they would pass all of them around.
-
 Public API: :func:`insert_locally` (the returned diagram carries its ``edit_index``).
 """
 from __future__ import annotations
