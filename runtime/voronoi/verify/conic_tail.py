@@ -26,8 +26,12 @@ the open sector is returned.  Tails between an unbounded and a bounded site are 
 proved (the bounded site's gradient far away would need the support-function enclosures of
 :mod:`runtime.voronoi.verify.tail` combined with these).
 
+The cells of a sector to infinity in (τ = 1/t, θ) (:func:`sector_grid`, :func:`halve_tau`,
+:func:`quarter_cells`) are shared with the tails of bounded sites
+(:func:`runtime.voronoi.verify.tail.prove_tail`): the same covering of Σ, down to τ = 0.
+
 Public API: :func:`prove_conic_tail`, :func:`prove_sector`, :func:`monotone_in_theta`,
-:data:`CONIC_TAIL_WORK`.
+:func:`sector_grid`, :func:`halve_tau`, :func:`quarter_cells`, :data:`CONIC_TAIL_WORK`.
 """
 from __future__ import annotations
 
@@ -39,7 +43,8 @@ from .far_accounting import asymptotic_direction, c_float, far_centre, lead_inte
 from .far_conics import UNBOUNDED, FarConic, bounded_lower, cos_range, sin_range
 from .tail_link import link_arc
 
-__all__ = ["prove_conic_tail", "prove_sector", "monotone_in_theta", "CONIC_TAIL_WORK"]
+__all__ = ["prove_conic_tail", "prove_sector", "monotone_in_theta", "sector_grid", "halve_tau", "quarter_cells",
+           "CONIC_TAIL_WORK"]
 
 #: cells per sector attempt
 CONIC_TAIL_WORK = 200000
@@ -89,6 +94,55 @@ def monotone_in_theta(ai0, ai1, aj0, aj1, th0, th1, sigma):
     return (si[0] - sj[1] > 0) if sigma > 0 else (si[1] - sj[0] < 0)
 
 
+def sector_grid(tha, thb, tmax, nt: int = 8, nth: int = 8):
+    """The first cells (τa, τb, θ0, θ1) of the sector {1/t ∈ [0, tmax], θ ∈ [θa, θb]}: nt × nth
+    rectangles in (τ = 1/t, θ), τ = 0 (infinity) included, whose union is the whole sector (the
+    last τ-row ends exactly at tmax, whatever the rounding of the grid)."""
+    ta = np.repeat(np.linspace(0, tmax, nt + 1)[:-1], nth)
+    tb = np.repeat(np.linspace(0, tmax, nt + 1)[1:], nth)
+    tb[-nth:] = tmax
+    e = np.linspace(tha, thb, nth + 1)
+    return ta, tb, np.tile(e[:-1], nt), np.tile(e[1:], nt)
+
+
+def halve_tau(T_a, T_b, bad):
+    """The τ-intervals [T_a, T_b] of a ray where ``bad``, each cut at its midpoint (the two halves
+    cover it): the lower halves first, then the upper ones."""
+    a_, b_ = T_a[bad], T_b[bad]
+    mid = 0.5 * (a_ + b_)
+    return np.concatenate([a_, mid]), np.concatenate([mid, b_])
+
+
+def quarter_cells(cells, bad, W=None):
+    """The cells (τa, τb, θ0, θ1, extra arrays...) where ``bad``, cut: cells reaching infinity
+    (τa = 0) in τ and θ, finite ones across their longer side (radial extent 1/τa − 1/τb against
+    lateral extent (θ1 − θ0)/τa); the pieces cover each cell, and carry the cell's extra values.
+    With ``W`` (the sites in a disc of radius W), the radial extent counts for min(1, 4W/t) of its
+    length: far out the support bounds lose ~W·(lateral extent)/t across and only
+    ~W²·(radial extent)/t² along the rays (:mod:`runtime.voronoi.verify.far_field`)."""
+    a_, b_, c_, d_ = (x[bad] for x in cells[:4])
+    extra = [x[bad] for x in cells[4:]]
+    mt, mh = 0.5 * (a_ + b_), 0.5 * (c_ + d_)
+    inf_ = a_ <= 0
+    ta_f = np.where(inf_, np.inf, 1.0 / np.where(inf_, 1.0, a_))
+    radial = 0.5 * (ta_f - 1.0 / b_)
+    if W is not None:
+        radial = radial * np.minimum(1.0, 4.0 * W * b_)
+    lateral = ta_f * 0.5 * (d_ - c_)
+    cut_t = inf_ | (radial >= lateral)
+    cut_h = inf_ | (radial < lateral)
+    parts = []
+    for ct, ch in ((False, False), (True, False), (False, True), (True, True)):
+        # quarter (ct, ch): upper τ half if ct, upper θ half if ch; kept when that cut is made
+        sel = (cut_t | (not ct)) & (cut_h | (not ch))
+        A0 = np.where(cut_t, np.where(ct, mt, a_), a_)
+        B0 = np.where(cut_t, np.where(ct, b_, mt), b_)
+        C0 = np.where(cut_h, np.where(ch, mh, c_), c_)
+        D0 = np.where(cut_h, np.where(ch, d_, mh), d_)
+        parts.append([A0[sel], B0[sel], C0[sel], D0[sel]] + [x[sel] for x in extra])
+    return tuple(np.concatenate([p_[q] for p_ in parts]) for q in range(len(cells)))
+
+
 def _third_lower(geoms, fars, m, others, t0, t1, a0, a1):
     """Lower bound of min_k d_k/t over the other sites on the cells."""
     lo = np.full(len(t0), np.inf)
@@ -134,16 +188,9 @@ def prove_sector(geoms, fars, table, pair, tha, thb, sigma, T, m, scale, max_wor
             bad = ~good
             if np.any(bad & (T_b - T_a < 1e-15 * tmax)):
                 return False, f"the sign of d_{i} - d_{j} on the ray at angle {th:.6g} is undecided"
-            a_, b_ = T_a[bad], T_b[bad]
-            mid = 0.5 * (a_ + b_)
-            T_a, T_b = np.concatenate([a_, mid]), np.concatenate([mid, b_])
+            T_a, T_b = halve_tau(T_a, T_b, bad)
     # ---- the sector: 2-D cells in (τ, θ)
-    nt, nth = 8, 8
-    ta = np.repeat(np.linspace(0, tmax, nt + 1)[:-1], nth)
-    tb = np.repeat(np.linspace(0, tmax, nt + 1)[1:], nth)
-    tb[-nth:] = tmax
-    e = np.linspace(tha, thb, nth + 1)
-    h0, h1 = np.tile(e[:-1], nt), np.tile(e[1:], nt)
+    ta, tb, h0, h1 = sector_grid(tha, thb, tmax)
     work = 0
     while len(ta):
         work += len(ta)
@@ -161,21 +208,5 @@ def prove_sector(geoms, fars, table, pair, tha, thb, sigma, T, m, scale, max_wor
         bad = ~(oki & okj & okM & okA)
         if not bad.any():
             return True, None
-        a_, b_, c_, d_ = ta[bad], tb[bad], h0[bad], h1[bad]
-        mt, mh = 0.5 * (a_ + b_), 0.5 * (c_ + d_)
-        inf_ = a_ <= 0
-        ta_f = np.where(inf_, np.inf, 1.0 / np.where(inf_, 1.0, a_))
-        radial = 0.5 * (ta_f - 1.0 / b_)
-        lateral = ta_f * 0.5 * (d_ - c_)
-        cut_t = inf_ | (radial >= lateral)
-        cut_h = inf_ | (radial < lateral)
-        parts = []
-        for ct, ch in ((False, False), (True, False), (False, True), (True, True)):
-            sel = (cut_t | (not ct)) & (cut_h | (not ch))
-            A0 = np.where(cut_t, np.where(ct, mt, a_), a_)
-            B0 = np.where(cut_t, np.where(ct, b_, mt), b_)
-            C0 = np.where(cut_h, np.where(ch, mh, c_), c_)
-            D0 = np.where(cut_h, np.where(ch, d_, mh), d_)
-            parts.append((A0[sel], B0[sel], C0[sel], D0[sel]))
-        ta, tb, h0, h1 = (np.concatenate([p_[q] for p_ in parts]) for q in range(4))
+        ta, tb, h0, h1 = quarter_cells((ta, tb, h0, h1), bad)
     return True, None

@@ -51,16 +51,18 @@ Distance values come from :class:`runtime.voronoi.verify.site_table.SiteTable`, 
 third sites of a round of cells.
 
 Length: one sector argument (rays, cells, their (F), (A), (M) tests in floats and, within the
-rounding margin, in balls, and the lead interval J) whose steps share the cell arrays.
+rounding margin, in balls, and the lead interval J) whose steps share the cell records
+(:class:`_Sector`, :class:`_Cells`, :class:`_PairValues`).
 """
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
 from ...certify.cell_cover import cell_balls, halve
-from .conic_tail import prove_conic_tail
+from .conic_tail import halve_tau, prove_conic_tail, quarter_cells, sector_grid
 from .distance_gap import bisector_gap_lower, gap_lower
 from . import far_field
 from .support_balls import SupportBalls
@@ -224,16 +226,64 @@ def _lead_interval(sup, i, j, ths, tha, thb):
     return None
 
 
-def _third_sites(sup, table, pair, oth, need, okA, thc, half, tt, fin, Cf, R, Rf, Vij, Gi_, hi_i, hi_min, scale):
+class _Sector(NamedTuple):
+    """The sector Σ = {t ≥ T0, θ ∈ [θa, θb]} of :func:`_prove_sector`, the sign σ of ∂f/∂θ to
+    prove on it, and what every step needs (the support table, the site table, the work limit)."""
+    sup: object
+    table: object
+    pair: tuple
+    tha: float
+    thb: float
+    sigma: float
+    T0: float
+    scale: float
+    max_work: int
+
+
+class _Cells(NamedTuple):
+    """One round of cells of the sector in (τ = 1/t, θ): the angular centre and half-width, the
+    radii t0 ≤ t ≤ t1 (t1 = ∞ where τa = 0, fin false), the direction U of the centre, the bound
+    e_i, e_j of d − (t − h) at t0 (:func:`_eps1`), the disc (Cf, R) covering a finite cell (Rf = 0
+    and Cf on the circle t = T0 for an infinite one: the gradient enclosures are taken there)."""
+    tb: np.ndarray
+    thc: np.ndarray
+    half: np.ndarray
+    t0: np.ndarray
+    t1: np.ndarray
+    fin: np.ndarray
+    U: np.ndarray
+    R: np.ndarray
+    Cf: np.ndarray
+    Rf: np.ndarray
+    e_i: np.ndarray
+    e_j: np.ndarray
+
+
+class _PairValues(NamedTuple):
+    """Distance bounds Vi, Vj of the pair at the cells' centres Cf (hi_i, hi_min = min(hi_i,
+    hi_j): upper bounds of d_i = d_j on β), and the gradient enclosures (G, s, valid) on the discs."""
+    Vi: object
+    Vj: object
+    hi_i: np.ndarray
+    hi_min: np.ndarray
+    Gi: np.ndarray
+    si: np.ndarray
+    vi: np.ndarray
+    Gj: np.ndarray
+    sj: np.ndarray
+    vj: np.ndarray
+
+
+def _third_sites(sec, oth, need, okA, c, pv):
     """(A) of :func:`_prove_sector` on the cells ``need``: okA[c] is cleared where a site of ``oth``
     is not proved farther than the pair on cell c (support functions to first order in 1/t; then
     distance bounds on the cell's disc, to first or second order)."""
-    Vi, Vj = Vij
-    Gi, si, vi = Gi_
+    sup, table, pair, scale = sec.sup, sec.table, sec.pair, sec.scale
+    fin, Cf, R, Rf = c.fin, c.Cf, c.R, c.Rf
+    Vi, Vj, Gi, si, vi, hi_i, hi_min = pv.Vi, pv.Vj, pv.Gi, pv.si, pv.vi, pv.hi_i, pv.hi_min
     # support functions to first order (far_field.gap_lower): on β, d_i = d_j, so a lower bound of
     # d_k − d_i or of d_k − d_j on the cell suffices
-    t0, t1 = tt
-    cell = (thc[need][None, :], half[need][None, :], t0[need][None, :], t1[need][None, :])
+    cell = (c.thc[need][None, :], c.half[need][None, :], c.t0[need][None, :], c.t1[need][None, :])
     k_ = oth[:, None]
     fail = ~((far_field.gap_lower(sup, pair[0], k_, *cell) > 0) | (far_field.gap_lower(sup, pair[1], k_, *cell) > 0))
     okA[need] &= ~(fail & ~fin[need][None, :]).any(0)
@@ -289,166 +339,218 @@ def _ball_cells(sup, balls, pair, oth, cells, cell, okF, okA, okM):
 
 def _prove_sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work):
     """(A) third sites, (M) σ·∂f/∂θ > 0 on Σ = {t ≥ T0, θ ∈ [θa, θb]}, (R) σ·f < 0 on the ray θa
-    and > 0 on the ray θb; cells in (τ = 1/t, θ), halved until decided (module docstring)."""
-    i, j = pair
+    and > 0 on the ray θb; cells in (τ = 1/t, θ), halved until decided (module docstring).
+    Returns (ok, message)."""
+    sec = _Sector(sup, table, pair, tha, thb, sigma, T0, scale, max_work)
+    oth = _sector_third_sites(sec)
+    for th, want in ((tha, -1.0), (thb, 1.0)):
+        msg = _prove_ray(sec, th, want)
+        if msg is not None:
+            return False, msg
+    return _prove_cells(sec, oth)
+
+
+def _sector_third_sites(sec):
+    """The third sites that the cells must test: a site k is farther on the whole sector when
+    d_k ≥ t − h_k > t − max(h_i − e_i, h_j − e_j) ≥ d_i = d_j on β, with h bounded over the
+    sector (|h'| ≤ W) and e at t = T0 (the largest).  Over the sector h_k ≤ max_θ u(θ)·(c_k − m) + r_k
+    and h_k ≥ min_θ u(θ)·(c_k − m) + b_k with r_k, b_k the largest / smallest semi-axis; u·v over
+    an arc of directions is extreme at its ends or at ±v/|v| (:func:`_arc_dot`)."""
+    sup, pair = sec.sup, sec.pair
     W, m, mu = sup.W, sup.m, sup.mu
     oth = np.array([k for k in range(sup.n) if k not in pair], int)
-    tmax = 1.0 / T0
-    # sites farther on the whole sector: d_k ≥ t − h_k > t − max(h_i − e_i, h_j − e_j) ≥ d_i = d_j on
-    # β, with h bounded over the sector (|h'| ≤ W) and e at t = T0 (the largest); the cells below
-    # only test the others
-    # (h over the sector: h_k ≤ max_θ u(θ)·(c_k − m) + r_k, h_k ≥ min_θ u(θ)·(c_k − m) + b_k with
-    # r_k, b_k the largest / smallest semi-axis; u·v over an arc of directions is extreme at its
-    # ends or at ±v/|v|)
-    thm, hw = (float(v) for v in cell_balls(tha, thb))
-    dlo, dhi = _arc_dot(sup.cen - m, tha, thb)
+    thm, hw = (float(v) for v in cell_balls(sec.tha, sec.thb))
+    dlo, dhi = _arc_dot(sup.cen - m, sec.tha, sec.thb)
     slack = 1e-12 * (np.abs(sup.cen - m).sum(1) + sup.rho) + mu
     small = np.minimum(sup.sa, sup.sb)
-    lead = max(float(dlo[s_] + small[s_] - slack[s_]) - _eps1(float(sup.hp_abs(s_, thm, hw)), W, T0) for s_ in pair)
+    lead = max(float(dlo[s_] + small[s_] - slack[s_]) - _eps1(float(sup.hp_abs(s_, thm, hw)), W, sec.T0)
+               for s_ in pair)
     if len(oth):
         oth = oth[~(dhi[oth] + sup.rho[oth] + slack[oth] < lead)]
-    # ---- rays: 1-D cells in τ
-    for th, want in ((tha, -1.0), (thb, 1.0)):
-        gv = float(sup.h(i, th) - sup.h(j, th))
-        T_a, T_b = np.array([0.0]), np.array([tmax])
-        work = 0
-        while len(T_a):
-            work += len(T_a)
-            if work > max_work:
-                return False, f"the sign of d_{i} - d_{j} on the ray at angle {th:.6g} is undecided"
-            t0 = 1.0 / T_b
-            e_i = _eps1(sup.hp_abs(i, th, 0.0), W, t0)
-            e_j = _eps1(sup.hp_abs(j, th, 0.0), W, t0)
-            f_lo, f_hi = -gv - 2 * mu - e_j, -gv + 2 * mu + e_i      # f ∈ [−g − e_j, −g + e_i]
-            ok = np.where(want * sigma > 0, f_lo > 0, f_hi < 0)
-            # to first order in 1/t (far_field.gap_lower): d_i − d_j ≥ gap_lower(j, i), ≤ −gap_lower(i, j)
-            t_far = np.where(T_a > 0, 1.0 / np.where(T_a > 0, T_a, 1.0), np.inf)
-            ray = (np.full(len(T_a), th), 0.0, t0, t_far)
-            ok |= np.where(want * sigma > 0, far_field.gap_lower(sup, j, i, *ray) > 0,
-                           far_field.gap_lower(sup, i, j, *ray) > 0)
-            fin = T_a > 0
-            if fin.any():
-                t1 = np.where(fin, 1.0 / np.where(fin, T_a, 1.0), t0)
-                tc = 0.5 * (t0 + t1)
-                C = m + tc[:, None] * np.array([math.cos(th), math.sin(th)])
-                R = np.where(fin, 0.5 * (t1 - t0), np.inf) * (1 + 1e-12) + 1e-12 * (scale + tc)
-                n_ = len(C)
-                V = evaluate_rows(table, np.concatenate([C, C]), np.repeat([i, j], n_))
-                fl, fh = V.lo[:n_] - V.hi[n_:] - 2 * R, V.hi[:n_] - V.lo[n_:] + 2 * R
-                ok |= fin & (((want * sigma > 0) & (fl > 0)) | ((want * sigma < 0) & (fh < 0)))
-            bad = ~ok
-            if not bad.any():
-                break
-            a_, b_ = T_a[bad], T_b[bad]
-            mid = 0.5 * (a_ + b_)
-            T_a, T_b = np.concatenate([a_, mid]), np.concatenate([mid, b_])
-    # ---- the sector: 2-D cells
-    nt, nth = 8, 8
-    ta = np.repeat(np.linspace(0, tmax, nt + 1)[:-1], nth)
-    tb = np.repeat(np.linspace(0, tmax, nt + 1)[1:], nth)
-    tb[-nth:] = tmax
-    e = np.linspace(tha, thb, nth + 1)
-    h0 = np.tile(e[:-1], nt)
-    h1 = np.tile(e[1:], nt)
+    return oth
+
+
+def _prove_ray(sec, th, want):
+    """(R) on the ray θ = th, t ≥ T0: σ·f has the sign ``want`` on τ-intervals covering [0, 1/T0],
+    halved until decided by :func:`_ray_signs`.  Returns None (proved) or the message."""
+    i, j = sec.pair
+    gv = float(sec.sup.h(i, th) - sec.sup.h(j, th))
+    T_a, T_b = np.array([0.0]), np.array([1.0 / sec.T0])
+    work = 0
+    while len(T_a):
+        work += len(T_a)
+        if work > sec.max_work:
+            return f"the sign of d_{i} - d_{j} on the ray at angle {th:.6g} is undecided"
+        bad = ~_ray_signs(sec, th, want, gv, T_a, T_b)
+        if not bad.any():
+            break
+        T_a, T_b = halve_tau(T_a, T_b, bad)
+    return None
+
+
+def _ray_signs(sec, th, want, gv, T_a, T_b):
+    """Is σ·f of the sign ``want`` on the ray's pieces 1/t ∈ [T_a, T_b]?  By f ∈ [−g − e_j, −g + e_i]
+    (g = h_i − h_j = ``gv``, e at the piece's nearest point), or to first order in 1/t
+    (far_field.gap_lower: d_i − d_j ≥ gap_lower(j, i), ≤ −gap_lower(i, j)), or, on a finite piece,
+    by the distance bounds at its midpoint widened by its half-length (d is 1-Lipschitz)."""
+    i, j = sec.pair
+    sup, sigma = sec.sup, sec.sigma
+    W, m, mu = sup.W, sup.m, sup.mu
+    t0 = 1.0 / T_b
+    e_i = _eps1(sup.hp_abs(i, th, 0.0), W, t0)
+    e_j = _eps1(sup.hp_abs(j, th, 0.0), W, t0)
+    f_lo, f_hi = -gv - 2 * mu - e_j, -gv + 2 * mu + e_i      # f ∈ [−g − e_j, −g + e_i]
+    ok = np.where(want * sigma > 0, f_lo > 0, f_hi < 0)
+    t_far = np.where(T_a > 0, 1.0 / np.where(T_a > 0, T_a, 1.0), np.inf)
+    ray = (np.full(len(T_a), th), 0.0, t0, t_far)
+    ok |= np.where(want * sigma > 0, far_field.gap_lower(sup, j, i, *ray) > 0,
+                   far_field.gap_lower(sup, i, j, *ray) > 0)
+    fin = T_a > 0
+    if fin.any():
+        t1 = np.where(fin, 1.0 / np.where(fin, T_a, 1.0), t0)
+        tc = 0.5 * (t0 + t1)
+        C = m + tc[:, None] * np.array([math.cos(th), math.sin(th)])
+        R = np.where(fin, 0.5 * (t1 - t0), np.inf) * (1 + 1e-12) + 1e-12 * (sec.scale + tc)
+        n_ = len(C)
+        V = evaluate_rows(sec.table, np.concatenate([C, C]), np.repeat([i, j], n_))
+        fl, fh = V.lo[:n_] - V.hi[n_:] - 2 * R, V.hi[:n_] - V.lo[n_:] + 2 * R
+        ok |= fin & (((want * sigma > 0) & (fl > 0)) | ((want * sigma < 0) & (fh < 0)))
+    return ok
+
+
+def _prove_cells(sec, oth):
+    """The 2-D cells of Σ in (τ, θ): each round decides (F) or (A) and (M) on its cells
+    (:func:`_far_sign`, :func:`_third_sites_round`, :func:`_monotone`), retries the near-ties at
+    infinity in balls, and quarters the cells left undecided.  Returns (ok, message)."""
+    mu = sec.sup.mu
+    ta, tb, h0, h1 = sector_grid(sec.tha, sec.thb, 1.0 / sec.T0)
     okA_last = np.ones(len(ta), bool)
     work = 0
     balls = None
     while len(ta):
         work += len(ta)
-        if work > max_work:
-            k = int(np.argmax(tb))
-            what = "third site" if not okA_last[k] else "monotonicity"
-            return False, (f"the tail is undecided ({what}) near angle {0.5 * (h0[k] + h1[k]):.6g}, "
-                           f"distance {1.0 / tb[k]:.6g} from the scene's centre")
-        thc, half = cell_balls(h0, h1)
-        t0 = 1.0 / tb
-        e_i = _eps1(sup.hp_abs(i, thc, half), W, t0)
-        e_j = _eps1(sup.hp_abs(j, thc, half), W, t0)
-        fin = ta > 0
-        t1 = np.where(fin, 1.0 / np.where(fin, ta, 1.0), np.inf)
-        tc = np.where(fin, 0.5 * (t0 + t1), t0)
-        U = np.column_stack([np.cos(thc), np.sin(thc)])
-        C = m + tc[:, None] * U
-        R = np.where(fin, t1 * half + 0.5 * (t1 - t0) + 1e-12 * (scale + tc), np.inf) * (1 + 1e-12)
-        # (A) third sites: support bounds, or distance bounds on the cell's disc
-        okA = np.ones(len(ta), bool)
-        nc = len(ta)
-        Cf = np.where(fin[:, None], C, m + T0 * U)
-        Rf = np.where(fin, R, 0.0)
-        Vij = evaluate_rows(table, np.concatenate([Cf, Cf]), np.repeat([i, j], nc))
-        Vi, Vj = Vij.part(0, nc), Vij.part(nc, 2 * nc)
-        hi_i, hi_min = Vi.hi, np.minimum(Vi.hi, Vj.hi)
-        Gi, si, vi = gradient_enclosure(Cf, Vi, Rf, scale)
-        Gj, sj, vj = gradient_enclosure(Cf, Vj, Rf, scale)
+        if work > sec.max_work:
+            return False, _undecided(ta, tb, h0, h1, okA_last)
+        c = _cell_discs(sec, ta, tb, h0, h1)
+        pv = _pair_values(sec, c)
         # (F) first: cells where β does not pass need no (A), (M)
-        gc = sup.h(i, thc) - sup.h(j, thc)
-        gr = 2 * W * half + 2 * mu
-        okF = (-(gc + gr) - e_j > 0) | (-(gc - gr) + e_i < 0)
-        # to first order in 1/t: d_i − d_j ≥ gap_lower(j, i) > 0 or d_j − d_i ≥ gap_lower(i, j) > 0
-        fF = np.maximum(far_field.gap_lower(sup, j, i, thc, half, t0, t1), far_field.gap_lower(sup, i, j, thc, half, t0, t1))
-        okF |= fF > 0
-        if fin.any():
-            okF |= fin & ((Vi.lo - Vj.hi - 2 * R > 0) | (Vi.hi - Vj.lo + 2 * R < 0))
-        need = np.nonzero(~okF)[0]
-        if len(oth) and len(need):
-            # in groups of cells with at most ROWS_PER_CALL (cell, site) rows: temporaries bounded
-            # independently of the number of sites; every row is tested as in one call
-            step = max(1, strips.ROWS_PER_CALL // len(oth))
-            for a0 in range(0, len(need), step):
-                _third_sites(sup, table, pair, oth, need[a0:a0 + step], okA, thc, half, (t0, t1), fin, Cf, R, Rf,
-                             (Vi, Vj), (Gi, si, vi), hi_i, hi_min, scale)
-        # (M) σ·∂f/∂θ > 0: support-point enclosure (module docstring) or gradient enclosures on the disc
-        Wt = W * tb
-        alpha = np.arcsin(np.minimum(1.0, Wt / (1 - Wt)))
-        k_lo, k_hi = 1.0 / (1 + Wt), 1.0 / (1 - Wt)
-        parts = []
-        for s in (i, j):
-            pc = sup.hp(s, thc)
-            rr = sup.rcurv[s] * (alpha + half) + W * half + mu
-            parts.append(_imul(k_lo, k_hi, pc - rr, pc + rr))
-        d_lo = parts[1][0] - parts[0][1]          # −κ_i P_i + κ_j P_j
-        d_hi = parts[1][1] - parts[0][0]
-        d_lo, d_hi = d_lo - 1e-12 * W, d_hi + 1e-12 * W
-        okM = (d_lo > 0) if sigma > 0 else (d_hi < 0)
-        if fin.any() and not okM.all():
-            Df = Gi - Gj
-            perp = np.column_stack([-U[:, 1], U[:, 0]])
-            val = sigma * (Df * perp).sum(1) - np.hypot(Df[:, 0], Df[:, 1]) * half - (si + sj) - 1e-12
-            okM |= fin & vi & vj & (val > 0)
+        okF, fF = _far_sign(sec, c, pv)
+        okA = _third_sites_round(sec, oth, c, pv, okF)
+        okM = _monotone(sec, c, pv)
         bad = ~(okF | (okA & okM))
         # near-ties at infinity within the float rounding margin: the same bounds in balls, on
         # the cells where (F) misses by less than the margin or only (A) fails
         near = np.nonzero(bad & ((fF > -64 * mu) | (okM & ~okA)))[0][:BALL_CELLS]
-        balls = balls or SupportBalls(sup)
+        balls = balls or SupportBalls(sec.sup)
         if len(near) and balls.calls < BALL_BUDGET:
-            _ball_cells(sup, balls, pair, oth, near, (thc, half, t0, t1), (okF, fF), okA, okM)
+            _ball_cells(sec.sup, balls, sec.pair, oth, near, (c.thc, c.half, c.t0, c.t1), (okF, fF), okA, okM)
             bad = ~(okF | (okA & okM))
         if not bad.any():
             return True, None
         # halve the undecided cells: infinite cells in τ and θ, finite ones across their longer side
-        a_, b_, c_, d_ = ta[bad], tb[bad], h0[bad], h1[bad]
-        oA = okA[bad]
-        mt, mh = 0.5 * (a_ + b_), 0.5 * (c_ + d_)
-        inf_ = a_ <= 0
-        ta_f = np.where(inf_, np.inf, 1.0 / np.where(inf_, 1.0, a_))
-        # far out (t ≫ W) the bounds lose ~W·(lateral extent)/t across and only ~W²·(radial
-        # extent)/t² along the rays (far_field): the radial extent counts for W/t of its length
-        radial = 0.5 * (ta_f - 1.0 / b_) * np.minimum(1.0, 4.0 * W * b_)
-        lateral = ta_f * 0.5 * (d_ - c_)
-        cut_t = inf_ | (radial >= lateral)
-        cut_h = inf_ | (radial < lateral)
-        parts = []
-        for ct, ch in ((False, False), (True, False), (False, True), (True, True)):
-            # quarter (ct, ch): upper τ half if ct, upper θ half if ch; kept when that cut is made
-            sel = (cut_t | ~np.array(ct)) & (cut_h | ~np.array(ch))
-            A0 = np.where(cut_t, np.where(ct, mt, a_), a_)
-            B0 = np.where(cut_t, np.where(ct, b_, mt), b_)
-            C0 = np.where(cut_h, np.where(ch, mh, c_), c_)
-            D0 = np.where(cut_h, np.where(ch, d_, mh), d_)
-            parts.append((A0[sel], B0[sel], C0[sel], D0[sel], oA[sel]))
-        ta = np.concatenate([p_[0] for p_ in parts])
-        tb = np.concatenate([p_[1] for p_ in parts])
-        h0 = np.concatenate([p_[2] for p_ in parts])
-        h1 = np.concatenate([p_[3] for p_ in parts])
-        okA_last = np.concatenate([p_[4] for p_ in parts])
+        ta, tb, h0, h1, okA_last = quarter_cells((ta, tb, h0, h1, okA), bad, W=sec.sup.W)
     return True, None
+
+
+def _undecided(ta, tb, h0, h1, okA_last):
+    """The message for a sector left undecided within the work limit: the farthest cell, and
+    whether (A) or (M) failed there in the last round."""
+    k = int(np.argmax(tb))
+    what = "third site" if not okA_last[k] else "monotonicity"
+    return (f"the tail is undecided ({what}) near angle {0.5 * (h0[k] + h1[k]):.6g}, "
+            f"distance {1.0 / tb[k]:.6g} from the scene's centre")
+
+
+def _cell_discs(sec, ta, tb, h0, h1):
+    """The :class:`_Cells` of a round: a finite cell {1/t ∈ [τa, τb], θ ∈ [θ0, θ1]} lies in the disc
+    of centre m + tc·u(θc), tc = (t0 + t1)/2, and radius t1·δ + (t1 − t0)/2 (δ the angular
+    half-width), widened by rounding."""
+    sup = sec.sup
+    i, j = sec.pair
+    W, m = sup.W, sup.m
+    thc, half = cell_balls(h0, h1)
+    t0 = 1.0 / tb
+    e_i = _eps1(sup.hp_abs(i, thc, half), W, t0)
+    e_j = _eps1(sup.hp_abs(j, thc, half), W, t0)
+    fin = ta > 0
+    t1 = np.where(fin, 1.0 / np.where(fin, ta, 1.0), np.inf)
+    tc = np.where(fin, 0.5 * (t0 + t1), t0)
+    U = np.column_stack([np.cos(thc), np.sin(thc)])
+    C = m + tc[:, None] * U
+    R = np.where(fin, t1 * half + 0.5 * (t1 - t0) + 1e-12 * (sec.scale + tc), np.inf) * (1 + 1e-12)
+    Cf = np.where(fin[:, None], C, m + sec.T0 * U)
+    Rf = np.where(fin, R, 0.0)
+    return _Cells(tb, thc, half, t0, t1, fin, U, R, Cf, Rf, e_i, e_j)
+
+
+def _pair_values(sec, c):
+    """The :class:`_PairValues` of the pair on the cells: one table call for i and j, and the
+    gradient enclosures of :func:`runtime.voronoi.verify.site_table.gradient_enclosure`."""
+    i, j = sec.pair
+    nc = len(c.thc)
+    Vij = evaluate_rows(sec.table, np.concatenate([c.Cf, c.Cf]), np.repeat([i, j], nc))
+    Vi, Vj = Vij.part(0, nc), Vij.part(nc, 2 * nc)
+    hi_i, hi_min = Vi.hi, np.minimum(Vi.hi, Vj.hi)
+    Gi, si, vi = gradient_enclosure(c.Cf, Vi, c.Rf, sec.scale)
+    Gj, sj, vj = gradient_enclosure(c.Cf, Vj, c.Rf, sec.scale)
+    return _PairValues(Vi, Vj, hi_i, hi_min, Gi, si, vi, Gj, sj, vj)
+
+
+def _far_sign(sec, c, pv):
+    """(F): f = d_i − d_j has one strict sign on the cell, so β does not meet it: by
+    f ∈ [−g − e_j, −g + e_i] with g = h_i − h_j ∈ g(θc) ± (2W·δ + 2μ) (|h'| ≤ W), or to first order
+    in 1/t (far_field.gap_lower: d_i − d_j ≥ gap_lower(j, i) > 0 or d_j − d_i ≥ gap_lower(i, j) > 0),
+    or by the distance bounds on a finite cell's disc.  Returns (okF, the first-order bound fF)."""
+    sup = sec.sup
+    i, j = sec.pair
+    W, mu = sup.W, sup.mu
+    gc = sup.h(i, c.thc) - sup.h(j, c.thc)
+    gr = 2 * W * c.half + 2 * mu
+    okF = (-(gc + gr) - c.e_j > 0) | (-(gc - gr) + c.e_i < 0)
+    fF = np.maximum(far_field.gap_lower(sup, j, i, c.thc, c.half, c.t0, c.t1),
+                    far_field.gap_lower(sup, i, j, c.thc, c.half, c.t0, c.t1))
+    okF |= fF > 0
+    if c.fin.any():
+        okF |= c.fin & ((pv.Vi.lo - pv.Vj.hi - 2 * c.R > 0) | (pv.Vi.hi - pv.Vj.lo + 2 * c.R < 0))
+    return okF, fF
+
+
+def _third_sites_round(sec, oth, c, pv, okF):
+    """(A) on the cells where (F) failed (:func:`_third_sites`), in groups of cells with at most
+    ROWS_PER_CALL (cell, site) rows: temporaries bounded independently of the number of sites;
+    every row is tested as in one call."""
+    okA = np.ones(len(c.thc), bool)
+    need = np.nonzero(~okF)[0]
+    if len(oth) and len(need):
+        step = max(1, strips.ROWS_PER_CALL // len(oth))
+        for a0 in range(0, len(need), step):
+            _third_sites(sec, oth, need[a0:a0 + step], okA, c, pv)
+    return okA
+
+
+def _monotone(sec, c, pv):
+    """(M) σ·∂f/∂θ > 0 on the cell: t·∂_θ d_s = −κ_s·(p_s − m)·u⊥ with κ_s ∈ [1/(1 + W/t),
+    1/(1 − W/t)] and (p_s − m)·u⊥ ∈ h_s'(θc) ± (ρ_s(α + δ) + W·δ), α = asin(W/(t − W)) (module
+    docstring); else, on a finite cell, σ(∇d_i − ∇d_j)·u⊥ > 0 with the gradient enclosures on
+    its disc (u⊥ within δ of u⊥(θc))."""
+    sup, sigma = sec.sup, sec.sigma
+    i, j = sec.pair
+    W, mu = sup.W, sup.mu
+    Wt = W * c.tb
+    alpha = np.arcsin(np.minimum(1.0, Wt / (1 - Wt)))
+    k_lo, k_hi = 1.0 / (1 + Wt), 1.0 / (1 - Wt)
+    parts = []
+    for s in (i, j):
+        pc = sup.hp(s, c.thc)
+        rr = sup.rcurv[s] * (alpha + c.half) + W * c.half + mu
+        parts.append(_imul(k_lo, k_hi, pc - rr, pc + rr))
+    d_lo = parts[1][0] - parts[0][1]          # −κ_i P_i + κ_j P_j
+    d_hi = parts[1][1] - parts[0][0]
+    d_lo, d_hi = d_lo - 1e-12 * W, d_hi + 1e-12 * W
+    okM = (d_lo > 0) if sigma > 0 else (d_hi < 0)
+    if c.fin.any() and not okM.all():
+        Df = pv.Gi - pv.Gj
+        perp = np.column_stack([-c.U[:, 1], c.U[:, 0]])
+        val = sigma * (Df * perp).sum(1) - np.hypot(Df[:, 0], Df[:, 1]) * c.half - (pv.si + pv.sj) - 1e-12
+        okM |= c.fin & pv.vi & pv.vj & (val > 0)
+    return okM
