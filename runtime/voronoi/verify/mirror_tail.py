@@ -61,14 +61,12 @@ def prove_mirror_tail(sites, geoms, sup, pair, link):
     :func:`runtime.voronoi.verify.tail.prove_tail`) when i and j are mirror images (module
     docstring).  Returns (ok, message, end) with end = (exact direction (ux, uy), lateral
     coordinate of the ray's line) for the accounting, or None."""
-    i, j = pair
-    line = mirror_line(sites[i], sites[j])
-    if line is None:
+    line, why = _opposite_mirror(sites, geoms, pair)
+    if why == "none":
         return False, "no mirror maps its two sites onto each other", None
-    n, k = line
-    si, sj = _side_box(geoms[i].bounding_box(), n, k), _side_box(geoms[j].bounding_box(), n, k)
-    if si == 0 or sj == 0 or si == sj:
+    if why == "sides":
         return False, "its sites are not strictly on opposite sides of their mirror", None
+    n, k = line
     P0, tv, nv, L, w, sx = link
     X = np.asarray(P0, float) + sx * np.asarray(tv, float)
     Xq = (Fraction(float(X[0])), Fraction(float(X[1])))
@@ -151,6 +149,40 @@ def _exact_on_line(w, n, k):
     return p if n[0] * p[0] + n[1] * p[1] == k else None
 
 
+def _opposite_mirror(sites, geoms, pair):
+    """(line, reason): the mirror line n·q = k mapping site i onto site j, with i and j strictly on
+    opposite sides of it (their float boxes, :func:`_side_box`), or (None, "none") when no mirror
+    maps them onto each other, (None, "sides") when they are not strictly on opposite sides."""
+    line = mirror_line(sites[pair[0]], sites[pair[1]])
+    if line is None:
+        return None, "none"
+    n, k = line
+    si, sj = _side_box(geoms[pair[0]].bounding_box(), n, k), _side_box(geoms[pair[1]].bounding_box(), n, k)
+    if si == 0 or sj == 0 or si == sj:
+        return None, "sides"
+    return line, None
+
+
+class _Line:
+    """The exact parametrisation s ↦ base + s·d of the line n·q = k (d = (−n_y, n_x), base its
+    point nearest the origin), all in rationals."""
+
+    def __init__(self, n, k):
+        self.n, self.k = n, k
+        self.d = (-n[1], n[0])
+        self.dd = self.d[0] * self.d[0] + self.d[1] * self.d[1]
+
+    def param(self, q):
+        """The parameter of the projection of q onto the line (exact)."""
+        return (q[0] * self.d[0] + q[1] * self.d[1]) / self.dd
+
+    def point(self, s):
+        """The point of parameter s (exact)."""
+        n, k, d = self.n, self.k, self.d
+        base = (k * n[0] / (n[0] * n[0] + n[1] * n[1]), k * n[1] / (n[0] * n[0] + n[1] * n[1]))
+        return (base[0] + s * d[0], base[1] + s * d[1])
+
+
 def prove_mirror_edge(sites, geoms, table, sup, pair, v0, v1, P, closed, max_pieces=20000):
     """Prove a whole edge (i, j) of mirror-image sites: it is the part of their mirror line ℓ
     between its end vertices (exact rational points of ℓ) or from a vertex to infinity, or the
@@ -161,32 +193,42 @@ def prove_mirror_edge(sites, geoms, table, sup, pair, v0, v1, P, closed, max_pie
     :func:`prove_mirror_tail`)."""
     if closed:
         return False, "a closed edge", []
-    line = mirror_line(sites[pair[0]], sites[pair[1]])
-    if line is None:
+    line, why = _opposite_mirror(sites, geoms, pair)
+    if why == "none":
         return False, "no mirror", []
-    n, k = line
-    si, sj = _side_box(geoms[pair[0]].bounding_box(), n, k), _side_box(geoms[pair[1]].bounding_box(), n, k)
-    if si == 0 or sj == 0 or si == sj:
+    if why == "sides":
         return False, "its sites are not strictly on opposite sides of their mirror", []
-    d = (-n[1], n[0])
+    ln = _Line(*line)
     ends = []
     for w in (v0, v1):
-        ends.append(None if w is None else _exact_on_line(w, n, k))
+        ends.append(None if w is None else _exact_on_line(w, ln.n, ln.k))
         if w is not None and ends[-1] is None:
             return False, "an end vertex is not an exact point of the mirror", []
-    dd = d[0] * d[0] + d[1] * d[1]
-
-    def param(q):
-        return (q[0] * d[0] + q[1] * d[1]) / dd
-
-    def point(s):
-        base = (k * n[0] / (n[0] * n[0] + n[1] * n[1]), k * n[1] / (n[0] * n[0] + n[1] * n[1]))
-        return (base[0] + s * d[0], base[1] + s * d[1])
-
     P = np.asarray(P, float).reshape(-1, 2)
+    a, b, rays = _finite_part(ln, ends, P, sup)
+    if not b > a:
+        return False, "its end vertices coincide", []
+    if not _polyline_follows(ln, P, a, b, rays):
+        return False, "its polyline leaves the part of the mirror line between its ends", []
+    if not _finite_part_clear(sites, geoms, table, pair, ln, a, b, max_pieces):
+        return False, "third sites undecided on the mirror line (work limit)", []
+    d = ln.d
+    out = []
+    for s0, sg in rays:
+        ok, msg, end = ray_clear(sites, geoms, sup, pair, ln.point(s0), (sg * d[0], sg * d[1]))
+        if not ok:
+            return False, msg, []
+        out.append(end)
+    return True, None, out
+
+
+def _finite_part(ln, ends, P, sup):
+    """The finite part [a, b] of ℓ (parameters) and the rays (s0, ±1) beyond it: between two end
+    vertices; around the scene (a reach of 4W beyond its centre's projection) for a whole line;
+    from the one vertex towards the polyline's unbounded end otherwise."""
+    param = ln.param
     sP = [param((Fraction(float(x)), Fraction(float(y)))) for x, y in (P[0], P[-1])]
-    reach = Fraction(max(4 * sup.W + float(np.abs(sup.m).sum()), 1.0)) / Fraction(math.sqrt(float(dd)))
-    # the finite part [a, b] of ℓ (parameters) and the rays beyond it
+    reach = Fraction(max(4 * sup.W + float(np.abs(sup.m).sum()), 1.0)) / Fraction(math.sqrt(float(ln.dd)))
     if ends[0] is not None and ends[1] is not None:
         a, b = sorted((param(ends[0]), param(ends[1])))
         rays = []
@@ -200,18 +242,26 @@ def prove_mirror_edge(sites, geoms, table, sup, pair, v0, v1, P, closed, max_pie
         sg = 1 if far > sv else -1
         a, b = (sv, sv + reach) if sg > 0 else (sv - reach, sv)
         rays = [(b, 1) if sg > 0 else (a, -1)]
-    if not b > a:
-        return False, "its end vertices coincide", []
-    # the polyline must follow this part of ℓ (its distance to ℓ was checked against the tolerance)
-    sl = 1e-9 * (1.0 + float(np.abs(P).max())) / math.sqrt(float(dd))
-    sp = np.array([float(param((Fraction(float(x)), Fraction(float(y))))) for x, y in P])
+    return a, b, rays
+
+
+def _polyline_follows(ln, P, a, b, rays):
+    """Does the polyline stay within the parameters [a, b] of ℓ (up to 1e-9 of its size) on the
+    sides where no ray continues?  (Its distance to ℓ was checked against the tolerance.)"""
+    sl = 1e-9 * (1.0 + float(np.abs(P).max())) / math.sqrt(float(ln.dd))
+    sp = np.array([float(ln.param((Fraction(float(x)), Fraction(float(y))))) for x, y in P])
     lo_ok = any(sg < 0 for _, sg in rays) or (sp >= float(a) - sl).all()
     hi_ok = any(sg > 0 for _, sg in rays) or (sp <= float(b) + sl).all()
-    if not (lo_ok and hi_ok):
-        return False, "its polyline leaves the part of the mirror line between its ends", []
-    # third sites on the finite part: discs, then mirrors for the rest
+    return lo_ok and hi_ok
+
+
+def _finite_part_clear(sites, geoms, table, pair, ln, a, b, max_pieces):
+    """Is every third site farther than i on the part [a, b] of ℓ?  On pieces of half-length R
+    about C: lo_k(C) − R > hi_i(C) + R (d is 1-Lipschitz), pieces halved where that fails, unless
+    a mirror maps i or j onto k with the whole part on their side (:func:`dominated_on`)."""
     i = pair[0]
-    dn = math.sqrt(float(dd))
+    d, point = ln.d, ln.point
+    dn = math.sqrt(float(ln.dd))
     fa, fb = float(a), float(b)
     base = np.array([float(point(0)[0]), float(point(0)[1])])
     dv = np.array([float(d[0]), float(d[1])])
@@ -221,7 +271,7 @@ def prove_mirror_edge(sites, geoms, table, sup, pair, v0, v1, P, closed, max_pie
     while len(A):
         work += len(A)
         if work > max_pieces:
-            return False, "third sites undecided on the mirror line (work limit)", []
+            return False
         mid = 0.5 * (A + B)
         C = base[None, :] + mid[:, None] * dv[None, :]
         R = 0.5 * (B - A) * dn * (1 + 1e-9) + 1e-12 * (np.abs(C).sum(1) + 1.0)
@@ -243,10 +293,4 @@ def prove_mirror_edge(sites, geoms, table, sup, pair, v0, v1, P, closed, max_pie
             break
         A, B, M = A[keep], B[keep], mid[keep]
         A, B = np.concatenate([A, M]), np.concatenate([M, B])
-    out = []
-    for s0, sg in rays:
-        ok, msg, end = ray_clear(sites, geoms, sup, pair, point(s0), (sg * d[0], sg * d[1]))
-        if not ok:
-            return False, msg, []
-        out.append(end)
-    return True, None, out
+    return True
