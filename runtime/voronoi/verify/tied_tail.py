@@ -44,6 +44,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import NamedTuple
 
 import numpy as np
 
@@ -160,16 +161,94 @@ def _F_bounds_hold(rho_far, dfar, rho_near, dnear, z0):
     return val > 0 and (D2 - d2) - D2 * D2 / (4 * z0 * z0) > 0
 
 
-def prove_tied_tail(sites, geoms, sup, pair, link, direction):
-    """Prove the end of edge (i, j) beyond the chain's last rectangle ``link`` when i and j tie at
-    infinity with other sites (module docstring).  ``direction``: a float direction of the edge
-    going out (it orients the last segment of the chain, whose direction selects the exact u).  Returns (ok, message, end) with end = ((ux, uy), lateral) as the mirror tails."""
+class _Tie(NamedTuple):
+    """The edge's tie in the exact direction u (n = u⊥): its sites i, j ordered laterally, their
+    :class:`Support` data (``data``, filled where needed), the enclosures [li0, li] ∋ ℓ_i and
+    [lj, lj1] ∋ ℓ_j, the lower bound of h* and the half-strip Π = {s ∈ [sa, sb], z ≥ z0}."""
+    u: tuple
+    nvec: tuple
+    data: dict
+    i: int
+    j: int
+    li0: Fraction
+    li: Fraction
+    lj: Fraction
+    lj1: Fraction
+    hstar_lo: Fraction
+    sa: Fraction
+    sb: Fraction
+    z0: Fraction
+
+
+def _exact_direction(link, direction):
+    """The exact direction of :data:`DIRECTIONS` nearest the chain's last segment oriented along
+    ``direction`` (within 0.05 rad), or None."""
     d = np.asarray(direction, float)
     tv0 = np.asarray(link[1], float)                 # the chain's last segment, oriented outwards
     d = tv0 * (1.0 if float(tv0 @ d) >= 0 else -1.0)
     d = d / max(float(np.hypot(*d)), 1e-300)
     u = max(DIRECTIONS, key=lambda w: float(w[0]) * d[0] + float(w[1]) * d[1])
     if float(u[0]) * d[0] + float(u[1]) * d[1] < math.cos(0.05):
+        return None
+    return u
+
+
+def _strip(link, u, nvec, li, lj, hstar):
+    """(sa, sb, z0) of the half-strip Π, or a message: the chain's last rectangle lies within the
+    lateral range (sa, sb) ⊂ (ℓ_i, ℓ_j), as narrow as that allows (the comparisons take its worst
+    points), its caps on both sides of the link's cross-section, and z0 below the link, above ℓ."""
+    gap = lj - li            # the smallest possible gap between the support points
+    P0, tv, nv, L, w, sx = link
+    P0, tv, nv = np.asarray(P0, float), np.asarray(tv, float), np.asarray(nv, float)
+    uf, nf = np.array([float(u[0]), float(u[1])]), np.array([float(nvec[0]), float(nvec[1])])
+    corners = [P0 + a_ * tv + b_ * nv for a_ in (0.0, L) for b_ in (-w, w)]
+    lats = [float(c @ nf) for c in corners]
+    marg = 1e-9 * (1 + float(np.abs(P0).sum()) + L)
+    sa = max(li + gap / 16, Fraction(min(lats)) - gap / 32)
+    sb = min(lj - gap / 16, Fraction(max(lats)) + gap / 32)
+    if not (min(lats) > float(sa) + marg and max(lats) < float(sb) - marg):
+        return "the chain's last rectangle is not inside the tie's strip"
+    X = P0 + sx * tv
+    zX = float(X @ uf) - hstar
+    cap_z = [float((P0 + a_ * tv) @ uf) - hstar for a_ in (0.0, L)]
+    sw = w * abs(float(nv @ uf)) + marg                                   # the caps' tilt
+    if not (min(cap_z) + sw < zX < max(cap_z) - sw):
+        return "the chain's last rectangle does not straddle the link"
+    z0 = Fraction(max(zX, 0.0)) * Fraction(999, 1000)
+    if not z0 > 0:
+        return "the link is not beyond the tie line"
+    return sa, sb, z0
+
+
+def _monotone_across(sup, tie):
+    """(M): the nearest points of i and j stay laterally within ρ⁺·φ_max of their support points,
+    tan φ ≤ (lateral distance from Π to the site) / z₀, the site within ρ_k of its centre; then
+    s − p_s > 0 for i and < 0 for j on Π when sa − ℓ_i and ℓ_j − sb exceed those bounds."""
+    nf = np.array([float(tie.nvec[0]), float(tie.nvec[1])])
+
+    def phi_max(k):
+        cl = float(np.asarray(sup.cen[k], float) @ nf)
+        rk = float(sup.rho[k]) * (1 + 1e-9) + 2 * float(sup.mu)
+        off = max(abs(float(s_) - p_) for s_ in (tie.sa, tie.sb) for p_ in (cl - rk, cl + rk))
+        return _up(off) / tie.z0
+    return (tie.sa - tie.li > tie.data[tie.i].rho_hi * phi_max(tie.i)
+            and tie.lj - tie.sb > tie.data[tie.j].rho_hi * phi_max(tie.j))
+
+
+def _bisector_in_strip(tie):
+    """(S): d_i < d_j on the side s = sa and d_i > d_j on s = sb (far offsets at their smallest,
+    near offsets at their largest, :func:`_F_bounds_hold`)."""
+    di, dj = tie.data[tie.i], tie.data[tie.j]
+    return (_F_bounds_hold(dj.rho_hi, tie.lj - tie.sa, di.rho_lo, tie.sa - tie.li0, tie.z0)
+            and _F_bounds_hold(di.rho_hi, tie.sb - tie.li, dj.rho_lo, tie.lj1 - tie.sb, tie.z0))
+
+
+def prove_tied_tail(sites, geoms, sup, pair, link, direction):
+    """Prove the end of edge (i, j) beyond the chain's last rectangle ``link`` when i and j tie at
+    infinity with other sites (module docstring).  ``direction``: a float direction of the edge
+    going out (it orients the last segment of the chain, whose direction selects the exact u).  Returns (ok, message, end) with end = ((ux, uy), lateral) as the mirror tails."""
+    u = _exact_direction(link, direction)
+    if u is None:
         return False, "no exact direction for the tie", None
     nvec = (-u[1], u[0])
     data = dict.fromkeys(range(len(sites)))          # exact support data, computed where needed
@@ -187,47 +266,30 @@ def prove_tied_tail(sites, geoms, sup, pair, link, direction):
         if not li < lj:
             return False, "its sites touch the tie line at one point or too close to order", None
         i, j = j, i
-    gap = lj - li            # the smallest possible gap between the support points
-    # the chain's last rectangle: lateral range inside the strip (sa, sb), caps on both sides of
-    # the link; the strip is as narrow as that allows (the comparisons below take its worst points)
-    P0, tv, nv, L, w, sx = link
-    P0, tv, nv = np.asarray(P0, float), np.asarray(tv, float), np.asarray(nv, float)
-    uf, nf = np.array([float(u[0]), float(u[1])]), np.array([float(nvec[0]), float(nvec[1])])
-    corners = [P0 + a_ * tv + b_ * nv for a_ in (0.0, L) for b_ in (-w, w)]
-    lats = [float(c @ nf) for c in corners]
-    marg = 1e-9 * (1 + float(np.abs(P0).sum()) + L)
-    sa = max(li + gap / 16, Fraction(min(lats)) - gap / 32)
-    sb = min(lj - gap / 16, Fraction(max(lats)) + gap / 32)
-    if not (min(lats) > float(sa) + marg and max(lats) < float(sb) - marg):
-        return False, "the chain's last rectangle is not inside the tie's strip", None
-    X = P0 + sx * tv
-    zX = float(X @ uf) - hstar
-    cap_z = [float((P0 + a_ * tv) @ uf) - hstar for a_ in (0.0, L)]
-    sw = w * abs(float(nv @ uf)) + marg                                   # the caps' tilt
-    if not (min(cap_z) + sw < zX < max(cap_z) - sw):
-        return False, "the chain's last rectangle does not straddle the link", None
-    z0 = Fraction(max(zX, 0.0)) * Fraction(999, 1000)
-    if not z0 > 0:
-        return False, "the link is not beyond the tie line", None
-    # (M): the nearest points of i and j stay laterally within ρ⁺·φ_max of their support points;
-    # tan φ ≤ (lateral distance from Π to the site) / z₀, the site within ρ_k of its centre
-    def phi_max(k):
-        cl = float(np.asarray(sup.cen[k], float) @ nf)
-        rk = float(sup.rho[k]) * (1 + 1e-9) + 2 * float(sup.mu)
-        off = max(abs(float(s_) - p_) for s_ in (sa, sb) for p_ in (cl - rk, cl + rk))
-        return _up(off) / z0
-    if not (sa - li > data[i].rho_hi * phi_max(i) and lj - sb > data[j].rho_hi * phi_max(j)):
+    strip = _strip(link, u, nvec, li, lj, hstar)
+    if isinstance(strip, str):
+        return False, strip, None
+    tie = _Tie(u, nvec, data, i, j, li0, li, lj, lj1, hstar_lo, *strip)
+    if not _monotone_across(sup, tie):
         return False, "the edge's sites are not proved monotone across the strip", None
-    # (S): the sides of the strip (far offsets at their smallest, near offsets at their largest)
-    if not (_F_bounds_hold(data[j].rho_hi, lj - sa, data[i].rho_lo, sa - li0, z0)
-            and _F_bounds_hold(data[i].rho_hi, sb - li, data[j].rho_lo, lj1 - sb, z0)):
+    if not _bisector_in_strip(tie):
         return False, "the bisector is not proved to stay in the strip", None
-    # (A): the other sites.  A site k whose float support level is proved below
-    # T = h* − D²/(2z₀) is farther than i or j everywhere in Π (d_k ≥ z + h* − h_k(u) while
-    # d_m ≤ z + D²/(2z)); the others are decided one by one, exactly when they tie.
-    far_i, far_j = sb - li0, lj1 - sa                                     # largest offsets in Π
+    msg = _others_farther(sites, sup, tie)
+    if msg is not None:
+        return False, msg, None
+    return True, None, ((u[0], u[1]), float((li + lj) / 2))
+
+
+def _others_farther(sites, sup, tie):
+    """(A): the other sites.  A site k whose float support level is proved below
+    T = h* − D²/(2z₀) is farther than i or j everywhere in Π (d_k ≥ z + h* − h_k(u) while
+    d_m ≤ z + D²/(2z)); the others are decided one by one, exactly when they tie (a tied site
+    outside [ℓ_i, ℓ_j] by :func:`_F_bounds_hold`).  Returns None (proved) or the message."""
+    u, nvec, data, i, j, z0 = tie.u, tie.nvec, tie.data, tie.i, tie.j, tie.z0
+    uf = np.array([float(u[0]), float(u[1])])
+    far_i, far_j = tie.sb - tie.li0, tie.lj1 - tie.sa                     # largest offsets in Π
     D = max(far_i, far_j)
-    T = hstar_lo - D * D / (2 * z0)
+    T = tie.hstar_lo - D * D / (2 * z0)
     t_down = float(T)
     if Fraction(t_down) > T:
         t_down = math.nextafter(t_down, -math.inf)
@@ -242,14 +304,14 @@ def prove_tied_tail(sites, geoms, sup, pair, link, direction):
         dk = support_data(sites[k], u)
         if dk is not None and same_level(dk, data[i]):
             lk0, lk1 = dk.lateral(nvec)
-            if lk1 < li0:        # left of i: farther than i
-                ok = _F_bounds_hold(dk.rho_hi, sa - lk1, data[i].rho_lo, far_i, z0) if sa - lk1 > far_i else False
-            elif lk0 > lj1:
-                ok = _F_bounds_hold(dk.rho_hi, lk0 - sb, data[j].rho_lo, far_j, z0) if lk0 - sb > far_j else False
+            if lk1 < tie.li0:        # left of i: farther than i
+                ok = _F_bounds_hold(dk.rho_hi, tie.sa - lk1, data[i].rho_lo, far_i, z0) if tie.sa - lk1 > far_i else False
+            elif lk0 > tie.lj1:
+                ok = _F_bounds_hold(dk.rho_hi, lk0 - tie.sb, data[j].rho_lo, far_j, z0) if lk0 - tie.sb > far_j else False
             else:
                 ok = False     # a tied site between i and j: they are not consecutive
             if not ok:
-                return False, f"site {k}, tied with its sites at infinity, is not proved farther", None
+                return f"site {k}, tied with its sites at infinity, is not proved farther"
             continue
-        return False, f"site {k} is not proved farther beyond the link", None
-    return True, None, ((u[0], u[1]), float((li + lj) / 2))
+        return f"site {k} is not proved farther beyond the link"
+    return None
