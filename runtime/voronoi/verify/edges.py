@@ -42,6 +42,7 @@ safety and the conditioning c/b of b = √(c² − a²)); every bound above is w
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -211,22 +212,41 @@ def bisector(table: CircleTable, i: int, j: int) -> Bisector | str:
     return f"sites {i} and {j} are not disjoint within the float filter: no bisector arc to prove"
 
 
-def prove_tail(table: CircleTable, bis: Bisector, U: float, sigma: int, exempt=()):
-    """Prove G_k > 0 on the hyperbola branch u ∈ [U, σ∞) for every k ∉ {i, j} ∪ exempt, by
-    interval bounds on τ = e^{−σu} ∈ [0, τ_U] (module docstring, item 3).  Returns (ok, detail);
-    a detail of sites tied with i at the asymptote has a fourth entry listing all of them."""
-    if bis.kind != "hyperbola":
-        return False, (None, None, "an ellipse has no unbounded part")
-    i, j = bis.i, bis.j
+class _TailTerms(NamedTuple):
+    """The quotient G_k = N_k(τ)/D_k(τ) + ρ_i − ρ_k of the tail (module docstring, item 3) for the
+    third sites ks: with w = C_i − C_k and Z(τ) = (a(1 + τ²)/2, σb(1 − τ²)/2) in the frame (e_x,
+    e_y), N_k(τ) = 2Z·w + τ(|C_k|² − |C_i|²) = al + s·τ + ga·τ² (al = a·w_x + σb·w_y,
+    ga = a·w_x − σb·w_y); ``slack`` bounds the rounding of the constants (conditioning c/b)."""
+    bis: object
+    sigma: int
+    ks: np.ndarray
+    Cx: np.ndarray
+    Cy: np.ndarray
+    al: np.ndarray
+    ga: np.ndarray
+    s: np.ndarray
+    dr: np.ndarray
+    nCk: np.ndarray
+    nCi: float
+    slack: np.ndarray
+
+
+class _TailBound(NamedTuple):
+    """Bounds of G_k on τ-intervals [t0, t1]: the lower bound g_lo (rounding sl included), the
+    midpoint tm, the denominator there den_m, and the numerator's coefficients (A_, be, G_)."""
+    g_lo: np.ndarray
+    sl: np.ndarray
+    tm: np.ndarray
+    den_m: np.ndarray
+    A_: np.ndarray
+    be: np.ndarray
+    G_: np.ndarray
+
+
+def _tail_terms(table, bis, sigma, ks) -> _TailTerms:
+    """The :class:`_TailTerms` of the third sites ks on the branch of ``bis`` going to σ∞."""
+    i = bis.i
     a, b, c = bis.a, bis.b, bis.c
-    tauU = math.exp(-sigma * U)
-    if not math.isfinite(tauU) or tauU > 1e300:
-        return False, (None, None, "tail parameter out of range")
-    others = np.ones(table.n, bool)
-    others[[i, j, *exempt]] = False
-    ks = np.nonzero(others)[0]
-    if not len(ks):
-        return True, None
     Cr = table.C - bis.m
     Cx, Cy = Cr @ bis.ex, Cr @ bis.ey
     wx, wy = Cx[i] - Cx[ks], Cy[i] - Cy[ks]
@@ -238,6 +258,85 @@ def prove_tail(table: CircleTable, bis: Bisector, U: float, sigma: int, exempt=(
     nCi = math.hypot(Cx[i], Cy[i])
     scale = nCk + nCi + c + np.abs(table.R[ks]) + table.R[i] + 1e-300
     slack = 1e-12 * scale * (1.0 + c / b) ** 2 + 2 * bis.err0 * 4
+    return _TailTerms(bis, sigma, ks, Cx, Cy, al, ga, s, dr, nCk, nCi, slack)
+
+
+def _tail_bound(tt: _TailTerms, idx, t0, t1) -> _TailBound:
+    """Interval bounds of G_k (k = ks[idx]) on [t0, t1]: the numerator's minimum over the interval
+    (its ends, and the vertex of the parabola when it opens upwards inside), the denominator
+    |Z − τC_k| + |Z − τC_i| at the midpoint ± L·(half-width) with L = 2c·t1 + |C_k| + |C_i| its
+    Lipschitz bound, and the rounding of the quotient's evaluation."""
+    bis, sigma, ks, i = tt.bis, tt.sigma, tt.ks, tt.bis.i
+    a, b, c = bis.a, bis.b, bis.c
+    Cx, Cy = tt.Cx, tt.Cy
+    tm, hw = 0.5 * (t0 + t1), 0.5 * (t1 - t0)
+    be = tt.s[idx]
+    A_, G_ = tt.al[idx], tt.ga[idx]
+    f0 = A_ + be * t0 + G_ * t0 * t0
+    f1 = A_ + be * t1 + G_ * t1 * t1
+    num_lo = np.minimum(f0, f1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tv = -be / (2 * G_)
+    inside = (G_ > 0) & (tv > t0) & (tv < t1)
+    fv = A_ - be * be / (4 * np.where(G_ != 0, G_, 1.0))
+    num_lo = np.where(inside, np.minimum(num_lo, fv), num_lo)
+    Zx = a * (1 + tm * tm) / 2
+    Zy = sigma * b * (1 - tm * tm) / 2
+    den_m = (np.hypot(Zx - tm * Cx[ks[idx]], Zy - tm * Cy[ks[idx]])
+             + np.hypot(Zx - tm * Cx[i], Zy - tm * Cy[i]))
+    lip = 2 * c * t1 + tt.nCk[idx] + tt.nCi
+    den_lo = np.maximum(den_m - lip * hw, 0.0)
+    den_hi = den_m + lip * hw
+    with np.errstate(divide="ignore", invalid="ignore"):
+        q = np.where(num_lo >= 0, num_lo / den_hi, num_lo / np.where(den_lo > 0, den_lo, np.nan))
+    # rounding: the constants (conditioning c/b) and the evaluation of the quotient
+    mag = (np.abs(A_) + np.abs(be) * t1 + np.abs(G_) * t1 * t1) / np.where(den_lo > 0, den_lo, np.inf)
+    sl = tt.slack[idx] + 1e-12 * (1.0 + c / b) ** 2 * mag
+    g_lo = q + tt.dr[idx] - sl
+    return _TailBound(g_lo, sl, tm, den_m, A_, be, G_)
+
+
+def _proved_closer(tt: _TailTerms, idx, bd: _TailBound, ok):
+    """A proved failure: the detail (k, point, "closer") of the first interval where G_k < 0 at
+    the midpoint (its value plus the rounding bound is negative), or None."""
+    fm = bd.A_ + bd.be * bd.tm + bd.G_ * bd.tm * bd.tm
+    gm = fm / bd.den_m + tt.dr[idx] + bd.sl
+    neg = ~ok & (gm < 0)
+    if neg.any():
+        r0 = int(np.nonzero(neg)[0][0])
+        return (int(tt.ks[idx[r0]]), _tail_point(tt.bis, bd.tm[r0], tt.sigma), "closer")
+    return None
+
+
+def _tied_at_asymptote(tt: _TailTerms, idx, bd: _TailBound, bad, t0):
+    """A site tied with i at the asymptote (G_k(0) = al/D(0) + ρ_i − ρ_k within rounding of 0:
+    collinear points, sites touching one line) cannot be decided by subdividing τ: the detail
+    (k, point, "undecided", all such sites) of the undecided intervals at τ = 0, or None."""
+    tied = bad & (t0 == 0) & (np.abs(bd.A_ / np.where(bd.den_m > 0, bd.den_m, np.inf) + tt.dr[idx]) <= 4 * bd.sl)
+    if tied.any():
+        rs = np.nonzero(tied)[0]
+        r0 = int(rs[0])
+        return (int(tt.ks[idx[r0]]), _tail_point(tt.bis, bd.tm[r0], tt.sigma), "undecided",
+                sorted({int(tt.ks[idx[r]]) for r in rs.tolist()}))
+    return None
+
+
+def prove_tail(table: CircleTable, bis: Bisector, U: float, sigma: int, exempt=()):
+    """Prove G_k > 0 on the hyperbola branch u ∈ [U, σ∞) for every k ∉ {i, j} ∪ exempt, by
+    interval bounds on τ = e^{−σu} ∈ [0, τ_U] (module docstring, item 3).  Returns (ok, detail);
+    a detail of sites tied with i at the asymptote has a fourth entry listing all of them."""
+    if bis.kind != "hyperbola":
+        return False, (None, None, "an ellipse has no unbounded part")
+    i, j = bis.i, bis.j
+    tauU = math.exp(-sigma * U)
+    if not math.isfinite(tauU) or tauU > 1e300:
+        return False, (None, None, "tail parameter out of range")
+    others = np.ones(table.n, bool)
+    others[[i, j, *exempt]] = False
+    ks = np.nonzero(others)[0]
+    if not len(ks):
+        return True, None
+    tt = _tail_terms(table, bis, sigma, ks)
     idx = np.arange(len(ks))
     T0 = np.zeros(len(ks))
     T1 = np.full(len(ks), tauU)
@@ -245,49 +344,17 @@ def prove_tail(table: CircleTable, bis: Bisector, U: float, sigma: int, exempt=(
         if not len(idx):
             return True, None
         t0, t1 = T0, T1
-        tm, hw = 0.5 * (t0 + t1), 0.5 * (t1 - t0)
-        be = s[idx]
-        A_, G_ = al[idx], ga[idx]
-        f0 = A_ + be * t0 + G_ * t0 * t0
-        f1 = A_ + be * t1 + G_ * t1 * t1
-        num_lo = np.minimum(f0, f1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            tv = -be / (2 * G_)
-        inside = (G_ > 0) & (tv > t0) & (tv < t1)
-        fv = A_ - be * be / (4 * np.where(G_ != 0, G_, 1.0))
-        num_lo = np.where(inside, np.minimum(num_lo, fv), num_lo)
-        Zx = a * (1 + tm * tm) / 2
-        Zy = sigma * b * (1 - tm * tm) / 2
-        den_m = (np.hypot(Zx - tm * Cx[ks[idx]], Zy - tm * Cy[ks[idx]])
-                 + np.hypot(Zx - tm * Cx[i], Zy - tm * Cy[i]))
-        lip = 2 * c * t1 + nCk[idx] + nCi
-        den_lo = np.maximum(den_m - lip * hw, 0.0)
-        den_hi = den_m + lip * hw
-        with np.errstate(divide="ignore", invalid="ignore"):
-            q = np.where(num_lo >= 0, num_lo / den_hi, num_lo / np.where(den_lo > 0, den_lo, np.nan))
-        # rounding: the constants (conditioning c/b) and the evaluation of the quotient
-        mag = (np.abs(A_) + np.abs(be) * t1 + np.abs(G_) * t1 * t1) / np.where(den_lo > 0, den_lo, np.inf)
-        sl = slack[idx] + 1e-12 * (1.0 + c / b) ** 2 * mag
-        g_lo = q + dr[idx] - sl
-        ok = g_lo > 0
-        # a proved failure: G_k < 0 at the interval's mid point
+        bd = _tail_bound(tt, idx, t0, t1)
+        ok = bd.g_lo > 0
         if not ok.all():
-            fm = A_ + be * tm + G_ * tm * tm
-            gm = fm / den_m + dr[idx] + sl
-            neg = ~ok & (gm < 0)
-            if neg.any():
-                r0 = int(np.nonzero(neg)[0][0])
-                return False, (int(ks[idx[r0]]), _tail_point(bis, tm[r0], sigma), "closer")
+            closer = _proved_closer(tt, idx, bd, ok)
+            if closer is not None:
+                return False, closer
         bad = ~ok
-        # a site tied with i at the asymptote (G_k(0) within rounding of 0: collinear points,
-        # sites touching one line) cannot be decided by subdividing τ: say so at once
         if depth >= 6:
-            tied = bad & (t0 == 0) & (np.abs(A_ / np.where(den_m > 0, den_m, np.inf) + dr[idx]) <= 4 * sl)
-            if tied.any():
-                rs = np.nonzero(tied)[0]
-                r0 = int(rs[0])
-                return False, (int(ks[idx[r0]]), _tail_point(bis, tm[r0], sigma), "undecided",
-                               sorted({int(ks[idx[r]]) for r in rs.tolist()}))
+            tied = _tied_at_asymptote(tt, idx, bd, bad, t0)
+            if tied is not None:
+                return False, tied
         idx, T0, T1 = idx[bad], t0[bad], t1[bad]
         if not len(idx):
             return True, None
