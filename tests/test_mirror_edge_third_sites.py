@@ -50,6 +50,15 @@ def test_a_point_nearer_on_part_of_the_mirror_segment_refuses_it():
     assert not ok, "a segment where the point (999, 100.2) is nearer was proved an edge"
 
 
+def test_a_point_nearer_by_less_than_a_piece_refuses_the_segment():
+    """k = (1000, 1019/10), just below the upper ellipse: at q = (1000, 100), d_k = 19/10 while
+    d_i ≥ 100 − 98 = 2, so k is nearer there, by less than the first pieces' length (1/2): a
+    piece's disc bound lo_k(C) − R > hi_i(C) + R must not be taken the wrong way round."""
+    sites = _far_pair() + [cv.Point(F(1000), F(1019, 10))]
+    ok, msg = _prove(sites, (998, 100), (1002, 100), [[998, 100], [1002, 100]])
+    assert not ok, "a segment where the point (1000, 101.9) is nearer was proved an edge"
+
+
 def test_the_same_segment_with_the_point_far_along_the_mirror_is_proved():
     """Control: k = (1010, 100).  On the segment, d_i ≤ |q − (1000, 98)| ≤ √8 < 3 while
     d_k ≥ 1010 − 1002 = 8: the segment is part of the edge, and it is proved."""
