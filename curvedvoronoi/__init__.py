@@ -112,8 +112,8 @@ __version__ = "0.2.0"
 
 _LAZY = {
     "Conic": ("runtime.sites.conic", "Conic"),
-    "Circle": ("runtime.predicates.circles", "Circle"),
-    "Point": ("runtime.predicates.circles", "Point"),
+    "Circle": ("runtime.sites.circle", "Circle"),
+    "Point": ("runtime.sites.circle", "Point"),
     "Segment": ("runtime.sites.segment", "Segment"),
     "Arc": ("runtime.sites.arc", "Arc"),
     "EllipticArc": ("runtime.sites.elliptic_arc", "EllipticArc"),

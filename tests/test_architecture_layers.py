@@ -257,3 +257,110 @@ def test_tests_and_benchmarks_draw_each_scene_from_one_generator(tmp_path):
     planted = tmp_path / "bench_planted.py"                 # the check is not vacuous
     planted.write_text("import scenes\n\ndef random_ellipses(n, seed):\n    return scenes.random_ellipses(n, seed)\n")
     assert scene_copies([planted]) == [("bench_planted.py", "random_ellipses")]
+
+
+# ----------------------------------------------------------------------------- the layers, tested
+
+LAYER_RULE = re.compile(r"^══ layer (\d+)")
+
+#: result types whose methods import the I/O layer at call time (``d.plot()``, ``d.cells()``): a
+#: facade; their top-level imports obey the layers like every module's
+FACADES = {"runtime.voronoi.structure"}
+
+#: imports from a lower layer into a higher one that stay, each with its reason (the test fails
+#: when one is no longer made, so the list cannot go stale)
+UPWARD_IMPORTS = {
+    ("runtime.sites.reader", "runtime.algebra.polyalg"):
+        "the reader refuses a conic whose precomputed offset (App. B) overflows floats: an input check "
+        "that evaluates the kernel's offset polynomial, at call time",
+}
+
+
+def module_layers(text: str) -> dict[str, int]:
+    """Dotted module name -> layer number, from the fenced drawing: a ``══ layer N`` rule starts
+    layer N; the modules named after it (directory lines as in :func:`documented_paths`) are in it."""
+    out, fenced, directory, layer = {}, False, None, None
+    for line in text.splitlines():
+        if line.startswith("```"):
+            fenced, directory = not fenced, None
+            continue
+        if not fenced:
+            continue
+        m = LAYER_RULE.match(line)
+        if m:
+            layer, directory = int(m.group(1)), None
+            continue
+        m = re.match(r"^([\w/]+/)\s", line)
+        if m:
+            directory = m.group(1)
+        for p, _ in PY.findall(line):
+            path = _resolve(p, directory)
+            if layer is not None and path.startswith("runtime/"):
+                out[path[:-3].replace("/", ".")] = layer
+    return out
+
+
+def _top_level_imports(name: str, f: pathlib.Path) -> set[str]:
+    """What module ``name`` imports outside functions and outside ``if TYPE_CHECKING:``."""
+    pkg = name.split(".")[:-1]
+    out = set()
+    tree = ast.parse(f.read_text())
+    for node in tree.body:
+        if isinstance(node, ast.ImportFrom) and node.level:
+            base = ".".join(pkg[:len(pkg) - node.level + 1] + ([node.module] if node.module else []))
+            out |= {base} | {f"{base}.{a.name}" for a in node.names}
+        elif isinstance(node, ast.ImportFrom):
+            base = (node.module or "").removeprefix("curvedvoronoi.")
+            out |= {base} | {f"{base}.{a.name}" for a in node.names}
+    return out
+
+
+def upward_imports(G, layers: dict[str, int]) -> set[tuple[str, str]]:
+    """(importer, imported) for every import of a module of a higher layer than the importer's
+    (``G``: the import graph of tests/test_architecture.py, function-level imports included;
+    facades count with their top-level imports only).  Direct imports suffice: every module has
+    a layer, so a chain that climbs has a step that climbs."""
+    out = set()
+    for m, r in G.edges:
+        if m in layers and r in layers and layers[r] > layers[m]:
+            if m in FACADES and r not in _top_level_imports(m, ROOT / (m.replace(".", "/") + ".py")):
+                continue
+            out.add((m, r))
+    return out
+
+
+def _import_graph():
+    import sys
+
+    sys.path.insert(0, str(ROOT / "tests"))
+    from test_architecture import import_graph
+
+    return import_graph()
+
+
+def test_no_module_imports_a_higher_layer():
+    layers = module_layers(ARCHITECTURE.read_text())
+    assert set(layers.values()) == {0, 1, 2, 3}
+    found = upward_imports(_import_graph(), layers)
+    assert not found - set(UPWARD_IMPORTS), sorted(found - set(UPWARD_IMPORTS))
+    assert not set(UPWARD_IMPORTS) - found, f"no longer made: remove {sorted(set(UPWARD_IMPORTS) - found)}"
+
+
+def test_every_runtime_module_has_a_layer():
+    layers = module_layers(ARCHITECTURE.read_text())
+    modules = {".".join(f.relative_to(ROOT).with_suffix("").parts) for f in (ROOT / "runtime").rglob("*.py")
+               if f.name not in ("__init__.py", "__main__.py")}
+    assert not modules - set(layers), sorted(modules - set(layers))
+
+
+def test_the_layer_check_sees_a_planted_upward_import():
+    layers = module_layers(ARCHITECTURE.read_text())
+    G = _import_graph()
+    G.add_edge("runtime.sites.conic", "runtime.voronoi.construction")
+    G.add_edge("runtime.certify.foot", "runtime.voronoi.verify.certificate")
+    found = upward_imports(G, layers)
+    assert {("runtime.sites.conic", "runtime.voronoi.construction"),
+            ("runtime.certify.foot", "runtime.voronoi.verify.certificate")} <= found
+    # a facade's call-time import is not counted, a top-level one would be
+    assert ("runtime.voronoi.structure", "runtime.voronoi.plot") not in found
+    assert ("runtime.voronoi.structure", "runtime.voronoi.plot") in G.edges

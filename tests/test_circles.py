@@ -21,9 +21,8 @@ from hypothesis import strategies as st
 
 from curvedvoronoi.runtime.validation import required_cases_path as _validation_path
 from curvedvoronoi.runtime.predicates.apollonius import aw_vertices, locate_conflicts_aw, multiplication_matrix_aw, solve_system
-from curvedvoronoi.runtime.predicates.circles import (
-    Circle, locate_conflicts_circles, parse_rational, voronoi_vertices_circles,
-)
+from curvedvoronoi.runtime.predicates.circles import Circle, locate_conflicts_circles, voronoi_vertices_circles
+from curvedvoronoi.runtime.sites.rationals import parse_rational
 from curvedvoronoi.runtime.predicates.circles_filter import filter_circles, locate_conflicts_circles_batch
 from curvedvoronoi.runtime.algebra.quadtower import QuadTower
 from curvedvoronoi.runtime.result import InvalidConicError, LocatorError

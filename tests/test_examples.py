@@ -81,12 +81,12 @@ def test_user_guide_python_snippets_run():
 
 
 @pytest.mark.parametrize("module", ["curvedvoronoi", "curvedvoronoi.runtime.sites.conic",
-                                    "curvedvoronoi.runtime.predicates.circles", "curvedvoronoi.runtime.sites.reader"])
+                                    "curvedvoronoi.runtime.sites.circle", "curvedvoronoi.runtime.sites.reader"])
 def test_docstring_examples(module):
     mod = importlib.import_module(module)
     res = doctest.testmod(mod, optionflags=doctest.ELLIPSIS)
     assert res.failed == 0
-    if module in ("curvedvoronoi", "curvedvoronoi.runtime.sites.conic", "curvedvoronoi.runtime.predicates.circles"):
+    if module in ("curvedvoronoi", "curvedvoronoi.runtime.sites.conic", "curvedvoronoi.runtime.sites.circle"):
         assert res.attempted > 0
 
 

@@ -28,7 +28,7 @@ Routes (``method=``):
   route refuses does the interval route answer, with ``complete=False``; a refusal of all routes
   raises :class:`runtime.result.NumericalRefusal`.
 
-The sites are :class:`runtime.sites.conic.Conic` objects, or :class:`runtime.predicates.circles.Circle`
+The sites are :class:`runtime.sites.conic.Conic` objects, or :class:`runtime.sites.circle.Circle`
 and ``Point`` objects: a circle of positive radius is taken as the circle conic; four sites with a
 point among conics go to :func:`_locate_with_points` (the Voronoi diagram of C1, C2, C3, proved by
 the independent verifier, and rigorous distance bounds to C4).

@@ -12,8 +12,8 @@ rational points to rational points), and a site's image is compared with the oth
 exact conic coefficients up to a common factor.  The sites are equidistant from p when the
 isometries join them all (one class of the equivalence they generate).
 
-Sites: :class:`runtime.sites.conic.Conic`, :class:`runtime.predicates.circles.Circle` and
-:class:`runtime.predicates.circles.Point` (a point is the conic (x − a)² + (y − b)² = 0).
+Sites: :class:`runtime.sites.conic.Conic`, :class:`runtime.sites.circle.Circle` and
+:class:`runtime.sites.circle.Point` (a point is the conic (x − a)² + (y − b)² = 0).
 
 **Mirrors.**  If the reflection in a line ℓ maps site A onto site B and A lies strictly on one side
 H of ℓ, then d(q, A) < d(q, B) for every q in the open half-plane H (the nearest point p of A to

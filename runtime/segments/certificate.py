@@ -2,7 +2,7 @@
 (thesis §1.2, §2.2).
 
 :func:`verify_segments` takes a :class:`runtime.voronoi.structure.Diagram` (or its JSON form)
-whose sites are elementary sites — :class:`runtime.predicates.circles.Point`,
+whose sites are elementary sites — :class:`runtime.sites.circle.Point`,
 :class:`runtime.sites.segment.Segment` and :class:`runtime.sites.arc.Arc` meaning their *open
 interiors* — and either proves that it is *the* Voronoi diagram of those sites or names what
 failed.  It reads only the reported combinatorics (vertex site lists, edge pairs and ends) and uses

@@ -1,7 +1,7 @@
 """Admissible sites of the point/segment/arc certificate (step 1 of
 :mod:`runtime.segments.certificate`).
 
-Every site is a :class:`runtime.predicates.circles.Point`, a
+Every site is a :class:`runtime.sites.circle.Point`, a
 :class:`runtime.sites.segment.Segment` or a :class:`runtime.sites.arc.Arc` (their open
 interiors); none is repeated; every end of a curve is a point site of the list or a **smooth
 joint**: a point that is no site where exactly two curves end, not both segments, leaving it in

@@ -3,7 +3,7 @@ repeats (thesis §1.2: the diagram is defined for sites that meet at most where 
 piece is also an endpoint of the other).
 
 :func:`check_pieces` accepts a list of :class:`runtime.sites.segment.Segment`,
-:class:`runtime.sites.arc.Arc` and point sites (:class:`runtime.predicates.circles.Point`) when
+:class:`runtime.sites.arc.Arc` and point sites (:class:`runtime.sites.circle.Point`) when
 segments and arcs meet only at common endpoints and a point lies on no segment or arc except at
 one of its endpoints (it is then the same point as that endpoint).  Otherwise it raises
 :class:`runtime.voronoi.site_input.SiteError` with one line naming the first offending pair by

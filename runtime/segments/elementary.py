@@ -67,7 +67,7 @@ class _Nodes:
 class ElementarySites:
     """Point sites, open segments and open circular arcs, exact and as float arrays.
 
-    ``sites``: :class:`runtime.predicates.circles.Point`, :class:`runtime.sites.segment.Segment`
+    ``sites``: :class:`runtime.sites.circle.Point`, :class:`runtime.sites.segment.Segment`
     and :class:`runtime.sites.arc.Arc` (meaning their open interiors); ``kind``: :data:`POINT` /
     :data:`SEGMENT` / :data:`ARC` per site; ``xy[code]``: the exact coordinates of a point site
     or of a smooth joint (``code`` < −1); ``ends[s]``: the end codes of curve s (its start and end;
@@ -148,7 +148,7 @@ class ElementarySites:
 
 def decompose(pieces, sources=None) -> ElementarySites:
     """The elementary sites of ``pieces`` (:class:`runtime.sites.segment.Segment`,
-    :class:`runtime.sites.arc.Arc`, point sites :class:`runtime.predicates.circles.Point` or (x, y)
+    :class:`runtime.sites.arc.Arc`, point sites :class:`runtime.sites.circle.Point` or (x, y)
     pairs).  ``sources``: the input index of each piece (default: its position); each elementary
     site takes the ``label`` of the piece it is attributed to (see the module docstring).  The pieces must
     be admissible (no crossings, see :func:`runtime.segments.crossings.check_pieces`, which the

@@ -8,7 +8,7 @@ ARC                            one :class:`runtime.sites.arc.Arc` (:meth:`Arc.ci
                                angles in degrees, counter-clockwise in the entity's OCS)
 CIRCLE                         its two half arcs (:func:`runtime.sites.arc.circle_halves`), one
                                source: the whole circle is the site, its radius the float's value
-POINT                          one :class:`runtime.predicates.circles.Point`
+POINT                          one :class:`runtime.sites.circle.Point`
 ELLIPSE                        one :class:`runtime.sites.elliptic_arc.EllipticArc`
                                (:meth:`EllipticArc.from_dxf`: centre, major-axis vector, ratio,
                                parameters in radians), a whole ellipse its two halves
@@ -139,7 +139,7 @@ def _xy(v, where: str, z_offset=0) -> tuple[Fraction, Fraction]:
 
 
 def _entity_pieces(e, kind: str, where: str) -> list:
-    from ..predicates.circles import Point
+    from .circle import Point
     from .segment import Segment
 
     if kind == "POINT":

@@ -12,7 +12,7 @@ from fractions import Fraction
 
 from flint import fmpq, fmpq_poly
 
-from ..predicates.circles import Circle
+from .circle import Circle
 from .conic import Conic
 
 __all__ = ["exact_coefficients", "conic_value", "circles_meet", "sites_intersect"]

@@ -256,14 +256,14 @@ def _rotation(rot, where: str):
 
 
 def parse_site(entry, where: str = "site"):
-    """One site record (see the module docstring) as a :class:`runtime.predicates.circles.Point`,
-    :class:`runtime.predicates.circles.Circle`, :class:`runtime.sites.conic.Conic`,
+    """One site record (see the module docstring) as a :class:`runtime.sites.circle.Point`,
+    :class:`runtime.sites.circle.Circle`, :class:`runtime.sites.conic.Conic`,
     :class:`runtime.sites.segment.Segment` or :class:`runtime.sites.arc.Arc`, with the record's
     ``"label"`` as its ``label``.  A ``"source"`` member is ignored.
 
     ValueError (InvalidConicError for a degenerate or imaginary conic) naming ``where``.  The
     record is assumed to have the right shape; :func:`sites_from_document` validates first."""
-    from ..predicates.circles import Circle, Point
+    from .circle import Circle, Point
     from .conic import Conic
     from .segment import Segment
 
@@ -395,7 +395,7 @@ def site_key(site) -> tuple:
     """Exact key of the curve a site describes: equal keys iff the same curve.  A circle given by
     coefficients and the same circle given by centre and radius have the same key; a segment's key
     does not depend on the order of its endpoints."""
-    from ..predicates.circles import Circle
+    from .circle import Circle
     from .arc import Arc
     from .conic import Conic
     from .elliptic_arc import EllipticArc
@@ -531,7 +531,7 @@ def site_to_json(site, source: int | None = None) -> dict:
     exact form, with the site's ``"label"`` when it has one), numbers as rational strings
     (read back by :func:`parse_site` to the same site).  ``"source"`` is written when ``source`` (or else
     the site's attribute ``source``) is not None."""
-    from ..predicates.circles import Circle
+    from .circle import Circle
     from .arc import Arc
     from .conic import Conic
     from .elliptic_arc import EllipticArc

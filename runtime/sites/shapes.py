@@ -2,7 +2,7 @@
 or a point set is a semi-algebraic set made of segments and points).
 
 :func:`pieces_from_geometry` cuts a geometry into its pieces, :class:`runtime.sites.segment.Segment`
-and :class:`runtime.predicates.circles.Point`, with exact coordinates: a float is taken at its exact
+and :class:`runtime.sites.circle.Point`, with exact coordinates: a float is taken at its exact
 binary value (:func:`runtime.sites.rationals.to_fraction`), nothing is rounded or snapped.
 
 * A LineString gives one segment per pair of consecutive vertices; repeated consecutive vertices
@@ -153,7 +153,7 @@ def _coordinates(m, where: str):
 # =====================================================================================
 
 def _pieces(m: Mapping, where: str) -> list:
-    from ..predicates.circles import Point
+    from .circle import Point
 
     kind = m.get("type")
     if kind not in _TYPES:

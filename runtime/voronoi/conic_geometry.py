@@ -444,7 +444,7 @@ def site_inside(A, B) -> bool:
 
 
 def site_geometry(site) -> SiteGeometry:
-    """The geometry of a site: a :class:`runtime.predicates.circles.Circle` (r2 = 0 is a point), a
+    """The geometry of a site: a :class:`runtime.sites.circle.Circle` (r2 = 0 is a point), a
     :class:`runtime.sites.conic.Conic` (circles among them go to :class:`CircleGeometry`)."""
     if isinstance(site, Circle):
         return PointGeometry(site) if site.r2 == 0 else CircleGeometry(site)

@@ -94,7 +94,7 @@ def voronoi(sites, *, certify: bool = True, progress=None, time_limit: float | N
     Parameters
     ----------
     sites : list
-        :class:`runtime.predicates.circles.Circle`, :class:`runtime.predicates.circles.Point`,
+        :class:`runtime.sites.circle.Circle`, :class:`runtime.sites.circle.Point`,
         :class:`runtime.sites.conic.Conic` or (cx, cy, r) tuples (r = 0: a point); pairwise disjoint.
     certify : bool
         Run the independent verifier (:func:`runtime.voronoi.verify.certificate.verify`) at the end;

@@ -52,7 +52,7 @@ class SiteGeometry(ABC):
         The :attr:`runtime.sites.kinds.SiteKind.label` of the site: ``"point"``, ``"circle"``,
         ``"ellipse"``, ``"hyperbola"`` or ``"parabola"`` (:attr:`site_kind` is the enum member).
     exact : object
-        The exact site: :class:`runtime.predicates.circles.Circle` (points: r2 = 0) or
+        The exact site: :class:`runtime.sites.circle.Circle` (points: r2 = 0) or
         :class:`runtime.sites.conic.Conic`; certification routes use it.
     """
 

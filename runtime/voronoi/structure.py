@@ -119,8 +119,8 @@ class DiagramEdge:
 
 @dataclass
 class Diagram:
-    """The Voronoi diagram of ``sites`` (exact :class:`runtime.predicates.circles.Circle` /
-    :class:`runtime.predicates.circles.Point` / :class:`runtime.sites.conic.Conic`).
+    """The Voronoi diagram of ``sites`` (exact :class:`runtime.sites.circle.Circle` /
+    :class:`runtime.sites.circle.Point` / :class:`runtime.sites.conic.Conic`).
 
     ``certified`` is True only when an independent verification proved the whole diagram;
     ``problems`` lists what is not proved (one line each, naming the sites).
