@@ -51,8 +51,14 @@ together (:func:`prove_strips_many`: the pieces of every chain in flat arrays, t
 of ``ROWS_PER_CALL``/6 pieces: the memory is bounded independently of the number of pieces);
 :func:`prove_strips` is the generator form used under
 :func:`runtime.voronoi.verify.site_table.run_lockstep`.
+
+Length: one test — the strip chain — written as its named steps (the pieces' geometry, (T1)
+:func:`_monotone`, (T4) :func:`_sides`, (T2) :func:`_farther`, (T3) :func:`_tied_derivative`, the
+flat chains and the rounds of halving), each with its inequality in its docstring.
 """
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 
@@ -154,11 +160,29 @@ def side_second_order(Qs, t, h, fval, Vi, Vj, Gi, si, Gj, sj, scale):
     return out & np.isfinite(low) & (low > 0)
 
 
-def _test_pieces(table, scale, depth, sigma, seg, sa, sb, chains):
-    """(T1)–(T4) on the pieces (seg, [sa, sb]) of :func:`prove_strips_many`: (good, t1, side_ok) per
-    piece.  At depth 0, σ of each chain without one is set from its first piece decided here."""
-    sj, Sg, Tg, Ng, W0, slope, I, J, K0, K1, start, total = chains
-    p = len(sa)
+class _Pieces(NamedTuple):
+    """The trapezoid pieces (seg, [sa, sb]) of a group: job ``jb`` of each, centre C at
+    ``sm`` along the segment (unit direction Tn, normal Nn), the radius R of a disc covering the
+    piece, the length ``side_len`` of half a lateral side, its side midpoints Qp, Qm = C ± w·Nn,
+    and the pair (Ip, Jp) of its chain."""
+    seg: np.ndarray
+    jb: np.ndarray
+    sm: np.ndarray
+    Tn: np.ndarray
+    Nn: np.ndarray
+    C: np.ndarray
+    R: np.ndarray
+    side_len: np.ndarray
+    Qp: np.ndarray
+    Qm: np.ndarray
+    Ip: np.ndarray
+    Jp: np.ndarray
+
+
+def _pieces(scale, seg, sa, sb, chains) -> _Pieces:
+    """The geometry of the pieces: R = |(half length, larger half-width)|·(1 + 10⁻¹²) + 10⁻¹⁵·scale
+    covers the trapezoid from its centre; a lateral side has half length half·√(1 + slope²)."""
+    sj, Sg, Tg, Ng, W0, slope, I, J = chains[:8]
     jb = sj[seg]
     sm = 0.5 * (sa + sb)
     Tn, Nn = Tg[seg], Ng[seg]
@@ -170,124 +194,177 @@ def _test_pieces(table, scale, depth, sigma, seg, sa, sb, chains):
     R = np.hypot(half, np.maximum(wa, wb)) * (1 + 1e-12) + 1e-15 * scale
     side_len = half * np.sqrt(1 + slope[seg] ** 2) * (1 + 1e-12)
     Qp, Qm = C + w[:, None] * Nn, C - w[:, None] * Nn
-    Ip, Jp = I[jb], J[jb]
-    V = evaluate_rows(table, np.concatenate([C, C, Qp, Qp, Qm, Qm]), np.concatenate([Ip, Jp, Ip, Jp, Ip, Jp]))
-    Vi, Vj = V.part(0, p), V.part(p, 2 * p)
-    hi_i, hi_j = Vi.hi, Vj.hi
-    Gi, si, vi = gradient_enclosure(C, Vi, R, scale)
-    Gj, sj_, vj = gradient_enclosure(C, Vj, R, scale)
-    Df = Gi - Gj
+    return _Pieces(seg, jb, sm, Tn, Nn, C, R, side_len, Qp, Qm, I[jb], J[jb])
+
+
+def _monotone(table, depth, sigma, P: _Pieces, Vi, Vj, enc_i, enc_j):
+    """(T1): the range [mono_lo, mono_hi] of g·n over the gradients g of f = d_i − d_j on each
+    piece's disc has the strict sign σ of its chain; where a distance has no gradient enclosure (a
+    disc reaching the medial axis inside a circle or an ellipse) over its Clarke generalised
+    gradient (:func:`runtime.voronoi.verify.clarke_gradient.difference_range`, Lebourg's theorem).
+    At depth 0, σ of a chain without one is set from its first piece decided here (the groups run
+    in piece order; a chain's earlier pieces are undecided, so σ does not matter there).
+    Returns t1 per piece."""
+    (Gi, si, vi), (Gj, sj_, vj) = enc_i, enc_j
+    mono = ((Gi - Gj) * P.Nn).sum(1)
     sf = si + sj_
-    mono = (Df * Nn).sum(1)
-    # (T1) the range [mono_lo, mono_hi] of g·n over the gradients g of f on the disc; where a
-    # distance has no gradient enclosure (a disc reaching the medial axis inside a circle or
-    # an ellipse) over its Clarke generalised gradient (clarke_gradient, Lebourg's theorem)
     mono_lo, mono_hi = mono - sf, mono + sf
     mono_ok = vi & vj
     miss = np.nonzero(~(mono_ok & ((mono_lo > 0) | (mono_hi < 0))))[0]
     if len(miss):
         # undecided pieces: the gradient enclosures intersected with the Clarke ranges
-        lo_, hi_, ok_ = difference_range(table, C[miss], R[miss], Nn[miss], (Ip[miss], Jp[miss]),
+        lo_, hi_, ok_ = difference_range(table, P.C[miss], P.R[miss], P.Nn[miss], (P.Ip[miss], P.Jp[miss]),
                                          (Vi.take(miss), Vj.take(miss)),
                                          ((Gi[miss], si[miss], vi[miss]), (Gj[miss], sj_[miss], vj[miss])))
         mono_lo[miss], mono_hi[miss], mono_ok[miss] = lo_, hi_, ok_
     if depth == 0:
-        # σ of each chain: the sign of the first piece where it is decided (the groups run in
-        # piece order; a chain's earlier pieces are undecided, so σ does not matter there)
         dec = np.nonzero(mono_ok & ((mono_lo > 0) | (mono_hi < 0)))[0]
-        first_job, first = np.unique(jb[dec], return_index=True)
+        first_job, first = np.unique(P.jb[dec], return_index=True)
         new = sigma[first_job] == 0
         sigma[first_job[new]] = np.where(mono_lo[dec[first[new]]] > 0, 1.0, -1.0)
-    sg_p = sigma[jb]
-    t1 = mono_ok & np.where(sg_p > 0, mono_lo > 0, mono_hi < 0)
-    # (T4) lateral sides of this piece: f at (s, ±w), first order along the side where the
-    # gradients are enclosed, else 2-Lipschitz; σ·f > 0 on the side +w, < 0 on the side −w
+    sg_p = sigma[P.jb]
+    return mono_ok & np.where(sg_p > 0, mono_lo > 0, mono_hi < 0)
+
+
+def _sides(scale, slope, sigma, P: _Pieces, V, p):
+    """(T4) on the lateral sides of each piece: σ·f > 0 on the side +w and < 0 on the side −w,
+    f = d_i − d_j.  From the lower bound fval of ς·f at the side's midpoint (ς = ±σ), first order:
+    fval − rate·side_len > 0 with rate ≥ |∇f·t| on the side (the gradient enclosures where they
+    exist, else 2: f is 2-Lipschitz); where that fails, second order (:func:`side_second_order`:
+    far from the sites the gradients' disc terms 2R/d exceed |∇f|)."""
+    sg_p = sigma[P.jb]
     side_ok = np.ones(p, bool)
-    for b, (Qs, sg) in enumerate(((Qp, 1.0), (Qm, -1.0))):
+    for b, (Qs, sg) in enumerate(((P.Qp, 1.0), (P.Qm, -1.0))):
         Vis, Vjs = V.part((2 + 2 * b) * p, (3 + 2 * b) * p), V.part((3 + 2 * b) * p, (4 + 2 * b) * p)
-        tside = Tn + (sg * slope[seg])[:, None] * Nn
+        tside = P.Tn + (sg * slope[P.seg])[:, None] * P.Nn
         tside /= np.hypot(*tside.T)[:, None]
-        Gis, sis, vis = gradient_enclosure(Qs, Vis, side_len, scale)
-        Gjs, sjs, vjs = gradient_enclosure(Qs, Vjs, side_len, scale)
+        Gis, sis, vis = gradient_enclosure(Qs, Vis, P.side_len, scale)
+        Gjs, sjs, vjs = gradient_enclosure(Qs, Vjs, P.side_len, scale)
         rate = np.abs(((Gis - Gjs) * tside).sum(1)) + sis + sjs
         rate = np.where(vis & vjs & np.isfinite(rate), np.minimum(rate, 2.0), 2.0) * (1 + 1e-12)
         pos_f = sg * sg_p > 0
         fval = np.where(pos_f, Vis.lo - Vjs.hi, Vjs.lo - Vis.hi)
-        okb = fval - rate * side_len > 0
-        # (T4') second order where the first order fails (far from the sites the gradients'
-        # disc terms 2R/d exceed |∇f|): d_k'' = (t·τ_k)²/(d_k + ρ_k) ∈ [0, (t·τ_k)²/d_k] along
-        # the side, outside the convex K_k (module docstring)
+        okb = fval - rate * P.side_len > 0
         redo = np.nonzero(~okb & vis & vjs)[0]
         if len(redo):
-            okb[redo] = side_second_order(Qs[redo], tside[redo], side_len[redo], fval[redo],
+            okb[redo] = side_second_order(Qs[redo], tside[redo], P.side_len[redo], fval[redo],
                                           Vis.take(redo), Vjs.take(redo), Gis[redo], sis[redo],
                                           Gjs[redo], sjs[redo], scale)
         side_ok &= okb
-    # (T2)/(T3) third sites, only where (T1) and (T4) hold
+    return side_ok
+
+
+def _farther(table, scale, P: _Pieces, rows, Vk, Vi, Vj, enc_i, enc_j, enc_k):
+    """(T2) per (piece, third site k) row: d_k > min(d_i, d_j) on the piece's disc — by
+    lo_k − R > min(hi_i, hi_j) + R (d is 1-Lipschitz); or to first order
+    d_k − d_x ≥ (lo_k − hi_x)(C) − R·sup|∇d_k − ∇d_x| (x = i and x = j); or to second order
+    (:func:`runtime.voronoi.verify.distance_gap.gap_lower`, then on β only
+    :func:`runtime.voronoi.verify.distance_gap.bisector_gap_lower`)."""
+    (Gi, si, vi), (Gj, sj_, vj), (GK, SK, VK) = enc_i, enc_j, enc_k
+    C, Rr = P.C, P.R[rows]
+    okk = Vk.lo - Rr > np.minimum(Vi.hi, Vj.hi)[rows] + Rr
+    for G_, s_, v_, h_ in ((Gi, si, vi, Vi.hi), (Gj, sj_, vj, Vj.hi)):
+        lip = np.hypot(*(GK - G_[rows]).T) + SK + s_[rows]
+        lip = np.where(VK & v_[rows] & np.isfinite(lip), np.minimum(lip, 2.0), 2.0) * (1 + 1e-12)
+        okk |= Vk.lo - h_[rows] - lip * Rr > 0
+    left = np.nonzero(~okk)[0]
+    if len(left):
+        Cl, Vl = C[rows[left]], Vk.take(left)
+        for Vx in (Vi, Vj):
+            okk[left] |= gap_rows(gap_lower, Cl, (Vl, Vx.take(rows[left])), Rr[left], scale) > 0
+        left = left[~okk[left]]
+        okk[left] |= gap_rows(bisector_gap_lower, C[rows[left]],
+                              (Vk.take(left), Vi.take(rows[left]), Vj.take(rows[left])), Rr[left], scale) > 0
+    return okk
+
+
+def _tied_derivative(chains, P: _Pieces, rows, ks, okk, enc_i, enc_j, enc_k):
+    """(T3) for the rows whose third site k is tied with the pair at the first vertex (K0, wanted
+    g' > 0) or the last (K1, g' < 0), g = d_k − d_i along the arc: the arc's tangent is
+    ± rot90(∇f), so g' has the sign of σ_t·(∇d_k − ∇d_i)·rot90(∇f), σ_t = sign(rot90(∇f)·t) when
+    |rot90(∇f)·t| exceeds its enclosure radius; want·value − err·(1 + 10⁻⁹) − 10⁻¹² > 0 with err
+    the product bound of the two enclosures.  A site tied at both ends: g' > 0 in the first half
+    of the chain, < 0 in the second.  ``okk`` is updated in place."""
+    K0, K1, start, total = chains[8:]
+    (Gi, si, _), (Gj, sj_, _), (GK, SK, VK) = enc_i, enc_j, enc_k
+    Df, sf = Gi - Gj, si + sj_
+    jr = P.jb[rows]
+    pos = start[P.seg[rows]] + P.sm[rows]
+    for KK, OTHER, want in ((K0, K1, 1.0), (K1, K0, -1.0)):
+        sel = np.nonzero((KK[jr] == ks[:, None]).any(1) & ~okk)[0]
+        if not len(sel):
+            continue
+        r_ = rows[sel]
+        Dg = GK[sel] - Gi[r_]
+        sg_ = si[r_] + SK[sel]
+        rf = rot90(Df[r_])
+        tt = (rf * P.Tn[r_]).sum(1)
+        dec_t = np.abs(tt) > sf[r_]
+        val = np.sign(tt) * (Dg * rf).sum(1)
+        err = np.hypot(*Dg.T) * sf[r_] + np.hypot(*Df[r_].T) * sg_ + sf[r_] * sg_
+        t3 = dec_t & VK[sel] & (want * val - err * (1 + 1e-9) - 1e-12 > 0)
+        half_ok = (pos[sel] <= 0.5 * total[jr[sel]]) if want > 0 else (pos[sel] > 0.5 * total[jr[sel]])
+        same = (OTHER[jr[sel]] == ks[sel][:, None]).any(1)
+        t3 &= ~same | half_ok
+        okk[sel] |= t3
+
+
+def _third_sites(table, scale, chains, P: _Pieces, pre, Vi, Vj, enc_i, enc_j):
+    """(T2)/(T3) on the pieces where (T1) and (T4) hold: every site whose bounding box comes
+    within min(hi_i, hi_j) + 2R of the piece's centre (:meth:`SiteTable.near_pairs`) is farther
+    (:func:`_farther`) or, tied at an end vertex, moves away along the arc (:func:`_tied_derivative`).
+    True per piece where all of them pass."""
+    p = len(P.seg)
     third_ok = np.ones(p, bool)
-    pre = t1 & side_ok
-    hi = np.minimum(hi_i, hi_j)
+    hi = np.minimum(Vi.hi, Vj.hi)
     pidx = np.nonzero(pre)[0]
-    rows, ks = table.near_pairs(C[pidx], (hi + 2 * R)[pidx], (Ip[pidx], Jp[pidx]))
+    rows, ks = table.near_pairs(P.C[pidx], (hi + 2 * P.R)[pidx], (P.Ip[pidx], P.Jp[pidx]))
     rows = pidx[rows]
     if len(rows):
-        Vk = evaluate_rows(table, C[rows], ks)
-        Rr = R[rows]
-        okk = Vk.lo - Rr > hi[rows] + Rr
-        # (T2') first order: d_k − d_i ≥ (lo_k − hi_i)(C) − R·sup|∇d_k − ∇d_i| on the disc
-        GK, SK, VK = gradient_enclosure(C[rows], Vk, Rr, scale)
-        for G_, s_, v_, h_ in ((Gi, si, vi, hi_i), (Gj, sj_, vj, hi_j)):
-            lip = np.hypot(*(GK - G_[rows]).T) + SK + s_[rows]
-            lip = np.where(VK & v_[rows] & np.isfinite(lip), np.minimum(lip, 2.0), 2.0) * (1 + 1e-12)
-            okk |= Vk.lo - h_[rows] - lip * Rr > 0
-        # (T2'') second order (distance_gap.gap_lower), where the first order fails
-        left = np.nonzero(~okk)[0]
-        if len(left):
-            Cl, Vl = C[rows[left]], Vk.take(left)
-            for Vx in (Vi, Vj):
-                okk[left] |= gap_rows(gap_lower, Cl, (Vl, Vx.take(rows[left])), Rr[left], scale) > 0
-            left = left[~okk[left]]
-            okk[left] |= gap_rows(bisector_gap_lower, C[rows[left]],
-                                  (Vk.take(left), Vi.take(rows[left]), Vj.take(rows[left])), Rr[left], scale) > 0
-        jr = jb[rows]
-        pos = start[seg[rows]] + sm[rows]
-        for KK, OTHER, want in ((K0, K1, 1.0), (K1, K0, -1.0)):
-            sel = np.nonzero((KK[jr] == ks[:, None]).any(1) & ~okk)[0]
-            if not len(sel):
-                continue
-            r_ = rows[sel]
-            Dg = GK[sel] - Gi[r_]
-            sg_ = si[r_] + SK[sel]
-            rf = rot90(Df[r_])
-            tt = (rf * Tn[r_]).sum(1)
-            dec_t = np.abs(tt) > sf[r_]
-            val = np.sign(tt) * (Dg * rf).sum(1)
-            err = np.hypot(*Dg.T) * sf[r_] + np.hypot(*Df[r_].T) * sg_ + sf[r_] * sg_
-            t3 = dec_t & VK[sel] & (want * val - err * (1 + 1e-9) - 1e-12 > 0)
-            # same third site at both ends: g' > 0 in the first half, < 0 in the second
-            half_ok = (pos[sel] <= 0.5 * total[jr[sel]]) if want > 0 else (pos[sel] > 0.5 * total[jr[sel]])
-            same = (OTHER[jr[sel]] == ks[sel][:, None]).any(1)
-            t3 &= ~same | half_ok
-            okk[sel] |= t3
+        Vk = evaluate_rows(table, P.C[rows], ks)
+        enc_k = gradient_enclosure(P.C[rows], Vk, P.R[rows], scale)
+        okk = _farther(table, scale, P, rows, Vk, Vi, Vj, enc_i, enc_j, enc_k)
+        _tied_derivative(chains, P, rows, ks, okk, enc_i, enc_j, enc_k)
         np.logical_and.at(third_ok, rows, okk)
+    return third_ok
+
+
+def _test_pieces(table, scale, depth, sigma, seg, sa, sb, chains):
+    """(T1)–(T4) on the pieces (seg, [sa, sb]) of :func:`prove_strips_many`: (good, t1, side_ok) per
+    piece.  At depth 0, σ of each chain without one is set from its first piece decided here.
+    Six evaluation rows per piece: i and j at the centre and at both side midpoints."""
+    P = _pieces(scale, seg, sa, sb, chains)
+    p = len(sa)
+    V = evaluate_rows(table, np.concatenate([P.C, P.C, P.Qp, P.Qp, P.Qm, P.Qm]),
+                      np.concatenate([P.Ip, P.Jp, P.Ip, P.Jp, P.Ip, P.Jp]))
+    Vi, Vj = V.part(0, p), V.part(p, 2 * p)
+    enc_i = gradient_enclosure(P.C, Vi, P.R, scale)
+    enc_j = gradient_enclosure(P.C, Vj, P.R, scale)
+    t1 = _monotone(table, depth, sigma, P, Vi, Vj, enc_i, enc_j)
+    side_ok = _sides(scale, chains[5], sigma, P, V, p)
+    pre = t1 & side_ok
+    third_ok = _third_sites(table, scale, chains, P, pre, Vi, Vj, enc_i, enc_j)
     return pre & third_ok, t1, side_ok
 
 
-def prove_strips_many(table, jobs):
-    """(T1)–(T4) for many :class:`StripsJob` at once: the pieces of all chains in flat arrays,
-    two calls of ``table.evaluate`` per round of halving.  Returns (ok, message or None) per job."""
-    scale = table.scale
+def _ties(k) -> tuple:
+    return () if k is None else ((k,) if np.isscalar(k) else tuple(k))
+
+
+def _chains(jobs):
+    """The segments of all jobs in flat arrays: ``chains`` = (job of each segment, start S, unit
+    direction T, normal N, half-width W0 at the start and slope (w(s) = W0 + slope·s: trapezoids),
+    pair I, J, the sites tied with the pair at the first (K0) and last (K1) vertex, −1 padded —
+    one at a simple vertex, k − 2 at a vertex of degree k —, each segment's start along its chain,
+    each chain's length), and the lengths, smaller half-widths and cap extensions of the segments."""
     nj = len(jobs)
-    out = [None] * nj
-    # ---- segments of all jobs
-    segs = [len(jb.L) for jb in jobs]
-    sj = np.repeat(np.arange(nj), segs)                          # job of each segment
+    sj = np.repeat(np.arange(nj), [len(jb.L) for jb in jobs])
     Sg = np.concatenate([jb.S[:-1] for jb in jobs])
     Tg = np.concatenate([jb.T for jb in jobs])
     Ng = np.concatenate([jb.N for jb in jobs])
     Lg = np.concatenate([jb.L for jb in jobs])
     W0 = np.concatenate([jb.W[:-1] for jb in jobs])
-    slope = (np.concatenate([jb.W[1:] for jb in jobs]) - W0) / Lg   # w(s) = W_l + slope_l·s (trapezoids)
+    slope = (np.concatenate([jb.W[1:] for jb in jobs]) - W0) / Lg
     Wmin = np.minimum(W0, np.concatenate([jb.W[1:] for jb in jobs]))
     elo = np.concatenate([jb.e_lo for jb in jobs])
     ehi = np.concatenate([jb.e_hi for jb in jobs])
@@ -295,46 +372,75 @@ def prove_strips_many(table, jobs):
     total = np.array([float(jb.L.sum()) for jb in jobs])
     I = np.array([jb.pair[0] for jb in jobs])
     J = np.array([jb.pair[1] for jb in jobs])
-    # the sites tied with the pair at the first (K0) and last (K1) vertex, -1 padded: one at a
-    # simple vertex, k − 2 at a vertex of degree k
-    def ties(k):
-        return () if k is None else ((k,) if np.isscalar(k) else tuple(k))
-
-    width = max([1] + [len(ties(jb.k0)) for jb in jobs] + [len(ties(jb.k1)) for jb in jobs])
+    width = max([1] + [len(_ties(jb.k0)) for jb in jobs] + [len(_ties(jb.k1)) for jb in jobs])
     K0 = np.full((nj, width), -1)
     K1 = np.full((nj, width), -1)
     for t, jb in enumerate(jobs):
-        K0[t, :len(ties(jb.k0))] = ties(jb.k0)
-        K1[t, :len(ties(jb.k1))] = ties(jb.k1)
-    # ---- initial pieces: PIECE times as long as the strip is wide (at most 400 per segment)
+        K0[t, :len(_ties(jb.k0))] = _ties(jb.k0)
+        K1[t, :len(_ties(jb.k1))] = _ties(jb.k1)
+    return (sj, Sg, Tg, Ng, W0, slope, I, J, K0, K1, start, total), Lg, Wmin, elo, ehi
+
+
+def _initial_pieces(Lg, Wmin, elo, ehi):
+    """(seg, sa, sb): each segment with its caps [−e_lo, L + e_hi] cut into pieces PIECE times as
+    long as the strip is wide (at most 400 per segment)."""
     init = np.minimum(np.maximum(np.ceil((Lg + elo + ehi) / (2 * PIECE * Wmin)).astype(int), 1), 400)
     seg = np.repeat(np.arange(len(Lg)), init)
     r = np.arange(len(seg)) - np.repeat(np.cumsum(init) - init, init)
     span = (Lg + elo + ehi)[seg]
-    sa = -elo[seg] + r / init[seg] * span
-    sb = -elo[seg] + (r + 1) / init[seg] * span
+    return seg, -elo[seg] + r / init[seg] * span, -elo[seg] + (r + 1) / init[seg] * span
+
+
+def _test_groups(table, depth, sigma, seg, sa, sb, chains):
+    """:func:`_test_pieces` on the pieces in groups of at most ROWS_PER_CALL / 6 (six evaluation
+    rows per piece): memory bounded independently of N; every piece is tested as in one group
+    (row-wise tests; σ of a chain is set at its first decided piece, before any piece needs it)."""
+    p = len(sa)
+    good, t1, side_ok = np.zeros(p, bool), np.zeros(p, bool), np.zeros(p, bool)
+    step = max(1, ROWS_PER_CALL // 6)
+    for a0 in range(0, p, step):
+        g_, t_, s_ = _test_pieces(table, table.scale, depth, sigma, seg[a0:a0 + step], sa[a0:a0 + step],
+                                  sb[a0:a0 + step], chains)
+        good[a0:a0 + step], t1[a0:a0 + step], side_ok[a0:a0 + step] = g_, t_, s_
+    return good, t1, side_ok
+
+
+def _failures(out, chains, seg, sm, jb, good, t1, side_ok, give_up) -> None:
+    """The message of each chain given up: the first undecided piece and the first of (T1), (T4),
+    (T2)/(T3) that it failed."""
+    Sg, Tg = chains[1], chains[2]
+    badidx = np.nonzero(~good & give_up[jb])[0]
+    tj, first = np.unique(jb[badidx], return_index=True)
+    for t, b in zip(tj, badidx[first]):
+        what = ("monotonicity" if not t1[b] else
+                "the bisector leaves the polyline's strip" if not side_ok[b] else "a third site")
+        Cb = Sg[seg[b]] + sm[b] * Tg[seg[b]]
+        out[t] = (False, f"not proved near ({Cb[0]:.9g}, {Cb[1]:.9g}): {what} undecided")
+
+
+def prove_strips_many(table, jobs):
+    """(T1)–(T4) for many :class:`StripsJob` at once: the pieces of all chains in flat arrays,
+    two calls of ``table.evaluate`` per round of halving.  Returns (ok, message or None) per job.
+    Per round: a chain whose pieces all pass is proved; one with failing pieces gives up at
+    MAX_DEPTH, past its work limits (20 000 failing pieces, 30 000 tested, or its ``budget``
+    spent), or when halving has decided almost no piece for STALL rounds (the strip, not the
+    pieces, is too wide: R stays ≥ w; the caller narrows it); otherwise its failing pieces are
+    halved and the passing ones are done."""
+    nj = len(jobs)
+    out = [None] * nj
+    chains, Lg, Wmin, elo, ehi = _chains(jobs)
+    seg, sa, sb = _initial_pieces(Lg, Wmin, elo, ehi)
     sigma = np.zeros(nj)
-    chains = (sj, Sg, Tg, Ng, W0, slope, I, J, K0, K1, start, total)
     work, stall = np.zeros(nj, int), np.zeros(nj, int)
     for depth in range(MAX_DEPTH):
-        p = len(sa)
-        if not p:
+        if not len(sa):
             break
-        jb = sj[seg]
-        # the pieces in groups of at most ROWS_PER_CALL / 6 (six evaluation rows per piece):
-        # memory bounded independently of N; every piece is tested as in one group (row-wise
-        # tests; σ of a chain is set at its first decided piece, before any piece needs it)
-        good, t1, side_ok = np.zeros(p, bool), np.zeros(p, bool), np.zeros(p, bool)
-        step = max(1, ROWS_PER_CALL // 6)
-        for a0 in range(0, p, step):
-            g_, t_, s_ = _test_pieces(table, scale, depth, sigma, seg[a0:a0 + step], sa[a0:a0 + step],
-                                      sb[a0:a0 + step], chains)
-            good[a0:a0 + step], t1[a0:a0 + step], side_ok[a0:a0 + step] = g_, t_, s_
+        jb = chains[0][seg]
+        good, t1, side_ok = _test_groups(table, depth, sigma, seg, sa, sb, chains)
         if depth == 0:
             for t in np.nonzero(sigma == 0)[0]:
                 out[t] = (False, "the bisector's direction is not decided (monotonicity)")
         sm = 0.5 * (sa + sb)
-        # ---- per chain: done, failed, or halve its undecided pieces
         running = np.array([o is None for o in out])
         cnt = np.bincount(jb, minlength=nj)
         nbad = np.bincount(jb[~good], minlength=nj)
@@ -342,8 +448,6 @@ def prove_strips_many(table, jobs):
         for t in np.nonzero(cnt)[0]:
             if jobs[t].budget is not None:
                 jobs[t].budget[0] -= int(cnt[t])
-        # halving that decides (almost) no piece for STALL rounds will not decide them: the
-        # strip, not the pieces, is too wide (R stays ≥ w); give up early, the caller narrows it
         stall = np.where((cnt > 0) & (nbad > 0.98 * cnt) & (depth >= 2), stall + 1, 0)
         spent = np.array([jb_.budget is not None and jb_.budget[0] < 0 for jb_ in jobs])
         for t in np.nonzero(running & (cnt > 0) & (nbad == 0))[0]:
@@ -351,13 +455,7 @@ def prove_strips_many(table, jobs):
         give_up = running & (nbad > 0) & ((depth == MAX_DEPTH - 1) | (nbad > 20000) | (work > 30000)
                                           | (stall >= STALL) | spent)
         if give_up.any():
-            badidx = np.nonzero(~good & give_up[jb])[0]
-            tj, first = np.unique(jb[badidx], return_index=True)
-            for t, b in zip(tj, badidx[first]):
-                what = ("monotonicity" if not t1[b] else
-                        "the bisector leaves the polyline's strip" if not side_ok[b] else "a third site")
-                Cb = Sg[seg[b]] + sm[b] * Tg[seg[b]]
-                out[t] = (False, f"not proved near ({Cb[0]:.9g}, {Cb[1]:.9g}): {what} undecided")
+            _failures(out, chains, seg, sm, jb, good, t1, side_ok, give_up)
         still = np.array([o is None for o in out])
         bad = ~good & still[jb]
         # keep the good pieces out; halve the bad ones
