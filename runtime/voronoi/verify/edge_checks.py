@@ -9,6 +9,10 @@ an ellipse, every edge goes to :mod:`runtime.voronoi.verify.curved_edges` (chain
 edges side by side; unbounded ends in a sector of directions or along a mirror line).  Where the
 floats cannot decide a third site of a circle/point edge, :mod:`runtime.voronoi.verify.exact_edges`
 decides it exactly.
+
+Length: the checks of one edge, in the order they run — the screen of the document's data
+(:func:`_screen`, :func:`_end_vertices`), the parameter range, the polyline on the arc, the end
+vertices' third sites, the batched sign checks, the arcs and tails — each a named step.
 """
 from __future__ import annotations
 
@@ -53,13 +57,38 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats, deadline=None):
     checked by ``deadline`` (a :func:`time.perf_counter` value) are not proved, and one problem
     line says how many."""
     late = [0]        # edges left unchecked at the deadline
-    n = len(geoms)
-    eok: list[bool] = []
     ends_inf: list = []      # (theta, pair, sigma, edge id)
     intervals: dict = {}     # pair -> list of (kind, lo, hi, edge id)
+    eok, cands, curved = _screen(D, geoms, table, vinfo, vok, problems)
+    curved_edges(curved, geoms, problems, eok, ends_inf, deadline, late)
+    if past(deadline) and cands:
+        late[0] += len(cands)
+        for c in cands:
+            eok[c[0]] = False
+        cands = []
+    jobs = []
+    for (pos, e, name, pair, P, endv, bis), pre in zip(cands, _precompute(cands, table)):
+        job = _edge_job(e, name, pair, P, endv, bis, table, problems, pre)
+        eok[pos] = job is not None
+        if job is not None:
+            jobs.append((pos, e, name, pair, bis, job))
+    # the end vertices' third sites: one sign on the open arc, decided at interior points
+    jobs = _sign_checks(jobs, table, eok, problems, geoms, vinfo)
+    _prove_arcs_and_tails(jobs, table, geoms, vinfo, eok, problems, ends_inf, intervals, deadline, late)
+    stats["unbounded_ends"] = len(ends_inf)
+    if late[0]:
+        problems.append(f"time limit reached: {late[0]} edges not checked")
+    return eok, ends_inf, intervals
+
+
+def _screen(D, geoms, table, vinfo, vok, problems):
+    """(eok, cands, curved): each edge's site pair valid, its polyline at least two finite points,
+    its end vertices listed, proved and on its bisector; then the edges next to a curved site go
+    to ``curved`` (their jobs), the others with their bisector to ``cands``."""
+    n = len(geoms)
+    eok: list[bool] = []
     vok_by_id = {v.id: f for v, f in zip(D.vertices, vok)}
-    jobs, cands = [], []
-    curved, cscale = [], None
+    cands, curved, cscale = [], [], None
     for e in D.edges:
         name = _ename(e)
         pair = tuple(int(s) for s in e.sites)
@@ -72,29 +101,8 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats, deadline=None):
             problems.append(f"{name}: polyline needs at least 2 finite points")
             eok.append(False)
             continue
-        ends = tuple(e.ends)
-        endv = []
-        bad = False
-        for t, vid in enumerate(ends):
-            if vid is None:
-                endv.append(None)
-                continue
-            if vid not in vok_by_id:
-                problems.append(f"{name}: end {t} is vertex {vid}, which is not listed")
-                bad = True
-                continue
-            if not vok_by_id[vid] or vid not in vinfo:
-                problems.append(f"{name}: end vertex {vid} is not proved")
-                bad = True
-                continue
-            w = vinfo[vid]
-            if not set(pair) <= set(w.sites):
-                problems.append(f"{name}: ends at vertex {vid} (sites {', '.join(map(str, w.sites))}), "
-                                "which is not on its bisector")
-                bad = True
-                continue
-            endv.append(w)
-        if bad:
+        endv = _end_vertices(name, pair, tuple(e.ends), vok_by_id, vinfo, problems)
+        if endv is None:
             eok.append(False)
             continue
         if table is None:
@@ -112,21 +120,40 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats, deadline=None):
             continue
         eok.append(True)
         cands.append((len(eok) - 1, e, name, pair, P, endv, bis))
-    curved_edges(curved, geoms, problems, eok, ends_inf, deadline, late)
-    if past(deadline) and cands:
-        late[0] += len(cands)
-        for c in cands:
-            eok[c[0]] = False
-        cands = []
-    for (pos, e, name, pair, P, endv, bis), pre in zip(cands, _precompute(cands, table)):
-        job = _edge_job(e, name, pair, P, endv, bis, table, problems, pre)
-        eok[pos] = job is not None
-        if job is not None:
-            jobs.append((pos, e, name, pair, bis, job))
-    # the end vertices' third sites: one sign on the open arc, decided at interior points
-    jobs = _sign_checks(jobs, table, eok, problems, geoms, vinfo)
-    # edges of points far out, proved exactly at once; Lipschitz discs on the finite parts of the
-    # others, all edges at once; then the tails
+    return eok, cands, curved
+
+
+def _end_vertices(name, pair, ends, vok_by_id, vinfo, problems):
+    """The end vertices' records (None for an end at infinity), or None when one is not listed,
+    not proved, or does not have both sites of the edge (problems recorded for each)."""
+    endv = []
+    bad = False
+    for t, vid in enumerate(ends):
+        if vid is None:
+            endv.append(None)
+            continue
+        if vid not in vok_by_id:
+            problems.append(f"{name}: end {t} is vertex {vid}, which is not listed")
+            bad = True
+            continue
+        if not vok_by_id[vid] or vid not in vinfo:
+            problems.append(f"{name}: end vertex {vid} is not proved")
+            bad = True
+            continue
+        w = vinfo[vid]
+        if not set(pair) <= set(w.sites):
+            problems.append(f"{name}: ends at vertex {vid} (sites {', '.join(map(str, w.sites))}), "
+                            "which is not on its bisector")
+            bad = True
+            continue
+        endv.append(w)
+    return None if bad else endv
+
+
+def _prove_arcs_and_tails(jobs, table, geoms, vinfo, eok, problems, ends_inf, intervals, deadline, late):
+    """Edges of points far out, proved exactly at once; Lipschitz discs on the finite parts of the
+    others, all edges at once (:func:`prove_arcs`); then the searches with their exact fallback
+    and the tails.  A proved edge records its unbounded ends and its parameter interval."""
     exact = far_point_edges(geoms, vinfo, table.scale, jobs) if table is not None else set()
     rest = [t for t in range(len(jobs)) if t not in exact]
     found = prove_arcs(table, [(jobs[t][4], *jobs[t][5][:3]) for t in rest],
@@ -142,26 +169,25 @@ def check_edges(D, geoms, table, vinfo, vok, problems, stats, deadline=None):
         if t not in exact:
             ok, det = search_with_exact_fallback(table, geoms, vinfo, e, pair, bis, lo, hi, exempt, tails, ok, det)
         if not ok:
-            k, q, why = det[:3]
-            where = "" if q is None else f" near ({q[0]:.9g}, {q[1]:.9g})"
-            if why == "closer":
-                problems.append(fault(f"{name}: site {k} is closer than its sites{where}", kind="edge",
-                                      edge=e.id, sites=(*pair, k)))
-            elif k is None:
-                problems.append(f"{name}: not proved beyond the finite part: {why}")
-            else:
-                problems.append(fault(f"{name}: site {k} too close to decide{where}", kind="edge",
-                                      edge=e.id, sites=(*pair, k)))
+            problems.append(_search_problem(name, e, pair, det))
             eok[pos] = False
             continue
         for U, sigma in tails:
             d = bis.a * bis.ex + sigma * bis.b * bis.ey
             ends_inf.append((math.atan2(d[1], d[0]) % (2 * math.pi), pair, sigma, e.id))
         intervals.setdefault(pair, []).append((bis.kind, full_lo, full_hi, e.id))
-    stats["unbounded_ends"] = len(ends_inf)
-    if late[0]:
-        problems.append(f"time limit reached: {late[0]} edges not checked")
-    return eok, ends_inf, intervals
+
+
+def _search_problem(name, e, pair, det):
+    """The problem line of an edge whose search failed: a site proved closer (a fault), a tail not
+    proved beyond the finite part, or a site too close to decide (reported as a fault, with its sites)."""
+    k, q, why = det[:3]
+    where = "" if q is None else f" near ({q[0]:.9g}, {q[1]:.9g})"
+    if why == "closer":
+        return fault(f"{name}: site {k} is closer than its sites{where}", kind="edge", edge=e.id, sites=(*pair, k))
+    if k is None:
+        return f"{name}: not proved beyond the finite part: {why}"
+    return fault(f"{name}: site {k} too close to decide{where}", kind="edge", edge=e.id, sites=(*pair, k))
 
 
 def _sign_checks(jobs, table, eok, problems, geoms, vinfo):
@@ -249,17 +275,46 @@ def _precompute(cands, table):
 
 def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
     """Checks of one edge that need no search (ends, polyline, exact zeros of the end vertices'
-    third sites); returns (lo, hi, exempt, tails, full_lo, full_hi) for the searches, or None
-    (problem recorded)."""
+    third sites); returns (lo, hi, exempt, tails, full_lo, full_hi, signs) for the searches, or
+    None (problem recorded)."""
+    if not _ends_at_vertices(name, P, endv, table, problems):
+        return None
+    got = _parameter_range(e, name, pair, endv, bis, table, problems, pre)
+    if got is None:
+        return None
+    lo, hi, tails = got
+    if not _polyline_on_arc(e, name, pair, P, bis, table, problems, pre, lo, hi, tails):
+        return None
+    full_lo = -math.inf if any(s < 0 for _, s in tails) else lo
+    full_hi = math.inf if any(s > 0 for _, s in tails) else hi
+    got = _end_third_sites(e, name, pair, endv, bis, problems, pre, (lo, hi, full_lo, full_hi))
+    if got is None:
+        return None
+    exempt, signs = got
+    return lo, hi, exempt, tails, full_lo, full_hi, signs
+
+
+def _ends_at_vertices(name, P, endv, table, problems) -> bool:
+    """The polyline starts and ends within each end vertex's tolerance (plus 10⁻¹² of the scene)."""
     v0, v1 = endv
-    i, j = pair
-    two_pi = 2 * math.pi
     # --- polyline ends at the vertices
     for t, (w, Q) in enumerate(((v0, P[0]), (v1, P[-1]))):
         if w is not None and math.hypot(Q[0] - w.x, Q[1] - w.y) > w.tol + 1e-12 * table.scale:
             problems.append(f"{name}: polyline {'starts' if t == 0 else 'ends'} at ({Q[0]:.17g}, {Q[1]:.17g}), "
                             f"not at vertex {w.id} ({w.x:.17g}, {w.y:.17g})")
-            return None
+            return False
+    return True
+
+
+def _parameter_range(e, name, pair, endv, bis, table, problems, pre):
+    """(lo, hi, tails): the bisector's parameter interval of the edge — a closed edge one turn of
+    an ellipse, an edge to infinity (hyperbola) its finite part up to U, at most the end vertex's
+    distance to its sites along the branch, then the tails (U, σ) —, or None (problem recorded).
+    End vertices that coincide on the bisector are accepted only when their exact tower points
+    are proved apart (a very short edge: the exact search decides its third sites)."""
+    v0, v1 = endv
+    i, j = pair
+    two_pi = 2 * math.pi
     # --- the parameter range of the edge (and the tails)
     tails = []           # (U, sigma)
     if e.closed:
@@ -312,6 +367,15 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
                 problems.append(f"{name}: its end vertices coincide on the bisector")
                 return None
             hi = max(hi, lo)      # a very short edge: the exact search decides its third sites
+    return lo, hi, tails
+
+
+def _polyline_on_arc(e, name, pair, P, bis, table, problems, pre, lo, hi, tails) -> bool:
+    """Each drawn point within the stated tolerance of the bisector (its lower bound ``lb`` ≤
+    tol·(1 + 10⁻⁹) + 10⁻¹²·scale) and on the edge's arc (parameter in [lo, hi] up to 10⁻⁶, the
+    tails' sides open); then the whole polyline, segments included, within the tolerance of the
+    arc (the Hausdorff bound, up to 10⁻⁹ of the coordinates' magnitude)."""
+    two_pi = 2 * math.pi
     # --- polyline points: within tolerance of the bisector and on the edge's arc
     inner = P[drawn_points(e, P)] if not e.closed else P
     first = 0 if e.closed else drawn_points(e, P).start
@@ -323,7 +387,7 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
             p = int(far[0])
             problems.append(f"{name}: polyline point {p + first} ({inner[p, 0]:.9g}, {inner[p, 1]:.9g}) "
                             f"is at least {lb[p]:.3g} from the bisector (stated tolerance {tol:.3g})")
-            return None
+            return False
         if not e.closed:
             up = pre["inner"]
             if bis.kind == "ellipse":
@@ -338,7 +402,7 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
                 p = int(np.nonzero(outside)[0][0])
                 problems.append(fault(f"{name}: polyline point {p + first} ({inner[p, 0]:.9g}, {inner[p, 1]:.9g}) "
                                       "is not on the arc between its ends", kind="edge", edge=e.id, sites=pair))
-                return None
+                return False
     # --- the whole polyline, segments included, within the stated tolerance of the arc (Hausdorff)
     tol = float(e.tolerance)
     bound, why = pre["hausdorff"], None
@@ -347,12 +411,20 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
         problems.append(f"{name}: " + (why if why is not None else
                         f"its polyline is proved only within {bound:.3g} of the bisector arc "
                         f"(stated tolerance {tol:.3g})"))
-        return None
+        return False
+    return True
+
+
+def _end_third_sites(e, name, pair, endv, bis, problems, pre, span):
+    """(exempt, signs) for the third sites of the end vertices: d_k − d_i has no zero on the open
+    arc (exact zeros of the vertices of (i, j, k), :func:`zero_on_arc`); ``signs``: the sites whose
+    one sign on the arc is then decided at interior points (batched).  None: problem recorded."""
+    v0, v1 = endv
+    i, j = pair
+    lo, hi, full_lo, full_hi = span
     # --- third sites of the end vertices: exact zeros of d_k - d_i on the bisector
     exempt = set()
     signs = []
-    full_lo = -math.inf if any(s < 0 for _, s in tails) else lo
-    full_hi = math.inf if any(s > 0 for _, s in tails) else hi
     for w, w2 in ((v0, v1), (v1, v0)):
         if w is None:
             continue
@@ -381,4 +453,4 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
                 signs.append(k)   # one sign on the open arc: decided at interior points (batched)
             # else: d_k − d_i has no zero on the arc and is > 0 at the other end w2, whose
             # emptiness (k strictly outside) is proved: it is positive on the whole open arc
-    return lo, hi, exempt, tails, full_lo, full_hi, signs
+    return exempt, signs
