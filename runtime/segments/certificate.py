@@ -110,7 +110,10 @@ and arb balls) is imported by both sides (the construction's ``distance``, ``ver
 ``bisectors``, ``emptiness``, … and this certificate's ``certificate_ellipses`` and
 ``certificate_ellipse_sites``); a fault in its rigorous bounds would be a fault of both.  Its ball
 bounds are checked on their own against mpmath at 40 digits (``tests/test_ellipse_pieces.py``,
-``tests/test_elliptic_arc_certificate.py``), not against the construction.
+``tests/test_elliptic_arc_certificate.py``), not against the construction.  The exact orientation
+of :mod:`runtime.predicates.orientation` (the convex hull of the point sites here, the exact
+Delaunay triangulation of points in the construction) is shared too; it is checked against
+sympy's rational determinants (``tests/test_orientation.py``).
 
 Public API: :func:`verify_segments`, :func:`has_segment_sites`, :func:`closure`.
 """

@@ -282,20 +282,11 @@ def verify(diagram, sites=None, *, deadline=None, progress=None) -> Certificate:
         from ...segments.certificate import verify_segments
 
         return verify_segments(diagram, sites, deadline=deadline)
-    T0 = time.perf_counter()
-    timings: dict = {}
+    T0, timings = time.perf_counter(), {}
     D, sites = to_local_frame(_as_diagram(diagram), sites)
     problems: list[str] = []
     dsites = list(D.sites)
-    if sites is None:
-        sites = dsites
-    else:
-        sites = [_as_site(s) for s in sites]
-        if len(sites) != len(dsites):
-            problems.append(f"the diagram has {len(dsites)} sites, the input {len(sites)}")
-        for k in range(min(len(sites), len(dsites))):
-            if not _same_site(sites[k], dsites[k]):
-                problems.append(f"site {k} of the diagram differs from input site {k}")
+    sites = _input_sites(sites, dsites, problems)
     red = _as_centres(D, sites, dsites, deadline, progress)
     if red is not None:           # equal circles: decided as the diagram of their centres
         return red
@@ -324,6 +315,36 @@ def verify(diagram, sites=None, *, deadline=None, progress=None) -> Certificate:
     # ---------------------------------------------------------------- closure + accounting
     t0 = time.perf_counter()
     closure_ok = verify_closure(D, n, problems, intervals)
+    account_ok = _accounting(D, n, geoms, table, circular, eok, ends_inf, problems)
+    timings["closure"] = time.perf_counter() - t0
+    _advance(bar, "closure", close=True)
+    complete = closure_ok and account_ok
+    ok = complete and all(vok) and all(eok) and not problems
+    pairs = sorted({tuple(int(t) for t in e.sites) for e, f in zip(D.edges, eok) if f})
+    timings["total"] = time.perf_counter() - T0
+    return Certificate(ok, problems, vok, eok, complete, pairs, hyp, stats, timings)
+
+
+def _input_sites(sites, dsites, problems) -> list:
+    """The true sites: the diagram's own, or the given ones, each compared exactly with the
+    diagram's (a count or a site that differs is a problem)."""
+    if sites is None:
+        return dsites
+    sites = [_as_site(s) for s in sites]
+    if len(sites) != len(dsites):
+        problems.append(f"the diagram has {len(dsites)} sites, the input {len(sites)}")
+    for k in range(min(len(sites), len(dsites))):
+        if not _same_site(sites[k], dsites[k]):
+            problems.append(f"site {k} of the diagram differs from input site {k}")
+    return sites
+
+
+def _accounting(D, n, geoms, table, circular, eok, ends_inf, problems) -> bool:
+    """The accounting of the unbounded ends (module docstring): points exactly
+    (:func:`verify_accounting_points`); equal disjoint circles as their centres (far away their
+    diagram is that of their centres: equal additive weights, ties of collinear centres included);
+    other circles by support values, with the exact hull of the discs for ties at infinity
+    (circles tangent to one line); conics by support balls (:func:`verify_accounting_conics`)."""
     proved_ends = {t[-1] for t in ends_inf}
     unproved_ends = [e.id for e in D.edges if None in e.ends and e.id not in proved_ends]
     if n and all(g.kind == "point" for g in geoms):
@@ -345,13 +366,7 @@ def verify(diagram, sites=None, *, deadline=None, progress=None) -> Certificate:
     else:
         account_ok = verify_accounting_conics(n, SupportTable(geoms), ends_inf, problems,
                                               unproved_ends=unproved_ends, sites=[g.exact for g in geoms])
-    timings["closure"] = time.perf_counter() - t0
-    _advance(bar, "closure", close=True)
-    complete = closure_ok and account_ok
-    ok = complete and all(vok) and all(eok) and not problems
-    pairs = sorted({tuple(int(t) for t in e.sites) for e, f in zip(D.edges, eok) if f})
-    timings["total"] = time.perf_counter() - T0
-    return Certificate(ok, problems, vok, eok, complete, pairs, hyp, stats, timings)
+    return account_ok
 
 
 def _as_centres(D, sites, dsites, deadline, progress):
