@@ -31,6 +31,7 @@ from ..result import InvalidConicError
 from .elliptic_arc import EllipticArc
 from .rationals import to_fraction
 from .segment import as_point_pair
+from .kinds import KeyedSite
 
 __all__ = ["Arc", "exact_sqrt", "circle_halves"]
 
@@ -53,7 +54,7 @@ def _rational_direction(deg: Fraction | float) -> tuple[Fraction, Fraction]:
     return -(1 - t * t) / (1 + t * t), -2 * t / (1 + t * t)
 
 
-class Arc:
+class Arc(KeyedSite):
     """The counter-clockwise arc of the circle (``centre``, ``radius``) from ``start`` to
     ``end`` (rational points of the circle, distinct).
 
@@ -66,6 +67,7 @@ class Arc:
     """
 
     __slots__ = ("c", "rho", "a", "b", "label")
+    KIND = "arc"
 
     def __init__(self, centre, radius, start, end, label: str | None = None):
         self.c = as_point_pair(centre, "arc centre")
@@ -148,12 +150,6 @@ class Arc:
 
     def key(self) -> tuple:
         return (self.c, self.rho, self.a, self.b)
-
-    def __eq__(self, other) -> bool:
-        return isinstance(other, Arc) and self.key() == other.key()
-
-    def __hash__(self) -> int:
-        return hash(("arc",) + self.key())
 
     def __repr__(self) -> str:
         return (f"Arc(centre=({self.c[0]}, {self.c[1]}), radius={self.rho}, from ({self.a[0]}, {self.a[1]}) "

@@ -31,6 +31,7 @@ from fractions import Fraction
 from ..result import InvalidConicError
 from .rationals import to_fraction
 from .segment import as_point_pair
+from .kinds import KeyedSite
 
 __all__ = ["EllipticArc", "rational_unit"]
 
@@ -67,7 +68,7 @@ def _ccw_between(a, u, b) -> bool:
     return ca >= 0 or cb >= 0
 
 
-class EllipticArc:
+class EllipticArc(KeyedSite):
     """The counter-clockwise arc of the ellipse (``centre``, ``major_axis``, ``ratio``) from the
     frame direction ``start`` to ``end`` (rational unit vectors (cos φ, sin φ), distinct).
 
@@ -80,6 +81,7 @@ class EllipticArc:
     """
 
     __slots__ = ("c", "M", "ratio", "N", "ua", "ub", "a", "b", "label")
+    KIND = "elliptic_arc"
 
     def __init__(self, centre, major_axis, ratio, start, end, label: str | None = None):
         self.c = as_point_pair(centre, "elliptic arc centre")
@@ -157,12 +159,6 @@ class EllipticArc:
 
     def key(self) -> tuple:
         return (self.c, self.M, self.ratio, self.ua, self.ub)
-
-    def __eq__(self, other) -> bool:
-        return isinstance(other, EllipticArc) and self.key() == other.key()
-
-    def __hash__(self) -> int:
-        return hash(("elliptic_arc",) + self.key())
 
     def __repr__(self) -> str:
         return (f"EllipticArc(centre=({self.c[0]}, {self.c[1]}), major_axis=({self.M[0]}, {self.M[1]}), "

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import enum
 
-__all__ = ["SiteKind"]
+__all__ = ["SiteKind", "KeyedSite"]
 
 
 class SiteKind(enum.IntEnum):
@@ -71,3 +71,22 @@ class SiteKind(enum.IntEnum):
 
 
 _BY_LABEL = {k.label: k for k in SiteKind}
+
+
+class KeyedSite:
+    """Equality and hashing of the exact piece sites (segments, circular and elliptic arcs): two
+    are equal when they are of one kind (``KIND``, the label of their :class:`SiteKind`, so a
+    subclass equals its base) and their exact keys agree; the hash is that of (KIND, *key).
+    A subclass defines ``KIND`` and :meth:`key` (a tuple of exact rationals)."""
+
+    __slots__ = ()
+    KIND = ""
+
+    def key(self) -> tuple:
+        raise NotImplementedError
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, KeyedSite) and other.KIND == self.KIND and self.key() == other.key()
+
+    def __hash__(self) -> int:
+        return hash((self.KIND,) + self.key())

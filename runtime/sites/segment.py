@@ -17,6 +17,7 @@ from fractions import Fraction
 
 from ..result import InvalidConicError
 from .rationals import to_fraction
+from .kinds import KeyedSite
 
 __all__ = ["Segment", "as_point_pair"]
 
@@ -47,7 +48,7 @@ def _plain(v):
     return v
 
 
-class Segment:
+class Segment(KeyedSite):
     """The closed segment [p, q] with exact rational endpoints (p ≠ q).
 
     >>> from curvedvoronoi import Segment
@@ -59,6 +60,7 @@ class Segment:
     """
 
     __slots__ = ("p", "q", "label")
+    KIND = "segment"
 
     def __init__(self, p, q, label: str | None = None):
         self.p = as_point_pair(p, "segment start")
@@ -81,12 +83,6 @@ class Segment:
     def key(self) -> tuple:
         """The segment as an unordered pair of endpoints (for equality and hashing)."""
         return tuple(sorted((self.p, self.q)))
-
-    def __eq__(self, other) -> bool:
-        return isinstance(other, Segment) and self.key() == other.key()
-
-    def __hash__(self) -> int:
-        return hash(("segment",) + self.key())
 
     def __repr__(self) -> str:
         return f"Segment({_fmt(self.p)}, {_fmt(self.q)})"
