@@ -58,8 +58,6 @@ from flint import arb, fmpq
 
 from .foot import (FootFailure, FootPolynomial, exact_polynomials, foot_polynomial,
                            normalised_coefficients, real_feet_ball, to_arb, working_prec)
-from .complete import certify_completeness as complete_certify_completeness
-from .complete import completeness_with_vertices, one_zero_in_both
 from .krawczyk import FootSystem, KrawczykFailure
 from ..result import LocatorResult, VoronoiVertex
 from ..sites.intersection import sites_intersect
@@ -567,6 +565,7 @@ def certify_result(result: LocatorResult, c1, c2, c3, c4, *, solutions=None,
                 continue
             verdict = _same_solution(certs[i], certs[j])
             if verdict is None and certs[i].proven and certs[j].proven:
+                from .complete import one_zero_in_both
                 if one_zero_in_both(c1, c2, c3, certs[i].box, certs[j].box):
                     same.add(j)
                     notes.append(f"certify: candidate ({kept[j].x:.6g}, {kept[j].y:.6g}) is the same vertex as "
@@ -583,6 +582,7 @@ def certify_result(result: LocatorResult, c1, c2, c3, c4, *, solutions=None,
     t_vert = time.perf_counter() - t0
     complete = False
     if solutions is not None:
+        from .complete import completeness_with_vertices
         found: list[CertifiedVertex] = []
         complete, note = completeness_with_vertices(
             c1, c2, c3, solutions, expected_count, certs, max_prec=max_prec,
@@ -669,4 +669,5 @@ def _meeting_sites(c1, c2, c3) -> list[str]:
 def certify_completeness(c1, c2, c3, solutions, expected_count: int | None, *,
                          max_prec: int = 256) -> tuple[bool, str]:
     """See :func:`runtime.certify.complete.certify_completeness`."""
-    return complete_certify_completeness(c1, c2, c3, solutions, expected_count, max_prec=max_prec)
+    from .complete import certify_completeness as _cc
+    return _cc(c1, c2, c3, solutions, expected_count, max_prec=max_prec)
