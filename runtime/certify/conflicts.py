@@ -582,7 +582,7 @@ def certify_result(result: LocatorResult, c1, c2, c3, c4, *, solutions=None,
     t_vert = time.perf_counter() - t0
     complete = False
     if solutions is not None:
-        from .complete import completeness_with_vertices
+        from .complete import completeness_with_vertices   # at call time: tests patch the module's proof
         found: list[CertifiedVertex] = []
         complete, note = completeness_with_vertices(
             c1, c2, c3, solutions, expected_count, certs, max_prec=max_prec,
