@@ -42,3 +42,24 @@ def test_a_strip_holds_the_bisector_iff_no_lateral_side_crosses_it(table, cot):
         assert ok, why        # with room to spare the test decides
     else:
         assert not ok or W * cot >= L / 2      # near the boundary it may refuse, never accept wrongly
+
+
+def along_bisector_job():
+    """The strip of half-width W along the bisector itself, x ∈ [−L/2, L/2]."""
+    t, n = np.array([1.0, 0.0]), np.array([0.0, 1.0])
+    return strips.StripsJob(np.array([[-L / 2, 0.0], [L / 2, 0.0]]), t[None, :], n[None, :], np.array([L]),
+                            np.array([0.0]), np.array([0.0]), np.array([W, W]), (0, 1), None, None, None)
+
+
+# (T2): a third point k = (x_k, 0) is nearer than (0, ±1000) on the bisector exactly where
+# x_k − x < √(x² + 10⁶), i.e. x > x* = (x_k² − 10⁶)/(2 x_k); x_k = x* + √(x*² + 10⁶)
+@pytest.mark.parametrize("x_star", [9.5, 9.9, 10.5, 13.0])
+def test_a_third_site_nearer_near_the_end_of_the_strip_is_found(x_star):
+    x_k = x_star + math.sqrt(x_star ** 2 + 1e6)
+    table = SiteTable([site_geometry(cv.Point(0, 1000)), site_geometry(cv.Point(0, -1000)),
+                       site_geometry(cv.Point(x_k, 0))], 1000.0)
+    ok, why = strips.prove_strips_many(table, [along_bisector_job()])[0]
+    if x_star < L / 2:
+        assert not ok and "a third site" in why
+    else:
+        assert ok, why
