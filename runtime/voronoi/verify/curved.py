@@ -117,24 +117,14 @@ class WorkPool:
 
 class EdgeWork:
     """The pieces one edge may still test: :data:`EDGE_WORK`, decreased by the strips' proofs
-    (:class:`runtime.voronoi.verify.strips.StripsJob` decreases ``budget[0]``: this counter is
-    read and written at index 0), topped up once from a :class:`WorkPool` when spent."""
+    (:func:`runtime.voronoi.verify.strips.prove_strips_many` decreases ``left`` by the pieces it
+    tests), topped up once from a :class:`WorkPool` when spent."""
     __slots__ = ("left", "pool", "topped")
 
     def __init__(self, pool: WorkPool | None = None):
         self.left = EDGE_WORK
         self.pool = pool
         self.topped = False
-
-    def __getitem__(self, k: int) -> int:
-        if k != 0:
-            raise IndexError(k)
-        return self.left
-
-    def __setitem__(self, k: int, value: int) -> None:
-        if k != 0:
-            raise IndexError(k)
-        self.left = value
 
     def go_on(self) -> bool:
         """After a failed attempt: may the edge go on?  Yes while its work is not overspent

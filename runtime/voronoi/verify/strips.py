@@ -116,7 +116,8 @@ def rot90(V):
 class StripsJob:
     """One chain of strips to prove: the polyline S (segments T, N, L; node half-widths W; cap
     extensions e_lo, e_hi), the pair, the third sites k0, k1 of the end vertices (or None) and
-    ``budget``, a one-element list: the pieces this edge may still test (decreased here)."""
+    ``budget``, None or a counter whose ``left`` is the pieces this edge may still test (decreased
+    here; :class:`runtime.voronoi.verify.curved.EdgeWork`)."""
 
     __slots__ = ("S", "T", "N", "L", "e_lo", "e_hi", "W", "pair", "k0", "k1", "budget")
 
@@ -447,9 +448,9 @@ def prove_strips_many(table, jobs):
         work += cnt
         for t in np.nonzero(cnt)[0]:
             if jobs[t].budget is not None:
-                jobs[t].budget[0] -= int(cnt[t])
+                jobs[t].budget.left -= int(cnt[t])
         stall = np.where((cnt > 0) & (nbad > 0.98 * cnt) & (depth >= 2), stall + 1, 0)
-        spent = np.array([jb_.budget is not None and jb_.budget[0] < 0 for jb_ in jobs])
+        spent = np.array([jb_.budget is not None and jb_.budget.left < 0 for jb_ in jobs])
         for t in np.nonzero(running & (cnt > 0) & (nbad == 0))[0]:
             out[t] = (True, None)
         give_up = running & (nbad > 0) & ((depth == MAX_DEPTH - 1) | (nbad > 20000) | (work > 30000)
