@@ -107,7 +107,7 @@ def test_the_filter_defers_on_degenerate_inputs_and_decides_clear_ones(monkeypat
 
 
 def test_filtered_sign_never_decides_on_nan_or_inf():
-    assert O.filtered_sign(float("nan"), 0.0, lambda: 7) == 7
+    assert O.filtered_sign(float("nan"), 0.0, lambda: 7) == 7 and O.filtered_sign(0.0, 1.0, max, 3, 7) == 7
     assert O.filtered_sign(float("inf"), float("inf"), lambda: 7) == 7
     assert O.filtered_sign(1.0, 0.5, lambda: 7) == 1 and O.filtered_sign(-1.0, 0.5, lambda: 7) == -1
 

@@ -54,28 +54,36 @@ TINY = 2.0 ** -1000
 SAFE_LO, SAFE_HI = 2.0 ** -250, 2.0 ** 250
 
 
-def filtered_sign(value: float, bound: float, exact) -> int:
+def filtered_sign(value: float, bound: float, exact, *args) -> int:
     """The sign of a determinant: ``value`` (its float evaluation) decides when |value| > bound,
-    ``bound`` a proved bound of the evaluation's error; else ``exact()`` (a callable returning
-    the exact sign) does.  NaN and infinities never decide (every comparison is false)."""
+    ``bound`` a proved bound of the evaluation's error; else ``exact(*args)`` (returning the
+    exact sign) does.  NaN and infinities never decide (every comparison is false)."""
     if value > bound:
         return 1
     if value < -bound:
         return -1
-    return exact()
+    return exact(*args)
 
 
 def _safe(*xs) -> bool:
     """Every nonzero x in [SAFE_LO, SAFE_HI] (False for inf and NaN)."""
-    return all(x == 0 or SAFE_LO <= abs(x) <= SAFE_HI for x in xs)
+    return all(x == 0 or SAFE_LO <= abs(float(x)) <= SAFE_HI for x in xs)
+
+
+def _ratio(v) -> tuple[int, int]:
+    """(numerator, denominator) of a float (its exact binary value) or a rational."""
+    if isinstance(v, (float, np.floating)):
+        return float(v).as_integer_ratio()
+    q = Fraction(v)
+    return q.numerator, q.denominator
 
 
 def _integers(points) -> list:
     """The points times the least common denominator of their coordinates: integer pairs with
     the same orientation and incircle signs (a positive common factor)."""
-    fr = [(Fraction(x), Fraction(y)) for x, y in points]
-    den = math.lcm(*(q.denominator for p in fr for q in p))
-    return [(int(x * den), int(y * den)) for x, y in fr]
+    fr = [(_ratio(x), _ratio(y)) for x, y in points]
+    den = math.lcm(*(d for p in fr for _, d in p))
+    return [(nx * (den // dx), ny * (den // dy)) for (nx, dx), (ny, dy) in fr]
 
 
 def _sign(v) -> int:
@@ -95,7 +103,7 @@ def _incircle_exact(a, b, c, d) -> int:
 
 
 def _all_floats(*xs) -> bool:
-    return all(type(x) is float or isinstance(x, np.floating) for x in xs)
+    return all(isinstance(x, (float, np.floating)) for x in xs)
 
 
 def orient2d(a, b, c) -> int:
@@ -108,7 +116,7 @@ def orient2d(a, b, c) -> int:
         if not _safe(ux, uy, vx, vy):
             return _orient_exact(a, b, c)
         l, r = ux * vy, uy * vx
-        return filtered_sign(l - r, ORIENT_BOUND * (abs(l) + abs(r)), lambda: _orient_exact(a, b, c))
+        return filtered_sign(l - r, ORIENT_BOUND * (abs(l) + abs(r)), _orient_exact, a, b, c)
     try:
         fa, fb, fc = [(float(x), float(y)) for x, y in (a, b, c)]
     except OverflowError:
@@ -118,7 +126,7 @@ def orient2d(a, b, c) -> int:
         return _orient_exact(a, b, c)
     det = (px - ox) * (qy - oy) - (py - oy) * (qx - ox)
     M = (abs(px) + abs(ox)) * (abs(qy) + abs(oy)) + (abs(py) + abs(oy)) * (abs(qx) + abs(ox))
-    return filtered_sign(det, ORIENT_RATIONAL * M + TINY, lambda: _orient_exact(a, b, c))
+    return filtered_sign(det, ORIENT_RATIONAL * M + TINY, _orient_exact, a, b, c)
 
 
 def incircle(a, b, c, d) -> int:
@@ -134,7 +142,7 @@ def incircle(a, b, c, d) -> int:
     det = alift * (bx * cy - by * cx) + blift * (cx * ay - cy * ax) + clift * (ax * by - ay * bx)
     perm = (alift * (abs(bx * cy) + abs(by * cx)) + blift * (abs(cx * ay) + abs(cy * ax))
             + clift * (abs(ax * by) + abs(ay * bx)))
-    return filtered_sign(det, INCIRCLE_BOUND * perm, lambda: _incircle_exact(a, b, c, d))
+    return filtered_sign(det, INCIRCLE_BOUND * perm, _incircle_exact, a, b, c, d)
 
 
 def _safe_rows(*cols) -> np.ndarray:
