@@ -405,12 +405,11 @@ def _polyline_on_arc(e, name, pair, P, bis, table, problems, pre, lo, hi, tails)
                 return False
     # --- the whole polyline, segments included, within the stated tolerance of the arc (Hausdorff)
     tol = float(e.tolerance)
-    bound, why = pre["hausdorff"], None
+    bound = pre["hausdorff"]
     # (up to the rounding of the float data: 1e-9 of the coordinates' magnitude)
-    if why is not None or not bound <= tol * (1 + 1e-9) + 1e-9 * (table.scale + float(np.abs(P).max())):
-        problems.append(f"{name}: " + (why if why is not None else
-                        f"its polyline is proved only within {bound:.3g} of the bisector arc "
-                        f"(stated tolerance {tol:.3g})"))
+    if not bound <= tol * (1 + 1e-9) + 1e-9 * (table.scale + float(np.abs(P).max())):
+        problems.append(f"{name}: its polyline is proved only within {bound:.3g} of the bisector arc "
+                        f"(stated tolerance {tol:.3g})")
         return False
     return True
 
