@@ -66,3 +66,31 @@ def test_a_point_a_quarter_tolerance_off_is_accepted_by_the_point_check(doc):
     e["polyline"][6] = [float(Q[0]), float(Q[1])]
     cert = cv.verify(D)
     assert not any("polyline point 6" in str(p) for p in cert.problems), cert.problems
+
+
+def polyline_to_branch(P, m=400):
+    """max over the polyline's segments (m points each) of the distance to the branch: the part
+    of the Hausdorff distance the segments add between nodes on the bisector."""
+    worst = 0.0
+    for A, B in zip(P[:-1], P[1:]):
+        for s in np.linspace(0, 1, m):
+            worst = max(worst, distance_to_branch(A + s * (B - A)))
+    return worst
+
+
+@pytest.mark.parametrize("k", [1.5, 2.5])
+def test_chords_that_leave_the_arc_by_k_tolerances_are_refused(doc, k):
+    """Every other interior point dropped: the nodes stay on the bisector, the chords between them
+    leave it by `sag` (sampled); with the tolerance stated as sag / k the polyline must be refused
+    by the bound on the whole polyline."""
+    D = json.loads(json.dumps(doc))
+    e = D["edges"][0]
+    P = np.array(e["polyline"])
+    Q = np.vstack([P[:-1:2], P[-1:]])
+    sag = polyline_to_branch(Q, 60)
+    assert sag > 1e-3                               # a real departure, far above rounding
+    e["polyline"] = Q.tolist()
+    e["tolerance"] = sag / k
+    cert = cv.verify(D)
+    assert any(str(p).startswith("edge 0 (sites 0, 3): its polyline is proved only within") for p in cert.problems), \
+        cert.problems
