@@ -551,6 +551,8 @@ def _monotone(sec, c, pv):
     if c.fin.any() and not okM.all():
         Df = pv.Gi - pv.Gj
         perp = np.column_stack([-c.U[:, 1], c.U[:, 0]])
-        val = sigma * (Df * perp).sum(1) - np.hypot(Df[:, 0], Df[:, 1]) * c.half - (pv.si + pv.sj) - 1e-12
+        # σ·Df(q)·u⊥(θ) ≥ σ·(Gi − Gj)·u⊥(θc) − (si + sj) − |Df(q)|·δ, |Df(q)| ≤ |Gi − Gj| + si + sj
+        s_ij = pv.si + pv.sj
+        val = sigma * (Df * perp).sum(1) - (np.hypot(Df[:, 0], Df[:, 1]) + s_ij) * c.half - s_ij - 1e-12
         okM |= c.fin & pv.vi & pv.vj & (val > 0)
     return okM
