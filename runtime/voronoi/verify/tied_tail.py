@@ -22,9 +22,12 @@ consecutive among the tied sites, take the half-strip Π = {s ∈ [s_a, s_b], z 
 ℓ_i < s_a < s_b < ℓ_j, as narrow around the chain's last rectangle as allows.  With z₀ large enough (computed below, exactly):
 
 (S) d_i < d_j on the side s = s_a and d_i > d_j on s = s_b;
-(M) ∂_s(d_i − d_j) > 0 on Π: ∂_s d_k = (s − p_s)/d_k with p the nearest point of site k, whose
-    outward normal makes an angle φ ≤ φ_max with u (q is far beyond ℓ), so p lies within
-    ρ_k⁺·φ_max of p_k(u) laterally; s − p_s > 0 for i and < 0 for j;
+(M) ∂_s(d_i − d_j) > 0 on Π: ∂_s d_k = (s − p_s)/d_k = sin φ with p the nearest point of site k
+    and φ the angle of its outward normal n(φ) = cos φ·u + sin φ·u⊥ from u, |φ| < π/2 since
+    (q − p)·u ≥ z > 0.  Along the boundary, parametrised by the normal's angle,
+    p_s(φ) − ℓ_k = ∫₀^φ ρ_k(ψ) cos ψ dψ has the sign of φ (or is 0: a point), and so has
+    s − p_s = d_k·sin φ; hence s − ℓ_k = (s − p_s) + (p_s − ℓ_k) has the sign of φ, and s > ℓ_i
+    gives ∂_s d_i > 0, s < ℓ_j gives ∂_s d_j < 0 (Π lies strictly between ℓ_i and ℓ_j);
 (A) every other site k is farther than the one of i, j on its side: a tied one by the same
     disc bounds (F(ρ_k⁺, ·) > F(ρ_m⁻, ·)), another by its support level h_k(u) < h*
     (d_k ≥ z + h* − h_k(u), while d_m ≤ z + D²/(2z)).
@@ -220,19 +223,11 @@ def _strip(link, u, nvec, li, lj, hstar):
     return sa, sb, z0
 
 
-def _monotone_across(sup, tie):
-    """(M): the nearest points of i and j stay laterally within ρ⁺·φ_max of their support points,
-    tan φ ≤ (lateral distance from Π to the site) / z₀, the site within ρ_k of its centre; then
-    s − p_s > 0 for i and < 0 for j on Π when sa − ℓ_i and ℓ_j − sb exceed those bounds."""
-    nf = np.array([float(tie.nvec[0]), float(tie.nvec[1])])
-
-    def phi_max(k):
-        cl = float(np.asarray(sup.cen[k], float) @ nf)
-        rk = float(sup.rho[k]) * (1 + 1e-9) + 2 * float(sup.mu)
-        off = max(abs(float(s_) - p_) for s_ in (tie.sa, tie.sb) for p_ in (cl - rk, cl + rk))
-        return _up(off) / tie.z0
-    return (tie.sa - tie.li > tie.data[tie.i].rho_hi * phi_max(tie.i)
-            and tie.lj - tie.sb > tie.data[tie.j].rho_hi * phi_max(tie.j))
+def _monotone_across(tie):
+    """(M): ∂_s d_i > 0 and ∂_s d_j < 0 on Π exactly when Π lies strictly between the support
+    points' lateral coordinates, ℓ_i < s_a and s_b < ℓ_j, at the enclosures' worst ends (module
+    docstring: s − p_s has the sign of s − ℓ_k for every convex site seen from beyond ℓ)."""
+    return tie.sa > tie.li and tie.sb < tie.lj
 
 
 def _bisector_in_strip(tie):
@@ -270,7 +265,7 @@ def prove_tied_tail(sites, geoms, sup, pair, link, direction):
     if isinstance(strip, str):
         return False, strip, None
     tie = _Tie(u, nvec, data, i, j, li0, li, lj, lj1, hstar_lo, *strip)
-    if not _monotone_across(sup, tie):
+    if not _monotone_across(tie):
         return False, "the edge's sites are not proved monotone across the strip", None
     if not _bisector_in_strip(tie):
         return False, "the bisector is not proved to stay in the strip", None
