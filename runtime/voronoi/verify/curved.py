@@ -96,13 +96,18 @@ WIDTHS = ((1.0, 1e-3), (0.3, 1e-5), (3.0, 1e-3))
 TIME_LIMIT = "time limit reached before the edge was proved"
 
 
-def prove_curved_edges(table, jobs, deadline=None):
+def prove_curved_edges(table, jobs, deadline=None, sup=None):
     """:func:`prove_curved_edge` for every job (scale, pair, P, v0, v1, tol), side by side.
     Returns their results (ok, message, beyond) in order; (False, :data:`TIME_LIMIT`, []) for
-    the edges still running at ``deadline`` (a :func:`time.perf_counter` value)."""
+    the edges still running at ``deadline`` (a :func:`time.perf_counter` value).  ``sup``: the
+    sites' support functions when they are all bounded and convex (the strips' far pieces,
+    :func:`runtime.voronoi.verify.strips.prove_strips_many`)."""
     pool = WorkPool(EXTRA_EDGES * (EDGE_WORK_MORE - EDGE_WORK))
+
+    def strips_many(table_, reqs):
+        return prove_strips_many(table_, reqs, sup=sup)
     out = run_lockstep([prove_curved_edge(table, *job, pool=pool) for job in jobs], table,
-                       {StripsJob: prove_strips_many, ProjectJob: project_many, AdaptJob: adapt_many}, deadline=deadline)
+                       {StripsJob: strips_many, ProjectJob: project_many, AdaptJob: adapt_many}, deadline=deadline)
     return [(False, TIME_LIMIT, []) if r is None else r for r in out]
 
 

@@ -68,7 +68,8 @@ def curved_edges(curved, geoms, problems, eok, ends_inf, deadline=None, late=Non
     # edges between mirror-image sites are their mirror lines: proved without strips
     sup = SupportTable(geoms) if sup_ok(geoms) else None
     jobs = mirror_edges(jobs, geoms, table, sup, eok, ends_inf)
-    results = prove_curved_edges(table, [job for _, _, _, job in jobs], deadline=deadline)
+    results = prove_curved_edges(table, [job for _, _, _, job in jobs], deadline=deadline,
+                                 sup=sup if sup is not None and sup.ok else None)
     tails = FarEnds(geoms, table, scale, sup)
     for (p_e, e, name, job), (ok, msg, beyond) in zip(jobs, results):
         if msg == TIME_LIMIT or (beyond and past(deadline)):

@@ -33,7 +33,9 @@ open and closed in β, hence a whole component of β.  Along it:
      (:func:`runtime.voronoi.verify.distance_gap.gap_lower`, and on β only
      :func:`runtime.voronoi.verify.distance_gap.bisector_gap_lower`); the same with j (d_i = d_j on β); sites whose
      bounding box is farther than min(hi_i, hi_j) + 2R from the piece's centre pass without
-     evaluation;
+     evaluation; among bounded convex sites, a site k passes first when the supporting
+     half-plane of k normal to ∇d_i(C) (or ∇d_j(C)) proves it farther on the disc
+     (:func:`_support_half_planes`: to first order in R, without k's foot point);
 (T3) or, for a site k0 tied at the first vertex (k1 at the last; one at a simple vertex, k − 2 at
      a vertex of degree k), the derivative of
      g = d_k0 − d_i along the arc has a proved sign: the arc's tangent is ± rot90(∇f), so
@@ -310,17 +312,56 @@ def _tied_derivative(chains, P: _Pieces, rows, ks, okk, enc_i, enc_j, enc_k):
         okk[sel] |= t3
 
 
-def _third_sites(table, scale, chains, P: _Pieces, pre, Vi, Vj, enc_i, enc_j):
+def _support_half_planes(sup, P: _Pieces, rows, ks, Vi, Vj, enc_i, enc_j):
+    """(T2) by supporting half-planes (module docstring): True per row (piece, site k) with
+    d_k − d_s > 0 on the piece's disc B(C, R) for s = i or j.  With u* = ∇d_s(C) and p* the
+    nearest point of s to C, for q in the disc, √(a² + b²) ≤ a + b²/(2a) on the components of
+    q − p* along and across u* gives d_s(q) ≤ |q − p*| ≤ d_s(C) + u*·(q − C) + R²/(2(d_s(C) − R));
+    every unit u gives d_k(q) ≥ u·(q − m) − h_k(u) (h_k the support function about m).  With u
+    the unit float gradient of the pieces' enclosures G ± e (:func:`gradient_enclosure`, valid on
+    the disc, hence at C), |u − u*| ≤ 2e, the terms in q cancel up to R·|u − u*|:
+
+        d_k − d_s ≥ u·(C − m) − h_k(u) − hi_s(C) − R²/(2(lo_s(C) − R)) − 2e·R.
+
+    No trigonometry and no foot point of k: far from the sites, where the pieces are long and
+    every site comes within reach, this decides most rows before the table is called."""
+    out = np.zeros(len(rows), bool)
+    pcs, inv = np.unique(rows, return_inverse=True)
+    best = np.full(len(rows), -np.inf)
+    Cm = P.C[pcs] - sup.m
+    R = P.R[pcs]
+    for V, (Ge, ee, ve) in ((Vi, enc_i), (Vj, enc_j)):
+        Vp = V.take(pcs)
+        G, e, valid = Ge[pcs], ee[pcs], ve[pcs]
+        nG = np.hypot(G[:, 0], G[:, 1])
+        ok = valid & (Vp.lo > R) & (nG > 0.5) & np.isfinite(e)
+        u = G / np.where(ok, nG, 1.0)[:, None]
+        loss = R * R / (2 * np.where(ok, Vp.lo - R, 1.0)) * (1 + 1e-12) + 2 * (e + 4 * EPS) * R * (1 + 1e-12)
+        base = (u * Cm).sum(1) - Vp.hi - loss
+        size = np.abs(Cm).sum(1) + np.abs(Vp.hi) + sup.W
+        base = np.where(ok, base - 1e-12 * size, -np.inf)
+        ur = u[inv]
+        hk = sup.support_at(ks, ur)
+        best = np.maximum(best, base[inv] - hk - 2 * sup.mu - 1e-12 * np.abs(hk))
+    out |= best > 0
+    return out
+
+
+def _third_sites(table, scale, chains, P: _Pieces, pre, Vi, Vj, enc_i, enc_j, sup=None):
     """(T2)/(T3) on the pieces where (T1) and (T4) hold: every site whose bounding box comes
     within min(hi_i, hi_j) + 2R of the piece's centre (:meth:`SiteTable.near_pairs`) is farther
-    (:func:`_farther`) or, tied at an end vertex, moves away along the arc (:func:`_tied_derivative`).
-    True per piece where all of them pass."""
+    (by supporting half-planes when the support functions ``sup`` are given,
+    :func:`_support_half_planes`; else :func:`_farther`) or, tied at an end vertex, moves away along the arc
+    (:func:`_tied_derivative`).  True per piece where all of them pass."""
     p = len(P.seg)
     third_ok = np.ones(p, bool)
     hi = np.minimum(Vi.hi, Vj.hi)
     pidx = np.nonzero(pre)[0]
     rows, ks = table.near_pairs(P.C[pidx], (hi + 2 * P.R)[pidx], (P.Ip[pidx], P.Jp[pidx]))
     rows = pidx[rows]
+    if sup is not None and len(rows):
+        keep = ~_support_half_planes(sup, P, rows, ks, Vi, Vj, enc_i, enc_j)
+        rows, ks = rows[keep], ks[keep]
     if len(rows):
         Vk = evaluate_rows(table, P.C[rows], ks)
         enc_k = gradient_enclosure(P.C[rows], Vk, P.R[rows], scale)
@@ -330,7 +371,7 @@ def _third_sites(table, scale, chains, P: _Pieces, pre, Vi, Vj, enc_i, enc_j):
     return third_ok
 
 
-def _test_pieces(table, scale, depth, sigma, seg, sa, sb, chains):
+def _test_pieces(table, scale, depth, sigma, seg, sa, sb, chains, sup=None):
     """(T1)–(T4) on the pieces (seg, [sa, sb]) of :func:`prove_strips_many`: (good, t1, side_ok) per
     piece.  At depth 0, σ of each chain without one is set from its first piece decided here.
     Six evaluation rows per piece: i and j at the centre and at both side midpoints."""
@@ -344,7 +385,7 @@ def _test_pieces(table, scale, depth, sigma, seg, sa, sb, chains):
     t1 = _monotone(table, depth, sigma, P, Vi, Vj, enc_i, enc_j)
     side_ok = _sides(scale, chains[5], sigma, P, V, p)
     pre = t1 & side_ok
-    third_ok = _third_sites(table, scale, chains, P, pre, Vi, Vj, enc_i, enc_j)
+    third_ok = _third_sites(table, scale, chains, P, pre, Vi, Vj, enc_i, enc_j, sup)
     return pre & third_ok, t1, side_ok
 
 
@@ -392,7 +433,7 @@ def _initial_pieces(Lg, Wmin, elo, ehi):
     return seg, -elo[seg] + r / init[seg] * span, -elo[seg] + (r + 1) / init[seg] * span
 
 
-def _test_groups(table, depth, sigma, seg, sa, sb, chains):
+def _test_groups(table, depth, sigma, seg, sa, sb, chains, sup=None):
     """:func:`_test_pieces` on the pieces in groups of at most ROWS_PER_CALL / 6 (six evaluation
     rows per piece): memory bounded independently of N; every piece is tested as in one group
     (row-wise tests; σ of a chain is set at its first decided piece, before any piece needs it)."""
@@ -401,7 +442,7 @@ def _test_groups(table, depth, sigma, seg, sa, sb, chains):
     step = max(1, ROWS_PER_CALL // 6)
     for a0 in range(0, p, step):
         g_, t_, s_ = _test_pieces(table, table.scale, depth, sigma, seg[a0:a0 + step], sa[a0:a0 + step],
-                                  sb[a0:a0 + step], chains)
+                                  sb[a0:a0 + step], chains, sup)
         good[a0:a0 + step], t1[a0:a0 + step], side_ok[a0:a0 + step] = g_, t_, s_
     return good, t1, side_ok
 
@@ -419,14 +460,16 @@ def _failures(out, chains, seg, sm, jb, good, t1, side_ok, give_up) -> None:
         out[t] = (False, f"not proved near ({Cb[0]:.9g}, {Cb[1]:.9g}): {what} undecided")
 
 
-def prove_strips_many(table, jobs):
+def prove_strips_many(table, jobs, sup=None):
     """(T1)–(T4) for many :class:`StripsJob` at once: the pieces of all chains in flat arrays,
     two calls of ``table.evaluate`` per round of halving.  Returns (ok, message or None) per job.
     Per round: a chain whose pieces all pass is proved; one with failing pieces gives up at
     MAX_DEPTH, past its work limits (20 000 failing pieces, 30 000 tested, or its ``budget``
     spent), or when halving has decided almost no piece for STALL rounds (the strip, not the
     pieces, is too wide: R stays ≥ w; the caller narrows it); otherwise its failing pieces are
-    halved and the passing ones are done."""
+    halved and the passing ones are done.  ``sup``: the sites' support functions
+    (:class:`runtime.voronoi.verify.support.SupportTable`, all sites bounded and convex), which
+    decide (T2) first where they can (:func:`_support_half_planes`)."""
     nj = len(jobs)
     out = [None] * nj
     chains, Lg, Wmin, elo, ehi = _chains(jobs)
@@ -437,7 +480,7 @@ def prove_strips_many(table, jobs):
         if not len(sa):
             break
         jb = chains[0][seg]
-        good, t1, side_ok = _test_groups(table, depth, sigma, seg, sa, sb, chains)
+        good, t1, side_ok = _test_groups(table, depth, sigma, seg, sa, sb, chains, sup)
         if depth == 0:
             for t in np.nonzero(sigma == 0)[0]:
                 out[t] = (False, "the bisector's direction is not decided (monotonicity)")

@@ -108,6 +108,15 @@ class SupportTable:
         """(h_k(θ), h_k'(θ)) in one pass (floats, each within mu)."""
         return self._h_hp(k, th)
 
+    def support_at(self, k, U):
+        """Float h_k(u) for the rows u of U (unit vectors, within a few ulps; error ≤ mu): the
+        same formula as :meth:`h` without the angle, for the sites k (an array of U's length)."""
+        k = np.asarray(k)
+        ux, uy = U[:, 0], U[:, 1]
+        q = self.quad[k]
+        s = np.sqrt(q[:, 0] * (ux * ux) + q[:, 1] * (2.0 * ux * uy) + q[:, 2] * (uy * uy))
+        return ux * (self.cen[k, 0] - self.m[0]) + uy * (self.cen[k, 1] - self.m[1]) + s
+
     def h(self, k, th):
         """Float h_k(θ) (error ≤ mu); k an index or an array broadcasting against θ."""
         ux, uy, dx, dy, s = self._terms(k, th)
