@@ -255,7 +255,12 @@ _VERIFY_TESTS = ["tests/test_mirror_edge_third_sites.py", "tests/test_vertex_rea
                  "tests/test_curved_edge_guides.py",
                  # the strip test's (T2)/(T4) and the drawn points' tolerance at their boundaries
                  # (closed-form scenes: kill first-order terms halved, a tolerance tripled)
-                 "tests/test_strip_boundaries.py", "tests/test_polyline_point_tolerance.py"]
+                 "tests/test_strip_boundaries.py", "tests/test_polyline_point_tolerance.py",
+                 # the tail's (M) cells against the sampled derivative, the circle route's tail next to
+                 # a thin hyperbola, the tied tail's lateral sign lemma (kill the enclosure halved, the
+                 # gradient fallback loosened, the rounding allowance's sign flipped)
+                 "tests/test_tail_monotone_boundaries.py", "tests/test_circle_tail_near_tie.py",
+                 "tests/test_tied_tail_lateral_sign.py"]
 _CERTIFY_TESTS = ["tests/test_certify_steps.py", "tests/test_certify_stated_limits.py", "tests/test_chart_nearly_real_pair.py",
                   "tests/test_chart_choice_far_circle.py", "tests/test_certify_conflict_boundaries.py", "tests/test_certify_completeness_boundaries.py", "tests/test_certify_kernel_boundaries.py", "tests/test_certify.py", "tests/test_certify_chart.py", "tests/test_certify_conjugates.py",
                   "tests/test_certify_dimension.py", "tests/test_certify_fast_system.py",
@@ -286,6 +291,8 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
      + _VERIFY_TESTS),
     # bisector_guide: the guide of the chains of strips (its hard places among random ellipses, a
     # vertex beyond the tail cut)
+    # strips: the supporting half-planes of (T2) against distances sampled on the disc (~25 s)
+    ("runtime/voronoi/verify/strips.py", ["tests/test_strip_support_half_planes.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/bisector_guide.py", ["tests/test_guide_projection_and_bend_rules.py",
                                                   "tests/test_curved_edge_guides.py", "tests/test_verify_float_boundaries.py"]
      + _VERIFY_TESTS),
