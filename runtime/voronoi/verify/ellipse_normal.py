@@ -249,7 +249,7 @@ def ellipse_normal_enclosure(Q, Fw, a, b, c, s, tx, ty, errs):
 
 
 def tight_gradients(Q, V, table, R, disc, G, slack, valid):
-    """Improve the enclosures (G, slack, valid) of ∇d on the discs B(Q, R) (``disc``: 2R/(lo − R),
+    """Improve the enclosures (G, slack, valid) of ∇d on the discs B(Q, R) (``disc``: R/(lo − R),
     the disc term) where the foot-point term dominates: outside a point or a circle of centre c,
     ∇d(Q) = (Q − c)/|Q − c| (the float difference is off by u per coordinate, the normalisation
     by a few u); outside an ellipse, :func:`ellipse_normal_enclosure` through ``table``

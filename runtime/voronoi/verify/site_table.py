@@ -36,10 +36,12 @@ vectorised over the sites as well as the points):
   bisectors a corner, get no enclosure.
 
 **Gradient enclosures** (:func:`gradient_enclosure`) for a convex site S and q outside its convex
-hull K: ∇d(q) = (q − p)/|q − p| with p the projection of q on K, which is 1-Lipschitz, and
-x ↦ x/|x| is (1/m)-Lipschitz on {|x| ≥ m} (m·x/|x| is the projection onto the ball of radius m).
-So for q ∈ B(c, R), with x = c − p(c), y = q − p(q), |x − y| ≤ 2R and |x|, |y| ≥ d(c) − R:
-|∇d(q) − ∇d(c)| ≤ 2R/(d(c) − R); and the float foot point F gives ∇d(c) within e_F/d(c), where
+hull K: ∇d(q) = (q − p)/|q − p| with p the projection of q on K; I − p, like p, is firmly
+non-expansive, hence 1-Lipschitz (Bauschke–Combettes, *Convex Analysis and Monotone Operator
+Theory*, ch. 4), and x ↦ x/|x| is (1/m)-Lipschitz on {|x| ≥ m} (m·x/|x| is the projection onto
+the ball of radius m).  So for q ∈ B(c, R), with x = c − p(c), y = q − p(q), |x − y| ≤ R and
+|x|, |y| ≥ d(c) − R: |∇d(q) − ∇d(c)| ≤ R/(d(c) − R); and the float foot point F gives ∇d(c)
+within e_F/d(c), where
 e_F² = |c − F|² − d(c)² bounds |F − p|² (projection inequality |c − F|² ≥ |c − p|² + |p − F|²,
 F ∈ K up to rounding; |c − F| ≥ d(c)).  **Inside** a circle, an ellipse, a parabola or a hyperbola
 branch (q in its open convex region, depth d(q) below the reach r of the curve, b²/a, the
@@ -319,10 +321,10 @@ def gradient_enclosure(Q, V: SiteValues, R, scale):
     """(G, slack, valid): |∇d(q) − G| ≤ slack for every q in B(Q, R) where valid (module
     docstring).  ``V`` are the table's values at Q.  Outside a point or a circle of centre c,
     ∇d(Q) = (Q − c)/|Q − c| to a few units in the last place.  Outside an ellipse, where the foot-point
-    term e_F/lo of the cheap enclosure dominates the disc's 2R/(lo − R), ∇d(Q) is enclosed
+    term e_F/lo of the cheap enclosure dominates the disc's R/(lo − R), ∇d(Q) is enclosed
     through the foot point's Lagrange multiplier instead
     (:mod:`runtime.voronoi.verify.ellipse_normal`, error e_N ≈ 10⁻¹⁴), and the slack is
-    e_N + 2R/(lo − R) on the disc (lo > 2R: the disc stays outside the convex K).  Row by row:
+    e_N + R/(lo − R) on the disc (lo > 2R: the disc stays outside the convex K).  Row by row:
     computed in blocks of :data:`GRADIENT_ROWS` rows (temporaries bounded independently of the
     number of rows, the same values)."""
     Q = np.asarray(Q, float).reshape(-1, 2)
@@ -342,7 +344,7 @@ def gradient_enclosure(Q, V: SiteValues, R, scale):
         eF = np.sqrt(gap) + 1e-12 * size
         near = V.sep > R        # hyperbola: one branch is nearest on the whole disc
         valid = V.base & near & (V.lo > 2 * R + eF) & (dF > 0)
-        disc = 2 * R / (V.lo - R)
+        disc = R / (V.lo - R) * (1 + 1e-12)
         slack = eF / V.lo + disc + 1e-12
         # inside a circle / ellipse, at depth t < reach r on the disc: the foot map is
         # r/(r − t)-Lipschitz and |F − p|² ≤ (|c − F|² − d²)/(1 − d/r) (Federer, reach)
