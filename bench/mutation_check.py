@@ -903,6 +903,9 @@ SCORE_GROUPS = [
      "mutation_certify_rerun*.jsonl", "mutation_certify_verdicts.json", "cert"),
     ("proof kernel, runtime/certify/interval_newton.py + krawczyk.py (all 92)", "mutation_kernel_full.jsonl",
      "mutation_kernel_rerun*.jsonl", "mutation_kernel_verdicts.json", "kernel"),
+    ("verifier after its split into named steps, runtime/voronoi/verify/*.py (seed-38 sample of 3689)",
+     "mutation_verify38_sample.jsonl", "mutation_verify38_rerun*.jsonl", "mutation_verify38_verdicts.json",
+     "verify38"),
 ]
 
 

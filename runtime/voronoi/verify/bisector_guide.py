@@ -37,7 +37,7 @@ def vertex_taper(v, pair, ks):
     (float, only to choose strip widths): θ the smallest angle between ∇d_i − ∇d_j and
     ∇d_k − ∇d_i, w_v = d·|∇d_k − ∇d_i|·|∇d_i − ∇d_j|·sin θ / (8 (|∇d_k − ∇d_i| + |∇d_i − ∇d_j|)).
     The transversality test (T3) of :mod:`runtime.voronoi.verify.strips` holds on a piece of
-    radius R when its error, about (4R/d)(|∇d_k − ∇d_i| + |∇d_i − ∇d_j|) (gradient slack 2R/d
+    radius R when its error, about (2R/d)(|∇d_k − ∇d_i| + |∇d_i − ∇d_j|) (gradient slack R/d
     per site), is below |∇d_k − ∇d_i|·|∇d_i − ∇d_j|·sin θ: R about w_v.  Away from the vertex
     d_k − d_i grows like s·|∇d_k − ∇d_i|·sin θ, so the first-order test (T2) takes over for R
     below s·sin θ.  At a vertex 10³ scene units out, θ is of the order of (site gap)/d and a
@@ -184,7 +184,7 @@ def project_rows(table, M, t, I, J):
 def node_width(X, pair, tol, scale):
     """Strip half-width wanted at the polyline nodes X: about 3x the stated tolerance, at most a
     small fraction of d·|∇d_i − ∇d_j| (the gradient enclosures of the monotonicity test
-    have slack ~ 2R/d).  Generator."""
+    have slack ~ R/d).  Generator."""
     return (yield from _node_frame(X, pair, tol, scale))[0]
 
 

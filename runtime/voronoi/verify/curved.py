@@ -11,7 +11,7 @@ The reported polyline only guides the proof: its nodes are moved onto β (float 
 along the segments' normals), nodes where it turns back are dropped, and a segment is split
 (its projected midpoint inserted) while the arc strays from the chord by more than a tenth of
 the wanted strip half-width (about 3x the stated tolerance, at most 0.03·d·|∇d_i − ∇d_j|, since
-the gradient enclosures of the monotonicity test have slack ~ 2R/d); when a third site stays
+the gradient enclosures of the monotonicity test have slack ~ R/d); when a third site stays
 undecided the strips are narrowed (factors 0.2, 0.05) and the guide re-split; when the bisector
 leaves a strip the guide is refined (segments halved).  Nothing is assumed of the guide: the
 strips decide.
@@ -451,7 +451,7 @@ def strip_widths(g, ends, wfac, endfac, scale):
     corner's chord gets its w_c at both nodes where w_c·sin θ is at most the adjacent lengths
     (the strips still chain: module docstring); at an end vertex at most 0.05·L and
     ``endfac``·(r + 1), at least 8·h (the transversality test (T3) needs the gradient enclosures,
-    slack ~ 2R/d, well below the angle between the bisectors)."""
+    slack ~ R/d, well below the angle between the bisectors)."""
     L, sinang = g.L, g.sinang
     W = np.minimum(np.minimum(0.25 * g.Lmin, g.wnode * wfac), g.cap)
     W = np.maximum(W, 1e-12 * scale)

@@ -2,7 +2,7 @@
 
 Far from the sites every gradient ∇d is nearly the same, and the margin by which a third site k
 is farther than the pair (i, j) on β is small compared with the first-order loss of a disc of
-radius R, R·(s_k + s_i) with s ≈ 2R/d (:func:`runtime.voronoi.verify.site_table.gradient_enclosure`).
+radius R, R·(s_k + s_i) with s ≈ R/d (:func:`runtime.voronoi.verify.site_table.gradient_enclosure`).
 The convexity of the distance to a convex set gives a bound whose loss is R²/(2d) instead
 (:func:`gap_lower`); on the bisector β of i and j, d_k − d_i may be traded for
 d_k − (1 + λ)d_i + λd_j with any λ, which removes the gradient along ∇(d_i − d_j) of a near-tie

@@ -234,7 +234,7 @@ def _sides(scale, slope, sigma, P: _Pieces, V, p):
     f = d_i − d_j.  From the lower bound fval of ς·f at the side's midpoint (ς = ±σ), first order:
     fval − rate·side_len > 0 with rate ≥ |∇f·t| on the side (the gradient enclosures where they
     exist, else 2: f is 2-Lipschitz); where that fails, second order (:func:`side_second_order`:
-    far from the sites the gradients' disc terms 2R/d exceed |∇f|)."""
+    far from the sites the gradients' disc terms R/d exceed |∇f|)."""
     sg_p = sigma[P.jb]
     side_ok = np.ones(p, bool)
     for b, (Qs, sg) in enumerate(((P.Qp, 1.0), (P.Qm, -1.0))):
