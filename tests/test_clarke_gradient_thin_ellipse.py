@@ -19,15 +19,14 @@ T_ = np.linspace(0, 2 * np.pi, 400000, endpoint=False)
 BX, BY = A * np.cos(T_), B * np.sin(T_)
 
 
-@pytest.mark.parametrize("centre,R", [((0.0, 0.3), 0.34), ((0.5, 0.4), 0.28), ((-2.0, -0.2), 0.38),
-                                      ((6.0, 0.0), 0.3), ((0.0, 0.0), 0.45), ((4.0, 0.1), 0.4)])
+@pytest.mark.parametrize("centre,R", [((0.5, 0.4), 0.28), ((-2.0, -0.2), 0.38), ((0.0, 0.0), 0.45)])
 def test_the_range_holds_the_feet_of_every_point_of_the_disc(centre, R):
     T = SiteTable([site_geometry(cv.Conic.ellipse((0, 0), (A, B)))], 11.0)
     Qc = np.array([centre])
     V = T.evaluate(Qc, [0])
     rng = np.random.default_rng(1)
-    rr = R * np.sqrt(rng.random(300))
-    ph = 2 * np.pi * rng.random(300)
+    rr = R * np.sqrt(rng.random(150))
+    ph = 2 * np.pi * rng.random(150)
     q = Qc + np.column_stack([rr * np.cos(ph), rr * np.sin(ph)])
     q = np.vstack([q, Qc + R * np.column_stack([np.cos(ph[:60]), np.sin(ph[:60])])])
     k = np.array([np.hypot(qq[0] - BX, qq[1] - BY).argmin() for qq in q])
