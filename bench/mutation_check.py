@@ -522,11 +522,20 @@ def sample_stratified(muts: list[dict], n: int, seed: int, spread: bool = False)
     return sorted(chosen, key=lambda m: (m["path"], m["line"], m["col"], m["kind"]))
 
 
+#: test files run before every module's subset (``--first-tests``: a re-run of survivors with the
+#: tests written for them first, so that a kill costs seconds; a survivor still runs the whole subset)
+FIRST_TESTS: list[str] = []
+#: ``--only-first``: run only FIRST_TESTS (they belong to the module's subset, so a failure there is
+#: a failure of the subset under ``-x``: a kill; a mutant they do not kill keeps its earlier status)
+ONLY_FIRST = False
+
+
 def _tests_for(rel: str, tree: Path) -> list[str]:
     for prefix, tests in SOUND_TESTS:
         if rel.startswith(prefix):
             # a test file, or one test of it ("file::name"): kept when the file exists in the copy
-            return [t for t in dict.fromkeys(tests) if (tree / t.split("::")[0]).exists()]
+            chosen = FIRST_TESTS if ONLY_FIRST else FIRST_TESTS + tests
+            return [t for t in dict.fromkeys(chosen) if (tree / t.split("::")[0]).exists()]
     return []
 
 
@@ -976,6 +985,10 @@ def main(argv=None) -> int:
     ap.add_argument("--list", action="store_true", help="soundness mode: only list the candidate mutants")
     ap.add_argument("--replay", default=None, metavar="JSONL",
                     help="soundness mode: re-run the mutants of an earlier run (its .jsonl) instead of sampling")
+    ap.add_argument("--first-tests", nargs="*", default=[], metavar="TEST",
+                    help="soundness mode: run these test files first in every subset (re-runs after new tests)")
+    ap.add_argument("--only-first", action="store_true",
+                    help="with --first-tests: run only those (kills by tests of the subset; survivors keep their status)")
     ap.add_argument("--replay-status", default=None, metavar="S1,S2",
                     help="with --replay: only the mutants that had one of these results (e.g. survived,timeout)")
     ap.add_argument("--merge", nargs="+", default=None, metavar="JSONL",
@@ -988,6 +1001,9 @@ def main(argv=None) -> int:
     if args.score:
         print(score_table(ROOT / "bench" / "results"), end="")
         return 0
+    FIRST_TESTS[:] = args.first_tests
+    global ONLY_FIRST
+    ONLY_FIRST = args.only_first
     if args.merge:
         text = merge_report(args.merge[0], args.merge[1:], args.verdicts,
                             args.title or "Soundness mutants of the verifier and the certification stage")

@@ -44,10 +44,13 @@ def closer_far_out(ci, ck, ri, rk, q):
     return dk - di < 0
 
 
+@pytest.mark.parametrize("rj", [0.0, 0.25])
 @pytest.mark.parametrize("delta", [1e-3, 1e-5, 1e-7, -1e-3])
-def test_a_third_circle_nearer_at_the_asymptote_is_never_proved_farther(delta):
+def test_a_third_circle_nearer_at_the_asymptote_is_never_proved_farther(delta, rj):
+    """rj = 0: the thin hyperbola of the module docstring; rj = 0.25: a wide one (c/b ≈ 3), where the
+    test finds a far point where k is nearer and names it."""
     gap, L = 1e-6, 40.0
-    ci, ri, rj = (0.0, 0.0), 10.0, 0.0
+    ci, ri = (0.0, 0.0), 10.0
     cj = (ri + rj + gap, 0.0)
     _, vx, vy = far_branch_point(ci, cj, ri, rj, 1.0)
     ck = (ci[0] - L * vy, ci[1] + L * vx)
@@ -66,5 +69,7 @@ def test_a_third_circle_nearer_at_the_asymptote_is_never_proved_farther(delta):
     if k_closer:
         assert not ok, "a tail proved although the third circle is nearer far out"
         assert detail[0] == 2
+        if rj > 0:
+            assert detail[2] == "closer"
     elif delta < -1e-4:
         assert ok, detail
