@@ -50,3 +50,52 @@ def test_a_mirror_vertex_just_beyond_the_widest_segment_is_refused(mirror_doc, s
     cert = cv.verify(doc)
     assert not cert.ok
     assert any(p.startswith(f"vertex {v['id']} ") for p in cert.problems), cert.problems
+
+
+def _distance_to_ellipse(px, py, cx, cy, a, b):
+    """d((px, py), ellipse of centre (cx, cy), axes a, b along x, y) in 40-digit mpmath: the
+    nearest point (cx + a cos t, cy + b sin t) where the derivative of the squared distance vanishes
+    (the start is the direction to the point, which is near the foot for these slim ellipses)."""
+    import mpmath
+
+    with mpmath.workdps(40):
+        X, Y = mpmath.mpf(px) - cx, mpmath.mpf(py) - cy
+        f = lambda t: (X - a * mpmath.cos(t)) ** 2 + (Y - b * mpmath.sin(t)) ** 2      # noqa: E731
+        df = lambda t: 2 * (X - a * mpmath.cos(t)) * a * mpmath.sin(t) - 2 * (Y - b * mpmath.sin(t)) * b * mpmath.cos(t)  # noqa: E731
+        t = mpmath.findroot(df, mpmath.atan2(Y / b, X / a))
+        return mpmath.sqrt(f(t))
+
+
+def test_the_mirror_vertex_enclosure_holds_the_true_vertex():
+    """The reported point X = (18, y* + m) with m = 1.2·δ₁ on the side where g = d_a − d_b > 0
+    (δ₁ = 10⁻¹²·scale, the first segment tried): g keeps one sign on [X − δ₁u, X + δ₁u], so the
+    proved point may only be claimed within the half-length of a segment on which g changes sign
+    (δ₂ = 10⁻¹⁰·scale).  The true zero y* of g on x = 18 is found here in mpmath; the returned
+    enclosure radius h must cover |X − y*| = m."""
+    import mpmath
+    import numpy as np
+
+    from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+    from curvedvoronoi.runtime.voronoi.verify.exact_vertices import symmetric_vertex
+    from curvedvoronoi.runtime.voronoi.verify.vertices import VertexInfo
+
+    sites = [_ellipse(12, 0, 2, 1), _ellipse(24, 0, 2, 1), _ellipse(12, 8, 3, 1), _ellipse(24, 8, 3, 1)]
+    geoms = [site_geometry(s) for s in sites]
+    with mpmath.workdps(40):
+        g = lambda y: _distance_to_ellipse(18, y, 12, 0, 2, 1) - _distance_to_ellipse(18, y, 12, 8, 3, 1)  # noqa: E731
+        ystar = mpmath.findroot(g, mpmath.mpf("3.529205991704463"))
+        radius = float(_distance_to_ellipse(18, ystar, 12, 0, 2, 1))
+        slope = (g(ystar + mpmath.mpf(10) ** -8) - g(ystar - mpmath.mpf(10) ** -8)) / (2 * mpmath.mpf(10) ** -8)
+    assert slope > 1                         # g increases upwards: X above y* has g(X) > 0
+    scale = 1 + 18 + float(ystar) + radius
+    m = 1.2e-12 * scale
+    y = float(ystar + m)
+    assert abs(y - float(ystar)) > 1.1e-12 * scale
+    order = (0, 1, 3, 2)                     # counter-clockwise about the vertex, as the diagram lists them
+    v = type("V", (), {"id": 1, "sites": order, "x": 18.0, "y": y, "radius": radius})()
+    problems: list = []
+    info = symmetric_vertex(v, order, geoms, problems, VertexInfo)
+    assert info is not None, problems
+    assert float(abs(mpmath.mpf(info.y) - ystar)) <= info.h and abs(info.x - 18.0) <= info.h
+    # the proved radius interval [2r − r_hi, r_hi] holds the true common distance
+    assert 2 * info.r - info.r_hi <= radius <= info.r_hi
