@@ -48,3 +48,19 @@ def test_a_box_around_the_origin_has_no_ball():
     with np.errstate(invalid="ignore", divide="ignore"):      # N₀ = 0: its direction is 0/0
         _, _, en, mlow = _unit_normal_ball(bx, np.array([0]), zero, zero)
     assert not mlow[0] > 0 or not np.isfinite(en[0])
+
+
+def test_a_component_whose_lower_end_is_zero_takes_both_signs():
+    """|N_X| ∈ [0, 1] (lower end 0: N_X may have either sign, whatever the float X0's sign) and
+    N_Y ∈ [2, 3]: the box is [−1, 1] × [2, 3] and its directions reach (−1, 2)/√5 and (1, 2)/√5,
+    both of which the ball must hold (a ball about the half-box [0, 1] × [2, 3] misses (−1, 2)/√5
+    by about 0.65 − 0.38)."""
+    bx = _box(0.0, 1.0, 2.0, 3.0, X0=0.25, Y0=2.5)
+    zero = np.array([0.0])
+    ux, uy, en, mlow = _unit_normal_ball(bx, np.array([0]), zero, zero)
+    assert mlow[0] > 0
+    g = np.linspace(0.0, 1.0, 201)
+    NX, NY = np.meshgrid(-1.0 + 2.0 * g, 2.0 + g)
+    norm = np.hypot(NX, NY)
+    dev = np.hypot(NX / norm - ux[0], NY / norm - uy[0])
+    assert dev.max() <= en[0]
