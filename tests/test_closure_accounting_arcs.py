@@ -44,3 +44,18 @@ def test_a_missing_end_is_refused(skip):
     problems = []
     assert not closure.verify_accounting(3, CircleTable.from_arrays(PTS, [0, 0, 0]), ends(skip), problems)
     assert problems
+
+
+def test_an_owner_leading_at_the_start_of_its_arc_but_not_over_all_of_it_is_refused():
+    """The square A, B, C, D = (0, 0), (10, 0), (10, 10), (0, 10) (far ends AB at 3π/2, BC at 0, CD at
+    π/2, DA at π) with BC's and CD's ends replaced by one end of (B, D) at 3π/4: B leads just after
+    AB's end (3π/2) but C leads from 0 on, so B cannot own the arc from 3π/2 round to 3π/4 + 2π.
+    The test at the arc's start alone passes; over the whole arc it must fail."""
+    sq = [(0.0, 0.0), (10.0, 0.0), (10.0, 10.0), (0.0, 10.0)]
+    ends_ = [(3 * math.pi / 2, (0, 1), 1, 0), (3 * math.pi / 4, (1, 3), 1, 1), (math.pi, (0, 3), 1, 2)]
+    problems = []
+    assert not closure.verify_accounting(4, CircleTable.from_arrays(sq, [0, 0, 0, 0]), ends_, problems)
+    assert any("no single site owns" in str(p) for p in problems)
+    # the true ends close up
+    true_ends = [(3 * math.pi / 2, (0, 1), 1, 0), (0.0, (1, 2), 1, 1), (math.pi / 2, (2, 3), 1, 2), (math.pi, (0, 3), 1, 3)]
+    assert closure.verify_accounting(4, CircleTable.from_arrays(sq, [0, 0, 0, 0]), true_ends, [])
