@@ -59,3 +59,19 @@ def test_an_owner_leading_at_the_start_of_its_arc_but_not_over_all_of_it_is_refu
     # the true ends close up
     true_ends = [(3 * math.pi / 2, (0, 1), 1, 0), (0.0, (1, 2), 1, 1), (math.pi / 2, (2, 3), 1, 2), (math.pi, (0, 3), 1, 3)]
     assert closure.verify_accounting(4, CircleTable.from_arrays(sq, [0, 0, 0, 0]), true_ends, [])
+
+
+def test_conics_with_unbounded_regions_and_no_end_at_infinity_are_refused():
+    """Two disjoint ellipses side by side both lead in some far directions (h_k(θ) = c_k·e(θ) +
+    √(eᵀAe)): with no unbounded end proved, the accounting must fail — unless one site contains
+    all others, which the second case shows (a circle inside an ellipse: no unbounded edge)."""
+    import curvedvoronoi as cv
+    from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+    from curvedvoronoi.runtime.voronoi.verify.support import SupportTable
+
+    side = [site_geometry(cv.Conic.ellipse((0, 0), (3, 1))), site_geometry(cv.Conic.ellipse((10, 0), (2, 1)))]
+    problems = []
+    assert not closure.verify_accounting_conics(2, SupportTable(side), [], problems)
+    assert problems
+    nested = [site_geometry(cv.Conic.ellipse((0, 0), (10, 6))), site_geometry(cv.Circle.from_radius(1, 1, 1))]
+    assert closure.verify_accounting_conics(2, SupportTable(nested), [], [])
