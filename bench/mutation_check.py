@@ -291,8 +291,19 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
      + _VERIFY_TESTS),
     # bisector_guide: the guide of the chains of strips (its hard places among random ellipses, a
     # vertex beyond the tail cut)
-    # strips: the supporting half-planes of (T2) against distances sampled on the disc (~25 s)
-    ("runtime/voronoi/verify/strips.py", ["tests/test_strip_support_half_planes.py"] + _VERIFY_TESTS),
+    # strips: the supporting half-planes of (T2) against distances sampled on the disc (~25 s), (T3)
+    # against the closed-form derivative along a point bisector
+    ("runtime/voronoi/verify/strips.py", ["tests/test_strip_tied_derivative.py",
+                                          "tests/test_strip_support_half_planes.py"] + _VERIFY_TESTS),
+    # the modules' own boundary tests, written for the survivors of the seed-38 sample
+    ("runtime/voronoi/verify/closure.py", ["tests/test_closure_accounting_arcs.py"] + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/clarke_gradient.py", ["tests/test_clarke_gradient_thin_ellipse.py",
+                                                   "tests/test_clarke_gradient.py"] + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/site_table.py", ["tests/test_gradient_enclosure_discs.py"] + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/exact_vertices.py", ["tests/test_exact_vertices_mutants_s38.py"] + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/ellipse_normal.py", ["tests/test_ellipse_normal_mutants_s38.py",
+                                                  "tests/test_ellipse_normal.py"] + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/far_accounting.py", ["tests/test_far_accounting_mutants_s38.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/bisector_guide.py", ["tests/test_guide_projection_and_bend_rules.py",
                                                   "tests/test_curved_edge_guides.py", "tests/test_verify_float_boundaries.py"]
      + _VERIFY_TESTS),
