@@ -293,10 +293,12 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
     # vertex beyond the tail cut)
     # strips: the supporting half-planes of (T2) against distances sampled on the disc (~25 s), (T3)
     # against the closed-form derivative along a point bisector
-    ("runtime/voronoi/verify/strips.py", ["tests/test_strip_tied_derivative.py",
+    ("runtime/voronoi/verify/strips.py", ["tests/test_strips_mutants_s38.py", "tests/test_strip_tied_derivative.py",
                                           "tests/test_strip_support_half_planes.py"] + _VERIFY_TESTS),
     # the modules' own boundary tests, written for the survivors of the seed-38 sample
-    ("runtime/voronoi/verify/closure.py", ["tests/test_closure_accounting_arcs.py"] + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/closure.py", ["tests/test_closure_accounting_arcs.py",
+                                           "tests/test_closure_mutants_s38.py"] + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/document.py", ["tests/test_document_mutants_s38.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/clarke_gradient.py", ["tests/test_clarke_gradient_thin_ellipse.py",
                                                    "tests/test_clarke_gradient.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/site_table.py", ["tests/test_gradient_enclosure_discs.py"] + _VERIFY_TESTS),
