@@ -277,6 +277,9 @@ _SEGMENT_CERT_TESTS = ["tests/test_common_tangent_ties.py", "tests/test_arc_bise
                        "tests/test_arc_certificate.py", "tests/test_segment_voronoi.py",
                        # whole circles as two half arcs (kills certificate_arcs.py's start-parameter match)
                        "tests/test_segment_circles.py"]
+#: the far field's own tests (accounting at infinity next to unbounded sites, nesting, big circles)
+_FAR_TESTS = ["tests/test_circle_table_big_sites.py", "tests/test_far_field.py", "tests/test_nested_container.py",
+              "tests/test_far_conics.py"]
 #: module prefix -> test files run against its mutants (first match wins); files that do not exist
 #: in the copy are left out
 SOUND_TESTS: list[tuple[str, list[str]]] = [
@@ -297,7 +300,7 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
                                           "tests/test_strip_support_half_planes.py"] + _VERIFY_TESTS),
     # the modules' own boundary tests, written for the survivors of the seed-38 sample
     ("runtime/voronoi/verify/closure.py", ["tests/test_closure_accounting_arcs.py",
-                                           "tests/test_closure_mutants_s38.py"] + _VERIFY_TESTS),
+                                           "tests/test_closure_mutants_s38.py"] + _FAR_TESTS + _VERIFY_TESTS),
     ("runtime/voronoi/verify/document.py", ["tests/test_document_mutants_s38.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/curved.py", ["tests/test_curved_mutants_s38.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/distance_gap.py", ["tests/test_distance_gap_mutants_s38.py",
@@ -309,7 +312,9 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
     ("runtime/voronoi/verify/exact_vertices.py", ["tests/test_exact_vertices_mutants_s38.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/ellipse_normal.py", ["tests/test_ellipse_normal_mutants_s38.py",
                                                   "tests/test_ellipse_normal.py"] + _VERIFY_TESTS),
-    ("runtime/voronoi/verify/far_accounting.py", ["tests/test_far_accounting_mutants_s38.py"] + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/far_accounting.py", ["tests/test_far_accounting_mutants_s38.py"] + _FAR_TESTS + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/far_conics.py", _FAR_TESTS + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/equal_circles.py", ["tests/test_equal_circles_reduction.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/bisector_guide.py", ["tests/test_guide_projection_and_bend_rules.py",
                                                   "tests/test_curved_edge_guides.py", "tests/test_verify_float_boundaries.py"]
      + _VERIFY_TESTS),
