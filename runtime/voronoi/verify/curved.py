@@ -69,6 +69,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ...sites.kinds import SiteKind
+from ..geometry import EPS
 from .site_table import run_lockstep
 from .bisector_guide import (AdaptJob, ProjectJob, adapt, adapt_many, cut_outside, node_width, project, project_many,
                              refine, vertex_taper)
@@ -167,8 +168,8 @@ class ChainEnds(NamedTuple):
 
 class RoundGuide(NamedTuple):
     """The guide of one round of attempts: nodes ``S``, segment lengths ``L``, unit tangents ``T``
-    and normals ``N``, the sines of the turns at the inner nodes ``sinang`` (and at the closing
-    node ``sin_wrap``, 0 when open), the corners' chords (j, w_c) of :func:`cut_corners`, the
+    and normals ``N``, upper bounds of the sines of the turns at the inner nodes ``sinang``
+    (:func:`turn_sines`), the corners' chords (j, w_c) of :func:`cut_corners`, the
     nodes' half-widths ``wnode`` (:func:`node_width`, narrowed), ``Lmin`` the shorter adjacent
     segment of each node and ``cap`` the vertices' taper at each node."""
     S: np.ndarray
@@ -176,7 +177,6 @@ class RoundGuide(NamedTuple):
     T: np.ndarray
     N: np.ndarray
     sinang: np.ndarray
-    sin_wrap: float
     chords: list
     wnode: np.ndarray
     Lmin: np.ndarray
@@ -385,7 +385,11 @@ def narrowed_chain(S, pair, ends, cuts, narrow, wtol, closed, scale, work):
             # flat runs at the turns, so that consecutive strips hold each other's node
             # cross-sections (module docstring, "Chaining at the nodes")
             S2, W2 = chained_nodes(g.S, W, closed, scale)
-            T2, N2, L2, e_lo, e_hi = strip_extensions(S2, W2, ends, closed, g.sin_wrap, scale)
+            if S2 is None:
+                last_msg = "the strips do not chain at a turn of the polyline (no room for a flat run)"
+                attempts += 1
+                continue
+            T2, N2, L2, e_lo, e_hi = strip_extensions(S2, W2, ends, closed, scale)
             ok, msg = yield from prove_strips(S2, T2, N2, L2, e_lo, e_hi, W2, pair, ends.k0, ends.k1, work)
             if ok:
                 return (True, None, tail_links(g, W, ends)), None
@@ -401,6 +405,15 @@ def narrowed_chain(S, pair, ends, cuts, narrow, wtol, closed, scale, work):
             break
     return None, last_msg
 
+
+
+def turn_sines(Ta, Tb):
+    """(sin_lo, sin_up): bounds of sin θ for the turns θ ∈ [0, π/2] between the float unit vectors
+    Ta and Tb (rows), from |Ta × Tb| (|Ta|, |Tb| within 2 ulps of 1; the cross product within
+    2 ulps absolute), accurate near θ = 0 where √(1 − cos²θ) loses half the digits."""
+    Ta, Tb = np.asarray(Ta, float), np.asarray(Tb, float)
+    cr = np.abs(Ta[..., 0] * Tb[..., 1] - Ta[..., 1] * Tb[..., 0])
+    return np.maximum(cr * (1 - 1e-14) - 4 * EPS, 0.0), np.minimum(cr * (1 + 1e-14) + 4 * EPS, 1.0)
 
 
 def round_guide(S, pair, ends, cuts, narrow, wtol, closed, scale):
@@ -432,8 +445,7 @@ def round_guide(S, pair, ends, cuts, narrow, wtol, closed, scale):
     cos_wrap = float(np.clip((T[-1] * T[0]).sum(), -1, 1)) if closed else 1.0
     if np.any(cosang < math.cos(math.radians(60))) or cos_wrap < math.cos(math.radians(60)):
         return S, None, None
-    sinang = np.sqrt(1 - cosang ** 2)
-    sin_wrap = math.sqrt(1 - cos_wrap ** 2)
+    sinang = turn_sines(T[:-1], T[1:])[1]
     wnode = narrow * (yield from node_width(S, pair, wtol, scale))
     Lmin = np.minimum(np.concatenate([[L[-1] if closed else L[0]], L]),
                       np.concatenate([L, [L[0] if closed else L[-1]]]))
@@ -442,7 +454,7 @@ def round_guide(S, pair, ends, cuts, narrow, wtol, closed, scale):
     for tp, sv in ((ends.tapers[0], arc), (ends.tapers[1], arc[-1] - arc)):
         if tp is not None:
             cap = np.minimum(cap, tp[1] + 0.5 * tp[0] * sv)
-    return S, RoundGuide(S, L, T, N, sinang, sin_wrap, chords, wnode, Lmin, cap), None
+    return S, RoundGuide(S, L, T, N, sinang, chords, wnode, Lmin, cap), None
 
 
 def strip_widths(g, ends, wfac, endfac, scale):
@@ -468,17 +480,18 @@ def strip_widths(g, ends, wfac, endfac, scale):
     return W
 
 
-def strip_extensions(S2, W2, ends, closed, sin_wrap, scale):
+def strip_extensions(S2, W2, ends, closed, scale):
     """The strips of the chained guide (S2, W2): unit tangents, normals, lengths, and the
-    extensions beyond each end, e ≥ W·sin θ at a turn θ (W the larger node half-width; module
-    docstring, "Chaining at the nodes"), plus 2·h at an end vertex (its enclosure) and
-    max(W)·sin θ at the closing node of a closed chain; 1e-12·scale for rounding.  Returns
-    (T2, N2, L2, e_lo, e_hi)."""
+    extensions beyond each end, e ≥ W·sin θ at a turn θ (W the larger node half-width, sin θ
+    bounded above by :func:`turn_sines`; module docstring, "Chaining at the nodes"), plus 2·h at
+    an end vertex (its enclosure) and max(W)·sin θ at the closing node of a closed chain;
+    1e-12·scale for rounding.  Returns (T2, N2, L2, e_lo, e_hi)."""
     seg2 = S2[1:] - S2[:-1]
     L2 = np.hypot(seg2[:, 0], seg2[:, 1])
     T2 = seg2 / L2[:, None]
     N2 = rot90(T2)
-    sin2 = np.sqrt(1 - np.clip((T2[:-1] * T2[1:]).sum(1), -1, 1) ** 2)
+    sin2 = turn_sines(T2[:-1], T2[1:])[1]
+    sin_wrap = float(turn_sines(T2[-1], T2[0])[1]) if closed else 0.0
     wn = np.maximum(W2[:-1], W2[1:])
     e_lo = np.concatenate([[0.0], wn[:-1] * sin2]) + 1e-12 * scale
     e_hi = np.concatenate([wn[1:] * sin2, [0.0]]) + 1e-12 * scale
@@ -509,10 +522,13 @@ def tail_links(g, W, ends):
 def chained_nodes(S, W, closed: bool, scale: float):
     """The polyline S with node half-widths W, with a node added where consecutive trapezoids would
     not chain (module docstring, "Chaining at the nodes"): at a turn θ of node j where both
-    adjacent strips' half-widths change faster than tan(θ/2) per unit length, a node at distance
-    W_j·sin θ (plus rounding) along the next segment, of half-width W_j, makes that strip a
-    rectangle next to the node.  At the closing node of a closed chain the strip with the larger
-    node half-width is made flat there.  Returns (S, W) (new arrays when nodes were added)."""
+    adjacent strips' half-widths change faster than tan(θ/2) per unit length (θ bounded below,
+    :func:`turn_sines`: a turn too small to tell from 0 counts as one), a node at distance
+    W_j·sin θ (θ bounded above, plus rounding) along the next segment, of half-width W_j, makes
+    that strip a rectangle next to the node.  At the closing node of a closed chain the strip
+    with the larger node half-width is made flat there.  Returns (S, W) (new arrays when nodes
+    were added), or (None, None) where such a node does not fit in half a segment (the chain
+    would not be proved to join there)."""
     S = np.asarray(S, float)
     W = np.asarray(W, float)
     for _ in range(len(S) + 2):
@@ -521,29 +537,33 @@ def chained_nodes(S, W, closed: bool, scale: float):
         T = seg / L[:, None]
         k = (W[1:] - W[:-1]) / L                          # slope of each trapezoid's half-width
         cos = np.clip((T[:-1] * T[1:]).sum(1), -1.0, 1.0)
-        sin = np.sqrt(1 - cos ** 2)
-        half = sin / (1 + cos)                           # tan(θ/2)
+        sin_lo, sin_up = turn_sines(T[:-1], T[1:])
+        half = sin_lo / (1 + np.minimum(cos + 4 * EPS, 1.0))        # ≤ tan(θ/2)
         slack = 1 - 1e-9
-        bad = (sin > 0) & (np.minimum(np.abs(k[:-1]), np.abs(k[1:])) * sin > half * sin * slack)
+        bad = np.minimum(np.abs(k[:-1]), np.abs(k[1:])) > half * slack
         add = []                                          # (segment, distance from its start or -end, width)
         for j in np.nonzero(bad)[0].tolist():             # node j + 1, between segments j and j + 1
-            a = W[j + 1] * sin[j] * (1 + 1e-9) + 1e-12 * scale
+            a = W[j + 1] * sin_up[j] * (1 + 1e-9) + 1e-12 * scale
             if a < 0.5 * L[j + 1]:
                 add.append((j + 1, a, W[j + 1]))
             elif a < 0.5 * L[j]:
                 add.append((j, -a, W[j + 1]))
+            else:
+                return None, None
         if closed and len(L) >= 2:
-            cw = float(np.clip(T[-1] @ T[0], -1.0, 1.0))
-            sw = math.sqrt(1 - cw * cw)
-            if sw > 0:
-                wa, wb = float(W[-1]), float(W[0])                # end of the last strip, start of the first
-                ok_ = (wb - abs(k[0]) * wa * sw >= wa * cw) if wa <= wb else (wa - abs(k[-1]) * wb * sw >= wb * cw)
-                if not ok_:
-                    a = min(wa, wb) * sw * (1 + 1e-9) + 1e-12 * scale
-                    if wa <= wb and a < 0.5 * L[0]:
-                        add.append((0, a, wb))
-                    elif wa > wb and a < 0.5 * L[-1]:
-                        add.append((len(L) - 1, -a, wa))
+            cw = min(float(np.clip(T[-1] @ T[0], -1.0, 1.0)) + 4 * EPS, 1.0)
+            sw = float(turn_sines(T[-1], T[0])[1])
+            wa, wb = float(W[-1]), float(W[0])                # end of the last strip, start of the first
+            ok_ = ((wb - abs(k[0]) * wa * sw) * (1 - 1e-12) >= wa * cw) if wa <= wb else \
+                ((wa - abs(k[-1]) * wb * sw) * (1 - 1e-12) >= wb * cw)
+            if not ok_:
+                a = min(wa, wb) * sw * (1 + 1e-9) + 1e-12 * scale
+                if wa <= wb and a < 0.5 * L[0]:
+                    add.append((0, a, wb))
+                elif wa > wb and a < 0.5 * L[-1]:
+                    add.append((len(L) - 1, -a, wa))
+                else:
+                    return None, None
         if not add:
             return S, W
         rows, widths = list(S), list(W)
@@ -552,7 +572,7 @@ def chained_nodes(S, W, closed: bool, scale: float):
             rows.insert(j + 1, x)
             widths.insert(j + 1, w)
         S, W = np.array(rows), np.array(widths)
-    return S, W
+    return None, None
 
 
 def cut_corners(S, cuts, pair):
