@@ -303,17 +303,17 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
     # each module's own tests (found by their imports of it) before the verifier's subset
     ("runtime/voronoi/verify/far_field.py", ["tests/test_far_field.py", "tests/test_far_field_second_order.py"]
      + _FAR_TESTS + _VERIFY_TESTS),
-    ("runtime/voronoi/verify/hull_nesting.py", ["tests/test_nested_container.py"] + _FAR_TESTS + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/hull_nesting.py", ["tests/test_hull_nesting_mutants_s39.py", "tests/test_nested_container.py"] + _FAR_TESTS + _VERIFY_TESTS),
     ("runtime/voronoi/verify/hull_points.py", ["tests/test_hull_candidates_between_samples.py",
                                                "tests/test_proof_inequalities.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/medial_corners.py", ["tests/test_medial_corners.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/mirror_tail.py", ["tests/test_mirror_edge_third_sites.py",
                                                "tests/test_mirror_bisector_tolerance.py"] + _VERIFY_TESTS),
-    ("runtime/voronoi/verify/outcome.py", ["tests/test_problem_records.py"] + _VERIFY_TESTS),
-    ("runtime/voronoi/verify/problems.py", ["tests/test_problem_records.py"] + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/outcome.py", ["tests/test_problems_faulted_sites.py", "tests/test_problem_records.py"] + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/problems.py", ["tests/test_problems_faulted_sites.py", "tests/test_problem_records.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/support.py", ["tests/test_support_table.py", "tests/test_support_function_rounding.py"]
      + _VERIFY_TESTS),
-    ("runtime/voronoi/verify/support_balls.py", ["tests/test_accounting_near_tie_balls.py", "tests/test_tail_near_tie.py"]
+    ("runtime/voronoi/verify/support_balls.py", ["tests/test_support_balls_mutants_s39.py", "tests/test_accounting_near_tie_balls.py", "tests/test_tail_near_tie.py"]
      + _VERIFY_TESTS),
     ("runtime/voronoi/verify/tail_link.py", ["tests/test_far_conics.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/tail.py", ["tests/test_tail_monotone_boundaries.py", "tests/test_far_conics.py",
@@ -321,7 +321,7 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
     ("runtime/voronoi/verify/tied_tail.py", ["tests/test_tied_tail_lateral_sign.py", "tests/test_translate_ties.py",
                                              "tests/test_tied_tails.py", "tests/test_proof_inequalities.py"]
      + _VERIFY_TESTS),
-    ("runtime/voronoi/verify/ties_at_infinity.py", ["tests/test_tied_tails.py", "tests/test_translate_ties.py",
+    ("runtime/voronoi/verify/ties_at_infinity.py", ["tests/test_ties_at_infinity_mutants_s39.py", "tests/test_tied_tails.py", "tests/test_translate_ties.py",
                                                     "tests/test_accounting_near_tie_balls.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/vertices.py", ["tests/test_circle_vertex_boxes.py", "tests/test_cocircular_vertex_box.py",
                                             "tests/test_vertex_reach_closed_balls.py", "tests/test_proof_inequalities.py"]
