@@ -50,6 +50,8 @@ s' ∈ [−e, e] (its extension e ≥ W·sin θ before P) and |λ'| ≤ W·cos �
 there is W + k·s' ≥ W − |k|·W·sin θ for the slope k of its trapezoid, which is at least W·cos θ
 when |k| ≤ tan(θ/2).  Then X lies in strip l + 1, whose arc of β, being the only one there,
 passes through X: the two arcs join.  The same holds with the roles exchanged (strip l's slope).
+(In floats: (T4) puts X at |λ| ≤ W·(1 − 10⁻¹²), a margin far above the rounding of the frames —
+|t| = 1 within a few ulps — and sin θ is bounded from the cross product, :func:`turn_sines`.)
 Where both slopes exceed tan(θ/2) (the cap s = L + e of strip l alone does not lie in the next
 trapezoid: its corner reaches W·(sin²θ + cos θ) > W), :func:`chained_nodes` adds a node at
 distance W·sin θ along strip l + 1 with half-width W (a rectangle next to P, k = 0).  At the

@@ -13,7 +13,11 @@ segment and the vertex boxes).  With f = d_i − d_j:
      monotone along n by Lebourg's mean value theorem;
 (T4) **crossing**: σ·f > 0 on the side λ = +w and σ·f < 0 on the side λ = −w (to first order
      along each side, or to second order, :func:`side_second_order`, where the disc terms of the
-     gradient enclosures exceed |∇f|, far from the sites).
+     gradient enclosures exceed |∇f|, far from the sites).  The sides tested are drawn at
+     λ = ±(w − μ), μ = 10⁻¹²·w + 8u·(|C|₁ + w) (u the unit roundoff, C the piece's centre), so
+     that their float points lie inside |λ| ≤ w·(1 − 10⁻¹²): β crosses every cross-section with
+     that margin, which the chaining at the nodes uses against the rounding of the strips' frames
+     (:mod:`runtime.voronoi.verify.curved`, "Chaining at the nodes").
 
 Then every cross-section s = const meets the bisector β exactly once, so β ∩ Π is one arc, a
 graph over s (continuous: f is continuous and strictly monotone across; the implicit function
@@ -166,8 +170,8 @@ def side_second_order(Qs, t, h, fval, Vi, Vj, Gi, si, Gj, sj, scale):
 class _Pieces(NamedTuple):
     """The trapezoid pieces (seg, [sa, sb]) of a group: job ``jb`` of each, centre C at
     ``sm`` along the segment (unit direction Tn, normal Nn), the radius R of a disc covering the
-    piece, the length ``side_len`` of half a lateral side, its side midpoints Qp, Qm = C ± w·Nn,
-    and the pair (Ip, Jp) of its chain."""
+    piece, the length ``side_len`` of half a lateral side, its side midpoints Qp, Qm = C ± (w − μ)·Nn
+    ((T4) in the module docstring), and the pair (Ip, Jp) of its chain."""
     seg: np.ndarray
     jb: np.ndarray
     sm: np.ndarray
@@ -196,7 +200,8 @@ def _pieces(scale, seg, sa, sb, chains) -> _Pieces:
     w = 0.5 * (wa + wb)                           # half-width at the piece centre
     R = np.hypot(half, np.maximum(wa, wb)) * (1 + 1e-12) + 1e-15 * scale
     side_len = half * np.sqrt(1 + slope[seg] ** 2) * (1 + 1e-12)
-    Qp, Qm = C + w[:, None] * Nn, C - w[:, None] * Nn
+    ws = w - (1e-12 * w + 8 * EPS * (np.abs(C).sum(1) + w))      # (T4): the sides drawn inside
+    Qp, Qm = C + ws[:, None] * Nn, C - ws[:, None] * Nn
     return _Pieces(seg, jb, sm, Tn, Nn, C, R, side_len, Qp, Qm, I[jb], J[jb])
 
 
