@@ -14,7 +14,6 @@ from __future__ import annotations
 from fractions import Fraction as F
 
 import mpmath as mp
-import pytest
 
 from curvedvoronoi.runtime.sites.conic import Conic
 from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
@@ -48,9 +47,6 @@ def test_the_diagram_of_the_symmetric_ellipses_is_proved():
     assert cert.ok and all(cert.vertices) and all(cert.edges)
 
 
-@pytest.mark.xfail(strict=True, reason="symmetric_vertex computes h = 2·|x − p| + 1e-300 with x a float and p a "
-                   "Fraction: float − Fraction is a float subtraction (of float(p) from itself), so h is "
-                   "always 1e-300 and the box misses a rational p that is not a float by up to half an ulp")
 def test_the_box_of_the_symmetric_vertex_holds_its_rational_point():
     sites = _sites()
     D = voronoi(sites, certify=False)

@@ -14,6 +14,8 @@ Public API: :func:`cocircular_vertex`, :func:`symmetric_vertex`, :func:`exact_to
 """
 from __future__ import annotations
 
+from fractions import Fraction
+
 import math
 
 __all__ = ["cocircular_vertex", "symmetric_vertex", "exact_tower_vertex", "exact_emptiness"]
@@ -169,7 +171,10 @@ def symmetric_vertex(v, sites, geoms, problems, VertexInfo):
                         "fixes the reported point)")
         return None
     x, y = float(p[0]), float(p[1])
-    h = max(abs(x - p[0]), abs(y - p[1])) * 2 + 1e-300     # float(p) within an ulp of p
+    # the box's half-width: twice the exact offset of float(p) from p (Fractions: a float minus a
+    # Fraction would be computed in floats, i.e. 0), rounded up
+    off = max(abs(Fraction(x) - p[0]), abs(Fraction(y) - p[1]))
+    h = float(off) * 2 * (1 + 1e-15) + 1e-300
     P = np.array([[x, y]])
     lo = max(float(geoms[s].distance_bounds(P)[0][0]) for s in sites) - 2 * h
     hi = min(float(geoms[s].distance_bounds(P)[1][0]) for s in sites) + 2 * h
