@@ -61,12 +61,13 @@ def check_generated(c, jobs=2):
     print(f"check-generated: OK ({len(ours)} files byte-identical)")
 
 
-@task
-def test(c, quick=False, slow=False, all=False):
+@task(help={"jobs": "test processes side by side (pytest-xdist; 0: one process)"})
+def test(c, quick=False, slow=False, all=False, jobs=2):
     """Run the test suite (pytest): the README/CI selection (not ``slow``), or with ``--slow`` the
-    long checks alone, with ``--all`` everything."""
+    long checks alone, with ``--all`` everything; ``jobs`` processes side by side (pytest-xdist)."""
     marks = "" if all else (' -m slow' if slow else ' -m "not slow"')
-    c.run(f"{sys.executable} -m pytest -q" + marks + (" -x" if quick else ""), pty=False)
+    par = f" -n {int(jobs)}" if int(jobs) > 0 else ""
+    c.run(f"{sys.executable} -m pytest -q" + marks + par + (" -x" if quick else ""), pty=False)
 
 
 @task(help={"only": "substring of the benchmark file name"})
