@@ -971,6 +971,9 @@ SCORE_GROUPS = [
     ("verifier after its split into named steps, runtime/voronoi/verify/*.py (seed-38 sample of 3689)",
      "mutation_verify38_sample.jsonl", "mutation_verify38_rerun*.jsonl", "mutation_verify38_verdicts.json",
      "verify38"),
+    ("verifier modules never sampled since the split, runtime/voronoi/verify/far_field.py … vertices.py "
+     "(17 modules, seed-39 --spread sample of 1636)", "mutation_verify39_sample.jsonl", "mutation_verify39_rerun*.jsonl",
+     "mutation_verify39_verdicts.json", "verify39"),
 ]
 
 
