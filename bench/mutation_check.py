@@ -280,6 +280,10 @@ _SEGMENT_CERT_TESTS = ["tests/test_common_tangent_ties.py", "tests/test_arc_bise
 #: the far field's own tests (accounting at infinity next to unbounded sites, nesting, big circles)
 _FAR_TESTS = ["tests/test_circle_table_big_sites.py", "tests/test_far_field.py", "tests/test_nested_container.py",
               "tests/test_far_conics.py"]
+#: boundary tests of the verifier's rounding allowances (the catch-all subset of the verifier's modules)
+_VERIFY_BOUNDARY_TESTS = ["tests/test_cocircular_vertex_box.py", "tests/test_support_function_rounding.py",
+                          "tests/test_mirror_bisector_tolerance.py", "tests/test_line_bisector_parameter_slack.py",
+                          "tests/test_accounting_near_tie_balls.py", "tests/test_far_field_second_order.py"]
 #: module prefix -> test files run against its mutants (first match wins); files that do not exist
 #: in the copy are left out
 SOUND_TESTS: list[tuple[str, list[str]]] = [
@@ -297,7 +301,8 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
     # strips: the supporting half-planes of (T2) against distances sampled on the disc (~25 s), (T3)
     # against the closed-form derivative along a point bisector
     ("runtime/voronoi/verify/strips.py", ["tests/test_strips_mutants_s38.py", "tests/test_strip_tied_derivative.py",
-                                          "tests/test_strip_support_half_planes.py", "tests/test_strip_chunks.py"]
+                                          "tests/test_strip_side_margin.py", "tests/test_strip_support_half_planes.py",
+                                          "tests/test_strip_chunks.py"]
      + _VERIFY_TESTS),
     # the modules first sampled with seed 39 (--spread over the 17 never sampled since the split):
     # each module's own tests (found by their imports of it) before the verifier's subset
@@ -327,10 +332,11 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
                                             "tests/test_vertex_reach_closed_balls.py", "tests/test_proof_inequalities.py"]
      + _VERIFY_TESTS),
     # the modules' own boundary tests, written for the survivors of the seed-38 sample
-    ("runtime/voronoi/verify/closure.py", ["tests/test_closure_accounting_arcs.py",
-                                           "tests/test_closure_mutants_s38.py"] + _FAR_TESTS + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/closure.py", ["tests/test_closure_accounting_arcs.py", "tests/test_closure_mutants_s38.py",
+                                           "tests/test_verify_fewer_than_two_sites.py"] + _FAR_TESTS + _VERIFY_TESTS),
     ("runtime/voronoi/verify/document.py", ["tests/test_document_mutants_s38.py"] + _VERIFY_TESTS),
-    ("runtime/voronoi/verify/curved.py", ["tests/test_curved_mutants_s38.py"] + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/curved.py", ["tests/test_curved_mutants_s38.py", "tests/test_strip_chaining_tiny_turns.py",
+                                          "tests/test_strip_chaining.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/distance_gap.py", ["tests/test_distance_gap_mutants_s38.py",
                                                 "tests/test_second_order_bounds.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/conic_vertices.py", ["tests/test_conic_vertices_mutants_s38.py"] + _VERIFY_TESTS),
@@ -339,7 +345,15 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
     ("runtime/voronoi/verify/site_table.py", ["tests/test_gradient_enclosure_inside_circle.py",
                                               "tests/test_gradient_enclosure_discs.py", "tests/test_gradient_blocks.py"]
      + _VERIFY_TESTS),
-    ("runtime/voronoi/verify/exact_vertices.py", ["tests/test_exact_vertices_mutants_s38.py"] + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/exact_vertices.py", ["tests/test_exact_vertices_mutants_s38.py", "tests/test_verify_repeated_site.py",
+                                                  "tests/test_symmetric_vertex_box.py"] + _VERIFY_TESTS),
+    # sites given as pairs, the empty diagram, the tails between conics, mirror ellipses beside a
+    # parabola (no support table): the seed-38 stricter survivors (the catch-all's tests kept)
+    ("runtime/voronoi/verify/certificate.py", ["tests/test_verify_site_forms.py", "tests/test_verify_fewer_than_two_sites.py"]
+     + _VERIFY_BOUNDARY_TESTS + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/conic_tail.py", ["tests/test_far_conics.py"] + _VERIFY_BOUNDARY_TESTS + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/curved_edges.py", ["tests/test_mirror_ellipses_beside_a_parabola.py"]
+     + _VERIFY_BOUNDARY_TESTS + _VERIFY_TESTS),
     ("runtime/voronoi/verify/ellipse_normal.py", ["tests/test_ellipse_normal_mutants_s38.py",
                                                   "tests/test_ellipse_normal.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/far_accounting.py", ["tests/test_far_accounting_mutants_s38.py"] + _FAR_TESTS + _VERIFY_TESTS),
@@ -351,10 +365,7 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
     # boundary tests of the verifier's rounding allowances: the box of an exact co-circular vertex,
     # the support functions' mu (also recentred), an edge's stated tolerance (mirror ellipses); the
     # accounting at infinity where only the ball fallback decides, the far field's δ² term
-    ("runtime/voronoi/verify/", ["tests/test_cocircular_vertex_box.py", "tests/test_support_function_rounding.py",
-                                 "tests/test_mirror_bisector_tolerance.py", "tests/test_line_bisector_parameter_slack.py",
-                                 "tests/test_accounting_near_tie_balls.py", "tests/test_far_field_second_order.py"]
-     + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/", _VERIFY_BOUNDARY_TESTS + _VERIFY_TESTS),
     # the verifier run chunk by chunk on Dask workers (a LocalCluster of threads in the tests)
     ("runtime/voronoi/chunked_certificate.py", ["tests/test_chunked_certificate_mutants.py",
                                                 "tests/test_chunked_certificate_ties.py",
