@@ -301,7 +301,8 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
     # strips: the supporting half-planes of (T2) against distances sampled on the disc (~25 s), (T3)
     # against the closed-form derivative along a point bisector
     ("runtime/voronoi/verify/strips.py", ["tests/test_strips_mutants_s38.py", "tests/test_strip_tied_derivative.py",
-                                          "tests/test_strip_side_margin.py", "tests/test_strip_support_half_planes.py",
+                                          "tests/test_strip_side_margin.py", "tests/test_strip_side_conjugate_axis.py",
+                                          "tests/test_strip_support_half_planes.py",
                                           "tests/test_strip_chunks.py"]
      + _VERIFY_TESTS),
     # the modules first sampled with seed 39 (--spread over the 17 never sampled since the split):
