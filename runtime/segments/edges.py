@@ -7,7 +7,7 @@ bisector on which the two sites stay the nearest (a third site takes over at onc
 to a far point outside the scene: at 4 times the sites' extent plus twice the distance of the
 edge's finite vertex from the scene's centre.
 
-Public API: :func:`edge_polylines`, :func:`walk_hint`.
+Public API: :func:`edge_polylines`, :func:`vertex_error`, :func:`walk_hint`.
 """
 from __future__ import annotations
 
@@ -22,7 +22,7 @@ from .distance import clearance, site_distances
 from .ellipse_bisectors import ellipse_step, perpendicular_edge
 from .elementary import ARC, ELLIPSE, POINT, ElementarySites
 
-__all__ = ["edge_polylines", "walk_hint"]
+__all__ = ["edge_polylines", "vertex_error", "walk_hint"]
 
 
 def walk_hint(tri, e):
@@ -98,6 +98,7 @@ def edge_polylines(E: ElementarySites, vertices, walks, tol, lo, hi):
     centre = (lo + hi) / 2
     far_sites = 4 * float(np.max(hi - lo) + 1.0)
     batch = _finite_simple(E, vertices, walks, tol)
+    scale = 1.0 + float(np.max(np.abs(E.A))) if len(E.A) else 1.0
     out = []
     for w, (pair, ends, _hints) in enumerate(walks):
         got = batch.get(w)
@@ -106,8 +107,22 @@ def edge_polylines(E: ElementarySites, vertices, walks, tol, lo, hi):
             if got is None:
                 continue
         i, j = pair
-        out.append(DiagramEdge(len(out), (i, j), tuple(ends), False, got[0], got[1], False))
+        bound = got[1] + max((vertex_error(vertices[e], scale) for e in ends if e is not None), default=0.0)
+        out.append(DiagramEdge(len(out), (i, j), tuple(ends), False, got[0], bound, False))
     return out
+
+
+def vertex_error(v, scale: float) -> float:
+    """The distance between the float vertex ``v`` and the true vertex that the vertex proofs
+    aim at: the batched float Krawczyk test (:mod:`runtime.segments.vertex_batch`) keeps a box
+    of radius ≤ 2⁻⁴⁰ (1 + |x| + |y| + r), and the arb proof
+    (:func:`runtime.segments.vertices.prove_zero`) inflates from 2⁻⁴⁴ (scale + r), ``scale`` =
+    1 + the sites' largest coordinate.  The radius matters: at the centre of a 64-gon of radius
+    10⁴ the vertices near (5, 3) are intersections of nearly parallel lines, known to 10⁻¹⁰,
+    not to 10⁻¹² of |x| + |y|.  Each edge's polyline starts and ends at float vertices, so its
+    stated bound adds this.  A claim, not a proof: the certificate checks every bound with its
+    own vertex boxes and refuses the edge, by name, where it does not hold."""
+    return 2.0 ** -40 * (1.0 + abs(v.x) + abs(v.y) + abs(v.radius)) + 2.0 ** -44 * (scale + abs(v.radius))
 
 
 def _finite_simple(E: ElementarySites, vertices, walks, tol) -> dict:
