@@ -99,6 +99,8 @@ class SegmentEdits:
         parts = _elementary_pieces(site)
         why = "a certify=False update" if not certify else (
             f"a {type(site).__name__} piece" if parts is None else None)
+        if why is None and self.point_uses() is None:
+            why = "an insertion into a diagram with pieces other than points, segments, circular arcs and circles"
         out = why or insert_locally(D, parts, len(self.pieces), self.build, self.index)
         if isinstance(out, str):
             out = self._rebuild(pieces, certify, out)
