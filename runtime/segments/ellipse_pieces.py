@@ -179,17 +179,15 @@ def piece_distance_bounds(P: PieceData, Q):
     G = np.broadcast_to(grid, F.shape)
     lb = _interval_lower(F, L2, np.full(len(Q), h))
     best = F.min(axis=1)
-    low = np.full(len(Q), np.inf)
     rows = np.arange(len(Q))[:, None]
     for _level in range(6):
         # the run of intervals from the first to the last whose bound is below the least value
-        # found (a superset of where the minimum can be), cut in 32
+        # found, cut in 32: the others hold no value below it, and the run holds the sample
+        # that attains it, so the minimum over the piece is the minimum over the run
         below = lb < best[:, None]
         none = ~below.any(axis=1)
         first = np.where(none, np.argmin(lb, axis=1), np.argmax(below, axis=1))
         last = np.where(none, first, lb.shape[1] - 1 - np.argmax(below[:, ::-1], axis=1))
-        inside = (np.arange(lb.shape[1])[None, :] >= first[:, None]) & (np.arange(lb.shape[1])[None, :] <= last[:, None])
-        low = np.minimum(low, np.where(inside, np.inf, lb).min(axis=1))     # the intervals not cut
         G = np.linspace(G[rows[:, 0], first], G[rows[:, 0], last + 1], 33, axis=1)          # ends exact
         hs = np.max(np.diff(G, axis=1), axis=1) * (1 + 1e-12)
         F = _f(W2c, Ac, Bc, a2, b2, G)
@@ -197,7 +195,7 @@ def piece_distance_bounds(P: PieceData, Q):
         lb = _interval_lower(F, L2, hs)
     _d, phi = piece_feet(P, Q)                       # a point of the piece near the minimum
     best = np.minimum(best, _f(W2, A, B, a2, b2, phi))
-    low = np.minimum(low, lb.min(axis=1)) - err
+    low = lb.min(axis=1) - err
     lo = np.sqrt(np.maximum(low, 0.0)) * (1 - 4 * _U)
     hi = np.sqrt(np.maximum(best + err, 0.0)) * (1 + 4 * _U)
     return lo, hi
