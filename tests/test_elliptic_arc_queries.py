@@ -126,12 +126,20 @@ def test_the_interval_bound_holds_on_a_coarse_grid():
     from curvedvoronoi.runtime.segments.ellipse_pieces import _coords, _f, _interval_lower
 
     rng = np.random.default_rng(11)
-    tight = 0
+    cases = []
     for _ in range(30):
         M = (int(rng.integers(1, 9)), int(rng.integers(-5, 6)))
         arc = cv.Arc.elliptic((0, 0), M, f"{rng.integers(1, 9)}/10", 0.1, 1.4)
+        cases.append((arc, np.array([float(arc.a[0]), float(arc.a[1])]) * rng.uniform(0.2, 3) + rng.normal(size=2)))
+    for M, k in (((4, 0), "1/4"), ((3, 4), "1/5"), ((6, -1), "1/3")):
+        # q near the centre, q − c = 0.2(a² − b²) M/a²: an interior minimum near φ = π/2 − 0.2, where
+        # f'' ≈ 1.9(a² − b²) against L₂ = 2.4(a² − b²): the (b² − a²) term of L₂ is what bounds it
+        arc = cv.Arc.elliptic((0, 0), M, k, 0.9, math.pi / 2)
+        a2 = M[0] ** 2 + M[1] ** 2
+        cases.append((arc, 0.2 * (1 - float(Fraction(k)) ** 2) * np.array(M, float)))
+    tight = 0
+    for arc, q in cases:
         P = PieceData.of(arc.pieces()[0])
-        q = np.array([float(arc.a[0]), float(arc.a[1])]) * rng.uniform(0.2, 3) + rng.normal(size=2)
         W2, A, B, a2, b2 = _coords(P, [q])
         L2 = 2 * np.abs(A) + 2 * np.abs(B) + 2 * abs(b2 - a2)
         grid = np.linspace(P.phi0, P.phi1, 65)
