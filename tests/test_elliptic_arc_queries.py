@@ -132,11 +132,14 @@ def test_the_interval_bound_holds_on_a_coarse_grid():
         arc = cv.Arc.elliptic((0, 0), M, f"{rng.integers(1, 9)}/10", 0.1, 1.4)
         cases.append((arc, np.array([float(arc.a[0]), float(arc.a[1])]) * rng.uniform(0.2, 3) + rng.normal(size=2)))
     for M, k in (((4, 0), "1/4"), ((3, 4), "1/5"), ((6, -1), "1/3")):
-        # q near the centre, q − c = 0.2(a² − b²) M/a²: an interior minimum near φ = π/2 − 0.2, where
-        # f'' ≈ 1.9(a² − b²) against L₂ = 2.4(a² − b²): the (b² − a²) term of L₂ is what bounds it
+        # q near the centre on the major axis, q − c = (1 − k²) cos φ* · M: f'(φ*) = 0 at the midpoint
+        # φ* of the grid's interval nearest π/2 − 0.2, where f'' ≈ 1.9(a² − b²) against
+        # L₂ ≈ 2.4(a² − b²): the (b² − a²) term of L₂ is what bounds it
         arc = cv.Arc.elliptic((0, 0), M, k, 0.9, math.pi / 2)
-        a2 = M[0] ** 2 + M[1] ** 2
-        cases.append((arc, 0.2 * (1 - float(Fraction(k)) ** 2) * np.array(M, float)))
+        grid = np.linspace(*arc.parameters(), 65)
+        mids = (grid[:-1] + grid[1:]) / 2
+        phi = mids[np.argmin(np.abs(mids - (math.pi / 2 - 0.2)))]
+        cases.append((arc, (1 - float(Fraction(k)) ** 2) * math.cos(phi) * np.array(M, float)))
     tight = 0
     for arc, q in cases:
         P = PieceData.of(arc.pieces()[0])
