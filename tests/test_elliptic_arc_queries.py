@@ -123,7 +123,7 @@ def test_the_interval_bound_holds_on_a_coarse_grid():
     its smaller end value − L₂h²/8 with L₂ = 2|A| + 2|B| + 2|b² − a²| (f'' at most L₂).  Checked
     on 65-point grids against 400 samples of each interval; some intervals hold an interior minimum
     where the bound is within a factor 2 of the true gap, so a bound 10 times smaller fails."""
-    from curvedvoronoi.runtime.segments.ellipse_pieces import _coords, _f, _interval_lower
+    from curvedvoronoi.runtime.segments.ellipse_pieces import _coords, _f, _interval_lower, _second_derivative_bound
 
     rng = np.random.default_rng(11)
     cases = []
@@ -144,7 +144,7 @@ def test_the_interval_bound_holds_on_a_coarse_grid():
     for arc, q in cases:
         P = PieceData.of(arc.pieces()[0])
         W2, A, B, a2, b2 = _coords(P, [q])
-        L2 = 2 * np.abs(A) + 2 * np.abs(B) + 2 * abs(b2 - a2)
+        L2 = _second_derivative_bound(A, B, a2, b2)
         grid = np.linspace(P.phi0, P.phi1, 65)
         h = float(np.max(np.diff(grid)))
         lb = _interval_lower(_f(W2[:, None], A[:, None], B[:, None], a2, b2, grid[None, :]), L2, np.array([h]))[0]

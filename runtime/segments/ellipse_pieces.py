@@ -147,6 +147,11 @@ def piece_distances(P: PieceData, Q):
 _U = 2.0 ** -53
 
 
+def _second_derivative_bound(A, B, a2, b2):
+    """L₂ ≥ |f''| = |2A cos φ + 2B sin φ + 2(b² − a²) cos 2φ| for every φ (floats, inflated)."""
+    return (2 * np.abs(A) + 2 * np.abs(B) + 2 * abs(b2 - a2)) * (1 + 1e-12)
+
+
 def _interval_lower(F, L2, h):
     """Per row and interval of a grid with steps ≤ h: min of f over the interval ≥ min of its two
     end values − max|f''| h²/8 (the interpolation remainder f''(ξ)/2 (φ − g₀)(φ − g₁))."""
@@ -170,7 +175,7 @@ def piece_distance_bounds(P: PieceData, Q):
     W2c, Ac, Bc = W2[:, None], A[:, None], B[:, None]
     c, _M, _N = P.floats()
     L1 = (2 * np.abs(A) + 2 * np.abs(B) + abs(b2 - a2)) * (1 + 1e-12)
-    L2 = (2 * np.abs(A) + 2 * np.abs(B) + 2 * abs(b2 - a2)) * (1 + 1e-12)
+    L2 = _second_derivative_bound(A, B, a2, b2)
     size = np.abs(Q).sum(axis=1) + abs(c[0]) + abs(c[1]) + math.sqrt(a2) + math.sqrt(b2)
     err = 64 * _U * size * size + L1 * 16 * _U * (1 + abs(P.phi0) + abs(P.phi1))
     grid = np.linspace(P.phi0, P.phi1, 65)
