@@ -158,14 +158,15 @@ def test_the_interval_bound_holds_on_a_coarse_grid():
 
 
 def test_near_ties_of_a_piece_and_a_point_are_decided_by_balls(diagram):
-    """Query points where the piece is nearer than the point site (4, 0) by ±10⁻¹⁰: the float
-    bounds cannot separate them, the balls can; the answer is the nearer one, proved."""
+    """Query points where the piece is nearer than the point site (4, 0) by ±3·10⁻¹⁴ (the float
+    reference is good to ~10⁻¹⁵): the float bounds (rounding ~10⁻¹³ here) cannot separate them,
+    the balls can; the answer is the nearer one, proved."""
     k = next(k for k, s in enumerate(diagram.sites) if isinstance(s, EllipticArc) and s.parameters()[0] < 0.3)
     j = next(j for j, s in enumerate(diagram.sites) if not isinstance(s, EllipticArc) and (s.cx, s.cy) == (4, 0))
     arc = diagram.sites[k]
     S = np.array([4.0, 0.0])
     for y in (1.0, 1.2):            # above the normal at the start (1.96, 0.2): the foot is inside
-        for delta, want in ((1e-10, k), (-1e-10, j)):
+        for delta, want in ((3e-14, k), (-3e-14, j)):
             lo, hi = 2.0, 4.0               # d(q, point) − d(q, arc) − δ changes sign along y = const
             for _ in range(200):
                 x = (lo + hi) / 2
@@ -173,6 +174,8 @@ def test_near_ties_of_a_piece_and_a_point_are_decided_by_balls(diagram):
                 g = np.hypot(*(q[0] - S)) - float(float_reference(arc, q)[0]) - delta
                 lo, hi = (x, hi) if g > 0 else (lo, x)
             q = np.array([[lo, y]])
+            lo_b, hi_b = diagram.site_distance(q, [k, j], bounds=True)
+            assert lo_b[0, 0] < hi_b[0, 1] and lo_b[0, 1] < hi_b[0, 0]       # a near tie for the floats
             got = diagram.nearest(q)
             assert got.proved[0] and got.index[0] == want, (y, delta, got)
 
