@@ -234,3 +234,18 @@ def test_inserting_into_a_diagram_with_elliptic_arcs_rebuilds_it():
     batch = cv.voronoi([arc] + RING[:4] + [(-3, -3)], certify=True)
     assert e.certified == batch.certified
     assert sorted(e.delaunay_edges()) == sorted(batch.delaunay_edges())
+
+
+def test_an_exact_tie_with_a_point_that_is_not_an_end_stays_a_tie():
+    """q = (0, −1/4) on the minor axis of x²/4 + y² = 1, whose vertex (0, 1) (the joint of the arc's
+    two pieces, not a site) is its nearest point on the arc (radius of curvature 4): d = 5/4, and
+    the point site (0, −3/2) is at 5/4 too.  The distances cannot be told apart, and no end of a
+    piece is that point: an undecided tie, never a proved answer."""
+    arc = cv.Arc.elliptic((0, 0), (2, 0), "1/2", 0.2, 2.5)
+    d = cv.voronoi([arc, (0, -1.5), (4, 0), (-4, 1)], certify=False)
+    got = d.nearest(np.array([[0.0, -0.25], [0.0, 0.25]]))
+    j = next(j for j, s in enumerate(d.sites) if not isinstance(s, EllipticArc) and Fraction(str(s.cy)) == Fraction(-3, 2))
+    assert not got.proved[0] and got.index[0] == -1 and j in got.ties[0], got
+    assert len(got.ties[0]) >= 2 and any(isinstance(d.sites[t], EllipticArc) for t in got.ties[0])
+    # (0, 1/4): the two pieces at 3/4 through their common joint, on the joint's normal, their edge
+    assert not got.proved[1] and all(isinstance(d.sites[t], EllipticArc) for t in got.ties[1])
