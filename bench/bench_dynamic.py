@@ -512,7 +512,8 @@ def main():
             res = circles_case(int(n), args.k, certify=not args.uncertified, queries=args.queries,
                                cache=args.cache, inplace=args.inplace)
         elif kind == "segments":
-            res = segments_case(int(n), args.segment_k, deletes=args.segment_deletes)
+            res = segments_case(int(n), args.segment_k, deletes=args.segment_deletes,
+                                final_batch=not args.no_final_batch)
         elif kind == "arcs":
             res = segments_case(int(n), args.arc_k, seed=args.arc_seed, deletes=args.arc_deletes, kind="arcs",
                                 interior=args.arc_interior,
