@@ -210,15 +210,21 @@ def _boundary_chords(sites) -> np.ndarray:
     return np.array(out, dtype=float).reshape(-1, 2, 2)
 
 
-def _inside(boundary: np.ndarray, Q: np.ndarray) -> np.ndarray:
+def _inside(boundary: np.ndarray, Q: np.ndarray, *, block: int = 1 << 22) -> np.ndarray:
     """Even–odd rule: points Q (m × 2) strictly inside the region bounded by the segments
-    ``boundary`` (k × 2 × 2) — outer ring and holes together."""
+    ``boundary`` (k × 2 × 2) — outer ring and holes together.  The m × k crossing tests go by
+    blocks of rows of at most ``block`` entries (an arc is 256 chords: the 7 802 probes of the gear
+    with 102 bulge arcs against its 28 012 chords took 3.7 GB at once); each row is computed as before."""
     A, B = boundary[:, 0], boundary[:, 1]
-    x, y = Q[:, 0][:, None], Q[:, 1][:, None]
-    cond = (A[:, 1][None, :] > y) != (B[:, 1][None, :] > y)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        xc = A[:, 0][None, :] + (y - A[:, 1][None, :]) * (B[:, 0] - A[:, 0])[None, :] / (B[:, 1] - A[:, 1])[None, :]
-    return (np.sum(cond & (x < xc), axis=1) % 2) == 1
+    out = np.zeros(len(Q), bool)
+    rows = max(1, block // max(1, len(A)))
+    for lo in range(0, len(Q), rows):
+        x, y = Q[lo:lo + rows, 0][:, None], Q[lo:lo + rows, 1][:, None]
+        cond = (A[:, 1][None, :] > y) != (B[:, 1][None, :] > y)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            xc = A[:, 0][None, :] + (y - A[:, 1][None, :]) * (B[:, 0] - A[:, 0])[None, :] / (B[:, 1] - A[:, 1])[None, :]
+        out[lo:lo + rows] = (np.sum(cond & (x < xc), axis=1) % 2) == 1
+    return out
 
 
 def medial_axis(outer, holes=(), *, certify: bool = True, tolerance: float | None = None) -> MedialAxis:
