@@ -249,3 +249,24 @@ def test_an_exact_tie_with_a_point_that_is_not_an_end_stays_a_tie():
     assert len(got.ties[0]) >= 2 and any(isinstance(d.sites[t], EllipticArc) for t in got.ties[0])
     # (0, 1/4): the two pieces at 3/4 through their common joint, on the joint's normal, their edge
     assert not got.proved[1] and all(isinstance(d.sites[t], EllipticArc) for t in got.ties[1])
+
+
+def test_bounding_boxes_hold_the_arcs_extreme_points():
+    """The query index prunes by the discs of these boxes, so they must hold the whole curve: the
+    circular arc from −10° to 10° of radius 64 reaches x = 64 at 0° (between samples 0.87° apart),
+    the elliptic piece from 0.2 to 1.3 of (x/2)² + y² = 1 has its extremes at its ends, and a
+    half ellipse from −π/2 to π/2 reaches x = 2 at its major vertex; against dense samples."""
+    from curvedvoronoi.runtime.segments.geometry import ArcGeometry, EllipticArcGeometry
+
+    g = ArcGeometry(cv.Arc.circular((0, 0), 64, -10, 10))
+    assert g.bounding_box()[2] >= 64
+    for geom in (g, ArcGeometry(cv.Arc.circular((3, -2), 5, 100, 350)),
+                 EllipticArcGeometry(cv.Arc.elliptic((0, 0), (2, 0), "1/2", 0.2, 1.3)),
+                 EllipticArcGeometry(cv.Arc.elliptic((1, 1), (3, 4), "1/3", -math.pi / 2, math.pi / 2))):
+        x0, y0, x1, y1 = geom.bounding_box()
+        P = geom.samples(1e-4)
+        assert (P[:, 0] >= x0).all() and (P[:, 0] <= x1).all() and (P[:, 1] >= y0).all() and (P[:, 1] <= y1).all()
+        if not (isinstance(geom, EllipticArcGeometry) and geom.exact.M[1] != 0):   # (rotated frames: a looser box)
+            assert max(P[:, 0].min() - x0, x1 - P[:, 0].max(), P[:, 1].min() - y0, y1 - P[:, 1].max()) < 1e-6
+    x0, y0, x1, y1 = EllipticArcGeometry(cv.Arc.elliptic((0, 0), (2, 0), "1/2", -math.pi / 2, math.pi / 2)).bounding_box()
+    assert x1 >= 2 and y0 <= -1 and y1 >= 1 and x0 <= 0 < x0 + 1e-12

@@ -26,6 +26,13 @@ from .ellipse_pieces import PieceData, closest_at_an_end, piece_distance_ball, p
 __all__ = ["SegmentGeometry", "ArcGeometry", "EllipticArcGeometry"]
 
 
+def _outward(box):
+    """An exact box (x0, y0, x1, y1) as floats rounded outwards (4 ulps of its largest coordinate)."""
+    out = [float(v) for v in box]
+    pad = 4 * np.finfo(float).eps * max(1.0, max(abs(v) for v in out))
+    return (out[0] - pad, out[1] - pad, out[2] + pad, out[3] + pad)
+
+
 class SegmentGeometry:
     """The open interior of a :class:`runtime.sites.segment.Segment` site seen as a site geometry:
     its distance is the distance to the closed segment, evaluated by
@@ -76,8 +83,13 @@ class ArcGeometry(SegmentGeometry):
         self.C, self.A, self.B = np.array(c, float), np.array(a, float), np.array(b, float)
 
     def bounding_box(self):
-        P = self.samples(self.rho / 64)
-        return (*P.min(axis=0).tolist(), *P.max(axis=0).tolist())
+        """The box of the arc's ends and of the points c ± ρ e_x, c ± ρ e_y its angular range
+        holds, exact, then rounded outwards (samples would miss an extreme point by a sagitta)."""
+        arc = self.exact
+        pts = [arc.a, arc.b] + [(arc.c[0] + ux * arc.rho, arc.c[1] + uy * arc.rho)
+                                for ux, uy in VERTEX_DIRECTIONS if arc.contains_direction((ux, uy))]
+        return _outward([min(p[0] for p in pts), min(p[1] for p in pts), max(p[0] for p in pts),
+                         max(p[1] for p in pts)])
 
     def distance(self, P):
         P = np.asarray(P, float).reshape(-1, 2)
@@ -117,7 +129,8 @@ class EllipticArcGeometry:
 
     def bounding_box(self):
         """The box of c + [cos φ]·M + [sin φ]·N with the ranges of cos φ and sin φ over the arc
-        (its ends and the frame's vertex directions inside it), exact, then rounded outwards."""
+        (its ends and the frame's vertex directions inside it), exact, then rounded outwards: the
+        box of a parallelogram holding the arc, tight for axis-parallel frames, looser for others."""
         arc = self.exact
         us = [arc.ua, arc.ub] + [d for d in VERTEX_DIRECTIONS if arc.contains_direction(d)]
         lo_c, hi_c = min(u[0] for u in us), max(u[0] for u in us)
@@ -126,9 +139,7 @@ class EllipticArcGeometry:
         for k in (0, 1):
             terms = [(lo_c * arc.M[k], hi_c * arc.M[k]), (lo_s * arc.N[k], hi_s * arc.N[k])]
             box.append((Fraction(arc.c[k]) + sum(min(t) for t in terms), Fraction(arc.c[k]) + sum(max(t) for t in terms)))
-        out = [float(box[0][0]), float(box[1][0]), float(box[0][1]), float(box[1][1])]
-        pad = 4 * np.finfo(float).eps * max(1.0, max(abs(v) for v in out))
-        return (out[0] - pad, out[1] - pad, out[2] + pad, out[3] + pad)
+        return _outward([box[0][0], box[1][0], box[0][1], box[1][1]])
 
     def distance(self, P):
         P = np.asarray(P, float).reshape(-1, 2)
