@@ -101,7 +101,7 @@ class SegmentEdits:
             f"a {type(site).__name__} piece" if parts is None else None)
         if why is None and self.point_uses() is None:
             why = "an insertion into a diagram with pieces other than points, segments, circular arcs and circles"
-        out = why or insert_locally(D, parts, len(self.pieces), self.build, self.index)
+        out = why or insert_locally(D, parts, len(self.pieces), self.build, self.index, inplace=inplace)
         if isinstance(out, str):
             out = self._rebuild(pieces, certify, out)
         else:

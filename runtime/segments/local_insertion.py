@@ -80,7 +80,7 @@ import numpy as np
 from ..voronoi.site_input import SiteError
 from .crossings import check_pieces
 from .local_update import (EditIndex, KeptVertices, Splice, changed_part_holds, conflicts, curve_ends, editable, leaving,
-                           local_diagram, local_result, opposite, point_key, site_box, site_key, with_joint_partners)
+                           kept_parts, local_diagram, local_result, opposite, point_key, site_box, site_key, with_joint_partners)
 
 __all__ = ["insert_locally"]
 
@@ -88,12 +88,13 @@ __all__ = ["insert_locally"]
 RING = 1.0
 
 
-def insert_locally(D, piece, source: int, build, index=None):
+def insert_locally(D, piece, source: int, build, index=None, inplace: bool = False):
     """The diagram ``D`` (certified, points, segments, arcs) with ``piece`` (a Segment, Arc or Point;
     or a list of them from one input piece: a circle's two halves) added, updated locally and proved
     (module docstring); or a str: why not (then rebuild).
     ``index``: D's :class:`runtime.segments.local_update.EditIndex` from the previous edit, if any;
-    the result carries its own as ``edit_index``."""
+    the result carries its own as ``edit_index``.  ``inplace``: D's lists of vertices and edges are
+    edited in place once the change is proved (they become the result's)."""
     t0 = time.perf_counter()
     secs: dict = {}
     parts = list(piece) if isinstance(piece, list) else [piece]
@@ -146,8 +147,8 @@ def insert_locally(D, piece, source: int, build, index=None):
     if why is not None:
         return why
     secs["prove"] = time.perf_counter() - t3
-    vertices = [v for v, k in zip(D.vertices, keep.tolist()) if k] + sp.vertices
-    edges = [e for e, k in zip(D.edges, keep_e.tolist()) if k] + sp.edges
+    vertices = kept_parts(D.vertices, keep, sp.vertices, inplace)       # nothing fails after this
+    edges = kept_parts(D.edges, keep_e, sp.edges, inplace)
     out = local_result(D, sites, vertices, edges, sp, new_index, len(cv_), len(hood), secs)
     out.sources = list(D.sources) + [source] * len(new_sites)
     return out
