@@ -170,7 +170,7 @@ class EllipticArcGeometry:
     def samples(self, spacing, window=None):
         """Points of the arc at most ``spacing`` apart along it (|e'| ≤ max(|M|, |N|))."""
         n = max(2, int(np.ceil(self.speed * self.span / max(spacing, 1e-300))) + 1)
-        _c, _M, _N, p0, p1 = self.exact.float_data()
+        c, M, N, p0, p1 = self.exact.float_data()
         phi = np.linspace(p0, p1, n)
-        c, M, N = (np.array(v, float) for v in self.exact.float_data()[:3])
+        c, M, N = (np.array(v, float) for v in (c, M, N))
         return c + np.cos(phi)[:, None] * M + np.sin(phi)[:, None] * N
