@@ -99,6 +99,7 @@ def edge_polylines(E: ElementarySites, vertices, walks, tol, lo, hi):
     far_sites = 4 * float(np.max(hi - lo) + 1.0)
     batch = _finite_simple(E, vertices, walks, tol)
     scale = 1.0 + float(np.max(np.abs(E.A))) if len(E.A) else 1.0
+    error = [vertex_error(v, scale) for v in vertices]
     out = []
     for w, (pair, ends, _hints) in enumerate(walks):
         got = batch.get(w)
@@ -107,7 +108,7 @@ def edge_polylines(E: ElementarySites, vertices, walks, tol, lo, hi):
             if got is None:
                 continue
         i, j = pair
-        bound = got[1] + max((vertex_error(vertices[e], scale) for e in ends if e is not None), default=0.0)
+        bound = got[1] + max((error[e] for e in ends if e is not None), default=0.0)
         out.append(DiagramEdge(len(out), (i, j), tuple(ends), False, got[0], bound, False))
     return out
 
