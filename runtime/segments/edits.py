@@ -45,7 +45,11 @@ EditIndex` (keys, boxes, vertex and edge arrays); both are built at the first ed
 batch-built diagram (linear in N) and then updated by each local edit.  A local deletion moves the
 last remaining elementary sites into the deleted ones' places
 (:func:`runtime.segments.local_deletion.site_moves`); ``sources[k]`` is renumbered with the
-pieces, and a kept endpoint whose piece was deleted takes the first remaining piece ending there.
+pieces (``"last"``: the moved piece's few sites; ``"shift"``: every source above i, one numpy pass
+over the list, the one step of a deletion linear in N by its definition), and a kept endpoint
+whose piece was deleted takes the first remaining piece ending there (read from the curves ending
+there when they account for all its uses, else a scan of the pieces).  With ``inplace=True`` the
+diagram's lists and the state's point counts are edited once the update is proved.
 
 Public API: :class:`SegmentEdits`.
 """
@@ -63,7 +67,7 @@ from ..sites.arc import Arc, circle_halves
 from ..sites.segment import Segment, as_point_pair
 from .local_deletion import delete_locally, site_moves
 from .local_insertion import insert_locally
-from .local_update import EditIndex, curve_ends, leaving, opposite, point_key, site_key
+from .local_update import EditIndex, curve_ends, curves_ending_at, leaving, opposite, point_key, site_key
 
 __all__ = ["SegmentEdits"]
 
@@ -107,7 +111,7 @@ class SegmentEdits:
         else:
             uses = self.point_uses()
             if uses is not None:
-                uses = uses.copy()
+                uses = uses if inplace else uses.copy()
                 uses.update(_points(site))
             out.construction = SegmentEdits(pieces, self.build, getattr(out, "edit_index", None), uses)
         out.stats["update_input"] = len(self.pieces)
@@ -131,14 +135,15 @@ class SegmentEdits:
             rest[i] = rest.pop()
         else:
             del rest[i]
-        out = self._delete_locally(D, i, rest, moved) if certify else "a certify=False update"
+        out = self._delete_locally(D, i, rest, moved, inplace) if certify else "a certify=False update"
         if isinstance(out, str):
             out = self._rebuild(rest, certify, out)
         out.stats["update_input"] = i
         return _deliver(D, out, inplace)
 
-    def _delete_locally(self, D, i: int, rest: list, moved: bool):
-        """The local route of :meth:`delete`: a Diagram, or a str (why not)."""
+    def _delete_locally(self, D, i: int, rest: list, moved: bool, inplace: bool):
+        """The local route of :meth:`delete`: a Diagram, or a str (why not; D untouched).
+        ``inplace``: D's lists (sites, vertices, edges, sources) are edited once the change is proved."""
         uses = self.point_uses()
         parts = _elementary_pieces(self.pieces[i])
         if uses is None or parts is None or D.sources is None:
@@ -158,28 +163,39 @@ class SegmentEdits:
         for p in set(pts):
             if uses[p] == 3 and _straight_after(D, index, p, own):
                 return "the deletion joins two segments straight or two curves smoothly at a point"
+        n = len(D.sites)
+        last_keys = _site_keys(self.pieces[-1]) if moved else []
         if deleted:
-            out = delete_locally(D, deleted, self.build, index)
+            out = delete_locally(D, deleted, self.build, index, inplace=inplace)
             if isinstance(out, str):
                 return out
         else:                                            # the sites stay: only the sources change
             out = dataclasses.replace(D, construction=None)
             out.stats = dict(D.stats, update="local")
             out.edit_index = index
-        survivors = np.arange(len(D.sites))
-        for a, b in site_moves(len(D.sites), deleted).items():
-            survivors[b] = a
-        survivors = survivors[:len(D.sites) - len(deleted)]
-        old = np.asarray(D.sources, dtype=np.int64)[survivors]
-        last = len(self.pieces) - 1
-        new = np.where(old == last, i, old) if moved else np.where(old > i, old - 1, old)
-        for k in np.nonzero(old == i)[0].tolist():       # a kept endpoint of the deleted piece
-            new[k] = _first_user(rest, D.sites[survivors[k]])
-        sources = new.tolist()
+        new_uses = uses if inplace else uses.copy()
+        for p in pts:
+            new_uses[p] -= 1
+            if new_uses[p] <= 0:
+                del new_uses[p]
+        new_keys = out.edit_index.keys
+        sources = D.sources if inplace else list(D.sources)
+        for a, b in site_moves(n, deleted).items():
+            sources[b] = sources[a]
+        del sources[n - len(deleted):]
+        at_i = [k for k in (new_keys.get(p) for p in pts) if k is not None and sources[k] == i]
+        if moved:                                        # the last piece takes index i
+            for k in (new_keys.get(q) for q in last_keys):
+                if k is not None and sources[k] == len(self.pieces) - 1:
+                    sources[k] = i
+        elif i < len(self.pieces) - 1:                   # shift: every piece above i moves down (one numpy pass)
+            arr = np.asarray(sources, dtype=np.int64)
+            arr -= arr > i
+            sources[:] = arr.tolist()
+        for k in at_i:                                   # a kept endpoint of the deleted piece
+            sources[k] = _first_user(rest, out.sites[k], out.edit_index, out.sites, sources, new_uses)
         out.sources = sources
-        new_uses = uses.copy()
-        new_uses.subtract(pts)
-        out.construction = SegmentEdits(rest, self.build, getattr(out, "edit_index", None), +new_uses)
+        out.construction = SegmentEdits(rest, self.build, getattr(out, "edit_index", None), new_uses)
         return out
 
     def _rebuild(self, pieces, certify, why):
@@ -210,9 +226,22 @@ def _straight_after(D, index, p, own) -> bool:
     return len(dirs) == 2 and opposite(*dirs)
 
 
-def _first_user(pieces, site) -> int:
-    """The first of ``pieces`` that has the point site ``site`` (an end of it, or itself)."""
+def _site_keys(piece) -> list:
+    """The keys of the elementary sites an input piece can be the source of: its curves and its points."""
+    parts = _elementary_pieces(piece) or []
+    return [site_key(q) for q in parts if isinstance(q, (Segment, Arc))] + (_points(piece) or [])
+
+
+def _first_user(pieces, site, index, sites, sources, uses) -> int:
+    """The first of ``pieces`` that has the point site ``site`` (an end of it, or itself).  Read
+    from the curves ending there (their ``sources``, through the edit ``index`` of ``sites``) when
+    those account for all ``uses`` of the point; else a scan of the pieces."""
     key = site_key(site)
+    P = (Fraction(key[1], key[2]), Fraction(key[3], key[4]))
+    found = {sources[k] for k in curves_ending_at(index, sites, P)}
+    found = {j for j in found if key in (_points(pieces[j]) or ())}
+    if found and len(found) == uses.get(key, 0):
+        return min(found)
     return next(j for j, q in enumerate(pieces) if key in (_points(q) or ()))
 
 

@@ -64,11 +64,16 @@ remaining site (a curve of the neighbourhood whose joint partner is missing) is 
 Numbering: the remaining sites keep their numbers except the last ones, which move into the
 deleted sites' places (:func:`site_moves`, as ``renumber="last"`` does for point sites), so that
 only the few vertices and edges of the moved sites are renumbered; vertex and edge ids are kept,
-new ones take fresh ids.  The caller sets ``sources``.  Cost: the conflict test, the neighbourhood,
-the edges at the changed vertices and the index are numpy passes over the
-:class:`runtime.segments.local_update.EditIndex` carried from the previous edit; the local diagram
-and the proof see the neighbourhood only; what stays linear in N is the copy of the vertex, edge
-and site lists (list work, no objects rebuilt).
+new ones take fresh ids.  The caller sets ``sources``.  The proof (step 3) runs in the old
+numbering, against the sites of S but Δ: it is a statement about point sets, and the numbering
+the sites carry does not enter it; only then are the sites moved, so a refused deletion leaves
+the diagram as it was.  Cost: the conflict test (distances on the circles near Δ only,
+:func:`runtime.segments.local_update.conflict_mask`), the neighbourhood, the edges at the changed
+vertices, the rows of the moved sites and the spliced index are numpy passes over the
+:class:`runtime.segments.local_update.EditIndex` carried from the previous edit (table gathers and
+block copies, no Python loop over the parts); the local diagram and the proof see the neighbourhood
+only.  With ``inplace`` the lists are edited (the removed parts deleted, the renumbered ones
+replaced, the new ones appended: a few memmoves) instead of copied.
 
 Public API: :func:`delete_locally` (the returned diagram carries its ``edit_index``), :func:`site_moves`.
 """
@@ -80,8 +85,8 @@ from typing import NamedTuple
 import numpy as np
 
 from ..voronoi.structure import DiagramEdge, DiagramVertex
-from .local_update import (EditIndex, KeptVertices, Splice, changed_part_holds, conflicts, editable, local_diagram, local_result,
-                           site_key, smallest_first, with_joint_partners)
+from .local_update import (EditIndex, KeptVertices, Splice, changed_part_holds, conflict_mask, conflicts, editable, kept_parts,
+                           listing, local_diagram, local_result, site_key, smallest_first, with_joint_partners)
 
 __all__ = ["delete_locally", "site_moves"]
 
@@ -102,19 +107,26 @@ class Hole(NamedTuple):
     """The changed part of a deletion (step 1 of the module docstring): the ``conflict`` mask and
     its ``rows`` (the removed vertices), ``keep_e`` (the edges that stay), the kept vertices that
     lost an edge (``touched``, ids), the site pairs of the gone edges between remaining sites
-    (``gone_pairs``, sorted) and the remaining sites of gone edges (``neighbours``)."""
+    (``gone_pairs``, sorted), the remaining sites of gone edges (``neighbours``), the kept edges
+    at the touched vertices (``at_touched``, rows) and the rows whose circle may meet a deleted
+    site (``near``, :meth:`runtime.segments.local_update.EditIndex.circles_near`)."""
     conflict: np.ndarray
     rows: np.ndarray
     keep_e: np.ndarray
     touched: set
     gone_pairs: set
     neighbours: set
+    at_touched: list
+    near: np.ndarray
 
 
-def delete_locally(D, deleted, build, index=None):
+def delete_locally(D, deleted, build, index=None, inplace: bool = False):
     """The diagram ``D`` (certified, points, segments, arcs) without the elementary sites ``deleted``
     (indices), updated locally and proved (module docstring); or a str: why not (then rebuild).
-    ``index``: D's :class:`runtime.segments.local_update.EditIndex` from the previous edit, if any."""
+    ``index``: D's :class:`runtime.segments.local_update.EditIndex` from the previous edit, if any.
+    ``inplace``: D's lists of sites, vertices and edges and the index's keys and boxes are edited in
+    place once the change is proved (they become the result's); D is untouched when a str is
+    returned."""
     t0 = time.perf_counter()
     secs: dict = {}
     got = _admissible(D, deleted, index)
@@ -138,18 +150,17 @@ def delete_locally(D, deleted, build, index=None):
     if isinstance(sp, str):
         return sp
     secs["splice"] = time.perf_counter() - t2
-    # 3. renumbering (the last remaining sites move into the deleted ones' places) and proof
+    # 3. proof, in the old numbering against the remaining sites
     t3 = time.perf_counter()
-    got = _renumbered(D, index, gone, hole, sp)
-    if isinstance(got, str):
-        return got
-    sites, vertices, edges, new_index = got
-    why = _proved(sites, new_index, vertices, edges, sp, hole.touched)
+    why = _proved(D, index, gone, hole, sp)
     if why is not None:
         return why
-    edges += sp.edges
     secs["prove"] = time.perf_counter() - t3
-    return local_result(D, sites, vertices + sp.vertices, edges, sp, new_index, len(hole.rows), len(hood), secs)
+    # 4. the edit (nothing fails after this): the last remaining sites move into the deleted ones' places
+    t4 = time.perf_counter()
+    sites, vertices, edges, new_index = _renumbered(D, index, gone, hole, sp, inplace)
+    secs["renumber"] = time.perf_counter() - t4
+    return local_result(D, sites, vertices, edges, sp, new_index, len(hole.rows), len(hood), secs)
 
 
 def _admissible(D, deleted, index):
@@ -171,27 +182,27 @@ def _admissible(D, deleted, index):
 
 def _hole(D, index, gone):
     """The :class:`Hole` of the deleted sites ``gone``: the vertices whose closed circle meets a
-    deleted site within the margin (:func:`runtime.segments.local_update.conflicts`), the edges
+    deleted site within the margin (:func:`runtime.segments.local_update.conflict_mask`), the edges
     with a deleted site or a removed end; or why the deletion is not local: no vertex in conflict,
     or a gone edge going to infinity (the hole would be unbounded)."""
-    V, XY, R = D.vertices, index.XY, index.R
+    V = D.vertices
     gone_set = set(gone)
-    conflict = np.zeros(len(V), bool)
-    for k in gone:
-        conflict |= conflicts(D.sites[k], XY, R)
+    near: list = []
+    conflict = conflict_mask(index, [D.sites[k] for k in gone], near)
     rows = np.nonzero(conflict)[0]
     if not len(rows):
         return "no vertex in conflict"
     removed_ids = {V[t].id for t in rows.tolist()}
-    ES, EE = index.ES, index.EE
-    gone_mask = np.isin(EE, np.fromiter(removed_ids, np.int64)).any(axis=1) | np.isin(ES, gone).any(axis=1)
+    gone_mask = listing(index.EE, removed_ids) | listing(index.ES, gone)
     gone_e = [D.edges[t] for t in np.nonzero(gone_mask)[0].tolist()]
     if any(e.closed or None in e.ends for e in gone_e):
         return "the hole is unbounded (a removed edge goes to infinity)"
     touched = {u for e in gone_e for u in e.ends} - removed_ids
     gone_pairs = {tuple(sorted(e.sites)) for e in gone_e if gone_set.isdisjoint(e.sites)}
     neighbours = {s for e in gone_e for s in e.sites} - gone_set
-    return Hole(conflict, rows, ~gone_mask, touched, gone_pairs, neighbours)
+    keep_e = ~gone_mask
+    at_touched = [t for t in index.edges_at(touched).tolist() if keep_e[t]] if touched else []
+    return Hole(conflict, rows, keep_e, touched, gone_pairs, neighbours, at_touched, near[0])
 
 
 def _neighbourhood(D, index, hole: Hole, gone_set: set) -> list:
@@ -227,8 +238,7 @@ def _taken(D, L, index, gone, hole: Hole):
     inside = lconf.tolist()
     sp.take_vertices(L, glob, lambda t, lv, gs: inside[t])
     touched, gone_pairs = hole.touched, hole.gone_pairs
-    at_touched = [t for t in index.edges_at(touched).tolist() if hole.keep_e[t]] if touched else []
-    kept_at = {(tuple(sorted(D.edges[t].sites)), frozenset(D.edges[t].ends)) for t in at_touched}
+    kept_at = {(tuple(sorted(D.edges[t].sites)), frozenset(D.edges[t].ends)) for t in hole.at_touched}
     for le in L.edges:
         gp = tuple(glob[s] for s in le.sites)
         at_taken = sp.at_taken(le)
@@ -245,59 +255,72 @@ def _taken(D, L, index, gone, hole: Hole):
     return sp
 
 
-def _renumbered(D, index, gone, hole: Hole, sp):
-    """(sites, vertices, edges, index) of the remaining diagram: the last remaining sites moved into
-    the deleted ones' places (:func:`site_moves`), the kept vertices and edges and the taken parts
-    (``sp``, replaced by their renumbered copies) renumbered with them, the edit index spliced; or
-    why not (a kept vertex listing a deleted site)."""
-    n = len(D.sites)
-    m = n - len(gone)
-    moves = site_moves(n, gone)
-    keep = ~hole.conflict
-    if np.isin(index.VS[keep], gone).any():
-        return "a kept vertex lists a deleted site"
-    sites = list(D.sites)
-    keys = dict(index.keys)
-    boxes = index.boxes.copy()
-    for k in gone:
-        del keys[site_key(D.sites[k])]
-    for old, new in moves.items():
-        sites[new] = sites[old]
-        boxes[new] = boxes[old]
-        keys[site_key(sites[old])] = new
-    del sites[m:]
-    boxes = boxes[:m]
-    renumber = lambda k: moves.get(k, k)     # noqa: E731
-    vertices = [v for v, k in zip(D.vertices, keep.tolist()) if k]
-    for r in np.nonzero(np.isin(index.VS[keep], list(moves)).any(axis=1))[0].tolist():
-        vertices[r] = _renumbered_vertex(vertices[r], renumber, vertices[r].certified)
-    keep_e = hole.keep_e
-    edges = [e for e, k in zip(D.edges, keep_e.tolist()) if k]
-    for r in np.nonzero(np.isin(index.ES[keep_e], list(moves)).any(axis=1))[0].tolist():
-        edges[r] = _renumbered_edge(edges[r], renumber, edges[r].certified)
-    sp.vertices = [_renumbered_vertex(v, renumber, False) for v in sp.vertices]
-    sp.edges = [_renumbered_edge(e, renumber, False) for e in sp.edges]
-    new_index = index.spliced(keys, boxes, keep, sp.vertices, keep_e, sp.edges)
-    new_index.VS[:len(vertices)] = _renumbered_rows(new_index.VS[:len(vertices)], moves)
-    new_index.ES[:len(edges)] = np.sort(_renumbered_rows(new_index.ES[:len(edges)], moves), axis=1)
-    return sites, vertices, edges, new_index
-
-
-def _proved(sites, new_index, vertices, edges, sp, touched: set):
+def _proved(D, index, gone, hole: Hole, sp) -> str | None:
     """None when the changed part is proved and closed (step 3 of the module docstring: the taken
     parts and the kept ends of taken edges, each of which must be a kept vertex that lost an edge,
-    the closure at the taken vertices and those ``touched``), else why not."""
+    the closure at the taken vertices and the kept ones that lost an edge), else why not.  All in
+    D's numbering, against the sites of D but ``gone`` (a proof is about point sets: the numbering
+    the sites carry does not enter it)."""
+    near = hole.near[~hole.conflict[hole.near]]          # a vertex listing a site is at distance r of it
+    if listing(index.VS[near], gone).any():
+        return "a kept vertex lists a deleted site"
+    V, touched = D.vertices, hole.touched
     vid = {v.id: v for v in sp.vertices}
-    for r in (new_index.vertex_rows(touched).tolist() if touched else ()):
-        if r < len(vertices):
-            vid[vertices[r].id] = vertices[r]
+    for r in (index.vertex_rows(touched).tolist() if touched else ()):
+        if not hole.conflict[r]:
+            vid[V[r].id] = V[r]
     ends_needed = sorted({u for e in sp.edges for u in e.ends} - sp.taken_ids)
     if any(u not in vid for u in ends_needed):
         return "a changed edge ends at a kept vertex that did not lose an edge"
 
-    def near_edges(check_ids):
-        return [edges[r] for r in new_index.edges_at(check_ids).tolist() if r < len(edges)]
-    return changed_part_holds(sites, new_index, vid, sp, ends_needed, touched | sp.taken_ids, near_edges)
+    def near_edges(check_ids):                # the kept edges at the check vertices: those at the touched ones
+        return [D.edges[r] for r in hole.at_touched]
+    return changed_part_holds(D.sites, index, vid, sp, ends_needed, touched | sp.taken_ids, near_edges,
+                              exclude=frozenset(gone))
+
+
+def _renumbered(D, index, gone, hole: Hole, sp, inplace: bool):
+    """(sites, vertices, edges, index) of the remaining diagram, after the proof: the last remaining
+    sites moved into the deleted ones' places (:func:`site_moves`), the removed vertices and edges
+    deleted, the kept ones that list a moved site replaced by renumbered copies, the taken parts
+    (``sp``, renumbered in place: they are new) appended, the edit index spliced.  ``inplace``:
+    D's lists and the index's keys and boxes are edited (a few deletions and replacements, no
+    pass over all parts in Python); else copies are (D untouched).  The index's vertex and edge
+    arrays are masked copies either way (numpy passes)."""
+    n = len(D.sites)
+    m = n - len(gone)
+    moves = site_moves(n, gone)
+    renumber = lambda k: moves.get(k, k)     # noqa: E731
+    gone_keys = [site_key(D.sites[k]) for k in gone]
+    sites = D.sites if inplace else list(D.sites)
+    keys = index.keys if inplace else dict(index.keys)
+    boxes = index.boxes if inplace else index.boxes.copy()
+    for k in gone_keys:
+        del keys[k]
+    for old, new in moves.items():
+        sites[new] = sites[old]
+        boxes[new] = boxes[old]
+        keys[site_key(sites[new])] = new
+    del sites[m:]
+    for v in sp.vertices:
+        v.sites = smallest_first(tuple(renumber(s) for s in v.sites))
+    for e in sp.edges:
+        _renumber_edge_in_place(e, renumber)
+    vertices = kept_parts(D.vertices if inplace else list(D.vertices), ~hole.conflict, [], True)
+    edges = kept_parts(D.edges if inplace else list(D.edges), hole.keep_e, [], True)
+    new_index = index.spliced(keys, boxes[:m], ~hole.conflict, sp.vertices, hole.keep_e, sp.edges)
+    if moves:
+        mv = np.fromiter(moves, np.int64, len(moves))
+        nv, ne = len(vertices), len(edges)
+        for r in np.nonzero(listing(new_index.VS[:nv], mv))[0].tolist():
+            vertices[r] = _renumbered_vertex(vertices[r], renumber, vertices[r].certified)
+            new_index.VS[r, :len(vertices[r].sites)] = vertices[r].sites
+        for r in np.nonzero(listing(new_index.ES[:ne], mv))[0].tolist():
+            edges[r] = _renumbered_edge(edges[r], renumber, edges[r].certified)
+            new_index.ES[r] = edges[r].sites
+    vertices.extend(sp.vertices)
+    edges.extend(sp.edges)
+    return sites, vertices, edges, new_index
 
 
 def _renumbered_vertex(v, renumber, certified: bool):
@@ -314,9 +337,10 @@ def _renumbered_edge(e, renumber, certified: bool):
                        certified)
 
 
-def _renumbered_rows(A, moves: dict) -> np.ndarray:
-    """The int array A with every entry that is a key of ``moves`` replaced by its value."""
-    out = A.copy()
-    for old, new in moves.items():
-        out[A == old] = new
-    return out
+def _renumber_edge_in_place(e, renumber) -> None:
+    """Renumber the sites of the new edge e, the smaller first (ends and polyline turned)."""
+    i, j = renumber(e.sites[0]), renumber(e.sites[1])
+    if i < j:
+        e.sites = (i, j)
+        return
+    e.sites, e.ends, e.polyline = (j, i), tuple(e.ends)[::-1], np.asarray(e.polyline)[::-1].copy()

@@ -23,9 +23,10 @@ yet sites).  The update:
 Cost.  The keys, boxes and vertex arrays of the diagram are an
 :class:`runtime.segments.local_update.EditIndex` carried from edit to edit (built once, linear in
 N, at the first edit of a batch-built diagram); the conflict test and the neighbourhood are
-vectorised over its arrays; the local diagram, the matching and the proof see only the
-neighbourhood.  What stays linear in N is list bookkeeping (the kept vertex and edge lists, the
-sources), a few numpy passes and the scan of the edges for the removed vertices.
+vectorised over its arrays (distances on the circles near the piece only); the local diagram, the
+matching (in a box about the change) and the proof see only the neighbourhood.  What stays linear
+in N is a few numpy passes (the edges at the removed vertices, the spliced index) and, without
+``inplace``, the copies of the lists; with it the diagram's lists, site keys and sources are edited.
 
 Why the kept part keeps its proof.  Let G' be the diagram with P.  (a) A kept vertex's circle was
 empty of the old sites (old certificate) and P is strictly outside it: it is a vertex of G'.  (b) A
@@ -74,13 +75,15 @@ Public API: :func:`insert_locally` (the returned diagram carries its ``edit_inde
 from __future__ import annotations
 
 import time
+from collections import ChainMap
 
 import numpy as np
 
 from ..voronoi.site_input import SiteError
 from .crossings import check_pieces
-from .local_update import (EditIndex, KeptVertices, Splice, changed_part_holds, conflicts, curve_ends, editable, leaving,
-                           kept_parts, local_diagram, local_result, opposite, point_key, site_box, site_key, with_joint_partners)
+from .local_update import (EditIndex, KeptVertices, Splice, changed_part_holds, conflict_mask, curve_ends, editable, leaving,
+                           kept_parts, listing, local_diagram, local_result, opposite, point_key, site_box, site_key,
+                           with_joint_partners)
 
 __all__ = ["insert_locally"]
 
@@ -104,9 +107,7 @@ def insert_locally(D, piece, source: int, build, index=None, inplace: bool = Fal
     index, plo, phi = got
     n = len(D.sites)
     # 1. conflict
-    conflict = np.zeros(len(index.R), bool)
-    for q in parts:
-        conflict |= conflicts(q, index.XY, index.R)
+    conflict = conflict_mask(index, parts)
     if not conflict.any():
         return "no vertex in conflict"
     cv_ = np.nonzero(conflict)[0]
@@ -129,7 +130,7 @@ def insert_locally(D, piece, source: int, build, index=None, inplace: bool = Fal
         if not any(n + s in e.sites for e in sp.edges):
             return "a new site has no edge in the local diagram"
     removed_ids = {D.vertices[t].id for t in cv_.tolist()}
-    gone_mask = np.isin(index.EE, np.fromiter(removed_ids, np.int64)).any(axis=1)
+    gone_mask = listing(index.EE, removed_ids)
     gone = [D.edges[t] for t in np.nonzero(gone_mask)[0].tolist()]
     if any(u is None for e in gone for u in e.ends):
         return "a removed edge goes to infinity"
@@ -149,8 +150,11 @@ def insert_locally(D, piece, source: int, build, index=None, inplace: bool = Fal
     secs["prove"] = time.perf_counter() - t3
     vertices = kept_parts(D.vertices, keep, sp.vertices, inplace)       # nothing fails after this
     edges = kept_parts(D.edges, keep_e, sp.edges, inplace)
+    new_index.keys = _keys_after(index.keys, new_index.keys.maps[0], inplace)
     out = local_result(D, sites, vertices, edges, sp, new_index, len(cv_), len(hood), secs)
-    out.sources = list(D.sources) + [source] * len(new_sites)
+    sources = D.sources if inplace else list(D.sources)
+    sources.extend([source] * len(new_sites))
+    out.sources = sources
     return out
 
 
@@ -257,12 +261,19 @@ def _taken(D, L, index, glob, cv_):
 
 
 def _spliced_index(index, new_sites, n: int, keep, sp, keep_e):
-    """The edit index of the edited diagram: the new sites' keys and boxes appended, the kept rows
-    and the taken parts."""
-    new_keys = dict(index.keys)
-    new_keys.update({site_key(s): n + t for t, s in enumerate(new_sites)})
+    """The edit index of the edited diagram: the new sites' keys (a ChainMap over the old keys until
+    the proof is done, :func:`_keys_after`) and boxes appended, the kept rows and the taken parts."""
+    new_keys = ChainMap({site_key(s): n + t for t, s in enumerate(new_sites)}, index.keys)
     boxes = np.vstack([index.boxes, np.array([site_box(s) for s in new_sites], float).reshape(-1, 4)])
     return index.spliced(new_keys, boxes, keep, sp.vertices, keep_e, sp.edges)
+
+
+def _keys_after(keys: dict, new: dict, inplace: bool) -> dict:
+    """The site keys of the edited diagram: ``keys`` with the ``new`` ones, ``keys`` itself updated
+    when ``inplace`` (a dict copy of all N keys otherwise)."""
+    out = keys if inplace else dict(keys)
+    out.update(new)
+    return out
 
 
 def _proved(D, sites, index, new_index, sp, keep, keep_e, touched):

@@ -38,6 +38,7 @@ Public API: :class:`EditIndex`, :class:`KeptVertices`, :func:`site_key`, :func:`
 :func:`piece_ends`, :func:`piece_distance`, :func:`site_distance`, :func:`distance_error`, :func:`conflicts`,
 :func:`curve_ends`, :func:`leaving`, :func:`opposite`, :func:`curves_ending_at`, :func:`editable`,
 :func:`closure_holds`, :func:`spliced_edge`, :func:`prove_part`, :func:`vertex_sites`, :func:`edge_arrays`,
+:func:`listing`, :func:`conflict_mask`, :func:`without_rows`,
 :data:`MARGIN`, :data:`WIDEN`, :data:`ARC_ERROR`; the steps both updates take: :func:`with_joint_partners`,
 :func:`local_diagram`, :func:`smallest_first`, :class:`Splice`, :func:`changed_part_holds`, :func:`local_result`.
 
@@ -64,7 +65,8 @@ from .certificate_vertices import prove_vertices
 __all__ = ["EditIndex", "KeptVertices", "site_key", "point_key", "site_box", "piece_ends", "piece_distance", "site_distance",
            "conflicts", "closure_holds", "spliced_edge", "prove_part", "vertex_sites", "edge_arrays", "curve_ends",
            "leaving", "opposite", "editable", "curves_ending_at", "distance_error", "MARGIN", "WIDEN", "ARC_ERROR",
-           "with_joint_partners", "local_diagram", "smallest_first", "Splice", "changed_part_holds", "kept_parts", "local_result"]
+           "with_joint_partners", "local_diagram", "smallest_first", "Splice", "changed_part_holds", "kept_parts", "local_result",
+           "listing", "conflict_mask", "without_rows"]
 
 #: margin of the conflict test, relative to 1 + |x| + |y| + r of the vertex (a hundred times the
 #: certificate's position tolerance)
@@ -251,8 +253,15 @@ def edge_arrays(edges):
 def _stack(A, B):
     """Rows of A then rows of B, the narrower padded with −1."""
     w = max(A.shape[1], B.shape[1])
-    pad = lambda M: np.hstack([M, np.full((len(M), w - M.shape[1]), -1, M.dtype)])  # noqa: E731
-    return np.vstack([pad(A), pad(B)])
+    pad = lambda M: M if M.shape[1] == w else np.hstack([M, np.full((len(M), w - M.shape[1]), -1, M.dtype)])  # noqa: E731
+    return np.concatenate([pad(A), pad(B)])
+
+
+def without_rows(A, gone) -> np.ndarray:
+    """A copy of A without the rows ``gone`` (sorted): the runs between them concatenated, a few
+    block copies instead of a boolean mask over every row."""
+    cuts = [-1] + list(gone) + [len(A)]
+    return np.concatenate([A[a + 1:b] for a, b in zip(cuts[:-1], cuts[1:])])
 
 
 class EditIndex:
@@ -287,13 +296,15 @@ class EditIndex:
     def spliced(self, keys, boxes, keep_v, new_v, keep_e, new_e) -> "EditIndex":
         """The index after a splice: the rows ``keep_v`` / ``keep_e`` (boolean masks) of the vertex
         and edge arrays, then the rows of the vertices ``new_v`` and edges ``new_e``."""
-        XY = np.vstack([self.XY[keep_v], np.array([[v.x, v.y] for v in new_v], float).reshape(-1, 2)])
-        R = np.concatenate([self.R[keep_v], np.array([v.radius for v in new_v], float)])
-        VS = _stack(self.VS[keep_v], vertex_sites(new_v, 1))
-        VID = np.concatenate([self.VID[keep_v], np.array([v.id for v in new_v], dtype=np.int64)])
+        gv = np.flatnonzero(~np.asarray(keep_v, bool)).tolist()
+        ge = np.flatnonzero(~np.asarray(keep_e, bool)).tolist()
+        XY = np.concatenate([without_rows(self.XY, gv), np.array([[v.x, v.y] for v in new_v], float).reshape(-1, 2)])
+        R = np.concatenate([without_rows(self.R, gv), np.array([v.radius for v in new_v], float)])
+        VS = _stack(without_rows(self.VS, gv), vertex_sites(new_v, 1))
+        VID = np.concatenate([without_rows(self.VID, gv), np.array([v.id for v in new_v], dtype=np.int64)])
         ES, EE = edge_arrays(new_e)
-        return EditIndex(keys, boxes, XY, R, VS, VID, np.vstack([self.ES[keep_e], ES]),
-                         np.vstack([self.EE[keep_e], EE]))
+        return EditIndex(keys, boxes, XY, R, VS, VID, np.concatenate([without_rows(self.ES, ge), ES]),
+                         np.concatenate([without_rows(self.EE, ge), EE]))
 
     def near(self, lo, hi) -> list[int]:
         """The sites whose box meets the box [lo, hi]."""
@@ -308,27 +319,90 @@ class EditIndex:
 
     def vertex_rows(self, ids) -> np.ndarray:
         """Rows of the vertices with an id among ``ids``."""
-        return np.nonzero(np.isin(self.VID, np.fromiter(ids, np.int64)))[0]
+        return np.nonzero(listing(self.VID[:, None], ids))[0]
 
     def edges_at(self, ids) -> np.ndarray:
         """Rows of the edges with an end vertex among ``ids``."""
-        return np.nonzero(np.isin(self.EE, np.fromiter(ids, np.int64)).any(axis=1))[0]
+        return np.nonzero(listing(self.EE, ids))[0]
+
+    def circles_near(self, lo, hi, extra: float = 0.0) -> np.ndarray:
+        """Rows of the vertices whose circle (centre, radius r) may come within the margin of
+        :func:`conflicts` of a site in the box [lo, hi]: those whose centre is within
+        2r + 10⁻⁶·(1 + B) + 2·``extra`` of the box in each coordinate (B: the box's largest
+        coordinate; ``extra``: a bound on the sites' :func:`distance_error` at the box).  A centre
+        x at distance d from the site is in conflict only if d < r + :data:`MARGIN`·(1 + |x| + r)
+        + error, with |x|₁ ≤ 2(B + d): then d < 1.0000001·(r + 10⁻⁸·(1 + 2B) + extra), below the
+        bound.  One numpy pass of comparisons; the distances are then taken on these rows only."""
+        lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+        c, h = (lo + hi) / 2, (hi - lo) / 2
+        pad = 1e-6 * (1 + float(np.abs(np.concatenate([lo, hi])).max())) + 2 * extra
+        X, lim = self.XY, 2 * self.R + pad
+        return np.nonzero((np.abs(X[:, 0] - c[0]) - h[0] <= lim) & (np.abs(X[:, 1] - c[1]) - h[1] <= lim))[0]
+
+
+def listing(A, values) -> np.ndarray:
+    """The rows of the int array A (entries ≥ −1, −1 padding) with an entry among ``values``
+    (non-negative ints), as a boolean row mask: one gather per column through a table of the
+    values (the −1 entries and those above the largest value read its last, False, slot)."""
+    v = np.fromiter(values, np.int64)
+    hit = np.zeros(len(A), bool)
+    if not len(v) or not len(A):
+        return hit
+    tab = np.zeros(int(v.max()) + 2, bool)
+    tab[v] = True
+    for c in range(A.shape[1]):
+        hit |= tab[np.minimum(A[:, c], len(tab) - 1)]
+    return hit
+
+
+def conflict_mask(index: EditIndex, pieces, near: list | None = None) -> np.ndarray:
+    """The vertices of ``index`` (boolean row mask) whose circle one of ``pieces`` enters or comes
+    within the margin of (:func:`conflicts`), the distances taken on the rows
+    :meth:`EditIndex.circles_near` the pieces' box only (appended to ``near`` when given)."""
+    B = np.array([site_box(q) for q in pieces], float).reshape(-1, 4)
+    lo, hi = B[:, :2].min(axis=0), B[:, 2:].max(axis=0)
+    corners = np.array([lo, hi, [lo[0], hi[1]], [hi[0], lo[1]]])
+    extra = max(float(np.max(distance_error(q, corners))) for q in pieces)
+    rows = index.circles_near(lo, hi, extra)
+    if near is not None:
+        near.append(rows)
+    sub = np.zeros(len(rows), bool)
+    for q in pieces:
+        sub |= conflicts(q, index.XY[rows], index.R[rows])
+    out = np.zeros(len(index.R), bool)
+    out[rows[sub]] = True
+    return out
 
 
 class KeptVertices:
     """Finds the kept vertex (a vertex of D outside ``removed``, a boolean row mask) that a local
     diagram's vertex reproduces: the same sites in the same cyclic order (smallest first) and the
-    same centre within 10⁻⁶·(1 + |x| + |y| + r); one numpy pass over the centres per question."""
+    same centre within 10⁻⁶·(1 + |x| + |y| + r).  :meth:`restrict` narrows the search, once, to
+    the vertices in a box about the change (one numpy pass); a question inside it then reads those
+    rows only."""
 
     def __init__(self, index: EditIndex, vertices, removed):
         self.index, self.vertices, self.removed = index, vertices, removed
+        self.rows = self.box = None
+
+    def restrict(self, lo, hi) -> None:
+        """Search the vertices whose centre lies in the box [lo, hi] (one numpy pass) for the
+        questions whose tolerance box lies inside it (a match is within the tolerance of the
+        question in each coordinate); the others still search all vertices."""
+        self.box = (np.asarray(lo, float), np.asarray(hi, float))
+        self.rows = self.index.vertices_in(*self.box)
 
     def find(self, gs, x: float, y: float, r: float) -> int:
         """The id of the one matching kept vertex, or −1."""
-        X = self.index.XY
         tol = 1e-6 * (1 + abs(x) + abs(y) + r)
-        rows = np.nonzero(np.abs(X[:, 0] - x) + np.abs(X[:, 1] - y) < tol)[0].tolist()
-        hits = [self.vertices[t] for t in rows if not self.removed[t] and tuple(self.vertices[t].sites) == gs]
+        rows = np.arange(len(self.index.R))
+        if self.rows is not None:
+            (x0, y0), (x1, y1) = self.box
+            if x0 < x - 2 * tol and x + 2 * tol < x1 and y0 < y - 2 * tol and y + 2 * tol < y1:
+                rows = self.rows
+        X = self.index.XY[rows]
+        near = rows[np.abs(X[:, 0] - x) + np.abs(X[:, 1] - y) < tol].tolist()
+        hits = [self.vertices[t] for t in near if not self.removed[t] and tuple(self.vertices[t].sites) == gs]
         return hits[0].id if len(hits) == 1 else -1
 
 
@@ -411,21 +485,29 @@ def sites_meeting(index: EditIndex, D: np.ndarray) -> set:
     return set(cand[hit].tolist())
 
 
-def prove_part(sites, index: EditIndex, vertices, edges, problems: list) -> bool:
+def prove_part(sites, index: EditIndex, vertices, edges, problems: list, exclude=frozenset()) -> bool:
     """Prove ``vertices`` (changed vertices and the kept ends of changed edges) and ``edges``
     against the sites that can reach them (module docstring); sites, vertices and edges are in the
-    global numbering of ``sites``/``index``.  True when every part is proved."""
+    global numbering of ``sites``/``index``.  ``exclude``: numbers of sites that are not sites of
+    the edited diagram (a deletion proves in the old numbering, without the deleted sites).  True
+    when every part is proved."""
     if not vertices and not edges:
         return True
-    chosen = sites_meeting(index, reach_discs(vertices, edges, sites))
+    chosen = sites_meeting(index, reach_discs(vertices, edges, sites)) - exclude
     chosen |= {s for v in vertices for s in v.sites} | {s for e in edges for s in e.sites}
+    if not chosen.isdisjoint(exclude):
+        problems.append("a changed part lists a deleted site")
+        return False
     for k in list(chosen):
         for p in curve_ends(sites[k]):
             t = index.keys.get(point_key(p))
+            if t in exclude:                       # cannot happen: a deleted point is no remaining curve's end
+                problems.append(f"site {k} ends at the deleted point site {t}")
+                return False
             if t is not None:
                 chosen.add(t)
             else:                                  # a smooth joint: the curve continuing there
-                chosen.update(curves_ending_at(index, sites, p))
+                chosen.update(u for u in curves_ending_at(index, sites, p) if u not in exclude)
     order = sorted(chosen)
     loc = {k: t for t, k in enumerate(order)}
     T = SiteTable([sites[k] for k in order])
@@ -498,6 +580,9 @@ class Splice:
                 continue
             self.pending[lv.id] = (gs, lv.x, lv.y, lv.radius)
         self.taken_ids = {v.id for v in self.vertices}
+        B = np.array([site_box(s) for s in L.sites], float).reshape(-1, 4)
+        if len(B):                  # the local sites' box: the ends of taken edges lie inside it
+            self.kept.restrict(B[:, :2].min(axis=0), B[:, 2:].max(axis=0))
 
     def at_taken(self, le) -> bool:
         """The local edge ``le`` has an end at a taken vertex."""
@@ -522,14 +607,15 @@ class Splice:
         return None
 
 
-def changed_part_holds(sites, index: EditIndex, vid: dict, splice: Splice, ends_needed, check_ids, near_edges) -> str | None:
+def changed_part_holds(sites, index: EditIndex, vid: dict, splice: Splice, ends_needed, check_ids, near_edges,
+                       exclude=frozenset()) -> str | None:
     """None when the changed part is proved and closed, else why not: the taken vertices and edges
-    and the kept ends of taken edges proved against every site that can reach them
+    and the kept ends of taken edges proved against every site that can reach them but ``exclude``
     (:func:`prove_part`), then the closure (:func:`closure_holds`) at the vertices ``check_ids``
     (ids; ``vid``: id -> vertex of the edited diagram) among their edges ``near_edges(check_ids)``
     of the kept part and the taken edges."""
     problems: list = []
-    if not prove_part(sites, index, splice.vertices + [vid[u] for u in ends_needed], splice.edges, problems):
+    if not prove_part(sites, index, splice.vertices + [vid[u] for u in ends_needed], splice.edges, problems, exclude):
         return f"the changed part is not proved ({problems[0] if problems else 'a part failed'})"
     if any(u not in vid for u in check_ids):
         return "the closure at the changed vertices fails (a vertex is missing)"
