@@ -210,3 +210,24 @@ def test_a_kept_endpoint_of_three_pieces_takes_the_first_remaining_one():
     src = {key(s): d.sources[k] for k, s in enumerate(d.sites)}
     assert src == {key(s): b.sources[k] for k, s in enumerate(b.sites)}
     assert src[key(cv.Point(330, 330))] == pieces.index(y[1])
+
+
+def test_an_edit_in_place_of_a_copy_leaves_the_original_alone():
+    # deleting a point piece that is also a segment's end changes only the sources; the copy it
+    # returns must not share the edit state (site keys, boxes) with the original, which a later
+    # edit in place of the copy changes
+    scene = [p for p in random_segments(100, 2) if all(not (0 <= x <= 12 and 0 <= y <= 12) for x, y in p)]
+    pieces = [((6, 4), (9, 9)), (6, 4)] + scene
+    d0 = cv.voronoi([as_piece(p) for p in pieces])
+    i1 = inner(pieces[2:], random.Random(2)) + 2
+    d1 = d0.delete_site(i1)                              # a copy carrying its edit index
+    del pieces[i1]
+    before = state(d1)
+    e = d1.delete_site(1)                                # the point piece: a copy, the sites stay
+    del pieces[1]
+    assert d1.stats["update"] == e.stats["update"] == "local"
+    e.delete_site(inner(pieces, random.Random(4)), renumber="last", inplace=True)
+    assert e.stats["update"] == "local"
+    e.insert(cv.Segment((1, 1), (2, 3)), inplace=True)
+    assert state(d1) == before
+    index_is_fresh(d1)

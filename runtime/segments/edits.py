@@ -169,10 +169,15 @@ class SegmentEdits:
             out = delete_locally(D, deleted, self.build, index, inplace=inplace)
             if isinstance(out, str):
                 return out
-        else:                                            # the sites stay: only the sources change
+        elif inplace:                                    # the sites stay: only the sources change
             out = dataclasses.replace(D, construction=None)
             out.stats = dict(D.stats, update="local")
             out.edit_index = index
+        else:                       # the same on lists and keys of its own: an edit in place of it leaves D alone
+            out = dataclasses.replace(D, construction=None, sites=list(D.sites), vertices=list(D.vertices),
+                                      edges=list(D.edges), problems=list(D.problems))
+            out.stats = dict(D.stats, update="local")
+            out.edit_index = index.detached()
         new_uses = uses if inplace else uses.copy()
         for p in pts:
             new_uses[p] -= 1

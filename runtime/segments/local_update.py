@@ -306,6 +306,11 @@ class EditIndex:
         return EditIndex(keys, boxes, XY, R, VS, VID, np.concatenate([without_rows(self.ES, ge), ES]),
                          np.concatenate([without_rows(self.EE, ge), EE]))
 
+    def detached(self) -> "EditIndex":
+        """The same index with keys and boxes of its own (the parts an edit in place changes; the
+        row arrays are replaced by each edit, never written)."""
+        return EditIndex(dict(self.keys), self.boxes.copy(), self.XY, self.R, self.VS, self.VID, self.ES, self.EE)
+
     def near(self, lo, hi) -> list[int]:
         """The sites whose box meets the box [lo, hi]."""
         b = self.boxes
