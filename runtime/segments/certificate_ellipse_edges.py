@@ -476,6 +476,7 @@ def _pieces(T: SiteTable, c, i, j, lo, hi, vlo, vhi, verts, budget):
                     here.add(k)
         normals.append(here)
     wzones = tuple(_w_zone(T, vp, (i, j)) for vp in (vlo, vhi))
+    line_rule = _line_rule(T, i, j, vlo, vhi) if isinstance(c, PointsLine) else None
     step = L / FIRST
     cuts = sorted({float(a.mid()) + m * step for m in range(1, FIRST)} |
                   {x for x in getattr(c, "cuts", ()) if float(a.mid()) < x < float(b.mid())})
@@ -493,7 +494,7 @@ def _pieces(T: SiteTable, c, i, j, lo, hi, vlo, vhi, verts, budget):
         J = (a if pa == first else arb(pa)).union(b if pb == last else arb(pb))
         slopes: dict = {}
         relied: dict = {}
-        bad = _piece(T, c, i, j, J, ties, normals, slopes, relied, pa == first, pb == last, wzones)
+        bad = _piece(T, c, i, j, J, ties, normals, slopes, relied, pa == first, pb == last, wzones, line_rule)
         if bad is None:
             done.append((pa, pb, slopes, relied))
             continue
@@ -641,7 +642,56 @@ def _same_ellipse(T: SiteTable, k: int, s: int) -> bool:
     return a.c == b.c and a.M == b.M and a.N == b.N
 
 
-def _piece(T: SiteTable, c, i, j, J, ties, ends, slopes, relied, at_lo=False, at_hi=False, wzones=({}, {})):
+def _line_rule(T: SiteTable, i: int, j: int, vlo, vhi):
+    """For the bisector γ(t) = O + t w of points i, j: a test ``e ↦ bool`` that an exact point e
+    is farther than ρ on the whole open edge.  a(t) = |γ − e|² − |γ − p_i|² =
+    |O − e|² − |O − p_i|² + 2t w·(p_i − e) is affine in t, and a(t_v) ≥ 0 at a proved end vertex
+    v whenever e is a point site or a point of a site's closure (d_k(v) ≥ r: a tie where k is
+    listed, the vertex's empty circle elsewhere).  So a > 0 on the open edge when the slope is
+    positive and the lower end is a vertex, negative and the upper end is a vertex, or zero with
+    a > 0 at O (rationals: no rounding).  Nearly collinear points make the slope tiny, where boxes
+    would need ~1/slope pieces."""
+    (xi, yi), (xj, yj) = T.a[i], T.a[j]
+    ox, oy = (xi + xj) / 2, (yi + yj) / 2
+    wx, wy = -(yj - yi), xj - xi
+    memo: dict = {}
+
+    def farther(e) -> bool:
+        e = tuple(e)
+        if e not in memo:
+            xe, ye = e
+            slope = wx * (xi - xe) + wy * (yi - ye)
+            if slope > 0:
+                memo[e] = vlo is not None
+            elif slope < 0:
+                memo[e] = vhi is not None
+            else:
+                memo[e] = (ox - xe) ** 2 + (oy - ye) ** 2 - (ox - xi) ** 2 - (oy - yi) ** 2 > 0
+        return memo[e]
+    return farther
+
+
+def _owned_end_farther(T: SiteTable, k: int, i: int, j: int, X, Y, line_rule) -> bool:
+    """Curve k's nearest point to every point of the box is one of its ends e (``owned_by_end``),
+    and e is farther than ρ there: a point site q ∉ {i, j} — then d_k = d_q on the box, and q is a
+    site of the table, tested on the same piece (or outside the query: farther on the whole box) —
+    or, on two points' bisector, any end by the exact affine rule of :func:`_line_rule` (a smooth
+    joint's point lies on the closure of k, so d_k(v) ≥ r bounds it at the end vertices)."""
+    if not T.is_curve(k) or T.ends[k] is None:
+        return False
+    for q in T.ends[k]:
+        if q in (i, j):
+            continue
+        site = q >= 0 and T.kind[q] == POINT
+        if not site and line_rule is None:
+            continue
+        if T.owned_by_end(k, q, X, Y) is True and (site or line_rule(T.pt(q))):
+            return True
+    return False
+
+
+def _piece(T: SiteTable, c, i, j, J, ties, ends, slopes, relied, at_lo=False, at_hi=False, wzones=({}, {}),
+           line_rule=None):
     X, Y = c.xy(J)
     R = c.rho(J, X, Y)
     if not (X.is_finite() and Y.is_finite() and R.is_finite()):
@@ -680,8 +730,12 @@ def _piece(T: SiteTable, c, i, j, J, ties, ends, slopes, relied, at_lo=False, at
                 continue
             return (f"curve {k} ending at a site of the edge is not proved to have that end as its nearest "
                     "point", k)
+        if line_rule is not None and T.kind[k] == POINT and line_rule(T.a[k]):
+            continue                            # farther on the whole open edge (exact, _line_rule)
         if (view and _secant_farther(T, k, view)) or T.distance(k, X, Y) > R:
             slopes[("direct", k)] = True
+            continue
+        if _owned_end_farther(T, k, i, j, X, Y, line_rule):
             continue
         if k in ties[0] or k in ties[1]:
             # the sign of g' = ∂d_k·γ' − ρ' on the piece, for the runs from the end vertices

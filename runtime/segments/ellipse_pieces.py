@@ -242,6 +242,12 @@ class _Balls:
         return self.A * c + self.B * s + (self.b2 - self.a2) * (c * c - s * s)
 
 
+#: halvings of a piece's parameter range in the monotonicity test of :func:`closest_at_an_end`,
+#: and in its cover by monotone and concave parts (:func:`_end_by_cover`)
+MONOTONE_DEPTH = 4
+COVER_DEPTH = 5
+
+
 def _hull(lo: arb, hi: arb) -> arb:
     return lo.lower().union(hi.upper())
 
@@ -467,6 +473,25 @@ def piece_tangent(P: PieceData, end: int) -> np.ndarray:
     return t / max(float(np.hypot(*t)), 1e-300)
 
 
+def _monotone_sign(S: _Balls, lo: arb, hi: arb, depth: int = 0) -> int:
+    """+1 or −1 when f'/2 has that strict sign on every part of a cover of [lo, hi] (halved up to
+    MONOTONE_DEPTH times where undecided), then f is strictly monotone on [lo, hi]; 0 otherwise.
+    One evaluation over a whole piece is loose for a box of points a few 10⁻³ wide, where the
+    halves decide."""
+    d = _g_over(S, lo, hi, _hull(lo, hi))
+    if d > 0:
+        return 1
+    if d < 0:
+        return -1
+    if depth >= MONOTONE_DEPTH:
+        return 0
+    m = arb((float(lo.mid()) + float(hi.mid())) / 2)
+    first = _monotone_sign(S, lo, m, depth + 1)
+    if first == 0:
+        return 0
+    return first if _monotone_sign(S, m, hi, depth + 1) == first else 0
+
+
 def closest_at_an_end(P: PieceData, x: arb, y: arb):
     """The ends proved to hold, for every point of the box (x, y), the nearest points of the closed
     piece: (0,) or (1,) when f is monotone on the piece, or increasing away from that end on a
@@ -475,7 +500,7 @@ def closest_at_an_end(P: PieceData, x: arb, y: arb):
     S = _Balls(P, x, y)
     p0, p1 = P.arb_params()
     lo, hi = arb(p0.lower()), arb(p1.upper())
-    d = _g_over(S, lo, hi, _hull(lo, hi))
+    d = _monotone_sign(S, lo, hi)
     if d > 0:
         return (0,)
     if d < 0:
@@ -495,4 +520,46 @@ def closest_at_an_end(P: PieceData, x: arb, y: arb):
         top = fe[0].upper() if fe[0].upper() > fe[1].upper() else fe[1].upper()
         if _lower_f(S, lo + delta, hi - delta, crit) > top:
             return (0, 1)
+    return _end_by_cover(S, P, lo, hi)
+
+
+def _end_by_cover(S: _Balls, P: PieceData, lo: arb, hi: arb):
+    """(0,) or (1,) from a cover of [lo, hi] by parts where f is increasing (f' > 0), decreasing
+    (f' < 0) or concave (f'' < 0): on each part f is smallest at an end of the part (the left one,
+    the right one, one of both), so when the part at the chosen end is monotone into it and f at
+    each other part's candidate ends exceeds f at the chosen end, that end is the unique nearest
+    point.  The comparisons are differences f(φ) − f(end), linear in the box's point with the
+    small factor e(φ) − e(end): a box a few 10⁻² wide still decides ends whose values differ by
+    less than the spread of f itself over the box (which :func:`_lower_f` against an end's ball
+    needs).  None when not proved (an interior minimum, or parts undecided after COVER_DEPTH
+    halvings)."""
+    parts = []
+
+    def cover(a: arb, b: arb, depth: int) -> bool:
+        I = _hull(a, b)
+        g = _g_over(S, a, b, I)
+        if g > 0 or g < 0:
+            parts.append((a, b, 1 if g > 0 else -1))
+            return True
+        if S.dg(I) < 0:
+            parts.append((a, b, 0))
+            return True
+        if depth >= COVER_DEPTH:
+            return False
+        m = arb((float(a.mid()) + float(b.mid())) / 2)
+        return cover(a, m, depth + 1) and cover(m, b, depth + 1)
+    if not cover(lo, hi, 0) or len(parts) < 2:
+        return None
+
+    def above(phi: arb, cs) -> bool:            # f(φ) − f(end) > 0
+        c, s = phi.cos(), phi.sin()
+        ce, se = (to_arb(v) for v in cs)
+        return (-2 * S.A * (c - ce) - 2 * S.B * (s - se) + S.a2 * (c * c - ce * ce)
+                + S.b2 * (s * s - se * se)) > 0
+    for which, into, others, cs in ((1, -1, parts[:-1], P.ub), (0, 1, parts[1:], P.ua)):
+        if parts[-1 if which else 0][2] != into:
+            continue
+        pts = [x for a, b, lab in others for x in ((a,) if lab > 0 else (b,) if lab < 0 else (a, b))]
+        if all(above(x, cs) for x in pts):
+            return (which,)
     return None
