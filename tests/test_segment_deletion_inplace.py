@@ -23,7 +23,7 @@ from test_segment_edits import as_piece, graph, index_is_fresh, key, without_str
 from curvedvoronoi.runtime.segments.construction import segment_voronoi  # noqa: E402
 from curvedvoronoi.runtime.segments.local_deletion import delete_locally  # noqa: E402
 from curvedvoronoi.runtime.segments.local_update import (EditIndex, KeptVertices, conflict_mask, conflicts,  # noqa: E402
-                                                         listing, site_key, without_rows)
+                                                         listing, site_key)
 
 
 def state(d):
@@ -163,17 +163,36 @@ def test_conflict_prefilter_equals_the_distance_over_all_circles():
                          [pieces[0]]).all()
 
 
-def test_table_membership_and_row_removal_equal_numpy():
+def test_table_membership_equals_numpy():
     rng = np.random.default_rng(5)
     for n, w in ((0, 2), (1, 3), (500, 2), (500, 3)):
         A = rng.integers(-1, 60, (n, w))
         for vals in ([], [0], [59], [3, 7, 7, 200], list(range(0, 60, 3))):
             want = np.isin(A, vals).any(axis=1) if len(vals) else np.zeros(n, bool)
             assert np.array_equal(listing(A, vals), want)
-        keep = rng.random(n) < 0.9
-        gone = np.flatnonzero(~keep).tolist()
-        assert np.array_equal(without_rows(A, gone), A[keep])
-        assert np.array_equal(without_rows(A[:, 0], gone), A[keep, 0])
+
+
+def test_replacing_rows_keeps_the_list_and_the_arrays_aligned():
+    # each part is a vertex whose index rows encode it (centre, radius, sites, id); after removals
+    # and appends (past the buffers' room), the list holds the kept and the new parts once each,
+    # and row r of every array describes parts[r]
+    from curvedvoronoi.runtime.voronoi.structure import DiagramVertex
+
+    rng = np.random.default_rng(6)
+    parts = [DiagramVertex(t, (t, t + 1, t + 2), float(t), -float(t), t / 2) for t in range(300)]
+    index = EditIndex.build(cv.Diagram([], parts, []))
+    fresh = 300
+    for step in range(12):
+        removed = rng.choice(len(parts), size=int(rng.integers(0, 30)), replace=False)
+        new = [DiagramVertex(fresh + t, (fresh + t, 1, 2, 3)[:3 + step % 2], float(fresh + t), -float(fresh + t),
+                             (fresh + t) / 2) for t in range(int(rng.integers(0, 60)))]
+        fresh += len(new)
+        want = sorted([v.id for t, v in enumerate(parts) if t not in set(removed.tolist())] + [v.id for v in new])
+        index.replace_rows(parts, "v", removed.tolist(), new)
+        assert sorted(v.id for v in parts) == want and len(index.R) == len(parts)
+        assert np.array_equal(index.VID, [v.id for v in parts])
+        assert np.array_equal(index.XY, [[v.x, v.y] for v in parts]) and np.array_equal(index.R, [v.radius for v in parts])
+        assert all(tuple(index.VS[r][index.VS[r] >= 0]) == v.sites for r, v in enumerate(parts))
 
 
 def test_the_kept_vertex_search_box_finds_what_the_full_search_finds():

@@ -246,21 +246,6 @@ def test_a_wrong_local_diagram_is_never_spliced():
     assert "not proved" in insert_locally(d, new, 150, moved_vertex)
 
 
-def test_kept_parts_in_place_equals_the_copy():
-    from curvedvoronoi.runtime.segments.local_update import kept_parts
-
-    rng = np.random.default_rng(2)
-    for n in (0, 1, 5, 200):
-        parts = [object() for _ in range(n)]
-        keep = rng.random(n) < 0.8
-        extra = [object(), object()]
-        want = kept_parts(parts, keep, extra, False)
-        assert len(parts) == n                       # the copy leaves the list alone
-        same = parts
-        got = kept_parts(parts, keep, extra, True)
-        assert got is same and got == want
-
-
 def test_an_insertion_in_place_equals_the_copying_one():
     pieces = [cv.Segment(*p) for p in without_straight_joints(random_segments(30, 5, box=80))]
     new = pieces.pop()

@@ -177,7 +177,7 @@ class SegmentEdits:
             out = dataclasses.replace(D, construction=None, sites=list(D.sites), vertices=list(D.vertices),
                                       edges=list(D.edges), problems=list(D.problems))
             out.stats = dict(D.stats, update="local")
-            out.edit_index = index.detached()
+            out.edit_index = index.copy()
         new_uses = uses if inplace else uses.copy()
         for p in pts:
             new_uses[p] -= 1

@@ -69,11 +69,12 @@ numbering, against the sites of S but Δ: it is a statement about point sets, an
 the sites carry does not enter it; only then are the sites moved, so a refused deletion leaves
 the diagram as it was.  Cost: the conflict test (distances on the circles near Δ only,
 :func:`runtime.segments.local_update.conflict_mask`), the neighbourhood, the edges at the changed
-vertices, the rows of the moved sites and the spliced index are numpy passes over the
-:class:`runtime.segments.local_update.EditIndex` carried from the previous edit (table gathers and
-block copies, no Python loop over the parts); the local diagram and the proof see the neighbourhood
-only.  With ``inplace`` the lists are edited (the removed parts deleted, the renumbered ones
-replaced, the new ones appended: a few memmoves) instead of copied.
+vertices and the rows of the moved sites are numpy passes over the
+:class:`runtime.segments.local_update.EditIndex` carried from the previous edit (table gathers, no
+Python loop over the parts); the local diagram and the proof see the neighbourhood only.  With
+``inplace`` the diagram's lists and the index are edited by a few row moves (each removed part
+takes the last one's place, :meth:`runtime.segments.local_update.EditIndex.replace_rows`, so the
+order of the vertices and edges changes) instead of copied.
 
 Public API: :func:`delete_locally` (the returned diagram carries its ``edit_index``), :func:`site_moves`.
 """
@@ -85,8 +86,8 @@ from typing import NamedTuple
 import numpy as np
 
 from ..voronoi.structure import DiagramEdge, DiagramVertex
-from .local_update import (EditIndex, KeptVertices, Splice, changed_part_holds, conflict_mask, conflicts, editable, kept_parts,
-                           listing, local_diagram, local_result, site_key, smallest_first, with_joint_partners)
+from .local_update import (EditIndex, KeptVertices, Splice, changed_part_holds, conflict_mask, conflicts, editable, listing,
+                           local_diagram, local_result, site_key, smallest_first, with_joint_partners)
 
 __all__ = ["delete_locally", "site_moves"]
 
@@ -281,46 +282,44 @@ def _proved(D, index, gone, hole: Hole, sp) -> str | None:
 
 def _renumbered(D, index, gone, hole: Hole, sp, inplace: bool):
     """(sites, vertices, edges, index) of the remaining diagram, after the proof: the last remaining
-    sites moved into the deleted ones' places (:func:`site_moves`), the removed vertices and edges
-    deleted, the kept ones that list a moved site replaced by renumbered copies, the taken parts
-    (``sp``, renumbered in place: they are new) appended, the edit index spliced.  ``inplace``:
-    D's lists and the index's keys and boxes are edited (a few deletions and replacements, no
-    pass over all parts in Python); else copies are (D untouched).  The index's vertex and edge
-    arrays are masked copies either way (numpy passes)."""
+    sites moved into the deleted ones' places (:func:`site_moves`), the kept vertices and edges that
+    list a moved site replaced by renumbered copies, the taken parts (``sp``, renumbered in place:
+    they are new) in the removed parts' places
+    (:meth:`runtime.segments.local_update.EditIndex.replace_rows`).  ``inplace``: D's lists and
+    index are edited (a few row moves, nothing of size N copied); else copies are (D untouched)."""
     n = len(D.sites)
     m = n - len(gone)
     moves = site_moves(n, gone)
     renumber = lambda k: moves.get(k, k)     # noqa: E731
     gone_keys = [site_key(D.sites[k]) for k in gone]
-    sites = D.sites if inplace else list(D.sites)
-    keys = index.keys if inplace else dict(index.keys)
-    boxes = index.boxes if inplace else index.boxes.copy()
+    if inplace:
+        sites, vertices, edges = D.sites, D.vertices, D.edges
+    else:
+        index = index.copy()
+        sites, vertices, edges = list(D.sites), list(D.vertices), list(D.edges)
+    keys = index.keys
     for k in gone_keys:
         del keys[k]
     for old, new in moves.items():
         sites[new] = sites[old]
-        boxes[new] = boxes[old]
         keys[site_key(sites[new])] = new
     del sites[m:]
+    index.move_sites(moves, m)
+    if moves:
+        mv = list(moves)
+        for r in np.nonzero(listing(index.VS, mv) & ~hole.conflict)[0].tolist():
+            vertices[r] = _renumbered_vertex(vertices[r], renumber, vertices[r].certified)
+            index.VS[r, :len(vertices[r].sites)] = vertices[r].sites
+        for r in np.nonzero(listing(index.ES, mv) & hole.keep_e)[0].tolist():
+            edges[r] = _renumbered_edge(edges[r], renumber, edges[r].certified)
+            index.ES[r] = edges[r].sites
     for v in sp.vertices:
         v.sites = smallest_first(tuple(renumber(s) for s in v.sites))
     for e in sp.edges:
         _renumber_edge_in_place(e, renumber)
-    vertices = kept_parts(D.vertices if inplace else list(D.vertices), ~hole.conflict, [], True)
-    edges = kept_parts(D.edges if inplace else list(D.edges), hole.keep_e, [], True)
-    new_index = index.spliced(keys, boxes[:m], ~hole.conflict, sp.vertices, hole.keep_e, sp.edges)
-    if moves:
-        mv = np.fromiter(moves, np.int64, len(moves))
-        nv, ne = len(vertices), len(edges)
-        for r in np.nonzero(listing(new_index.VS[:nv], mv))[0].tolist():
-            vertices[r] = _renumbered_vertex(vertices[r], renumber, vertices[r].certified)
-            new_index.VS[r, :len(vertices[r].sites)] = vertices[r].sites
-        for r in np.nonzero(listing(new_index.ES[:ne], mv))[0].tolist():
-            edges[r] = _renumbered_edge(edges[r], renumber, edges[r].certified)
-            new_index.ES[r] = edges[r].sites
-    vertices.extend(sp.vertices)
-    edges.extend(sp.edges)
-    return sites, vertices, edges, new_index
+    index.replace_rows(vertices, "v", hole.rows.tolist(), sp.vertices)
+    index.replace_rows(edges, "e", np.flatnonzero(~hole.keep_e).tolist(), sp.edges)
+    return sites, vertices, edges, index
 
 
 def _renumbered_vertex(v, renumber, certified: bool):

@@ -25,8 +25,9 @@ Cost.  The keys, boxes and vertex arrays of the diagram are an
 N, at the first edit of a batch-built diagram); the conflict test and the neighbourhood are
 vectorised over its arrays (distances on the circles near the piece only); the local diagram, the
 matching (in a box about the change) and the proof see only the neighbourhood.  What stays linear
-in N is a few numpy passes (the edges at the removed vertices, the spliced index) and, without
-``inplace``, the copies of the lists; with it the diagram's lists, site keys and sources are edited.
+in N is a few numpy passes (the conflict prefilter, the edges at the removed vertices) and, without
+``inplace``, the copies of the lists and the index; with it the diagram's lists and the index are
+edited by a few row moves (:meth:`runtime.segments.local_update.EditIndex.replace_rows`).
 
 Why the kept part keeps its proof.  Let G' be the diagram with P.  (a) A kept vertex's circle was
 empty of the old sites (old certificate) and P is strictly outside it: it is a vertex of G'.  (b) A
@@ -75,14 +76,13 @@ Public API: :func:`insert_locally` (the returned diagram carries its ``edit_inde
 from __future__ import annotations
 
 import time
-from collections import ChainMap
 
 import numpy as np
 
 from ..voronoi.site_input import SiteError
 from .crossings import check_pieces
-from .local_update import (EditIndex, KeptVertices, Splice, changed_part_holds, conflict_mask, curve_ends, editable, leaving,
-                           kept_parts, listing, local_diagram, local_result, opposite, point_key, site_box, site_key,
+from .local_update import (EditIndex, KeptVertices, SitesWithNew, Splice, changed_part_holds, conflict_mask, curve_ends,
+                           editable, leaving, listing, local_diagram, local_result, opposite, point_key, site_box, site_key,
                            with_joint_partners)
 
 __all__ = ["insert_locally"]
@@ -143,17 +143,25 @@ def insert_locally(D, piece, source: int, build, index=None, inplace: bool = Fal
     keep = np.ones(len(D.vertices), bool)
     keep[cv_] = False
     keep_e = ~gone_mask
-    new_index = _spliced_index(index, new_sites, n, keep, sp, keep_e)
-    why = _proved(D, sites, index, new_index, sp, keep, keep_e, touched)
+    new_keys = {site_key(s): n + t for t, s in enumerate(new_sites)}
+    new_boxes = np.array([site_box(s) for s in new_sites], float).reshape(-1, 4)
+    why = _proved(D, sites, index, SitesWithNew(index, new_keys, new_boxes), sp, keep, keep_e, touched)
     if why is not None:
         return why
     secs["prove"] = time.perf_counter() - t3
-    vertices = kept_parts(D.vertices, keep, sp.vertices, inplace)       # nothing fails after this
-    edges = kept_parts(D.edges, keep_e, sp.edges, inplace)
-    new_index.keys = _keys_after(index.keys, new_index.keys.maps[0], inplace)
-    out = local_result(D, sites, vertices, edges, sp, new_index, len(cv_), len(hood), secs)
-    sources = D.sources if inplace else list(D.sources)
+    # 4. the edit (nothing fails after this): D's lists and index, or copies of them
+    if inplace:
+        D.sites.extend(new_sites)
+        sites, vertices, edges, sources = D.sites, D.vertices, D.edges, D.sources
+    else:
+        index = index.copy()
+        vertices, edges, sources = list(D.vertices), list(D.edges), list(D.sources)
+    index.replace_rows(vertices, "v", cv_.tolist(), sp.vertices)
+    index.replace_rows(edges, "e", np.flatnonzero(gone_mask).tolist(), sp.edges)
+    index.keys.update(new_keys)
+    index.append_sites(new_boxes)
     sources.extend([source] * len(new_sites))
+    out = local_result(D, sites, vertices, edges, sp, index, len(cv_), len(hood), secs)
     out.sources = sources
     return out
 
@@ -258,22 +266,6 @@ def _taken(D, L, index, glob, cv_):
         if why is not None:
             return why
     return sp
-
-
-def _spliced_index(index, new_sites, n: int, keep, sp, keep_e):
-    """The edit index of the edited diagram: the new sites' keys (a ChainMap over the old keys until
-    the proof is done, :func:`_keys_after`) and boxes appended, the kept rows and the taken parts."""
-    new_keys = ChainMap({site_key(s): n + t for t, s in enumerate(new_sites)}, index.keys)
-    boxes = np.vstack([index.boxes, np.array([site_box(s) for s in new_sites], float).reshape(-1, 4)])
-    return index.spliced(new_keys, boxes, keep, sp.vertices, keep_e, sp.edges)
-
-
-def _keys_after(keys: dict, new: dict, inplace: bool) -> dict:
-    """The site keys of the edited diagram: ``keys`` with the ``new`` ones, ``keys`` itself updated
-    when ``inplace`` (a dict copy of all N keys otherwise)."""
-    out = keys if inplace else dict(keys)
-    out.update(new)
-    return out
 
 
 def _proved(D, sites, index, new_index, sp, keep, keep_e, touched):

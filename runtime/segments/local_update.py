@@ -38,7 +38,7 @@ Public API: :class:`EditIndex`, :class:`KeptVertices`, :func:`site_key`, :func:`
 :func:`piece_ends`, :func:`piece_distance`, :func:`site_distance`, :func:`distance_error`, :func:`conflicts`,
 :func:`curve_ends`, :func:`leaving`, :func:`opposite`, :func:`curves_ending_at`, :func:`editable`,
 :func:`closure_holds`, :func:`spliced_edge`, :func:`prove_part`, :func:`vertex_sites`, :func:`edge_arrays`,
-:func:`listing`, :func:`conflict_mask`, :func:`without_rows`,
+:func:`listing`, :func:`conflict_mask`, :class:`SitesWithNew`,
 :data:`MARGIN`, :data:`WIDEN`, :data:`ARC_ERROR`; the steps both updates take: :func:`with_joint_partners`,
 :func:`local_diagram`, :func:`smallest_first`, :class:`Splice`, :func:`changed_part_holds`, :func:`local_result`.
 
@@ -48,7 +48,7 @@ and the edit state.
 """
 from __future__ import annotations
 
-from collections import Counter
+from collections import ChainMap, Counter
 from fractions import Fraction
 
 import numpy as np
@@ -65,8 +65,8 @@ from .certificate_vertices import prove_vertices
 __all__ = ["EditIndex", "KeptVertices", "site_key", "point_key", "site_box", "piece_ends", "piece_distance", "site_distance",
            "conflicts", "closure_holds", "spliced_edge", "prove_part", "vertex_sites", "edge_arrays", "curve_ends",
            "leaving", "opposite", "editable", "curves_ending_at", "distance_error", "MARGIN", "WIDEN", "ARC_ERROR",
-           "with_joint_partners", "local_diagram", "smallest_first", "Splice", "changed_part_holds", "kept_parts", "local_result",
-           "listing", "conflict_mask", "without_rows"]
+           "with_joint_partners", "local_diagram", "smallest_first", "Splice", "changed_part_holds", "local_result",
+           "listing", "conflict_mask", "SitesWithNew"]
 
 #: margin of the conflict test, relative to 1 + |x| + |y| + r of the vertex (a hundred times the
 #: certificate's position tolerance)
@@ -250,18 +250,20 @@ def edge_arrays(edges):
     return ES, EE
 
 
-def _stack(A, B):
-    """Rows of A then rows of B, the narrower padded with −1."""
-    w = max(A.shape[1], B.shape[1])
-    pad = lambda M: M if M.shape[1] == w else np.hstack([M, np.full((len(M), w - M.shape[1]), -1, M.dtype)])  # noqa: E731
-    return np.concatenate([pad(A), pad(B)])
-
-
-def without_rows(A, gone) -> np.ndarray:
-    """A copy of A without the rows ``gone`` (sorted): the runs between them concatenated, a few
-    block copies instead of a boolean mask over every row."""
-    cuts = [-1] + list(gone) + [len(A)]
-    return np.concatenate([A[a + 1:b] for a, b in zip(cuts[:-1], cuts[1:])])
+def _grown(A: np.ndarray, n: int, need: int, width: int | None = None) -> np.ndarray:
+    """A buffer holding the first ``n`` rows of A and room for ``need`` rows (at least twice A's,
+    so that appends cost O(1) amortised), ``width`` columns for a 2-d A (new ones padded with −1);
+    A itself when it fits."""
+    w = A.shape[1] if A.ndim == 2 else None
+    if len(A) >= need and (w is None or width is None or width <= w):
+        return A
+    if w is not None and width is not None and width > w:
+        B = np.full((max(need, 2 * len(A)), width), -1, A.dtype)
+        B[:n, :w] = A[:n]
+        return B
+    B = np.empty((max(need, 2 * len(A)),) + A.shape[1:], A.dtype)
+    B[:n] = A[:n]
+    return B
 
 
 class EditIndex:
@@ -270,11 +272,21 @@ class EditIndex:
     (n, 4) float boxes; in ``D.vertices`` order ``XY``/``R`` the centres and radii, ``VS`` the
     site lists (padded with −1), ``VID`` the ids; in ``D.edges`` order ``ES`` the site pairs and ``EE`` the end
     vertex ids (−1 at infinity).  :meth:`of` builds it (linear in N, once) or returns the
-    diagram's own when it still fits."""
+    diagram's own when it still fits.  The arrays are the first rows of buffers with room to
+    grow: an edit moves a few rows (:meth:`replace_rows`, :meth:`move_sites`) and appends, it
+    copies nothing of size N."""
 
     def __init__(self, keys, boxes, XY, R, VS, VID, ES, EE):
-        self.keys, self.boxes, self.XY, self.R = keys, boxes, XY, R
-        self.VS, self.VID, self.ES, self.EE = VS, VID, ES, EE
+        self.keys = keys
+        self._sites = np.asarray(boxes, float).reshape(-1, 4)
+        self._rows = {"v": [XY, R, VS, VID], "e": [ES, EE]}
+        self.ns, self.nv, self.ne = len(self._sites), len(R), len(ES)
+        self._views()
+
+    def _views(self) -> None:
+        self.boxes = self._sites[:self.ns]
+        self.XY, self.R, self.VS, self.VID = (A[:self.nv] for A in self._rows["v"])
+        self.ES, self.EE = (A[:self.ne] for A in self._rows["e"])
 
     @classmethod
     def build(cls, D) -> "EditIndex":
@@ -293,23 +305,65 @@ class EditIndex:
             return index
         return cls.build(D)
 
-    def spliced(self, keys, boxes, keep_v, new_v, keep_e, new_e) -> "EditIndex":
-        """The index after a splice: the rows ``keep_v`` / ``keep_e`` (boolean masks) of the vertex
-        and edge arrays, then the rows of the vertices ``new_v`` and edges ``new_e``."""
-        gv = np.flatnonzero(~np.asarray(keep_v, bool)).tolist()
-        ge = np.flatnonzero(~np.asarray(keep_e, bool)).tolist()
-        XY = np.concatenate([without_rows(self.XY, gv), np.array([[v.x, v.y] for v in new_v], float).reshape(-1, 2)])
-        R = np.concatenate([without_rows(self.R, gv), np.array([v.radius for v in new_v], float)])
-        VS = _stack(without_rows(self.VS, gv), vertex_sites(new_v, 1))
-        VID = np.concatenate([without_rows(self.VID, gv), np.array([v.id for v in new_v], dtype=np.int64)])
-        ES, EE = edge_arrays(new_e)
-        return EditIndex(keys, boxes, XY, R, VS, VID, np.concatenate([without_rows(self.ES, ge), ES]),
-                         np.concatenate([without_rows(self.EE, ge), EE]))
+    def copy(self) -> "EditIndex":
+        """An index of its own (keys and arrays copied), for an edit that leaves its input alone."""
+        return EditIndex(dict(self.keys), self.boxes.copy(), self.XY.copy(), self.R.copy(), self.VS.copy(),
+                         self.VID.copy(), self.ES.copy(), self.EE.copy())
 
-    def detached(self) -> "EditIndex":
-        """The same index with keys and boxes of its own (the parts an edit in place changes; the
-        row arrays are replaced by each edit, never written)."""
-        return EditIndex(dict(self.keys), self.boxes.copy(), self.XY, self.R, self.VS, self.VID, self.ES, self.EE)
+    def replace_rows(self, parts: list, kind: str, removed, new) -> None:
+        """Delete the rows ``removed`` from ``parts`` (the diagram's list of vertices, ``kind``
+        "v", or of edges, "e", aligned with the index's rows of that kind) and from those rows:
+        in decreasing order each takes the current last row (a few row moves, not a shift of
+        every later row); then append the parts ``new`` to both.  The order of the parts
+        changes, list and rows stay aligned."""
+        bufs = self._rows[kind]
+        n = self.nv if kind == "v" else self.ne
+        for r in sorted(set(int(t) for t in removed), reverse=True):
+            n -= 1
+            if r != n:
+                parts[r] = parts[n]
+                for A in bufs:
+                    A[r] = A[n]
+            parts.pop()
+        if kind == "v":
+            rows = [np.array([[v.x, v.y] for v in new], float).reshape(-1, 2), np.array([v.radius for v in new], float),
+                    vertex_sites(new, 1), np.array([v.id for v in new], dtype=np.int64)]
+        else:
+            rows = list(edge_arrays(new))
+        k = len(new)
+        for t, (A, X) in enumerate(zip(bufs, rows)):
+            A = bufs[t] = _grown(A, n, n + k, X.shape[1] if X.ndim == 2 else None)
+            if X.ndim == 2:
+                A[n:n + k] = -1 if A.dtype.kind == "i" else 0
+                A[n:n + k, :X.shape[1]] = X
+            else:
+                A[n:n + k] = X
+        parts.extend(new)
+        if kind == "v":
+            self.nv = n + k
+        else:
+            self.ne = n + k
+        self._views()
+
+    def move_sites(self, moves: dict, m: int) -> None:
+        """Site ``new`` takes the box of site ``old`` for each old -> new of ``moves``; the sites
+        from ``m`` on are dropped (keys are the caller's)."""
+        for old, new in moves.items():
+            self._sites[new] = self._sites[old]
+        self.ns = m
+        self._views()
+
+    def append_sites(self, boxes) -> None:
+        """Append the boxes of new sites (keys are the caller's)."""
+        B = np.asarray(boxes, float).reshape(-1, 4)
+        self._sites = _grown(self._sites, self.ns, self.ns + len(B))
+        self._sites[self.ns:self.ns + len(B)] = B
+        self.ns += len(B)
+        self._views()
+
+    def box_rows(self, rows) -> np.ndarray:
+        """The boxes of the sites ``rows``."""
+        return self.boxes[rows]
 
     def near(self, lo, hi) -> list[int]:
         """The sites whose box meets the box [lo, hi]."""
@@ -343,6 +397,30 @@ class EditIndex:
         pad = 1e-6 * (1 + float(np.abs(np.concatenate([lo, hi])).max())) + 2 * extra
         X, lim = self.XY, 2 * self.R + pad
         return np.nonzero((np.abs(X[:, 0] - c[0]) - h[0] <= lim) & (np.abs(X[:, 1] - c[1]) - h[1] <= lim))[0]
+
+
+class SitesWithNew:
+    """The sites of an index with new ones appended, for the proof of an insertion before the
+    index is edited: ``keys`` (a ChainMap of the new keys over the index's), :meth:`near` and
+    :meth:`box_rows` over both (what :func:`prove_part` reads of an index)."""
+
+    def __init__(self, index: EditIndex, new_keys: dict, new_boxes):
+        self.index, self.keys = index, ChainMap(new_keys, index.keys)
+        self.extra = np.asarray(new_boxes, float).reshape(-1, 4)
+        self.n = len(index.boxes)
+
+    def near(self, lo, hi) -> list[int]:
+        b = self.extra
+        new = np.nonzero((b[:, 0] <= hi[0]) & (b[:, 2] >= lo[0]) & (b[:, 1] <= hi[1]) & (b[:, 3] >= lo[1]))[0]
+        return self.index.near(lo, hi) + (self.n + new).tolist()
+
+    def box_rows(self, rows) -> np.ndarray:
+        rows = np.asarray(rows, dtype=np.int64)
+        old = rows < self.n
+        out = np.empty((len(rows), 4))
+        out[old] = self.index.boxes[rows[old]]
+        out[~old] = self.extra[rows[~old] - self.n]
+        return out
 
 
 def listing(A, values) -> np.ndarray:
@@ -483,7 +561,7 @@ def sites_meeting(index: EditIndex, D: np.ndarray) -> set:
     cand = np.asarray(index.near(lo, hi), dtype=np.int64)
     if not len(cand):
         return set()
-    B = index.boxes[cand]
+    B = index.box_rows(cand)
     dx = np.maximum(np.maximum(B[:, None, 0] - D[None, :, 0], D[None, :, 0] - B[:, None, 2]), 0.0)
     dy = np.maximum(np.maximum(B[:, None, 1] - D[None, :, 1], D[None, :, 1] - B[:, None, 3]), 0.0)
     hit = (dx * dx + dy * dy <= (D[None, :, 2]) ** 2).any(axis=1)
@@ -627,18 +705,6 @@ def changed_part_holds(sites, index: EditIndex, vid: dict, splice: Splice, ends_
     if not closure_holds(near_edges(check_ids) + splice.edges, [vid[u] for u in sorted(check_ids)]):
         return "the closure at the changed vertices fails"
     return None
-
-
-def kept_parts(parts: list, keep, extra: list, inplace: bool) -> list:
-    """The entries of ``parts`` where ``keep`` (a boolean array), in order, then ``extra``: a new
-    list, or ``parts`` itself edited in place when ``inplace`` (a few deletions, each a memmove,
-    instead of a Python pass over 10⁵ parts)."""
-    if not inplace:
-        return [p for p, k in zip(parts, keep.tolist()) if k] + list(extra)
-    for t in np.nonzero(~np.asarray(keep, bool))[0][::-1].tolist():
-        del parts[t]
-    parts.extend(extra)
-    return parts
 
 
 def local_result(D, sites, vertices, edges, splice: Splice, index: EditIndex, removed: int, hood: int, secs: dict):
