@@ -528,7 +528,8 @@ def _end_by_cover(S: _Balls, P: PieceData, lo: arb, hi: arb):
     (f' < 0) or concave (f'' < 0): on each part f is smallest at an end of the part (the left one,
     the right one, one of both), so when the part at the chosen end is monotone into it and f at
     each other part's candidate ends exceeds f at the chosen end, that end is the unique nearest
-    point.  The comparisons are differences f(φ) − f(end), linear in the box's point with the
+    point (a concave part at that end: its other end is compared too, f being strictly concave
+    from the exact end on).  The comparisons are differences f(φ) − f(end), linear in the box's point with the
     small factor e(φ) − e(end): a box a few 10⁻² wide still decides ends whose values differ by
     less than the spread of f itself over the box (which :func:`_lower_f` against an end's ball
     needs).  None when not proved (an interior minimum, or parts undecided after COVER_DEPTH
@@ -548,7 +549,7 @@ def _end_by_cover(S: _Balls, P: PieceData, lo: arb, hi: arb):
             return False
         m = arb((float(a.mid()) + float(b.mid())) / 2)
         return cover(a, m, depth + 1) and cover(m, b, depth + 1)
-    if not cover(lo, hi, 0) or len(parts) < 2:
+    if not cover(lo, hi, 0):
         return None
 
     def above(phi: arb, cs) -> bool:            # f(φ) − f(end) > 0
@@ -557,9 +558,13 @@ def _end_by_cover(S: _Balls, P: PieceData, lo: arb, hi: arb):
         return (-2 * S.A * (c - ce) - 2 * S.B * (s - se) + S.a2 * (c * c - ce * ce)
                 + S.b2 * (s * s - se * se)) > 0
     for which, into, others, cs in ((1, -1, parts[:-1], P.ub), (0, 1, parts[1:], P.ua)):
-        if parts[-1 if which else 0][2] != into:
+        a, b, lab = parts[-1 if which else 0]
+        if lab not in (into, 0):
             continue
-        pts = [x for a, b, lab in others for x in ((a,) if lab > 0 else (b,) if lab < 0 else (a, b))]
+        # a concave part at the end: f > min(f(end), f(its other end)) inside it (strictly concave
+        # on the part from the exact end on), so its other end is a candidate too
+        pts = [] if lab == into else [a if which else b]
+        pts += [x for a, b, lab in others for x in ((a,) if lab > 0 else (b,) if lab < 0 else (a, b))]
         if all(above(x, cs) for x in pts):
             return (which,)
     return None
