@@ -6,9 +6,14 @@ v = e(φ) + σ t n(φ) with n the outer unit normal, σ = ±1 the side and t = d
 distance (thesis ch. 4: the bisector is where the offsets of s and o at distance t meet).  For a
 fixed φ, h(t) = d(e(φ) + σ t n(φ), o) − t is non-increasing (a distance is 1-Lipschitz), so its
 root is unique where it exists and is found by bisection.  The edge is the image of the foot
-parameters between those of its two vertices, sampled until every chord is within the tolerance
-of the curve at its middle parameter (the deviation is measured, not bounded: these polylines are
-drawings, and the elliptic edges are not certified).
+parameters between those of its two vertices, sampled until the estimate of every chord's linear
+interpolation error Δφ²/8 · max|γ''| is within half the tolerance
+(:func:`runtime.segments.polyline_refinement.interpolation_parameters`); the stated tolerance is
+at least twice the largest estimate (where the refinement stops early, a larger tolerance, never
+a smaller one).  That is the bound the certificate proves for these edges with interval jets
+(:mod:`runtime.segments.certificate_ellipse_edges`); a chord refined by its middle point's
+deviation alone can miss it a hundredfold where the point runs fast along a nearly straight
+bisector (an end vertex far out, t(φ) steep).
 
 The edge of a piece and its own end point site is the normal line at the end up to the centre of
 curvature there, then such a curve (:func:`perpendicular_edge`).
@@ -23,7 +28,7 @@ import numpy as np
 from .distance import clearance, distances, site_distances
 from .elementary import ELLIPSE, POINT, ElementarySites
 from .ellipse_pieces import interior_foot, piece_feet, piece_points
-from .polyline_refinement import refined_parameters
+from .polyline_refinement import interpolation_parameters
 
 __all__ = ["ellipse_edge", "ellipse_step", "ellipse_bisector_points", "perpendicular_edge", "interior_or_end", "beyond_curvature"]
 
@@ -135,14 +140,15 @@ def ellipse_edge(E: ElementarySites, i: int, j: int, P0, P1, tol: float, far: fl
             bad = ~(np.isfinite(t) & (t > 0) & (np.hypot(*(V - centre).T) < far))
             bad[0] = False
             par[k] = o[int(np.argmax(bad)) - 1] if bad.any() else o[-1]
-    o = refined_parameters(curve, np.linspace(par[0], par[1], 33), tol, par[0] > par[1], MAX_PIECES)
+    o, est = interpolation_parameters(curve, np.linspace(par[0], par[1], 33), tol, par[0] > par[1], MAX_PIECES)
     V, _t = curve(o)
     for k, Q in ((0, ends[0]), (-1, ends[1])):
         if Q is not None:
             V[k] = Q
     Vm, _ = curve((o[:-1] + o[1:]) / 2)
     dev = distances(V[:-1], V[1:], Vm)[0]
-    return V, max(tol, 2 * float(np.nanmax(dev, initial=0.0))) + 1e-12 * (1.0 + float(np.max(np.abs(V))))
+    stated = max(tol, 2 * est, 2 * float(np.nanmax(dev, initial=0.0)))
+    return V, stated + 1e-12 * (1.0 + float(np.max(np.abs(V))))
 
 
 def perpendicular_edge(E: ElementarySites, i: int, j: int, P0, P1, tol: float, far: float):
@@ -164,13 +170,23 @@ def perpendicular_edge(E: ElementarySites, i: int, j: int, P0, P1, tol: float, f
     ends = [e + far * n if Q is None else np.asarray(Q, float) for Q in (P0, P1)]
     beyond = [float(np.dot(e - Q, n)) > rho * (1 + 1e-9) for Q in ends]
 
+    sags = [0.0]
+
+    def curve(o):
+        """The curve's points at the feet o; K at the foot p itself (where t = |w|²/(2 n·w) is 0/0)."""
+        V, t = ellipse_bisector_points(E, s, p, -1, o, 4 * far + 4 * rho)
+        at = np.asarray(o) == phi_e
+        V[at], t[at] = K, rho
+        return V, t
+
     def curve_to(Q):
         """Points of the curve from K (foot at p) to the point Q beyond K."""
         phi_q = interior_or_end(E, s, Q)
-        o = refined_parameters(lambda o: ellipse_bisector_points(E, s, p, -1, o, 4 * far + 4 * rho),
-                               np.linspace(phi_e, phi_q, 33), tol, phi_q < phi_e, MAX_PIECES, rounds=12)
-        V, _t = ellipse_bisector_points(E, s, p, -1, o, 4 * far + 4 * rho)
-        V[0], V[-1] = K, Q
+        o, est = interpolation_parameters(curve, np.linspace(phi_e, phi_q, 33), tol, phi_q < phi_e, MAX_PIECES,
+                                          rounds=12)
+        sags.append(est)
+        V, _t = curve(o)
+        V[-1] = Q
         return V
 
     if not any(beyond):
@@ -182,7 +198,7 @@ def perpendicular_edge(E: ElementarySites, i: int, j: int, P0, P1, tol: float, f
         V = np.concatenate([curve_to(ends[0])[::-1], [ends[1]]])
     else:
         V = np.concatenate([[ends[0]], curve_to(ends[1])])
-    return V, tol + 1e-12 * (1.0 + float(np.max(np.abs(V))))
+    return V, max(tol, 2 * max(sags)) + 1e-12 * (1.0 + float(np.max(np.abs(V))))
 
 
 def interior_or_end(E: ElementarySites, s: int, Q) -> float:

@@ -1,14 +1,28 @@
 """The parameters of a drawn bisector's polyline, refined until each chord is close to the curve.
 
 A bisector drawn by a parameter o (an arc's angle, an elliptic piece's foot parameter) is the
-polyline through the curve's points at the parameters; a step [o_k, o_{k+1}] is halved while the
-curve's point at the middle parameter is more than tol/2 from the step's chord (the deviation is
-measured at that one point, not bounded: these polylines are drawings, the certificate bounds
-the edges it proves by its own means).  The construction's arc bisectors
-(:mod:`runtime.segments.bisectors`) and elliptic bisectors
-(:mod:`runtime.segments.ellipse_bisectors`) share it.
+polyline through the curve's points at the parameters.  Two refinements share the halving:
 
-Public API: :func:`refined_parameters`.
+* :func:`refined_parameters` halves a step [o_k, o_{k+1}] while the curve's point at the middle
+  parameter is more than tol/2 from the step's chord (measured at that one point; the arc
+  bisectors of :mod:`runtime.segments.bisectors`, whose certificate bounds each chord by the
+  circle's own geometry).
+* :func:`interpolation_parameters` halves a step while its estimate of the linear interpolation
+  error Δo²/8 · max|γ''| (the error of the chord of a C² curve γ over a step Δo: de Boor,
+  *A Practical Guide to Splines*, ch. II, (2.4)) is above tol/2, and returns the largest
+  estimate.  This is the bound the certificate of the elliptic edges proves with interval jets
+  (:mod:`runtime.segments.certificate_ellipse_curves`, ``sag_bound``), and it can be far above
+  the middle point's deviation: where the foot parameter drives the point fast along a nearly
+  straight bisector (an edge vertex far out, t(φ) steep), γ'' is mostly tangential, and the
+  middle point sits on the chord while the bound is 100 times the tolerance.  max|γ''| over a
+  step is estimated from the second differences of the curve at its quarter parameters
+  (S_k = γ_{k−1} − 2γ_k + γ_{k+1} = h² γ''(ξ_k) componentwise, h = Δo/4, so Δo²/8 · |γ''| ≈
+  2 |S_k|), extrapolated linearly to the step's ends (where γ'' grows towards a far vertex) and
+  widened by 5/4 for the growth beyond linear; an estimate, not a proof — the certificate proves
+  or refuses each edge by its own bound.
+
+Public API: :func:`refined_parameters`, :func:`interpolation_parameters`,
+:func:`interpolation_estimates`.
 """
 from __future__ import annotations
 
@@ -16,7 +30,7 @@ import numpy as np
 
 from .distance import distances
 
-__all__ = ["refined_parameters"]
+__all__ = ["refined_parameters", "interpolation_parameters", "interpolation_estimates"]
 
 
 def refined_parameters(curve, o, tol: float, descending: bool, most: int, rounds: int = 14):
@@ -36,3 +50,37 @@ def refined_parameters(curve, o, tol: float, descending: bool, most: int, rounds
         if descending:
             o = o[::-1]
     return o
+
+
+def interpolation_estimates(curve, o) -> np.ndarray:
+    """Per step of ``o`` the estimate of Δo²/8 · max|γ''| over it (module docstring); a step with
+    a point where ``curve`` has no root (NaN distance) counts as 0: the callers draw only where
+    the curve is defined, and a drawn step there is the certificate's to refuse."""
+    o = np.asarray(o, float)
+    if len(o) < 2:
+        return np.zeros(0)
+    q = (o[:-1, None] + np.arange(5)[None, :] / 4 * np.diff(o)[:, None]).ravel()
+    V, t = curve(q)
+    V = np.asarray(V, float).reshape(len(o) - 1, 5, 2)
+    V = np.where(np.isfinite(np.asarray(t, float)).reshape(len(o) - 1, 5, 1) & np.isfinite(V), V, 0.0)
+    S = V[:, :-2] - 2 * V[:, 1:-1] + V[:, 2:]                     # (m, 3, 2): h² γ'' at 1/4, 1/2, 3/4
+    ends = np.stack([2 * S[:, 0] - S[:, 1], 2 * S[:, 2] - S[:, 1]], axis=1)
+    top = np.concatenate([np.hypot(S[..., 0], S[..., 1]), np.hypot(ends[..., 0], ends[..., 1])], axis=1)
+    return 2.5 * top.max(axis=1)
+
+
+def interpolation_parameters(curve, o, tol: float, descending: bool, most: int, rounds: int = 14):
+    """(parameters, largest estimate): ``o`` with every step whose interpolation error estimate
+    (:func:`interpolation_estimates`) is above tol/2 halved, round after round, until none is
+    (or after ``rounds`` rounds, or once there are more than ``most`` parameters); the estimate
+    of the parameters returned, so that a caller states at least twice it."""
+    o = np.asarray(o, float)
+    for k in range(rounds + 1):
+        est = interpolation_estimates(curve, o)
+        big = est > tol / 2
+        if not big.any() or len(o) > most or k == rounds:
+            break
+        o = np.sort(np.concatenate([o, ((o[:-1] + o[1:]) / 2)[big]]))
+        if descending:
+            o = o[::-1]
+    return o, float(np.max(est, initial=0.0))
