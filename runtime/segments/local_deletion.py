@@ -283,8 +283,8 @@ def _proved(D, index, gone, hole: Hole, sp) -> str | None:
 def _renumbered(D, index, gone, hole: Hole, sp, inplace: bool):
     """(sites, vertices, edges, index) of the remaining diagram, after the proof: the last remaining
     sites moved into the deleted ones' places (:func:`site_moves`), the kept vertices and edges that
-    list a moved site replaced by renumbered copies, the taken parts (``sp``, renumbered in place:
-    they are new) in the removed parts' places
+    list a moved site replaced by renumbered copies, the removed parts deleted (each takes the last
+    part's place) and the taken parts (``sp``, renumbered in place: they are new) appended
     (:meth:`runtime.segments.local_update.EditIndex.replace_rows`).  ``inplace``: D's lists and
     index are edited (a few row moves, nothing of size N copied); else copies are (D untouched)."""
     n = len(D.sites)
