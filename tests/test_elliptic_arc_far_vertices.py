@@ -254,3 +254,81 @@ def test_the_affine_rule_on_exact_random_lines():
             # both ends are vertices: the rule fails only for a ≡ 0 on the line
             assert all(a(t) == 0 for t in (t0, t1, (t0 + t1) / 2))
     assert said[True] > 50 and said[False] > 50
+
+
+# ------------------------------------------------------------------------------ an arc's end on the hull
+def hull_end_scene():
+    """The arc φ 3.21..5.22 of (x/2)² + y² = 1 with six integer points: the arc's start
+    e(3.21) ≈ (−2, −0.07) is a vertex of the sites' hull, so two edges of that point site go to
+    infinity next to its own piece (random scene 3 of ``bench/bench_elliptic_ring.py 1``)."""
+    return [cv.Arc.elliptic((0, 0), (2, 0), "1/2", 3.21, 5.22), (2, 3), (1, 3), (-2, -5), (1, -5), (2, -5), (2, -4)]
+
+
+@pytest.fixture(scope="module")
+def hull_end():
+    D = cv.voronoi(hull_end_scene(), certify=False)
+    return D, verify_segments(D)
+
+
+def test_an_arc_end_on_the_hull_is_certified(hull_end):
+    """Before: verify_segments raised KeyError (the hull's tie list took the piece for a circular
+    arc), and the two infinite edges of the arc's end point were refused."""
+    D, C = hull_end
+    assert C.ok and C.complete, [str(p) for p in C.problems]
+    arc = next(k for k, s in enumerate(D.sites) if isinstance(s, EllipticArc))
+    ends = [k for k, s in enumerate(D.sites) if not isinstance(s, EllipticArc)
+            and any(k in (int(a), int(b)) for a, b in [e.sites for e in D.edges if None in e.ends])]
+    assert ends
+    # the two unbounded edges of the arc's start: one of its end points with two other points
+    start = [e for e in D.edges if None in e.ends and any(
+        not isinstance(D.sites[int(s)], EllipticArc) and arc in _curves_ending_at(D, int(s)) for s in e.sites)]
+    assert len(start) >= 2
+
+
+def _curves_ending_at(D, p):
+    s = D.sites[p]
+    q = (F(str(s.cx)) if not isinstance(s.cx, F) else s.cx, F(str(s.cy)) if not isinstance(s.cy, F) else s.cy)
+    out = []
+    for k, t in enumerate(D.sites):
+        if isinstance(t, EllipticArc):
+            for u in (t.ua, t.ub):
+                if tuple(t.c[m] + u[0] * t.M[m] + u[1] * t.N[m] for m in (0, 1)) == q:
+                    out.append(k)
+    return out
+
+
+def test_the_arc_end_scene_agrees_with_mpmath(hull_end):
+    """Every edge's polyline (nodes and midpoints, the infinite ones out to their drawn far
+    points) is equidistant from its two sites and nearer to them than to any other site; every
+    vertex is at distance r from its listed sites and not nearer to any other (mpmath)."""
+    D, C = hull_end
+    arc = next(s for s in D.sites if isinstance(s, EllipticArc))
+    P = PieceData.of(arc)
+
+    def dist(k, q):
+        s = D.sites[k]
+        if isinstance(s, EllipticArc):
+            Q = PieceData.of(s)
+            phi, _ = nearest_parameter(Q, q)
+            return mpmath.sqrt(piece_f(Q, q)(phi))
+        return point_distance(s, q)
+    assert P is not None
+    for e in D.edges:
+        i, j = (int(s) for s in e.sites)
+        pts = [tuple(map(float, p)) for p in e.polyline]
+        pts += [((a[0] + b[0]) / 2, (a[1] + b[1]) / 2) for a, b in zip(pts, pts[1:])]
+        for x, y in pts[:: max(1, len(pts) // 12)]:
+            q = (mpmath.mpf(x), mpmath.mpf(y))
+            tol = (2 * float(e.tolerance) + 1e-9) * (1 + abs(x) + abs(y))
+            d = [dist(k, q) for k in range(len(D.sites))]
+            assert abs(d[i] - d[j]) <= tol, (e.id, x, y)
+            assert min(x_ for k, x_ in enumerate(d) if k not in (i, j)) >= min(d[i], d[j]) - tol, (e.id, x, y)
+    for v in D.vertices:
+        q = (mpmath.mpf(v.x), mpmath.mpf(v.y))
+        listed = {int(s) for s in v.sites}
+        for k in range(len(D.sites)):
+            dk = dist(k, q)
+            if k in listed:
+                assert abs(dk - v.radius) < 1e-9 * (1 + v.radius), (v.id, k)
+            else:
+                assert dk > v.radius - 1e-9 * (1 + v.radius), (v.id, k)

@@ -386,13 +386,14 @@ def _unbounded(T: SiteTable, D, e, i, j, vindex, vproofs, limit, wrong, budget) 
     beyond S by monotonicity (the tails of :mod:`runtime.segments.certificate_rules`): with
     x = O + s w∞ and P = p_i, |x − y|² − |x − P|² = C_y + 2s w∞·(P − y) is nondecreasing in s for
     every point y of a site k whose support in the direction w∞ is at most w∞·P, so d_k² − ρ²,
-    their minimum, stays above its positive value at S."""
+    their minimum, stays above its positive value at S.  A curve k ending at p_i or p_j (R2: its
+    nearest point must be that end e alone) is covered by the same monotonicity: g_y =
+    |x − y|² − |x − e|² is positive at S for every y ≠ e of k (R2, proved on the piece ending at
+    S) and nondecreasing in s (k's support in the direction w∞ is at most w∞·e = w∞·P, checked
+    with the other sites), so e stays k's unique nearest point beyond S."""
     if not (T.kind[i] == POINT and T.kind[j] == POINT):
         return limit("an infinite end of an edge next to an elliptic piece is not proved (only two points' "
                      "bisectors are covered)")
-    if any(T.is_curve(k) and T.ends[k] is not None and any(q in (i, j) for q in T.ends[k])
-           for k in set(T.incident.get(i, ())) | set(T.incident.get(j, ()))):
-        return limit("an infinite end of an edge of a curve's end next to an elliptic piece is not covered")
     c = PointsLine(T, i, j)
     Pn = np.asarray(e.polyline, dtype=float).reshape(-1, 2)
     if len(Pn) < 2 or not np.isfinite(Pn).all():

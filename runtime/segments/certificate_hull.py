@@ -47,7 +47,7 @@ from flint import arb
 from ..certify.foot import to_arb
 from ..predicates.orientation import orient2d
 from .certificate_envelope import Undecided, envelope_directions, tangent_ties
-from .certificate_sites import ARC, POINT, SEGMENT, SiteTable, direction_key
+from .certificate_sites import ARC, ELLIPSE, POINT, SEGMENT, SiteTable, direction_key
 
 __all__ = ["expected_infinite_ends", "infinite_key", "tangent_sign", "convex_hull"]
 
@@ -168,6 +168,8 @@ def _rational_ties(T: SiteTable, u, ref) -> list:
         elif T.kind[k] == SEGMENT:
             if all(_on_support(T, u, q, r, p) for p in (T.a[k], T.b[k])):
                 out.append(k)
+        elif T.kind[k] == ELLIPSE:
+            _piece_off_support(T, k, u, q, r)
         else:
             c, rho = T.cen[k], T.rad[k]
             # u·c + ρ|u| = q + r|u|  ⟺  u·c − q = (r − ρ)|u|
@@ -176,6 +178,24 @@ def _rational_ties(T: SiteTable, u, ref) -> list:
             if tie and T.in_range(k, u[0], u[1], closed=True):
                 out.append(k)
     return out
+
+
+def _piece_off_support(T: SiteTable, k: int, u, q, r) -> None:
+    """An elliptic piece whose end is near the support line: it adds no tie.  The accounting runs
+    only when every piece lies strictly inside the point sites' hull but at ends that are point
+    sites (:func:`runtime.segments.certificate_ellipse_sites.pieces_inside_hull`), so the piece
+    meets the support line at most at such an end e; there it must leave e strictly into the inner
+    side (u·t < 0 for the exact direction t leaving e): then its support in direction u is
+    attained at e alone, far away its nearest point in those directions is e (the tie is the point
+    site's), and its normal line at e is not along u.  Else Undecided (a tangent there)."""
+    if r != 0:
+        raise Undecided(f"elliptic piece {k} next to an arc's tangent support line")
+    for code in T.ends[k] or ():
+        e = T.pt(code)
+        if u[0] * e[0] + u[1] * e[1] == q:
+            t = T.leaving(k, code)
+            if not (code >= 0 and u[0] * t[0] + u[1] * t[1] < 0):
+                raise Undecided(f"elliptic piece {k} touches a support line along its tangent")
 
 
 def _items(T: SiteTable, ties, u, b, exact: bool):
@@ -290,10 +310,8 @@ def _points_segments(T, ties, u, p):
 def expected_infinite_ends(T: SiteTable):
     """The (sorted site pair, key) of every unbounded end of the true diagram (module docstring),
     with multiplicity; a message (str) when it is not decided (a limit)."""
-    if not T.has_arcs:
-        return _points_only(T)
     try:
-        return _with_arcs(T)
+        return _points_only(T) if not T.has_arcs else _with_arcs(T)
     except Undecided as exc:
         return f"the unbounded ends are not decided: {exc}"
 
