@@ -19,7 +19,11 @@ polyline through the curve's points at the parameters.  Two refinements share th
   (S_k = γ_{k−1} − 2γ_k + γ_{k+1} = h² γ''(ξ_k) componentwise, h = Δo/4, so Δo²/8 · |γ''| ≈
   2 |S_k|), extrapolated linearly to the step's ends (where γ'' grows towards a far vertex) and
   widened by 5/4 for the growth beyond linear; an estimate, not a proof — the certificate proves
-  or refuses each edge by its own bound.
+  or refuses each edge by its own bound.  The certificate's other bound, ℓ²κ/8 (arc length ℓ,
+  curvature κ), is not aimed at: it encloses κ by max|γ' × γ''| / min|γ'|³ over interval jets,
+  up to 36 times a float estimate of it, and polylines refined to a quarter of that estimate
+  were refused on 15 of 178 edges of 40 random scenes (none with this one; 3 times the nodes
+  of the middle-point refinement on those scenes, 1.3 times on the issue's).
 
 Public API: :func:`refined_parameters`, :func:`interpolation_parameters`,
 :func:`interpolation_estimates`.
