@@ -43,15 +43,21 @@ def main() -> int:
         (a0, a1), sites = scene(rng)
         D = cv.voronoi(sites, certify=False)
         t = time.process_time()
-        C = verify_segments(D)
+        try:
+            C = verify_segments(D)
+        except Exception as exc:            # a traceback is a result here (counted, named)
+            C = None
+            probs = [f"raised {type(exc).__name__}: {exc}"]
         dt = time.process_time() - t
-        ok += C.ok
+        ok += bool(C is not None and C.ok)
         cpu += dt
-        probs = [str(p) for p in C.problems]
+        if C is not None:
+            probs = [str(p) for p in C.problems]
         for p in probs:
             kinds[p.split(":", 1)[-1].strip()[:70]] += 1
         first = "; ".join(probs[:2]).replace("|", "/")
-        print(f"| {m} | {a0}..{a1} | {len(sites) - 1} | {'yes' if C.ok else 'no'} | {dt:.1f} | {first} |", flush=True)
+        print(f"| {m} | {a0}..{a1} | {len(sites) - 1} | {'yes' if C is not None and C.ok else 'no'} | {dt:.1f} | "
+              f"{first} |", flush=True)
     load1 = open("/proc/loadavg").read().split()[0]
     print(f"\nseed {seed}: certified {int(ok)} of {n}; certificate CPU {cpu:.1f} s in all; load {load0} → {load1}")
     for k, c in kinds.most_common():
