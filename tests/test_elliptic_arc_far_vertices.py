@@ -26,7 +26,7 @@ from curvedvoronoi.runtime.segments.certificate import verify_segments
 from curvedvoronoi.runtime.segments.ellipse_pieces import PieceData, closest_at_an_end
 from curvedvoronoi.runtime.sites.elliptic_arc import EllipticArc
 
-mpmath.mp.dps = 30
+pytestmark = pytest.mark.mpmath_dps(30)
 
 
 def mpf(q):
