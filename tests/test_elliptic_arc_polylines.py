@@ -33,6 +33,8 @@ from curvedvoronoi.runtime.segments.certificate_curves import polyline_bound
 from curvedvoronoi.runtime.segments.certificate_ellipse_curves import FootCurve
 from curvedvoronoi.runtime.segments.certificate_sites import SiteTable
 
+pytestmark = pytest.mark.mpmath_dps(25)
+
 ELL = ((0, 0), (2, 0), "1/2")
 # (start, end parameter, points): the scenes of the issue, then three drawn like them
 # (parameters in [0, 6) and spans in [0.5, 2.5] to 2 decimals, integer points in [-6, 6]² outside
@@ -169,7 +171,6 @@ def _diagram(k):
 
 @pytest.fixture(scope="module", params=range(len(SCENES)))
 def diagram(request):
-    mp.mp.dps = 25
     return _diagram(request.param)
 
 
