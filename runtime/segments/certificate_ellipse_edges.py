@@ -21,6 +21,10 @@ by construction |γ(θ) − c_i(θ)| = |γ(θ) − c_j(θ)| = ρ(θ) for contact
 * **junction** (:class:`runtime.segments.certificate_ellipse_junction.EndCurve`): the edge of a
   piece and its end E from a vertex on E's normal line to a vertex on the foot curve of the piece
   and E — the normal line down to E's centre of curvature, then that foot curve;
+* **major axis** (:class:`runtime.segments.certificate_ellipse_axis.AxisCurve`): two pieces
+  joined at an end J of their ellipse's major axis, from a vertex on J's normal line through J's
+  centre of curvature to the vertex where the mirror feet reach the far end of the shorter piece;
+  ρ in closed form, the contacts by an exact identity, point sites by an exact rule;
 * **points**: the perpendicular bisector of two points (an edge with no piece whose end vertex
   lists a piece), ρ = |γ − p_i|.
 
@@ -98,6 +102,7 @@ from flint import arb
 from ..certify.foot import to_arb
 from ..voronoi.verify.problems import Problem, fault
 from .certificate_curves import polyline_bound
+from .certificate_ellipse_axis import AxisCurve, axis_edge
 from .certificate_edges import EdgeProof, prove_edges
 from .certificate_ellipse_curves import FootCurve, NormalLine, PointsLine, gradient, widened_nearest
 from .certificate_ellipse_junction import EndCurve
@@ -200,9 +205,10 @@ def _curve(T: SiteTable, D, i: int, j: int, vps, verts):
     if ki == ELLIPSE and kj == ELLIPSE:
         if not joints:
             return "two elliptic pieces that are not joined: their bisector is not covered"
-        for t in (i, j):
-            if any((_foot_param(T, t, vp, v) or ("",))[:2] != ("end", joints[0]) for vp, v in zip(vps, verts)):
-                return "a vertex of the edge of two joined elliptic pieces is not on the joint's normal line"
+        contacts = [[_foot_param(T, t, vp, v) for t in (i, j)] for vp, v in zip(vps, verts)]
+        if any((g or ("",))[:2] != ("end", joints[0]) for got in contacts for g in got):
+            # past the joint's centre of curvature: the major axis with its mirror feet
+            return axis_edge(T, i, j, joints[0], vps, contacts)
         return _normal_line(T, joints[0], [(s, T.which_end(s, joints[0])) for s in (i, j)], vps)
     if ELLIPSE not in (ki, kj):
         return "an edge of two sites that are not elliptic pieces, next to an elliptic piece: not covered"
@@ -477,7 +483,8 @@ def _pieces(T: SiteTable, c, i, j, lo, hi, vlo, vhi, verts, budget):
                     here.add(k)
         normals.append(here)
     wzones = tuple(_w_zone(T, vp, (i, j)) for vp in (vlo, vhi))
-    line_rule = _line_rule(T, i, j, vlo, vhi) if isinstance(c, PointsLine) else None
+    line_rule = _line_rule(T, i, j, vlo, vhi) if isinstance(c, PointsLine) else (
+        c.farther_rule() if isinstance(c, AxisCurve) else None)
     step = L / FIRST
     cuts = sorted({float(a.mid()) + m * step for m in range(1, FIRST)} |
                   {x for x in getattr(c, "cuts", ()) if float(a.mid()) < x < float(b.mid())})
@@ -677,7 +684,8 @@ def _owned_end_farther(T: SiteTable, k: int, i: int, j: int, X, Y, line_rule) ->
     and e is farther than ρ there: a point site q ∉ {i, j} — then d_k = d_q on the box, and q is a
     site of the table, tested on the same piece (or outside the query: farther on the whole box) —
     or, on two points' bisector, any end by the exact affine rule of :func:`_line_rule` (a smooth
-    joint's point lies on the closure of k, so d_k(v) ≥ r bounds it at the end vertices)."""
+    joint's point lies on the closure of k, so d_k(v) ≥ r bounds it at the end vertices) — on the
+    major axis of :mod:`runtime.segments.certificate_ellipse_axis` by its exact rule, likewise."""
     if not T.is_curve(k) or T.ends[k] is None:
         return False
     for q in T.ends[k]:
@@ -697,7 +705,7 @@ def _piece(T: SiteTable, c, i, j, J, ties, ends, slopes, relied, at_lo=False, at
     R = c.rho(J, X, Y)
     if not (X.is_finite() and Y.is_finite() and R.is_finite()):
         return ("its curve is not enclosed (a pole of the foot curve?)",)
-    if not (R > 0 or (isinstance(c, (NormalLine, EndCurve)) and R >= 0)):
+    if not (R > 0 or (isinstance(c, (NormalLine, EndCurve, AxisCurve)) and R >= 0)):
         return ("its common distance is not proved positive",)
     ok = c.contacts_ok(J, X, Y, R)
     if ok is not True:
