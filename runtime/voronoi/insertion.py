@@ -150,7 +150,7 @@ from .site_arrays import SiteArrays
 from ..sites.intersection import sites_intersect
 from .adjacency import dynamic_state
 from .star_region import star_region
-from .reach import arc_discs, distance_to_site, sites_meeting_discs
+from .reach import arc_discs, sites_meeting_discs
 from .conflict import LOCAL_KINDS, arc_reach, disc_inside, nearest_old_sites, outside, site_disc
 from .site_input import SiteError, as_site, check_disjoint, sites_equal
 from .verify.edge_checks import check_edges
@@ -824,16 +824,11 @@ def _prove_sub(D, dyn, pv, pe, vert, op, special, new_index, problems, flags_v, 
     # one disc around them all (centre X0, radius M bounding |q − X0| + r(q)), enough when it holds
     # few sites; else (near the hull, where the empty circles are large) the union of one disc per
     # vertex and per piece of polyline (module docstring, step 3; :mod:`runtime.voronoi.reach`)
-    X0 = np.mean([[v.x, v.y] for v in V], axis=0)
-    M = 0.0
-    for w in V:
-        M = max(M, math.hypot(w.x - X0[0], w.y - X0[1]) + w.radius
-                + 4 * VERTEX_TOL * (1 + abs(w.x) + abs(w.y) + w.radius))
-    for e in pe:
-        P = np.asarray(e.polyline, float)
-        g = dyn.geoms[_old(e.sites[0], op, special, dyn)]
-        seg = float(np.hypot(*np.diff(P, axis=0).T).max()) if len(P) > 1 else 0.0
-        M = max(M, float((np.hypot(*(P - X0).T) + distance_to_site(g, P)).max()) + 2 * (e.tolerance + seg))
+    XYR = np.array([[w.x, w.y, w.radius] for w in V], float)
+    X0 = XYR[:, :2].mean(axis=0)
+    M = float((np.hypot(*(XYR[:, :2] - X0).T) + XYR[:, 2]
+               + 4 * VERTEX_TOL * (1 + np.abs(XYR).sum(axis=1))).max())
+    M = max(M, _arcs_reach(dyn, pe, X0, op, special))
     M = M * (1 + 1e-9) + 1e-9 * float(np.abs(X0).sum() + 1)
     near = dyn.near(X0, M + dyn.rmax)
     if len(near) > ONE_DISC_SITES:
@@ -846,6 +841,29 @@ def _prove_sub(D, dyn, pv, pe, vert, op, special, new_index, problems, flags_v, 
             rad.append(rp)
         near = sites_meeting_discs(dyn, np.vstack(pts), np.concatenate(rad))
     return _prove_among(D, dyn, V, pe, near, op, special, new_index, problems, flags_v, flags_e)
+
+
+def _arcs_reach(dyn, pe, X0, op, special) -> float:
+    """max over the points q of the arcs of the bounded edges ``pe`` (circle and point sites) of a
+    bound on |q − X0| + r(q), all polylines at once: q lies within the tolerance t of a segment of
+    the polyline, so within t + ℓ of one of its points P (ℓ the edge's longest segment), and
+    r(q) = d_i(q) ≤ d_i(P) + t + ℓ (distances are 1-Lipschitz): the bound is
+    |P − X0| + d_i(P) + 2(t + ℓ), maximised over the points P of the edge."""
+    pe = [e for e in pe if len(e.polyline)]
+    if not pe:
+        return 0.0
+    polys = [np.asarray(e.polyline, float).reshape(-1, 2) for e in pe]
+    lens = np.array([len(P) for P in polys])
+    P = np.concatenate(polys)
+    own = np.repeat(np.arange(len(pe)), lens)
+    first = np.cumsum(lens) - lens
+    site = np.array([_old(e.sites[0], op, special, dyn) for e in pe])[own]
+    val = np.hypot(*(P - X0).T) + np.abs(np.hypot(*(P - dyn.C[site]).T) - dyn.R[site])
+    seg = np.zeros(len(pe))
+    same = own[1:] == own[:-1]
+    np.maximum.at(seg, own[1:][same], np.hypot(*np.diff(P, axis=0).T)[same])
+    tol = np.array([e.tolerance for e in pe], float)
+    return float((np.maximum.reduceat(val, first) + 2 * (tol + seg)).max())
 
 
 def _conic_reach(dyn, V, pe, op, special):

@@ -15,12 +15,10 @@ update of CGAL's ``Apollonius_graph_2::insert``):
 
 This module builds that candidate with floating point: each new vertex by Newton's method on
 d_s = d_a = d_b from the point where d_s − d_a changes sign along the old edge's polyline; the
-points of an edge (s, t) where the ray from c_s in direction e meets the bisector, at distance
-λ = (|w|² − δ²) / (2(δ + e·w)) (w = c_t − c_s, δ = ρ_t − ρ_s: the squared form of
-|λe − w| = λ + δ), and the cut edge from the old polyline's points before the crossing; the
-polylines and their tolerances are then made by the construction's
-:func:`runtime.voronoi.edge_polylines.edge_polylines` (projection, densification, the verifier's
-Hausdorff bound), given these points as its chains.
+polylines of the new edges (the cut edges and the edges (s, t)) on their bisectors in closed form
+(:func:`bisector_polylines`: the bisector of two disjoint circles or points is a branch of a
+hyperbola, thesis §3.1, and an edge is the arc between its vertices' parameters), their
+tolerances by the verifier's Hausdorff bound.
 
 Nothing here is a proof.  The candidate goes through the same closure check and the same proofs as
 a local diagram from the construction (:func:`runtime.voronoi.insertion.local_update`): when an
@@ -32,7 +30,7 @@ polyline of an edge with both ends in X farther from s than from the edge's site
 along a cut edge, consecutive vertices not sharing exactly one site, fewer than three new
 vertices).
 
-Public API: :func:`star_region`.
+Public API: :func:`star_region`, :func:`bisector_polylines`, :data:`INITIAL_PIECES`, :data:`MAX_SPLIT`, :data:`CHORD_REL`.
 """
 from __future__ import annotations
 
@@ -41,14 +39,19 @@ import types
 
 import numpy as np
 
-from .edge_polylines import edge_polylines
-from .site_arrays import SiteArrays
-from .structure import DiagramVertex
+from .verify.edges import CircleTable, bisector, params
+from .verify.polyline_bound import hausdorff_bounds
 
-__all__ = ["star_region"]
+__all__ = ["star_region", "bisector_polylines", "INITIAL_PIECES", "MAX_SPLIT", "CHORD_REL"]
 
-#: interior points of an edge (s, t) per radian of direction from c_s (at least 2, at most 32)
-POINTS_PER_RADIAN = 8
+#: pieces of equal parameter steps an edge's polyline starts from (:func:`bisector_polylines`)
+INITIAL_PIECES = 4
+#: each of them is cut into at most this many (so at most 4·16 = 64 segments per edge)
+MAX_SPLIT = 16
+#: the target: the sagitta of a segment at most this fraction of its distance to the sites (on 10⁴
+#: random circles it gives the tolerances of the construction's polylines, median 10⁻³ of the
+#: distance, with as many points)
+CHORD_REL = 2e-3
 
 
 def _centre(g):
@@ -93,8 +96,7 @@ def star_region(D, dyn, sites, X, s):
         cut.append((e, w, P))
     if len(cut) < 3:
         return None
-    cs = np.array([cx, cy])
-    seeds, pairs, chains = [], [], []
+    seeds, pairs = [], []
     for e, w, P in cut:
         a, b = edges[e].sites
         ga, gb = dyn.geoms[a], dyn.geoms[b]
@@ -109,7 +111,7 @@ def star_region(D, dyn, sites, X, s):
         t = h[k - 1] / (h[k - 1] - h[k])
         seeds.append(P[k - 1] + t * (P[k] - P[k - 1]))
         pairs.append((a, b))
-        chains.append(P[1:k])
+    cs = np.array([cx, cy])
     V = _newton(np.array(seeds), cs, rs, np.array([_centre(dyn.geoms[a]) for a, _ in pairs]),
                 np.array([_centre(dyn.geoms[b]) for _, b in pairs]))
     if V is None:
@@ -131,56 +133,92 @@ def star_region(D, dyn, sites, X, s):
         gs = tuple(t for _, t in sorted(zip(th, tri)))
         q = gs.index(min(gs))
         new_v.append((types.SimpleNamespace(x=float(x), y=float(y), radius=float(r)), gs[q:] + gs[:q]))
-    # the edges (s, t) between consecutive vertices around c_s
-    s_edges = []                                # (t, k from, k to, interior points)
+    # the edges: each cut edge from its kept end to its new vertex, and the edges (s, t) between
+    # consecutive new vertices around c_s (t the site they share)
+    meta, ends_xy = [], []                      # (pair, ends), (start point, end point)
+    for k, (e, w, _) in enumerate(cut):
+        meta.append((tuple(sorted(pairs[k])), [("old", w), ("new", k)]))
+        ends_xy.append(((verts[w].x, verts[w].y), (V[k, 0], V[k, 1])))
     for q in range(m):
         k0, k1 = int(order[q]), int(order[(q + 1) % m])
         shared = set(pairs[k0]) & set(pairs[k1])
         if len(shared) != 1:
             return None
-        t = shared.pop()
-        a0 = float(ang[k0])
-        span = (float(ang[k1]) - a0) % (2 * math.pi)
-        if not 0 < span < 2 * math.pi:
-            return None
-        npts = int(min(32, max(2, math.ceil(POINTS_PER_RADIAN * span))))
-        th = a0 + span * np.arange(1, npts + 1) / (npts + 1)
-        E = np.column_stack([np.cos(th), np.sin(th)])
-        tx, ty, rt = _centre(dyn.geoms[t])
-        wv = np.array([tx - cx, ty - cy])
-        dl = rt - rs
-        den = 2 * (dl + E @ wv)
-        if not np.all(den > 0):
-            return None
-        lam = (float(wv @ wv) - dl * dl) / den
-        if not np.all((lam >= rs) & (lam + dl >= 0)):
-            return None
-        s_edges.append((t, k0, k1, cs + lam[:, None] * E))
-    # the polylines: the construction's edge_polylines over these chains, in local numbering
-    kept = sorted({w for _, w, _ in cut})
-    L = sorted({s} | {t for p in pairs for t in p} | {t for w in kept for t in verts[w].sites})
-    pos = {t: k for k, t in enumerate(L)}
-    vl = [DiagramVertex(k, tuple(pos[t] for t in gs), lv.x, lv.y, lv.radius) for k, (lv, gs) in enumerate(new_v)]
-    vl += [DiagramVertex(m + k, tuple(pos[t] for t in verts[w].sites), verts[w].x, verts[w].y, verts[w].radius)
-           for k, w in enumerate(kept)]
-    kpos = {w: m + k for k, w in enumerate(kept)}
-    cc, raw, meta = [], [], []
-    for k, ((e, w, _), chain) in enumerate(zip(cut, chains)):
-        idx = list(range(len(cc), len(cc) + len(chain)))
-        cc.extend(chain.tolist())
-        raw.append((tuple(sorted((pos[pairs[k][0]], pos[pairs[k][1]]))), ("v",), idx, ("v",), (kpos[w], k)))
-        meta.append((tuple(sorted(pairs[k])), [("old", w), ("new", k)]))
-    for t, k0, k1, pts in s_edges:
-        idx = list(range(len(cc), len(cc) + len(pts)))
-        cc.extend(pts.tolist())
-        raw.append((tuple(sorted((pos[s], pos[t]))), ("v",), idx, ("v",), (k0, k1)))
-        meta.append((tuple(sorted((s, t))), [("new", k0), ("new", k1)]))
-    S = SiteArrays([sites[t] for t in L], [dyn.geoms[t] for t in L])
-    tri = types.SimpleNamespace(cc=np.array(cc, float).reshape(-1, 2))
-    loc_edges = edge_polylines(S, tri, vl, raw)
-    new_e = [(le, pair, ends) for le, (pair, ends) in zip(loc_edges, meta)]
+        meta.append((tuple(sorted((s, shared.pop()))), [("new", k0), ("new", k1)]))
+        ends_xy.append(((V[k0, 0], V[k0, 1]), (V[k1, 0], V[k1, 1])))
+    polys = bisector_polylines(dyn, [p for p, _ in meta], np.array(ends_xy, float))
+    if polys is None:
+        return None
+    new_e = [(types.SimpleNamespace(polyline=P, tolerance=tol), pair, ends)
+             for (P, tol), (pair, ends) in zip(polys, meta)]
     return {"loc": None, "L": sorted({s} | {t for p in pairs for t in p}), "new_v": new_v, "new_e": new_e,
             "rm_v": set(X), "rm_e": rm_e}
+
+
+def bisector_polylines(dyn, pairs, ends):
+    """Polylines and tolerances of bounded edges of circle and point sites, sampled on their
+    bisectors in closed form: edge t of sites ``pairs[t]`` (indices into ``dyn``) runs from
+    ``ends[t, 0]`` to ``ends[t, 1]`` (its vertices).  The bisector of two disjoint, non-nested
+    sites is one branch q(u) = m + a·cosh u·e_x + b·sinh u·e_y of a hyperbola (a line when the
+    radii are equal; :func:`runtime.voronoi.verify.edges.bisector`, thesis §3.1), a simple curve,
+    so the edge is the arc between the parameters of its ends.  It is cut at equal steps of u
+    (:data:`INITIAL_PIECES`), and each piece into k equal steps (at most :data:`MAX_SPLIT`), k² at
+    least its sagitta (the distance from its mid-parameter point to its chord's midpoint) over
+    :data:`CHORD_REL` times that point's distance to the sites.  The polyline is the two end
+    vertices with the curve points between them; its tolerance is the verifier's bound on the Hausdorff distance between polyline and arc
+    (:func:`runtime.voronoi.verify.polyline_bound.hausdorff_bounds`, which accounts for the rounding
+    of the float curve), widened as :func:`runtime.voronoi.edge_polylines.edge_polylines` does.
+    Returns [(polyline, tolerance)], or None when a pair has no such bisector (nested or touching
+    within the float filter).  Nothing here is a proof: the verifier proves the tolerance again."""
+    sites = sorted({t for p in pairs for t in p})
+    pos = {t: k for k, t in enumerate(sites)}
+    geo = np.array([_centre(dyn.geoms[t]) for t in sites], float)
+    table = CircleTable.from_arrays(geo[:, :2], geo[:, 2])
+    biss = [bisector(table, pos[i], pos[j]) for i, j in pairs]
+    if any(isinstance(b, str) or b.kind != "hyperbola" for b in biss):
+        return None
+    E = len(biss)
+    M = np.array([b.m for b in biss])
+    EX = np.array([b.ex for b in biss])
+    EY = np.array([b.ey for b in biss])
+    A = np.array([b.a for b in biss])
+    B = np.array([b.b for b in biss])
+    CI = table.C[[b.i for b in biss]]
+    RI = table.R[[b.i for b in biss]]
+    u0 = params(biss, np.arange(E), ends[:, 0])
+    u1 = params(biss, np.arange(E), ends[:, 1])
+    if not np.all(np.isfinite(u0) & np.isfinite(u1)):
+        return None
+
+    def curve(t, u):
+        return M[t] + (A[t] * np.cosh(u))[:, None] * EX[t] + (B[t] * np.sinh(u))[:, None] * EY[t]
+
+    # equal steps of u, then each piece cut into k equal steps, k² ≥ its sagitta over the target
+    # (the sagitta of a short piece of a smooth curve shrinks as the square of its length)
+    f = np.arange(INITIAL_PIECES + 1) / INITIAL_PIECES
+    U = u0[:, None] + f[None, :] * (u1 - u0)[:, None]
+    ua, ub = U[:, :-1].ravel(), U[:, 1:].ravel()
+    t = np.repeat(np.arange(E), INITIAL_PIECES)
+    Qm = curve(t, 0.5 * (ua + ub))
+    sag = np.hypot(*(Qm - 0.5 * (curve(t, ua) + curve(t, ub))).T)
+    dist = np.maximum(np.hypot(*(Qm - CI[t]).T) - RI[t], 1e-12 * table.scale)
+    with np.errstate(invalid="ignore"):
+        k = np.ceil(np.sqrt(sag / (CHORD_REL * dist)))
+    k = np.clip(np.nan_to_num(k, nan=1.0), 1, MAX_SPLIT).astype(np.int64)
+    piece = np.repeat(np.arange(len(k)), k)
+    step = np.arange(int(k.sum())) - np.repeat(np.cumsum(k) - k, k)
+    u = np.concatenate([ua[piece] + step / k[piece] * (ub - ua)[piece], u1])
+    own = np.concatenate([t[piece], np.arange(E)])
+    order = np.argsort(own, kind="stable")          # each edge's pieces in order, then its end
+    u, own = u[order], own[order]
+    Q = curve(own, u)
+    first = np.searchsorted(own, np.arange(E))
+    last = np.append(first[1:], len(own)) - 1
+    Q[first], Q[last] = ends[:, 0], ends[:, 1]
+    polys = [Q[first[t]:last[t] + 1] for t in range(E)]
+    hb = hausdorff_bounds(biss, polys)
+    tol = hb * (1 + 1e-9) + 1e-10 * (1 + np.maximum.reduceat(np.abs(Q).max(axis=1), first))
+    return list(zip(polys, tol.tolist()))
 
 
 def _newton(P, cs, rs, A, B, iters: int = 40):
