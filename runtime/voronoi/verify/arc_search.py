@@ -70,12 +70,16 @@ def prove_arcs(table: CircleTable, jobs, init: int = 4, max_depth: int = MAX_DEP
     for s in range(0, nj, BATCH):
         ctx = _Curves(table, jobs[s:s + BATCH])
         job, A, B = ctx.pieces(init)
-        _, Q, _, _, R = ctx.discs(job, A, B)
-        # the number of candidate sites of each piece, to group the pieces (an estimate: the big
-        # circles of the table count for all, the others through the tree as CircleTable.near does)
-        reach = np.minimum(table.bounds(Q, ctx.I[job])[1], table.bounds(Q, ctx.J[job])[1]) + 2 * R + table.r_small
-        count = table.tree.query_ball_point(Q, reach * (1 + 1e-9), return_length=True) + 1 + len(table.big)
-        ends = np.searchsorted(np.cumsum(count), np.arange(PAIRS, int(count.sum()) + PAIRS, PAIRS), side="right")
+        if len(job) * table.n <= PAIRS:
+            ends = np.zeros(0, int)     # every (piece, site) pair fits one group (a small table)
+        else:
+            _, Q, _, _, R = ctx.discs(job, A, B)
+            # the number of candidate sites of each piece, to group the pieces (an estimate: the big
+            # circles of the table count for all, the others through the tree as CircleTable.near does)
+            reach = (np.minimum(table.bounds(Q, ctx.I[job])[1], table.bounds(Q, ctx.J[job])[1]) + 2 * R
+                     + table.r_small)
+            count = table.tree.query_ball_point(Q, reach * (1 + 1e-9), return_length=True) + 1 + len(table.big)
+            ends = np.searchsorted(np.cumsum(count), np.arange(PAIRS, int(count.sum()) + PAIRS, PAIRS), side="right")
         start, alive, res = 0, np.ones(ctx.n, bool), [(True, None)] * ctx.n
         budget = max(1, max_pieces * ctx.n // nj)
         for end in np.unique(np.append(np.maximum(ends, 1), len(job))).tolist():
@@ -95,6 +99,7 @@ class _Curves:
     def __init__(self, table, jobs):
         self.table, self.jobs, self.n = table, jobs, len(jobs)
         self.hyp = np.array([b.kind == "hyperbola" for b, *_ in jobs])
+        self.only_hyp = bool(self.hyp.all())
         self.M0 = np.array([b.m for b, *_ in jobs])
         self.EX = np.array([b.ex for b, *_ in jobs])
         self.EY = np.array([b.ey for b, *_ in jobs])
@@ -141,6 +146,15 @@ class _Curves:
         Mid = 0.5 * (A + B)
         h = self.hyp[job]
         Aa, Bb = self.Aa[job], self.Bb[job]
+        if self.only_hyp:   # no ellipse: the values the np.where below take, with fewer operations
+            with np.errstate(over="ignore"):
+                sm = np.sinh(Mid)
+                Q = self.M0[job] + (Aa * np.cosh(Mid))[:, None] * self.EX[job] + (Bb * sm)[:, None] * self.EY[job]
+                Rh = self.Cc[job] * np.maximum(sm - np.sinh(A), np.sinh(B) - sm)
+                err = 4 * self.E0[job] * np.cosh(np.minimum(np.maximum(np.abs(A), np.abs(B)), 700.0))
+            err = err + 16 * EPS * (np.abs(Q).sum(axis=1) + 1.0)
+            Rarc = Rh * (1 + 1e-12)
+            return Mid, Q, Rarc, err, Rarc + err
         with np.errstate(over="ignore"):
             Xc = np.where(h, Aa * np.cosh(np.where(h, Mid, 0.0)), Aa * np.cos(Mid))
             Yc = np.where(h, Bb * np.sinh(np.where(h, Mid, 0.0)), Bb * np.sin(Mid))

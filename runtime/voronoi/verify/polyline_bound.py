@@ -122,16 +122,22 @@ def _foot_params(C, P, u, iters=4):
     a, b, hyp = C.a, C.b, C.hyp
     V = P - C.m
     x, y = (V * C.ex).sum(1), (V * C.ey).sum(1)
+    only_hyp = bool(hyp.all())          # then the np.where below all take their first values
     for _ in range(iters):
         with np.errstate(all="ignore"):
-            ch, sh = np.cosh(np.where(hyp, u, 0.0)), np.sinh(np.where(hyp, u, 0.0))
-            co, si = np.cos(u), np.sin(u)
-            X = np.where(hyp, a * ch, a * co)
-            Y = np.where(hyp, b * sh, b * si)
-            dX = np.where(hyp, a * sh, -a * si)
-            dY = np.where(hyp, b * ch, b * co)
-            ddX = np.where(hyp, X, -X)
-            ddY = np.where(hyp, Y, -Y)
+            if only_hyp:
+                ch, sh = np.cosh(u), np.sinh(u)
+                X, Y, dX, dY = a * ch, b * sh, a * sh, b * ch
+                ddX, ddY = X, Y
+            else:
+                ch, sh = np.cosh(np.where(hyp, u, 0.0)), np.sinh(np.where(hyp, u, 0.0))
+                co, si = np.cos(u), np.sin(u)
+                X = np.where(hyp, a * ch, a * co)
+                Y = np.where(hyp, b * sh, b * si)
+                dX = np.where(hyp, a * sh, -a * si)
+                dY = np.where(hyp, b * ch, b * co)
+                ddX = np.where(hyp, X, -X)
+                ddY = np.where(hyp, Y, -Y)
             g = (X - x) * dX + (Y - y) * dY
             dg = dX * dX + dY * dY + (X - x) * ddX + (Y - y) * ddY
             step = np.where(np.isfinite(g / dg) & (dg > 0), g / dg, 0.0)
@@ -167,6 +173,10 @@ def _chord_deviation(C, ua, ub, Qa, Qb):
         t0 = np.arctan2(b * np.cosh(np.where(hyp, lo, 0.0)), a * np.sinh(np.where(hyp, lo, 0.0)))
         t1 = np.arctan2(b * np.cosh(np.where(hyp, hi, 0.0)), a * np.sinh(np.where(hyp, hi, 0.0)))
         turn_h = np.abs((t1 - t0 + np.pi) % (2 * np.pi) - np.pi)
+    if hyp.all():                       # no ellipse: the np.where below all take the hyperbola's values
+        dev = np.where(in_h, np.abs(f_h), 0.0) + 1e-12 * mag_h + 4 * C.curve_error(big)
+        return np.where(turn_h < np.pi / 2, dev, np.maximum(dev, 0.5 * speed_h * (hi - lo) * (1 + 1e-12)))
+    with np.errstate(all="ignore"):
         # ellipse: the first critical angles ≥ lo
         tc = np.arctan2(beta, alpha)
         c1 = tc + 2 * np.pi * np.ceil((lo - tc) / (2 * np.pi))

@@ -127,8 +127,8 @@ def _fast_circle_vertices(items, table):
     Rho = table.R[T]
     Z0 = np.array([[it[2], it[3], it[4]] for it in items], float)
     scale = table.scale
-    ok1, Z1, H1 = _krawczyk(C, Rho, Z0, scale)
-    # the second root of the quadratic in r (q = q0 − r q1), shifted to c_0
+    # the second root of the quadratic in r (q = q0 − r q1), shifted to c_0, seeded from the
+    # reported root; both roots are then refined and tested in one batch
     c1, c2 = C[:, 1] - C[:, 0], C[:, 2] - C[:, 0]
     A = 2 * np.stack([c1, c2], axis=1)                                  # (n,2,2)
     b = np.stack([(c1 ** 2).sum(-1) - Rho[:, 1] ** 2 + Rho[:, 0] ** 2,
@@ -144,12 +144,14 @@ def _fast_circle_vertices(items, table):
     qb = -2 * ((q0 * q1).sum(-1) + Rho[:, 0])
     with np.errstate(all="ignore"):
         r_sum = -qb / qa                                               # r1 + r2
-        r_other = r_sum - Z1[:, 2]
+        r_other = r_sum - Z0[:, 2]
     quad = regular & (np.abs(qa) > 1e-9 * (np.abs(q1) ** 2).sum(-1).clip(1.0)) & np.isfinite(r_other)
     with np.errstate(all="ignore"):                                    # rows without a second root: NaN, zeroed
         Zo = np.column_stack([q0 - r_other[:, None] * q1 + C[:, 0], r_other])
     Zo = np.where(np.isfinite(Zo), Zo, 0.0)
-    ok2, Z2, H2 = _krawczyk(C, Rho, Zo, scale)
+    nv = len(Z0)
+    ok, Z, H = _krawczyk(np.concatenate([C, C]), np.concatenate([Rho, Rho]), np.concatenate([Z0, Zo]), scale)
+    ok1, Z1, H1, ok2, Z2, H2 = ok[:nv], Z[:nv], H[:nv], ok[nv:], Z[nv:], H[nv:]
     apart = (np.abs(Z1 - Z2) > (H1 + H2)[:, None]).any(-1)
     # true vertex: r > 0 and r + ρ_l > 0 on the box
     pos = (Z1[:, 2] - H1 > 0)
