@@ -291,7 +291,7 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
     # an arc's third sites; polyline_bound: the Hausdorff bound of an edge's polyline)
     ("runtime/voronoi/verify/arc_search.py", ["tests/test_arc_search_rounded_curve.py", "tests/test_arc_search_subnormal_scene.py",
                                               "tests/test_arc_search_boundaries.py", "tests/test_arc_search_resolution.py",
-                                              "tests/test_arc_search.py"]
+                                              "tests/test_arc_search.py", "tests/test_arc_search_refused_job.py"]
      + _VERIFY_TESTS),
     ("runtime/voronoi/verify/polyline_bound.py", ["tests/test_polyline_bound_far_parallel.py",
                                                   "tests/test_polyline_bound_boundaries.py", "tests/test_polyline_bound.py"]
@@ -312,7 +312,8 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
     ("runtime/voronoi/verify/hull_nesting.py", ["tests/test_hull_nesting_mutants_s39.py", "tests/test_nested_container.py"] + _FAR_TESTS + _VERIFY_TESTS),
     ("runtime/voronoi/verify/hull_points.py", ["tests/test_hull_candidates_between_samples.py",
                                                "tests/test_proof_inequalities.py"] + _VERIFY_TESTS),
-    ("runtime/voronoi/verify/medial_corners.py", ["tests/test_medial_corners.py"] + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/medial_corners.py", ["tests/test_medial_corners.py", "tests/test_medial_corner_without_bracket.py"]
+     + _VERIFY_TESTS),
     ("runtime/voronoi/verify/mirror_tail.py", ["tests/test_mirror_edge_third_sites.py",
                                                "tests/test_mirror_bisector_tolerance.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/outcome.py", ["tests/test_problems_faulted_sites.py", "tests/test_problem_records.py"] + _VERIFY_TESTS),
@@ -340,7 +341,8 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
                                           "tests/test_strip_chaining.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/distance_gap.py", ["tests/test_distance_gap_mutants_s38.py",
                                                 "tests/test_second_order_bounds.py"] + _VERIFY_TESTS),
-    ("runtime/voronoi/verify/conic_vertices.py", ["tests/test_conic_vertices_mutants_s38.py"] + _VERIFY_TESTS),
+    ("runtime/voronoi/verify/conic_vertices.py", ["tests/test_conic_vertices_mutants_s38.py",
+                                                  "tests/test_conic_vertex_newton_start.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/clarke_gradient.py", ["tests/test_clarke_gradient_thin_ellipse.py",
                                                    "tests/test_clarke_gradient.py"] + _VERIFY_TESTS),
     ("runtime/voronoi/verify/site_table.py", ["tests/test_gradient_enclosure_inside_circle.py",
@@ -360,7 +362,7 @@ SOUND_TESTS: list[tuple[str, list[str]]] = [
     ("runtime/voronoi/verify/far_accounting.py", ["tests/test_far_accounting_mutants_s38.py"] + _FAR_TESTS + _VERIFY_TESTS),
     ("runtime/voronoi/verify/far_conics.py", _FAR_TESTS + _VERIFY_TESTS),
     ("runtime/voronoi/verify/equal_circles.py", ["tests/test_equal_circles_reduction.py"] + _VERIFY_TESTS),
-    ("runtime/voronoi/verify/bisector_guide.py", ["tests/test_guide_projection_and_bend_rules.py",
+    ("runtime/voronoi/verify/bisector_guide.py", ["tests/test_adapt_many.py", "tests/test_guide_projection_and_bend_rules.py",
                                                   "tests/test_curved_edge_guides.py", "tests/test_verify_float_boundaries.py"]
      + _VERIFY_TESTS),
     # boundary tests of the verifier's rounding allowances: the box of an exact co-circular vertex,
