@@ -217,6 +217,39 @@ def test_the_farther_rule_is_sound_on_exact_points(scene):
     assert seen[True] > 10 and seen[False] > 10
 
 
+def test_the_farther_rule_on_points_tied_at_the_lower_vertex(scene):
+    """Exact points of the lower vertex's circle (the far end p reflected across rational lines
+    through the vertex x_p): tied there, so the rule may accept them only where they get farther
+    along the edge (the sign of the mpmath excess just past x_p)."""
+    D, pieces, e = scene
+    with working_prec(128):
+        T = SiteTable(D.sites)
+        i, j = pieces
+        code = next(c for c in set(T.ends[i]) & set(T.ends[j]) if c <= -2)
+        c = AxisCurve(T, i, j, code)
+    c.mu_lo = (A2 - B2) * max(c.far.values()) / A2
+    rule = c.farther_rule()
+    xp = (-2 * c.mu_lo, Fraction(0))
+    p = next(tuple(Fraction(v) for v in T.pt(q)) for k in pieces for q in T.ends[k]
+             if q >= 0 and c.far[k] == max(c.far.values()))
+    lo, K = mpq(c.mu_lo), mp.mpf(3) / 4
+    verdicts = []
+    for t in [Fraction(n, 7) for n in range(-21, 22)]:
+        # reflect p across the line through x_p with direction (1, t): exact, on the circle
+        dx, dy = p[0] - xp[0], p[1] - xp[1]
+        n2 = 1 + t * t
+        k = 2 * (dx + t * dy) / n2
+        q = (xp[0] + k - dx, xp[1] + k * t - dy)
+        assert (q[0] - xp[0]) ** 2 + q[1] ** 2 == dx * dx + dy * dy
+        m = lo + (K - lo) * mp.mpf("1e-6")
+        past = (-2 * m - mpq(q[0])) ** 2 + mpq(q[1]) ** 2 - closed_rho(-2 * m) ** 2
+        verdict = rule(q)
+        verdicts.append(verdict)
+        if verdict:
+            assert past > 0, t
+    assert True in verdicts and False in verdicts
+
+
 @pytest.mark.slow
 def test_the_scene_is_certified_and_every_vertex_agrees_with_mpmath(scene):
     D, pieces, e = scene
