@@ -113,6 +113,8 @@ def _krawczyk(C, Rho, Z, scale):
         new = test & ~ok
         H = np.where(new, rho, H)
         ok |= test
+        if ok[ok_rows].all():
+            break               # the larger cubes would only try the rows not yet proved
     return ok, Z, H
 
 
