@@ -248,6 +248,11 @@ def test_the_farther_rule_on_points_tied_at_the_lower_vertex(scene):
         if verdict:
             assert past > 0, t
     assert True in verdicts and False in verdicts
+    assert rule(p)                            # the far end itself: tied at x_p, farther past it
+    # p pulled towards x_p: nearer than ρ at the vertex (and just past it)
+    assert not rule((xp[0] + (p[0] - xp[0]) * Fraction(999, 1000), p[1] * Fraction(999, 1000)))
+    # J is at distance exactly ρ = a(1 − μ) from every axis point between K and J
+    assert not rule((Fraction(-2), Fraction(0)))
 
 
 @pytest.mark.slow

@@ -42,7 +42,8 @@ End vertices (both on the axis, proved):
 Third sites (step (C2)): a point e of a site's closure (a point site, a curve's end) is farther
 than ρ on the open edge by an exact rule (:meth:`AxisCurve.farther_rule`): q(μ) = |x(μ) − e|² − ρ²
 is a convex quadratic with leading coefficient a⁴/(a² − b²) on [μ_p, μ_K] — decided exactly in
-rationals, q(μ_p) ≥ 0 with q' ≥ 0 where q(μ_p) = 0 (a tie at the vertex) — and affine on
+rationals: q(μ_p) ≥ 0, q(μ_K) > 0 and q > 0 at its vertex when that lies in (μ_p, μ_K) (a tie at
+μ_p is then left increasing: by strict convexity q > 0 past it) — and affine on
 [μ_K, μ_hi], positive at μ_K and ≥ 0 at the upper vertex (its empty circle: d_k(v) ≥ r bounds every
 point of site k's closure), so positive between.  Other sites by the distance balls and the
 derivative runs of the edge proof.  Through J itself (an end vertex outside the ellipse) ρ = 0 at
@@ -222,8 +223,7 @@ class AxisCurve(StraightLine):
                 def excess(m):
                     return (A * m + B) * m + C
                 ok = True
-                q_lo = excess(mu_lo)
-                if q_lo < 0 or (q_lo == 0 and 2 * A * mu_lo + B < 0):
+                if excess(mu_lo) < 0:
                     ok = False
                 m0 = -B / (2 * A)
                 if mu_lo < m0 < muK and not excess(m0) > 0:
