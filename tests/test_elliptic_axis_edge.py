@@ -11,19 +11,21 @@ to the whole ellipse, |x| < (a² − b²)/a — checked here against that minimi
 """
 from __future__ import annotations
 
+import dataclasses
 import random
 from fractions import Fraction
 
 import mpmath as mp
+from flint import arb
 import pytest
 
 import curvedvoronoi as cv
-from curvedvoronoi.runtime.certify.foot import working_prec
+from curvedvoronoi.runtime.certify.foot import to_arb, working_prec
 from curvedvoronoi.runtime.segments.certificate import verify_segments
-from curvedvoronoi.runtime.segments.certificate_ellipse_axis import AxisCurve
+from curvedvoronoi.runtime.segments.certificate_ellipse_axis import AxisCurve, axis_edge
 from curvedvoronoi.runtime.segments.certificate_ellipse_edges import prove_piece_edge
 from curvedvoronoi.runtime.segments.certificate_sites import SiteTable
-from curvedvoronoi.runtime.segments.certificate_vertices import prove_vertices
+from curvedvoronoi.runtime.segments.certificate_vertices import VertexProof, prove_vertices
 from curvedvoronoi.runtime.sites.elliptic_arc import EllipticArc
 
 pytestmark = pytest.mark.mpmath_dps(40)
@@ -253,6 +255,61 @@ def test_the_farther_rule_on_points_tied_at_the_lower_vertex(scene):
     assert not rule((xp[0] + (p[0] - xp[0]) * Fraction(999, 1000), p[1] * Fraction(999, 1000)))
     # J is at distance exactly ρ = a(1 − μ) from every axis point between K and J
     assert not rule((Fraction(-2), Fraction(0)))
+
+
+def test_rho_and_its_derivative_on_the_axis(scene):
+    D, pieces, e = scene
+    with working_prec(128):
+        T = SiteTable(D.sites)
+        code = next(c for c in set(T.ends[pieces[0]]) & set(T.ends[pieces[1]]) if c <= -2)
+        c = AxisCurve(T, *pieces, code)
+        for mu in ("0.6", "0.74", "0.76", "0.9", "1.3"):
+            m = mp.mpf(mu)
+            rho = closed_rho(-2 * m)
+            drho = mp.diff(lambda t: closed_rho(-2 * t), m)
+            assert abs(mp.mpf(float(c.rho(arb(mu)).mid())) - rho) < 1e-14
+            assert abs(mp.mpf(float(c.drho(arb(mu)).mid())) - drho) < 1e-12
+            assert c.rho(arb(mu)).rad() < 1e-30 and c.drho(arb(mu)).rad() < 1e-30
+
+
+def test_axis_edge_refuses_vertices_that_are_not_where_the_identity_puts_them(scene):
+    """A box missing x(μ_p), the far end of the longer piece (its axis point is nearer to that
+    end than to the shorter piece: no vertex), and a vertex on J's normal line past K are refused;
+    the diagram's own vertices are taken."""
+    D, pieces, e = scene
+    with working_prec(128):
+        T = SiteTable(D.sites)
+        vproofs = prove_vertices(D, T, [])
+        vindex = {v.id: n for n, v in enumerate(D.vertices)}
+        i, j = pieces
+        code = next(c for c in set(T.ends[i]) & set(T.ends[j]) if c <= -2)
+        c = AxisCurve(T, i, j, code)
+        short = max(pieces, key=lambda k: c.far[k])
+        long_ = min(pieces, key=lambda k: c.far[k])
+        far = {k: next(q for q in T.ends[k] if q >= 0) for k in pieces}
+        vps = [vproofs[vindex[v]] for v in e.ends]
+        low = min(range(2), key=lambda n: float(vps[n].x.mid()) < -2)
+        contacts = [None, None]
+        for n in range(2):
+            if n == low:
+                contacts[n] = [("end", far[k], None) if k == short else ("inside", None) for k in (i, j)]
+            else:
+                contacts[n] = [("end", code, None)] * 2
+        got = axis_edge(T, i, j, code, vps, contacts)
+        assert not isinstance(got, str), got
+        assert got[1][low].rad() < 1e-30         # x(μ_p) exact
+        bad = list(vps)
+        bad[low] = dataclasses.replace(vps[low], x=vps[low].x + arb("1e-20"))
+        assert isinstance(axis_edge(T, i, j, code, bad, contacts), str)
+        mu = Fraction(3, 4) * c.far[long_]
+        bad[low] = VertexProof(True, to_arb(-2 * mu) + arb(0, 1e-20), arb(0, 1e-20), vps[low].r,
+                               listed=frozenset({i, j, far[long_]}))
+        wrong = list(contacts)
+        wrong[low] = [("end", far[k], None) if k == long_ else ("inside", None) for k in (i, j)]
+        assert isinstance(axis_edge(T, i, j, code, bad, wrong), str)
+        bad = list(vps)
+        bad[1 - low] = dataclasses.replace(vps[1 - low], x=arb(-2 * 0.74, 1e-20), y=arb(0, 1e-20))
+        assert isinstance(axis_edge(T, i, j, code, bad, contacts), str)
 
 
 @pytest.mark.slow
