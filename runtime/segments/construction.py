@@ -63,7 +63,7 @@ from .elementary import ARC, POINT, ElementarySites, decompose
 from .exact import contacts_valid
 from .hull_samples import hull_samples
 from .sampling import flat, initial_spacing, nearest_point, retriangulation, samples, triangulation
-from .proved_zeros import EMPTY, UNDECIDED, ZeroTable
+from .proved_zeros import EMPTY, ENTERED, UNDECIDED, ZeroTable
 from .walk_checks import BAD, NONE, TRI, VERTEX, degree_mismatches, far_ends, long_side, pair_keys, walk_arrays
 from .newton import prove_vertices
 from .near_degenerate import CLUSTER_RADIUS, splice_clusters
@@ -266,7 +266,7 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
         a = np.linspace(0, 2 * np.pi, 33)[:-1] + 0.1
         P = np.vstack([P, c + R * np.column_stack([np.cos(a), np.sin(a)])])
         lab = np.concatenate([lab, np.full(32, ghost)])
-        tri = triangulation(P, lab)
+        tri = _entered_flipped(triangulation(P, lab), caches)
         caches.pop("tri", None)
     else:
         prev = caches.pop("tri", None)
@@ -276,6 +276,7 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
             tri = triangulation(P, lab, droppable=lab >= E.n_points)
         else:
             stats["local_rounds"] = stats.get("local_rounds", 0) + 1
+        tri = _entered_flipped(tri, caches)
         caches["tri"] = tri
     P, lab = tri.P, tri.lab            # an updated triangulation keeps its own sample order
     raw = tri.walks()
@@ -399,6 +400,45 @@ def _build_once(E: ElementarySites, spacing, stats, caches):
 
 #: the vertex code of a candidate that is the ghost ring or a flat hull triangle (an end at infinity)
 INF = -2
+
+
+def _entered_flipped(tri, caches):
+    """The sample triangulation ``tri`` with its quadrilaterals flipped to their exact Delaunay
+    diagonal (Lawson's flips, :meth:`runtime.voronoi.sample_delaunay.SampleTriangulation.
+    legalized`) where a triangle's triple has a proved zero that the site of the far corner
+    enters (found in an earlier round).  qhull and the batch update decide in floats, and a
+    curve's point nearest to such a zero (the sample added for the site that entered it) lies
+    inside the circle of the triple's samples by the intrusion's depth only, which can be below
+    their roundoff (at 4·10⁵ samples of coordinates 10⁴, a depth of 2·10⁻¹⁰): the triangle then
+    stays, and the refinement asks for the same sample round after round.  Elsewhere the float
+    diagonal is kept: near a curve's end its samples only stand for the curve, and the exact
+    diagonal of the samples may be the wrong one for the sites.  The flips are Lawson's (each
+    removes a side that is not locally Delaunay, so they end); their candidates are proved like
+    any others."""
+    zeros = caches.get("zeros")
+    if zeros is None or not len(zeros.key):
+        return tri
+    culprit = np.array([-1 if c is None else int(c) for c in zeros.culprit], np.int64)
+    known = (np.isin(zeros.state, (ENTERED, UNDECIDED)) & (culprit >= 0))
+    if not known.any():
+        return tri
+    threes = np.nonzero(tri.nlab == 3)[0]
+    rows = threes[np.isin(zeros.keys(np.sort(tri.L[threes], axis=1)), zeros.key[known])]
+    if not len(rows):
+        return tri
+    lab = tri.lab
+
+    def entered(a, b, c, d) -> bool:
+        t = sorted((int(lab[a]), int(lab[b]), int(lab[c])))
+        if t[0] == t[1] or t[1] == t[2]:
+            return False
+        at = np.nonzero(known & (zeros.key == zeros.keys(np.array([t], np.int64))[0]))[0]
+        return bool((culprit[at] == int(lab[d])).any())
+
+    def allow(p, q, r, d) -> bool:
+        return entered(p, q, r, d) or entered(d, r, q, p)
+
+    return tri.legalized(allow, rows)
 
 
 def _crowded(zeros: ZeroTable, rows) -> np.ndarray:

@@ -15,13 +15,21 @@ as triangles inverted in exact arithmetic.  Here:
 * :func:`exact_delaunay` builds one: a sweep in lexicographic order (each new point is outside the
   hull of the earlier ones and is joined to the hull edges it sees strictly), then Lawson's flips
   of the edges that are not locally Delaunay (Lawson 1977), each flip decided exactly.
+* :func:`lawson_flips` repairs a triangulation made in floats (qhull's, of hundreds of thousands
+  of samples), everywhere or where its caller allows: the float filters on the edges at once,
+  integers for the few they leave undecided, then Lawson's flips of the edges found strictly
+  illegal.  qhull merges facets whose points are co-circular within its roundoff, which grows
+  with the number and the magnitude of the points, and triangulates the merged facet in any way:
+  a point 10⁻¹¹ of the radius inside a circle can be left outside its triangle (a segment's
+  sample 10⁻⁴ from a point site, inside the circle of three point sites by 2·10⁻¹⁰ at
+  coordinates 10⁴, among 4·10⁵ samples).
 
 Predicates: :func:`runtime.predicates.orientation.orient2d` and ``incircle`` (Shewchuk's float
 filters, DCG 18 (1997), then exact integers: the library's one implementation of both).
 Co-circular points are triangulated in either way; the diagram's vertex of a co-circular set is
 merged downstream.
 
-Public API: :func:`exact_delaunay`, :func:`is_delaunay`, :func:`orientation`.
+Public API: :func:`exact_delaunay`, :func:`is_delaunay`, :func:`lawson_flips`, :func:`orientation`.
 """
 from __future__ import annotations
 
@@ -29,7 +37,7 @@ import numpy as np
 
 from ..predicates.orientation import incircle, incircle_filter, orient2d, orient2d_filter
 
-__all__ = ["exact_delaunay", "is_delaunay", "orientation"]
+__all__ = ["exact_delaunay", "is_delaunay", "lawson_flips", "orientation"]
 
 class _Points:
     """Float coordinates of the points (checked finite) and the two predicates on their indices."""
@@ -215,3 +223,95 @@ def _rot(tri, a):
     """The triangle's vertices counter-clockwise starting at a."""
     k = tri.index(a)
     return tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]
+
+
+def lawson_flips(P, simplices, neighbors, allow=None, rows=None):
+    """Lawson's flips (Lawson 1977) of the edges of a triangulation that are not locally Delaunay,
+    decided exactly: (simplices, neighbors, changed) in qhull's layout (neighbors[t, k] across the
+    side opposite vertex k, −1 on the hull), ``changed`` the sorted rows rewritten (each flip
+    rewrites its two triangles in place, counter-clockwise; the other rows are untouched); None
+    when no edge is flipped.  ``allow(p, q, r, d)`` (optional, point indices): whether the side q–r
+    of the triangle (p, q, r), whose neighbour across it has the far corner d, may be flipped to
+    p–d; asked of illegal sides only (a caller that knows more than the points, such as which
+    sites the points sample, says where).  ``rows`` (optional): only the sides of these triangles
+    are examined first (then those of the flipped ones).
+
+    An edge is flipped only when both its triangles are strictly oriented, the fourth point lies
+    strictly inside the circle of the other three and both new triangles are strictly oriented
+    counter-clockwise (a strictly convex quadrilateral): each flip is then a flip of a valid
+    triangulation, the lifted surface goes strictly down and the process ends (de Berg et al.,
+    *Computational Geometry*, §9.1–9.2); a triangulation that is not one (qhull's output is
+    assumed to be) is stopped after 10 flips per triangle.  Co-circular quadrilaterals (incircle
+    exactly 0) are left as they are: either diagonal is Delaunay."""
+    F = np.asarray(P, float)
+    S = np.asarray(simplices, dtype=np.int64)
+    N = np.asarray(neighbors, dtype=np.int64)
+    if len(S) < 2:
+        return None
+    det, sure = orient2d_filter(F[S[:, 0]], F[S[:, 1]], F[S[:, 2]])
+    o = np.sign(det).astype(np.int64)
+    for t in np.nonzero(~sure)[0].tolist():
+        o[t] = orientation(*F[S[t]])
+    if rows is None:
+        t_idx, k_idx = np.nonzero(N >= 0)
+        keep = t_idx < N[t_idx, k_idx]
+        t_idx, k_idx = t_idx[keep], k_idx[keep]
+    else:
+        rows = np.asarray(rows, dtype=np.int64)
+        t_idx, k_idx = np.repeat(rows, 3), np.tile(np.arange(3), len(rows))
+        keep = N[t_idx, k_idx] >= 0
+        t_idx, k_idx = t_idx[keep], k_idx[keep]
+    s_idx = N[t_idx, k_idx]
+    back = N[s_idx] == t_idx[:, None]
+    d_idx = S[s_idx, back.argmax(axis=1)]
+    live = (o[t_idx] != 0) & (o[s_idx] != 0) & (back.sum(axis=1) == 1)
+    idet, isure = incircle_filter(F[S[t_idx, 0]], F[S[t_idx, 1]], F[S[t_idx, 2]], F[d_idx])
+    bad = live & isure & (idet * o[t_idx] > 0)
+    for e in np.nonzero(live & ~isure)[0].tolist():
+        if incircle(*F[S[t_idx[e]]], F[d_idx[e]]) * o[t_idx[e]] > 0:
+            bad[e] = True
+    if not bad.any():
+        return None
+    S, N, o = S.copy(), N.copy(), o.copy()
+    stack = list(zip(t_idx[bad].tolist(), k_idx[bad].tolist()))
+    if allow is not None:
+        stack = [(t, k) for t, k in stack
+                 if allow(*(int(S[t, (k + m) % 3]) for m in range(3)), int(S[N[t, k]][N[N[t, k]] == t][0]))]
+    changed: set = set()
+    budget = 10 * len(S)
+    while stack and budget > 0:
+        t, k = stack.pop()
+        u = int(N[t, k])
+        if u < 0 or o[t] == 0 or o[u] == 0:
+            continue
+        j = [m for m in range(3) if N[u, m] == t]
+        if len(j) != 1:
+            continue
+        j = j[0]
+        p = int(S[t, k])
+        q, r = (int(S[t, (k + 1) % 3]), int(S[t, (k + 2) % 3]))
+        if o[t] < 0:
+            q, r = r, q                       # (p, q, r) counter-clockwise
+        s = int(S[u, j])
+        if incircle(F[p], F[q], F[r], F[s]) <= 0 or (allow is not None and not allow(p, q, r, s)):
+            continue
+        if orient2d(F[p], F[q], F[s]) <= 0 or orient2d(F[p], F[s], F[r]) <= 0:
+            continue                          # the quadrilateral p, q, s, r is not strictly convex
+        row_t, row_u = S[t].tolist(), S[u].tolist()
+        n_rp = int(N[t, row_t.index(q)])      # across r–p (opposite q in t)
+        n_pq = int(N[t, row_t.index(r)])      # across p–q
+        n_qs = int(N[u, row_u.index(r)])      # across q–s (opposite r in u)
+        n_sr = int(N[u, row_u.index(q)])      # across s–r
+        S[t], N[t] = (p, q, s), (n_qs, u, n_pq)
+        S[u], N[u] = (p, s, r), (n_sr, n_rp, t)
+        o[t] = o[u] = 1
+        if n_qs >= 0:
+            N[n_qs][N[n_qs] == u] = t
+        if n_rp >= 0:
+            N[n_rp][N[n_rp] == t] = u
+        changed.update((t, u))
+        budget -= 1
+        stack.extend(((t, 0), (t, 2), (u, 0), (u, 1)))
+    if not changed:
+        return None
+    return S, N, np.array(sorted(changed), dtype=np.int64)

@@ -28,6 +28,7 @@ The batch update (:meth:`SampleTriangulation.update`) keeps the triangulation lo
 refinement rounds, collinear samples on the hull included (the samples of a segment on the
 convex hull of a scene): its result is checked to be a Delaunay triangulation of the convex hull
 (Delaunay's lemma on the new sides, the hull, Euler's count) before it is used.
+:meth:`SampleTriangulation.legalized` flips (Lawson) the edges that exact incircle tests find illegal.
 
 Length: the triangulation, its batch update with the update's checks, and the walks read the
 same arrays (corners, neighbours, labels, circumcentres); apart they would pass all of them.
@@ -42,6 +43,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull, Delaunay, QhullError, cKDTree
 
+from .exact_delaunay import lawson_flips
 from .sample_walks import chain_walks
 
 __all__ = ["SampleTriangulation", "circumcentres", "delaunay", "perturbed", "side_neighbours"]
@@ -260,6 +262,26 @@ class SampleTriangulation:
         seed2 = np.vstack([self.seed[kept_t], np.full((int(inside.sum()), 2), np.nan)])
         out = SampleTriangulation(P2, lab2, simp2, nb2, cc2, seed2)
         out.prior_edge_memo = self.edge_memo
+        return out
+
+    def legalized(self, allow=None, rows=None):
+        """This triangulation after Lawson's flips of its edges that are not locally Delaunay in
+        exact arithmetic (:func:`runtime.voronoi.exact_delaunay.lawson_flips`, ``allow`` and
+        ``rows`` as there: which illegal sides may be flipped, which triangles to examine);
+        ``self`` when none is.  qhull and the batch
+        update decide in floats: four samples co-circular within their roundoff (which grows with
+        the samples' number and magnitude) may come back with either diagonal.  Flipped triangles
+        get their circumcentres anew and no seed; the samples and their order are kept."""
+        got = lawson_flips(self.P, self.simp, self.nb, allow, rows)
+        if got is None:
+            return self
+        simp, nb, changed = got
+        cc = self.cc.copy()
+        cc[changed] = circumcentres(*(self.P[simp[changed, k]] for k in range(3)))
+        seed = self.seed.copy()
+        seed[changed] = np.nan
+        out = SampleTriangulation(self.P, self.lab, simp, nb, cc, seed)
+        out.prior_edge_memo = self.prior_edge_memo
         return out
 
     def walks(self, vectorised: bool = True):
