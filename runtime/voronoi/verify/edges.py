@@ -55,6 +55,8 @@ EPS = 2.0 ** -53
 MAX_DEPTH = 48
 
 
+#: tables of at most this many sites list the sites near a point by testing every pair (no tree)
+SMALL_TABLE = 64
 #: the largest circles (at most this many) searched one by one, so that the k-d tree's queries are
 #: widened only by the largest radius among the others (a few big circles among many small ones
 #: would otherwise widen every query to thousands of sites)
@@ -124,6 +126,12 @@ class CircleTable:
         (fixed-size k-nearest queries, widened where they may have missed a site)."""
         Q = np.asarray(Q, float)
         reach0 = np.broadcast_to(np.asarray(reach, float), (len(Q),))
+        if self.n <= SMALL_TABLE:
+            # a few sites (a local update's proof): every pair tested, |q − c_k| ≤ reach + ρ_k with
+            # the margin of big_near, instead of the tree's queries widened by the largest radius
+            D = np.hypot(Q[:, None, 0] - self.C[None, :, 0], Q[:, None, 1] - self.C[None, :, 1])
+            rows, cols = np.nonzero(D <= (reach0[:, None] + self.R[None, :]) * (1 + 1e-12) + 1e-12 * self.scale)
+            return rows.astype(int), cols.astype(int)
         brows, bcols = self.big_near(Q, reach0)
         reach = reach0 + self.r_small                 # every site not in `big` has radius <= r_small
         rows_all, cols_all = [brows], [bcols]
