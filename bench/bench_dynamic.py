@@ -159,7 +159,7 @@ def circles_case(n: int, k: int, seed: int = 1, certify: bool = True, queries: i
         rows.append({"op": kind, "wall": time.perf_counter() - t, "cpu": time.process_time() - c,
                      "how": d.stats.get("update", d.stats.get("deletion")), "certified": bool(d.certified),
                      "split": d.stats.get("seconds", {}), "changed": d.stats.get("changed", {}),
-                     "direct": d.stats.get("local build") == "star region"})
+                     "direct": d.stats.get("local build") in ("star region", "hole region")})
 
     for c in extra:
         timed("insert", lambda c=c: d.insert(c, certify=certify, inplace=inplace))
@@ -567,7 +567,7 @@ def main():
              "unbounded edges and the accounting at infinity re-proved (site on or near the hull); rebuild = the local "
              "splice did not close. CGAL = Apollonius_graph_2 insert/remove on the same doubles, same operations "
              "(tests/cgal/apollonius_dynamic.cpp). direct = updates whose new region was built directly "
-             "(runtime/voronoi/star_region.py) rather than by the construction's local diagram. final verify = "
+             "(runtime/voronoi/star_region.py, hole_region.py) rather than by the construction's local diagram. final verify = "
              "cv.verify on the last diagram.", "",
              "| N | op | first s | median s (CPU) | max s | local / infinity / rebuild | direct | all certified | "
              "median split (locate / local build / prove) | CGAL median s | ratio | build s | final verify | "

@@ -4,9 +4,11 @@
 additively weighted Voronoi diagrams, CGAL's ``Apollonius_graph_2::remove``; disjoint convex sites
 form an abstract Voronoi diagram, Klein, Mehlhorn & Meiser, CGTA 3 (1993), where the same holds): the region of site i is shared
 among its Delaunay neighbours and nothing else changes.  The vertices of i (their circles touch i)
-and the edges of i and at those vertices are removed; the diagram of i's neighbours and their
-neighbours is built and its vertices inside i's old region (their circles reach site i) and the
-edges ending there are spliced in (:func:`runtime.voronoi.insertion.delete_local`).  Why the kept
+and the edges of i and at those vertices are removed; for circles and points the diagram of i's
+neighbours inside i's old region is first built directly (:mod:`runtime.voronoi.hole_region`),
+else (or when that candidate does not close or is not proved) the diagram of i's neighbours and
+their neighbours is built and its vertices inside i's old region (their circles reach site i) and
+the edges ending there are spliced in (:func:`runtime.voronoi.insertion.delete_local`).  Why the kept
 part keeps its proof: a kept vertex's circle was empty of all the old sites, so of the remaining
 ones; a kept edge was a whole edge of the old diagram (every point strictly closer to its two sites
 than to any other old site, ends at vertices), and neither end is a removed vertex, so it is a

@@ -28,8 +28,11 @@ to any point of the new region (:mod:`runtime.voronoi.conflict`).  The update he
    joined around the centre of s; the region of s is star-shaped from it), a candidate checked
    and proved exactly as below; when it does not close or a proof fails, nothing is changed and
    the construction's local diagram follows (``stats["local build"]`` = "star region" when the
-   direct one was kept).  The diagram of s, the sites of the conflicting vertices (or, when no
-   vertex conflicts, the nearest sites) and their Delaunay neighbours is built with the
+   direct one was kept).  After deleting a circle or point, likewise first the diagram of its
+   neighbours in its old region built directly (:mod:`runtime.voronoi.hole_region`,
+   ``stats["local build"]`` = "hole region").  The diagram of s, the sites of the conflicting
+   vertices (or, when no vertex conflicts, the nearest sites) and their Delaunay neighbours is
+   built with the
    construction (:func:`runtime.voronoi.construction.voronoi`, reached through the diagram's
    construction state); first with only the sites of the removed vertices' neighbour vertices.
    Its vertices with s, or equal to a removed vertex, replace the removed
@@ -150,6 +153,7 @@ from .site_arrays import SiteArrays
 from ..sites.intersection import sites_intersect
 from .adjacency import dynamic_state
 from .star_region import star_region
+from .hole_region import hole_region
 from .reach import arc_discs, sites_meeting_discs
 from .conflict import LOCAL_KINDS, arc_reach, disc_inside, nearest_old_sites, outside, site_disc
 from .site_input import SiteError, as_site, check_disjoint, sites_equal
@@ -353,6 +357,22 @@ def local_update(D, st, dyn, sites2, A, X, rm_edges, op, special, certify, t0, r
                                   "prove": round(time.perf_counter() - t2, 6)}
                 out = _finish(D, st, dyn, res, op, special, certify, t0, 0, renumber, chk, inplace)
                 out.stats["local build"] = "star region"
+                return out
+    if op == "delete" and X and not dyn.ellipses:
+        # circles and points: the neighbours' diagram in the hole built directly (candidate only,
+        # checked and proved as any other; on failure the construction's local diagram below)
+        t1 = time.perf_counter()
+        res = hole_region(D, dyn, X, special, new_index)
+        t2 = time.perf_counter()
+        if res is not None:
+            res["sites2"] = sites2
+            dyn.renumber = renumber
+            chk = _check(D, dyn, res, op, special, certify, old_index, new_index)
+            if chk is not None and chk["ok"]:
+                chk["seconds"] = {"locate": round(t1 - t0, 6), "local build": round(t2 - t1, 6),
+                                  "prove": round(time.perf_counter() - t2, 6)}
+                out = _finish(D, st, dyn, res, op, special, certify, t0, 0, renumber, chk, inplace)
+                out.stats["local build"] = "hole region"
                 return out
     for ring in (0, 1, 2):
         L = set(A)

@@ -30,7 +30,8 @@ polyline of an edge with both ends in X farther from s than from the edge's site
 along a cut edge, consecutive vertices not sharing exactly one site, fewer than three new
 vertices).
 
-Public API: :func:`star_region`, :func:`bisector_polylines`, :data:`INITIAL_PIECES`, :data:`MAX_SPLIT`, :data:`CHORD_REL`.
+Public API: :func:`star_region`, :func:`bisector_polylines`, :data:`INITIAL_PIECES`, :data:`MAX_SPLIT`,
+:data:`CHORD_REL`.
 """
 from __future__ import annotations
 
@@ -165,7 +166,8 @@ def bisector_polylines(dyn, pairs, ends):
     (:data:`INITIAL_PIECES`), and each piece into k equal steps (at most :data:`MAX_SPLIT`), k² at
     least its sagitta (the distance from its mid-parameter point to its chord's midpoint) over
     :data:`CHORD_REL` times that point's distance to the sites.  The polyline is the two end
-    vertices with the curve points between them; its tolerance is the verifier's bound on the Hausdorff distance between polyline and arc
+    vertices with the curve points between them; its tolerance is the verifier's bound on the
+    Hausdorff distance between polyline and arc
     (:func:`runtime.voronoi.verify.polyline_bound.hausdorff_bounds`, which accounts for the rounding
     of the float curve), widened as :func:`runtime.voronoi.edge_polylines.edge_polylines` does.
     Returns [(polyline, tolerance)], or None when a pair has no such bisector (nested or touching
