@@ -50,3 +50,20 @@ def test_a_two_point_closed_polyline_is_refused():
     assert (abs(de - dc) - err) / 2 > 10 * float(e.tolerance)
     e.polyline = [tuple(a), tuple(b)]
     assert not verify(D).ok
+
+
+def test_the_document_check_refuses_a_loop_of_fewer_than_three_points():
+    """A polyline of one or two points winds 0 times around the nested circle (thesis Prop. 1.2.1:
+    the closed edge is a Jordan curve around it), whatever its points: the document check says so."""
+    from curvedvoronoi.runtime.voronoi.verify.document import check_document
+    from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+
+    D = _diagram()
+    e = D.edges[0]
+    P = np.asarray(e.polyline, float).reshape(-1, 2)
+    geoms = [site_geometry(s) for s in D.sites]
+    for drawn in ([tuple(P[0])], [tuple(P[0]), tuple(P[len(P) // 2])]):
+        e.polyline = drawn
+        problems = []
+        check_document(D, None, geoms, problems)
+        assert any("winds 0 times" in str(p) for p in problems), problems

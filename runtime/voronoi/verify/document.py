@@ -56,7 +56,7 @@ def check_document(D, doc, geoms, problems) -> None:
         P = np.asarray(e.polyline, float).reshape(-1, 2)
         if not np.isfinite(P).all():
             problems.append(f"edge {e.id} (sites {', '.join(map(str, e.sites))}): non-finite polyline point")
-        elif e.closed and len(P) >= 3:
+        elif e.closed:                     # fewer than 3 points wind 0 times: refused below
             pair = [int(s) for s in e.sites]
             if not all(0 <= s < len(geoms) for s in pair):
                 continue
@@ -66,7 +66,8 @@ def check_document(D, doc, geoms, problems) -> None:
                 if all(map(math.isfinite, bs)) and bs[0] >= bo[0] and bs[1] >= bo[1] and bs[2] <= bo[2] and bs[3] <= bo[3]:
                     inner = _inner_point(geoms[s])
                     break
-            w = winding_number(P, inner) if inner is not None else 0.0
+            loop = P if len(P) and (P[0] == P[-1]).all() else np.vstack([P, P[:1]])     # closed as drawn
+            w = winding_number(loop, inner) if inner is not None else 0.0
             if not abs(abs(w) - 1) < 1e-6:
                 problems.append(f"edge {e.id} (sites {', '.join(map(str, e.sites))}): the closed edge winds "
                                 f"{w:.3g} times around the nested site (once expected)")
