@@ -29,7 +29,7 @@ from curvedvoronoi.runtime.segments.certificate_sites import ARC, POINT, SiteTab
 from curvedvoronoi.runtime.segments.construction import segment_voronoi  # noqa: E402
 from scenes import random_arcs, random_segments  # noqa: E402
 
-mp.mp.dps = 50
+pytestmark = pytest.mark.mpmath_dps(50)
 
 
 def _mpf(v):

@@ -28,7 +28,7 @@ from curvedvoronoi.runtime.segments.certificate_ellipse_secant import (end_facto
 from curvedvoronoi.runtime.segments.ellipse_pieces import PieceData
 from curvedvoronoi.runtime.sites.elliptic_arc import EllipticArc
 
-mpmath.mp.dps = 20
+pytestmark = pytest.mark.mpmath_dps(20)
 
 RING = [(4, 0), (3, 3), (0, 4), (-3, 2), (-3, -2), (0, -3), (3, -3)]
 

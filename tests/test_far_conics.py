@@ -26,7 +26,7 @@ from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
 from curvedvoronoi.runtime.voronoi.verify import far_accounting as FA
 from curvedvoronoi.runtime.voronoi.verify import far_conics as FC
 
-mp.mp.dps = 30
+pytestmark = pytest.mark.mpmath_dps(30)
 
 
 @pytest.fixture(autouse=True)
