@@ -77,7 +77,7 @@ def main(argv=None) -> int:
 
     from bench_voronoi import mixed_conics, random_ellipses
 
-    sizes = [int(s) for s in args.sizes.split(",")]
+    sizes = [int(s) for s in args.sizes.split(",") if s]
     esizes = [int(s) for s in args.ellipses.split(",") if s]
     msizes = [int(s) for s in args.mixed.split(",") if s]
     psizes = sizes if args.points is None else [int(s) for s in args.points.split(",") if s]
