@@ -342,11 +342,19 @@ def local_update(D, st, dyn, sites2, A, X, rm_edges, op, special, certify, t0, r
     neighbours (the caller rebuilds)."""
     old_index = old_index or (lambda t: t)
     new_index = new_index or (lambda t: t)
+    direct = None
     if star and op == "insert" and X and not dyn.ellipses:
-        # circles and points away from infinity: the new region built directly (candidate only,
-        # checked and proved as any other; on failure the construction's local diagram below)
+        # circles and points away from infinity: the new region built directly
+        direct = ("star region", lambda: star_region(D, dyn, sites2, X, special))
+    elif op == "delete" and X and not dyn.ellipses:
+        # circles and points: the neighbours' diagram in the hole built directly
+        direct = ("hole region", lambda: hole_region(D, dyn, X, special, new_index))
+    if direct is not None:
+        # a candidate only, checked and proved as any other; on failure the construction's local
+        # diagram below
+        name, build = direct
         t1 = time.perf_counter()
-        res = star_region(D, dyn, sites2, X, special)
+        res = build()
         t2 = time.perf_counter()
         if res is not None:
             res["sites2"] = sites2
@@ -356,23 +364,7 @@ def local_update(D, st, dyn, sites2, A, X, rm_edges, op, special, certify, t0, r
                 chk["seconds"] = {"locate": round(t1 - t0, 6), "local build": round(t2 - t1, 6),
                                   "prove": round(time.perf_counter() - t2, 6)}
                 out = _finish(D, st, dyn, res, op, special, certify, t0, 0, renumber, chk, inplace)
-                out.stats["local build"] = "star region"
-                return out
-    if op == "delete" and X and not dyn.ellipses:
-        # circles and points: the neighbours' diagram in the hole built directly (candidate only,
-        # checked and proved as any other; on failure the construction's local diagram below)
-        t1 = time.perf_counter()
-        res = hole_region(D, dyn, X, special, new_index)
-        t2 = time.perf_counter()
-        if res is not None:
-            res["sites2"] = sites2
-            dyn.renumber = renumber
-            chk = _check(D, dyn, res, op, special, certify, old_index, new_index)
-            if chk is not None and chk["ok"]:
-                chk["seconds"] = {"locate": round(t1 - t0, 6), "local build": round(t2 - t1, 6),
-                                  "prove": round(time.perf_counter() - t2, 6)}
-                out = _finish(D, st, dyn, res, op, special, certify, t0, 0, renumber, chk, inplace)
-                out.stats["local build"] = "hole region"
+                out.stats["local build"] = name
                 return out
     for ring in (0, 1, 2):
         L = set(A)
