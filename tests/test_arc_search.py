@@ -65,3 +65,18 @@ def test_verdicts_match_direct_distances_whatever_the_groups(monkeypatch, pairs,
     res = prove_arcs(table, [_job(table, y0) for y0 in starts])
     assert [ok for ok, _ in res] == direct
     assert all(det[2] == "closer" and det[0] == 2 for ok, det in res if not ok)
+
+
+@pytest.mark.parametrize("margin", [1e-3, 1e-6])
+def test_a_point_nearer_on_a_short_stretch_only_is_found(margin):
+    """A point site at (d_i(50) − margin, 50), off the line: |q − p| < d_i(q) only on a stretch of
+    y of length about 2√(2·46·margin) around y = 50 (checked on a fine grid), so the arc y ∈ [0, 1000]
+    is not an edge; a disc that does not cover its piece of the arc can miss the stretch."""
+    x0 = _d_circle(50.0) - margin
+    sites = [Circle(-10, 0, 25), Circle(10, 0, 25), Point(Fraction(x0), 50)]
+    table = CircleTable([site_geometry(s) for s in sites])
+    y = np.linspace(45.0, 55.0, 2_000_001)
+    nearer = np.hypot(x0, y - 50.0) < np.hypot(10.0, y) - 5.0
+    assert nearer.any() and not nearer[0] and not nearer[-1]
+    ok, (k, q, why) = prove_arcs(table, [_job(table, 0.0)])[0]
+    assert not ok and k == 2 and why == "closer"
