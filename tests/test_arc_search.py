@@ -67,16 +67,18 @@ def test_verdicts_match_direct_distances_whatever_the_groups(monkeypatch, pairs,
     assert all(det[2] == "closer" and det[0] == 2 for ok, det in res if not ok)
 
 
+
 @pytest.mark.parametrize("margin", [1e-3, 1e-6])
 def test_a_point_nearer_on_a_short_stretch_only_is_found(margin):
-    """A point site at (d_i(50) − margin, 50), off the line: |q − p| < d_i(q) only on a stretch of
-    y of length about 2√(2·46·margin) around y = 50 (checked on a fine grid), so the arc y ∈ [0, 1000]
-    is not an edge; a disc that does not cover its piece of the arc can miss the stretch."""
-    x0 = _d_circle(50.0) - margin
-    sites = [Circle(-10, 0, 25), Circle(10, 0, 25), Point(Fraction(x0), 50)]
+    """A point site at (5 − margin, 0), off the line x = 0 next to d_i's minimum d_i(0) = 5:
+    |q − p| < d_i(q) only for |y| below about √(20·margin) (to second order; checked on a fine
+    grid), so the arc y ∈ [−3, 1000] is not an edge; a disc that does not cover its piece of the
+    arc can miss that stretch."""
+    x0 = 5.0 - margin
+    sites = [Circle(-10, 0, 25), Circle(10, 0, 25), Point(Fraction(x0), 0)]
     table = CircleTable([site_geometry(s) for s in sites])
-    y = np.linspace(45.0, 55.0, 2_000_001)
-    nearer = np.hypot(x0, y - 50.0) < np.hypot(10.0, y) - 5.0
-    assert nearer.any() and not nearer[0] and not nearer[-1]
-    ok, (k, q, why) = prove_arcs(table, [_job(table, 0.0)])[0]
+    y = np.linspace(-3.0, 3.0, 2_000_001)
+    nearer = np.hypot(x0, y) < np.hypot(10.0, y) - 5.0
+    assert nearer.any() and np.abs(y[nearer]).max() < 1.1 * math.sqrt(20 * margin)
+    ok, (k, q, why) = prove_arcs(table, [_job(table, -3.0)])[0]
     assert not ok and k == 2 and why == "closer"
