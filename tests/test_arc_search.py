@@ -82,3 +82,22 @@ def test_a_point_nearer_on_a_short_stretch_only_is_found(margin):
     assert nearer.any() and np.abs(y[nearer]).max() < 1.1 * math.sqrt(20 * margin)
     ok, (k, q, why) = prove_arcs(table, [_job(table, -3.0)])[0]
     assert not ok and k == 2 and why == "closer"
+
+
+def test_every_piece_lies_in_its_disc():
+    """The discs of the search cover their pieces of the arc: on the line x = 0, y = 10·sinh u (the
+    test's own parametrisation), every point of a piece u ∈ [A, B] is within the disc's radius of
+    its centre, and the radius is not above the larger distance from the middle parameter's point
+    to the piece's ends plus rounding (a disc around that point)."""
+    table = _table(-30)
+    jobs = [_job(table, y0) for y0 in (-3.0, 0.0, 20.0)]
+    curves = arc_search._Curves(table, jobs)
+    job, A, B = curves.pieces(4)
+    _, Q, Rarc, _, R = curves.discs(job, A, B)
+    for q, ra, r, a, b in zip(Q, Rarc, R, A, B):
+        u = np.linspace(a, b, 2001)
+        P = np.column_stack([np.zeros_like(u), 10 * np.sinh(u)])
+        far = np.hypot(*(P - q).T).max()
+        assert far <= ra <= r
+        m = 0.5 * (a + b)
+        assert ra <= 10 * max(math.sinh(m) - math.sinh(a), math.sinh(b) - math.sinh(m)) * (1 + 1e-9) + 1e-9
