@@ -8,6 +8,7 @@ bound must never be below it (soundness) and not far above it (it is useful)."""
 from __future__ import annotations
 
 import math
+from fractions import Fraction as F
 
 import numpy as np
 from hypothesis import given, settings
@@ -79,3 +80,18 @@ def test_a_chord_is_bounded_by_its_bulge():
     bound, _ = hausdorff_bound(bis, chord)
     bulge = np.abs((dense - chord[0]) @ np.array([1.0, 0.0])).max()
     assert bound >= bulge - 1e-9 > 0.1
+
+
+def test_a_chord_across_a_hairpin_is_bounded():
+    """A point and a circle of radius 3 whose centre is 3.01 away: their bisector branch is a
+    hairpin (it turns by nearly π around its vertex, x ≈ 12|y| far out); the chord joining y = ±1
+    and y = ±4 stays far from the vertex, and the bound is at least the sampled distance."""
+    sites = [Circle.from_radius(0, 0, 3), Circle(F(301, 100), 0, 0)]
+    T = CircleTable([site_geometry(s) for s in sites])
+    bis = bisector(T, 0, 1)
+    for y in (1.0, 4.0):
+        dense = arc_points(0.0, 3.0, 3.01, 0.0, -y, y, 2001)
+        chord = dense[[0, -1]]
+        bound, why = hausdorff_bound(bis, chord)
+        lower, _ = hausdorff(chord, dense)
+        assert why is None and bound >= lower - 1e-9 > 1.0
