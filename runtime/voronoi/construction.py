@@ -242,6 +242,9 @@ def build_diagram(S: SiteArrays, samples: Samples, cache: dict, notes, stats, ti
         D.problems.append("not verified")
     timing["total"] = time.perf_counter() - t_start
     D.stats["seconds"] = {k: round(v, 4) for k, v in timing.items()}
+    if samples.tri is not None:
+        samples.tri.compact()       # kept for deletions: its derived arrays are made again on use
+        release_free_memory()
     D.construction = ConstructionState(S, samples, cache)
     return D
 

@@ -13,7 +13,7 @@ points rather than to all the polylines at once.
 Length: the steps of one polyline (projection, trimming at the vertices, loops around point
 sites, densification, tolerance) work on the same per-group arrays and are kept together.
 
-Public API: :func:`edge_polylines`, :func:`project_to_bisector`, :func:`bisector_offset`,
+Public API: :func:`edge_polylines`, :class:`PolylineMemo`, :func:`project_to_bisector`, :func:`bisector_offset`,
 :func:`root_on_normal`.
 """
 from __future__ import annotations
@@ -26,7 +26,7 @@ from .sample_delaunay import SampleTriangulation
 from .site_arrays import SiteArrays
 from .structure import DiagramEdge
 
-__all__ = ["edge_polylines", "project_to_bisector", "bisector_offset", "root_on_normal", "MAX_EDGE_POINTS",
+__all__ = ["edge_polylines", "PolylineMemo", "project_to_bisector", "bisector_offset", "root_on_normal", "MAX_EDGE_POINTS",
            "DENSIFY_REL"]
 
 #: interior points kept per edge polyline (evenly chosen among the walk's circumcentres; a third
@@ -125,9 +125,9 @@ def edge_polylines(S: SiteArrays, tri: SampleTriangulation, vertices, edges_raw)
     key = np.column_stack([table[rows[first]], table[rows[first + 1]], table[rows[first + lens - 2]],
                            table[rows[first + lens - 1]], lens.astype(float)])
     keys = [k.tobytes() for k in key]
-    del key
     prior = getattr(tri, "prior_edge_memo", None) or {}
     known = [prior.get(k) for k in keys]
+    del keys
     todo = np.array([e for e in range(E) if known[e] is None], dtype=np.int64)
     # the edges in groups of GROUP: the temporaries (projections, densification, the bisectors and
     # their Hausdorff bounds) take memory in proportion to a group's points, not to all of them
@@ -148,8 +148,32 @@ def edge_polylines(S: SiteArrays, tri: SampleTriangulation, vertices, edges_raw)
             poly, tl = polys.pop(e), tol[e]
         closed = end is None and start is None
         edges.append(DiagramEdge(e, pair, (ends[0], ends[1]), closed, poly, float(tl), False))
-    tri.edge_memo = {k: (ed.polyline, ed.tolerance) for k, ed in zip(keys, edges)}
+    tri.edge_memo = PolylineMemo(key, [ed.polyline for ed in edges], np.array([ed.tolerance for ed in edges]))
     return edges
+
+
+class PolylineMemo:
+    """The polylines and tolerances of a triangulation's edges by their key (the end points, the
+    first and last circumcentres and the count of :func:`edge_polylines`), for the edges of the
+    next triangulation: ``get(key bytes)`` is (polyline, tolerance) or None, the last edge of a
+    repeated key winning.  The keys are one (E, 9) float array and the lookup table is made on
+    the first ``get`` (the memo that a diagram keeps after its construction, for
+    :func:`runtime.voronoi.deletion.delete_site`, takes 90 bytes an edge besides the polylines,
+    which its edges share; a dict of byte strings and tuples took 200)."""
+
+    __slots__ = ("keys", "polylines", "tolerances", "_index")
+
+    def __init__(self, keys, polylines, tolerances):
+        self.keys, self.polylines, self.tolerances, self._index = keys, polylines, tolerances, None
+
+    def __len__(self) -> int:
+        return len(self.polylines)
+
+    def get(self, key):
+        if self._index is None:
+            self._index = {row.tobytes(): e for e, row in enumerate(self.keys)}
+        e = self._index.get(key)
+        return None if e is None else (self.polylines[e], float(self.tolerances[e]))
 
 
 #: edges whose polylines are computed together (bounds the temporaries of :func:`_fresh_polylines`)
