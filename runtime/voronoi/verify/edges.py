@@ -159,13 +159,15 @@ class Bisector:
 
     def __init__(self, kind, m, ex, c, a, b, i, j):
         self.kind = kind          # "hyperbola" (u ∈ ℝ) or "ellipse" (t ∈ [0, 2π))
-        self.m = np.asarray(m, float)
-        self.ex = np.asarray(ex, float)
-        self.ey = np.array([-ex[1], ex[0]])
+        mx, my = float(m[0]), float(m[1])
+        ex0, ex1 = float(ex[0]), float(ex[1])
+        self.m = np.array([mx, my])
+        self.ex = np.array([ex0, ex1])
+        self.ey = np.array([-ex1, ex0])
         self.c, self.a, self.b = float(c), float(a), float(b)
         self.i, self.j = i, j
         cond = 1.0 + (c / b if b > 0 else math.inf)
-        self.err0 = 64 * EPS * cond * (np.abs(self.m).sum() + abs(self.a) + abs(self.b) + self.c)
+        self.err0 = 64 * EPS * cond * ((abs(mx) + abs(my)) + abs(self.a) + abs(self.b) + self.c)
 
     def point(self, u):
         u = np.asarray(u, float)
@@ -203,14 +205,15 @@ class Bisector:
 
 def bisector(table: CircleTable, i: int, j: int) -> Bisector | str:
     """The bisector of sites i, j, or a one-line reason why the pair is not a valid edge pair."""
-    ci, cj = table.C[i], table.C[j]
-    ri, rj = table.R[i], table.R[j]
-    D = math.hypot(*(cj - ci))
+    (cix, ciy), (cjx, cjy) = table.C[i].tolist(), table.C[j].tolist()
+    ri, rj = float(table.R[i]), float(table.R[j])
+    dx, dy = cjx - cix, cjy - ciy
+    D = math.hypot(dx, dy)
     tol = 1e-12 * table.scale
     if D > ri + rj + tol:
-        ex = (cj - ci) / D
         c, a = D / 2, (ri - rj) / 2
-        return Bisector("hyperbola", (ci + cj) / 2, ex, c, a, math.sqrt(c * c - a * a), i, j)
+        return Bisector("hyperbola", ((cix + cjx) / 2, (ciy + cjy) / 2), (dx / D, dy / D), c, a,
+                        math.sqrt(c * c - a * a), i, j)
     if D < abs(ri - rj) - tol:               # one inside the other's disc: ellipse
         J, K = (i, j) if ri > rj else (j, i)
         cJ, cK = table.C[J], table.C[K]

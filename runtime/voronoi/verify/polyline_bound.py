@@ -123,8 +123,8 @@ def _foot_params(C, P, u, iters=4):
     V = P - C.m
     x, y = (V * C.ex).sum(1), (V * C.ey).sum(1)
     only_hyp = bool(hyp.all())          # then the np.where below all take their first values
-    for _ in range(iters):
-        with np.errstate(all="ignore"):
+    with np.errstate(all="ignore"):
+        for _ in range(iters):
             if only_hyp:
                 ch, sh = np.cosh(u), np.sinh(u)
                 X, Y, dX, dY = a * ch, b * sh, a * sh, b * ch
@@ -140,8 +140,9 @@ def _foot_params(C, P, u, iters=4):
                 ddY = np.where(hyp, Y, -Y)
             g = (X - x) * dX + (Y - y) * dY
             dg = dX * dX + dY * dY + (X - x) * ddX + (Y - y) * ddY
-            step = np.where(np.isfinite(g / dg) & (dg > 0), g / dg, 0.0)
-        u = u - np.clip(step, -0.5, 0.5)
+            s = g / dg
+            step = np.where(np.isfinite(s) & (dg > 0), s, 0.0)
+            u = u - np.minimum(np.maximum(step, -0.5), 0.5)
     return u
 
 

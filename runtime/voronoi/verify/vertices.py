@@ -34,6 +34,8 @@ import numpy as np
 
 from ...certify.interval_newton import (float_contraction_bound, float_inverse, float_krawczyk_test,
                                         float_residual_bound, round_up)
+from ...predicates.circles import voronoi_vertices_circles
+from ...result import LocatorError
 from .problems import fault
 from .exact_vertices import cocircular_vertex, exact_emptiness
 
@@ -81,18 +83,17 @@ def _krawczyk(C, Rho, Z, scale):
       float J̃ at Z̃, entrywise.
     """
     u = EPS
-    for _ in range(3):                                   # Newton polish
-        q, r = Z[:, None, :2], Z[:, 2:3]
-        V = q - C
-        F = (V ** 2).sum(-1) - (r + Rho) ** 2
-        J = np.concatenate([2 * V, -2 * (r + Rho)[..., None]], axis=-1)
-        with np.errstate(all="ignore"):
+    with np.errstate(all="ignore"):
+        for _ in range(3):                               # Newton polish
+            q, r = Z[:, None, :2], Z[:, 2:3]
+            V = q - C
+            F = (V ** 2).sum(-1) - (r + Rho) ** 2
+            J = np.concatenate([2 * V, -2 * (r + Rho)[..., None]], axis=-1)
             det = np.linalg.det(J)
             good = np.isfinite(det) & (np.abs(det) > 1e-300)
             Jg = np.where(good[:, None, None], J, np.eye(3))
             Z = Z - np.where(good[:, None], np.linalg.solve(Jg, F[..., None])[..., 0], 0.0)
-    q, r = Z[:, None, :2], Z[:, 2:3]
-    with np.errstate(all="ignore"):
+        q, r = Z[:, None, :2], Z[:, 2:3]
         V = q - C
         F = (V ** 2).sum(-1) - (r + Rho) ** 2
         J = np.concatenate([2 * V, -2 * (r + Rho)[..., None]], axis=-1)
@@ -104,11 +105,12 @@ def _krawczyk(C, Rho, Z, scale):
     ok = np.zeros(len(Z), bool)
     ok_rows = invertible & np.isfinite(Z).all(-1)
     H = np.zeros(len(Z))
+    bmax = b.max(-1)
     for mult in (4.0, 64.0, 4096.0):
         with np.errstate(all="ignore"):
-            rho = np.maximum(mult * b.max(-1), 1e-15 * scale)
-            J_rad = round_up(2 * rho[:, None, None] + dataJ) * np.ones((1, 3, 3))
-            test, _ = float_krawczyk_test(b, float_contraction_bound(Y, J, J_rad), rho[:, None] * np.ones((1, 3)))
+            rho = np.maximum(mult * bmax, 1e-15 * scale)
+            J_rad = np.broadcast_to(round_up(2 * rho[:, None, None] + dataJ), J.shape)
+            test, _ = float_krawczyk_test(b, float_contraction_bound(Y, J, J_rad), np.broadcast_to(rho[:, None], b.shape))
         test &= ok_rows
         new = test & ~ok
         H = np.where(new, rho, H)
@@ -196,24 +198,27 @@ def _screen(verts, n, table, problems):
     position and radius (the others are problems), and those of three pairwise exterior circles
     or points (the fast circle route)."""
     seen_ids: set = set()
-    todo, fast_items = [], []
+    todo, trips3 = [], []
     for m, v in enumerate(verts):
-        name = vname(v)
         trip = tuple(int(s) for s in v.sites)
         if v.id in seen_ids:
-            problems.append(f"{name}: duplicate vertex id {v.id}")
+            problems.append(f"{vname(v)}: duplicate vertex id {v.id}")
             continue
         seen_ids.add(v.id)
         if len(trip) < 3 or len(set(trip)) != len(trip) or not all(0 <= s < n for s in trip):
-            problems.append(f"{name}: invalid site list (need k >= 3 distinct sites)")
+            problems.append(f"{vname(v)}: invalid site list (need k >= 3 distinct sites)")
             continue
-        if not all(math.isfinite(t) for t in (v.x, v.y, v.radius)):
-            problems.append(f"{name}: non-finite position or radius")
+        if not (math.isfinite(v.x) and math.isfinite(v.y) and math.isfinite(v.radius)):
+            problems.append(f"{vname(v)}: non-finite position or radius")
             continue
         todo.append(m)
-        if len(trip) == 3 and table is not None and _pairwise_exterior(table, trip):
-            fast_items.append((m, trip, float(v.x), float(v.y), float(v.radius)))
-    return todo, fast_items
+        if len(trip) == 3 and table is not None:
+            trips3.append((m, trip))
+    if not trips3:
+        return todo, []
+    ext = _pairwise_exterior(table, np.array([t for _, t in trips3], int))
+    return todo, [(m, trip, float(verts[m].x), float(verts[m].y), float(verts[m].radius))
+                  for (m, trip), e in zip(trips3, ext.tolist()) if e]
 
 
 def _conic_quick(verts, todo, fast, geoms) -> dict:
@@ -243,15 +248,12 @@ def _vertex_info(v, sites, geoms, fast, quick, problems):
     cocircular_vertex`), circles and points exactly (thesis §3.1.3), the float conic route
     (``quick``), else the exact foot-point system (:func:`runtime.voronoi.vertex.certify_vertex`);
     None (with a problem) when no route proves it."""
-    from ...predicates.circles import voronoi_vertices_circles
-    from ...result import LocatorError
-
-    name = vname(v)
     trip = tuple(int(s) for s in v.sites)
-    g3 = [geoms[s] for s in trip]
     if fast is not None:
         x, y, r, h, others = fast
         return VertexInfo(v.id, trip, x, y, r, h, others, key=_near_key(trip, x, y))
+    name = vname(v)
+    g3 = [geoms[s] for s in trip]
     if len(trip) > 3:
         return cocircular_vertex(v, trip, geoms, problems, VertexInfo)
     if all(g.kind in ("point", "circle") for g in g3):
@@ -306,14 +308,17 @@ def _matches_report(v, info, offset, seen_keys, problems) -> bool:
     return True
 
 
-def _pairwise_exterior(table, trip) -> bool:
-    for a in range(3):
-        for b in range(a + 1, 3):
-            i, j = trip[a], trip[b]
-            dd = math.hypot(*(table.C[i] - table.C[j]))
-            if not dd > (table.R[i] + table.R[j]) * (1 + 1e-9) + 1e-12 * table.scale:
-                return False
-    return True
+def _pairwise_exterior(table, T):
+    """For each row of the (m, 3) site triples T: whether its three discs are pairwise exterior
+    with a margin (|c_i − c_j| > (ρ_i + ρ_j)(1 + 10⁻⁹) + 10⁻¹²·scale); the others take the exact
+    route (module docstring)."""
+    out = np.ones(len(T), bool)
+    for a, b in ((0, 1), (0, 2), (1, 2)):
+        i, j = T[:, a], T[:, b]
+        V = table.C[i] - table.C[j]
+        dd = np.hypot(V[:, 0], V[:, 1])
+        out &= dd > (table.R[i] + table.R[j]) * (1 + 1e-9) + 1e-12 * table.scale
+    return out
 
 
 def _emptiness_batch(verts, flags, infos, geoms, table, problems):
