@@ -106,6 +106,8 @@ from .certificate_ellipse_axis import AxisCurve, axis_edge
 from .certificate_edges import EdgeProof, prove_edges
 from .certificate_ellipse_curves import FootCurve, NormalLine, PointsLine, gradient, widened_nearest
 from .certificate_ellipse_junction import EndCurve
+from .certificate_ellipse_tails import foot_poles, foot_tail, normal_ray_farther
+from .certificate_hull import infinite_key
 from .certificate_ellipse_secant import end_factor, end_tangent, on_ellipse, secant_factor
 from .certificate_ellipses import normal_residual, past_centre_of_curvature, touches_inside
 from .certificate_sites import ARC, ELLIPSE, POINT, SEGMENT, SiteTable, direction_key, sq
@@ -397,9 +399,11 @@ def _unbounded(T: SiteTable, D, e, i, j, vindex, vproofs, limit, wrong, budget) 
     |x − y|² − |x − e|² is positive at S for every y ≠ e of k (R2, proved on the piece ending at
     S) and nondecreasing in s (k's support in the direction w∞ is at most w∞·e = w∞·P, checked
     with the other sites), so e stays k's unique nearest point beyond S."""
+    if sorted((T.kind[i], T.kind[j])) == sorted((ELLIPSE, POINT)):
+        return _unbounded_piece(T, D, e, i, j, vindex, vproofs, limit, wrong, budget)
     if not (T.kind[i] == POINT and T.kind[j] == POINT):
         return limit("an infinite end of an edge next to an elliptic piece is not proved (only two points' "
-                     "bisectors are covered)")
+                     "bisectors and a piece's edges with a point are covered)")
     c = PointsLine(T, i, j)
     Pn = np.asarray(e.polyline, dtype=float).reshape(-1, 2)
     if len(Pn) < 2 or not np.isfinite(Pn).all():
@@ -449,6 +453,89 @@ def _unbounded(T: SiteTable, D, e, i, j, vindex, vproofs, limit, wrong, budget) 
         out = limit(msg)
         out.infinite = infinite
         return out
+    return EdgeProof(True, infinite)
+
+
+def _unbounded_piece(T: SiteTable, D, e, i, j, vindex, vproofs, limit, wrong, budget) -> EdgeProof:
+    """An unbounded edge of an elliptic piece s and a point p from its one end vertex v, outside
+    the ellipse (:mod:`runtime.segments.certificate_ellipse_tails`): the curve of :func:`_curve`
+    — the foot curve of s and p, or the normal line at p when p is an end of s —; the way to
+    infinity is read from the polyline's far point.  The foot curve: its pole φ∞ beyond θ_v, the
+    tail [φ_S, φ∞) by :func:`runtime.segments.certificate_ellipse_tails.foot_tail`, the finite part
+    [θ_v, φ_S] by the pieces; the normal line: the open outer ray by
+    :func:`runtime.segments.certificate_ellipse_tails.normal_ray_farther`, the part from v to past
+    the end by the pieces when v lies inside.  Then the polyline's bound, its far side open."""
+    s, p = (i, j) if T.kind[i] == ELLIPSE else (j, i)
+    fin = [n for n, v in enumerate(e.ends) if v is not None]
+    if len(fin) != 1:
+        return limit("an edge of an elliptic piece and a point with no end vertex: not covered")
+    f = fin[0]
+    vp = _end_vertex_proof(e.ends[f], i, j, vindex, vproofs, limit, wrong)
+    if isinstance(vp, EdgeProof):
+        return vp
+    if not vp.r > 0:
+        return limit(f"its end vertex {e.ends[f]} has radius 0: not covered next to elliptic pieces")
+    v = D.vertices[vindex[e.ends[f]]]
+    Pn = np.asarray(e.polyline, dtype=float).reshape(-1, 2)
+    if len(Pn) < 2 or not np.isfinite(Pn).all():
+        return wrong("needs a finite polyline of at least two points")
+    got = _curve(T, D, i, j, [vp], [v])
+    if isinstance(got, str):
+        return limit(got)
+    c, (tv,) = got
+    far = Pn[-1] if f == 0 else Pn[0]
+    tf = float(c.param(arb(float(far[0])), arb(float(far[1]))).mid())
+    sg = 1 if tf > float(tv.mid()) else -1
+    pair = tuple(sorted((i, j)))
+    if isinstance(c, NormalLine):
+        which = T.which_end(s, p)
+        out = 1 if which == 0 else -1            # w is the outward normal at a start, inward at an end
+        if sg != out:
+            return limit("its infinite end does not go along the outer normal of the piece's end")
+        u = (out * c.wq[0], out * c.wq[1])
+        msg = normal_ray_farther(T, s, p, u)
+        if msg is not None:
+            return limit(msg)
+        infinite = [(pair, direction_key(u))]
+        if tv * sg > 0:
+            lo = hi = None                       # v is on the outer ray: all of it is proved
+        else:
+            S = arb(sg * max(abs(float(tv.mid())) / 4, 1e-6))
+            lo, hi = (tv, S) if sg > 0 else (S, tv)
+    elif isinstance(c, FootCurve):
+        poles = [q for q in foot_poles(T.piece[s], T.a[p]) if (q > tv if sg > 0 else q < tv)]
+        if not poles:
+            return limit("no pole of its foot curve lies beyond its end vertex in the piece's range")
+        poles.sort(key=lambda q: float(q.mid()))
+        pole = poles[0] if sg > 0 else poles[-1]
+        th_s, msg = foot_tail(T, c, p, tv, pole, sg)
+        if msg is not None:
+            return limit(msg)
+        Mx, My, Nx, Ny = (to_arb(q) for q in (*T.piece[s].M, *T.piece[s].N))
+        key = infinite_key(T, i, j, (-pole.sin() * My + pole.cos() * Ny, pole.sin() * Mx - pole.cos() * Nx), False)
+        if key is None:
+            return limit("the key of its infinite end is not decided")
+        infinite = [(pair, key)]
+        lo, hi = (tv, arb(th_s)) if sg > 0 else (arb(th_s), tv)
+    else:
+        return limit("an infinite end of this edge of a piece and a point is not covered")
+    vps = [None, None]
+    vps[f] = vp
+    if lo is not None:
+        vlo, vhi = (vp, None) if sg > 0 else (None, vp)
+        verts = (v, None) if sg > 0 else (None, v)
+        msg = _pieces(T, c, i, j, lo, hi, vlo, vhi, verts, budget)
+        if msg is not None:
+            out_ = limit(msg[0], *msg[1:])
+            out_.infinite = infinite
+            return out_
+    c.at = {id(vp): tv}
+    lo_b, hi_b = (tv, None) if sg > 0 else (None, tv)
+    msg = polyline_bound(c, Pn, float(e.tolerance), lo_b, hi_b, vps)
+    if msg is not None:
+        out_ = limit(msg)
+        out_.infinite = infinite
+        return out_
     return EdgeProof(True, infinite)
 
 

@@ -2,7 +2,7 @@
 steps 1 and 5): proved apart from every other site, and strictly inside the point sites' convex
 hull (then the unbounded ends of the diagram are those of its points and segments).
 
-Public API: :func:`pieces_inside_hull`, :func:`pieces_apart`.
+Public API: :func:`pieces_inside_hull`, :func:`pieces_apart`, :func:`same_ellipse`.
 """
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ from .certificate_hull import convex_hull
 from .certificate_sites import ELLIPSE, POINT, SEGMENT, SiteTable
 from .ellipse_pieces import piece_point_ball
 
-__all__ = ["pieces_inside_hull", "pieces_apart"]
+__all__ = ["pieces_inside_hull", "pieces_apart", "same_ellipse"]
 
 
 def pieces_inside_hull(T: SiteTable) -> str | None:
@@ -47,7 +47,7 @@ def pieces_inside_hull(T: SiteTable) -> str | None:
     return None
 
 
-def _same_ellipse(a, b) -> bool:
+def same_ellipse(a, b) -> bool:
     return a.c == b.c and a.M == b.M and a.N == b.N
 
 
@@ -114,7 +114,7 @@ def pieces_apart(T: SiteTable) -> str | None:
                 continue
             shared = mine & set(T.ends[l] or ())
             if shared:
-                if T.kind[l] == ELLIPSE and _same_ellipse(T.sites[k], T.sites[l]) and \
+                if T.kind[l] == ELLIPSE and same_ellipse(T.sites[k], T.sites[l]) and \
                         _quadrant(T.sites[k]) != _quadrant(T.sites[l]) and all(c <= -2 or c >= 0 for c in shared):
                     continue
                 return f"curves {k} and {l} share an end: their being apart elsewhere is not proved"

@@ -15,7 +15,10 @@ sites at the largest support of their direction).
 when it is rational — two points, an end and its curve (perpendicular or radial), the two curves
 of a smooth joint (the normal line) — and ``("tangent", ±1)`` for the asymptote of a point and an
 arc, or of two arcs (a common tangent of a circle with a point or another circle, irrational in
-general): the sign of (z_j − z_i) × u for the sorted pair (i, j), z a point or an arc's centre.
+general): the sign of (z_j − z_i) × u for the sorted pair (i, j), z a point or an arc's centre;
+likewise for an elliptic piece and a point or another curve (no end shared), z the point of the
+piece's ellipse with outward normal u (its support point: the tangency point of the asymptote, so
+for a point p on that tangent (z − p) × u = ±|z − p||u| ≠ 0).
 
 **Without arcs** the directions are the outward normals of the exact rational convex hull of the
 point sites (every site lies in it).  **With arcs** let Q be the point sites and smooth joints (all
@@ -74,17 +77,32 @@ def convex_hull(pts: list) -> list:
     return lower[:-1] + upper[:-1]
 
 
-def _z(T: SiteTable, k: int):
+def _ball(v) -> arb:
+    return v if isinstance(v, arb) else to_arb(Fraction(v))
+
+
+def _z(T: SiteTable, k: int, ux=None, uy=None):
+    if T.kind[k] == ELLIPSE:
+        # the point of the piece's ellipse where u is the outward normal: the support point
+        # c + ((u·M) M + (u·N) N)/|(u·M, u·N)| (arb balls)
+        s = T.sites[k]
+        ux, uy = _ball(ux), _ball(uy)
+        cx, cy, Mx, My, Nx, Ny = (to_arb(q) for q in (*s.c, *s.M, *s.N))
+        um, un = ux * Mx + uy * My, ux * Nx + uy * Ny
+        h = (um * um + un * un).sqrt()
+        return cx + (um * Mx + un * Nx) / h, cy + (um * My + un * Ny) / h
     return T.cen[k] if T.kind[k] == ARC else T.a[k]
 
 
 def tangent_sign(T: SiteTable, i: int, j: int, ux, uy) -> int | None:
     """The sign of (z_j − z_i) × u for the sorted pair (module docstring); None if undecided."""
     i, j = sorted((i, j))
-    (xi, yi), (xj, yj) = _z(T, i), _z(T, j)
+    (xi, yi), (xj, yj) = _z(T, i, ux, uy), _z(T, j, ux, uy)
+    if any(isinstance(q, arb) for q in (xi, yi, xj, yj)):
+        (xi, yi), (xj, yj) = (_ball(xi), _ball(yi)), (_ball(xj), _ball(yj))
     dx, dy = xj - xi, yj - yi
-    if isinstance(ux, arb):
-        v = to_arb(dx) * uy - to_arb(dy) * ux
+    if isinstance(ux, arb) or isinstance(dx, arb):
+        v = _ball(dx) * _ball(uy) - _ball(dy) * _ball(ux)
     else:
         v = dx * uy - dy * ux
     return 1 if v > 0 else (-1 if v < 0 else None)
@@ -94,7 +112,7 @@ def infinite_key(T: SiteTable, i: int, j: int, u, rational: bool):
     """The key of an unbounded end of the pair (i, j) in direction u (rationals when ``rational``,
     else arb balls) — module docstring; None when it is not decided or the pair has no such end."""
     ki, kj = T.kind[i], T.kind[j]
-    tangent = (ARC in (ki, kj) and not (T.is_endpoint(i, j) or T.is_endpoint(j, i)) and
+    tangent = ((ARC in (ki, kj) or ELLIPSE in (ki, kj)) and not (T.is_endpoint(i, j) or T.is_endpoint(j, i)) and
                not T.shared_joint(i, j) and SEGMENT not in (ki, kj))
     if tangent:
         sg = tangent_sign(T, i, j, u[0], u[1])

@@ -31,7 +31,7 @@ The start θ_S is where t first exceeds twice the scene's extent (then four time
 all of this is proved; the finite part is proved with the pieces.  The end's key is ("tangent", sign) of :func:`runtime.segments.
 certificate_hull.tangent_sign` at a.
 
-Public API: :func:`arc_tail`, :func:`arc_pole`, :func:`support_bound`.
+Public API: :func:`arc_tail`, :func:`arc_pole`, :func:`support_bound`, :func:`positive_on`.
 """
 from __future__ import annotations
 
@@ -42,7 +42,7 @@ from .certificate_hull import tangent_sign
 from .certificate_rules import range_lines
 from .certificate_sites import ARC, POINT, SEGMENT
 
-__all__ = ["arc_tail", "arc_pole", "support_bound"]
+__all__ = ["arc_tail", "arc_pole", "support_bound", "positive_on"]
 
 DEPTH = 10
 
@@ -75,7 +75,7 @@ def arc_pole(c, theta_fin, sg: int, other=None):
     return poles[0] if sg > 0 else poles[-1]
 
 
-def _positive(fn, J: arb, depth: int = DEPTH) -> bool:
+def positive_on(fn, J: arb, depth: int = DEPTH) -> bool:
     """fn(ball) > 0 on the parameter ball J (bisection)."""
     stack = [(J, 0)]
     while stack:
@@ -163,7 +163,7 @@ def arc_tail(pr, sg: int, pole: arb, theta_fin):
 def _tail_ok(pr, br, J, sites):
     """None when the tail on J is proved, else the first failing site (or a message)."""
     c, T, sg = br.c, pr.T, br.sg
-    if not _positive(lambda th: -sg * br.parts(th)[6] / br.parts(th)[5], J):
+    if not positive_on(lambda th: -sg * br.parts(th)[6] / br.parts(th)[5], J):
         return "t > 0 up to the pole"
     p = c.k if T.kind[c.k] == POINT else None
     for k in sites:
@@ -176,14 +176,14 @@ def _tail_ok(pr, br, J, sites):
             def fmax(th, conds=conds):
                 vals = [one(th, g) for g in conds]
                 return vals[0].max(vals[1]) if len(vals) > 1 else vals[0]
-            if not _positive(fmax, J):
+            if not positive_on(fmax, J):
                 return k
             continue
         for g in conds:
-            if not _positive(lambda th, g=g: one(th, g), J):
+            if not positive_on(lambda th, g=g: one(th, g), J):
                 return k
     if T.kind[c.k] == ARC:
-        if not _positive(lambda th: _partner_range(T, c, br, th), J):
+        if not positive_on(lambda th: _partner_range(T, c, br, th), J):
             return "the partner arc's range"
     return None
 
@@ -259,7 +259,7 @@ def _far(T, c, br, J, k, p) -> bool:
     def G(th):
         ux, uy, *_ = br.parts(th)
         return ux * c.c[0] + uy * c.c[1] + c.r - support_bound(T, k, ux, uy)
-    if _positive(G, J):
+    if positive_on(G, J):
         return True
     if T.kind[k] == ARC:
         return _far_arc_tie(T, c, br, J, k)
@@ -295,7 +295,7 @@ def _far_arc_tie(T, c, br, J, k) -> bool:
     def F(th):
         ux, uy, wx, wy, _, N, E = br.parts(th)
         return -br.sg * ((K + 2 * c.r * (ux * Dx + uy * Dy)) * E / N + 2 * (wx * Dx + wy * Dy))
-    return _positive(F, J)
+    return positive_on(F, J)
 
 
 def _far_point(T, c, br, J, q, p) -> bool:
@@ -304,7 +304,7 @@ def _far_point(T, c, br, J, q, p) -> bool:
     def G(th):
         ux, uy, *_ = br.parts(th)
         return ux * (c.c[0] - qa[0]) + uy * (c.c[1] - qa[1]) + c.r
-    if _positive(G, J):
+    if positive_on(G, J):
         return True
     ph = c.alpha + br.pole
     bracket = ph.cos() * (c.c[0] - qa[0]) + ph.sin() * (c.c[1] - qa[1]) + c.r
@@ -312,7 +312,7 @@ def _far_point(T, c, br, J, q, p) -> bool:
         def Gf(th):                                  # G = 2 sin(δ/2) (c − q)·u^⊥(φ_m)
             _, _, wx, wy, sh, _, _ = br.parts(th)
             return -br.sg * ((c.c[0] - qa[0]) * wx + (c.c[1] - qa[1]) * wy)
-        if _positive(Gf, J):
+        if positive_on(Gf, J):
             return True
         pa = T.arb_ends(p)[:2]
         mx, my = (pa[0] + qa[0]) / 2, (pa[1] + qa[1]) / 2
@@ -322,7 +322,7 @@ def _far_point(T, c, br, J, q, p) -> bool:
             ux, uy, wx, wy, sh, N, E = br.parts(th)
             return ((c.c[0] - mx) * dx + (c.c[1] - my) * dy + c.r * (ux * dx + uy * dy) +
                     N * (wx * dx + wy * dy) / E)
-        return _positive(L, J)
+        return positive_on(L, J)
     return False
 
 
