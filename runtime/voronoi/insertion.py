@@ -581,12 +581,17 @@ def _check(D, dyn, res, op, special, certify, old_index, new_index):
     changed = {v.id for v in pv} | {w for e in pe for w in e.ends if w is not None}
     changed |= {w for e in rm_e for w in D.edges[e].ends if w is not None and w not in rm_v}
     problems: list = []
+    at: dict = {}                 # vertex id -> the site pairs of the new edges ending there
+    for e in pe:
+        for w in set(e.ends):
+            if w is not None:
+                at.setdefault(w, []).append(tuple(e.sites))
     for vid in sorted(changed):
         v = vert(vid)
         k = len(v.sites)
         want = sorted({tuple(sorted((v.sites[t], v.sites[(t + 1) % k]))) for t in range(k)})
         got = [old_pair(e) for e in dyn.v_e[vid] if e not in rm_e] if vid < NV else []
-        got = sorted(got + [tuple(e.sites) for e in pe if vid in e.ends])
+        got = sorted(got + at.get(vid, []))
         if got != want:
             return None
     for t in res["L"]:

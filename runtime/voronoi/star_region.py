@@ -218,7 +218,7 @@ def bisector_polylines(dyn, pairs, ends):
     last = np.append(first[1:], len(own)) - 1
     Q[first], Q[last] = ends[:, 0], ends[:, 1]
     polys = [Q[first[t]:last[t] + 1] for t in range(E)]
-    hb = hausdorff_bounds(biss, polys)
+    hb = hausdorff_bounds(biss, polys, foot_steps=1)     # the inner points lie on the float curve
     tol = hb * (1 + 1e-9) + 1e-10 * (1 + np.maximum.reduceat(np.abs(Q).max(axis=1), first))
     return list(zip(polys, tol.tolist()))
 

@@ -129,13 +129,25 @@ class _Curves:
         job = np.repeat(np.arange(self.n), init)
         A, B = K[:, :-1].ravel(), K[:, 1:].ravel()
         for _ in range(REFINE):
-            Mid, Q, _, _, R = self.discs(job, A, B)
+            _, Q, _, _, R = self.discs(job, A, B)
             hi = np.minimum(self.table.bounds(Q, self.I[job])[1], self.table.bounds(Q, self.J[job])[1])
             big = R > 0.5 * hi
-            if not big.any() or len(job) + big.sum() > 64 * self.n:
+            if not big.any():
                 break
-            job = np.concatenate([job[~big], job[big], job[big]])
-            A, B = np.concatenate([A[~big], A[big], Mid[big]]), np.concatenate([B[~big], Mid[big], B[big]])
+            # a big piece is cut into 2, 4 or 8 equal parameter steps, about as many as bring its
+            # disc below half the distance (the disc radius is about proportional to the step)
+            with np.errstate(all="ignore"):
+                want = np.ceil(np.log2(np.maximum(R[big] / (0.5 * hi[big]), 1.0)))
+            parts = np.left_shift(1, np.clip(np.nan_to_num(want, nan=1.0), 1, 3).astype(np.int64))
+            if len(job) + int(parts.sum()) - len(parts) > 64 * self.n:
+                break
+            jb, ab, bb = np.repeat(job[big], parts), np.repeat(A[big], parts), np.repeat(B[big], parts)
+            pb = np.repeat(parts, parts)
+            t = np.arange(len(pb)) - np.repeat(np.cumsum(parts) - parts, parts)
+            a_new = ab + (bb - ab) * (t / pb)
+            b_new = np.where(t + 1 == pb, bb, ab + (bb - ab) * ((t + 1) / pb))
+            job = np.concatenate([job[~big], jb])
+            A, B = np.concatenate([A[~big], a_new]), np.concatenate([B[~big], b_new])
         order = np.lexsort((A, job))
         return job[order], A[order], B[order]
 
@@ -172,11 +184,16 @@ class _Curves:
 
 def _search(ctx: _Curves, job, A, B, alive, out, max_depth, max_pieces, deadline):
     """The disc search (module docstring, item 1) on the pieces (job, A, B); records failures in
-    ``out`` (and clears ``alive``) for the jobs of ``ctx``.  Returns the number of pieces examined."""
+    ``out`` (and clears ``alive``) for the jobs of ``ctx``.  Returns the number of pieces examined.
+
+    A piece that does not decide a site is cut into 2, 4 or 8 equal parameter steps: about as
+    many as its Lipschitz margin asks for (the arc radius shrinks with the step), at most
+    ``max_depth`` halvings in all from the first pieces."""
     table, I, J, X = ctx.table, ctx.I, ctx.J, ctx.X
     npieces = 0
     pp = kk = None          # candidate pairs (piece, site); children inherit only failing pairs
-    for depth in range(max_depth + 1):
+    dep = np.zeros(len(job), np.int64)      # halvings of each piece
+    for _ in range(max_depth + 1):
         if not len(job):
             break
         if deadline is not None and time.perf_counter() > deadline:
@@ -206,25 +223,50 @@ def _search(ctx: _Curves, job, A, B, alive, out, max_depth, max_pieces, deadline
                 alive[jj] = False
                 out[jj] = (False, (int(ks[t]), tuple(Q[rows[t]]), "closer"))
         fail = lo_k - hi[rows] - 2 * R[rows] <= 0
+        need = np.ones(len(rows))               # the factor by which the piece's arc must shrink
         if fail.any():
             fr = np.nonzero(fail)[0]
             slope = _slope_bound(table, Q[rows[fr]], ks[fr], I[job[rows[fr]]], R[rows[fr]])
-            fail[fr] = lo_k[fr] - hi_i[rows[fr]] - slope * Rarc[rows[fr]] - 2 * err[rows[fr]] <= 0
+            gap = lo_k[fr] - hi_i[rows[fr]] - 2 * err[rows[fr]]
+            spent = slope * Rarc[rows[fr]]
+            fail[fr] = gap - spent <= 0
+            with np.errstate(all="ignore"):
+                need[fr] = np.where(gap > 0, spent / gap, 2.0)
         fail &= alive[job[rows]]
         if not fail.any():
             break
         pf, kf = rows[fail], ks[fail]
         bad_pieces, inv = np.unique(pf, return_inverse=True)
-        if depth == max_depth or len(bad_pieces) > max_pieces:
-            for t in range(len(pf)):
-                jj = int(job[pf[t]])
-                if alive[jj]:
-                    alive[jj] = False
-                    out[jj] = (False, (int(kf[t]), tuple(Q[pf[t]]), "undecided"))
+        if len(bad_pieces) > max_pieces:
+            deep = np.ones(len(pf), bool)
+        else:
+            deep = dep[pf] >= max_depth
+        for t in np.nonzero(deep)[0]:
+            jj = int(job[pf[t]])
+            if alive[jj]:
+                alive[jj] = False
+                out[jj] = (False, (int(kf[t]), tuple(Q[pf[t]]), "undecided"))
+        if deep.all():
             break
-        nb = len(bad_pieces)
-        job = np.concatenate([job[bad_pieces], job[bad_pieces]])
-        A, B = np.concatenate([A[bad_pieces], Mid[bad_pieces]]), np.concatenate([Mid[bad_pieces], B[bad_pieces]])
-        pp = np.concatenate([inv, inv + nb])
-        kk = np.concatenate([kf, kf])
+        # halvings per bad piece: log2 of its largest need among its sites, 1 to 3, within max_depth
+        want = np.zeros(len(bad_pieces))
+        np.maximum.at(want, inv, np.nan_to_num(need[fail], nan=2.0, posinf=8.0))
+        bits = np.clip(np.ceil(np.log2(np.maximum(want * 1.25, 2.0))), 1, 3).astype(np.int64)
+        bits = np.minimum(bits, np.maximum(max_depth - dep[bad_pieces], 1))
+        parts = np.left_shift(1, bits)
+        pb = np.repeat(parts, parts)
+        t = np.arange(len(pb)) - np.repeat(np.cumsum(parts) - parts, parts)
+        ab, bb = np.repeat(A[bad_pieces], parts), np.repeat(B[bad_pieces], parts)
+        A_new = ab + (bb - ab) * (t / pb)
+        B_new = np.where(t + 1 == pb, bb, ab + (bb - ab) * ((t + 1) / pb))
+        first = np.cumsum(parts) - parts                # first child of each bad piece
+        # the failing pairs (piece, site) of the pieces still alive go to every child
+        live = ~deep
+        pl, kl = inv[live], kf[live]
+        reps = parts[pl]
+        pp = np.repeat(first[pl], reps) + (np.arange(int(reps.sum())) - np.repeat(np.cumsum(reps) - reps, reps))
+        kk = np.repeat(kl, reps)
+        job = np.repeat(job[bad_pieces], parts)
+        dep = np.repeat(dep[bad_pieces] + bits, parts)
+        A, B = A_new, B_new
     return npieces
