@@ -84,3 +84,19 @@ def test_the_pieces_tile_the_arc_in_every_round(monkeypatch):
         for p in np.unique(parent):
             kids = parent == p
             assert _tiles(A1[kids], B1[kids], A0[p], B0[p]), f"piece [{A0[p]}, {B0[p]}] is not tiled by its children"
+
+
+def test_a_long_arc_is_tiled_by_the_pieces_made_before_the_search(monkeypatch):
+    """The points (∓10, 0) and k = (38, 0): k is farther on the whole line x = 0
+    (d_k − d_i = 1344/(√(1444 + y²) + √(100 + y²)) > 0); the arc y ∈ [−150, 150] given as one
+    piece has a disc of radius 150 against d_i ≥ 10 at its mid point, so ``_Curves.pieces`` cuts it
+    several times before the search."""
+    table = CircleTable([site_geometry(s) for s in (Point(-10, 0), Point(10, 0), Point(38, 0))])
+    bis = bisector(table, 0, 1)
+    ua, ub = math.asinh(-15.0), math.asinh(15.0)
+    rounds, made = _record(monkeypatch)
+    (ok, detail), = prove_arcs(table, [(bis, ua, ub, ())], init=1)
+    assert ok and detail is None
+    (job, A, B), = made
+    assert len(A) >= 8, "the arc should be cut before the search"
+    assert _tiles(A, B, ua, ub), "the pieces before the search do not tile the arc"
