@@ -75,7 +75,7 @@ from .geometry import EPS, CircleGeometry, PointGeometry, SiteGeometry, rounding
 
 __all__ = ["ConicGeometry", "CentralConicGeometry", "EllipseGeometry", "HyperbolaGeometry", "ParabolaGeometry",
            "conic_geometry", "site_geometry", "site_inside", "ellipse_feet",
-           "ellipse_foot_points"]
+           "ellipse_foot_points", "ellipse_samples"]
 
 #: relative gap above which the fast bounds defer to the ball route
 _FALLBACK_GAP = 1e-7
@@ -286,6 +286,74 @@ class EllipseGeometry(CentralConicGeometry):
         return _h_lower([(1.0, 1.0 / mu, 0.0)],
                         [(-1.0, X0 * X0, a2 * mu - 1.0, 4 * EPS * (a2 * mu + 1.0)),
                          (-1.0, Y0 * Y0, b2 * mu - 1.0, 4 * EPS * (b2 * mu + 1.0))])
+
+
+#: ellipses sampled together by :func:`ellipse_samples` (its temporaries: a few arrays of this
+#: many rows × 2048 floats)
+SAMPLE_BLOCK = 256
+
+
+def ellipse_samples(geoms, spacings):
+    """The samples of many ellipses, ``geoms[k].samples(spacings[k])`` for every k, as one array
+    and the number of samples of each: the same points, float for float (the arc-length table
+    of :meth:`ConicGeometry._sample_param` on 2048 parameters, its ``np.linspace`` and
+    ``np.interp`` evaluated for a block of ellipses at once; an ellipse whose table is too coarse
+    for its spacing is sampled by its own method)."""
+    m = 2048
+    tt = np.linspace(0.0, 2 * math.pi, m)
+    ct, st = np.cos(tt), np.sin(tt)
+    out, counts = [], np.zeros(len(geoms), np.int64)
+    for b0 in range(0, len(geoms), SAMPLE_BLOCK):
+        G = geoms[b0:b0 + SAMPLE_BLOCK]
+        sp = np.maximum(np.asarray(spacings[b0:b0 + SAMPLE_BLOCK], float), 1e-300)
+        a = np.array([g.a for g in G])[:, None]
+        b = np.array([g.b for g in G])[:, None]
+        seg = np.hypot(np.diff(a * ct, axis=1), np.diff(b * st, axis=1))
+        L = seg.sum(axis=1)
+        need = np.ceil(1.1 * L / sp) + 1
+        n = np.minimum(np.maximum(np.where(np.isfinite(need), need, 2.0 ** 62), 2), 2_000_000).astype(np.int64)
+        own = (n > m // 2) | ~(seg > 0).all(axis=1) | ~np.isfinite(L)
+        cum = np.cumsum(seg, axis=1)
+        # np.linspace(0, L, n): k·(L/(n − 1)) + 0, the last point L; np.interp on the table (cum
+        # strictly increasing): on [cum[j], cum[j + 1]) the slope (t[j + 1] − t[j])/(cum[j + 1] −
+        # cum[j]) times (x − cum[j]) plus t[j], at the end t[m − 1]
+        rows = np.nonzero(~own)[0]
+        nr = n[rows]
+        r = np.repeat(rows, nr)
+        k = np.arange(len(r)) - np.repeat(np.cumsum(nr) - nr, nr)
+        x = k * (L[r] / (n[r] - 1)) + 0.0
+        last = k == n[r] - 1
+        x[last] = L[r[last]]
+        # j = np.searchsorted(cum[row], x, side="right"), the number of table sums ≤ x (cum is
+        # non-decreasing), by bisection on all rows at once
+        j, hi = np.zeros(len(x), np.int64), np.full(len(x), m - 1, np.int64)
+        while (j < hi).any():
+            mid = (j + hi) // 2
+            le = cum[r, np.minimum(mid, m - 2)] <= x
+            j, hi = np.where(le, mid + 1, j), np.where(le, hi, mid)
+        prev = np.where(j > 0, cum[r, np.maximum(j - 1, 0)], 0.0)
+        nxt = cum[r, np.minimum(j, m - 2)]
+        with np.errstate(divide="ignore", invalid="ignore"):     # j = m − 1: the end, no slope
+            slope = (tt[np.minimum(j + 1, m - 1)] - tt[j]) / (nxt - prev)
+        tq = np.where(j >= m - 1, tt[m - 1], slope * (x - prev) + tt[np.minimum(j, m - 1)])
+        gx = a[r, 0] * np.cos(tq)
+        gy = b[r, 0] * np.sin(tq)
+        cc = np.array([g.c for g in G])[r]
+        ss = np.array([g.s for g in G])[r]
+        tx = np.array([g.tx for g in G])[r]
+        ty = np.array([g.ty for g in G])[r]
+        P = np.column_stack([tx + cc * gx - ss * gy, ty + ss * gx + cc * gy])
+        keep = ~last                      # the last point repeats the first
+        parts = np.split(P[keep], np.cumsum(nr - 1)[:-1])
+        block = [None] * len(G)
+        for c, part in zip(rows.tolist(), parts):
+            block[c] = part
+        for c in np.nonzero(own)[0].tolist():
+            block[c] = np.asarray(G[c].samples(float(spacings[b0 + c])), float).reshape(-1, 2)
+        for c, part in enumerate(block):
+            counts[b0 + c] = len(part)
+        out.extend(block)
+    return (np.concatenate(out) if out else np.zeros((0, 2))), counts
 
 
 class HyperbolaGeometry(CentralConicGeometry):

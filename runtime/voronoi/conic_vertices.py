@@ -1,8 +1,10 @@
 """Voronoi vertices of triples with a conic: a batched proof, else one refinement and one proof per vertex.
 
 Candidate seeds come from the 3-label triangles of the sample triangulation (thesis §5.2: a
-vertex is a point equidistant from three sites with an empty circle).  All candidates of convex
-sites are first proved at once by the kernel's Krawczyk test on the distance differences
+vertex is a point equidistant from three sites with an empty circle).  A candidate within a
+quarter radius of exactly one vertex of its triple proved in an earlier round takes that proof;
+all other candidates of convex sites are first proved at once by the kernel's Krawczyk test on
+the distance differences
 (:func:`runtime.voronoi.verify.conic_vertices.prove_conic_vertices`, vectorised: a unique zero of
 (d_i − d_j, d_i − d_k) in a small square, with its radius enclosed); the others are refined by
 ``refine_vertex`` and proved by ``certify_vertex`` of :mod:`runtime.voronoi.vertex` (arb Krawczyk on
@@ -82,12 +84,27 @@ def conic_vertices(S: SiteArrays, T3, seeds, stats, cache):
         dseed, _ = S.dist_grad(start, T3[:, 0])
         good = np.isfinite(Q).all(axis=1) & (np.hypot(*(Q - start).T) <= dseed + 1e-12 * S.scale)
         start[good] = Q[good]
-    quick = []
-    if len(T3):
-        fin = [abs(b) for g in S.geoms for b in g.bounding_box() if math.isfinite(b)]
-        quick = prove_conic_vertices(S.geoms, T3, start, 1.0 + (max(fin) if fin else 0.0))
+    fin = np.abs(S.boxes[np.isfinite(S.boxes)])
+    scale = 1.0 + (float(fin.max()) if len(fin) else 0.0)
+    table = S.site_table() if len(T3) else None
+
+    def batch(rows):
+        """The batched proofs of the candidates ``rows`` (each row's proof depends on that row only)."""
+        return prove_conic_vertices(S.geoms, T3[rows], start[rows], scale, table=table)
+
+    # the batched proofs of the candidates that the cache of earlier rounds does not serve (a seed
+    # within a quarter radius of exactly one proved vertex of its triple); a candidate found
+    # unserved after all (the cache grew in this round) is proved when met
+    trs = [tuple(t) for t in np.asarray(T3, np.int64).reshape(-1, 3).tolist()]
+    seed_list = np.asarray(seeds, float).reshape(-1, 2).tolist()
+    near0 = [_cache_near(cache, tr, sd) for tr, sd in zip(trs, seed_list)]
+    known = {tr: len(cache.get(tr, ())) for tr in trs}        # cache entries when near0 was listed
+    quick = [False] * len(T3)
+    want = [m for m in range(len(T3)) if len(near0[m]) != 1]
+    for m, q in zip(want, batch(np.array(want, dtype=np.int64)) if want else []):
+        quick[m] = q
     for m in range(len(T3)):
-        tr = tuple(int(v) for v in T3[m])
+        tr = trs[m]
         found = None
         for c in by_triple.get(tr, []):
             cl = clusters[c]
@@ -97,12 +114,13 @@ def conic_vertices(S: SiteArrays, T3, seeds, stats, cache):
                     found = c
                     break
         if found is None:
-            near = [c for c in cache.get(tr, [])
-                    if math.hypot(c["x"] - seeds[m, 0], c["y"] - seeds[m, 1]) < 0.25 * c["rlo"]]
+            near = near0[m] if len(cache.get(tr, ())) == known[tr] else _cache_near(cache, tr, seed_list[m])
             if len(near) == 1:
                 cl = dict(near[0])
                 stats["vertex_cache_hits"] = stats.get("vertex_cache_hits", 0) + 1
             else:
+                if quick[m] is False:
+                    quick[m] = batch(np.array([m], dtype=np.int64))[0]
                 if quick[m] is not None:
                     cl = _batch_vertex(tr, quick[m])
                 else:
@@ -130,6 +148,11 @@ def conic_vertices(S: SiteArrays, T3, seeds, stats, cache):
         clusters[found].setdefault("members", []).append(m)
         cid[m] = found
     return cid, clusters
+
+
+def _cache_near(cache, tr, seed):
+    """The proved vertices of triple ``tr`` in ``cache`` within a quarter of their radius of ``seed``."""
+    return [c for c in cache.get(tr, ()) if math.hypot(c["x"] - seed[0], c["y"] - seed[1]) < 0.25 * c["rlo"]]
 
 
 def _box_contains(a, b):

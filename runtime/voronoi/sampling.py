@@ -26,6 +26,7 @@ import math
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
+from .conic_geometry import ellipse_samples
 from .exact_delaunay import exact_delaunay, is_delaunay
 from .sample_delaunay import JOGGLE_ABOVE, SampleTriangulation, delaunay, perturbed
 from .site_arrays import SiteArrays
@@ -119,8 +120,13 @@ def sample_sites(S: SiteArrays, spacing, sites=None, base=None):
         P = np.column_stack([S.C[lab, 0] + R[lab] * np.cos(t), S.C[lab, 1] + R[lab] * np.sin(t)])
         return P, lab
     parts, labs = [np.zeros((0, 2))], [np.zeros(0, np.int64)]
+    ell = idx[S.ellipse[idx]]
+    if len(ell):          # the ellipses together (the same points as their own samples())
+        Pe, ne = ellipse_samples([S.geoms[i] for i in ell.tolist()], np.asarray(spacing, float)[ell])
+        of = dict(zip(ell.tolist(), np.split(Pe, np.cumsum(ne)[:-1])))
     for i in idx.tolist():
-        p = np.asarray(S.geoms[i].samples(float(spacing[i]), S.window), float).reshape(-1, 2)
+        p = of[i] if S.ellipse[i] else \
+            np.asarray(S.geoms[i].samples(float(spacing[i]), S.window), float).reshape(-1, 2)
         parts.append(p)
         labs.append(np.full(len(p), i, dtype=np.int64))
     return np.concatenate(parts), np.concatenate(labs)

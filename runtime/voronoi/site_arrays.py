@@ -70,6 +70,7 @@ class SiteArrays:
         self.small = small
         self.small_tree = cKDTree(self.C[small]) if len(small) else None
         self.small_rmax = float(self.R[small].max()) if len(small) else 0.0
+        self._table = None
 
     # ---- distances, vectorised over (point, site) pairs
     def dist_grad(self, P, lab):
@@ -105,11 +106,28 @@ class SiteArrays:
             d, _ = self.dist_grad(P, lab)
             s = rounding_slack(np.abs(P).sum(axis=1) + np.abs(self.C[lab]).sum(axis=1) + self.R[lab])
             return np.maximum(d - s, 0.0), d + s
+        table = self.site_table()
+        if table is not None:                 # all (point, site) rows in one call
+            V = table.evaluate(P, lab)
+            return V.lo, V.hi
         lo = np.empty(len(P))
         hi = np.empty(len(P))
         for s, rows in site_groups(lab):
             lo[rows], hi[rows] = self.geoms[s].distance_bounds(P[rows])
         return lo, hi
+
+    def site_table(self):
+        """The sites as a :class:`runtime.voronoi.verify.site_table.SiteTable` (built on first
+        use; None when a site is of a kind it does not hold): rigorous distance bounds of many
+        (point, site) rows in one call, vectorised over the ellipses as well as the points (the
+        bounds of the site geometries, which it defers to where its own are not tight)."""
+        if self._table is None:
+            from .verify.site_table import SiteTable
+            try:
+                self._table = SiteTable(self.geoms, self.scale)
+            except ValueError:                # a kind the table does not hold
+                self._table = False
+        return self._table or None
 
     def nearest_sites(self, Q, reach, k: int = NEAREST):
         """The sites of :meth:`near_sites` found among the ``k`` small sites with the nearest

@@ -36,16 +36,18 @@ RHOS = (2e-11, 1e-12, 4e-11)
 NEWTON = 4
 
 
-def prove_conic_vertices(geoms, triples, X, scale):
+def prove_conic_vertices(geoms, triples, X, scale, table=None):
     """For float vertices X[m] of the triples (i, j, k) of convex sites: per row, None (not
     proved here) or (x, y, h, r_lo, r_hi): a unique zero of F in the square of centre (x, y) and
-    half-width h, with radius in [r_lo, r_hi]."""
+    half-width h, with radius in [r_lo, r_hi].  ``table``: a :class:`SiteTable` of ``geoms``
+    to reuse (its per-ellipse frame errors are computed once), else one is built."""
     T = np.asarray(triples, int).reshape(-1, 3)
     X = np.asarray(X, float).reshape(-1, 2).copy()
     out = [None] * len(T)
     if not len(T):
         return out
-    table = SiteTable(geoms, scale)
+    if table is None:
+        table = SiteTable(geoms, scale)
     ok_sites = table.convex[T].all(1)
     idx = np.nonzero(ok_sites)[0]
     if not len(idx):
