@@ -62,7 +62,10 @@ On pieces J of [θ₀, θ₁] (halved while undecided), with the box (X, Y) ⊇ 
      (x − e(Φ))/|x − e(Φ)| where its nearest point is proved the interior minimum Φ, an end's
      where it is proved that end (the hull of both ends' where both).  A point site k on the
      ellipse of the touched piece is farther exactly when the secant factor L(ψ_k) > 0: no double
-     zero at a vertex whose contact is k itself.  A runs' anchor is an end vertex or the end of a
+     zero at a vertex whose contact is k itself.  On the normal line at a piece's point-site
+     end, a piece of the same ellipse tied at an end vertex is farther all along an edge that
+     leaves that vertex outwards (the secant factor grows with the signed outward distance:
+     :func:`normal_line_monotone`).  A runs' anchor is an end vertex or the end of a
      piece where g > 0 was proved directly (:func:`_pieces`).
 (R2) a curve k ending at a point site p of the edge has p as its unique nearest point (the tie is
      p's): segments and arcs by their rules, an elliptic piece by the end factor
@@ -84,7 +87,8 @@ lists a piece but whose pair is not one of the above.
 The curves and gradients are :mod:`runtime.segments.certificate_ellipse_curves`; the pieces'
 crossings and hull :mod:`runtime.segments.certificate_ellipse_sites`.
 
-Public API: :func:`needs_piece_proof`, :func:`prove_piece_edge`, :func:`prove_edges_with_pieces`.
+Public API: :func:`needs_piece_proof`, :func:`prove_piece_edge`, :func:`prove_edges_with_pieces`,
+:func:`normal_line_monotone`.
 
 Length: one proof — the routing, the vertex parameters, the pieces with their derivative runs and
 the tails read and extend the same edge state; the curves and the site tests are apart.
@@ -106,6 +110,7 @@ from .certificate_ellipse_axis import AxisCurve, axis_edge
 from .certificate_edges import EdgeProof, prove_edges
 from .certificate_ellipse_curves import FootCurve, NormalLine, PointsLine, gradient, widened_nearest
 from .certificate_ellipse_junction import EndCurve
+from .certificate_ellipse_sites import same_ellipse
 from .certificate_ellipse_tails import foot_poles, foot_tail, normal_ray_farther
 from .certificate_hull import infinite_key
 from .certificate_ellipse_secant import end_factor, end_tangent, on_ellipse, secant_factor
@@ -113,7 +118,7 @@ from .certificate_ellipses import normal_residual, past_centre_of_curvature, tou
 from .certificate_sites import ARC, ELLIPSE, POINT, SEGMENT, SiteTable, direction_key, sq
 from .ellipse_pieces import closest_at_an_end, interior_foot, interior_minimum, nearest_verdict, piece_point_ball
 
-__all__ = ["needs_piece_proof", "prove_piece_edge", "prove_edges_with_pieces"]
+__all__ = ["needs_piece_proof", "prove_piece_edge", "prove_edges_with_pieces", "normal_line_monotone"]
 
 #: initial pieces of an edge's parameter interval, most pieces tested, deepest halving
 FIRST = 8
@@ -374,9 +379,11 @@ def prove_piece_edge(T: SiteTable, D, e, vindex, vproofs, problems, budget=None)
     return EdgeProof(True)
 
 
-def _support_below(T: SiteTable, k: int, w, level) -> bool:
-    """Every point y of the closed site k has w·y ≤ level (exact rationals; an elliptic piece by
-    the corners of its parallelogram of frame coordinates; arcs are not covered: False)."""
+def _support_below(T: SiteTable, k: int, w, level, strict: bool = False) -> bool:
+    """Every point y of the closed site k has w·y ≤ level (< when ``strict``; exact rationals; an
+    elliptic piece by the corners of its parallelogram of frame coordinates — a piece between two
+    vertices of its ellipse has monotone frame coordinates cos φ, sin φ, so it lies in the
+    parallelogram they span —; arcs are not covered: False)."""
     if T.kind[k] == ARC:
         return False
     if T.kind[k] == ELLIPSE:
@@ -385,6 +392,8 @@ def _support_below(T: SiteTable, k: int, w, level) -> bool:
                for u in (s.ua, s.ub) for v in (s.ua, s.ub)]
     else:
         pts = [T.a[k], T.b[k]]
+    if strict:
+        return all(w[0] * Fraction(x) + w[1] * Fraction(y) < level for x, y in pts)
     return all(w[0] * Fraction(x) + w[1] * Fraction(y) <= level for x, y in pts)
 
 
@@ -745,7 +754,9 @@ def _line_rule(T: SiteTable, i: int, j: int, vlo, vhi):
     listed, the vertex's empty circle elsewhere).  So a > 0 on the open edge when the slope is
     positive and the lower end is a vertex, negative and the upper end is a vertex, or zero with
     a > 0 at O (rationals: no rounding).  Nearly collinear points make the slope tiny, where boxes
-    would need ~1/slope pieces."""
+    would need ~1/slope pieces.  ``farther.curve(k)``: the same for every point of a segment or an
+    elliptic piece k at once, when the slope has the sign above for all of them (its support in
+    the direction ±w strictly below ±w·p_i)."""
     (xi, yi), (xj, yj) = T.a[i], T.a[j]
     ox, oy = (xi + xj) / 2, (yi + yj) / 2
     wx, wy = -(yj - yi), xj - xi
@@ -763,6 +774,15 @@ def _line_rule(T: SiteTable, i: int, j: int, vlo, vhi):
             else:
                 memo[e] = (ox - xe) ** 2 + (oy - ye) ** 2 - (ox - xi) ** 2 - (oy - yi) ** 2 > 0
         return memo[e]
+
+    def curve(k: int) -> bool:
+        # every point y of a segment or an elliptic piece k with the slope's sign (its support
+        # strictly below w·p_i, or above): a_y > a_y(t_v) ≥ 0 on the open edge for each y, so
+        # d_k² − ρ², their minimum over k's compact closure, is positive there too
+        level = wx * xi + wy * yi
+        return ((vlo is not None and _support_below(T, k, (wx, wy), level, strict=True)) or
+                (vhi is not None and _support_below(T, k, (-wx, -wy), -level, strict=True)))
+    farther.curve = curve
     return farther
 
 
@@ -784,6 +804,26 @@ def _owned_end_farther(T: SiteTable, k: int, i: int, j: int, X, Y, line_rule) ->
         if T.owned_by_end(k, q, X, Y) is True and (site or line_rule(T.pt(q))):
             return True
     return False
+
+
+def normal_line_monotone(T: SiteTable, c, k: int, ties) -> bool:
+    """On the normal line x = e + t w at a point-site end e = e(ψ) of piece s, a piece k of the same
+    ellipse tied at an end vertex v is farther than ρ on the whole open edge when the edge leaves v
+    outwards.  By the secant identity (:mod:`runtime.segments.certificate_ellipse_secant`; the
+    contact is e(ψ) all along the line), |x − e(φ)|² − ρ² = 4 sin²((φ − ψ)/2) L(φ) with
+    L = |e'(m)|² + σ(x) ρ(x) det(M, N)/|e'(ψ)|, where σρ is the signed distance of x from e along
+    the outward normal: L is affine and strictly increasing in it.  At v, L(φ) ≥ 0 for every φ of
+    k (the proved vertex: d_k(v) ≥ r = ρ(v)); so L > 0 at every point of the edge farther out than v
+    (the edge's other end lies that way: the vertex is its lower end and the outward way is +t, or
+    its upper end and the outward way −t), and sin² > 0 (k does not hold e: pieces meet at most at
+    joints).  Exact: the way is decided in rationals."""
+    if T.kind[k] != ELLIPSE or len(c.pieces) != 1 or c.code < 0:
+        return False
+    s, which = c.pieces[0]
+    if not same_ellipse(T.sites[k], T.sites[s]):
+        return False
+    out_up, out_down = c.outside(arb(1), s, which), c.outside(arb(-1), s, which)
+    return (out_up and k in ties[0]) or (out_down and k in ties[1])
 
 
 def _piece(T: SiteTable, c, i, j, J, ties, ends, slopes, relied, at_lo=False, at_hi=False, wzones=({}, {}),
@@ -828,6 +868,11 @@ def _piece(T: SiteTable, c, i, j, J, ties, ends, slopes, relied, at_lo=False, at
                     "point", k)
         if line_rule is not None and T.kind[k] == POINT and line_rule(T.a[k]):
             continue                            # farther on the whole open edge (exact, _line_rule)
+        if line_rule is not None and T.kind[k] in (SEGMENT, ELLIPSE) and getattr(line_rule, "curve", None) and \
+                line_rule.curve(k):
+            continue                            # every point of curve k by the same rule
+        if isinstance(c, NormalLine) and normal_line_monotone(T, c, k, ties):
+            continue                            # farther on the whole open edge (exact, secant factor)
         if (view and _secant_farther(T, k, view)) or T.distance(k, X, Y) > R:
             slopes[("direct", k)] = True
             continue
