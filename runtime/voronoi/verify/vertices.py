@@ -92,7 +92,10 @@ def _krawczyk(C, Rho, Z, scale):
             det = np.linalg.det(J)
             good = np.isfinite(det) & (np.abs(det) > 1e-300)
             Jg = np.where(good[:, None, None], J, np.eye(3))
-            Z = Z - np.where(good[:, None], np.linalg.solve(Jg, F[..., None])[..., 0], 0.0)
+            step = np.where(good[:, None], np.linalg.solve(Jg, F[..., None])[..., 0], 0.0)
+            Z = Z - step
+            if not (np.abs(step) > 4 * u * np.abs(Z)).any():
+                break                                    # converged to rounding: more steps change nothing
         q, r = Z[:, None, :2], Z[:, 2:3]
         V = q - C
         F = (V ** 2).sum(-1) - (r + Rho) ** 2
@@ -142,8 +145,7 @@ def _fast_circle_vertices(items, table):
     nA = np.abs(A).max(axis=(1, 2))
     regular = np.abs(detA) > 1e-9 * nA * nA
     Ag = np.where(regular[:, None, None], A, np.eye(2))
-    q0 = np.linalg.solve(Ag, b[..., None])[..., 0]
-    q1 = np.linalg.solve(Ag, d[..., None])[..., 0]
+    q0, q1 = np.moveaxis(np.linalg.solve(Ag, np.stack([b, d], axis=-1)), -1, 0)
     qa = (q1 ** 2).sum(-1) - 1
     qb = -2 * ((q0 * q1).sum(-1) + Rho[:, 0])
     with np.errstate(all="ignore"):
