@@ -137,8 +137,8 @@ class _Curves:
             # a big piece is cut into 2, 4 or 8 equal parameter steps, about as many as bring its
             # disc below half the distance (the disc radius is about proportional to the step)
             with np.errstate(all="ignore"):
-                want = np.ceil(np.log2(np.maximum(R[big] / (0.5 * hi[big]), 1.0)))
-            parts = np.left_shift(1, np.clip(np.nan_to_num(want, nan=1.0), 1, 3).astype(np.int64))
+                want = np.ceil(np.log2(R[big] / (0.5 * hi[big])))
+            parts = np.left_shift(1, np.where(want >= 1, np.minimum(want, 3), 1).astype(np.int64))   # NaN: 2
             if len(job) + int(parts.sum()) - len(parts) > 64 * self.n:
                 break
             jb, ab, bb = np.repeat(job[big], parts), np.repeat(A[big], parts), np.repeat(B[big], parts)
@@ -251,7 +251,9 @@ def _search(ctx: _Curves, job, A, B, alive, out, max_depth, max_pieces, deadline
         # halvings per bad piece: log2 of its largest need among its sites, 1 to 3, within max_depth
         want = np.zeros(len(bad_pieces))
         np.maximum.at(want, inv, np.nan_to_num(need[fail], nan=2.0, posinf=8.0))
-        bits = np.clip(np.ceil(np.log2(np.maximum(want * 1.25, 2.0))), 1, 3).astype(np.int64)
+        with np.errstate(all="ignore"):
+            bits = np.ceil(np.log2(want * 1.25))
+        bits = np.where(bits >= 1, np.minimum(bits, 3), 1).astype(np.int64)
         bits = np.minimum(bits, np.maximum(max_depth - dep[bad_pieces], 1))
         parts = np.left_shift(1, bits)
         pb = np.repeat(parts, parts)
