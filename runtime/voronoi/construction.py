@@ -346,7 +346,8 @@ def _build_once(S: SiteArrays, samples: Samples, stats, timing, deadline, cache)
         cvid[c] = -2 - g         # a triangle of a near-degenerate group: its vertex depends on the pair
     ttv = np.full(len(tri.nlab), -1, dtype=np.int64)
     ttv[threes] = cvid[np.asarray(cid, dtype=np.int64)]
-    tri_to_vertex = ttv.tolist()
+    # the candidates are not read below: freed before the edges (the round's peak is after them)
+    del clusters, empty, culprit, cid, cvid
     # edges
     edges_raw = []
     degree = [[] for _ in vertices]
@@ -362,7 +363,7 @@ def _build_once(S: SiteArrays, samples: Samples, stats, timing, deadline, cache)
             if e is None or e[0] == "hull":
                 ends.append(None)
             else:
-                v = tri_to_vertex[e[1]]
+                v = int(ttv[e[1]])
                 codes.append(-2 - vgroup[v] if v in vgroup else v)
                 if v <= -2:
                     v = group_out.get(-2 - v, {}).get(tuple(pair), -1)

@@ -205,6 +205,7 @@ class SampleTriangulation:
         T = 2n − h − 2).  Points: kept samples in their order, then ``Pnew``; triangles: kept
         ones in their order, then the new ones."""
         P, simp, nb = self.P, self.simp, self.nb
+        self._L = self._bich = self._nlab = None     # not read here: the peak of the update is lower
         n = len(P)
         Pnew = np.asarray(Pnew, float).reshape(-1, 2)
         rm = np.zeros(n, bool)
