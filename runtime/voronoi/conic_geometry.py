@@ -291,14 +291,17 @@ class EllipseGeometry(CentralConicGeometry):
 #: ellipses sampled together by :func:`ellipse_samples` (its temporaries: a few arrays of this
 #: many rows × 2048 floats)
 SAMPLE_BLOCK = 256
+#: more samples than this on one ellipse: its own ``np.interp`` (linear in the table) is faster
+#: than the blocks' bisection (logarithmic per sample)
+DENSE = 256
 
 
 def ellipse_samples(geoms, spacings):
     """The samples of many ellipses, ``geoms[k].samples(spacings[k])`` for every k, as one array
     and the number of samples of each: the same points, float for float (the arc-length table
     of :meth:`ConicGeometry._sample_param` on 2048 parameters, its ``np.linspace`` and
-    ``np.interp`` evaluated for a block of ellipses at once; an ellipse whose table is too coarse
-    for its spacing is sampled by its own method)."""
+    ``np.interp`` evaluated for a block of ellipses at once; an ellipse with more than
+    :data:`DENSE` samples is sampled by its own method)."""
     m = 2048
     tt = np.linspace(0.0, 2 * math.pi, m)
     ct, st = np.cos(tt), np.sin(tt)
@@ -308,22 +311,26 @@ def ellipse_samples(geoms, spacings):
         sp = np.maximum(np.asarray(spacings[b0:b0 + SAMPLE_BLOCK], float), 1e-300)
         a = np.array([g.a for g in G])[:, None]
         b = np.array([g.b for g in G])[:, None]
-        seg = np.hypot(np.diff(a * ct, axis=1), np.diff(b * st, axis=1))
+        # the table only where the samples may be few (the perimeter exceeds 4a: more than DENSE
+        # samples for sure are left to the ellipse's own method, which builds its table itself)
+        own = ~(4.4 * a[:, 0] <= DENSE * sp)
+        tab = np.nonzero(~own)[0]
+        seg = np.ones((len(G), m - 1))
+        seg[tab] = np.hypot(np.diff(a[tab] * ct, axis=1), np.diff(b[tab] * st, axis=1))
         L = seg.sum(axis=1)
         need = np.ceil(1.1 * L / sp) + 1
         n = np.minimum(np.maximum(np.where(np.isfinite(need), need, 2.0 ** 62), 2), 2_000_000).astype(np.int64)
-        own = (n > m // 2) | ~(seg > 0).all(axis=1) | ~np.isfinite(L)
+        own |= (n > DENSE) | ~(seg > 0).all(axis=1) | ~np.isfinite(L)
         cum = np.cumsum(seg, axis=1)
-        # np.linspace(0, L, n): k·(L/(n − 1)) + 0, the last point L; np.interp on the table (cum
-        # strictly increasing): on [cum[j], cum[j + 1]) the slope (t[j + 1] − t[j])/(cum[j + 1] −
-        # cum[j]) times (x − cum[j]) plus t[j], at the end t[m − 1]
+        # np.linspace(0, L, n): k·(L/(n − 1)) + 0 (its last point, L, is the first again: dropped
+        # below); np.interp on the table (cum non-decreasing): on [cum[j], cum[j + 1]) the slope
+        # (t[j + 1] − t[j])/(cum[j + 1] − cum[j]) times (x − cum[j]) plus t[j], at the end t[m − 1]
         rows = np.nonzero(~own)[0]
         nr = n[rows]
         r = np.repeat(rows, nr)
         k = np.arange(len(r)) - np.repeat(np.cumsum(nr) - nr, nr)
         x = k * (L[r] / (n[r] - 1)) + 0.0
         last = k == n[r] - 1
-        x[last] = L[r[last]]
         # j = np.searchsorted(cum[row], x, side="right"), the number of table sums ≤ x (cum is
         # non-decreasing), by bisection on all rows at once
         j, hi = np.zeros(len(x), np.int64), np.full(len(x), m - 1, np.int64)
