@@ -75,43 +75,50 @@ def star_region(D, dyn, sites, X, s):
     if gs_.kind not in ("point", "circle"):
         return None
     cx, cy, rs = _centre(gs_)
-    cut = []                                    # (edge id, kept end w, oriented polyline)
+    # every polyline of a conflicting edge, oriented from its kept end (if any), with
+    # h = (d_s − d_a) at its points (a: the edge's first site; h ≤ 0 where s is at least as near)
+    cut, polys, whole, owners = [], [], [], []   # cut: (edge id, kept end w, oriented polyline)
     for e in sorted(rm_e):
         ends = edges[e].ends
         if None in ends:
             return None
         inside = [w in X for w in ends]
-        if all(inside):
-            # removed whole: a polyline point farther from s than from the edge's sites means a
-            # middle piece survives (an edge conflicting at both ends), outside the generic picture
-            P = np.asarray(edges[e].polyline, float)
-            ax, ay, ra = _centre(dyn.geoms[edges[e].sites[0]])
-            h = (np.hypot(P[:, 0] - cx, P[:, 1] - cy) - rs) - (np.hypot(P[:, 0] - ax, P[:, 1] - ay) - ra)
-            if np.any(h > 0):
-                return None
-            continue
         P = np.asarray(edges[e].polyline, float)
-        w = ends[0] if not inside[0] else ends[1]
-        if ends[0] != w:
-            P = P[::-1]
-        cut.append((e, w, P))
+        if all(inside):
+            whole.append(len(polys))
+        else:
+            w = ends[0] if not inside[0] else ends[1]
+            if ends[0] != w:
+                P = P[::-1]
+            cut.append((e, w, P))
+        polys.append(P)
+        owners.append(edges[e].sites)
     if len(cut) < 3:
         return None
+    for a, b in owners:
+        if dyn.geoms[a].kind not in ("point", "circle") or dyn.geoms[b].kind not in ("point", "circle"):
+            return None
+    lens = np.array([len(P) for P in polys])
+    first = np.cumsum(lens) - lens
+    Pall = np.concatenate(polys)
+    G = np.array([_centre(dyn.geoms[a]) for a, _ in owners], float)[np.repeat(np.arange(len(polys)), lens)]
+    h = (np.hypot(Pall[:, 0] - cx, Pall[:, 1] - cy) - rs) - (np.hypot(Pall[:, 0] - G[:, 0], Pall[:, 1] - G[:, 1]) - G[:, 2])
+    if whole and np.any(np.maximum.reduceat(h, first)[whole] > 0):
+        # removed whole: a polyline point farther from s than from the edge's sites means a
+        # middle piece survives (an edge conflicting at both ends), outside the generic picture
+        return None
     seeds, pairs = [], []
-    for e, w, P in cut:
-        a, b = edges[e].sites
-        ga, gb = dyn.geoms[a], dyn.geoms[b]
-        if ga.kind not in ("point", "circle") or gb.kind not in ("point", "circle"):
-            return None
-        ax, ay, ra = _centre(ga)
-        h = (np.hypot(P[:, 0] - cx, P[:, 1] - cy) - rs) - (np.hypot(P[:, 0] - ax, P[:, 1] - ay) - ra)
-        neg = np.nonzero(h <= 0)[0]
-        if not len(neg) or neg[0] == 0:
-            return None
-        k = int(neg[0])
-        t = h[k - 1] / (h[k - 1] - h[k])
-        seeds.append(P[k - 1] + t * (P[k] - P[k - 1]))
-        pairs.append((a, b))
+    negs = np.flatnonzero(h <= 0)
+    ws = set(whole)
+    cut_at = [t for t in range(len(polys)) if t not in ws]
+    for (e, w, P), t in zip(cut, cut_at):
+        k = int(np.searchsorted(negs, first[t]))
+        if k == len(negs) or negs[k] >= first[t] + lens[t] or negs[k] == first[t]:
+            return None                         # no point of the edge in conflict, or its kept end is
+        g = int(negs[k])
+        f = h[g - 1] / (h[g - 1] - h[g])
+        seeds.append(Pall[g - 1] + f * (Pall[g] - Pall[g - 1]))
+        pairs.append(tuple(edges[e].sites))
     cs = np.array([cx, cy])
     V = _newton(np.array(seeds), cs, rs, np.array([_centre(dyn.geoms[a]) for a, _ in pairs]),
                 np.array([_centre(dyn.geoms[b]) for _, b in pairs]))
