@@ -85,6 +85,7 @@ class CircleTable:
 
     def _setup(self, C, R):
         self.C, self.R, self.n = C, R, len(R)
+        self.C1 = np.abs(C).sum(axis=1)           # |c|₁ of each centre (the rounding slack's scale)
         self.tree = cKDTree(self.C)
         self.rmax = float(self.R.max()) if self.n else 0.0
         self.scale = float(np.abs(self.C).max() + self.rmax + 1.0) if self.n else 1.0
@@ -116,9 +117,10 @@ class CircleTable:
     def bounds(self, P, k):
         """(lo, hi) of d(P[m], site k[m]), rigorous."""
         P = np.asarray(P, float)
+        Rk = self.R[k]
         V = P - self.C[k]
-        d = np.abs(np.hypot(V[:, 0], V[:, 1]) - self.R[k])
-        s = rounding_slack(np.abs(P).sum(axis=1) + np.abs(self.C[k]).sum(axis=1) + self.R[k])
+        d = np.abs(np.hypot(V[:, 0], V[:, 1]) - Rk)
+        s = rounding_slack(np.abs(P).sum(axis=1) + self.C1[k] + Rk)
         return np.maximum(d - s, 0.0), d + s
 
     def near(self, Q, reach):
