@@ -53,6 +53,35 @@ the enclosure is e_F/d + (1 + r/(r − t))·R/(d − R).  Deeper inside a circle
 where that enclosure is wider than 0.05), on discs off the medial segment (a circle: its centre),
 the distance is C¹ and the box of its Clarke gradient
 (:func:`runtime.voronoi.verify.clarke_gradient.off_ridge_gradient`) is used where tighter.
+
+**Groups of sites** (:class:`BoxTree`, for :meth:`SiteTable.near_pairs` with levels).  The
+third-site test (T2) of :mod:`runtime.voronoi.verify.strips` proves a site k farther than s = i or
+j on a piece's disc B(C, R) by the supporting half-plane of k
+(:func:`runtime.voronoi.verify.strips._support_half_planes`): with a unit vector u, the level
+base = u·(C − m) − hi_s(C) − R²/(2(lo_s(C) − R)) − 2e·R − 10⁻¹²·size and h_k(u) the support
+function of S_k about m, the row passes when base − h − 2·mu − 10⁻¹²·|h| > 0 for an upper bound h
+of h_k(u) (the inequality only gets weaker when h grows).  Far from the sites a piece's reach
+holds nearly every site, and almost all of them pass; listing them one by one costs more than
+the proof.
+
+Here the sites' bounding boxes are held in a binary tree: each node holds a contiguous range of
+the sites, split at the median of the box centres along the longer extent, down to leaves of at
+most :data:`GROUP_LEAF` sites, and a disc (centre c_g, radius ρ_g) around the union of its boxes
+(the half-diagonal from the centre, rounded up).  A site lies in its bounding box, so for every site
+k of a node and every float unit u (|u| ≤ 1 + 4u, absorbed in mu, as the rounding of the dot
+product is),
+
+    h_k(u) = max over p in S_k of u·(p − m) ≤ u·(c_g − m) + ρ_g,
+
+and a node whose bound passes the test above is dropped for that row with all its sites.  A node
+is also dropped when its disc lies beyond the row's reach, |C − c_g| − ρ_g > reach (widened by
+the caller): every box in it is then farther than the reach, as the listing requires.
+:meth:`BoxTree.walk` descends the tree for all rows at once, level by level, and returns the
+sites of the leaves it reaches; what it leaves out is beyond the reach or proved farther, so the
+caller's tests see the same undecided sites as with the full listing.
+
+Length: one table and what is read from it row by row — the distance bounds, the third-site
+listing (:meth:`SiteTable.near_pairs`), the gradient enclosures — and the lockstep driver.
 """
 from __future__ import annotations
 
@@ -69,12 +98,17 @@ from ..geometry import EPS, rounding_slack
 from .clarke_gradient import off_ridge_gradient
 from .ellipse_normal import ellipse_normal_enclosure, frame_errors, tight_gradients
 
-__all__ = ["SiteTable", "SiteValues", "gradient_enclosure", "run_lockstep"]
+__all__ = ["BoxTree", "SiteTable", "SiteValues", "gradient_enclosure", "run_lockstep"]
 
 #: relative gap above which the table defers to the site geometry's own bounds
 FALLBACK_GAP = 1e-7
 #: rows per block of :func:`gradient_enclosure`
 GRADIENT_ROWS = 50_000
+#: :meth:`SiteTable.near_pairs` with levels walks the groups of sites for rows whose reach is at
+#: least this many half-diagonals of the largest bounding box (nearer rows: the k-d tree)
+GROUP_REACH = 8.0
+#: most sites in a leaf of the tree of :class:`BoxTree`
+GROUP_LEAF = 4
 
 
 class SiteValues:
@@ -160,6 +194,7 @@ class SiteTable:
         self.fallbacks = 0
         self.tight_rows = 0
         self._frame_err = np.full((n, 6), np.nan)     # frame_errors of the ellipses, when needed
+        self._groups = None                            # near_pairs' groups of sites, when needed
 
     # ------------------------------------------------------------------ tight ellipse gradients
     def ellipse_normals(self, Q, K, F):
@@ -274,28 +309,44 @@ class SiteTable:
         return ~(outside & tight & np.isfinite(lo_) & np.isfinite(hi_))
 
     # ------------------------------------------------------------------ third sites
-    def near_pairs(self, C, reach, pair):
+    def near_pairs(self, C, reach, pair, levels=None):
         """(rows, sites): the pairs (C[row], site k ∉ pair) (``pair``: two sites, or two arrays with
         one pair per row) with the bounding box of S_k within
         ``reach[row]`` of C[row]; every other site is proved farther than ``reach`` from its
         point (d(q, S) is at least the distance from q to the bounding box of S, and the box
         lies in the disc of its half-diagonal around its centre: the k-d tree query with radius
-        reach + max half-diagonal, widened, returns every box that may come that close)."""
+        reach + max half-diagonal, widened, returns every box that may come that close).
+        ``levels`` = (U, base, m, mu), where every site is bounded and convex: rows reaching
+        :data:`GROUP_REACH` half-diagonals or more leave out the sites that the supporting
+        half-planes (U, base) prove farther, by groups
+        (:meth:`BoxTree.walk`)."""
         C = np.asarray(C, float).reshape(-1, 2)
         reach = np.broadcast_to(np.asarray(reach, float), (len(C),))
         rows, ks = [np.zeros(0, int)], [np.zeros(0, int)]
         if len(C) and self.tree is not None:
             r = np.where(np.isfinite(reach), (reach + self.box_half) * (1 + 1e-9) + 1e-9 * self.scale, np.inf)
             big = ~np.isfinite(r) | (r > 1e300)
-            lists = self.tree.query_ball_point(np.where(big[:, None], 0.0, C), np.where(big, 0.0, r),
-                                               return_sorted=False)
+            walk = np.zeros(len(C), bool)
+            if levels is not None and not len(self.unbounded):
+                walk = ~(reach < GROUP_REACH * self.box_half)
+            qi = np.nonzero(~big & ~walk)[0]
+            lists = self.tree.query_ball_point(C[qi], r[qi], return_sorted=False)
             cnt = np.fromiter(map(len, lists), int, len(lists))
             if cnt.any():
-                rows.append(np.repeat(np.arange(len(C)), cnt))
+                rows.append(np.repeat(qi, cnt))
                 ks.append(self.bounded[np.fromiter(itertools.chain.from_iterable(lists), int, int(cnt.sum()))])
-            for b_ in np.nonzero(big)[0]:        # unbounded reach: every bounded site
+            for b_ in np.nonzero(big & ~walk)[0]:        # unbounded reach: every bounded site
                 rows.append(np.full(len(self.bounded), b_))
                 ks.append(self.bounded)
+            wi = np.nonzero(walk)[0]
+            if len(wi):
+                if self._groups is None:
+                    self._groups = BoxTree(self.boxes[self.bounded])
+                U, base, m, mu = levels
+                lim = np.where(np.isfinite(reach[wi]), reach[wi] * (1 + 1e-9) + 1e-9 * self.scale, np.inf)
+                rr, pos = self._groups.walk(C[wi], lim, U[wi], base[wi], m, mu)
+                rows.append(wi[rr])
+                ks.append(self.bounded[pos])
         for k in self.unbounded:
             rows.append(np.arange(len(C)))
             ks.append(np.full(len(C), k))
@@ -315,6 +366,79 @@ class SiteTable:
             dd = np.where(np.isfinite(dx) & np.isfinite(dy), np.hypot(dx, dy), 0.0)
         hit = dd * (1 - 1e-12) <= reach[rows]
         return rows[hit], ks[hit]
+
+
+class BoxTree:
+    """Groups of bounded sites, to leave out many third sites of a strip piece at once (module
+    docstring, *Groups of sites*): the tree of the boxes (rows xmin, ymin, xmax, ymax, finite),
+    ``order`` (box positions), per node the range [a, b) of ``order`` it holds, its first child
+    (the second is next to it; −1 at a leaf) and its disc (``centre``, ``radius``)."""
+
+    def __init__(self, boxes):
+        bb = np.asarray(boxes, float).reshape(-1, 4)
+        cen = 0.5 * (bb[:, :2] + bb[:, 2:])
+        order = np.arange(len(bb))
+        na, nb, child = [0], [len(bb)], [-1]
+        t = 0
+        while t < len(na):
+            a, b = na[t], nb[t]
+            if b - a > GROUP_LEAF:
+                idx = order[a:b]
+                c = cen[idx]
+                ax = int(np.argmax(c.max(0) - c.min(0)))
+                mid = (b - a) // 2
+                order[a:b] = idx[np.argpartition(c[:, ax], mid)]
+                child[t] = len(na)
+                na += [a, a + mid]
+                nb += [a + mid, b]
+                child += [-1, -1]
+            t += 1
+        self.order, self.a, self.b, self.child = order, np.array(na), np.array(nb), np.array(child)
+        box = np.empty((len(na), 4))
+        for t in range(len(na) - 1, -1, -1):        # children come after their parent: bottom up
+            if child[t] < 0:
+                sb = bb[order[na[t]:nb[t]]]
+                box[t] = (sb[:, 0].min(), sb[:, 1].min(), sb[:, 2].max(), sb[:, 3].max()) if len(sb) else np.nan
+            else:
+                c0, c1 = box[child[t]], box[child[t] + 1]
+                box[t] = (min(c0[0], c1[0]), min(c0[1], c1[1]), max(c0[2], c1[2]), max(c0[3], c1[3]))
+        self.centre = 0.5 * (box[:, :2] + box[:, 2:])
+        rx = np.maximum(box[:, 2] - self.centre[:, 0], self.centre[:, 0] - box[:, 0])
+        ry = np.maximum(box[:, 3] - self.centre[:, 1], self.centre[:, 1] - box[:, 1])
+        self.radius = np.hypot(rx, ry) * (1 + 1e-12) + 1e-15 * (np.abs(self.centre).sum(1) + rx + ry)
+
+    def walk(self, C, lim, U, base, m, mu):
+        """(rows, positions): the boxes of the leaves reached from the points C (reach ``lim``,
+        widened by the caller; inf for all), every node dropped whose disc lies beyond the reach
+        or whose support bound passes base[row, s] − H − 2·mu − 10⁻¹²·|H| > 0,
+        H = U[row, s]·(c_g − m) + ρ_g, for s = 0 or 1 (module docstring, *Groups of sites*;
+        base −inf: unused)."""
+        if not len(self.order):
+            return np.zeros(0, int), np.zeros(0, int)
+        cmx, cmy = self.centre[:, 0] - m[0], self.centre[:, 1] - m[1]
+        ux, uy = (U[:, 0, 0], U[:, 1, 0]), (U[:, 0, 1], U[:, 1, 1])
+        bs = (base[:, 0], base[:, 1])
+        rr = np.arange(len(C))
+        nn = np.zeros(len(C), int)
+        out_r, out_p = [np.zeros(0, int)], [np.zeros(0, int)]
+        while len(rr):
+            rg = self.radius[nn]
+            with np.errstate(invalid="ignore"):
+                drop = np.hypot(C[rr, 0] - self.centre[nn, 0], C[rr, 1] - self.centre[nn, 1]) - rg > lim[rr]
+                for s_ in (0, 1):
+                    H = ux[s_][rr] * cmx[nn] + uy[s_][rr] * cmy[nn] + rg * (1 + 1e-12)
+                    drop |= bs[s_][rr] - H - 2 * mu - 1e-12 * np.abs(H) > 0
+            rr, nn = rr[~drop], nn[~drop]
+            leaf = self.child[nn] < 0
+            lr, ln = rr[leaf], nn[leaf]
+            if len(lr):
+                cnt = self.b[ln] - self.a[ln]
+                off = np.arange(int(cnt.sum())) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+                out_r.append(np.repeat(lr, cnt))
+                out_p.append(self.order[np.repeat(self.a[ln], cnt) + off])
+            inner = self.child[nn[~leaf]]
+            rr, nn = np.concatenate([rr[~leaf], rr[~leaf]]), np.concatenate([inner, inner + 1])
+        return np.concatenate(out_r), np.concatenate(out_p)
 
 
 def gradient_enclosure(Q, V: SiteValues, R, scale):

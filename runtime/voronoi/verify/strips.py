@@ -39,7 +39,9 @@ open and closed in β, hence a whole component of β.  Along it:
      bounding box is farther than min(hi_i, hi_j) + 2R from the piece's centre pass without
      evaluation; among bounded convex sites, a site k passes first when the supporting
      half-plane of k normal to ∇d_i(C) (or ∇d_j(C)) proves it farther on the disc
-     (:func:`_support_half_planes`: to first order in R, without k's foot point);
+     (:func:`_support_half_planes`: to first order in R, without k's foot point), whole groups
+     of sites at once where the bound holds for a disc holding all of them
+     (:meth:`runtime.voronoi.verify.site_table.SiteTable.near_pairs` with levels);
 (T3) or, for a site k0 tied at the first vertex (k1 at the last; one at a simple vertex, k − 2 at
      a vertex of degree k), the derivative of
      g = d_k0 − d_i along the arc has a proved sign: the arc's tangent is ± rot90(∇f), so
@@ -78,7 +80,7 @@ __all__ = ["ROWS_PER_CALL", "StripsJob", "evaluate_rows", "gap_rows", "prove_str
 
 MAX_DEPTH = 40
 STALL = 3           # rounds of halving without progress before giving up
-PIECE = 8.0         # initial pieces: PIECE times as long as the strip is wide
+PIECE = 16.0        # initial pieces: PIECE times as long as the strip is wide (99 % pass at 16 on random ellipses)
 #: rows per call of the row-wise evaluations (:func:`evaluate_rows`, :func:`gap_rows`): their
 #: temporaries then take memory bounded independently of N, and the results, computed row by row,
 #: are the same arrays as in one call
@@ -317,7 +319,7 @@ def _tied_derivative(chains, P: _Pieces, rows, ks, okk, enc_i, enc_j, enc_k):
         okk[sel] |= t3
 
 
-def _support_half_planes(sup, P: _Pieces, rows, ks, Vi, Vj, enc_i, enc_j):
+def _support_half_planes(sup, P: _Pieces, rows, ks, Vi, Vj, enc_i, enc_j, levels=None):
     """(T2) by supporting half-planes (module docstring): True per row (piece, site k) with
     d_k − d_s > 0 on the piece's disc B(C, R) for s = i or j.  With u* = ∇d_s(C) and p* the
     nearest point of s to C, for q in the disc, √(a² + b²) ≤ a + b²/(2a) on the components of
@@ -329,43 +331,66 @@ def _support_half_planes(sup, P: _Pieces, rows, ks, Vi, Vj, enc_i, enc_j):
         d_k − d_s ≥ u·(C − m) − h_k(u) − hi_s(C) − R²/(2(lo_s(C) − R)) − 2e·R.
 
     No trigonometry and no foot point of k: far from the sites, where the pieces are long and
-    every site comes within reach, this decides most rows before the table is called."""
-    out = np.zeros(len(rows), bool)
-    pcs, inv = np.unique(rows, return_inverse=True)
+    every site comes within reach, this decides most rows before the table is called.
+    ``levels``: (pcs, U, base) of :func:`_half_plane_levels` for sorted pieces pcs holding every
+    row (computed here when None)."""
+    if levels is None:
+        pcs, inv = np.unique(rows, return_inverse=True)
+        U, base = _half_plane_levels(sup, P, pcs, Vi, Vj, enc_i, enc_j)
+    else:
+        pcs, U, base = levels
+        inv = np.searchsorted(pcs, rows)
     best = np.full(len(rows), -np.inf)
+    for s_ in (0, 1):
+        hk = sup.support_at(ks, U[inv, s_])
+        best = np.maximum(best, base[inv, s_] - hk - 2 * sup.mu - 1e-12 * np.abs(hk))
+    return best > 0
+
+
+def _half_plane_levels(sup, P: _Pieces, pcs, Vi, Vj, enc_i, enc_j):
+    """(U, base) of :func:`_support_half_planes` on the pieces pcs: per piece and s = i, j (axis 1)
+    the unit float gradient u of s's enclosure at C and the level
+    u·(C − m) − hi_s(C) − R²/(2(lo_s(C) − R)) − 2e·R − 10⁻¹²·size (−inf where the enclosure is not
+    valid on the disc, lo_s ≤ R or |G| ≤ 1/2), so that a site k with
+    base − h_k(u) − 2·mu − 10⁻¹²·|h_k(u)| > 0 is farther than s on the piece's disc."""
     Cm = P.C[pcs] - sup.m
     R = P.R[pcs]
-    for V, (Ge, ee, ve) in ((Vi, enc_i), (Vj, enc_j)):
+    U = np.empty((len(pcs), 2, 2))
+    base = np.empty((len(pcs), 2))
+    for s_, (V, (Ge, ee, ve)) in enumerate(((Vi, enc_i), (Vj, enc_j))):
         Vp = V.take(pcs)
         G, e, valid = Ge[pcs], ee[pcs], ve[pcs]
         nG = np.hypot(G[:, 0], G[:, 1])
         ok = valid & (Vp.lo > R) & (nG > 0.5) & np.isfinite(e)
         u = G / np.where(ok, nG, 1.0)[:, None]
         loss = R * R / (2 * np.where(ok, Vp.lo - R, 1.0)) * (1 + 1e-12) + 2 * (e + 4 * EPS) * R * (1 + 1e-12)
-        base = (u * Cm).sum(1) - Vp.hi - loss
+        b_ = (u * Cm).sum(1) - Vp.hi - loss
         size = np.abs(Cm).sum(1) + np.abs(Vp.hi) + sup.W
-        base = np.where(ok, base - 1e-12 * size, -np.inf)
-        ur = u[inv]
-        hk = sup.support_at(ks, ur)
-        best = np.maximum(best, base[inv] - hk - 2 * sup.mu - 1e-12 * np.abs(hk))
-    out |= best > 0
-    return out
+        U[:, s_] = u
+        base[:, s_] = np.where(ok, b_ - 1e-12 * size, -np.inf)
+    return U, base
 
 
 def _third_sites(table, scale, chains, P: _Pieces, pre, Vi, Vj, enc_i, enc_j, sup=None):
     """(T2)/(T3) on the pieces where (T1) and (T4) hold: every site whose bounding box comes
     within min(hi_i, hi_j) + 2R of the piece's centre (:meth:`SiteTable.near_pairs`) is farther
     (by supporting half-planes when the support functions ``sup`` are given,
-    :func:`_support_half_planes`; else :func:`_farther`) or, tied at an end vertex, moves away along the arc
+    :func:`_support_half_planes`, whose levels also leave out whole groups of sites in
+    ``near_pairs``; else :func:`_farther`) or, tied at an end vertex, moves away along the arc
     (:func:`_tied_derivative`).  True per piece where all of them pass."""
     p = len(P.seg)
     third_ok = np.ones(p, bool)
     hi = np.minimum(Vi.hi, Vj.hi)
     pidx = np.nonzero(pre)[0]
-    rows, ks = table.near_pairs(P.C[pidx], (hi + 2 * P.R)[pidx], (P.Ip[pidx], P.Jp[pidx]))
+    levels = None
+    if sup is not None and len(pidx):
+        # the half-plane levels once per piece: they drop whole groups of sites in near_pairs
+        levels = (pidx, *_half_plane_levels(sup, P, pidx, Vi, Vj, enc_i, enc_j))
+    rows, ks = table.near_pairs(P.C[pidx], (hi + 2 * P.R)[pidx], (P.Ip[pidx], P.Jp[pidx]),
+                                levels=None if levels is None else (levels[1], levels[2], sup.m, sup.mu))
     rows = pidx[rows]
     if sup is not None and len(rows):
-        keep = ~_support_half_planes(sup, P, rows, ks, Vi, Vj, enc_i, enc_j)
+        keep = ~_support_half_planes(sup, P, rows, ks, Vi, Vj, enc_i, enc_j, levels)
         rows, ks = rows[keep], ks[keep]
     if len(rows):
         Vk = evaluate_rows(table, P.C[rows], ks)
