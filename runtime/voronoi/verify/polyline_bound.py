@@ -167,19 +167,23 @@ def _chord_deviation(C, ua, ub, Qa, Qb):
     beta = b * (n * C.ey).sum(1)
     gamma = ((C.m - Qa) * n).sum(1)
     big = np.minimum(np.maximum(np.abs(lo), np.abs(hi)), 700.0)
+    only_hyp = bool(hyp.all())          # then the hyperbola's parameters need no masking
     with np.errstate(all="ignore"):
         # hyperbola
         r = -beta / alpha
-        ustar = np.arctanh(np.clip(r, -1 + 1e-16, 1 - 1e-16))
+        ustar = np.arctanh(np.minimum(np.maximum(r, -1 + 1e-16), 1 - 1e-16))
         in_h = (np.abs(r) < 1) & (ustar > lo) & (ustar < hi)
         us = np.where(in_h, ustar, lo)
-        f_h = alpha * np.cosh(np.where(hyp, us, 0.0)) + beta * np.sinh(np.where(hyp, us, 0.0)) + gamma
-        mag_h = (np.abs(alpha) + np.abs(beta)) * np.cosh(np.where(hyp, big, 0.0)) + np.abs(gamma)
-        speed_h = np.sqrt(a * a * np.sinh(np.where(hyp, big, 0.0)) ** 2 + b * b * np.cosh(np.where(hyp, big, 0.0)) ** 2)
-        t0 = np.arctan2(b * np.cosh(np.where(hyp, lo, 0.0)), a * np.sinh(np.where(hyp, lo, 0.0)))
-        t1 = np.arctan2(b * np.cosh(np.where(hyp, hi, 0.0)), a * np.sinh(np.where(hyp, hi, 0.0)))
+        h_us, h_big, h_lo, h_hi = (us, big, lo, hi) if only_hyp else (
+            np.where(hyp, us, 0.0), np.where(hyp, big, 0.0), np.where(hyp, lo, 0.0), np.where(hyp, hi, 0.0))
+        ch_big = np.cosh(h_big)
+        f_h = alpha * np.cosh(h_us) + beta * np.sinh(h_us) + gamma
+        mag_h = (np.abs(alpha) + np.abs(beta)) * ch_big + np.abs(gamma)
+        speed_h = np.sqrt(a * a * np.sinh(h_big) ** 2 + b * b * ch_big ** 2)
+        t0 = np.arctan2(b * np.cosh(h_lo), a * np.sinh(h_lo))
+        t1 = np.arctan2(b * np.cosh(h_hi), a * np.sinh(h_hi))
         turn_h = np.abs((t1 - t0 + np.pi) % (2 * np.pi) - np.pi)
-    if hyp.all():                       # no ellipse: the np.where below all take the hyperbola's values
+    if only_hyp:                        # no ellipse: the np.where below all take the hyperbola's values
         dev = np.where(in_h, np.abs(f_h), 0.0) + 1e-12 * mag_h + 4 * C.curve_error(big)
         return np.where(turn_h < np.pi / 2, dev, np.maximum(dev, 0.5 * speed_h * (hi - lo) * (1 + 1e-12)))
     with np.errstate(all="ignore"):
