@@ -47,6 +47,10 @@ def _slope_bound(table: CircleTable, Q, ks, I, R):
 BATCH = 4096          # jobs prepared together
 PAIRS = 1 << 16       # (piece, candidate site) pairs searched together: memory O(PAIRS), not O(edges)
 REFINE = 16           # at most this many halvings of the pieces before the candidate sites are listed
+#: up to this many pieces (failing piece-site pairs in the search) in a round, a piece is cut into
+#: 2, 4 or 8 as its margin asks (fewer rounds: a local update's proof is a few edges, where each
+#: round's fixed cost dominates); above, halved (a whole diagram's edges, where the work dominates)
+FEW_PIECES = 1024
 
 
 def prove_arcs(table: CircleTable, jobs, init: int = 4, max_depth: int = MAX_DEPTH, max_pieces: int = 400000,
@@ -138,7 +142,8 @@ class _Curves:
             # disc below half the distance (the disc radius is about proportional to the step)
             with np.errstate(all="ignore"):
                 want = np.ceil(np.log2(R[big] / (0.5 * hi[big])))
-            parts = np.left_shift(1, np.where(want >= 1, np.minimum(want, 3), 1).astype(np.int64))   # NaN: 2
+            parts = np.left_shift(1, np.where(want >= 1, np.minimum(want, 3 if len(job) <= FEW_PIECES else 1), 1)
+                                  .astype(np.int64))   # NaN: 2
             if len(job) + int(parts.sum()) - len(parts) > 64 * self.n:
                 break
             jb, ab, bb = np.repeat(job[big], parts), np.repeat(A[big], parts), np.repeat(B[big], parts)
@@ -253,7 +258,9 @@ def _search(ctx: _Curves, job, A, B, alive, out, max_depth, max_pieces, deadline
         np.maximum.at(want, inv, np.nan_to_num(need[fail], nan=2.0, posinf=8.0))
         with np.errstate(all="ignore"):
             bits = np.ceil(np.log2(want * 1.25))
-        bits = np.where(bits >= 1, np.minimum(bits, 3), 1).astype(np.int64)
+        # many failing (piece, site) pairs: halve (every child inherits them: their work dominates);
+        # few: cut as the margin asks (the rounds' fixed cost dominates)
+        bits = np.where(bits >= 1, np.minimum(bits, 3 if len(pf) <= FEW_PIECES else 1), 1).astype(np.int64)
         bits = np.minimum(bits, np.maximum(max_depth - dep[bad_pieces], 1))
         parts = np.left_shift(1, bits)
         pb = np.repeat(parts, parts)
