@@ -133,6 +133,9 @@ def _root_vector(fdf, lo, hi, x, coefs):
     dx = hi - lo
     dxold = dx.copy()
     slow = []  # (idx, lo, hi, coefs) left to bisection
+    # rows that finished stay in the arrays (their values unused) until half of them have:
+    # each compaction gathers a dozen arrays
+    alive = np.ones(x.size, bool)
     err = np.seterr(divide="ignore", invalid="ignore", over="ignore")
     try:
         for _ in range(_MAX_IT):
@@ -153,8 +156,8 @@ def _root_vector(fdf, lo, hi, x, coefs):
             # a Newton step below 2⁻³⁰ relative: quadratic convergence makes the new iterate
             # exact to float resolution (simple root); bisection: bracket at float resolution
             small = np.abs(dx) <= np.where(newton, _NEWTON_TOL, 2 * EPS) * np.abs(xn) + tol
-            flat &= ~(newton & small)
-            done = small | (~newton & ~((lo < mid) & (mid < hi))) | flat
+            flat &= ~(newton & small) & alive
+            done = (small | (~newton & ~((lo < mid) & (mid < hi))) | flat) & alive
             if flat.any():
                 np.copyto(xn, x, where=flat)
                 # f = 0 within rounding: confirm the sign change around x (else: bisection)
@@ -174,16 +177,19 @@ def _root_vector(fdf, lo, hi, x, coefs):
                 xn[fi] = np.where(ok, x[fi], np.nan)
             if done.any():
                 out[idx[done]] = xn[done]
-                keep = ~done
-                if not keep.any():
+                alive &= ~done
+                if not alive.any():
                     break
-                idx, lo, hi, xn, dx, dxold, tol = (idx[keep], lo[keep], hi[keep], xn[keep], dx[keep],
-                                                   dxold[keep], tol[keep])
-                lo0, hi0 = lo0[keep], hi0[keep]
-                coefs = tuple(c[keep] for c in coefs)
+                if 2 * np.count_nonzero(alive) <= alive.size:
+                    keep = alive
+                    idx, lo, hi, xn, dx, dxold, tol = (idx[keep], lo[keep], hi[keep], xn[keep], dx[keep],
+                                                       dxold[keep], tol[keep])
+                    lo0, hi0 = lo0[keep], hi0[keep]
+                    coefs = tuple(c[keep] for c in coefs)
+                    alive = np.ones(idx.size, bool)
             x = xn
         else:
-            slow.append((idx, lo, hi, coefs))
+            slow.append((idx[alive], lo[alive], hi[alive], tuple(c[alive] for c in coefs)))
         for sidx, slo, shi, scf in slow:
             for _ in range(_BISECT):
                 mid = 0.5 * (slo + shi)
