@@ -65,6 +65,8 @@ Public API: :func:`site_disc`, :func:`nearest_old_sites`, :func:`outside`, :func
 """
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 from .geometry import rounding_slack
@@ -189,9 +191,25 @@ def disc_inside(P, c, r) -> bool:
     P = np.asarray(P, float).reshape(-1, 2)
     if len(P) < 3:
         return False
-    pts = sorted(set(map(tuple, P.tolist())))
-    if len(pts) < 3:
+    chain = _monotone_chain(np.ascontiguousarray(P).tobytes())
+    if chain is None:
         return False
+    H, E, L, Hmax = chain
+    c = np.asarray(c, float)
+    dist = (E[:, 0] * (c[1] - H[:, 1]) - E[:, 1] * (c[0] - H[:, 0])) / L     # > 0: inner side
+    scale = float(Hmax + np.abs(c).max() + r + 1.0)
+    return bool((dist > r + 1e-9 * scale).all())
+
+
+@lru_cache(maxsize=8)
+def _monotone_chain(key: bytes):
+    """(H, E, L, max |H|): the counter-clockwise monotone chain (Andrew 1979) of the points whose
+    float64 (x, y) pairs are the bytes ``key``, its edge vectors and lengths; None when it has
+    fewer than 3 vertices or an edge of length 0 (no disc is shown inside then).  Memoised: the
+    insertions into one diagram test against the same hull sites until an update reaches the hull."""
+    pts = sorted(set(map(tuple, np.frombuffer(key, float).reshape(-1, 2).tolist())))
+    if len(pts) < 3:
+        return None
 
     def cross(o, a, b):
         return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
@@ -207,10 +225,11 @@ def disc_inside(P, c, r) -> bool:
         upper.append(p)
     H = np.array(lower[:-1] + upper[:-1])             # counter-clockwise
     if len(H) < 3:
-        return False
+        return None
     E = np.roll(H, -1, axis=0) - H
     L = np.hypot(E[:, 0], E[:, 1])
-    c = np.asarray(c, float)
-    dist = (E[:, 0] * (c[1] - H[:, 1]) - E[:, 1] * (c[0] - H[:, 0])) / L     # > 0: inner side
-    scale = float(np.abs(H).max() + np.abs(c).max() + r + 1.0)
-    return bool((L > 0).all() and (dist > r + 1e-9 * scale).all())
+    if not (L > 0).all():
+        return None
+    for a in (H, E, L):
+        a.setflags(write=False)
+    return H, E, L, float(np.abs(H).max())
