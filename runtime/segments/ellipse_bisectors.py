@@ -182,6 +182,10 @@ def perpendicular_edge(E: ElementarySites, i: int, j: int, P0, P1, tol: float, f
     def curve_to(Q):
         """Points of the curve from K (foot at p) to the point Q beyond K."""
         phi_q = interior_or_end(E, s, Q)
+        if phi_q == phi_e:
+            # no interior foot ties with p at Q: the foot reached the piece's other end (Q is a
+            # vertex with that end point, equidistant from both ends and on the normal at the other)
+            phi_q = P.phi1 if at_start else P.phi0
         o, est = interpolation_parameters(curve, np.linspace(phi_e, phi_q, 33), tol, phi_q < phi_e, MAX_PIECES,
                                           rounds=12)
         sags.append(est)
