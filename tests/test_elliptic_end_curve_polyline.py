@@ -73,3 +73,12 @@ def test_the_end_edge_beyond_the_centre_of_curvature_follows_its_curve(diagram):
     assert deep.sum() > 10
     gap = np.abs(d_inner[deep] - d_e[deep])
     assert gap.max() <= 2 * tol + 1e-6, (gap.max(), tol, Q[deep][gap.argmax()])
+
+
+def test_the_diagram_is_certified(diagram):
+    """The certificate follows the end curve to the vertex where the foot reaches the arc's other
+    end (runtime/segments/certificate_ellipse_junction.py), and proves the whole diagram."""
+    from curvedvoronoi.runtime.segments.certificate import verify_segments
+
+    cert = verify_segments(diagram)
+    assert cert.ok, cert.problems

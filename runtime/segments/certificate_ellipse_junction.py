@@ -185,12 +185,16 @@ class EndCurve:
         if th <= 0:
             cands.append((math.hypot(x - Ex - u * wx, y - Ey - u * wy), th))
         phi = interior_foot(self.P, x, y)
-        if phi is None:
-            phi = float(piece_feet(self.P, [[x, y]])[1][0])
-        thf = self.dir * (phi - float(self.psi.mid()))
-        if thf >= 0:
-            gx, gy, _ = self._foot(arb(thf))
-            cands.append((math.hypot(float(gx.v.mid()) - x, float(gy.v.mid()) - y), thf))
+        phis = [phi] if phi is not None else [float(piece_feet(self.P, [[x, y]])[1][0]),
+                                              # the foot may have reached the other end (a vertex
+                                              # equidistant from both ends: the closed piece's
+                                              # nearest point may then be either end)
+                                              self.P.phi1 if self.which == 0 else self.P.phi0]
+        for phi in phis:
+            thf = self.dir * (phi - float(self.psi.mid()))
+            if thf >= 0:
+                gx, gy, _ = self._foot(arb(thf))
+                cands.append((math.hypot(float(gx.v.mid()) - x, float(gy.v.mid()) - y), thf))
         if not cands:
             return arb(0)
         return arb(min(cands)[1])
