@@ -253,29 +253,33 @@ def _search(ctx: _Curves, job, A, B, alive, out, max_depth, max_pieces, deadline
                 out[jj] = (False, (int(kf[t]), tuple(Q[pf[t]]), "undecided"))
         if deep.all():
             break
-        # halvings per bad piece: log2 of its largest need among its sites, 1 to 3, within max_depth
-        want = np.zeros(len(bad_pieces))
-        np.maximum.at(want, inv, np.nan_to_num(need[fail], nan=2.0, posinf=8.0))
-        with np.errstate(all="ignore"):
-            bits = np.ceil(np.log2(want * 1.25))
-        # many failing (piece, site) pairs: halve (every child inherits them: their work dominates);
-        # few: cut as the margin asks (the rounds' fixed cost dominates)
-        bits = np.where(bits >= 1, np.minimum(bits, 3 if len(pf) <= FEW_PIECES else 1), 1).astype(np.int64)
-        bits = np.minimum(bits, np.maximum(max_depth - dep[bad_pieces], 1))
-        parts = np.left_shift(1, bits)
-        pb = np.repeat(parts, parts)
-        t = np.arange(len(pb)) - np.repeat(np.cumsum(parts) - parts, parts)
-        ab, bb = np.repeat(A[bad_pieces], parts), np.repeat(B[bad_pieces], parts)
-        A_new = ab + (bb - ab) * (t / pb)
-        B_new = np.where(t + 1 == pb, bb, ab + (bb - ab) * ((t + 1) / pb))
-        first = np.cumsum(parts) - parts                # first child of each bad piece
-        # the failing pairs (piece, site) of the pieces still alive go to every child
-        live = ~deep
-        pl, kl = inv[live], kf[live]
-        reps = parts[pl]
-        pp = np.repeat(first[pl], reps) + (np.arange(int(reps.sum())) - np.repeat(np.cumsum(reps) - reps, reps))
-        kk = np.repeat(kl, reps)
-        job = np.repeat(job[bad_pieces], parts)
-        dep = np.repeat(dep[bad_pieces] + bits, parts)
-        A, B = A_new, B_new
+        job, A, B, dep, pp, kk = _cut(job, A, B, dep, bad_pieces, inv, need[fail], kf, ~deep,
+                                      len(pf) <= FEW_PIECES, max_depth)
     return npieces
+
+
+def _cut(job, A, B, dep, bad, inv, need, kf, live, few, max_depth):
+    """The children of the bad pieces ``bad`` of the disc search: each cut into 2, 4 or 8 equal
+    parameter steps, about as many as the largest ``need`` (the factor by which the arc must shrink,
+    per failing pair; ``inv`` its piece among ``bad``, ``kf`` its site) asks — halved when the
+    round has many failing pairs (``few`` false: every child inherits them, their work dominates) —
+    and at most ``max_depth`` halvings in all; the children tile their parent exactly (equal floats
+    at the joints).  The failing pairs of the ``live`` pieces go to every child.  Returns (job, A,
+    B, dep, pp, kk) of the children."""
+    want = np.zeros(len(bad))
+    np.maximum.at(want, inv, np.nan_to_num(need, nan=2.0, posinf=8.0))
+    with np.errstate(all="ignore"):
+        bits = np.ceil(np.log2(want * 1.25))
+    bits = np.where(bits >= 1, np.minimum(bits, 3 if few else 1), 1).astype(np.int64)
+    bits = np.minimum(bits, np.maximum(max_depth - dep[bad], 1))
+    parts = np.left_shift(1, bits)
+    pb = np.repeat(parts, parts)
+    t = np.arange(len(pb)) - np.repeat(np.cumsum(parts) - parts, parts)
+    ab, bb = np.repeat(A[bad], parts), np.repeat(B[bad], parts)
+    A_new = ab + (bb - ab) * (t / pb)
+    B_new = np.where(t + 1 == pb, bb, ab + (bb - ab) * ((t + 1) / pb))
+    first = np.cumsum(parts) - parts                # first child of each bad piece
+    pl, kl = inv[live], kf[live]
+    reps = parts[pl]
+    pp = np.repeat(first[pl], reps) + (np.arange(int(reps.sum())) - np.repeat(np.cumsum(reps) - reps, reps))
+    return np.repeat(job[bad], parts), A_new, B_new, np.repeat(dep[bad] + bits, parts), pp, np.repeat(kl, reps)
