@@ -58,7 +58,7 @@ from flint import arb
 from ..certify.foot import to_arb
 from .certificate_ellipse_sites import same_ellipse
 from .certificate_sites import ARC, ELLIPSE, POINT, SEGMENT, SiteTable
-from .certificate_tails import positive_on, support_bound
+from .certificate_tails import pole_sectors, positive_on, support_bound
 from .ellipse_pieces import piece_point_ball
 
 __all__ = ["frame_coords", "foot_poles", "foot_tail", "normal_ray_farther"]
@@ -172,20 +172,8 @@ def foot_tail(T: SiteTable, c, p: int, theta_fin, pole, sg: int):
     gap = float((pole - theta_fin).mid()) * sg
     if not gap > 0:
         return None, "its infinite end is not beyond its finite end"
-    target = 2 * T.scale
-    tiny = 1e-12 * (1 + abs(float(pole.mid())))
     last = "t > 0 up to the pole"
-    for _ in range(12):
-        delta = gap / 2
-        while delta > tiny:
-            t = c.rho(arb(float(pole.mid()) - sg * delta))
-            if t.is_finite() and t > target:
-                break
-            delta /= 2
-        if delta <= tiny:
-            break
-        th_s = float(pole.mid()) - sg * delta
-        J = arb(th_s).union(pole)
+    for th_s, J in pole_sectors(c.rho, pole, sg, gap, T.scale, 12):
         if not positive_on(E, J):
             last = "t > 0 up to the pole"
         else:
@@ -193,7 +181,6 @@ def foot_tail(T: SiteTable, c, p: int, theta_fin, pole, sg: int):
             if bad is None:
                 return th_s, None
             last = f"site {bad} is not proved farther than its sites along the infinite end"
-        target *= 4
     return None, f"its infinite end is not proved ({last})"
 
 

@@ -42,7 +42,7 @@ from .certificate_hull import tangent_sign
 from .certificate_rules import range_lines
 from .certificate_sites import ARC, POINT, SEGMENT
 
-__all__ = ["arc_tail", "arc_pole", "support_bound", "positive_on"]
+__all__ = ["arc_tail", "arc_pole", "support_bound", "positive_on", "pole_sectors"]
 
 DEPTH = 10
 
@@ -134,30 +134,38 @@ def arc_tail(pr, sg: int, pole: arb, theta_fin):
         pr.report("its infinite end is not beyond its finite end")
         return None
     sites = [k for k in range(T.n) if k not in pr.skip and k not in (pr.i, pr.j)]
-    target = 2 * T.scale                     # the tail starts where t exceeds this, then farther
-    tiny = 1e-12 * (1 + abs(float(pole.mid())))
     last = None
-    for _ in range(20):
-        delta = gap / 2
-        while delta > tiny:
-            t = c.t(arb(float(pole.mid()) - sg * delta))
-            if t.is_finite() and t > target:
-                break
-            delta /= 2
-        if delta <= tiny:
-            break
-        th_s = float(pole.mid()) - sg * delta
-        J = arb(th_s).union(pole)
+    for th_s, J in pole_sectors(c.t, pole, sg, gap, T.scale, 20):
         last = _tail_ok(pr, br, J, sites)
         if last is None:
             return th_s, ("tangent", key)
-        target *= 4
     k = last
     if isinstance(k, int):
         pr.report(f"site {k} is not proved farther than its sites along the infinite end", k)
     else:
         pr.report_limit(f"its infinite end is not proved ({k})")
     return None
+
+
+def pole_sectors(t_of, pole: arb, sg: int, gap: float, scale: float, rounds: int):
+    """The sectors [θ_S, pole] of a branch going to its pole the way sg on which a tail is tried:
+    θ_S the first of pole − sg·gap/2, pole − sg·gap/4, … where the branch's distance t = t_of(θ)
+    exceeds 2·scale, then 4, 16, … times that (at most ``rounds`` sectors); none once t stays
+    below the target up to 10⁻¹² of the pole.  Yields (θ_S as a float, the ball [θ_S, pole])."""
+    target = 2 * scale                       # the tail starts where t exceeds this, then farther
+    tiny = 1e-12 * (1 + abs(float(pole.mid())))
+    for _ in range(rounds):
+        delta = gap / 2
+        while delta > tiny:
+            t = t_of(arb(float(pole.mid()) - sg * delta))
+            if t.is_finite() and t > target:
+                break
+            delta /= 2
+        if delta <= tiny:
+            return
+        th_s = float(pole.mid()) - sg * delta
+        yield th_s, arb(th_s).union(pole)
+        target *= 4
 
 
 def _tail_ok(pr, br, J, sites):
