@@ -67,3 +67,24 @@ def test_a_non_delaunay_sliver_far_away_stays_out_of_the_cavity():
     # the far sliver is left as it was: the update is local
     sliver = {frozenset(map(tuple, P[[a, b, c]].tolist())), frozenset(map(tuple, P[[a, b, d]].tolist()))}
     assert sliver <= {frozenset(map(tuple, out.P[t].tolist())) for t in out.simp}
+
+
+def test_a_cavity_of_more_than_46341_samples_is_filled_locally():
+    """The keys of the cavity's sides are ``min·m + max`` over its m local samples: above
+    m = 46 341 they exceed 2³¹ and must not wrap in qhull's int32 indices (the step then saw no
+    boundary side in the local triangulation and declined, forcing a full triangulation).
+    Removing every other interior sample of 10⁵ puts nearly every triangle in the cavity and
+    leaves m = 5·10⁴ local samples, numbered up to m on the boundary sides."""
+    rng = np.random.default_rng(5)
+    P = rng.uniform(0, 1, (100000, 2))
+    tri = SampleTriangulation(P, np.arange(len(P)))
+    hull = np.zeros(len(P), bool)
+    hull[Delaunay(P).convex_hull.ravel()] = True
+    remove = np.nonzero(~hull & (np.arange(len(P)) % 2 == 0))[0]
+    out = tri.update(remove, np.zeros((0, 2)), np.zeros(0, np.int64))
+    assert out is not None
+    kept = np.setdiff1d(np.arange(len(P)), remove)
+    assert np.array_equal(out.P, P[kept])
+    ref = {tuple(sorted(t)) for t in Delaunay(P[kept]).simplices.tolist()}
+    got = {tuple(sorted(t)) for t in out.simp.tolist()}
+    assert got == ref

@@ -253,7 +253,7 @@ class SampleTriangulation:
         a, b = g2l[ga], g2l[gb]
         m = len(loc_pts)
         bkeys = np.minimum(a, b) * m + np.maximum(a, b)
-        ls, ln = loc.simplices, loc.neighbors
+        ls, ln = loc.simplices.astype(np.int64), loc.neighbors     # keys below reach m² > 2³¹
         sk = np.stack([np.minimum(ls[:, (k + 1) % 3], ls[:, (k + 2) % 3]) * m
                        + np.maximum(ls[:, (k + 1) % 3], ls[:, (k + 2) % 3]) for k in range(3)], axis=1)
         cross = ~np.isin(sk, bkeys) & (ln >= 0)
