@@ -1,0 +1,116 @@
+"""Tests written against surviving soundness mutants of the diagram verifier (issue 31: "a
+certificate that cannot be fooled"; bench/results/mutation.md, the seed-38 and seed-39 samples of
+runtime/voronoi/verify/*.py).  Each asserts a fact derived by hand below, in exact arithmetic,
+never the verifier's own output.
+
+* A wrong edge whose third site is nearer by far less than the floats resolve.  Points
+  A = (0, 0), B = (2, 0), C = (1, ε), ε = 2⁻⁴⁰: the circle through them (thesis §1.2, the empty
+  circle of a Delaunay triangle) is centred at V = (1, y₀), y₀ = (ε² − 1)/(2ε) ≈ −5.5·10¹¹.  On
+  the bisector x = 1 of A and B, d_C² − d_A² = (y − ε)² − (1 + y²) = −2ε(y − y₀), negative for
+  every y > y₀: above V, C is strictly nearer than A and B, so the edge of A, B drawn from V
+  upwards is no Voronoi edge.  On the first seven eighths of the way from V to the line AB
+  (y₀ < y ≤ y₀/8), d_C + d_A ≥ 2|y| ≥ |y₀|/4, so |d_C − d_A| = 2ε(y − y₀)/(d_C + d_A) ≤ 7ε < 10⁻¹¹
+  while the distances exceed 6·10¹⁰ (float resolution ~10⁻⁵): the floats cannot tell the sign
+  there, and only an exact decision refuses the edge (its own flag must be False, whatever else
+  refuses the diagram).
+"""
+from __future__ import annotations
+
+import copy
+from fractions import Fraction as F
+
+from curvedvoronoi.runtime.predicates.circles import Point
+
+
+def _doc(sites):
+    from curvedvoronoi.runtime.voronoi.construction import voronoi
+
+    return voronoi(sites, certify=False).to_json()
+
+
+def test_an_edge_cut_by_a_third_site_below_the_float_resolution_is_refused():
+    from curvedvoronoi.runtime.voronoi.verify.certificate import verify
+
+    eps = F(1, 2 ** 40)
+    y0 = (eps * eps - 1) / (2 * eps)
+    doc = _doc([Point(0, 0), Point(2, 0), Point(1, float(eps))])
+    (v,) = doc["vertices"]
+    assert sorted(v["sites"]) == [0, 1, 2]
+    assert abs(F(v["x"]) - 1) <= 1e-9 and abs(F(v["y"]) - y0) <= 1e-9 * abs(y0)
+    e = next(e for e in doc["edges"] if sorted(e["sites"]) == [0, 1])
+    pos = doc["edges"].index(e)
+    assert verify(doc).ok            # the true diagram: the edge of A, B goes down from V
+    for step in (10.0, 1e3, 1e6):    # the polyline's second point fixes the direction: upwards
+        d = copy.deepcopy(doc)
+        d["edges"][pos]["polyline"] = [[v["x"], v["y"]], [v["x"], v["y"] + step]]
+        # the fact: at every point (1, y), y > y0, of the drawn edge C is strictly nearer than A
+        y = F(v["y"]) + F(step)
+        assert y > y0 and (y - eps) ** 2 < 1 + y * y
+        cert = verify(d)
+        assert not cert.ok and not cert.edges[pos], (cert.edges, cert.problems)
+        assert any(p.startswith(f"edge {e['id']} ") for p in cert.problems), cert.problems
+
+
+# ----------------------------------------------------------------------------- the circle route's Jacobian box
+
+def test_the_circle_routes_jacobian_enclosure_holds_on_its_whole_cube(monkeypatch):
+    """:func:`runtime.voronoi.verify.vertices._krawczyk` hands the kernel's Krawczyk test
+    (Krawczyk 1969; Moore, Kearfott & Cloud §8.2) a radius J_rad such that every Jacobian of
+    F_l(x, y, r) = |q − c_l|² − (r + ρ_l)² on the cube Z̃ + [−ρ, ρ]³ lies within J_rad of the float
+    J̃ at Z̃, entrywise (thesis §3.1.3: the circle/point vertex system).  J's entries are affine in
+    one coordinate each, ∂(2(x − c_x))/∂x = 2: at a corner z = Z̃ + ρ·s (s ∈ {±1}³) the exact
+    J(z) − J̃ = (2(Z̃ − c) − J̃) + 2ρ·s, so the box term must be 2ρ, not ρ.  Checked in Fractions
+    (the float data read exactly) at the eight corners of every cube tried, and on a random
+    interior point; the test is not vacuous: on most rows ρ exceeds the data's rounding term."""
+    import numpy as np
+
+    from curvedvoronoi.runtime.voronoi.verify import vertices as V
+
+    seen = []
+    real_bound, real_test = V.float_contraction_bound, V.float_krawczyk_test
+
+    def bound(Y, J, J_rad):
+        seen.append([np.array(J, float), np.array(J_rad, float), None])
+        return real_bound(Y, J, J_rad)
+
+    def test(b, Delta, r):
+        seen[-1][2] = np.array(r, float)
+        return real_test(b, Delta, r)
+
+    monkeypatch.setattr(V, "float_contraction_bound", bound)
+    monkeypatch.setattr(V, "float_krawczyk_test", test)
+    rng = np.random.default_rng(31)
+    n = 60
+    # triples built around a known vertex (q, r): c_l = q + (r + ρ_l)(cos θ_l, sin θ_l), the angles
+    # spread or bunched within 10⁻⁶…10⁻² (nearly collinear sites, a nearly singular Jacobian)
+    q = rng.uniform(-10, 10, (n, 2))
+    r = rng.uniform(0.5, 20, (n, 1)) * 10.0 ** rng.integers(0, 3, (n, 1))
+    Rho = rng.uniform(0, 1, (n, 3)) * rng.integers(0, 2, (n, 1))         # half of them points
+    spread = np.where(rng.integers(0, 2, (n, 1)) == 1, 10.0 ** rng.uniform(-6, -2, (n, 1)), 2.0)
+    th = rng.uniform(0, 2 * np.pi, (n, 1)) + spread * rng.uniform(-1, 1, (n, 3))
+    C = q[:, None, :] + (r + Rho)[..., None] * np.stack([np.cos(th), np.sin(th)], -1)
+    Z0 = np.concatenate([q, r], -1) * (1 + 1e-9 * rng.normal(size=(n, 3)))
+    ok, Z, H = V._krawczyk(C, Rho, Z0, 20.0)
+    assert seen
+    wide = 0
+    checked = 0
+    for J, J_rad, rho in seen:
+        for m in range(n):
+            if not (np.isfinite(Z[m]).all() and np.isfinite(J[m]).all() and np.isfinite(J_rad[m]).all()):
+                continue
+            r_ = F(float(rho[m, 0]))
+            assert (rho[m] == rho[m, 0]).all()
+            Zm = [F(float(v)) for v in Z[m]]
+            corners = [[Zm[a] + s[a] * r_ for a in range(3)] for s in
+                       [(sx, sy, sr) for sx in (-1, 1) for sy in (-1, 1) for sr in (-1, 1)]]
+            w = rng.uniform(-1, 1, 3)
+            corners.append([Zm[a] + F(float(w[a])) * r_ for a in range(3)])
+            for z in corners:
+                for l in range(3):
+                    exact = (2 * (z[0] - F(float(C[m, l, 0]))), 2 * (z[1] - F(float(C[m, l, 1]))),
+                             -2 * (z[2] + F(float(Rho[m, l]))))
+                    for a in range(3):
+                        assert abs(exact[a] - F(float(J[m, l, a]))) <= F(float(J_rad[m, l, a])), (m, l, a)
+            checked += 1
+            wide += bool(float(rho[m, 0]) > 2 * (float(J_rad[m].max()) - 2 * float(rho[m, 0])))
+    assert ok.sum() > n // 4 and checked > 100 and wide > checked // 2, (ok.sum(), checked, wide)
