@@ -12,6 +12,7 @@ sample is scipy's Delaunay triangulation of all the points (unique in general po
 import numpy as np
 from scipy.spatial import Delaunay
 
+from curvedvoronoi.runtime.voronoi import sample_delaunay
 from curvedvoronoi.runtime.voronoi.sample_delaunay import SampleTriangulation
 
 
@@ -69,18 +70,21 @@ def test_a_non_delaunay_sliver_far_away_stays_out_of_the_cavity():
     assert sliver <= {frozenset(map(tuple, out.P[t].tolist())) for t in out.simp}
 
 
-def test_a_cavity_of_more_than_46341_samples_is_filled_locally():
+def test_a_cavity_of_more_than_46341_samples_is_filled_locally(monkeypatch):
     """The keys of the cavity's sides are ``min·m + max`` over its m local samples: above
     m = 46 341 they exceed 2³¹ and must not wrap in qhull's int32 indices (the step then saw no
     boundary side in the local triangulation and declined, forcing a full triangulation).
     Removing every other interior sample of 10⁵ puts nearly every triangle in the cavity and
-    leaves m = 5·10⁴ local samples, numbered up to m on the boundary sides."""
+    leaves m = 5·10⁴ local samples, numbered up to m on the boundary sides.  By default such a
+    cavity is declined for memory (``CAVITY_MAX``); with the limit raised it is filled."""
     rng = np.random.default_rng(5)
     P = rng.uniform(0, 1, (100000, 2))
     tri = SampleTriangulation(P, np.arange(len(P)))
     hull = np.zeros(len(P), bool)
     hull[Delaunay(P).convex_hull.ravel()] = True
     remove = np.nonzero(~hull & (np.arange(len(P)) % 2 == 0))[0]
+    assert tri.update(remove, np.zeros((0, 2)), np.zeros(0, np.int64)) is None
+    monkeypatch.setattr(sample_delaunay, "CAVITY_MAX", 10 ** 6)
     out = tri.update(remove, np.zeros((0, 2)), np.zeros(0, np.int64))
     assert out is not None
     kept = np.setdiff1d(np.arange(len(P)), remove)

@@ -58,6 +58,10 @@ JOGGLE_ABOVE = 20000
 #: the fixed perturbation of qhull's input, relative to the largest coordinate (qhull's own first
 #: joggle is 30 000 machine epsilons ≈ 6.7·10⁻¹²)
 PERTURBATION = 1e-11
+#: the batch update declines a cavity of more samples than this: qhull on the cavity holds ~1 kB
+#: per sample at once, while a full triangulation of many samples goes strip by strip
+#: (:func:`runtime.voronoi.strip_delaunay.strip_delaunay`, one strip's facets at a time)
+CAVITY_MAX = 46000
 
 
 def delaunay(P):
@@ -202,7 +206,7 @@ class SampleTriangulation:
         new side locally Delaunay with its two triangles on opposite sides of it (Delaunay's
         lemma: locally Delaunay everywhere is Delaunay), and one boundary that is the convex hull
         (its vertices on the hull of the samples, the triangles' area the hull's, Euler's count
-        T = 2n − h − 2).  Points: kept samples in their order, then ``Pnew``; triangles: kept
+        T = 2n − h − 2).  A cavity of more than :data:`CAVITY_MAX` samples is declined.  Points: kept samples in their order, then ``Pnew``; triangles: kept
         ones in their order, then the new ones."""
         P, simp, nb = self.P, self.simp, self.nb
         self._L = self._bich = self._nlab = None     # not read here: the peak of the update is lower
@@ -233,6 +237,8 @@ class SampleTriangulation:
         cav = np.nonzero(conflict)[0]
         U = np.unique(simp[cav])
         U = U[~rm[U]]
+        if len(U) + len(Pnew) > CAVITY_MAX:
+            return None
         g2l = np.full(n, -1)
         g2l[U] = np.arange(len(U))
         loc_pts = np.vstack([P[U], Pnew])
