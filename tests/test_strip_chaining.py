@@ -82,13 +82,13 @@ def test_the_verifier_proves_strips_that_chain(monkeypatch):
     import scenes
 
     seen = []
-    original = curved.prove_strips
+    original = curved.prove_strips_many
 
-    def recording(S, T, N, L, e_lo, e_hi, W, *rest):
-        seen.append((np.array(S), np.array(W)))
-        return (yield from original(S, T, N, L, e_lo, e_hi, W, *rest))
+    def recording(table, jobs, **kw):
+        seen.extend((np.array(jb.S), np.array(jb.W)) for jb in jobs)
+        return original(table, jobs, **kw)
 
-    monkeypatch.setattr(curved, "prove_strips", recording)
+    monkeypatch.setattr(curved, "prove_strips_many", recording)
     d = cv.voronoi(scenes.random_ellipses(40, 1), progress=False)
     assert d.certified and seen
     assert all(_nodes_chain(S, W) for S, W in seen if not np.allclose(S[0], S[-1]))

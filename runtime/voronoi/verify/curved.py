@@ -76,7 +76,7 @@ from .site_table import run_lockstep
 from .bisector_guide import (AdaptJob, ProjectJob, adapt, adapt_many, cut_outside, node_width, project, project_many,
                              refine, vertex_taper)
 from .medial_corners import distance_to_polyline, medial_corners
-from .strips import StripsJob, prove_strips, prove_strips_many, rot90
+from .strips import StripsJob, prove_strips_many, rot90
 
 __all__ = ["prove_curved_edge", "prove_curved_edges", "cut_corners", "TAIL_CUT", "TIME_LIMIT"]
 
@@ -109,8 +109,11 @@ def prove_curved_edges(table, jobs, deadline=None, sup=None):
 
     def strips_many(table_, reqs):
         return prove_strips_many(table_, reqs, sup=sup)
+    def widths_many(table_, reqs):
+        return prove_widths_many(table_, reqs, sup=sup)
     out = run_lockstep([prove_curved_edge(table, *job, pool=pool) for job in jobs], table,
-                       {StripsJob: strips_many, ProjectJob: project_many, AdaptJob: adapt_many}, deadline=deadline)
+                       {ChainJob: widths_many, StripsJob: strips_many, ProjectJob: project_many,
+                        AdaptJob: adapt_many}, deadline=deadline)
     return [(False, TIME_LIMIT, []) if r is None else r for r in out]
 
 
@@ -383,20 +386,15 @@ def narrowed_chain(S, pair, ends, cuts, narrow, wtol, closed, scale, work):
             last_msg = "polyline turns by more than 60 degrees"
             continue
         for wfac, endfac in WIDTHS:
-            W = strip_widths(g, ends, wfac, endfac, scale)
-            # flat runs at the turns, so that consecutive strips hold each other's node
+            # with flat runs at the turns, so that consecutive strips hold each other's node
             # cross-sections (module docstring, "Chaining at the nodes")
-            S2, W2 = chained_nodes(g.S, W, closed, scale)
-            if S2 is None:
-                last_msg = "the strips do not chain at a turn of the polyline (no room for a flat run)"
-                attempts += 1
-                continue
-            T2, N2, L2, e_lo, e_hi = strip_extensions(S2, W2, ends, closed, scale)
-            ok, msg = yield from prove_strips(S2, T2, N2, L2, e_lo, e_hi, W2, pair, ends.k0, ends.k1, work)
+            ok, msg, W = yield from prove_widths(g, ends, wfac, endfac, closed, scale, pair, work)
             if ok:
                 return (True, None, tail_links(g, W, ends)), None
             last_msg = msg
             attempts += 1
+            if W is None:
+                continue
             if not work.go_on():
                 return (False, msg + " (work limit of the edge reached)", None), last_msg
             if attempts >= 4:
@@ -459,50 +457,153 @@ def round_guide(S, pair, ends, cuts, narrow, wtol, closed, scale):
     return S, RoundGuide(S, L, T, N, sinang, chords, wnode, Lmin, cap), None
 
 
-def strip_widths(g, ends, wfac, endfac, scale):
-    """The node half-widths W of one attempt: about 3x the stated tolerance (``wfac``·wnode), at
-    most a quarter of the adjacent segments and the vertices' taper, at least 1e-12·scale; a
-    corner's chord gets its w_c at both nodes where w_c·sin θ is at most the adjacent lengths
-    (the strips still chain: module docstring); at an end vertex at most 0.05·L and
-    ``endfac``·(r + 1), at least 8·h (the transversality test (T3) needs the gradient enclosures,
-    slack ~ R/d, well below the angle between the bisectors)."""
+class ChainJob:
+    """One attempt at the chain of strips of an edge (:func:`prove_widths`): the round's guide ``g``
+    (:class:`RoundGuide`), its :class:`ChainEnds`, the factors (``wfac``, ``endfac``) of
+    :data:`WIDTHS`, ``closed``, ``scale``, the pair and the edge's :class:`EdgeWork`."""
+
+    __slots__ = ("g", "ends", "wfac", "endfac", "closed", "scale", "pair", "work")
+
+    def __init__(self, g, ends, wfac, endfac, closed, scale, pair, work):
+        self.g, self.ends, self.wfac, self.endfac, self.closed = g, ends, wfac, endfac, closed
+        self.scale, self.pair, self.work = scale, pair, work
+
+
+def prove_widths(g, ends, wfac, endfac, closed, scale, pair, work):
+    """One attempt at the chain of strips along the guide ``g``: the node half-widths
+    (:func:`strip_widths_many`), the flat runs at the turns (:func:`chained_nodes_many`), the
+    extensions (:func:`strip_extensions_many`) and (T1)–(T4) on the strips
+    (:func:`runtime.voronoi.verify.strips.prove_strips_many`).  Returns (ok, message, W), W the
+    node half-widths before the flat runs (for :func:`tail_links`); W None (message
+    :data:`NO_CHAIN`) where the strips do not chain.  Generator: the attempts of all edges are
+    served together (:func:`prove_widths_many`)."""
+    return (yield ChainJob(g, ends, wfac, endfac, closed, scale, pair, work))
+
+
+#: the message of an attempt whose strips do not chain (:func:`chained_nodes_many`)
+NO_CHAIN = "the strips do not chain at a turn of the polyline (no room for a flat run)"
+
+
+def prove_widths_many(table, jobs, sup=None):
+    """:func:`prove_widths` for many :class:`ChainJob` at once: the nodes of all guides in flat
+    arrays (each guide's nodes contiguous), every value computed row by row as for one guide
+    alone, then one :func:`runtime.voronoi.verify.strips.prove_strips_many` for the chains that
+    chain (``sup`` as there).  Returns (ok, message, W) per job."""
+    nj = len(jobs)
+    W, jn = strip_widths_many(jobs)
+    closed = np.array([jb.closed for jb in jobs], bool)
+    scale = np.array([jb.scale for jb in jobs], float)
+    S2, W2, jn2, chains = chained_nodes_many(np.concatenate([jb.g.S for jb in jobs]), W, jn, closed, scale)
+    h0 = np.array([jb.ends.h0 for jb in jobs], float)
+    h1 = np.array([jb.ends.h1 for jb in jobs], float)
+    T2, N2, L2, e_lo, e_hi = strip_extensions_many(S2, W2, jn2, closed, scale, h0, h1)
+    nodes = np.bincount(jn2, minlength=nj)
+    nb = np.concatenate([[0], np.cumsum(nodes)])
+    sb = np.concatenate([[0], np.cumsum(np.maximum(nodes - 1, 0))])
+    wb = np.concatenate([[0], np.cumsum(np.bincount(jn, minlength=nj))])
+    idx = np.nonzero(chains)[0].tolist()
+    reqs = [StripsJob(S2[nb[t]:nb[t + 1]], T2[sb[t]:sb[t + 1]], N2[sb[t]:sb[t + 1]], L2[sb[t]:sb[t + 1]],
+                      e_lo[sb[t]:sb[t + 1]], e_hi[sb[t]:sb[t + 1]], W2[nb[t]:nb[t + 1]], jobs[t].pair,
+                      jobs[t].ends.k0, jobs[t].ends.k1, jobs[t].work) for t in idx]
+    out = [(False, NO_CHAIN, None)] * nj
+    for t, (ok, msg) in zip(idx, prove_strips_many(table, reqs, sup=sup) if reqs else []):
+        out[t] = (ok, msg, W[wb[t]:wb[t + 1]])
+    return out
+
+
+def strip_widths_many(jobs):
+    """The node half-widths W of many attempts (:class:`ChainJob`), flat, and each node's job.
+    Per guide: about 3x the stated tolerance (``wfac``·wnode), at most a quarter of the adjacent
+    segments and the vertices' taper, at least 1e-12·scale; a corner's chord gets its w_c at both
+    nodes where w_c·sin θ is at most the adjacent lengths (the strips still chain: module
+    docstring); at an end vertex at most 0.05·L and ``endfac``·(r + 1), at least 8·h (the
+    transversality test (T3) needs the gradient enclosures, slack ~ R/d, well below the angle
+    between the bisectors)."""
+    nj = len(jobs)
+    cnt = np.array([len(jb.g.S) for jb in jobs], int)
+    jn = np.repeat(np.arange(nj), cnt)
+    wfac = np.array([jb.wfac for jb in jobs], float)[jn]
+    scale = np.array([jb.scale for jb in jobs], float)
+    W = np.minimum(np.minimum(0.25 * np.concatenate([jb.g.Lmin for jb in jobs]),
+                              np.concatenate([jb.g.wnode for jb in jobs]) * wfac),
+                   np.concatenate([jb.g.cap for jb in jobs]))
+    W = np.maximum(W, 1e-12 * scale[jn])
+    first = np.concatenate([[0], np.cumsum(cnt)[:-1]]).astype(int)
+    for t, jb in enumerate(jobs):
+        if jb.g.chords:
+            _chord_widths(W[first[t]:first[t] + cnt[t]], jb.g)
+    endfac = np.array([jb.endfac for jb in jobs], float)
+    for side, at in ((0, first), (1, first + cnt - 1)):
+        vs = [jb.ends.v0 if side == 0 else jb.ends.v1 for jb in jobs]
+        has = np.array([v is not None for v in vs], bool)
+        if not has.any():
+            continue
+        r = np.array([v.r if v is not None else 0.0 for v in vs], float)
+        h = np.array([jb.ends.h0 if side == 0 else jb.ends.h1 for jb in jobs], float)
+        L = np.array([jb.g.L[0] if side == 0 else jb.g.L[-1] for jb in jobs], float)
+        we = np.maximum(np.minimum(np.minimum(W[at], 0.05 * L), endfac * (r + 1.0)), 8 * h + 1e-12 * scale)
+        W[at[has]] = we[has]
+    return W, jn
+
+
+def _chord_widths(W, g):
+    """The half-width w_c of each corner's chord (j, w_c) at both its nodes, in place, where
+    w_c·sin θ (θ the turns at its ends) is at most the lengths of the chord and its neighbours."""
     L, sinang = g.L, g.sinang
-    W = np.minimum(np.minimum(0.25 * g.Lmin, g.wnode * wfac), g.cap)
-    W = np.maximum(W, 1e-12 * scale)
     for jc, w_c in g.chords:
         sins = [sinang[t_] for t_ in (jc - 1, jc) if 0 <= t_ < len(sinang)]
         lens = [L[t_] for t_ in (jc - 1, jc, jc + 1) if 0 <= t_ < len(L)]
         if w_c * max(sins + [0.0]) <= min(lens):
             W[jc] = W[jc + 1] = w_c
-    v0, v1 = ends.v0, ends.v1
-    if v0 is not None:
-        W[0] = max(min(W[0], 0.05 * L[0], endfac * (v0.r + 1.0)), 8 * ends.h0 + 1e-12 * scale)
-    if v1 is not None:
-        W[-1] = max(min(W[-1], 0.05 * L[-1], endfac * (v1.r + 1.0)), 8 * ends.h1 + 1e-12 * scale)
-    return W
+
+
+def _segments(S, jn):
+    """The segments of the flat polylines S (chain of each node ``jn``, each chain contiguous):
+    (start node, length, unit tangent, chain of each segment, turns), a turn m between the
+    segments m and m + 1 of one chain (at the node start[m] + 1)."""
+    si = np.nonzero(jn[:-1] == jn[1:])[0]
+    seg = S[si + 1] - S[si]
+    L = np.hypot(seg[:, 0], seg[:, 1])
+    T = seg / L[:, None]
+    sc = jn[si]
+    return si, L, T, sc, np.nonzero(sc[:-1] == sc[1:])[0]
+
+
+def strip_extensions_many(S2, W2, jn, closed, scale, h0, h1):
+    """The strips of the chained guides (S2, W2; the chain of each node ``jn``, each chain
+    contiguous; ``closed``, ``scale``, ``h0``, ``h1`` one per chain): unit tangents, normals,
+    lengths, and the extensions beyond each end, e ≥ W·sin θ at a turn θ (W the larger node
+    half-width of the neighbouring strip, sin θ bounded above by :func:`turn_sines`; module
+    docstring, "Chaining at the nodes"), plus 2·h at an end vertex (its enclosure, h = ``h0``,
+    ``h1``) and max(W)·sin θ at the closing node of a closed chain; 1e-12·scale for rounding.
+    Returns (T2, N2, L2, e_lo, e_hi), the segments of all chains in order."""
+    si, L2, T2, sc, tr = _segments(S2, jn)
+    N2 = rot90(T2)
+    sin2 = turn_sines(T2[tr], T2[tr + 1])[1]
+    wn = np.maximum(W2[si], W2[si + 1])
+    e_lo, e_hi = np.zeros(len(si)), np.zeros(len(si))
+    e_lo[tr + 1] = wn[tr] * sin2
+    e_hi[tr] = wn[tr + 1] * sin2
+    e_lo = e_lo + 1e-12 * scale[sc]
+    e_hi = e_hi + 1e-12 * scale[sc]
+    starts = np.nonzero(np.concatenate([[True], sc[1:] != sc[:-1]])[:len(sc)])[0]
+    ends_ = np.concatenate([starts[1:] - 1, [len(sc) - 1]])[:len(starts)].astype(int)
+    e_lo[starts] = e_lo[starts] + 2 * h0[sc[starts]]
+    e_hi[ends_] = e_hi[ends_] + 2 * h1[sc[ends_]]
+    for a, b in zip(starts.tolist(), ends_.tolist()):
+        if closed[sc[a]]:           # the cap between the last and the first rectangle
+            sin_wrap = float(turn_sines(T2[b], T2[a])[1])
+            cap = max(W2[si[a]], W2[si[b] + 1]) * sin_wrap
+            e_lo[a] += cap
+            e_hi[b] += cap
+    return T2, N2, L2, e_lo, e_hi
 
 
 def strip_extensions(S2, W2, ends, closed, scale):
-    """The strips of the chained guide (S2, W2): unit tangents, normals, lengths, and the
-    extensions beyond each end, e ≥ W·sin θ at a turn θ (W the larger node half-width, sin θ
-    bounded above by :func:`turn_sines`; module docstring, "Chaining at the nodes"), plus 2·h at
-    an end vertex (its enclosure) and max(W)·sin θ at the closing node of a closed chain;
-    1e-12·scale for rounding.  Returns (T2, N2, L2, e_lo, e_hi)."""
-    seg2 = S2[1:] - S2[:-1]
-    L2 = np.hypot(seg2[:, 0], seg2[:, 1])
-    T2 = seg2 / L2[:, None]
-    N2 = rot90(T2)
-    sin2 = turn_sines(T2[:-1], T2[1:])[1]
-    sin_wrap = float(turn_sines(T2[-1], T2[0])[1]) if closed else 0.0
-    wn = np.maximum(W2[:-1], W2[1:])
-    e_lo = np.concatenate([[0.0], wn[:-1] * sin2]) + 1e-12 * scale
-    e_hi = np.concatenate([wn[1:] * sin2, [0.0]]) + 1e-12 * scale
-    e_lo[0] += 2 * ends.h0
-    e_hi[-1] += 2 * ends.h1
-    if closed:          # the cap between the last and the first rectangle
-        e_lo[0] += max(W2[0], W2[-1]) * sin_wrap
-        e_hi[-1] += max(W2[0], W2[-1]) * sin_wrap
-    return T2, N2, L2, e_lo, e_hi
+    """:func:`strip_extensions_many` for one chain (``ends``: its h0, h1)."""
+    return strip_extensions_many(np.asarray(S2, float), np.asarray(W2, float), np.zeros(len(S2), int),
+                                 np.array([closed]), np.array([float(scale)]), np.array([float(ends.h0)]),
+                                 np.array([float(ends.h1)]))
 
 
 def tail_links(g, W, ends):
@@ -521,60 +622,116 @@ def tail_links(g, W, ends):
     return beyond
 
 
+def chained_nodes_many(S, W, jn, closed, scale):
+    """The polylines S with node half-widths W (the chain of each node ``jn``, each chain
+    contiguous; ``closed`` and ``scale`` one per chain), with a node added where consecutive
+    trapezoids would not chain (module docstring, "Chaining at the nodes"): at a turn θ of node j
+    where both adjacent strips' half-widths change faster than tan(θ/2) per unit length (θ
+    bounded below, :func:`turn_sines`: a turn too small to tell from 0 counts as one), a node at
+    distance W_j·sin θ (θ bounded above, plus rounding) along the next segment, of half-width
+    W_j, makes that strip a rectangle next to the node (:func:`_flat_runs`).  At the closing node
+    of a closed chain the strip with the larger node half-width is made flat there
+    (:func:`_closing_run`).  Repeated while nodes are added, at most (nodes + 2) times per chain.
+    Returns (S, W, jn, ok): the chains that chain (rows in chain order) and ``ok`` per chain,
+    False where such a node does not fit in half a segment (the chain would not be proved to
+    join there) or the nodes kept coming."""
+    S, W, jn = np.asarray(S, float), np.asarray(W, float), np.asarray(jn, int)
+    nc = len(closed)
+    cap = np.bincount(jn, minlength=nc) + 2
+    ok = np.ones(nc, bool)
+    done = []
+    for it in range(int(cap.max()) if nc else 0):
+        if not len(jn):
+            break
+        si, L, T, sc, tr = _segments(S, jn)
+        m, a, w, failed = _flat_runs(S, W, jn, closed, scale, (si, L, T, sc, tr))
+        ok[failed] = False
+        grow = np.zeros(nc, bool)
+        grow[sc[m]] = True
+        ok[grow & (it + 1 >= cap)] = False
+        go = grow & ok
+        fin = ~grow[jn] & ok[jn]
+        done.append((S[fin], W[fin], jn[fin]))
+        keep = go[sc[m]]
+        m, a, w = m[keep], a[keep], w[keep]
+        p = si[m]
+        X = np.where((a > 0)[:, None], S[p] + a[:, None] * T[m], S[p + 1] + a[:, None] * T[m])
+        order = np.lexsort((np.concatenate([np.zeros(len(S)), a]),
+                            np.concatenate([np.zeros(len(S)), np.ones(len(a))]),
+                            np.concatenate([np.arange(len(S)), p])))
+        S, W, jn = np.vstack([S, X])[order], np.concatenate([W, w])[order], np.concatenate([jn, sc[m]])[order]
+        rows = go[jn]
+        S, W, jn = S[rows], W[rows], jn[rows]
+    S = np.concatenate([d[0] for d in done]) if done else np.zeros((0, 2))
+    W = np.concatenate([d[1] for d in done]) if done else np.zeros(0)
+    jn = np.concatenate([d[2] for d in done]) if done else np.zeros(0, int)
+    order = np.argsort(jn, kind="stable")
+    return S[order], W[order], jn[order], ok
+
+
+def _flat_runs(S, W, jn, closed, scale, segs):
+    """The nodes to add (:func:`chained_nodes_many`): (segment m, signed distance a from its start
+    (a > 0) or from its end (a < 0), half-width w) of each, and the chains where one does not fit
+    in half a segment.  At an inner node j between segments m, m + 1 with slopes k (half-width
+    change per unit length) where min(|k_m|, |k_{m+1}|) > tan(θ/2) (tan(θ/2) bounded below by
+    sin θ/(1 + cos θ) from the lower sine bound), a = W_j·sin θ (upper bound, plus rounding) along
+    m + 1 if a < L_{m+1}/2, else back along m if a < L_m/2."""
+    si, L, T, sc, tr = segs
+    k = (W[si + 1] - W[si]) / L                         # slope of each trapezoid's half-width
+    cos = np.clip((T[tr] * T[tr + 1]).sum(1), -1.0, 1.0)
+    sin_lo, sin_up = turn_sines(T[tr], T[tr + 1])
+    half = sin_lo / (1 + np.minimum(cos + 4 * EPS, 1.0))        # ≤ tan(θ/2)
+    bad = np.minimum(np.abs(k[tr]), np.abs(k[tr + 1])) > half * (1 - 1e-9)
+    b = tr[bad]
+    wj = W[si[b] + 1]
+    a = wj * sin_up[bad] * (1 + 1e-9) + 1e-12 * scale[sc[b]]
+    nxt = a < 0.5 * L[b + 1]
+    fit = nxt | (a < 0.5 * L[b])
+    m, a, w = np.where(nxt, b + 1, b)[fit], np.where(nxt, a, -a)[fit], wj[fit]
+    failed = [sc[b][~fit]]
+    extra = []
+    for c in np.nonzero(closed)[0].tolist():
+        lo, hi = int(np.searchsorted(sc, c, "left")), int(np.searchsorted(sc, c, "right"))
+        x = _closing_run(W, si, L, T, k, scale[c], lo, hi) if hi - lo >= 2 else ()
+        if x == (None,):
+            failed.append([c])
+        elif x:
+            extra.append(x)
+    if extra:
+        m = np.concatenate([m, [x[0] for x in extra]]).astype(int)
+        a = np.concatenate([a, [x[1] for x in extra]])
+        w = np.concatenate([w, [x[2] for x in extra]])
+    return m, a, w, np.concatenate(failed).astype(int)
+
+
+def _closing_run(W, si, L, T, k, scale, lo, hi):
+    """The node to add at the closing node of a closed chain (segments lo..hi − 1), as a tuple
+    (segment, signed distance, half-width), (None,) where it does not fit, () where none is
+    needed: with the half-widths W_a at the end of the last strip and W_b at the start of the
+    first, the cross-section of the narrower one, turned by θ, must lie in the other:
+    (W_b − |k|·W_a·sin θ)·(1 − 10⁻¹²) ≥ W_a·cos θ for W_a ≤ W_b (k the wider strip's slope), else
+    that strip is made flat over W_a·sin θ (:func:`chained_nodes_many`)."""
+    Tl, Tf = T[hi - 1], T[lo]
+    cw = min(float(np.clip(Tl @ Tf, -1.0, 1.0)) + 4 * EPS, 1.0)
+    sw = float(turn_sines(Tl, Tf)[1])
+    wa, wb = float(W[si[hi - 1] + 1]), float(W[si[lo]])    # end of the last strip, start of the first
+    ok_ = ((wb - abs(k[lo]) * wa * sw) * (1 - 1e-12) >= wa * cw) if wa <= wb else \
+        ((wa - abs(k[hi - 1]) * wb * sw) * (1 - 1e-12) >= wb * cw)
+    if ok_:
+        return ()
+    a = min(wa, wb) * sw * (1 + 1e-9) + 1e-12 * scale
+    if wa <= wb and a < 0.5 * L[lo]:
+        return (lo, a, wb)
+    if wa > wb and a < 0.5 * L[hi - 1]:
+        return (hi - 1, -a, wa)
+    return (None,)
+
+
 def chained_nodes(S, W, closed: bool, scale: float):
-    """The polyline S with node half-widths W, with a node added where consecutive trapezoids would
-    not chain (module docstring, "Chaining at the nodes"): at a turn θ of node j where both
-    adjacent strips' half-widths change faster than tan(θ/2) per unit length (θ bounded below,
-    :func:`turn_sines`: a turn too small to tell from 0 counts as one), a node at distance
-    W_j·sin θ (θ bounded above, plus rounding) along the next segment, of half-width W_j, makes
-    that strip a rectangle next to the node.  At the closing node of a closed chain the strip
-    with the larger node half-width is made flat there.  Returns (S, W) (new arrays when nodes
-    were added), or (None, None) where such a node does not fit in half a segment (the chain
-    would not be proved to join there)."""
-    S = np.asarray(S, float)
-    W = np.asarray(W, float)
-    for _ in range(len(S) + 2):
-        seg = S[1:] - S[:-1]
-        L = np.hypot(seg[:, 0], seg[:, 1])
-        T = seg / L[:, None]
-        k = (W[1:] - W[:-1]) / L                          # slope of each trapezoid's half-width
-        cos = np.clip((T[:-1] * T[1:]).sum(1), -1.0, 1.0)
-        sin_lo, sin_up = turn_sines(T[:-1], T[1:])
-        half = sin_lo / (1 + np.minimum(cos + 4 * EPS, 1.0))        # ≤ tan(θ/2)
-        slack = 1 - 1e-9
-        bad = np.minimum(np.abs(k[:-1]), np.abs(k[1:])) > half * slack
-        add = []                                          # (segment, distance from its start or -end, width)
-        for j in np.nonzero(bad)[0].tolist():             # node j + 1, between segments j and j + 1
-            a = W[j + 1] * sin_up[j] * (1 + 1e-9) + 1e-12 * scale
-            if a < 0.5 * L[j + 1]:
-                add.append((j + 1, a, W[j + 1]))
-            elif a < 0.5 * L[j]:
-                add.append((j, -a, W[j + 1]))
-            else:
-                return None, None
-        if closed and len(L) >= 2:
-            cw = min(float(np.clip(T[-1] @ T[0], -1.0, 1.0)) + 4 * EPS, 1.0)
-            sw = float(turn_sines(T[-1], T[0])[1])
-            wa, wb = float(W[-1]), float(W[0])                # end of the last strip, start of the first
-            ok_ = ((wb - abs(k[0]) * wa * sw) * (1 - 1e-12) >= wa * cw) if wa <= wb else \
-                ((wa - abs(k[-1]) * wb * sw) * (1 - 1e-12) >= wb * cw)
-            if not ok_:
-                a = min(wa, wb) * sw * (1 + 1e-9) + 1e-12 * scale
-                if wa <= wb and a < 0.5 * L[0]:
-                    add.append((0, a, wb))
-                elif wa > wb and a < 0.5 * L[-1]:
-                    add.append((len(L) - 1, -a, wa))
-                else:
-                    return None, None
-        if not add:
-            return S, W
-        rows, widths = list(S), list(W)
-        for j, a, w in sorted(add, key=lambda t: (t[0], t[1]), reverse=True):
-            x = S[j] + a * T[j] if a > 0 else S[j + 1] + a * T[j]
-            rows.insert(j + 1, x)
-            widths.insert(j + 1, w)
-        S, W = np.array(rows), np.array(widths)
-    return None, None
+    """:func:`chained_nodes_many` for one chain: (S, W) with the added nodes, or (None, None) where
+    the strips would not be proved to join."""
+    S2, W2, _, ok = chained_nodes_many(S, W, np.zeros(len(S), int), np.array([closed]), np.array([float(scale)]))
+    return (S2, W2) if ok[0] else (None, None)
 
 
 def cut_corners(S, cuts, pair):
