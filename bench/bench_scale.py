@@ -80,7 +80,8 @@ def scene(name: str, n: int):
     return scenes.random_disjoint_circles(n, 1)
 
 
-def one(mode: str, n: int, scene_name: str = "random", cgal: bool = False, certify: bool = True) -> dict:
+def one(mode: str, n: int, scene_name: str = "random", cgal: bool = False, certify: bool = True,
+        certificate: str = "whole") -> dict:
     """One row, in this process."""
     import curvedvoronoi as cv
 
@@ -110,7 +111,7 @@ def one(mode: str, n: int, scene_name: str = "random", cgal: bool = False, certi
         d = cv.voronoi(sites, certify=certify, progress=False)
     else:
         d = cv.tiled_voronoi(sites, client=client, sites_per_tile=sites_per_tile(n), certify=certify,
-                             progress=False)
+                             progress=False, certificate=certificate)
         info = d.stats["tiling"]
         out["tiles"], out["growths"], out["rim_sites"] = info.get("tiles"), info.get("halo_growths"), info.get("rim_sites")
         out["refined"] = info.get("refined_by_verifier")
@@ -145,12 +146,14 @@ def main() -> None:
     ap.add_argument("--max-rss-gb", type=float, default=None)
     ap.add_argument("--append", action="store_true")
     ap.add_argument("--no-certify", action="store_true", help="construction only (certified is then 'no')")
+    ap.add_argument("--certificate", choices=("whole", "chunks"), default="whole",
+                    help="tiled rows: the stitched diagram proved whole or chunk by chunk (tiled_voronoi)")
     a = ap.parse_args()
     if a.one:
         if a.max_rss_gb:
             cap = int(a.max_rss_gb * 2 ** 30)
             resource.setrlimit(resource.RLIMIT_AS, (cap, cap))
-        print(json.dumps(one(a.one[0], int(a.one[1]), a.scene, a.cgal, not a.no_certify)))
+        print(json.dumps(one(a.one[0], int(a.one[1]), a.scene, a.cgal, not a.no_certify, a.certificate)))
         return
     load0 = os.getloadavg()
     started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
@@ -159,7 +162,7 @@ def main() -> None:
         for mode in a.modes.split(","):
             extra = ["--scene", a.scene] + (["--cgal"] if a.cgal else []) + \
                 (["--max-rss-gb", str(a.max_rss_gb)] if a.max_rss_gb else []) + \
-                (["--no-certify"] if a.no_certify else [])
+                (["--no-certify"] if a.no_certify else []) + ["--certificate", a.certificate]
             t_row = time.strftime("%H:%M", time.gmtime())
             load_row = os.getloadavg()[0]
             r = subprocess.run([sys.executable, __file__, "--one", mode, str(n), *extra], capture_output=True, text=True,
@@ -176,7 +179,8 @@ def main() -> None:
     base = {r["n"]: r for r in rows if r["mode"] == "single" and "error" not in r}
     flags = (f" --scene {a.scene}" if a.scene != "random" else "") + (" --cgal" if a.cgal else "") + \
         (f" --max-rss-gb {a.max_rss_gb:g}" if a.max_rss_gb else "") + (" --append" if a.append else "") + \
-        (" --no-certify" if a.no_certify else "")
+        (" --no-certify" if a.no_certify else "") + \
+        (f" --certificate {a.certificate}" if a.certificate != "whole" else "")
     lines = ["# Tiled diagrams: one process, tiles in sequence, LocalCluster of 1 and 2 workers"
              if not a.append else f"## Run of {started}: {a.scene} circles", "",
              f"Command: `OPENBLAS_NUM_THREADS=1 .venv/bin/python bench/bench_scale.py --sizes {a.sizes} "

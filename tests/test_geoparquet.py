@@ -98,9 +98,10 @@ def test_tiled_command_writes_partitioned_datasets_equal_to_delaunay(tmp_path):
     _write_sites(tmp_path / "pts.parquet", xy)
     out = tmp_path / "out"
     assert diagram_main([str(tmp_path / "pts.parquet"), "--sites-per-tile", "150", "--out", str(out),
-                         "--quiet"]) == 0
+                         "--certificate", "chunks", "--quiet"]) == 0
     summary = json.loads((out / "diagram.json").read_text())
     assert summary["certified"] is True and summary["stats"]["tiling"]["tiles"] >= 2
+    assert summary["stats"]["tiling"]["certificate"] == "chunks"
     edges = gpd.read_parquet(out / "edges")
     assert edges.crs.to_epsg() == 32633
     assert sorted(edges["id"]) == list(range(len(edges)))
@@ -169,6 +170,7 @@ def test_option_misuse_is_bad_input(tmp_path, capsys):
     _write_sites(tmp_path / "p.parquet", [(0, 0), (1, 0), (0, 1)])
     assert diagram_main([str(tmp_path / "p.parquet"), "--scheduler", "local", "--time-limit", "5"]) == 2
     assert diagram_main([str(tmp_path / "p.parquet"), "--sites-per-tile", "0"]) == 2
+    assert diagram_main([str(tmp_path / "p.parquet"), "--certificate", "chunks"]) == 2      # nothing tiled
     dxf = ROOT / "examples"
     drawing = next(iter(sorted(dxf.glob("*.dxf"))), None)
     if drawing is not None:

@@ -117,6 +117,43 @@ def test_chunked_certificate_refuses_a_lost_vertex(client):
     assert not cc.ok and all(cc.vertices) and all(cc.edges) and any("ends here" in str(p) for p in cc.problems)
 
 
+def test_chunks_proved_here_one_after_the_other_without_a_client(cgal_peer_program, monkeypatch):
+    """``certificate="chunks"`` with no client: the chunks' verifier runs in this process, one
+    chunk at a time (at most CHUNK_EDGES edges each, here lowered to force several chunks); the
+    certified diagram's Delaunay graph is CGAL's Apollonius graph."""
+    from curvedvoronoi.runtime.voronoi import distributed
+
+    sites = random_disjoint_circles(1200, 7)
+    expected, _, hidden = cgal_peer.delaunay_edges(sites)
+    monkeypatch.setattr(distributed, "CHUNK_EDGES", 900)
+    seen = []
+    real = distributed.chunked_verify
+    monkeypatch.setattr(distributed, "chunked_verify", lambda D, chunks, client: seen.append(len(chunks))
+                        or real(D, chunks, client))
+    d = tiled_voronoi(sites, sites_per_tile=300, progress=False, certificate="chunks")
+    assert d.stats["tiling"]["certificate"] == "chunks" and d.certified
+    assert seen and seen[0] > 2                 # without the lowered cap: 2 chunks (one worker)
+    assert not hidden and d.delaunay_edges() == expected
+
+
+def test_chunked_certificate_here_refuses_a_lost_edge():
+    """The serial chunks refuse what the workers' chunks refuse: an edge dropped from the
+    diagram (each chunk proves what it holds; the closure of the whole finds the gap)."""
+    from curvedvoronoi.runtime.voronoi.chunked_certificate import chunked_verify
+    from curvedvoronoi.runtime.voronoi.structure import Diagram, DiagramEdge
+
+    sites = random_disjoint_circles(300, 26)
+    d = tiled_voronoi(sites, sites_per_tile=100, certify=False, progress=False)
+    halves = [list(range(0, len(d.edges), 2)), list(range(1, len(d.edges), 2))]
+    assert chunked_verify(d, halves).ok
+    gone = next(k for k, e in enumerate(d.edges) if None not in e.ends)
+    edges = [DiagramEdge(k, e.sites, e.ends, e.closed, e.polyline, e.tolerance)
+             for k, e in enumerate(e for t, e in enumerate(d.edges) if t != gone)]
+    bad = Diagram(d.sites, d.vertices, edges)
+    cc = chunked_verify(bad, [list(range(0, len(edges), 2)), list(range(1, len(edges), 2))])
+    assert not cc.ok and any("closure" in str(p) or "edge" in str(p) for p in cc.problems)
+
+
 def test_planted_small_halo_is_detected_and_grown():
     sites = random_disjoint_circles(900, 21)
     d = tiled_voronoi(sites, sites_per_tile=200, halo=0.01, progress=False)

@@ -11,8 +11,8 @@ unbounded end, which (4) places in H.
 Steps (1) and (2) are local: a vertex's proof reads its sites and the sites near its circle, an
 edge's proof its two sites, its end vertices and the sites near its arc, never another edge.
 So :func:`chunked_verify` hands the edges, in spatial chunks (one per tile), each with the
-vertices it ends at, to the verifier on the workers; a vertex or an edge proved in its chunk is
-proved.  Step (3) is run here on the whole diagram
+vertices it ends at, to the verifier on the workers (or runs them here one after the other, in
+one chunk's memory); a vertex or an edge proved in its chunk is proved.  Step (3) is run here on the whole diagram
 (:func:`runtime.voronoi.verify.closure.verify_closure`: combinatorics only).
 
 Step (4): every chunk also holds every unbounded edge of H (few: about the number of sites on the hull), so each chunk's
@@ -80,6 +80,24 @@ def verify_chunk(sub) -> tuple[list, list, list]:
     return [bool(v) for v in cert.vertices], [bool(e) for e in cert.edges], records(cert.problems)
 
 
+def _chunk_results(D, parts, client):
+    """(edge ids, vertex ids, :func:`verify_chunk` result) of each chunk: on the workers as they
+    finish, or here one at a time (each sub-diagram made just before its run)."""
+    if client is None:
+        for ids in parts:
+            sub, vids = _sub_diagram(D, ids)
+            yield ids, vids, verify_chunk(sub)
+        return
+    from distributed import as_completed
+
+    futures = {}
+    for ids in parts:
+        sub, vids = _sub_diagram(D, ids)
+        futures[client.submit(verify_chunk, sub, pure=False)] = (ids, vids)
+    for fut in as_completed(list(futures)):
+        yield (*futures[fut], fut.result())
+
+
 def _expected_in_part(rec) -> bool:
     """A closure line that a sub-diagram fails by construction (module docstring)."""
     msg = rec.get("message", "")
@@ -87,10 +105,10 @@ def _expected_in_part(rec) -> bool:
             or (rec.get("kind") == "site" and "has no edge" in msg))
 
 
-def chunked_verify(D, chunks, client) -> ChunkedCertificate:
+def chunked_verify(D, chunks, client=None) -> ChunkedCertificate:
     """Prove D (module docstring): ``chunks`` is a list of lists of edge indices covering every
-    edge; one verifier task per chunk on ``client``'s workers."""
-    from distributed import as_completed
+    edge; one verifier task per chunk on ``client``'s workers, or, with no client, the chunks
+    here one after the other (the verifier's memory is then one chunk's, not the diagram's)."""
     from .verify.closure import verify_closure
 
     t0 = time.perf_counter()
@@ -98,16 +116,9 @@ def chunked_verify(D, chunks, client) -> ChunkedCertificate:
     vflag = np.zeros(len(D.vertices), bool)
     eflag = np.zeros(len(D.edges), bool)
     unbounded = [e.id for e in D.edges if None in e.ends]
-    futures = {}
-    for c, ids in enumerate(chunks):
-        if ids:
-            ids = sorted(set(ids) | set(unbounded))
-            sub, vids = _sub_diagram(D, ids)
-            futures[client.submit(verify_chunk, sub, pure=False)] = (ids, vids)
+    parts = [sorted(set(ids) | set(unbounded)) for ids in chunks if ids]
     unexpected: list = []
-    for fut in as_completed(list(futures)):
-        ids, vids = futures[fut]
-        vok, eok, recs = fut.result()
+    for ids, vids, (vok, eok, recs) in _chunk_results(D, parts, client):
         vflag[np.asarray(vids, dtype=np.int64)[np.asarray(vok, bool)]] = True
         eflag[np.asarray(ids, dtype=np.int64)[np.asarray(eok, bool)]] = True
         unexpected.extend(r["message"] for r in recs if not _expected_in_part(r))

@@ -1,7 +1,7 @@
 """The ``diagram`` command: ``python -m curvedvoronoi diagram SITES.json [--json OUT.json]
 [--png OUT.png] [--geojson OUT.geojson] [--crs CRS] [--window=XMIN,XMAX,YMIN,YMAX] [--quiet]
 [--time-limit S] [--no-certify] [--empty-circles] [--out DIR] [--scheduler ADDRESS]
-[--sites-per-tile N]``.
+[--sites-per-tile N] [--certificate whole|chunks]``.
 
 SITES.json is ``{"sites": [...]}`` with the records of :func:`runtime.sites.reader.parse_site`
 (``{"point": [x, y]}``, ``{"circle": {"centre": [x, y], "radius": r}}``,
@@ -17,7 +17,8 @@ optional ``radius`` column; :mod:`runtime.voronoi.geoparquet`), whose CRS the ou
 region.  ``--scheduler ADDRESS`` builds the diagram tile by tile on a Dask cluster
 (:func:`runtime.voronoi.distributed.tiled_voronoi`; ``local`` or ``local:N`` starts a local
 cluster of N worker processes); ``--sites-per-tile N`` sets the tiles' size (alone: tiles built one
-after the other here).
+after the other here); ``--certificate chunks`` proves the stitched diagram chunk by chunk
+(:func:`runtime.voronoi.chunked_certificate.chunked_verify`).
 
 Exit status (the requested outputs are written whenever a diagram exists):
 
@@ -112,6 +113,9 @@ def diagram_parser(description: str, sites_help: str, *, interrupted: str, crs_o
                         "a local cluster of N worker processes (default 2); needs dask[distributed]")
     p.add_argument("--sites-per-tile", type=int, default=None, metavar="N",
                    help="build tile by tile with about N sites a tile (default with --scheduler: 2000)")
+    p.add_argument("--certificate", choices=("whole", "chunks"), default="whole",
+                   help="tiled builds: prove the stitched diagram whole, or chunk by chunk (on the workers, or "
+                        "here one chunk at a time: the verifier's memory is one chunk's)")
     return p
 
 
@@ -260,7 +264,7 @@ def _build(sites, args, progress):
     client = None if args.scheduler is None else _client(args.scheduler)
     try:
         return tiled_voronoi(sites, client=client, certify=certify, progress=progress,
-                             sites_per_tile=args.sites_per_tile or 2000)
+                             sites_per_tile=args.sites_per_tile or 2000, certificate=args.certificate)
     finally:
         if client is not None:
             cluster = client.cluster if args.scheduler.startswith("local") else None
@@ -273,6 +277,10 @@ def diagram_main(argv=None) -> int:
     args = _parser().parse_args(argv)
     if args.sites_per_tile is not None and args.sites_per_tile < 1:
         print(f"error: --sites-per-tile {args.sites_per_tile}: expected a positive number", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    if args.certificate == "chunks" and args.scheduler is None and args.sites_per_tile is None:
+        print("error: --certificate chunks proves a tiled build: give --scheduler or --sites-per-tile",
+              file=sys.stderr)
         return EXIT_BAD_INPUT
     if args.scheduler is not None and args.time_limit is not None:
         print("error: --time-limit is not available with --scheduler (interrupt with Ctrl-C: the finished tiles "

@@ -42,6 +42,8 @@ __all__ = ["tiled_voronoi"]
 MAX_REBUILDS = 8
 #: verifications of the stitched diagram (the tiles its faults name are rebuilt in between)
 VERIFY_ROUNDS = 2
+#: at most about this many edges in one chunk of ``certificate="chunks"`` (about 7·10⁴ circle sites)
+CHUNK_EDGES = 200_000
 
 
 def _single(sites, reason, certify, progress, t0):
@@ -103,12 +105,14 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
     progress : bool or None
         A tqdm bar over the tiles (None: for more than 2000 sites).
     certificate : {"whole", "chunks"}
-        ``"whole"``: the verifier runs on the whole stitched diagram here.  ``"chunks"`` (with a
-        client): its vertex and edge proofs run chunk by chunk on the workers and the closure and
-        the ends at infinity here (:func:`runtime.voronoi.chunked_certificate.chunked_verify`),
-        and the whole verifier only when that refuses; each chunk repeats the verifier's set-up
-        over all n sites, so with two workers this was slower than ``"whole"``
-        (bench/results/scale.md).  ``stats["tiling"]["certificate"]`` says which proved it.
+        ``"whole"``: the verifier runs on the whole stitched diagram here.  ``"chunks"``: its
+        vertex and edge proofs run chunk by chunk (on the workers with a client, else here one
+        chunk at a time: the verifier's memory is one chunk's, at most :data:`CHUNK_EDGES` edges)
+        and the closure and the ends at infinity here
+        (:func:`runtime.voronoi.chunked_certificate.chunked_verify`), and the whole verifier only
+        when that refuses; each chunk repeats the verifier's set-up over all n sites, so with two
+        workers this was slower than ``"whole"`` (bench/results/scale.md).
+        ``stats["tiling"]["certificate"]`` says which proved it.
 
     Examples
     --------
@@ -286,10 +290,11 @@ def _prove(diagram, info, client, certificate: str, tiles, progress):
     when asked (``certificate="chunks"``), the whole verifier here otherwise or when that refuses."""
     from .verify.certificate import verify
 
-    if client is not None and certificate == "chunks":
-        workers = max(1, len(client.scheduler_info().get("workers", {})))
+    if certificate == "chunks":
+        workers = 1 if client is None else max(1, len(client.scheduler_info().get("workers", {})))
+        count = max(2 * workers, -(-len(diagram.edges) // CHUNK_EDGES))
         t0 = time.perf_counter()
-        cc = chunked_verify(diagram, _chunks(diagram, tiles, 2 * workers), client)
+        cc = chunked_verify(diagram, _chunks(diagram, tiles, count), client)
         info["certificate"] = "chunks"
         info["chunk_seconds"] = {k: round(v, 3) for k, v in cc.seconds.items()}
         if cc.ok:
