@@ -37,7 +37,8 @@ minimum direction −K lies inside, C ≥ |K|.  Ties at each transition directio
 exactly (rational directions: rationals and squares) or by balls with an exact test for points
 on a tangent (irrational directions; an undecided one is a limit).
 
-Public API: :func:`expected_infinite_ends`, :func:`infinite_key`, :func:`tangent_sign`, :func:`convex_hull`.
+Public API: :func:`expected_infinite_ends`, :func:`envelope_ties`, :func:`infinite_key`, :func:`tangent_sign`,
+:func:`convex_hull`.
 """
 from __future__ import annotations
 
@@ -52,7 +53,7 @@ from ..predicates.orientation import orient2d
 from .certificate_envelope import Undecided, envelope_directions, tangent_ties
 from .certificate_sites import ARC, ELLIPSE, POINT, SEGMENT, SiteTable, direction_key
 
-__all__ = ["expected_infinite_ends", "infinite_key", "tangent_sign", "convex_hull"]
+__all__ = ["expected_infinite_ends", "envelope_ties", "infinite_key", "tangent_sign", "convex_hull"]
 
 TWO_PI = 2 * math.pi
 
@@ -355,18 +356,23 @@ def _pokes(T: SiteTable, hull) -> list:
 
 
 def _with_arcs(T: SiteTable) -> list:
+    return [end for pairs, _, _ in envelope_ties(T) for end in pairs]
+
+
+def envelope_ties(T: SiteTable):
+    """For each tie direction u of the support envelope of points, segments and arcs (module
+    docstring, "With arcs"): (the consecutive pairs with their keys, u, ``rational``) — u exact
+    rationals when ``rational``, else arb balls; raises :class:`Undecided`."""
     Q = _q_points(T)
     hull = convex_hull(Q)
     poking = _pokes(T, hull)
     if not poking:
-        out = []
         for p, q, u in _sides(hull):
-            out.extend(_side_pairs(T, u, p))
-        return out
-    out = []
+            yield _side_pairs(T, u, p), u, True
+        return
     for d in envelope_directions(T, hull, poking):
         if d[0] == "rational":
-            out.extend(_side_pairs(T, d[1], d[2]))
+            yield _side_pairs(T, d[1], d[2]), d[1], True
         else:
             ties, u = tangent_ties(T, d)
             b = (-u[1], u[0])
@@ -374,5 +380,4 @@ def _with_arcs(T: SiteTable) -> list:
             pairs = None if items is None else _pairs(T, items, u, False)
             if pairs is None:
                 raise Undecided(f"sites {sorted(ties)} on a common tangent are not ordered")
-            out.extend(pairs)
-    return out
+            yield pairs, u, False
