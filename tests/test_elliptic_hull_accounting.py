@@ -15,7 +15,8 @@ the points' hull, and random arcs of a rotated ellipse among integer points.
 
 The scenes' documents: their unbounded edges (proved one by one by the tail proofs of
 runtime.segments.certificate_ellipse_tails) must be accounted for exactly (step 5), and a document
-with one of them removed or duplicated must be refused there.
+with one of them removed or duplicated must be refused there.  (Slow: the whole certificate
+accepts both scenes.)
 """
 from __future__ import annotations
 
@@ -26,7 +27,7 @@ import pytest
 
 import curvedvoronoi as cv
 from curvedvoronoi.runtime.certify.foot import working_prec
-from curvedvoronoi.runtime.segments.certificate import _accounting
+from curvedvoronoi.runtime.segments.certificate import _accounting, verify_segments
 from curvedvoronoi.runtime.segments.certificate_ellipse_edges import prove_edges_with_pieces
 from curvedvoronoi.runtime.segments.certificate_ellipse_hull import frame_infinite_ends
 from curvedvoronoi.runtime.segments.certificate_ellipse_sites import pieces_inside_hull
@@ -172,3 +173,14 @@ def test_the_documents_unbounded_edges_are_accounted_for_and_corruptions_refused
             problems = []
             assert not _accounting(expected, corrupt, problems)
             assert problems and all(p.kind == "infinity" and p.fault for p in problems)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("scene", sorted(SCENES))
+def test_the_scenes_are_certified_whole(scene):
+    """The whole certificate (every edge, vertex and step 5 by the ellipse's frame) accepts the
+    scenes' documents (about 15 s CPU each)."""
+    (a0, a1), pts = SCENES[scene]
+    D = cv.voronoi([cv.Arc.elliptic((0, 0), (2, 0), "1/2", a0, a1)] + pts, certify=False)
+    C = verify_segments(D)
+    assert C.ok, [str(p) for p in C.problems]
