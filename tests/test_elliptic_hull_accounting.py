@@ -28,6 +28,7 @@ import pytest
 import curvedvoronoi as cv
 from curvedvoronoi.runtime.certify.foot import working_prec
 from curvedvoronoi.runtime.segments.certificate import _accounting, verify_segments
+from curvedvoronoi.runtime.segments.certificate_edges import EdgeProof
 from curvedvoronoi.runtime.segments.certificate_ellipse_edges import prove_edges_with_pieces
 from curvedvoronoi.runtime.segments.certificate_ellipse_hull import frame_infinite_ends
 from curvedvoronoi.runtime.segments.certificate_ellipse_sites import pieces_inside_hull
@@ -158,7 +159,13 @@ def unbounded_proofs(scene):
     vp = prove_vertices(D, T, [])
     ep = prove_edges_with_pieces(D, T, vp, [])
     assert all(p.ok for p in ep)
-    return T, ep
+    return T, list(zip(D.edges, ep))
+
+
+def account(expected, edges_proofs):
+    problems = []
+    ok = _accounting(expected, [e for e, _ in edges_proofs], [p for _, p in edges_proofs], problems)
+    return ok, problems
 
 
 @pytest.mark.parametrize("scene", sorted(SCENES))
@@ -166,13 +173,14 @@ def test_the_documents_unbounded_edges_are_accounted_for_and_corruptions_refused
     with working_prec(128):
         T, ep = unbounded_proofs(scene)
         expected = frame_infinite_ends(T)
-        problems = []
-        assert _accounting(expected, ep, problems) and not problems
-        tangent = next(n for n, p in enumerate(ep) if any(k[0] == "tangent" for _, k in p.infinite))
-        for corrupt in (ep[:tangent] + ep[tangent + 1:], ep + [ep[tangent]], ep[1:], ep + [ep[0]]):
-            problems = []
-            assert not _accounting(expected, corrupt, problems)
-            assert problems and all(p.kind == "infinity" and p.fault for p in problems)
+        assert account(expected, ep) == (True, [])
+        t = next(n for n, (_, p) in enumerate(ep) if any(k[0] == "tangent" for _, k in p.infinite))
+        for corrupt in (ep[:t] + ep[t + 1:], ep + [ep[t]], ep[1:], ep + [ep[0]]):
+            ok, problems = account(expected, corrupt)
+            assert not ok and problems and all(p.kind == "infinity" and p.fault for p in problems)
+        # an unbounded edge left unproved names no end: refused, its missing end a limit
+        ok, problems = account(expected, ep[:t] + [(ep[t][0], EdgeProof(False))] + ep[t + 1:])
+        assert not ok and problems and not any(p.fault for p in problems)
 
 
 @pytest.mark.slow

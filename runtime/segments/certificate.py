@@ -233,9 +233,7 @@ def verify_segments(diagram, sites=None, *, deadline=None) -> Certificate:
             expected = frame_infinite_ends(T)
             if isinstance(expected, str):
                 expected = f"{outside} ({expected})"
-        # an unbounded edge left unproved (a limit) names no end: a missing end is then no fault
-        unproved = any(None in e.ends and not p.ok and not p.infinite for e, p in zip(D.edges, eproofs))
-        account_ok = _accounting(expected, eproofs, problems, unproved)
+        account_ok = _accounting(expected, D.edges, eproofs, problems)
         timings["closure"] = time.perf_counter() - t0
     vok = [p.ok for p in vproofs]
     eok = [p.ok for p in eproofs]
@@ -284,13 +282,14 @@ def closure(D, n: int, problems: list) -> bool:
     return ok
 
 
-def _accounting(expected, eproofs, problems: list, unproved: bool = False) -> bool:
-    """Step 5: the reported infinite ends equal the expected ones (with multiplicity; a message
-    when they are not decided).  ``unproved``: an unbounded edge of the document has no proved
-    end, so a missing end is a limit, not a fault."""
+def _accounting(expected, edges, eproofs, problems: list) -> bool:
+    """Step 5: the proved infinite ends of the edges (``eproofs``, one per edge of ``edges``)
+    equal the expected ones (with multiplicity; a message when they are not decided).  While an
+    unbounded edge is unproved (a limit: it names no end) a missing end is a limit, not a fault."""
     if isinstance(expected, str):
         problems.append(Problem(expected, kind="infinity", fault=False))
         return False
+    unproved = any(None in e.ends and not p.ok and not p.infinite for e, p in zip(edges, eproofs))
     want = Counter(expected)
     got = Counter(t for p in eproofs for t in p.infinite)
     ok = True
