@@ -111,3 +111,40 @@ def test_the_refused_closing_run_would_not_chain_without_it():
     e[0] = e[-1] = max(W[0], W[-1]) * sw
     assert not _closes_exactly(P, T, L, e, e, W)
     assert W[0] * sw > 0.5 * L[0]
+
+
+def test_an_attempt_whose_strips_cannot_chain_is_not_proved():
+    """Node half-widths (0.1, 5, 0.1) over two unit segments turned by 40°: both trapezoids narrow
+    away from the node by 4.9 per unit length, far more than tan 20°, so their node cross-sections
+    do not hold each other (checked with the plain-coordinate test of test_strip_chaining), and a
+    flat run W·sin θ = 3.2 long does not fit in half a segment: the attempt must not be proved,
+    served alone or next to others."""
+    import curvedvoronoi as cv
+    from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+    from curvedvoronoi.runtime.voronoi.verify.curved import (WIDTHS, ChainEnds, ChainJob, EdgeWork, RoundGuide,
+                                                             prove_widths_many, turn_sines)
+    from curvedvoronoi.runtime.voronoi.verify.curved_edges import curved_scale
+    from curvedvoronoi.runtime.voronoi.verify.site_table import SiteTable
+    from curvedvoronoi.runtime.voronoi.verify.strips import rot90
+    from test_strip_chaining import _nodes_chain
+
+    geoms = [site_geometry(s) for s in (cv.Conic.ellipse((0, 0), (10, 4)), cv.Conic.ellipse((30, 0), (10, 4)))]
+    scale = curved_scale(geoms)
+    table = SiteTable(geoms, scale)
+    th = np.radians(40)
+    S = np.array([[15.0, -1.0], [15.0, 0.0], [15.0 + np.sin(th), np.cos(th)]])
+    seg = S[1:] - S[:-1]
+    L = np.hypot(*seg.T)
+    T = seg / L[:, None]
+    g = RoundGuide(S, L, T, rot90(T), turn_sines(T[:-1], T[1:])[1], [], np.array([0.1, 5.0, 0.1]),
+                   np.full(3, 100.0), np.full(3, np.inf))
+    ends = ChainEnds(None, None, None, None, 0.0, 0.0, [None, None], (None, None), [], 0.0)
+    wfac, endfac = WIDTHS[0]
+    assert not _nodes_chain(S, wfac * np.array([0.1, 5.0, 0.1]))
+    assert 5.0 * wfac * np.sin(th) > 0.5 * L.max()
+    job = ChainJob(g, ends, wfac, endfac, False, scale, (0, 1), EdgeWork())
+    straight = RoundGuide(S[:2], L[:1], T[:1], rot90(T[:1]), np.zeros(0), [], np.full(2, 0.1), np.full(2, 100.0),
+                          np.full(2, np.inf))
+    other = ChainJob(straight, ends, wfac, endfac, False, scale, (0, 1), EdgeWork())
+    assert not prove_widths_many(table, [job])[0][0]
+    assert not prove_widths_many(table, [other, job, other])[1][0]
