@@ -243,7 +243,11 @@ SOUND_MODULES = ["runtime/voronoi/verify/**/*.py", "runtime/certify/**/*.py"]
 #: The 2026-11 run (seed 32) used this list; the first run (seed 31) had test_voronoi_verify first and
 #: test_symmetry instead of test_symmetry_proofs / test_polyline_bound.
 _VERIFY_TESTS = ["tests/test_mirror_edge_third_sites.py", "tests/test_vertex_reach_closed_balls.py",
-                 "tests/test_verify_boundaries.py", "tests/test_verify_mutants.py", "tests/test_verify_float_boundaries.py",
+                 "tests/test_verify_boundaries.py", "tests/test_verify_mutants.py",
+                 # a wrong far edge whose third site only exact arithmetic refuses, the circle route's
+                 # Jacobian box at its cubes' corners (hand mutants of edge_checks, exact_edges and
+                 # vertices that survive the rest)
+                 "tests/test_verify_mutants_s31.py", "tests/test_verify_float_boundaries.py",
                  "tests/test_verify_deadline.py", "tests/test_polyline_bound.py",
                  "tests/test_degenerate.py", "tests/test_symmetry_proofs.py", "tests/test_degenerate_cgal.py",
                  "tests/test_voronoi_verify.py",

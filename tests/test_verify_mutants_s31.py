@@ -19,6 +19,14 @@ never the verifier's own output.
   diagram of that triple is not certified today: the exact circle route decides no third site
   that is a site of the edge's only finite end, :func:`circle_edge_clear`; only the refusal of
   the wrong edge is asserted.)
+
+* A far ray cut by a site that is not one of its vertex's.  With A, B, C as above (points) and
+  D = (3, −ε): on x = 1, f_D(y) = |q − D|² − |q − A|² = 4 + (y + ε)² − (1 + y²) = 3 + 2εy + ε²,
+  positive at V (f_D(y₀) = 2 + 2ε²: D is outside V's empty circle, V stays a vertex) and negative
+  below y₁ = −(3 + ε²)/(2ε) < y₀: the ray of A, B from V downwards holds points where D is
+  strictly nearer, so in the diagram of A, B, C with D added as a fourth site that ray is no edge
+  (the edge of A, B ends at the vertex (1, y₁) of A, B, D; the four points' own diagram, with
+  that vertex, is certified).
 """
 from __future__ import annotations
 
@@ -124,3 +132,30 @@ def test_the_circle_routes_jacobian_enclosure_holds_on_its_whole_cube(monkeypatc
             checked += 1
             wide += bool(float(rho[m, 0]) > 2 * (float(J_rad[m].max()) - 2 * float(rho[m, 0])))
     assert ok.sum() > n // 4 and checked > 100 and wide > checked // 2, (ok.sum(), checked, wide)
+
+
+def test_a_far_ray_cut_by_another_site_is_refused():
+    from curvedvoronoi.runtime.voronoi.verify.certificate import verify
+
+    eps = F(1, 2 ** 40)
+    y0 = (eps * eps - 1) / (2 * eps)
+    y1 = -(3 + eps * eps) / (2 * eps)
+    f_D = lambda y: 3 + 2 * eps * y + eps * eps          # |q − D|² − |q − A|² at q = (1, y)
+    assert f_D(y0) > 0 and f_D(y1) == 0 and f_D(y1 - 1) < 0 and y1 < y0
+    sites = [Point(0, 0), Point(2, 0), Point(1, eps)]
+    doc = _doc(sites)
+    (v,) = doc["vertices"]
+    assert abs(F(v["y"]) - y0) <= 1e-9 * abs(y0)
+    e = next(e for e in doc["edges"] if sorted(e["sites"]) == [0, 1])
+    pos = doc["edges"].index(e)
+    assert e["ends"][1] is None and e["polyline"][-1][1] < v["y"]       # the ray from V downwards
+    d = copy.deepcopy(doc)
+    d["sites"].append({"point": ["3", str(-eps)]})
+    cert = verify(d)
+    assert not cert.ok and not cert.edges[pos], (cert.edges, cert.problems)
+    assert any(p.startswith(f"edge {e['id']} ") for p in cert.problems), cert.problems
+    # the four points' own diagram: the edge of A, B ends at (1, y1), and it is certified
+    doc4 = _doc(sites + [Point(3, -eps)])
+    w = next(w for w in doc4["vertices"] if sorted(w["sites"]) == [0, 1, 3])
+    assert abs(F(w["y"]) - y1) <= 1e-9 * abs(y1) and abs(F(w["x"]) - 1) <= 1e-9
+    assert verify(doc4).ok
