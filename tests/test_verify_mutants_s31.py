@@ -27,6 +27,14 @@ never the verifier's own output.
   strictly nearer, so in the diagram of A, B, C with D added as a fourth site that ray is no edge
   (the edge of A, B ends at the vertex (1, y₁) of A, B, D; the four points' own diagram, with
   that vertex, is certified).
+
+* The tails after an exact decision.  The same ray with two more points: D' = (3, ε), farther on
+  the whole ray (f_D'(y) = 3 − 2εy + ε² > 0 for y < 0) but within 10⁻¹¹ of A's distance on its
+  first stretch (f_D' ≤ 5 there while the distances are ~10¹²), so that only the exact route
+  decides it; and E = (1 + 2³⁰, −η), X = 2⁶⁰ − 1, η = εX/4: f_E(y) = X + 2ηy + η² is ≥ X/2 on the
+  stretch y ∈ [2y₀, y₀] (E clearly farther there, f_E(y₀) > 0: V stays empty) and negative below
+  y_E = −(X + η²)/(2η) ≈ −2⁴¹ = 4y₀, where E cuts the ray's tail (d_E − d_A → −η ≈ −2.7·10⁸
+  along it).  The ray is no edge however the exact decision of D' comes out.
 """
 from __future__ import annotations
 
@@ -159,3 +167,25 @@ def test_a_far_ray_cut_by_another_site_is_refused():
     w = next(w for w in doc4["vertices"] if sorted(w["sites"]) == [0, 1, 3])
     assert abs(F(w["y"]) - y1) <= 1e-9 * abs(y1) and abs(F(w["x"]) - 1) <= 1e-9
     assert verify(doc4).ok
+
+
+def test_the_tail_is_still_searched_after_an_exact_decision():
+    from curvedvoronoi.runtime.voronoi.verify.certificate import verify
+
+    eps = F(1, 2 ** 40)
+    y0 = (eps * eps - 1) / (2 * eps)
+    X = F(2 ** 60 - 1)
+    eta = eps * X / 4
+    f_D = lambda y: 3 - 2 * eps * y + eps * eps             # D' = (3, ε)
+    f_E = lambda y: X + 2 * eta * y + eta * eta             # E = (1 + 2^30, −η)
+    yE = -(X + eta * eta) / (2 * eta)
+    assert f_D(y0) > 0 and f_D(2 * y0) > 0 and f_D(2 * y0) <= 5     # affine: > 0 on the whole ray
+    assert f_E(y0) > 0 and f_E(2 * y0) >= X / 2 and yE < 2 * y0 and f_E(yE - 1) < 0
+    doc = _doc([Point(0, 0), Point(2, 0), Point(1, eps)])
+    e = next(e for e in doc["edges"] if sorted(e["sites"]) == [0, 1])
+    pos = doc["edges"].index(e)
+    d = copy.deepcopy(doc)
+    d["sites"] += [{"point": ["3", str(eps)]}, {"point": [str(1 + 2 ** 30), str(-eta)]}]
+    cert = verify(d)
+    assert not cert.ok and not cert.edges[pos], (cert.edges, cert.problems)
+    assert any(p.startswith(f"edge {e['id']} ") for p in cert.problems), cert.problems
