@@ -120,7 +120,7 @@ class _Curves:
 
     def pieces(self, init):
         """``init`` pieces per job (equal steps of sinh u on a hyperbola, of t on an ellipse),
-        halved while a piece's disc radius exceeds half the distance from its mid point to the
+        cut while a piece's disc radius exceeds half the distance from its mid point to the
         edge's sites: (job, A, B) with the pieces of a job consecutive."""
         f = np.linspace(0.0, 1.0, init + 1)
         hyp, jobs = self.hyp, self.jobs
@@ -139,11 +139,15 @@ class _Curves:
             if not big.any():
                 break
             # a big piece is cut into 2, 4 or 8 equal parameter steps, about as many as bring its
-            # disc below half the distance (the disc radius is about proportional to the step)
+            # disc below a quarter of the distance (the disc radius is about proportional to the
+            # step); with few pieces, when each got all the steps it asked for, they are not
+            # tested again (the search cuts any that still fail: this only saves a round)
+            few = len(job) <= FEW_PIECES
             with np.errstate(all="ignore"):
-                want = np.ceil(np.log2(R[big] / (0.5 * hi[big])))
-            parts = np.left_shift(1, np.where(want >= 1, np.minimum(want, 3 if len(job) <= FEW_PIECES else 1), 1)
+                want = np.ceil(np.log2(R[big] / (0.25 * hi[big])))
+            parts = np.left_shift(1, np.where(want >= 1, np.minimum(want, 3 if few else 1), 1)
                                   .astype(np.int64))   # NaN: 2
+            done = few and bool((want <= 3).all())
             if len(job) + int(parts.sum()) - len(parts) > 64 * self.n:
                 break
             jb, ab, bb = np.repeat(job[big], parts), np.repeat(A[big], parts), np.repeat(B[big], parts)
@@ -153,6 +157,8 @@ class _Curves:
             b_new = np.where(t + 1 == pb, bb, ab + (bb - ab) * ((t + 1) / pb))
             job = np.concatenate([job[~big], jb])
             A, B = np.concatenate([A[~big], a_new]), np.concatenate([B[~big], b_new])
+            if done:
+                break
         order = np.lexsort((A, job))
         return job[order], A[order], B[order]
 
@@ -269,7 +275,7 @@ def _cut(job, A, B, dep, bad, inv, need, kf, live, few, max_depth):
     want = np.zeros(len(bad))
     np.maximum.at(want, inv, np.nan_to_num(need, nan=2.0, posinf=8.0))
     with np.errstate(all="ignore"):
-        bits = np.ceil(np.log2(want * 1.25))
+        bits = np.ceil(np.log2(want * 2.5))
     bits = np.where(bits >= 1, np.minimum(bits, 3 if few else 1), 1).astype(np.int64)
     bits = np.minimum(bits, np.maximum(max_depth - dep[bad], 1))
     parts = np.left_shift(1, bits)
