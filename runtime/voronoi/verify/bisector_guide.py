@@ -10,12 +10,13 @@ its arc strays from the chord by more than a fraction of the wanted strip half-w
 at either end); :func:`node_width` is the wanted half-width; :func:`vertex_taper` the narrowing
 of the strips next to a vertex where a third site's bisector crosses β at a small angle;
 :func:`cut_outside` cuts an unbounded guide at a circle.  The generators yield requests to
-:func:`runtime.voronoi.verify.site_table.run_lockstep` (distance values, or a
-:class:`ProjectJob`).
+:func:`runtime.voronoi.verify.site_table.run_lockstep` (a :class:`ProjectJob`, :class:`AdaptJob`,
+:class:`WidthJob` or :class:`TaperJob`, served for all edges at once by the matching ``*_many``).
 
 Public API: :func:`project`, :func:`project_many`, :func:`project_rows`, :class:`ProjectJob`,
-:func:`node_width`, :func:`refine`, :func:`adapt`, :func:`adapt_many`, :class:`AdaptJob`,
-:func:`vertex_taper`, :func:`cut_outside`.
+:func:`node_width`, :func:`node_width_many`, :class:`WidthJob`, :func:`refine`, :func:`adapt`,
+:func:`adapt_many`, :class:`AdaptJob`, :func:`vertex_taper`, :func:`vertex_taper_many`, :class:`TaperJob`,
+:func:`cut_outside`.
 """
 from __future__ import annotations
 
@@ -25,11 +26,20 @@ import numpy as np
 
 from .strips import evaluate_rows
 
-__all__ = ["AdaptJob", "ProjectJob", "adapt", "adapt_many", "cut_outside", "node_width", "project", "project_many",
-           "project_rows", "refine", "vertex_taper"]
+__all__ = ["AdaptJob", "ProjectJob", "TaperJob", "WidthJob", "adapt", "adapt_many", "cut_outside", "node_width",
+           "node_width_many", "project", "project_many", "project_rows", "refine", "vertex_taper", "vertex_taper_many"]
 
 #: Newton steps of a projection onto β
 NEWTON = 6
+
+
+class TaperJob:
+    """The vertex ``v`` of an edge of ``pair`` with the third sites ``ks`` (:func:`vertex_taper`)."""
+
+    __slots__ = ("v", "pair", "ks")
+
+    def __init__(self, v, pair, ks):
+        self.v, self.pair, self.ks = v, pair, tuple(int(k) for k in ks)
 
 
 def vertex_taper(v, pair, ks):
@@ -41,27 +51,41 @@ def vertex_taper(v, pair, ks):
     per site), is below |∇d_k − ∇d_i|·|∇d_i − ∇d_j|·sin θ: R about w_v.  Away from the vertex
     d_k − d_i grows like s·|∇d_k − ∇d_i|·sin θ, so the first-order test (T2) takes over for R
     below s·sin θ.  At a vertex 10³ scene units out, θ is of the order of (site gap)/d and a
-    fixed fraction of d (the strips' other narrowing) is far too wide.  None when undefined.
-    Generator."""
-    i, j = pair
-    K = [i, j] + [int(k) for k in ks]
-    X = np.repeat([[float(v.x), float(v.y)]], len(K), axis=0)
-    V = yield (X, np.array(K))
+    fixed fraction of d (the strips' other narrowing) is far too wide.  None when undefined (the
+    third site of the smallest w_v: the first of equal ones).  Generator: the vertices of all
+    edges are served together (:func:`vertex_taper_many`)."""
+    return (yield TaperJob(v, pair, ks))
+
+
+def vertex_taper_many(table, jobs):
+    """:func:`vertex_taper` for many :class:`TaperJob` at once: the rows (i, j, k...) of every job
+    in one table call, every value computed row by row as for one vertex alone."""
+    cnt = np.array([2 + len(jb.ks) for jb in jobs], int)
+    X = np.repeat([[float(jb.v.x), float(jb.v.y)] for jb in jobs], cnt, axis=0).reshape(-1, 2)
+    K = np.array([k for jb in jobs for k in (jb.pair[0], jb.pair[1]) + jb.ks], int)
+    V = evaluate_rows(table, X, K)
+    first = np.concatenate([[0], np.cumsum(cnt)[:-1]]).astype(int)
+    third = np.repeat(first, cnt - 2)                       # the row of i for each third site's row
+    rows = np.concatenate([np.arange(f + 2, f + c) for f, c in zip(first.tolist(), cnt.tolist())]).astype(int) \
+        if len(jobs) else np.zeros(0, int)
     with np.errstate(invalid="ignore", divide="ignore"):
         G = (X - V.F) / V.d[:, None]
-        Df = G[0] - G[1]
-        nf = math.hypot(*Df)
-        best = None
-        for t in range(2, len(K)):
-            Dg = G[t] - G[0]
-            ng = math.hypot(*Dg)
-            sin_t = abs(Df[0] * Dg[1] - Df[1] * Dg[0]) / (nf * ng)
-            wv = min(V.d[0], V.d[1]) * ng * nf * sin_t / (8 * (ng + nf))
-            if not (math.isfinite(sin_t) and math.isfinite(wv) and wv > 0):
-                return None
-            if best is None or wv < best[1]:
-                best = (min(sin_t, 1.0), wv)
-    return best
+        Df = G[third] - G[third + 1]
+        Dg = G[rows] - G[third]
+        nf = np.array([math.hypot(x, y) for x, y in Df.tolist()])
+        ng = np.array([math.hypot(x, y) for x, y in Dg.tolist()])
+        sin_t = np.abs(Df[:, 0] * Dg[:, 1] - Df[:, 1] * Dg[:, 0]) / (nf * ng)
+        wv = np.minimum(V.d[third], V.d[third + 1]) * ng * nf * sin_t / (8 * (ng + nf))
+        fine = np.isfinite(sin_t) & np.isfinite(wv) & (wv > 0)
+    out, pos = [], 0
+    for c in (cnt - 2).tolist():
+        if c == 0 or not fine[pos:pos + c].all():
+            out.append(None)
+        else:
+            b = pos + int(np.argmin(wv[pos:pos + c]))
+            out.append((min(float(sin_t[b]), 1.0), float(wv[b])))
+        pos += c
+    return out
 
 
 def cut_outside(S, cen, Rc):
@@ -88,14 +112,9 @@ def cut_outside(S, cen, Rc):
     return S[:2] if len(far) else S
 
 
-def _fgrad(M, pair):
-    """Float f = d_i − d_j and ∇f at the points M (from the float foot points).  Generator."""
-    n = len(M)
-    V = yield (np.concatenate([M, M]), np.repeat(list(pair), n))
-    return _fgrad_values(M, V.part(0, n), V.part(n, 2 * n))
-
-
 def _fgrad_values(M, Vi, Vj):
+    """Float f = d_i − d_j, ∇f, d_i and d_j at the points M from the table's values Vi, Vj there
+    (the float foot points)."""
     with np.errstate(divide="ignore", invalid="ignore"):
         Ui = (M - Vi.F) / Vi.d[:, None]
         Uj = (M - Vj.F) / Vj.d[:, None]
@@ -181,23 +200,40 @@ def project_rows(table, M, t, I, J):
     return Mn, dev
 
 
+class WidthJob:
+    """The nodes X of a guide of the bisector of ``pair`` (:func:`node_width`)."""
+
+    __slots__ = ("X", "pair", "tol", "scale")
+
+    def __init__(self, X, pair, tol, scale):
+        self.X, self.pair, self.tol, self.scale = np.asarray(X, float).reshape(-1, 2), pair, tol, scale
+
+
 def node_width(X, pair, tol, scale):
     """Strip half-width wanted at the polyline nodes X: about 3x the stated tolerance, at most a
     small fraction of d·|∇d_i − ∇d_j| (the gradient enclosures of the monotonicity test
-    have slack ~ R/d).  Generator."""
-    return (yield from _node_frame(X, pair, tol, scale))[0]
+    have slack ~ R/d).  Generator: the nodes of all edges are served together
+    (:func:`node_width_many`)."""
+    return (yield WidthJob(X, pair, tol, scale))
 
 
-def _node_frame(X, pair, tol, scale):
-    """(:func:`node_width` at the nodes X, the unit normals ∇f/|∇f| of the bisector there; NaN
-    where undefined).  Generator."""
-    X = np.asarray(X, float).reshape(-1, 2)
-    return _frame_values((yield from _fgrad(X, pair)), tol, scale)
+def node_width_many(table, jobs):
+    """:func:`node_width` for many :class:`WidthJob` at once (one table call; row by row the
+    values of one job alone)."""
+    cnt = [len(jb.X) for jb in jobs]
+    X = np.concatenate([jb.X for jb in jobs]) if jobs else np.zeros((0, 2))
+    m = len(X)
+    V = evaluate_rows(table, np.concatenate([X, X]), np.concatenate([np.repeat([jb.pair[0] for jb in jobs], cnt),
+                                                                     np.repeat([jb.pair[1] for jb in jobs], cnt)]))
+    w = _frame_values(_fgrad_values(X, V.part(0, m), V.part(m, 2 * m)), np.repeat([jb.tol for jb in jobs], cnt),
+                      np.repeat([jb.scale for jb in jobs], cnt))[0]
+    bounds = np.concatenate([[0], np.cumsum(cnt)]).astype(int)
+    return [w[bounds[t]:bounds[t + 1]] for t in range(len(jobs))]
 
 
 def _frame_values(fg, tol, scale):
-    """:func:`_node_frame` from the float values ``fg`` of :func:`_fgrad_values` (``tol`` and
-    ``scale`` scalars or one per row)."""
+    """(:func:`node_width`, the unit normals ∇f/|∇f| of the bisector; NaN where undefined) from the
+    float values ``fg`` of :func:`_fgrad_values` (``tol`` and ``scale`` scalars or one per row)."""
     _, D, di, dj = fg
     with np.errstate(invalid="ignore", divide="ignore"):
         nD = np.hypot(D[:, 0], D[:, 1])

@@ -73,9 +73,9 @@ import numpy as np
 from ...sites.kinds import SiteKind
 from ..geometry import EPS
 from .site_table import run_lockstep
-from .bisector_guide import (AdaptJob, ProjectJob, adapt, adapt_many, cut_outside, node_width, project, project_many,
-                             refine, vertex_taper)
-from .medial_corners import distance_to_polyline, medial_corners
+from .bisector_guide import (AdaptJob, ProjectJob, TaperJob, WidthJob, adapt, adapt_many, cut_outside, node_width,
+                             node_width_many, project, project_many, refine, vertex_taper, vertex_taper_many)
+from .medial_corners import distance_to_polyline, may_cross_ridges, medial_corners
 from .strips import StripsJob, prove_strips_many, rot90
 
 __all__ = ["prove_curved_edge", "prove_curved_edges", "cut_corners", "TAIL_CUT", "TIME_LIMIT"]
@@ -111,9 +111,11 @@ def prove_curved_edges(table, jobs, deadline=None, sup=None):
         return prove_strips_many(table_, reqs, sup=sup)
     def widths_many(table_, reqs):
         return prove_widths_many(table_, reqs, sup=sup)
-    out = run_lockstep([prove_curved_edge(table, *job, pool=pool) for job in jobs], table,
+    ridges = may_cross_ridges(table, [job[1] for job in jobs], [job[2] for job in jobs])
+    out = run_lockstep([prove_curved_edge(table, *job, pool=pool, ridges=r) for job, r in zip(jobs, ridges)], table,
                        {ChainJob: widths_many, StripsJob: strips_many, ProjectJob: project_many,
-                        AdaptJob: adapt_many}, deadline=deadline)
+                        AdaptJob: adapt_many, WidthJob: node_width_many, TaperJob: vertex_taper_many},
+                       deadline=deadline)
     return [(False, TIME_LIMIT, []) if r is None else r for r in out]
 
 
@@ -188,15 +190,17 @@ class RoundGuide(NamedTuple):
     cap: np.ndarray
 
 
-def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, pool=None):
+def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, pool=None, ridges=True):
     """Prove an edge of convex sites along its polyline P (ends at the vertices v0, v1; either may
     be None = infinity, then up to a point at ``TAIL_CUT`` times the scene's radius; both None: a
     vertex-less edge, infinite both ways, or with ``closed`` a closed curve around a nested site,
     the chain of strips then closing up).  Returns (ok, message or None, beyond): ``beyond`` lists,
     per unbounded end, a dict with the cut ``point`` and the ``link`` rectangle for
     :func:`runtime.voronoi.verify.tail.prove_tail`.  ``pool``: the :class:`WorkPool` of work
-    beyond :data:`EDGE_WORK` shared by the edges of one call (module constants).  Generator
-    (requests to ``table``)."""
+    beyond :data:`EDGE_WORK` shared by the edges of one call (module constants).  ``ridges``:
+    False where P crosses no ridge of an ellipse of the pair for certain
+    (:func:`runtime.voronoi.verify.medial_corners.may_cross_ridges`: no corner to enclose).
+    Generator (requests to ``table``)."""
     S = np.array(P, float)
     msg = hyperbola_corner(table, pair, S)
     if msg is not None:
@@ -206,7 +210,7 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, pool=Non
             return False, "a closed edge needs no end vertices and a polyline around its site", None
         if np.hypot(*(S[0] - S[-1])) <= 1e-12 * scale:
             S = S[:-1]
-    cuts, msg = yield from corner_cuts(table, pair, S, v0, v1, tol, closed, scale)
+    cuts, msg = (yield from corner_cuts(table, pair, S, v0, v1, tol, closed, scale)) if ridges else ([], None)
     if msg is not None:
         return False, msg, None
     S, far_ends, rad, msg = cut_far_ends(table.geoms, S, v0, v1, closed)

@@ -24,8 +24,8 @@ the Clarke generalised gradient, Clarke 1983, Thm 2.3.7 and 2.8.2, in
 :mod:`runtime.voronoi.verify.strips` (T1)), and refuses a drawn polyline that passes farther than
 its stated tolerance from a proved corner (a chord that cuts the corner).
 
-Public API: :func:`ridge_crossings`, :func:`enclose_corners`, :func:`medial_corners`,
-:func:`distance_to_polyline`.
+Public API: :func:`ridge_crossings`, :func:`may_cross_ridges`, :func:`enclose_corners`,
+:func:`medial_corners`, :func:`distance_to_polyline`.
 """
 from __future__ import annotations
 
@@ -34,7 +34,7 @@ import numpy as np
 from ...segments.distance import distances
 from ...sites.kinds import SiteKind
 
-__all__ = ["ridge_crossings", "enclose_corners", "medial_corners", "distance_to_polyline"]
+__all__ = ["ridge_crossings", "may_cross_ridges", "enclose_corners", "medial_corners", "distance_to_polyline"]
 
 SAMPLES = 32        # points tried inside a bracket per round
 ROUNDS = 12         # rounds of shrinking at most
@@ -74,6 +74,40 @@ def ridge_crossings(table, pair, S):
             if abs(X) < half and not any(hh == h and abs(XX - X) <= 1e-9 * (1 + half) for hh, XX in out):
                 out.append((h, X))
     return out
+
+
+def may_cross_ridges(table, pairs, polylines):
+    """For each pair and polyline (an array of nodes): False where :func:`ridge_crossings` of the
+    polyline (or of any polyline through its nodes, closed or not) finds no crossing for certain,
+    so that nothing need be enclosed: no site of the pair is an ellipse with a ridge, or the
+    polyline's bounding box widened by 10⁻⁶·(1 + the largest coordinate of the polyline and of the
+    ridge) misses the bounding box of each ridge segment (a crossing is a point of a segment of
+    the polyline on the ridge, computed to a few units in the last place of the coordinates).  The
+    margin is far above that rounding: where this says False, :func:`ridge_crossings` returns []."""
+    polys = [np.asarray(P, float).reshape(-1, 2) for P in polylines]
+    use = np.array([len(P) >= 2 for P in polys], bool)
+    out = np.zeros(len(polys), bool)
+    if not use.any():
+        return out.tolist()
+    cnt = np.array([len(P) for P in polys], int)[use]
+    Pall = np.concatenate([P for P, u_ in zip(polys, use) if u_])
+    starts = np.concatenate([[0], np.cumsum(cnt)[:-1]]).astype(int)
+    lo, hi = np.minimum.reduceat(Pall, starts, axis=0), np.maximum.reduceat(Pall, starts, axis=0)
+    big = np.maximum.reduceat(np.abs(Pall).max(1), starts)
+    pairs = np.array([tuple(p) for p, u_ in zip(pairs, use) if u_], int).reshape(-1, 2)
+    rlo, rhi = np.full((len(table.kind), 2), np.nan), np.full((len(table.kind), 2), np.nan)
+    for h in np.unique(pairs).tolist():
+        if int(table.kind[h]) == SiteKind.ELLIPSE:
+            cen, u, half = _ridge(table, h)
+            if half > 0:
+                rlo[h], rhi[h] = cen - np.abs(u) * half, cen + np.abs(u) * half
+    hit = np.zeros(len(pairs), bool)
+    for c in (0, 1):        # NaN (no ridge) compares False
+        r0, r1 = rlo[pairs[:, c]], rhi[pairs[:, c]]
+        pad = 1e-6 * (1.0 + big + np.maximum(np.abs(r0), np.abs(r1)).max(1))[:, None]
+        hit |= np.all(lo - pad <= r1, axis=1) & np.all(hi + pad >= r0, axis=1)
+    out[use] = hit
+    return out.tolist()
 
 
 def _signs(V, m):
