@@ -95,6 +95,8 @@ LONG = 50000.0          # strips at least (edge length)/LONG wide (3x this), at 
 WIDTHS = ((1.0, 1e-3), (0.3, 1e-5), (3.0, 1e-3))
 
 
+_ELLIPSE, _HYPERBOLA = int(SiteKind.ELLIPSE), int(SiteKind.HYPERBOLA)     # codes in SiteTable.kind
+
 #: the message of an edge whose proof was stopped at the deadline
 TIME_LIMIT = "time limit reached before the edge was proved"
 
@@ -109,10 +111,13 @@ def prove_curved_edges(table, jobs, deadline=None, sup=None):
 
     def strips_many(table_, reqs):
         return prove_strips_many(table_, reqs, sup=sup)
+
     def widths_many(table_, reqs):
         return prove_widths_many(table_, reqs, sup=sup)
     ridges = may_cross_ridges(table, [job[1] for job in jobs], [job[2] for job in jobs])
-    out = run_lockstep([prove_curved_edge(table, *job, pool=pool, ridges=r) for job, r in zip(jobs, ridges)], table,
+    disc = scene_disc(table.geoms) if any(job[3] is None or job[4] is None for job in jobs) else False
+    out = run_lockstep([prove_curved_edge(table, *job, pool=pool, ridges=r, disc=disc) for job, r in zip(jobs, ridges)],
+                       table,
                        {ChainJob: widths_many, StripsJob: strips_many, ProjectJob: project_many,
                         AdaptJob: adapt_many, WidthJob: node_width_many, TaperJob: vertex_taper_many},
                        deadline=deadline)
@@ -190,7 +195,7 @@ class RoundGuide(NamedTuple):
     cap: np.ndarray
 
 
-def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, pool=None, ridges=True):
+def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, pool=None, ridges=True, disc=False):
     """Prove an edge of convex sites along its polyline P (ends at the vertices v0, v1; either may
     be None = infinity, then up to a point at ``TAIL_CUT`` times the scene's radius; both None: a
     vertex-less edge, infinite both ways, or with ``closed`` a closed curve around a nested site,
@@ -200,7 +205,8 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, pool=Non
     beyond :data:`EDGE_WORK` shared by the edges of one call (module constants).  ``ridges``:
     False where P crosses no ridge of an ellipse of the pair for certain
     (:func:`runtime.voronoi.verify.medial_corners.may_cross_ridges`: no corner to enclose).
-    Generator (requests to ``table``)."""
+    ``disc``: :func:`scene_disc` of the table's sites when known.  Generator (requests to
+    ``table``)."""
     S = np.array(P, float)
     msg = hyperbola_corner(table, pair, S)
     if msg is not None:
@@ -213,7 +219,7 @@ def prove_curved_edge(table, scale, pair, P, v0, v1, tol, closed=False, pool=Non
     cuts, msg = (yield from corner_cuts(table, pair, S, v0, v1, tol, closed, scale)) if ridges else ([], None)
     if msg is not None:
         return False, msg, None
-    S, far_ends, rad, msg = cut_far_ends(table.geoms, S, v0, v1, closed)
+    S, far_ends, rad, msg = cut_far_ends(table.geoms, S, v0, v1, closed, disc)
     if msg is not None:
         return False, msg, None
     if len(S) >= 2:
@@ -236,7 +242,7 @@ def hyperbola_corner(table, pair, S):
     conjugate axis X = 0, else None: a strip across it always holds a piece whose disc reaches
     it, where the gradient enclosures stop (the nearer branch switches: a corner of β)."""
     for h in pair:
-        if table.kind[h] == SiteKind.HYPERBOLA:
+        if table.kind[h] == _HYPERBOLA:
             X0, _ = table.geoms[h].to_canonical(S)
             if np.any(np.sign(X0[:-1]) != np.sign(X0[1:])) or np.any(X0 == 0):
                 return f"the edge crosses the conjugate axis of hyperbola {h} (a corner of the bisector)"
@@ -251,7 +257,7 @@ def corner_cuts(table, pair, S, v0, v1, tol, closed, scale):
     x_c), at most a tenth of its distance to the end vertices and the other corners, kept where
     ε > 100·r (the corner's enclosure radius).  Generator."""
     cuts = []
-    if any(table.kind[h] == SiteKind.ELLIPSE for h in pair) and len(S) >= 2:
+    if any(table.kind[h] == _ELLIPSE for h in pair) and len(S) >= 2:
         drawn = np.vstack([S, S[:1]]) if closed else S
         step = max(min(tol, 1e-2 * scale) if math.isfinite(tol) else 1e-2 * scale, 1e-9 * scale)
         found = yield from medial_corners(table, pair, drawn, step, scale)
@@ -273,22 +279,32 @@ def corner_cuts(table, pair, S, v0, v1, tol, closed, scale):
     return cuts, None
 
 
-def cut_far_ends(geoms, S, v0, v1, closed):
+def scene_disc(geoms):
+    """(centre, rad) of the bounded sites' bounding box: rad half its diagonal plus 1; None when
+    no site is bounded."""
+    fb = [g.bounding_box() for g in geoms if g.bounded]
+    if not fb:
+        return None
+    bx = np.array(fb, float)
+    cen = 0.5 * (bx[:, :2].min(0) + bx[:, 2:].max(0))
+    return cen, 0.5 * float(np.hypot(*(bx[:, 2:].max(0) - bx[:, :2].min(0)))) + 1.0
+
+
+def cut_far_ends(geoms, S, v0, v1, closed, disc=False):
     """Cut the guide S of an unbounded edge at ``TAIL_CUT`` times the scene's radius ``rad`` (half
     the diagonal of the bounded sites' bounding box, plus 1): the chain proves it up to there,
     the tail (:func:`runtime.voronoi.verify.tail.prove_tail`) beyond.  A vertex-less edge is cut
     both ways from its first node inside that disc.  Returns (S, far_ends, rad, message or None),
-    ``far_ends`` the unbounded ends (0: start, 1: end)."""
+    ``far_ends`` the unbounded ends (0: start, 1: end).  ``disc``: :func:`scene_disc` of
+    ``geoms`` when known."""
     far_ends = [t for t, v in enumerate((v0, v1)) if v is None and not closed]
     rad = 0.0
     if not far_ends:
         return S, far_ends, rad, None
-    fb = [g.bounding_box() for g in geoms if g.bounded]
-    if not fb:     # only unbounded sites: their tails are not proved (support functions need bounded ones)
+    disc = scene_disc(geoms) if disc is False else disc
+    if disc is None:     # only unbounded sites: their tails are not proved (support functions need bounded ones)
         return S, far_ends, rad, "an unbounded end next to unbounded sites only is not proved"
-    bx = np.array(fb, float)
-    cen = 0.5 * (bx[:, :2].min(0) + bx[:, 2:].max(0))
-    rad = 0.5 * float(np.hypot(*(bx[:, 2:].max(0) - bx[:, :2].min(0)))) + 1.0
+    cen, rad = disc
     Rc = TAIL_CUT * rad
     if len(far_ends) == 1:
         S = cut_outside(S, cen, Rc) if v1 is None else cut_outside(S[::-1], cen, Rc)[::-1]
