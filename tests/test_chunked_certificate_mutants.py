@@ -17,7 +17,8 @@ those parts sees:
   two copies (and the accounting, which counts the ends at infinity) refuses it;
 * a vertex moved off the Voronoi vertex: not proved in its chunk.
 
-The workers are a LocalCluster of threads (processes=False), as in tests/test_tiled_diagram.py.
+The workers are a LocalCluster of threads (processes=False), as in tests/test_tiled_diagram.py; each
+test runs again with no client (the chunks proved here, one after the other).
 """
 from __future__ import annotations
 
@@ -31,8 +32,12 @@ from curvedvoronoi.runtime.voronoi.structure import Diagram, DiagramEdge, Diagra
 FOUR = [(0, 0, 0), (4, 1, 0), (1, 5, 0), (5, 6, 0)]
 
 
-@pytest.fixture(scope="module")
-def client():
+@pytest.fixture(scope="module", params=["workers", "here"])
+def client(request):
+    """A client of one worker thread, or None: the chunks run here one after the other."""
+    if request.param == "here":
+        yield None
+        return
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
                                   dashboard_address=None) as cluster, distributed.Client(cluster) as c:
