@@ -35,6 +35,15 @@ never the verifier's own output.
   stretch y ∈ [2y₀, y₀] (E clearly farther there, f_E(y₀) > 0: V stays empty) and negative below
   y_E = −(X + η²)/(2η) ≈ −2⁴¹ = 4y₀, where E cuts the ray's tail (d_E − d_A → −η ≈ −2.7·10⁸
   along it).  The ray is no edge however the exact decision of D' comes out.
+
+* A dip between two vertices (the exact circle route).  Circles i, j of radius 1 centred (∓2, 0),
+  points a = (0, 5), b = (0, −5): the edge of i, j is the segment of x = 0 between the vertices
+  (0, ±8/3) of (i, j, a) and (i, j, b) (|(0, 8/3) − (0, 5)| = 7/3 = √(4 + 64/9) − 1).  A fifth site,
+  the point k = (1 − δ, 0), δ = 2⁻⁶⁰, is nearer than i and j at the origin, a point of that edge
+  (d_k = 1 − δ < 1 = d_i), and farther at both vertices (|k − (0, ±8/3)|² = (1 − δ)² + 64/9 >
+  49/9 = (7/3)²): it cuts the edge in a dip of depth δ between two vertices of (i, j, k) (added as
+  a site to the diagram of i, j, a, b).  Far below the floats; only the exact circle route
+  (:func:`circle_edge_clear`: a vertex of (i, j, k) strictly between the edge's ends) refuses it.
 """
 from __future__ import annotations
 
@@ -193,6 +202,29 @@ def test_the_tail_is_still_searched_after_an_exact_decision():
     pos = doc["edges"].index(e)
     d = copy.deepcopy(doc)
     d["sites"] += [{"point": ["3", str(eps)]}, {"point": [str(1 + 2 ** 30), str(-eta)]}]
+    cert = verify(d)
+    assert not cert.ok and not cert.edges[pos], (cert.edges, cert.problems)
+    assert any(p.startswith(f"edge {e['id']} ") for p in cert.problems), cert.problems
+
+
+def test_a_dip_of_a_point_between_two_vertices_of_circles_is_refused():
+    from curvedvoronoi.runtime.voronoi.verify.certificate import verify
+
+    delta = F(1, 2 ** 60)
+    k = (1 - delta, F(0))
+    u = (F(0), F(8, 3))
+    # the vertex (0, 8/3): |u − a| = 7/3 and |u − c_i| − 1 = √(4 + 64/9) − 1 = 10/3 − 1 = 7/3
+    assert abs(u[1] - 5) == F(7, 3) and (F(10, 3)) ** 2 == 4 + u[1] ** 2
+    assert k[0] ** 2 + u[1] ** 2 > F(7, 3) ** 2            # k farther than i, j at both vertices
+    assert k[0] < 1                                         # d_k(0, 0) = 1 − δ < 1 = d_i(0, 0)
+    doc = _doc([Circle.from_radius(-2, 0, 1), Circle.from_radius(2, 0, 1), Point(0, 5), Point(0, -5)])
+    e = next(e for e in doc["edges"] if sorted(e["sites"]) == [0, 1])
+    pos = doc["edges"].index(e)
+    ends = [next(v for v in doc["vertices"] if v["id"] == t) for t in e["ends"]]
+    assert sorted(round(v["y"] * 3) for v in ends) == [-8, 8] and all(abs(v["x"]) < 1e-9 for v in ends)
+    assert verify(doc).ok
+    d = copy.deepcopy(doc)
+    d["sites"].append({"point": [str(k[0]), "0"]})
     cert = verify(d)
     assert not cert.ok and not cert.edges[pos], (cert.edges, cert.problems)
     assert any(p.startswith(f"edge {e['id']} ") for p in cert.problems), cert.problems
