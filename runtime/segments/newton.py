@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from .elementary import ELLIPSE, ElementarySites
-from .vertex_batch import code_systems, prove_zeros_batch
+from .vertex_batch import code_point_segment_rows, code_systems, prove_zeros_batch
 from .vertices import VertexSolution, arc_centre_vertex, common_point, contact_equations, prove_vertex, prove_zero
 
 __all__ = ["prove_vertices"]
@@ -30,10 +30,26 @@ def prove_vertices(E: ElementarySites, items, cache: dict | None = None) -> list
     """:func:`prove_vertex` for many (triple, seed) items: the float Newton iterations of all of
     them run together (numpy, 3 × 3 systems inverted by cofactors), then the limits are proved
     by the float Krawczyk test of :func:`runtime.segments.vertex_batch.prove_zeros_batch` and
-    the rows it leaves by the arb test of :func:`prove_vertex` (cached the same way)."""
+    the rows it leaves by the arb test of :func:`prove_vertex` (cached the same way).  The
+    triples of point sites and segments are coded on arrays
+    (:func:`runtime.segments.vertex_batch.code_point_segment_rows`), the others one by one
+    (:func:`runtime.segments.vertices.contact_equations`)."""
     out: list = [None] * len(items)
-    rows, systems = [], []
-    for n, (triple, seed) in enumerate(items):
+    if not len(items):
+        return out
+    T = np.array([t for t, _s in items], dtype=np.int64).reshape(len(items), -1)
+    seeds = np.array([[s[0], s[1]] for _t, s in items], dtype=float)
+    if T.shape[1] == 3:
+        coded, invalid, K_arr, P_arr, S_arr = code_point_segment_rows(E, T, seeds)
+    else:
+        coded = invalid = np.zeros(len(items), bool)
+    for n in np.nonzero(invalid)[0].tolist():
+        seed = items[n][1]
+        out[n] = VertexSolution("invalid", float(seed[0]), float(seed[1]), 0.0,
+                                reason="a segment and both its endpoints")
+    rows, systems = [], []           # systems[i]: row i's equations, None where coded on arrays
+    for n in np.nonzero(~coded)[0].tolist():
+        triple, seed = items[n]
         if common_point(E, triple) is not None or arc_centre_vertex(E, triple) is not None \
                 or any(E.kind[t] == ELLIPSE for t in triple):
             # (elliptic pieces: their foot equation has no closed form for the batched Newton)
@@ -46,11 +62,25 @@ def prove_vertices(E: ElementarySites, items, cache: dict | None = None) -> list
             continue
         rows.append(n)
         systems.append(eqs)
+    slow = dict(zip(rows, systems))
+    rows = sorted(rows + np.nonzero(coded & ~invalid)[0].tolist())        # in the items' order
     if not rows:
         return out
+    systems = [slow.get(n) for n in rows]
     m = len(rows)
-    K, Pm = code_systems(systems)
-    Z = np.array([[items[n][1][0], items[n][1][1], 0.0] for n in rows], dtype=float)
+    K = np.zeros((m, 3), dtype=np.int64)
+    Pm = np.zeros((m, 3, 4))
+    sides_arr = np.zeros((m, 3), dtype=np.int64)
+    r_idx = np.array(rows, dtype=np.int64)
+    fast_rows = np.nonzero(coded[r_idx])[0]
+    K[fast_rows], Pm[fast_rows] = K_arr[r_idx[fast_rows]], P_arr[r_idx[fast_rows]]
+    sides_arr[fast_rows] = S_arr[r_idx[fast_rows]]
+    one = np.nonzero(~coded[r_idx])[0]
+    if len(one):
+        K[one], Pm[one] = code_systems([systems[i] for i in one.tolist()])
+        sides_arr[one] = [[d[3] if k in ("line", "arc") else 0 for k, d, _t in systems[i]] for i in one.tolist()]
+    Z = np.zeros((m, 3))
+    Z[:, :2] = seeds[r_idx]
     Z[:, 2] = _r_guess_many(K, Pm, Z)
     scale = 1.0 + float(np.max(np.abs(E.A)) if len(E.A) else 0.0)
     alive = np.ones(m, dtype=bool)
@@ -69,6 +99,7 @@ def prove_vertices(E: ElementarySites, items, cache: dict | None = None) -> list
         failed[idx[bad]] = True
         alive[idx[done | bad]] = False
     pending = []
+    sides_l = sides_arr.tolist()
     # the cache keys' positions (Z rounded to 10⁻⁹ of the scale), all rows at once
     with np.errstate(invalid="ignore"):
         Zkey = np.round(Z / (1e-9 * scale)) if cache is not None else Z
@@ -85,30 +116,34 @@ def prove_vertices(E: ElementarySites, items, cache: dict | None = None) -> list
                 out[n] = VertexSolution("undecided", float(seed[0]), float(seed[1]), 0.0, reason="Newton failed")
                 continue
             z0[2] = _r_guess_many(K[i:i + 1], Pm[i:i + 1], z0[None, :2])[0]
-            out[n] = prove_zero(E, triple, systems[i], z0, scale)
+            out[n] = prove_zero(E, triple, _equations(E, items[n], systems[i]), z0, scale)
             continue
-        z, eqs = Z[i], systems[i]
         key = None
         if cache is not None:
-            sides = tuple(d[3] if k in ("line", "arc") else 0 for k, d, _t in eqs)
-            key = (tuple(triple), sides) + tuple(Zkey[i])
+            key = (tuple(triple), tuple(sides_l[i])) + tuple(Zkey[i])
             if key in cache:
                 out[n] = cache[key]
                 continue
         pending.append((i, n, key))
     # the float Krawczyk test on all pending limits at once; the rows it leaves go to the arb proof
     sel = [i for i, _n, _key in pending]
-    fast = prove_zeros_batch(E, K[sel], Pm[sel], Z[sel], [systems[i] for i in sel]) if sel else []
+    fast = prove_zeros_batch(E, K[sel], Pm[sel], Z[sel], T[r_idx[sel]]) if sel else []
     for (i, n, key), sol in zip(pending, fast):
         if key is not None and key in cache:           # an earlier row of this batch, same limit
             out[n] = cache[key]
             continue
         if sol is None:
-            sol = prove_zero(E, items[n][0], systems[i], Z[i], scale)
+            sol = prove_zero(E, items[n][0], _equations(E, items[n], systems[i]), Z[i], scale)
         if key is not None:
             cache[key] = sol
         out[n] = sol
     return out
+
+
+def _equations(E: ElementarySites, item, eqs):
+    """The contact equations of ``item`` = (triple, seed) for the arb proof: ``eqs``, or those of
+    :func:`runtime.segments.vertices.contact_equations` for a row coded on arrays."""
+    return eqs if eqs is not None else contact_equations(E, item[0], item[1])
 
 
 def _residuals(K, Pm, Z):

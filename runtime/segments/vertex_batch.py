@@ -26,8 +26,15 @@ over the whole box by a margin (the same rounding model); r ≤ 0, a contact out
 every undecided case go back to the arb proof (:func:`runtime.segments.vertices.prove_zero`), so
 this is a fast path that says "proved" or nothing.
 
-Public API: :func:`prove_zeros_batch`, :func:`code_systems`, :func:`residual_bounds`, the equation codes :data:`POINT_EQ`, :data:`LINE_EQ`,
-:data:`NORMAL_EQ`, :data:`ARC_EQ`.
+The codes of the triples of point sites and segments (the bulk of a segment scene) are also
+written on arrays (:func:`code_point_segment_rows`): the same equations as
+:func:`runtime.segments.vertices.contact_equations` chooses and the same floats as
+:func:`code_systems` writes, from a table of each segment's correctly rounded line, tangent and
+√N computed once per set of sites.
+
+Public API: :func:`prove_zeros_batch`, :func:`code_systems`, :func:`code_point_segment_rows`,
+:func:`residual_bounds`, the equation codes :data:`POINT_EQ`, :data:`LINE_EQ`, :data:`NORMAL_EQ`,
+:data:`ARC_EQ`.
 """
 from __future__ import annotations
 
@@ -39,10 +46,11 @@ from flint import arb
 
 from ..certify.interval_newton import (UNIT_ROUNDOFF, float_contraction_bound, float_inverse, float_krawczyk_test,
                                        float_residual_bound, gamma, round_up)
-from .elementary import ARC, SEGMENT, ElementarySites
-from .vertices import VertexSolution
+from .elementary import ARC, POINT, SEGMENT, ElementarySites
+from .vertices import VertexSolution, segment_floats
 
-__all__ = ["prove_zeros_batch", "code_systems", "residual_bounds", "POINT_EQ", "LINE_EQ", "NORMAL_EQ", "ARC_EQ"]
+__all__ = ["prove_zeros_batch", "code_systems", "code_point_segment_rows", "residual_bounds", "POINT_EQ", "LINE_EQ",
+           "NORMAL_EQ", "ARC_EQ"]
 
 #: codes of the equation kinds (as :mod:`runtime.segments.newton` writes them)
 POINT_EQ, LINE_EQ, NORMAL_EQ, ARC_EQ = 0, 1, 2, 3
@@ -75,6 +83,63 @@ def code_systems(systems):
                 vals = [float(v) for v in d]
                 P[i, j, :len(vals)] = vals
     return K, P
+
+
+def code_point_segment_rows(E: ElementarySites, triples, seeds):
+    """The rows of ``triples`` (m × 3 site indices, with float ``seeds`` m × 2) made of point
+    sites and segments whose two ends are point sites, coded on arrays: (rows, invalid, K, P,
+    sides).  ``rows`` (bool, m): such a triple with no common point of the three closures (a
+    corner is :func:`runtime.segments.vertices.prove_vertex`'s); ``invalid``: a row holding a
+    segment and both its ends (no circle touches the three: ``contact_equations`` is None);
+    ``K``, ``P``: the codes of :func:`code_systems` of the row's ``contact_equations`` -- a point
+    p, the normal line (t_x, t_y, e_x, e_y) at the end e of a segment when e is a site of the row,
+    else the segment's line (a, b, c, σ√N) with σ = ±1 the side of the seed by the same float
+    expression; ``sides`` (m × 3): σ on a line's column, 0 elsewhere (the cache key's sides)."""
+    T = np.asarray(triples, dtype=np.int64).reshape(-1, 3)
+    S = np.asarray(seeds, dtype=float).reshape(-1, 2)
+    m = len(T)
+    kind = E.kind[T]
+    ends = E.ends[T]                                              # m × 3 × 2
+    seg = kind == SEGMENT
+    pt = kind == POINT
+    rows = (pt | seg).all(axis=1) & ~(seg[..., None] & (ends < 0)).any(axis=(1, 2))
+    # closures: a point site {t}, a segment {its two ends}; a common point of all three closures
+    clo = np.where(pt[..., None], T[..., None], ends)
+    common = np.zeros(m, bool)
+    for c in (clo[:, 0, 0], clo[:, 0, 1]):
+        common |= (c != -1) & ((clo[:, 1] == c[:, None]).any(axis=1)) & ((clo[:, 2] == c[:, None]).any(axis=1))
+    rows &= ~common
+    K = np.zeros((m, 3), dtype=np.int64)
+    P = np.zeros((m, 3, 4))
+    sides = np.zeros((m, 3), dtype=np.int64)
+    # which ends of each segment column are point sites of the row
+    pts = np.where(pt, T, -2)                                    # −2: no point site in that column
+    end_in = (ends[..., None] == pts[:, None, None, :]).any(axis=3) & seg[..., None] & rows[:, None, None]
+    n_in = end_in.sum(axis=2)
+    invalid = rows & (n_in == 2).any(axis=1)
+    live = rows & ~invalid
+    if seg[live].any():
+        L, Tg = segment_floats(E, T[live][seg[live]])
+    for j in range(3):
+        t = T[:, j]
+        p_j = live & pt[:, j]
+        K[p_j, j] = POINT_EQ
+        P[p_j, j, :2] = E.A[t[p_j]]
+        nrm = live & seg[:, j] & (n_in[:, j] == 1)
+        if nrm.any():
+            e = np.where(end_in[:, j, 0], ends[:, j, 0], ends[:, j, 1])[nrm]
+            K[nrm, j] = NORMAL_EQ
+            P[nrm, j, :2] = Tg[t[nrm]]
+            P[nrm, j, 2:] = E.A[e]
+        ln = live & seg[:, j] & (n_in[:, j] == 0)
+        if ln.any():
+            fa, fb, fc, rootN = L[t[ln]].T
+            side = fa * S[ln, 0] + fb * S[ln, 1] + fc
+            sgn = np.where(side >= 0, 1, -1)
+            K[ln, j] = LINE_EQ
+            P[ln, j] = np.stack([fa, fb, fc, sgn * rootN], axis=1)
+            sides[ln, j] = sgn
+    return rows, invalid, K, P, sides
 
 
 def residual_bounds(K, P, Z, R):
@@ -222,15 +287,19 @@ def _arc_orientation(E: ElementarySites, t: int, memo: dict) -> bool:
     return memo[t]
 
 
-def prove_zeros_batch(E: ElementarySites, K, P, Z, systems) -> list:
+def prove_zeros_batch(E: ElementarySites, K, P, Z, sites) -> list:
     """For the coded contact systems (kinds ``K`` (m × 3), parameters ``P`` (m × 3 × 4), Newton
-    limits ``Z`` (m × 3); ``systems[i]`` the equations of :func:`runtime.segments.vertices.
-    contact_equations` of row i), a proved :class:`VertexSolution` where the float test decides
-    the row (module docstring), else None (the row goes to the arb proof)."""
+    limits ``Z`` (m × 3); ``sites`` (m × 3) the site of each equation, or the rows' equation
+    lists of :func:`runtime.segments.vertices.contact_equations`), a proved
+    :class:`VertexSolution` where the float test decides the row (module docstring), else None
+    (the row goes to the arb proof)."""
     m = len(Z)
     out: list = [None] * m
     if not m:
         return out
+    if not isinstance(sites, np.ndarray):
+        sites = np.array([[t for _kind, _d, t in eqs] for eqs in sites], dtype=np.int64)
+    sites = np.asarray(sites, dtype=np.int64).reshape(m, 3)
     Z = np.asarray(Z, float)
     ok, rad = _krawczyk(K, P, Z)
     ok &= Z[:, 2] - rad[:, 2] > 0                                      # r > 0 on the box
@@ -243,7 +312,7 @@ def prove_zeros_batch(E: ElementarySites, K, P, Z, systems) -> list:
     memo: dict = {}
     for j in range(3):                       # every contact where its equation says, over the box
         kind = K[idx, j]
-        site = np.array([systems[i][j][2] for i in idx.tolist()], dtype=np.int64)
+        site = sites[idx, j]
         good = np.ones(len(idx), bool)
         line = kind == LINE_EQ
         if line.any():

@@ -34,10 +34,11 @@ Length: the contact equations, their float and arb forms and the checks of a pro
 read the same equation tuples; split apart they would pass them around.
 
 Public API: :class:`VertexSolution`, :func:`prove_vertex`, :func:`prove_zero`, :func:`common_point`,
-:func:`contact_equations`, :func:`direction_in_arc`.
+:func:`contact_equations`, :func:`direction_in_arc`, :func:`segment_floats`.
 """
 from __future__ import annotations
 
+import math
 import weakref
 from dataclasses import dataclass
 
@@ -53,7 +54,7 @@ from .ellipse_contacts import (both_ends_contact, ellipse_centre_vertex, ellipse
 from .ellipse_pieces import piece_feet
 
 __all__ = ["VertexSolution", "prove_vertex", "prove_zero", "common_point", "contact_equations", "direction_in_arc",
-           "arc_centre_vertex"]
+           "arc_centre_vertex", "segment_floats"]
 
 PREC = 128
 
@@ -131,6 +132,31 @@ def _segment_line(E: ElementarySites, t: int):
     a, b = -(by - ay), bx - ax
     c = -(a * ax + b * ay)
     return (a, b, c, a * a + b * b), (float(a), float(b), float(c))
+
+
+#: per set of sites: (done, L, T) of :func:`segment_floats`; ``done[t]`` once segment t is written
+_FLOATS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def segment_floats(E: ElementarySites, sites):
+    """(L, T): for every segment t of ``sites`` (and those asked for before), L[t] = (fl(a),
+    fl(b), fl(c), fl(√fl(N))) of its exact line a·x + b·y + c = 0 (:func:`_segment_line`) and
+    T[t] the correctly rounded tangent B − A (:func:`_tangent_at`), as the batched contact
+    systems read them (:func:`runtime.segments.vertex_batch.code_point_segment_rows`)."""
+    n = len(E.kind)
+    done, L, T = _FLOATS.get(E) or _FLOATS.setdefault(E, (np.zeros(n, bool), np.zeros((n, 4)), np.zeros((n, 2))))
+    todo = np.unique(sites)
+    memo = _MEMOS.setdefault(E, {})
+    for t in todo[~done[todo]].tolist():
+        line = memo.get(t)
+        if line is None:
+            line = memo[t] = _segment_line(E, t)
+        (_a, _b, _c, N), (fa, fb, fc) = line
+        tx, ty = _tangent_at(E, t, int(E.ends[t, 0]))
+        L[t] = (fa, fb, fc, math.sqrt(float(N)))
+        T[t] = (float(tx), float(ty))
+        done[t] = True
+    return L, T
 
 
 def contact_equations(E: ElementarySites, triple, seed, alternate: bool = False):
