@@ -86,7 +86,8 @@ class CircleTable:
     def _setup(self, C, R):
         self.C, self.R, self.n = C, R, len(R)
         self.C1 = np.abs(C).sum(axis=1)           # |c|₁ of each centre (the rounding slack's scale)
-        self.tree = cKDTree(self.C)
+        self._tree = None                         # the k-d tree, made on first use (a local proof's
+                                                  # small table never queries it)
         self.rmax = float(self.R.max()) if self.n else 0.0
         self.scale = float(np.abs(self.C).max() + self.rmax + 1.0) if self.n else 1.0
         self.big, self.r_small = np.zeros(0, int), self.rmax
@@ -98,6 +99,13 @@ class CircleTable:
                 self.r_small = r_small
         self.is_big = np.zeros(self.n, bool)
         self.is_big[self.big] = True
+
+    @property
+    def tree(self) -> cKDTree:
+        """The k-d tree of the centres."""
+        if self._tree is None:
+            self._tree = cKDTree(self.C)
+        return self._tree
 
     def big_near(self, Q, reach):
         """Flat (row, site) pairs of the big sites whose disc may come within ``reach[row]`` of
