@@ -44,6 +44,9 @@ never the verifier's own output.
   49/9 = (7/3)²): it cuts the edge in a dip of depth δ between two vertices of (i, j, k) (added as
   a site to the diagram of i, j, a, b).  Far below the floats; only the exact circle route
   (:func:`circle_edge_clear`: a vertex of (i, j, k) strictly between the edge's ends) refuses it.
+  Without b the edge of i, j runs from (0, 8/3) down to infinity (or, with a = (0, −5), from
+  (0, −8/3) up), and k cuts its tail the same way (a vertex of (i, j, k) beyond the vertex end);
+  without a and b it is the whole line x = 0, and k cuts it all the same.
 """
 from __future__ import annotations
 
@@ -207,7 +210,8 @@ def test_the_tail_is_still_searched_after_an_exact_decision():
     assert any(p.startswith(f"edge {e['id']} ") for p in cert.problems), cert.problems
 
 
-def test_a_dip_of_a_point_between_two_vertices_of_circles_is_refused():
+@pytest.mark.parametrize("bounded, side", [(True, 1), (False, 1), (False, -1), (False, 0)])
+def test_a_dip_of_a_point_between_two_vertices_of_circles_is_refused(bounded, side):
     from curvedvoronoi.runtime.voronoi.verify.certificate import verify
 
     delta = F(1, 2 ** 60)
@@ -217,11 +221,15 @@ def test_a_dip_of_a_point_between_two_vertices_of_circles_is_refused():
     assert abs(u[1] - 5) == F(7, 3) and (F(10, 3)) ** 2 == 4 + u[1] ** 2
     assert k[0] ** 2 + u[1] ** 2 > F(7, 3) ** 2            # k farther than i, j at both vertices
     assert k[0] < 1                                         # d_k(0, 0) = 1 − δ < 1 = d_i(0, 0)
-    doc = _doc([Circle.from_radius(-2, 0, 1), Circle.from_radius(2, 0, 1), Point(0, 5), Point(0, -5)])
+    doc = _doc([Circle.from_radius(-2, 0, 1), Circle.from_radius(2, 0, 1)] + [Point(0, 5 * side)] * abs(side)
+               + [Point(0, -5)] * bounded)
     e = next(e for e in doc["edges"] if sorted(e["sites"]) == [0, 1])
     pos = doc["edges"].index(e)
-    ends = [next(v for v in doc["vertices"] if v["id"] == t) for t in e["ends"]]
-    assert sorted(round(v["y"] * 3) for v in ends) == [-8, 8] and all(abs(v["x"]) < 1e-9 for v in ends)
+    ends = [next(v for v in doc["vertices"] if v["id"] == t) for t in e["ends"] if t is not None]
+    assert sorted(round(v["y"] * 3) for v in ends) == ([-8, 8] if bounded else [8 * side] if side else [])
+    assert all(abs(v["x"]) < 1e-9 for v in ends) and len(e["ends"]) == 2
+    if side and not bounded:      # the end at infinity is away from a, past the origin
+        assert min(p[1] * side for p in e["polyline"]) < 0
     assert verify(doc).ok
     d = copy.deepcopy(doc)
     d["sites"].append({"point": [str(k[0]), "0"]})
