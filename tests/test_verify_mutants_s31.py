@@ -47,6 +47,14 @@ never the verifier's own output.
   Without b the edge of i, j runs from (0, 8/3) down to infinity (or, with a = (0, −5), from
   (0, −8/3) up), and k cuts its tail the same way (a vertex of (i, j, k) beyond the vertex end);
   without a and b it is the whole line x = 0, and k cuts it all the same.
+
+* A circle that its centre does not represent.  Points A = (0, 0), B = (2, 0), C = (1, 1): the
+  edge of A, B is the ray x = 1, y ≤ 0, from the vertex (1, 0).  Add the circle K of radius
+  ρ = 1/2 + 2⁻⁶⁰ centred (3, 1/2): its centre is farther than A on the whole ray (f = |q − c_K|² −
+  |q − A|² = 3 − y + 1/4 > 0 for y ≤ 0), but K itself is nearer far out: d_K − d_A → 1/2 − ρ = −2⁻⁶⁰
+  (at (1, −2⁶²): 3 + 1/4 − ρ² + 2⁶² < 2ρ√(1 + 2¹²⁴), checked in Fractions), so the ray is no edge;
+  the floats see a tie at infinity, and only the exact circle route refuses it (the points' route,
+  which takes K for its centre, would accept it).
 """
 from __future__ import annotations
 
@@ -233,6 +241,26 @@ def test_a_dip_of_a_point_between_two_vertices_of_circles_is_refused(bounded, si
     assert verify(doc).ok
     d = copy.deepcopy(doc)
     d["sites"].append({"point": [str(k[0]), "0"]})
+    cert = verify(d)
+    assert not cert.ok and not cert.edges[pos], (cert.edges, cert.problems)
+    assert any(p.startswith(f"edge {e['id']} ") for p in cert.problems), cert.problems
+
+
+def test_a_circle_cutting_a_ray_far_out_is_not_taken_for_its_centre():
+    from curvedvoronoi.runtime.voronoi.verify.certificate import verify
+
+    rho = F(1, 2) + F(1, 2 ** 60)
+    y = -F(2 ** 62)
+    lhs = 3 + F(1, 4) - rho * rho - y                      # 4 + (y − 1/2)² − ρ² − 1 − y², y < 0
+    assert lhs > 0 and lhs * lhs < 4 * rho * rho * (1 + y * y)        # d_K < d_A at (1, y)
+    assert all(3 - t + F(1, 4) > 0 for t in (F(0), y))                 # the centre farther (affine in y)
+    doc = _doc([Point(0, 0), Point(2, 0), Point(1, 1)])
+    e = next(e for e in doc["edges"] if sorted(e["sites"]) == [0, 1])
+    pos = doc["edges"].index(e)
+    (v,) = doc["vertices"]
+    assert abs(v["x"] - 1) < 1e-12 and abs(v["y"]) < 1e-12 and e["polyline"][-1][1] < 0
+    d = copy.deepcopy(doc)
+    d["sites"].append({"circle": {"centre": ["3", "1/2"], "radius_squared": str(rho * rho)}})
     cert = verify(d)
     assert not cert.ok and not cert.edges[pos], (cert.edges, cert.problems)
     assert any(p.startswith(f"edge {e['id']} ") for p in cert.problems), cert.problems
