@@ -10,8 +10,8 @@ by arb balls (:func:`runtime.segments.distance.distance_ball`), then exactly
 circle is a further member of the vertex (degree k > 3).
 
 Many vertices at once: :func:`empty_by_filter` runs the float filter on all of them together
-(one k-d tree query, one vectorised distance evaluation) and answers those it proves empty;
-:func:`prove_empty` takes the rest one by one.
+(one k-d tree query, one vectorised distance evaluation) and answers those it proves empty and
+those with a site proved inside by the same bound; :func:`prove_empty` takes the rest one by one.
 
 Public API: :func:`prove_empty`, :func:`empty_by_filter`, :func:`filter_block`.
 """
@@ -137,8 +137,10 @@ def empty_by_filter(E: ElementarySites, tree, lab, hmax: float, jobs) -> dict:
 def filter_block(E: ElementarySites, tree, lab, hmax: float, jobs) -> dict:
     """For ``jobs`` = [(triple, sol), ...] of proved zeros, the verdicts (True, triple, None) of
     those whose every other site within reach is proved farther than r by the float filter of
-    :func:`prove_empty` (same reach, same error bound), keyed by ``id(sol)``; the others are
-    left to :func:`prove_empty` (arc centres always are)."""
+    :func:`prove_empty` (same reach, same error bound), and the verdicts (False, triple, k) of
+    :func:`prove_empty`'s float test of the others -- a site k proved closer than r (the nearest
+    such, the lowest index on a tie), keyed by ``id(sol)``; the others are left to
+    :func:`prove_empty` (arc centres always are)."""
     jobs = [(t, s) for t, s in jobs if s.reason not in ("arc centre", "ellipse centre")]
     if not jobs:
         return {}
@@ -165,8 +167,8 @@ def filter_block(E: ElementarySites, tree, lab, hmax: float, jobs) -> dict:
         Q = X[rows]
         d = site_distances(E, cols, Q)
         arcs = np.nan_to_num(np.hypot(*E.C[cols].T) + E.rho[cols])
-        err = float_error(E.A[cols], E.B[cols], Q) + 64 * np.finfo(float).eps * arcs + rad[rows] * 2 + Rrad[rows] \
-            + 1e-15 * scale[rows]
+        ferr = float_error(E.A[cols], E.B[cols], Q)
+        err = ferr + 64 * np.finfo(float).eps * arcs + rad[rows] * 2 + Rrad[rows] + 1e-15 * scale[rows]
         bad = ~(d - r[rows] > err)
         # a segment whose closest point is its end, itself a site of the triple (then d = r and
         # that end decides, as in prove_empty): its foot parameter well outside [0, 1]
@@ -176,10 +178,32 @@ def filter_block(E: ElementarySites, tree, lab, hmax: float, jobs) -> dict:
             A_, B_ = E.A[cols[i]], E.B[cols[i]]
             D = B_ - A_
             t = np.einsum("ij,ij->i", Q[i] - A_, D) / np.einsum("ij,ij->i", D, D)
-            trip = np.array([jobs[k][0] for k in rows[i]])
+            trip = T[rows[i]]
             e0 = (trip == E.ends[cols[i], 0][:, None]).any(axis=1)
             e1 = (trip == E.ends[cols[i], 1][:, None]).any(axis=1)
             beyond = ((t < -1e-9) & e0) | ((t > 1 + 1e-9) & e1)
             bad[i[beyond]] = False
         ok[np.unique(rows[bad])] = False
-    return {id(s): (True, tuple(t), None) for (t, s), good in zip(jobs, ok.tolist()) if good}
+        entered = _entered(X, r, rad, Rrad, rows, cols, d, arcs, ferr, ok)
+    else:
+        entered = {}
+    out = {id(s): (True, tuple(t), None) for (t, s), good in zip(jobs, ok.tolist()) if good}
+    for i, k in entered.items():
+        out[id(jobs[i][1])] = (False, tuple(jobs[i][0]), k)
+    return out
+
+
+def _entered(X, r, rad, Rrad, rows, cols, d, arcs, ferr, ok) -> dict:
+    """:func:`prove_empty`'s float test of the pairs (job ``rows``, site ``cols``) at distance
+    ``d`` of the jobs not ``ok``: job -> the site proved closer than r by its error bound (the
+    same sum, in the same order, with its scale 1 + |x| + |y| + r), the nearest, the lowest index
+    on a tie (prove_empty's candidates are sorted)."""
+    scale = 1.0 + np.abs(X[:, 0]) + np.abs(X[:, 1]) + r
+    err = ferr + 64 * np.finfo(float).eps * arcs + rad[rows] * 2 + Rrad[rows] + 1e-15 * scale[rows]
+    inside = np.nonzero(~ok[rows] & (d < r[rows] - err))[0]
+    if not len(inside):
+        return {}
+    order = inside[np.lexsort((cols[inside], d[inside], rows[inside]))]
+    first = np.ones(len(order), bool)
+    first[1:] = rows[order][1:] != rows[order][:-1]
+    return dict(zip(rows[order][first].tolist(), cols[order][first].tolist()))

@@ -59,12 +59,15 @@ def parallel_ray_triangles(E: ElementarySites, T3, seeds) -> np.ndarray:
     rows = np.nonzero(cand)[0]
     if not len(rows):
         return out
-    for r in rows.tolist():
-        a, b, k = (int(v) for v in T3[r])
-        if E.kind[k] != SEGMENT or {a, b} != {int(E.ends[k, 0]), int(E.ends[k, 1])}:
-            continue
-        length = float(np.hypot(*(E.B[k] - E.A[k])))
-        mid = (E.A[k] + E.B[k]) / 2
-        c = np.asarray(seeds[r], float)
-        out[r] = bool(np.hypot(*(c - mid)) > FAR * length and np.hypot(*(c - centre)) > FAR * scene)
+    # (on arrays: the same float expressions row by row)
+    a, b, k = T3[rows, 0], T3[rows, 1], T3[rows, 2]
+    e0, e1 = E.ends[k, 0], E.ends[k, 1]
+    rows = rows[(E.kind[k] == SEGMENT) & (((a == e0) & (b == e1)) | ((a == e1) & (b == e0)))]
+    if not len(rows):
+        return out
+    k = T3[rows, 2]
+    length = np.hypot(*(E.B[k] - E.A[k]).T)
+    mid = (E.A[k] + E.B[k]) / 2
+    c = np.asarray(seeds, float)[rows]
+    out[rows] = (np.hypot(*(c - mid).T) > FAR * length) & (np.hypot(*(c - centre).T) > FAR * scene)
     return out

@@ -1,0 +1,97 @@
+"""Two array filters of the segment construction against exact references: the emptiness float
+filter's verdict that a site enters a candidate vertex's circle (runtime/segments/emptiness.
+filter_block: the nearest site proved inside, the lowest index on a tie; an exact tie on the
+circle left undecided), and the far ends of the perpendiculars at a segment's two ends
+(runtime/segments/parallel_rays.parallel_ray_triangles), each compared with Fraction arithmetic."""
+from __future__ import annotations
+
+from fractions import Fraction as Q
+
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+
+from curvedvoronoi.runtime.predicates.circles import Point
+from curvedvoronoi.runtime.segments.elementary import decompose
+from curvedvoronoi.runtime.segments.emptiness import filter_block, prove_empty
+from curvedvoronoi.runtime.segments.newton import prove_vertices
+from curvedvoronoi.runtime.segments.parallel_rays import FAR, parallel_ray_triangles
+from curvedvoronoi.runtime.sites.segment import Segment
+
+
+def _job(extra):
+    """The vertex (1, 1), r² = 2, of the points (0, 0), (2, 0), (0, 2), proved, among the
+    points ``extra``; the points are their own samples (spacing 0)."""
+    pts = [(Q(0), Q(0)), (Q(2), Q(0)), (Q(0), Q(2))] + [(Q(x), Q(y)) for x, y in extra]
+    E = decompose([Point(*p) for p in pts])
+    idx = {tuple(E.xy[i]): i for i in range(E.n_points)}
+    triple = tuple(idx[p] for p in pts[:3])
+    sol = prove_vertices(E, [(triple, np.array([1.01, 0.99]))], cache={})[0]
+    assert sol.status == "proved"
+    tree = cKDTree(E.A[:E.n_points])
+    lab = np.arange(E.n_points)
+    return E, tree, lab, triple, sol, idx
+
+
+def _inside(extra, idx):
+    """Exactly: the sites strictly inside the circle |v − (1, 1)|² < 2, nearest first, then by index."""
+    d2 = {idx[(Q(x), Q(y))]: (Q(x) - 1) ** 2 + (Q(y) - 1) ** 2 for x, y in extra}
+    return sorted((v, k) for k, v in d2.items() if v < 2)
+
+
+@pytest.mark.parametrize("extra", [
+    [(2, Q(2) - Q(1, 2 ** 30))],                       # inside by ~2^-30 / √2
+    [(2, Q(2) - Q(1, 2 ** 30)), (Q(3, 2), Q(1, 4))],   # two inside, the second nearer
+    [(1, Q(-1, 4)), (Q(-1, 4), 1), (1, Q(9, 4))],      # three at the same distance 5/4
+    [(Q(3, 2), Q(1, 4)), (3, 3), (-1, 1)],             # one inside, two outside
+])
+def test_a_site_inside_the_circle_is_the_culprit_of_the_filter(extra):
+    E, tree, lab, triple, sol, idx = _job(extra)
+    ref = _inside(extra, idx)
+    assert ref
+    got = filter_block(E, tree, lab, 0.0, [(triple, sol)])[id(sol)]
+    nearest = min(v for v, _k in ref)
+    assert got == (False, triple, min(k for v, k in ref if v == nearest))
+    assert got == prove_empty(E, tree, lab, 0.0, triple, sol)
+
+
+def test_a_site_exactly_on_the_circle_is_left_to_the_exact_decision():
+    # (2, 2) is on the circle (a vertex of degree 4): neither empty nor entered by floats
+    E, tree, lab, triple, sol, idx = _job([(2, 2), (5, 5)])
+    assert _inside([(2, 2), (5, 5)], idx) == []
+    assert id(sol) not in filter_block(E, tree, lab, 0.0, [(triple, sol)])
+    empty, members, _culprit = prove_empty(E, tree, lab, 0.0, triple, sol)
+    assert empty is True and set(members) == set(triple) | {idx[(Q(2), Q(2))]}
+
+
+def test_an_empty_circle_passes_the_filter():
+    E, tree, lab, triple, sol, idx = _job([(2, Q(2) + Q(1, 2 ** 30)), (-1, -1)])
+    assert _inside([(2, Q(2) + Q(1, 2 ** 30)), (-1, -1)], idx) == []
+    assert filter_block(E, tree, lab, 0.0, [(triple, sol)])[id(sol)] == (True, triple, None)
+
+
+@pytest.mark.parametrize("a, b", [((0, 0), (3, 4)), ((3, 4), (0, 0))])
+def test_far_circumcentres_of_a_segment_and_its_two_ends(a, b):
+    # segment s of length 5 with its ends p, q (and a second segment far off: the scene's box);
+    # triangle (p, q, s) is taken when its circumcentre c is farther than FAR lengths of s from
+    # s's midpoint and FAR scene sizes from the box's centre (exact reference in Fractions)
+    E = decompose([Segment(a, b), Segment((10, 0), (10, 2))])
+    s = next(i for i in range(E.n_points, len(E.kind)) if {tuple(E.xy[int(e)]) for e in E.ends[i]} == {a, b})
+    other = next(i for i in range(E.n_points, len(E.kind)) if i != s)
+    p, q = sorted(int(e) for e in E.ends[s])
+    r = sorted(int(e) for e in E.ends[other])[0]
+    mid = (Q(a[0] + b[0], 2), Q(a[1] + b[1], 2))
+    centre, scene = (Q(5), Q(2)), Q(10)
+    # along the perpendicular through the midpoint (direction (−4, 3)/5), at distances t
+    seeds, T3, want = [], [], []
+    for t in (Q(4999), Q(5001), Q(10 ** 4), Q(10 ** 5), Q(-10 ** 5)):
+        c = (mid[0] - 4 * t / 5, mid[1] + 3 * t / 5)
+        d_mid2 = (c[0] - mid[0]) ** 2 + (c[1] - mid[1]) ** 2
+        d_box2 = (c[0] - centre[0]) ** 2 + (c[1] - centre[1]) ** 2
+        for tri, own in (([p, q, s], True), ([p, r, s], False), ([p, q, other], False)):
+            seeds.append((float(c[0]), float(c[1])))
+            T3.append(sorted(tri))
+            want.append(own and d_mid2 > (FAR * 5) ** 2 and d_box2 > (FAR * scene) ** 2)
+    got = parallel_ray_triangles(E, np.array(T3), np.array(seeds))
+    assert got.tolist() == want
+    assert any(want) and not all(want[0::3])
