@@ -54,7 +54,10 @@ never the verifier's own output.
   |q − A|² = 3 − y + 1/4 > 0 for y ≤ 0), but K itself is nearer far out: d_K − d_A → 1/2 − ρ = −2⁻⁶⁰
   (at (1, −2⁶²): 3 + 1/4 − ρ² + 2⁶² < 2ρ√(1 + 2¹²⁴), checked in Fractions), so the ray is no edge;
   the floats see a tie at infinity, and only the exact circle route refuses it (the points' route,
-  which takes K for its centre, would accept it).
+  which takes K for its centre, would accept it).  With one more circle K′ of radius 1/2 − 2⁻⁶⁰
+  centred (−1, 1/2) listed before K, tied at infinity the other way (d_K′ − d_A → +2⁻⁶⁰) and farther
+  on the whole ray (|q − c_K′| − |q − A| > 1/2 > ρ′ there: 4 + (|y| + 1/2)² > (1/2 + √(1 + y²))²
+  ⟺ 3 + |y| > √(1 + y²)), the exact decision of K′ must not exempt K with it.
 """
 from __future__ import annotations
 
@@ -246,7 +249,8 @@ def test_a_dip_of_a_point_between_two_vertices_of_circles_is_refused(bounded, si
     assert any(p.startswith(f"edge {e['id']} ") for p in cert.problems), cert.problems
 
 
-def test_a_circle_cutting_a_ray_far_out_is_not_taken_for_its_centre():
+@pytest.mark.parametrize("with_tied_farther_circle", [False, True])
+def test_a_circle_cutting_a_ray_far_out_is_not_taken_for_its_centre(with_tied_farther_circle):
     from curvedvoronoi.runtime.voronoi.verify.certificate import verify
 
     rho = F(1, 2) + F(1, 2 ** 60)
@@ -260,6 +264,9 @@ def test_a_circle_cutting_a_ray_far_out_is_not_taken_for_its_centre():
     (v,) = doc["vertices"]
     assert abs(v["x"] - 1) < 1e-12 and abs(v["y"]) < 1e-12 and e["polyline"][-1][1] < 0
     d = copy.deepcopy(doc)
+    if with_tied_farther_circle:
+        r2 = F(1, 2) - F(1, 2 ** 60)
+        d["sites"].append({"circle": {"centre": ["-1", "1/2"], "radius_squared": str(r2 * r2)}})
     d["sites"].append({"circle": {"centre": ["3", "1/2"], "radius_squared": str(rho * rho)}})
     cert = verify(d)
     assert not cert.ok and not cert.edges[pos], (cert.edges, cert.problems)
