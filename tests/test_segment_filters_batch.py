@@ -64,18 +64,45 @@ def test_a_site_exactly_on_the_circle_is_left_to_the_exact_decision():
     assert empty is True and set(members) == set(triple) | {idx[(Q(2), Q(2))]}
 
 
+def _on_circle_points(sol, count):
+    """Rational points 1 + (cos θ − sin θ, sin θ + cos θ) exactly on the circle |v − (1, 1)|² = 2
+    (cos θ, sin θ = (m² − n², 2mn)/(m² + n²)) whose float distance from the float centre falls
+    below the float radius -- a plain float comparison would take them as inside."""
+    out = []
+    for m in range(2, 40):
+        for n in range(1, m):
+            c, s = Q(m * m - n * n, m * m + n * n), Q(2 * m * n, m * m + n * n)
+            x, y = 1 + c - s, 1 + s + c
+            assert (x - 1) ** 2 + (y - 1) ** 2 == 2
+            if np.hypot(float(x) - sol.x, float(y) - sol.y) < sol.r and (x, y) not in out:
+                out.append((x, y))
+                if len(out) == count:
+                    return out
+    raise AssertionError("no float-inside rational point found")
+
+
+def test_points_exactly_on_the_circle_are_not_taken_inside_by_rounding():
+    _E, _tree, _lab, _triple, sol, _idx = _job([])
+    extra = _on_circle_points(sol, 3)
+    E, tree, lab, triple, sol, idx = _job(extra)
+    assert _inside(extra, idx) == []
+    assert id(sol) not in filter_block(E, tree, lab, 0.0, [(triple, sol)])
+
+
 def test_an_empty_circle_passes_the_filter():
     E, tree, lab, triple, sol, idx = _job([(2, Q(2) + Q(1, 2 ** 30)), (-1, -1)])
     assert _inside([(2, Q(2) + Q(1, 2 ** 30)), (-1, -1)], idx) == []
     assert filter_block(E, tree, lab, 0.0, [(triple, sol)])[id(sol)] == (True, triple, None)
 
 
-@pytest.mark.parametrize("a, b", [((0, 0), (3, 4)), ((3, 4), (0, 0))])
-def test_far_circumcentres_of_a_segment_and_its_two_ends(a, b):
+@pytest.mark.parametrize("a, b, end_first", [((0, 0), (3, 4), False), ((3, 4), (0, 0), False),
+                                               ((0, 0), (3, 4), True)])
+def test_far_circumcentres_of_a_segment_and_its_two_ends(a, b, end_first):
     # segment s of length 5 with its ends p, q (and a second segment far off: the scene's box);
     # triangle (p, q, s) is taken when its circumcentre c is farther than FAR lengths of s from
-    # s's midpoint and FAR scene sizes from the box's centre (exact reference in Fractions)
-    E = decompose([Segment(a, b), Segment((10, 0), (10, 2))])
+    # s's midpoint and FAR scene sizes from the box's centre (exact reference in Fractions).
+    # ``end_first``: the end b listed first as a point, so s runs from the higher site index
+    E = decompose(([Point(*b)] if end_first else []) + [Segment(a, b), Segment((10, 0), (10, 2))])
     s = next(i for i in range(E.n_points, len(E.kind)) if {tuple(E.xy[int(e)]) for e in E.ends[i]} == {a, b})
     other = next(i for i in range(E.n_points, len(E.kind)) if i != s)
     p, q = sorted(int(e) for e in E.ends[s])
@@ -92,6 +119,7 @@ def test_far_circumcentres_of_a_segment_and_its_two_ends(a, b):
             seeds.append((float(c[0]), float(c[1])))
             T3.append(sorted(tri))
             want.append(own and d_mid2 > (FAR * 5) ** 2 and d_box2 > (FAR * scene) ** 2)
+    assert (E.ends[s, 0] > E.ends[s, 1]) == end_first
     got = parallel_ray_triangles(E, np.array(T3), np.array(seeds))
     assert got.tolist() == want
     assert any(want) and not all(want[0::3])
