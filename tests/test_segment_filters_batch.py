@@ -9,6 +9,7 @@ from fractions import Fraction as Q
 
 import numpy as np
 import pytest
+from flint import arb
 from scipy.spatial import cKDTree
 
 from curvedvoronoi.runtime.predicates.circles import Point
@@ -16,6 +17,7 @@ from curvedvoronoi.runtime.segments.elementary import decompose
 from curvedvoronoi.runtime.segments.emptiness import filter_block, prove_empty
 from curvedvoronoi.runtime.segments.newton import prove_vertices
 from curvedvoronoi.runtime.segments.parallel_rays import FAR, parallel_ray_triangles
+from curvedvoronoi.runtime.segments.vertices import VertexSolution
 from curvedvoronoi.runtime.sites.segment import Segment
 
 
@@ -87,6 +89,25 @@ def test_points_exactly_on_the_circle_are_not_taken_inside_by_rounding():
     E, tree, lab, triple, sol, idx = _job(extra)
     assert _inside(extra, idx) == []
     assert id(sol) not in filter_block(E, tree, lab, 0.0, [(triple, sol)])
+
+
+@pytest.mark.parametrize("rho", [Q(14142135, 10 ** 7), Q(1414, 1000)])
+def test_an_entering_site_must_enter_for_every_vertex_of_the_box(rho):
+    # a candidate known only to a box of half-width w = 2^-20 around (1, 1, √2) and the point
+    # p = (1, 1 − ρ): p enters the circle of every (x, y, r) of the box iff its largest distance
+    # over the box, at most ρ + √2·w (at least ρ + w), stays below the smallest radius R − w
+    E, tree, lab, triple, _sol, idx = _job([(1, 1 - rho)])
+    w = 2.0 ** -20
+    R = float(np.sqrt(2.0))
+    sol = VertexSolution("proved", 1.0, 1.0, R, (arb(1, w), arb(1, w), arb(R, w)))
+    always = rho + Q(3, 2) * Q(w) < Q(R) - Q(w)                 # √2 < 3/2
+    somewhere_not = rho + Q(w) >= Q(R) - Q(w)
+    assert always != somewhere_not
+    got = filter_block(E, tree, lab, 0.0, [(triple, sol)]).get(id(sol))
+    if somewhere_not:
+        assert got is None
+    else:
+        assert got == (False, triple, idx[(Q(1), 1 - rho)])
 
 
 def test_an_empty_circle_passes_the_filter():
