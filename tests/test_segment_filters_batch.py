@@ -91,17 +91,18 @@ def test_points_exactly_on_the_circle_are_not_taken_inside_by_rounding():
     assert id(sol) not in filter_block(E, tree, lab, 0.0, [(triple, sol)])
 
 
-@pytest.mark.parametrize("rho", [Q(14142135, 10 ** 7), Q(1414, 1000)])
-def test_an_entering_site_must_enter_for_every_vertex_of_the_box(rho):
-    # a candidate known only to a box of half-width w = 2^-20 around (1, 1, √2) and the point
+@pytest.mark.parametrize("rho, wxy, wr", [(Q(14142135, 10 ** 7), 2.0 ** -20, 2.0 ** -20),
+                                          (Q(1414, 1000), 2.0 ** -20, 2.0 ** -20),
+                                          (Q(14142130, 10 ** 7), 2.0 ** -40, 2.0 ** -20)])
+def test_an_entering_site_must_enter_for_every_vertex_of_the_box(rho, wxy, wr):
+    # a candidate known only to the box |x − 1|, |y − 1| ≤ wxy, |r − √2| ≤ wr and the point
     # p = (1, 1 − ρ): p enters the circle of every (x, y, r) of the box iff its largest distance
-    # over the box, at most ρ + √2·w (at least ρ + w), stays below the smallest radius R − w
+    # over the box, at most ρ + √2·wxy (at least ρ + wxy), stays below the smallest radius R − wr
     E, tree, lab, triple, _sol, idx = _job([(1, 1 - rho)])
-    w = 2.0 ** -20
     R = float(np.sqrt(2.0))
-    sol = VertexSolution("proved", 1.0, 1.0, R, (arb(1, w), arb(1, w), arb(R, w)))
-    always = rho + Q(3, 2) * Q(w) < Q(R) - Q(w)                 # √2 < 3/2
-    somewhere_not = rho + Q(w) >= Q(R) - Q(w)
+    sol = VertexSolution("proved", 1.0, 1.0, R, (arb(1, wxy), arb(1, wxy), arb(R, wr)))
+    always = rho + Q(3, 2) * Q(wxy) < Q(R) - Q(wr)                 # √2 < 3/2
+    somewhere_not = rho + Q(wxy) >= Q(R) - Q(wr)
     assert always != somewhere_not
     got = filter_block(E, tree, lab, 0.0, [(triple, sol)]).get(id(sol))
     if somewhere_not:
