@@ -111,6 +111,20 @@ def test_an_entering_site_must_enter_for_every_vertex_of_the_box(rho, wxy, wr):
         assert got == (False, triple, idx[(Q(1), 1 - rho)])
 
 
+def test_a_diagonal_site_must_enter_for_every_vertex_of_the_box():
+    # p = (1 − a, 1 − a) at distance √2·a from the centre, a box |x − 1|, |y − 1| ≤ w: its corner
+    # (1 + w, 1 + w) is √2·(a + w) from p, more than the smallest radius R − w_r here although
+    # p is inside the centre's circle by more than w
+    w, wr = 2.0 ** -20, 2.0 ** -40
+    R = float(np.sqrt(2.0))
+    a = 1 - Q(85, 100) * Q(w)
+    assert 2 * (a + Q(w)) ** 2 >= (Q(R) - Q(wr)) ** 2               # not inside at that corner
+    assert 2 * a * a < (Q(R) - Q(w) - Q(wr)) ** 2                   # inside at the centre by > w
+    E, tree, lab, triple, _sol, idx = _job([(1 - a, 1 - a)])
+    sol = VertexSolution("proved", 1.0, 1.0, R, (arb(1, w), arb(1, w), arb(R, wr)))
+    assert id(sol) not in filter_block(E, tree, lab, 0.0, [(triple, sol)])
+
+
 def test_an_empty_circle_passes_the_filter():
     E, tree, lab, triple, sol, idx = _job([(2, Q(2) + Q(1, 2 ** 30)), (-1, -1)])
     assert _inside([(2, Q(2) + Q(1, 2 ** 30)), (-1, -1)], idx) == []
