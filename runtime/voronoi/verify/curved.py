@@ -16,10 +16,13 @@ undecided the strips are narrowed (factors 0.2, 0.05) and the guide re-split; wh
 leaves a strip the guide is refined (segments halved).  Nothing is assumed of the guide: the
 strips decide.
 
-:func:`prove_curved_edge` is a generator: its distance requests, guide projections
-(:func:`runtime.voronoi.verify.bisector_guide.project_many`; the guide's refinement lives there) and chains of strips (:func:`runtime.voronoi.verify.strips.prove_strips_many`)
-are served for all edges at once by :func:`runtime.voronoi.verify.site_table.run_lockstep`
-(:func:`prove_curved_edges`).  A vertex-less edge
+:func:`prove_curved_edge` is a generator: its distance requests, guide projections and node
+widths (:func:`runtime.voronoi.verify.bisector_guide.project_many`, ``adapt_many``,
+``node_width_many``, ``vertex_taper_many``; the guide's refinement lives there) and attempts at a
+chain of strips (:func:`prove_widths_many`: widths, flat runs and extensions of all chains in flat
+arrays, then :func:`runtime.voronoi.verify.strips.prove_strips_many`) are served for all edges at
+once by :func:`runtime.voronoi.verify.site_table.run_lockstep` (:func:`prove_curved_edges`), every
+value computed row by row as for one edge alone.  A vertex-less edge
 (infinite both ways) is cut at both ends and gets two tails.  A closed edge (around a nested
 site) is a chain that closes up.  Edges of a parabola (convex) and of a hyperbola (each branch convex; the
 gradient enclosures of :mod:`runtime.voronoi.verify.site_table` hold on discs that do not reach
@@ -53,7 +56,7 @@ passes through X: the two arcs join.  The same holds with the roles exchanged (s
 (In floats: (T4) puts X at |λ| ≤ W·(1 − 10⁻¹²), a margin far above the rounding of the frames —
 |t| = 1 within a few ulps — and sin θ is bounded from the cross product, :func:`turn_sines`.)
 Where both slopes exceed tan(θ/2) (the cap s = L + e of strip l alone does not lie in the next
-trapezoid: its corner reaches W·(sin²θ + cos θ) > W), :func:`chained_nodes` adds a node at
+trapezoid: its corner reaches W·(sin²θ + cos θ) > W), :func:`chained_nodes_many` adds a node at
 distance W·sin θ along strip l + 1 with half-width W (a rectangle next to P, k = 0).  At the
 closing node of a closed chain (half-widths W_a ≤ W_b on its two sides) the strip of W_b is made
 flat there and the cross-section of the other is used: W_a·cos θ ≤ W_b.
