@@ -256,9 +256,12 @@ def test_twenty_thousand_circles_on_two_workers_equal_one_process_and_cgal(cgal_
 
 @pytest.mark.slow
 @LONG
-def test_two_thousand_ellipses_tiled_equal_one_process():
+def test_two_thousand_ellipses_on_two_workers_equal_one_process():
+    distributed = pytest.importorskip("distributed")
     sites = random_ellipses(2000, 32)
-    d = tiled_voronoi(sites, sites_per_tile=500, progress=False)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        d = tiled_voronoi(sites, client=client, sites_per_tile=500, progress=False, certificate="chunks")
     assert "single_process" not in d.stats["tiling"]
     single = voronoi(sites, certify=False, progress=False)
     assert d.delaunay_edges() == single.delaunay_edges()
