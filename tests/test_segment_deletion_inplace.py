@@ -170,6 +170,9 @@ def test_table_membership_equals_numpy():
         for vals in ([], [0], [59], [3, 7, 7, 200], list(range(0, 60, 3))):
             want = np.isin(A, vals).any(axis=1) if len(vals) else np.zeros(n, bool)
             assert np.array_equal(listing(A, vals), want)
+            for bound in (60, 61, 300):                  # entries below the bound: the unclipped gathers
+                assert np.array_equal(listing(A, vals, bound), want)
+                assert np.array_equal(listing(A[:, ::-1], vals, bound), want)      # columns not contiguous
 
 
 def test_replacing_rows_keeps_the_list_and_the_arrays_aligned():
@@ -192,6 +195,9 @@ def test_replacing_rows_keeps_the_list_and_the_arrays_aligned():
         assert sorted(v.id for v in parts) == want and len(index.R) == len(parts)
         assert np.array_equal(index.VID, [v.id for v in parts])
         assert np.array_equal(index.XY, [[v.x, v.y] for v in parts]) and np.array_equal(index.R, [v.radius for v in parts])
+        assert np.array_equal(index.CB, np.array([[v.x - 2 * v.radius, v.y - 2 * v.radius, v.x + 2 * v.radius,
+                                                   v.y + 2 * v.radius] for v in parts]).reshape(-1, 4))
+        assert index.id_bound > max(v.id for v in parts)
         assert all(tuple(index.VS[r][index.VS[r] >= 0]) == v.sites for r, v in enumerate(parts))
 
 

@@ -194,7 +194,7 @@ def _hole(D, index, gone):
     if not len(rows):
         return "no vertex in conflict"
     removed_ids = {V[t].id for t in rows.tolist()}
-    gone_mask = listing(index.EE, removed_ids) | listing(index.ES, gone)
+    gone_mask = listing(index.EE, removed_ids, index.id_bound) | listing(index.ES, gone, len(index.boxes))
     gone_e = [D.edges[t] for t in np.nonzero(gone_mask)[0].tolist()]
     if any(e.closed or None in e.ends for e in gone_e):
         return "the hole is unbounded (a removed edge goes to infinity)"
@@ -307,10 +307,10 @@ def _renumbered(D, index, gone, hole: Hole, sp, inplace: bool):
     index.move_sites(moves, m)
     if moves:
         mv = list(moves)
-        for r in np.nonzero(listing(index.VS, mv) & ~hole.conflict)[0].tolist():
+        for r in np.nonzero(listing(index.VS, mv, n) & ~hole.conflict)[0].tolist():
             vertices[r] = _renumbered_vertex(vertices[r], renumber, vertices[r].certified)
             index.VS[r, :len(vertices[r].sites)] = vertices[r].sites
-        for r in np.nonzero(listing(index.ES, mv) & hole.keep_e)[0].tolist():
+        for r in np.nonzero(listing(index.ES, mv, n) & hole.keep_e)[0].tolist():
             edges[r] = _renumbered_edge(edges[r], renumber, edges[r].certified)
             index.ES[r] = edges[r].sites
     for v in sp.vertices:

@@ -130,7 +130,7 @@ def insert_locally(D, piece, source: int, build, index=None, inplace: bool = Fal
         if not any(n + s in e.sites for e in sp.edges):
             return "a new site has no edge in the local diagram"
     removed_ids = {D.vertices[t].id for t in cv_.tolist()}
-    gone_mask = listing(index.EE, removed_ids)
+    gone_mask = listing(index.EE, removed_ids, index.id_bound)
     gone = [D.edges[t] for t in np.nonzero(gone_mask)[0].tolist()]
     if any(u is None for e in gone for u in e.ends):
         return "a removed edge goes to infinity"
@@ -139,13 +139,11 @@ def insert_locally(D, piece, source: int, build, index=None, inplace: bool = Fal
     secs["splice"] = time.perf_counter() - t2
     # 3. proof of the changed part
     t3 = time.perf_counter()
-    sites = list(D.sites) + new_sites
-    keep = np.ones(len(D.vertices), bool)
-    keep[cv_] = False
-    keep_e = ~gone_mask
+    sites = _Appended(D.sites, new_sites)                # the sites with the new ones, uncopied
+    removed_rows = set(cv_.tolist())
     new_keys = {site_key(s): n + t for t, s in enumerate(new_sites)}
     new_boxes = np.array([site_box(s) for s in new_sites], float).reshape(-1, 4)
-    why = _proved(D, sites, index, SitesWithNew(index, new_keys, new_boxes), sp, keep, keep_e, touched)
+    why = _proved(D, sites, index, SitesWithNew(index, new_keys, new_boxes), sp, removed_rows, gone_mask, touched)
     if why is not None:
         return why
     secs["prove"] = time.perf_counter() - t3
@@ -155,6 +153,7 @@ def insert_locally(D, piece, source: int, build, index=None, inplace: bool = Fal
         sites, vertices, edges, sources = D.sites, D.vertices, D.edges, D.sources
     else:
         index = index.copy()
+        sites = list(D.sites) + new_sites
         vertices, edges, sources = list(D.vertices), list(D.edges), list(D.sources)
     index.replace_rows(vertices, "v", cv_.tolist(), sp.vertices)
     index.replace_rows(edges, "e", np.flatnonzero(gone_mask).tolist(), sp.edges)
@@ -268,17 +267,32 @@ def _taken(D, L, index, glob, cv_):
     return sp
 
 
-def _proved(D, sites, index, new_index, sp, keep, keep_e, touched):
+def _proved(D, sites, index, new_index, sp, removed_rows, gone_mask, touched):
     """None when the changed part is proved and closed (step 3 of the module docstring: the taken
     parts and the kept ends of taken edges, the closure at the taken vertices and the kept ones
-    ``touched``, which lost or gained an edge), else why not."""
+    ``touched``, which lost or gained an edge), else why not.  ``removed_rows``: the rows of the
+    removed vertices; ``gone_mask``: the removed edges (a boolean row mask)."""
     V = D.vertices
     vid = {v.id: v for v in sp.vertices}
     for t in (index.vertex_rows(touched).tolist() if touched else ()):
-        if keep[t]:
+        if t not in removed_rows:
             vid[V[t].id] = V[t]
     ends_needed = sorted({u for e in sp.edges for u in e.ends} - sp.taken_ids)
 
     def near_edges(check_ids):
-        return [D.edges[t] for t in index.edges_at(check_ids).tolist() if keep_e[t]]
+        return [D.edges[t] for t in index.edges_at(check_ids).tolist() if not gone_mask[t]]
     return changed_part_holds(sites, new_index, vid, sp, ends_needed, touched | sp.taken_ids, near_edges)
+
+
+class _Appended:
+    """The sequence ``old + new`` read by index without copying ``old`` (the proof of an insertion
+    reads a few sites of the diagram and the new ones, :func:`runtime.segments.local_update.prove_part`)."""
+
+    def __init__(self, old, new):
+        self.old, self.new, self.n = old, new, len(old)
+
+    def __len__(self) -> int:
+        return self.n + len(self.new)
+
+    def __getitem__(self, k: int):
+        return self.old[k] if k < self.n else self.new[k - self.n]

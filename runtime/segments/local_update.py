@@ -250,6 +250,12 @@ def edge_arrays(edges):
     return ES, EE
 
 
+def _circle_boxes(XY, R) -> np.ndarray:
+    """The rows (x − 2r, y − 2r, x + 2r, y + 2r) of circles (centres XY, radii R): what
+    :meth:`EditIndex.circles_near` compares."""
+    return np.column_stack([XY[:, 0] - 2 * R, XY[:, 1] - 2 * R, XY[:, 0] + 2 * R, XY[:, 1] + 2 * R]).reshape(-1, 4)
+
+
 def _grown(A: np.ndarray, n: int, need: int, width: int | None = None) -> np.ndarray:
     """A buffer holding the first ``n`` rows of A and room for ``need`` rows (at least twice A's,
     so that appends cost O(1) amortised), ``width`` columns for a 2-d A (new ones padded with −1);
@@ -270,8 +276,10 @@ class EditIndex:
     """The per-diagram arrays a local update reads, kept from one edit to the next so that an
     edit does not rebuild them from all sites: ``keys`` (exact site key -> index), ``boxes``
     (n, 4) float boxes; in ``D.vertices`` order ``XY``/``R`` the centres and radii, ``VS`` the
-    site lists (padded with −1), ``VID`` the ids; in ``D.edges`` order ``ES`` the site pairs and ``EE`` the end
-    vertex ids (−1 at infinity).  :meth:`of` builds it (linear in N, once) or returns the
+    site lists (padded with −1), ``VID`` the ids, ``CB`` the boxes (x − 2r, y − 2r, x + 2r, y + 2r) that
+    :meth:`circles_near` compares; in ``D.edges`` order ``ES`` the site pairs and ``EE`` the end
+    vertex ids (−1 at infinity); ``id_bound`` is above every vertex id (the size of the tables of
+    :func:`listing` over ``EE`` and ``VID``).  :meth:`of` builds it (linear in N, once) or returns the
     diagram's own when it still fits.  The arrays are the first rows of buffers with room to
     grow: an edit moves a few rows (:meth:`replace_rows`, :meth:`move_sites`) and appends, it
     copies nothing of size N."""
@@ -279,13 +287,15 @@ class EditIndex:
     def __init__(self, keys, boxes, XY, R, VS, VID, ES, EE):
         self.keys = keys
         self._sites = np.asarray(boxes, float).reshape(-1, 4)
-        self._rows = {"v": [XY, R, VS, VID], "e": [ES, EE]}
+        XY, R = np.asarray(XY, float).reshape(-1, 2), np.asarray(R, float)
+        self._rows = {"v": [XY, R, VS, VID, _circle_boxes(XY, R)], "e": [ES, EE]}
         self.ns, self.nv, self.ne = len(self._sites), len(R), len(ES)
+        self.id_bound = int(max(np.max(VID, initial=-1), np.max(EE, initial=-1))) + 1
         self._views()
 
     def _views(self) -> None:
         self.boxes = self._sites[:self.ns]
-        self.XY, self.R, self.VS, self.VID = (A[:self.nv] for A in self._rows["v"])
+        self.XY, self.R, self.VS, self.VID, self.CB = (A[:self.nv] for A in self._rows["v"])
         self.ES, self.EE = (A[:self.ne] for A in self._rows["e"])
 
     @classmethod
@@ -326,10 +336,13 @@ class EditIndex:
                     A[r] = A[n]
             parts.pop()
         if kind == "v":
-            rows = [np.array([[v.x, v.y] for v in new], float).reshape(-1, 2), np.array([v.radius for v in new], float),
-                    vertex_sites(new, 1), np.array([v.id for v in new], dtype=np.int64)]
+            XY, R = np.array([[v.x, v.y] for v in new], float).reshape(-1, 2), np.array([v.radius for v in new], float)
+            rows = [XY, R, vertex_sites(new, 1), np.array([v.id for v in new], dtype=np.int64), _circle_boxes(XY, R)]
         else:
             rows = list(edge_arrays(new))
+        ids = rows[3] if kind == "v" else rows[1]              # new vertex ids, or the new edges' end ids
+        if len(ids):
+            self.id_bound = max(self.id_bound, int(ids.max()) + 1)
         k = len(new)
         for t, (A, X) in enumerate(zip(bufs, rows)):
             A = bufs[t] = _grown(A, n, n + k, X.shape[1] if X.ndim == 2 else None)
@@ -378,11 +391,11 @@ class EditIndex:
 
     def vertex_rows(self, ids) -> np.ndarray:
         """Rows of the vertices with an id among ``ids``."""
-        return np.nonzero(listing(self.VID[:, None], ids))[0]
+        return np.nonzero(listing(self.VID[:, None], ids, self.id_bound))[0]
 
     def edges_at(self, ids) -> np.ndarray:
         """Rows of the edges with an end vertex among ``ids``."""
-        return np.nonzero(listing(self.EE, ids))[0]
+        return np.nonzero(listing(self.EE, ids, self.id_bound))[0]
 
     def circles_near(self, lo, hi, extra: float = 0.0) -> np.ndarray:
         """Rows of the vertices whose circle (centre, radius r) may come within the margin of
@@ -391,12 +404,16 @@ class EditIndex:
         coordinate; ``extra``: a bound on the sites' :func:`distance_error` at the box).  A centre
         x at distance d from the site is in conflict only if d < r + :data:`MARGIN`·(1 + |x| + r)
         + error, with |x|₁ ≤ 2(B + d): then d < 1.0000001·(r + 10⁻⁸·(1 + 2B) + extra), below the
-        bound.  One numpy pass of comparisons; the distances are then taken on these rows only."""
+        bound.  The test reads the stored circle boxes ``CB`` = (x − 2r, y − 2r, x + 2r, y + 2r): the
+        centre is that close to [lo, hi] in x iff x − 2r ≤ hi + pad and x + 2r ≥ lo − pad (the same
+        inequality; the rounding of x ± 2r, a few units in the last place of |x| + 2r, is far below
+        the slack of 10⁻⁶ against the 10⁻⁸ of the margin).  One numpy pass of four comparisons; the
+        distances are then taken on these rows only."""
         lo, hi = np.asarray(lo, float), np.asarray(hi, float)
-        c, h = (lo + hi) / 2, (hi - lo) / 2
         pad = 1e-6 * (1 + float(np.abs(np.concatenate([lo, hi])).max())) + 2 * extra
-        X, lim = self.XY, 2 * self.R + pad
-        return np.nonzero((np.abs(X[:, 0] - c[0]) - h[0] <= lim) & (np.abs(X[:, 1] - c[1]) - h[1] <= lim))[0]
+        C = self.CB
+        return np.flatnonzero((C[:, 0] <= hi[0] + pad) & (C[:, 2] >= lo[0] - pad)
+                              & (C[:, 1] <= hi[1] + pad) & (C[:, 3] >= lo[1] - pad))
 
 
 class SitesWithNew:
@@ -423,18 +440,29 @@ class SitesWithNew:
         return out
 
 
-def listing(A, values) -> np.ndarray:
+def listing(A, values, bound: int | None = None) -> np.ndarray:
     """The rows of the int array A (entries ≥ −1, −1 padding) with an entry among ``values``
     (non-negative ints), as a boolean row mask: one gather per column through a table of the
-    values (the −1 entries and those above the largest value read its last, False, slot)."""
+    values (the −1 entries and those above the largest value read its last, False, slot).
+    ``bound``: every entry of A is below it (site numbers below the number of sites, vertex ids
+    below :attr:`EditIndex.id_bound`); the table then covers all entries and the gather reads A's
+    columns as they are (no clipped copy; an entry beyond the table raises IndexError)."""
     v = np.fromiter(values, np.int64)
     hit = np.zeros(len(A), bool)
     if not len(v) or not len(A):
         return hit
-    tab = np.zeros(int(v.max()) + 2, bool)
+    if bound is None:
+        tab = np.zeros(int(v.max()) + 2, bool)
+        tab[v] = True
+        for c in range(A.shape[1]):
+            hit |= tab[np.minimum(A[:, c], len(tab) - 1)]
+        return hit
+    tab = np.zeros(max(int(bound), int(v.max()) + 1) + 1, bool)      # the last slot (read by −1) stays False
     tab[v] = True
+    if A.ndim == 2 and A.shape[1] == 2 and A.flags.c_contiguous:       # a row's two flags as one 16-bit word
+        return tab[A].view(np.uint16).ravel() != 0
     for c in range(A.shape[1]):
-        hit |= tab[np.minimum(A[:, c], len(tab) - 1)]
+        hit |= tab[A[:, c]]
     return hit
 
 
@@ -478,13 +506,14 @@ class KeptVertices:
     def find(self, gs, x: float, y: float, r: float) -> int:
         """The id of the one matching kept vertex, or −1."""
         tol = 1e-6 * (1 + abs(x) + abs(y) + r)
-        rows = np.arange(len(self.index.R))
+        rows = None
         if self.rows is not None:
             (x0, y0), (x1, y1) = self.box
             if x0 < x - 2 * tol and x + 2 * tol < x1 and y0 < y - 2 * tol and y + 2 * tol < y1:
                 rows = self.rows
-        X = self.index.XY[rows]
-        near = rows[np.abs(X[:, 0] - x) + np.abs(X[:, 1] - y) < tol].tolist()
+        X = self.index.XY if rows is None else self.index.XY[rows]
+        hit = np.flatnonzero(np.abs(X[:, 0] - x) + np.abs(X[:, 1] - y) < tol)
+        near = (hit if rows is None else rows[hit]).tolist()
         hits = [self.vertices[t] for t in near if not self.removed[t] and tuple(self.vertices[t].sites) == gs]
         return hits[0].id if len(hits) == 1 else -1
 
