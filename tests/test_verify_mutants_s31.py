@@ -1,7 +1,7 @@
-"""Tests written against surviving soundness mutants of the diagram verifier (issue 31: "a
-certificate that cannot be fooled"; bench/results/mutation.md, the seed-38 and seed-39 samples of
-runtime/voronoi/verify/*.py).  Each asserts a fact derived by hand below, in exact arithmetic,
-never the verifier's own output.
+"""Wrong diagrams that only the verifier's exact routes can refuse, and the circle route's
+Jacobian enclosure, written against hand-made weakenings of runtime/voronoi/verify (edge_checks,
+exact_edges, vertices) that the other tests let through (bench/results/mutation.md).  Each test
+asserts a fact derived by hand below, in exact arithmetic, never the verifier's own output.
 
 * A wrong edge whose third site is nearer by far less than the floats resolve.  Points
   A = (0, 0), B = (2, 0), C = (1, ε), ε = 2⁻⁴⁰: the circle through them (thesis §1.2, the empty
