@@ -46,3 +46,28 @@ def test_the_smallest_taper_over_the_third_sites():
     assert len({round(_reference(cases[0][0], (0, 1), (k,))[1], 6) for k in (2, 3)}) == 2
     for g_, r_ in zip(got, refs):
         assert g_ == pytest.approx(r_, rel=1e-9)
+
+
+def test_node_widths_served_together():
+    """The wanted strip half-width at a node x of the bisector of (i, j):
+    max(min(max(3·tol, 10⁻⁶·scale), 0.03·min(d_i, d_j)·|∇d_i − ∇d_j|), 10⁻⁹·scale), with the circles'
+    closed-form distances and gradients; two guides of different tolerances in one call."""
+    from curvedvoronoi.runtime.voronoi.verify.bisector_guide import WidthJob, node_width_many
+
+    table = SiteTable([site_geometry(cv.Circle.from_radius(*c)) for c in CIRCLES], 20.0)
+    X = np.array([[2.5, 3.0], [3.0, 3.5], [1.0, 4.0]])
+    jobs = [WidthJob(X, (0, 1), 1e-3, 20.0), WidthJob(X[:2], (2, 3), 0.5, 30.0)]
+    got = node_width_many(table, jobs)
+    for jb, w in zip(jobs, got):
+        ref = []
+        for x in jb.X:
+            g, d = [], []
+            for s in jb.pair:
+                cx, cy, r = CIRCLES[s]
+                dist = np.hypot(x[0] - cx, x[1] - cy)
+                g.append((x - (cx, cy)) / dist)
+                d.append(dist - r)
+            c = 0.03 * min(d) * np.hypot(*(g[0] - g[1]))
+            ref.append(max(min(max(3 * jb.tol, 1e-6 * jb.scale), c), 1e-9 * jb.scale))
+        assert w == pytest.approx(ref, rel=1e-9)
+    assert got[1][0] > 10 * got[0][0]          # the tolerances differ enough to tell the guides apart
