@@ -548,7 +548,13 @@ def _degree_checks(E, vertices, hv, hk, refine, graded, problems, want_of) -> No
         return
     base = len(E) + 1
     want = pair_keys([v.sites for v in vertices], base, want_of)
-    for v_id in degree_mismatches(want, hv, hk, len(vertices)).tolist():
+    bad = degree_mismatches(want, hv, hk, len(vertices))
+    if not len(bad):
+        return
+    # the walks' ends grouped by vertex once (not one scan of all ends per bad vertex)
+    o = np.argsort(hv, kind="stable")
+    lo, hi = np.searchsorted(hv[o], bad, "left"), np.searchsorted(hv[o], bad, "right")
+    for v_id, a_, b_ in zip(bad.tolist(), lo.tolist(), hi.tolist()):
         v = vertices[v_id]
         refine.update(v.sites)
         # an edge missing at a vertex of a point site p and a curve t ending at p: the edge
@@ -560,7 +566,7 @@ def _degree_checks(E, vertices, hv, hk, refine, graded, problems, want_of) -> No
                 for t in v.sites:
                     if E.is_endpoint(p_, t):
                         graded[(int(t), int(p_))] = graded.get((int(t), int(p_)), 0) + 1
-        have = sorted((int(k // base), int(k % base)) for k in hk[hv == v_id].tolist())
+        have = sorted((int(k // base), int(k % base)) for k in hk[o[a_:b_]].tolist())
         want_v = sorted((a, b) if a < b else (b, a) for a, b in zip(v.sites, v.sites[1:] + v.sites[:1]))
         problems.append(f"sites {', '.join(map(str, v.sites))}: the vertex at ({v.x:.6g}, {v.y:.6g}) has incident "
                         f"edges {have}, expected {want_v}")
