@@ -56,9 +56,8 @@ caller then narrows the strips or reports the edge).  The gradients come with th
 :func:`runtime.voronoi.verify.site_table.gradient_enclosure`.  The chains of all edges are proved
 together (:func:`prove_strips_many`: the pieces of every chain in flat arrays, two calls of
 :meth:`runtime.voronoi.verify.site_table.SiteTable.evaluate` per round of halving, or per group
-of ``ROWS_PER_CALL``/6 pieces: the memory is bounded independently of the number of pieces);
-:func:`prove_strips` is the generator form used under
-:func:`runtime.voronoi.verify.site_table.run_lockstep`.
+of ``ROWS_PER_CALL``/6 pieces: the memory is bounded independently of the number of pieces),
+called once with the chains of every edge by :mod:`runtime.voronoi.verify.curved`.
 
 Length: one test — the strip chain — written as its named steps (the pieces' geometry, (T1)
 :func:`_monotone`, (T4) :func:`_sides`, (T2) :func:`_farther`, (T3) :func:`_tied_derivative`, the
@@ -75,7 +74,7 @@ from .clarke_gradient import difference_range
 from .distance_gap import bisector_gap_lower, gap_lower
 from .site_table import SiteValues, gradient_enclosure
 
-__all__ = ["ROWS_PER_CALL", "StripsJob", "evaluate_rows", "gap_rows", "prove_strips", "prove_strips_many",
+__all__ = ["ROWS_PER_CALL", "StripsJob", "evaluate_rows", "gap_rows", "prove_strips_many",
            "rot90", "side_second_order"]
 
 MAX_DEPTH = 40
@@ -132,13 +131,6 @@ class StripsJob:
     def __init__(self, S, T, N, L, e_lo, e_hi, W, pair, k0, k1, budget):
         self.S, self.T, self.N, self.L, self.e_lo, self.e_hi, self.W = S, T, N, L, e_lo, e_hi, W
         self.pair, self.k0, self.k1, self.budget = pair, k0, k1, budget
-
-
-def prove_strips(S, T, N, L, e_lo, e_hi, W, pair, k0, k1, budget):
-    """(T1)–(T4) on the trapezoids of one polyline (see :class:`StripsJob`).  Generator: yields
-    the job to :func:`runtime.voronoi.verify.site_table.run_lockstep`, which proves all pending
-    jobs together with :func:`prove_strips_many`; returns (ok, message or None)."""
-    return (yield StripsJob(S, T, N, L, e_lo, e_hi, W, pair, k0, k1, budget))
 
 
 def side_second_order(Qs, t, h, fval, Vi, Vj, Gi, si, Gj, sj, scale):
