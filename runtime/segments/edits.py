@@ -49,7 +49,8 @@ pieces (``"last"``: the moved piece's few sites; ``"shift"``: every source above
 over the list, the one step of a deletion linear in N by its definition), and a kept endpoint
 whose piece was deleted takes the first remaining piece ending there (read from the curves ending
 there when they account for all its uses, else a scan of the pieces).  With ``inplace=True`` the
-diagram's lists and the state's point counts are edited once the update is proved.
+diagram's lists and the state's point counts and list of pieces are edited once the update is
+proved (a local edit does not copy the list of pieces).
 
 Public API: :class:`SegmentEdits`.
 """
@@ -78,8 +79,8 @@ class SegmentEdits:
     :meth:`runtime.voronoi.structure.Diagram.insert` and :meth:`~runtime.voronoi.structure.
     Diagram.delete_site` through ``Diagram.construction``."""
 
-    def __init__(self, pieces, build, index=None, uses=None):
-        self.pieces = list(pieces)
+    def __init__(self, pieces, build, index=None, uses=None, own: bool = False):
+        self.pieces = pieces if own else list(pieces)      # own: a list of the edit's, kept as it is
         self.build = build
         self.index = index
         self.uses = uses
@@ -98,23 +99,26 @@ class SegmentEdits:
         return self.uses
 
     def insert(self, D, site, *, certify: bool = True, inplace: bool = False):
-        """The diagram of ``pieces + [site]`` (module docstring); ``site`` is input piece N."""
-        pieces = self.pieces + [site]
+        """The diagram of ``pieces + [site]`` (module docstring); ``site`` is input piece N.  A local
+        ``inplace`` insertion appends ``site`` to the list of pieces itself (no copy of N pieces)."""
+        n = len(self.pieces)
         parts = _elementary_pieces(site)
         why = "a certify=False update" if not certify else (
             f"a {type(site).__name__} piece" if parts is None else None)
         if why is None and self.point_uses() is None:
             why = "an insertion into a diagram with pieces other than points, segments, circular arcs and circles"
-        out = why or insert_locally(D, parts, len(self.pieces), self.build, self.index, inplace=inplace)
+        out = why or insert_locally(D, parts, n, self.build, self.index, inplace=inplace)
         if isinstance(out, str):
-            out = self._rebuild(pieces, certify, out)
+            out = self._rebuild(self.pieces + [site], certify, out)
         else:
             uses = self.point_uses()
             if uses is not None:
                 uses = uses if inplace else uses.copy()
                 uses.update(_points(site))
-            out.construction = SegmentEdits(pieces, self.build, getattr(out, "edit_index", None), uses)
-        out.stats["update_input"] = len(self.pieces)
+            pieces = self.pieces if inplace else list(self.pieces)
+            pieces.append(site)
+            out.construction = SegmentEdits(pieces, self.build, getattr(out, "edit_index", None), uses, own=True)
+        out.stats["update_input"] = n
         return _deliver(D, out, inplace)
 
     def delete(self, D, i: int, *, certify: bool = True, renumber: str = "shift", inplace: bool = False):
@@ -129,21 +133,17 @@ class SegmentEdits:
             raise ValueError("the Voronoi diagram needs at least 2 sites: deleting the last input piece "
                              "would leave none")
         i %= n
-        rest = list(self.pieces)
         moved = renumber == "last" and i < n - 1
-        if moved:
-            rest[i] = rest.pop()
-        else:
-            del rest[i]
-        out = self._delete_locally(D, i, rest, moved, inplace) if certify else "a certify=False update"
+        out = self._delete_locally(D, i, moved, inplace) if certify else "a certify=False update"
         if isinstance(out, str):
-            out = self._rebuild(rest, certify, out)
+            out = self._rebuild(_without(list(self.pieces), i, moved), certify, out)
         out.stats["update_input"] = i
         return _deliver(D, out, inplace)
 
-    def _delete_locally(self, D, i: int, rest: list, moved: bool, inplace: bool):
+    def _delete_locally(self, D, i: int, moved: bool, inplace: bool):
         """The local route of :meth:`delete`: a Diagram, or a str (why not; D untouched).
-        ``inplace``: D's lists (sites, vertices, edges, sources) are edited once the change is proved."""
+        ``inplace``: D's lists (sites, vertices, edges, sources) and its list of pieces are edited
+        once the change is proved."""
         uses = self.point_uses()
         parts = _elementary_pieces(self.pieces[i])
         if uses is None or parts is None or D.sources is None:
@@ -184,6 +184,8 @@ class SegmentEdits:
             if new_uses[p] <= 0:
                 del new_uses[p]
         new_keys = out.edit_index.keys
+        n_pieces = len(self.pieces)
+        rest = _without(self.pieces if inplace else list(self.pieces), i, moved)
         sources = D.sources if inplace else list(D.sources)
         for a, b in site_moves(n, deleted).items():
             sources[b] = sources[a]
@@ -191,22 +193,32 @@ class SegmentEdits:
         at_i = [k for k in (new_keys.get(p) for p in pts) if k is not None and sources[k] == i]
         if moved:                                        # the last piece takes index i
             for k in (new_keys.get(q) for q in last_keys):
-                if k is not None and sources[k] == len(self.pieces) - 1:
+                if k is not None and sources[k] == n_pieces - 1:
                     sources[k] = i
-        elif i < len(self.pieces) - 1:                   # shift: every piece above i moves down (one numpy pass)
+        elif i < n_pieces - 1:                   # shift: every piece above i moves down (one numpy pass)
             arr = np.asarray(sources, dtype=np.int64)
             arr -= arr > i
             sources[:] = arr.tolist()
         for k in at_i:                                   # a kept endpoint of the deleted piece
             sources[k] = _first_user(rest, out.sites[k], out.edit_index, out.sites, sources, new_uses)
         out.sources = sources
-        out.construction = SegmentEdits(rest, self.build, getattr(out, "edit_index", None), new_uses)
+        out.construction = SegmentEdits(rest, self.build, getattr(out, "edit_index", None), new_uses, own=True)
         return out
 
     def _rebuild(self, pieces, certify, why):
         out = self.build(pieces, certify=certify)
         out.stats["update"] = f"rebuild ({why})"
         return out
+
+
+def _without(pieces: list, i: int, moved: bool) -> list:
+    """``pieces`` (edited in place) without piece i: the last piece takes its place (``moved``,
+    renumber="last") or the later ones move down."""
+    if moved:
+        pieces[i] = pieces.pop()
+    else:
+        del pieces[i]
+    return pieces
 
 
 def _points(piece):
