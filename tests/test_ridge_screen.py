@@ -47,3 +47,13 @@ def test_a_loop_around_a_point_near_the_end_of_a_ridge():
     off = loop + [0.0, 3.0]                     # the same loop above the axis
     assert not ridge_crossings(table, (0, 1), off)
     assert may_cross_ridges(table, [(0, 1), (1, 0), (0, 1)], [loop, loop, off]) == [True, True, False]
+
+
+def test_a_crossing_just_inside_the_end_of_a_ridge_is_kept():
+    """The ellipse x²/16 + y²/4 = 1 has its ridge (the centres of curvature of its boundary's
+    nearest points) on y = 0 for |x| ≤ 4 − 4/4 = 3.  A segment crossing it at x = 3 − 10⁻⁹, whose
+    bounding box meets the ridge's only in the last 10⁻⁹ of it, is kept by the screen."""
+    table = _table([cv.Conic.ellipse((0.0, 0.0), (4.0, 2.0)), cv.Circle.from_radius(0, 40, 0)])
+    P = np.array([[3 - 1e-9, -1.0], [3 - 1e-9, 1.0]])
+    assert ridge_crossings(table, (0, 1), P)
+    assert may_cross_ridges(table, [(0, 1)], [P]) == [True]
