@@ -105,6 +105,10 @@ def test_chunked_certificate_refuses_a_lost_vertex(client):
     d = tiled_voronoi(sites, sites_per_tile=100, certify=False, progress=False)
     chunks = [list(range(0, len(d.edges), 2)), list(range(1, len(d.edges), 2))]
     assert chunked_verify(d, chunks, client).ok
+    # more chunks than the four kept in flight on two workers: each is submitted as one finishes
+    seven = [list(range(k, len(d.edges), 7)) for k in range(7)]
+    cc = chunked_verify(d, seven, client)
+    assert cc.ok and all(cc.vertices) and all(cc.edges)
     # a vertex dropped with its edges: every other vertex and edge is still proved, the closure fails
     gone = 7
     keep = [e for e in d.edges if gone not in e.ends]

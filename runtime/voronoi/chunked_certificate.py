@@ -90,12 +90,27 @@ def _chunk_results(D, parts, client):
         return
     from distributed import as_completed
 
-    futures = {}
-    for ids in parts:
+    # at most two chunks per worker in flight: the driver holds (and the scheduler keeps) only
+    # the sub-diagrams being proved, not all of them at once
+    todo = list(parts)
+    width = 2 * max(1, len(client.scheduler_info().get("workers", {})))
+    futures: dict = {}
+
+    def submit():
+        ids = todo.pop(0)
         sub, vids = _sub_diagram(D, ids)
-        futures[client.submit(verify_chunk, sub, pure=False)] = (ids, vids)
-    for fut in as_completed(list(futures)):
-        yield (*futures[fut], fut.result())
+        fut = client.submit(verify_chunk, sub, pure=False)
+        futures[fut] = (ids, vids)
+        return fut
+
+    pending = as_completed([submit() for _ in range(min(width, len(todo)))])
+    for fut in pending:
+        ids, vids = futures.pop(fut)
+        result = fut.result()
+        fut.release()
+        if todo:
+            pending.add(submit())
+        yield ids, vids, result
 
 
 def _expected_in_part(rec) -> bool:
