@@ -28,19 +28,30 @@ def _slope_bound(table: CircleTable, Q, ks, I, R):
     """Bound on |∇d_k − ∇d_i| over the discs B(Q, R) (first-order enclosure along the arc): for
     a circle/point site the gradient of d is the unit vector ±(q − c)/|q − c|, which moves by at
     most R/(|Q − c| − R) over the disc when the disc stays on one side of the circle; otherwise
-    the Lipschitz constant 2."""
+    the Lipschitz constant 2.
+
+    When the disc lies outside both sites (both gradients +(q − c)/|q − c|), also the direct
+    bound |a/|a| − b/|b|| ≤ 2|a − b|/|b| (a = q − c_k, b = q − c_i, so a − b = c_i − c_k): at most
+    2|c_i − c_k|/(|Q − c_i| − R) on the disc.  Far from the sites (the arcs near the hull, whose
+    empty discs are nearly half-planes) this is much smaller than the turn of each gradient,
+    R/(|Q − c| − R), which stays near 1 on a piece as long as its distance."""
     out = np.full(len(Q), 2.0)
-    dirs, ok, lip = [], np.ones(len(Q), bool), np.zeros(len(Q))
+    dirs, ok, lip, outside = [], np.ones(len(Q), bool), np.zeros(len(Q)), np.ones(len(Q), bool)
     for s in (ks, I):
         V = Q - table.C[s]
         nv = np.hypot(V[:, 0], V[:, 1])
         side = nv - table.R[s]
         ok &= (np.abs(side) > R * (1 + 1e-9)) & (nv > R * (1 + 1e-9))
+        outside &= side > R * (1 + 1e-9)
         with np.errstate(divide="ignore", invalid="ignore"):
             dirs.append(np.sign(side)[:, None] * V / nv[:, None])
             lip += R / (nv - R)
-    with np.errstate(invalid="ignore"):
+    with np.errstate(invalid="ignore", divide="ignore"):
         L = np.hypot(*(dirs[0] - dirs[1]).T) * (1 + 1e-12) + 1e-15 + lip * (1 + 1e-12)
+        Vi = Q - table.C[I]
+        gap = np.hypot(*(table.C[I] - table.C[ks]).T)
+        direct = 2 * gap / (np.hypot(Vi[:, 0], Vi[:, 1]) * (1 - 1e-12) - R) * (1 + 1e-9) + 1e-15
+        L = np.where(outside & np.isfinite(direct) & (direct > 0), np.minimum(L, direct), L)
     return np.where(ok & np.isfinite(L), np.minimum(L, out), out)
 
 
