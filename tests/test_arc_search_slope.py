@@ -4,7 +4,8 @@ gradient ±(q − c_s)/|q − c_s|; the bound must hold at every point of the di
 
 The scenes put the disc far from both sites (an arc near the hull, where the bound
 2|c_i − c_k|/(|Q − c_i| − R) is the one used) and near them (a site's centre just outside the
-disc, where |q − c_k| is small and the factor 2 of that bound is needed)."""
+disc, where |q − c_k| is small and the factor 2 of that bound is needed), and inside a big
+circle k around site i (a nested pair, where that bound does not apply)."""
 from __future__ import annotations
 
 import numpy as np
@@ -45,6 +46,13 @@ def _scenes(seed):
         Q = ck + dirk * (rk + R * (1 + rng.uniform(1e-6, 0.05)))
         if np.hypot(*(Q - ci)) - ri > R * 1.01:
             yield ck, rk, ci, ri, Q, R
+        # nested: the disc inside a big circle k around site i, where d_k's gradient points
+        # inwards (−(q − c_k)/|q − c_k|) and the difference is near 2 however close c_i is to c_k
+        big = rng.uniform(30, 60)
+        off = rng.uniform(-1, 1, 2)
+        Q = ck + rng.uniform(5, big - 10) * dirk
+        R = rng.uniform(0.1, 4)
+        yield ck, big, ck + off, rng.choice([0.0, 0.5]), Q, R
 
 
 @pytest.mark.parametrize("seed", range(6))
