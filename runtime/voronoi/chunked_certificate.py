@@ -15,9 +15,12 @@ vertices it ends at, to the verifier on the workers (or runs them here one after
 one chunk's memory); a vertex or an edge proved in its chunk is proved.  Step (3) is run here on the whole diagram
 (:func:`runtime.voronoi.verify.closure.verify_closure`: combinatorics only).
 
-Step (4): every chunk also holds every unbounded edge of H (few: about the number of sites on the hull), so each chunk's
-verifier run proves them and runs the accounting at infinity on exactly the ends of H (which
-also keeps it on its fast route).  In those runs the closure of the sub-diagram fails by
+Step (4): one more chunk holds every unbounded edge of H (few: about the number of sites on the
+hull) and no other, so its verifier run proves them and runs the accounting at infinity on
+exactly the ends of H (which also keeps it on its fast route); the other chunks hold bounded
+edges only and skip the accounting (``verify(..., at_infinity=False)``).  The unbounded edges
+are the costly ones near the hull (their empty discs are nearly half-planes, with every site
+a candidate), proved once.  In all runs the closure of the sub-diagram fails by
 construction (its vertices lack the edges of other chunks), so its lines of that kind -- a
 vertex's missing edge of a pair, a site without an edge -- are set aside, and any other line
 refuses the certificate.  This reads the accounting's verdict from its lines: every refusal of
@@ -71,12 +74,13 @@ def _sub_diagram(D, edge_ids):
     return Diagram(list(D.sites), verts, edges), vids
 
 
-def verify_chunk(sub) -> tuple[list, list, list]:
-    """The verifier on one chunk (runs in a worker): vertex flags, edge flags, problem records."""
+def verify_chunk(sub, at_infinity: bool = True) -> tuple[list, list, list]:
+    """The verifier on one chunk (runs in a worker): vertex flags, edge flags, problem records;
+    ``at_infinity``: whether it runs the accounting of the unbounded ends."""
     from .verify.certificate import verify
     from .verify.problems import records
 
-    cert = verify(sub, progress=False)
+    cert = verify(sub, progress=False, at_infinity=at_infinity)
     return [bool(v) for v in cert.vertices], [bool(e) for e in cert.edges], records(cert.problems)
 
 
@@ -84,9 +88,9 @@ def _chunk_results(D, parts, client):
     """(edge ids, vertex ids, :func:`verify_chunk` result) of each chunk: on the workers as they
     finish, or here one at a time (each sub-diagram made just before its run)."""
     if client is None:
-        for ids in parts:
+        for ids, hull in parts:
             sub, vids = _sub_diagram(D, ids)
-            yield ids, vids, verify_chunk(sub)
+            yield ids, vids, verify_chunk(sub, hull)
         return
     from distributed import as_completed
 
@@ -97,9 +101,9 @@ def _chunk_results(D, parts, client):
     futures: dict = {}
 
     def submit():
-        ids = todo.pop(0)
+        ids, hull = todo.pop(0)
         sub, vids = _sub_diagram(D, ids)
-        fut = client.submit(verify_chunk, sub, pure=False)
+        fut = client.submit(verify_chunk, sub, hull, pure=False)
         futures[fut] = (ids, vids)
         return fut
 
@@ -131,7 +135,12 @@ def chunked_verify(D, chunks, client=None) -> ChunkedCertificate:
     vflag = np.zeros(len(D.vertices), bool)
     eflag = np.zeros(len(D.edges), bool)
     unbounded = [e.id for e in D.edges if None in e.ends]
-    parts = [sorted(set(ids) | set(unbounded)) for ids in chunks if ids]
+    # the chunk of the unbounded edges first (it runs the accounting at infinity), then the
+    # bounded edges of each chunk
+    parts = [(unbounded, True)] if unbounded else []
+    parts += [(p, False) for p in (sorted(set(ids) - set(unbounded)) for ids in chunks) if p]
+    if not unbounded:             # no end at infinity reported: one chunk still runs the accounting
+        parts = [(ids, k == 0) for k, (ids, _) in enumerate(parts)] or [([], True)]
     unexpected: list = []
     for ids, vids, (vok, eok, recs) in _chunk_results(D, parts, client):
         vflag[np.asarray(vids, dtype=np.int64)[np.asarray(vok, bool)]] = True
@@ -142,8 +151,8 @@ def chunked_verify(D, chunks, client=None) -> ChunkedCertificate:
         problems.append(f"{int((~vflag).sum())} vertices not proved in their chunks")
     if not eflag.all():
         problems.append(f"{int((~eflag).sum())} edges not proved in their chunks")
-    # every chunk holds every unbounded edge, so each runs the accounting at infinity on all the
-    # ends of D; any line it writes beyond the chunk's expected closure lines refuses
+    # the chunk of the unbounded edges runs the accounting at infinity on all the ends of D; any
+    # line a chunk writes beyond its expected closure lines refuses
     problems.extend(f"in a chunk: {m}" for m in dict.fromkeys(unexpected))
     closure: list = []
     if not verify_closure(D, len(D.sites), closure, {}):

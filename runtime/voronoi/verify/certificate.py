@@ -243,7 +243,7 @@ def _has_pieces(diagram, sites) -> bool:
                or type(s).__name__ in ("Segment", "Arc", "EllipticArc") for s in pool)
 
 
-def verify(diagram, sites=None, *, deadline=None, progress=None) -> Certificate:
+def verify(diagram, sites=None, *, deadline=None, progress=None, at_infinity: bool = True) -> Certificate:
     """Prove that ``diagram`` is the Voronoi diagram of ``sites`` (default: the diagram's own).
 
     Parameters
@@ -259,6 +259,12 @@ def verify(diagram, sites=None, *, deadline=None, progress=None) -> Certificate:
     deadline : float, optional
         A :func:`time.perf_counter` value: edges not checked by then are not proved
         ("time limit reached: N edges not checked"), and the certificate is not ok.
+    at_infinity : bool
+        False: the accounting of the unbounded ends (step 4 of the module docstring) is not
+        run, and the certificate is not complete, so not ok; its vertex and edge flags still
+        say what is proved.  The chunked certificate
+        (:mod:`runtime.voronoi.chunked_certificate`) proves most chunks so and the ends at
+        infinity in one chunk.
 
     Returns
     -------
@@ -287,7 +293,7 @@ def verify(diagram, sites=None, *, deadline=None, progress=None) -> Certificate:
     problems: list[str] = []
     dsites = list(D.sites)
     sites = _input_sites(sites, dsites, problems)
-    red = _as_centres(D, sites, dsites, deadline, progress)
+    red = _as_centres(D, sites, dsites, deadline, progress, at_infinity)
     if red is not None:           # equal circles: decided as the diagram of their centres
         return red
     n = len(sites)
@@ -315,7 +321,7 @@ def verify(diagram, sites=None, *, deadline=None, progress=None) -> Certificate:
     # ---------------------------------------------------------------- closure + accounting
     t0 = time.perf_counter()
     closure_ok = verify_closure(D, n, problems, intervals)
-    account_ok = _accounting(D, n, geoms, table, circular, eok, ends_inf, problems)
+    account_ok = at_infinity and _accounting(D, n, geoms, table, circular, eok, ends_inf, problems)
     timings["closure"] = time.perf_counter() - t0
     _advance(bar, "closure", close=True)
     complete = closure_ok and account_ok
@@ -369,7 +375,7 @@ def _accounting(D, n, geoms, table, circular, eok, ends_inf, problems) -> bool:
     return account_ok
 
 
-def _as_centres(D, sites, dsites, deadline, progress):
+def _as_centres(D, sites, dsites, deadline, progress, at_infinity=True):
     """Equal disjoint circles: the certificate of the diagram of their centres
     (:mod:`runtime.voronoi.verify.equal_circles`: the two diagrams are the same; its refusal is
     the circles' refusal), or None when the sites are not equal circles or not proved disjoint
@@ -380,13 +386,17 @@ def _as_centres(D, sites, dsites, deadline, progress):
         return None
     T0 = time.perf_counter()
     Dp, centres = centres_diagram(D, dsites, r2)
-    c = verify(Dp, centres, deadline=deadline, progress=progress)
+    c = verify(Dp, centres, deadline=deadline, progress=progress, at_infinity=at_infinity)
     if not c.ok:
         # the centres' diagram is refused: so is the circles' if they are disjoint (the same
-        # diagram); if they are not, refusing is still right.  The circle route is not tried
+        # diagram); if they are not, refusing is still right.  The circle route is not tried.
+        # Its vertex and edge flags hold for the circles only where they are proved disjoint
+        # (a chunk of the chunked certificate reads them): none when a proved pair is not
         hyp = list(c.hypotheses) + ["equal circles: checked as the diagram of their centres "
                                     "(runtime.voronoi.verify.equal_circles)"]
-        return Certificate(False, c.problems, c.vertices, c.edges, c.complete, c.delaunay_edges, hyp,
+        apart = not separated_on(dsites, c.delaunay_edges, r2)
+        return Certificate(False, c.problems, [f and apart for f in c.vertices], [f and apart for f in c.edges],
+                           c.complete, c.delaunay_edges if apart else [], hyp,
                            dict(c.stats, route="equal circles as their centres"), c.timings)
     if separated_on(dsites, c.delaunay_edges, r2):
         return None
