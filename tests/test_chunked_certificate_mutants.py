@@ -3,8 +3,8 @@ whole verifier refuses, on small diagrams whose faults are built by hand.
 
 The chunked certificate proves vertices and edges in chunks, sets aside only the closure lines that
 a sub-diagram fails by construction (a vertex's missing edge of a pair, a site without an edge),
-runs the closure once on the whole diagram, and reads the accounting at infinity from every chunk
-(each chunk holds every unbounded edge).  Each test below plants one fault that exactly one of
+runs the closure once on the whole diagram, and reads the accounting at infinity from the chunk of
+the unbounded edges (or from the first chunk when no edge is unbounded).  Each test below plants one fault that exactly one of
 those parts sees:
 
 * a bounded edge dropped: every chunk sets its vertex lines aside, only the closure of the whole
@@ -95,6 +95,25 @@ def test_a_missing_line_of_collinear_points_is_seen_at_infinity(client):
     assert all(cc.edges)
     assert not cc.ok
     assert any("sites 1, 2" in str(p) for p in cc.problems)
+
+
+def test_a_diagram_without_unbounded_edges_still_runs_the_accounting_at_infinity(client):
+    """Two circles, each around three points: the true diagram is, inside each circle, the
+    diagram of its three points and the circle (bounded edges and vertices), and outside, the
+    line between the circles.  Without the line every vertex keeps its edges and every site an
+    edge (the closure holds), and no edge is left without an end; one chunk must still run
+    the accounting at infinity, which sees the circles consecutive on the hull with no unbounded
+    edge between them."""
+    inner = [(0, 1, 0), (1, -0.5, 0), (-1, -0.5, 0)]
+    sites = [(0, 0, 3), *inner, (20, 0, 3), *[(x + 20, y, r) for x, y, r in inner]]
+    d = voronoi(sites, progress=False)
+    assert d.certified and d.vertices
+    keep = [e for e in d.edges if None not in e.ends]
+    assert len(keep) == len(d.edges) - 1
+    bad = _rebuild(d, list(d.vertices), keep)
+    cc = chunked_verify(bad, _one_edge_per_chunk(bad), client)
+    assert all(cc.vertices) and all(cc.edges)
+    assert not cc.ok
 
 
 def test_a_bisector_reported_twice_is_refused(client):
