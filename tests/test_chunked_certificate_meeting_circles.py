@@ -73,3 +73,28 @@ def test_disjoint_circles_without_their_line_are_refused_at_infinity(client):
     assert all(cc.edges)
     assert not cc.ok
     assert not any("intersect or touch" in str(p) for p in cc.problems)
+
+
+@pytest.mark.parametrize("here", [True, False], ids=["here", "workers"])
+def test_equal_circles_meeting_across_a_bounded_edge_are_refused_chunk_by_chunk(client, here):
+    """Equal circles of radius 6/5 at A = (0, 0), B = (10, 0), C = (5, 1), D = (5, -1): the centres'
+    Delaunay graph is the hull A D B C and the diagonal C D, whose Voronoi edge is bounded.  C
+    and D (2 apart) overlap; every other Delaunay pair is more than 12/5 apart.  The reported
+    diagram is the centres' diagram (the equal circles' diagram when they are disjoint): the
+    chunk of the edge (C, D) proves it as the centres' edge, and must not call it proved for the
+    circles, which are not disjoint there (no other check sees C and D: the chunk of the unbounded
+    edges checks the pairs of its own edges)."""
+    from fractions import Fraction
+
+    centres = [(0, 0), (10, 0), (5, 1), (5, -1)]
+    pts = cv.voronoi([(x, y, 0) for x, y in centres], progress=False)
+    assert pts.certified and len(pts.vertices) == 2
+    r = Fraction(6, 5)
+    sites = [cv.Circle(x, y, r * r) for x, y in centres]
+    from curvedvoronoi.runtime.voronoi.structure import DiagramVertex
+
+    verts = [DiagramVertex(v.id, tuple(v.sites), v.x, v.y, v.radius - float(r)) for v in pts.vertices]
+    bad = Diagram(sites, verts, list(pts.edges))
+    assert not verify(bad).ok
+    cc = chunked_verify(bad, [[k] for k in range(len(bad.edges))], None if here else client)
+    assert not cc.ok
