@@ -107,11 +107,11 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
     certificate : {"whole", "chunks"}
         ``"whole"``: the verifier runs on the whole stitched diagram here.  ``"chunks"``: its
         vertex and edge proofs run chunk by chunk (on the workers with a client, else here one
-        chunk at a time: the verifier's memory is one chunk's, at most :data:`CHUNK_EDGES` edges)
-        and the closure and the ends at infinity here
-        (:func:`runtime.voronoi.chunked_certificate.chunked_verify`), and the whole verifier only
-        when that refuses; each chunk repeats the verifier's set-up over all n sites, so with two
-        workers this was slower than ``"whole"`` (bench/results/scale.md).
+        chunk at a time: the verifier's memory is one chunk's, at most :data:`CHUNK_EDGES` edges),
+        the unbounded edges and the ends at infinity in one chunk of their own, and the closure
+        here (:func:`runtime.voronoi.chunked_certificate.chunked_verify`), and the whole verifier
+        only when that refuses; each chunk repeats the verifier's set-up over all n sites
+        (bench/results/scale.md).
         ``stats["tiling"]["certificate"]`` says which proved it.
 
     Examples
