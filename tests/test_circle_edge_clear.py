@@ -17,6 +17,8 @@ every fact below is checked by hand with d_i(0, y) = √(4 + y²) − 1 (circles
   edge of i, j drawn from u up to the vertex of (i, j, n), k is strictly nearer just above u
   (at y = 1/2: 1/2 < √(17/4) − 1 ≈ 1.06).  The zero of d_k − d_i coincides with the end u, which
   k is not a site of: the routine cannot place it and must refuse.
+* **The third site a site of the only vertex** (ε = 2⁻⁴⁰ configurations): the sign of
+  d_k − d_i's derivative at that vertex decides the edge, and the true diagrams are certified.
 """
 from __future__ import annotations
 
@@ -59,3 +61,44 @@ def test_a_zero_at_an_end_that_the_third_site_does_not_define_is_refused():
     # and the edge from u up to infinity (the branch parameter u of y = b·sinh u grows upwards:
     # e_x = (1, 0) from c_i to c_j, e_y = (0, 1))
     assert circle_edge_clear(geoms, 0, 1, 4, ((0, 1, 2), u), ("inf", 1)) is False
+
+
+EPS = Fraction(1, 2 ** 40)
+
+
+def test_a_third_site_touching_the_only_vertex_is_decided_by_its_slope():
+    """Points A = (0, 0), B = (2, 0) and the circle C of radius 1/4 centred (1, ε + 1/4), ε = 2⁻⁴⁰
+    (its lowest point (1, ε)).  On x = 1 below C, d_C = ε − y and d_A = √(1 + y²), equal where
+    (ε − y)² = 1 + y², at the single vertex V = (1, y₀), y₀ = (ε² − 1)/(2ε) ≈ −5.5·10¹¹; every edge
+    is a ray from V.  C is a site of V, so no end tells its sign on the ray of A, B (d_C = d_A at
+    V, and C is farther below V by less than 10⁻¹¹ over its first 10¹¹, far below the floats):
+    the sign of the derivative at V decides it (and the other two rays likewise)."""
+    import curvedvoronoi as cv
+
+    sites = [cv.Circle(0, 0, 0), cv.Circle(2, 0, 0), cv.Circle(1, EPS + Fraction(1, 4), Fraction(1, 16))]
+    y0 = (EPS * EPS - 1) / (2 * EPS)
+    assert (EPS - y0) ** 2 == 1 + y0 * y0
+    d = cv.voronoi(sites, progress=False)
+    assert d.certified
+    assert len(d.vertices) == 1 and abs(d.vertices[0].x - 1) < 1e-9 and abs(d.vertices[0].y / float(y0) - 1) < 1e-12
+    assert sorted(tuple(sorted(e.sites)) for e in d.edges) == [(0, 1), (0, 2), (1, 2)]
+    assert all(e.ends.count(None) == 1 for e in d.edges)
+
+
+def test_a_far_vertex_of_two_circles_and_a_point_is_found_and_proved():
+    """Circles of radius 1/4 centred (0, 0), (2, 0) and the point P = (1, ε − 1/4): on x = 1,
+    d_A = √(1 + y²) − 1/4 and d_P = |y − ε + 1/4|.  Below P they meet where √(1 + y²) = ε − y, at
+    y₁ = (ε² − 1)/(2ε) ≈ −5.5·10¹¹; above P where y + 1/2 − ε = √(1 + y²), at
+    y₂ = (1 − (1/2 − ε)²)/(1 − 2ε) ≈ 3/4.  The diagram has both vertices, joined by the edge of the
+    circles; the far one holds P by less than the floats resolve."""
+    import curvedvoronoi as cv
+
+    q = Fraction(1, 4)
+    sites = [cv.Circle(0, 0, q * q), cv.Circle(2, 0, q * q), cv.Circle(1, EPS - q, 0)]
+    y1 = (EPS * EPS - 1) / (2 * EPS)
+    y2 = (1 - (Fraction(1, 2) - EPS) ** 2) / (1 - 2 * EPS)
+    assert (EPS - y1) ** 2 == 1 + y1 * y1 and (y2 + Fraction(1, 2) - EPS) ** 2 == 1 + y2 * y2
+    d = cv.voronoi(sites, progress=False)
+    assert d.certified
+    ys = sorted(v.y for v in d.vertices)
+    assert len(ys) == 2 and abs(ys[0] / float(y1) - 1) < 1e-12 and abs(ys[1] - float(y2)) < 1e-9

@@ -159,6 +159,45 @@ def branch_order(ws, i_xy, j_xy):
     return None
 
 
+def _end_slope(geoms, i, j, k, v, into: int):
+    """The sign (+1, −1, or 0: undecided at 4096 bits) of the derivative of d_k − d_i along the
+    bisector of the circle/point sites i, j (exterior pair) at its tower vertex v, in the
+    direction of the branch parameter s = (q − m)·rot90(c_j − c_i) times ``into``.
+
+    At v (outside the three sites: its empty circle has positive radius) ∇d_s = u_s =
+    (v − c_s)/|v − c_s|; the bisector |q − c_i| − |q − c_j| = ρ_i − ρ_j has the tangent
+    t = rot90(u_i − u_j), oriented by the sign of t·rot90(c_j − c_i) (nonzero: s is strictly
+    monotone along the branch), and the derivative is (u_k − u_i)·t."""
+    from flint import arb, ctx, fmpq
+
+    def ball(f):
+        return arb(fmpq(f.numerator, f.denominator))
+
+    T, sol = v.sol.tower, v.sol
+    (ix, iy), (jx, jy), (kx, ky) = _xy(geoms[i]), _xy(geoms[j]), _xy(geoms[k])
+    prec = 128
+    while prec <= 4096:
+        with ctx.workprec(prec):
+            D = T.to_arb(sol.D, prec)
+            x, y = T.to_arb(sol.X, prec) / D, T.to_arb(sol.Y, prec) / D
+
+            def unit(cx, cy):
+                dx, dy = x - ball(cx), y - ball(cy)
+                r = (dx * dx + dy * dy).sqrt()
+                return dx / r, dy / r
+
+            (uix, uiy), (ujx, ujy), (ukx, uky) = unit(ix, iy), unit(jx, jy), unit(kx, ky)
+            tx, ty = -(uiy - ujy), uix - ujx
+            orient = tx * ball(-(jy - iy)) + ty * ball(jx - ix)
+            slope = ((ukx - uix) * tx + (uky - uiy) * ty) * into
+            if orient > 0 and slope > 0 or orient < 0 and slope < 0:
+                return 1
+            if orient > 0 and slope < 0 or orient < 0 and slope > 0:
+                return -1
+        prec *= 4
+    return 0
+
+
 def circle_edge_clear(geoms, i, j, k, u, w) -> bool:
     """Is circle/point site k strictly farther than the circle/point sites i, j (exterior pair, a
     hyperbola branch) on the open edge between the proved vertices u and w, decided exactly?
@@ -167,13 +206,15 @@ def circle_edge_clear(geoms, i, j, k, u, w) -> bool:
     where the branch parameter goes to σ·∞ (at least one end must be a vertex).  On the branch d_k − d_i vanishes
     exactly at the Voronoi vertices of (i, j, k) (at most two, listed exactly by thesis §3.1.3); if
     none lies strictly between u and w (compared by :func:`branch_order`), d_k − d_i has one sign
-    on the open edge, and it is positive if k is strictly farther at an end (an end vertex whose
-    sites do not include k, proved empty)."""
+    on the open edge: positive if k is strictly farther at an end (an end vertex whose sites do
+    not include k, proved empty); when k is a site of every finite end (d_k = d_i there), the
+    sign of its derivative into the edge at an end (:func:`_end_slope`, ball arithmetic), where
+    nonzero, is the sign on the edge."""
     from ...predicates.circles import voronoi_vertices_circles
     from ...result import LocatorError
 
     fin = [t for t in (u, w) if t[0] != "inf"]
-    if not fin or not any(k not in sites for sites, _ in fin):
+    if not fin:
         return False
     try:
         tv = voronoi_vertices_circles(geoms[i].exact, geoms[j].exact, geoms[k].exact)
@@ -192,7 +233,7 @@ def circle_edge_clear(geoms, i, j, k, u, w) -> bool:
                 continue          # z is the vertex end itself (k touches it)
             if (ps[1] > ps[0]) if sigma > 0 else (ps[1] < ps[0]):
                 return False
-        return True
+        return k not in sites or _end_slope(geoms, i, j, k, vu, 1 if sigma > 0 else -1) > 0
     ends = [u[1], w[1]]
     for z in tv.vertices:
         ps = branch_order(ends + [z], i_xy, j_xy)
@@ -214,7 +255,10 @@ def circle_edge_clear(geoms, i, j, k, u, w) -> bool:
         lo, hi = (pu, pw) if pu < pw else (pw, pu)
         if lo < pz and pz < hi:
             return False          # site k cuts the edge at z
-    return True
+    if any(k not in sites for sites, _ in (u, w)):
+        return True
+    ps = branch_order(ends, i_xy, j_xy)
+    return ps is not None and _end_slope(geoms, i, j, k, u[1], 1 if ps[1] > ps[0] else -1) > 0
 
 
 def triple_others(w, i, j, k):
