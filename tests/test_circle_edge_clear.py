@@ -44,6 +44,11 @@ def test_an_edge_between_the_two_vertices_of_its_third_site_is_not_clear():
     # (d_k = 7 < √200 − 5 = d_i ⟺ 12² < 200)
     assert 12 ** 2 < 100 + 10 ** 2
     assert circle_edge_clear(geoms, 0, 1, 2, ((0, 1, 2), lo), ((0, 1, 2), hi)) is False
+    # the same edge with its ends listed the other way, and with i and j exchanged (the branch
+    # parameter then runs downwards)
+    assert circle_edge_clear(geoms, 0, 1, 2, ((0, 1, 2), hi), ((0, 1, 2), lo)) is False
+    assert circle_edge_clear(geoms, 1, 0, 2, ((0, 1, 2), lo), ((0, 1, 2), hi)) is False
+    assert circle_edge_clear(geoms, 1, 0, 2, ((0, 1, 2), hi), ((0, 1, 2), lo)) is False
 
 
 def test_a_zero_at_an_end_that_the_third_site_does_not_define_is_refused():
@@ -102,3 +107,19 @@ def test_a_far_vertex_of_two_circles_and_a_point_is_found_and_proved():
     assert d.certified
     ys = sorted(v.y for v in d.vertices)
     assert len(ys) == 2 and abs(ys[0] / float(y1) - 1) < 1e-12 and abs(ys[1] - float(y2)) < 1e-9
+
+
+def test_a_ray_from_the_only_vertex_into_the_third_site_is_refused():
+    """The sites of the first ε-test above.  The ray of A, B from V downwards (the branch parameter
+    s = (q − m)·rot90(B − A) = 2(y − 0) decreasing, σ = −1) is a true edge: C is farther there.
+    Upwards from V (σ = +1) C is nearer: just above V, d_C − d_A < 0 (d_C = ε − y, d_A = √(1 + y²)
+    and (ε − y)² < 1 + y² ⟺ y > y₀).  With A and B exchanged, s = −2y and the directions swap."""
+    from curvedvoronoi.runtime.predicates.circles import Circle as C
+
+    a, b, c = C(0, 0, 0), C(2, 0, 0), C(1, EPS + Fraction(1, 4), Fraction(1, 16))
+    geoms = [site_geometry(s) for s in (a, b, c)]
+    (v,) = voronoi_vertices_circles(a, b, c).vertices
+    assert circle_edge_clear(geoms, 0, 1, 2, ((0, 1, 2), v), ("inf", -1)) is True
+    assert circle_edge_clear(geoms, 0, 1, 2, ((0, 1, 2), v), ("inf", 1)) is False
+    assert circle_edge_clear(geoms, 1, 0, 2, ("inf", 1), ((0, 1, 2), v)) is True
+    assert circle_edge_clear(geoms, 1, 0, 2, ("inf", -1), ((0, 1, 2), v)) is False
