@@ -166,8 +166,9 @@ def _end_slope(geoms, i, j, k, v, into: int):
 
     At v (outside the three sites: its empty circle has positive radius) ∇d_s = u_s =
     (v − c_s)/|v − c_s|; the bisector |q − c_i| − |q − c_j| = ρ_i − ρ_j has the tangent
-    t = rot90(u_i − u_j), oriented by the sign of t·rot90(c_j − c_i) (nonzero: s is strictly
-    monotone along the branch), and the derivative is (u_k − u_i)·t."""
+    t = rot90(u_i − u_j), which points the way s grows: with a = v − c_i, b = v − c_j,
+    t·rot90(c_j − c_i) = (u_i − u_j)·(a − b) = (|a| + |b|)(1 − cos∠(a, b)) ≥ 0, zero only when
+    t = 0 (then the slope is 0: undecided).  The derivative is (u_k − u_i)·t."""
     from flint import arb, ctx, fmpq
 
     def ball(f):
@@ -188,11 +189,10 @@ def _end_slope(geoms, i, j, k, v, into: int):
 
             (uix, uiy), (ujx, ujy), (ukx, uky) = unit(ix, iy), unit(jx, jy), unit(kx, ky)
             tx, ty = -(uiy - ujy), uix - ujx
-            orient = tx * ball(-(jy - iy)) + ty * ball(jx - ix)
             slope = ((ukx - uix) * tx + (uky - uiy) * ty) * into
-            if orient > 0 and slope > 0 or orient < 0 and slope < 0:
+            if slope > 0:
                 return 1
-            if orient > 0 and slope < 0 or orient < 0 and slope > 0:
+            if slope < 0:
                 return -1
         prec *= 4
     return 0
