@@ -16,9 +16,8 @@ asserts a fact derived by hand below, in exact arithmetic, never the verifier's 
   lowest point (1, ε) (the exact circle route): for y < ε, d_C = ε − y and d_A = √(1 + y²), so
   d_C < d_A iff (ε − y)² < 1 + y², the same condition, the same V; above V, C is nearer all the
   way up (for y > ε + ρ, d_C = y − ε − 2ρ < y < d_A), so V is the only vertex.  (The true
-  diagram of that triple is not certified today: the exact circle route decides no third site
-  that is a site of the edge's only finite end, :func:`circle_edge_clear`; only the refusal of
-  the wrong edge is asserted.)
+  diagram of that triple is certified through the slope of d_C − d_A at V,
+  tests/test_circle_edge_clear.py; here only the refusal of the wrong edge is asserted.)
 
 * A far ray cut by a site that is not one of its vertex's.  With A, B, C as above (points) and
   D = (3, −ε): on x = 1, f_D(y) = |q − D|² − |q − A|² = 4 + (y + ε)² − (1 + y²) = 3 + 2εy + ε²,
