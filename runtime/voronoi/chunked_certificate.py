@@ -28,6 +28,20 @@ the accounting functions (:mod:`runtime.voronoi.verify.closure`,
 :mod:`runtime.voronoi.verify.hull_points`) appends a line before returning False (checked by
 reading them; a verdict field in the certificate would make this direct).
 
+**Sites per chunk.**  A vertex's or an edge's proof reads only the sites that can enter its empty
+circles, so a chunk of bounded edges of circle and point sites is handed only those (the union of
+discs of :mod:`runtime.voronoi.reach`, as the local insertion proof does: each vertex's disc
+widened by a few vertex tolerances, and discs along each edge's polyline that hold the
+empty circle of every point within the edge's tolerance of it).  When the chunk's proofs succeed,
+each true empty circle of a vertex lies in its disc (when the vertex's proof box is coarse next to
+the tolerance, the chunk returns the radius that holds it,
+:func:`runtime.voronoi.verify.vertices.local_reach`, and the vertex counts as proved only if no
+site left out of the chunk comes that close) and each true arc within its tolerance
+of its polyline (what the verifier proves), so every empty circle lies in those discs and a site
+left out cannot enter one: the proofs hold for all the sites.  The chunk of unbounded edges keeps
+every site (its accounting at infinity and disjointness test read them all); so do all chunks
+when a site is a conic.  A chunk's set-up is then the size of the chunk, not of the diagram.
+
 Two reported vertices with the same sites closer than 1e-6 of the scene's size (one vertex reported twice) also refuse it: the closure does not see a
 duplicate, and the verifier's overlap check of edges of one pair runs in one chunk only.
 
@@ -60,37 +74,110 @@ class ChunkedCertificate:
     seconds: dict = field(default_factory=dict)
 
 
-def _sub_diagram(D, edge_ids):
-    """The edges ``edge_ids`` of D with the vertices they end at, renumbered; and the maps back."""
+class _Reach:
+    """The circle and point sites of D as :func:`runtime.voronoi.reach.sites_meeting_discs` reads
+    them (centres, radii, a k-d tree), made once per certificate; None-like when a site is
+    neither (conics: every chunk then gets every site)."""
+
+    def __init__(self, D):
+        from scipy.spatial import cKDTree
+
+        from .conic_geometry import site_geometry
+
+        self.geoms = [site_geometry(s) for s in D.sites]
+        self.ok = bool(self.geoms) and all(g.kind in ("point", "circle") for g in self.geoms)
+        if not self.ok:
+            return
+        self.C = np.array([[g.x0, g.y0] if g.kind == "point" else [g.cx, g.cy] for g in self.geoms], float)
+        self.R = np.array([0.0 if g.kind == "point" else g.rho for g in self.geoms], float)
+        self.rmax = float(self.R.max())
+        self.tree = cKDTree(self.C)
+        self.slot = np.arange(len(self.R))
+        self.extra: list = []
+
+    def sites(self, D, vids, edge_ids):
+        """The sites that can enter the empty circle of a vertex ``vids`` or of a point of a bounded
+        edge ``edge_ids`` (module docstring), with the sites of those vertices and edges."""
+        from .reach import arc_discs, sites_meeting_discs
+        from .verify.vertices import local_default
+
+        own = {s for t in edge_ids for s in D.edges[t].sites} | {s for u in vids for s in D.vertices[u].sites}
+        pts, rad = [np.zeros((0, 2))], [np.zeros(0)]
+        if vids:
+            V = np.array([[D.vertices[u].x, D.vertices[u].y, D.vertices[u].radius] for u in vids], float)
+            pts.append(V[:, :2])
+            rad.append(np.array([local_default(D.vertices[u]) for u in vids]) * (1 + 1e-9)
+                       + 1e-9 * (np.abs(V[:, :2]).sum(axis=1) + 1))
+        for t in edge_ids:
+            e = D.edges[t]
+            M, r = arc_discs(e.polyline, self.geoms[e.sites[0]], e.tolerance)
+            pts.append(M)
+            rad.append(r)
+        near = sites_meeting_discs(self, np.vstack(pts), np.concatenate(rad))
+        return sorted(own.union(near))
+
+    def meeting(self, P, r) -> list:
+        """The sites whose disc comes within r_j of P_j for some j
+        (:func:`runtime.voronoi.reach.sites_meeting_discs`)."""
+        from .reach import sites_meeting_discs
+
+        return sites_meeting_discs(self, np.asarray(P, float), np.asarray(r, float))
+
+
+def _sub_diagram(D, edge_ids, keep=None):
+    """The edges ``edge_ids`` of D with the vertices they end at, renumbered; and the vertex ids
+    back.  ``keep``: the sites to keep (sorted indices, renumbered in that order), default all."""
     from .structure import Diagram, DiagramEdge, DiagramVertex
 
     vids = sorted({u for t in edge_ids for u in D.edges[t].ends if u is not None})
     new = {u: k for k, u in enumerate(vids)}
-    verts = [DiagramVertex(k, tuple(D.vertices[u].sites), D.vertices[u].x, D.vertices[u].y, D.vertices[u].radius)
+    if keep is None:
+        sites, snew = list(D.sites), None
+    else:
+        sites, snew = [D.sites[k] for k in keep], {k: m for m, k in enumerate(keep)}
+
+    def ren(ss):
+        return tuple(ss) if snew is None else tuple(snew[s] for s in ss)
+
+    verts = [DiagramVertex(k, ren(D.vertices[u].sites), D.vertices[u].x, D.vertices[u].y, D.vertices[u].radius)
              for k, u in enumerate(vids)]
-    edges = [DiagramEdge(k, tuple(D.edges[t].sites), tuple(None if u is None else new[u] for u in D.edges[t].ends),
+    edges = [DiagramEdge(k, ren(D.edges[t].sites), tuple(None if u is None else new[u] for u in D.edges[t].ends),
                          D.edges[t].closed, D.edges[t].polyline, D.edges[t].tolerance)
              for k, t in enumerate(edge_ids)]
-    return Diagram(list(D.sites), verts, edges), vids
+    return Diagram(sites, verts, edges), vids
 
 
-def verify_chunk(sub, at_infinity: bool = True) -> tuple[list, list, list]:
-    """The verifier on one chunk (runs in a worker): vertex flags, edge flags, problem records;
-    ``at_infinity``: whether it runs the accounting of the unbounded ends."""
+def _part(D, ids, hull, reach):
+    """(sub-diagram, vertex ids, kept sites) of one chunk: the chunk of the unbounded edges
+    (``hull``: it runs the accounting at infinity) keeps every site (None); a chunk of bounded
+    edges of circle and point sites keeps the sites that can reach it (module docstring)."""
+    if hull or reach is None or not reach.ok:
+        return (*_sub_diagram(D, ids), None)
+    vids = sorted({u for t in ids for u in D.edges[t].ends if u is not None})
+    keep = reach.sites(D, vids, ids)
+    return (*_sub_diagram(D, ids, keep), keep)
+
+
+def verify_chunk(sub, at_infinity: bool = True) -> tuple[list, list, list, list]:
+    """The verifier on one chunk (runs in a worker): vertex flags, edge flags, problem records,
+    and [vertex, radius] for the proved vertices whose true empty circles may reach past the
+    chunk's sites (:func:`runtime.voronoi.verify.vertices.local_reach`); ``at_infinity``: whether
+    it runs the accounting of the unbounded ends."""
     from .verify.certificate import verify
     from .verify.problems import records
 
     cert = verify(sub, progress=False, at_infinity=at_infinity)
-    return [bool(v) for v in cert.vertices], [bool(e) for e in cert.edges], records(cert.problems)
+    return ([bool(v) for v in cert.vertices], [bool(e) for e in cert.edges], records(cert.problems),
+            list(cert.stats.get("vertex_reach", ())))
 
 
-def _chunk_results(D, parts, client):
+def _chunk_results(D, parts, client, reach=None):
     """(edge ids, vertex ids, :func:`verify_chunk` result) of each chunk: on the workers as they
     finish, or here one at a time (each sub-diagram made just before its run)."""
     if client is None:
         for ids, hull in parts:
-            sub, vids = _sub_diagram(D, ids)
-            yield ids, vids, verify_chunk(sub, hull)
+            sub, vids, keep = _part(D, ids, hull, reach)
+            yield ids, vids, keep, verify_chunk(sub, hull)
         return
     from distributed import as_completed
 
@@ -102,19 +189,19 @@ def _chunk_results(D, parts, client):
 
     def submit():
         ids, hull = todo.pop(0)
-        sub, vids = _sub_diagram(D, ids)
+        sub, vids, keep = _part(D, ids, hull, reach)
         fut = client.submit(verify_chunk, sub, hull, pure=False)
-        futures[fut] = (ids, vids)
+        futures[fut] = (ids, vids, keep)
         return fut
 
     pending = as_completed([submit() for _ in range(min(width, len(todo)))])
     for fut in pending:
-        ids, vids = futures.pop(fut)
+        ids, vids, keep = futures.pop(fut)
         result = fut.result()
         fut.release()
         if todo:
             pending.add(submit())
-        yield ids, vids, result
+        yield ids, vids, keep, result
 
 
 def _expected_in_part(rec) -> bool:
@@ -142,7 +229,20 @@ def chunked_verify(D, chunks, client=None) -> ChunkedCertificate:
     if not unbounded:             # no end at infinity reported: one chunk still runs the accounting
         parts = [(ids, k == 0) for k, (ids, _) in enumerate(parts)] or [([], True)]
     unexpected: list = []
-    for ids, vids, (vok, eok, recs) in _chunk_results(D, parts, client):
+    reach = _Reach(D)
+    for ids, vids, keep, (vok, eok, recs, far) in _chunk_results(D, parts, client, reach):
+        vok = list(vok)
+        if keep is not None:
+            # a vertex proved in a coarse box: its true empty circle may reach past the chunk's
+            # sites; proved only if no site left out of the chunk comes within that radius
+            kept = set(keep)
+            for m, R in far:
+                v = D.vertices[vids[m]]
+                out = [k for k in reach.meeting([[v.x, v.y]], [R]) if k not in kept]
+                if out:
+                    vok[m] = False
+                    unexpected.append(f"vertex {vids[m]}: its proof box reaches site {out[0]}, "
+                                      "outside its chunk's sites")
         vflag[np.asarray(vids, dtype=np.int64)[np.asarray(vok, bool)]] = True
         eflag[np.asarray(ids, dtype=np.int64)[np.asarray(eok, bool)]] = True
         unexpected.extend(r["message"] for r in recs if not _expected_in_part(r))

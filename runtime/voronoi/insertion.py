@@ -159,7 +159,7 @@ from .conflict import LOCAL_KINDS, arc_reach, disc_inside, nearest_old_sites, ou
 from .site_input import SiteError, as_site, check_disjoint, sites_equal
 from .verify.edge_checks import check_edges
 from .verify.edges import CircleTable
-from .verify.vertices import VERTEX_TOL, prove_vertices
+from .verify.vertices import LOCAL_REACH, VERTEX_TOL, local_default, local_reach, prove_vertices
 
 __all__ = ["insert_site", "insert_many", "delete_local", "local_update", "local_diagram", "LocalState", "SiteList"]
 
@@ -844,13 +844,13 @@ def _prove_sub(D, dyn, pv, pe, vert, op, special, new_index, problems, flags_v, 
     XYR = np.array([[w.x, w.y, w.radius] for w in V], float)
     X0 = XYR[:, :2].mean(axis=0)
     M = float((np.hypot(*(XYR[:, :2] - X0).T) + XYR[:, 2]
-               + 4 * VERTEX_TOL * (1 + np.abs(XYR).sum(axis=1))).max())
+               + LOCAL_REACH * VERTEX_TOL * (1 + np.abs(XYR).sum(axis=1))).max())
     M = max(M, _arcs_reach(dyn, pe, X0, op, special))
     M = M * (1 + 1e-9) + 1e-9 * float(np.abs(X0).sum() + 1)
     near = dyn.near(X0, M + dyn.rmax)
     if len(near) > ONE_DISC_SITES:
         pts = [np.array([[w.x, w.y] for w in V], float)]
-        rad = [np.array([w.radius + 4 * VERTEX_TOL * (1 + abs(w.x) + abs(w.y) + w.radius) for w in V], float)]
+        rad = [np.array([w.radius + LOCAL_REACH * VERTEX_TOL * (1 + abs(w.x) + abs(w.y) + w.radius) for w in V], float)]
         rad[0] = rad[0] * (1 + 1e-9) + 1e-9 * (np.abs(pts[0]).sum(axis=1) + 1)
         for e in pe:
             Mp, rp = arc_discs(e.polyline, dyn.geoms[_old(e.sites[0], op, special, dyn)], e.tolerance)
@@ -889,7 +889,7 @@ def _conic_reach(dyn, V, pe, op, special):
     site of an edge is not surrounded (:func:`runtime.voronoi.conflict.arc_reach`)."""
     out: set = set()
     for w in V:
-        rad = w.radius + 4 * VERTEX_TOL * (1 + abs(w.x) + abs(w.y) + w.radius)
+        rad = w.radius + LOCAL_REACH * VERTEX_TOL * (1 + abs(w.x) + abs(w.y) + w.radius)
         out.update(dyn.near((w.x, w.y), rad * (1 + 1e-9) + dyn.rmax))
     for e in pe:
         best = None
@@ -933,6 +933,17 @@ def _prove_among(D, dyn, V, pe, near, op, special, new_index, problems, flags_v,
     table = CircleTable(geoms) if all(g.kind in ("point", "circle") for g in geoms) else None
     local: list = []
     vinfo, vok = prove_vertices(sub, sub.sites, geoms, table, local)
+    # a vertex proved in a coarse box: its true empty circle may reach past the sites listed
+    # near the reported one; proved only if no other site comes within that radius
+    listed = set(Lp)
+    for m, (v, f) in enumerate(zip(sub_v, vok)):
+        R = local_reach(v, vinfo[v.id]) if f and v.id in vinfo else 0.0
+        if f and R > local_default(v):
+            out = [t for t in sites_meeting_discs(dyn, [[v.x, v.y]], [R])
+                   if not (op == "delete" and t == special) and new_index(t) not in listed]
+            if out:
+                vok[m] = False
+                local.append(f"vertex {m}: proved in a box that reaches site {out[0]}, not among the sites listed near it")
     eok, _, _ = check_edges(sub, geoms, table, vinfo, vok, local, {}) if sub_e else ([], None, None)
     for v, f in zip(V, vok):
         flags_v[v.id] = bool(f)

@@ -132,6 +132,7 @@ Public API: :func:`verify`, :func:`verify_files`, :class:`Certificate`.
 """
 from __future__ import annotations
 
+import math
 import time
 
 from ...threads import one_blas_thread
@@ -144,7 +145,7 @@ from .equal_circles import centres_diagram, equal_radius, separated_on
 from .closure import circles_disjoint, verify_accounting, verify_accounting_conics, verify_closure
 from .hull_points import verify_accounting_discs, verify_accounting_points
 from .support import SupportTable
-from .vertices import prove_vertices
+from .vertices import local_default, local_reach, prove_vertices
 from .outcome import Certificate
 
 __all__ = ["verify", "verify_files", "Certificate"]
@@ -260,22 +261,17 @@ def verify(diagram, sites=None, *, deadline=None, progress=None, at_infinity: bo
         A :func:`time.perf_counter` value: edges not checked by then are not proved
         ("time limit reached: N edges not checked"), and the certificate is not ok.
     at_infinity : bool
-        False: the accounting of the unbounded ends (step 4 of the module docstring) is not
-        run, and the certificate is not complete, so not ok; its vertex and edge flags still
-        say what is proved.  The chunked certificate
-        (:mod:`runtime.voronoi.chunked_certificate`) proves most chunks so and the ends at
-        infinity in one chunk.
+        False: no accounting of the unbounded ends (step 4), so never complete nor ok; the flags
+        still say what is proved (:mod:`runtime.voronoi.chunked_certificate`).
 
     Returns
     -------
     Certificate
         ``ok`` only when everything in the module docstring is proved.
 
-    Sites far from the origin are checked in their local frame
-    (:func:`runtime.voronoi.frame.to_local_frame`): the diagram and the sites are translated by a
-    dyadic vector, exactly (each float's translation is checked exact, else nothing is moved), so
-    the translated diagram is the reported one moved by an isometry and its proof is the
-    reported diagram's; problem lines then give coordinates in that frame.
+    Sites far from the origin are checked in a local frame, translated exactly by a dyadic vector
+    (:func:`runtime.voronoi.frame.to_local_frame`: an isometry, so the proof is the reported
+    diagram's); problem lines then give coordinates in that frame.
 
     Examples
     --------
@@ -290,8 +286,7 @@ def verify(diagram, sites=None, *, deadline=None, progress=None, at_infinity: bo
         return verify_segments(diagram, sites, deadline=deadline)
     T0, timings = time.perf_counter(), {}
     D, sites = to_local_frame(_as_diagram(diagram), sites)
-    problems: list[str] = []
-    dsites = list(D.sites)
+    problems, dsites = [], list(D.sites)
     sites = _input_sites(sites, dsites, problems)
     red = _as_centres(D, sites, dsites, deadline, progress, at_infinity)
     if red is not None:           # equal circles: decided as the diagram of their centres
@@ -307,7 +302,7 @@ def verify(diagram, sites=None, *, deadline=None, progress=None, at_infinity: bo
 
     # ---------------------------------------------------------------- vertices
     t0 = time.perf_counter()
-    vinfo, vok = prove_vertices(D, sites, geoms, table, problems, offset=getattr(D, "frame_offset", (0.0, 0.0)))
+    vinfo, vok = _prove_vertices(D, sites, geoms, table, problems, stats)
     timings["vertices"] = time.perf_counter() - t0
     bar = _stage_bar(progress, len(D.edges))
     _advance(bar, f"{sum(vok)}/{len(vok)} vertices")
@@ -329,6 +324,18 @@ def verify(diagram, sites=None, *, deadline=None, progress=None, at_infinity: bo
     pairs = sorted({tuple(int(t) for t in e.sites) for e, f in zip(D.edges, eok) if f})
     timings["total"] = time.perf_counter() - T0
     return Certificate(ok, problems, vok, eok, complete, pairs, hyp, stats, timings)
+
+
+def _prove_vertices(D, sites, geoms, table, problems, stats):
+    """:func:`prove_vertices`, and in ``stats["vertex_reach"]`` the [index, radius] of the proved
+    vertices whose true empty circles may reach past a local proof's first list of sites
+    (:func:`runtime.voronoi.verify.vertices.local_reach`; read by the chunked certificate, which
+    hands a chunk only the sites near it)."""
+    vinfo, vok = prove_vertices(D, sites, geoms, table, problems, offset=getattr(D, "frame_offset", (0.0, 0.0)))
+    stats["vertex_reach"] = [[m, R] for m, (v, f) in enumerate(zip(D.vertices, vok)) if f
+                             for R in [local_reach(v, vinfo[v.id]) if v.id in vinfo else math.inf]
+                             if R > local_default(v)]
+    return vinfo, vok
 
 
 def _input_sites(sites, dsites, problems) -> list:

@@ -39,10 +39,13 @@ from ...result import LocatorError
 from .problems import fault
 from .exact_vertices import cocircular_vertex, exact_emptiness
 
-__all__ = ["VertexInfo", "prove_vertices", "vname"]
+__all__ = ["VertexInfo", "prove_vertices", "vname", "local_reach", "local_default", "LOCAL_REACH"]
 
 EPS = 2.0 ** -53
 VERTEX_TOL = 1e-10      # relative distance between a reported vertex and the proved one
+#: a local proof (an insertion, a chunk of the chunked certificate) lists the sites that come
+#: within r_v + LOCAL_REACH·VERTEX_TOL·(1 + |x| + |y| + |r_v|) of each reported vertex v
+LOCAL_REACH = 5.0
 
 
 class VertexInfo:
@@ -57,6 +60,25 @@ class VertexInfo:
         self.others = others
         self.key = key
         self.tol = VERTEX_TOL * (1 + abs(x) + abs(y) + abs(r))
+
+
+def local_reach(v, info) -> float:
+    """A radius about the reported vertex v (position, radius) whose disc holds the true empty
+    circle, once v is proved (``info``): v is within tol + 2h of the proved centre (the check of
+    :func:`prove_vertices`), the true vertex within √2·h of that centre and its radius within h of
+    the proved one, so the true circle lies in the disc of centre v and radius r_v + 2·tol + 7h
+    (widened for rounding).  A local proof (an insertion, a chunk of the chunked certificate)
+    lists the sites within r_v + LOCAL_REACH·VERTEX_TOL·(1 + |x| + |y| + |r_v|) before proving;
+    where this radius is larger (a coarse proof box: about 1.5 % of the vertices of random circles
+    have h > tol/4) it must check the sites out to this radius as well.  The whole verifier lists
+    the sites around the proved box itself and needs neither."""
+    r = v.radius + 2 * info.tol + 7 * info.h
+    return r * (1 + 1e-9) + 1e-9 * (abs(v.x) + abs(v.y) + 1)
+
+
+def local_default(v) -> float:
+    """The radius about the reported vertex v within which a local proof lists the sites first."""
+    return v.radius + LOCAL_REACH * VERTEX_TOL * (1 + abs(v.x) + abs(v.y) + abs(v.radius))
 
 
 def vname(v) -> str:
