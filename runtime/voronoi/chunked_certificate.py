@@ -39,8 +39,9 @@ the tolerance, the chunk returns the radius that holds it,
 site left out of the chunk comes that close) and each true arc within its tolerance
 of its polyline (what the verifier proves), so every empty circle lies in those discs and a site
 left out cannot enter one: the proofs hold for all the sites.  The chunk of unbounded edges keeps
-every site (its accounting at infinity and disjointness test read them all); so do all chunks
-when a site is a conic.  A chunk's set-up is then the size of the chunk, not of the diagram.
+every site (its accounting at infinity and disjointness test read them all), and takes the bounded
+edges with a vertex whose empty circle is wider than a twentieth of the sites' span (near the hull,
+where the empty circles hold most sites anyway); all chunks keep every site when a site is a conic.  A chunk's set-up is then the size of the chunk, not of the diagram.
 
 Two reported vertices with the same sites closer than 1e-6 of the scene's size (one vertex reported twice) also refuse it: the closure does not see a
 duplicate, and the verifier's overlap check of edges of one pair runs in one chunk only.
@@ -72,6 +73,11 @@ class ChunkedCertificate:
     vertices: list
     edges: list
     seconds: dict = field(default_factory=dict)
+
+
+#: a bounded edge with an end vertex whose empty circle is wider than this fraction of the span of
+#: the sites goes to the chunk that keeps every site
+FAR = 0.05
 
 
 class _Reach:
@@ -115,6 +121,16 @@ class _Reach:
             rad.append(r)
         near = sites_meeting_discs(self, np.vstack(pts), np.concatenate(rad))
         return sorted(own.union(near))
+
+    def far_edges(self, D) -> list:
+        """The bounded edges with an end vertex whose empty circle is wider than FAR of the span
+        of the sites' centres (near the hull: their discs hold most sites, so they go with the
+        unbounded edges to the chunk that keeps every site)."""
+        if not self.ok or not D.vertices:
+            return []
+        span = float(np.ptp(self.C, axis=0).max()) if len(self.C) > 1 else 0.0
+        wide = np.array([v.radius > FAR * span for v in D.vertices], bool)
+        return [e.id for e in D.edges if None not in e.ends and wide[list(e.ends)].any()]
 
     def meeting(self, P, r) -> list:
         """The sites whose disc comes within r_j of P_j for some j
@@ -221,15 +237,15 @@ def chunked_verify(D, chunks, client=None) -> ChunkedCertificate:
     problems: list = []
     vflag = np.zeros(len(D.vertices), bool)
     eflag = np.zeros(len(D.edges), bool)
-    unbounded = [e.id for e in D.edges if None in e.ends]
-    # the chunk of the unbounded edges first (it runs the accounting at infinity), then the
-    # bounded edges of each chunk
+    reach = _Reach(D)
+    unbounded = [e.id for e in D.edges if None in e.ends] + reach.far_edges(D)
+    # the chunk of the unbounded edges (and of the edges near the hull, whose empty circles reach
+    # most sites) first: it runs the accounting at infinity; then the bounded edges of each chunk
     parts = [(unbounded, True)] if unbounded else []
     parts += [(p, False) for p in (sorted(set(ids) - set(unbounded)) for ids in chunks) if p]
     if not unbounded:             # no end at infinity reported: one chunk still runs the accounting
         parts = [(ids, k == 0) for k, (ids, _) in enumerate(parts)] or [([], True)]
     unexpected: list = []
-    reach = _Reach(D)
     for ids, vids, keep, (vok, eok, recs, far) in _chunk_results(D, parts, client, reach):
         vok = list(vok)
         if keep is not None:

@@ -1,0 +1,98 @@
+"""The sites a chunk of the chunked certificate is handed (runtime/voronoi/chunked_certificate.py,
+"Sites per chunk"), against empty circles on the true bisectors.
+
+For random disjoint circles, points of each bounded edge's true bisector arc are found here
+(points of the polyline pulled onto {|q − c_i| − ρ_i = |q − c_j| − ρ_j} by Newton steps along the
+gradient); the empty circle of such a point q has radius r(q) = |q − c_i| − ρ_i.  Every site
+that comes within 10⁻³·r(q) of it, and every site within 10⁻⁷ of a vertex's empty circle, must
+be among the chunk's sites (they are the sites the proofs must see); and the chunk's sites must
+be far fewer than all of them (the point of handing them out).  The distances are written here,
+not taken from the library.
+
+A vertex proved in a coarse box returns the radius that holds its true empty circle; the driver
+counts it as proved only when no site left out of its chunk comes that close: a planted radius
+that reaches a left-out site unproves it."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from curvedvoronoi.runtime.voronoi import chunked_certificate as cc
+from curvedvoronoi.runtime.voronoi.construction import voronoi
+from scenes import random_disjoint_circles
+
+
+@pytest.fixture(scope="module")
+def diagram():
+    d = voronoi(random_disjoint_circles(600, 11), progress=False, certify=False)
+    return d
+
+
+def _centres(d):
+    C = np.array([[float(s.cx), float(s.cy)] for s in d.sites])
+    R = np.array([math.sqrt(float(s.r2)) for s in d.sites])
+    return C, R
+
+
+def _chunks(d, parts=4):
+    """The bounded edges in ``parts`` slices by x, without the edges near the hull (their vertices'
+    empty circles wider than a twentieth of the scene), which go with the unbounded ones."""
+    far = set(cc._Reach(d).far_edges(d))
+    assert far
+    bounded = [e.id for e in d.edges if None not in e.ends and e.id not in far]
+    xs = np.array([d.vertices[d.edges[t].ends[0]].x for t in bounded])
+    order = np.argsort(xs)
+    return [sorted(np.asarray(bounded)[c].tolist()) for c in np.array_split(order, parts)]
+
+
+def test_a_chunk_holds_every_site_that_can_enter_its_empty_circles(diagram):
+    d = diagram
+    C, R = _centres(d)
+    reach = cc._Reach(d)
+    assert reach.ok
+    sizes = []
+    for ids in _chunks(d):
+        vids = sorted({u for t in ids for u in d.edges[t].ends})
+        keep = set(reach.sites(d, vids, ids))
+        sizes.append(len(keep))
+        for u in vids:
+            v = d.vertices[u]
+            gap = np.hypot(C[:, 0] - v.x, C[:, 1] - v.y) - R - v.radius
+            assert set(np.nonzero(gap < 1e-7 * (1 + v.radius))[0].tolist()) <= keep
+        for t in ids:
+            e = d.edges[t]
+            i, j = e.sites
+            P = np.asarray(e.polyline, float)
+            f = np.linspace(0, 1, 11)[:, None, None]
+            Q = (P[:-1][None] + f * (P[1:] - P[:-1])[None]).reshape(-1, 2)
+            for _ in range(4):              # onto the true bisector: F = d_i − d_j = 0
+                Vi, Vj = Q - C[i], Q - C[j]
+                ni, nj = np.hypot(*Vi.T), np.hypot(*Vj.T)
+                F = (ni - R[i]) - (nj - R[j])
+                G = Vi / ni[:, None] - Vj / nj[:, None]
+                Q = Q - (F / (G ** 2).sum(axis=1))[:, None] * G
+            r = np.hypot(Q[:, 0] - C[i, 0], Q[:, 1] - C[i, 1]) - R[i]
+            gap = np.hypot(Q[:, None, 0] - C[None, :, 0], Q[:, None, 1] - C[None, :, 1]) - R[None, :] - r[:, None]
+            near = set(np.nonzero((gap < 1e-3 * r[:, None]).any(axis=0))[0].tolist())
+            assert near <= keep, (t, sorted(near - keep)[:5])
+    assert max(sizes) < 0.6 * len(d.sites)
+
+
+def test_a_coarse_vertex_whose_circle_reaches_a_left_out_site_is_not_proved(diagram, monkeypatch):
+    d = diagram
+    chunks = _chunks(d)
+    assert cc.chunked_verify(d, chunks).ok
+    real = cc.verify_chunk
+
+    def planted(sub, at_infinity=True):
+        vok, eok, recs, far = real(sub, at_infinity)
+        if not at_infinity and sub.vertices:
+            far = far + [[0, 10 * max(1.0, sub.vertices[0].radius) + 1e3]]   # reaches far sites
+        return vok, eok, recs, far
+
+    monkeypatch.setattr(cc, "verify_chunk", planted)
+    out = cc.chunked_verify(d, chunks)
+    assert not out.ok and not all(out.vertices)
+    assert any("outside its chunk's sites" in str(p) for p in out.problems)
