@@ -96,3 +96,44 @@ def test_a_coarse_vertex_whose_circle_reaches_a_left_out_site_is_not_proved(diag
     out = cc.chunked_verify(d, chunks)
     assert not out.ok and not all(out.vertices)
     assert any("outside its chunk's sites" in str(p) for p in out.problems)
+
+
+def test_a_site_entering_an_edge_between_its_vertex_circles_unproves_the_edge(diagram):
+    """A point site p added to the sites of the diagram (which is not redrawn), placed inside the
+    empty circle of the middle point q of a bounded edge (|p − q| = 0.9·r(q)) but outside both end
+    vertices' empty circles: p is nearer than the edge's sites at q, so the edge is no edge of the
+    new sites.  Only the discs along the edge's arc can hand p to the edge's chunk; with p in it,
+    the edge must not be proved there, while its two vertices stay proved."""
+    import curvedvoronoi as cv
+    from curvedvoronoi.runtime.voronoi.structure import Diagram
+
+    d = diagram
+    C, R = _centres(d)
+    chunks = _chunks(d)
+    placed = None
+    for ids in chunks:
+        for t in ids:
+            e = d.edges[t]
+            P = np.asarray(e.polyline, float)
+            q = P[len(P) // 2] if len(P) % 2 else 0.5 * (P[len(P) // 2 - 1] + P[len(P) // 2])
+            i = e.sites[0]
+            r = float(np.hypot(*(q - C[i])) - R[i])
+            ends = [d.vertices[u] for u in e.ends]
+            for th in np.linspace(0, 2 * np.pi, 72, endpoint=False):
+                p = q + 0.9 * r * np.array([math.cos(th), math.sin(th)])
+                clear_of_ends = all(math.hypot(p[0] - v.x, p[1] - v.y) > v.radius * 1.05 for v in ends)
+                clear_of_sites = (np.hypot(C[:, 0] - p[0], C[:, 1] - p[1]) - R > 0.05).all()
+                if clear_of_ends and clear_of_sites:
+                    placed = (t, p)
+                    break
+            if placed:
+                break
+        if placed:
+            break
+    assert placed is not None
+    t, p = placed
+    bad = Diagram(list(d.sites) + [cv.Point(float(p[0]), float(p[1]))], list(d.vertices), list(d.edges))
+    out = cc.chunked_verify(bad, chunks)
+    assert not out.ok
+    assert not out.edges[t]
+    assert all(out.vertices[u] for u in d.edges[t].ends)
