@@ -238,7 +238,8 @@ def chunked_verify(D, chunks, client=None) -> ChunkedCertificate:
     vflag = np.zeros(len(D.vertices), bool)
     eflag = np.zeros(len(D.edges), bool)
     reach = _Reach(D)
-    unbounded = [e.id for e in D.edges if None in e.ends] + reach.far_edges(D)
+    unbounded = [e.id for e in D.edges if None in e.ends]
+    unbounded += reach.far_edges(D) if unbounded else []
     # the chunk of the unbounded edges (and of the edges near the hull, whose empty circles reach
     # most sites) first: it runs the accounting at infinity; then the bounded edges of each chunk
     parts = [(unbounded, True)] if unbounded else []
