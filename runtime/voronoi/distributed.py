@@ -110,7 +110,7 @@ def tiled_voronoi(sites, *, client=None, sites_per_tile: int = 2000, halo: float
         chunk at a time: the verifier's memory is one chunk's, at most :data:`CHUNK_EDGES` edges),
         the unbounded edges and the ends at infinity in one chunk of their own, and the closure
         here (:func:`runtime.voronoi.chunked_certificate.chunked_verify`), and the whole verifier
-        only when that refuses; each chunk repeats the verifier's set-up over all n sites
+        only when that refuses; a chunk of circles and points gets only the sites near it
         (bench/results/scale.md).
         ``stats["tiling"]["certificate"]`` says which proved it.
 
