@@ -16,9 +16,9 @@ one chunk's memory); a vertex or an edge proved in its chunk is proved.  Step (3
 (:func:`runtime.voronoi.verify.closure.verify_closure`: combinatorics only).
 
 Step (4): one more chunk holds every unbounded edge of H (few: about the number of sites on the
-hull) and no other, so its verifier run proves them and runs the accounting at infinity on
-exactly the ends of H (which also keeps it on its fast route); the other chunks hold bounded
-edges only and skip the accounting (``verify(..., at_infinity=False)``).  The unbounded edges
+hull), and no other unbounded edge is in any chunk, so its verifier run proves them and runs the
+accounting at infinity on exactly the ends of H (which also keeps it on its fast route); the
+other chunks skip the accounting (``verify(..., at_infinity=False)``).  The unbounded edges
 are the costly ones near the hull (their empty discs are nearly half-planes, with every site
 a candidate), proved once.  In all runs the closure of the sub-diagram fails by
 construction (its vertices lack the edges of other chunks), so its lines of that kind -- a
@@ -41,10 +41,11 @@ of its polyline (what the verifier proves), so every empty circle lies in those 
 left out cannot enter one: the proofs hold for all the sites.  The chunk of unbounded edges keeps
 every site (its accounting at infinity and disjointness test read them all), and takes the bounded
 edges with a vertex whose empty circle is wider than a twentieth of the sites' span (near the hull,
-where the empty circles hold most sites anyway); all chunks keep every site when a site is a conic.  A chunk's set-up is then the size of the chunk, not of the diagram.
+where the empty circles hold most sites anyway); all chunks keep every site when a site is a
+conic.  A chunk's set-up is then the size of the chunk, not of the diagram.
 
-Two reported vertices with the same sites closer than 1e-6 of the scene's size (one vertex reported twice) also refuse it: the closure does not see a
-duplicate, and the verifier's overlap check of edges of one pair runs in one chunk only.
+Two reported vertices with the same sites closer than 1e-6 of the scene's size (one vertex
+reported twice) also refuse it: the closure does not see a duplicate, and the verifier's overlap check of edges of one pair runs in one chunk only.
 
 A refusal is not a disproof: the caller then runs the verifier on the whole diagram, whose
 problems name what to rebuild.
