@@ -30,9 +30,10 @@ reading them; a verdict field in the certificate would make this direct).
 
 **Sites per chunk.**  A vertex's or an edge's proof reads only the sites that can enter its empty
 circles, so a chunk of bounded edges of circle and point sites is handed only those (the union of
-discs of :mod:`runtime.voronoi.reach`, as the local insertion proof does: each vertex's disc
-widened by a few vertex tolerances, and discs along each edge's polyline that hold the
-empty circle of every point within the edge's tolerance of it).  When the chunk's proofs succeed,
+discs of :mod:`runtime.voronoi.reach`'s kind, as the local insertion proof uses: each vertex's
+disc widened by a few vertex tolerances, and one disc per edge that holds the empty circle of
+every point within the edge's tolerance of its polyline, :meth:`_Reach._edge_discs`).  When the
+chunk's proofs succeed,
 each true empty circle of a vertex lies in its disc (when the vertex's proof box is coarse next to
 the tolerance, the chunk returns the radius that holds it,
 :func:`runtime.voronoi.verify.vertices.local_reach`, and the vertex counts as proved only if no
@@ -104,8 +105,9 @@ class _Reach:
 
     def sites(self, D, vids, edge_ids):
         """The sites that can enter the empty circle of a vertex ``vids`` or of a point of a bounded
-        edge ``edge_ids`` (module docstring), with the sites of those vertices and edges."""
-        from .reach import arc_discs, sites_meeting_discs
+        edge ``edge_ids`` (module docstring), with the sites of those vertices and edges; every
+        site when an edge has fewer than two polyline points."""
+        from .reach import sites_meeting_discs
         from .verify.vertices import local_default
 
         own = {s for t in edge_ids for s in D.edges[t].sites} | {s for u in vids for s in D.vertices[u].sites}
@@ -115,13 +117,37 @@ class _Reach:
             pts.append(V[:, :2])
             rad.append(np.array([local_default(D.vertices[u]) for u in vids]) * (1 + 1e-9)
                        + 1e-9 * (np.abs(V[:, :2]).sum(axis=1) + 1))
-        for t in edge_ids:
-            e = D.edges[t]
-            M, r = arc_discs(e.polyline, self.geoms[e.sites[0]], e.tolerance)
-            pts.append(M)
+        if edge_ids:
+            polys = [np.asarray(D.edges[t].polyline, float).reshape(-1, 2) for t in edge_ids]
+            if min(len(P) for P in polys) < 2:
+                return list(range(len(self.R)))
+            X0, r = self._edge_discs(D, edge_ids, polys)
+            pts.append(X0)
             rad.append(r)
         near = sites_meeting_discs(self, np.vstack(pts), np.concatenate(rad))
         return sorted(own.union(near))
+
+    def _edge_discs(self, D, edge_ids, polys):
+        """One disc per edge holding the empty circle of every point of its true arc, all edges at
+        once: a point q of the arc lies within the tolerance t of a segment of the polyline, so
+        within t + ℓ of one of its points P (ℓ the edge's longest segment), and r(q) = d_i(q) ≤
+        d_i(P) + t + ℓ (distances are 1-Lipschitz), so the empty circle of q lies in the disc of
+        centre X0 (the polyline's first point) and radius max_P (|P − X0| + d_i(P)) + 2(t + ℓ)
+        (the lemma of the local insertion proof's one disc, widened for rounding)."""
+        lens = np.array([len(P) for P in polys])
+        P = np.concatenate(polys)
+        own = np.repeat(np.arange(len(polys)), lens)
+        first = np.cumsum(lens) - lens
+        X0 = P[first]
+        i = np.array([D.edges[t].sites[0] for t in edge_ids])
+        d_i = np.abs(np.hypot(*(P - self.C[i][own]).T) - self.R[i][own])
+        reach = np.maximum.reduceat(np.hypot(*(P - X0[own]).T) + d_i, first)
+        seg = np.zeros(len(polys))
+        same = own[1:] == own[:-1]
+        np.maximum.at(seg, own[1:][same], np.hypot(*np.diff(P, axis=0).T)[same])
+        tol = np.array([D.edges[t].tolerance for t in edge_ids], float)
+        r = (reach + 2 * (tol + seg)) * (1 + 1e-9) + 1e-9 * (np.abs(P).sum(axis=1).max() + 1)
+        return X0, r
 
     def far_edges(self, D) -> list:
         """The bounded edges with an end vertex whose empty circle is wider than FAR of the span
