@@ -8,6 +8,22 @@ d_i changes by at most L·(arc length) with L ≥ |∇d_k − ∇d_i| on the dis
 Candidate sites come once from the k-d tree of the centres; a piece that does not decide a site
 is halved and its halves re-test only that site.
 
+2. **Support cones** (a hyperbola arc outside circle i): for q on the arc, with u_q = (q −
+c_i)/|q − c_i|, d_i(q) = (q − c_i)·u_q − ρ_i and d_k(q) ≥ |q − c_k| − ρ_k ≥ (q − c_k)·u_q − ρ_k, so
+
+    d_k(q) − d_i(q) ≥ (c_i − c_k)·u_q + ρ_i − ρ_k = h_i(u_q) − h_k(u_q),
+
+h the support function of a site's disc.  The arc of a piece lies in the triangle of its ends and
+the meeting point of their tangents (a convex arc), so its directions u_q lie within κ of one
+unit vector u_0 (:meth:`_Curves.cones`), and (c_i − c_k)·u_q ≥ (c_i − c_k)·u_0 − |c_i − c_k|·κ.
+Near the hull the pieces' empty discs are nearly half-planes; their arcs run nearly radially
+away from c_i and κ is small (about |c_i − c_j|·(1/t_a − 1/t_b) for the distances t of the ends),
+so this decides every site but those nearly as far out in direction u_0 as site i — where the
+disc bound 1 needs pieces far shorter than the scene's spacing, with every site a candidate.
+Such a piece lists its candidates from the k-d tree as the sites meeting a ball far out in
+direction u_0 whose boundary follows the line h_i(u_0) − D_i·κ across the sites (D_i bounding
+|c_k − c_i|; :func:`_queries`), not the sites meeting the ball of its disc.
+
 Memory: pieces whose disc is large next to their distance to the sites are halved before the
 candidates are listed (few candidates per piece), and the (piece, candidate) pairs are searched
 in groups of at most :data:`PAIRS` (a piece far outside the sites' hull can have every site as a
@@ -91,9 +107,10 @@ def prove_arcs(table: CircleTable, jobs, init: int = 4, max_depth: int = MAX_DEP
             _, Q, _, _, R = ctx.discs(job, A, B)
             # the number of candidate sites of each piece, to group the pieces (an estimate: the big
             # circles of the table count for all, the others through the tree as CircleTable.near does)
-            reach = (np.minimum(table.bounds(Q, ctx.I[job])[1], table.bounds(Q, ctx.J[job])[1]) + 2 * R
-                     + table.r_small)
-            count = table.tree.query_ball_point(Q, reach * (1 + 1e-9), return_length=True) + 1 + len(table.big)
+            hi = np.minimum(table.bounds(Q, ctx.I[job])[1], table.bounds(Q, ctx.J[job])[1])
+            P, reach = _queries(ctx, job, Q, R, hi, ctx.cones(job, A, B))
+            count = (table.tree.query_ball_point(P, (reach + table.r_small) * (1 + 1e-9), return_length=True)
+                     + 1 + len(table.big))
             ends = np.searchsorted(np.cumsum(count), np.arange(PAIRS, int(count.sum()) + PAIRS, PAIRS), side="right")
         start, alive, res = 0, np.ones(ctx.n, bool), [(True, None)] * ctx.n
         budget = max(1, max_pieces * ctx.n // nj)
@@ -113,6 +130,8 @@ class _Curves:
 
     def __init__(self, table, jobs):
         self.table, self.jobs, self.n = table, jobs, len(jobs)
+        lo, hi = (table.C.min(axis=0), table.C.max(axis=0)) if table.n else (np.zeros(2), np.zeros(2))
+        self.box_centre, self.box_half = 0.5 * (lo + hi), 0.5 * float(np.hypot(*(hi - lo)))
         self.hyp = np.array([b.kind == "hyperbola" for b, *_ in jobs])
         self.only_hyp = bool(self.hyp.all())
         self.M0 = np.array([b.m for b, *_ in jobs])
@@ -204,6 +223,77 @@ class _Curves:
         return Mid, Q, Rarc, err, Rarc + err
 
 
+    def cones(self, job, A, B):
+        """Support cones of the pieces (module docstring, item 2): (u0, κ, ok) with |u_q − u0| ≤ κ
+        for every point q of the true arc of a piece, and ok where the piece is a hyperbola arc
+        whose triangle (ends, meeting point of the tangents, widened by the curve's rounding
+        bound e) lies outside circle i.  u0 is the direction to the float end q(A), a corner of
+        the float triangle K, so the directions of K (a cone narrower than π: c_i ∉ K) lie within
+        max_v |e_v − u0| of u0 (e_v those of the corners); a point of the true arc is within e of
+        K, which turns its direction by at most 2e/(dist(c_i, K) − e)."""
+        table, h = self.table, self.hyp[job]
+        A0, B0 = np.where(h, A, 0.0), np.where(h, B, 0.0)
+        M0, EX, EY, Aa, Bb = self.M0[job], self.EX[job], self.EY[job], self.Aa[job], self.Bb[job]
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            ch = np.cosh(0.5 * (B0 - A0))
+            mid = 0.5 * (A0 + B0)
+            corners = [M0 + (Aa * np.cosh(t))[:, None] * EX + (Bb * np.sinh(t))[:, None] * EY for t in (A0, B0)]
+            # the tangents at q(A), q(B) of m + a·cosh u·e_x + b·sinh u·e_y meet at
+            # m + (a·cosh μ·e_x + b·sinh μ·e_y)/cosh δ, μ = (A + B)/2, δ = (B − A)/2
+            corners.append(M0 + (Aa * np.cosh(mid) / ch)[:, None] * EX + (Bb * np.sinh(mid) / ch)[:, None] * EY)
+            amax = np.minimum(np.maximum(np.abs(A0), np.abs(B0)), 700.0)
+            size = np.max([np.abs(V).sum(axis=1) for V in corners], axis=0)
+            e = 8 * self.E0[job] * np.cosh(amax) + 32 * EPS * (size + 1.0)
+            Ci = table.C[self.I[job]]
+            W = [V - Ci for V in corners]
+            nw = [np.hypot(w[:, 0], w[:, 1]) for w in W]
+            u0 = W[0] / nw[0][:, None]
+            cm = np.maximum(*[np.hypot(*(w / n[:, None] - u0).T) for w, n in zip(W[1:], nw[1:])])
+            spread = np.maximum(*[np.hypot(*(V - corners[0]).T) for V in corners[1:]])
+            dmin = (nw[0] - spread) * (1 - 1e-12) - e          # ≤ the distance from c_i to K ⊕ B(e)
+            kappa = (cm + 2 * e / dmin) * (1 + 1e-9) + 1e-12
+            ok = h & (dmin > table.R[self.I[job]] * (1 + 1e-12) + 1e-12 * table.scale) & (kappa < 2)
+        return u0, kappa, ok & np.isfinite(kappa) & np.isfinite(u0).all(axis=1)
+
+    def support_clear(self, cone, rows, ks, I):
+        """For the (piece row, site k) pairs: True where the support cone of the piece proves d_k >
+        d_i on its arc (module docstring, item 2); ``I`` the piece's site i."""
+        u0, kappa, ok = cone
+        t = self.table
+        g = t.C[I] - t.C[ks]
+        s = (g * u0[rows]).sum(axis=1) + t.R[I] - t.R[ks] - np.hypot(g[:, 0], g[:, 1]) * kappa[rows]
+        slack = 1e-12 * (t.C1[I] + t.C1[ks] + t.R[I] + t.R[ks] + 1.0)
+        return ok[rows] & (s > slack)
+
+
+def _queries(ctx: _Curves, job, Q, R, hi, cone):
+    """The balls (centres, radii) whose sites are the candidates of the pieces: the ball of the
+    piece's disc (radius hi + 2R, hi the distance to its sites), or, for a piece whose support
+    cone (module docstring, item 2) lists fewer sites, a ball far out in direction u0.  A site k
+    the cone does not clear has a_k = (c_k − c_i)·u0 ≥ ρ_i − ρ_k − D_i·κ − s (s its rounding
+    slack, D_i ≥ |c_k − c_i|), so with P = c_i + t·u0, t > D_i, and t' = t − ρ_i + D_i·κ + s:
+    |P − c_k|² = (t − a_k)² + b_k² ≤ (t' + ρ_k)² + D_i², |P − c_k| ≤ t' + ρ_k + D_i²/(2t'): the
+    site meets the ball of radius t' + D_i²/(2t') around P."""
+    table = ctx.table
+    Q, reach = Q.copy(), hi + 2 * R
+    u0, kappa, ok = cone
+    if not ok.any():
+        return Q, reach
+    I = ctx.I[job]
+    Ci = table.C[I]
+    Di = (np.hypot(*(Ci - ctx.box_centre).T) + ctx.box_half) * (1 + 1e-12) + 1e-12 * table.scale
+    t = 1e4 * (Di + table.rmax + 1.0)
+    s = 1e-12 * (table.C1[I] + float(table.C1.max()) + table.R[I] + table.rmax + 1.0)
+    with np.errstate(over="ignore", invalid="ignore"):
+        tp = t - table.R[I] + Di * kappa + s
+        far = (tp + Di * Di / (2 * tp)) * (1 + 1e-12) + 1e-12 * t
+        # the band of sites each ball meets, across the scene, against the ring of the disc
+        better = ok & (2 * Di * (Di * kappa + table.r_small) < 4 * np.pi * R * (hi + 2 * R))
+    Q[better] = Ci[better] + t[better, None] * u0[better]
+    reach[better] = far[better]
+    return Q, reach
+
+
 def _search(ctx: _Curves, job, A, B, alive, out, max_depth, max_pieces, deadline):
     """The disc search (module docstring, item 1) on the pieces (job, A, B); records failures in
     ``out`` (and clears ``alive``) for the jobs of ``ctx``.  Returns the number of pieces examined.
@@ -229,8 +319,9 @@ def _search(ctx: _Curves, job, A, B, alive, out, max_depth, max_pieces, deadline
         lo_i, hi_i = table.bounds(Q, I[job])
         lo_j, hi_j = table.bounds(Q, J[job])
         hi = np.minimum(hi_i, hi_j)
+        cone = ctx.cones(job, A, B)
         if pp is None:
-            rows, ks = table.near(Q, hi + 2 * R)
+            rows, ks = table.near(*_queries(ctx, job, Q, R, hi, cone))
             jr = job[rows]
             keep = (ks != I[jr]) & (ks != J[jr]) & ~(X[jr] == ks[:, None]).any(axis=1)
             pp, kk = rows[keep], ks[keep]
@@ -245,6 +336,9 @@ def _search(ctx: _Curves, job, A, B, alive, out, max_depth, max_pieces, deadline
                 alive[jj] = False
                 out[jj] = (False, (int(ks[t]), tuple(Q[rows[t]]), "closer"))
         fail = lo_k - hi[rows] - 2 * R[rows] <= 0
+        if fail.any():
+            fr = np.nonzero(fail)[0]
+            fail[fr] = ~ctx.support_clear(cone, rows[fr], ks[fr], I[job[rows[fr]]])
         need = np.ones(len(rows))               # the factor by which the piece's arc must shrink
         if fail.any():
             fr = np.nonzero(fail)[0]
