@@ -159,3 +159,45 @@ def test_cleared_sites_are_farther_than_site_i_on_the_arc(seed):
         for s in np.linspace(0, 1, 9):
             x = q(A[p] + s * (B[p] - A[p]))
             assert _dist(x, ck, rk) > _dist(x, ci, ri)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_every_site_the_cone_leaves_is_listed_or_cleared_by_the_disc(seed):
+    """Sites placed behind the support line of site i by f·|c_i − c_k|·κ (f < 1: not cleared by
+    the cone, which allows |c_i − c_k|·κ), across the scene: the candidate query must list each
+    unless the disc bound clears it."""
+    rng = np.random.default_rng(7500 + seed)
+    C, R = _scene(rng)
+    A, B = _pieces(rng, m=24)
+    A, B = A[np.abs(A) > 4], B[np.abs(A) > 4]            # far pieces: the queries by the far ball
+    _, _, _, (u0, kappa, ok) = _cones(C, R, A, B)
+    lo, hi = C.min(axis=0), C.max(axis=0)
+    new, rows = [], []
+    for p in np.nonzero(ok)[0]:
+        perp = np.array([-u0[p, 1], u0[p, 0]])
+        for f in (0.3, 0.6, 0.9, 0.99):
+            for _ in range(8):
+                b = rng.uniform(-1, 1) * float(np.hypot(*(hi - lo)))
+                a = R[0]
+                for _it in range(30):                    # a = ρ_i − f·|(a, b)|·κ
+                    a = R[0] - f * np.hypot(a, b) * kappa[p]
+                k = C[0] + a * u0[p] + b * perp
+                if np.all(k >= lo) and np.all(k <= hi) and np.all(np.hypot(*(C - k).T) > R + 1e-6):
+                    new.append(k)
+                    rows.append(p)
+    assert len(new) >= 20
+    C2, R2 = np.vstack([C, new]), np.r_[R, np.zeros(len(new))]
+    table, ctx, job, cone = _cones(C2, R2, A, B)
+    rows = np.array(rows)
+    ks = len(C) + np.arange(len(new))
+    assert not ctx.support_clear(cone, rows, ks, np.zeros(len(ks), int)).any()
+    _, Q, _, _, Rd = ctx.discs(job, A, B)
+    hi_ = np.minimum(table.bounds(Q, np.zeros(len(A), int))[1], table.bounds(Q, np.ones(len(A), int))[1])
+    P, reach = _queries(ctx, job, Q, Rd, hi_, cone)
+    far_ball = np.abs(P - Q).sum(axis=1) > 0
+    assert far_ball[rows].mean() > 0.5
+    prow, pk = table.near(P, reach)
+    listed = set(zip(prow.tolist(), pk.tolist()))
+    by_disc = table.bounds(Q[rows], ks)[0] - hi_[rows] - 2 * Rd[rows] > 0
+    for t in range(len(ks)):
+        assert by_disc[t] or (int(rows[t]), int(ks[t])) in listed, t
