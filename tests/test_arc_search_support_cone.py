@@ -47,14 +47,15 @@ def _dist(q, c, r):
     return abs(mp.sqrt((q[0] - c[0]) ** 2 + (q[1] - c[1]) ** 2) - r)
 
 
-def _scene(rng, n_bg=300):
-    """Sites i = 0, j = 1 (circles or points, disjoint) and background sites in a box."""
+def _scene(rng, n_bg=300, shift=0.0):
+    """Sites i = 0, j = 1 (circles or points, disjoint) and background sites in a box (moved by
+    ``shift`` along the diagonal: site i near a corner of the sites' box)."""
     while True:
         ci, cj = rng.uniform(-10, 10, 2), rng.uniform(-10, 10, 2)
         ri, rj = rng.choice([0.0, rng.uniform(0, 3)]), rng.choice([0.0, rng.uniform(0, 3)])
         if np.hypot(*(ci - cj)) > (ri + rj) * 1.05 + 0.1:
             break
-    bg = rng.uniform(-40, 40, (n_bg, 2))
+    bg = rng.uniform(-40, 40, (n_bg, 2)) + shift
     return np.vstack([ci, cj, bg]), np.r_[ri, rj, rng.uniform(0, 0.5, n_bg) * (rng.uniform(size=n_bg) < 0.5)]
 
 
@@ -164,10 +165,11 @@ def test_cleared_sites_are_farther_than_site_i_on_the_arc(seed):
 @pytest.mark.parametrize("seed", range(6))
 def test_every_site_the_cone_leaves_is_listed_or_cleared_by_the_disc(seed):
     """Sites placed behind the support line of site i by f·|c_i − c_k|·κ (f < 1: not cleared by
-    the cone, which allows |c_i − c_k|·κ), across the scene: the candidate query must list each
-    unless the disc bound clears it."""
+    the cone, which allows |c_i − c_k|·κ), across the scene (up to the corner of the box opposite
+    site i, where |c_i − c_k| meets its bound D_i): the candidate query must list each unless
+    the disc bound clears it."""
     rng = np.random.default_rng(7500 + seed)
-    C, R = _scene(rng)
+    C, R = _scene(rng, shift=30.0 * (seed % 2))
     A, B = _pieces(rng, m=24)
     A, B = A[np.abs(A) > 4], B[np.abs(A) > 4]            # far pieces: the queries by the far ball
     _, _, _, (u0, kappa, ok) = _cones(C, R, A, B)
