@@ -178,8 +178,11 @@ def test_every_site_the_cone_leaves_is_listed_or_cleared_by_the_disc(seed):
     for p in np.nonzero(ok)[0]:
         perp = np.array([-u0[p, 1], u0[p, 0]])
         for f in (0.3, 0.6, 0.9, 0.99):
-            for _ in range(8):
-                b = rng.uniform(-1, 1) * float(np.hypot(*(hi - lo)))
+            # the farthest lateral offsets the box allows on either side, and random ones
+            with np.errstate(divide="ignore"):
+                reach = [min(((hi - C[0]) / (sg * perp)).clip(0).tolist() + ((lo - C[0]) / (sg * perp)).clip(0).tolist(),
+                             key=lambda x: x if x > 0 else np.inf) for sg in (1, -1)]
+            for b in [0.999 * reach[0], -0.999 * reach[1]] + (rng.uniform(-1, 1, 6) * float(np.hypot(*(hi - lo)))).tolist():
                 a = R[0]
                 for _it in range(30):                    # a = ρ_i − f·|(a, b)|·κ
                     a = R[0] - f * np.hypot(a, b) * kappa[p]
