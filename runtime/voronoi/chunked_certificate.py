@@ -133,21 +133,15 @@ class _Reach:
         within t + ℓ of one of its points P (ℓ the edge's longest segment), and r(q) = d_i(q) ≤
         d_i(P) + t + ℓ (distances are 1-Lipschitz), so the empty circle of q lies in the disc of
         centre X0 (the polyline's first point) and radius max_P (|P − X0| + d_i(P)) + 2(t + ℓ)
-        (the lemma of the local insertion proof's one disc, widened for rounding)."""
-        lens = np.array([len(P) for P in polys])
-        P = np.concatenate(polys)
-        own = np.repeat(np.arange(len(polys)), lens)
-        first = np.cumsum(lens) - lens
-        X0 = P[first]
+        (:func:`runtime.voronoi.reach.polyline_reach`, the local insertion proof's one disc, widened
+        for rounding)."""
+        from .reach import polyline_reach
+
+        X0 = np.array([P[0] for P in polys])
         i = np.array([D.edges[t].sites[0] for t in edge_ids])
-        d_i = np.abs(np.hypot(*(P - self.C[i][own]).T) - self.R[i][own])
-        reach = np.maximum.reduceat(np.hypot(*(P - X0[own]).T) + d_i, first)
-        seg = np.zeros(len(polys))
-        same = own[1:] == own[:-1]
-        np.maximum.at(seg, own[1:][same], np.hypot(*np.diff(P, axis=0).T)[same])
-        tol = np.array([D.edges[t].tolerance for t in edge_ids], float)
-        r = (reach + 2 * (tol + seg)) * (1 + 1e-9) + 1e-9 * (np.abs(P).sum(axis=1).max() + 1)
-        return X0, r
+        reach = polyline_reach(polys, self.C[i], self.R[i], [D.edges[t].tolerance for t in edge_ids], X0)
+        size = max(float(np.abs(P).sum(axis=1).max()) for P in polys)
+        return X0, reach * (1 + 1e-9) + 1e-9 * (size + 1)
 
     def far_edges(self, D) -> list:
         """The bounded edges with an end vertex whose empty circle is wider than FAR of the span

@@ -154,7 +154,7 @@ from ..sites.intersection import sites_intersect
 from .adjacency import dynamic_state
 from .star_region import star_region
 from .hole_region import hole_region
-from .reach import arc_discs, sites_meeting_discs
+from .reach import arc_discs, polyline_reach, sites_meeting_discs
 from .conflict import LOCAL_KINDS, arc_reach, disc_inside, nearest_old_sites, outside, site_disc
 from .site_input import SiteError, as_site, check_disjoint, sites_equal
 from .verify.edge_checks import check_edges
@@ -862,25 +862,14 @@ def _prove_sub(D, dyn, pv, pe, vert, op, special, new_index, problems, flags_v, 
 
 def _arcs_reach(dyn, pe, X0, op, special) -> float:
     """max over the points q of the arcs of the bounded edges ``pe`` (circle and point sites) of a
-    bound on |q − X0| + r(q), all polylines at once: q lies within the tolerance t of a segment of
-    the polyline, so within t + ℓ of one of its points P (ℓ the edge's longest segment), and
-    r(q) = d_i(q) ≤ d_i(P) + t + ℓ (distances are 1-Lipschitz): the bound is
-    |P − X0| + d_i(P) + 2(t + ℓ), maximised over the points P of the edge."""
+    bound on |q − X0| + r(q) (:func:`runtime.voronoi.reach.polyline_reach`), the sites renumbered
+    to the old diagram's."""
     pe = [e for e in pe if len(e.polyline)]
     if not pe:
         return 0.0
     polys = [np.asarray(e.polyline, float).reshape(-1, 2) for e in pe]
-    lens = np.array([len(P) for P in polys])
-    P = np.concatenate(polys)
-    own = np.repeat(np.arange(len(pe)), lens)
-    first = np.cumsum(lens) - lens
-    site = np.array([_old(e.sites[0], op, special, dyn) for e in pe])[own]
-    val = np.hypot(*(P - X0).T) + np.abs(np.hypot(*(P - dyn.C[site]).T) - dyn.R[site])
-    seg = np.zeros(len(pe))
-    same = own[1:] == own[:-1]
-    np.maximum.at(seg, own[1:][same], np.hypot(*np.diff(P, axis=0).T)[same])
-    tol = np.array([e.tolerance for e in pe], float)
-    return float((np.maximum.reduceat(val, first) + 2 * (tol + seg)).max())
+    site = np.array([_old(e.sites[0], op, special, dyn) for e in pe])
+    return float(polyline_reach(polys, dyn.C[site], dyn.R[site], [e.tolerance for e in pe], X0).max())
 
 
 def _conic_reach(dyn, V, pe, op, special):

@@ -16,16 +16,19 @@ circles of a part of the changed skeleton:
 
 One disc around the whole changed part (its mean and the largest |q − X0| + r(q)) holds the same
 sites but, near the convex hull, where the empty circles are large, it held most of the scene
-(900 of 10³ random circles); the pieces hug the circles and hold 10–30.
+(900 of 10³ random circles); the pieces hug the circles and hold 10–30.  Its radius, edge by edge
+(:func:`polyline_reach`): q lies within t + ℓ of a point P of the polyline (ℓ its longest segment),
+so |q − X0| + r(q) ≤ |P − X0| + d_i(P) + 2(t + ℓ).
 
-Public API: :func:`polyline_pieces`, :func:`arc_discs`, :func:`distance_to_site`, :func:`sites_meeting_discs`,
-:data:`PIECE_REL`, :data:`MAX_PIECES`.
+Public API: :func:`polyline_pieces`, :func:`arc_discs`, :func:`polyline_reach`, :func:`distance_to_site`,
+:func:`sites_meeting_discs`, :data:`PIECE_REL`, :data:`MAX_PIECES`.
 """
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["polyline_pieces", "arc_discs", "distance_to_site", "sites_meeting_discs", "PIECE_REL", "MAX_PIECES"]
+__all__ = ["polyline_pieces", "arc_discs", "polyline_reach", "distance_to_site", "sites_meeting_discs", "PIECE_REL",
+           "MAX_PIECES"]
 
 #: a polyline's segments are cut into pieces no longer than this fraction of the distance to the
 #: site at the segment's ends
@@ -73,6 +76,25 @@ def arc_discs(P, g, tol):
     M, h = polyline_pieces(P, g)
     r = distance_to_site(g, M) + 2 * (h + tol)
     return M, r * (1 + 1e-9) + 1e-9 * (np.abs(M).sum(axis=1) + 1)
+
+
+def polyline_reach(polys, C, R, tol, X0) -> np.ndarray:
+    """For edges of circle and point sites given by their polylines ``polys`` (each (m_e, 2), m_e ≥ 1),
+    the centre C[e] and radius R[e] of one of the edge's sites and its tolerance tol[e]: a bound on
+    |q − X0[e]| + r(q) over the points q of the true arc within tol[e] of the polyline (module
+    docstring), max_P (|P − X0[e]| + d_i(P)) + 2(t + ℓ), all edges at once.  ``X0``: (n_e, 2), or
+    one point for all.  Not widened for rounding (the callers add their margins)."""
+    lens = np.array([len(P) for P in polys])
+    P = np.concatenate(polys)
+    own = np.repeat(np.arange(len(polys)), lens)
+    first = np.cumsum(lens) - lens
+    X0 = np.broadcast_to(np.asarray(X0, float), (len(polys), 2))
+    C, R = np.asarray(C, float).reshape(-1, 2), np.asarray(R, float)
+    val = np.hypot(*(P - X0[own]).T) + np.abs(np.hypot(*(P - C[own]).T) - R[own])
+    seg = np.zeros(len(polys))
+    same = own[1:] == own[:-1]
+    np.maximum.at(seg, own[1:][same], np.hypot(*np.diff(P, axis=0).T)[same])
+    return np.maximum.reduceat(val, first) + 2 * (np.asarray(tol, float) + seg)
 
 
 def sites_meeting_discs(dyn, P, r) -> list[int]:
