@@ -97,8 +97,14 @@ def one(mode: str, n: int, scene_name: str = "random", cgal: bool = False, certi
         from distributed import Client, LocalCluster
 
         t = time.perf_counter()
-        cluster = LocalCluster(n_workers=int(mode[-1]), threads_per_worker=1, processes=True,
-                               dashboard_address=None, env={"OPENBLAS_NUM_THREADS": "1"})
+        import dask
+
+        # the scheduler runs in this (driver) process, which also stitches and serialises the chunks:
+        # a worker's heartbeat can wait minutes at 10⁶ sites, and the default worker-ttl (5 min)
+        # then drops a live worker (seen at 10⁶ in session 32)
+        with dask.config.set({"distributed.scheduler.worker-ttl": "1h"}):
+            cluster = LocalCluster(n_workers=int(mode[-1]), threads_per_worker=1, processes=True,
+                                   dashboard_address=None, env={"OPENBLAS_NUM_THREADS": "1"})
         client = Client(cluster)
         out["startup"] = time.perf_counter() - t
     # the footprint with the input: the library imported (a three-circle diagram built), the sites (and

@@ -246,7 +246,12 @@ def _client(address: str):
         raise ImportError("--scheduler needs dask[distributed] (pip install \"dask[distributed]\")") from None
     if address == "local" or address.startswith("local:"):
         n = int(address.split(":", 1)[1]) if ":" in address else 2
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None)
+        import dask
+
+        # the scheduler shares this process with the driver's stitch and serialisation, which can keep a
+        # worker's heartbeat waiting past the default worker-ttl (5 min) on large inputs
+        with dask.config.set({"distributed.scheduler.worker-ttl": "1h"}):
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None)
         return Client(cluster)
     return Client(address)
 
