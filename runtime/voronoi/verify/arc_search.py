@@ -35,7 +35,7 @@ import time
 
 import numpy as np
 
-from .edges import EPS, MAX_DEPTH, CircleTable
+from .edges import EPS, MAX_DEPTH, SMALL_TABLE, CircleTable
 
 __all__ = ["prove_arcs", "BATCH", "PAIRS", "REFINE"]
 
@@ -257,7 +257,8 @@ class _Curves:
 
     def support_clear(self, cone, rows, ks, I):
         """For the (piece row, site k) pairs: True where the support cone of the piece proves d_k >
-        d_i on its arc (module docstring, item 2); ``I`` the piece's site i."""
+        d_i on its arc (module docstring, item 2); ``cone`` as :meth:`cones` returns it, ``rows``
+        indexing its pieces, ``I`` the piece's site i."""
         u0, kappa, ok = cone
         t = self.table
         g = t.C[I] - t.C[ks]
@@ -319,9 +320,11 @@ def _search(ctx: _Curves, job, A, B, alive, out, max_depth, max_pieces, deadline
         lo_i, hi_i = table.bounds(Q, I[job])
         lo_j, hi_j = table.bounds(Q, J[job])
         hi = np.minimum(hi_i, hi_j)
-        cone = ctx.cones(job, A, B)
         if pp is None:
-            rows, ks = table.near(*_queries(ctx, job, Q, R, hi, cone))
+            if table.n > SMALL_TABLE:
+                rows, ks = table.near(*_queries(ctx, job, Q, R, hi, ctx.cones(job, A, B)))
+            else:       # a local proof's few sites: every pair is listed anyway
+                rows, ks = table.near(Q, hi + 2 * R)
             jr = job[rows]
             keep = (ks != I[jr]) & (ks != J[jr]) & ~(X[jr] == ks[:, None]).any(axis=1)
             pp, kk = rows[keep], ks[keep]
@@ -338,7 +341,8 @@ def _search(ctx: _Curves, job, A, B, alive, out, max_depth, max_pieces, deadline
         fail = lo_k - hi[rows] - 2 * R[rows] <= 0
         if fail.any():
             fr = np.nonzero(fail)[0]
-            fail[fr] = ~ctx.support_clear(cone, rows[fr], ks[fr], I[job[rows[fr]]])
+            up, inv = np.unique(rows[fr], return_inverse=True)      # the cones of these pieces only
+            fail[fr] = ~ctx.support_clear(ctx.cones(job[up], A[up], B[up]), inv, ks[fr], I[job[rows[fr]]])
         need = np.ones(len(rows))               # the factor by which the piece's arc must shrink
         if fail.any():
             fr = np.nonzero(fail)[0]
