@@ -274,7 +274,10 @@ def chunked_verify(D, chunks, client=None) -> ChunkedCertificate:
             # a vertex proved in a coarse box: its true empty circle may reach past the chunk's
             # sites; proved only if no site left out of the chunk comes within that radius
             kept = set(keep)
-            for m, R in far:
+            if far and not set(reach.meeting([[D.vertices[vids[m]].x, D.vertices[vids[m]].y] for m, _ in far],
+                                             [R for _, R in far])) - kept:
+                far = []        # no site left out comes within any of the radii: all stay proved
+            for m, R in far:    # else vertex by vertex, to name the ones that fail
                 v = D.vertices[vids[m]]
                 out = [k for k in reach.meeting([[v.x, v.y]], [R]) if k not in kept]
                 if out:
