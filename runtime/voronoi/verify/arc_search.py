@@ -222,7 +222,6 @@ class _Curves:
         Rarc = np.where(h, Rh, Re) * (1 + 1e-12)
         return Mid, Q, Rarc, err, Rarc + err
 
-
     def cones(self, job, A, B):
         """Support cones of the pieces (module docstring, item 2): (u0, κ, ok) with |u_q − u0| ≤ κ
         for every point q of the true arc of a piece, and ok where the piece is a hyperbola arc
