@@ -79,6 +79,10 @@ __all__ = ["ROWS_PER_CALL", "StripsJob", "evaluate_rows", "gap_rows", "prove_str
 
 MAX_DEPTH = 40
 STALL = 3           # rounds of halving without progress before giving up
+#: a chain gives up past this many failing pieces in a round or tested pieces in all: a long edge
+#: far from the sites needs many (50 363 pieces for an edge 1.3·10⁶ long, 0.002 wide, between
+#: two ellipses of random_ellipses(10000, 1)), a chain that cannot pass stalls long before
+MAX_FAILING, MAX_WORK = 80000, 120000
 PIECE = 16.0        # initial pieces: PIECE times as long as the strip is wide (99 % pass at 16 on random ellipses)
 #: rows per call of the row-wise evaluations (:func:`evaluate_rows`, :func:`gap_rows`): their
 #: temporaries then take memory bounded independently of N, and the results, computed row by row,
@@ -486,7 +490,7 @@ def prove_strips_many(table, jobs, sup=None):
     """(T1)–(T4) for many :class:`StripsJob` at once: the pieces of all chains in flat arrays,
     two calls of ``table.evaluate`` per round of halving.  Returns (ok, message or None) per job.
     Per round: a chain whose pieces all pass is proved; one with failing pieces gives up at
-    MAX_DEPTH, past its work limits (20 000 failing pieces, 30 000 tested, or its ``budget``
+    MAX_DEPTH, past its work limits (:data:`MAX_FAILING` failing pieces, :data:`MAX_WORK` tested, or its ``budget``
     spent), or when halving has decided almost no piece for STALL rounds (the strip, not the
     pieces, is too wide: R stays ≥ w; the caller narrows it); otherwise its failing pieces are
     halved and the passing ones are done.  ``sup``: the sites' support functions
@@ -518,7 +522,7 @@ def prove_strips_many(table, jobs, sup=None):
         spent = np.array([jb_.budget is not None and jb_.budget.left < 0 for jb_ in jobs])
         for t in np.nonzero(running & (cnt > 0) & (nbad == 0))[0]:
             out[t] = (True, None)
-        give_up = running & (nbad > 0) & ((depth == MAX_DEPTH - 1) | (nbad > 20000) | (work > 30000)
+        give_up = running & (nbad > 0) & ((depth == MAX_DEPTH - 1) | (nbad > MAX_FAILING) | (work > MAX_WORK)
                                           | (stall >= STALL) | spent)
         if give_up.any():
             _failures(out, chains, seg, sm, jb, good, t1, side_ok, give_up)
