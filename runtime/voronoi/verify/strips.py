@@ -81,7 +81,7 @@ MAX_DEPTH = 40
 STALL = 3           # rounds of halving without progress before giving up
 #: a chain gives up past this many failing pieces in a round or tested pieces in all: a long edge
 #: far from the sites needs many (50 363 pieces for an edge 1.3·10⁶ long, 0.002 wide, between
-#: two ellipses of random_ellipses(10000, 1)); a chain that cannot pass spends them all before it is refused
+#: two ellipses of random_ellipses(10000, 1)); a chain that cannot pass may spend them before it is refused
 MAX_FAILING, MAX_WORK = 40000, 64000
 PIECE = 16.0        # initial pieces: PIECE times as long as the strip is wide (99 % pass at 16 on random ellipses)
 #: rows per call of the row-wise evaluations (:func:`evaluate_rows`, :func:`gap_rows`): their
