@@ -80,22 +80,50 @@ def test_a_chunk_holds_every_site_that_can_enter_its_empty_circles(diagram):
     assert max(sizes) < 0.6 * len(d.sites)
 
 
-def test_a_coarse_vertex_whose_circle_reaches_a_left_out_site_is_not_proved(diagram, monkeypatch):
-    d = diagram
-    chunks = _chunks(d)
-    assert cc.chunked_verify(d, chunks).ok
-    real = cc.verify_chunk
+def _plant(monkeypatch, first, again):
+    """verify_chunk returning, for vertex 0 of each bounded chunk, the radius ``first(v)`` (the
+    chunks) or ``again(v)`` (the run with the wider sites, told by _part's ``extra``)."""
+    real, real_part = cc.verify_chunk, cc._part
+    state = {"wider": False}
+
+    def part(D, ids, hull, reach, extra=()):
+        state["wider"] = bool(extra)
+        return real_part(D, ids, hull, reach, extra)
 
     def planted(sub, at_infinity=True):
         vok, eok, recs, far = real(sub, at_infinity)
         if not at_infinity and sub.vertices:
-            far = far + [[0, 10 * max(1.0, sub.vertices[0].radius) + 1e3]]   # reaches far sites
+            v = sub.vertices[0]
+            far = far + [[0, (again if state["wider"] else first)(v)]]
         return vok, eok, recs, far
 
+    monkeypatch.setattr(cc, "_part", part)
     monkeypatch.setattr(cc, "verify_chunk", planted)
+    return state
+
+
+def test_a_coarse_vertex_is_proved_again_with_every_site_within_its_radius(diagram, monkeypatch):
+    """A radius reaching sites left out of the chunk: the vertex is not proved there, and is proved
+    by the second run, handed every site within that radius."""
+    d = diagram
+    chunks = _chunks(d)
+    assert cc.chunked_verify(d, chunks).ok
+    state = _plant(monkeypatch, lambda v: 10 * max(1.0, v.radius) + 1e3, lambda v: v.radius)
     out = cc.chunked_verify(d, chunks)
-    assert not out.ok and not all(out.vertices)
-    assert any("outside its chunk's sites" in str(p) for p in out.problems)
+    assert out.ok, out.problems
+    assert state["wider"]                       # the second run happened
+
+
+def test_a_coarse_vertex_whose_circle_reaches_a_left_out_site_is_not_proved(diagram, monkeypatch):
+    """The radius of the second run reaches past the sites it was handed: not proved, named."""
+    d = diagram
+    chunks = _chunks(d)
+    span = float(np.ptp(_centres(d)[0], axis=0).max())
+    # the first radius reaches out of the chunk but not over the whole scene; the second beyond it
+    _plant(monkeypatch, lambda v: 0.3 * span, lambda v: 10 * span)
+    out = cc.chunked_verify(d, chunks)
+    assert not out.ok
+    assert any("reaches past the sites handed to it" in str(p) for p in out.problems)
 
 
 def test_a_site_entering_an_edge_between_its_vertex_circles_unproves_the_edge(diagram):

@@ -184,14 +184,18 @@ def _sub_diagram(D, edge_ids, keep=None):
     return Diagram(sites, verts, edges), vids
 
 
-def _part(D, ids, hull, reach):
+def _part(D, ids, hull, reach, extra=()):
     """(sub-diagram, vertex ids, kept sites) of one chunk: the chunk of the unbounded edges
     (``hull``: it runs the accounting at infinity) keeps every site (None); a chunk of bounded
-    edges of circle and point sites keeps the sites that can reach it (module docstring)."""
+    edges of circle and point sites keeps the sites that can reach it (module docstring), and those
+    within the radii of ``extra``, (vertex, radius) pairs."""
     if hull or reach is None or not reach.ok:
         return (*_sub_diagram(D, ids), None)
     vids = sorted({u for t in ids for u in D.edges[t].ends if u is not None})
     keep = reach.sites(D, vids, ids)
+    if extra:
+        keep = sorted(set(keep).union(reach.meeting([[D.vertices[u].x, D.vertices[u].y] for u, _ in extra],
+                                                    [R for _, R in extra])))
     return (*_sub_diagram(D, ids, keep), keep)
 
 
@@ -248,6 +252,28 @@ def _expected_in_part(rec) -> bool:
             or (rec.get("kind") == "site" and "has no edge" in msg))
 
 
+def _record(D, reach, ids, vids, keep, result, vflag, eflag, unexpected, wider) -> None:
+    """Enter one chunk's :func:`verify_chunk` result: its proved vertices and edges into ``vflag``,
+    ``eflag``; its lines beyond the expected closure lines into ``unexpected``.  A vertex proved in a
+    coarse box whose radius (:func:`runtime.voronoi.verify.vertices.local_reach`) reaches a site
+    left out of the chunk stays unproved here and goes to ``wider`` as (vertex, radius); when the
+    chunk kept every site (``keep`` None) the radius reaches nothing left out."""
+    vok, eok, recs, far = result
+    vok = list(vok)
+    if keep is not None and far:
+        kept = set(keep)
+        if set(reach.meeting([[D.vertices[vids[m]].x, D.vertices[vids[m]].y] for m, _ in far],
+                             [R for _, R in far])) - kept:
+            for m, R in far:    # vertex by vertex, to find the ones that reach past the chunk
+                v = D.vertices[vids[m]]
+                if any(k not in kept for k in reach.meeting([[v.x, v.y]], [R])):
+                    vok[m] = False
+                    wider.append((vids[m], R))
+    vflag[np.asarray(vids, dtype=np.int64)[np.asarray(vok, bool)]] = True
+    eflag[np.asarray(ids, dtype=np.int64)[np.asarray(eok, bool)]] = True
+    unexpected.extend(r["message"] for r in recs if not _expected_in_part(r))
+
+
 def chunked_verify(D, chunks, client=None) -> ChunkedCertificate:
     """Prove D (module docstring): ``chunks`` is a list of lists of edge indices covering every
     edge; one verifier task per chunk on ``client``'s workers, or, with no client, the chunks
@@ -268,25 +294,18 @@ def chunked_verify(D, chunks, client=None) -> ChunkedCertificate:
     if not unbounded:             # no end at infinity reported: one chunk still runs the accounting
         parts = [(ids, k == 0) for k, (ids, _) in enumerate(parts)] or [([], True)]
     unexpected: list = []
-    for ids, vids, keep, (vok, eok, recs, far) in _chunk_results(D, parts, client, reach):
-        vok = list(vok)
-        if keep is not None:
-            # a vertex proved in a coarse box: its true empty circle may reach past the chunk's
-            # sites; proved only if no site left out of the chunk comes within that radius
-            kept = set(keep)
-            if far and not set(reach.meeting([[D.vertices[vids[m]].x, D.vertices[vids[m]].y] for m, _ in far],
-                                             [R for _, R in far])) - kept:
-                far = []        # no site left out comes within any of the radii: all stay proved
-            for m, R in far:    # else vertex by vertex, to name the ones that fail
-                v = D.vertices[vids[m]]
-                out = [k for k in reach.meeting([[v.x, v.y]], [R]) if k not in kept]
-                if out:
-                    vok[m] = False
-                    unexpected.append(f"vertex {vids[m]}: its proof box reaches site {out[0]}, "
-                                      "outside its chunk's sites")
-        vflag[np.asarray(vids, dtype=np.int64)[np.asarray(vok, bool)]] = True
-        eflag[np.asarray(ids, dtype=np.int64)[np.asarray(eok, bool)]] = True
-        unexpected.extend(r["message"] for r in recs if not _expected_in_part(r))
+    wider: list = []              # (vertex, radius): coarse vertices whose radius reaches past their chunk
+    for ids, vids, keep, result in _chunk_results(D, parts, client, reach):
+        _record(D, reach, ids, vids, keep, result, vflag, eflag, unexpected, wider)
+    if wider:
+        # once more with every site within those radii: the edges at those vertices as one chunk
+        vset = {u for u, _ in wider}
+        ids = sorted({e.id for e in D.edges if any(u in vset for u in e.ends if u is not None)})
+        sub, vids, keep = _part(D, ids, False, reach, extra=wider)
+        again: list = []
+        _record(D, reach, ids, vids, keep, verify_chunk(sub, False), vflag, eflag, unexpected, again)
+        unexpected.extend(f"vertex {u}: its proof box's radius {R:.6g} reaches past the sites handed to it "
+                          "(twice: its chunk's, then every site within its first radius)" for u, R in again)
     t1 = time.perf_counter()
     if not vflag.all():
         problems.append(f"{int((~vflag).sum())} vertices not proved in their chunks")
