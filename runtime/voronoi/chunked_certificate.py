@@ -37,7 +37,9 @@ chunk's proofs succeed,
 each true empty circle of a vertex lies in its disc (when the vertex's proof box is coarse next to
 the tolerance, the chunk returns the radius that holds it,
 :func:`runtime.voronoi.verify.vertices.local_reach`, and the vertex counts as proved only if no
-site left out of the chunk comes that close) and each true arc within its tolerance
+site left out of the chunk comes that close; otherwise the edges at such vertices are proved once
+more as one chunk handed also every site within those radii, whose own radii are checked the same
+way) and each true arc within its tolerance
 of its polyline (what the verifier proves), so every empty circle lies in those discs and a site
 left out cannot enter one: the proofs hold for all the sites.  The chunk of unbounded edges keeps
 every site (its accounting at infinity and disjointness test read them all), and takes the bounded
