@@ -34,6 +34,7 @@ Public API: :func:`build_tile`, :func:`stitch`, :class:`StitchError`.
 """
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -122,6 +123,29 @@ def _merge_key(sites_, x, y, tol, table):
     return None
 
 
+def _snapped(poly, tolerance, gends, vertices):
+    """The polyline of an edge with its end points moved onto the merged vertices ``gends`` (a
+    polyline runs from ends[0] to ends[1]), and its tolerance widened by the largest move: the
+    copies of a vertex reported by two tiles differ by up to the merge tolerance (far from the
+    sites, where the vertex is ill-conditioned), and an edge from the second tile ended at its own
+    copy.  Moving a polyline's end point by δ moves each point of its last segment by at most δ,
+    so the true arc within t of the old polyline is within t + δ of the new one."""
+    P = np.array(poly, dtype=float).reshape(-1, 2)
+    shift = 0.0
+    for k, g in ((0, gends[0]), (len(P) - 1, gends[1] if len(gends) > 1 else None)):
+        if g is None or not len(P):
+            continue
+        v = vertices[g]
+        d = math.hypot(P[k, 0] - v.x, P[k, 1] - v.y)
+        if d > 0:
+            P[k] = (v.x, v.y)
+            shift = max(shift, d)
+    if shift == 0.0:
+        return poly, tolerance
+    # the move and the new sum, rounded up
+    return P, float(tolerance + shift * (1 + 1e-12) + 4e-16 * (abs(tolerance) + shift))
+
+
 def stitch(sites, reports, scale: float):
     """The diagram of all ``sites`` from the tiles' ``reports`` (:func:`build_tile`): vertices
     merged by site set and position, edges by site pair and end vertices.  Returns a
@@ -160,6 +184,7 @@ def stitch(sites, reports, scale: float):
             if key in seen:
                 continue
             seen[key] = len(edges)
+            poly, tolerance = _snapped(poly, tolerance, gends, vertices)
             edges.append(DiagramEdge(len(edges), tuple(sorted(pair)), tuple(gends), False, poly, tolerance, ok))
     # a polyline runs from ends[0] to ends[1]: pairs are stored sorted, as the construction does
     D = Diagram(list(sites), vertices, edges, False, [], {})
