@@ -18,7 +18,10 @@ point, so it is reported.
 the scene's size; a triple of circles can have two vertices, told apart by position); copies
 that disagree on the cyclic order of the sites or on the radius are refused
 (:class:`StitchError`).  An edge copy is kept when both its ends are stitched vertices (or at
-infinity), keyed by its site pair and its ends; copies with the same key are merged.  Edges
+infinity), keyed by its site pair and its ends; copies with the same key are merged.  The merged
+vertex keeps its first copy's position, and an edge reported with another copy's position has its
+end moved onto it and its tolerance widened by the move (:func:`_snapped`: copies of a vertex far
+from the sites differ by up to the merge tolerance).  Edges
 without vertices (two sites, sites in a row) are not stitched: the caller builds such scenes in
 one process.  Nothing here *proves* completeness: a vertex outside B whose circle reaches
 into B_w, or a long edge whose far end no region matched, would be missing, and the
