@@ -24,3 +24,31 @@ def test_the_true_circle_lies_in_the_local_reach(h_over_tol, angle):
     for sx, sy, sr in itertools.product((-1, 1), repeat=3):
         qx, qy, r = info.x + sx * info.h, info.y + sy * info.h, info.r + sr * info.h
         assert math.hypot(qx - v.x, qy - v.y) + r <= R
+
+
+def test_a_chunk_run_lists_the_coarse_vertices_and_a_whole_run_does_not(monkeypatch):
+    """``verify(..., at_infinity=False)`` (a chunk of the chunked certificate) must list in
+    ``stats["vertex_reach"]`` every proved vertex whose proof box is coarse enough that its true
+    circle may reach past the chunk's first list of sites: here one vertex's box is widened to
+    h = 2·tol, so r + 2·tol + 7h = r + 16·tol exceeds the first list's r + 5·tol (written out here,
+    not taken from the library)."""
+    from curvedvoronoi.runtime.voronoi.construction import voronoi
+    from curvedvoronoi.runtime.voronoi.verify import certificate
+    from scenes import random_disjoint_circles
+
+    d = voronoi(random_disjoint_circles(60, 3), progress=False, certify=False)
+    real = certificate.prove_vertices
+    target = d.vertices[len(d.vertices) // 2].id
+
+    def coarse(*a, **k):
+        vinfo, vok = real(*a, **k)
+        vinfo[target].h = max(vinfo[target].h, 2 * vinfo[target].tol)
+        return vinfo, vok
+
+    monkeypatch.setattr(certificate, "prove_vertices", coarse)
+    local = certificate.verify(d, progress=False, at_infinity=False)
+    listed = {m: R for m, R in local.stats["vertex_reach"]}
+    v = d.vertices[target]
+    tol = 1e-10 * (1 + abs(v.x) + abs(v.y) + abs(v.radius))
+    assert target in listed and listed[target] >= v.radius + 15 * tol
+    assert "vertex_reach" not in certificate.verify(d, progress=False).stats
