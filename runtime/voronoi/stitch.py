@@ -135,7 +135,7 @@ def _snapped(poly, tolerance, gends, vertices):
     so the true arc within t of the old polyline is within t + δ of the new one."""
     P = np.array(poly, dtype=float).reshape(-1, 2)
     shift = 0.0
-    for k, g in ((0, gends[0]), (len(P) - 1, gends[1] if len(gends) > 1 else None)):
+    for k, g in ((0, gends[0]), (len(P) - 1, gends[1])):
         if g is None or not len(P):
             continue
         v = vertices[g]
