@@ -84,7 +84,9 @@ class DiagramEdge:
     between the polyline (its segments, not only its points) and the edge's arc, which the
     verifier proves (:mod:`runtime.voronoi.verify.polyline_bound`, up to 1e-9 of the coordinates);
     with a conic site, the measured deviation (the verifier proves every polyline point within it
-    and the arc inside strips along the polyline).
+    and the arc inside strips along the polyline).  The arc's ends are the end vertices as
+    certified: the polyline starts and ends within tol + 2h of their proved centres, the test that
+    accepts the reported vertices (:mod:`runtime.voronoi.verify.vertices`).
     """
 
     id: int

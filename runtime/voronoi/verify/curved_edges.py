@@ -41,12 +41,23 @@ def curved_job(e, name, pair, P, endv, scale, problems):
     if e.closed and (v0 is not None or v1 is not None):
         problems.append(f"{name}: a closed edge cannot end at a vertex")
         return None
-    for t, (w, Q) in enumerate(((v0, P[0]), (v1, P[-1]))):
+    if not ends_at_vertices(name, P, endv, scale, problems):
+        return None
+    return (scale, pair, P, v0, v1, float(e.tolerance), bool(e.closed))
+
+
+def ends_at_vertices(name, P, endv, scale, problems) -> bool:
+    """Does the polyline start and end at its end vertices?  Each end within tol + 2h of the
+    vertex's proved centre (plus 10⁻¹² of the scene): the test by which
+    :func:`runtime.voronoi.verify.vertices.prove_vertices` accepts the reported vertex, so a
+    polyline drawn from the reported position always passes; its end is then within
+    tol + (2 + √2)·h of the true vertex.  False: problem recorded."""
+    for t, (w, Q) in enumerate(((endv[0], P[0]), (endv[1], P[-1]))):
         if w is not None and math.hypot(Q[0] - w.x, Q[1] - w.y) > w.tol + 2 * w.h + 1e-12 * scale:
             problems.append(f"{name}: polyline {'starts' if t == 0 else 'ends'} at ({Q[0]:.17g}, {Q[1]:.17g}), "
                             f"not at vertex {w.id} ({w.x:.17g}, {w.y:.17g})")
-            return None
-    return (scale, pair, P, v0, v1, float(e.tolerance), bool(e.closed))
+            return False
+    return True
 
 
 def curved_edges(curved, geoms, problems, eok, ends_inf, deadline=None, late=None):

@@ -27,7 +27,7 @@ from .exact_edges import (SHALLOW, exact_third_site_clear, far_point_edges, sear
                           tower_points_apart, triple_others, zero_on_arc)
 from .exact_vertices import exact_tower_vertex
 from .polyline_bound import hausdorff_bounds
-from .curved_edges import curved_edges, curved_job, curved_scale, drawn_points, past
+from .curved_edges import curved_edges, curved_job, curved_scale, drawn_points, ends_at_vertices, past
 
 __all__ = ["check_edges"]
 
@@ -288,7 +288,7 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
     """Checks of one edge that need no search (ends, polyline, exact zeros of the end vertices'
     third sites); returns (lo, hi, exempt, tails, full_lo, full_hi, signs) for the searches, or
     None (problem recorded)."""
-    if not _ends_at_vertices(name, P, endv, table, problems):
+    if not ends_at_vertices(name, P, endv, table.scale, problems):
         return None
     got = _parameter_range(e, name, pair, endv, bis, table, problems, pre)
     if got is None:
@@ -303,18 +303,6 @@ def _edge_job(e, name, pair, P, endv, bis, table, problems, pre):
         return None
     exempt, signs = got
     return lo, hi, exempt, tails, full_lo, full_hi, signs
-
-
-def _ends_at_vertices(name, P, endv, table, problems) -> bool:
-    """The polyline starts and ends within each end vertex's tolerance (plus 10⁻¹² of the scene)."""
-    v0, v1 = endv
-    # --- polyline ends at the vertices
-    for t, (w, Q) in enumerate(((v0, P[0]), (v1, P[-1]))):
-        if w is not None and math.hypot(Q[0] - w.x, Q[1] - w.y) > w.tol + 1e-12 * table.scale:
-            problems.append(f"{name}: polyline {'starts' if t == 0 else 'ends'} at ({Q[0]:.17g}, {Q[1]:.17g}), "
-                            f"not at vertex {w.id} ({w.x:.17g}, {w.y:.17g})")
-            return False
-    return True
 
 
 def _parameter_range(e, name, pair, endv, bis, table, problems, pre):
