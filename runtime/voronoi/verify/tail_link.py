@@ -20,6 +20,8 @@ import numpy as np
 
 __all__ = ["link_arc"]
 
+EPS = 2.0 ** -53
+
 
 def link_arc(m, table, pair, link, scale):
     """(ok, message, φ−, φ+, r): the angles about m of Q− and Q+ and the circle's radius r
@@ -53,12 +55,15 @@ def link_arc(m, table, pair, link, scale):
     Q = np.array([[m[0] + r * math.cos(p_), m[1] + r * math.sin(p_)] for p_ in (phi_lo, phi_hi)])
     rel = Q - P0
     sc, lc = rel @ tv, rel @ nv
-    pad = sag + 1e-12 * scale
+    # the circle's points at φ± are within 6u·(|m| + r) of the float Q (u = 2⁻⁵³: cos, the
+    # product and the sum each rounded; √2 for the two coordinates)
+    rnd = 6 * EPS * (abs(m[0]) + abs(m[1]) + r)
+    pad = sag + 1e-12 * scale + 2 * rnd
     if not (np.all(sc > pad) and np.all(sc < L - pad) and np.all(np.abs(lc) < w - pad)):
         return False, "the link circle does not cross the last proved strip", None, None, r
     V = table.evaluate(np.concatenate([Q, Q]), [i, i, j, j])
     lo_i, hi_i, lo_j, hi_j = V.lo[:2], V.hi[:2], V.lo[2:], V.hi[2:]
-    fl = 4e-12 * (scale + r)        # Q is a float point within ~1e-15·r of the circle; f is 2-Lipschitz
+    fl = 4 * rnd + 1e-15 * scale    # f = d_i − d_j is 2-Lipschitz: twice rnd, with a margin of 2
     pos = lo_i - hi_j > fl
     neg = hi_i - lo_j < -fl
     if not ((pos[0] and neg[1]) or (neg[0] and pos[1])):
