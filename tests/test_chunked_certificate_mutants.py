@@ -188,3 +188,21 @@ def test_two_vertices_of_one_triple_are_not_a_duplicate(client):
     assert sorted(round(v.y, 12) for v in d.vertices) == [-1.75, 1.75]
     cc = chunked_verify(d, _one_edge_per_chunk(d), client)
     assert cc.ok and cc.problems == []
+
+
+def test_two_vertices_of_one_triple_in_a_wide_scene_are_not_a_duplicate(client):
+    """The triple above with three far points added: the circle through (∓8·10⁵, 8·10⁵) and
+    (0, 7.2·10⁵) has its centre at (0, 4.76·10⁶) (8·10¹¹ + (4.76·10⁶ − 8·10⁵)² = (4.76·10⁶ −
+    7.2·10⁵)²), a vertex that makes the scene 4.76·10⁶ wide, so a duplicate test at a fixed
+    fraction of the scene (10⁻⁶ of it: 4.8 here) took the two vertices 3.5 apart for one.  Two
+    reports of one vertex lie within the sum of their proof radii (a few 10⁻¹⁰ of their own
+    coordinates), and these two do not."""
+    far = [(-8e5, 8e5, 0), (8e5, 8e5, 0), (0, 7.2e5, 0)]
+    d = voronoi([(-6, 0, 5), (6, 0, 5), (0, 0, 0.5)] + far, progress=False)
+    assert d.certified
+    pair = [v for v in d.vertices if set(v.sites) == {0, 1, 2}]
+    assert sorted(round(v.y, 9) for v in pair) == [-1.75, 1.75] and all(abs(v.x) < 1e-9 for v in pair)
+    top = [v for v in d.vertices if set(v.sites) == {3, 4, 5}]
+    assert len(top) == 1 and abs(top[0].y - 4.76e6) < 1e-3 and abs(top[0].x) < 1e-3
+    cc = chunked_verify(d, _one_edge_per_chunk(d), client)
+    assert cc.ok and cc.problems == []

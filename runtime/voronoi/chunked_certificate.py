@@ -47,8 +47,8 @@ edges with a vertex whose empty circle is wider than a twentieth of the sites' s
 where the empty circles hold most sites anyway); all chunks keep every site when a site is a
 conic.  A chunk's set-up is then the size of the chunk, not of the diagram.
 
-Two reported vertices with the same sites closer than 1e-6 of the scene's size (one vertex
-reported twice) also refuse it: the closure does not see a duplicate, and the verifier's overlap check of edges of one pair runs in one chunk only.
+Two reported vertices with the same sites close enough to be one vertex reported twice (within
+the sum of their proof radii, :func:`_duplicates`) also refuse it: the closure does not see a duplicate, and the verifier's overlap check of edges of one pair runs in one chunk only.
 
 A refusal is not a disproof: the caller then runs the verifier on the whole diagram, whose
 problems name what to rebuild.
@@ -57,6 +57,7 @@ Public API: :func:`chunked_verify`, :class:`ChunkedCertificate`.
 """
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 
@@ -254,14 +255,17 @@ def _expected_in_part(rec) -> bool:
             or (rec.get("kind") == "site" and "has no edge" in msg))
 
 
-def _record(D, reach, ids, vids, keep, result, vflag, eflag, unexpected, wider) -> None:
+def _record(D, reach, ids, vids, keep, result, vflag, eflag, unexpected, wider, radii) -> None:
     """Enter one chunk's :func:`verify_chunk` result: its proved vertices and edges into ``vflag``,
     ``eflag``; its lines beyond the expected closure lines into ``unexpected``.  A vertex proved in a
     coarse box whose radius (:func:`runtime.voronoi.verify.vertices.local_reach`) reaches a site
     left out of the chunk stays unproved here and goes to ``wider`` as (vertex, radius); when the
-    chunk kept every site (``keep`` None) the radius reaches nothing left out."""
+    chunk kept every site (``keep`` None) the radius reaches nothing left out.  ``radii``: the
+    largest such radius of each vertex (for :func:`_duplicates`)."""
     vok, eok, recs, far = result
     vok = list(vok)
+    for m, R in far:
+        radii[vids[m]] = max(R, radii.get(vids[m], 0.0))
     if keep is not None and far:
         kept = set(keep)
         if set(reach.meeting([[D.vertices[vids[m]].x, D.vertices[vids[m]].y] for m, _ in far],
@@ -274,6 +278,27 @@ def _record(D, reach, ids, vids, keep, result, vflag, eflag, unexpected, wider) 
     vflag[np.asarray(vids, dtype=np.int64)[np.asarray(vok, bool)]] = True
     eflag[np.asarray(ids, dtype=np.int64)[np.asarray(eok, bool)]] = True
     unexpected.extend(r["message"] for r in recs if not _expected_in_part(r))
+
+
+def _duplicates(D, radii) -> list:
+    """Problems for two reported vertices with the same sites that may be one vertex reported
+    twice.  A proved vertex v lies within tol + (2 + √2)·h of its true vertex, at most half of
+    s_v = R_v − r_v, R_v its radius (:func:`runtime.voronoi.verify.vertices.local_reach`: a
+    chunk lists it in ``radii`` where it exceeds :func:`runtime.voronoi.verify.vertices.local_default`,
+    which bounds it otherwise); two reports of one true vertex are then within (s_u + s_v)/2, and
+    any pair within s_u + s_v refuses.  (Distinct vertices of one triple can be close: a fixed
+    fraction of the scene refused 2·10⁵ random circles, whose far vertices make that fraction 0.3.)"""
+    from .verify.vertices import local_default
+
+    out: list = []
+    seen: dict = {}
+    for v in D.vertices:
+        s_v = radii.get(v.id, local_default(v)) - v.radius
+        for (x, y, s_u) in seen.get(frozenset(v.sites), ()):
+            if math.hypot(x - v.x, y - v.y) <= (s_u + s_v) * (1 + 1e-9):
+                out.append(f"vertex of sites {tuple(v.sites)} near ({v.x:.6g}, {v.y:.6g}) reported twice")
+        seen.setdefault(frozenset(v.sites), []).append((v.x, v.y, s_v))
+    return out
 
 
 def chunked_verify(D, chunks, client=None) -> ChunkedCertificate:
@@ -297,15 +322,16 @@ def chunked_verify(D, chunks, client=None) -> ChunkedCertificate:
         parts = [(ids, k == 0) for k, (ids, _) in enumerate(parts)] or [([], True)]
     unexpected: list = []
     wider: list = []              # (vertex, radius): coarse vertices whose radius reaches past their chunk
+    radii: dict = {}              # vertex: the largest local_reach radius a chunk listed
     for ids, vids, keep, result in _chunk_results(D, parts, client, reach):
-        _record(D, reach, ids, vids, keep, result, vflag, eflag, unexpected, wider)
+        _record(D, reach, ids, vids, keep, result, vflag, eflag, unexpected, wider, radii)
     if wider:
         # once more with every site within those radii: the edges at those vertices as one chunk
         vset = {u for u, _ in wider}
         ids = sorted({e.id for e in D.edges if any(u in vset for u in e.ends if u is not None)})
         sub, vids, keep = _part(D, ids, False, reach, extra=wider)
         again: list = []
-        _record(D, reach, ids, vids, keep, verify_chunk(sub, False), vflag, eflag, unexpected, again)
+        _record(D, reach, ids, vids, keep, verify_chunk(sub, False), vflag, eflag, unexpected, again, radii)
         unexpected.extend(f"vertex {u}: its proof box's radius {R:.6g} reaches past the sites handed to it "
                           "(twice: its chunk's, then every site within its first radius)" for u, R in again)
     t1 = time.perf_counter()
@@ -319,13 +345,7 @@ def chunked_verify(D, chunks, client=None) -> ChunkedCertificate:
     closure: list = []
     if not verify_closure(D, len(D.sites), closure, {}):
         problems.extend(closure or ["closure not proved"])
-    scale = 1.0 + max((abs(v.x) + abs(v.y) for v in D.vertices), default=0.0)
-    seen: dict = {}
-    for v in D.vertices:
-        for (x, y) in seen.get(frozenset(v.sites), ()):
-            if abs(x - v.x) + abs(y - v.y) <= 1e-6 * scale:
-                problems.append(f"vertex of sites {tuple(v.sites)} near ({v.x:.6g}, {v.y:.6g}) reported twice")
-        seen.setdefault(frozenset(v.sites), []).append((v.x, v.y))
+    problems.extend(_duplicates(D, radii))
     t2 = time.perf_counter()
     ok = not problems
     return ChunkedCertificate(ok, problems, vflag.tolist(), eflag.tolist(), {"chunks": t1 - t0, "closure": t2 - t1})

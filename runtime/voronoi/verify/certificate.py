@@ -302,7 +302,7 @@ def verify(diagram, sites=None, *, deadline=None, progress=None, at_infinity: bo
 
     # ---------------------------------------------------------------- vertices
     t0 = time.perf_counter()
-    vinfo, vok = _prove_vertices(D, sites, geoms, table, problems, stats, not at_infinity)
+    vinfo, vok = _prove_vertices(D, sites, geoms, table, problems, stats)
     timings["vertices"] = time.perf_counter() - t0
     bar = _stage_bar(progress, len(D.edges))
     _advance(bar, f"{sum(vok)}/{len(vok)} vertices")
@@ -326,15 +326,13 @@ def verify(diagram, sites=None, *, deadline=None, progress=None, at_infinity: bo
     return Certificate(ok, problems, vok, eok, complete, pairs, hyp, stats, timings)
 
 
-def _prove_vertices(D, sites, geoms, table, problems, stats, local):
-    """:func:`prove_vertices`, and with ``local`` (a chunk's run, ``at_infinity=False``) in
-    ``stats["vertex_reach"]`` the [index, radius] of the proved vertices whose true empty circles
-    may reach past a local proof's first list of sites
+def _prove_vertices(D, sites, geoms, table, problems, stats):
+    """:func:`prove_vertices`, and in ``stats["vertex_reach"]`` the [index, radius] of the proved
+    vertices whose true empty circles may reach past a local proof's first list of sites
     (:func:`runtime.voronoi.verify.vertices.local_reach`; read by the chunked certificate, which
-    hands a chunk only the sites near it)."""
+    hands a chunk only the sites near it, and bounds by these radii how far a proved vertex is
+    from its true one)."""
     vinfo, vok = prove_vertices(D, sites, geoms, table, problems, offset=getattr(D, "frame_offset", (0.0, 0.0)))
-    if not local:
-        return vinfo, vok
     stats["vertex_reach"] = [[m, R] for m, (v, f) in enumerate(zip(D.vertices, vok)) if f
                              for R in [local_reach(v, vinfo[v.id]) if v.id in vinfo else math.inf]
                              if R > local_default(v)]

@@ -24,7 +24,8 @@ system, thesis §6.1 / App. D.1, and the touching certificate).
 
 Emptiness: every other site k must satisfy lo_k(q̃) − h > r_hi, with h the half diagonal of the
 vertex box (distances are 1-Lipschitz) and lo_k the rigorous ``distance_bounds``; candidates come
-from a k-d tree on the centres (d(q, S) ≥ |q − c| − ρ).
+from a k-d tree on the centres (circles and points: d(q, S) ≥ |q − c| − ρ; conics: the distance
+to the bounding box, :func:`_box_candidates`, a lower bound of the distance to the site).
 """
 from __future__ import annotations
 
@@ -73,7 +74,7 @@ def local_reach(v, info) -> float:
     have h > tol/4) it must check the sites out to this radius as well.  The whole verifier lists
     the sites around the proved box itself and needs neither."""
     r = v.radius + 2 * info.tol + 7 * info.h
-    return r * (1 + 1e-9) + 1e-9 * (abs(v.x) + abs(v.y) + 1)
+    return r * (1 + 1e-12) + 1e-12 * (abs(v.x) + abs(v.y) + 1)
 
 
 def local_default(v) -> float:
@@ -345,6 +346,34 @@ def _pairwise_exterior(table, T):
     return out
 
 
+def _box_candidates(boxes, X, reach):
+    """(rows, ks): the pairs (point X[row], site k) whose bounding box (x0, y0, x1, y1; infinite
+    bounds allowed) comes within ``reach[row]`` of the point, up to 10⁻¹²: a k-d tree on the
+    centres of the finite boxes queried with reach + the largest half-diagonal, then the exact
+    box distance; every site with an unbounded box is a candidate of every point."""
+    from scipy.spatial import cKDTree
+
+    fin = np.isfinite(boxes).all(1)
+    fk = np.flatnonzero(fin)
+    rows, ks = [np.zeros(0, int)], [np.zeros(0, int)]
+    if len(fk):
+        bx = boxes[fk]
+        half = float((0.5 * np.hypot(bx[:, 2] - bx[:, 0], bx[:, 3] - bx[:, 1])).max())
+        lists = cKDTree(0.5 * (bx[:, :2] + bx[:, 2:])).query_ball_point(X, (reach + half) * (1 + 1e-9) + 1e-300)
+        lens = np.fromiter((len(c) for c in lists), int, len(lists))
+        r_ = np.repeat(np.arange(len(X)), lens)
+        k_ = fk[np.fromiter((k for c in lists for k in c), int, int(lens.sum()))]
+        b = boxes[k_]
+        dx = np.maximum(np.maximum(b[:, 0] - X[r_, 0], X[r_, 0] - b[:, 2]), 0.0)
+        dy = np.maximum(np.maximum(b[:, 1] - X[r_, 1], X[r_, 1] - b[:, 3]), 0.0)
+        near = np.hypot(dx, dy) * (1 - 1e-12) <= reach[r_]
+        rows.append(r_[near]), ks.append(k_[near])
+    uk = np.flatnonzero(~fin)
+    if len(uk):
+        rows.append(np.repeat(np.arange(len(X)), len(uk))), ks.append(np.tile(uk, len(X)))
+    return np.concatenate(rows), np.concatenate(ks)
+
+
 def _emptiness_batch(verts, flags, infos, geoms, table, problems):
     """Every other site strictly outside the disc of each proved vertex (module docstring)."""
     ms = [m for m, f in enumerate(flags) if f]
@@ -365,19 +394,15 @@ def _emptiness_batch(verts, flags, infos, geoms, table, problems):
         rows, ks = rows[keep], ks[keep]
         lo, hi = table.bounds(X[rows], ks)
     else:
-        rows, ks, lo, hi = [], [], [], []
-        boxes = np.array([g.bounding_box() for g in geoms], float)
-        for r_, inf in enumerate(info_l):
-            dx = np.maximum(np.maximum(boxes[:, 0] - inf.x, inf.x - boxes[:, 2]), 0.0)
-            dy = np.maximum(np.maximum(boxes[:, 1] - inf.y, inf.y - boxes[:, 3]), 0.0)
-            dbox = np.where(np.isfinite(dx) & np.isfinite(dy), np.hypot(dx, dy), 0.0)
-            cand = np.nonzero(dbox * (1 - 1e-12) <= Rhi[r_] + 2 * H[r_])[0]
-            for k in cand:
-                if k in inf.sites:
-                    continue
-                l_, h_ = geoms[k].distance_bounds(X[r_:r_ + 1])
-                rows.append(r_), ks.append(int(k)), lo.append(l_[0]), hi.append(h_[0])
-        rows, ks, lo, hi = (np.array(rows, int), np.array(ks, int), np.array(lo), np.array(hi))
+        rows, ks = _box_candidates(np.array([g.bounding_box() for g in geoms], float).reshape(-1, 4), X,
+                                   Rhi + 2 * H)
+        keep = np.array([k not in info_l[r_].sites for r_, k in zip(rows.tolist(), ks.tolist())], bool)
+        rows, ks = rows[keep], ks[keep]
+        lo, hi = np.empty(len(rows)), np.empty(len(rows))
+        order = np.argsort(ks, kind="stable")
+        cuts = np.flatnonzero(np.diff(ks[order])) + 1
+        for grp in np.split(order, cuts) if len(order) else ():
+            lo[grp], hi[grp] = geoms[int(ks[grp[0]])].distance_bounds(X[rows[grp]])
     if not len(rows):
         return
     inside = hi + H[rows] < Rlo[rows]
