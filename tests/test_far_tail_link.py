@@ -44,3 +44,34 @@ def test_a_far_tail_links_where_the_signs_are_proved(x0, linked):
         assert J[0] < math.pi / 2 < J[1]
     else:
         assert "crossing of the link circle" in msg
+
+
+class _Values:
+    def __init__(self, lo, hi):
+        self.lo, self.hi = np.asarray(lo, float), np.asarray(hi, float)
+
+
+class _Table:
+    """Enclosures of d_i, d_j at Q−, Q+ (rows i, i, j, j) with f = d_i − d_j = ∓δ exactly."""
+
+    def __init__(self, delta):
+        self.delta = delta
+
+    def evaluate(self, Q, K):
+        base = 1e6
+        return _Values([base - self.delta, base + self.delta, base, base],
+                       [base - self.delta, base + self.delta, base, base])
+
+
+@pytest.mark.parametrize("factor, linked", [(0.0, False), (0.5, False), (0.9, False), (2.5, True), (100.0, True)])
+def test_the_link_signs_must_exceed_the_rounding_of_the_circle_points(factor, linked):
+    """|f(Q±)| must exceed 2·(6u·(|m| + r)): the circle points at φ± are that close to the float
+    Q± and f is 2-Lipschitz, so a smaller |f| at Q± proves no sign on the circle."""
+    from curvedvoronoi.runtime.voronoi.verify.tail_link import link_arc
+
+    m = np.array([0.0, 0.0])
+    link = (np.array([0.0, Y]), np.array([0.0, 1.0]), np.array([1.0, 0.0]), 10.0, W, 5.0)
+    r = Y + 5.0
+    rnd = 6 * 2.0 ** -53 * r
+    ok, msg, *_ = link_arc(m, _Table(factor * 2 * rnd), (0, 1), link, 300.0)
+    assert ok is linked, msg
