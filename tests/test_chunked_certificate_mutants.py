@@ -206,3 +206,36 @@ def test_two_vertices_of_one_triple_in_a_wide_scene_are_not_a_duplicate(client):
     assert len(top) == 1 and abs(top[0].y - 4.76e6) < 1e-3 and abs(top[0].x) < 1e-3
     cc = chunked_verify(d, _one_edge_per_chunk(d), client)
     assert cc.ok and cc.problems == []
+
+
+def test_a_copy_within_the_coarse_proof_radius_is_refused(client, monkeypatch):
+    """NESTED reported twice again, now with every proof box widened to h = 10·tol and the copy
+    moved by 15·tol: each copy is still accepted (15·tol ≤ tol + 2h), so both may be one vertex,
+    and the duplicate test must use the coarse radii the chunks list (r + 2·tol + 7h: 72·tol
+    each), not the first-list radius (5·tol each, 10·tol for the pair, below the 15·tol apart)."""
+    from curvedvoronoi.runtime.voronoi.verify import vertices
+
+    real = vertices._vertex_info
+
+    def coarse(*a, **k):
+        info = real(*a, **k)
+        if info is not None:
+            info.h = max(info.h, 10 * info.tol)
+        return info
+
+    monkeypatch.setattr(vertices, "_vertex_info", coarse)
+    d = voronoi(NESTED, progress=False)
+    nv, ne = len(d.vertices), len(d.edges)
+
+    def tol(v):
+        return 1e-10 * (1 + abs(v.x) + abs(v.y) + abs(v.radius))
+
+    verts = list(d.vertices) + [DiagramVertex(nv + v.id, tuple(v.sites), v.x + 15 * tol(v), v.y, v.radius)
+                                for v in d.vertices]
+    edges = list(d.edges) + [DiagramEdge(ne + e.id, tuple(e.sites), tuple(nv + u for u in e.ends), e.closed,
+                                         e.polyline, e.tolerance) for e in d.edges]
+    bad = Diagram(list(d.sites), verts, edges)
+    cc = chunked_verify(bad, [list(range(ne)), list(range(ne, 2 * ne))], client)
+    assert all(cc.vertices) and all(cc.edges)
+    assert not cc.ok
+    assert any("reported twice" in str(p) for p in cc.problems)
