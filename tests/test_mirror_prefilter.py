@@ -1,12 +1,10 @@
 """The shape test that lets the verifier skip the exact mirror-line search
-(runtime.voronoi.verify.curved_edges.shape_invariant / may_mirror).
+(runtime.voronoi.verify.curved_edges.shape_key / may_mirror).
 
-Facts checked: tr(M)²/(4·det M) of the quadratic part is the closed form (A² + B²)²/(4A²B²) for an
-ellipse with semi-axes A, B (M = R·diag(1/A², 1/B²)·Rᵀ up to scale: tr = 1/A² + 1/B²,
-det = 1/(A²B²)); it is the same for an ellipse and its exact
-reflection; and on every pair of a family of ellipses (equal and unequal shapes, mirrored and
-rotated), may_mirror is False only where runtime.predicates.symmetry.mirror_line, the exact
-reference, finds no mirror line.
+Facts checked: the key of an ellipse is its semi-axes (A, B), A ≥ B, given exactly to the
+constructor, whatever its centre and rotation; a circle's is its radius; and on every pair of a
+family of ellipses and circles (equal and unequal shapes, mirrored and rotated), may_mirror is
+False only where runtime.predicates.symmetry.mirror_line, the exact reference, finds no mirror line.
 """
 from __future__ import annotations
 
@@ -18,22 +16,23 @@ import pytest
 from curvedvoronoi.runtime.predicates.circles import Circle, Point
 from curvedvoronoi.runtime.predicates.symmetry import mirror_line
 from curvedvoronoi.runtime.sites.conic import Conic
-from curvedvoronoi.runtime.voronoi.verify.curved_edges import may_mirror, shape_invariant
+from curvedvoronoi.runtime.voronoi.conic_geometry import site_geometry
+from curvedvoronoi.runtime.voronoi.verify.curved_edges import may_mirror, shape_key
 
 F = Fraction
 
 
 @pytest.mark.parametrize("A, B, rot", [(F(3), F(1), (F(1), F(0))), (F(5, 2), F(3, 4), (F(3, 5), F(4, 5))),
                                        (F(2), F(7, 4), (F(8, 17), F(-15, 17)))])
-def test_the_invariant_of_an_ellipse_is_its_closed_form(A, B, rot):
+def test_the_key_of_an_ellipse_is_its_semi_axes(A, B, rot):
     E = Conic.ellipse(centre=(F(1, 3), F(-2)), axes=(A, B), rotation=rot)
-    A2, B2 = A * A, B * B
-    assert shape_invariant(E) == (A2 + B2) ** 2 / (4 * A2 * B2)
+    kind, a, b = shape_key(site_geometry(E))
+    assert kind == "ellipse" and abs(a - float(max(A, B))) < 1e-13 and abs(b - float(min(A, B))) < 1e-13
 
 
-def test_circles_and_points_have_invariant_one():
-    assert shape_invariant(Circle.from_radius(F(1), F(2), F(3))) == 1
-    assert shape_invariant(Point(F(5), F(-1))) == 1
+def test_the_key_of_a_circle_is_its_radius_and_a_point_has_none():
+    assert shape_key(site_geometry(Circle.from_radius(F(1), F(2), F(3)))) == ("circle", 3.0)
+    assert shape_key(site_geometry(Point(F(5), F(-1)))) == ("point",)
 
 
 def _family():
@@ -46,12 +45,13 @@ def _family():
 
 
 def test_may_mirror_is_false_only_where_the_exact_search_finds_no_mirror_line():
-    sites = _family()
-    memo: dict = {}
+    sites = _family() + [Circle.from_radius(F(1), F(2), F(3)), Circle.from_radius(F(9), F(2), F(3)),
+                         Circle.from_radius(F(1), F(2), F(5, 2)), Point(F(0), F(1)), Point(F(4), F(1))]
+    geoms = [site_geometry(s) for s in sites]
     mirrored = refused = 0
     for i, j in itertools.combinations(range(len(sites)), 2):
         exact = mirror_line(sites[i], sites[j]) is not None
-        quick = may_mirror(sites, (i, j), memo)
+        quick = may_mirror(geoms, (i, j))
         assert quick or not exact, (i, j)
         mirrored += exact
         refused += not quick
@@ -65,4 +65,5 @@ def test_an_ellipse_and_its_reflection_pass_and_a_different_ratio_does_not():
     M = Conic.ellipse(centre=(F(6), F(0)), axes=(F(2), F(1)), rotation=(F(3, 5), F(-4, 5)))   # x = 3 mirror
     N = Conic.ellipse(centre=(F(6), F(0)), axes=(F(2), F(1) + F(1, 1024)), rotation=(F(3, 5), F(-4, 5)))
     assert mirror_line(E, M) is not None
-    assert may_mirror([E, M, N], (0, 1), {}) and not may_mirror([E, M, N], (0, 2), {})
+    G = [site_geometry(s) for s in (E, M, N)]
+    assert may_mirror(G, (0, 1)) and not may_mirror(G, (0, 2))

@@ -5,7 +5,7 @@ their unbounded ends, proved to infinity in a sector of directions
 along their mirror line (:func:`runtime.voronoi.verify.mirror_tail.prove_mirror_tail`).
 
 Public API: :func:`curved_edges`, :func:`curved_job`, :func:`curved_scale`, :func:`past`,
-:func:`drawn_points`, :func:`shape_invariant`, :func:`may_mirror`; the steps of
+:func:`drawn_points`, :func:`shape_key`, :func:`may_mirror`, :func:`ends_at_vertices`; the steps of
 :func:`curved_edges`: :func:`near_bisector`, :func:`mirror_edges`, :class:`FarEnds`.
 """
 from __future__ import annotations
@@ -15,11 +15,12 @@ import time
 
 import numpy as np
 
-from ...predicates.symmetry import mirror_line, site_coefficients
+from ...predicates.symmetry import mirror_line
 from .mirror_tail import prove_mirror_edge, prove_mirror_tail
 from .tied_tail import prove_tied_tail
 
-__all__ = ["curved_edges", "curved_job", "curved_scale", "past", "drawn_points", "shape_invariant", "may_mirror"]
+__all__ = ["curved_edges", "curved_job", "curved_scale", "past", "drawn_points", "shape_key", "may_mirror",
+           "ends_at_vertices"]
 
 
 def past(deadline) -> bool:
@@ -134,11 +135,10 @@ def mirror_edges(jobs, geoms, table, sup, eok, ends_inf):
     mirror images by :func:`may_mirror` skipped), with their unbounded ends in ``ends_inf``;
     returns the other jobs (those whose mirror proof fails among them)."""
     exact = [g.exact for g in geoms]
-    shape: dict = {}
     rest = []
     for p_e, e, name, job in jobs:
         _, pair, P, v0, v1, _, closed = job
-        if (sup is not None and may_mirror(exact, pair, shape)
+        if (sup is not None and may_mirror(geoms, pair)
                 and mirror_line(exact[pair[0]], exact[pair[1]]) is not None):
             ok, _, mends = prove_mirror_edge(exact, geoms, table, sup, pair, v0, v1, P, closed)
             if ok:
@@ -210,29 +210,32 @@ class FarEnds:
         return tie if ok2 else None
 
 
-def shape_invariant(site):
-    """tr(M)²/(4·det M) for the quadratic part M = [[a, b/2], [b/2, c]] of the site's exact equation
-    a·x² + b·xy + c·y² + d·x + e·y + f = 0 (a Fraction; None where det M = 0).  An isometry
-    q ↦ Aq + t maps M to AᵀMA, with the same trace and determinant (A orthogonal), and a
-    rescaling of the equation by λ multiplies tr by λ and det by λ²: two conics with different
-    invariants are not the image of each other by any isometry, in particular by no reflection
-    (the classical invariants of a conic under rigid motions; e.g. Salmon, *Conic Sections*,
-    §§ 370-371)."""
-    a, b, c = site_coefficients(site)[:3]
-    det = 4 * a * c - b * b            # 4·det M
-    return None if det == 0 else (a + c) * (a + c) / det
+def shape_key(g):
+    """The float isometry invariants of a site geometry: its kind and its semi-axes (ellipse a ≥ b,
+    hyperbola), radius (circle) or parameter (parabola); None for another kind.  A rigid motion
+    keeps the canonical form of a conic, hence these (the classical invariants of a conic under
+    rigid motions; e.g. Salmon, *Conic Sections*, §§ 370-371); the floats of two congruent sites
+    differ by rounding only."""
+    if g.kind == "point":
+        return ("point",)
+    if g.kind == "circle":
+        return ("circle", float(g.rho))
+    if g.kind in ("ellipse", "hyperbola"):
+        return (g.kind, float(g.a), float(g.b))
+    if g.kind == "parabola":
+        return ("parabola", float(g.p))
+    return None
 
 
-def may_mirror(exact, pair, memo) -> bool:
-    """False when the sites of ``pair`` are proved not mirror images of each other (different
-    :func:`shape_invariant`), so that :func:`runtime.predicates.symmetry.mirror_line` would return
-    None; True otherwise (then it decides).  ``memo`` caches the invariants by site index."""
-    inv = []
-    for k in pair:
-        if k not in memo:
-            memo[k] = shape_invariant(exact[k])
-        inv.append(memo[k])
-    return inv[0] is None or inv[1] is None or inv[0] == inv[1]
+def may_mirror(geoms, pair) -> bool:
+    """False when the sites of ``pair`` are not congruent (their :func:`shape_key` differ by more
+    than 10⁻⁹ of the values, far above rounding), so no reflection maps one onto the other and
+    :func:`runtime.predicates.symmetry.mirror_line` would return None; True otherwise (then it
+    decides exactly).  Only a shortcut: an edge skipped here is proved by the strips."""
+    ka, kb = (shape_key(geoms[k]) for k in pair)
+    if ka is None or kb is None:
+        return True
+    return ka[0] == kb[0] and all(abs(x - y) <= 1e-9 * max(abs(x), abs(y)) for x, y in zip(ka[1:], kb[1:]))
 
 
 def sup_ok(geoms) -> bool:
