@@ -100,3 +100,31 @@ def test_a_site_left_out_is_beyond_reach_or_below_the_level(seed):
     # sites just above the level (undecided) are kept
     kept_tight = sum((q, k) in got for k in range(2, n) for q in range(r) if within[k, q] and gap[k, q] < 0)
     assert kept_tight > 100
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_without_levels_every_box_within_reach_is_listed(seed):
+    """``near_pairs`` without levels (the candidates of the conic vertices' emptiness test,
+    runtime/voronoi/verify/vertices.py, and of the strips): exactly the (row, site) pairs whose
+    exact bounding box comes within the row's reach, up to 10⁻⁹; the sites of ``pair`` never;
+    with a hyperbola added (an unbounded box), that site on every row."""
+    rng = np.random.default_rng(100 + seed)
+    ells = scene(rng, n_side=8)
+    sites = [Conic.ellipse(centre=(cx, cy), axes=(a, b), rotation=rot) for cx, cy, a, b, rot in ells]
+    hyp = Conic.from_coefficients(1, 0, -1, -200, 0, 9999)       # (x − 100)² − y² = 1, far right
+    table = SiteTable([site_geometry(s) for s in sites + [hyp]], 100.0)
+    C = rng.uniform(-10, 70, (200, 2))
+    reach = rng.exponential(6.0, 200)
+    rows, ks = table.near_pairs(C, reach, (3, 5))
+    got = set(zip(rows.tolist(), ks.tolist()))
+    assert len(got) == len(rows)
+    D = np.array([box_distance(e, C) for e in ells])               # (site, row)
+    for q in range(len(C)):
+        for k in range(len(ells)):
+            if k in (3, 5):
+                assert (q, k) not in got
+            elif D[k, q] <= reach[q] * (1 - 1e-9):
+                assert (q, k) in got, (q, k)
+            elif D[k, q] > reach[q] * (1 + 1e-9) + 1e-9:
+                assert (q, k) not in got, (q, k)
+        assert (q, len(ells)) in got

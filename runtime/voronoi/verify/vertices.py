@@ -25,7 +25,8 @@ system, thesis §6.1 / App. D.1, and the touching certificate).
 Emptiness: every other site k must satisfy lo_k(q̃) − h > r_hi, with h the half diagonal of the
 vertex box (distances are 1-Lipschitz) and lo_k the rigorous ``distance_bounds``; candidates come
 from a k-d tree on the centres (circles and points: d(q, S) ≥ |q − c| − ρ; conics: the distance
-to the bounding box, :func:`_box_candidates`, a lower bound of the distance to the site).
+to the bounding box, a lower bound of the distance to the site,
+:meth:`runtime.voronoi.verify.site_table.SiteTable.near_pairs`).
 """
 from __future__ import annotations
 
@@ -205,7 +206,13 @@ def prove_vertices(D, sites, geoms, table, problems, offset=(0.0, 0.0)):
     infos: dict = {}
     todo, fast_items = _screen(verts, len(sites), table, problems)
     fast = _fast_circle_vertices(fast_items, table) if table is not None else {}
-    quick = _conic_quick(verts, todo, fast, geoms)
+    ctable = None
+    if table is None and todo:      # a conic site: the conic table, for the float route and emptiness
+        from .site_table import SiteTable
+
+        fin = [abs(b) for g in geoms for b in g.bounding_box() if math.isfinite(b)]
+        ctable = SiteTable(geoms, 1.0 + (max(fin) if fin else 0.0))
+    quick = _conic_quick(verts, todo, fast, geoms, ctable)
     seen_keys: dict = {}
     for m in todo:
         v = verts[m]
@@ -214,7 +221,7 @@ def prove_vertices(D, sites, geoms, table, problems, offset=(0.0, 0.0)):
             continue
         infos[v.id] = info
         flags[m] = True
-    _emptiness_batch(verts, flags, infos, geoms, table, problems)
+    _emptiness_batch(verts, flags, infos, geoms, (table, ctable), problems)
     return infos, flags
 
 
@@ -246,19 +253,18 @@ def _screen(verts, n, table, problems):
                   for (m, trip), e in zip(trips3, ext.tolist()) if e]
 
 
-def _conic_quick(verts, todo, fast, geoms) -> dict:
+def _conic_quick(verts, todo, fast, geoms, ctable) -> dict:
     """Triples with a conic: the float Krawczyk test on the distance differences, all at once
-    (:func:`runtime.voronoi.verify.conic_vertices.prove_conic_vertices`); {m: (x, y, h, r_lo,
-    r_hi)} where it decides."""
+    (:func:`runtime.voronoi.verify.conic_vertices.prove_conic_vertices`, on the conic table
+    ``ctable``); {m: (x, y, h, r_lo, r_hi)} where it decides."""
     conic = [m for m in todo if m not in fast and len(verts[m].sites) == 3
              and not all(geoms[int(s)].kind in ("point", "circle") for s in verts[m].sites)]
     if not conic:
         return {}
     from .conic_vertices import prove_conic_vertices
 
-    fin = [abs(b) for g in geoms for b in g.bounding_box() if math.isfinite(b)]
     res = prove_conic_vertices(geoms, [tuple(int(s) for s in verts[m].sites) for m in conic],
-                               [(verts[m].x, verts[m].y) for m in conic], 1.0 + (max(fin) if fin else 0.0))
+                               [(verts[m].x, verts[m].y) for m in conic], ctable.scale, table=ctable)
     return {m: r for m, r in zip(conic, res) if r is not None}
 
 
@@ -346,36 +352,10 @@ def _pairwise_exterior(table, T):
     return out
 
 
-def _box_candidates(boxes, X, reach):
-    """(rows, ks): the pairs (point X[row], site k) whose bounding box (x0, y0, x1, y1; infinite
-    bounds allowed) comes within ``reach[row]`` of the point, up to 10⁻¹²: a k-d tree on the
-    centres of the finite boxes queried with reach + the largest half-diagonal, then the exact
-    box distance; every site with an unbounded box is a candidate of every point."""
-    from scipy.spatial import cKDTree
-
-    fin = np.isfinite(boxes).all(1)
-    fk = np.flatnonzero(fin)
-    rows, ks = [np.zeros(0, int)], [np.zeros(0, int)]
-    if len(fk):
-        bx = boxes[fk]
-        half = float((0.5 * np.hypot(bx[:, 2] - bx[:, 0], bx[:, 3] - bx[:, 1])).max())
-        lists = cKDTree(0.5 * (bx[:, :2] + bx[:, 2:])).query_ball_point(X, (reach + half) * (1 + 1e-9) + 1e-300)
-        lens = np.fromiter((len(c) for c in lists), int, len(lists))
-        r_ = np.repeat(np.arange(len(X)), lens)
-        k_ = fk[np.fromiter((k for c in lists for k in c), int, int(lens.sum()))]
-        b = boxes[k_]
-        dx = np.maximum(np.maximum(b[:, 0] - X[r_, 0], X[r_, 0] - b[:, 2]), 0.0)
-        dy = np.maximum(np.maximum(b[:, 1] - X[r_, 1], X[r_, 1] - b[:, 3]), 0.0)
-        near = np.hypot(dx, dy) * (1 - 1e-12) <= reach[r_]
-        rows.append(r_[near]), ks.append(k_[near])
-    uk = np.flatnonzero(~fin)
-    if len(uk):
-        rows.append(np.repeat(np.arange(len(X)), len(uk))), ks.append(np.tile(uk, len(X)))
-    return np.concatenate(rows), np.concatenate(ks)
-
-
-def _emptiness_batch(verts, flags, infos, geoms, table, problems):
-    """Every other site strictly outside the disc of each proved vertex (module docstring)."""
+def _emptiness_batch(verts, flags, infos, geoms, tables, problems):
+    """Every other site strictly outside the disc of each proved vertex (module docstring).
+    ``tables``: the circle table (circles and points) or None, and the conic table or None."""
+    table, ctable = tables
     ms = [m for m, f in enumerate(flags) if f]
     if not ms:
         return
@@ -384,7 +364,7 @@ def _emptiness_batch(verts, flags, infos, geoms, table, problems):
     H = np.array([inf.h * math.sqrt(2) + 4 * EPS * (abs(inf.x) + abs(inf.y)) for inf in info_l])
     Rhi = np.array([getattr(inf, "r_hi", inf.r + inf.h) + 4 * EPS * abs(inf.r) for inf in info_l])
     Rlo = np.array([inf.r - inf.h - 4 * EPS * abs(inf.r) for inf in info_l])
-    if table is not None:
+    if table is not None:           # circles and points
         rows, ks = table.near(X, Rhi + H + 1e-9 * table.scale)
         width = max(len(inf.sites) for inf in info_l)
         trips = np.full((len(info_l), width), -1, int)
@@ -393,9 +373,8 @@ def _emptiness_batch(verts, flags, infos, geoms, table, problems):
         keep = ~(trips[rows] == ks[:, None]).any(-1)
         rows, ks = rows[keep], ks[keep]
         lo, hi = table.bounds(X[rows], ks)
-    else:
-        rows, ks = _box_candidates(np.array([g.bounding_box() for g in geoms], float).reshape(-1, 4), X,
-                                   Rhi + 2 * H)
+    else:   # a conic: every site whose bounding box comes within the reach (the conic table)
+        rows, ks = ctable.near_pairs(X, Rhi + 2 * H, (-1, -1))
         keep = np.array([k not in info_l[r_].sites for r_, k in zip(rows.tolist(), ks.tolist())], bool)
         rows, ks = rows[keep], ks[keep]
         lo, hi = np.empty(len(rows)), np.empty(len(rows))
