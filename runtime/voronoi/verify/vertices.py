@@ -208,10 +208,10 @@ def prove_vertices(D, sites, geoms, table, problems, offset=(0.0, 0.0)):
     fast = _fast_circle_vertices(fast_items, table) if table is not None else {}
     ctable = None
     if table is None and todo:      # a conic site: the conic table, for the float route and emptiness
+        from .curved_edges import curved_scale
         from .site_table import SiteTable
 
-        fin = [abs(b) for g in geoms for b in g.bounding_box() if math.isfinite(b)]
-        ctable = SiteTable(geoms, 1.0 + (max(fin) if fin else 0.0))
+        ctable = SiteTable(geoms, curved_scale(geoms))
     quick = _conic_quick(verts, todo, fast, geoms, ctable)
     seen_keys: dict = {}
     for m in todo:
@@ -366,17 +366,17 @@ def _emptiness_batch(verts, flags, infos, geoms, tables, problems):
     Rlo = np.array([inf.r - inf.h - 4 * EPS * abs(inf.r) for inf in info_l])
     if table is not None:           # circles and points
         rows, ks = table.near(X, Rhi + H + 1e-9 * table.scale)
-        width = max(len(inf.sites) for inf in info_l)
-        trips = np.full((len(info_l), width), -1, int)
-        for t, inf in enumerate(info_l):
-            trips[t, :len(inf.sites)] = inf.sites
-        keep = ~(trips[rows] == ks[:, None]).any(-1)
-        rows, ks = rows[keep], ks[keep]
-        lo, hi = table.bounds(X[rows], ks)
     else:   # a conic: every site whose bounding box comes within the reach (the conic table)
         rows, ks = ctable.near_pairs(X, Rhi + 2 * H, (-1, -1))
-        keep = np.array([k not in info_l[r_].sites for r_, k in zip(rows.tolist(), ks.tolist())], bool)
-        rows, ks = rows[keep], ks[keep]
+    width = max(len(inf.sites) for inf in info_l)
+    trips = np.full((len(info_l), width), -1, int)
+    for t, inf in enumerate(info_l):
+        trips[t, :len(inf.sites)] = inf.sites
+    keep = ~(trips[rows] == ks[:, None]).any(-1)        # the vertex's own sites
+    rows, ks = rows[keep], ks[keep]
+    if table is not None:
+        lo, hi = table.bounds(X[rows], ks)
+    else:
         lo, hi = np.empty(len(rows)), np.empty(len(rows))
         order = np.argsort(ks, kind="stable")
         cuts = np.flatnonzero(np.diff(ks[order])) + 1
