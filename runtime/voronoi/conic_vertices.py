@@ -75,21 +75,15 @@ def conic_vertices(S: SiteArrays, T3, seeds, stats, cache):
     cid = np.full(len(T3), -1)
     clusters = []
     by_triple: dict = {}
-    # vectorised Newton over all candidates first (the distances of all ellipses at once): the
-    # per-vertex refinement then starts at a converged point; a point that left the seed's
-    # neighbourhood (beyond the distance to the sites) is not used
     start = np.asarray(seeds, float).copy()
-    if len(T3):
-        Q, _ = newton_vertices(S, T3, start)
-        dseed, _ = S.dist_grad(start, T3[:, 0])
-        good = np.isfinite(Q).all(axis=1) & (np.hypot(*(Q - start).T) <= dseed + 1e-12 * S.scale)
-        start[good] = Q[good]
+    started = np.zeros(len(T3), bool)
     fin = np.abs(S.boxes[np.isfinite(S.boxes)])
     scale = 1.0 + (float(fin.max()) if len(fin) else 0.0)
     table = S.site_table() if len(T3) else None
 
     def batch(rows):
         """The batched proofs of the candidates ``rows`` (each row's proof depends on that row only)."""
+        _newton_starts(S, T3, start, started, rows)
         return prove_conic_vertices(S.geoms, T3[rows], start[rows], scale, table=table)
 
     # the batched proofs of the candidates that the cache of earlier rounds does not serve (a seed
@@ -101,6 +95,9 @@ def conic_vertices(S: SiteArrays, T3, seeds, stats, cache):
     known = {tr: len(cache.get(tr, ())) for tr in trs}        # cache entries when near0 was listed
     quick = [False] * len(T3)
     want = [m for m in range(len(T3)) if len(near0[m]) != 1]
+    # a candidate whose triple has another candidate is compared with that one's proof box
+    # through its Newton point as well
+    _newton_starts(S, T3, start, started, _repeated_triples(T3))
     for m, q in zip(want, batch(np.array(want, dtype=np.int64)) if want else []):
         quick[m] = q
     for m in range(len(T3)):
@@ -148,6 +145,33 @@ def conic_vertices(S: SiteArrays, T3, seeds, stats, cache):
         clusters[found].setdefault("members", []).append(m)
         cid[m] = found
     return cid, clusters
+
+
+def _newton_starts(S: SiteArrays, T3, start, started, rows):
+    """Vectorised Newton on d_a = d_b = d_c (:func:`runtime.voronoi.apollonius_vertices.newton_vertices`,
+    the distances of all ellipses at once) from the seeds ``start[rows]`` not yet ``started``,
+    in place: the per-vertex proofs then start at a converged point.  A point that left the
+    seed's neighbourhood (beyond the distance to the sites) is not used.  Newton moves each row
+    on its own data, so a row's point does not depend on the other rows of the call."""
+    rows = np.asarray(rows, dtype=np.int64)
+    rows = rows[~started[rows]]
+    if not len(rows):
+        return
+    started[rows] = True
+    seed = start[rows]
+    Q, _ = newton_vertices(S, T3[rows], seed)
+    dseed, _ = S.dist_grad(seed, T3[rows, 0])
+    good = np.isfinite(Q).all(axis=1) & (np.hypot(*(Q - seed).T) <= dseed + 1e-12 * S.scale)
+    start[rows[good]] = Q[good]
+
+
+def _repeated_triples(T3):
+    """The rows of ``T3`` whose triple occurs in another row as well."""
+    if not len(T3):
+        return np.zeros(0, np.int64)
+    _, inv, counts = np.unique(np.asarray(T3, np.int64).reshape(-1, 3), axis=0, return_inverse=True,
+                               return_counts=True)
+    return np.nonzero(counts[inv.ravel()] > 1)[0]
 
 
 def _cache_near(cache, tr, seed):
