@@ -64,20 +64,33 @@ def _root_on_axis(S, pair, cen, u, half, X0, step):
     return 0.5 * (lo + hi)
 
 
+def _near_box(S, Q, seg, H):
+    """Mask of the segments k → k + 1 (``seg``) whose bounding box meets the bounding box of
+    site H[m], widened by 1e-9 of the coordinates: a crossing of the ridge of ellipse H[m], a
+    segment inside the ellipse, lies there even as computed in floats (the crossing point is
+    within a few roundings of the segment and of the ridge)."""
+    A, C, B = Q[seg], Q[seg + 1], S.boxes[H]
+    lo, hi = np.minimum(A, C), np.maximum(A, C)
+    with np.errstate(invalid="ignore", over="ignore"):
+        m = 1e-9 * (np.abs(A).sum(axis=1) + np.abs(C).sum(axis=1) + np.abs(B).sum(axis=1) + 1.0)
+        return ((lo[:, 0] <= B[:, 2] + m) & (hi[:, 0] >= B[:, 0] - m)
+                & (lo[:, 1] <= B[:, 3] + m) & (hi[:, 1] >= B[:, 1] - m))
+
+
 def insert_ridge_nodes(S, Q, own, PI, PJ):
     """The polylines (points Q, edge index ``own``, sorted by edge) with a node inserted at each
     crossing of an edge of an ellipse site with that ellipse's ridge (module docstring)."""
     if len(Q) < 2:
         return Q, own
-    ells = {h: _axis(S.geoms[h]) for h in np.unique(np.concatenate([PI, PJ])).tolist()
-            if S.geoms[h].kind == "ellipse"}
+    seg = np.nonzero(own[1:] == own[:-1])[0]            # segments k → k + 1 of one edge
+    sides = [side[own[seg]] for side in (PI, PJ)]
+    near = [np.unique(H[_near_box(S, Q, seg, H)]).tolist() for H in sides]
+    ells = {h: _axis(S.geoms[h]) for h in sorted(set(near[0]) | set(near[1])) if S.geoms[h].kind == "ellipse"}
     if not ells:
         return Q, own
-    seg = np.nonzero(own[1:] == own[:-1])[0]            # segments k → k + 1 of one edge
     ins_at, ins_pt = [], []
-    for side in (PI, PJ):
-        H = side[own[seg]]
-        for h in np.unique(H).tolist():
+    for H, hs in zip(sides, near):
+        for h in hs:
             if h not in ells:
                 continue
             cen, u, half = ells[h]
