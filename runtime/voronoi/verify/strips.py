@@ -12,8 +12,9 @@ segment and the vertex boxes).  With f = d_i − d_j:
      (:mod:`runtime.voronoi.verify.clarke_gradient`), has the sign σ, and f is strictly
      monotone along n by Lebourg's mean value theorem;
 (T4) **crossing**: σ·f > 0 on the side λ = +w and σ·f < 0 on the side λ = −w (to first order
-     along each side, or to second order, :func:`side_second_order`, where the disc terms of the
-     gradient enclosures exceed |∇f|, far from the sites).  The sides tested are drawn at
+     from the piece's centre, :func:`_sides_from_centre`, or from each side's midpoint, or to
+     second order there, :func:`side_second_order`, where the disc terms of the gradient
+     enclosures exceed |∇f|, far from the sites).  The sides tested are drawn at
      λ = ±(w − μ), μ = 10⁻¹²·w + 8u·(|C|₁ + w) (u the unit roundoff, C the piece's centre), so
      that their float points lie inside |λ| ≤ w·(1 − 10⁻¹²): β crosses every cross-section with
      that margin, which the chaining at the nodes uses against the rounding of the strips' frames
@@ -169,7 +170,7 @@ class _Pieces(NamedTuple):
     """The trapezoid pieces (seg, [sa, sb]) of a group: job ``jb`` of each, centre C at
     ``sm`` along the segment (unit direction Tn, normal Nn), the radius R of a disc covering the
     piece, the length ``side_len`` of half a lateral side, its side midpoints Qp, Qm = C ± (w − μ)·Nn
-    ((T4) in the module docstring), and the pair (Ip, Jp) of its chain."""
+    ((T4) in the module docstring), the pair (Ip, Jp) of its chain and the sides' offset ws = w − μ."""
     seg: np.ndarray
     jb: np.ndarray
     sm: np.ndarray
@@ -182,6 +183,7 @@ class _Pieces(NamedTuple):
     Qm: np.ndarray
     Ip: np.ndarray
     Jp: np.ndarray
+    ws: np.ndarray
 
 
 def _pieces(scale, seg, sa, sb, chains) -> _Pieces:
@@ -200,7 +202,7 @@ def _pieces(scale, seg, sa, sb, chains) -> _Pieces:
     side_len = half * np.sqrt(1 + slope[seg] ** 2) * (1 + 1e-12)
     ws = w - (1e-12 * w + 8 * EPS * (np.abs(C).sum(1) + w))      # (T4): the sides drawn inside
     Qp, Qm = C + ws[:, None] * Nn, C - ws[:, None] * Nn
-    return _Pieces(seg, jb, sm, Tn, Nn, C, R, side_len, Qp, Qm, I[jb], J[jb])
+    return _Pieces(seg, jb, sm, Tn, Nn, C, R, side_len, Qp, Qm, I[jb], J[jb], ws)
 
 
 def _monotone(table, depth, sigma, P: _Pieces, Vi, Vj, enc_i, enc_j):
@@ -232,32 +234,122 @@ def _monotone(table, depth, sigma, P: _Pieces, Vi, Vj, enc_i, enc_j):
     return mono_ok & np.where(sg_p > 0, mono_lo > 0, mono_hi < 0)
 
 
-def _sides(scale, slope, sigma, P: _Pieces, V, p):
-    """(T4) on the lateral sides of each piece: σ·f > 0 on the side +w and < 0 on the side −w,
-    f = d_i − d_j.  From the lower bound fval of ς·f at the side's midpoint (ς = ±σ), first order:
-    fval − rate·side_len > 0 with rate ≥ |∇f·t| on the side (the gradient enclosures where they
-    exist, else 2: f is 2-Lipschitz); where that fails, second order (:func:`side_second_order`:
-    far from the sites the gradients' disc terms R/d exceed |∇f|)."""
+def _side_direction(P: _Pieces, slope, sg):
+    """The unit direction of the lateral side sg = ±1 of each piece: T + sg·slope·N, normalised."""
+    tside = P.Tn + (sg * slope[P.seg])[:, None] * P.Nn
+    return tside / np.hypot(*tside.T)[:, None]
+
+
+def _sides(table, scale, slope, sigma, P: _Pieces, t1, enc_i, enc_j, Vi, Vj):
+    """(T4) on the lateral sides of the pieces where (T1) holds (False elsewhere: such a piece
+    fails anyway): σ·f > 0 on the side +w and < 0 on the side −w, f = d_i − d_j.  First from
+    the values at the centre, to first order (:func:`_sides_from_centre`) and to second order
+    (:func:`_sides_centre_second_order`), no new evaluation; then, for the pieces left, from the
+    values at each side's midpoint (:func:`_sides_at_midpoints`)."""
+    side_ok = t1 & _sides_from_centre(slope, sigma, P, enc_i, enc_j, Vi, Vj)
+    left = np.nonzero(t1 & ~side_ok)[0]
+    if len(left):
+        side_ok[left] = _sides_centre_second_order(scale, slope, sigma, P, left, Vi.take(left), Vj.take(left))
+        left = left[~side_ok[left]]
+    if len(left):
+        side_ok[left] = _sides_at_midpoints(table, scale, slope, sigma, P, left)
+    return side_ok
+
+
+def _sides_from_centre(slope, sigma, P: _Pieces, enc_i, enc_j, Vi, Vj):
+    """(T4) from the centre C, to first order: a point of the side sg is
+    q = C + sg·ws·N + τ·t_s (|τ| ≤ side_len, t_s the side's unit direction), in the disc B(C, R)
+    on which ∇f lies within D ± (s_i + s_j), D = G_i − G_j (the enclosures of the pieces, valid on
+    the disc; Lebourg's mean value theorem where d is only Lipschitz).  With ς = sg·σ the sign
+    wanted and ς·sg = σ,
+
+        ς·f(q) ≥ ς·f(C) + σ·ws·(D·N) − side_len·|D·t_s| − (s_i + s_j)·R,
+
+    ς·f(C) ≥ lo_i − hi_j (ς = 1) or lo_j − hi_i (ς = −1).  The main terms are those of the
+    midpoint route: ς·f at the side's midpoint is about ς·f(C) + σ·ws·|∇f·N|.  True per piece where
+    the bound is > 0 on both sides (rounding: 2u per value, 10⁻¹² relative on each product)."""
+    (Gi, si, vi), (Gj, sj_, vj) = enc_i, enc_j
     sg_p = sigma[P.jb]
-    side_ok = np.ones(p, bool)
-    for b, (Qs, sg) in enumerate(((P.Qp, 1.0), (P.Qm, -1.0))):
-        Vis, Vjs = V.part((2 + 2 * b) * p, (3 + 2 * b) * p), V.part((3 + 2 * b) * p, (4 + 2 * b) * p)
-        tside = P.Tn + (sg * slope[P.seg])[:, None] * P.Nn
-        tside /= np.hypot(*tside.T)[:, None]
-        Gis, sis, vis = gradient_enclosure(Qs, Vis, P.side_len, scale)
-        Gjs, sjs, vjs = gradient_enclosure(Qs, Vjs, P.side_len, scale)
+    D = Gi - Gj
+    sf = si + sj_
+    size = np.abs(D).sum(1) + sf
+    rnd = 2 * EPS * (np.abs(Vi.lo) + np.abs(Vi.hi) + np.abs(Vj.lo) + np.abs(Vj.hi))
+    ok = vi & vj & (sg_p != 0)
+    with np.errstate(invalid="ignore"):
+        along = sg_p * (D * P.Nn).sum(1) * P.ws - 1e-12 * P.ws * size
+        for sg in (1.0, -1.0):
+            across = np.abs((D * _side_direction(P, slope, sg)).sum(1))
+            fC = np.where(sg * sg_p > 0, Vi.lo - Vj.hi, Vj.lo - Vi.hi)
+            low = (fC - rnd + along - (P.side_len * across + sf * P.R) * (1 + 1e-12)
+                   - 1e-12 * P.side_len * size)
+            ok &= np.isfinite(low) & (low > 0)
+    return ok
+
+
+def _sides_centre_second_order(scale, slope, sigma, P: _Pieces, idx, Vi, Vj):
+    """(T4) from the centre C of the pieces idx (``Vi``, ``Vj``: the values at their centres), to
+    second order: a distance to a convex set is convex, and C^{1,1} off the set with
+    0 ≤ ∇²d ≤ 1/d (module docstring of :func:`side_second_order`), so on a disc B(C, R) where
+    d_i, d_j ≥ m − R, m = min(lo_i, lo_j) > 2R, and for q = C + sg·ws·N + τ·t_s (a point of the
+    side sg, |τ| ≤ side_len, |q − C| ≤ R),
+
+        ς·f(q) ≥ ς·f(C) + σ·ws·(D₀·N) − side_len·|D₀·t_s| − s₀·R − R²/(2(m − R)),
+
+    with ∇f(C) within D₀ ± s₀ (the point enclosures at C, radius 0) and ς = sg·σ.  The disc term
+    of the first-order route, (s_i + s_j)·R ≈ 2R²/d, is here R²/(2d): far from the sites, where
+    the pieces are long, this decides most of the pieces that route leaves.  Needs C's disc
+    outside both convex sets (``base``; a hyperbola: one branch nearest on the disc, ``sep`` > R).
+    True per piece where the bound is > 0 on both sides."""
+    C, R, ws, side_len = P.C[idx], P.R[idx], P.ws[idx], P.side_len[idx]
+    G0i, s0i, v0i = gradient_enclosure(C, Vi, 0.0, scale)
+    G0j, s0j, v0j = gradient_enclosure(C, Vj, 0.0, scale)
+    sg_p = sigma[P.jb[idx]]
+    D0, s0 = G0i - G0j, s0i + s0j
+    size = np.abs(D0).sum(1) + s0
+    rnd = 2 * EPS * (np.abs(Vi.lo) + np.abs(Vi.hi) + np.abs(Vj.lo) + np.abs(Vj.hi))
+    ok = (Vi.base & Vj.base & (Vi.sep > R) & (Vj.sep > R) & (Vi.lo > 2 * R) & (Vj.lo > 2 * R)
+          & v0i & v0j & (sg_p != 0))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        quad = 0.5 * R * R / (np.minimum(Vi.lo, Vj.lo) - R)
+        along = sg_p * (D0 * P.Nn[idx]).sum(1) * ws - 1e-12 * ws * size
+        for sg in (1.0, -1.0):
+            across = np.abs((D0 * _side_direction(P, slope, sg)[idx]).sum(1))
+            fC = np.where(sg * sg_p > 0, Vi.lo - Vj.hi, Vj.lo - Vi.hi)
+            low = (fC - rnd + along - (side_len * across + s0 * R + quad) * (1 + 1e-12)
+                   - 1e-12 * side_len * size)
+            ok &= np.isfinite(low) & (low > 0)
+    return ok
+
+
+def _sides_at_midpoints(table, scale, slope, sigma, P: _Pieces, idx):
+    """(T4) on the pieces idx from the lower bound fval of ς·f at each side's midpoint Qs
+    (ς = ±σ), first order: fval − rate·side_len > 0 with rate ≥ |∇f·t| on the side (the
+    gradient enclosures where they exist, else 2: f is 2-Lipschitz); where that fails, second
+    order (:func:`side_second_order`: far from the sites the gradients' disc terms R/d exceed
+    |∇f|).  Four evaluation rows per piece."""
+    n = len(idx)
+    Ip, Jp, side_len = P.Ip[idx], P.Jp[idx], P.side_len[idx]
+    V = evaluate_rows(table, np.concatenate([P.Qp[idx], P.Qp[idx], P.Qm[idx], P.Qm[idx]]),
+                      np.concatenate([Ip, Jp, Ip, Jp]))
+    sg_p = sigma[P.jb[idx]]
+    ok = np.ones(n, bool)
+    for b, (Qs, sg) in enumerate(((P.Qp[idx], 1.0), (P.Qm[idx], -1.0))):
+        Vis, Vjs = V.part(2 * b * n, (2 * b + 1) * n), V.part((2 * b + 1) * n, (2 * b + 2) * n)
+        tside = _side_direction(P, slope, sg)[idx]
+        Gis, sis, vis = gradient_enclosure(Qs, Vis, side_len, scale)
+        Gjs, sjs, vjs = gradient_enclosure(Qs, Vjs, side_len, scale)
         rate = np.abs(((Gis - Gjs) * tside).sum(1)) + sis + sjs
         rate = np.where(vis & vjs & np.isfinite(rate), np.minimum(rate, 2.0), 2.0) * (1 + 1e-12)
         pos_f = sg * sg_p > 0
         fval = np.where(pos_f, Vis.lo - Vjs.hi, Vjs.lo - Vis.hi)
-        okb = fval - rate * P.side_len > 0
+        okb = fval - rate * side_len > 0
         redo = np.nonzero(~okb & vis & vjs)[0]
         if len(redo):
-            okb[redo] = side_second_order(Qs[redo], tside[redo], P.side_len[redo], fval[redo],
+            okb[redo] = side_second_order(Qs[redo], tside[redo], side_len[redo], fval[redo],
                                           Vis.take(redo), Vjs.take(redo), Gis[redo], sis[redo],
                                           Gjs[redo], sjs[redo], scale)
-        side_ok &= okb
-    return side_ok
+        ok &= okb
+    return ok
 
 
 def _farther(table, scale, P: _Pieces, rows, Vk, Vi, Vj, enc_i, enc_j, enc_k):
@@ -400,16 +492,16 @@ def _third_sites(table, scale, chains, P: _Pieces, pre, Vi, Vj, enc_i, enc_j, su
 def _test_pieces(table, scale, depth, sigma, seg, sa, sb, chains, sup=None):
     """(T1)–(T4) on the pieces (seg, [sa, sb]) of :func:`prove_strips_many`: (good, t1, side_ok) per
     piece.  At depth 0, σ of each chain without one is set from its first piece decided here.
-    Six evaluation rows per piece: i and j at the centre and at both side midpoints."""
+    Two evaluation rows per piece (i and j at the centre), four more (at both side midpoints) where
+    (T4) is not decided from the centre."""
     P = _pieces(scale, seg, sa, sb, chains)
     p = len(sa)
-    V = evaluate_rows(table, np.concatenate([P.C, P.C, P.Qp, P.Qp, P.Qm, P.Qm]),
-                      np.concatenate([P.Ip, P.Jp, P.Ip, P.Jp, P.Ip, P.Jp]))
+    V = evaluate_rows(table, np.concatenate([P.C, P.C]), np.concatenate([P.Ip, P.Jp]))
     Vi, Vj = V.part(0, p), V.part(p, 2 * p)
     enc_i = gradient_enclosure(P.C, Vi, P.R, scale)
     enc_j = gradient_enclosure(P.C, Vj, P.R, scale)
     t1 = _monotone(table, depth, sigma, P, Vi, Vj, enc_i, enc_j)
-    side_ok = _sides(scale, chains[5], sigma, P, V, p)
+    side_ok = _sides(table, scale, chains[5], sigma, P, t1, enc_i, enc_j, Vi, Vj)
     pre = t1 & side_ok
     third_ok = _third_sites(table, scale, chains, P, pre, Vi, Vj, enc_i, enc_j, sup)
     return pre & third_ok, t1, side_ok
@@ -460,8 +552,8 @@ def _initial_pieces(Lg, Wmin, elo, ehi):
 
 
 def _test_groups(table, depth, sigma, seg, sa, sb, chains, sup=None):
-    """:func:`_test_pieces` on the pieces in groups of at most ROWS_PER_CALL / 6 (six evaluation
-    rows per piece): memory bounded independently of N; every piece is tested as in one group
+    """:func:`_test_pieces` on the pieces in groups of at most ROWS_PER_CALL / 6 (at most six
+    evaluation rows per piece): memory bounded independently of N; every piece is tested as in one group
     (row-wise tests; σ of a chain is set at its first decided piece, before any piece needs it)."""
     p = len(sa)
     good, t1, side_ok = np.zeros(p, bool), np.zeros(p, bool), np.zeros(p, bool)
