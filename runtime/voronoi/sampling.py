@@ -146,6 +146,9 @@ class Samples:
         self.base = circle_sample_counts(S, self.spacing) if S.all_circles else None
         self.sampled = None          # the spacing of the samples in self.tri
         self.tri = None
+        # the spacing of the last full sampling, the sites updated since, and the triangulation
+        # these describe (None: self.tri came from elsewhere, e.g. a deletion)
+        self.full_spacing = self.touched = self.tracked = None
 
     def refine(self, idx, new_spacing):
         self.spacing[idx] = new_spacing
@@ -169,10 +172,13 @@ class Samples:
             tri = self.tri.update(remove, Pn[add], ln[add])
             if tri is not None:
                 stats["local_updates"] = stats.get("local_updates", 0) + 1
+                if self.tracked is self.tri:
+                    self.touched[changed] = True
+                    self.tracked = tri
                 self.tri, self.sampled = tri, self.spacing.copy()
                 return tri
         stats["triangulations"] = stats.get("triangulations", 0) + 1
-        P, lab = sample_sites(S, self.spacing, base=self.base)
+        P, lab = self._all_samples()
         self.tri = None                  # the last triangulation is not needed for a full one
         points = S.all_circles and not S.R.any()     # point sites: the samples are the sites
         try:
@@ -190,7 +196,24 @@ class Samples:
             simp, nb = exact
             stats["exact_delaunay"] = stats.get("exact_delaunay", 0) + 1
         self.tri, self.sampled = SampleTriangulation(P, lab, simp, nb), self.spacing.copy()
+        self.full_spacing, self.touched, self.tracked = self.sampled, np.zeros(S.n, bool), self.tri
         return self.tri
+
+    def _all_samples(self):
+        """:func:`sample_sites` of every site at the current spacing.  A site whose spacing is that
+        of the last full sampling and which no batch update touched since has those samples, in
+        their order, in the current triangulation (the update keeps the kept samples in their
+        order and appends the new ones): they are taken from there, the other sites sampled
+        anew (a site's samples do not depend on the other sites of the call)."""
+        S, tri = self.S, self.tri
+        if tri is None or self.tracked is not tri:
+            return sample_sites(S, self.spacing, base=self.base)
+        same = (self.spacing == self.full_spacing) & ~self.touched
+        Pn, ln = sample_sites(S, self.spacing, sites=np.nonzero(~same)[0], base=self.base)
+        rows = np.nonzero(same[tri.lab])[0]
+        lab = np.concatenate([tri.lab[rows], ln])
+        order = np.argsort(lab, kind="stable")          # by site, each site's samples in order
+        return np.concatenate([tri.P[rows], Pn])[order], lab[order]
 
 
 def _triangles(P, lab):
