@@ -91,18 +91,48 @@ def check_disjoint(sites, geoms=None) -> None:
     conics = [i for i, g in enumerate(geoms) if g.kind not in ("point", "circle")]
     if conics:
         boxes = np.array([g.bounding_box() for g in geoms], dtype=float)
-        for i in conics:
-            bi = boxes[i]
-            over = ((boxes[:, 0] <= bi[2]) & (boxes[:, 2] >= bi[0]) & (boxes[:, 1] <= bi[3]) & (boxes[:, 3] >= bi[1]))
-            for j in np.nonzero(over)[0]:
-                j = int(j)
-                if j == i or (j in conics and j < i):
+        is_conic = np.zeros(len(geoms), bool)
+        is_conic[conics] = True
+        for i, over in zip(conics, _overlapping_boxes(boxes, conics)):
+            for j in over.tolist():
+                if j == i or (is_conic[j] and j < i):
                     continue
                 a, b = sorted((i, j))
                 if sites_equal(sites[a], sites[b]):
                     raise SiteError(f"site {a} and site {b} are the same site (repeated): remove one")
                 if sites_intersect(sites[a], sites[b]):
                     raise SiteError(f"site {a} and site {b} intersect: the Voronoi diagram needs disjoint sites")
+
+
+def _overlapping_boxes(boxes, rows):
+    """For each box ``boxes[i]``, i in ``rows``: the indices j (ascending) of the boxes that meet it
+    (closed boxes (x0, y0, x1, y1), compared in floats).  Candidates from a k-d tree on the
+    centres of the finite boxes in the max-norm (two boxes that meet have centres within the sum
+    of their half-widths, up to the rounding of the centres, covered by a margin of 1e-9 of the
+    coordinates); the boxes more than 4x the median half-width, and the unbounded ones, are
+    candidates for every box."""
+    lo, hi = boxes[:, :2], boxes[:, 2:]
+    finite = np.isfinite(boxes).all(axis=1)
+    with np.errstate(invalid="ignore", over="ignore"):
+        centre, half = (lo + hi) / 2, ((hi - lo) / 2).max(axis=1)
+    small = finite & (half <= 4 * (np.median(half[finite]) if finite.any() else 0.0))
+    always = np.nonzero(~small)[0]
+    idx = np.nonzero(small)[0]
+    found = [[] for _ in rows]
+    rows = np.asarray(rows, dtype=np.int64)
+    if len(idx):
+        scale = float(np.abs(boxes[finite]).max()) + 1.0
+        ask = np.nonzero(finite[rows])[0]
+        reach = half[rows[ask]] + float(half[idx].max()) + 1e-9 * scale
+        for k, js in zip(ask.tolist(), cKDTree(centre[idx]).query_ball_point(centre[rows[ask]], reach, p=np.inf)):
+            found[k] = js
+    out = []
+    for k, i in enumerate(rows.tolist()):
+        cand = np.arange(len(boxes)) if not finite[i] else np.union1d(idx[np.asarray(found[k], dtype=np.int64)], always)
+        b, bi = boxes[cand], boxes[i]
+        over = (b[:, 0] <= bi[2]) & (b[:, 2] >= bi[0]) & (b[:, 1] <= bi[3]) & (b[:, 3] >= bi[1])
+        out.append(cand[over])
+    return out
 
 
 def sites_equal(a, b) -> bool:
