@@ -75,6 +75,10 @@ def scene(rng, kind):
             c = rng.uniform(-3, 3, 2)
         r = rng.uniform(0.5, 1.5)
         return [("point", *pi), ("circle", *c, r)], [cv.Point(*pi), cv.Circle(c[0], c[1], r * r)]
+    if kind == "line":       # a point above a circle of radius 10⁴: f'' = 1/d across, the curvature bound is tight
+        gap, r = rng.uniform(1, 3), 1e4
+        return ([("point", *pi), ("circle", pi[0], pi[1] - gap - r, r)],
+                [cv.Point(*pi), cv.Circle(pi[0], pi[1] - gap - r, r * r)])
     pj = rng.uniform(-3, 3, 2)
     while np.hypot(*(pj - pi)) < 2:
         pj = rng.uniform(-3, 3, 2)
@@ -90,6 +94,8 @@ def pieces_around_bisector(rng, sites, n):
     """n pieces (one segment each, of length 2·half) near β: (chains, lengths, sigma)."""
     S, T, N, W, slope, sig, L = [], [], [], [], [], [], []
     mid = 0.5 * (np.array(sites[0][1:3]) + np.array(sites[1][1:3]))
+    if sites[1][0] == "circle" and sites[1][3] > 100:
+        mid = np.array(sites[0][1:3]) - np.array([0.0, 0.5 * (sites[0][2] - sites[1][2] - sites[1][3])])
     while len(S) < n:
         ang = rng.uniform(0, 2 * np.pi)
         B = on_bisector(mid + rng.normal(size=2) * 3, np.array([math.cos(ang), math.sin(ang)]), sites)
@@ -129,7 +135,7 @@ def side_signs(P, slope, sigma, t, sites, sg):
     return worst
 
 
-@pytest.mark.parametrize("kind,seed", [("circle", 0), ("circle", 1), ("points", 2)])
+@pytest.mark.parametrize("kind,seed", [("circle", 0), ("circle", 1), ("points", 2), ("line", 3), ("line", 4)])
 def test_sides_accepted_from_the_centre_hold_on_every_sample(kind, seed):
     rng = np.random.default_rng(seed)
     sites, objs = scene(rng, kind)
