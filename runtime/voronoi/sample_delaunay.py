@@ -600,7 +600,8 @@ def side_neighbours(simp, npts, dtype=np.int64):
     b = np.concatenate([simp[:, (k + 2) % 3] for k in range(3)]).astype(np.int64)
     key = np.minimum(a, b) * npts + np.maximum(a, b)
     del a, b
-    order = np.argsort(key, kind="stable")
+    # any order among equal keys: the two triangles of a side are set across from each other
+    order = np.argsort(key)
     ks = key[order]
     del key
     same = ks[1:] == ks[:-1]
