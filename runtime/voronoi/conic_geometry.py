@@ -288,12 +288,14 @@ class EllipseGeometry(CentralConicGeometry):
                          (-1.0, Y0 * Y0, b2 * mu - 1.0, 4 * EPS * (b2 * mu + 1.0))])
 
 
-#: ellipses sampled together by :func:`ellipse_samples` (its temporaries: a few arrays of this
-#: many rows × 2048 floats)
+#: ellipses sampled together by :func:`ellipse_samples`, and distinct shapes whose arc-length
+#: tables are made together (its temporaries: a few arrays of this many rows × 2048 floats)
 SAMPLE_BLOCK = 256
 #: more samples than this on one ellipse: its own ``np.interp`` (linear in the table) is faster
 #: than the blocks' bisection (logarithmic per sample)
 DENSE = 256
+#: parameters of the arc-length table (as :meth:`ConicGeometry._sample_param`)
+TABLE = 2048
 
 
 def ellipse_samples(geoms, spacings):
@@ -301,66 +303,81 @@ def ellipse_samples(geoms, spacings):
     and the number of samples of each: the same points, float for float (the arc-length table
     of :meth:`ConicGeometry._sample_param` on 2048 parameters, its ``np.linspace`` and
     ``np.interp`` evaluated for a block of ellipses at once; an ellipse with more than
-    :data:`DENSE` samples is sampled by its own method)."""
-    m = 2048
-    tt = np.linspace(0.0, 2 * math.pi, m)
+    :data:`DENSE` samples is sampled by its own method).  The table depends on the semi-axes
+    only: it is made once for the ellipses of one shape (a, b) (translated and rotated copies)."""
+    tt = np.linspace(0.0, 2 * math.pi, TABLE)
     ct, st = np.cos(tt), np.sin(tt)
-    out, counts = [], np.zeros(len(geoms), np.int64)
-    for b0 in range(0, len(geoms), SAMPLE_BLOCK):
-        G = geoms[b0:b0 + SAMPLE_BLOCK]
-        sp = np.maximum(np.asarray(spacings[b0:b0 + SAMPLE_BLOCK], float), 1e-300)
-        a = np.array([g.a for g in G])[:, None]
-        b = np.array([g.b for g in G])[:, None]
-        # the table only where the samples may be few (the perimeter exceeds 4a: more than DENSE
-        # samples for sure are left to the ellipse's own method, which builds its table itself)
-        own = ~(4.4 * a[:, 0] <= DENSE * sp)
-        tab = np.nonzero(~own)[0]
-        seg = np.ones((len(G), m - 1))
-        seg[tab] = np.hypot(np.diff(a[tab] * ct, axis=1), np.diff(b[tab] * st, axis=1))
-        L = seg.sum(axis=1)
-        need = np.ceil(1.1 * L / sp) + 1
-        n = np.minimum(np.maximum(np.where(np.isfinite(need), need, 2.0 ** 62), 2), 2_000_000).astype(np.int64)
-        own |= (n > DENSE) | ~(seg > 0).all(axis=1) | ~np.isfinite(L)
-        cum = np.cumsum(seg, axis=1)
-        # np.linspace(0, L, n): k·(L/(n − 1)) + 0 (its last point, L, is the first again: dropped
-        # below); np.interp on the table (cum non-decreasing): on [cum[j], cum[j + 1]) the slope
-        # (t[j + 1] − t[j])/(cum[j + 1] − cum[j]) times (x − cum[j]) plus t[j], at the end t[m − 1]
-        rows = np.nonzero(~own)[0]
-        nr = n[rows]
-        r = np.repeat(rows, nr)
-        k = np.arange(len(r)) - np.repeat(np.cumsum(nr) - nr, nr)
-        x = k * (L[r] / (n[r] - 1)) + 0.0
-        last = k == n[r] - 1
-        # j = np.searchsorted(cum[row], x, side="right"), the number of table sums ≤ x (cum is
-        # non-decreasing), by bisection on all rows at once
-        j, hi = np.zeros(len(x), np.int64), np.full(len(x), m - 1, np.int64)
-        while (j < hi).any():
-            mid = (j + hi) // 2
-            le = cum[r, np.minimum(mid, m - 2)] <= x
-            j, hi = np.where(le, mid + 1, j), np.where(le, hi, mid)
-        prev = np.where(j > 0, cum[r, np.maximum(j - 1, 0)], 0.0)
-        nxt = cum[r, np.minimum(j, m - 2)]
-        with np.errstate(divide="ignore", invalid="ignore"):     # j = m − 1: the end, no slope
-            slope = (tt[np.minimum(j + 1, m - 1)] - tt[j]) / (nxt - prev)
-        tq = np.where(j >= m - 1, tt[m - 1], slope * (x - prev) + tt[np.minimum(j, m - 1)])
-        gx = a[r, 0] * np.cos(tq)
-        gy = b[r, 0] * np.sin(tq)
-        cc = np.array([g.c for g in G])[r]
-        ss = np.array([g.s for g in G])[r]
-        tx = np.array([g.tx for g in G])[r]
-        ty = np.array([g.ty for g in G])[r]
-        P = np.column_stack([tx + cc * gx - ss * gy, ty + ss * gx + cc * gy])
-        keep = ~last                      # the last point repeats the first
-        parts = np.split(P[keep], np.cumsum(nr - 1)[:-1])
-        block = [None] * len(G)
-        for c, part in zip(rows.tolist(), parts):
-            block[c] = part
-        for c in np.nonzero(own)[0].tolist():
-            block[c] = np.asarray(G[c].samples(float(spacings[b0 + c])), float).reshape(-1, 2)
-        for c, part in enumerate(block):
-            counts[b0 + c] = len(part)
-        out.extend(block)
-    return (np.concatenate(out) if out else np.zeros((0, 2))), counts
+    sp = np.maximum(np.asarray(spacings, float).reshape(-1), 1e-300)
+    a = np.array([g.a for g in geoms], dtype=float)
+    b = np.array([g.b for g in geoms], dtype=float)
+    parts = [None] * len(geoms)
+    # the table only where the samples may be few (the perimeter exceeds 4a: more than DENSE
+    # samples for sure are left to the ellipse's own method, which builds its table itself)
+    tab = np.nonzero(4.4 * a <= DENSE * sp)[0]
+    if len(tab):
+        shapes, shape = np.unique(np.column_stack([a[tab], b[tab]]), axis=0, return_inverse=True)
+        by_shape = np.argsort(shape.reshape(-1), kind="stable")
+        cut = np.searchsorted(shape.reshape(-1)[by_shape], np.arange(0, len(shapes) + SAMPLE_BLOCK, SAMPLE_BLOCK))
+        for blk in range(len(cut) - 1):
+            L, ok, cum = _arc_tables(shapes[blk * SAMPLE_BLOCK:(blk + 1) * SAMPLE_BLOCK], ct, st)
+            mine = by_shape[cut[blk]:cut[blk + 1]]
+            for c0 in range(0, len(mine), SAMPLE_BLOCK):
+                sub = mine[c0:c0 + SAMPLE_BLOCK]
+                _table_samples(geoms, tab[sub], shape.reshape(-1)[sub] - blk * SAMPLE_BLOCK, sp, (L, ok, cum, tt), parts)
+    for c, part in enumerate(parts):
+        if part is None:
+            parts[c] = np.asarray(geoms[c].samples(float(spacings[c])), float).reshape(-1, 2)
+    counts = np.array([len(p) for p in parts], dtype=np.int64)
+    return (np.concatenate(parts) if parts else np.zeros((0, 2))), counts
+
+
+def _arc_tables(shapes, ct, st):
+    """For the semi-axes ``shapes`` (rows (a, b)): the chord lengths' sum L of the polyline of
+    (a cos t, b sin t) on the table's parameters, whether every chord is positive and L finite,
+    and the cumulative chord lengths (the table of :meth:`ConicGeometry._sample_param`)."""
+    seg = np.hypot(np.diff(shapes[:, :1] * ct, axis=1), np.diff(shapes[:, 1:] * st, axis=1))
+    L = seg.sum(axis=1)
+    return L, (seg > 0).all(axis=1) & np.isfinite(L), np.cumsum(seg, axis=1)
+
+
+def _table_samples(geoms, rows, sh, sp, tables, parts):
+    """The samples of the ellipses ``geoms[rows]`` (their shapes' rows ``sh`` of ``tables``) that
+    have at most :data:`DENSE` samples, into ``parts``: ``np.linspace(0, L, n)`` and ``np.interp``
+    on the table, float for float (the others are left to their own method)."""
+    L, ok, cum, tt = tables
+    m = len(tt)
+    need = np.ceil(1.1 * L[sh] / sp[rows]) + 1
+    n = np.minimum(np.maximum(np.where(np.isfinite(need), need, 2.0 ** 62), 2), 2_000_000).astype(np.int64)
+    few = (n <= DENSE) & ok[sh]
+    rows, sh, nr = rows[few], sh[few], n[few]
+    q = np.repeat(np.arange(len(rows)), nr)
+    r = sh[q]
+    k = np.arange(len(q)) - np.repeat(np.cumsum(nr) - nr, nr)
+    # np.linspace(0, L, n): k·(L/(n − 1)) + 0 (its last point, L, is the first again: dropped
+    # below); np.interp on the table (cum non-decreasing): on [cum[j], cum[j + 1]) the slope
+    # (t[j + 1] − t[j])/(cum[j + 1] − cum[j]) times (x − cum[j]) plus t[j], at the end t[m − 1]
+    x = k * (L[r] / (nr[q] - 1)) + 0.0
+    last = k == nr[q] - 1
+    # j = np.searchsorted(cum[row], x, side="right"), the number of table sums ≤ x (cum is
+    # non-decreasing), by bisection on all rows at once
+    j, hi = np.zeros(len(x), np.int64), np.full(len(x), m - 1, np.int64)
+    while (j < hi).any():
+        mid = (j + hi) // 2
+        le = cum[r, np.minimum(mid, m - 2)] <= x
+        j, hi = np.where(le, mid + 1, j), np.where(le, hi, mid)
+    prev = np.where(j > 0, cum[r, np.maximum(j - 1, 0)], 0.0)
+    nxt = cum[r, np.minimum(j, m - 2)]
+    with np.errstate(divide="ignore", invalid="ignore"):     # j = m − 1: the end, no slope
+        slope = (tt[np.minimum(j + 1, m - 1)] - tt[j]) / (nxt - prev)
+    tq = np.where(j >= m - 1, tt[m - 1], slope * (x - prev) + tt[np.minimum(j, m - 1)])
+    G = [geoms[c] for c in rows.tolist()]
+    gx = np.array([g.a for g in G])[q] * np.cos(tq)
+    gy = np.array([g.b for g in G])[q] * np.sin(tq)
+    cc, ss, tx, ty = (np.array([getattr(g, v) for g in G])[q] for v in ("c", "s", "tx", "ty"))
+    P = np.column_stack([tx + cc * gx - ss * gy, ty + ss * gx + cc * gy])
+    keep = ~last                      # the last point repeats the first
+    for c, part in zip(rows.tolist(), np.split(P[keep], np.cumsum(nr - 1)[:-1])):
+        parts[c] = part
 
 
 class HyperbolaGeometry(CentralConicGeometry):
