@@ -71,8 +71,8 @@ def contact_order(S: SiteArrays, x: float, y: float, sites) -> tuple[int, ...] |
 
 def consecutive_pairs(sites) -> list[tuple[int, int]]:
     """The sorted pairs of cyclically consecutive sites of a vertex (its edges' pairs)."""
-    k = len(sites)
-    return [tuple(sorted((int(sites[t]), int(sites[(t + 1) % k])))) for t in range(k)]
+    s = [int(v) for v in sites]
+    return [(a, b) if a <= b else (b, a) for a, b in zip(s, s[1:] + s[:1])]
 
 
 def merge_cocircular(S: SiteArrays, clusters, usable):
@@ -86,7 +86,9 @@ def merge_cocircular(S: SiteArrays, clusters, usable):
     groups: dict = {}
     for c in usable:
         cl = clusters[c]
-        full = tuple(sorted(set(cl["triple"]) | set(cl.get("tangent", ()))))
+        full = tr = cl["triple"]
+        if cl.get("tangent") or len(tr) != 3 or not tr[0] < tr[1] < tr[2]:
+            full = tuple(sorted(set(tr) | set(cl.get("tangent", ()))))
         groups.setdefault(full, []).append(c)
     out = []
     for full, members in groups.items():
