@@ -23,6 +23,11 @@ import numpy as np
 
 __all__ = ["chain_walks", "index_type"]
 
+#: the two ports of a triangle by its pattern of bichromatic sides (side k two-coloured: bit k):
+#: the first two sides in the order of ``np.argsort(~bichromatic, kind="stable")``
+PORTS = np.array([np.argsort([not (code >> k) & 1 for k in range(3)], kind="stable")[:2] for code in range(8)],
+                 dtype=np.int8)
+
 
 def index_type(n: int):
     """int32 when indices below ``n`` fit (half the memory of int64 for the half-edge arrays), else
@@ -39,7 +44,8 @@ def chain_walks(tri):
     it = index_type(2 * T)
     two = nlab == 2
     # the two ports of a 2-label triangle (side numbers 0..2: one byte each)
-    ks = np.argsort(~tri.bich, axis=1, kind="stable")[:, :2].astype(np.int8)
+    bich = tri.bich
+    ks = PORTS[bich[:, 0] + 2 * bich[:, 1].astype(np.int8) + 4 * bich[:, 2].astype(np.int8)]
     nbr = np.take_along_axis(nb, ks.astype(np.intp), axis=1).astype(it)
     # half-edge h = 2t + p leaves t through port p; its successor leaves the neighbour u through the
     # port that does not face t
@@ -86,7 +92,7 @@ def chain_walks(tri):
     first = (kk[:, 0] < ko[:, 0]) | ((kk[:, 0] == ko[:, 0]) & ((kk[:, 1] < ko[:, 1]) | (
         (kk[:, 1] == ko[:, 1]) & (kk[:, 2] < ko[:, 2]))))
     keep_heads = heads[first]
-    items = []                                    # (scan key, walk)
+    walks, keys = [], [np.zeros((0, 3), np.int64)]       # the walks and their scan keys
     if len(keep_heads):
         members = hs[np.isin(endp[hs], endp[keep_heads])]
         order = np.lexsort((-dist[members], endp[members]))
@@ -100,19 +106,19 @@ def chain_walks(tri):
         la, lb = L[c0, (k0 + 1) % 3], L[c0, (k0 + 2) % 3]
         pairs = zip(np.minimum(la, lb).tolist(), np.maximum(la, lb).tolist())
         starts, ends = _terminals(hd ^ 1, nbr, ks), _terminals(endp[hd], nbr, ks)
-        for m, (pr, kr, s, e) in enumerate(zip(pairs, key[pos[hd]].tolist(), starts, ends)):
-            items.append((tuple(kr), (pr, s, tris[bounds[m]:bounds[m + 1]], e)))
+        walks = [(pr, s, tris[bounds[m]:bounds[m + 1]], e) for m, (pr, s, e) in enumerate(zip(pairs, starts, ends))]
+        keys.append(key[pos[hd]])
     # 3-label triangles next to a 3-label triangle or to the hull: edges without chain triangles
     t3, k3 = np.nonzero((nlab == 3)[:, None] & np.ones((1, 3), bool))
     u3 = nb[t3, k3]
     direct = (u3 == -1) | ((u3 > t3) & (nlab[np.maximum(u3, 0)] == 3))
     for t, k, v in zip(t3[direct].tolist(), k3[direct].tolist(), u3[direct].tolist()):
         a, b = int(L[t, (k + 1) % 3]), int(L[t, (k + 2) % 3])
-        items.append(((0, t, k), ((a, b) if a < b else (b, a), ("tri", t), [],
-                                  ("hull", t, k) if v == -1 else ("tri", v))))
-    items.sort(key=lambda it: it[0])
-    walks = [w for _, w in items]
-    return walks, cyc_t
+        walks.append(((a, b) if a < b else (b, a), ("tri", t), [], ("hull", t, k) if v == -1 else ("tri", v)))
+    keys.append(np.column_stack([np.zeros(int(direct.sum()), np.int64), t3[direct], k3[direct]]))
+    K = np.concatenate(keys)
+    order = np.lexsort((K[:, 2], K[:, 1], K[:, 0]))       # stable, as the scan meets the starts
+    return [walks[m] for m in order.tolist()], cyc_t
 
 
 def _terminals(h, nbr, ks):
