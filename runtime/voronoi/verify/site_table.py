@@ -441,7 +441,7 @@ class BoxTree:
         return np.concatenate(out_r), np.concatenate(out_p)
 
 
-def gradient_enclosure(Q, V: SiteValues, R, scale):
+def gradient_enclosure(Q, V: SiteValues, R, scale, tight=True):
     """(G, slack, valid): |∇d(q) − G| ≤ slack for every q in B(Q, R) where valid (module
     docstring).  ``V`` are the table's values at Q.  Outside a point or a circle of centre c,
     ∇d(Q) = (Q − c)/|Q − c| to a few units in the last place.  Outside an ellipse, where the foot-point
@@ -450,12 +450,14 @@ def gradient_enclosure(Q, V: SiteValues, R, scale):
     (:mod:`runtime.voronoi.verify.ellipse_normal`, error e_N ≈ 10⁻¹⁴), and the slack is
     e_N + R/(lo − R) on the disc (lo > 2R: the disc stays outside the convex K).  Row by row:
     computed in blocks of :data:`GRADIENT_ROWS` rows (temporaries bounded independently of the
-    number of rows, the same values)."""
+    number of rows, the same values).  ``tight=False``: the cheap enclosure only (no Lagrange
+    multiplier, no Clarke box), where its foot-point term e_F/lo is small enough for the caller."""
     Q = np.asarray(Q, float).reshape(-1, 2)
     R = np.broadcast_to(np.asarray(R, float), (len(Q),))
     m = len(Q)
     if m > GRADIENT_ROWS:
-        parts = [gradient_enclosure(Q[a:a + GRADIENT_ROWS], V.part(a, a + GRADIENT_ROWS), R[a:a + GRADIENT_ROWS], scale)
+        parts = [gradient_enclosure(Q[a:a + GRADIENT_ROWS], V.part(a, a + GRADIENT_ROWS), R[a:a + GRADIENT_ROWS], scale,
+                                    tight)
                  for a in range(0, m, GRADIENT_ROWS)]
         return tuple(np.concatenate([p_[t] for p_ in parts]) for t in range(3))
     W = Q - V.F
@@ -481,7 +483,7 @@ def gradient_enclosure(Q, V: SiteValues, R, scale):
         G = W / dF[:, None]
     slack = np.where(valid, slack, np.where(valid_i, slack_i, np.inf))
     valid = valid | valid_i
-    if V.table is not None and V.K is not None:
+    if tight and V.table is not None and V.K is not None:
         G, slack, valid = tight_gradients(Q, V, V.table, R, disc, G, slack, valid)
         # deep inside a circle or an ellipse (near or beyond the reach) but off its ridge: the
         # Clarke box of the distance (clarke_gradient.off_ridge_gradient), where it is tighter

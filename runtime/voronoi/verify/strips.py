@@ -295,14 +295,15 @@ def _sides_centre_second_order(scale, slope, sigma, P: _Pieces, idx, Vi, Vj):
 
         ς·f(q) ≥ ς·f(C) + σ·ws·(D₀·N) − side_len·|D₀·t_s| − s₀·R − R²/(2(m − R)),
 
-    with ∇f(C) within D₀ ± s₀ (the point enclosures at C, radius 0) and ς = sg·σ.  The disc term
+    with ∇f(C) within D₀ ± s₀ (the cheap point enclosures at C, radius 0: their foot-point term,
+    about 10⁻⁷·d or less, is far below the other terms) and ς = sg·σ.  The disc term
     of the first-order route, (s_i + s_j)·R ≈ 2R²/d, is here R²/(2d): far from the sites, where
     the pieces are long, this decides most of the pieces that route leaves.  Needs C's disc
     outside both convex sets (``base``; a hyperbola: one branch nearest on the disc, ``sep`` > R).
     True per piece where the bound is > 0 on both sides."""
     C, R, ws, side_len = P.C[idx], P.R[idx], P.ws[idx], P.side_len[idx]
-    G0i, s0i, v0i = gradient_enclosure(C, Vi, 0.0, scale)
-    G0j, s0j, v0j = gradient_enclosure(C, Vj, 0.0, scale)
+    G0i, s0i, v0i = gradient_enclosure(C, Vi, 0.0, scale, tight=False)
+    G0j, s0j, v0j = gradient_enclosure(C, Vj, 0.0, scale, tight=False)
     sg_p = sigma[P.jb[idx]]
     D0, s0 = G0i - G0j, s0i + s0j
     size = np.abs(D0).sum(1) + s0
