@@ -234,10 +234,13 @@ def _fresh_polylines(ctx, sub, rows, lens, table):
     Q, own = _point_loops(S, Q, own, sub, PI, PJ)
     # measured tolerance on the final polylines: residual at the points, offset of chord midpoints
     if S.all_circles:
-        Q, own = _densify(S, Q, own, PI, PJ)
+        Q, own, chord_off = _densify(S, Q, own, PI, PJ)
     else:   # conic foot points are costlier: a coarser target
-        Q, own = _densify(S, Q, own, PI, PJ, rel=10 * DENSIFY_REL, passes=3)
+        Q, own, chord_off = _densify(S, Q, own, PI, PJ, rel=10 * DENSIFY_REL, passes=3)
+        n = len(Q)
         Q, own = insert_ridge_nodes(S, Q, own, PI, PJ)     # corners on an ellipse's medial axis
+        if len(Q) != n:
+            chord_off = np.full(len(Q), np.nan)
     pi, pj = PI[own], PJ[own]
     same = own[1:] == own[:-1]
     di, _ = S.dist_grad(Q, pi)
@@ -246,7 +249,10 @@ def _fresh_polylines(ctx, sub, rows, lens, table):
     np.maximum.at(tol, own, np.abs(di - dj) / 2)
     mids = ((Q[1:] + Q[:-1]) / 2)[same]
     if len(mids):
-        np.maximum.at(tol, own[1:][same], bisector_offset(S, mids, pi[1:][same], pj[1:][same])[0])
+        off = chord_off[:-1][same]
+        fresh = np.isnan(off)        # chords that densification did not measure as they are
+        off[fresh] = bisector_offset(S, mids[fresh], pi[1:][same][fresh], pj[1:][same][fresh])[0]
+        np.maximum.at(tol, own[1:][same], off)
     cuts = np.searchsorted(own, np.arange(len(sub) + 1))
     polys = []
     for m, (_, start, _, end, _) in enumerate(sub):
@@ -359,8 +365,11 @@ def _point_loops(S: SiteArrays, Q, own, sub, PI, PJ, n=LOOP_RAYS):
 def _densify(S: SiteArrays, Q, own, PI, PJ, rel=DENSIFY_REL, passes=6):
     """Insert projected chord midpoints where a chord strays from the bisector by more than
     ``rel`` times the distance to the sites there (a few vectorised passes; after the first pass
-    only the halves of split chords are examined)."""
+    only the halves of split chords are examined).  Returns the points, their edges and, for the
+    chord starting at each point, the offset of its midpoint (:func:`bisector_offset`) where
+    measured on the final chord (NaN elsewhere)."""
     check = np.ones(len(Q), bool)          # examine the chord starting at this point
+    chord_off = np.full(len(Q), np.nan)
     for _ in range(passes):
         same = np.nonzero((own[1:] == own[:-1]) & check[:-1])[0]
         if not len(same):
@@ -368,6 +377,7 @@ def _densify(S: SiteArrays, Q, own, PI, PJ, rel=DENSIFY_REL, passes=6):
         mids = (Q[same] + Q[same + 1]) / 2
         a, b = PI[own[same]], PJ[own[same]]
         off, dloc = bisector_offset(S, mids, a, b)
+        chord_off[same] = off
         seg = np.hypot(*(Q[same + 1] - Q[same]).T)
         split = (off > rel * np.maximum(dloc, 1e-12 * S.scale)) & (seg > 1e-9 * S.scale)
         if not split.any():
@@ -386,10 +396,12 @@ def _densify(S: SiteArrays, Q, own, PI, PJ, rel=DENSIFY_REL, passes=6):
         k, newp = k[~off], newp[~off]
         check[:] = False
         check[k] = True
+        chord_off[k] = np.nan
         Q = np.insert(Q, k + 1, newp, axis=0)
         own = np.insert(own, k + 1, own[k])
         check = np.insert(check, k + 1, True)
-    return Q, own
+        chord_off = np.insert(chord_off, k + 1, np.nan)
+    return Q, own, chord_off
 
 
 #: distances from a chord's midpoint, in chord lengths, at which :func:`root_on_normal` looks for a
