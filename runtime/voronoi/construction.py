@@ -266,7 +266,20 @@ def _rounds(S, samples, stats, timing, deadline, cache, bar):
         idx = np.array(sorted(refine), dtype=int)
         cap = np.array([refine[i] for i in idx.tolist()])
         samples.refine(idx, np.minimum(samples.spacing[idx] / 2, cap))
+    t0 = time.perf_counter()
+    _contact_ordered(S, result["diagram"].vertices)     # the kept round's vertices only
+    timing["walks"] = timing.get("walks", 0) + time.perf_counter() - t0
     return result
+
+
+def _contact_ordered(S, vertices):
+    """The vertices of three sites listed counter-clockwise like those of degree k (one batch,
+    :func:`runtime.voronoi.cocircular.contact_order_triples`), in place."""
+    three = [v for v in vertices if len(v.sites) == 3]
+    if three:
+        ordered = contact_order_triples(S, [[v.x, v.y] for v in three], [v.sites for v in three])
+        for v, row in zip(three, ordered.tolist()):
+            v.sites = tuple(row)
 
 
 def _build_once(S: SiteArrays, samples: Samples, stats, timing, deadline, cache):
@@ -392,12 +405,6 @@ def _build_once(S: SiteArrays, samples: Samples, stats, timing, deadline, cache)
             problems.append(f"sites {', '.join(map(str, v.sites))}: the vertex at ({v.x:.6g}, {v.y:.6g}) has "
                             f"incident edges {sorted(degree[v.id])}, expected "
                             f"{', '.join(f'({a}, {b})' for a, b in want)}")
-    # vertices of three sites listed counter-clockwise like those of degree k (one batch)
-    three = [v for v in vertices if len(v.sites) == 3]
-    if three:
-        ordered = contact_order_triples(S, [[v.x, v.y] for v in three], [v.sites for v in three])
-        for v, row in zip(three, ordered.tolist()):
-            v.sites = tuple(row)
     # sites consecutive on the convex hull of the sites have an unbounded edge; a coarse sample of a
     # third site can hide it (its samples stick out between theirs): refine both
     if S.bounded.all():
