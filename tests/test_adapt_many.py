@@ -73,3 +73,37 @@ def test_narrow_end_widths_split_the_end_segments_further(table):
     first = lambda P: float(np.hypot(*(P[1] - P[0])))
     assert np.array_equal(free, S)
     assert len(narrow) > len(free) and first(narrow) < first(free)
+
+
+def test_midpoints_left_unprojected_are_within_half_the_width(table):
+    """``_midpoints`` projects only the segments whose end tangents leave room for a split: on the
+    nodes of a fine guide of each pair's bisector (float Newton projections), every segment it
+    leaves has its projected midpoint (computed here for all) within tmin/2 of the chord, and it
+    does leave most of them (the test is not vacuous); a bent segment is projected."""
+    from curvedvoronoi.runtime.voronoi.verify.bisector_guide import _midpoints, project_rows
+    from curvedvoronoi.runtime.voronoi.verify.strips import evaluate_rows
+    rng = np.random.default_rng(5)
+    skipped = 0
+    for (S0, pair, *_rest) in JOBS[:3]:
+        t = np.sort(rng.uniform(0, 1, 60))
+        P = S0[0] + t[:, None] * (S0[-1] - S0[0])
+        d = S0[-1] - S0[0]
+        X, _ = project_rows(table, P, np.repeat(d[None, :], len(P), 0), np.full(len(P), pair[0]), np.full(len(P), pair[1]))
+        XX = np.concatenate([X, X])
+        V = evaluate_rows(table, XX, np.repeat(pair, len(X)))
+        G = (XX - V.F) / V.d[:, None]
+        D = G[:len(X)] - G[len(X):]
+        U = D / np.hypot(*D.T)[:, None]
+        A, B = X[:-1], X[1:]
+        I, J = np.full(len(A), pair[0]), np.full(len(A), pair[1])
+        for tmin in (1e-6, 1e-4, 1e-2):
+            tm = np.full(len(A), tmin)
+            Mn, dev = _midpoints(table, A, B, I, J, U[:-1], U[1:], tm)
+            _, true_dev = project_rows(table, 0.5 * (A + B), B - A, I, J)
+            left = dev == 0
+            assert (true_dev[left] <= 0.5 * tmin * (1 + 1e-6) + 1e-12).all()
+            assert np.array_equal(Mn[left], 0.5 * (A + B)[left])
+            skipped += left.sum()
+            bent = true_dev > tmin
+            assert not (left & bent).any()
+    assert skipped > 60

@@ -284,10 +284,30 @@ def adapt(S, pair, frac, tol, scale, rounds=12, cap=4000, ends=(None, None)):
     return (yield AdaptJob(S, pair, frac, tol, scale, rounds, cap, ends))
 
 
+def _midpoints(table, A, B, I, J, Ua, Ub, tmin):
+    """(Mn, dev) of :func:`adapt_many`: the midpoints of the segments AB projected onto the
+    bisector of (I, J) (one pair per row, :func:`project_rows`) where the chord may stray more
+    than tmin/2 from β; elsewhere the chord's midpoint and dev = 0.  Where β turns by less than a
+    right angle along AB, it lies in the triangle of the chord and the end tangents (normals Ua,
+    Ub), within (L/2)·tan α of the chord (α the larger angle between the chord and an end
+    tangent): L·tan α ≤ tmin leaves the segment unsplit either way."""
+    seg = B - A
+    Ls = np.hypot(seg[:, 0], seg[:, 1])
+    Tc = seg / np.maximum(Ls, 1e-300)[:, None]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        sin_a = np.maximum(np.abs((Tc * Ua).sum(1)), np.abs((Tc * Ub).sum(1)))
+        clear = Ls * sin_a <= tmin * np.sqrt(np.maximum(1.0 - sin_a * sin_a, 0.0))
+    Mn, dev = 0.5 * (A + B), np.zeros(len(A))
+    need = np.nonzero(~clear)[0]
+    if len(need):
+        Mn[need], dev[need] = project_rows(table, Mn[need], seg[need], I[need], J[need])
+    return Mn, dev
+
+
 def adapt_many(table, jobs):
     """:func:`adapt` for many jobs at once: the nodes of all guides in one flat array (each guide's
     nodes contiguous), one table call per round for the node frames and one projection of the new
-    segments' midpoints.  Every value is computed row by row as for one guide alone, so each guide
+    segments' midpoints (only where the end tangents leave room for a split: :func:`_midpoints`).  Every value is computed row by row as for one guide alone, so each guide
     is split exactly as it would be on its own (a guide stops at its first round without a split,
     or when the split would exceed its ``cap`` nodes, or after its ``rounds``)."""
     nj = len(jobs)
@@ -310,20 +330,19 @@ def adapt_many(table, jobs):
         tn_, U_ = _frame_values(_fgrad_values(X, V.part(0, m), V.part(m, 2 * m)), tol[g], scale[g])
         return frac[g] * tn_, U_
 
-    def mids(A, B, g):
-        return project_rows(table, 0.5 * (A + B), B - A, PI[g], PJ[g])
-
     inner = jn[:-1] == jn[1:]                                 # node t starts a segment of its guide
     sg = jn[:-1][inner]                                       # guide of each segment
-    Mn, dev = mids(S[:-1][inner], S[1:][inner], sg)
     tn, U = frames(S, jn)
     active = cnt >= 2
+    # the strips narrowed at the end vertices (the first and last nodes stay first and last)
+    first = np.concatenate([[0], np.cumsum(cnt)[:-1]])
+    for t, at in ((0, first), (1, first + cnt - 1)):
+        has = active & ~np.isnan(wend[:, t])
+        tn[at[has]] = np.minimum(tn[at[has]], frac[has] * wend[has, t])
+    Mn, dev = _midpoints(table, S[:-1][inner], S[1:][inner], PI[sg], PJ[sg], U[:-1][inner], U[1:][inner],
+                         np.minimum(tn[:-1][inner], tn[1:][inner]))
     for r in range(int(rounds.max()) if nj else 0):
         active &= r < rounds
-        first = np.concatenate([[0], np.cumsum(cnt)[:-1]])
-        for t, at in ((0, first), (1, first + cnt - 1)):
-            has = active & ~np.isnan(wend[:, t])
-            tn[at[has]] = np.minimum(tn[at[has]], frac[has] * wend[has, t])
         A, B = S[:-1][inner], S[1:][inner]
         seg = B - A
         Ls = np.hypot(seg[:, 0], seg[:, 1])
@@ -352,7 +371,9 @@ def adapt_many(table, jobs):
         Mn, dev = np.repeat(Mn, 1 + sel, axis=0), np.repeat(dev, 1 + sel)
         inner = jn[:-1] == jn[1:]
         sg = jn[:-1][inner]
-        Mf, df = mids(S[:-1][inner][fresh], S[1:][inner][fresh], sg[fresh])
+        sf = sg[fresh]
+        Mf, df = _midpoints(table, S[:-1][inner][fresh], S[1:][inner][fresh], PI[sf], PJ[sf], U[:-1][inner][fresh],
+                            U[1:][inner][fresh], np.minimum(tn[:-1][inner], tn[1:][inner])[fresh])
         Mn[fresh], dev[fresh] = Mf, df
     bounds = np.concatenate([[0], np.cumsum(cnt)])
     return [S[bounds[t]:bounds[t + 1]] for t in range(nj)]
