@@ -466,10 +466,11 @@ def _leaving_directions(S: SiteArrays, VT, VX, PI, PJ, ENDS):
     # leaves on the side where every other site of the vertex is farther
     other = (tr != i[:, None]) & (tr != j[:, None]) & (tr >= 0)
     k = tr[np.arange(len(tr)), np.argmax(other, axis=1)]
-    V = VX[v]
-    _, Ui = S.dist_grad(V, i)
-    _, Uj = S.dist_grad(V, j)
-    _, Uk = S.dist_grad(V, k)
+    # a vertex ends each of its edges: the gradients of its sites there, once per (vertex, site)
+    key = np.concatenate([v * S.n + i, v * S.n + j, v * S.n + k])
+    once, at = np.unique(key, return_inverse=True)
+    _, U = S.dist_grad(VX[once // S.n], once % S.n)
+    Ui, Uj, Uk = np.split(U[at.reshape(-1)], 3)
     G = Ui - Uj
     T = np.column_stack([-G[:, 1], G[:, 0]])
     sgn = np.where(((Uk - Ui) * T).sum(axis=1) < 0, -1.0, 1.0)
