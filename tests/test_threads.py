@@ -35,3 +35,39 @@ def test_importing_and_calling_leave_the_environment_and_the_blas_threads_alone(
     assert r["inside"] and all(n == 1 for n in r["inside"]), r
     assert r["outside"] and all(n == 2 for n in r["outside"]), r        # restored after the call
     assert r["certified"]
+
+
+VERIFY_PROBE = r"""
+import gc, json
+import curvedvoronoi as cv
+import curvedvoronoi.runtime.voronoi.verify.certificate as certificate
+from threadpoolctl import threadpool_info
+seen = []
+real = certificate.check_document
+def spy(*a, **k):
+    seen.append(([p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"], gc.isenabled()))
+    return real(*a, **k)
+certificate.check_document = spy
+d = cv.voronoi([(0, 0, 1), (4, 0, 1), (2, 4, 0)], certify=False)
+ok = cv.verify(d).ok
+outside = [p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"]
+print(json.dumps({"seen": seen, "ok": ok, "outside": outside, "gc_after": gc.isenabled()}))
+"""
+
+
+def test_verify_runs_with_one_blas_thread_and_the_cyclic_collector_paused():
+    """cv.verify itself (not only the decorator) limits BLAS to one thread and pauses the cyclic
+    collector inside the call, and restores both after (a decorator once slid onto a helper
+    defined between it and ``verify``)."""
+    env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS",
+                                                              "MKL_NUM_THREADS", "KMP_DUPLICATE_LIB_OK")}
+    env["OPENBLAS_NUM_THREADS"] = "2"
+    out = subprocess.run([sys.executable, "-c", VERIFY_PROBE], capture_output=True, text=True, env=env, timeout=300)
+    assert out.returncode == 0, out.stderr
+    import json
+
+    r = json.loads(out.stdout.strip().splitlines()[-1])
+    assert r["ok"] and r["seen"], r
+    for threads, gc_on in r["seen"]:
+        assert threads and all(n == 1 for n in threads) and not gc_on, r
+    assert all(n == 2 for n in r["outside"]) and r["gc_after"], r

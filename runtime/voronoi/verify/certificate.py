@@ -135,7 +135,7 @@ from __future__ import annotations
 import math
 import time
 
-from ...threads import one_blas_thread
+from ...threads import one_blas_thread, without_cyclic_gc
 from ..conic_geometry import site_geometry
 from ..frame import to_local_frame
 from .document import check_document
@@ -234,7 +234,6 @@ def verify_files(diagram_path: str, sites_path: str | None = None, progress=None
 
 # ============================================================================ the verifier
 
-@one_blas_thread
 def _has_pieces(diagram, sites) -> bool:
     """The diagram's (or the given) sites include segments, arcs or elliptic arcs (records
     "segment"/"arc"/"elliptic_arc")."""
@@ -244,6 +243,8 @@ def _has_pieces(diagram, sites) -> bool:
                or type(s).__name__ in ("Segment", "Arc", "EllipticArc") for s in pool)
 
 
+@one_blas_thread
+@without_cyclic_gc
 def verify(diagram, sites=None, *, deadline=None, progress=None, at_infinity: bool = True) -> Certificate:
     """Prove that ``diagram`` is the Voronoi diagram of ``sites`` (default: the diagram's own).
 
