@@ -88,7 +88,8 @@ def test_midpoints_left_unprojected_are_within_half_the_width(table):
         t = np.sort(rng.uniform(0, 1, 60))
         P = S0[0] + t[:, None] * (S0[-1] - S0[0])
         d = S0[-1] - S0[0]
-        X, _ = project_rows(table, P, np.repeat(d[None, :], len(P), 0), np.full(len(P), pair[0]), np.full(len(P), pair[1]))
+        X, _ = project_rows(table, P, np.repeat(d[None, :], len(P), 0), np.full(len(P), pair[0]),
+                            np.full(len(P), pair[1]))
         XX = np.concatenate([X, X])
         V = evaluate_rows(table, XX, np.repeat(pair, len(X)))
         G = (XX - V.F) / V.d[:, None]

@@ -5,18 +5,19 @@ A piece of a chain of strips passes (T4) when σ·f > 0 on its lateral side +w a
 side −w (f = d_i − d_j): the bisector β crosses the piece between its sides.  Both centre routes
 bound ς·f on a whole side from the values at the centre C only, to first order (the gradient
 enclosures on the disc B(C, R)) or to second order (point enclosures at C and 0 ≤ ∇²d ≤ 1/d off a
-convex set).
+convex set).  The route from each side's midpoint (``_sides_at_midpoints``), to which the centre
+routes now leave the hard pieces, is checked on the same pieces.
 
-The route from each side's midpoint (``_sides_at_midpoints``), which the centre routes now leave
-the hard pieces, is checked on the same pieces.  The pieces here are drawn around β of a point and a circle (a hyperbola branch) or of two points
-(a line): tilted off β's tangent and shifted off β by random amounts, so that β crosses a side on
-about half of them, and long enough (R up to d/4) that β's curvature and the gradients' turn over
-the disc decide.  Expectation from closed forms, not from the verifier: d = |q − p| for a point
-and |q − c| − r outside a circle, in mpmath at 40 digits; a side is checked at 201 points.  Every
-side accepted has the wanted sign at every sample; each route accepts most of the pieces whose
-sides β does not cross at a margin, so that the check is not vacuous.  Without the disc term
-(s_i + s_j)·R of the first route, or the curvature term R²/(2(m − R)) of the second, pieces whose
-side β crosses are accepted.
+The pieces are drawn around β of a point and a circle (a hyperbola branch), of two points (a
+line), and of a point and a circle of radius 10⁴ below it (where f'' = 1/d across β, so the
+curvature bound is tight): tilted off β's tangent and shifted off β by random amounts, so that β
+crosses a side on 10–30 % of them, and long enough (half-length up to d/4) that β's curvature and
+the gradients' turn over the disc decide.  Expectation from closed forms, not from the verifier:
+d = |q − p| for a point and |q − c| − r outside a circle, in mpmath at 40 digits; a side is checked
+at 201 points.  Every side accepted has the wanted sign at every sample, and each route accepts a
+good share of the pieces β does not cross, so that the check is not vacuous.  Without the disc
+term (s_i + s_j)·R of the first route, or with the curvature term R²/(2(m − R)) of the second
+halved, pieces whose side β crosses are accepted.
 """
 import math
 

@@ -46,7 +46,8 @@ every site (its accounting at infinity and disjointness test read them all), and
 edges with a vertex whose empty circle is wider than a twentieth of the sites' span (near the hull,
 where the empty circles hold most sites anyway); on a cluster these bounded edges go instead in
 groups by angle (one per worker), each a chunk that keeps every site but skips the accounting,
-so that the workers share them; all chunks keep every site when a site is a conic.  A chunk's set-up is then the size of the chunk, not of the diagram.
+so that the workers share them; all chunks keep every site when a site is a conic.  A chunk's
+set-up is then the size of the chunk, not of the diagram.
 
 Two reported vertices with the same sites close enough to be one vertex reported twice (within
 the sum of their proof radii, :func:`_duplicates`) also refuse it: the closure does not see a duplicate, and the verifier's overlap check of edges of one pair runs in one chunk only.

@@ -307,7 +307,8 @@ def _midpoints(table, A, B, I, J, Ua, Ub, tmin):
 def adapt_many(table, jobs):
     """:func:`adapt` for many jobs at once: the nodes of all guides in one flat array (each guide's
     nodes contiguous), one table call per round for the node frames and one projection of the new
-    segments' midpoints (only where the end tangents leave room for a split: :func:`_midpoints`).  Every value is computed row by row as for one guide alone, so each guide
+    segments' midpoints (only where the end tangents leave room for a split: :func:`_midpoints`).
+    Every value is computed row by row as for one guide alone, so each guide
     is split exactly as it would be on its own (a guide stops at its first round without a split,
     or when the split would exceed its ``cap`` nodes, or after its ``rounds``)."""
     nj = len(jobs)
