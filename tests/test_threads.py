@@ -71,3 +71,37 @@ def test_verify_runs_with_one_blas_thread_and_the_cyclic_collector_paused():
     for threads, gc_on in r["seen"]:
         assert threads and all(n == 1 for n in threads) and not gc_on, r
     assert all(n == 2 for n in r["outside"]) and r["gc_after"], r
+
+
+INSERT_PROBE = r"""
+import json
+import curvedvoronoi as cv
+import curvedvoronoi.runtime.voronoi.insertion as insertion
+from threadpoolctl import threadpool_info
+seen = []
+real = insertion.prove_vertices
+def spy(*a, **k):
+    seen.append([p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"])
+    return real(*a, **k)
+insertion.prove_vertices = spy
+d = cv.voronoi([(0, 0, 1), (6, 0, 1), (3, 5, 1), (9, 6, 1), (-4, 7, 1)])
+e = d.insert((3, 1.5, 0.5))
+outside = [p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"]
+print(json.dumps({"seen": seen, "certified": e.certified, "outside": outside}))
+"""
+
+
+def test_insert_runs_with_one_blas_thread():
+    """``Diagram.insert`` limits BLAS to one thread inside the call (the local proofs run there)
+    and leaves the caller's setting after it."""
+    env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS",
+                                                              "MKL_NUM_THREADS", "KMP_DUPLICATE_LIB_OK")}
+    env["OPENBLAS_NUM_THREADS"] = "2"
+    out = subprocess.run([sys.executable, "-c", INSERT_PROBE], capture_output=True, text=True, env=env, timeout=300)
+    assert out.returncode == 0, out.stderr
+    import json
+
+    r = json.loads(out.stdout.strip().splitlines()[-1])
+    assert r["certified"] and r["seen"], r
+    assert all(t and all(n == 1 for n in t) for t in r["seen"]), r
+    assert all(n == 2 for n in r["outside"]), r

@@ -157,6 +157,7 @@ from .hole_region import hole_region
 from .reach import arc_discs, polyline_reach, sites_meeting_discs
 from .conflict import LOCAL_KINDS, arc_reach, disc_inside, nearest_old_sites, outside, site_disc
 from .site_input import SiteError, as_site, check_disjoint, sites_equal
+from ..threads import one_blas_thread
 from .verify.edge_checks import check_edges
 from .verify.edges import CircleTable
 from .verify.vertices import LOCAL_REACH, VERTEX_TOL, local_default, local_reach, prove_vertices
@@ -189,6 +190,7 @@ class LocalState:
 
 # ============================================================================ insertion
 
+@one_blas_thread
 def insert_site(D, site, *, certify: bool = True, inplace: bool = False):
     """The Voronoi diagram of ``D.sites + [site]``; ``D`` is left unchanged (its adjacency state
     moves to the result), or, with ``inplace=True``, ``D`` itself is updated and returned (no copy
