@@ -38,6 +38,10 @@ Why not CGAL-style incremental insertion: this needs only the two certified pred
 site kind has (vertex existence, emptiness), no edge-interior conflict predicate for curved
 bisectors, and its heavy work is vectorised; completeness is the verifier's argument.
 
+Length: the rounds of sample-then-refine and their bookkeeping (the statistics, the refinement
+of the sites a round or the verifier names, the rebuild) are one loop over shared state, kept
+together here: just over 400 lines.
+
 Public API: :func:`voronoi`, :func:`as_site`, :func:`check_disjoint`, :func:`sites_equal`,
 :class:`SiteError`.
 """
