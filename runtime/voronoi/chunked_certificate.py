@@ -44,10 +44,8 @@ of its polyline (what the verifier proves), so every empty circle lies in those 
 left out cannot enter one: the proofs hold for all the sites.  The chunk of unbounded edges keeps
 every site (its accounting at infinity and disjointness test read them all), and takes the bounded
 edges with a vertex whose empty circle is wider than a twentieth of the sites' span (near the hull,
-where the empty circles hold most sites anyway); on a cluster these bounded edges go instead in
-groups by angle (one per worker), each a chunk that keeps every site but skips the accounting,
-so that the workers share them; all chunks keep every site when a site is a conic.  A chunk's
-set-up is then the size of the chunk, not of the diagram.
+where the empty circles hold most sites anyway); all chunks keep every site when a site is a
+conic.  A chunk's set-up is then the size of the chunk, not of the diagram.
 
 Two reported vertices with the same sites close enough to be one vertex reported twice (within
 the sum of their proof radii, :func:`_duplicates`) also refuse it: the closure does not see a duplicate, and the verifier's overlap check of edges of one pair runs in one chunk only.
@@ -218,12 +216,11 @@ def verify_chunk(sub, at_infinity: bool = True) -> tuple[list, list, list, list]
 
 
 def _chunk_results(D, parts, client, reach=None):
-    """(edge ids, vertex ids, :func:`verify_chunk` result) of each chunk, ``parts`` being
-    (edge ids, runs the accounting at infinity, keeps every site): on the workers as they
+    """(edge ids, vertex ids, :func:`verify_chunk` result) of each chunk: on the workers as they
     finish, or here one at a time (each sub-diagram made just before its run)."""
     if client is None:
-        for ids, hull, every in parts:
-            sub, vids, keep = _part(D, ids, hull, None if every else reach)
+        for ids, hull in parts:
+            sub, vids, keep = _part(D, ids, hull, reach)
             yield ids, vids, keep, verify_chunk(sub, hull)
         return
     from distributed import as_completed
@@ -235,8 +232,8 @@ def _chunk_results(D, parts, client, reach=None):
     futures: dict = {}
 
     def submit():
-        ids, hull, every = todo.pop(0)
-        sub, vids, keep = _part(D, ids, hull, None if every else reach)
+        ids, hull = todo.pop(0)
+        sub, vids, keep = _part(D, ids, hull, reach)
         fut = client.submit(verify_chunk, sub, hull, pure=False)
         futures[fut] = (ids, vids, keep)
         return fut
@@ -304,26 +301,10 @@ def _duplicates(D, radii) -> list:
     return out
 
 
-def _far_groups(D, far, reach, n) -> list:
-    """The edges ``far`` in at most n groups of consecutive angles about the sites' centroid (of
-    their first end vertex): each group is proved with every site, as the chunk of the unbounded
-    edges would prove it, but on another worker."""
-    if not far or n <= 1:
-        return [far] if far else []
-    cen = reach.C.mean(axis=0)
-    ang = [math.atan2(D.vertices[D.edges[t].ends[0]].y - cen[1], D.vertices[D.edges[t].ends[0]].x - cen[0])
-           for t in far]
-    order = [far[k] for k in np.argsort(ang, kind="stable")]
-    return [g.tolist() for g in np.array_split(np.asarray(order, dtype=np.int64), min(n, len(order)))]
-
-
-def chunked_verify(D, chunks, client=None, far_groups=None) -> ChunkedCertificate:
+def chunked_verify(D, chunks, client=None) -> ChunkedCertificate:
     """Prove D (module docstring): ``chunks`` is a list of lists of edge indices covering every
     edge; one verifier task per chunk on ``client``'s workers, or, with no client, the chunks
-    here one after the other (the verifier's memory is then one chunk's, not the diagram's).
-    The bounded edges near the hull, which are proved with every site, go in ``far_groups``
-    chunks by angle besides the chunk of the unbounded edges (default: one per worker with a
-    client, none without: there each chunk that keeps every site sets up every site again)."""
+    here one after the other (the verifier's memory is then one chunk's, not the diagram's)."""
     from .verify.closure import verify_closure
 
     t0 = time.perf_counter()
@@ -332,21 +313,13 @@ def chunked_verify(D, chunks, client=None, far_groups=None) -> ChunkedCertificat
     eflag = np.zeros(len(D.edges), bool)
     reach = _Reach(D)
     unbounded = [e.id for e in D.edges if None in e.ends]
-    far = reach.far_edges(D) if unbounded else []
-    if far_groups is None:
-        far_groups = len(client.scheduler_info().get("workers", {})) if client is not None else 1
-    groups = _far_groups(D, far, reach, far_groups)
-    if len(groups) == 1:
-        unbounded, groups = unbounded + groups[0], []
+    unbounded += reach.far_edges(D) if unbounded else []
     # the chunk of the unbounded edges (and of the edges near the hull, whose empty circles reach
-    # most sites, or these in groups of their own, with every site) first: it runs the accounting
-    # at infinity; then the bounded edges of each chunk
-    parts = [(unbounded, True, True)] if unbounded else []
-    parts += [(g, False, True) for g in groups]
-    taken = set(unbounded).union(*groups)
-    parts += [(p, False, False) for p in (sorted(set(ids) - taken) for ids in chunks) if p]
+    # most sites) first: it runs the accounting at infinity; then the bounded edges of each chunk
+    parts = [(unbounded, True)] if unbounded else []
+    parts += [(p, False) for p in (sorted(set(ids) - set(unbounded)) for ids in chunks) if p]
     if not unbounded:             # no end at infinity reported: one chunk still runs the accounting
-        parts = [(ids, k == 0, every or k == 0) for k, (ids, _, every) in enumerate(parts)] or [([], True, True)]
+        parts = [(ids, k == 0) for k, (ids, _) in enumerate(parts)] or [([], True)]
     unexpected: list = []
     wider: list = []              # (vertex, radius): coarse vertices whose radius reaches past their chunk
     radii: dict = {}              # vertex: the largest local_reach radius a chunk listed
