@@ -165,3 +165,14 @@ def test_a_site_entering_an_edge_between_its_vertex_circles_unproves_the_edge(di
     assert not out.ok
     assert not out.edges[t]
     assert all(out.vertices[u] for u in d.edges[t].ends)
+
+
+def test_the_chunked_certificate_says_where_its_time_goes(diagram):
+    """``seconds`` splits the chunks' wall time: the sub-diagrams made by the caller (``parts``) and
+    the chunks' own CPU seconds (``runs``, their sum; ``longest run``), each positive, the longest
+    run at most the sum."""
+    out = cc.chunked_verify(diagram, _chunks(diagram))
+    s = out.seconds
+    assert out.ok
+    assert s["parts"] > 0 and s["runs"] > 0 and 0 < s["longest run"] <= s["runs"]
+    assert s["parts"] + s["runs"] <= 1.5 * s["chunks"] + 0.5      # serial: both within the chunks' wall time

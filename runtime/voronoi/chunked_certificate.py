@@ -70,8 +70,9 @@ __all__ = ["chunked_verify", "ChunkedCertificate"]
 class ChunkedCertificate:
     """``ok`` when every vertex and edge is proved in its chunk, the closure holds and the
     accounting at infinity is proved; ``problems`` says what refused it; ``vertices`` and ``edges``
-    are the flags in diagram order; ``seconds`` the wall time of the chunks, the closure and
-    the accounting."""
+    are the flags in diagram order; ``seconds`` the wall time of the chunks and of the closure
+    and the accounting, and of :func:`_chunk_results`' ``timing`` (the sub-diagrams made here,
+    the chunks' CPU seconds on the workers: where the chunks' wall time goes)."""
 
     ok: bool
     problems: list
@@ -215,13 +216,38 @@ def verify_chunk(sub, at_infinity: bool = True) -> tuple[list, list, list, list]
             list(cert.stats.get("vertex_reach", ())))
 
 
-def _chunk_results(D, parts, client, reach=None):
+def _timed_chunk(sub, at_infinity: bool = True):
+    """:func:`verify_chunk` and the CPU seconds it took (on the worker)."""
+    t = time.process_time()
+    out = verify_chunk(sub, at_infinity)
+    return out, time.process_time() - t
+
+
+def _chunk_results(D, parts, client, reach=None, timing=None):
     """(edge ids, vertex ids, :func:`verify_chunk` result) of each chunk: on the workers as they
-    finish, or here one at a time (each sub-diagram made just before its run)."""
+    finish, or here one at a time (each sub-diagram made just before its run).  ``timing``
+    (a dict) gathers the seconds spent here making the sub-diagrams (``parts``), and the CPU
+    seconds of the chunks' runs, their sum and largest (``runs``, ``longest run``)."""
+    timing = {} if timing is None else timing
+    for k in ("parts", "runs", "longest run"):
+        timing.setdefault(k, 0.0)
+
+    def made(ids, hull):
+        t = time.perf_counter()
+        out = _part(D, ids, hull, reach)
+        timing["parts"] += time.perf_counter() - t
+        return out
+
+    def ran(res):
+        out, sec = res
+        timing["runs"] += sec
+        timing["longest run"] = max(timing["longest run"], sec)
+        return out
+
     if client is None:
         for ids, hull in parts:
-            sub, vids, keep = _part(D, ids, hull, reach)
-            yield ids, vids, keep, verify_chunk(sub, hull)
+            sub, vids, keep = made(ids, hull)
+            yield ids, vids, keep, ran(_timed_chunk(sub, hull))
         return
     from distributed import as_completed
 
@@ -233,15 +259,15 @@ def _chunk_results(D, parts, client, reach=None):
 
     def submit():
         ids, hull = todo.pop(0)
-        sub, vids, keep = _part(D, ids, hull, reach)
-        fut = client.submit(verify_chunk, sub, hull, pure=False)
+        sub, vids, keep = made(ids, hull)
+        fut = client.submit(_timed_chunk, sub, hull, pure=False)
         futures[fut] = (ids, vids, keep)
         return fut
 
     pending = as_completed([submit() for _ in range(min(width, len(todo)))])
     for fut in pending:
         ids, vids, keep = futures.pop(fut)
-        result = fut.result()
+        result = ran(fut.result())
         fut.release()
         if todo:
             pending.add(submit())
@@ -323,7 +349,8 @@ def chunked_verify(D, chunks, client=None) -> ChunkedCertificate:
     unexpected: list = []
     wider: list = []              # (vertex, radius): coarse vertices whose radius reaches past their chunk
     radii: dict = {}              # vertex: the largest local_reach radius a chunk listed
-    for ids, vids, keep, result in _chunk_results(D, parts, client, reach):
+    timing: dict = {}
+    for ids, vids, keep, result in _chunk_results(D, parts, client, reach, timing):
         _record(D, reach, ids, vids, keep, result, vflag, eflag, unexpected, wider, radii)
     if wider:
         # once more with every site within those radii: the edges at those vertices as one chunk
@@ -348,4 +375,5 @@ def chunked_verify(D, chunks, client=None) -> ChunkedCertificate:
     problems.extend(_duplicates(D, radii))
     t2 = time.perf_counter()
     ok = not problems
-    return ChunkedCertificate(ok, problems, vflag.tolist(), eflag.tolist(), {"chunks": t1 - t0, "closure": t2 - t1})
+    return ChunkedCertificate(ok, problems, vflag.tolist(), eflag.tolist(),
+                              {"chunks": t1 - t0, "closure": t2 - t1, **timing})
