@@ -176,3 +176,22 @@ def test_the_chunked_certificate_says_where_its_time_goes(diagram):
     assert out.ok
     assert s["parts"] > 0 and s["runs"] > 0 and 0 < s["longest run"] <= s["runs"]
     assert s["parts"] + s["runs"] <= 1.5 * s["chunks"] + 0.5      # serial: both within the chunks' wall time
+
+
+def test_a_packed_sub_diagram_unpacks_equal(diagram):
+    """What goes to a worker (``pack``: sites, vertex and edge records, the polylines in one array)
+    unpacks to an equal sub-diagram: the chunk of the unbounded edges (ends None, every site) and a
+    chunk of bounded edges with its own sites; and a diagram with a closed edge (a circle inside a
+    circle) and an edge of no vertex."""
+    reach = cc._Reach(diagram)
+    unbounded = [e.id for e in diagram.edges if None in e.ends]
+    for ids, hull in ((unbounded, True), (_chunks(diagram)[1], False)):
+        sub, _, _ = cc._part(diagram, ids, hull, reach)
+        back = cc.unpack(cc.pack(sub))
+        assert back == sub and len(back.edges) == len(ids) > 0
+    from curvedvoronoi.runtime.voronoi.construction import voronoi
+
+    nested = voronoi([(0, 0, 10), (1, 0, 2), (30, 0, 1)], progress=False)
+    assert any(e.closed for e in nested.edges)
+    sub, _ = cc._sub_diagram(nested, list(range(len(nested.edges))))
+    assert cc.unpack(cc.pack(sub)) == sub

@@ -217,10 +217,33 @@ def verify_chunk(sub, at_infinity: bool = True) -> tuple[list, list, list, list]
 
 
 def _timed_chunk(sub, at_infinity: bool = True):
-    """:func:`verify_chunk` and the CPU seconds it took (on the worker)."""
+    """:func:`verify_chunk` and the CPU seconds it took (on the worker); ``sub`` a sub-diagram or
+    its :func:`pack`."""
     t = time.process_time()
-    out = verify_chunk(sub, at_infinity)
+    out = verify_chunk(unpack(sub) if isinstance(sub, tuple) else sub, at_infinity)
     return out, time.process_time() - t
+
+
+def pack(sub) -> tuple:
+    """A sub-diagram as a few arrays and lists, for the trip to a worker: Dask ships every numpy
+    array of an object as a frame of its own, and a polyline per edge made about 2·10⁵ frames
+    per chunk (the driver, not the workers, was then the chunks' long pole).  :func:`unpack`
+    rebuilds an equal diagram."""
+    polys = [np.asarray(e.polyline, float).reshape(-1, 2) for e in sub.edges]
+    off = np.cumsum([0] + [len(P) for P in polys]).astype(np.int64)
+    V = [(tuple(v.sites), v.x, v.y, v.radius) for v in sub.vertices]
+    E = [(tuple(e.sites), tuple(e.ends), e.closed, e.tolerance) for e in sub.edges]
+    return list(sub.sites), V, E, np.concatenate(polys) if polys else np.zeros((0, 2)), off
+
+
+def unpack(packed):
+    """The sub-diagram of :func:`pack`."""
+    from .structure import Diagram, DiagramEdge, DiagramVertex
+
+    sites, V, E, P, off = packed
+    verts = [DiagramVertex(k, ss, x, y, r) for k, (ss, x, y, r) in enumerate(V)]
+    edges = [DiagramEdge(k, ss, ends, closed, P[off[k]:off[k + 1]], tol) for k, (ss, ends, closed, tol) in enumerate(E)]
+    return Diagram(sites, verts, edges)
 
 
 def _chunk_results(D, parts, client, reach=None, timing=None):
@@ -260,7 +283,7 @@ def _chunk_results(D, parts, client, reach=None, timing=None):
     def submit():
         ids, hull = todo.pop(0)
         sub, vids, keep = made(ids, hull)
-        fut = client.submit(_timed_chunk, sub, hull, pure=False)
+        fut = client.submit(_timed_chunk, pack(sub), hull, pure=False)
         futures[fut] = (ids, vids, keep)
         return fut
 
