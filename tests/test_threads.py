@@ -5,7 +5,19 @@ from __future__ import annotations
 
 import os
 import subprocess
+import json
 import sys
+
+
+def run_probe(code: str) -> dict:
+    """The JSON line printed by ``code`` in a fresh interpreter whose user asked for 2 BLAS threads."""
+    env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS",
+                                                              "MKL_NUM_THREADS", "KMP_DUPLICATE_LIB_OK")}
+    env["OPENBLAS_NUM_THREADS"] = "2"                 # the user's choice, as seen outside our calls
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=300)
+    assert out.returncode == 0, out.stderr
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
 
 PROBE = r"""
 import json, os
@@ -23,14 +35,7 @@ print(json.dumps({"import_same": before == after_import, "call_same": before == 
 """
 
 def test_importing_and_calling_leave_the_environment_and_the_blas_threads_alone():
-    env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS",
-                                                              "MKL_NUM_THREADS", "KMP_DUPLICATE_LIB_OK")}
-    env["OPENBLAS_NUM_THREADS"] = "2"                 # the user's choice, as seen outside our calls
-    out = subprocess.run([sys.executable, "-c", PROBE], capture_output=True, text=True, env=env, timeout=300)
-    assert out.returncode == 0, out.stderr
-    import json
-
-    r = json.loads(out.stdout.strip().splitlines()[-1])
+    r = run_probe(PROBE)
     assert r["import_same"] and r["call_same"], r
     assert r["inside"] and all(n == 1 for n in r["inside"]), r
     assert r["outside"] and all(n == 2 for n in r["outside"]), r        # restored after the call
@@ -59,14 +64,7 @@ def test_verify_runs_with_one_blas_thread_and_the_cyclic_collector_paused():
     """cv.verify itself (not only the decorator) limits BLAS to one thread and pauses the cyclic
     collector inside the call, and restores both after (a decorator once slid onto a helper
     defined between it and ``verify``)."""
-    env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS",
-                                                              "MKL_NUM_THREADS", "KMP_DUPLICATE_LIB_OK")}
-    env["OPENBLAS_NUM_THREADS"] = "2"
-    out = subprocess.run([sys.executable, "-c", VERIFY_PROBE], capture_output=True, text=True, env=env, timeout=300)
-    assert out.returncode == 0, out.stderr
-    import json
-
-    r = json.loads(out.stdout.strip().splitlines()[-1])
+    r = run_probe(VERIFY_PROBE)
     assert r["ok"] and r["seen"], r
     for threads, gc_on in r["seen"]:
         assert threads and all(n == 1 for n in threads) and not gc_on, r
@@ -94,14 +92,7 @@ print(json.dumps({"seen": seen, "certified": e.certified, "outside": outside}))
 def test_insert_runs_with_one_blas_thread():
     """``Diagram.insert`` limits BLAS to one thread inside the call (the local proofs run there)
     and leaves the caller's setting after it."""
-    env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS",
-                                                              "MKL_NUM_THREADS", "KMP_DUPLICATE_LIB_OK")}
-    env["OPENBLAS_NUM_THREADS"] = "2"
-    out = subprocess.run([sys.executable, "-c", INSERT_PROBE], capture_output=True, text=True, env=env, timeout=300)
-    assert out.returncode == 0, out.stderr
-    import json
-
-    r = json.loads(out.stdout.strip().splitlines()[-1])
+    r = run_probe(INSERT_PROBE)
     assert r["certified"] and r["seen"], r
     assert all(t and all(n == 1 for n in t) for t in r["seen"]), r
     assert all(n == 2 for n in r["outside"]), r
